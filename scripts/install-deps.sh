@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Installs the Debian packages photonbridge needs, only those missing.
+# Idempotent: a second run with everything present does nothing and asks no
+# package server. Needs root (or sudo) only when something is missing.
+set -euo pipefail
+
+# Build and runtime: compiler tool chain, Vulkan (loader, lavapipe, validation
+# layers, glslc), Embree 3, OpenEXR 3, OpenColorIO 2, tinygltf + its json, stb.
+# Validation peers: POV-Ray 3.7, Blender 3.4 (headless exporter, Cycles) with
+# numpy. clang is for the libFuzzer targets.
+PKGS=(
+  build-essential cmake pkg-config python3
+  glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+  libembree-dev libopenexr-dev libopencolorio-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev
+  povray blender python3-numpy
+  clang
+)
+# Optional extras: skipped quietly when the archive lacks them.
+OPTIONAL=(python3-matplotlib)
+
+missing=()
+for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "install-deps: missing packages (${missing[*]}) and not root; run: apt-get install ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+# Required packages must install; optional ones are tried one by one.
+req=()
+for p in "${missing[@]}"; do
+  case " ${OPTIONAL[*]} " in *" $p "*) ;; *) req+=("$p");; esac
+done
+if [ ${#req[@]} -gt 0 ]; then
+  $SUDO apt-get install -y -qq --no-install-recommends "${req[@]}"
+fi
+for p in "${OPTIONAL[@]}"; do
+  case " ${missing[*]} " in *" $p "*)
+    $SUDO apt-get install -y -qq --no-install-recommends "$p" || echo "install-deps: optional $p not installed" >&2;;
+  esac
+done
+echo "install-deps: done"

@@ -1,0 +1,194 @@
+#include "app/cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+
+const char *const pb_light_units_names[] = {"standard", "unitless", NULL};
+
+static const pb_opt *find_long(const pb_opt *o, size_t n, const char *name,
+                               size_t len) {
+  for (size_t i = 0; i < n; ++i)
+    if (strlen(o[i].name) == len && strncmp(o[i].name, name, len) == 0)
+      return &o[i];
+  return NULL;
+}
+
+static pb_result set_value(const pb_command *cmd, const pb_opt *o,
+                           const char *v) {
+  char *end = NULL;
+  switch (o->kind) {
+  case PB_OPT_FLAG:
+    *(int *)o->target = 1;
+    return PB_OK;
+  case PB_OPT_STRING:
+    *(const char **)o->target = v;
+    return PB_OK;
+  case PB_OPT_CHOICE:
+    for (int i = 0; o->choices[i]; ++i)
+      if (strcmp(o->choices[i], v) == 0) {
+        *(int *)o->target = i;
+        return PB_OK;
+      }
+    return pb_fail(PB_ERR_USAGE, "%s: --%s: unknown value '%s'", cmd->name,
+                   o->name, v);
+  case PB_OPT_U32:
+  case PB_OPT_U64: {
+    errno = 0;
+    if (v[0] == '-')
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: '%s' is not a non-negative integer",
+                     cmd->name, o->name, v);
+    unsigned long long x = strtoull(v, &end, 10);
+    if (errno || end == v || *end)
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: '%s' is not a non-negative integer",
+                     cmd->name, o->name, v);
+    if ((o->min != 0 || o->max != 0) &&
+        ((double)x < o->min || (double)x > o->max))
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: %llu is outside [%g, %g]",
+                     cmd->name, o->name, x, o->min, o->max);
+    if (o->kind == PB_OPT_U32) {
+      if (x > UINT32_MAX)
+        return pb_fail(PB_ERR_USAGE, "%s: --%s: %llu is too large", cmd->name,
+                       o->name, x);
+      *(uint32_t *)o->target = (uint32_t)x;
+    } else {
+      *(uint64_t *)o->target = (uint64_t)x;
+    }
+    return PB_OK;
+  }
+  case PB_OPT_FLOAT: {
+    errno = 0;
+    double x = strtod(v, &end);
+    if (errno || end == v || *end || !isfinite(x))
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: '%s' is not a number", cmd->name,
+                     o->name, v);
+    if ((o->min != 0 || o->max != 0) && (x < o->min || x > o->max))
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: %g is outside [%g, %g]",
+                     cmd->name, o->name, x, o->min, o->max);
+    *(double *)o->target = x;
+    return PB_OK;
+  }
+  }
+  return pb_fail(PB_ERR_INTERNAL, "bad option kind");
+}
+
+pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
+                       const pb_opt *opts, size_t n, const char **pos,
+                       size_t max_pos, size_t *pos_count, int *help) {
+  *pos_count = 0;
+  *help = 0;
+  int only_pos = 0;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    const pb_opt *o = NULL;
+    const char *val = NULL;
+    if (!only_pos && strcmp(a, "--") == 0) {
+      only_pos = 1;
+      continue;
+    }
+    if (!only_pos && (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)) {
+      *help = 1;
+      return PB_OK;
+    }
+    if (!only_pos && a[0] == '-' && a[1] == '-') {
+      const char *name = a + 2;
+      const char *eq = strchr(name, '=');
+      size_t len = eq ? (size_t)(eq - name) : strlen(name);
+      o = find_long(opts, n, name, len);
+      if (!o)
+        return pb_fail(PB_ERR_USAGE, "%s: unknown option '%.*s' (see '%s --help')",
+                       cmd->name, (int)(len + 2), a, cmd->name);
+      if (eq) {
+        if (o->kind == PB_OPT_FLAG)
+          return pb_fail(PB_ERR_USAGE, "%s: --%s takes no value", cmd->name,
+                         o->name);
+        val = eq + 1;
+      }
+    } else if (!only_pos && a[0] == '-' && a[1] && a[2] == 0) {
+      for (size_t k = 0; k < n; ++k)
+        if (opts[k].short_name == a[1]) o = &opts[k];
+      if (!o)
+        return pb_fail(PB_ERR_USAGE, "%s: unknown option '%s' (see '%s --help')",
+                       cmd->name, a, cmd->name);
+    } else {
+      if (*pos_count >= max_pos)
+        return pb_fail(PB_ERR_USAGE, "%s: unexpected argument '%s'", cmd->name, a);
+      pos[(*pos_count)++] = a;
+      continue;
+    }
+    if (o->kind != PB_OPT_FLAG && !val) {
+      if (i + 1 >= argc)
+        return pb_fail(PB_ERR_USAGE, "%s: --%s needs a value", cmd->name, o->name);
+      val = argv[++i];
+    }
+    pb_result r = set_value(cmd, o, val);
+    if (r != PB_OK) return r;
+  }
+  return PB_OK;
+}
+
+void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
+                       size_t n, const char *details) {
+  fprintf(f, "usage: photonbridge %s %s\n\n%s\n", cmd->name, cmd->usage,
+          cmd->summary);
+  if (details) fprintf(f, "\n%s\n", details);
+  fprintf(f, "\noptions:\n");
+  for (size_t i = 0; i < n; ++i) {
+    char lhs[96];
+    int k = 0;
+    if (opts[i].short_name)
+      k = snprintf(lhs, sizeof lhs, "-%c, ", opts[i].short_name);
+    snprintf(lhs + k, sizeof lhs - (size_t)k, "--%s%s%s", opts[i].name,
+             opts[i].metavar ? " " : "", opts[i].metavar ? opts[i].metavar : "");
+    fprintf(f, "  %-28s %s", lhs, opts[i].help);
+    if (opts[i].kind == PB_OPT_CHOICE) {
+      fprintf(f, " {");
+      for (int c = 0; opts[i].choices[c]; ++c)
+        fprintf(f, "%s%s", c ? ", " : "", opts[i].choices[c]);
+      fprintf(f, "}");
+    }
+    fputc('\n', f);
+  }
+  fprintf(f, "  %-28s %s\n", "-h, --help", "this help");
+}
+
+int pb_cli_exit(const pb_command *cmd, pb_result r) {
+  if (r != PB_OK) {
+    const char *m = pb_error_message();
+    fprintf(stderr, "photonbridge %s: error: %s\n", cmd ? cmd->name : "",
+            m[0] ? m : pb_result_message(r));
+  }
+  return pb_result_exit_code(r);
+}
+
+void pb_core_opts_apply(const pb_core_opts *c, pb_load_desc *desc) {
+  if (c->quiet) pb_log_set_level(PB_LOG_QUIET);
+  else if (c->verbose) pb_log_set_level(PB_LOG_VERBOSE);
+  memset(desc, 0, sizeof *desc);
+  desc->light_units = (pb_light_units)c->light_units;
+  desc->allow_external_files = c->allow_external_files;
+}
+
+pb_result pb_cli_load_scene(const char *path, const pb_core_opts *c,
+                            pb_scene *scene) {
+  pb_load_desc desc;
+  pb_core_opts_apply(c, &desc);
+  pb_result r = pb_scene_load(path, &desc, scene);
+  if (r != PB_OK) return r;
+  for (uint32_t i = 0; i < scene->warning_count; ++i)
+    pb_log_warn("%s: %s", path, scene->warnings[i]);
+  return PB_OK;
+}
+
+pb_result pb_cli_pick_camera(const pb_scene *s, const pb_core_opts *c,
+                             int *camera, uint32_t *w, uint32_t *h) {
+  *camera = pb_scene_find_camera(s, c->camera);
+  if (*camera < 0)
+    return pb_fail(PB_ERR_USAGE, "%s: no camera named '%s' (see 'photonbridge info')",
+                   s->path, c->camera);
+  pb_camera_image_size(&s->cameras[*camera], c->width, c->height, w, h);
+  return PB_OK;
+}

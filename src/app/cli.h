@@ -1,0 +1,110 @@
+/* Command-line parsing shared by every subcommand: long options (--name VALUE
+ * or --name=VALUE), short aliases, typed targets, generated --help. */
+#ifndef PB_CLI_H
+#define PB_CLI_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "core/result.h"
+#include "scene/scene.h"
+
+typedef enum pb_opt_kind {
+  PB_OPT_FLAG,   /* int, set to 1 */
+  PB_OPT_STRING, /* const char* */
+  PB_OPT_U32,    /* uint32_t */
+  PB_OPT_U64,    /* uint64_t */
+  PB_OPT_FLOAT,  /* double */
+  PB_OPT_CHOICE, /* int: index into `choices` (NULL-terminated) */
+} pb_opt_kind;
+
+typedef struct pb_opt {
+  const char *name;     /* long name without "--" */
+  char short_name;      /* 0: none */
+  pb_opt_kind kind;
+  void *target;
+  const char *metavar;  /* "N", "FILE", ... */
+  const char *help;
+  const char *const *choices; /* PB_OPT_CHOICE */
+  double min, max;      /* numeric range, inclusive; both 0: unchecked */
+} pb_opt;
+
+typedef struct pb_command {
+  const char *name;
+  const char *usage;    /* "SCENE [options]" */
+  const char *summary;  /* one line for `photonbridge help` */
+  int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
+} pb_command;
+
+/* Parses argv[1..] against opts. Positional arguments are collected into
+ * `pos` (at most max_pos). `--help`/`-h` sets *help and stops. Errors are
+ * PB_ERR_USAGE with the message set. */
+pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
+                       const pb_opt *opts, size_t opt_count, const char **pos,
+                       size_t max_pos, size_t *pos_count, int *help);
+
+void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
+                       size_t opt_count, const char *details);
+
+/* Prints the one-line error for r (with the recorded message) and returns the
+ * process exit code from the result table. */
+int pb_cli_exit(const pb_command *cmd, pb_result r);
+
+/* The options every rendering subcommand takes. */
+typedef struct pb_core_opts {
+  const char *out;      /* -o */
+  uint32_t width, height; /* 0: from the camera */
+  const char *camera;   /* NULL: first camera */
+  uint64_t seed;
+  const char *json;     /* --json FILE */
+  int light_units;      /* pb_light_units */
+  int allow_external_files;
+  int quiet, verbose;
+} pb_core_opts;
+
+/* The scene-loading options (shared by info and every renderer). */
+#define PB_SCENE_OPTS(c)                                                       \
+  {"light-units", 0, PB_OPT_CHOICE, &(c)->light_units, "MODE",                 \
+   "how KHR_lights_punctual intensities were exported: standard (photometric, "\
+   "Blender's default) or unitless", pb_light_units_names, 0, 0},              \
+  {"allow-external-files", 0, PB_OPT_FLAG, &(c)->allow_external_files, NULL,   \
+   "allow buffer/image URIs outside the scene's folder", NULL, 0, 0},          \
+  {"json", 0, PB_OPT_STRING, &(c)->json, "FILE",                               \
+   "write machine-readable statistics to FILE ('-' for stdout)", NULL, 0, 0},  \
+  {"quiet", 'q', PB_OPT_FLAG, &(c)->quiet, NULL, "errors only", NULL, 0, 0},    \
+  {"verbose", 'v', PB_OPT_FLAG, &(c)->verbose, NULL, "more detail", NULL, 0, 0}
+
+/* The image options every rendering subcommand takes. */
+#define PB_RENDER_OPTS(c)                                                      \
+  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", "output file (EXR)", NULL,  \
+   0, 0},                                                                      \
+  {"width", 0, PB_OPT_U32, &(c)->width, "W",                                   \
+   "image width (default 640, or from --height and the camera's aspect)",     \
+   NULL, 1, 16384},                                                            \
+  {"height", 0, PB_OPT_U32, &(c)->height, "H",                                 \
+   "image height (default from the camera's aspect ratio)", NULL, 1, 16384},  \
+  {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME",                           \
+   "camera to render (default: the first)", NULL, 0, 0},                       \
+  {"seed", 0, PB_OPT_U64, &(c)->seed, "N", "random seed (default 0)", NULL,   \
+   0, 0},                                                                      \
+  PB_SCENE_OPTS(c)
+
+extern const char *const pb_light_units_names[];
+
+/* Applies --quiet/--verbose and fills a load desc from the core options. */
+void pb_core_opts_apply(const pb_core_opts *c, pb_load_desc *desc);
+
+/* Loads the scene named on the command line with the core options. */
+pb_result pb_cli_load_scene(const char *path, const pb_core_opts *c,
+                            pb_scene *scene);
+
+/* Picks the camera (--camera) and image size (--width/--height). */
+pb_result pb_cli_pick_camera(const pb_scene *s, const pb_core_opts *c,
+                             int *camera, uint32_t *w, uint32_t *h);
+
+/* The subcommand table (main.c). */
+extern const pb_command pb_commands[];
+extern const size_t pb_command_count;
+
+#endif

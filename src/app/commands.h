@@ -1,0 +1,7 @@
+/* One entry point per subcommand, one file each (cmd_*.c). */
+#ifndef PB_COMMANDS_H
+#define PB_COMMANDS_H
+
+int pb_cmd_info(int argc, char **argv);
+
+#endif

@@ -1,0 +1,95 @@
+/* photonbridge SUBCOMMAND [options]: dispatch only; each subcommand lives in
+ * its own src/app/cmd_*.c. */
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "core/fs.h"
+#include "core/version.h"
+
+static int cmd_help(int argc, char **argv);
+
+const pb_command pb_commands[] = {
+    {"help", "[SUBCOMMAND]", "List the subcommands, or show one's options.",
+     cmd_help},
+    {"info", "SCENE [options]",
+     "Summarise a glTF scene: counts, bounds, cameras, lights (radiometric "
+     "units), materials, textures, needed features and warnings.",
+     pb_cmd_info},
+};
+const size_t pb_command_count = sizeof pb_commands / sizeof pb_commands[0];
+
+static void usage(FILE *f) {
+  fprintf(f, "photonbridge %s: physically based photon mapping for glTF scenes\n\n"
+             "usage: photonbridge SUBCOMMAND [options]\n"
+             "       photonbridge SUBCOMMAND --help\n"
+             "       photonbridge --version\n\nsubcommands:\n",
+          PB_VERSION);
+  for (size_t i = 0; i < pb_command_count; ++i)
+    fprintf(f, "  %-14s %s\n", pb_commands[i].name, pb_commands[i].summary);
+}
+
+static const pb_command *find(const char *name) {
+  for (size_t i = 0; i < pb_command_count; ++i)
+    if (strcmp(pb_commands[i].name, name) == 0) return &pb_commands[i];
+  return NULL;
+}
+
+static int cmd_help(int argc, char **argv) {
+  if (argc < 2) {
+    usage(stdout);
+    return 0;
+  }
+  const pb_command *c = find(argv[1]);
+  if (!c || c->run == cmd_help) {
+    if (c) {
+      usage(stdout);
+      return 0;
+    }
+    fprintf(stderr, "photonbridge help: error: unknown subcommand '%s'\n", argv[1]);
+    return pb_result_exit_code(PB_ERR_USAGE);
+  }
+  char *hv[] = {argv[1], "--help", NULL};
+  return c->run(2, hv);
+}
+
+/* SIGINT/SIGTERM: remove the temporaries of outputs being written, then die
+ * with the conventional status; no half-written file survives. */
+static void on_signal(int sig) {
+  pb_tmp_remove_all_signal_safe();
+  static const char msg[] = "\nphotonbridge: interrupted\n";
+  ssize_t ignored = write(STDERR_FILENO, msg, sizeof msg - 1);
+  (void)ignored;
+  _exit(128 + sig);
+}
+
+int main(int argc, char **argv) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+
+  if (argc < 2) {
+    usage(stderr);
+    return pb_result_exit_code(PB_ERR_USAGE);
+  }
+  if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+    printf("photonbridge %s (%s)\n", PB_VERSION, PB_GIT_DESCRIBE);
+    return 0;
+  }
+  if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+    usage(stdout);
+    return 0;
+  }
+  const pb_command *c = find(argv[1]);
+  if (!c) {
+    fprintf(stderr, "photonbridge: error: unknown subcommand '%s' (see 'photonbridge help')\n",
+            argv[1]);
+    return pb_result_exit_code(PB_ERR_USAGE);
+  }
+  return c->run(argc - 1, argv + 1);
+}

@@ -1,0 +1,140 @@
+#define _POSIX_C_SOURCE 200809L
+#include "core/fs.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+pb_result pb_read_file(const char *path, uint64_t max_bytes, uint8_t **data,
+                       size_t *size) {
+  *data = NULL;
+  *size = 0;
+  FILE *f = fopen(path, "rb");
+  if (!f) return pb_fail(PB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat st;
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    fclose(f);
+    return pb_fail(PB_ERR_IO, "%s: not a regular file", path);
+  }
+  if ((uint64_t)st.st_size > max_bytes) {
+    fclose(f);
+    return pb_fail(PB_ERR_LIMIT, "%s: file is %lld bytes, over the limit of %llu",
+                   path, (long long)st.st_size, (unsigned long long)max_bytes);
+  }
+  size_t n = (size_t)st.st_size;
+  uint8_t *buf = malloc(n + 1);
+  if (!buf) {
+    fclose(f);
+    return pb_fail(PB_ERR_NOMEM, "%s: cannot allocate %zu bytes", path, n);
+  }
+  size_t got = fread(buf, 1, n, f);
+  int err = ferror(f);
+  fclose(f);
+  if (got != n || err) {
+    free(buf);
+    return pb_fail(PB_ERR_IO, "%s: read error", path);
+  }
+  buf[n] = 0;
+  *data = buf;
+  *size = n;
+  return PB_OK;
+}
+
+char *pb_tmp_name(const char *path) {
+  size_t n = strlen(path) + 32;
+  char *t = malloc(n);
+  if (t) snprintf(t, n, "%s.tmp.%ld", path, (long)getpid());
+  return t;
+}
+
+pb_result pb_commit_rename(const char *tmp_path, const char *path) {
+  if (rename(tmp_path, path) != 0) {
+    int e = errno;
+    unlink(tmp_path);
+    pb_tmp_unregister(tmp_path);
+    return pb_fail(PB_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+  }
+  pb_tmp_unregister(tmp_path);
+  return PB_OK;
+}
+
+pb_result pb_atomic_open(const char *path, FILE **f, char **tmp_path) {
+  *f = NULL;
+  *tmp_path = pb_tmp_name(path);
+  if (!*tmp_path) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  *f = fopen(*tmp_path, "wb");
+  if (!*f) {
+    int e = errno;
+    free(*tmp_path);
+    *tmp_path = NULL;
+    return pb_fail(PB_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+  }
+  pb_tmp_register(*tmp_path);
+  return PB_OK;
+}
+
+pb_result pb_atomic_commit(const char *path, FILE *f, char *tmp_path) {
+  int bad = ferror(f);
+  int e = errno;
+  if (fclose(f) != 0 && !bad) {
+    bad = 1;
+    e = errno;
+  }
+  if (bad) {
+    unlink(tmp_path);
+    pb_tmp_unregister(tmp_path);
+    free(tmp_path);
+    return pb_fail(PB_ERR_IO, "%s: write failed: %s", path, strerror(e));
+  }
+  pb_result r = pb_commit_rename(tmp_path, path);
+  free(tmp_path);
+  return r;
+}
+
+void pb_atomic_abort(FILE *f, char *tmp_path) {
+  if (f) fclose(f);
+  if (tmp_path) {
+    unlink(tmp_path);
+    pb_tmp_unregister(tmp_path);
+    free(tmp_path);
+  }
+}
+
+char *pb_dirname(const char *path) {
+  const char *slash = strrchr(path, '/');
+  if (!slash) return strdup(".");
+  if (slash == path) return strdup("/");
+  size_t n = (size_t)(slash - path);
+  char *d = malloc(n + 1);
+  if (!d) return NULL;
+  memcpy(d, path, n);
+  d[n] = 0;
+  return d;
+}
+
+const char *pb_basename(const char *path) {
+  const char *slash = strrchr(path, '/');
+  return slash ? slash + 1 : path;
+}
+
+/* A small fixed table: a process has at most a handful of outputs open. */
+enum { TMP_MAX = 16, TMP_LEN = 4096 };
+static char tmp_table[TMP_MAX][TMP_LEN];
+
+void pb_tmp_register(const char *t) {
+  for (int i = 0; i < TMP_MAX; ++i)
+    if (!tmp_table[i][0] && strlen(t) < TMP_LEN) {
+      memcpy(tmp_table[i], t, strlen(t) + 1);
+      return;
+    }
+}
+void pb_tmp_unregister(const char *t) {
+  for (int i = 0; i < TMP_MAX; ++i)
+    if (strcmp(tmp_table[i], t) == 0) tmp_table[i][0] = 0;
+}
+void pb_tmp_remove_all_signal_safe(void) {
+  for (int i = 0; i < TMP_MAX; ++i)
+    if (tmp_table[i][0]) unlink(tmp_table[i]);
+}

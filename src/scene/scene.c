@@ -1,0 +1,209 @@
+/* The scene model's own operations (the glTF loader is load.c). */
+#include "scene/scene.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+pb_bsdf_kind pb_material_kind(const pb_material *m) {
+  if (m->transmission > 0.5f)
+    return m->roughness < PB_SPECULAR_ROUGHNESS ? PB_BSDF_GLASS : PB_BSDF_GLOSSY;
+  if (m->metallic > 0.5f)
+    return m->roughness < PB_SPECULAR_ROUGHNESS ? PB_BSDF_MIRROR : PB_BSDF_GLOSSY;
+  /* A dielectric: its specular layer, if any, makes it glossy. */
+  float spec = m->specular * fmaxf(m->specular_color[0],
+                                   fmaxf(m->specular_color[1], m->specular_color[2]));
+  return spec > 0.0f ? PB_BSDF_GLOSSY : PB_BSDF_DIFFUSE;
+}
+
+int pb_material_is_emissive(const pb_material *m) {
+  return m->emissive[0] > 0 || m->emissive[1] > 0 || m->emissive[2] > 0;
+}
+
+void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
+  float k;
+  switch (l->type) {
+  case PB_LIGHT_POINT:
+    k = 4.0f * (float)M_PI * l->intensity;
+    break;
+  case PB_LIGHT_SPOT: {
+    /* Solid angle of the cone, with the smooth-step band counted at half
+     * weight: 2 pi (1 - cos) at the mean of the two cone angles. */
+    float a = 0.5f * (l->inner_cone + l->outer_cone);
+    k = 2.0f * (float)M_PI * (1.0f - cosf(a)) * l->intensity;
+    break;
+  }
+  default:
+    k = (float)M_PI * scene_radius * scene_radius * l->intensity;
+  }
+  for (int c = 0; c < 3; ++c) power[c] = k * l->color[c];
+}
+
+static const char *const feature_names[] = {
+    "specular paths", "transmission", "glossy", "textures",
+    "emissive triangles", "animation", "alpha", "normal maps"};
+
+const char *pb_feature_name(uint32_t bit) {
+  for (unsigned i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
+    if (bit == (1u << i)) return feature_names[i];
+  return "unknown";
+}
+
+pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  char **w = realloc(s->warnings, (s->warning_count + 1) * sizeof *w);
+  if (!w) return PB_ERR_NOMEM;
+  s->warnings = w;
+  if (!(w[s->warning_count] = strdup(buf))) return PB_ERR_NOMEM;
+  s->warning_count++;
+  return PB_OK;
+}
+
+void pb_scene_finalize(pb_scene *s) {
+  for (int k = 0; k < 3; ++k) {
+    s->bounds_min[k] = INFINITY;
+    s->bounds_max[k] = -INFINITY;
+  }
+  /* Bounds of referenced vertices only. */
+  for (uint32_t t = 0; t < s->triangle_count; ++t)
+    for (int v = 0; v < 3; ++v) {
+      const float *p = s->positions[s->triangles[t][v]];
+      for (int k = 0; k < 3; ++k) {
+        s->bounds_min[k] = fminf(s->bounds_min[k], p[k]);
+        s->bounds_max[k] = fmaxf(s->bounds_max[k], p[k]);
+      }
+    }
+  if (s->triangle_count == 0)
+    for (int k = 0; k < 3; ++k) s->bounds_min[k] = s->bounds_max[k] = 0;
+
+  uint32_t f = 0;
+  uint8_t *used = calloc(s->material_count ? s->material_count : 1, 1);
+  for (uint32_t t = 0; t < s->triangle_count && used; ++t)
+    used[s->triangle_material[t]] = 1;
+  for (uint32_t i = 0; i < s->material_count; ++i) {
+    if (used && !used[i]) continue;
+    const pb_material *m = &s->materials[i];
+    pb_bsdf_kind k = pb_material_kind(m);
+    if (k == PB_BSDF_MIRROR || k == PB_BSDF_GLASS) f |= PB_FEATURE_SPECULAR;
+    if (m->transmission > 0) f |= PB_FEATURE_TRANSMISSION;
+    if (k == PB_BSDF_GLOSSY) f |= PB_FEATURE_GLOSSY;
+    if (m->base_color_tex >= 0 || m->emissive_tex >= 0 ||
+        m->metallic_roughness_tex >= 0)
+      f |= PB_FEATURE_TEXTURES;
+    if (m->normal_tex >= 0) f |= PB_FEATURE_NORMAL_MAPS;
+    if (pb_material_is_emissive(m)) f |= PB_FEATURE_EMISSIVE;
+    if (m->alpha_mode != PB_ALPHA_OPAQUE) f |= PB_FEATURE_ALPHA;
+  }
+  free(used);
+  if (s->animation_count) f |= PB_FEATURE_ANIMATION;
+  s->features = f;
+}
+
+int pb_scene_find_camera(const pb_scene *s, const char *name) {
+  if (s->camera_count == 0) return -1;
+  if (!name) return 0;
+  for (uint32_t i = 0; i < s->camera_count; ++i)
+    if (strcmp(s->cameras[i].name, name) == 0) return (int)i;
+  return -1;
+}
+
+void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
+                          uint32_t *w, uint32_t *h) {
+  float aspect = c && c->aspect > 0 ? c->aspect : 4.0f / 3.0f;
+  if (want_w && want_h) {
+    *w = want_w;
+    *h = want_h;
+  } else if (want_w) {
+    *w = want_w;
+    *h = (uint32_t)fmaxf(1.0f, roundf((float)want_w / aspect));
+  } else if (want_h) {
+    *h = want_h;
+    *w = (uint32_t)fmaxf(1.0f, roundf((float)want_h * aspect));
+  } else {
+    *w = 640;
+    *h = (uint32_t)fmaxf(1.0f, roundf(640.0f / aspect));
+  }
+}
+
+float pb_srgb_to_linear(float v) {
+  return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
+}
+float pb_linear_to_srgb(float v) {
+  if (!(v > 0.0f)) return 0.0f; /* also maps NaN to 0 */
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+}
+
+static int wrap_coord(int i, int n, pb_wrap w) {
+  switch (w) {
+  case PB_WRAP_CLAMP:
+    return i < 0 ? 0 : (i >= n ? n - 1 : i);
+  case PB_WRAP_MIRROR: {
+    int p = 2 * n;
+    int m = ((i % p) + p) % p;
+    return m < n ? m : p - 1 - m;
+  }
+  default:
+    return ((i % n) + n) % n;
+  }
+}
+
+static void texel(const pb_texture *t, int x, int y, float out[4]) {
+  const uint8_t *p = t->rgba8 + ((size_t)y * t->width + (size_t)x) * 4;
+  for (int c = 0; c < 4; ++c) {
+    float v = (float)p[c] * (1.0f / 255.0f);
+    out[c] = (t->srgb && c < 3) ? pb_srgb_to_linear(v) : v;
+  }
+}
+
+void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]) {
+  if (!isfinite(u)) u = 0;
+  if (!isfinite(v)) v = 0;
+  /* Keep coordinates in a range where float->int is defined. */
+  u = fmodf(u, 65536.0f);
+  v = fmodf(v, 65536.0f);
+  int W = (int)t->width, H = (int)t->height;
+  float fx = u * (float)W - 0.5f, fy = v * (float)H - 0.5f;
+  if (t->nearest) {
+    int x = wrap_coord((int)floorf(fx + 0.5f), W, t->wrap_s);
+    int y = wrap_coord((int)floorf(fy + 0.5f), H, t->wrap_t);
+    texel(t, x, y, out);
+    return;
+  }
+  float x0f = floorf(fx), y0f = floorf(fy);
+  float ax = fx - x0f, ay = fy - y0f;
+  int x0 = (int)x0f, y0 = (int)y0f;
+  int xa = wrap_coord(x0, W, t->wrap_s), xb = wrap_coord(x0 + 1, W, t->wrap_s);
+  int ya = wrap_coord(y0, H, t->wrap_t), yb = wrap_coord(y0 + 1, H, t->wrap_t);
+  float a[4], b[4], c[4], d[4];
+  texel(t, xa, ya, a);
+  texel(t, xb, ya, b);
+  texel(t, xa, yb, c);
+  texel(t, xb, yb, d);
+  for (int k = 0; k < 4; ++k)
+    out[k] = (a[k] * (1 - ax) + b[k] * ax) * (1 - ay) +
+             (c[k] * (1 - ax) + d[k] * ax) * ay;
+}
+
+void pb_scene_destroy(pb_scene *s) {
+  if (!s) return;
+  free(s->path);
+  free(s->positions);
+  free(s->normals);
+  free(s->uvs);
+  free(s->triangles);
+  free(s->triangle_material);
+  free(s->materials);
+  for (uint32_t i = 0; i < s->texture_count; ++i) free(s->textures[i].rgba8);
+  free(s->textures);
+  free(s->lights);
+  free(s->cameras);
+  for (uint32_t i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
+  free(s->warnings);
+  memset(s, 0, sizeof *s);
+}

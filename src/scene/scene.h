@@ -1,0 +1,220 @@
+/* pb_scene: the one scene model every renderer reads (GPU pipeline, Embree
+ * reference, POV-Ray export). Flat arrays in world space, so that a difference
+ * between two renderers' pictures is a difference in light transport only.
+ *
+ * Units: lengths in the glTF file's metres; light intensities radiometric
+ * (point/spot: W/sr, directional: W/m^2; see pb_light) after conversion from
+ * KHR_lights_punctual's photometric values per shared/VALIDATION.md. Colours are
+ * linear Rec.709 (textures flagged sRGB are decoded when sampled). */
+#ifndef PB_SCENE_H
+#define PB_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/result.h"
+
+enum { PB_NAME_MAX = 64 };
+
+typedef enum pb_wrap {
+  PB_WRAP_REPEAT = 0, /* glTF default (10497) */
+  PB_WRAP_CLAMP = 1,  /* 33071 */
+  PB_WRAP_MIRROR = 2, /* 33648 */
+} pb_wrap;
+
+typedef struct pb_texture {
+  char name[PB_NAME_MAX];
+  uint32_t width, height;
+  uint8_t *rgba8;   /* width*height*4 bytes, rows top to bottom as in the file */
+  int srgb;         /* 1: texels are sRGB-encoded (base colour, emissive) */
+  pb_wrap wrap_s, wrap_t;
+  int nearest;      /* 1: magFilter NEAREST; otherwise bilinear */
+} pb_texture;
+
+enum { PB_NO_TEXTURE = -1 };
+
+typedef enum pb_alpha_mode {
+  PB_ALPHA_OPAQUE = 0,
+  PB_ALPHA_MASK = 1,
+  PB_ALPHA_BLEND = 2,
+} pb_alpha_mode;
+
+/* glTF metallic-roughness with the extensions Blender writes. Each texture is
+ * an index into pb_scene.textures or PB_NO_TEXTURE; factors multiply. */
+typedef struct pb_material {
+  char name[PB_NAME_MAX];
+  float base_color[4];          /* linear RGBA */
+  int32_t base_color_tex;
+  float metallic, roughness;    /* [0,1] */
+  int32_t metallic_roughness_tex; /* B = metallic, G = roughness (linear) */
+  /* KHR_materials_specular: dielectric F0 = min(((ior-1)/(ior+1))^2 *
+   * specular_color, 1) * specular. Blender writes specular_color 0 for a
+   * purely diffuse material. Without the extension: specular 1, colour 1. */
+  float specular;
+  float specular_color[3];
+  float emissive[3];            /* linear, W/(m^2 sr) units of radiance,
+                                   already times KHR_materials_emissive_strength */
+  int32_t emissive_tex;
+  float transmission;           /* KHR_materials_transmission, [0,1] */
+  float ior;                    /* KHR_materials_ior, default 1.5 */
+  int32_t normal_tex;
+  float normal_scale;
+  pb_alpha_mode alpha_mode;
+  float alpha_cutoff;
+  int double_sided;
+} pb_material;
+
+/* What a material does to light, for renderers that branch on it. */
+typedef enum pb_bsdf_kind {
+  PB_BSDF_DIFFUSE = 0,   /* Lambertian (dielectric with no specular layer) */
+  PB_BSDF_GLOSSY = 1,    /* GGX metal or dielectric with a specular layer */
+  PB_BSDF_MIRROR = 2,    /* metallic, roughness below PB_SPECULAR_ROUGHNESS */
+  PB_BSDF_GLASS = 3,     /* transmission, roughness below PB_SPECULAR_ROUGHNESS */
+} pb_bsdf_kind;
+
+/* Roughness under which a surface is treated as perfectly specular. */
+#define PB_SPECULAR_ROUGHNESS 0.02f
+
+pb_bsdf_kind pb_material_kind(const pb_material *m);
+int pb_material_is_emissive(const pb_material *m);
+
+typedef enum pb_light_type {
+  PB_LIGHT_POINT = 0,
+  PB_LIGHT_SPOT = 1,
+  PB_LIGHT_DIRECTIONAL = 2,
+} pb_light_type;
+
+/* Radiometric light. Per channel c:
+ *   point/spot: radiant intensity I_c = color_c * intensity [W/sr]
+ *   directional: irradiance E_c = color_c * intensity [W/m^2] normal to it.
+ * A spot scales I by smoothstep over the angle to `direction`, between
+ * cos(outer_cone) and cos(inner_cone) (KHR_lights_punctual's recommended
+ * falloff). `direction` is the unit direction light travels (the node's -Z). */
+typedef struct pb_light {
+  char name[PB_NAME_MAX];
+  pb_light_type type;
+  float position[3];
+  float direction[3];
+  float color[3];
+  float intensity;
+  float inner_cone, outer_cone; /* radians, spot only */
+  float range;                  /* 0: infinite */
+  float file_intensity;         /* as written in the file: cd or lx */
+} pb_light;
+
+/* Total emitted power [W] of a light per channel, used to split photon
+ * budgets; directional lights use the area of the scene's bounding disc. */
+void pb_light_power(const pb_light *l, float scene_radius, float power[3]);
+
+/* Perspective camera in world space. Looks along -Z of its node. */
+typedef struct pb_camera {
+  char name[PB_NAME_MAX];
+  float position[3];
+  float forward[3], up[3], right[3]; /* orthonormal, right-handed */
+  float yfov;                        /* radians, vertical */
+  float aspect;                      /* width/height; 0 if the file gives none */
+  float znear, zfar;                 /* zfar 0: infinite */
+  int synthesized;                   /* 1: made by the loader (file had none) */
+} pb_camera;
+
+/* Features the scene needs; renderers build only the machinery a scene uses. */
+enum {
+  PB_FEATURE_SPECULAR = 1u << 0,     /* mirror or glass: specular paths, caustics */
+  PB_FEATURE_TRANSMISSION = 1u << 1, /* refraction */
+  PB_FEATURE_GLOSSY = 1u << 2,       /* rough metal / specular layer */
+  PB_FEATURE_TEXTURES = 1u << 3,
+  PB_FEATURE_EMISSIVE = 1u << 4,     /* emissive triangles */
+  PB_FEATURE_ANIMATION = 1u << 5,
+  PB_FEATURE_ALPHA = 1u << 6,        /* alpha mask/blend materials */
+  PB_FEATURE_NORMAL_MAPS = 1u << 7,
+};
+const char *pb_feature_name(uint32_t bit);
+
+/* How KHR_lights_punctual intensities were written (the file does not say;
+ * see shared/VALIDATION.md). STANDARD: photometric per the glTF spec, and
+ * Blender's default export (cd = W * 683 / 4pi): W/sr = cd / 683.
+ * UNITLESS: Blender's "Unitless" mode (value = W / 4pi): W/sr = value. */
+typedef enum pb_light_units {
+  PB_LIGHT_UNITS_STANDARD = 0,
+  PB_LIGHT_UNITS_UNITLESS = 1,
+} pb_light_units;
+
+#define PB_LUMENS_PER_WATT 683.0f
+
+typedef struct pb_scene {
+  char *path;
+
+  /* Geometry: shared vertex arrays, world space. */
+  float (*positions)[3];
+  float (*normals)[3];   /* unit length; generated when the file has none */
+  float (*uvs)[2];       /* (0,0) when the file has none */
+  uint32_t vertex_count;
+  uint32_t (*triangles)[3];   /* counter-clockwise seen from the front */
+  uint32_t *triangle_material; /* index into materials */
+  uint32_t triangle_count;
+
+  pb_material *materials;
+  uint32_t material_count;
+  pb_texture *textures;
+  uint32_t texture_count;
+  pb_light *lights;
+  uint32_t light_count;
+  pb_camera *cameras;
+  uint32_t camera_count;
+
+  uint32_t animation_count;  /* glTF animations (sampled in a later stage) */
+  uint32_t animation_channel_count;
+
+  float bounds_min[3], bounds_max[3];
+  uint32_t features;   /* PB_FEATURE_* */
+
+  /* Warnings found while loading, in file order ("meshes[2].primitives[0]:
+   * mode POINTS skipped"). */
+  char **warnings;
+  uint32_t warning_count;
+
+  /* Provenance. */
+  char generator[128];  /* asset.generator */
+  pb_light_units light_units;
+} pb_scene;
+
+typedef struct pb_load_desc {
+  pb_light_units light_units;  /* default STANDARD */
+  int allow_external_files;    /* 0: URIs must stay inside the scene folder */
+  uint64_t max_file_bytes;     /* 0: 2 GiB */
+  uint32_t max_image_dim;      /* 0: 16384 per side */
+  uint64_t max_image_pixels;   /* 0: 64 Mpixel per image */
+  uint64_t max_triangles;      /* 0: 64 M */
+} pb_load_desc;
+
+/* Loads a .gltf or .glb into `out` (zeroed first). On failure returns the
+ * code and sets pb_error_message() to one line "FILE: JSON-PATH: why", and
+ * `out` holds nothing to free. */
+pb_result pb_scene_load(const char *path, const pb_load_desc *desc, pb_scene *out);
+void pb_scene_destroy(pb_scene *s);
+
+/* Adds a warning (printf format). Returns PB_ERR_NOMEM on failure. */
+pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* Recomputes bounds and features from the arrays (loaders and code-built test
+ * scenes call it once the arrays are filled). */
+void pb_scene_finalize(pb_scene *s);
+
+/* Camera by name; NULL name picks the first. Returns -1 when absent. */
+int pb_scene_find_camera(const pb_scene *s, const char *name);
+
+/* Image size from a camera and optional overrides (0 = derive): width
+ * defaults to 640, height from the camera's aspect (or 480 if none). */
+void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
+                          uint32_t *w, uint32_t *h);
+
+/* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
+ * RGBA out (sRGB decoded when the texture is sRGB). */
+void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
+
+/* sRGB transfer, exact IEC 61966-2-1 piecewise form. */
+float pb_srgb_to_linear(float v);
+float pb_linear_to_srgb(float v);
+
+#endif
