@@ -1,5 +1,6 @@
 /* photonbridge SUBCOMMAND [options]: dispatch only; each subcommand lives in
  * its own src/app/cmd_*.c. */
+#define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>

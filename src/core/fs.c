@@ -120,21 +120,21 @@ const char *pb_basename(const char *path) {
 }
 
 /* A small fixed table: a process has at most a handful of outputs open. */
-enum { TMP_MAX = 16, TMP_LEN = 4096 };
-static char tmp_table[TMP_MAX][TMP_LEN];
+enum { PB_TMP_SLOTS = 16, PB_TMP_LEN = 4096 };
+static char tmp_table[PB_TMP_SLOTS][PB_TMP_LEN];
 
 void pb_tmp_register(const char *t) {
-  for (int i = 0; i < TMP_MAX; ++i)
-    if (!tmp_table[i][0] && strlen(t) < TMP_LEN) {
+  for (int i = 0; i < PB_TMP_SLOTS; ++i)
+    if (!tmp_table[i][0] && strlen(t) < PB_TMP_LEN) {
       memcpy(tmp_table[i], t, strlen(t) + 1);
       return;
     }
 }
 void pb_tmp_unregister(const char *t) {
-  for (int i = 0; i < TMP_MAX; ++i)
+  for (int i = 0; i < PB_TMP_SLOTS; ++i)
     if (strcmp(tmp_table[i], t) == 0) tmp_table[i][0] = 0;
 }
 void pb_tmp_remove_all_signal_safe(void) {
-  for (int i = 0; i < TMP_MAX; ++i)
+  for (int i = 0; i < PB_TMP_SLOTS; ++i)
     if (tmp_table[i][0]) unlink(tmp_table[i]);
 }

@@ -1,0 +1,195 @@
+/* photonbridge info SCENE: what the loader made of a scene, in the units the
+ * renderers use. Human-readable on stdout; --json for tools. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "core/json.h"
+
+static const char *const light_type_names[] = {"point", "spot", "directional"};
+static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
+
+static void print_text(const pb_scene *s) {
+  printf("scene      %s\n", s->path);
+  printf("generator  %s\n", s->generator[0] ? s->generator : "(none)");
+  printf("triangles  %u\nvertices   %u\n", s->triangle_count, s->vertex_count);
+  printf("bounds     [%.4g %.4g %.4g] .. [%.4g %.4g %.4g]\n", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2],
+         s->bounds_max[0], s->bounds_max[1], s->bounds_max[2]);
+  printf("cameras    %u\n", s->camera_count);
+  for (uint32_t i = 0; i < s->camera_count; ++i) {
+    const pb_camera *c = &s->cameras[i];
+    printf("  %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), yfov %.2f deg, aspect %.4g%s\n", c->name,
+           c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
+           c->yfov * 180.0 / M_PI, c->aspect, c->synthesized ? " (default framing, not in the file)" : "");
+  }
+  printf("lights     %u  (units: %s; point/spot in W/sr, directional in W/m^2)\n", s->light_count,
+         pb_light_units_names[s->light_units]);
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    printf("  %-20s %-11s ", l->name, light_type_names[l->type]);
+    if (l->type == PB_LIGHT_DIRECTIONAL)
+      printf("E = %.4g W/m^2 (file: %.4g lx) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)\n", l->intensity,
+             l->file_intensity, l->color[0], l->color[1], l->color[2], l->direction[0], l->direction[1], l->direction[2]);
+    else {
+      float power[3];
+      pb_light_power(l, 0, power);
+      printf("I = %.4g W/sr (file: %.4g cd) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), power %.4g W", l->intensity,
+             l->file_intensity, l->color[0], l->color[1], l->color[2], l->position[0], l->position[1], l->position[2],
+             (power[0] + power[1] + power[2]) / 3);
+      if (l->type == PB_LIGHT_SPOT)
+        printf(", cone %.2f..%.2f deg", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI);
+      printf("\n");
+    }
+  }
+  printf("materials  %u\n", s->material_count);
+  for (uint32_t i = 0; i < s->material_count; ++i) {
+    const pb_material *m = &s->materials[i];
+    printf("  %-20s %-7s base (%.3g %.3g %.3g)%s metallic %.3g roughness %.3g", m->name, bsdf_names[pb_material_kind(m)],
+           m->base_color[0], m->base_color[1], m->base_color[2], m->base_color_tex >= 0 ? " x texture" : "", m->metallic,
+           m->roughness);
+    if (m->transmission > 0) printf(" transmission %.3g ior %.3g", m->transmission, m->ior);
+    if (pb_material_is_emissive(m)) printf(" emissive (%.3g %.3g %.3g)", m->emissive[0], m->emissive[1], m->emissive[2]);
+    printf("\n");
+  }
+  printf("textures   %u\n", s->texture_count);
+  for (uint32_t i = 0; i < s->texture_count; ++i) {
+    const pb_texture *t = &s->textures[i];
+    printf("  %-20s %ux%u %s\n", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+  }
+  printf("animations %u (%u channels)\n", s->animation_count, s->animation_channel_count);
+  printf("features  ");
+  if (!s->features) printf(" none (diffuse only)");
+  for (uint32_t b = 1; b; b <<= 1)
+    if (s->features & b) printf(" [%s]", pb_feature_name(b));
+  printf("\nwarnings   %u\n", s->warning_count);
+  for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
+}
+
+static void vec3(pb_json *j, const char *key, const float *v) {
+  pb_json_begin_array(j, key);
+  for (int k = 0; k < 3; ++k) pb_json_number(j, NULL, v[k]);
+  pb_json_end_array(j);
+}
+
+static pb_result write_json(const pb_scene *s, const char *path) {
+  pb_json j;
+  char *tmp;
+  pb_result r = pb_json_open(&j, path, &tmp);
+  if (r != PB_OK) return r;
+  pb_json_begin_object(&j, NULL);
+  pb_json_string(&j, "scene", s->path);
+  pb_json_string(&j, "generator", s->generator);
+  pb_json_int(&j, "triangles", s->triangle_count);
+  pb_json_int(&j, "vertices", s->vertex_count);
+  vec3(&j, "bounds_min", s->bounds_min);
+  vec3(&j, "bounds_max", s->bounds_max);
+  pb_json_begin_array(&j, "cameras");
+  for (uint32_t i = 0; i < s->camera_count; ++i) {
+    const pb_camera *c = &s->cameras[i];
+    pb_json_begin_object(&j, NULL);
+    pb_json_string(&j, "name", c->name);
+    vec3(&j, "position", c->position);
+    vec3(&j, "forward", c->forward);
+    vec3(&j, "up", c->up);
+    pb_json_number(&j, "yfov", c->yfov);
+    pb_json_number(&j, "aspect", c->aspect);
+    pb_json_bool(&j, "synthesized", c->synthesized);
+    pb_json_end_object(&j);
+  }
+  pb_json_end_array(&j);
+  pb_json_string(&j, "light_units", pb_light_units_names[s->light_units]);
+  pb_json_begin_array(&j, "lights");
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    pb_json_begin_object(&j, NULL);
+    pb_json_string(&j, "name", l->name);
+    pb_json_string(&j, "type", light_type_names[l->type]);
+    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "irradiance_w_m2" : "intensity_w_sr", l->intensity);
+    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "file_lux" : "file_candela", l->file_intensity);
+    vec3(&j, "color", l->color);
+    vec3(&j, "position", l->position);
+    vec3(&j, "direction", l->direction);
+    if (l->type == PB_LIGHT_SPOT) {
+      pb_json_number(&j, "inner_cone", l->inner_cone);
+      pb_json_number(&j, "outer_cone", l->outer_cone);
+    }
+    pb_json_end_object(&j);
+  }
+  pb_json_end_array(&j);
+  pb_json_begin_array(&j, "materials");
+  for (uint32_t i = 0; i < s->material_count; ++i) {
+    const pb_material *m = &s->materials[i];
+    pb_json_begin_object(&j, NULL);
+    pb_json_string(&j, "name", m->name);
+    pb_json_string(&j, "kind", bsdf_names[pb_material_kind(m)]);
+    pb_json_begin_array(&j, "base_color");
+    for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, m->base_color[k]);
+    pb_json_end_array(&j);
+    pb_json_int(&j, "base_color_texture", m->base_color_tex);
+    pb_json_number(&j, "metallic", m->metallic);
+    pb_json_number(&j, "roughness", m->roughness);
+    pb_json_number(&j, "specular", m->specular);
+    vec3(&j, "specular_color", m->specular_color);
+    pb_json_number(&j, "transmission", m->transmission);
+    pb_json_number(&j, "ior", m->ior);
+    vec3(&j, "emissive", m->emissive);
+    pb_json_bool(&j, "double_sided", m->double_sided);
+    pb_json_end_object(&j);
+  }
+  pb_json_end_array(&j);
+  pb_json_begin_array(&j, "textures");
+  for (uint32_t i = 0; i < s->texture_count; ++i) {
+    pb_json_begin_object(&j, NULL);
+    pb_json_string(&j, "name", s->textures[i].name);
+    pb_json_int(&j, "width", s->textures[i].width);
+    pb_json_int(&j, "height", s->textures[i].height);
+    pb_json_bool(&j, "srgb", s->textures[i].srgb);
+    pb_json_end_object(&j);
+  }
+  pb_json_end_array(&j);
+  pb_json_int(&j, "animations", s->animation_count);
+  pb_json_begin_array(&j, "features");
+  for (uint32_t b = 1; b; b <<= 1)
+    if (s->features & b) pb_json_string(&j, NULL, pb_feature_name(b));
+  pb_json_end_array(&j);
+  pb_json_begin_array(&j, "warnings");
+  for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);
+  pb_json_end_array(&j);
+  pb_json_end_object(&j);
+  return pb_json_close(&j, path, tmp);
+}
+
+int pb_cmd_info(int argc, char **argv) {
+  const pb_command *cmd = &pb_commands[1];
+  pb_core_opts c = {0};
+  const pb_opt opts[] = {PB_SCENE_OPTS(&c)};
+  const size_t n = sizeof opts / sizeof *opts;
+  const char *pos[1];
+  size_t npos;
+  int help;
+  pb_result r = pb_cli_parse(cmd, argc, argv, opts, n, pos, 1, &npos, &help);
+  if (r != PB_OK) return pb_cli_exit(cmd, r);
+  if (help) {
+    pb_cli_print_help(stdout, cmd, opts, n,
+                      "Warnings go to stdout as part of the summary. Exit status 0 when the scene loads.");
+    return 0;
+  }
+  if (npos != 1) return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "info: expected one SCENE argument (see 'photonbridge info --help')"));
+  pb_load_desc desc;
+  pb_core_opts_apply(&c, &desc);
+  pb_scene s;
+  r = pb_scene_load(pos[0], &desc, &s);
+  if (r != PB_OK) return pb_cli_exit(cmd, r);
+  if (c.json) {
+    r = write_json(&s, c.json);
+    if (r == PB_OK && strcmp(c.json, "-") == 0) {
+      pb_scene_destroy(&s);
+      return 0;
+    }
+  }
+  if (r == PB_OK && !c.quiet) print_text(&s);
+  pb_scene_destroy(&s);
+  return pb_cli_exit(cmd, r);
+}

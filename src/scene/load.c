@@ -1,0 +1,970 @@
+/* glTF -> pb_scene: every index, offset, stride and count is checked before
+ * any data is read, then the node tree is flattened into world-space arrays.
+ * Errors are one line "FILE: JSON-PATH: why" (pb_fail). See gltf_doc.h for
+ * what the shim has (and has not) checked. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/fs.h"
+#include "scene/gltf_doc.h"
+#include "scene/scene.h"
+
+#include "scene/image_decode.h"
+
+enum {
+  MODE_TRIANGLES = 4,
+  MODE_TRIANGLE_STRIP = 5,
+  MODE_TRIANGLE_FAN = 6,
+  CT_BYTE = 5120,
+  CT_UBYTE = 5121,
+  CT_SHORT = 5122,
+  CT_USHORT = 5123,
+  CT_UINT = 5125,
+  CT_FLOAT = 5126,
+  MAX_NODE_DEPTH = 1024,
+};
+
+static const char *const mode_names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
+                                         "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+
+typedef struct loader {
+  const char *path;
+  const pb_load_desc *desc;
+  pb_gltf_doc *doc;
+  pb_scene *s;
+  uint32_t vertex_cap, triangle_cap, light_cap, camera_cap, texture_cap;
+  int32_t default_material;   /* index in s->materials, -1 until needed */
+  int32_t *texture_map;       /* [gltf texture * 2 + srgb] -> s->textures */
+  uint8_t **image_cache;      /* decoded RGBA8 per gltf image */
+  uint32_t *image_w, *image_h;
+  uint8_t *node_state;        /* cycle detection: 0 new, 1 on stack, 2 done */
+  int32_t *parent;
+} loader;
+
+/* ---- growth helpers ---------------------------------------------------- */
+
+static pb_result grow(loader *L, void **p, uint32_t *cap, uint64_t need, size_t elem,
+                      const char *what) {
+  if (need <= *cap) return PB_OK;
+  if (need > UINT32_MAX / 2)
+    return pb_fail(PB_ERR_LIMIT, "%s: too many %s (%llu)", L->path, what, (unsigned long long)need);
+  uint64_t c = *cap ? *cap : 64;
+  while (c < need) c *= 2;
+  void *q = realloc(*p, (size_t)c * elem);
+  if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for %llu %s", L->path, (unsigned long long)c, what);
+  *p = q;
+  *cap = (uint32_t)c;
+  return PB_OK;
+}
+
+static pb_result warn(loader *L, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static pb_result warn(loader *L, const char *fmt, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  if (pb_scene_warn(L->s, "%s", buf) != PB_OK)
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  return PB_OK;
+}
+
+static void copy_name(char dst[PB_NAME_MAX], const char *a, const char *b) {
+  const char *src = (a && a[0]) ? a : (b ? b : "");
+  snprintf(dst, PB_NAME_MAX, "%s", src);
+}
+
+/* ---- accessors ----------------------------------------------------------- */
+
+static uint32_t component_size(int32_t ct) {
+  switch (ct) {
+  case CT_BYTE: case CT_UBYTE: return 1;
+  case CT_SHORT: case CT_USHORT: return 2;
+  case CT_UINT: case CT_FLOAT: return 4;
+  default: return 0;
+  }
+}
+
+/* A checked view of an accessor's elements. */
+typedef struct span {
+  const uint8_t *base; /* NULL: no bufferView, every element is zero */
+  uint64_t count;
+  uint32_t stride, elem;
+  int32_t ct;
+  int normalized;
+} span;
+
+/* Checks accessors[idx] (used at `where`) against the expected shape and its
+ * bufferView and buffer, so that reading element i < count of it is in
+ * bounds. `types` is a 0-terminated list of allowed component types. */
+static pb_result check_accessor(loader *L, int32_t idx, const char *where, int components,
+                                const int32_t *types, span *out) {
+  pb_gltf_doc *d = L->doc;
+  if (idx < 0 || (size_t)idx >= d->accessor_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d does not exist (%zu accessors)", L->path,
+                   where, idx, d->accessor_count);
+  const pb_gltf_accessor *a = &d->accessors[idx];
+  if (a->sparse)
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: accessors[%d]: sparse accessors are not supported", L->path, idx);
+  if (a->components != components)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: has %d components, %s needs %d", L->path, idx,
+                   a->components, where, components);
+  int ok = 0;
+  for (const int32_t *t = types; *t; ++t) ok |= *t == a->component_type;
+  if (!ok)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: componentType %d is not allowed for %s", L->path,
+                   idx, a->component_type, where);
+  uint32_t csize = component_size(a->component_type);
+  uint32_t elem = csize * (uint32_t)components;
+  memset(out, 0, sizeof *out);
+  out->count = a->count;
+  out->elem = elem;
+  out->stride = elem;
+  out->ct = a->component_type;
+  out->normalized = a->normalized;
+  if (a->count == 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count is 0", L->path, idx);
+  if (a->buffer_view < 0) return PB_OK; /* all zeros, per the spec */
+  if ((size_t)a->buffer_view >= d->buffer_view_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].bufferView: %d does not exist (%zu bufferViews)",
+                   L->path, idx, a->buffer_view, d->buffer_view_count);
+  const pb_gltf_buffer_view *v = &d->buffer_views[a->buffer_view];
+  if (v->buffer < 0 || (size_t)v->buffer >= d->buffer_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].buffer: %d does not exist (%zu buffers)", L->path,
+                   a->buffer_view, v->buffer, d->buffer_count);
+  const pb_gltf_buffer *b = &d->buffers[v->buffer];
+  if (v->byte_offset > b->size || v->byte_length > b->size - v->byte_offset)
+    return pb_fail(PB_ERR_SCENE_INVALID,
+                   "%s: bufferViews[%d]: offset %llu + length %llu exceeds buffers[%d] (%llu bytes)", L->path,
+                   a->buffer_view, (unsigned long long)v->byte_offset, (unsigned long long)v->byte_length,
+                   v->buffer, (unsigned long long)b->size);
+  uint32_t stride = v->byte_stride ? v->byte_stride : elem;
+  if (v->byte_stride && (v->byte_stride < elem || v->byte_stride > 252 || v->byte_stride % 4))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].byteStride: %u is invalid for accessors[%d] (element %u bytes)",
+                   L->path, a->buffer_view, v->byte_stride, idx, elem);
+  if (a->byte_offset % csize || (v->byte_offset + a->byte_offset) % csize)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].byteOffset: %llu is not aligned to its %u-byte components",
+                   L->path, idx, (unsigned long long)a->byte_offset, csize);
+  /* Needed bytes: offset + stride * (count - 1) + elem, computed without
+   * overflow (count < 2^32 is checked first). */
+  if (a->count > UINT32_MAX || a->byte_offset > v->byte_length)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count %llu x stride %u exceeds bufferViews[%d] (%llu bytes)",
+                   L->path, idx, (unsigned long long)a->count, stride, a->buffer_view,
+                   (unsigned long long)v->byte_length);
+  uint64_t need = a->byte_offset + (uint64_t)stride * (a->count - 1) + elem;
+  if (need > v->byte_length)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count %llu x stride %u exceeds bufferViews[%d] (%llu bytes)",
+                   L->path, idx, (unsigned long long)a->count, stride, a->buffer_view,
+                   (unsigned long long)v->byte_length);
+  out->base = b->data + v->byte_offset + a->byte_offset;
+  out->stride = stride;
+  return PB_OK;
+}
+
+/* Reads component c of element i as a float (normalized integers mapped per
+ * the glTF spec). */
+static float read_f(const span *sp, uint64_t i, int c) {
+  if (!sp->base) return 0.0f;
+  const uint8_t *p = sp->base + i * sp->stride + (uint64_t)c * component_size(sp->ct);
+  switch (sp->ct) {
+  case CT_FLOAT: { float f; memcpy(&f, p, 4); return f; }
+  case CT_UBYTE: return sp->normalized ? (float)p[0] / 255.0f : (float)p[0];
+  case CT_BYTE: { int8_t x = (int8_t)p[0]; return sp->normalized ? fmaxf((float)x / 127.0f, -1.0f) : (float)x; }
+  case CT_USHORT: { uint16_t x; memcpy(&x, p, 2); return sp->normalized ? (float)x / 65535.0f : (float)x; }
+  case CT_SHORT: { int16_t x; memcpy(&x, p, 2); return sp->normalized ? fmaxf((float)x / 32767.0f, -1.0f) : (float)x; }
+  default: return 0.0f;
+  }
+}
+
+static uint32_t read_index(const span *sp, uint64_t i) {
+  if (!sp->base) return 0;
+  const uint8_t *p = sp->base + i * sp->stride;
+  switch (sp->ct) {
+  case CT_UBYTE: return p[0];
+  case CT_USHORT: { uint16_t x; memcpy(&x, p, 2); return x; }
+  default: { uint32_t x; memcpy(&x, p, 4); return x; }
+  }
+}
+
+/* ---- transforms (double precision; column-major 4x4 as glTF) ------------ */
+
+typedef struct mat4 { double m[16]; } mat4;
+
+static mat4 mat_mul(const mat4 *a, const mat4 *b) {
+  mat4 r;
+  for (int c = 0; c < 4; ++c)
+    for (int rr = 0; rr < 4; ++rr) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a->m[k * 4 + rr] * b->m[c * 4 + k];
+      r.m[c * 4 + rr] = s;
+    }
+  return r;
+}
+
+static mat4 node_local(const pb_gltf_node *n) {
+  mat4 r;
+  if (n->has_matrix) {
+    memcpy(r.m, n->matrix, sizeof r.m);
+    return r;
+  }
+  double x = n->rotation[0], y = n->rotation[1], z = n->rotation[2], w = n->rotation[3];
+  double len = sqrt(x * x + y * y + z * z + w * w);
+  if (len > 0) x /= len, y /= len, z /= len, w /= len;
+  double R[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                 2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                 2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
+  for (int c = 0; c < 3; ++c) {
+    for (int rr = 0; rr < 3; ++rr) r.m[c * 4 + rr] = R[c * 3 + rr] * n->scale[c];
+    r.m[c * 4 + 3] = 0;
+  }
+  r.m[12] = n->translation[0];
+  r.m[13] = n->translation[1];
+  r.m[14] = n->translation[2];
+  r.m[15] = 1;
+  return r;
+}
+
+static void xform_point(const mat4 *M, const double p[3], double o[3]) {
+  for (int r = 0; r < 3; ++r) o[r] = M->m[r] * p[0] + M->m[4 + r] * p[1] + M->m[8 + r] * p[2] + M->m[12 + r];
+}
+static void xform_dir(const mat4 *M, const double v[3], double o[3]) {
+  for (int r = 0; r < 3; ++r) o[r] = M->m[r] * v[0] + M->m[4 + r] * v[1] + M->m[8 + r] * v[2];
+}
+static double det3(const mat4 *M) {
+  const double *m = M->m;
+  return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+         m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+/* Inverse-transpose of the upper 3x3 (cofactor matrix / det), for normals. */
+static void normal_matrix(const mat4 *M, double N[9]) {
+  const double *m = M->m;
+  double a = m[0], b = m[4], c = m[8], d = m[1], e = m[5], f = m[9], g = m[2], h = m[6], i = m[10];
+  double cof[9] = {e * i - f * h, -(d * i - f * g), d * h - e * g,
+                   -(b * i - c * h), a * i - c * g, -(a * h - b * g),
+                   b * f - c * e, -(a * f - c * d), a * e - b * d};
+  /* cof is row-major cofactors; (M^-1)^T = cof / det. Sign of det is kept so
+   * the normal keeps pointing out of the (possibly mirrored) surface. */
+  double det = det3(M);
+  for (int k = 0; k < 9; ++k) N[k] = det != 0 ? cof[k] / det : 0;
+}
+static int normalize3(double v[3]) {
+  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(l > 1e-30) || !isfinite(l)) return 0;
+  v[0] /= l, v[1] /= l, v[2] /= l;
+  return 1;
+}
+static int finite_mat(const mat4 *M) {
+  for (int k = 0; k < 16; ++k)
+    if (!isfinite(M->m[k])) return 0;
+  return 1;
+}
+
+/* ---- images and textures ------------------------------------------------- */
+
+static pb_result decode_image(loader *L, int32_t img, const char *where) {
+  pb_gltf_doc *d = L->doc;
+  if (L->image_cache[img]) return PB_OK;
+  const pb_gltf_image *im = &d->images[img];
+  uint8_t *file = NULL;
+  size_t size = 0;
+  const uint8_t *bytes = NULL;
+  if (im->buffer_view >= 0) {
+    if ((size_t)im->buffer_view >= d->buffer_view_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%d].bufferView: %d does not exist (%zu bufferViews)",
+                     L->path, img, im->buffer_view, d->buffer_view_count);
+    const pb_gltf_buffer_view *v = &d->buffer_views[im->buffer_view];
+    if (v->buffer < 0 || (size_t)v->buffer >= d->buffer_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].buffer: %d does not exist", L->path,
+                     im->buffer_view, v->buffer);
+    const pb_gltf_buffer *b = &d->buffers[v->buffer];
+    if (v->byte_offset > b->size || v->byte_length > b->size - v->byte_offset)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d]: offset %llu + length %llu exceeds buffers[%d] (%llu bytes)",
+                     L->path, im->buffer_view, (unsigned long long)v->byte_offset,
+                     (unsigned long long)v->byte_length, v->buffer, (unsigned long long)b->size);
+    bytes = b->data + v->byte_offset;
+    size = v->byte_length;
+  } else if (strncmp(im->uri, "data:", 5) == 0) {
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d].uri: embedded data URI images are not supported (export with separate or GLB images)",
+                   L->path, img);
+  } else if (im->uri[0]) {
+    char *real = NULL;
+    char w[64];
+    snprintf(w, sizeof w, "images[%d].uri", img);
+    pb_result r = pb_gltf_resolve_uri(L->path, im->uri, L->desc->allow_external_files, w, &real);
+    if (r != PB_OK) return r;
+    r = pb_read_file(real, L->desc->max_file_bytes, &file, &size);
+    free(real);
+    if (r != PB_OK) {
+      pb_error_clear();
+      return pb_fail(r, "%s: images[%d].uri: cannot read '%s'", L->path, img, im->uri);
+    }
+    bytes = file;
+  } else {
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%d]: neither uri nor bufferView", L->path, img);
+  }
+  int ok = size >= 8 && size <= INT32_MAX &&
+           ((bytes[0] == 0x89 && memcmp(bytes + 1, "PNG", 3) == 0) || (bytes[0] == 0xFF && bytes[1] == 0xD8));
+  if (!ok) {
+    free(file);
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG or JPEG file", L->path, img, where);
+  }
+  uint32_t w = 0, h = 0;
+  uint8_t *px = NULL;
+  const char *why = NULL;
+  int rc = pb_decode_image_rgba8(bytes, size, L->desc->max_image_dim, L->desc->max_image_pixels, &px, &w, &h, &why);
+  free(file);
+  if (rc == PB_DECODE_TOO_LARGE)
+    return pb_fail(PB_ERR_LIMIT, "%s: images[%d]: %ux%u is over the image size limit (%u per side, %llu pixels)",
+                   L->path, img, w, h, L->desc->max_image_dim, (unsigned long long)L->desc->max_image_pixels);
+  if (rc != PB_DECODE_OK) return pb_fail(PB_ERR_IMAGE, "%s: images[%d]: cannot decode: %s", L->path, img, why);
+  L->image_cache[img] = px;
+  L->image_w[img] = w;
+  L->image_h[img] = h;
+  return PB_OK;
+}
+
+static pb_result wrap_mode(loader *L, int32_t v, int32_t sampler, const char *field, pb_wrap *out) {
+  switch (v) {
+  case -1: case 10497: *out = PB_WRAP_REPEAT; return PB_OK;
+  case 33071: *out = PB_WRAP_CLAMP; return PB_OK;
+  case 33648: *out = PB_WRAP_MIRROR; return PB_OK;
+  default:
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: samplers[%d].%s: %d is not a glTF wrap mode", L->path, sampler, field, v);
+  }
+}
+
+/* Resolves a material's texture reference to an index in s->textures. */
+static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where, int32_t *out) {
+  pb_gltf_doc *d = L->doc;
+  *out = PB_NO_TEXTURE;
+  if (tex < 0) return PB_OK;
+  if ((size_t)tex >= d->texture_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.index: texture %d does not exist (%zu textures)", L->path, where,
+                   tex, d->texture_count);
+  int32_t *slot = &L->texture_map[tex * 2 + srgb];
+  if (*slot >= 0) {
+    *out = *slot;
+    return PB_OK;
+  }
+  const pb_gltf_texture *t = &d->textures[tex];
+  if (t->source < 0 || (size_t)t->source >= d->image_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: textures[%d].source: image %d does not exist (%zu images)", L->path,
+                   tex, t->source, d->image_count);
+  pb_wrap ws = PB_WRAP_REPEAT, wt = PB_WRAP_REPEAT;
+  int nearest = 0;
+  if (t->sampler >= 0) {
+    if ((size_t)t->sampler >= d->sampler_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: textures[%d].sampler: %d does not exist (%zu samplers)", L->path,
+                     tex, t->sampler, d->sampler_count);
+    const pb_gltf_sampler *sm = &d->samplers[t->sampler];
+    pb_result r = wrap_mode(L, sm->wrap_s, t->sampler, "wrapS", &ws);
+    if (r == PB_OK) r = wrap_mode(L, sm->wrap_t, t->sampler, "wrapT", &wt);
+    if (r != PB_OK) return r;
+    nearest = sm->mag_filter == 9728;
+  }
+  pb_result r = decode_image(L, t->source, where);
+  if (r != PB_OK) return r;
+  pb_scene *s = L->s;
+  r = grow(L, (void **)&s->textures, &L->texture_cap, (uint64_t)s->texture_count + 1, sizeof *s->textures, "textures");
+  if (r != PB_OK) return r;
+  pb_texture *pt = &s->textures[s->texture_count];
+  memset(pt, 0, sizeof *pt);
+  size_t bytes = (size_t)L->image_w[t->source] * L->image_h[t->source] * 4;
+  pt->rgba8 = malloc(bytes);
+  if (!pt->rgba8) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for textures[%d]", L->path, tex);
+  memcpy(pt->rgba8, L->image_cache[t->source], bytes);
+  pt->width = L->image_w[t->source];
+  pt->height = L->image_h[t->source];
+  pt->srgb = srgb;
+  pt->wrap_s = ws;
+  pt->wrap_t = wt;
+  pt->nearest = nearest;
+  copy_name(pt->name, d->images[t->source].name, d->images[t->source].uri);
+  *slot = (int32_t)s->texture_count++;
+  *out = *slot;
+  return PB_OK;
+}
+
+/* ---- materials ----------------------------------------------------------- */
+
+static float clamp01(double v) { return (float)(v < 0 ? 0 : (v > 1 ? 1 : v)); }
+
+static pb_result check_factor(loader *L, int i, const char *field, double v, double lo, double hi) {
+  if (!isfinite(v) || v < lo || v > hi)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].%s: %g is outside [%g, %g]", L->path, i, field, v, lo, hi);
+  return PB_OK;
+}
+
+static pb_result convert_material(loader *L, int i, pb_material *m) {
+  const pb_gltf_material *g = &L->doc->materials[i];
+  pb_result r = PB_OK;
+  char w[128];
+  memset(m, 0, sizeof *m);
+  copy_name(m->name, g->name, "");
+  if (!m->name[0]) snprintf(m->name, PB_NAME_MAX, "materials[%d]", i);
+  static const char *const bc[] = {"pbrMetallicRoughness.baseColorFactor[0]", "pbrMetallicRoughness.baseColorFactor[1]",
+                                   "pbrMetallicRoughness.baseColorFactor[2]", "pbrMetallicRoughness.baseColorFactor[3]"};
+  for (int k = 0; k < 4 && r == PB_OK; ++k) r = check_factor(L, i, bc[k], g->base_color[k], 0, 1);
+  if (r == PB_OK) r = check_factor(L, i, "pbrMetallicRoughness.metallicFactor", g->metallic, 0, 1);
+  if (r == PB_OK) r = check_factor(L, i, "pbrMetallicRoughness.roughnessFactor", g->roughness, 0, 1);
+  if (r == PB_OK) r = check_factor(L, i, "extensions.KHR_materials_transmission.transmissionFactor", g->transmission, 0, 1);
+  if (r == PB_OK) r = check_factor(L, i, "extensions.KHR_materials_ior.ior", g->ior, 0, 10);
+  if (r == PB_OK) r = check_factor(L, i, "extensions.KHR_materials_specular.specularFactor", g->specular, 0, 1);
+  if (r == PB_OK) r = check_factor(L, i, "extensions.KHR_materials_emissive_strength.emissiveStrength", g->emissive_strength, 0, 1e9);
+  for (int k = 0; k < 3 && r == PB_OK; ++k) {
+    r = check_factor(L, i, "emissiveFactor", g->emissive[k], 0, 1);
+    if (r == PB_OK) r = check_factor(L, i, "extensions.KHR_materials_specular.specularColorFactor", g->specular_color[k], 0, 1e3);
+  }
+  if (r != PB_OK) return r;
+  for (int k = 0; k < 4; ++k) m->base_color[k] = (float)g->base_color[k];
+  m->metallic = (float)g->metallic;
+  m->roughness = (float)g->roughness;
+  m->specular = (float)g->specular;
+  for (int k = 0; k < 3; ++k) {
+    m->specular_color[k] = (float)g->specular_color[k];
+    m->emissive[k] = (float)(g->emissive[k] * g->emissive_strength);
+  }
+  m->transmission = (float)g->transmission;
+  /* ior 0 is the spec's "infinite" (a perfect conductor-like dielectric);
+   * treat it as a very high index rather than dividing by zero. */
+  m->ior = g->ior == 0 ? 1e3f : (float)g->ior;
+  if (g->ior != 0 && g->ior < 1)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].extensions.KHR_materials_ior.ior: %g is below 1", L->path, i, g->ior);
+  m->normal_scale = (float)g->normal_tex.scale;
+  m->double_sided = g->double_sided;
+  m->alpha_cutoff = clamp01(g->alpha_cutoff);
+  if (!g->alpha_mode[0] || strcmp(g->alpha_mode, "OPAQUE") == 0) m->alpha_mode = PB_ALPHA_OPAQUE;
+  else if (strcmp(g->alpha_mode, "MASK") == 0) m->alpha_mode = PB_ALPHA_MASK;
+  else if (strcmp(g->alpha_mode, "BLEND") == 0) m->alpha_mode = PB_ALPHA_BLEND;
+  else return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].alphaMode: '%s' is not OPAQUE, MASK or BLEND", L->path, i, g->alpha_mode);
+
+  const pb_gltf_texture_ref *refs[4] = {&g->base_color_tex, &g->metallic_roughness_tex, &g->emissive_tex, &g->normal_tex};
+  static const char *const names[4] = {"pbrMetallicRoughness.baseColorTexture", "pbrMetallicRoughness.metallicRoughnessTexture",
+                                       "emissiveTexture", "normalTexture"};
+  static const int srgb[4] = {1, 0, 1, 0};
+  int32_t *dst[4] = {&m->base_color_tex, &m->metallic_roughness_tex, &m->emissive_tex, &m->normal_tex};
+  for (int k = 0; k < 4; ++k) {
+    snprintf(w, sizeof w, "materials[%d].%s", i, names[k]);
+    if (refs[k]->index >= 0 && refs[k]->texcoord != 0) {
+      r = warn(L, "%s.texCoord: %d (only TEXCOORD_0 is read; using it)", w, refs[k]->texcoord);
+      if (r != PB_OK) return r;
+    }
+    r = texture_ref(L, refs[k]->index, srgb[k], w, dst[k]);
+    if (r != PB_OK) return r;
+  }
+  return PB_OK;
+}
+
+static int32_t default_material(loader *L) {
+  /* glTF's default material: white, metallic 1, roughness 1. */
+  if (L->default_material < 0) {
+    pb_scene *s = L->s;
+    pb_material *m = &s->materials[s->material_count];
+    memset(m, 0, sizeof *m);
+    snprintf(m->name, PB_NAME_MAX, "(default)");
+    for (int k = 0; k < 4; ++k) m->base_color[k] = 1;
+    m->metallic = 1;
+    m->roughness = 1;
+    m->specular = 1;
+    m->specular_color[0] = m->specular_color[1] = m->specular_color[2] = 1;
+    m->ior = 1.5f;
+    m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+    L->default_material = (int32_t)s->material_count++;
+  }
+  return L->default_material;
+}
+
+/* ---- meshes -------------------------------------------------------------- */
+
+static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M) {
+  pb_gltf_doc *d = L->doc;
+  pb_scene *s = L->s;
+  const pb_gltf_primitive *p = &d->meshes[mesh].primitives[pi];
+  char w[128];
+  pb_result r;
+  if (p->mode != MODE_TRIANGLES && p->mode != MODE_TRIANGLE_STRIP && p->mode != MODE_TRIANGLE_FAN) {
+    const char *mn = p->mode >= 0 && p->mode <= 6 ? mode_names[p->mode] : "unknown";
+    return warn(L, "meshes[%d].primitives[%zu]: mode %d (%s) skipped: only triangles are rendered", mesh, pi, p->mode, mn);
+  }
+  if (p->has_targets && (r = warn(L, "meshes[%d].primitives[%zu]: morph targets ignored", mesh, pi)) != PB_OK) return r;
+  if (p->position < 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].attributes: no POSITION", L->path, mesh, pi);
+  static const int32_t float_only[] = {CT_FLOAT, 0};
+  static const int32_t uv_types[] = {CT_FLOAT, CT_UBYTE, CT_USHORT, 0};
+  static const int32_t index_types[] = {CT_UBYTE, CT_USHORT, CT_UINT, 0};
+  span pos, nrm, uv, idx;
+  snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.POSITION", mesh, pi);
+  if ((r = check_accessor(L, p->position, w, 3, float_only, &pos)) != PB_OK) return r;
+  int has_n = p->normal >= 0, has_uv = p->texcoord0 >= 0;
+  if (has_n) {
+    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.NORMAL", mesh, pi);
+    if ((r = check_accessor(L, p->normal, w, 3, float_only, &nrm)) != PB_OK) return r;
+    if (nrm.count != pos.count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
+                     p->normal, (unsigned long long)nrm.count, (unsigned long long)pos.count);
+  }
+  if (has_uv) {
+    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TEXCOORD_0", mesh, pi);
+    if ((r = check_accessor(L, p->texcoord0, w, 2, uv_types, &uv)) != PB_OK) return r;
+    if (uv.ct != CT_FLOAT && !uv.normalized)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer TEXCOORD_0 must be normalized", L->path, p->texcoord0);
+    if (uv.count != pos.count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
+                     p->texcoord0, (unsigned long long)uv.count, (unsigned long long)pos.count);
+  }
+  uint64_t nidx = pos.count;
+  if (p->indices >= 0) {
+    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].indices", mesh, pi);
+    if ((r = check_accessor(L, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
+    nidx = idx.count;
+  }
+  int32_t mat;
+  if (p->material >= 0) {
+    if ((size_t)p->material >= d->material_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].material: %d does not exist (%zu materials)",
+                     L->path, mesh, pi, p->material, d->material_count);
+    mat = p->material;
+  } else {
+    mat = default_material(L);
+  }
+
+  /* Vertex positions: all finite, checked once per accessor element. */
+  for (uint64_t i = 0; i < pos.count; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (!isfinite(read_f(&pos, i, c)))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: POSITION element %llu is not finite (%g)", L->path,
+                       p->position, (unsigned long long)i, (double)read_f(&pos, i, c));
+
+  /* Triangle list from the mode. */
+  uint64_t ntri = p->mode == MODE_TRIANGLES ? nidx / 3 : (nidx >= 3 ? nidx - 2 : 0);
+  if (p->mode == MODE_TRIANGLES && nidx % 3 &&
+      (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
+                (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
+    return r;
+  if ((uint64_t)s->triangle_count + ntri > L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: more than %llu triangles in the scene", L->path, mesh,
+                   pi, (unsigned long long)L->desc->max_triangles);
+  /* Flat normals (the glTF rule when NORMAL is absent) need 3 vertices per
+   * triangle; otherwise the accessor's vertices are shared. */
+  uint64_t nverts = has_n ? pos.count : ntri * 3;
+  if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK) return r;
+  uint32_t vcap = L->vertex_cap;
+  void *q1 = realloc(s->normals, (size_t)vcap * sizeof *s->normals);
+  if (q1) s->normals = q1;
+  void *q2 = q1 ? realloc(s->uvs, (size_t)vcap * sizeof *s->uvs) : NULL;
+  if (q2) s->uvs = q2;
+  if (!q1 || !q2) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+  uint32_t tcap = L->triangle_cap;
+  if ((r = grow(L, (void **)&s->triangles, &L->triangle_cap, (uint64_t)s->triangle_count + ntri, sizeof *s->triangles, "triangles")) != PB_OK) return r;
+  if (L->triangle_cap != tcap) {
+    void *q = realloc(s->triangle_material, (size_t)L->triangle_cap * sizeof *s->triangle_material);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for triangles", L->path);
+    s->triangle_material = q;
+  }
+
+  int flip = det3(M) < 0; /* a mirroring transform reverses the winding */
+  double N[9];
+  normal_matrix(M, N);
+  uint32_t base = s->vertex_count, tri_base = s->triangle_count;
+  uint64_t dropped = 0;
+  if (has_n) {
+    for (uint64_t i = 0; i < pos.count; ++i) {
+      double pl[3] = {read_f(&pos, i, 0), read_f(&pos, i, 1), read_f(&pos, i, 2)}, pw[3];
+      xform_point(M, pl, pw);
+      double nl[3] = {read_f(&nrm, i, 0), read_f(&nrm, i, 1), read_f(&nrm, i, 2)}, nw[3];
+      for (int rr = 0; rr < 3; ++rr) nw[rr] = N[rr] * nl[0] + N[3 + rr] * nl[1] + N[6 + rr] * nl[2];
+      if (!normalize3(nw)) nw[0] = nw[1] = 0, nw[2] = 0; /* fixed below from the face */
+      float *P = s->positions[base + i], *Nn = s->normals[base + i], *U = s->uvs[base + i];
+      for (int c = 0; c < 3; ++c) P[c] = (float)pw[c], Nn[c] = (float)nw[c];
+      U[0] = has_uv ? read_f(&uv, i, 0) : 0.0f;
+      U[1] = has_uv ? read_f(&uv, i, 1) : 0.0f;
+      if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
+    }
+    s->vertex_count += (uint32_t)pos.count;
+  }
+  for (uint64_t t = 0; t < ntri; ++t) {
+    uint64_t k[3];
+    if (p->mode == MODE_TRIANGLES) k[0] = 3 * t, k[1] = 3 * t + 1, k[2] = 3 * t + 2;
+    else if (p->mode == MODE_TRIANGLE_STRIP) k[0] = t + (t & 1), k[1] = t + 1 - (t & 1), k[2] = t + 2;
+    else k[0] = t + 1, k[1] = t + 2, k[2] = 0;
+    uint32_t v[3];
+    for (int c = 0; c < 3; ++c) {
+      uint64_t vi = p->indices >= 0 ? read_index(&idx, k[c]) : k[c];
+      if (vi >= pos.count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
+                       L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)pos.count);
+      v[c] = (uint32_t)vi;
+    }
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+      dropped++;
+      continue;
+    }
+    if (flip) {
+      uint32_t tmp = v[1];
+      v[1] = v[2];
+      v[2] = tmp;
+    }
+    uint32_t out[3];
+    if (has_n) {
+      for (int c = 0; c < 3; ++c) out[c] = base + v[c];
+    } else {
+      double pw[3][3];
+      for (int c = 0; c < 3; ++c) {
+        double pl[3] = {read_f(&pos, v[c], 0), read_f(&pos, v[c], 1), read_f(&pos, v[c], 2)};
+        xform_point(M, pl, pw[c]);
+      }
+      double e1[3] = {pw[1][0] - pw[0][0], pw[1][1] - pw[0][1], pw[1][2] - pw[0][2]};
+      double e2[3] = {pw[2][0] - pw[0][0], pw[2][1] - pw[0][1], pw[2][2] - pw[0][2]};
+      double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      if (!normalize3(fn)) fn[0] = 0, fn[1] = 0, fn[2] = 1; /* zero area: any unit normal */
+      for (int c = 0; c < 3; ++c) {
+        uint32_t o = s->vertex_count++;
+        for (int a = 0; a < 3; ++a) s->positions[o][a] = (float)pw[c][a], s->normals[o][a] = (float)fn[a];
+        s->uvs[o][0] = has_uv ? read_f(&uv, v[c], 0) : 0.0f;
+        s->uvs[o][1] = has_uv ? read_f(&uv, v[c], 1) : 0.0f;
+        out[c] = o;
+      }
+    }
+    uint32_t tri = s->triangle_count++;
+    memcpy(s->triangles[tri], out, sizeof out);
+    s->triangle_material[tri] = (uint32_t)mat;
+  }
+  /* Zero normals in the file (or collapsed by a degenerate transform): use the
+   * face normal of a triangle that uses the vertex. */
+  if (has_n)
+    for (uint32_t t = tri_base; t < s->triangle_count; ++t)
+      for (int c = 0; c < 3; ++c) {
+        uint32_t vi = s->triangles[t][c];
+        float *Nn = s->normals[vi];
+        if (Nn[0] == 0 && Nn[1] == 0 && Nn[2] == 0) {
+          const float *a = s->positions[s->triangles[t][0]], *b = s->positions[s->triangles[t][1]],
+                      *cc = s->positions[s->triangles[t][2]];
+          double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]};
+          double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+          if (!normalize3(fn)) fn[0] = 0, fn[1] = 0, fn[2] = 1;
+          for (int a2 = 0; a2 < 3; ++a2) Nn[a2] = (float)fn[a2];
+        }
+      }
+  if (dropped)
+    return warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
+                (unsigned long long)dropped);
+  return PB_OK;
+}
+
+/* ---- cameras and lights -------------------------------------------------- */
+
+static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
+  pb_gltf_doc *d = L->doc;
+  int32_t ci = d->nodes[node].camera;
+  if (ci < 0 || (size_t)ci >= d->camera_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].camera: %d does not exist (%zu cameras)", L->path, node, ci,
+                   d->camera_count);
+  const pb_gltf_camera *c = &d->cameras[ci];
+  if (!c->perspective)
+    return warn(L, "cameras[%d]: type '%s' skipped: only perspective cameras are supported", ci, c->type);
+  if (!(c->yfov > 0 && c->yfov < M_PI))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.yfov: %g is not in (0, pi)", L->path, ci, c->yfov);
+  if (!(c->znear > 0) || !isfinite(c->znear))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.znear: %g is not positive", L->path, ci, c->znear);
+  if (c->aspect_ratio < 0 || !isfinite(c->aspect_ratio))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.aspectRatio: %g is not positive", L->path, ci,
+                   c->aspect_ratio);
+  double o[3] = {0, 0, 0}, pos[3], f[3], u[3];
+  double fz[3] = {0, 0, -1}, uy[3] = {0, 1, 0};
+  xform_point(M, o, pos);
+  xform_dir(M, fz, f);
+  xform_dir(M, uy, u);
+  if (!normalize3(f))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: camera transform is degenerate", L->path, node);
+  /* Orthonormalise (Gram-Schmidt) so a sheared or scaled node still gives a
+   * proper camera frame. */
+  double dp = u[0] * f[0] + u[1] * f[1] + u[2] * f[2];
+  for (int k = 0; k < 3; ++k) u[k] -= dp * f[k];
+  if (!normalize3(u))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: camera transform is degenerate", L->path, node);
+  pb_scene *s = L->s;
+  pb_result r = grow(L, (void **)&s->cameras, &L->camera_cap, (uint64_t)s->camera_count + 1, sizeof *s->cameras, "cameras");
+  if (r != PB_OK) return r;
+  pb_camera *cam = &s->cameras[s->camera_count++];
+  memset(cam, 0, sizeof *cam);
+  copy_name(cam->name, d->nodes[node].name, c->name);
+  if (!cam->name[0]) snprintf(cam->name, PB_NAME_MAX, "cameras[%d]", ci);
+  for (int k = 0; k < 3; ++k) cam->position[k] = (float)pos[k], cam->forward[k] = (float)f[k], cam->up[k] = (float)u[k];
+  cam->right[0] = (float)(f[1] * u[2] - f[2] * u[1]);
+  cam->right[1] = (float)(f[2] * u[0] - f[0] * u[2]);
+  cam->right[2] = (float)(f[0] * u[1] - f[1] * u[0]);
+  cam->yfov = (float)c->yfov;
+  cam->aspect = (float)c->aspect_ratio;
+  cam->znear = (float)c->znear;
+  cam->zfar = (float)c->zfar;
+  return PB_OK;
+}
+
+static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
+  pb_gltf_doc *d = L->doc;
+  int32_t li = d->nodes[node].light;
+  if (li < 0 || (size_t)li >= d->light_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].extensions.KHR_lights_punctual.light: %d does not exist (%zu lights)",
+                   L->path, node, li, d->light_count);
+  const pb_gltf_light *g = &d->lights[li];
+  pb_light_type type;
+  if (strcmp(g->type, "point") == 0) type = PB_LIGHT_POINT;
+  else if (strcmp(g->type, "spot") == 0) type = PB_LIGHT_SPOT;
+  else if (strcmp(g->type, "directional") == 0) type = PB_LIGHT_DIRECTIONAL;
+  else return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].type: '%s' is not point, spot or directional",
+                      L->path, li, g->type);
+  if (!isfinite(g->intensity) || g->intensity < 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].intensity: %g is not a finite non-negative number",
+                   L->path, li, g->intensity);
+  for (int k = 0; k < 3; ++k)
+    if (!isfinite(g->color[k]) || g->color[k] < 0)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].color[%d]: %g is not a finite non-negative number",
+                     L->path, li, k, g->color[k]);
+  if (!isfinite(g->range) || g->range < 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].range: %g is negative", L->path, li, g->range);
+  if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone < g->outer_cone && g->outer_cone <= M_PI / 2 + 1e-6))
+    return pb_fail(PB_ERR_SCENE_INVALID,
+                   "%s: extensions.KHR_lights_punctual.lights[%d].spot: need 0 <= innerConeAngle (%g) < outerConeAngle (%g) <= pi/2",
+                   L->path, li, g->inner_cone, g->outer_cone);
+  double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
+  xform_point(M, o, pos);
+  xform_dir(M, fz, dir);
+  if (type != PB_LIGHT_POINT && !normalize3(dir))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", L->path, node);
+  pb_scene *s = L->s;
+  pb_result r = grow(L, (void **)&s->lights, &L->light_cap, (uint64_t)s->light_count + 1, sizeof *s->lights, "lights");
+  if (r != PB_OK) return r;
+  pb_light *l = &s->lights[s->light_count++];
+  memset(l, 0, sizeof *l);
+  copy_name(l->name, d->nodes[node].name, g->name);
+  if (!l->name[0]) snprintf(l->name, PB_NAME_MAX, "lights[%d]", li);
+  l->type = type;
+  for (int k = 0; k < 3; ++k) l->position[k] = (float)pos[k], l->direction[k] = (float)dir[k], l->color[k] = (float)g->color[k];
+  if (type == PB_LIGHT_POINT) l->direction[0] = l->direction[1] = 0, l->direction[2] = -1;
+  l->file_intensity = (float)g->intensity;
+  /* shared/VALIDATION.md: standard = photometric (cd, lx): W = lm / 683;
+   * Blender's unitless mode writes W/(4 pi) (point, spot) and W/m^2 (sun). */
+  l->intensity = (float)(L->desc->light_units == PB_LIGHT_UNITS_UNITLESS ? g->intensity : g->intensity / PB_LUMENS_PER_WATT);
+  l->inner_cone = type == PB_LIGHT_SPOT ? (float)g->inner_cone : 0;
+  l->outer_cone = type == PB_LIGHT_SPOT ? (float)g->outer_cone : 0;
+  l->range = (float)g->range;
+  return PB_OK;
+}
+
+/* ---- node graph ---------------------------------------------------------- */
+
+/* The node graph must be a forest: every child index valid, no node with two
+ * parents, no cycle (a cycle also shows up as a second parent, or as a root
+ * that is someone's child). */
+static pb_result check_nodes(loader *L) {
+  pb_gltf_doc *d = L->doc;
+  for (size_t i = 0; i < d->node_count; ++i) L->parent[i] = -1;
+  for (size_t i = 0; i < d->node_count; ++i) {
+    const pb_gltf_node *n = &d->nodes[i];
+    for (size_t c = 0; c < n->child_count; ++c) {
+      int32_t ch = n->children[c];
+      if (ch < 0 || (size_t)ch >= d->node_count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu].children[%zu]: node %d does not exist (%zu nodes)", L->path,
+                       i, c, ch, d->node_count);
+      if ((size_t)ch == i)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu].children[%zu]: a node cannot be its own child", L->path, i, c);
+      if (L->parent[ch] >= 0)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu].children[%zu]: node %d already has parent nodes[%d] (the node graph must be a tree)",
+                       L->path, i, c, ch, L->parent[ch]);
+      L->parent[ch] = (int32_t)i;
+    }
+    if (!n->has_matrix) {
+      for (int k = 0; k < 3; ++k)
+        if (!isfinite(n->translation[k]) || !isfinite(n->scale[k]))
+          return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu]: translation or scale is not finite", L->path, i);
+      for (int k = 0; k < 4; ++k)
+        if (!isfinite(n->rotation[k]))
+          return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu].rotation: not finite", L->path, i);
+    }
+  }
+  /* With one parent each, a cycle is a loop of parents: walk up from each
+   * node; a walk longer than the node count is a cycle. */
+  for (size_t i = 0; i < d->node_count; ++i) {
+    size_t steps = 0;
+    for (int32_t p = L->parent[i]; p >= 0; p = L->parent[p])
+      if (++steps > d->node_count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu]: cycle in the node graph", L->path, i);
+  }
+  return PB_OK;
+}
+
+static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
+  pb_gltf_doc *d = L->doc;
+  if (depth > MAX_NODE_DEPTH)
+    return pb_fail(PB_ERR_LIMIT, "%s: nodes[%d]: node tree deeper than %d", L->path, node, MAX_NODE_DEPTH);
+  if (L->node_state[node])
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: reached twice (listed in a scene and as a child?)", L->path, node);
+  L->node_state[node] = 1;
+  const pb_gltf_node *n = &d->nodes[node];
+  mat4 local = node_local(n);
+  mat4 M = mat_mul(parent, &local);
+  if (!finite_mat(&M))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform is not finite", L->path, node);
+  pb_result r = PB_OK;
+  if (n->skin >= 0 && (r = warn(L, "nodes[%d]: skinning ignored (rendered in bind pose)", node)) != PB_OK) return r;
+  if (n->mesh >= 0) {
+    if ((size_t)n->mesh >= d->mesh_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].mesh: %d does not exist (%zu meshes)", L->path, node, n->mesh,
+                     d->mesh_count);
+    for (size_t pi = 0; pi < d->meshes[n->mesh].primitive_count; ++pi)
+      if ((r = add_primitive(L, n->mesh, pi, &M)) != PB_OK) return r;
+  }
+  if (n->camera >= 0 && (r = add_camera(L, node, &M)) != PB_OK) return r;
+  if (n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
+  for (size_t c = 0; c < n->child_count; ++c)
+    if ((r = visit(L, n->children[c], &M, depth + 1)) != PB_OK) return r;
+  return PB_OK;
+}
+
+/* A camera framing the whole scene, for files without one: 50 degrees
+ * vertical field of view, looking at the bounds' centre from the front (+Z)
+ * and a little above, far enough for the bounding sphere to fit. */
+static pb_result synthesize_camera(loader *L) {
+  pb_scene *s = L->s;
+  pb_result r = grow(L, (void **)&s->cameras, &L->camera_cap, 1, sizeof *s->cameras, "cameras");
+  if (r != PB_OK) return r;
+  pb_camera *c = &s->cameras[0];
+  memset(c, 0, sizeof *c);
+  snprintf(c->name, PB_NAME_MAX, "default");
+  c->synthesized = 1;
+  c->yfov = 50.0f * (float)M_PI / 180.0f;
+  c->znear = 0.01f;
+  float ctr[3], rad = 0;
+  for (int k = 0; k < 3; ++k) {
+    ctr[k] = 0.5f * (s->bounds_min[k] + s->bounds_max[k]);
+    float e = 0.5f * (s->bounds_max[k] - s->bounds_min[k]);
+    rad += e * e;
+  }
+  rad = sqrtf(rad);
+  if (!(rad > 0)) rad = 1;
+  float dist = 1.1f * rad / sinf(0.5f * c->yfov);
+  double f[3] = {0, -0.25, -1};
+  normalize3(f);
+  for (int k = 0; k < 3; ++k) {
+    c->forward[k] = (float)f[k];
+    c->position[k] = ctr[k] - dist * (float)f[k];
+  }
+  /* up = orthonormalised +Y, right = forward x up */
+  double u[3] = {0, 1, 0}, dp = f[1];
+  for (int k = 0; k < 3; ++k) u[k] -= dp * f[k];
+  normalize3(u);
+  for (int k = 0; k < 3; ++k) c->up[k] = (float)u[k];
+  c->right[0] = (float)(f[1] * u[2] - f[2] * u[1]);
+  c->right[1] = (float)(f[2] * u[0] - f[0] * u[2]);
+  c->right[2] = (float)(f[0] * u[1] - f[1] * u[0]);
+  s->camera_count = 1;
+  return PB_OK;
+}
+
+static pb_result load(loader *L) {
+  pb_gltf_doc *d = L->doc;
+  pb_scene *s = L->s;
+  pb_result r;
+  /* Materials first (textures are decoded only when a material uses them),
+   * with room for glTF's default material. */
+  s->materials = calloc(d->material_count + 1, sizeof *s->materials);
+  L->texture_map = malloc((d->texture_count * 2 + 1) * sizeof *L->texture_map);
+  L->image_cache = calloc(d->image_count + 1, sizeof *L->image_cache);
+  L->image_w = calloc(d->image_count + 1, sizeof *L->image_w);
+  L->image_h = calloc(d->image_count + 1, sizeof *L->image_h);
+  L->node_state = calloc(d->node_count + 1, 1);
+  L->parent = malloc((d->node_count + 1) * sizeof *L->parent);
+  if (!s->materials || !L->texture_map || !L->image_cache || !L->image_w || !L->image_h || !L->node_state || !L->parent)
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  for (size_t i = 0; i < d->texture_count * 2; ++i) L->texture_map[i] = -1;
+  for (size_t i = 0; i < d->material_count; ++i) {
+    if ((r = convert_material(L, (int)i, &s->materials[i])) != PB_OK) return r;
+    s->material_count++;
+  }
+  if ((r = check_nodes(L)) != PB_OK) return r;
+
+  /* The scene to show: `scene`, else scenes[0], else every root node. */
+  mat4 I;
+  memset(&I, 0, sizeof I);
+  I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
+  if (d->default_scene >= 0 && (size_t)d->default_scene >= d->scene_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: scene: %d does not exist (%zu scenes)", L->path, d->default_scene, d->scene_count);
+  if (d->scene_count > 0) {
+    int32_t si = d->default_scene >= 0 ? d->default_scene : 0;
+    const pb_gltf_scene *sc = &d->scenes[si];
+    for (size_t i = 0; i < sc->node_count; ++i) {
+      int32_t n = sc->nodes[i];
+      if (n < 0 || (size_t)n >= d->node_count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: scenes[%d].nodes[%zu]: node %d does not exist (%zu nodes)", L->path, si, i,
+                       n, d->node_count);
+      if (L->parent[n] >= 0)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: scenes[%d].nodes[%zu]: node %d is not a root (it is a child of nodes[%d])",
+                       L->path, si, i, n, L->parent[n]);
+      if ((r = visit(L, n, &I, 0)) != PB_OK) return r;
+    }
+  } else {
+    if (d->node_count && (r = warn(L, "scenes: none; every root node is shown")) != PB_OK) return r;
+    for (size_t n = 0; n < d->node_count; ++n)
+      if (L->parent[n] < 0 && (r = visit(L, (int32_t)n, &I, 0)) != PB_OK) return r;
+  }
+  s->animation_count = (uint32_t)d->animation_count;
+  s->animation_channel_count = (uint32_t)d->animation_channel_count;
+  for (size_t i = 0; i < d->extensions_used_count; ++i) {
+    const char *e = d->extensions_used[i];
+    static const char *const known[] = {"KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_transmission",
+                                        "KHR_materials_ior", "KHR_materials_emissive_strength"};
+    int ok = 0;
+    for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
+    if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
+  }
+  pb_scene_finalize(s);
+  if (s->camera_count == 0) {
+    if ((r = synthesize_camera(L)) != PB_OK) return r;
+    if ((r = warn(L, "cameras: none in the scene; using a default camera framing the bounds")) != PB_OK) return r;
+  }
+  if (s->triangle_count == 0 && (r = warn(L, "meshes: no triangles to render")) != PB_OK) return r;
+  if (s->light_count == 0 && !(s->features & PB_FEATURE_EMISSIVE) &&
+      (r = warn(L, "lights: none, and no emissive material: the render will be black")) != PB_OK)
+    return r;
+  return PB_OK;
+}
+
+pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene *out) {
+  memset(out, 0, sizeof *out);
+  pb_load_desc desc = desc_in ? *desc_in : (pb_load_desc){0};
+  if (!desc.max_file_bytes) desc.max_file_bytes = 2ull << 30;
+  if (!desc.max_image_dim) desc.max_image_dim = 16384;
+  if (!desc.max_image_pixels) desc.max_image_pixels = 64ull << 20;
+  if (!desc.max_triangles) desc.max_triangles = 64ull << 20;
+
+  pb_gltf_doc doc;
+  pb_gltf_read_desc rd = {desc.allow_external_files, desc.max_file_bytes};
+  pb_result r = pb_gltf_doc_read(path, &rd, &doc);
+  if (r != PB_OK) return r;
+
+  loader L;
+  memset(&L, 0, sizeof L);
+  L.path = path;
+  L.desc = &desc;
+  L.doc = &doc;
+  L.s = out;
+  L.default_material = -1;
+  out->path = strdup(path);
+  out->light_units = desc.light_units;
+  snprintf(out->generator, sizeof out->generator, "%s", doc.generator ? doc.generator : "");
+  r = out->path ? load(&L) : pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+
+  for (size_t i = 0; i < doc.image_count && L.image_cache; ++i) free(L.image_cache[i]);
+  free(L.image_cache);
+  free(L.image_w);
+  free(L.image_h);
+  free(L.texture_map);
+  free(L.node_state);
+  free(L.parent);
+  pb_gltf_doc_destroy(&doc);
+  if (r != PB_OK) pb_scene_destroy(out);
+  return r;
+}
