@@ -40,6 +40,11 @@ static const pb_command *find(const char *name) {
 }
 
 static int cmd_help(int argc, char **argv) {
+  if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+    printf("usage: photonbridge help [SUBCOMMAND]\n\n");
+    usage(stdout);
+    return 0;
+  }
   if (argc < 2) {
     usage(stdout);
     return 0;

@@ -1,0 +1,48 @@
+# The command line: exit codes from the result table, help for every
+# subcommand, and `info` on every committed sample.
+function(pb_cli_test name)
+  cmake_parse_arguments(T "" "EXIT;REGEX;FAIL_REGEX" "" ${ARGN})
+  # Run through sh so the exit code can be checked exactly.
+  add_test(NAME ${name}
+           COMMAND sh -c "\"$0\" \"$@\"; rc=$?; echo \"exit=$rc\"; [ $rc -eq ${T_EXIT} ]"
+                   ${PB_EXE} ${T_UNPARSED_ARGUMENTS}
+           WORKING_DIRECTORY ${PB_ROOT})
+  if(T_REGEX)
+    set_tests_properties(${name} PROPERTIES PASS_REGULAR_EXPRESSION "${T_REGEX}")
+  endif()
+  if(T_FAIL_REGEX)
+    set_tests_properties(${name} PROPERTIES FAIL_REGULAR_EXPRESSION "${T_FAIL_REGEX}")
+  endif()
+endfunction()
+
+pb_cli_test(cli_version --version EXIT 0 REGEX "photonbridge [0-9]+\\.[0-9]+\\.[0-9]+.*exit=0")
+pb_cli_test(cli_help help EXIT 0 REGEX "subcommands:.*info.*exit=0")
+pb_cli_test(cli_no_args EXIT 2 REGEX "usage: photonbridge SUBCOMMAND.*exit=2")
+pb_cli_test(cli_unknown_subcommand frobnicate EXIT 2 REGEX "unknown subcommand 'frobnicate'.*exit=2")
+pb_cli_test(cli_info_no_scene info EXIT 2 REGEX "expected one SCENE.*exit=2")
+pb_cli_test(cli_info_bad_option info --bogus x.gltf EXIT 2 REGEX "unknown option '--bogus'.*exit=2")
+pb_cli_test(cli_info_missing_file info does-not-exist.gltf EXIT 3
+            REGEX "does-not-exist.gltf: cannot open.*exit=3")
+pb_cli_test(cli_info_bad_units info --light-units kilowatts x.gltf EXIT 2 REGEX "unknown value 'kilowatts'.*exit=2")
+pb_cli_test(cli_help_unknown help frobnicate EXIT 2 REGEX "unknown subcommand.*exit=2")
+
+# Every subcommand answers --help with its usage and exit 0, and `help X`
+# says the same. The list comes from `photonbridge help` itself, so a new
+# subcommand is covered without editing this file.
+add_test(NAME cli_every_subcommand_help
+         COMMAND sh -c "set -e; cmds=$(\"$0\" help | sed -n '/^subcommands:/,$p' | awk 'NR>1{print $1}');
+                        [ -n \"$cmds\" ]; n=0;
+                        for c in $cmds; do \"$0\" $c --help | grep -q \"usage: photonbridge $c\"; \"$0\" help $c >/dev/null; n=$((n+1)); done;
+                        echo \"$n passed, 0 failed\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+
+# info on every committed sample: loads, has a camera from the file, lights
+# and triangles, and no warnings (the samples are our own exports).
+file(GLOB PB_SAMPLE_SCENES ${PB_ROOT}/samples/*/*.gltf)
+foreach(scene ${PB_SAMPLE_SCENES})
+  get_filename_component(sname ${scene} NAME_WE)
+  add_test(NAME info_${sname}
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/check_info.py ${PB_EXE} ${scene}
+           WORKING_DIRECTORY ${PB_ROOT})
+endforeach()
