@@ -11,32 +11,24 @@ static pb_log_level level = PB_LOG_NORMAL;
 void pb_log_set_level(pb_log_level l) { level = l; }
 pb_log_level pb_log_get_level(void) { return level; }
 
-static void vlog(const char *prefix, const char *fmt, va_list ap) {
+static void vlog(pb_log_level min, const char *prefix, const char *fmt, va_list ap) {
+  if (level < min) return;
   fputs(prefix, stderr);
   vfprintf(stderr, fmt, ap);
   fputc('\n', stderr);
 }
-void pb_log_info(const char *fmt, ...) {
-  if (level < PB_LOG_NORMAL) return;
-  va_list ap;
-  va_start(ap, fmt);
-  vlog("", fmt, ap);
-  va_end(ap);
-}
-void pb_log_verbose(const char *fmt, ...) {
-  if (level < PB_LOG_VERBOSE) return;
-  va_list ap;
-  va_start(ap, fmt);
-  vlog("", fmt, ap);
-  va_end(ap);
-}
-void pb_log_warn(const char *fmt, ...) {
-  if (level < PB_LOG_NORMAL) return;
-  va_list ap;
-  va_start(ap, fmt);
-  vlog("warning: ", fmt, ap);
-  va_end(ap);
-}
+
+#define PB_LOG_FN(name, min, prefix)                                           \
+  void name(const char *fmt, ...) {                                            \
+    va_list ap;                                                                \
+    va_start(ap, fmt);                                                         \
+    vlog(min, prefix, fmt, ap);                                                \
+    va_end(ap);                                                                \
+  }
+PB_LOG_FN(pb_log_info, PB_LOG_NORMAL, "")
+PB_LOG_FN(pb_log_verbose, PB_LOG_VERBOSE, "")
+PB_LOG_FN(pb_log_warn, PB_LOG_NORMAL, "warning: ")
+#undef PB_LOG_FN
 
 double pb_time_now(void) {
   struct timespec ts;
