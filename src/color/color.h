@@ -1,0 +1,84 @@
+/* Colour management: scene-linear Rec.709 pixels to a display through an
+ * OpenColorIO view (display / view / look), so that every renderer's preview
+ * and every display-referred metric passes through the same pipeline.
+ *
+ * The OCIO config is, in order: pb_color_desc.config, else $OCIO, else the
+ * built-in config (config/ocio/photonbridge.ocio, embedded in the binary):
+ * scene-linear Rec.709, ACEScg, ACES2065-1; display "sRGB" with views
+ * "Standard" (no tone mapping, clips at 1), "ACES 1.0 - SDR Video" and "Raw".
+ * Blender's own config (Debian: /usr/share/blender/datafiles/colormanagement/
+ * config.ocio) gives its "Filmic" view and contrast looks.
+ *
+ * Input pixels are in the config's `scene_linear` role (Rec.709 primaries in
+ * ours and in Blender's). The C++ shim (ocio_shim.cpp) is the only code that
+ * sees OCIO's API. EXR output never passes through here: it stays
+ * scene-linear, tagged with its chromaticities. */
+#ifndef PB_COLOR_H
+#define PB_COLOR_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "core/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pb_color_desc {
+  const char *config;  /* OCIO config file; NULL or "": $OCIO, else built-in */
+  const char *display; /* NULL or "": the config's default display */
+  const char *view;    /* NULL or "": the display's default view */
+  const char *look;    /* NULL, "" or "None": the view's own looks */
+} pb_color_desc;
+
+typedef struct pb_color pb_color;
+
+/* Loads the config and builds the CPU processor scene_linear -> display/view
+ * (+ look). Errors (one line, naming the config): PB_ERR_IO (config file
+ * missing or unreadable), PB_ERR_USAGE (unknown display, view or look; the
+ * message lists the ones the config has), PB_ERR_NOT_AVAILABLE (OCIO refused
+ * the config or the transform), PB_ERR_NOMEM. */
+pb_result pb_color_open(const pb_color_desc *desc, pb_color **out);
+void pb_color_destroy(pb_color *c); /* accepts NULL */
+
+/* In place: scene-linear RGB(A) -> display-referred values clamped to [0,1]
+ * (NaN -> 0). Alpha (channels 4) is left untouched. channels is 3 or 4;
+ * pixels are row-major, interleaved. */
+pb_result pb_color_apply_display(const pb_color *c, float *pixels, uint32_t width,
+                                 uint32_t height, uint32_t channels);
+
+/* In place, between two colour spaces of the same config (no clamping), e.g.
+ * "Linear Rec.709 (sRGB)" -> "ACEScg". Errors as pb_color_open. */
+pb_result pb_color_convert(const pb_color *c, const char *src, const char *dst,
+                           float *pixels, uint32_t width, uint32_t height,
+                           uint32_t channels);
+
+/* What the processor uses: the config ("built-in" or its path), the display,
+ * the view and the look ("" when none). */
+const char *pb_color_config_name(const pb_color *c);
+const char *pb_color_display(const pb_color *c);
+const char *pb_color_view(const pb_color *c);
+const char *pb_color_look(const pb_color *c);
+
+/* The config's displays, each with its views, and its looks, one per line
+ * ("display sRGB: Standard, Filmic, ..."), for --list. */
+void pb_color_list(const pb_color *c, FILE *f);
+
+/* The embedded config text (config/ocio/photonbridge.ocio). */
+extern const char pb_color_builtin_config_text[];
+
+/* Writes an 8-bit PNG through the view: pixels (linear RGB(A), 3 or 4
+ * channels) are scaled by 2^exposure, passed through pb_color_apply_display
+ * and rounded to nearest; alpha is written linearly. With c == NULL it falls
+ * back to pb_png_write_srgb (plain sRGB encode). Atomic like every writer.
+ * Errors: those of pb_png_write_srgb and pb_color_apply_display. */
+pb_result pb_png_write_display(const char *path, const pb_color *c, uint32_t width,
+                               uint32_t height, uint32_t channels,
+                               const float *pixels, float exposure);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
