@@ -164,7 +164,10 @@ static pb_result write_json(const pb_scene *s, const char *path) {
 int pb_cmd_info(int argc, char **argv) {
   const pb_command *cmd = &pb_commands[1];
   pb_core_opts c = {0};
-  const pb_opt opts[] = {PB_SCENE_OPTS(&c)};
+  int devices = 0;
+  const pb_opt opts[] = {PB_SCENE_OPTS(&c),
+                         {"devices", 0, PB_OPT_FLAG, &devices, NULL,
+                          "list the Vulkan devices (the order --device N counts) instead of a scene", NULL, 0, 0}};
   const size_t n = sizeof opts / sizeof *opts;
   const char *pos[1];
   size_t npos;
@@ -176,6 +179,7 @@ int pb_cmd_info(int argc, char **argv) {
                       "Warnings go to stdout as part of the summary. Exit status 0 when the scene loads.");
     return 0;
   }
+  if (devices && npos == 0) return pb_cli_exit(cmd, pb_info_devices(&c));
   if (npos != 1) return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "info: expected one SCENE argument (see 'photonbridge info --help')"));
   pb_load_desc desc;
   pb_core_opts_apply(&c, &desc);

@@ -2,7 +2,14 @@
 #ifndef PB_COMMANDS_H
 #define PB_COMMANDS_H
 
+#include "core/result.h"
+
 int pb_cmd_info(int argc, char **argv);
+int pb_cmd_render(int argc, char **argv);
+
+struct pb_core_opts;
+/* `info --devices`: the Vulkan devices, text or --json (info_devices.c). */
+pb_result pb_info_devices(const struct pb_core_opts *c);
 int pb_cmd_display(int argc, char **argv);
 int pb_cmd_export_pov(int argc, char **argv);
 

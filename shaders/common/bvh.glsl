@@ -1,0 +1,155 @@
+// BVH traversal against the layout of shaders/shared/pb_gpu.h.
+// The includer declares   pb_gpu_bvh_node bvh_nodes[];  pb_gpu_tri bvh_tris[];
+// in storage buffers before including this file.
+//
+// Ray-triangle: watertight test of Woop, Benthin and Wald, "Watertight
+// Ray/Triangle Intersection", JCGT 2(1), 2013: the ray is sheared so that it
+// runs along +z through the origin, the edge functions are evaluated in that
+// 2-D frame, so a point on a shared edge is inside exactly one of the two
+// triangles (or both, never neither). Hits are accepted in (tmin, tmax);
+// back faces count (no culling), as in Embree.
+//
+// Boxes: slab test with the reciprocal direction and tmax scaled by
+// 1 + 2 gamma(3) (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013), so that
+// rounding never culls a box the ray touches.
+#ifndef PB_BVH_GLSL
+#define PB_BVH_GLSL
+
+#define PB_INF uintBitsToFloat(0x7f800000u)
+
+struct pb_ray_prep {
+  vec3 org;
+  vec3 dir;
+  vec3 inv_dir;
+  int kx, ky, kz;
+  vec3 shear; // Sx, Sy, Sz
+};
+
+pb_ray_prep pb_prepare_ray(vec3 org, vec3 dir) {
+  pb_ray_prep r;
+  r.org = org;
+  r.dir = dir;
+  // Division by a zero component gives +-inf, which the slab test handles;
+  // 1/-0 = -inf is what we want for a direction of -0.
+  r.inv_dir = vec3(1.0) / dir;
+  vec3 a = abs(dir);
+  r.kz = (a.x > a.y) ? ((a.x > a.z) ? 0 : 2) : ((a.y > a.z) ? 1 : 2);
+  r.kx = (r.kz + 1) % 3;
+  r.ky = (r.kx + 1) % 3;
+  // Keep the winding: swap kx, ky when dir[kz] is negative.
+  if (dir[r.kz] < 0.0) {
+    int t = r.kx;
+    r.kx = r.ky;
+    r.ky = t;
+  }
+  r.shear = vec3(dir[r.kx] / dir[r.kz], dir[r.ky] / dir[r.kz], 1.0 / dir[r.kz]);
+  return r;
+}
+
+// Returns true and updates t, u, v (Embree barycentrics) for a hit closer
+// than t and beyond tmin.
+bool pb_intersect_tri(in pb_ray_prep r, vec3 p0, vec3 p1, vec3 p2, float tmin,
+                      inout float t, out float u, out float v) {
+  u = 0.0;
+  v = 0.0;
+  vec3 A = p0 - r.org, B = p1 - r.org, C = p2 - r.org;
+  float Ax = A[r.kx] - r.shear.x * A[r.kz];
+  float Ay = A[r.ky] - r.shear.y * A[r.kz];
+  float Bx = B[r.kx] - r.shear.x * B[r.kz];
+  float By = B[r.ky] - r.shear.y * B[r.kz];
+  float Cx = C[r.kx] - r.shear.x * C[r.kz];
+  float Cy = C[r.ky] - r.shear.y * C[r.kz];
+  // precise: the edge functions must be evaluated exactly as written (no
+  // contraction into FMA differently for the two triangles of an edge).
+  precise float U = Cx * By - Cy * Bx;
+  precise float V = Ax * Cy - Ay * Cx;
+  precise float W = Bx * Ay - By * Ax;
+  if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0))
+    return false;
+  precise float det = U + V + W;
+  if (det == 0.0) return false;
+  // Distance from the triangle's plane (as Embree does), better conditioned
+  // for grazing rays than the sheared-space numerator; the inside test
+  // above stays the watertight one.
+  vec3 N = cross(p1 - p0, p2 - p0);
+  float den = dot(r.dir, N);
+  if (den == 0.0) return false;
+  float tt = dot(A, N) / den;
+  if (!(tt > tmin) || !(tt < t)) return false;
+  float inv_det = 1.0 / det;
+  t = tt;
+  u = V * inv_det;
+  v = W * inv_det;
+  return true;
+}
+
+// Entry distance of the ray into a box, or +inf when it misses (t0, t1).
+float pb_box_entry(in pb_ray_prep r, vec3 lo, vec3 hi, float t0, float t1) {
+  vec3 a = (lo - r.org) * r.inv_dir;
+  vec3 b = (hi - r.org) * r.inv_dir;
+  vec3 tn = min(a, b), tf = max(a, b);
+  // NaN (0 * inf when the origin lies on a slab with a zero direction
+  // component) must not cull: max/min return the other operand for NaN in
+  // GLSL only by implementation, so replace NaN explicitly.
+  tn = mix(tn, vec3(-PB_INF), isnan(tn));
+  tf = mix(tf, vec3(PB_INF), isnan(tf));
+  float enter = max(max(tn.x, tn.y), max(tn.z, t0));
+  float leave = min(min(tf.x, tf.y), min(tf.z, t1)) * 1.0000003576; // 1 + 2 gamma(3)
+  return enter <= leave ? enter : PB_INF;
+}
+
+// Closest hit in (tmin, tmax) when any_hit is false; with any_hit, stops at
+// the first hit found (occlusion). Returns the primitive id or PB_GPU_MISS.
+uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
+              out float t_hit, out float u_hit, out float v_hit) {
+  pb_ray_prep r = pb_prepare_ray(org, dir);
+  uint stack[PB_BVH_MAX_DEPTH];
+  int sp = 0;
+  float t = tmax;
+  uint prim = PB_GPU_MISS;
+  u_hit = 0.0;
+  v_hit = 0.0;
+  uint node = 0u;
+  if (pb_box_entry(r, bvh_nodes[0].lo, bvh_nodes[0].hi, tmin, t) == PB_INF) {
+    t_hit = t;
+    return PB_GPU_MISS;
+  }
+  for (;;) {
+    pb_gpu_bvh_node n = bvh_nodes[node];
+    if (n.count > 0u) {
+      for (uint i = 0u; i < n.count; ++i) {
+        pb_gpu_tri tri = bvh_tris[n.first + i];
+        float u, v;
+        if (pb_intersect_tri(r, tri.p0, tri.p1, tri.p2, tmin, t, u, v)) {
+          prim = tri.prim;
+          u_hit = u;
+          v_hit = v;
+          if (any_hit) {
+            t_hit = t;
+            return prim;
+          }
+        }
+      }
+    } else {
+      uint c0 = n.first, c1 = n.first + 1u;
+      float e0 = pb_box_entry(r, bvh_nodes[c0].lo, bvh_nodes[c0].hi, tmin, t);
+      float e1 = pb_box_entry(r, bvh_nodes[c1].lo, bvh_nodes[c1].hi, tmin, t);
+      bool h0 = e0 != PB_INF, h1 = e1 != PB_INF;
+      if (h0 && h1) {
+        // Near child first; the far one waits on the stack.
+        uint near_c = e0 <= e1 ? c0 : c1, far_c = e0 <= e1 ? c1 : c0;
+        stack[sp++] = far_c;
+        node = near_c;
+        continue;
+      }
+      if (h0) { node = c0; continue; }
+      if (h1) { node = c1; continue; }
+    }
+    if (sp == 0) break;
+    node = stack[--sp];
+  }
+  t_hit = t;
+  return prim;
+}
+
+#endif

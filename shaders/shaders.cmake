@@ -1,0 +1,36 @@
+# Compiles shaders/*.comp to SPIR-V with glslc at build time and embeds each
+# as a C array header, ${CMAKE_BINARY_DIR}/generated/shaders/NAME.spv.h,
+# defining `static const uint32_t pb_spv_NAME[]`. glslc writes a depfile
+# (-MD), so editing an included header (shaders/shared/*.h,
+# shaders/common/*.glsl) recompiles exactly the shaders that include it; the
+# explicit DEPENDS on those folders is a second guard for generators without
+# depfile support. Defines the target pb_shaders (pb depends on it).
+find_program(GLSLC glslc REQUIRED)
+file(GLOB PB_SHADER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/*.comp)
+file(GLOB PB_SHADER_HEADERS CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/shared/*.h
+     ${CMAKE_SOURCE_DIR}/shaders/common/*.glsl)
+set(PB_SHADER_OUT ${CMAKE_BINARY_DIR}/generated/shaders)
+file(MAKE_DIRECTORY ${PB_SHADER_OUT})
+set(PB_SHADER_OUTPUTS "")
+foreach(src ${PB_SHADER_SOURCES})
+  get_filename_component(name ${src} NAME_WE)
+  set(spv ${PB_SHADER_OUT}/${name}.spv)
+  set(hdr ${PB_SHADER_OUT}/${name}.spv.h)
+  add_custom_command(
+    OUTPUT ${spv}
+    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1
+            -I ${CMAKE_SOURCE_DIR}/shaders -MD -MF ${spv}.d -o ${spv} ${src}
+    DEPENDS ${src} ${PB_SHADER_HEADERS}
+    DEPFILE ${spv}.d
+    COMMENT "glslc ${name}.comp"
+    VERBATIM)
+  add_custom_command(
+    OUTPUT ${hdr}
+    COMMAND ${CMAKE_COMMAND} -DIN=${spv} -DOUT=${hdr} -DNAME=${name}
+            -P ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    COMMENT "embed ${name}.spv"
+    VERBATIM)
+  list(APPEND PB_SHADER_OUTPUTS ${hdr})
+endforeach()
+add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

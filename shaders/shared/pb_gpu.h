@@ -1,0 +1,240 @@
+/* Every struct the GPU sees, written once and compiled both as C11 (host) and
+ * as GLSL 4.50 (std430 storage buffers and push constants). The host side
+ * checks each size and offset with _Static_assert (src/gpu/gpu_types.c and
+ * the layout test tests/unit/test_gpu_layout.c); the GLSL side gets the same
+ * layout from std430 because every vec3 sits on a 16-byte boundary and is
+ * followed by a 4-byte scalar, every struct is a multiple of 16 bytes.
+ *
+ * Conventions: PB_VEC3(n) is float[3] in C and vec3 in GLSL; uint is
+ * uint32_t. Flags and enums are plain uints (GLSL has no enums). */
+#ifndef PB_GPU_SHARED_H
+#define PB_GPU_SHARED_H
+
+#ifdef PB_GLSL
+#define PB_VEC3(n) vec3 n
+#define PB_VEC4(n) vec4 n
+#define PB_STRUCT(name) struct name
+#define PB_END(name) ;
+#define PB_CONST(name, value) const uint name = value;
+#else
+#include <stdint.h>
+#define PB_VEC3(n) float n[3]
+#define PB_VEC4(n) float n[4]
+#define PB_STRUCT(name) typedef struct name name; struct name
+#define PB_END(name) ;
+#define PB_CONST(name, value) enum { name = value };
+typedef uint32_t uint;
+#endif
+
+/* Compute workgroup size of every kernel (1-D). No kernel assumes anything
+ * about the subgroup size (lavapipe runs 8, NVIDIA 32, AMD 64). */
+PB_CONST(PB_GPU_WORKGROUP, 64)
+
+/* BVH traversal stack depth; the builder refuses deeper trees. */
+PB_CONST(PB_BVH_MAX_DEPTH, 48)
+/* Triangles per BVH leaf at most. */
+PB_CONST(PB_BVH_MAX_LEAF, 4)
+
+/* A BVH node, 32 bytes. Inner node (count == 0): children at `first` and
+ * `first + 1` (always adjacent, so one index addresses both). Leaf
+ * (count > 0): triangles first .. first + count - 1 of the BVH-ordered
+ * triangle array. lo/hi: the node's own box. Node 0 is the root. */
+PB_STRUCT(pb_gpu_bvh_node) {
+  PB_VEC3(lo);
+  uint first;
+  PB_VEC3(hi);
+  uint count;
+} PB_END(pb_gpu_bvh_node)
+
+/* A triangle in BVH order, 48 bytes: vertices in world space and the index
+ * of the triangle in pb_scene (its primitive id, as Embree reports it). */
+PB_STRUCT(pb_gpu_tri) {
+  PB_VEC3(p0);
+  uint prim;
+  PB_VEC3(p1);
+  uint pad0;
+  PB_VEC3(p2);
+  uint pad1;
+} PB_END(pb_gpu_tri)
+
+/* A ray for the ray-query kernel (tests, benchmark). Hits in (tmin, tmax). */
+PB_STRUCT(pb_gpu_ray) {
+  PB_VEC3(org);
+  float tmin;
+  PB_VEC3(dir);
+  float tmax;
+} PB_END(pb_gpu_ray)
+
+/* Result of a ray query. prim = PB_GPU_MISS on a miss; u, v: Embree's
+ * barycentrics (p = (1-u-v) p0 + u p1 + v p2). Any-hit queries set prim to 0
+ * when occluded and t to the tmax. */
+PB_CONST(PB_GPU_MISS, 0xffffffffu)
+PB_STRUCT(pb_gpu_hit) {
+  float t;
+  uint prim;
+  float u;
+  float v;
+} PB_END(pb_gpu_hit)
+
+/* Material: the reference's model (src/ref/bsdf.c) with glTF factors.
+ * Textures are indices into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
+PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
+PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
+PB_STRUCT(pb_gpu_material) {
+  PB_VEC4(base_color);       /* linear RGBA */
+  PB_VEC3(emissive);         /* W/(m^2 sr) */
+  uint base_color_tex;
+  PB_VEC3(specular_color);
+  uint metallic_roughness_tex;
+  float metallic;
+  float roughness;
+  float transmission;
+  float ior;
+  float specular;
+  uint emissive_tex;
+  uint flags;                /* PB_GPU_MAT_* */
+  uint pad0;
+} PB_END(pb_gpu_material)
+
+/* Texture table entry: texels are RGBA8 packed one per uint (R in the low
+ * byte), rows top to bottom, starting at texel `offset` of the texel buffer.
+ * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. */
+PB_CONST(PB_GPU_TEX_SRGB, 1u)
+PB_CONST(PB_GPU_TEX_NEAREST, 2u)
+PB_STRUCT(pb_gpu_texture) {
+  uint offset;
+  uint width;
+  uint height;
+  uint flags;
+  uint wrap_s;
+  uint wrap_t;
+  uint pad0;
+  uint pad1;
+} PB_END(pb_gpu_texture)
+
+/* Delta light, radiometric (scene.h): radiance = color * intensity folded
+ * into `power` [W/sr or W/m^2]. direction: unit, the way light travels.
+ * Spot: cos_outer/cos_inner of the cone. */
+PB_CONST(PB_GPU_LIGHT_POINT, 0u)
+PB_CONST(PB_GPU_LIGHT_SPOT, 1u)
+PB_CONST(PB_GPU_LIGHT_DIRECTIONAL, 2u)
+PB_STRUCT(pb_gpu_light) {
+  PB_VEC3(position);
+  uint type;
+  PB_VEC3(direction);
+  float cos_outer;
+  PB_VEC3(power);
+  float cos_inner;
+} PB_END(pb_gpu_light)
+
+/* Per-frame constants (a storage buffer, read by every render pass).
+ * Camera: pixel (x, y), top row first, looks along
+ *   forward + sx right + sy up, sx = (2 px / width - 1) tan_x,
+ *   sy = (1 - 2 py / height) tan_y, (px, py) the sample position in pixels. */
+PB_STRUCT(pb_gpu_frame) {
+  PB_VEC3(cam_pos);
+  uint width;
+  PB_VEC3(cam_forward);
+  uint height;
+  PB_VEC3(cam_right);
+  float tan_x;
+  PB_VEC3(cam_up);
+  float tan_y;
+  uint spp;              /* samples per pixel of the whole frame */
+  uint sample_index;     /* index of the sample this dispatch renders */
+  uint light_count;
+  uint max_specular_depth;
+  uint seed_lo;
+  uint seed_hi;
+  uint flags;            /* PB_GPU_FRAME_* */
+  uint pixel_count;
+} PB_END(pb_gpu_frame)
+PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
+
+/* G-buffer entry of one pixel for the current sample, 64 bytes: the first
+ * non-delta surface along the eye path (after any specular chain), in world
+ * space. prim == PB_GPU_MISS when the path left the scene or was absorbed.
+ * throughput: the specular chain's weight; wo: toward the eye. u, v: Embree
+ * barycentrics of prim. The motion vector slot is for temporal passes. */
+PB_STRUCT(pb_gpu_gbuffer) {
+  PB_VEC3(position);
+  uint prim;
+  PB_VEC3(wo);
+  float u;
+  PB_VEC3(throughput);
+  float v;
+  float motion_x;        /* reserved: motion vector, pixels */
+  float motion_y;
+  uint chain;            /* delta interactions before this vertex */
+  uint pad0;
+} PB_END(pb_gpu_gbuffer)
+
+/* Per-pixel accumulators (sums over samples; the host divides by spp).
+ * beauty.w: samples that hit geometry. depth: camera-space z summed over hit
+ * samples (divide by beauty.w). */
+PB_STRUCT(pb_gpu_accum) {
+  PB_VEC4(beauty);
+  PB_VEC3(direct);       /* at most one scattering event (reference's split) */
+  float depth;
+  PB_VEC3(albedo);
+  float material;        /* material index of the first hit, + 1 (0: miss) */
+  PB_VEC3(normal);
+  float pad0;
+} PB_END(pb_gpu_accum)
+
+/* Push constants of the ray-query kernel. */
+PB_STRUCT(pb_gpu_raycast_push) {
+  uint ray_count;
+  uint any_hit;          /* 1: occlusion query (stops at the first hit) */
+  uint pad0;
+  uint pad1;
+} PB_END(pb_gpu_raycast_push)
+
+#ifndef PB_GLSL
+/* Host-side layout checks: the std430 offsets GLSL assigns (vec3 and vec4 on
+ * 16-byte boundaries, scalars on 4) must be the C offsets. The layout test
+ * (tests/unit/test_gpu_layout.c) also checks them against the compiled
+ * SPIR-V's reflection. */
+#include <stddef.h>
+#define PB_LAYOUT(T, size) _Static_assert(sizeof(T) == (size), #T " size");
+#define PB_OFFSET(T, f, off) _Static_assert(offsetof(T, f) == (off), #T "." #f " offset");
+PB_LAYOUT(pb_gpu_bvh_node, 32)
+PB_OFFSET(pb_gpu_bvh_node, first, 12) PB_OFFSET(pb_gpu_bvh_node, hi, 16)
+PB_OFFSET(pb_gpu_bvh_node, count, 28)
+PB_LAYOUT(pb_gpu_tri, 48)
+PB_OFFSET(pb_gpu_tri, prim, 12) PB_OFFSET(pb_gpu_tri, p1, 16) PB_OFFSET(pb_gpu_tri, p2, 32)
+PB_LAYOUT(pb_gpu_ray, 32)
+PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
+PB_LAYOUT(pb_gpu_hit, 16)
+PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
+PB_LAYOUT(pb_gpu_material, 80)
+PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
+PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
+PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
+PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
+PB_LAYOUT(pb_gpu_texture, 32)
+PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
+PB_LAYOUT(pb_gpu_light, 48)
+PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
+PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
+PB_OFFSET(pb_gpu_light, cos_inner, 44)
+PB_LAYOUT(pb_gpu_frame, 96)
+PB_OFFSET(pb_gpu_frame, width, 12) PB_OFFSET(pb_gpu_frame, cam_forward, 16)
+PB_OFFSET(pb_gpu_frame, height, 28) PB_OFFSET(pb_gpu_frame, cam_right, 32)
+PB_OFFSET(pb_gpu_frame, tan_x, 44) PB_OFFSET(pb_gpu_frame, cam_up, 48)
+PB_OFFSET(pb_gpu_frame, tan_y, 60) PB_OFFSET(pb_gpu_frame, spp, 64)
+PB_OFFSET(pb_gpu_frame, seed_lo, 80) PB_OFFSET(pb_gpu_frame, pixel_count, 92)
+PB_LAYOUT(pb_gpu_gbuffer, 64)
+PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
+PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)
+PB_OFFSET(pb_gpu_gbuffer, motion_x, 48) PB_OFFSET(pb_gpu_gbuffer, chain, 56)
+PB_LAYOUT(pb_gpu_accum, 64)
+PB_OFFSET(pb_gpu_accum, direct, 16) PB_OFFSET(pb_gpu_accum, depth, 28)
+PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
+PB_OFFSET(pb_gpu_accum, normal, 48)
+PB_LAYOUT(pb_gpu_raycast_push, 16)
+#undef PB_LAYOUT
+#undef PB_OFFSET
+#endif
+
+#endif

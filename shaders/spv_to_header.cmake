@@ -1,0 +1,23 @@
+# cmake -DIN=x.spv -DOUT=x.spv.h -DNAME=x -P spv_to_header.cmake
+# Writes the SPIR-V words as `static const uint32_t pb_spv_NAME[]` (SPIR-V is
+# a little-endian word stream; glslc writes host order, little-endian here).
+file(READ ${IN} hex HEX)
+string(LENGTH "${hex}" n)
+math(EXPR rem "${n} % 8")
+if(n EQUAL 0 OR NOT rem EQUAL 0)
+  message(FATAL_ERROR "${IN}: not a whole number of 32-bit words")
+endif()
+string(REGEX MATCHALL "([0-9a-f][0-9a-f])([0-9a-f][0-9a-f])([0-9a-f][0-9a-f])([0-9a-f][0-9a-f])" words "${hex}")
+set(body "")
+set(col 0)
+foreach(w ${words})
+  string(REGEX REPLACE "(..)(..)(..)(..)" "0x\\4\\3\\2\\1u," v "${w}")
+  string(APPEND body "${v}")
+  math(EXPR col "${col} + 1")
+  if(col EQUAL 8)
+    string(APPEND body "\n")
+    set(col 0)
+  endif()
+endforeach()
+file(WRITE ${OUT}.tmp "/* Generated from ${NAME}.comp by shaders/spv_to_header.cmake. */\n#include <stdint.h>\nstatic const uint32_t pb_spv_${NAME}[] = {\n${body}\n};\n")
+file(RENAME ${OUT}.tmp ${OUT})

@@ -1,0 +1,159 @@
+/* Storage buffers and their memory (see gpu.h). One allocation per buffer:
+ * the renderer makes a dozen, far from any allocation-count limit. Memory is
+ * device-local when possible and mapped persistently when that memory is also
+ * host-visible and coherent (integrated GPUs, lavapipe); otherwise transfers
+ * go through a temporary staging buffer. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "gpu/gpu_internal.h"
+
+static uint32_t find_type(const pb_gpu *g, uint32_t bits, VkMemoryPropertyFlags want) {
+  for (uint32_t i = 0; i < g->mem.memoryTypeCount; ++i)
+    if ((bits >> i & 1) && (g->mem.memoryTypes[i].propertyFlags & want) == want) return i;
+  return UINT32_MAX;
+}
+
+void pb_gpu_buffer_destroy(pb_gpu *g, pb_gpu_buffer *b) {
+  if (!b) return;
+  if (g && g->device) {
+    if (b->mapped) vkUnmapMemory(g->device, b->memory);
+    if (b->buffer) vkDestroyBuffer(g->device, b->buffer, NULL);
+    if (b->memory) vkFreeMemory(g->device, b->memory, NULL);
+  }
+  memset(b, 0, sizeof *b);
+}
+
+pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_buffer *out) {
+  memset(out, 0, sizeof *out);
+  const char *name = d->name ? d->name : "buffer";
+  if (d->size == 0) return pb_fail(PB_ERR_INTERNAL, "gpu: buffer '%s' of size 0", name);
+  if (d->size > g->limits.max_storage_buffer_range)
+    return pb_fail(PB_ERR_LIMIT,
+                   "%s: %.1f MiB in one storage buffer exceeds %s's maxStorageBufferRange "
+                   "(%.1f MiB); render a smaller image or scene, or use a device with a larger limit",
+                   name, (double)d->size / 1048576.0, g->name,
+                   (double)g->limits.max_storage_buffer_range / 1048576.0);
+  if (d->size > g->limits.max_allocation)
+    return pb_fail(PB_ERR_LIMIT, "%s: %.1f MiB exceeds %s's maxMemoryAllocationSize (%.1f MiB)", name,
+                   (double)d->size / 1048576.0, g->name, (double)g->limits.max_allocation / 1048576.0);
+  VkBufferCreateInfo bci = {
+      .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+      .size = d->size,
+      .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+               VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+      .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+  };
+  pb_result r;
+  VkResult vr = vkCreateBuffer(g->device, &bci, NULL, &out->buffer);
+  if (vr != VK_SUCCESS) {
+    out->buffer = VK_NULL_HANDLE;
+    return pb_vk_fail(vr, name);
+  }
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(g->device, out->buffer, &req);
+  const VkMemoryPropertyFlags hv = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  uint32_t type = find_type(g, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | hv);
+  if (type == UINT32_MAX)
+    type = d->host_visible ? find_type(g, req.memoryTypeBits, hv)
+                           : find_type(g, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (type == UINT32_MAX) type = find_type(g, req.memoryTypeBits, 0);
+  if (type == UINT32_MAX) {
+    r = pb_fail(PB_ERR_VULKAN, "%s: no memory type fits the buffer", name);
+    goto fail;
+  }
+  VkMemoryAllocateInfo mai = {
+      .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+      .allocationSize = req.size,
+      .memoryTypeIndex = type,
+  };
+  vr = vkAllocateMemory(g->device, &mai, NULL, &out->memory);
+  if (vr != VK_SUCCESS) {
+    out->memory = VK_NULL_HANDLE;
+    r = pb_vk_fail(vr, name);
+    goto fail;
+  }
+  vr = vkBindBufferMemory(g->device, out->buffer, out->memory, 0);
+  if (vr != VK_SUCCESS) {
+    r = pb_vk_fail(vr, name);
+    goto fail;
+  }
+  if ((g->mem.memoryTypes[type].propertyFlags & hv) == hv) {
+    vr = vkMapMemory(g->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
+    if (vr != VK_SUCCESS) {
+      out->mapped = NULL;
+      r = pb_vk_fail(vr, name);
+      goto fail;
+    }
+  }
+  out->size = d->size;
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_DEVICE_MEMORY, (uint64_t)out->memory, name);
+  return PB_OK;
+fail:
+  pb_gpu_buffer_destroy(g, out);
+  return r;
+}
+
+/* Copies between a device buffer and a temporary host-visible one. */
+static pb_result staged(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *host,
+                        uint64_t size, int upload) {
+  pb_gpu_buffer st;
+  pb_gpu_buffer_desc sd = {.name = "pb.staging", .size = size, .host_visible = 1};
+  pb_result r = pb_gpu_buffer_create(g, &sd, &st);
+  if (r != PB_OK) return r;
+  if (!st.mapped) {
+    pb_gpu_buffer_destroy(g, &st);
+    return pb_fail(PB_ERR_VULKAN, "gpu: staging memory is not mappable");
+  }
+  if (upload) memcpy(st.mapped, host, size);
+  r = pb_gpu_begin(g);
+  if (r != PB_OK) goto done;
+  VkBufferCopy c = {.srcOffset = upload ? 0 : offset, .dstOffset = upload ? offset : 0, .size = size};
+  vkCmdCopyBuffer(g->cmd, upload ? st.buffer : b->buffer, upload ? b->buffer : st.buffer, 1, &c);
+  r = pb_gpu_submit(g);
+  if (r == PB_OK && !upload) memcpy(host, st.mapped, size);
+done:
+  pb_gpu_buffer_destroy(g, &st);
+  return r;
+}
+
+static pb_result check_range(const pb_gpu_buffer *b, uint64_t offset, uint64_t size) {
+  if (offset > b->size || size > b->size - offset)
+    return pb_fail(PB_ERR_INTERNAL, "gpu: transfer of %llu bytes at %llu past a %llu-byte buffer",
+                   (unsigned long long)size, (unsigned long long)offset, (unsigned long long)b->size);
+  return PB_OK;
+}
+
+pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset, const void *data,
+                               uint64_t size) {
+  pb_result r = check_range(b, offset, size);
+  if (r != PB_OK || size == 0) return r;
+  if (b->mapped) {
+    memcpy((char *)b->mapped + offset, data, size);
+    return PB_OK;
+  }
+  return staged(g, b, offset, (void *)(uintptr_t)data, size, 1);
+}
+
+pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *data,
+                                 uint64_t size) {
+  pb_result r = check_range(b, offset, size);
+  if (r != PB_OK || size == 0) return r;
+  if (b->mapped) {
+    memcpy(data, (const char *)b->mapped + offset, size);
+    return PB_OK;
+  }
+  return staged(g, b, offset, data, size, 0);
+}
+
+pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {
+  if (b->mapped) {
+    memset(b->mapped, 0, b->size);
+    return PB_OK;
+  }
+  pb_result r = pb_gpu_begin(g);
+  if (r != PB_OK) return r;
+  vkCmdFillBuffer(g->cmd, b->buffer, 0, VK_WHOLE_SIZE, 0);
+  return pb_gpu_submit(g);
+}

@@ -1,0 +1,559 @@
+/* Vulkan instance, device selection, the compute queue, command recording,
+ * submission and timestamps (see gpu.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "gpu/gpu_internal.h"
+
+const char *pb_vk_result_name(VkResult vr) {
+  switch (vr) {
+#define C(x) case x: return #x;
+    C(VK_SUCCESS) C(VK_NOT_READY) C(VK_TIMEOUT) C(VK_INCOMPLETE)
+    C(VK_ERROR_OUT_OF_HOST_MEMORY) C(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    C(VK_ERROR_INITIALIZATION_FAILED) C(VK_ERROR_DEVICE_LOST)
+    C(VK_ERROR_MEMORY_MAP_FAILED) C(VK_ERROR_LAYER_NOT_PRESENT)
+    C(VK_ERROR_EXTENSION_NOT_PRESENT) C(VK_ERROR_FEATURE_NOT_PRESENT)
+    C(VK_ERROR_INCOMPATIBLE_DRIVER) C(VK_ERROR_TOO_MANY_OBJECTS)
+    C(VK_ERROR_FORMAT_NOT_SUPPORTED) C(VK_ERROR_FRAGMENTED_POOL)
+    C(VK_ERROR_OUT_OF_POOL_MEMORY) C(VK_ERROR_INVALID_SHADER_NV)
+    C(VK_ERROR_UNKNOWN)
+#undef C
+  default: return "VK_ERROR_(unknown)";
+  }
+}
+
+pb_result pb_vk_fail(VkResult vr, const char *what) {
+  if (vr == VK_ERROR_DEVICE_LOST)
+    return pb_fail(PB_ERR_DEVICE_LOST,
+                   "%s: the Vulkan device was lost (driver reset or GPU hang); "
+                   "no output was written; rerun, or pick another device with --device",
+                   what);
+  if (vr == VK_ERROR_OUT_OF_DEVICE_MEMORY || vr == VK_ERROR_OUT_OF_HOST_MEMORY)
+    return pb_fail(PB_ERR_NOMEM, "%s: %s (render a smaller image or scene)", what,
+                   pb_vk_result_name(vr));
+  return pb_fail(PB_ERR_VULKAN, "%s: %s", what, pb_vk_result_name(vr));
+}
+
+/* ---- instance ------------------------------------------------------------ */
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug(VkDebugUtilsMessageSeverityFlagBitsEXT sev,
+                                               VkDebugUtilsMessageTypeFlagsEXT type,
+                                               const VkDebugUtilsMessengerCallbackDataEXT *data,
+                                               void *user) {
+  (void)type;
+  pb_gpu *g = user;
+  if (sev < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
+  const char *msg = data && data->pMessage ? data->pMessage : "(no message)";
+  g->validation_errors++;
+  if (!g->validation_first[0])
+    snprintf(g->validation_first, sizeof g->validation_first, "%s", msg);
+  fprintf(stderr, "photonbridge: Vulkan validation: %s\n", msg);
+  return VK_FALSE;
+}
+
+static int env_validation(void) {
+  const char *v = getenv("PB_VK_VALIDATION");
+  return v && v[0] && strcmp(v, "0") != 0;
+}
+
+static int has_layer(const char *name) {
+  uint32_t n = 0;
+  if (vkEnumerateInstanceLayerProperties(&n, NULL) != VK_SUCCESS || !n) return 0;
+  VkLayerProperties *p = calloc(n, sizeof *p);
+  if (!p) return 0;
+  int found = 0;
+  if (vkEnumerateInstanceLayerProperties(&n, p) == VK_SUCCESS)
+    for (uint32_t i = 0; i < n; ++i)
+      if (strcmp(p[i].layerName, name) == 0) found = 1;
+  free(p);
+  return found;
+}
+
+static const char *const no_driver_advice =
+    "install a Vulkan driver (a GPU vendor driver, or the CPU fallback: "
+    "apt install mesa-vulkan-drivers) and the loader (libvulkan1)";
+
+/* Creates an instance; with validation, the layer and a messenger whose
+ * callback counts messages into g (g may be NULL when listing). */
+static pb_result create_instance(int validation, pb_gpu *g, VkInstance *out,
+                                 VkDebugUtilsMessengerEXT *messenger) {
+  *out = VK_NULL_HANDLE;
+  if (messenger) *messenger = VK_NULL_HANDLE;
+  uint32_t version = 0;
+  if (vkEnumerateInstanceVersion(&version) != VK_SUCCESS || version < VK_API_VERSION_1_1)
+    return pb_fail(PB_ERR_NO_DEVICE, "Vulkan 1.1 loader not found: %s", no_driver_advice);
+  const char *layers[1] = {"VK_LAYER_KHRONOS_validation"};
+  const char *exts[1] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  if (validation && !has_layer(layers[0]))
+    return pb_fail(PB_ERR_NOT_AVAILABLE,
+                   "validation requested (PB_VK_VALIDATION) but VK_LAYER_KHRONOS_validation "
+                   "is not installed: apt install vulkan-validationlayers");
+  VkApplicationInfo app = {
+      .sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+      .pApplicationName = "photonbridge",
+      .apiVersion = VK_API_VERSION_1_1,
+  };
+  VkDebugUtilsMessengerCreateInfoEXT dbg = {
+      .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+      .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+      .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
+      .pfnUserCallback = on_debug,
+      .pUserData = g,
+  };
+  int use_dbg = validation && g;
+  VkInstanceCreateInfo ci = {
+      .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+      .pNext = use_dbg ? &dbg : NULL,
+      .pApplicationInfo = &app,
+      .enabledLayerCount = validation ? 1u : 0u,
+      .ppEnabledLayerNames = layers,
+      .enabledExtensionCount = validation ? 1u : 0u,
+      .ppEnabledExtensionNames = exts,
+  };
+  VkResult vr = vkCreateInstance(&ci, NULL, out);
+  if (vr == VK_ERROR_INCOMPATIBLE_DRIVER || vr == VK_ERROR_INITIALIZATION_FAILED)
+    return pb_fail(PB_ERR_NO_DEVICE, "no Vulkan driver (%s): %s", pb_vk_result_name(vr),
+                   no_driver_advice);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkCreateInstance");
+  if (use_dbg && messenger) {
+    PFN_vkCreateDebugUtilsMessengerEXT create =
+        (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(*out, "vkCreateDebugUtilsMessengerEXT");
+    if (!create) {
+      vkDestroyInstance(*out, NULL);
+      *out = VK_NULL_HANDLE;
+      return pb_fail(PB_ERR_NOT_AVAILABLE, "VK_EXT_debug_utils is missing from the validation layer");
+    }
+    vr = create(*out, &dbg, NULL, messenger);
+    if (vr != VK_SUCCESS) {
+      vkDestroyInstance(*out, NULL);
+      *out = VK_NULL_HANDLE;
+      return pb_vk_fail(vr, "vkCreateDebugUtilsMessengerEXT");
+    }
+  }
+  return PB_OK;
+}
+
+static const char *type_name(VkPhysicalDeviceType t) {
+  switch (t) {
+  case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+  case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+  case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+  case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+  default: return "other";
+  }
+}
+
+/* Lower is better: discrete, integrated, virtual, other, cpu (lavapipe). */
+static int type_rank(VkPhysicalDeviceType t) {
+  switch (t) {
+  case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+  case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+  case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+  case VK_PHYSICAL_DEVICE_TYPE_CPU: return 4;
+  default: return 3;
+  }
+}
+
+/* The compute queue family (prefer a compute-only one), or UINT32_MAX. */
+static uint32_t compute_family(VkPhysicalDevice pd, uint32_t *ts_bits) {
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
+  VkQueueFamilyProperties q[32];
+  if (n > 32) n = 32;
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
+  uint32_t best = UINT32_MAX;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!(q[i].queueFlags & VK_QUEUE_COMPUTE_BIT) || q[i].queueCount == 0) continue;
+    if (best == UINT32_MAX || !(q[i].queueFlags & VK_QUEUE_GRAPHICS_BIT)) best = i;
+  }
+  if (ts_bits) *ts_bits = best == UINT32_MAX ? 0 : q[best].timestampValidBits;
+  return best;
+}
+
+static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d) {
+  memset(d, 0, sizeof *d);
+  VkPhysicalDeviceSubgroupProperties sg = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceDriverProperties drv = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES,
+                                          .pNext = &sg};
+  VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(pd, &p);
+  int v12 = p.apiVersion >= VK_API_VERSION_1_2;
+  p2.pNext = v12 ? (void *)&drv : (void *)&sg;
+  if (p.apiVersion >= VK_API_VERSION_1_1) vkGetPhysicalDeviceProperties2(pd, &p2);
+  snprintf(d->name, sizeof d->name, "%s", p.deviceName);
+  d->type = type_name(p.deviceType);
+  d->vendor_id = p.vendorID;
+  d->device_id = p.deviceID;
+  d->api_version = p.apiVersion;
+  if (v12) {
+    size_t k = strnlen(drv.driverName, sizeof drv.driverName);
+    memcpy(d->driver, drv.driverName, k < sizeof d->driver ? k : sizeof d->driver - 1);
+    d->driver[k < sizeof d->driver ? k : sizeof d->driver - 1] = 0;
+  }
+  d->max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  d->subgroup_size = p.apiVersion >= VK_API_VERSION_1_1 ? sg.subgroupSize : 0;
+  VkPhysicalDeviceMemoryProperties mp;
+  vkGetPhysicalDeviceMemoryProperties(pd, &mp);
+  for (uint32_t i = 0; i < mp.memoryHeapCount; ++i)
+    if (mp.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      d->device_local_bytes += mp.memoryHeaps[i].size;
+  uint32_t ts = 0;
+  uint32_t fam = compute_family(pd, &ts);
+  d->timestamps = ts > 0 && p.limits.timestampPeriod > 0;
+  d->usable = fam != UINT32_MAX && p.apiVersion >= VK_API_VERSION_1_1;
+}
+
+static pb_result enumerate(VkInstance inst, VkPhysicalDevice **out, uint32_t *count) {
+  *out = NULL;
+  *count = 0;
+  uint32_t n = 0;
+  VkResult vr = vkEnumeratePhysicalDevices(inst, &n, NULL);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkEnumeratePhysicalDevices");
+  if (n == 0)
+    return pb_fail(PB_ERR_NO_DEVICE, "no Vulkan device found: %s", no_driver_advice);
+  VkPhysicalDevice *pd = calloc(n, sizeof *pd);
+  if (!pd) return pb_fail(PB_ERR_NOMEM, "out of memory listing Vulkan devices");
+  vr = vkEnumeratePhysicalDevices(inst, &n, pd);
+  if (vr != VK_SUCCESS && vr != VK_INCOMPLETE) {
+    free(pd);
+    return pb_vk_fail(vr, "vkEnumeratePhysicalDevices");
+  }
+  *out = pd;
+  *count = n;
+  return PB_OK;
+}
+
+/* Index of the preferred usable device, or UINT32_MAX. */
+static uint32_t pick(const pb_gpu_device_info *d, const VkPhysicalDevice *pd, uint32_t n) {
+  uint32_t best = UINT32_MAX;
+  int best_rank = 99;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!d[i].usable) continue;
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(pd[i], &p);
+    int r = type_rank(p.deviceType);
+    if (r < best_rank) {
+      best_rank = r;
+      best = i;
+    }
+  }
+  return best;
+}
+
+pb_result pb_gpu_list_devices(pb_gpu_device_info **out, uint32_t *count) {
+  *out = NULL;
+  *count = 0;
+  VkInstance inst;
+  pb_result r = create_instance(0, NULL, &inst, NULL);
+  if (r != PB_OK) return r;
+  VkPhysicalDevice *pd = NULL;
+  uint32_t n = 0;
+  r = enumerate(inst, &pd, &n);
+  if (r != PB_OK) goto done;
+  pb_gpu_device_info *d = calloc(n, sizeof *d);
+  if (!d) {
+    r = pb_fail(PB_ERR_NOMEM, "out of memory listing Vulkan devices");
+    goto done;
+  }
+  for (uint32_t i = 0; i < n; ++i) describe(pd[i], &d[i]);
+  uint32_t best = pick(d, pd, n);
+  if (best != UINT32_MAX) d[best].preferred = 1;
+  *out = d;
+  *count = n;
+done:
+  free(pd);
+  vkDestroyInstance(inst, NULL);
+  return r;
+}
+
+/* ---- context ------------------------------------------------------------- */
+
+void pb_gpu_set_name(pb_gpu *g, VkObjectType type, uint64_t handle, const char *name) {
+  if (!g || !g->set_name || !handle || !name) return;
+  VkDebugUtilsObjectNameInfoEXT ni = {
+      .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
+      .objectType = type,
+      .objectHandle = handle,
+      .pObjectName = name,
+  };
+  g->set_name(g->device, &ni);
+}
+
+void pb_gpu_destroy(pb_gpu *g) {
+  if (!g) return;
+  if (g->device) {
+    vkDeviceWaitIdle(g->device);
+    if (g->queries) vkDestroyQueryPool(g->device, g->queries, NULL);
+    if (g->fence) vkDestroyFence(g->device, g->fence, NULL);
+    if (g->pool) vkDestroyCommandPool(g->device, g->pool, NULL);
+    vkDestroyDevice(g->device, NULL);
+  }
+  if (g->messenger) {
+    PFN_vkDestroyDebugUtilsMessengerEXT destroy =
+        (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(g->instance, "vkDestroyDebugUtilsMessengerEXT");
+    if (destroy) destroy(g->instance, g->messenger, NULL);
+  }
+  if (g->instance) vkDestroyInstance(g->instance, NULL);
+  free(g);
+}
+
+pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
+  *out = NULL;
+  pb_gpu_desc desc = {0};
+  if (desc_in) desc = *desc_in;
+  if (desc.max_timestamps == 0) desc.max_timestamps = 64;
+  if (desc.max_timestamps > 4096)
+    return pb_fail(PB_ERR_USAGE, "gpu: %u timestamp slots requested (at most 4096)", desc.max_timestamps);
+
+  pb_gpu *g = calloc(1, sizeof *g);
+  if (!g) return pb_fail(PB_ERR_NOMEM, "out of memory for the GPU context");
+  VkPhysicalDevice *pd = NULL;
+  pb_gpu_device_info *info = NULL;
+  uint32_t n = 0;
+  g->validation = desc.validation || env_validation();
+  pb_result r = create_instance(g->validation, g, &g->instance, &g->messenger);
+  if (r != PB_OK) goto fail;
+  r = enumerate(g->instance, &pd, &n);
+  if (r != PB_OK) goto fail;
+  info = calloc(n, sizeof *info);
+  if (!info) {
+    r = pb_fail(PB_ERR_NOMEM, "out of memory listing Vulkan devices");
+    goto fail;
+  }
+  for (uint32_t i = 0; i < n; ++i) describe(pd[i], &info[i]);
+  uint32_t idx;
+  if (desc.device_set) {
+    if (desc.device >= n) {
+      r = pb_fail(PB_ERR_NO_DEVICE, "--device %u: only %u Vulkan device%s (see 'photonbridge info --devices')",
+                  desc.device, n, n == 1 ? "" : "s");
+      goto fail;
+    }
+    idx = desc.device;
+    if (!info[idx].usable) {
+      r = pb_fail(PB_ERR_NO_DEVICE, "--device %u (%s) has no compute queue or lacks Vulkan 1.1", idx,
+                  info[idx].name);
+      goto fail;
+    }
+  } else {
+    idx = pick(info, pd, n);
+    if (idx == UINT32_MAX) {
+      r = pb_fail(PB_ERR_NO_DEVICE, "no Vulkan 1.1 device with a compute queue: %s", no_driver_advice);
+      goto fail;
+    }
+  }
+  g->phys = pd[idx];
+  snprintf(g->name, sizeof g->name, "%s", info[idx].name);
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(g->phys, &p);
+  vkGetPhysicalDeviceMemoryProperties(g->phys, &g->mem);
+  VkPhysicalDeviceMaintenance3Properties m3 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &m3};
+  vkGetPhysicalDeviceProperties2(g->phys, &p2);
+  uint32_t ts_bits = 0;
+  g->family = compute_family(g->phys, &ts_bits);
+  g->limits.max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  g->limits.max_allocation = m3.maxMemoryAllocationSize ? m3.maxMemoryAllocationSize : UINT64_MAX;
+  g->limits.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
+  g->limits.max_workgroup_count_y = p.limits.maxComputeWorkGroupCount[1];
+  g->limits.subgroup_size = info[idx].subgroup_size;
+  g->limits.timestamps = ts_bits > 0 && p.limits.timestampPeriod > 0;
+  g->limits.timestamp_period_ns = p.limits.timestampPeriod;
+  g->ts_mask = ts_bits >= 64 ? UINT64_MAX : ((1ull << ts_bits) - 1);
+  if (p.limits.maxComputeWorkGroupSize[0] < PB_GPU_WORKGROUP ||
+      p.limits.maxComputeWorkGroupInvocations < PB_GPU_WORKGROUP) {
+    r = pb_fail(PB_ERR_NO_DEVICE, "%s: compute workgroups of %u invocations are not supported", g->name,
+                (unsigned)PB_GPU_WORKGROUP);
+    goto fail;
+  }
+
+  float prio = 1.0f;
+  VkDeviceQueueCreateInfo qci = {
+      .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+      .queueFamilyIndex = g->family,
+      .queueCount = 1,
+      .pQueuePriorities = &prio,
+  };
+  VkDeviceCreateInfo dci = {
+      .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+      .queueCreateInfoCount = 1,
+      .pQueueCreateInfos = &qci,
+  };
+  VkResult vr = vkCreateDevice(g->phys, &dci, NULL, &g->device);
+  if (vr != VK_SUCCESS) {
+    g->device = VK_NULL_HANDLE;
+    r = pb_vk_fail(vr, "vkCreateDevice");
+    goto fail;
+  }
+  vkGetDeviceQueue(g->device, g->family, 0, &g->queue);
+  if (g->validation)
+    g->set_name = (PFN_vkSetDebugUtilsObjectNameEXT)vkGetDeviceProcAddr(g->device, "vkSetDebugUtilsObjectNameEXT");
+  if (!g->set_name && g->validation)
+    g->set_name = (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(g->instance, "vkSetDebugUtilsObjectNameEXT");
+
+  VkCommandPoolCreateInfo pci = {
+      .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+      .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+      .queueFamilyIndex = g->family,
+  };
+  vr = vkCreateCommandPool(g->device, &pci, NULL, &g->pool);
+  if (vr != VK_SUCCESS) {
+    r = pb_vk_fail(vr, "vkCreateCommandPool");
+    goto fail;
+  }
+  VkCommandBufferAllocateInfo cai = {
+      .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+      .commandPool = g->pool,
+      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+      .commandBufferCount = 1,
+  };
+  vr = vkAllocateCommandBuffers(g->device, &cai, &g->cmd);
+  if (vr != VK_SUCCESS) {
+    r = pb_vk_fail(vr, "vkAllocateCommandBuffers");
+    goto fail;
+  }
+  VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  vr = vkCreateFence(g->device, &fci, NULL, &g->fence);
+  if (vr != VK_SUCCESS) {
+    r = pb_vk_fail(vr, "vkCreateFence");
+    goto fail;
+  }
+  if (g->limits.timestamps) {
+    VkQueryPoolCreateInfo qpi = {
+        .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+        .queryType = VK_QUERY_TYPE_TIMESTAMP,
+        .queryCount = desc.max_timestamps,
+    };
+    vr = vkCreateQueryPool(g->device, &qpi, NULL, &g->queries);
+    if (vr != VK_SUCCESS) {
+      r = pb_vk_fail(vr, "vkCreateQueryPool");
+      goto fail;
+    }
+    g->query_count = desc.max_timestamps;
+  }
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_COMMAND_POOL, (uint64_t)g->pool, "pb.command_pool");
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_COMMAND_BUFFER, (uint64_t)(uintptr_t)g->cmd, "pb.commands");
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_FENCE, (uint64_t)g->fence, "pb.fence");
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_QUERY_POOL, (uint64_t)g->queries, "pb.timestamps");
+  pb_log_verbose("gpu: %s (%s), subgroup %u, maxStorageBufferRange %llu MiB%s", g->name,
+                 info[idx].type, g->limits.subgroup_size,
+                 (unsigned long long)(g->limits.max_storage_buffer_range >> 20),
+                 g->validation ? ", validation on" : "");
+  free(pd);
+  free(info);
+  *out = g;
+  return PB_OK;
+fail:
+  free(pd);
+  free(info);
+  pb_gpu_destroy(g);
+  return r;
+}
+
+const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g) { return &g->limits; }
+const char *pb_gpu_device_name(const pb_gpu *g) { return g->name; }
+VkDevice pb_gpu_vk_device(const pb_gpu *g) { return g->device; }
+uint32_t pb_gpu_validation_errors(const pb_gpu *g) { return g->validation_errors; }
+int pb_gpu_validation_enabled(const pb_gpu *g) { return g->validation; }
+
+/* ---- recording ------------------------------------------------------------ */
+
+pb_result pb_gpu_begin(pb_gpu *g) {
+  if (g->recording) return pb_fail(PB_ERR_INTERNAL, "gpu: pb_gpu_begin while recording");
+  VkResult vr = vkResetCommandBuffer(g->cmd, 0);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi = {
+      .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+      .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT,
+  };
+  vr = vkBeginCommandBuffer(g->cmd, &bi);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkBeginCommandBuffer");
+  if (g->queries) vkCmdResetQueryPool(g->cmd, g->queries, 0, g->query_count);
+  g->recording = 1;
+  g->ts_written = 0;
+  return PB_OK;
+}
+
+pb_result pb_gpu_dispatch(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
+                          uint64_t invocations) {
+  if (invocations == 0) return PB_OK;
+  uint64_t groups = (invocations + PB_GPU_WORKGROUP - 1) / PB_GPU_WORKGROUP;
+  uint64_t gx = groups, gy = 1;
+  uint64_t maxx = g->limits.max_workgroup_count_x;
+  if (gx > maxx) {
+    gx = maxx;
+    gy = (groups + gx - 1) / gx;
+  }
+  if (gy > g->limits.max_workgroup_count_y)
+    return pb_fail(PB_ERR_LIMIT, "gpu: %s: %llu work items exceed the device's dispatch limits",
+                   "dispatch", (unsigned long long)invocations);
+  vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
+  vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0, NULL);
+  if (p->push_bytes && push)
+    vkCmdPushConstants(g->cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, p->push_bytes, push);
+  vkCmdDispatch(g->cmd, (uint32_t)gx, (uint32_t)gy, 1);
+  return PB_OK;
+}
+
+void pb_gpu_barrier(pb_gpu *g) {
+  VkMemoryBarrier mb = {
+      .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+  };
+  vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb,
+                       0, NULL, 0, NULL);
+}
+
+void pb_gpu_timestamp(pb_gpu *g, uint32_t slot) {
+  if (!g->queries || slot >= g->query_count) return;
+  vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->queries, slot);
+  if (slot < 64) g->ts_written |= 1ull << slot;
+}
+
+pb_result pb_gpu_submit(pb_gpu *g) {
+  if (!g->recording) return pb_fail(PB_ERR_INTERNAL, "gpu: submit without begin");
+  g->recording = 0;
+  VkResult vr = vkEndCommandBuffer(g->cmd);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkEndCommandBuffer");
+  VkSubmitInfo si = {
+      .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+      .commandBufferCount = 1,
+      .pCommandBuffers = &g->cmd,
+  };
+  vr = vkResetFences(g->device, 1, &g->fence);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkResetFences");
+  vr = vkQueueSubmit(g->queue, 1, &si, g->fence);
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkQueueSubmit");
+  /* Wait without a deadline in slices, so that a lost device is reported
+   * rather than hanging forever. */
+  for (;;) {
+    vr = vkWaitForFences(g->device, 1, &g->fence, VK_TRUE, 1000000000ull);
+    if (vr != VK_TIMEOUT) break;
+  }
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkWaitForFences");
+  if (g->validation_errors)
+    return pb_fail(PB_ERR_VULKAN, "Vulkan validation reported %u message%s; first: %s",
+                   g->validation_errors, g->validation_errors == 1 ? "" : "s", g->validation_first);
+  return PB_OK;
+}
+
+double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t a, uint32_t b) {
+  if (!g->queries || a >= 64 || b >= 64 || !(g->ts_written >> a & 1) || !(g->ts_written >> b & 1))
+    return -1.0;
+  uint64_t ta, tb;
+  if (vkGetQueryPoolResults(g->device, g->queries, a, 1, sizeof ta, &ta, sizeof ta,
+                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS ||
+      vkGetQueryPoolResults(g->device, g->queries, b, 1, sizeof tb, &tb, sizeof tb,
+                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+    return -1.0;
+  uint64_t d = (tb - ta) & g->ts_mask;
+  return (double)d * g->limits.timestamp_period_ns * 1e-6;
+}

@@ -1,0 +1,166 @@
+/* Headless Vulkan compute runtime: instance and device selection, one compute
+ * queue, buffers, pipelines from embedded SPIR-V with specialization
+ * constants, and timestamp queries. No window system, no ray-tracing
+ * extensions (rays are traced by our own BVH in compute shaders).
+ *
+ * Errors the world can cause (no driver, no device, out of memory, device
+ * lost, a limit exceeded) are pb_results with a one-line message saying what
+ * to install or do; every VkResult is checked. Validation layers: on when
+ * pb_gpu_desc.validation is set or the environment has PB_VK_VALIDATION=1;
+ * any validation message then makes the next pb_gpu_submit fail with
+ * PB_ERR_VULKAN (tests treat them as fatal). */
+#ifndef PB_GPU_H
+#define PB_GPU_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <vulkan/vulkan.h>
+
+#include "core/result.h"
+
+/* What `photonbridge info --devices` lists, one per physical device, in the
+ * order --device N counts. */
+typedef struct pb_gpu_device_info {
+  char name[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE];
+  const char *type;            /* "discrete", "integrated", "virtual", "cpu", "other" */
+  uint32_t vendor_id, device_id;
+  uint32_t api_version;        /* VK_MAKE_API_VERSION */
+  char driver[VK_MAX_DRIVER_NAME_SIZE]; /* driver name and info, "" if unknown */
+  uint64_t max_storage_buffer_range; /* bytes */
+  uint64_t device_local_bytes;
+  uint32_t subgroup_size;      /* 0 if the device cannot say */
+  int timestamps;              /* compute queue has timestamps */
+  int usable;                  /* has a compute queue and Vulkan >= 1.1 */
+  int preferred;               /* the device that --device auto picks */
+} pb_gpu_device_info;
+
+/* Lists the Vulkan devices. *out is malloc'd (free()). Errors:
+ * PB_ERR_NO_DEVICE (no loader, no driver, no device) with the fix in the
+ * message. */
+pb_result pb_gpu_list_devices(pb_gpu_device_info **out, uint32_t *count);
+
+/* Zero means default for every field. */
+typedef struct pb_gpu_desc {
+  int device_set;      /* 1: use device `device` (index into the listing) */
+  uint32_t device;
+  int validation;      /* 1: enable the Khronos validation layer (also
+                          PB_VK_VALIDATION=1 in the environment) */
+  uint32_t max_timestamps; /* timestamp query slots; 0: 64 */
+} pb_gpu_desc;
+
+typedef struct pb_gpu pb_gpu;
+
+/* Device selection: `device` when set; otherwise the first usable discrete
+ * GPU, then integrated, virtual, and last a CPU implementation (lavapipe). */
+pb_result pb_gpu_create(const pb_gpu_desc *desc, pb_gpu **out);
+void pb_gpu_destroy(pb_gpu *g);
+
+/* Properties the renderer checks. */
+typedef struct pb_gpu_limits {
+  uint64_t max_storage_buffer_range;
+  uint64_t max_allocation;
+  uint32_t max_workgroup_count_x, max_workgroup_count_y;
+  uint32_t subgroup_size;
+  int timestamps;
+  double timestamp_period_ns;
+} pb_gpu_limits;
+const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g);
+const char *pb_gpu_device_name(const pb_gpu *g);
+VkDevice pb_gpu_vk_device(const pb_gpu *g);
+/* Validation messages seen so far (0 without validation). */
+uint32_t pb_gpu_validation_errors(const pb_gpu *g);
+int pb_gpu_validation_enabled(const pb_gpu *g);
+
+/* Names a Vulkan object for debuggers and validation messages (no-op
+ * without VK_EXT_debug_utils). */
+void pb_gpu_set_name(pb_gpu *g, VkObjectType type, uint64_t handle, const char *name);
+
+/* ---- buffers ------------------------------------------------------------ */
+
+typedef struct pb_gpu_buffer {
+  VkBuffer buffer;
+  VkDeviceMemory memory;
+  uint64_t size;
+  void *mapped;       /* non-NULL when the memory is host-visible and coherent */
+} pb_gpu_buffer;
+
+typedef struct pb_gpu_buffer_desc {
+  const char *name;   /* object name, and the subject of limit errors */
+  uint64_t size;      /* bytes, > 0 */
+  int host_visible;   /* 1: must be mappable (readback of large results) */
+} pb_gpu_buffer_desc;
+
+/* A storage buffer (also a transfer source and destination). Sizes over
+ * maxStorageBufferRange or the allocation limit fail with PB_ERR_LIMIT naming
+ * the buffer and the limit: never truncated. */
+pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *desc,
+                               pb_gpu_buffer *out);
+void pb_gpu_buffer_destroy(pb_gpu *g, pb_gpu_buffer *b);
+/* Copies host data to/from a buffer (through a staging buffer when the memory
+ * is not mappable). Waits for completion. */
+pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset,
+                               const void *data, uint64_t size);
+pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset,
+                                 void *data, uint64_t size);
+pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b);
+
+/* ---- pipelines ---------------------------------------------------------- */
+
+enum { PB_GPU_MAX_BINDINGS = 16, PB_GPU_MAX_SPEC = 16 };
+
+typedef struct pb_gpu_pipeline_desc {
+  const char *name;
+  const uint32_t *spirv;     /* embedded SPIR-V words */
+  size_t spirv_bytes;
+  uint32_t binding_count;    /* storage buffers at bindings 0 .. count-1 of set 0 */
+  uint32_t push_bytes;       /* push-constant block size, multiple of 4; 0: none */
+  const uint32_t *spec;      /* specialization constants: constant_id i = spec[i] */
+  uint32_t spec_count;
+} pb_gpu_pipeline_desc;
+
+typedef struct pb_gpu_pipeline {
+  VkShaderModule module;
+  VkDescriptorSetLayout set_layout;
+  VkPipelineLayout layout;
+  VkPipeline pipeline;
+  VkDescriptorPool pool;
+  VkDescriptorSet set;
+  uint32_t binding_count, push_bytes;
+} pb_gpu_pipeline;
+
+pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *desc,
+                                 pb_gpu_pipeline *out);
+void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p);
+/* Points bindings 0 .. count-1 at whole buffers; count == binding_count. */
+pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p,
+                               const pb_gpu_buffer *const *buffers, uint32_t count);
+
+/* ---- recording and submission ------------------------------------------ */
+
+/* One primary command buffer per context: begin, record dispatches, barriers
+ * and timestamps, then submit and wait. */
+pb_result pb_gpu_begin(pb_gpu *g);
+/* Dispatches `invocations` 1-D work items in workgroups of PB_GPU_WORKGROUP,
+ * folded into a 2-D grid when the count exceeds the x limit; kernels compute
+ * gid = x + y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP and skip gid >= count. */
+pb_result pb_gpu_dispatch(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
+                          uint64_t invocations);
+/* Compute-to-compute (and transfer) memory barrier. */
+void pb_gpu_barrier(pb_gpu *g);
+/* Writes timestamp slot `slot` after all previous work (ignored when the queue
+ * has none). */
+void pb_gpu_timestamp(pb_gpu *g, uint32_t slot);
+/* Ends, submits, waits. PB_ERR_DEVICE_LOST / PB_ERR_VULKAN with a message;
+ * PB_ERR_VULKAN too when validation reported anything. */
+pb_result pb_gpu_submit(pb_gpu *g);
+/* Milliseconds between two timestamp slots of the last submission; negative
+ * when timestamps are unavailable. */
+double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t from_slot, uint32_t to_slot);
+
+/* Turns a VkResult into a pb_result with "what: VK_ERROR_..." (device lost
+ * and out-of-memory get their own codes and advice). */
+pb_result pb_vk_fail(VkResult vr, const char *what);
+const char *pb_vk_result_name(VkResult vr);
+
+#endif

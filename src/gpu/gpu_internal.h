@@ -1,0 +1,32 @@
+/* The GPU context fields, shared by the files of src/gpu only. */
+#ifndef PB_GPU_INTERNAL_H
+#define PB_GPU_INTERNAL_H
+
+#include "gpu/gpu.h"
+#include "shared/pb_gpu.h"
+
+struct pb_gpu {
+  VkInstance instance;
+  VkDebugUtilsMessengerEXT messenger;
+  VkPhysicalDevice phys;
+  VkDevice device;
+  VkQueue queue;
+  uint32_t family;
+  VkCommandPool pool;
+  VkCommandBuffer cmd;
+  VkFence fence;
+  VkQueryPool queries;
+  uint32_t query_count;
+  uint64_t ts_written;  /* bit per slot written in the current submission */
+  uint64_t ts_mask;
+  int recording;
+  VkPhysicalDeviceMemoryProperties mem;
+  pb_gpu_limits limits;
+  char name[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE];
+  int validation;
+  uint32_t validation_errors;
+  char validation_first[512];
+  PFN_vkSetDebugUtilsObjectNameEXT set_name;
+};
+
+#endif

@@ -1,0 +1,93 @@
+/* The GPU renderer: scene upload, the passes of a frame (one file each) and
+ * the frame that orders them (frame.c).
+ *
+ * Frame (this issue's part; the photon stages slot in after `direct`):
+ *   per sample s < spp:  gbuffer (primary visibility, specular eye chains,
+ *                        emission seen along them) -> direct (shadow rays to
+ *                        point, spot and directional lights)
+ *   [future: rsm -> emit -> trace -> photon LBVH -> estimate -> temporal ->
+ *    a-trous -> compose]
+ *   resolve on the host: divide by spp, split into AOVs. */
+#ifndef PB_RENDER_H
+#define PB_RENDER_H
+
+#include <stdint.h>
+
+#include "core/result.h"
+#include "gpu/bvh.h"
+#include "gpu/gpu.h"
+#include "scene/scene.h"
+
+/* The scene resident on the GPU. */
+typedef struct pb_gpu_scene {
+  pb_bvh bvh;                 /* host copy (stats, tests) */
+  pb_gpu_buffer nodes, tris;  /* BVH */
+  pb_gpu_buffer indices;      /* uint[3 * triangle_count] */
+  pb_gpu_buffer normals;      /* float[3 * vertex_count] (or 1 dummy) */
+  pb_gpu_buffer uvs;          /* float[2 * vertex_count] */
+  pb_gpu_buffer tri_material; /* uint[triangle_count] */
+  pb_gpu_buffer materials, textures, texels, lights;
+  uint32_t light_count, material_count, texture_count;
+  uint32_t features;          /* PB_FEATURE_* of the scene */
+  int has_normals;
+  double upload_s;
+} pb_gpu_scene;
+
+pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *out);
+void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs);
+
+/* Ray queries (tests, benchmark): closest hit or occlusion for each ray. */
+typedef struct pb_raycast_pass {
+  pb_gpu_pipeline pipe;
+  pb_gpu_buffer rays, hits;
+  uint32_t capacity;
+} pb_raycast_pass;
+
+pb_result pb_raycast_create(pb_gpu *g, const pb_gpu_scene *gs, uint32_t capacity,
+                            pb_raycast_pass *out);
+void pb_raycast_destroy(pb_gpu *g, pb_raycast_pass *p);
+/* Traces n <= capacity rays; gpu_ms (may be NULL) gets the kernel's time from
+ * timestamps (or wall time of the submission when the device has none). */
+pb_result pb_raycast_run(pb_gpu *g, pb_raycast_pass *p, const pb_gpu_ray *rays, uint32_t n,
+                         int any_hit, pb_gpu_hit *hits, double *gpu_ms);
+
+/* ---- the frame ----------------------------------------------------------- */
+
+/* Zero means default for every field. */
+typedef struct pb_render_desc {
+  uint32_t spp;                /* 0: 1 (pixel centres); >1 jittered/stratified */
+  uint32_t max_specular_depth; /* delta interactions along an eye path; 0: 8 */
+  int direct_only;             /* 1: only paths with at most one scattering
+                                  event (the reference's direct AOV) */
+  uint64_t seed;
+} pb_render_desc;
+
+enum { PB_RENDER_MAX_SPECULAR_DEPTH = 64 };
+
+typedef struct pb_render_stats {
+  double upload_ms, bvh_build_ms;
+  double gbuffer_ms, direct_ms, total_gpu_ms; /* timestamps, summed over samples */
+  double wall_ms;
+  uint64_t primary_rays, shadow_rays_max;     /* shadow_rays_max: upper bound */
+  uint32_t spp, bvh_nodes, bvh_depth;
+  int timestamps;                             /* 0: *_ms are wall-clock */
+} pb_render_stats;
+
+/* Per-pixel float buffers, width*height*channels, top row first. */
+typedef struct pb_render_result {
+  uint32_t width, height;
+  float *beauty;    /* RGBA: A = fraction of samples that hit geometry */
+  float *direct;    /* RGB: at most one scattering event */
+  float *albedo;    /* RGB at the first hit */
+  float *normal;    /* XYZ shading normal at the first hit, facing the camera */
+  float *depth;     /* camera-space z of the first hit, 0 on a miss */
+  float *material;  /* material index of the first hit + 1, 0 on a miss */
+  pb_render_stats stats;
+} pb_render_result;
+
+pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera,
+                          uint32_t width, uint32_t height, const pb_render_desc *desc,
+                          pb_render_result *out);
+void pb_render_result_destroy(pb_render_result *r);
+
+#endif

@@ -1,0 +1,150 @@
+/* Scene upload: the BVH and the flat arrays of pb_scene, converted to the
+ * structs of shaders/shared/pb_gpu.h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "render/render.h"
+
+void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
+  if (!gs) return;
+  pb_gpu_buffer *b[] = {&gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs,
+                        &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights};
+  for (size_t i = 0; i < sizeof b / sizeof *b; ++i) pb_gpu_buffer_destroy(g, b[i]);
+  pb_bvh_destroy(&gs->bvh);
+  memset(gs, 0, sizeof *gs);
+}
+
+/* Creates a buffer of at least 16 bytes and fills it with `size` bytes. */
+static pb_result make(pb_gpu *g, pb_gpu_buffer *b, const char *name, const void *data, uint64_t size) {
+  pb_gpu_buffer_desc d = {.name = name, .size = size < 16 ? 16 : size};
+  pb_result r = pb_gpu_buffer_create(g, &d, b);
+  if (r != PB_OK) return r;
+  if (!data || !size) return pb_gpu_buffer_fill_zero(g, b);
+  return pb_gpu_buffer_upload(g, b, 0, data, size);
+}
+
+static uint32_t tex_index(int32_t t, uint32_t count) {
+  return t >= 0 && (uint32_t)t < count ? (uint32_t)t : PB_GPU_NO_TEXTURE;
+}
+
+pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
+  memset(gs, 0, sizeof *gs);
+  double t0 = pb_time_now();
+  pb_gpu_material *mats = NULL;
+  pb_gpu_texture *texs = NULL;
+  uint32_t *texels = NULL;
+  pb_gpu_light *lights = NULL;
+  pb_result r;
+  const char *path = s->path ? s->path : "scene";
+  for (uint32_t t = 0; t < s->triangle_count; ++t)
+    if (s->triangle_material[t] >= s->material_count) {
+      r = pb_fail(PB_ERR_SCENE_INVALID, "%s: triangle %u uses material %u of %u", path, t,
+                  s->triangle_material[t], s->material_count);
+      goto fail;
+    }
+  r = pb_bvh_build(s, &gs->bvh);
+  if (r != PB_OK) goto fail;
+  pb_log_verbose("gpu: BVH of %u triangles: %u nodes, depth %u, %.1f ms", gs->bvh.tri_count,
+                 gs->bvh.node_count, gs->bvh.depth, gs->bvh.build_s * 1e3);
+  r = make(g, &gs->nodes, "scene.bvh_nodes", gs->bvh.nodes, (uint64_t)gs->bvh.node_count * sizeof(pb_gpu_bvh_node));
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->tris, "scene.bvh_triangles", gs->bvh.tris, (uint64_t)gs->bvh.tri_count * sizeof(pb_gpu_tri));
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->indices, "scene.indices", s->triangles, (uint64_t)s->triangle_count * 12);
+  if (r != PB_OK) goto fail;
+  gs->has_normals = s->normals != NULL;
+  r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->tri_material, "scene.triangle_material", s->triangle_material, (uint64_t)s->triangle_count * 4);
+  if (r != PB_OK) goto fail;
+
+  uint32_t nm = s->material_count ? s->material_count : 1;
+  mats = calloc(nm, sizeof *mats);
+  uint64_t texel_count = 0;
+  for (uint32_t i = 0; i < s->texture_count; ++i) texel_count += (uint64_t)s->textures[i].width * s->textures[i].height;
+  if (texel_count > UINT32_MAX) {
+    r = pb_fail(PB_ERR_LIMIT, "%s: %llu texels exceed the GPU texel index range", path, (unsigned long long)texel_count);
+    goto fail;
+  }
+  texs = calloc(s->texture_count ? s->texture_count : 1, sizeof *texs);
+  texels = calloc(texel_count ? texel_count : 1, sizeof *texels);
+  lights = calloc(s->light_count ? s->light_count : 1, sizeof *lights);
+  if (!mats || !texs || !texels || !lights) {
+    r = pb_fail(PB_ERR_NOMEM, "out of memory preparing the scene for the GPU");
+    goto fail;
+  }
+  for (uint32_t i = 0; i < s->material_count; ++i) {
+    const pb_material *m = &s->materials[i];
+    pb_gpu_material *o = &mats[i];
+    memcpy(o->base_color, m->base_color, sizeof o->base_color);
+    memcpy(o->emissive, m->emissive, sizeof o->emissive);
+    memcpy(o->specular_color, m->specular_color, sizeof o->specular_color);
+    o->base_color_tex = tex_index(m->base_color_tex, s->texture_count);
+    o->metallic_roughness_tex = tex_index(m->metallic_roughness_tex, s->texture_count);
+    o->emissive_tex = pb_material_is_emissive(m) ? tex_index(m->emissive_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+    if (!pb_material_is_emissive(m)) memset(o->emissive, 0, sizeof o->emissive);
+    o->metallic = m->metallic;
+    o->roughness = m->roughness;
+    o->transmission = m->transmission;
+    o->ior = m->ior;
+    o->specular = m->specular;
+    o->flags = m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0;
+  }
+  uint32_t off = 0;
+  for (uint32_t i = 0; i < s->texture_count; ++i) {
+    const pb_texture *t = &s->textures[i];
+    uint64_t n = (uint64_t)t->width * t->height;
+    texs[i] = (pb_gpu_texture){.offset = off, .width = t->width, .height = t->height,
+                               .flags = (t->srgb ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0),
+                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t};
+    for (uint64_t k = 0; k < n; ++k) {
+      const uint8_t *p = t->rgba8 + 4 * k;
+      texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    }
+    off += (uint32_t)n;
+  }
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    pb_gpu_light *o = &lights[i];
+    memcpy(o->position, l->position, sizeof o->position);
+    float d[3] = {l->direction[0], l->direction[1], l->direction[2]};
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; ++k) {
+      o->direction[k] = len > 0 ? d[k] / len : 0.0f;
+      o->power[k] = l->color[k] * l->intensity;
+    }
+    o->type = l->type == PB_LIGHT_SPOT ? PB_GPU_LIGHT_SPOT
+              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL : PB_GPU_LIGHT_POINT;
+    o->cos_outer = cosf(l->outer_cone);
+    o->cos_inner = cosf(l->inner_cone);
+  }
+  r = make(g, &gs->materials, "scene.materials", mats, (uint64_t)s->material_count * sizeof *mats);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->textures, "scene.textures", texs, (uint64_t)s->texture_count * sizeof *texs);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->texels, "scene.texels", texels, texel_count * 4);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->lights, "scene.lights", lights, (uint64_t)s->light_count * sizeof *lights);
+  if (r != PB_OK) goto fail;
+  gs->light_count = s->light_count;
+  gs->material_count = s->material_count;
+  gs->texture_count = s->texture_count;
+  gs->features = s->features;
+  gs->upload_s = pb_time_now() - t0;
+  free(mats);
+  free(texs);
+  free(texels);
+  free(lights);
+  return PB_OK;
+fail:
+  free(mats);
+  free(texs);
+  free(texels);
+  free(lights);
+  pb_gpu_scene_destroy(g, gs);
+  return r;
+}
