@@ -1,0 +1,16 @@
+# Colour management. test_color (the unit-test glob) checks the built-in
+# config against the analytic sRGB encode and the published ACEScg matrix;
+# color_filmic_vs_blender renders a 16-stop ramp EXR through Blender's own
+# Filmic view (headless Blender, Image.save_render) and through our shim with
+# Blender's config, and compares the PNGs. Skipped (exit 77) without Blender.
+add_test(NAME color_filmic_vs_blender COMMAND test_color --blender WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(color_filmic_vs_blender PROPERTIES
+  LABELS "blender;no-sanitize" SKIP_RETURN_CODE 77 TIMEOUT 300)
+
+# display subcommand: usage errors and --list.
+pb_cli_test(cli_display_no_args display EXIT 2 REGEX "expected IMAGE.exr.*exit=2")
+pb_cli_test(cli_display_list display --list EXIT 0 REGEX "display sRGB: Standard, ACES 1.0 - SDR Video, Raw.*exit=0")
+pb_cli_test(cli_display_bad_view display --list --view Nope EXIT 2
+            REGEX "config built-in: display 'sRGB' has no view 'Nope'.*exit=2")
+pb_cli_test(cli_display_missing_config display --list --ocio-config no/such.ocio EXIT 3
+            REGEX "no/such.ocio: cannot open.*exit=3")

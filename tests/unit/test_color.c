@@ -1,0 +1,388 @@
+/* Colour management: the built-in OCIO config against analytic transforms,
+ * error messages, PNG output through the view, and (with --blender, its own
+ * ctest entry) Blender's Filmic view through our shim against Blender's own
+ * view transform on the same EXR. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "color/color.h"
+#include "core/fs.h"
+#include "image/image.h"
+#include "pbtest.h"
+#include "scene/image_decode.h"
+#include "scene/scene.h"
+
+#define BLENDER_CONFIG "/usr/share/blender/datafiles/colormanagement/config.ocio"
+
+static float clamp01(float v) { return v > 0 ? (v < 1 ? v : 1) : 0; }
+
+/* Standard view == clamp(sRGB encode(x)), per channel, to 1e-4, over a ramp
+ * from -0.1 to 4 (values above 1 clip), grey and coloured. */
+static void test_standard_view(void) {
+  pb_color *c = NULL;
+  pb_color_desc d = {0};
+  unsetenv("OCIO");
+  CHECK_EQ_INT(pb_color_open(&d, &c), PB_OK);
+  if (!c) return;
+  CHECK(strcmp(pb_color_config_name(c), "built-in") == 0);
+  CHECK(strcmp(pb_color_display(c), "sRGB") == 0);
+  CHECK(strcmp(pb_color_view(c), "Standard") == 0);
+  enum { N = 4200 };
+  static float px[N * 4];
+  for (int i = 0; i < N; ++i) {
+    float v = -0.1f + 4.1f * (float)i / (N - 1);
+    px[i * 4 + 0] = v;
+    px[i * 4 + 1] = v * 0.5f;                      /* coloured: channels differ */
+    px[i * 4 + 2] = (float)((i * 37) % 101) / 50.0f; /* 0..2, scrambled */
+    px[i * 4 + 3] = 0.25f;
+  }
+  static float ref[N * 4];
+  memcpy(ref, px, sizeof px);
+  CHECK_EQ_INT(pb_color_apply_display(c, px, N, 1, 4), PB_OK);
+  double max_diff = 0;
+  for (int i = 0; i < N; ++i)
+    for (int k = 0; k < 3; ++k) {
+      double e = clamp01(pb_linear_to_srgb(clamp01(ref[i * 4 + k])));
+      max_diff = fmax(max_diff, fabs(px[i * 4 + k] - e));
+    }
+  printf("Standard view vs analytic sRGB: max |diff| %.3g over %d pixels\n", max_diff, N);
+  CHECK(max_diff < 1e-4);
+  CHECK(px[3] == 0.25f); /* alpha untouched */
+  CHECK(px[(N - 1) * 4] == 1.0f); /* 4.0 clips */
+  CHECK(px[0] == 0.0f);           /* negative clips */
+
+  /* NaN gives 0, 3 channels work. */
+  float nan3[3] = {NAN, 0.5f, 1.0f};
+  CHECK_EQ_INT(pb_color_apply_display(c, nan3, 1, 1, 3), PB_OK);
+  CHECK(nan3[0] == 0.0f);
+  CHECK_NEAR(nan3[1], pb_linear_to_srgb(0.5f), 1e-4);
+  CHECK_EQ_INT(pb_color_apply_display(c, nan3, 1, 1, 2), PB_ERR_IMAGE);
+  pb_error_clear();
+
+  /* ACEScg: the published Rec.709 -> AP1 (Bradford) matrix, and back. */
+  static const double m709_to_ap1[3][3] = {{0.6130974, 0.3395231, 0.0473795},
+                                           {0.0701937, 0.9163539, 0.0134524},
+                                           {0.0206156, 0.1095698, 0.8698146}};
+  float rgb[4 * 3] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0.3f, 2.5f, 0.01f};
+  float orig[12];
+  memcpy(orig, rgb, sizeof rgb);
+  CHECK_EQ_INT(pb_color_convert(c, "Linear Rec.709 (sRGB)", "ACEScg", rgb, 4, 1, 3), PB_OK);
+  double max_m = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int r = 0; r < 3; ++r) {
+      double e = 0;
+      for (int k = 0; k < 3; ++k) e += m709_to_ap1[r][k] * orig[i * 3 + k];
+      max_m = fmax(max_m, fabs(rgb[i * 3 + r] - e));
+    }
+  printf("Rec.709 -> ACEScg vs published matrix: max |diff| %.3g\n", max_m);
+  CHECK(max_m < 1e-5 * 3);
+  CHECK_EQ_INT(pb_color_convert(c, "ACEScg", "ACES2065-1", rgb, 4, 1, 3), PB_OK);
+  CHECK_EQ_INT(pb_color_convert(c, "ACES2065-1", "lin_rec709", rgb, 4, 1, 3), PB_OK);
+  double max_rt = 0;
+  for (int i = 0; i < 12; ++i) max_rt = fmax(max_rt, fabs(rgb[i] - orig[i]) / fmax(1.0, fabs(orig[i])));
+  printf("Rec.709 -> ACEScg -> ACES2065-1 -> Rec.709 round trip: max rel diff %.3g\n", max_rt);
+  CHECK(max_rt < 1e-5);
+  CHECK_EQ_INT(pb_color_convert(c, "Linear Rec.709 (sRGB)", "NoSuchSpace", rgb, 4, 1, 3), PB_ERR_USAGE);
+  CHECK(strstr(pb_error_message(), "NoSuchSpace") != NULL);
+  pb_error_clear();
+  pb_color_destroy(c);
+  pb_color_destroy(NULL);
+}
+
+static void test_aces_view(void) {
+  pb_color *c = NULL;
+  pb_color_desc d = {.view = "ACES 1.0 - SDR Video"};
+  CHECK_EQ_INT(pb_color_open(&d, &c), PB_OK);
+  if (!c) return;
+  float px[5 * 3] = {0, 0, 0, 0.18f, 0.18f, 0.18f, 1, 1, 1, 16, 16, 16, 1000, 1000, 1000};
+  CHECK_EQ_INT(pb_color_apply_display(c, px, 5, 1, 3), PB_OK);
+  printf("ACES SDR view: 0 -> %.4f, 0.18 -> %.4f, 1 -> %.4f, 16 -> %.4f\n", px[0], px[3], px[6], px[9]);
+  CHECK(px[0] < 0.01f);
+  CHECK(px[3] > 0.3f && px[3] < 0.5f); /* mid grey lands near 0.39 (ACES 1.0 RRT+ODT) */
+  CHECK(px[6] > px[3] && px[9] > px[6]);
+  CHECK(px[6] < 0.95f);  /* tone mapped: scene 1.0 is not display white */
+  CHECK(px[12] <= 1.0f);
+  pb_color_destroy(c);
+}
+
+static void test_errors(void) {
+  pb_color *c = (pb_color *)1;
+  pb_color_desc d = {.display = "Nope"};
+  CHECK_EQ_INT(pb_color_open(&d, &c), PB_ERR_USAGE);
+  CHECK(c == NULL);
+  printf("error: %s\n", pb_error_message());
+  CHECK(strstr(pb_error_message(), "built-in") && strstr(pb_error_message(), "no display 'Nope'") &&
+        strstr(pb_error_message(), "sRGB"));
+  pb_error_clear();
+  pb_color_desc v = {.view = "Filmic"};
+  CHECK_EQ_INT(pb_color_open(&v, &c), PB_ERR_USAGE);
+  printf("error: %s\n", pb_error_message());
+  CHECK(strstr(pb_error_message(), "no view 'Filmic'") && strstr(pb_error_message(), "Standard"));
+  pb_error_clear();
+  pb_color_desc l = {.look = "Punchy"};
+  CHECK_EQ_INT(pb_color_open(&l, &c), PB_ERR_USAGE);
+  CHECK(strstr(pb_error_message(), "no look 'Punchy'") != NULL);
+  pb_error_clear();
+  pb_color_desc none = {.look = "None"};
+  CHECK_EQ_INT(pb_color_open(&none, &c), PB_OK);
+  pb_color_destroy(c);
+  pb_color_desc f = {.config = "does/not/exist.ocio"};
+  CHECK_EQ_INT(pb_color_open(&f, &c), PB_ERR_IO);
+  CHECK(strstr(pb_error_message(), "does/not/exist.ocio") != NULL);
+  pb_error_clear();
+  /* $OCIO is used when no config is given, and named in errors. */
+  setenv("OCIO", "/nonexistent/env.ocio", 1);
+  CHECK_EQ_INT(pb_color_open(NULL, &c), PB_ERR_IO);
+  CHECK(strstr(pb_error_message(), "$OCIO=/nonexistent/env.ocio") != NULL);
+  pb_error_clear();
+  setenv("OCIO", "config/ocio/photonbridge.ocio", 1);
+  CHECK_EQ_INT(pb_color_open(NULL, &c), PB_OK);
+  if (c) CHECK(strcmp(pb_color_view(c), "Standard") == 0);
+  pb_color_destroy(c);
+  unsetenv("OCIO");
+  /* A file that is not a config. */
+  char bad[64];
+  snprintf(bad, sizeof bad, "/tmp/pb_color_test_%d.ocio", (int)getpid());
+  FILE *b = fopen(bad, "w");
+  if (b) {
+    fputs("ocio_profile_version: 2\nroles: [this is not: valid\n", b);
+    fclose(b);
+    pb_color_desc bd = {.config = bad};
+    CHECK_EQ_INT(pb_color_open(&bd, &c), PB_ERR_NOT_AVAILABLE);
+    CHECK(strstr(pb_error_message(), bad) != NULL && strchr(pb_error_message(), '\n') == NULL);
+    pb_error_clear();
+    remove(bad);
+  }
+}
+
+/* The embedded config is the committed file, byte for byte. */
+static void test_embedded_matches_file(void) {
+  uint8_t *data = NULL;
+  size_t size = 0;
+  CHECK_EQ_INT(pb_read_file("config/ocio/photonbridge.ocio", 1 << 20, &data, &size), PB_OK);
+  if (!data) return;
+  CHECK_EQ_INT(size, strlen(pb_color_builtin_config_text));
+  CHECK(memcmp(data, pb_color_builtin_config_text, size) == 0);
+  free(data);
+}
+
+static void test_png(void) {
+  pb_color *c = NULL;
+  CHECK_EQ_INT(pb_color_open(NULL, &c), PB_OK);
+  enum { W = 256 };
+  static float px[W * 3];
+  for (int i = 0; i < W; ++i) px[i * 3] = px[i * 3 + 1] = px[i * 3 + 2] = (float)i / (W - 1);
+  char path[64];
+  snprintf(path, sizeof path, "/tmp/pb_color_test_%d.png", (int)getpid());
+  CHECK_EQ_INT(pb_png_write_display(path, c, W, 1, 3, px, 0.0f), PB_OK);
+  uint8_t *bytes = NULL;
+  size_t size = 0;
+  CHECK_EQ_INT(pb_read_file(path, 1 << 20, &bytes, &size), PB_OK);
+  uint8_t *rgba = NULL;
+  uint32_t w = 0, h = 0;
+  const char *why = NULL;
+  if (bytes) CHECK_EQ_INT(pb_decode_image_rgba8(bytes, size, 4096, 1 << 20, &rgba, &w, &h, &why), PB_DECODE_OK);
+  if (rgba) {
+    CHECK_EQ_INT(w, W);
+    int worst = 0;
+    for (int i = 0; i < W; ++i) {
+      int e = (int)(pb_linear_to_srgb((float)i / (W - 1)) * 255.0f + 0.5f);
+      worst = abs(e - rgba[i * 4]) > worst ? abs(e - rgba[i * 4]) : worst;
+    }
+    CHECK(worst <= 1); /* rounding at exact .5 boundaries only */
+  }
+  free(rgba);
+  free(bytes);
+  /* The fallback without OCIO is pb_png_write_srgb, same bytes. */
+  CHECK_EQ_INT(pb_png_write_display(path, NULL, W, 1, 3, px, 0.0f), PB_OK);
+  CHECK_EQ_INT(pb_png_write_display(path, c, W, 1, 2, px, 0.0f), PB_ERR_IMAGE);
+  pb_error_clear();
+  remove(path);
+  pb_color_destroy(c);
+}
+
+/* Blender's config, when installed: Filmic loads through the shim and maps
+ * mid grey near the middle of the display range. */
+static void test_blender_config(void) {
+  if (access(BLENDER_CONFIG, R_OK) != 0) {
+    printf("skip: %s not installed\n", BLENDER_CONFIG);
+    return;
+  }
+  pb_color *c = NULL;
+  pb_color_desc d = {.config = BLENDER_CONFIG, .display = "sRGB", .view = "Filmic"};
+  CHECK_EQ_INT(pb_color_open(&d, &c), PB_OK);
+  if (!c) return;
+  float px[3] = {0.18f, 0.18f, 0.18f};
+  CHECK_EQ_INT(pb_color_apply_display(c, px, 1, 1, 3), PB_OK);
+  printf("Blender Filmic: 0.18 -> %.4f\n", px[0]);
+  CHECK(px[0] > 0.4f && px[0] < 0.6f);
+  pb_color_destroy(c);
+  pb_color_desc std = {.config = BLENDER_CONFIG, .view = "Standard"};
+  CHECK_EQ_INT(pb_color_open(&std, &c), PB_OK);
+  if (c) {
+    float g[3] = {0.5f, 0.5f, 0.5f};
+    CHECK_EQ_INT(pb_color_apply_display(c, g, 1, 1, 3), PB_OK);
+    CHECK_NEAR(g[0], pb_linear_to_srgb(0.5f), 2e-3); /* Blender's sRGB is a LUT-free curve too */
+  }
+  pb_color_destroy(c);
+}
+
+/* ---- --blender: our Filmic against Blender's own on the same EXR ---------- */
+
+enum { BW = 96, BH = 6 };
+
+/* A ramp over 16 stops (2^-10 .. 2^6) in six hue mixes. */
+static void ramp(float *px) {
+  static const float tint[BH][3] = {{1, 1, 1}, {1, 0.2f, 0.05f}, {0.1f, 1, 0.3f},
+                                    {0.05f, 0.2f, 1}, {1, 0.8f, 0.1f}, {0.6f, 0.1f, 0.9f}};
+  for (int y = 0; y < BH; ++y)
+    for (int x = 0; x < BW; ++x) {
+      float v = exp2f(-10.0f + 16.0f * (float)x / (BW - 1));
+      for (int k = 0; k < 3; ++k) px[(y * BW + x) * 3 + k] = v * tint[y][k];
+    }
+}
+
+static int read_png(const char *path, uint8_t **rgba, uint32_t *w, uint32_t *h) {
+  uint8_t *bytes = NULL;
+  size_t size = 0;
+  if (pb_read_file(path, 1 << 24, &bytes, &size) != PB_OK) return 0;
+  const char *why = NULL;
+  int ok = pb_decode_image_rgba8(bytes, size, 4096, 1 << 22, rgba, w, h, &why) == PB_DECODE_OK;
+  free(bytes);
+  return ok;
+}
+
+/* max and mean |ours - Blender's| in 8-bit steps for one view/look. */
+static void compare_with_blender(const float *lin, const char *png, const char *look, double *max_d,
+                                 double *mean_d) {
+  *max_d = 1e9;
+  *mean_d = 1e9;
+  pb_color *c = NULL;
+  pb_color_desc d = {.config = BLENDER_CONFIG, .display = "sRGB", .view = "Filmic", .look = look};
+  CHECK_EQ_INT(pb_color_open(&d, &c), PB_OK);
+  uint8_t *rgba = NULL;
+  uint32_t w = 0, h = 0;
+  CHECK(read_png(png, &rgba, &w, &h));
+  if (!c || !rgba || w != BW || h != BH) {
+    CHECK(0);
+    pb_color_destroy(c);
+    free(rgba);
+    return;
+  }
+  static float px[BW * BH * 3];
+  memcpy(px, lin, sizeof px);
+  CHECK_EQ_INT(pb_color_apply_display(c, px, BW, BH, 3), PB_OK);
+  double mx = 0, sum = 0;
+  for (int i = 0; i < BW * BH; ++i)
+    for (int k = 0; k < 3; ++k) {
+      double e = fabs(px[i * 3 + k] * 255.0 - rgba[i * 4 + k]);
+      mx = fmax(mx, e);
+      sum += e;
+    }
+  *max_d = mx;
+  *mean_d = sum / (BW * BH * 3);
+  pb_color_destroy(c);
+  free(rgba);
+}
+
+static int test_against_blender(void) {
+  const char *blender = getenv("BLENDER");
+  if (!blender || !*blender) blender = "blender";
+  char probe[512];
+  snprintf(probe, sizeof probe, "command -v '%s' >/dev/null 2>&1", blender);
+  if (system(probe) != 0 || access(BLENDER_CONFIG, R_OK) != 0) {
+    printf("skip: Blender or its OCIO config is not installed\n");
+    return 77;
+  }
+  char dir[] = "/tmp/pb_color_blender.XXXXXX";
+  if (!mkdtemp(dir)) {
+    CHECK(0);
+    return pbt_done();
+  }
+  char exr[256], png[256], png_look[256], cmd[4096];
+  snprintf(exr, sizeof exr, "%s/ramp.exr", dir);
+  snprintf(png, sizeof png, "%s/filmic.png", dir);
+  snprintf(png_look, sizeof png_look, "%s/filmic_mhc.png", dir);
+  static float lin[BW * BH * 3];
+  ramp(lin);
+  pb_image_layer layer = {NULL, 3, lin, NULL};
+  pb_exr_desc ed = {.width = BW, .height = BH, .layers = &layer, .layer_count = 1};
+  CHECK_EQ_INT(pb_exr_write(exr, &ed), PB_OK);
+  /* Blender loads the EXR as a scene-linear image and saves it as 8-bit PNG
+   * through the scene's view transform (Image.save_render), no dither. */
+  static const char script[] =
+      "import bpy, os\n"
+      "sc = bpy.context.scene\n"
+      "sc.display_settings.display_device = 'sRGB'\n"
+      "sc.view_settings.view_transform = 'Filmic'\n"
+      "sc.view_settings.exposure = 0.0\n"
+      "sc.view_settings.gamma = 1.0\n"
+      "sc.render.dither_intensity = 0.0\n"
+      "s = sc.render.image_settings\n"
+      "s.file_format = 'PNG'; s.color_mode = 'RGB'; s.color_depth = '8'; s.compression = 0\n"
+      "img = bpy.data.images.load(os.environ['PB_EXR'])\n"
+      "img.colorspace_settings.name = 'Linear'\n"
+      "for look, out in (('None', os.environ['PB_PNG']), ('Medium High Contrast', os.environ['PB_PNG_LOOK'])):\n"
+      "    sc.view_settings.look = look\n"
+      "    img.save_render(out, scene=sc)\n"
+      "print('pb_blender_done')\n";
+  char script_path[300];
+  snprintf(script_path, sizeof script_path, "%s/filmic.py", dir);
+  FILE *f = fopen(script_path, "w");
+  if (f) {
+    fputs(script, f);
+    fclose(f);
+  }
+  snprintf(cmd, sizeof cmd,
+           "PB_EXR='%s' PB_PNG='%s' PB_PNG_LOOK='%s' '%s' -b --factory-startup --python-exit-code 1 -P '%s' "
+           ">'%s/blender.log' 2>&1",
+           exr, png, png_look, blender, script_path, dir);
+  int rc = system(cmd);
+  CHECK_EQ_INT(rc, 0);
+  if (rc != 0) {
+    snprintf(cmd, sizeof cmd, "tail -n 20 '%s/blender.log' >&2", dir);
+    if (system(cmd) != 0) fprintf(stderr, "(no Blender log)\n");
+  }
+  double mx, mean;
+  compare_with_blender(lin, png, NULL, &mx, &mean);
+  printf("Filmic (Blender's config through our shim) vs Blender 3.4 save_render: max %.2f, mean %.3f (8-bit steps)\n",
+         mx, mean);
+  CHECK(mx <= 1.0); /* one 8-bit step: float vs Blender's rounding */
+  CHECK(mean <= 0.35);
+  compare_with_blender(lin, png_look, "Medium High Contrast", &mx, &mean);
+  printf("Filmic + 'Medium High Contrast' look vs Blender: max %.2f, mean %.3f (8-bit steps)\n", mx, mean);
+  CHECK(mx <= 1.0);
+  CHECK(mean <= 0.35);
+  /* The look must change the picture, or the second comparison proves nothing. */
+  uint8_t *a = NULL, *b = NULL;
+  uint32_t w1, h1, w2, h2;
+  if (read_png(png, &a, &w1, &h1) && read_png(png_look, &b, &w2, &h2) && w1 == w2 && h1 == h2) {
+    double sum = 0;
+    for (uint32_t i = 0; i < w1 * h1 * 4; ++i) sum += abs(a[i] - b[i]);
+    printf("Blender with and without the look: mean |diff| %.2f (8-bit steps)\n", sum / (w1 * h1 * 3));
+    CHECK(sum / (w1 * h1 * 3) > 2.0);
+  } else {
+    CHECK(0);
+  }
+  free(a);
+  free(b);
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
+  return pbt_done();
+}
+
+int main(int argc, char **argv) {
+  if (argc > 1 && strcmp(argv[1], "--blender") == 0) return test_against_blender();
+  test_standard_view();
+  test_aces_view();
+  test_errors();
+  test_embedded_matches_file();
+  test_png();
+  test_blender_config();
+  return pbt_done();
+}
