@@ -141,13 +141,19 @@ PB_STRUCT(pb_gpu_frame) {
   PB_VEC3(cam_up);
   float tan_y;
   uint spp;              /* samples per pixel of the whole frame */
-  uint sample_index;     /* index of the sample this dispatch renders */
+  uint reserved0;
   uint light_count;
   uint max_specular_depth;
   uint seed_lo;
   uint seed_hi;
   uint flags;            /* PB_GPU_FRAME_* */
-  uint pixel_count;
+  uint pixel_count;      /* pixels in this band (the dispatch size) */
+  uint pixel_base;       /* first pixel of the band: the image is rendered
+                            in bands of rows when its buffers would exceed
+                            maxStorageBufferRange */
+  uint pad0;
+  uint pad1;
+  uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
 
@@ -169,7 +175,8 @@ PB_STRUCT(pb_gpu_gbuffer) {
   uint pad0;
 } PB_END(pb_gpu_gbuffer)
 
-/* Per-pixel accumulators (sums over samples; the host divides by spp).
+/* Per-pixel accumulators of the band (sums over samples; the host divides by
+ * spp).
  * beauty.w: samples that hit geometry. depth: camera-space z summed over hit
  * samples (divide by beauty.w). */
 PB_STRUCT(pb_gpu_accum) {
@@ -181,6 +188,15 @@ PB_STRUCT(pb_gpu_accum) {
   PB_VEC3(normal);
   float pad0;
 } PB_END(pb_gpu_accum)
+
+/* Push constants of the render passes: which sample of the frame this
+ * dispatch renders (many samples are recorded into one command buffer). */
+PB_STRUCT(pb_gpu_pass_push) {
+  uint sample_index;
+  uint pad0;
+  uint pad1;
+  uint pad2;
+} PB_END(pb_gpu_pass_push)
 
 /* Push constants of the ray-query kernel. */
 PB_STRUCT(pb_gpu_raycast_push) {
@@ -218,12 +234,13 @@ PB_LAYOUT(pb_gpu_light, 48)
 PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
 PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
 PB_OFFSET(pb_gpu_light, cos_inner, 44)
-PB_LAYOUT(pb_gpu_frame, 96)
+PB_LAYOUT(pb_gpu_frame, 112)
 PB_OFFSET(pb_gpu_frame, width, 12) PB_OFFSET(pb_gpu_frame, cam_forward, 16)
 PB_OFFSET(pb_gpu_frame, height, 28) PB_OFFSET(pb_gpu_frame, cam_right, 32)
 PB_OFFSET(pb_gpu_frame, tan_x, 44) PB_OFFSET(pb_gpu_frame, cam_up, 48)
 PB_OFFSET(pb_gpu_frame, tan_y, 60) PB_OFFSET(pb_gpu_frame, spp, 64)
 PB_OFFSET(pb_gpu_frame, seed_lo, 80) PB_OFFSET(pb_gpu_frame, pixel_count, 92)
+PB_OFFSET(pb_gpu_frame, pixel_base, 96)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)
@@ -233,6 +250,7 @@ PB_OFFSET(pb_gpu_accum, direct, 16) PB_OFFSET(pb_gpu_accum, depth, 28)
 PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
 PB_OFFSET(pb_gpu_accum, normal, 48)
 PB_LAYOUT(pb_gpu_raycast_push, 16)
+PB_LAYOUT(pb_gpu_pass_push, 16)
 #undef PB_LAYOUT
 #undef PB_OFFSET
 #endif

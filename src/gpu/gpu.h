@@ -46,7 +46,7 @@ typedef struct pb_gpu_desc {
   uint32_t device;
   int validation;      /* 1: enable the Khronos validation layer (also
                           PB_VK_VALIDATION=1 in the environment) */
-  uint32_t max_timestamps; /* timestamp query slots; 0: 64 */
+  uint32_t max_timestamps; /* timestamp query slots; 0: 256 */
 } pb_gpu_desc;
 
 typedef struct pb_gpu pb_gpu;

@@ -17,7 +17,6 @@ struct pb_gpu {
   VkFence fence;
   VkQueryPool queries;
   uint32_t query_count;
-  uint64_t ts_written;  /* bit per slot written in the current submission */
   uint64_t ts_mask;
   int recording;
   VkPhysicalDeviceMemoryProperties mem;

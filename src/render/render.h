@@ -23,6 +23,7 @@ typedef struct pb_gpu_scene {
   pb_bvh bvh;                 /* host copy (stats, tests) */
   pb_gpu_buffer nodes, tris;  /* BVH */
   pb_gpu_buffer indices;      /* uint[3 * triangle_count] */
+  pb_gpu_buffer positions;    /* float[3 * vertex_count] */
   pb_gpu_buffer normals;      /* float[3 * vertex_count] (or 1 dummy) */
   pb_gpu_buffer uvs;          /* float[2 * vertex_count] */
   pb_gpu_buffer tri_material; /* uint[triangle_count] */

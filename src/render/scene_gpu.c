@@ -9,7 +9,7 @@
 
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
   if (!gs) return;
-  pb_gpu_buffer *b[] = {&gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs,
+  pb_gpu_buffer *b[] = {&gs->nodes, &gs->tris, &gs->indices, &gs->positions, &gs->normals, &gs->uvs,
                         &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights};
   for (size_t i = 0; i < sizeof b / sizeof *b; ++i) pb_gpu_buffer_destroy(g, b[i]);
   pb_bvh_destroy(&gs->bvh);
@@ -53,6 +53,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   r = make(g, &gs->tris, "scene.bvh_triangles", gs->bvh.tris, (uint64_t)gs->bvh.tri_count * sizeof(pb_gpu_tri));
   if (r != PB_OK) goto fail;
   r = make(g, &gs->indices, "scene.indices", s->triangles, (uint64_t)s->triangle_count * 12);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->positions, "scene.positions", s->positions, (uint64_t)s->vertex_count * 12);
   if (r != PB_OK) goto fail;
   gs->has_normals = s->normals != NULL;
   r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);

@@ -1,0 +1,183 @@
+// The reference's material model (src/ref/bsdf.c, see pb_bsdf in
+// src/ref/ref_internal.h), evaluated the same way: Lambert weighted by
+// (1-m)(1-T)(1 - max F_s(n.wo)), GGX reflection with height-correlated Smith
+// (delta mirror under PB_SPECULAR_ROUGHNESS), smooth dielectric transmission.
+#ifndef PB_BSDF_GLSL
+#define PB_BSDF_GLSL
+
+struct pb_bsdf {
+  vec3 base;
+  float metallic, roughness, alpha, transmission, ior;
+  vec3 f0_diel;
+  float spec;
+  bool delta_spec;
+  vec3 n, t, b;  // shading frame, n facing wo
+  vec3 ng;       // facing wo
+  bool entering;
+};
+
+float pb_schlick1(float f0, float c) {
+  float m = clamp(1.0 - c, 0.0, 1.0);
+  float m2 = m * m;
+  return f0 + (1.0 - f0) * m2 * m2 * m;
+}
+vec3 pb_schlick3(vec3 f0, float c) {
+  return vec3(pb_schlick1(f0.x, c), pb_schlick1(f0.y, c), pb_schlick1(f0.z, c));
+}
+float pb_lum(vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+float pb_max3(vec3 c) { return max(c.x, max(c.y, c.z)); }
+
+// Duff et al. 2017 (the reference's v3_basis).
+void pb_basis(vec3 n, out vec3 t, out vec3 b) {
+  float s = n.z >= 0.0 ? 1.0 : -1.0; // copysignf(1, n.z): -0 counts as negative there
+  if (n.z == 0.0 && floatBitsToUint(n.z) != 0u) s = -1.0;
+  float a = -1.0 / (s + n.z);
+  float c = n.x * n.y * a;
+  t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+  b = vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+pb_bsdf pb_bsdf_setup(pb_surface surf, vec3 wo) {
+  pb_gpu_material m = materials[surf.mat];
+  pb_bsdf b;
+  vec3 base = m.base_color.rgb;
+  float metallic = m.metallic, rough = m.roughness;
+  if (SC_TEXTURES) {
+    if (m.base_color_tex != PB_GPU_NO_TEXTURE) base *= pb_texture_sample(m.base_color_tex, surf.uv).rgb;
+    if (m.metallic_roughness_tex != PB_GPU_NO_TEXTURE) {
+      vec4 t = pb_texture_sample(m.metallic_roughness_tex, surf.uv);
+      rough *= t.g;
+      metallic *= t.b;
+    }
+  }
+  b.base = clamp(base, 0.0, 1.0);
+  b.metallic = clamp(metallic, 0.0, 1.0);
+  b.roughness = clamp(rough, 0.0, 1.0);
+  b.alpha = b.roughness * b.roughness;
+  b.delta_spec = b.roughness < PB_SPECULAR_ROUGHNESS;
+  b.transmission = clamp(m.transmission, 0.0, 1.0);
+  b.ior = (m.ior >= 1.0 && m.ior < 100.0) ? m.ior : 1.5;
+  float r0 = (b.ior - 1.0) / (b.ior + 1.0);
+  r0 *= r0;
+  b.f0_diel = min(r0 * max(m.specular_color, vec3(0.0)), vec3(1.0));
+  b.spec = clamp(m.specular, 0.0, 1.0);
+  b.ng = surf.ng;
+  b.n = dot(surf.ns, wo) > 1e-4 ? surf.ns : surf.ng;
+  pb_basis(b.n, b.t, b.b);
+  b.entering = surf.front;
+  return b;
+}
+
+vec3 pb_bsdf_albedo(pb_bsdf b) {
+  float g = (1.0 - b.metallic) * b.transmission;
+  return b.base * (1.0 - g) + vec3(g);
+}
+
+bool pb_bsdf_has_smooth(pb_bsdf b) {
+  bool diffuse = (1.0 - b.metallic) * (1.0 - b.transmission) > 0.0 && any(notEqual(b.base, vec3(0.0)));
+  return diffuse || !b.delta_spec;
+}
+
+vec3 pb_spec_fresnel(pb_bsdf b, float c) {
+  float kdiel = (1.0 - b.metallic) * (1.0 - b.transmission) * b.spec;
+  return pb_schlick3(b.f0_diel, c) * kdiel + pb_schlick3(b.base, c) * b.metallic;
+}
+
+// Lobe selection probabilities (pd, ps, pg) and the diffuse weight kd.
+vec4 pb_lobes(pb_bsdf b, float cos_o) {
+  float nonmetal = 1.0 - b.metallic;
+  vec3 fs = pb_schlick3(b.f0_diel, cos_o) * b.spec;
+  float kd = nonmetal * (1.0 - b.transmission) * clamp(1.0 - pb_max3(fs), 0.0, 1.0);
+  float wd = kd * pb_lum(b.base);
+  float ws = pb_lum(pb_spec_fresnel(b, cos_o));
+  float wg = nonmetal * b.transmission;
+  float sum = wd + ws + wg;
+  if (!(sum > 0.0)) return vec4(0.0, 0.0, 0.0, kd);
+  return vec4(wd / sum, ws / sum, wg / sum, kd);
+}
+
+vec3 pb_to_local(pb_bsdf b, vec3 w) { return vec3(dot(w, b.t), dot(w, b.b), dot(w, b.n)); }
+
+float pb_ggx_d(float a2, float cos_h) {
+  float c2 = cos_h * cos_h;
+  float k = c2 * (a2 - 1.0) + 1.0;
+  return a2 / (PB_PI * k * k);
+}
+float pb_smith_lambda(float a2, float cos_w) {
+  float c2 = cos_w * cos_w;
+  if (c2 <= 0.0) return uintBitsToFloat(0x7f800000u);
+  float tan2 = max(0.0, 1.0 - c2) / c2;
+  return 0.5 * (sqrt(1.0 + a2 * tan2) - 1.0);
+}
+
+// Non-delta f(wo, wi), cosine not included (pb_bsdf_eval).
+vec3 pb_bsdf_eval(pb_bsdf b, vec3 wo, vec3 wi) {
+  if (dot(wi, b.ng) <= 0.0) return vec3(0.0);
+  vec3 lo = pb_to_local(b, wo), li = pb_to_local(b, wi);
+  if (lo.z <= 0.0 || li.z <= 0.0) return vec3(0.0);
+  vec4 l = pb_lobes(b, lo.z);
+  vec3 f = vec3(0.0);
+  if (l.w > 0.0) f = b.base * (l.w * PB_INV_PI);
+  if (!b.delta_spec && l.y > 0.0) {
+    vec3 h = normalize(lo + li);
+    float a2 = b.alpha * b.alpha;
+    float d = pb_ggx_d(a2, h.z);
+    float lwo = pb_smith_lambda(a2, lo.z), lwi = pb_smith_lambda(a2, li.z);
+    float g2 = 1.0 / (1.0 + lwo + lwi);
+    vec3 F = pb_spec_fresnel(b, dot(lo, h));
+    f += F * (d * g2 / (4.0 * lo.z * li.z));
+  }
+  return f;
+}
+
+float pb_fresnel_dielectric(float cos_i, float eta, out float cos_t) {
+  float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
+  if (sin2_t >= 1.0) {
+    cos_t = 0.0;
+    return 1.0;
+  }
+  cos_t = sqrt(1.0 - sin2_t);
+  float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+// ---- delta lights (src/ref/lights.c pb_delta_light_at) --------------------
+
+float pb_smoothstep01(float t) {
+  t = clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// Direction to the light, distance (inf for directional) and Li such that
+// reflected radiance is f |cos| Li. Returns false when it adds nothing.
+bool pb_delta_light_at(pb_gpu_light l, vec3 p, out vec3 wi, out float dist, out vec3 Li) {
+  wi = vec3(0.0);
+  dist = 0.0;
+  Li = vec3(0.0);
+  if (l.type == PB_GPU_LIGHT_DIRECTIONAL) {
+    if (all(equal(l.direction, vec3(0.0)))) return false;
+    wi = -l.direction;
+    dist = uintBitsToFloat(0x7f800000u);
+    Li = l.power;
+    return any(notEqual(Li, vec3(0.0)));
+  }
+  vec3 d = l.position - p;
+  float d2 = dot(d, d);
+  if (!(d2 > 0.0)) return false;
+  float dl = sqrt(d2);
+  wi = d / dl;
+  dist = dl;
+  float k = 1.0 / d2;
+  if (l.type == PB_GPU_LIGHT_SPOT) {
+    float c = -dot(l.direction, wi);
+    float f;
+    if (l.cos_inner - l.cos_outer <= 1e-7) f = c >= l.cos_outer ? 1.0 : 0.0;
+    else f = pb_smoothstep01((c - l.cos_outer) / (l.cos_inner - l.cos_outer));
+    k *= f;
+  }
+  Li = l.power * k;
+  return k > 0.0 && any(notEqual(l.power, vec3(0.0)));
+}
+
+#endif

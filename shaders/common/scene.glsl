@@ -1,0 +1,169 @@
+// Bindings shared by the render passes (gbuffer.comp, direct.comp), the
+// specialization constants that compile a scene's features in or out, and
+// surface reconstruction from a hit. Mirrors src/ref (accel.c
+// pb_surface_from_hit, bsdf.c pb_bsdf_setup/eval, lights.c) so that the GPU
+// and the reference render the same scene model the same way.
+#ifndef PB_SCENE_GLSL
+#define PB_SCENE_GLSL
+
+layout(std430, set = 0, binding = 0) readonly buffer FrameBuf { pb_gpu_frame frame; };
+layout(std430, set = 0, binding = 1) readonly buffer Nodes { pb_gpu_bvh_node bvh_nodes[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Tris { pb_gpu_tri bvh_tris[]; };
+layout(std430, set = 0, binding = 3) readonly buffer Indices { uint indices[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Normals { float normals[]; };
+layout(std430, set = 0, binding = 5) readonly buffer Uvs { float uvs[]; };
+layout(std430, set = 0, binding = 6) readonly buffer TriMat { uint tri_material[]; };
+layout(std430, set = 0, binding = 7) readonly buffer Materials { pb_gpu_material materials[]; };
+layout(std430, set = 0, binding = 8) readonly buffer Textures { pb_gpu_texture textures[]; };
+layout(std430, set = 0, binding = 9) readonly buffer Texels { uint texels[]; };
+layout(std430, set = 0, binding = 10) readonly buffer Lights { pb_gpu_light lights[]; };
+layout(std430, set = 0, binding = 11) buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
+layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
+layout(std430, set = 0, binding = 13) readonly buffer Positions { float positions[]; };
+layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
+
+// Specialization constants (src/render/frame.c sets them from the scene's
+// features): code for a feature the scene lacks is compiled out.
+layout(constant_id = 0) const bool SC_HAS_NORMALS = true;
+layout(constant_id = 1) const bool SC_TEXTURES = true;
+layout(constant_id = 2) const bool SC_SPECULAR = true;   // delta lobes: eye chains
+layout(constant_id = 3) const bool SC_EMISSIVE = true;
+
+#include "common/bvh.glsl"
+
+const float PB_PI = 3.14159265358979323846;
+const float PB_INV_PI = 0.31830988618379067154;
+const float PB_SPECULAR_ROUGHNESS = 0.02;
+
+// Linear pixel index of this invocation within the band (2-D dispatch fold,
+// see pb_gpu_dispatch).
+uint pb_gid() {
+  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP;
+}
+
+// ---- random numbers: a counter-based hash per (seed, pixel, sample, dim) --
+
+uint pb_hash(uint x) { // lowbias32 (Wellons)
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+float pb_rand(uint pixel, uint s, uint dim) {
+  uint h = pb_hash(frame.seed_lo ^ pb_hash(pixel ^ pb_hash(s * 0x9e3779b9u ^ pb_hash(dim ^ frame.seed_hi))));
+  return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// ---- textures: pb_texture_sample semantics (scene.c) ----------------------
+
+float pb_srgb_to_linear(float v) {
+  return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+int pb_wrap(int i, int n, uint mode) {
+  if (mode == 1u) return clamp(i, 0, n - 1);
+  if (mode == 2u) {
+    int p = 2 * n;
+    int m = ((i % p) + p) % p;
+    return m < n ? m : p - 1 - m;
+  }
+  return ((i % n) + n) % n;
+}
+vec4 pb_texel(pb_gpu_texture t, int x, int y) {
+  uint w = texels[t.offset + uint(y) * t.width + uint(x)];
+  vec4 c = vec4(float(w & 255u), float((w >> 8) & 255u), float((w >> 16) & 255u), float(w >> 24)) * (1.0 / 255.0);
+  if ((t.flags & PB_GPU_TEX_SRGB) != 0u)
+    c.rgb = vec3(pb_srgb_to_linear(c.r), pb_srgb_to_linear(c.g), pb_srgb_to_linear(c.b));
+  return c;
+}
+vec4 pb_texture_sample(uint index, vec2 uv) {
+  pb_gpu_texture t = textures[index];
+  float u = uv.x, v = uv.y;
+  if (isnan(u) || isinf(u)) u = 0.0;
+  if (isnan(v) || isinf(v)) v = 0.0;
+  u = u - 65536.0 * trunc(u / 65536.0); // fmodf
+  v = v - 65536.0 * trunc(v / 65536.0);
+  int W = int(t.width), H = int(t.height);
+  float fx = u * float(W) - 0.5, fy = v * float(H) - 0.5;
+  if ((t.flags & PB_GPU_TEX_NEAREST) != 0u)
+    return pb_texel(t, pb_wrap(int(floor(fx + 0.5)), W, t.wrap_s), pb_wrap(int(floor(fy + 0.5)), H, t.wrap_t));
+  float x0f = floor(fx), y0f = floor(fy);
+  float ax = fx - x0f, ay = fy - y0f;
+  int x0 = int(x0f), y0 = int(y0f);
+  int xa = pb_wrap(x0, W, t.wrap_s), xb = pb_wrap(x0 + 1, W, t.wrap_s);
+  int ya = pb_wrap(y0, H, t.wrap_t), yb = pb_wrap(y0 + 1, H, t.wrap_t);
+  vec4 a = pb_texel(t, xa, ya), b = pb_texel(t, xb, ya), c = pb_texel(t, xa, yb), d = pb_texel(t, xb, yb);
+  return (a * (1.0 - ax) + b * ax) * (1.0 - ay) + (c * (1.0 - ax) + d * ax) * ay;
+}
+
+// ---- surfaces -------------------------------------------------------------
+
+struct pb_surface {
+  vec3 p;      // from barycentrics
+  vec3 ng;     // unit, facing the incoming ray
+  vec3 ns;     // unit, same hemisphere as ng
+  bool front;
+  vec2 uv;
+  uint mat;
+};
+
+vec3 pb_position(uint i) { return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]); }
+
+pb_surface pb_surface_from_hit(uint prim, float u, float v, vec3 ray_dir) {
+  pb_surface s;
+  float w = 1.0 - u - v;
+  uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
+  vec3 p0 = pb_position(i0), p1 = pb_position(i1), p2 = pb_position(i2);
+  s.p = p0 * w + p1 * u + p2 * v;
+  vec3 ng = normalize(cross(p1 - p0, p2 - p0));
+  s.front = dot(ng, ray_dir) < 0.0;
+  if (!s.front) ng = -ng;
+  s.ng = ng;
+  s.ns = ng;
+  if (SC_HAS_NORMALS) {
+    vec3 n0 = vec3(normals[3u * i0], normals[3u * i0 + 1u], normals[3u * i0 + 2u]);
+    vec3 n1 = vec3(normals[3u * i1], normals[3u * i1 + 1u], normals[3u * i1 + 2u]);
+    vec3 n2 = vec3(normals[3u * i2], normals[3u * i2 + 1u], normals[3u * i2 + 2u]);
+    vec3 n = n0 * w + n1 * u + n2 * v;
+    float l = length(n);
+    if (l > 1e-12 && !isinf(l) && !isnan(l)) {
+      n /= l;
+      s.ns = dot(n, ng) < 0.0 ? -n : n;
+    }
+  }
+  s.uv = vec2(0.0);
+  if (SC_TEXTURES) {
+    vec2 t0 = vec2(uvs[2u * i0], uvs[2u * i0 + 1u]);
+    vec2 t1 = vec2(uvs[2u * i1], uvs[2u * i1 + 1u]);
+    vec2 t2 = vec2(uvs[2u * i2], uvs[2u * i2 + 1u]);
+    s.uv = t0 * w + t1 * u + t2 * v;
+  }
+  s.mat = tri_material[prim];
+  return s;
+}
+
+// Waechter & Binder, Ray Tracing Gems ch. 6 (the reference's pb_offset_ray).
+vec3 pb_offset_ray(vec3 p, vec3 n) {
+  const float origin = 1.0 / 32.0, float_scale = 1.0 / 65536.0, int_scale = 256.0;
+  ivec3 of = ivec3(int_scale * n);
+  vec3 pi = vec3(intBitsToFloat(floatBitsToInt(p.x) + (p.x < 0.0 ? -of.x : of.x)),
+                 intBitsToFloat(floatBitsToInt(p.y) + (p.y < 0.0 ? -of.y : of.y)),
+                 intBitsToFloat(floatBitsToInt(p.z) + (p.z < 0.0 ? -of.z : of.z)));
+  return vec3(abs(p.x) < origin ? p.x + float_scale * n.x : pi.x,
+              abs(p.y) < origin ? p.y + float_scale * n.y : pi.y,
+              abs(p.z) < origin ? p.z + float_scale * n.z : pi.z);
+}
+
+vec3 pb_emission(pb_surface s) {
+  if (!SC_EMISSIVE) return vec3(0.0);
+  pb_gpu_material m = materials[s.mat];
+  if (!s.front && (m.flags & PB_GPU_MAT_DOUBLE_SIDED) == 0u) return vec3(0.0);
+  vec3 e = m.emissive;
+  if (SC_TEXTURES && m.emissive_tex != PB_GPU_NO_TEXTURE) e *= pb_texture_sample(m.emissive_tex, s.uv).rgb;
+  return e;
+}
+
+#include "common/bsdf.glsl"
+
+#endif

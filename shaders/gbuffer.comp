@@ -1,0 +1,140 @@
+#version 450
+// Pass 1 of a sample: primary visibility and specular eye chains.
+// One invocation per pixel of the band. The camera ray (pixel centre at
+// spp 1, stratified/jittered otherwise) follows delta interactions (mirror,
+// glass) up to max_specular_depth and stops at the first surface with a
+// smooth lobe, which goes into the G-buffer for the direct pass (and later
+// for photon gathering). Emission met along the way is accumulated here.
+// First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
+// accum. Mixed materials (smooth and delta lobes) pick one stochastically by
+// the reference's lobe probabilities, so the estimate stays unbiased.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+
+#include "common/scene.glsl"
+
+void main() {
+  uint gid = pb_gid();
+  if (gid >= frame.pixel_count) return;
+  uint pixel = frame.pixel_base + gid;
+  uint px = pixel % frame.width, py = pixel / frame.width;
+  uint s = pass.sample_index;
+
+  // Sample position in the pixel: centre for one sample; otherwise the
+  // sample's cell of an m x m grid (m = ceil(sqrt(spp))), jittered.
+  vec2 jitter = vec2(0.5);
+  if (frame.spp > 1u) {
+    uint m = uint(ceil(sqrt(float(frame.spp))));
+    uint cell = s % (m * m);
+    jitter = (vec2(float(cell % m), float(cell / m)) +
+              vec2(pb_rand(pixel, s, 0u), pb_rand(pixel, s, 1u))) / float(m);
+  }
+  float fx = float(px) + jitter.x, fy = float(py) + jitter.y;
+  float sx = (2.0 * fx / float(frame.width) - 1.0) * frame.tan_x;
+  float sy = (1.0 - 2.0 * fy / float(frame.height)) * frame.tan_y;
+  vec3 dir = normalize(frame.cam_forward + frame.cam_right * sx + frame.cam_up * sy);
+  vec3 org = frame.cam_pos;
+  vec3 beta = vec3(1.0);
+  bool direct_only = (frame.flags & PB_GPU_FRAME_DIRECT_ONLY) != 0u;
+
+  pb_gpu_accum acc = accum[gid];
+  pb_gpu_gbuffer g;
+  g.prim = PB_GPU_MISS;
+  g.position = vec3(0.0);
+  g.wo = vec3(0.0);
+  g.u = 0.0;
+  g.v = 0.0;
+  g.throughput = vec3(0.0);
+  g.motion_x = 0.0;
+  g.motion_y = 0.0;
+  g.chain = 0u;
+  g.pad0 = 0u;
+
+  for (uint chain = 0u;; ++chain) {
+    float t, u, v;
+    uint prim = pb_trace(org, dir, 0.0, uintBitsToFloat(0x7f800000u), false, t, u, v);
+    if (prim == PB_GPU_MISS) break;
+    pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
+    vec3 wo = -dir;
+    pb_bsdf b = pb_bsdf_setup(surf, wo);
+    if (chain == 0u) {
+      acc.beauty.w += 1.0;
+      acc.normal += surf.ns;
+      acc.depth += t * dot(dir, frame.cam_forward);
+      acc.albedo += pb_bsdf_albedo(b);
+      acc.material = float(surf.mat + 1u);
+    }
+    // Emission seen after `chain` delta interactions: a path of `chain`
+    // scattering events (direct when at most one).
+    vec3 le = pb_emission(surf);
+    if (any(notEqual(le, vec3(0.0)))) {
+      acc.beauty.rgb += beta * le;
+      if (chain <= 1u) acc.direct += beta * le;
+    }
+    if (direct_only && chain >= 1u) break;
+
+    float cos_o = dot(pb_to_local(b, wo), vec3(0.0, 0.0, 1.0));
+    if (cos_o <= 0.0) break;
+    vec4 l = pb_lobes(b, cos_o);
+    float p_smooth = l.x + (b.delta_spec ? 0.0 : l.y);
+    float p_delta = (b.delta_spec ? l.y : 0.0) + l.z;
+    if (!SC_SPECULAR) p_delta = 0.0;
+    float p_sum = p_smooth + p_delta;
+    if (!(p_sum > 0.0)) break;
+    float uc = pb_rand(pixel, s, 2u + 4u * chain);
+    if (uc * p_sum < p_smooth || chain >= frame.max_specular_depth) {
+      // Stop here: the smooth lobes are lit by the direct pass. With a delta
+      // lobe too, this choice had probability p_smooth / p_sum.
+      if (p_smooth <= 0.0) break;
+      g.prim = prim;
+      g.position = surf.p;
+      g.wo = wo;
+      g.u = u;
+      g.v = v;
+      g.throughput = beta * (p_delta > 0.0 && chain < frame.max_specular_depth ? p_sum / p_smooth : 1.0);
+      g.chain = chain;
+      if (direct_only && chain > 0u) g.prim = PB_GPU_MISS;
+      break;
+    }
+    // Follow a delta lobe: mirror (F / P) or smooth dielectric.
+    float choose_delta = p_delta / p_sum;
+    vec3 nl = vec3(0.0, 0.0, 1.0);
+    vec3 lo = pb_to_local(b, wo);
+    float ug = (uc * p_sum - p_smooth) / p_delta; // position inside the delta interval
+    bool mirror = b.delta_spec && ug * p_delta < l.y;
+    vec3 wi;
+    bool transmit = false;
+    if (mirror) {
+      wi = b.t * -lo.x + b.b * -lo.y + b.n * lo.z;
+      if (dot(wi, b.ng) <= 0.0) break;
+      beta *= pb_spec_fresnel(b, lo.z) / (l.y / p_sum) / 1.0;
+    } else {
+      if (l.z <= 0.0) break;
+      float eta_o = b.entering ? 1.0 : b.ior;
+      float eta_t = b.entering ? b.ior : 1.0;
+      float eta = eta_o / eta_t;
+      float cos_t;
+      float F = pb_fresnel_dielectric(lo.z, eta, cos_t);
+      float kg = (1.0 - b.metallic) * b.transmission / (l.z / p_sum);
+      float ug2 = pb_rand(pixel, s, 3u + 4u * chain);
+      if (ug2 < F) {
+        wi = b.t * -lo.x + b.b * -lo.y + b.n * lo.z;
+        if (dot(wi, b.ng) <= 0.0) break;
+        beta *= kg;
+      } else {
+        vec3 li = vec3(-eta * lo.x, -eta * lo.y, -cos_t);
+        wi = normalize(b.t * li.x + b.b * li.y + b.n * li.z);
+        if (dot(wi, b.ng) >= 0.0) break;
+        beta *= b.base * (kg * eta * eta); // radiance scales by (eta_o/eta_t)^2
+        transmit = true;
+      }
+    }
+    if (all(equal(beta, vec3(0.0)))) break;
+    org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
+    dir = wi;
+  }
+  gbuffer[gid] = g;
+  accum[gid] = acc;
+}

@@ -1,0 +1,205 @@
+/* One frame of the GPU renderer: orders the passes (see render.h), renders
+ * the image in bands of rows when its per-pixel buffers would exceed the
+ * device's maxStorageBufferRange, times each pass with timestamps, and
+ * resolves the accumulators into AOVs. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "render/passes.h"
+#include "render/render.h"
+
+/* Samples recorded per submission: two timestamps each, plus the start. */
+enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 2 * SAMPLES_PER_SUBMIT + 1 };
+
+void pb_render_result_destroy(pb_render_result *r) {
+  if (!r) return;
+  free(r->beauty);
+  free(r->direct);
+  free(r->albedo);
+  free(r->normal);
+  free(r->depth);
+  free(r->material);
+  memset(r, 0, sizeof *r);
+}
+
+static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h, const pb_render_desc *d) {
+  if (camera < 0 || (uint32_t)camera >= s->camera_count)
+    return pb_fail(PB_ERR_USAGE, "render: camera %d of %u", camera, s->camera_count);
+  if (w == 0 || h == 0 || w > 16384 || h > 16384)
+    return pb_fail(PB_ERR_USAGE, "render: image size %ux%u (1..16384 per side)", w, h);
+  if (d->spp > (1u << 20)) return pb_fail(PB_ERR_USAGE, "render: %u samples per pixel (at most 2^20)", d->spp);
+  if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
+    return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
+                   PB_RENDER_MAX_SPECULAR_DEPTH);
+  return PB_OK;
+}
+
+pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
+                          uint32_t height, const pb_render_desc *desc_in, pb_render_result *out) {
+  memset(out, 0, sizeof *out);
+  pb_render_desc desc = {0};
+  if (desc_in) desc = *desc_in;
+  pb_result r = validate(s, camera, width, height, &desc);
+  if (r != PB_OK) return r;
+  uint32_t spp = desc.spp ? desc.spp : 1;
+  uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : 8;
+  const pb_gpu_limits *lim = pb_gpu_get_limits(g);
+  double wall0 = pb_time_now();
+
+  /* Band: whole rows whose G-buffer and accumulators each fit one storage
+   * buffer (64 bytes per pixel each). Never truncated: a row that does not
+   * fit is refused. */
+  uint64_t per_pixel = sizeof(pb_gpu_gbuffer);
+  uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
+  if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
+  if (max_pixels < width)
+    return pb_fail(PB_ERR_LIMIT, "render: one row of %u pixels needs %llu bytes of G-buffer, over the device's "
+                   "storage-buffer limit of %llu bytes; render a narrower image",
+                   width, (unsigned long long)(width * per_pixel),
+                   (unsigned long long)lim->max_storage_buffer_range);
+  uint32_t band_rows = (uint32_t)(max_pixels / width);
+  if (band_rows > height) band_rows = height;
+  uint32_t band_pixels = band_rows * width;
+  uint32_t bands = (height + band_rows - 1) / band_rows;
+
+  size_t n = (size_t)width * height;
+  pb_gpu_buffer frame_buf = {0}, gbuf = {0}, accum = {0};
+  pb_gpu_pipeline gp = {0}, dp = {0};
+  pb_gpu_accum *host = NULL;
+  out->beauty = calloc(4 * n, sizeof(float));
+  out->direct = calloc(3 * n, sizeof(float));
+  out->albedo = calloc(3 * n, sizeof(float));
+  out->normal = calloc(3 * n, sizeof(float));
+  out->depth = calloc(n, sizeof(float));
+  out->material = calloc(n, sizeof(float));
+  host = malloc((size_t)band_pixels * sizeof *host);
+  if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !host) {
+    r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
+    goto fail;
+  }
+  pb_gpu_buffer_desc fd = {.name = "frame.constants", .size = sizeof(pb_gpu_frame)};
+  pb_gpu_buffer_desc gd = {.name = "frame.gbuffer", .size = (uint64_t)band_pixels * sizeof(pb_gpu_gbuffer)};
+  pb_gpu_buffer_desc ad = {.name = "frame.accum", .size = (uint64_t)band_pixels * sizeof(pb_gpu_accum),
+                           .host_visible = 1};
+  if ((r = pb_gpu_buffer_create(g, &fd, &frame_buf)) != PB_OK) goto fail;
+  if ((r = pb_gpu_buffer_create(g, &gd, &gbuf)) != PB_OK) goto fail;
+  if ((r = pb_gpu_buffer_create(g, &ad, &accum)) != PB_OK) goto fail;
+
+  pb_pass_setup ps = {
+      .bindings = {&frame_buf, &gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs, &gs->tri_material,
+                   &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions},
+      .spec = {gs->has_normals ? 1u : 0u, (gs->features & PB_FEATURE_TEXTURES) ? 1u : 0u,
+               (gs->features & PB_FEATURE_SPECULAR) ? 1u : 0u, (gs->features & PB_FEATURE_EMISSIVE) ? 1u : 0u},
+  };
+  if ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK) goto fail;
+  if ((r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK) goto fail;
+
+  const pb_camera *cam = &s->cameras[camera];
+  pb_gpu_frame fr;
+  memset(&fr, 0, sizeof fr);
+  memcpy(fr.cam_pos, cam->position, sizeof fr.cam_pos);
+  memcpy(fr.cam_forward, cam->forward, sizeof fr.cam_forward);
+  memcpy(fr.cam_right, cam->right, sizeof fr.cam_right);
+  memcpy(fr.cam_up, cam->up, sizeof fr.cam_up);
+  fr.width = width;
+  fr.height = height;
+  fr.tan_y = tanf(0.5f * cam->yfov);
+  fr.tan_x = fr.tan_y * (float)width / (float)height;
+  fr.spp = spp;
+  fr.light_count = gs->light_count;
+  fr.max_specular_depth = max_spec;
+  fr.seed_lo = (uint32_t)desc.seed;
+  fr.seed_hi = (uint32_t)(desc.seed >> 32);
+  fr.flags = desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u;
+
+  int ts = lim->timestamps;
+  double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
+  for (uint32_t band = 0; band < bands; ++band) {
+    uint32_t row0 = band * band_rows;
+    uint32_t rows = height - row0 < band_rows ? height - row0 : band_rows;
+    uint32_t pixels = rows * width;
+    fr.pixel_base = row0 * width;
+    fr.pixel_count = pixels;
+    if ((r = pb_gpu_buffer_upload(g, &frame_buf, 0, &fr, sizeof fr)) != PB_OK) goto fail;
+    if ((r = pb_gpu_buffer_fill_zero(g, &accum)) != PB_OK) goto fail;
+    for (uint32_t s0 = 0; s0 < spp; s0 += SAMPLES_PER_SUBMIT) {
+      uint32_t count = spp - s0 < SAMPLES_PER_SUBMIT ? spp - s0 : SAMPLES_PER_SUBMIT;
+      if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
+      pb_gpu_timestamp(g, 0);
+      for (uint32_t k = 0; k < count && r == PB_OK; ++k) {
+        r = pb_pass_record(g, &gp, s0 + k, pixels);
+        pb_gpu_barrier(g);
+        pb_gpu_timestamp(g, 2 * k + 1);
+        /* [future stages: rsm, emit, trace, photon LBVH, estimate] */
+        if (r == PB_OK) r = pb_pass_record(g, &dp, s0 + k, pixels);
+        pb_gpu_barrier(g);
+        pb_gpu_timestamp(g, 2 * k + 2);
+      }
+      double t0 = pb_time_now();
+      pb_result rs = pb_gpu_submit(g);
+      double wall = (pb_time_now() - t0) * 1e3;
+      if (r == PB_OK) r = rs;
+      if (r != PB_OK) goto fail;
+      if (ts) {
+        for (uint32_t k = 0; k < count; ++k) {
+          double a = pb_gpu_elapsed_ms(g, 2 * k, 2 * k + 1), b = pb_gpu_elapsed_ms(g, 2 * k + 1, 2 * k + 2);
+          if (a < 0 || b < 0) ts = 0;
+          gbuf_ms += a;
+          direct_ms += b;
+        }
+        double all = pb_gpu_elapsed_ms(g, 0, 2 * count);
+        gpu_ms += all > 0 ? all : 0;
+      } else {
+        gpu_ms += wall;
+      }
+    }
+    if ((r = pb_gpu_buffer_download(g, &accum, 0, host, (uint64_t)pixels * sizeof *host)) != PB_OK) goto fail;
+    float inv = 1.0f / (float)spp;
+    for (uint32_t i = 0; i < pixels; ++i) {
+      size_t p = (size_t)fr.pixel_base + i;
+      const pb_gpu_accum *a = &host[i];
+      for (int k = 0; k < 4; ++k) out->beauty[4 * p + k] = a->beauty[k] * inv;
+      for (int k = 0; k < 3; ++k) {
+        out->direct[3 * p + k] = a->direct[k] * inv;
+        out->albedo[3 * p + k] = a->albedo[k] * inv;
+      }
+      float nl = sqrtf(a->normal[0] * a->normal[0] + a->normal[1] * a->normal[1] + a->normal[2] * a->normal[2]);
+      for (int k = 0; k < 3; ++k) out->normal[3 * p + k] = nl > 0 ? a->normal[k] / nl : 0.0f;
+      out->depth[p] = a->beauty[3] > 0 ? a->depth / a->beauty[3] : 0.0f;
+      out->material[p] = a->material;
+    }
+  }
+  out->width = width;
+  out->height = height;
+  pb_render_stats *st = &out->stats;
+  st->spp = spp;
+  st->timestamps = ts;
+  st->gbuffer_ms = ts ? gbuf_ms : -1;
+  st->direct_ms = ts ? direct_ms : -1;
+  st->total_gpu_ms = gpu_ms;
+  st->upload_ms = gs->upload_s * 1e3;
+  st->bvh_build_ms = gs->bvh.build_s * 1e3;
+  st->bvh_nodes = gs->bvh.node_count;
+  st->bvh_depth = gs->bvh.depth;
+  st->primary_rays = (uint64_t)n * spp;
+  st->shadow_rays_max = (uint64_t)n * spp * gs->light_count;
+  st->wall_ms = (pb_time_now() - wall0) * 1e3;
+  free(host);
+  pb_gpu_pipeline_destroy(g, &gp);
+  pb_gpu_pipeline_destroy(g, &dp);
+  pb_gpu_buffer_destroy(g, &frame_buf);
+  pb_gpu_buffer_destroy(g, &gbuf);
+  pb_gpu_buffer_destroy(g, &accum);
+  return PB_OK;
+fail:
+  free(host);
+  pb_gpu_pipeline_destroy(g, &gp);
+  pb_gpu_pipeline_destroy(g, &dp);
+  pb_gpu_buffer_destroy(g, &frame_buf);
+  pb_gpu_buffer_destroy(g, &gbuf);
+  pb_gpu_buffer_destroy(g, &accum);
+  pb_render_result_destroy(out);
+  return r;
+}
