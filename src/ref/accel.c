@@ -134,15 +134,20 @@ int pb_ref_occluded(const pb_ref_accel *a, v3 o, v3 d, float tmax) {
   return r.tfar < 0.0f; /* Embree sets tfar to -inf on occlusion */
 }
 
-static inline int32_t f2i(float f) {
-  int32_t i;
-  memcpy(&i, &f, sizeof i);
-  return i;
-}
-static inline float i2f(int32_t i) {
-  float f;
-  memcpy(&f, &i, sizeof f);
-  return f;
+/* One coordinate: p moved by `ulps` units in the last place away from zero
+ * for ulps > 0 along +n (toward zero for the other sign), or by a small
+ * absolute step near the origin. Unsigned bit arithmetic: no signed
+ * overflow even for -0 (whose bits are INT_MIN). */
+static inline float offset1(float p, float n, float origin, float float_scale,
+                            float int_scale) {
+  if (fabsf(p) < origin) return p + float_scale * n;
+  int32_t of = (int32_t)(int_scale * n);
+  uint32_t bits;
+  memcpy(&bits, &p, sizeof bits);
+  bits += (uint32_t)(p < 0 ? -of : of);
+  float q;
+  memcpy(&q, &bits, sizeof q);
+  return q;
 }
 
 v3 pb_offset_ray(v3 p, v3 n) {
@@ -150,14 +155,9 @@ v3 pb_offset_ray(v3 p, v3 n) {
    * float_scale() = 1/65536, int_scale() = 256. */
   const float origin = 1.0f / 32.0f, float_scale = 1.0f / 65536.0f,
               int_scale = 256.0f;
-  int32_t ox = (int32_t)(int_scale * n.x), oy = (int32_t)(int_scale * n.y),
-          oz = (int32_t)(int_scale * n.z);
-  v3 pi = {i2f(f2i(p.x) + (p.x < 0 ? -ox : ox)),
-           i2f(f2i(p.y) + (p.y < 0 ? -oy : oy)),
-           i2f(f2i(p.z) + (p.z < 0 ? -oz : oz))};
-  return (v3){fabsf(p.x) < origin ? p.x + float_scale * n.x : pi.x,
-              fabsf(p.y) < origin ? p.y + float_scale * n.y : pi.y,
-              fabsf(p.z) < origin ? p.z + float_scale * n.z : pi.z};
+  return (v3){offset1(p.x, n.x, origin, float_scale, int_scale),
+              offset1(p.y, n.y, origin, float_scale, int_scale),
+              offset1(p.z, n.z, origin, float_scale, int_scale)};
 }
 
 void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,

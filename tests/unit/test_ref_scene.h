@@ -69,13 +69,13 @@ static inline pb_material tsc_glass(float ior) {
   return m;
 }
 
-static uint32_t tsc_material(pb_scene *s, pb_material m) {
+static inline uint32_t tsc_material(pb_scene *s, pb_material m) {
   s->materials = tsc_grow(s->materials, s->material_count + 1, sizeof *s->materials);
   s->materials[s->material_count] = m;
   return s->material_count++;
 }
 
-static uint32_t tsc_vertex(pb_scene *s, const float p[3], const float n[3]) {
+static inline uint32_t tsc_vertex(pb_scene *s, const float p[3], const float n[3]) {
   uint32_t i = s->vertex_count++;
   s->positions = tsc_grow(s->positions, s->vertex_count, sizeof *s->positions);
   s->normals = tsc_grow(s->normals, s->vertex_count, sizeof *s->normals);
