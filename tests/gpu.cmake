@@ -1,13 +1,20 @@
 # GPU tests (Vulkan on whatever device the machine has; lavapipe in CI).
 # Validation layers are on and fatal (PB_VK_VALIDATION=1: any message fails
 # the submission). Exit code 77 means "no Vulkan device": skipped, not passed.
-# Slow ones carry the label no-sanitize (ctest -LE no-sanitize under ASan).
+# Tests that open a Vulkan device carry the label no-sanitize (ctest -LE
+# no-sanitize under ASan): the driver or layer (lavapipe, the validation layer)
+# leaks 13 bytes from a module unloaded before exit, which LeakSanitizer
+# reports as "<unknown module>" and no suppression can name. test_gpu_bvh is
+# GPU-free and runs under the sanitizers.
 foreach(t test_gpu_rays test_gpu_layout test_gpu_render)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1"
                          SKIP_RETURN_CODE 77 LABELS gpu)
   endif()
 endforeach()
+if(TEST test_gpu_layout)
+  set_tests_properties(test_gpu_layout PROPERTIES LABELS "gpu;no-sanitize")
+endif()
 if(TEST test_gpu_rays)
   set_tests_properties(test_gpu_rays PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 900)
 endif()
