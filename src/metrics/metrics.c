@@ -8,13 +8,14 @@
 
 #include "scene/scene.h" /* pb_linear_to_srgb */
 
-void pb_display_srgb(void *user, const float linear[3], float display[3]) {
+pb_result pb_display_srgb(void *user, float *rgb, uint32_t w, uint32_t h) {
   (void)user;
-  for (int c = 0; c < 3; ++c) {
-    float v = linear[c];
+  for (size_t i = 0; i < 3 * (size_t)w * h; ++i) {
+    float v = rgb[i];
     v = v > 1.0f ? 1.0f : v; /* pb_linear_to_srgb maps <= 0 and NaN to 0 */
-    display[c] = pb_linear_to_srgb(v);
+    rgb[i] = pb_linear_to_srgb(v);
   }
+  return PB_OK;
 }
 
 double pb_metrics_psnr_from_mse(double mse) {
@@ -105,39 +106,75 @@ double pb_metrics_ssim_plane(const float *a, const float *b, uint32_t w, uint32_
   return total / ((double)ow * oh);
 }
 
+/* Copies the RGB of an image into rgb (3 per pixel), non-finite -> 0. */
+static void copy_rgb(const float *src, size_t n, uint32_t ch, float *rgb, uint64_t *bad) {
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + (size_t)c] = clean(src[i * ch + (size_t)c], bad);
+}
+
+/* Both images through the display transform: display-space RGB copies. */
+static pb_result to_display(const float *t, const float *r, uint32_t w, uint32_t h,
+                            uint32_t ch, const pb_metrics_desc *desc, float **td,
+                            float **rd) {
+  size_t n = (size_t)w * h;
+  pb_display_fn disp = desc && desc->display ? desc->display : pb_display_srgb;
+  void *du = desc ? desc->display_user : NULL;
+  *td = malloc(3 * n * sizeof **td);
+  *rd = malloc(3 * n * sizeof **rd);
+  if (!*td || !*rd) {
+    free(*td);
+    free(*rd);
+    *td = *rd = NULL;
+    return pb_fail(PB_ERR_NOMEM, "metrics: out of memory for a %ux%u image", w, h);
+  }
+  uint64_t bad = 0;
+  copy_rgb(t, n, ch, *td, &bad);
+  copy_rgb(r, n, ch, *rd, &bad);
+  pb_result res = disp(du, *td, w, h);
+  if (res == PB_OK) res = disp(du, *rd, w, h);
+  if (res != PB_OK) {
+    free(*td);
+    free(*rd);
+    *td = *rd = NULL;
+  }
+  return res;
+}
+
 pb_result pb_metrics_compute(const float *test, const float *ref, uint32_t w,
                              uint32_t h, uint32_t ch, const pb_metrics_desc *desc,
                              pb_metrics *out) {
   memset(out, 0, sizeof *out);
   if (!test || !ref || w == 0 || h == 0 || (ch != 3 && ch != 4))
     return pb_fail(PB_ERR_USAGE, "metrics: bad image (%ux%u, %u channels)", w, h, ch);
-  pb_display_fn disp = desc && desc->display ? desc->display : pb_display_srgb;
-  void *du = desc ? desc->display_user : NULL;
   size_t n = (size_t)w * h;
-  float *planes = malloc(6 * n * sizeof *planes); /* display t R,G,B, r R,G,B */
-  if (!planes)
-    return pb_fail(PB_ERR_NOMEM, "metrics: out of memory for a %ux%u image", w, h);
   double se = 0.0, rel = 0.0, sed = 0.0, max_abs = 0.0;
   uint64_t bad = 0;
-  for (size_t i = 0; i < n; ++i) {
-    float t[3], r[3], td[3], rd[3];
+  for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
-      t[c] = clean(test[i * ch + (size_t)c], &bad);
-      r[c] = clean(ref[i * ch + (size_t)c], &bad);
-      double d = (double)t[c] - r[c];
+      double t = clean(test[i * ch + (size_t)c], &bad), r = clean(ref[i * ch + (size_t)c], &bad);
+      double d = t - r;
       se += d * d;
-      rel += d * d / ((double)r[c] * r[c] + 0.01);
+      rel += d * d / (r * r + 0.01);
       if (fabs(d) > max_abs) max_abs = fabs(d);
     }
-    disp(du, t, td);
-    disp(du, r, rd);
-    for (int c = 0; c < 3; ++c) {
-      double d = (double)td[c] - rd[c];
-      sed += d * d;
-      planes[(size_t)c * n + i] = td[c];
-      planes[(size_t)(3 + c) * n + i] = rd[c];
-    }
+  float *td, *rd;
+  pb_result res = to_display(test, ref, w, h, ch, desc, &td, &rd);
+  if (res != PB_OK) return res;
+  float *planes = malloc(6 * n * sizeof *planes); /* t R,G,B then r R,G,B */
+  if (!planes) {
+    free(td);
+    free(rd);
+    return pb_fail(PB_ERR_NOMEM, "metrics: out of memory for a %ux%u image", w, h);
   }
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      double d = (double)td[3 * i + (size_t)c] - rd[3 * i + (size_t)c];
+      sed += d * d;
+      planes[(size_t)c * n + i] = td[3 * i + (size_t)c];
+      planes[(size_t)(3 + c) * n + i] = rd[3 * i + (size_t)c];
+    }
+  free(td);
+  free(rd);
   double cnt = 3.0 * (double)n;
   out->width = w;
   out->height = h;
@@ -162,32 +199,37 @@ pb_result pb_metrics_compute(const float *test, const float *ref, uint32_t w,
   return PB_OK;
 }
 
-void pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t w,
-                                  uint32_t h, uint32_t ch, pb_noise_estimate *out) {
+pb_result pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t w,
+                                       uint32_t h, uint32_t ch,
+                                       const pb_metrics_desc *desc,
+                                       pb_noise_estimate *out) {
+  memset(out, 0, sizeof *out);
+  if (!a || !b || w == 0 || h == 0 || (ch != 3 && ch != 4))
+    return pb_fail(PB_ERR_USAGE, "noise estimate: bad image (%ux%u, %u channels)", w, h, ch);
   size_t n = (size_t)w * h;
   double se = 0.0, rel = 0.0, sed = 0.0;
   uint64_t bad = 0;
-  for (size_t i = 0; i < n; ++i) {
-    float va[3], vb[3], da[3], db[3];
+  for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
-      va[c] = clean(a[i * ch + (size_t)c], &bad);
-      vb[c] = clean(b[i * ch + (size_t)c], &bad);
-      double d = (double)va[c] - vb[c];
-      double m = 0.5 * ((double)va[c] + vb[c]);
+      double va = clean(a[i * ch + (size_t)c], &bad), vb = clean(b[i * ch + (size_t)c], &bad);
+      double d = va - vb, m = 0.5 * (va + vb);
       se += d * d;
       rel += 0.25 * d * d / (m * m + 0.01);
     }
-    pb_display_srgb(NULL, va, da);
-    pb_display_srgb(NULL, vb, db);
-    for (int c = 0; c < 3; ++c) {
-      double d = (double)da[c] - db[c];
-      sed += d * d;
-    }
+  float *da, *db;
+  pb_result res = to_display(a, b, w, h, ch, desc, &da, &db);
+  if (res != PB_OK) return res;
+  for (size_t i = 0; i < 3 * n; ++i) {
+    double d = (double)da[i] - db[i];
+    sed += d * d;
   }
-  double cnt = n ? 3.0 * (double)n : 1.0;
+  free(da);
+  free(db);
+  double cnt = 3.0 * (double)n;
   out->rmse = sqrt(0.25 * se / cnt);
   out->relmse = rel / cnt;
   out->psnr = pb_metrics_psnr_from_mse(0.25 * sed / cnt);
+  return PB_OK;
 }
 
 /* matplotlib's viridis at 0, 1/8, ..., 1 (sRGB-encoded 8-bit). */

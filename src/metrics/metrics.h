@@ -34,11 +34,15 @@
 
 #include "core/result.h"
 
-/* Maps one pixel's linear RGB to display RGB in [0, 1]. */
-typedef void (*pb_display_fn)(void *user, const float linear[3], float display[3]);
+/* Maps an RGB image (3 floats per pixel, row-major) in place from
+ * scene-linear to display values in [0, 1]. compare wraps the shared OCIO
+ * view (pb_color_apply_display) in one of these. */
+typedef pb_result (*pb_display_fn)(void *user, float *rgb, uint32_t width,
+                                   uint32_t height);
 
-/* The default display transform: clamp to [0, 1], sRGB encode. */
-void pb_display_srgb(void *user, const float linear[3], float display[3]);
+/* The default display transform: clamp to [0, 1], sRGB encode (what the
+ * built-in OCIO config's sRGB "Standard" view does). */
+pb_result pb_display_srgb(void *user, float *rgb, uint32_t width, uint32_t height);
 
 typedef struct pb_metrics_desc {
   pb_display_fn display; /* NULL: pb_display_srgb */
@@ -57,7 +61,8 @@ typedef struct pb_metrics {
 } pb_metrics;
 
 /* Compares `test` against `ref` (same size and channel count). desc may be
- * NULL. Errors: PB_ERR_USAGE (bad size or channels), PB_ERR_NOMEM. */
+ * NULL. Errors: PB_ERR_USAGE (bad size or channels), PB_ERR_NOMEM, and
+ * whatever the display transform returns. */
 pb_result pb_metrics_compute(const float *test, const float *ref, uint32_t width,
                              uint32_t height, uint32_t channels,
                              const pb_metrics_desc *desc, pb_metrics *out);
@@ -84,9 +89,10 @@ typedef struct pb_noise_estimate {
   double rmse, relmse, psnr;
 } pb_noise_estimate;
 
-void pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t width,
-                                  uint32_t height, uint32_t channels,
-                                  pb_noise_estimate *out);
+pb_result pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t width,
+                                       uint32_t height, uint32_t channels,
+                                       const pb_metrics_desc *desc,
+                                       pb_noise_estimate *out);
 
 /* Per-pixel error heat maps. */
 typedef enum pb_heatmap_metric {

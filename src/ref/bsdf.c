@@ -63,35 +63,28 @@ static inline float smith_lambda(float a2, float cos_w) {
   return 0.5f * (sqrtf(1.0f + a2 * tan2) - 1.0f);
 }
 
-/* Lobe choice probabilities and constant lobe weights for this wo. */
-typedef struct lobes {
-  float pd, ps, pg;
-  float kd;  /* diffuse weight (1-m)(1-T)(1 - max F_s(n.wo)) */
-} lobes;
-
 static v3 spec_fresnel(const pb_bsdf *b, float c) {
   float kdiel = (1.0f - b->metallic) * (1.0f - b->transmission) * b->spec;
-  return v3_add(v3_scale(schlick3(b->f0_diel, c), kdiel),
-                v3_scale(schlick3(b->base, c), b->metallic));
+  v3 f = v3_scale(schlick3(b->base, c), b->metallic);
+  return kdiel > 0.0f ? v3_add(f, v3_scale(schlick3(b->f0_diel, c), kdiel)) : f;
 }
 
-static lobes lobe_weights(const pb_bsdf *b, float cos_o) {
-  lobes l;
+/* Lobe choice probabilities and the diffuse weight for this wo. */
+static void lobe_weights(pb_bsdf *b, float cos_o) {
   float nonmetal = 1.0f - b->metallic;
-  v3 fs = v3_scale(schlick3(b->f0_diel, cos_o), b->spec);
-  l.kd = nonmetal * (1.0f - b->transmission) * clamp01(1.0f - v3_max(fs));
-  float wd = l.kd * v3_lum(b->base);
+  float fs_max = b->spec > 0.0f ? v3_max(schlick3(b->f0_diel, cos_o)) * b->spec : 0.0f;
+  b->kd = nonmetal * (1.0f - b->transmission) * clamp01(1.0f - fs_max);
+  float wd = b->kd * v3_lum(b->base);
   float ws = v3_lum(spec_fresnel(b, cos_o));
   float wg = nonmetal * b->transmission;
   float sum = wd + ws + wg;
   if (!(sum > 0.0f)) {
-    l.pd = l.ps = l.pg = 0.0f;
-    return l;
+    b->pd = b->ps = b->pg = 0.0f;
+    return;
   }
-  l.pd = wd / sum;
-  l.ps = ws / sum;
-  l.pg = wg / sum;
-  return l;
+  b->pd = wd / sum;
+  b->ps = ws / sum;
+  b->pg = wg / sum;
 }
 
 void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
@@ -131,6 +124,7 @@ void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b)
   b->n = v3_dot(surf->ns, wo) > 1e-4f ? surf->ns : surf->ng;
   v3_basis(b->n, &b->t, &b->b);
   b->entering = surf->front;
+  lobe_weights(b, fmaxf(v3_dot(b->n, wo), 0.0f));
 }
 
 int pb_bsdf_has_smooth(const pb_bsdf *b) {
@@ -144,19 +138,19 @@ v3 pb_bsdf_albedo(const pb_bsdf *b) {
   return v3_add(v3_scale(b->base, 1.0f - g), v3_make(g, g, g));
 }
 
-/* f and pdf for reflection directions, local frame, lobes precomputed. */
-static v3 eval_local(const pb_bsdf *b, const lobes *l, v3 wo, v3 wi, float *pdf) {
+/* f and pdf for reflection directions, local frame. */
+static v3 eval_local(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
   v3 f = {0, 0, 0};
   float p = 0.0f;
   if (wo.z <= 0.0f || wi.z <= 0.0f) {
     *pdf = 0.0f;
     return f;
   }
-  if (l->kd > 0.0f) {
-    f = v3_scale(b->base, l->kd * PB_INV_PI_F);
-    p += l->pd * wi.z * PB_INV_PI_F;
+  if (b->kd > 0.0f) {
+    f = v3_scale(b->base, b->kd * PB_INV_PI_F);
+    p += b->pd * wi.z * PB_INV_PI_F;
   }
-  if (!b->delta_spec && l->ps > 0.0f) {
+  if (!b->delta_spec && b->ps > 0.0f) {
     v3 h = v3_norm(v3_add(wo, wi));
     float a2 = b->alpha * b->alpha;
     float d = ggx_d(a2, h.z);
@@ -165,7 +159,7 @@ static v3 eval_local(const pb_bsdf *b, const lobes *l, v3 wo, v3 wi, float *pdf)
     float g1 = 1.0f / (1.0f + lo);
     v3 F = spec_fresnel(b, v3_dot(wo, h));
     f = v3_add(f, v3_scale(F, d * g2 / (4.0f * wo.z * wi.z)));
-    p += l->ps * g1 * d / (4.0f * wo.z);
+    p += b->ps * g1 * d / (4.0f * wo.z);
   }
   *pdf = p;
   return f;
@@ -179,9 +173,7 @@ v3 pb_bsdf_eval(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
     *pdf = 0.0f;
     return v3_make(0, 0, 0);
   }
-  v3 lo = to_local(b, wo), li = to_local(b, wi);
-  lobes l = lobe_weights(b, lo.z);
-  return eval_local(b, &l, lo, li, pdf);
+  return eval_local(b, to_local(b, wo), to_local(b, wi), pdf);
 }
 
 /* Heitz 2018, listing 1 (isotropic: alpha_x = alpha_y = a). */
@@ -209,12 +201,11 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
   memset(out, 0, sizeof *out);
   v3 lo = to_local(b, wo);
   if (lo.z <= 0.0f) return 0;
-  lobes l = lobe_weights(b, lo.z);
-  if (u0 < l.pd || (u0 < l.pd + l.ps && !b->delta_spec)) {
+  if (u0 < b->pd || (u0 < b->pd + b->ps && !b->delta_spec)) {
     /* A smooth lobe: sample it, then weight by the whole mixture (one-sample
      * MIS over lobes), so the pdf matches pb_bsdf_eval's. */
     v3 li;
-    if (u0 < l.pd) {
+    if (u0 < b->pd) {
       float r = sqrtf(u1), phi = 2.0f * PB_PI_F * u2;
       li = v3_make(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
     } else {
@@ -225,23 +216,23 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
     v3 wi = to_world(b, li);
     if (v3_dot(wi, b->ng) <= 0.0f) return 0;
     float pdf;
-    v3 f = eval_local(b, &l, lo, li, &pdf);
+    v3 f = eval_local(b, lo, li, &pdf);
     if (!(pdf > 0.0f)) return 0;
     out->wi = wi;
     out->pdf = pdf;
     out->weight = v3_scale(f, li.z / pdf);
     return 1;
   }
-  if (u0 < l.pd + l.ps) {
+  if (u0 < b->pd + b->ps) {
     /* Delta mirror: wi = reflect(wo, n), weight F(n.wo) / P(lobe). */
     v3 wi = to_world(b, v3_make(-lo.x, -lo.y, lo.z));
     if (v3_dot(wi, b->ng) <= 0.0f) return 0;
     out->wi = wi;
     out->delta = 1;
-    out->weight = v3_scale(spec_fresnel(b, lo.z), 1.0f / l.ps);
+    out->weight = v3_scale(spec_fresnel(b, lo.z), 1.0f / b->ps);
     return 1;
   }
-  if (l.pg <= 0.0f) return 0;
+  if (b->pg <= 0.0f) return 0;
   /* Smooth dielectric: reflect with probability F, refract with 1 - F, so
    * the Fresnel factors cancel against the choice. */
   float eta_o = b->entering ? 1.0f : b->ior;  /* medium wo lies in */
@@ -250,8 +241,8 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
   float cos_t;
   float F = fresnel_dielectric(lo.z, eta, &cos_t);
   /* Reuse u0's position inside the glass interval for the choice. */
-  float ug = (u0 - l.pd - l.ps) / l.pg;
-  float kg = (1.0f - b->metallic) * b->transmission / l.pg;
+  float ug = (u0 - b->pd - b->ps) / b->pg;
+  float kg = (1.0f - b->metallic) * b->transmission / b->pg;
   if (ug < F) {
     v3 wi = to_world(b, v3_make(-lo.x, -lo.y, lo.z));
     if (v3_dot(wi, b->ng) <= 0.0f) return 0;

@@ -54,6 +54,12 @@ pb_ref_mode pb_ref_auto_mode(const pb_scene *s) {
   return spec ? PB_REF_MODE_SPPM : PB_REF_MODE_PT;
 }
 
+static double cpu_now(void) {
+  struct timespec ts;
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0.0;
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* ---- the worker pool ---------------------------------------------------- */
 
 typedef struct pool {
@@ -232,6 +238,8 @@ void pb_ref_result_destroy(pb_ref_result *r) {
   free(r->albedo);
   free(r->normal);
   free(r->depth);
+  free(r->half_a);
+  free(r->half_b);
   memset(r, 0, sizeof *r);
 }
 
@@ -378,7 +386,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   job.total = (uint64_t)spp * n;
   job.limit = desc.time_limit_s;
 
-  double start = pb_time_now();
+  double start = pb_time_now(), cpu_start = cpu_now();
   job.start = start;
   uint64_t photon_rays = 0;
   uint32_t pass = 0;
@@ -410,6 +418,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
     }
   }
   out->stats.time_s = pb_time_now() - start;
+  out->stats.cpu_s = cpu_now() - cpu_start;
   out->stats.spp = pass;
   out->stats.passes = pass;
   out->stats.threads = ctx.threads;
@@ -429,12 +438,13 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   out->albedo = malloc(3 * n * sizeof(float));
   out->normal = malloc(3 * n * sizeof(float));
   out->depth = malloc(n * sizeof(float));
-  float *ha = desc.estimate_noise ? malloc(3 * n * sizeof(float)) : NULL;
-  float *hb = desc.estimate_noise ? malloc(3 * n * sizeof(float)) : NULL;
+  float *ha = NULL, *hb = NULL;
+  if (desc.estimate_noise) {
+    ha = out->half_a = malloc(3 * n * sizeof(float));
+    hb = out->half_b = malloc(3 * n * sizeof(float));
+  }
   if (!out->beauty || !out->direct || !out->indirect || !out->albedo ||
       !out->normal || !out->depth || (desc.estimate_noise && (!ha || !hb))) {
-    free(ha);
-    free(hb);
     r = pb_fail(PB_ERR_NOMEM, "reference: out of memory for the output images");
     goto fail;
   }
@@ -462,12 +472,11 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   out->stats.noise_rmse = out->stats.noise_relmse = out->stats.noise_psnr = -1.0;
   if (ha) {
     pb_noise_estimate ne;
-    pb_metrics_noise_from_halves(ha, hb, width, height, 3, &ne);
+    r = pb_metrics_noise_from_halves(ha, hb, width, height, 3, NULL, &ne);
+    if (r != PB_OK) goto fail;
     out->stats.noise_rmse = ne.rmse;
     out->stats.noise_relmse = ne.relmse;
     out->stats.noise_psnr = ne.psnr;
-    free(ha);
-    free(hb);
   }
   accum_free(&acc);
   free(rays);

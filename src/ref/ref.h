@@ -22,7 +22,6 @@
 #include <stdint.h>
 
 #include "core/result.h"
-#include "core/log.h"
 #include "scene/scene.h"
 
 typedef enum pb_ref_mode {
@@ -70,6 +69,9 @@ typedef struct pb_ref_stats {
   uint32_t threads;
   pb_ref_mode mode;           /* the mode used (AUTO resolved) */
   double time_s;              /* wall time of rendering (BVH build excluded) */
+  double cpu_s;               /* CPU time the process used meanwhile (all
+                                 threads): rays / cpu_s is the per-core rate
+                                 even on a machine shared with other work */
   double build_s;             /* Embree BVH build */
   uint64_t rays;              /* closest-hit + shadow rays traced */
   uint64_t camera_samples;    /* width*height*spp */
@@ -80,9 +82,12 @@ typedef struct pb_ref_stats {
   /* With estimate_noise (else negative): the estimated RMSE and relMSE of the
    * beauty image against its own expectation, from the two halves' difference
    * (Var(mean) = E[(A-B)^2] / 4 for independent halves A and B of equal
-   * size). Measures variance only: SPPM's radius bias is not included. */
+   * size; pb_metrics_noise_from_halves). Measures variance only: SPPM's
+   * radius bias is not included. */
   double noise_rmse, noise_relmse;
-  double noise_psnr;          /* display-image PSNR of the estimate, dB */
+  double noise_psnr;          /* display-image PSNR of the estimate (plain
+                                 sRGB display; callers with an OCIO view
+                                 recompute it from half_a/half_b), dB */
 } pb_ref_stats;
 
 /* Per-pixel buffers, width*height*channels floats, top row first. */
@@ -100,6 +105,9 @@ typedef struct pb_ref_result {
   float *depth;      /* 1 channel: camera-space z of the first hit (metres
                         along the camera's forward axis), averaged over the
                         samples that hit; 0 where none did */
+  /* With estimate_noise (else NULL): RGB beauty of the even and of the odd
+   * samples, two independent renders whose mean is `beauty`. */
+  float *half_a, *half_b;
   pb_ref_stats stats;
 } pb_ref_result;
 

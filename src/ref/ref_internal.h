@@ -169,8 +169,13 @@ typedef struct pb_bsdf {
   v3 n, t, b;     /* shading frame, n facing wo */
   v3 ng;          /* geometric normal facing wo */
   int entering;   /* G: wo on the outside (front) of the dielectric */
+  /* Lobe choice probabilities for setup's wo, and the diffuse weight
+   * (1-m)(1-T)(1 - max F_s(n.wo)). */
+  float pd, ps, pg, kd;
 } pb_bsdf;
 
+/* Prepares the material at surf for outgoing direction wo; eval and sample
+ * must then be called with that same wo. */
 void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b);
 /* Non-delta part f(wo, wi) (cosine not included) and the pdf of sampling wi
  * with pb_bsdf_sample's lobe mixture. wi, wo point away from the surface. */
