@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = 10) readonly buffer Lights { pb_gpu_light ligh
 layout(std430, set = 0, binding = 11) buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
 layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
 layout(std430, set = 0, binding = 13) readonly buffer Positions { float positions[]; };
+layout(std430, set = 0, binding = 14) readonly buffer Emitters { pb_gpu_emitter emitters[]; };
 layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
 
 // Specialization constants (src/render/frame.c sets them from the scene's

@@ -127,6 +127,19 @@ PB_STRUCT(pb_gpu_light) {
   float cos_inner;
 } PB_END(pb_gpu_light)
 
+/* Emissive triangle of the light-sampling table, 16 bytes, in scene order.
+ * Picked by power (area x luminance of `emissive` x sides, the reference's
+ * weight, src/ref/lights.c): entry i is chosen for u in [cdf, next entry's
+ * cdf) (the last entry up to 1), with probability `pick` (the difference of
+ * the two, so the pdf the shader divides by is the one it sampled with).
+ * area: the triangle's area [m^2]. */
+PB_STRUCT(pb_gpu_emitter) {
+  uint prim;
+  float cdf;
+  float pick;
+  float area;
+} PB_END(pb_gpu_emitter)
+
 /* Per-frame constants (a storage buffer, read by every render pass).
  * Camera: pixel (x, y), top row first, looks along
  *   forward + sx right + sy up, sx = (2 px / width - 1) tan_x,
@@ -141,7 +154,7 @@ PB_STRUCT(pb_gpu_frame) {
   PB_VEC3(cam_up);
   float tan_y;
   uint spp;              /* samples per pixel of the whole frame */
-  uint reserved0;
+  uint emitter_count;    /* entries of the emitter table (0: none) */
   uint light_count;
   uint max_specular_depth;
   uint seed_lo;
@@ -234,11 +247,14 @@ PB_LAYOUT(pb_gpu_light, 48)
 PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
 PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
 PB_OFFSET(pb_gpu_light, cos_inner, 44)
+PB_LAYOUT(pb_gpu_emitter, 16)
+PB_OFFSET(pb_gpu_emitter, cdf, 4) PB_OFFSET(pb_gpu_emitter, pick, 8) PB_OFFSET(pb_gpu_emitter, area, 12)
 PB_LAYOUT(pb_gpu_frame, 112)
 PB_OFFSET(pb_gpu_frame, width, 12) PB_OFFSET(pb_gpu_frame, cam_forward, 16)
 PB_OFFSET(pb_gpu_frame, height, 28) PB_OFFSET(pb_gpu_frame, cam_right, 32)
 PB_OFFSET(pb_gpu_frame, tan_x, 44) PB_OFFSET(pb_gpu_frame, cam_up, 48)
 PB_OFFSET(pb_gpu_frame, tan_y, 60) PB_OFFSET(pb_gpu_frame, spp, 64)
+PB_OFFSET(pb_gpu_frame, emitter_count, 68)
 PB_OFFSET(pb_gpu_frame, seed_lo, 80) PB_OFFSET(pb_gpu_frame, pixel_count, 92)
 PB_OFFSET(pb_gpu_frame, pixel_base, 96)
 PB_LAYOUT(pb_gpu_gbuffer, 64)

@@ -1,6 +1,7 @@
 /* photonbridge render SCENE -o OUT.exr: the GPU pipeline (Vulkan compute).
  * This issue's part: primary visibility, specular eye chains, direct light
- * from point/spot/directional lights with shadow rays, emission; AOVs into a
+ * from point/spot/directional lights and emissive triangles (next-event
+ * estimation, emitters picked by power) with shadow rays, emission; AOVs into a
  * multi-layer EXR, an optional PNG preview and --json statistics with
  * per-pass milliseconds. Outputs are written only after the whole frame
  * rendered, each atomically, so a failure (no device, device lost) leaves

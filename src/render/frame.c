@@ -89,7 +89,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
 
   pb_pass_setup ps = {
       .bindings = {&frame_buf, &gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs, &gs->tri_material,
-                   &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions},
+                   &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
+                   &gs->emitters},
       .spec = {gs->has_normals ? 1u : 0u, (gs->features & PB_FEATURE_TEXTURES) ? 1u : 0u,
                (gs->features & PB_FEATURE_SPECULAR) ? 1u : 0u, (gs->features & PB_FEATURE_EMISSIVE) ? 1u : 0u},
   };
@@ -109,6 +110,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.tan_x = fr.tan_y * (float)width / (float)height;
   fr.spp = spp;
   fr.light_count = gs->light_count;
+  fr.emitter_count = (gs->features & PB_FEATURE_EMISSIVE) ? gs->emitter_count : 0;
   fr.max_specular_depth = max_spec;
   fr.seed_lo = (uint32_t)desc.seed;
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
@@ -184,7 +186,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   st->bvh_nodes = gs->bvh.node_count;
   st->bvh_depth = gs->bvh.depth;
   st->primary_rays = (uint64_t)n * spp;
-  st->shadow_rays_max = (uint64_t)n * spp * gs->light_count;
+  st->shadow_rays_max = (uint64_t)n * spp * (gs->light_count + (fr.emitter_count ? 1u : 0u));
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
   free(host);
   pb_gpu_pipeline_destroy(g, &gp);

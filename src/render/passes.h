@@ -1,5 +1,5 @@
 /* The render passes of a frame (one file each, ordered by frame.c). Every
- * pass reads the same 14 storage buffers, in the binding order of
+ * pass reads the same 15 storage buffers, in the binding order of
  * shaders/common/scene.glsl. */
 #ifndef PB_RENDER_PASSES_H
 #define PB_RENDER_PASSES_H
@@ -10,7 +10,7 @@
 enum {
   PB_BIND_FRAME = 0, PB_BIND_NODES, PB_BIND_TRIS, PB_BIND_INDICES, PB_BIND_NORMALS, PB_BIND_UVS,
   PB_BIND_TRI_MATERIAL, PB_BIND_MATERIALS, PB_BIND_TEXTURES, PB_BIND_TEXELS, PB_BIND_LIGHTS,
-  PB_BIND_GBUFFER, PB_BIND_ACCUM, PB_BIND_POSITIONS, PB_BIND_COUNT
+  PB_BIND_GBUFFER, PB_BIND_ACCUM, PB_BIND_POSITIONS, PB_BIND_EMITTERS, PB_BIND_COUNT
 };
 
 /* Specialization constants, constant_id order of scene.glsl. */
@@ -23,7 +23,8 @@ typedef struct pb_pass_setup {
 
 /* gbuffer.c: primary visibility + specular eye chains + emission + AOVs. */
 pb_result pb_pass_gbuffer_create(pb_gpu *g, const pb_pass_setup *s, pb_gpu_pipeline *out);
-/* direct.c: shadow rays to the delta lights at the G-buffer's surfaces. */
+/* direct.c: shadow rays to the delta lights and to one emissive triangle
+ * (picked by power) at the G-buffer's surfaces. */
 pb_result pb_pass_direct_create(pb_gpu *g, const pb_pass_setup *s, pb_gpu_pipeline *out);
 /* Records one pass over `pixels` pixels for sample `sample_index`. */
 pb_result pb_pass_record(pb_gpu *g, const pb_gpu_pipeline *p, uint32_t sample_index, uint32_t pixels);

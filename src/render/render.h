@@ -4,7 +4,8 @@
  * Frame (this issue's part; the photon stages slot in after `direct`):
  *   per sample s < spp:  gbuffer (primary visibility, specular eye chains,
  *                        emission seen along them) -> direct (shadow rays to
- *                        point, spot and directional lights)
+ *                        point, spot and directional lights, and to one
+ *                        emissive triangle picked by power)
  *   [future: rsm -> emit -> trace -> photon LBVH -> estimate -> temporal ->
  *    a-trous -> compose]
  *   resolve on the host: divide by spp, split into AOVs. */
@@ -28,7 +29,9 @@ typedef struct pb_gpu_scene {
   pb_gpu_buffer uvs;          /* float[2 * vertex_count] */
   pb_gpu_buffer tri_material; /* uint[triangle_count] */
   pb_gpu_buffer materials, textures, texels, lights;
+  pb_gpu_buffer emitters;     /* pb_gpu_emitter[emitter_count] (or 1 dummy) */
   uint32_t light_count, material_count, texture_count;
+  uint32_t emitter_count;     /* emissive triangles with power > 0 */
   uint32_t features;          /* PB_FEATURE_* of the scene */
   int has_normals;
   double upload_s;

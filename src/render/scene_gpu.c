@@ -10,7 +10,8 @@
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
   if (!gs) return;
   pb_gpu_buffer *b[] = {&gs->nodes, &gs->tris, &gs->indices, &gs->positions, &gs->normals, &gs->uvs,
-                        &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights};
+                        &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights,
+                        &gs->emitters};
   for (size_t i = 0; i < sizeof b / sizeof *b; ++i) pb_gpu_buffer_destroy(g, b[i]);
   pb_bvh_destroy(&gs->bvh);
   memset(gs, 0, sizeof *gs);
@@ -25,6 +26,67 @@ static pb_result make(pb_gpu *g, pb_gpu_buffer *b, const char *name, const void 
   return pb_gpu_buffer_upload(g, b, 0, data, size);
 }
 
+/* The emitter table (pb_gpu_emitter): every triangle with an emissive
+ * material and power > 0, weighted exactly as the reference weights them
+ * (src/ref/lights.c pb_ref_lights_build: area x max(luminance, 1e-3 max
+ * channel) of the clamped emission, x2 when double-sided), so both renderers
+ * pick emitters with the same probabilities. The CDF is summed in double and
+ * stored as float; `pick` is the difference of consecutive stored values, the
+ * probability the shader's search actually realises. */
+static pb_result build_emitters(const pb_scene *s, pb_gpu_emitter **out, uint32_t *count) {
+  *out = NULL;
+  *count = 0;
+  uint32_t n = 0;
+  for (uint32_t t = 0; t < s->triangle_count; ++t)
+    if (pb_material_is_emissive(&s->materials[s->triangle_material[t]])) n++;
+  if (!n) return PB_OK;
+  pb_gpu_emitter *e = calloc(n, sizeof *e);
+  double *w = calloc(n, sizeof *w);
+  if (!e || !w) {
+    free(e);
+    free(w);
+    return pb_fail(PB_ERR_NOMEM, "out of memory for %u emitters", n);
+  }
+  double total = 0.0;
+  uint32_t k = 0;
+  for (uint32_t t = 0; t < s->triangle_count; ++t) {
+    const pb_material *m = &s->materials[s->triangle_material[t]];
+    if (!pb_material_is_emissive(m)) continue;
+    const uint32_t *tri = s->triangles[t];
+    const float *p0 = s->positions[tri[0]], *p1 = s->positions[tri[1]], *p2 = s->positions[tri[2]];
+    float a[3], b[3], c[3];
+    for (int i = 0; i < 3; ++i) {
+      a[i] = p1[i] - p0[i];
+      b[i] = p2[i] - p0[i];
+    }
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+    float area = 0.5f * sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    float r = fmaxf(m->emissive[0], 0), g = fmaxf(m->emissive[1], 0), bl = fmaxf(m->emissive[2], 0);
+    float lum = 0.2126f * r + 0.7152f * g + 0.0722f * bl, mx = fmaxf(r, fmaxf(g, bl));
+    double wt = (double)area * fmax(lum, 1e-3 * mx) * (m->double_sided ? 2.0 : 1.0);
+    if (!(wt > 0.0) || !isfinite(wt) || !(area > 0.0f)) continue;
+    e[k].prim = t;
+    e[k].area = area;
+    w[k] = total;
+    total += wt;
+    k++;
+  }
+  if (k == 0 || !(total > 0.0) || !isfinite(total)) {
+    free(e);
+    free(w);
+    return PB_OK;
+  }
+  for (uint32_t i = 0; i < k; ++i) e[i].cdf = (float)(w[i] / total);
+  e[0].cdf = 0.0f;
+  for (uint32_t i = 0; i < k; ++i) e[i].pick = (i + 1 < k ? e[i + 1].cdf : 1.0f) - e[i].cdf;
+  free(w);
+  *out = e;
+  *count = k;
+  return PB_OK;
+}
+
 static uint32_t tex_index(int32_t t, uint32_t count) {
   return t >= 0 && (uint32_t)t < count ? (uint32_t)t : PB_GPU_NO_TEXTURE;
 }
@@ -36,6 +98,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   pb_gpu_texture *texs = NULL;
   uint32_t *texels = NULL;
   pb_gpu_light *lights = NULL;
+  pb_gpu_emitter *emitters = NULL;
   pb_result r;
   const char *path = s->path ? s->path : "scene";
   for (uint32_t t = 0; t < s->triangle_count; ++t)
@@ -132,6 +195,12 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   if (r != PB_OK) goto fail;
   r = make(g, &gs->lights, "scene.lights", lights, (uint64_t)s->light_count * sizeof *lights);
   if (r != PB_OK) goto fail;
+  r = build_emitters(s, &emitters, &gs->emitter_count);
+  if (r != PB_OK) goto fail;
+  r = make(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters);
+  if (r != PB_OK) goto fail;
+  if (gs->emitter_count)
+    pb_log_verbose("gpu: %u emissive triangles in the light-sampling table", gs->emitter_count);
   gs->light_count = s->light_count;
   gs->material_count = s->material_count;
   gs->texture_count = s->texture_count;
@@ -141,12 +210,14 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   free(texs);
   free(texels);
   free(lights);
+  free(emitters);
   return PB_OK;
 fail:
   free(mats);
   free(texs);
   free(texels);
   free(lights);
+  free(emitters);
   pb_gpu_scene_destroy(g, gs);
   return r;
 }

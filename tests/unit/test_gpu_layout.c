@@ -34,7 +34,7 @@ static const member members[] = {
     M(pb_gpu_light, power), M(pb_gpu_light, cos_inner),
     M(pb_gpu_frame, cam_pos), M(pb_gpu_frame, width), M(pb_gpu_frame, cam_forward), M(pb_gpu_frame, height),
     M(pb_gpu_frame, cam_right), M(pb_gpu_frame, tan_x), M(pb_gpu_frame, cam_up), M(pb_gpu_frame, tan_y),
-    M(pb_gpu_frame, spp), M(pb_gpu_frame, reserved0), M(pb_gpu_frame, light_count),
+    M(pb_gpu_frame, spp), M(pb_gpu_frame, emitter_count), M(pb_gpu_frame, light_count),
     M(pb_gpu_frame, max_specular_depth), M(pb_gpu_frame, seed_lo), M(pb_gpu_frame, seed_hi),
     M(pb_gpu_frame, flags), M(pb_gpu_frame, pixel_count), M(pb_gpu_frame, pixel_base), M(pb_gpu_frame, pad0),
     M(pb_gpu_frame, pad1), M(pb_gpu_frame, pad2),
@@ -47,6 +47,7 @@ static const member members[] = {
     M(pb_gpu_raycast_push, pad1),
     M(pb_gpu_pass_push, sample_index), M(pb_gpu_pass_push, pad0), M(pb_gpu_pass_push, pad1),
     M(pb_gpu_pass_push, pad2),
+    M(pb_gpu_emitter, prim), M(pb_gpu_emitter, cdf), M(pb_gpu_emitter, pick), M(pb_gpu_emitter, area),
 };
 #define S(T) {#T, sizeof(T)}
 static const struct {
@@ -54,7 +55,8 @@ static const struct {
   size_t size;
 } sizes[] = {S(pb_gpu_bvh_node), S(pb_gpu_tri),     S(pb_gpu_ray),   S(pb_gpu_hit),
              S(pb_gpu_material), S(pb_gpu_texture), S(pb_gpu_light), S(pb_gpu_frame),
-             S(pb_gpu_gbuffer),  S(pb_gpu_accum),   S(pb_gpu_raycast_push), S(pb_gpu_pass_push)};
+             S(pb_gpu_gbuffer),  S(pb_gpu_accum),   S(pb_gpu_raycast_push), S(pb_gpu_pass_push),
+             S(pb_gpu_emitter)};
 
 /* ---- a minimal SPIR-V reader ---------------------------------------------- */
 
@@ -135,7 +137,7 @@ int main(void) {
   if (pb_gpu_create(&gd, &g) == PB_OK) {
     pb_gpu_pipeline p;
     pb_gpu_pipeline_desc pd = {.name = "layout_probe", .spirv = pb_spv_layout_probe,
-                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 12};
+                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 13};
     CHECK_EQ_INT(pb_gpu_pipeline_create(g, &pd, &p), PB_OK);
     pb_gpu_pipeline_destroy(g, &p);
     pb_gpu_pipeline_destroy(g, &p); /* destroy twice: handles were reset */
