@@ -33,3 +33,16 @@ pb_cli_test(cli_export_pov_missing export-pov does-not-exist.gltf -o x.pov EXIT 
             REGEX "does-not-exist.gltf: cannot open.*exit=3")
 pb_cli_test(cli_export_pov_bad_camera export-pov samples/cornell_box/cornell_box.gltf -o x.pov --camera Nope EXIT 2
             REGEX "Nope.*exit=2")
+
+# Cycles from the Blender script that builds the sample (validation/run_cycles.sh):
+# a tiny render must produce a readable EXR with the sample's aspect. Skips without Blender.
+add_test(NAME cycles_smoke_cornell_box
+         COMMAND sh -c "command -v blender >/dev/null || { echo 'skip: no blender'; exit 77; }
+                        w='${CMAKE_CURRENT_BINARY_DIR}/cycles_smoke' && rm -rf \"$w\" && mkdir -p \"$w\" &&
+                        sh '${PB_ROOT}/validation/run_cycles.sh' cornell_box \"$w/cb.exr\" --width 16 --samples 4 --threads 1 &&
+                        grep -q '\"width\": 16' \"$w/cb.exr.json\" && grep -q '\"height\": 16' \"$w/cb.exr.json\" &&
+                        \"$0\" display \"$w/cb.exr\" -o \"$w/cb.png\" && echo '1 passed, 0 failed'"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cycles_smoke_cornell_box PROPERTIES LABELS "blender;no-sanitize" SKIP_RETURN_CODE 77
+                     TIMEOUT 300 PASS_REGULAR_EXPRESSION "1 passed, 0 failed")

@@ -68,8 +68,22 @@ static void test_point(void) {
   l->position[1] = 1;
   l->intensity = 100.0f / (4.0f * (float)M_PI); /* a 100 W Blender point light */
   tps_camera_down(&s, "top", 0, 3, 0, 10);
+  /* Oblique incidence: the points 60 and 80 degrees off the light's foot. */
+  tps_camera_down(&s, "at60", (float)tan(M_PI / 3), 3, 0, 0.5f);
+  tps_camera_down(&s, "at80", (float)tan(80 * M_PI / 180), 3, 0, 0.5f);
   pb_scene_finalize(&s);
   pb_image img;
+  for (int i = 1; i < 3; ++i) {
+    const double th = (i == 1 ? 60 : 80) * M_PI / 180, c = cos(th);
+    if (!render(&s, i, i == 1 ? "point60" : "point80", 9, 9, &img)) {
+      CHECK(0);
+      continue;
+    }
+    const double want = rho / M_PI * l->intensity * c * c * c; /* cos / d^2 = cos^3 / h^2 */
+    report(i == 1 ? "point light, 60 deg incidence" : "point light, 80 deg incidence", centre(&img), want);
+    CHECK_NEAR(centre(&img) / want, 1.0, 0.01);
+    pb_image_destroy(&img);
+  }
   if (render(&s, 0, "point", 33, 33, &img)) {
     const double want = rho / M_PI * l->intensity / 1.0;
     report("point light, 1 m, centre", centre(&img), want);
