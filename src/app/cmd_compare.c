@@ -26,10 +26,13 @@ static const pb_command *self(void) {
 static const char *const heat_names[] = {"relative", "absolute", NULL};
 
 /* Finds the three colour channels of `layer` ("" = the main image):
- * R,G,B, or X,Y,Z (the normal layer). Returns 0 when absent. */
+ * R,G,B, or X,Y,Z (the normal layer); a single-channel layer (depth.Z,
+ * N.V, N.Y; Z or Y in the main image) is compared as grey, its channel
+ * taken three times. Returns 0 when absent. */
 static int find_rgb(const pb_image *img, const char *layer, int idx[3]) {
-  static const char *const sets[2][3] = {{"R", "G", "B"}, {"X", "Y", "Z"}};
-  for (int s = 0; s < 2; ++s) {
+  static const char *const sets[5][3] = {
+      {"R", "G", "B"}, {"X", "Y", "Z"}, {"Z", "Z", "Z"}, {"V", "V", "V"}, {"Y", "Y", "Y"}};
+  for (int s = 0; s < 5; ++s) {
     int ok = 1;
     for (int c = 0; c < 3; ++c) {
       char name[160];
@@ -70,8 +73,8 @@ int pb_cmd_compare(int argc, char **argv) {
   pb_color_opts co = {0};
   const pb_opt opts[] = {
       {"layer", 0, PB_OPT_STRING, &layer, "NAME",
-       "compare this layer (direct, indirect, albedo, normal...; default: the main "
-       "RGB image)", NULL, 0, 0},
+       "compare this layer (direct, indirect, albedo, normal, depth...; default: the "
+       "main RGB image); one-channel layers are compared as grey", NULL, 0, 0},
       {"heatmap", 0, PB_OPT_STRING, &heatmap, "FILE.png",
        "write the per-pixel error as a viridis heat map PNG", NULL, 0, 0},
       {"heatmap-metric", 0, PB_OPT_CHOICE, &heat_metric, "M",
@@ -127,8 +130,11 @@ int pb_cmd_compare(int argc, char **argv) {
     char what[96];
     if (layer[0]) snprintf(what, sizeof what, "layer '%s' (%s.R/G/B)", layer, layer);
     else snprintf(what, sizeof what, "channels R, G, B");
-    r = pb_fail(PB_ERR_IMAGE_MISMATCH, "%s %s %s but %s %s", tpath,
-                th ? "has" : "lacks", what, rpath, rh ? "has them" : "lacks them too");
+    if (!th && !rh)
+      r = pb_fail(PB_ERR_IMAGE_MISMATCH, "neither %s nor %s has %s", tpath, rpath, what);
+    else
+      r = pb_fail(PB_ERR_IMAGE_MISMATCH, "%s has no %s but %s has", th ? rpath : tpath,
+                  what, th ? tpath : rpath);
     goto done;
   }
   t = extract_rgb(&ti, ti_idx);
