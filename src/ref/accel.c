@@ -27,22 +27,7 @@ void pb_ref_accel_destroy(pb_ref_accel *a) {
 pb_result pb_ref_accel_create(const pb_scene *s, pb_ref_accel *a) {
   memset(a, 0, sizeof *a);
   embree_msg[0] = 0;
-  if (s->triangle_count == 0)
-    return pb_fail(PB_ERR_SCENE_EMPTY, "%s: no triangles to render",
-                   s->path ? s->path : "scene");
-  for (uint32_t t = 0; t < s->triangle_count; ++t) {
-    for (int k = 0; k < 3; ++k)
-      if (s->triangles[t][k] >= s->vertex_count)
-        return pb_fail(PB_ERR_SCENE_INVALID,
-                       "%s: triangle %u uses vertex %u of %u",
-                       s->path ? s->path : "scene", t, s->triangles[t][k],
-                       s->vertex_count);
-    if (s->triangle_material[t] >= s->material_count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: triangle %u uses material %u of %u",
-                     s->path ? s->path : "scene", t, s->triangle_material[t],
-                     s->material_count);
-  }
-
+  /* Indices were checked by ref.c's check_scene before anything read them. */
   a->device = rtcNewDevice("verbose=0");
   if (!a->device)
     return pb_fail(PB_ERR_INTERNAL, "Embree: rtcNewDevice failed (error %d)",

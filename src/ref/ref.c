@@ -271,6 +271,31 @@ static float to_float(double v, uint64_t *guarded) {
   return (float)v;
 }
 
+/* Every index the renderer follows is in range (a loaded scene guarantees
+ * it; a scene built in code may not). */
+static pb_result check_scene(const pb_scene *s, const char *name) {
+  if (s->triangle_count == 0)
+    return pb_fail(PB_ERR_SCENE_EMPTY, "%s: no triangles to render", name);
+  for (uint32_t t = 0; t < s->triangle_count; ++t) {
+    for (int k = 0; k < 3; ++k)
+      if (s->triangles[t][k] >= s->vertex_count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: triangle %u uses vertex %u of %u", name,
+                       t, s->triangles[t][k], s->vertex_count);
+    if (s->triangle_material[t] >= s->material_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: triangle %u uses material %u of %u", name,
+                     t, s->triangle_material[t], s->material_count);
+  }
+  for (uint32_t m = 0; m < s->material_count; ++m) {
+    const pb_material *mt = &s->materials[m];
+    int32_t tex[3] = {mt->base_color_tex, mt->metallic_roughness_tex, mt->emissive_tex};
+    for (int k = 0; k < 3; ++k)
+      if (tex[k] >= 0 && (uint32_t)tex[k] >= s->texture_count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: material %u uses texture %d of %u", name,
+                       m, tex[k], s->texture_count);
+  }
+  return PB_OK;
+}
+
 static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
                           const pb_ref_desc *d) {
   if (!s) return pb_fail(PB_ERR_USAGE, "reference: no scene");
@@ -295,7 +320,7 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
                    (double)d->photon_alpha);
   if (d->mode > PB_REF_MODE_SPPM)
     return pb_fail(PB_ERR_USAGE, "reference: unknown mode %d", (int)d->mode);
-  return PB_OK;
+  return check_scene(s, name);
 }
 
 pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,

@@ -115,6 +115,7 @@ typedef struct pb_ref_hit {
   float u, v; /* Embree barycentrics: p = (1-u-v) p0 + u p1 + v p2 */
 } pb_ref_hit;
 
+/* The scene's indices must be in range (ref.c checks them first). */
 pb_result pb_ref_accel_create(const pb_scene *s, pb_ref_accel *a);
 void pb_ref_accel_destroy(pb_ref_accel *a);
 /* Closest hit in (0, tmax]; returns 0 on a miss. */
