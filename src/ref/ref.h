@@ -15,7 +15,18 @@
  *    is bit-identical whatever the thread count (per-pixel random streams,
  *    photon chunks merged in a fixed order).
  *  - Never NaN or Inf: a sample whose estimate is not finite is dropped (its
- *    contribution is zero) and counted in stats.guarded_samples. */
+ *    contribution is zero) and counted in stats.guarded_samples.
+ *
+ * Scene semantics (scene.h): lights as documented there (spot: smoothstep
+ * between the cone cosines); emissive triangles are area lights emitting
+ * from their front (counter-clockwise) side only, both sides when the
+ * material is double-sided; every surface shades on both sides, a back face
+ * with its normals flipped; transmission is a solid refracting dielectric
+ * (as in Cycles), not glTF's thin-walled default. The material model is
+ * described at pb_bsdf in ref_internal.h.
+ * Not modelled (yet): alpha mask/blend (surfaces are opaque), normal maps,
+ * rough transmission (rendered smooth), light `range` (no cut-off), the
+ * camera's znear/zfar, animation (the scene as loaded). */
 #ifndef PB_REF_H
 #define PB_REF_H
 
