@@ -1,6 +1,7 @@
 // BVH traversal against the layout of shaders/shared/pb_gpu.h.
-// The includer declares   pb_gpu_bvh_node bvh_nodes[];  pb_gpu_tri bvh_tris[];
-// in storage buffers before including this file.
+// The includer declares   vec4 bvh_nodes4[];  vec4 bvh_tris4[];   (the
+// pb_gpu_bvh_node and pb_gpu_tri arrays seen as vec4s) in storage buffers
+// before including this file.
 //
 // Ray-triangle: watertight test of Woop, Benthin and Wald, "Watertight
 // Ray/Triangle Intersection", JCGT 2(1), 2013: the ray is sheared so that it
@@ -98,30 +99,47 @@ float pb_box_entry(in pb_ray_prep r, vec3 lo, vec3 hi, float t0, float t1) {
   return enter <= leave ? enter : PB_INF;
 }
 
+// Node and triangle fetches. The includer declares the BVH buffers as vec4
+// arrays (two per pb_gpu_bvh_node: lo + first, hi + count; three per
+// pb_gpu_tri: p0 + prim, p1, p2), the std430 layout of pb_gpu.h: one vec4
+// load per 16 bytes. llvmpipe turns every load whose address differs between
+// lanes into a loop over the lanes, so fewer, wider loads are what makes
+// divergent traversal cheaper there.
+//
+// Traversal state: a node is carried as its packed (first << 3) | count
+// (count <= PB_BVH_MAX_LEAF < 8; the builder keeps first < 2^29), read from
+// the parent's fetch of both children, so a node is never fetched twice.
+
 // Closest hit in (tmin, tmax) when any_hit is false; with any_hit, stops at
 // the first hit found (occlusion). Returns the primitive id or PB_GPU_MISS.
+//
+// Closest hit: near child first; the far child goes on the stack with its
+// entry distance and is skipped when popped if a hit nearer than that entry
+// was found meanwhile. Any hit: no ordering (any hit ends the query).
 uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
               out float t_hit, out float u_hit, out float v_hit) {
   pb_ray_prep r = pb_prepare_ray(org, dir);
-  uint stack[PB_BVH_MAX_DEPTH];
+  uvec2 stack[PB_BVH_MAX_DEPTH];
   int sp = 0;
   float t = tmax;
   uint prim = PB_GPU_MISS;
   u_hit = 0.0;
   v_hit = 0.0;
-  uint node = 0u;
-  if (pb_box_entry(r, bvh_nodes[0].lo, bvh_nodes[0].hi, tmin, t) == PB_INF) {
+  vec4 ra = bvh_nodes4[0], rb = bvh_nodes4[1];
+  if (pb_box_entry(r, ra.xyz, rb.xyz, tmin, t) == PB_INF) {
     t_hit = t;
     return PB_GPU_MISS;
   }
+  uint node = (floatBitsToUint(ra.w) << 3u) | floatBitsToUint(rb.w);
   for (;;) {
-    pb_gpu_bvh_node n = bvh_nodes[node];
-    if (n.count > 0u) {
-      for (uint i = 0u; i < n.count; ++i) {
-        pb_gpu_tri tri = bvh_tris[n.first + i];
+    uint first = node >> 3u, count = node & 7u;
+    if (count > 0u) {
+      for (uint i = 0u; i < count; ++i) {
+        uint k = 3u * (first + i);
+        vec4 a = bvh_tris4[k], b = bvh_tris4[k + 1u], c = bvh_tris4[k + 2u];
         float u, v;
-        if (pb_intersect_tri(r, tri.p0, tri.p1, tri.p2, tmin, t, u, v)) {
-          prim = tri.prim;
+        if (pb_intersect_tri(r, a.xyz, b.xyz, c.xyz, tmin, t, u, v)) {
+          prim = floatBitsToUint(a.w);
           u_hit = u;
           v_hit = v;
           if (any_hit) {
@@ -131,22 +149,35 @@ uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
         }
       }
     } else {
-      uint c0 = n.first, c1 = n.first + 1u;
-      float e0 = pb_box_entry(r, bvh_nodes[c0].lo, bvh_nodes[c0].hi, tmin, t);
-      float e1 = pb_box_entry(r, bvh_nodes[c1].lo, bvh_nodes[c1].hi, tmin, t);
+      uint k = 2u * first;
+      vec4 a0 = bvh_nodes4[k], b0 = bvh_nodes4[k + 1u], a1 = bvh_nodes4[k + 2u], b1 = bvh_nodes4[k + 3u];
+      float e0 = pb_box_entry(r, a0.xyz, b0.xyz, tmin, t);
+      float e1 = pb_box_entry(r, a1.xyz, b1.xyz, tmin, t);
+      uint n0 = (floatBitsToUint(a0.w) << 3u) | floatBitsToUint(b0.w);
+      uint n1 = (floatBitsToUint(a1.w) << 3u) | floatBitsToUint(b1.w);
       bool h0 = e0 != PB_INF, h1 = e1 != PB_INF;
       if (h0 && h1) {
-        // Near child first; the far one waits on the stack.
-        uint near_c = e0 <= e1 ? c0 : c1, far_c = e0 <= e1 ? c1 : c0;
-        stack[sp++] = far_c;
-        node = near_c;
+        bool swap = !any_hit && e1 < e0;
+        stack[sp++] = uvec2(swap ? n0 : n1, floatBitsToUint(swap ? e0 : e1));
+        node = swap ? n1 : n0;
         continue;
       }
-      if (h0) { node = c0; continue; }
-      if (h1) { node = c1; continue; }
+      if (h0 || h1) {
+        node = h0 ? n0 : n1;
+        continue;
+      }
     }
-    if (sp == 0) break;
-    node = stack[--sp];
+    // Pop, skipping nodes entered beyond the closest hit so far.
+    bool found = false;
+    while (sp > 0) {
+      uvec2 e = stack[--sp];
+      if (uintBitsToFloat(e.y) <= t * 1.0000003576) { // the box test's own slack
+        node = e.x;
+        found = true;
+        break;
+      }
+    }
+    if (!found) break;
   }
   t_hit = t;
   return prim;

@@ -7,8 +7,8 @@
 #define PB_SCENE_GLSL
 
 layout(std430, set = 0, binding = 0) readonly buffer FrameBuf { pb_gpu_frame frame; };
-layout(std430, set = 0, binding = 1) readonly buffer Nodes { pb_gpu_bvh_node bvh_nodes[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Tris { pb_gpu_tri bvh_tris[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Nodes { vec4 bvh_nodes4[]; };   // pb_gpu_bvh_node[], 2 each
+layout(std430, set = 0, binding = 2) readonly buffer Tris { vec4 bvh_tris4[]; };     // pb_gpu_tri[], 3 each
 layout(std430, set = 0, binding = 3) readonly buffer Indices { uint indices[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Normals { float normals[]; };
 layout(std430, set = 0, binding = 5) readonly buffer Uvs { float uvs[]; };

@@ -163,6 +163,12 @@ pb_result pb_bvh_build(const pb_scene *s, pb_bvh *out) {
     free(prims);
     return pb_fail(PB_ERR_SCENE_EMPTY, "%s: no triangle has finite vertices", path);
   }
+  /* The traversal packs a node's first index with its count into 32 bits
+   * (first < 2^29, see shaders/common/bvh.glsl); nodes < 2 n. */
+  if (n >= (1u << 28)) {
+    free(prims);
+    return pb_fail(PB_ERR_LIMIT, "%s: %zu triangles exceed the GPU BVH's index range (2^28)", path, n);
+  }
   pb_result r = PB_OK;
   embree_msg[0] = 0;
   RTCDevice dev = rtcNewDevice("verbose=0");
