@@ -113,13 +113,16 @@ float pb_box_entry(in pb_ray_prep r, vec3 lo, vec3 hi, float t0, float t1) {
 // Closest hit in (tmin, tmax) when any_hit is false; with any_hit, stops at
 // the first hit found (occlusion). Returns the primitive id or PB_GPU_MISS.
 //
-// Closest hit: near child first; the far child goes on the stack with its
-// entry distance and is skipped when popped if a hit nearer than that entry
-// was found meanwhile. Any hit: no ordering (any hit ends the query).
+// 4-wide nodes (PB_BVH_WIDTH): the four child slots are fetched together
+// (eight vec4 loads) and box-tested. Closest hit: the children hit are
+// sorted by entry distance (a 5-comparator network), the nearest is entered
+// and the others pushed farthest first, each with its entry distance; a
+// popped node entered beyond the closest hit so far is skipped. Any hit: no
+// sorting (any hit ends the query).
 uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
               out float t_hit, out float u_hit, out float v_hit) {
   pb_ray_prep r = pb_prepare_ray(org, dir);
-  uvec2 stack[PB_BVH_MAX_DEPTH];
+  uvec2 stack[(PB_BVH_WIDTH - 1u) * PB_BVH_MAX_DEPTH];
   int sp = 0;
   float t = tmax;
   uint prim = PB_GPU_MISS;
@@ -150,29 +153,39 @@ uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
       }
     } else {
       uint k = 2u * first;
-      vec4 a0 = bvh_nodes4[k], b0 = bvh_nodes4[k + 1u], a1 = bvh_nodes4[k + 2u], b1 = bvh_nodes4[k + 3u];
-      float e0 = pb_box_entry(r, a0.xyz, b0.xyz, tmin, t);
-      float e1 = pb_box_entry(r, a1.xyz, b1.xyz, tmin, t);
-      uint n0 = (floatBitsToUint(a0.w) << 3u) | floatBitsToUint(b0.w);
-      uint n1 = (floatBitsToUint(a1.w) << 3u) | floatBitsToUint(b1.w);
-      bool h0 = e0 != PB_INF, h1 = e1 != PB_INF;
-      if (h0 && h1) {
-        bool swap = !any_hit && e1 < e0;
-        stack[sp++] = uvec2(swap ? n0 : n1, floatBitsToUint(swap ? e0 : e1));
-        node = swap ? n1 : n0;
-        continue;
+      float e[4];
+      uint n[4];
+      for (uint j = 0u; j < 4u; ++j) {
+        vec4 a = bvh_nodes4[k + 2u * j], b = bvh_nodes4[k + 2u * j + 1u];
+        n[j] = (floatBitsToUint(a.w) << 3u) | floatBitsToUint(b.w);
+        e[j] = n[j] == 0u ? PB_INF : pb_box_entry(r, a.xyz, b.xyz, tmin, t);
       }
-      if (h0 || h1) {
-        node = h0 ? n0 : n1;
+      if (!any_hit) {
+#define PB_CSWAP(i, j) if (e[j] < e[i]) { float te = e[i]; e[i] = e[j]; e[j] = te; uint tn = n[i]; n[i] = n[j]; n[j] = tn; }
+        PB_CSWAP(0, 1) PB_CSWAP(2, 3) PB_CSWAP(0, 2) PB_CSWAP(1, 3) PB_CSWAP(1, 2)
+#undef PB_CSWAP
+      }
+      // Walk from the farthest: every child hit but the nearest is pushed
+      // (farthest first), the nearest is entered.
+      uint next = 0u;
+      float next_e = PB_INF;
+      for (int j = 3; j >= 0; --j) {
+        if (e[j] == PB_INF) continue;
+        if (next != 0u) stack[sp++] = uvec2(next, floatBitsToUint(next_e));
+        next = n[j];
+        next_e = e[j];
+      }
+      if (next != 0u) {
+        node = next;
         continue;
       }
     }
     // Pop, skipping nodes entered beyond the closest hit so far.
     bool found = false;
     while (sp > 0) {
-      uvec2 e = stack[--sp];
-      if (uintBitsToFloat(e.y) <= t * 1.0000003576) { // the box test's own slack
-        node = e.x;
+      uvec2 s = stack[--sp];
+      if (uintBitsToFloat(s.y) <= t * 1.0000003576) { // the box test's own slack
+        node = s.x;
         found = true;
         break;
       }

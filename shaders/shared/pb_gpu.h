@@ -35,10 +35,18 @@ PB_CONST(PB_BVH_MAX_DEPTH, 48)
 /* Triangles per BVH leaf at most. */
 PB_CONST(PB_BVH_MAX_LEAF, 4)
 
-/* A BVH node, 32 bytes. Inner node (count == 0): children at `first` and
- * `first + 1` (always adjacent, so one index addresses both). Leaf
- * (count > 0): triangles first .. first + count - 1 of the BVH-ordered
- * triangle array. lo/hi: the node's own box. Node 0 is the root. */
+/* Children per inner node (a 4-wide BVH: half the depth of a binary one, so
+ * half the divergent loop iterations and stack traffic per ray). */
+PB_CONST(PB_BVH_WIDTH, 4)
+
+/* A BVH node, 32 bytes. Inner node (count == 0): PB_BVH_WIDTH child slots at
+ * `first` .. `first + PB_BVH_WIDTH - 1` (always adjacent, so one index
+ * addresses all); an inner node with fewer children fills the remaining
+ * slots with empty nodes (first == 0, count == 0, box lo = hi = 0), which
+ * the root (node 0) can never be a child of, so they are recognised by
+ * first == 0 && count == 0 and never entered. Leaf (count > 0): triangles
+ * first .. first + count - 1 of the BVH-ordered triangle array. lo/hi: the
+ * node's own box. Node 0 is the root. */
 PB_STRUCT(pb_gpu_bvh_node) {
   PB_VEC3(lo);
   uint first;

@@ -1,6 +1,6 @@
 /* Scene BVH: Embree's generic builder (rtcBuildBVH) makes the topology with
  * SAH; we flatten it into the compact GPU layout (see bvh.h). Binned SAH
- * (RTC_BUILD_QUALITY_MEDIUM) rather than spatial splits, so that every
+ * (RTC_BUILD_QUALITY_MEDIUM), PB_BVH_WIDTH children per inner node, rather than spatial splits, so that every
  * triangle lives in exactly one leaf and leaves can store triangles inline. */
 #include <math.h>
 #include <stdio.h>
@@ -15,7 +15,7 @@
 typedef struct tnode {
   int leaf;
   uint32_t count;              /* leaf: triangles; inner: children */
-  struct tnode *child[2];
+  struct tnode *child[PB_BVH_WIDTH];
   uint32_t prims[PB_BVH_MAX_LEAF];
 } tnode;
 
@@ -31,7 +31,7 @@ static void *create_node(RTCThreadLocalAllocator alloc, unsigned int n, void *us
 static void set_children(void *node, void **children, unsigned int n, void *user) {
   (void)user;
   tnode *t = node;
-  t->count = n > 2 ? 2 : n;
+  t->count = n > PB_BVH_WIDTH ? PB_BVH_WIDTH : n;
   for (unsigned i = 0; i < t->count; ++i) t->child[i] = children[i];
 }
 
@@ -100,18 +100,18 @@ static void flatten(flat *f, const tnode *t, uint32_t at, uint32_t depth) {
     }
     b->leaf_count++;
   } else {
+    /* PB_BVH_WIDTH slots; unused ones stay empty (all zero, from calloc). */
     uint32_t c = b->node_count;
-    b->node_count += 2;
+    b->node_count += PB_BVH_WIDTH;
     n = &b->nodes[at];
     n->first = c;
     n->count = 0;
-    flatten(f, t->child[0], c, depth + 1);
-    flatten(f, t->child[1], c + 1, depth + 1);
+    for (uint32_t k = 0; k < t->count; ++k) flatten(f, t->child[k], c + k, depth + 1);
     n = &b->nodes[at];
-    box_add(lo, hi, b->nodes[c].lo);
-    box_add(lo, hi, b->nodes[c].hi);
-    box_add(lo, hi, b->nodes[c + 1].lo);
-    box_add(lo, hi, b->nodes[c + 1].hi);
+    for (uint32_t k = 0; k < t->count; ++k) {
+      box_add(lo, hi, b->nodes[c + k].lo);
+      box_add(lo, hi, b->nodes[c + k].hi);
+    }
   }
   memcpy(n->lo, lo, sizeof lo);
   memcpy(n->hi, hi, sizeof hi);
@@ -180,8 +180,9 @@ pb_result pb_bvh_build(const pb_scene *s, pb_bvh *out) {
   rtcSetDeviceErrorFunction(dev, on_error, NULL);
   struct RTCBuildArguments a = rtcDefaultBuildArguments();
   a.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
-  a.maxBranchingFactor = 2;
-  a.maxDepth = PB_BVH_MAX_DEPTH - 1; /* stack entries: one per level below the root */
+  a.maxBranchingFactor = PB_BVH_WIDTH;
+  a.maxDepth = PB_BVH_MAX_DEPTH - 1; /* levels below the root; the traversal
+                                        stack holds PB_BVH_WIDTH - 1 per level */
   a.sahBlockSize = 1;
   a.minLeafSize = 1;
   a.maxLeafSize = PB_BVH_MAX_LEAF;
@@ -200,7 +201,8 @@ pb_result pb_bvh_build(const pb_scene *s, pb_bvh *out) {
     r = pb_fail(PB_ERR_INTERNAL, "BVH: rtcBuildBVH failed: %s", embree_msg[0] ? embree_msg : "no root");
     goto done;
   }
-  out->nodes = calloc(2 * n, sizeof *out->nodes);
+  /* Inner nodes < n (at least two children each), PB_BVH_WIDTH slots each. */
+  out->nodes = calloc(PB_BVH_WIDTH * n + 1, sizeof *out->nodes);
   out->tris = calloc(n, sizeof *out->tris);
   if (!out->nodes || !out->tris) {
     r = pb_fail(PB_ERR_NOMEM, "BVH: out of memory for %zu triangles", n);
@@ -245,11 +247,11 @@ int pb_bvh_check(const pb_bvh *b, char *why, size_t why_size) {
   int ok = 1;
   uint8_t *seen = calloc(b->node_count ? b->node_count : 1, 1);
   uint8_t *tri_seen = calloc(b->tri_count ? b->tri_count : 1, 1);
-  uint32_t *stack = malloc(sizeof(uint32_t) * 2 * (b->node_count + 1));
-  uint32_t *depth = malloc(sizeof(uint32_t) * 2 * (b->node_count + 1));
+  uint32_t *stack = malloc(sizeof(uint32_t) * PB_BVH_WIDTH * (b->node_count + 1));
+  uint32_t *depth = malloc(sizeof(uint32_t) * PB_BVH_WIDTH * (b->node_count + 1));
   if (!seen || !tri_seen || !stack || !depth) FAIL("out of memory");
   if (b->node_count == 0) FAIL("no nodes");
-  uint32_t sp = 0, reached = 0, max_depth = 0;
+  uint32_t sp = 0, reached = 0, max_depth = 0, empty = 0;
   stack[sp] = 0;
   depth[sp++] = 1;
   while (sp) {
@@ -276,21 +278,35 @@ int pb_bvh_check(const pb_bvh *b, char *why, size_t why_size) {
       }
     } else {
       uint32_t c = n->first;
-      if (c == 0 || c >= b->node_count || c + 1 >= b->node_count) FAIL("inner node %u has children %u, %u out of range", i, c, c + 1);
+      if (c == 0 || c >= b->node_count || b->node_count - c < PB_BVH_WIDTH)
+        FAIL("inner node %u has child slots %u..%u out of range", i, c, c + PB_BVH_WIDTH - 1);
       if (c <= i) FAIL("inner node %u points backwards to %u (a cycle or shared child)", i, c);
-      for (int k = 0; k < 2; ++k) {
-        box_add(lo, hi, b->nodes[c + k].lo);
-        box_add(lo, hi, b->nodes[c + k].hi);
+      uint32_t kids = 0;
+      for (uint32_t k = 0; k < PB_BVH_WIDTH; ++k) {
+        const pb_gpu_bvh_node *ch = &b->nodes[c + k];
+        if (ch->first == 0 && ch->count == 0) { /* empty slot */
+          const float z[3] = {0, 0, 0};
+          if (!box_eq(ch->lo, z) || !box_eq(ch->hi, z)) FAIL("empty slot %u has a box", c + k);
+          if (seen[c + k]) FAIL("empty slot %u reached twice", c + k);
+          seen[c + k] = 1;
+          empty++;
+          continue;
+        }
+        kids++;
+        box_add(lo, hi, ch->lo);
+        box_add(lo, hi, ch->hi);
         stack[sp] = c + k;
         depth[sp++] = d + 1;
       }
+      if (kids < 2) FAIL("inner node %u has %u children", i, kids);
     }
     if (!box_eq(lo, n->lo) || !box_eq(hi, n->hi))
       FAIL("node %u box [%g %g %g]..[%g %g %g] is not the union of its %s [%g %g %g]..[%g %g %g]", i,
            n->lo[0], n->lo[1], n->lo[2], n->hi[0], n->hi[1], n->hi[2], n->count ? "triangles" : "children",
            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
   }
-  if (reached != b->node_count) FAIL("%u of %u nodes reachable from the root", reached, b->node_count);
+  if (reached + empty != b->node_count)
+    FAIL("%u of %u nodes reachable from the root (%u empty slots)", reached, b->node_count, empty);
   for (uint32_t t = 0; t < b->tri_count; ++t)
     if (!tri_seen[t]) FAIL("triangle slot %u in no leaf", t);
   if (max_depth > PB_BVH_MAX_DEPTH) FAIL("depth %u exceeds %u", max_depth, (unsigned)PB_BVH_MAX_DEPTH);

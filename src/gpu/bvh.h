@@ -1,7 +1,8 @@
 /* The scene BVH for GPU traversal: built on the CPU with Embree's
- * rtcBuildBVH (binned SAH, binary, at most PB_BVH_MAX_LEAF triangles per leaf)
- * and flattened into the layout of shaders/shared/pb_gpu.h: node 0 is the
- * root, an inner node's two children are adjacent, leaves own a contiguous
+ * rtcBuildBVH (binned SAH, PB_BVH_WIDTH-wide, at most PB_BVH_MAX_LEAF triangles per
+ * leaf) and flattened into the layout of shaders/shared/pb_gpu.h: node 0 is
+ * the root, an inner node's PB_BVH_WIDTH child slots are adjacent (unused
+ * ones empty), leaves own a contiguous
  * range of the BVH-ordered triangle array, every node's box is exactly the
  * union of its children's (leaves: of their triangles' vertices). */
 #ifndef PB_GPU_BVH_H
@@ -16,7 +17,7 @@
 
 typedef struct pb_bvh {
   pb_gpu_bvh_node *nodes;
-  uint32_t node_count;
+  uint32_t node_count;     /* empty child slots included */
   pb_gpu_tri *tris;        /* BVH order; tris[i].prim is the scene index */
   uint32_t tri_count;      /* triangles with finite vertices (all, normally) */
   uint32_t leaf_count;
@@ -31,8 +32,9 @@ typedef struct pb_bvh {
 pb_result pb_bvh_build(const pb_scene *s, pb_bvh *out);
 void pb_bvh_destroy(pb_bvh *b);
 
-/* Structural check: every node reached exactly once from the root, no inner
- * node with a missing or repeated child, leaves of 1..PB_BVH_MAX_LEAF
+/* Structural check: every node reached exactly once from the root (empty
+ * child slots: never entered, zero box), no inner node with fewer than two
+ * children or a repeated child, leaves of 1..PB_BVH_MAX_LEAF
  * triangles, each parent box equal to the union of its children's, each leaf
  * box equal to its triangles' bounds, every triangle in exactly one leaf,
  * depth within PB_BVH_MAX_DEPTH. Returns 1 when sound; otherwise 0 with the
