@@ -65,7 +65,7 @@ static inline float smith_lambda(float a2, float cos_w) {
 
 static v3 spec_fresnel(const pb_bsdf *b, float c) {
   float kdiel = (1.0f - b->metallic) * (1.0f - b->transmission) * b->spec;
-  v3 f = v3_scale(schlick3(b->base, c), b->metallic);
+  v3 f = b->metallic > 0.0f ? v3_scale(schlick3(b->base, c), b->metallic) : v3_make(0, 0, 0);
   return kdiel > 0.0f ? v3_add(f, v3_scale(schlick3(b->f0_diel, c), kdiel)) : f;
 }
 
