@@ -46,3 +46,11 @@ foreach(scene ${PB_SAMPLE_SCENES})
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/check_info.py ${PB_EXE} ${scene}
            WORKING_DIRECTORY ${PB_ROOT})
 endforeach()
+
+# A misspelt OCIO view fails before any rendering, exit 2, and leaves no output.
+add_test(NAME cli_render_bad_view_leaves_nothing
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.exr --png $d/x.png --view Nope --width 16;
+                        rc=$?; n=$(ls $d | wc -l); rm -rf $d; echo \"exit=$rc files=$n\"; [ $rc -eq 2 ] && [ $n -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_bad_view_leaves_nothing PROPERTIES PASS_REGULAR_EXPRESSION "no view 'Nope'.*exit=2 files=0")

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "app/cli.h"
+#include "color/color_cli.h"
 #include "app/commands.h"
 #include "core/json.h"
 #include "core/log.h"
@@ -71,15 +72,17 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX};
+  pb_color_opts co = {0};
   const pb_opt opts[] = {
       PB_RENDER_OPTS(&c),
+      PB_COLOR_OPTS(&co),
       {"spp", 0, PB_OPT_U32, &o.spp, "N", "samples per pixel (default 1: pixel centres; more: stratified jitter)",
        NULL, 1, 1 << 20},
       {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
        "mirror/glass interactions followed along an eye path (default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
       {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
        "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0},
-      {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write an sRGB PNG preview of the beauty image", NULL, 0, 0},
+      {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
       {"device", 0, PB_OPT_U32, &o.device, "N", "Vulkan device (see 'photonbridge info --devices'; default: "
        "a discrete GPU first, lavapipe last)", NULL, 0, 0},
       {"validation", 0, PB_OPT_FLAG, &o.validation, NULL,
@@ -110,8 +113,12 @@ int pb_cmd_render(int argc, char **argv) {
   memset(&gs, 0, sizeof gs);
   pb_render_result res;
   memset(&res, 0, sizeof res);
+  pb_color *color = NULL;
   r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
   if (r != PB_OK) goto done;
+  /* The view is opened before any GPU work so that a misspelt view fails at
+   * once. */
+  if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation};
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;
@@ -135,7 +142,7 @@ int pb_cmd_render(int argc, char **argv) {
                     .attr_values = av, .attr_count = 4};
   r = pb_exr_write(c.out, &ed);
   if (r == PB_OK && o.png) {
-    r = pb_png_write_srgb(o.png, w, h, 4, res.beauty, 0.0f);
+    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty, 0.0f);
     if (r != PB_OK) unlink(c.out);
   }
   if (r == PB_OK && c.json) {
@@ -155,6 +162,7 @@ int pb_cmd_render(int argc, char **argv) {
                   c.out);
   }
 done:
+  pb_color_destroy(color);
   pb_render_result_destroy(&res);
   pb_gpu_scene_destroy(g, &gs);
   pb_gpu_destroy(g);
