@@ -15,8 +15,11 @@
 #define TINYGLTF_USE_CPP14
 #include <tiny_gltf.h>
 
+#include <sys/stat.h>
+
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -106,7 +109,9 @@ uint32_t rd32(const uint8_t *p) {
 // GLB container (glTF 2.0 spec, "Binary glTF Layout"): 12-byte header, a JSON
 // chunk first, then an optional BIN chunk. Every length is checked against the
 // file so tinygltf never reads past it.
-pb_result check_glb(const char *path, const uint8_t *d, size_t n, std::string *json_text) {
+pb_result check_glb(const char *path, const uint8_t *d, size_t n, std::string *json_text,
+                    long long *bin_len) {
+  *bin_len = -1;
   if (n < 12) return pb_fail(PB_ERR_SCENE_PARSE, "%s: GLB header: file is %zu bytes, shorter than the 12-byte header", path, n);
   uint32_t version = rd32(d + 4), length = rd32(d + 8);
   if (version != 2)
@@ -131,6 +136,8 @@ pb_result check_glb(const char *path, const uint8_t *d, size_t n, std::string *j
       // Unknown chunks after JSON are allowed by the spec, but the BIN chunk,
       // if present, must be the second one; tinygltf assumes so.
       return pb_fail(PB_ERR_SCENE_PARSE, "%s: GLB chunk 1: type 0x%08x, expected BIN", path, ctype);
+    } else if (chunk == 1) {
+      *bin_len = clen;
     }
     off += 8 + clen;
     chunk++;
@@ -163,9 +170,251 @@ long long b64_size(const std::string &s) {
 
 using Json = nlohmann::json;
 
+// tinygltf copies "extras" and unknown extensions with a recursive parse; a
+// file nested 100000 deep overflows the stack. glTF itself nests about 8 deep.
+enum { MAX_JSON_DEPTH = 256 };
+pb_result check_depth(const char *path, const std::string &text) {
+  int depth = 0;
+  bool in_str = false, esc = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    char c = text[i];
+    if (in_str) {
+      if (esc) esc = false;
+      else if (c == '\\') esc = true;
+      else if (c == '"') in_str = false;
+    } else if (c == '"') {
+      in_str = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > MAX_JSON_DEPTH)
+        return pb_fail(PB_ERR_LIMIT, "%s: JSON nested deeper than %d levels (at byte %zu)", path, MAX_JSON_DEPTH, i);
+    } else if (c == ']' || c == '}') {
+      depth--;
+    }
+  }
+  return PB_OK;
+}
+
+// An optional array member: nullptr when absent; *bad when not an array.
+const Json *array_member(const Json &o, const char *key, bool *bad) {
+  auto it = o.find(key);
+  if (it == o.end()) return nullptr;
+  if (!it->is_array()) *bad = true;
+  return it->is_array() ? &*it : nullptr;
+}
+bool get_index(const Json &o, const char *key, long long *out) {
+  auto it = o.find(key);
+  if (it == o.end() || !it->is_number_integer()) return false;
+  *out = it->get<long long>();
+  return true;
+}
+
+// glTF ids are integers >= 0. tinygltf truncates big ones to int
+// (4294967296 becomes 0) and drops other types (1.5, "1", null), so a broken
+// reference would load as another object, or as none: refuse them here.
+bool is_id(const Json &v) { return v.is_number_unsigned() && v.get<unsigned long long>() <= INT32_MAX; }
+std::string member_path(const std::string &where, const char *key) {
+  return where.empty() ? std::string(key) : where + "." + key;
+}
+pb_result check_id(const char *path, const Json &o, const char *key, const std::string &where) {
+  auto it = o.is_object() ? o.find(key) : o.end();
+  if (it == o.end() || is_id(*it)) return PB_OK;
+  return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not an index (an integer from 0 to 2^31-1)", path,
+                 member_path(where, key).c_str(), it->dump().c_str());
+}
+pb_result check_offset(const char *path, const Json &o, const char *key, const std::string &where) {
+  auto it = o.is_object() ? o.find(key) : o.end();
+  if (it == o.end() || it->is_number_unsigned()) return PB_OK;
+  return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not a non-negative integer", path, member_path(where, key).c_str(),
+                 it->dump().c_str());
+}
+pb_result check_id_array(const char *path, const Json &o, const char *key, const std::string &where) {
+  auto it = o.is_object() ? o.find(key) : o.end();
+  if (it == o.end()) return PB_OK;
+  std::string w = member_path(where, key);
+  if (!it->is_array()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: not an array", path, w.c_str());
+  for (size_t i = 0; i < it->size(); ++i)
+    if (!is_id((*it)[i]))
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s[%zu]: %s is not an index (an integer from 0 to 2^31-1)", path, w.c_str(), i,
+                     (*it)[i].dump().c_str());
+  return PB_OK;
+}
+
+pb_result precheck_ids(const char *path, const Json &j) {
+  pb_result r = check_id(path, j, "scene", "");
+  auto each = [&](const char *key, const std::function<pb_result(const Json &, const std::string &)> &fn) {
+    auto arr = j.find(key);
+    if (r != PB_OK || arr == j.end() || !arr->is_array()) return;
+    for (size_t i = 0; i < arr->size() && r == PB_OK; ++i)
+      r = fn((*arr)[i], std::string(key) + "[" + std::to_string(i) + "]");
+  };
+  each("scenes", [&](const Json &o, const std::string &w) { return check_id_array(path, o, "nodes", w); });
+  each("nodes", [&](const Json &o, const std::string &w) {
+    pb_result x = check_id_array(path, o, "children", w);
+    for (const char *k : {"mesh", "camera", "skin"})
+      if (x == PB_OK) x = check_id(path, o, k, w);
+    auto ext = o.is_object() ? o.find("extensions") : o.end();
+    if (x == PB_OK && ext != o.end() && ext->is_object() && ext->contains("KHR_lights_punctual"))
+      x = check_id(path, (*ext)["KHR_lights_punctual"], "light", w + ".extensions.KHR_lights_punctual");
+    return x;
+  });
+  each("meshes", [&](const Json &o, const std::string &w) {
+    auto prims = o.is_object() ? o.find("primitives") : o.end();
+    pb_result x = PB_OK;
+    for (size_t i = 0; prims != o.end() && prims->is_array() && i < prims->size() && x == PB_OK; ++i) {
+      const Json &p = (*prims)[i];
+      std::string pw = w + ".primitives[" + std::to_string(i) + "]";
+      for (const char *k : {"indices", "material", "mode"})
+        if (x == PB_OK) x = check_id(path, p, k, pw);
+      auto at = p.is_object() ? p.find("attributes") : p.end();
+      if (at != p.end() && at->is_object())
+        for (auto a = at->begin(); a != at->end() && x == PB_OK; ++a)
+          x = check_id(path, *at, a.key().c_str(), pw + ".attributes");
+    }
+    return x;
+  });
+  each("accessors", [&](const Json &o, const std::string &w) {
+    pb_result x = check_id(path, o, "bufferView", w);
+    return x == PB_OK ? check_offset(path, o, "byteOffset", w) : x;
+  });
+  each("bufferViews", [&](const Json &o, const std::string &w) {
+    pb_result x = check_id(path, o, "buffer", w);
+    return x == PB_OK ? check_offset(path, o, "byteOffset", w) : x;
+  });
+  each("textures", [&](const Json &o, const std::string &w) {
+    pb_result x = check_id(path, o, "source", w);
+    return x == PB_OK ? check_id(path, o, "sampler", w) : x;
+  });
+  each("images", [&](const Json &o, const std::string &w) { return check_id(path, o, "bufferView", w); });
+  each("materials", [&](const Json &o, const std::string &w) {
+    pb_result x = PB_OK;
+    auto pbr = o.is_object() ? o.find("pbrMetallicRoughness") : o.end();
+    for (const char *t : {"baseColorTexture", "metallicRoughnessTexture"})
+      if (x == PB_OK && pbr != o.end() && pbr->is_object() && pbr->contains(t)) {
+        std::string tw = w + ".pbrMetallicRoughness." + t;
+        x = check_id(path, (*pbr)[t], "index", tw);
+        if (x == PB_OK) x = check_id(path, (*pbr)[t], "texCoord", tw);
+      }
+    for (const char *t : {"normalTexture", "occlusionTexture", "emissiveTexture"})
+      if (x == PB_OK && o.is_object() && o.contains(t)) {
+        x = check_id(path, o[t], "index", w + "." + t);
+        if (x == PB_OK) x = check_id(path, o[t], "texCoord", w + "." + t);
+      }
+    return x;
+  });
+  return r;
+}
+
+// What tinygltf refuses itself with messages that name no JSON path (or
+// trusts, as the byte offset of an image's bufferView): checked here first so
+// that the error reads "FILE: accessors[3].count: ...". `declared` holds each
+// buffer's byteLength.
+pb_result precheck_objects(const char *path, const Json &j, const std::vector<unsigned long long> &declared) {
+  pb_result ir = precheck_ids(path, j);
+  if (ir != PB_OK) return ir;
+  bool bad = false;
+  const Json *views = array_member(j, "bufferViews", &bad);
+  if (bad) return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews: not an array", path);
+  size_t n_views = views ? views->size() : 0;
+  for (size_t i = 0; i < n_views; ++i) {
+    const Json &v = (*views)[i];
+    if (!v.is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%zu]: not an object", path, i);
+    auto bl = v.find("byteLength");
+    if (bl == v.end() || !bl->is_number_unsigned() || bl->get<unsigned long long>() < 1)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%zu].byteLength: missing or not a positive integer", path, i);
+    if (v.find("buffer") == v.end())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%zu].buffer: missing", path, i);
+    auto st = v.find("byteStride");
+    if (st != v.end()) {
+      unsigned long long x = st->is_number_unsigned() ? st->get<unsigned long long>() : 0;
+      if (x < 4 || x > 252 || x % 4)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%zu].byteStride: %s is not a multiple of 4 in [4, 252]", path, i,
+                       st->dump().c_str());
+    }
+  }
+  const Json *accs = array_member(j, "accessors", &bad);
+  if (bad) return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors: not an array", path);
+  size_t n_acc = accs ? accs->size() : 0;
+  static const char *const types[] = {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"};
+  for (size_t i = 0; i < n_acc; ++i) {
+    const Json &a = (*accs)[i];
+    if (!a.is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%zu]: not an object", path, i);
+    auto c = a.find("count");
+    if (c == a.end()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%zu].count: missing", path, i);
+    if (!c->is_number_unsigned())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%zu].count: %s is not a non-negative integer", path, i,
+                     c->dump().c_str());
+    auto t = a.find("type");
+    if (t == a.end()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%zu].type: missing", path, i);
+    bool ok = false;
+    if (t->is_string())
+      for (const char *x : types) ok |= t->get<std::string>() == x;
+    if (!ok)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%zu].type: %s is not SCALAR, VEC2..4 or MAT2..4", path, i,
+                     t->dump().c_str());
+    long long ct = 0;
+    if (!get_index(a, "componentType", &ct) || ct < 5120 || ct > 5126 || ct == 5124)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%zu].componentType: missing or not a glTF component type", path, i);
+  }
+  // tinygltf reads each indices accessor's bufferView while parsing.
+  const Json *meshes = array_member(j, "meshes", &bad);
+  for (size_t m = 0; meshes && m < meshes->size(); ++m) {
+    const Json &mesh = (*meshes)[m];
+    const Json *prims = mesh.is_object() ? array_member(mesh, "primitives", &bad) : nullptr;
+    for (size_t p = 0; prims && p < prims->size(); ++p) {
+      const Json &prim = (*prims)[p];
+      long long ia = 0, bv = 0;
+      if (!prim.is_object() || !get_index(prim, "indices", &ia)) continue;
+      if (ia < 0 || (unsigned long long)ia >= n_acc)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%zu].primitives[%zu].indices: accessor %lld does not exist (%zu accessors)",
+                       path, m, p, ia, n_acc);
+      if (!get_index((*accs)[(size_t)ia], "bufferView", &bv))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%lld].bufferView: missing (used as meshes[%zu].primitives[%zu].indices)",
+                       path, ia, m, p);
+      if (bv < 0 || (unsigned long long)bv >= n_views)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%lld].bufferView: %lld does not exist (%zu bufferViews)", path, ia,
+                       bv, n_views);
+    }
+  }
+  // Images: tinygltf takes the address of an image bufferView's first byte
+  // and base64-decodes data URIs before load.c sees them.
+  const Json *images = array_member(j, "images", &bad);
+  for (size_t i = 0; images && i < images->size(); ++i) {
+    const Json &im = (*images)[i];
+    if (!im.is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu]: not an object", path, i);
+    long long bv = 0;
+    if (get_index(im, "bufferView", &bv)) {
+      if (bv < 0 || (unsigned long long)bv >= n_views)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu].bufferView: %lld does not exist (%zu bufferViews)", path, i, bv,
+                       n_views);
+      const Json &v = (*views)[(size_t)bv];
+      long long b = 0;
+      get_index(v, "buffer", &b);
+      if (b < 0 || (unsigned long long)b >= declared.size())
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%lld].buffer: %lld does not exist (%zu buffers)", path, bv, b,
+                       declared.size());
+      long long off = 0;
+      get_index(v, "byteOffset", &off);
+      unsigned long long len = v["byteLength"].get<unsigned long long>();
+      if (off < 0 || (unsigned long long)off >= declared[(size_t)b] || len > declared[(size_t)b] - (unsigned long long)off)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%lld]: offset %lld + length %llu exceeds buffers[%lld] (%llu bytes)",
+                       path, bv, off, len, b, declared[(size_t)b]);
+      continue;
+    }
+    auto uri = im.find("uri");
+    if (uri == im.end() || !uri->is_string())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu]: neither uri nor bufferView", path, i);
+    if (uri->get<std::string>().rfind("data:", 0) == 0)
+      return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%zu].uri: embedded data URI images are not supported (export with separate or GLB images)",
+                     path, i);
+  }
+  return PB_OK;
+}
+
 // Checks what tinygltf would take on trust: required extensions and buffers.
-pb_result precheck(const char *path, const std::string &text, bool is_glb,
+pb_result precheck(const char *path, const std::string &text, bool is_glb, long long bin_len,
                    const pb_gltf_read_desc *desc, std::set<std::string> *approved) {
+  pb_result dr = check_depth(path, text);
+  if (dr != PB_OK) return dr;
   Json j = Json::parse(text, nullptr, false);
   if (j.is_discarded())
     return pb_fail(PB_ERR_SCENE_PARSE, "%s: not valid JSON", path);
@@ -204,8 +453,9 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb,
     }
   }
 
+  std::vector<unsigned long long> declared_lengths;
   auto bufs = j.find("buffers");
-  if (bufs == j.end()) return PB_OK;
+  if (bufs == j.end()) return precheck_objects(path, j, declared_lengths);
   if (!bufs->is_array()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: buffers: not an array", path);
   for (size_t i = 0; i < bufs->size(); ++i) {
     const Json &b = (*bufs)[i];
@@ -216,10 +466,16 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb,
     unsigned long long declared = bl->get<unsigned long long>();
     if (declared > desc->max_file_bytes)
       return pb_fail(PB_ERR_LIMIT, "%s: buffers[%zu].byteLength: %llu bytes is over the limit", path, i, declared);
+    declared_lengths.push_back(declared);
     auto uri = b.find("uri");
     if (uri == b.end()) {
       if (!is_glb || i != 0)
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: buffers[%zu]: no uri (only the first buffer of a .glb may omit it)", path, i);
+      if (bin_len < 0)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: buffers[0]: no uri, and the file has no BIN chunk", path);
+      if (declared > (unsigned long long)bin_len)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: buffers[0].byteLength: %llu exceeds the BIN chunk (%lld bytes)", path,
+                       declared, bin_len);
       continue;
     }
     if (!uri->is_string()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: buffers[%zu].uri: not a string", path, i);
@@ -246,18 +502,31 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb,
       free(file);
       return PB_ERR_IO;
     }
-    fseek(f, 0, SEEK_END);
-    long sz = ftell(f);
+    struct stat st;
+    bool regular = fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode);
     fclose(f);
-    if (sz < 0 || (unsigned long long)sz != declared) {
-      pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: '%s' is %ld bytes, byteLength says %llu", path, where, u.c_str(), sz, declared);
+    if (!regular) {
+      pb_fail(PB_ERR_IO, "%s: %s: '%s' is not a regular file", path, where, u.c_str());
+      free(file);
+      return PB_ERR_IO;
+    }
+    long long sz = (long long)st.st_size;
+    if ((unsigned long long)sz != declared) {
+      pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: '%s' is %lld bytes, byteLength says %llu", path, where, u.c_str(), sz, declared);
       free(file);
       return PB_ERR_SCENE_INVALID;
     }
     approved->insert(file);
     free(file);
   }
-  return PB_OK;
+  return precheck_objects(path, j, declared_lengths);
+}
+
+// load.c decodes images itself, with size limits; tinygltf only keeps the
+// reference (uri or bufferView).
+bool keep_image_reference(tinygltf::Image *, const int, std::string *, std::string *, int, int,
+                          const unsigned char *, int, void *) {
+  return true;
 }
 
 const char *s(const std::string &x) { return x.c_str(); }
@@ -354,7 +623,11 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.skin = n.skin;
     x.light = -1;
     auto le = n.extensions.find("KHR_lights_punctual");
-    if (le != n.extensions.end()) x.light = (int32_t)num_or(le->second, "light", -2);
+    if (le != n.extensions.end()) {
+      // -2: present but not a light index (load.c reports it as missing).
+      double li = num_or(le->second, "light", -2);
+      x.light = li >= 0 && li <= INT32_MAX && li == (double)(int32_t)li ? (int32_t)li : -2;
+    }
     x.has_matrix = n.matrix.size() == 16;
     for (size_t k = 0; k < 16; ++k) x.matrix[k] = x.has_matrix ? n.matrix[k] : (k % 5 == 0);
     x.translation[0] = x.translation[1] = x.translation[2] = 0;
@@ -486,8 +759,9 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
 
   bool is_glb = n >= 4 && std::memcmp(data, "glTF", 4) == 0;
   std::string text;
+  long long bin_len = -1;
   if (is_glb) {
-    r = check_glb(path, data, n, &text);
+    r = check_glb(path, data, n, &text, &bin_len);
     if (r != PB_OK) return r;
   } else {
     text.assign(reinterpret_cast<const char *>(data), n);
@@ -496,13 +770,14 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
   std::unique_ptr<Impl> impl;
   try {
     impl.reset(new Impl);
-    r = precheck(path, text, is_glb, desc, &impl->approved);
+    r = precheck(path, text, is_glb, bin_len, desc, &impl->approved);
     if (r != PB_OK) return r;
 
     FsCtx ctx{&impl->approved, desc->max_file_bytes};
     tinygltf::FsCallbacks fs{fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(keep_image_reference, nullptr);
     std::string err, warn;
     char *dir = pb_dirname(path);
     std::string base = dir ? dir : ".";

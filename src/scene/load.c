@@ -127,8 +127,14 @@ static pb_result check_accessor(loader *L, int32_t idx, const char *where, int c
   out->normalized = a->normalized;
   if (a->count == 0)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count is 0", L->path, idx);
-  if (a->buffer_view < 0) return PB_OK; /* all zeros, per the spec */
-  if ((size_t)a->buffer_view >= d->buffer_view_count)
+  if (a->buffer_view == -1) {
+    /* All zeros, per the spec: no bytes in the file back the count. */
+    if (a->count > UINT32_MAX)
+      return pb_fail(PB_ERR_LIMIT, "%s: accessors[%d]: count %llu is over the limit", L->path, idx,
+                     (unsigned long long)a->count);
+    return PB_OK;
+  }
+  if (a->buffer_view < 0 || (size_t)a->buffer_view >= d->buffer_view_count)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].bufferView: %d does not exist (%zu bufferViews)",
                    L->path, idx, a->buffer_view, d->buffer_view_count);
   const pb_gltf_buffer_view *v = &d->buffer_views[a->buffer_view];
@@ -314,7 +320,17 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
   uint32_t w = 0, h = 0;
   uint8_t *px = NULL;
   const char *why = NULL;
-  int rc = pb_decode_image_rgba8(bytes, size, L->desc->max_image_dim, L->desc->max_image_pixels, &px, &w, &h, &why);
+  int rc = PB_DECODE_OK;
+  /* stb_image refuses a PNG over 2^30 decoded bytes as "corrupt": read the
+   * IHDR size first so that a huge declared size is reported as a limit. */
+  if (bytes[0] == 0x89 && size >= 24 && memcmp(bytes + 12, "IHDR", 4) == 0) {
+    w = (uint32_t)bytes[16] << 24 | (uint32_t)bytes[17] << 16 | (uint32_t)bytes[18] << 8 | bytes[19];
+    h = (uint32_t)bytes[20] << 24 | (uint32_t)bytes[21] << 16 | (uint32_t)bytes[22] << 8 | bytes[23];
+    if (w > L->desc->max_image_dim || h > L->desc->max_image_dim || (uint64_t)w * h > L->desc->max_image_pixels)
+      rc = PB_DECODE_TOO_LARGE;
+  }
+  if (rc == PB_DECODE_OK)
+    rc = pb_decode_image_rgba8(bytes, size, L->desc->max_image_dim, L->desc->max_image_pixels, &px, &w, &h, &why);
   free(file);
   if (rc == PB_DECODE_TOO_LARGE)
     return pb_fail(PB_ERR_LIMIT, "%s: images[%d]: %ux%u is over the image size limit (%u per side, %llu pixels)",
@@ -340,8 +356,8 @@ static pb_result wrap_mode(loader *L, int32_t v, int32_t sampler, const char *fi
 static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where, int32_t *out) {
   pb_gltf_doc *d = L->doc;
   *out = PB_NO_TEXTURE;
-  if (tex < 0) return PB_OK;
-  if ((size_t)tex >= d->texture_count)
+  if (tex == -1) return PB_OK;
+  if (tex < 0 || (size_t)tex >= d->texture_count)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.index: texture %d does not exist (%zu textures)", L->path, where,
                    tex, d->texture_count);
   int32_t *slot = &L->texture_map[tex * 2 + srgb];
@@ -355,8 +371,8 @@ static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where
                    tex, t->source, d->image_count);
   pb_wrap ws = PB_WRAP_REPEAT, wt = PB_WRAP_REPEAT;
   int nearest = 0;
-  if (t->sampler >= 0) {
-    if ((size_t)t->sampler >= d->sampler_count)
+  if (t->sampler != -1) {
+    if (t->sampler < 0 || (size_t)t->sampler >= d->sampler_count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: textures[%d].sampler: %d does not exist (%zu samplers)", L->path,
                      tex, t->sampler, d->sampler_count);
     const pb_gltf_sampler *sm = &d->samplers[t->sampler];
@@ -448,7 +464,7 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   int32_t *dst[4] = {&m->base_color_tex, &m->metallic_roughness_tex, &m->emissive_tex, &m->normal_tex};
   for (int k = 0; k < 4; ++k) {
     snprintf(w, sizeof w, "materials[%d].%s", i, names[k]);
-    if (refs[k]->index >= 0 && refs[k]->texcoord != 0) {
+    if (refs[k]->index != -1 && refs[k]->texcoord != 0) {
       r = warn(L, "%s.texCoord: %d (only TEXCOORD_0 is read; using it)", w, refs[k]->texcoord);
       if (r != PB_OK) return r;
     }
@@ -490,7 +506,7 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
     return warn(L, "meshes[%d].primitives[%zu]: mode %d (%s) skipped: only triangles are rendered", mesh, pi, p->mode, mn);
   }
   if (p->has_targets && (r = warn(L, "meshes[%d].primitives[%zu]: morph targets ignored", mesh, pi)) != PB_OK) return r;
-  if (p->position < 0)
+  if (p->position == -1)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].attributes: no POSITION", L->path, mesh, pi);
   static const int32_t float_only[] = {CT_FLOAT, 0};
   static const int32_t uv_types[] = {CT_FLOAT, CT_UBYTE, CT_USHORT, 0};
@@ -498,7 +514,7 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
   span pos, nrm, uv, idx;
   snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.POSITION", mesh, pi);
   if ((r = check_accessor(L, p->position, w, 3, float_only, &pos)) != PB_OK) return r;
-  int has_n = p->normal >= 0, has_uv = p->texcoord0 >= 0;
+  int has_n = p->normal != -1, has_uv = p->texcoord0 != -1, indexed = p->indices != -1;
   if (has_n) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.NORMAL", mesh, pi);
     if ((r = check_accessor(L, p->normal, w, 3, float_only, &nrm)) != PB_OK) return r;
@@ -516,14 +532,14 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
                      p->texcoord0, (unsigned long long)uv.count, (unsigned long long)pos.count);
   }
   uint64_t nidx = pos.count;
-  if (p->indices >= 0) {
+  if (indexed) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].indices", mesh, pi);
     if ((r = check_accessor(L, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
     nidx = idx.count;
   }
   int32_t mat;
-  if (p->material >= 0) {
-    if ((size_t)p->material >= d->material_count)
+  if (p->material != -1) {
+    if (p->material < 0 || (size_t)p->material >= d->material_count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].material: %d does not exist (%zu materials)",
                      L->path, mesh, pi, p->material, d->material_count);
     mat = p->material;
@@ -531,25 +547,29 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
     mat = default_material(L);
   }
 
-  /* Vertex positions: all finite, checked once per accessor element. */
-  for (uint64_t i = 0; i < pos.count; ++i)
-    for (int c = 0; c < 3; ++c)
-      if (!isfinite(read_f(&pos, i, c)))
-        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: POSITION element %llu is not finite (%g)", L->path,
-                       p->position, (unsigned long long)i, (double)read_f(&pos, i, c));
-
-  /* Triangle list from the mode. */
+  /* Triangle list from the mode. Limits come before any per-element work:
+   * an accessor without a bufferView costs the file nothing per element. */
   uint64_t ntri = p->mode == MODE_TRIANGLES ? nidx / 3 : (nidx >= 3 ? nidx - 2 : 0);
-  if (p->mode == MODE_TRIANGLES && nidx % 3 &&
-      (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
-                (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
-    return r;
   if ((uint64_t)s->triangle_count + ntri > L->desc->max_triangles)
     return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: more than %llu triangles in the scene", L->path, mesh,
                    pi, (unsigned long long)L->desc->max_triangles);
   /* Flat normals (the glTF rule when NORMAL is absent) need 3 vertices per
    * triangle; otherwise the accessor's vertices are shared. */
   uint64_t nverts = has_n ? pos.count : ntri * 3;
+  if ((uint64_t)s->vertex_count + nverts > 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: %llu vertices is over the limit of %llu in the scene",
+                   L->path, mesh, pi, (unsigned long long)nverts, (unsigned long long)(3 * L->desc->max_triangles));
+
+  /* Vertex positions: all finite, checked once per accessor element. */
+  for (uint64_t i = 0; pos.base && i < pos.count; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (!isfinite(read_f(&pos, i, c)))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: POSITION element %llu is not finite (%g)", L->path,
+                       p->position, (unsigned long long)i, (double)read_f(&pos, i, c));
+  if (p->mode == MODE_TRIANGLES && nidx % 3 &&
+      (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
+                (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
+    return r;
   if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK) return r;
   uint32_t vcap = L->vertex_cap;
   void *q1 = realloc(s->normals, (size_t)vcap * sizeof *s->normals);
@@ -592,7 +612,7 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
     else k[0] = t + 1, k[1] = t + 2, k[2] = 0;
     uint32_t v[3];
     for (int c = 0; c < 3; ++c) {
-      uint64_t vi = p->indices >= 0 ? read_index(&idx, k[c]) : k[c];
+      uint64_t vi = indexed ? read_index(&idx, k[c]) : k[c];
       if (vi >= pos.count)
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
                        L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)pos.count);
@@ -706,6 +726,9 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
 static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
   pb_gltf_doc *d = L->doc;
   int32_t li = d->nodes[node].light;
+  if (li == -2)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].extensions.KHR_lights_punctual.light: missing or not a light index",
+                   L->path, node);
   if (li < 0 || (size_t)li >= d->light_count)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].extensions.KHR_lights_punctual.light: %d does not exist (%zu lights)",
                    L->path, node, li, d->light_count);
@@ -786,14 +809,23 @@ static pb_result check_nodes(loader *L) {
     }
   }
   /* With one parent each, a cycle is a loop of parents: walk up from each
-   * node; a walk longer than the node count is a cycle. */
-  for (size_t i = 0; i < d->node_count; ++i) {
-    size_t steps = 0;
-    for (int32_t p = L->parent[i]; p >= 0; p = L->parent[p])
-      if (++steps > d->node_count)
-        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu]: cycle in the node graph", L->path, i);
+   * node until a node already known to reach a root (state 2); meeting a
+   * node of the current walk (state 1) is a cycle. Linear in the node count,
+   * so a long chain cannot stall us. node_state is left zeroed for visit(). */
+  uint8_t *st = L->node_state;
+  pb_result r = PB_OK;
+  for (size_t i = 0; i < d->node_count && r == PB_OK; ++i) {
+    int32_t p = (int32_t)i;
+    while (p >= 0 && st[p] == 0) {
+      st[p] = 1;
+      p = L->parent[p];
+    }
+    if (p >= 0 && st[p] == 1)
+      r = pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: cycle in the node graph", L->path, p);
+    for (int32_t q = (int32_t)i; q >= 0 && st[q] == 1; q = L->parent[q]) st[q] = 2;
   }
-  return PB_OK;
+  memset(st, 0, d->node_count);
+  return r;
 }
 
 static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
@@ -810,14 +842,14 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform is not finite", L->path, node);
   pb_result r = PB_OK;
   if (n->skin >= 0 && (r = warn(L, "nodes[%d]: skinning ignored (rendered in bind pose)", node)) != PB_OK) return r;
-  if (n->mesh >= 0) {
-    if ((size_t)n->mesh >= d->mesh_count)
+  if (n->mesh != -1) {
+    if (n->mesh < 0 || (size_t)n->mesh >= d->mesh_count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].mesh: %d does not exist (%zu meshes)", L->path, node, n->mesh,
                      d->mesh_count);
     for (size_t pi = 0; pi < d->meshes[n->mesh].primitive_count; ++pi)
       if ((r = add_primitive(L, n->mesh, pi, &M)) != PB_OK) return r;
   }
-  if (n->camera >= 0 && (r = add_camera(L, node, &M)) != PB_OK) return r;
+  if (n->camera != -1 && (r = add_camera(L, node, &M)) != PB_OK) return r;
   if (n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
   for (size_t c = 0; c < n->child_count; ++c)
     if ((r = visit(L, n->children[c], &M, depth + 1)) != PB_OK) return r;
@@ -890,10 +922,10 @@ static pb_result load(loader *L) {
   mat4 I;
   memset(&I, 0, sizeof I);
   I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
-  if (d->default_scene >= 0 && (size_t)d->default_scene >= d->scene_count)
+  if (d->default_scene != -1 && (d->default_scene < 0 || (size_t)d->default_scene >= d->scene_count))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: scene: %d does not exist (%zu scenes)", L->path, d->default_scene, d->scene_count);
   if (d->scene_count > 0) {
-    int32_t si = d->default_scene >= 0 ? d->default_scene : 0;
+    int32_t si = d->default_scene != -1 ? d->default_scene : 0;
     const pb_gltf_scene *sc = &d->scenes[si];
     for (size_t i = 0; i < sc->node_count; ++i) {
       int32_t n = sc->nodes[i];
