@@ -560,6 +560,14 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
     return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: %llu vertices is over the limit of %llu in the scene",
                    L->path, mesh, pi, (unsigned long long)nverts, (unsigned long long)(3 * L->desc->max_triangles));
 
+  /* An accessor without a bufferView reads as zeros (glTF 2.0, 3.6.2.3): zero
+   * positions or zero indices make every triangle degenerate. Within the
+   * limits such a primitive is skipped before any per-element work or
+   * allocation. */
+  if (!pos.base || (indexed && !idx.base))
+    return warn(L, "meshes[%d].primitives[%zu]: %s has no bufferView (all zeros): primitive skipped", mesh, pi,
+                !pos.base ? "POSITION" : "indices");
+
   /* Vertex positions: all finite, checked once per accessor element. */
   for (uint64_t i = 0; pos.base && i < pos.count; ++i)
     for (int c = 0; c < 3; ++c)

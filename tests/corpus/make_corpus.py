@@ -619,6 +619,13 @@ def valid_cases(C, png):
     d, b = base(indices=[0, 1, 2, 0, 2, 2])
     C.gltf(V, "degenerate_triangle", d, b, png, code=EXIT_OK,
            expect=["triangles=2", "warn=degenerate triangles"])
+    # POSITION without a bufferView reads as zeros: the primitive is all
+    # degenerate and skipped with a warning; the rest of the scene loads.
+    d = copy.deepcopy(doc0)
+    d["accessors"].append({"componentType": FLOAT, "count": 3000, "type": "VEC3"})
+    d["meshes"][1]["primitives"].append({"attributes": {"POSITION": len(d["accessors"]) - 1}})
+    C.gltf(V, "position_without_bufferview", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, "warn=POSITION has no bufferView (all zeros): primitive skipped"])
     d = copy.deepcopy(doc0)
     d["extensionsUsed"].append("KHR_draco_mesh_compression")
     C.gltf(V, "draco_used_not_required", d, bin0, png, code=EXIT_OK,
