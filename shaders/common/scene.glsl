@@ -17,11 +17,18 @@ layout(std430, set = 0, binding = 7) readonly buffer Materials { pb_gpu_material
 layout(std430, set = 0, binding = 8) readonly buffer Textures { pb_gpu_texture textures[]; };
 layout(std430, set = 0, binding = 9) readonly buffer Texels { uint texels[]; };
 layout(std430, set = 0, binding = 10) readonly buffer Lights { pb_gpu_light lights[]; };
+// Bindings 11, 12 and the push constants belong to the render passes; a pass
+// with other buffers there (the photon tracer) defines PB_SCENE_OWN_PASS_IO
+// and declares its own.
+#ifndef PB_SCENE_OWN_PASS_IO
 layout(std430, set = 0, binding = 11) buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
 layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
+#endif
 layout(std430, set = 0, binding = 13) readonly buffer Positions { float positions[]; };
 layout(std430, set = 0, binding = 14) readonly buffer Emitters { pb_gpu_emitter emitters[]; };
+#ifndef PB_SCENE_OWN_PASS_IO
 layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
+#endif
 
 // Specialization constants (src/render/frame.c sets them from the scene's
 // features): code for a feature the scene lacks is compiled out.

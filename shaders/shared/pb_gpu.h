@@ -227,6 +227,54 @@ PB_STRUCT(pb_gpu_raycast_push) {
   uint pad1;
 } PB_END(pb_gpu_raycast_push)
 
+
+/* Photon tracer (shaders/photon_trace.comp, src/render/photon_trace.c).
+ * Header of the tracer's parameter buffer, followed by one
+ * pb_gpu_photon_light per light that receives photons. The last four uints
+ * are statistics the kernel adds to (atomics). */
+PB_CONST(PB_PHOTON_PARAM_RAW_FOOTPRINT, 1u) /* tests: store Delta dP, no
+                                               -3/4 compression, s, r_max */
+PB_CONST(PB_PHOTON_PARAM_STORE_FIRST, 2u)   /* tests: store the first hit too */
+PB_STRUCT(pb_gpu_photon_params) {
+  PB_VEC3(scene_center);  /* centre of the scene's bounding sphere */
+  float scene_radius;     /* its radius (directional lights' disc) */
+  uint photons;           /* paths this iteration (the dispatch size) */
+  uint light_count;       /* entries of the light table that follows */
+  uint max_bounces;       /* stored photons per path at most */
+  uint max_depth;         /* surface interactions per path at most */
+  uint capacity;          /* pb_gpu_photon records in the photon buffer */
+  float delta;            /* global spacing Delta = 2 sqrt(pi / photons) */
+  float smoothing;        /* s, diffuse photons */
+  float smoothing_caustic;/* s, caustic photons */
+  float r_max;            /* footprint semi-major clamp, metres */
+  uint iteration;         /* RNG stream of this iteration */
+  uint flags;             /* PB_PHOTON_PARAM_* */
+  float stencil_h;        /* tests: > 0 traces paths in triples: path
+                             gid / 3, member gid % 3 steps its (scaled)
+                             parameters by stencil_h at decision
+                             `stencil_depth` (0: emission, k: the k-th
+                             surface interaction); 0 normally */
+  uint stencil_depth;
+  uint guarded;           /* stats: divisions guarded or records dropped for
+                             non-finite values */
+  uint absorbed;          /* stats: paths ended by Russian roulette */
+  uint escaped;           /* stats: paths that left the scene */
+} PB_END(pb_gpu_photon_params)
+
+/* One light's share of the photon budget: paths first .. first + count - 1
+ * start at lights[light]. power: flux of each photon before the spot
+ * falloff, W (point: 4 pi I / count; spot: 2 pi (1 - cos_outer) I / count;
+ * directional: E pi R^2 / count). diff_scale: factor on the emission
+ * differentials so that the global Delta applies (see photon_trace.comp). */
+PB_STRUCT(pb_gpu_photon_light) {
+  PB_VEC3(power);
+  uint light;
+  uint first;
+  uint count;
+  float diff_scale;
+  float cos_max;          /* cosine of the emission cone (-1: sphere) */
+} PB_END(pb_gpu_photon_light)
+
 #ifndef PB_GLSL
 /* Host-side layout checks: the std430 offsets GLSL assigns (vec3 and vec4 on
  * 16-byte boundaries, scalars on 4) must be the C offsets. The layout test
@@ -275,6 +323,14 @@ PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
 PB_OFFSET(pb_gpu_accum, normal, 48)
 PB_LAYOUT(pb_gpu_raycast_push, 16)
 PB_LAYOUT(pb_gpu_pass_push, 16)
+PB_LAYOUT(pb_gpu_photon_params, 80)
+PB_OFFSET(pb_gpu_photon_params, scene_radius, 12) PB_OFFSET(pb_gpu_photon_params, photons, 16)
+PB_OFFSET(pb_gpu_photon_params, capacity, 32) PB_OFFSET(pb_gpu_photon_params, r_max, 48)
+PB_OFFSET(pb_gpu_photon_params, stencil_h, 60) PB_OFFSET(pb_gpu_photon_params, guarded, 68)
+PB_OFFSET(pb_gpu_photon_params, escaped, 76)
+PB_LAYOUT(pb_gpu_photon_light, 32)
+PB_OFFSET(pb_gpu_photon_light, light, 12) PB_OFFSET(pb_gpu_photon_light, first, 16)
+PB_OFFSET(pb_gpu_photon_light, cos_max, 28)
 #undef PB_LAYOUT
 #undef PB_OFFSET
 #endif

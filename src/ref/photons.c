@@ -239,7 +239,7 @@ static uint32_t setup_emission(const pb_ref_ctx *ctx, emit_light *out) {
   return n;
 }
 
-void pb_photon_map_destroy(pb_photon_map *m) {
+void pb_ref_photon_map_destroy(pb_photon_map *m) {
   if (!m) return;
   free(m->photons);
   free(m->cell_start);
@@ -358,7 +358,7 @@ done:
   free(emit);
   if (r != PB_OK) {
     uint64_t rays = map->rays;
-    pb_photon_map_destroy(map);
+    pb_ref_photon_map_destroy(map);
     map->rays = rays;
   }
   return r;

@@ -433,7 +433,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
     job.done_before = (uint64_t)pass * n;
     r = pb_ref_parallel(ctx.threads, tiles_x * tiles_y, tile_work, &job, render_tick,
                         &job);
-    pb_photon_map_destroy(&map);
+    pb_ref_photon_map_destroy(&map);
     if (r != PB_OK) goto fail;
     render_tick(&job, (uint32_t)job.tiles);
     if (desc.time_limit_s > 0 && pb_time_now() - start >= desc.time_limit_s &&
@@ -514,7 +514,7 @@ fail:
   accum_free(&acc);
   free(rays);
   free(guarded);
-  pb_photon_map_destroy(&map);
+  pb_ref_photon_map_destroy(&map);
   pb_ref_lights_destroy(&ctx.lights);
   pb_ref_accel_destroy(&ctx.accel);
   pb_ref_result_destroy(out);

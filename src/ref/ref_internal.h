@@ -280,7 +280,7 @@ typedef struct pb_ref_ctx pb_ref_ctx;
  * parallel and builds the map for gathering at `radius`. */
 pb_result pb_photon_pass(pb_ref_ctx *ctx, uint32_t pass, uint32_t paths,
                          float radius, pb_photon_map *map);
-void pb_photon_map_destroy(pb_photon_map *m);
+void pb_ref_photon_map_destroy(pb_photon_map *m);
 /* Caustic radiance toward wo at a surface point with bsdf b (the eye vertex
  * at bounce `depth`), from photons whose chain keeps the path within
  * max_bounces. */

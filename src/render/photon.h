@@ -48,6 +48,32 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
 pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
                                pb_photon_map *map, double *gpu_ms);
 void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t);
+
+/* Statistics of the last pb_photon_tracer_run (photon_trace.c). */
+typedef struct pb_photon_trace_stats {
+  uint32_t guarded;    /* divisions guarded (grazing hits, cos_t -> 0,
+                          degenerate footprints) + records dropped as
+                          non-finite: nothing non-finite is ever stored */
+  uint32_t absorbed;   /* paths ended by Russian roulette */
+  uint32_t escaped;    /* paths that left the scene */
+  uint32_t photons;    /* paths per iteration (the budget) */
+  float delta;         /* global spacing Delta = 2 sqrt(pi / photons) */
+} pb_photon_trace_stats;
+void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *out);
+
+/* The budget split (seed 001 24.2.1): photons[i] paths for light i, in
+ * proportion to the luminance of pb_light_power (directional lights over the
+ * disc of the scene's bounding radius), largest remainders, summing to
+ * `total` when any light has power. first[i] is the light's first path. */
+void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons, uint32_t *first);
+
+/* Tests only: trace paths in triples whose members 1 and 2 step the
+ * (eq.-8-scaled) parameters of decision `depth` (0: emission, k: the k-th
+ * interaction) by h (records' `path` is the invocation, 3 j + member); flags:
+ * PB_PHOTON_PARAM_RAW_FOOTPRINT stores Delta dP (no -3/4 compression, s or
+ * r_max), PB_PHOTON_PARAM_STORE_FIRST stores the first hit too. h = 0 and
+ * flags = 0 turn it off. */
+void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32_t flags);
 void pb_photon_map_destroy(pb_gpu *g, pb_photon_map *m);
 
 #endif

@@ -1,0 +1,307 @@
+#version 450
+// The photon tracer: one invocation per photon path (gid < params.photons).
+//
+// Emission (seed 001 24.2.1): the host splits the budget over the lights in
+// proportion to their power (pb_light_power), so every photon starts with
+// about the same flux; path gid belongs to the light whose range
+// [first, first + count) holds it. Point: uniform sphere; spot: uniform in
+// the outer cone, flux weighted by the smoothstep falloff; directional:
+// parallel rays from a disc of the scene's bounding radius.
+//
+// First hit: traced from the light (equivalent to an RSM texel's surface
+// point, see below). It is direct light and never stored (seed 001 24.2.2).
+// Every later hit on a surface with a smooth lobe stores a photon (position,
+// geometric normal facing the photon, incoming direction, flux, footprint,
+// flags: caustic when every interaction since the light was specular; bits
+// 8..15 the number of interactions before the hit, 1 for the first stored).
+// Scattering: cosine-sampled smooth lobes weighted by the full smooth BSDF
+// (f pi / P(smooth lobes), unbiased for the reference's diffuse + GGX mix),
+// delta mirror weighted F / P(mirror), smooth dielectric reflect/refract with
+// probability F / 1 - F (the reference's pb_bsdf_sample_dir, importance
+// transport). Russian roulette on the max power ratio (seed 001 eq. 1,
+// Jensen): p = min(1, max_c(Phi_c w_c) / max_c(Phi_c)); survivors carry
+// Phi w / p, and their differentials grow by 1/sqrt(p) (seed 000 4.2).
+//
+// Differentials (seed 000 section 4; common/photon_diff.glsl). Emission
+// spacing, derivation of the global Delta: a light given n_i of the n
+// photons of the iteration emits them uniformly over its solid angle Omega
+// (4 pi point, 2 pi (1 - cos_outer) spot), so each covers Omega / n_i and the
+// expected distance to a neighbour in direction space is sqrt(Omega / n_i)
+// (eq. 5 for Omega = 4 pi). Parameterised by (cos theta, phi), the raw
+// differentials have lengths 1/sin theta and sin theta (eq. 6), so the
+// spacings would be Delta_cos = sqrt(Omega/n_i) sin theta and
+// Delta_phi = sqrt(Omega/n_i) / sin theta (eq. 7). Scaling dD_cos by
+// sin theta and dD_phi by 1/sin theta (eq. 8) makes both unit vectors and
+// both spacings sqrt(Omega / n_i); scaling them further by
+// diff_scale = sqrt(Omega / n_i) / Delta with the global
+// Delta = 2 sqrt(pi / n) (eq. 9, n the whole budget) leaves one spacing
+// Delta for every photon of every light (footprints are invariant under
+// "differential times k, spacing over k"). Directional lights: positions
+// uniform on a disc of area A = pi R^2, dP = diff_scale (t, b) with
+// diff_scale = sqrt(A / n_i) / Delta, dD = 0. Relation to an RSM: a texel of
+// an RSM of solid angle Omega_texel is one sample of the light's emission;
+// with n_i photons spread over N_texels texels by power, a photon stands for
+// Omega / n_i steradians, i.e. the texel's footprint scaled by
+// sqrt(N_texels / n_i) per axis -- the same Delta-scaled dD as here, with the
+// texel's world footprint as Delta dP at the first hit.
+//
+// Footprint stored at a hit: a = Delta dPu, b = Delta dPv (in the tangent
+// plane after the transfer), then the -3/4 compression and smoothing factor
+// of seed 000 4.3, a <- s Delta dPu |dPu|^(-3/4) (s_caustic for caustic
+// photons), clamped so the semi-major is at most r_max (both axes scaled
+// together). radius: the true semi-major of the skewed ellipse;
+// normal_extent: its semi-minor length (a flat ellipsoid as thin as the
+// footprint is narrow, so a query on another surface only cuts it where the
+// two surfaces are within the footprint's smaller extent).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_photon.h"
+
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+
+#define PB_SCENE_OWN_PASS_IO 1
+layout(std430, set = 0, binding = 11) buffer Photons { pb_gpu_photon photons[]; };
+layout(std430, set = 0, binding = 12) buffer Counts { pb_gpu_photon_counts counts; };
+layout(std430, set = 0, binding = 15) buffer Params {
+  pb_gpu_photon_params params;
+  pb_gpu_photon_light plights[];
+};
+
+#include "common/scene.glsl"
+
+// Transmission (glass) code only for scenes that have it (SC_SPECULAR, from
+// scene.glsl, compiles out mirror and glass altogether).
+layout(constant_id = 4) const bool SC_TRANSMISSION = true;
+
+#include "common/photon_diff.glsl"
+
+float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim); }
+
+void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
+              uint path) {
+  float delta = params.delta;
+  vec3 a = delta * dPu, b = delta * dPv;
+  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u) {
+    float s = caustic ? params.smoothing_caustic : params.smoothing;
+    float la = length(dPu), lb = length(dPv);
+    // |dP|^(-3/4) applied to Delta dP: s Delta dP/|dP| |dP|^(1/4); a zero
+    // differential stays zero (caught below).
+    a = la > 0.0 ? (s * delta * pow(la, 0.25) / la) * dPu : vec3(0.0);
+    b = lb > 0.0 ? (s * delta * pow(lb, 0.25) / lb) * dPv : vec3(0.0);
+  }
+  vec2 ax = pb_ellipse_axes(a, b);
+  if (!(ax.y > 1e-7 * params.r_max) || isinf(ax.x)) {
+    // Degenerate (zero or non-finite) footprint: an isotropic disc in the
+    // tangent plane, as large as the finite semi-major (at least 0.1 % of
+    // r_max).
+    pb_diff_guarded++;
+    float r = (ax.x > 0.0 && !isinf(ax.x)) ? ax.x : 0.0;
+    r = max(r, 1e-3 * params.r_max);
+    vec3 t, bt;
+    pb_basis(n, t, bt);
+    a = r * t;
+    b = r * bt;
+    ax = vec2(r);
+  }
+  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && ax.x > params.r_max) {
+    float k = params.r_max / ax.x;
+    a *= k;
+    b *= k;
+    ax *= k;
+  }
+  if (!pb_finite3(p) || !pb_finite3(power) || !pb_finite3(a) || !pb_finite3(b) || !pb_finite3(wi) ||
+      !pb_finite3(n) || isnan(ax.x) || isnan(ax.y)) {
+    pb_diff_guarded++;
+    return;
+  }
+  uint idx = atomicAdd(counts.stored, 1u);
+  if (idx >= params.capacity) {
+    // Keeps counts.stored == records written: every overflowing add is
+    // undone, so the counter ends at exactly the capacity.
+    atomicAdd(counts.stored, 0xffffffffu);
+    atomicAdd(counts.overflow, 1u);
+    return;
+  }
+  if (caustic) atomicAdd(counts.caustic, 1u);
+  pb_gpu_photon ph;
+  ph.position = p;
+  ph.flags = (caustic ? PB_PHOTON_CAUSTIC : 0u) | (min(bounce, 255u) << PB_PHOTON_BOUNCE_SHIFT);
+  ph.power = power;
+  ph.radius = ax.x;
+  ph.wi = wi;
+  ph.normal_extent = ax.y;
+  ph.normal = n;
+  ph.path = path;
+  ph.axis_u = a;
+  ph.pad0 = 0.0;
+  ph.axis_v = b;
+  ph.pad1 = 0.0;
+  photons[idx] = ph;
+}
+
+// Steps (cos theta, phi) by h in the eq.-8-scaled parameters (tests'
+// finite differences): cos theta += h sin theta, phi += h / sin theta.
+void pb_stencil_step(uint member, float h, inout float c, inout float sn, inout float phi) {
+  if (member == 1u) {
+    c = clamp(c + h * sn, -1.0, 1.0);
+    sn = sqrt(max(0.0, 1.0 - c * c));
+  } else if (member == 2u) {
+    phi += h / pb_guard_div(sn, 1e-6);
+  }
+}
+
+void pb_trace_path(uint gid) {
+  uint path = gid, member = 0u;
+  float h = params.stencil_h;
+  if (h > 0.0) {
+    path = gid / 3u;
+    member = gid % 3u;
+  }
+  uint li = 0u;
+  for (uint i = 1u; i < params.light_count; ++i)
+    if (gid >= plights[i].first) li = i;
+  pb_gpu_photon_light pl = plights[li];
+  if (gid < pl.first || gid - pl.first >= pl.count) return;
+  pb_gpu_light L = lights[pl.light];
+  float k = pl.diff_scale;
+  float u1 = pb_prand(path, 0u), u2 = pb_prand(path, 1u);
+  vec3 power = pl.power;
+  vec3 o, d, dPu = vec3(0.0), dPv = vec3(0.0), dDu = vec3(0.0), dDv = vec3(0.0);
+  bool stencil_here = h > 0.0 && params.stencil_depth == 0u;
+  if (L.type == PB_GPU_LIGHT_DIRECTIONAL) {
+    d = normalize(L.direction);
+    vec3 t, b;
+    pb_basis(d, t, b);
+    float r = params.scene_radius * sqrt(u1), phi = 2.0 * PB_PI * u2;
+    vec2 xy = r * vec2(cos(phi), sin(phi));
+    if (stencil_here && member == 1u) xy.x += h * k;
+    if (stencil_here && member == 2u) xy.y += h * k;
+    o = params.scene_center + t * xy.x + b * xy.y - d * (1.01 * params.scene_radius);
+    dPu = k * t;
+    dPv = k * b;
+  } else {
+    vec3 axis, t, b;
+    if (L.type == PB_GPU_LIGHT_SPOT) {
+      axis = normalize(L.direction);
+      pb_basis(axis, t, b);
+    } else {
+      axis = vec3(0.0, 0.0, 1.0);
+      t = vec3(1.0, 0.0, 0.0);
+      b = vec3(0.0, 1.0, 0.0);
+    }
+    float c = 1.0 - u1 * (1.0 - pl.cos_max);
+    float sn = sqrt(max(0.0, 1.0 - c * c));
+    float phi = 2.0 * PB_PI * u2;
+    if (stencil_here) pb_stencil_step(member, h * k, c, sn, phi);
+    d = t * (cos(phi) * sn) + b * (sin(phi) * sn) + axis * c;
+    pb_diff_emission_dirs(t, b, axis, c, sn, phi, dDu, dDv);
+    dDu *= k;
+    dDv *= k;
+    if (L.type == PB_GPU_LIGHT_SPOT) {
+      float f;
+      if (L.cos_inner - L.cos_outer <= 1e-7) f = c >= L.cos_outer ? 1.0 : 0.0;
+      else f = pb_smoothstep01((c - L.cos_outer) / (L.cos_inner - L.cos_outer));
+      power *= f;
+    }
+    o = L.position;
+  }
+  if (!(pb_max3(power) > 0.0)) return;
+
+  bool caustic = true; // only delta interactions so far
+  uint stored = 0u;
+  for (uint depth = 0u; depth < params.max_depth; ++depth) {
+    float t, u, v;
+    uint prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+    if (prim == PB_GPU_MISS) {
+      atomicAdd(params.escaped, 1u);
+      return;
+    }
+    pb_surface surf = pb_surface_from_hit(prim, u, v, d);
+    pb_diff_transfer(dPu, dPv, dDu, dDv, d, t, surf.ng);
+    vec3 wo = -d;
+    pb_bsdf b = pb_bsdf_setup(surf, wo);
+    if ((depth >= 1u || (params.flags & PB_PHOTON_PARAM_STORE_FIRST) != 0u) && pb_bsdf_has_smooth(b)) {
+      pb_store(surf.p, surf.ng, wo, power, dPu, dPv, caustic, depth, gid);
+      if (++stored >= params.max_bounces) return;
+    }
+    float cos_o = dot(wo, b.n);
+    if (!(cos_o > 0.0)) return;
+    uint dim = 2u + 4u * depth;
+    float uc = pb_prand(path, dim), s1 = pb_prand(path, dim + 1u), s2 = pb_prand(path, dim + 2u);
+    float ur = pb_prand(path, dim + 3u);
+    bool stencil_now = h > 0.0 && params.stencil_depth == depth + 1u;
+    vec4 l = pb_lobes(b, cos_o);
+    float p_smooth = l.x + (b.delta_spec ? 0.0 : l.y);
+    vec3 w, wi;
+    bool transmit = false;
+    if (uc < p_smooth) {
+      float c = sqrt(max(0.0, 1.0 - s1)), sn = sqrt(s1), phi = 2.0 * PB_PI * s2;
+      if (stencil_now) pb_stencil_step(member, h, c, sn, phi);
+      vec3 lw = vec3(sn * cos(phi), sn * sin(phi), c);
+      wi = b.t * lw.x + b.b * lw.y + b.n * lw.z;
+      if (!(lw.z > 0.0) || dot(wi, b.ng) <= 0.0) return;
+      w = pb_bsdf_eval(b, wo, wi) * (PB_PI / p_smooth);
+      vec3 nu, nv;
+      pb_diff_emission_dirs(b.t, b.b, b.n, c, sn, phi, nu, nv);
+      pb_diff_reemit(dPu, dPv, nu, nv);
+      dDu = nu;
+      dDv = nv;
+      caustic = false;
+    } else if (SC_SPECULAR && b.delta_spec && uc < l.x + l.y) {
+      wi = reflect(d, b.n);
+      if (dot(wi, b.ng) <= 0.0) return;
+      w = pb_spec_fresnel(b, cos_o) / l.y;
+      pb_diff_reflect(dDu, dDv, b.n);
+    } else if (SC_SPECULAR && SC_TRANSMISSION && l.z > 0.0) {
+      float eta = b.entering ? 1.0 / b.ior : b.ior;
+      float cos_t;
+      float F = pb_fresnel_dielectric(cos_o, eta, cos_t);
+      float ug = (uc - l.x - l.y) / l.z;
+      float kg = (1.0 - b.metallic) * b.transmission / l.z;
+      if (ug < F) {
+        wi = reflect(d, b.n);
+        if (dot(wi, b.ng) <= 0.0) return;
+        w = vec3(kg);
+        pb_diff_reflect(dDu, dDv, b.n);
+      } else {
+        wi = normalize(eta * d + (eta * cos_o - cos_t) * b.n);
+        if (dot(wi, b.ng) >= 0.0) return;
+        w = b.base * kg;
+        transmit = true;
+        pb_diff_refract(dDu, dDv, b.n, eta, cos_o, cos_t);
+      }
+    } else {
+      return;
+    }
+    // Russian roulette on the max power ratio (seed 001 eq. 1).
+    float pmax = pb_max3(power);
+    float q = pb_max3(power * w) / pmax;
+    float p = min(1.0, q);
+    if (!(p > 0.0) || ur >= p) {
+      atomicAdd(params.absorbed, 1u);
+      return;
+    }
+    power *= w / p;
+    if (p < 1.0) {
+      float g = inversesqrt(p);
+      dPu *= g;
+      dPv *= g;
+      dDu *= g;
+      dDv *= g;
+    }
+    if (!pb_finite3(power) || !pb_finite3(wi)) {
+      pb_diff_guarded++;
+      return;
+    }
+    o = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
+    d = wi;
+  }
+}
+
+void main() {
+  uint gid = pb_gid();
+  if (gid >= params.photons) return;
+  atomicAdd(counts.emitted, 1u);
+  pb_trace_path(gid);
+  if (pb_diff_guarded > 0u) atomicAdd(params.guarded, pb_diff_guarded);
+}

@@ -1,0 +1,306 @@
+/* The photon tracer (shaders/photon_trace.comp): emission with the budget
+ * split over the lights by power, first hit traced from the light (not
+ * stored), BRDF sampling with Russian roulette on the max power ratio,
+ * photon differentials and footprints. See the kernel's header comment for
+ * the transport and the derivation of the global spacing Delta.
+ *
+ * Buffers come from the budget: the photon buffer holds photons *
+ * max_bounces records (every path stores at most max_bounces), refused with
+ * PB_ERR_LIMIT when that exceeds maxStorageBufferRange; overflow (which the
+ * bound makes impossible, but the kernel checks) is counted, never silent. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/passes.h"
+#include "render/photon.h"
+#include "shaders/photon_trace.spv.h"
+#include "shared/pb_photon.h"
+
+enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_COUNT = 16 };
+enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
+enum { PB_PHOTON_SPEC_TRANSMISSION = 4, PB_PHOTON_SPEC_COUNT = 5 };
+
+struct pb_photon_tracer {
+  const pb_gpu_scene *gs;
+  pb_gpu_pipeline pipe;
+  pb_gpu_buffer frame, params;  /* pb_gpu_frame; params + light table */
+  pb_gpu_photon_params p;
+  pb_gpu_photon_light *lights;
+  uint32_t light_entries;
+  uint32_t spec[PB_PHOTON_SPEC_COUNT];
+  uint64_t seed;
+  pb_photon_trace_stats stats;
+};
+
+static float luminance(const float c[3]) {
+  return 0.2126f * fmaxf(c[0], 0.0f) + 0.7152f * fmaxf(c[1], 0.0f) + 0.0722f * fmaxf(c[2], 0.0f);
+}
+
+static float scene_radius(const pb_scene *s, float center[3]) {
+  float d2 = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    center[c] = 0.5f * (s->bounds_min[c] + s->bounds_max[c]);
+    float e = s->bounds_max[c] - s->bounds_min[c];
+    d2 += e * e;
+  }
+  float r = 0.5f * sqrtf(d2);
+  return (r > 1e-6f && isfinite(r)) ? r : 1e-6f;
+}
+
+void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons, uint32_t *first) {
+  float center[3];
+  float radius = scene_radius(s, center);
+  double sum = 0.0;
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    float pw[3];
+    pb_light_power(&s->lights[i], radius, pw);
+    double w = luminance(pw);
+    sum += isfinite(w) ? w : 0.0;
+  }
+  uint64_t given = 0;
+  double *rem = calloc(s->light_count ? s->light_count : 1, sizeof *rem);
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    float pw[3];
+    pb_light_power(&s->lights[i], radius, pw);
+    double w = luminance(pw);
+    if (!(sum > 0.0) || !isfinite(w)) w = 0.0;
+    double share = sum > 0.0 ? (double)total * w / sum : 0.0;
+    photons[i] = (uint32_t)floor(share);
+    if (rem) rem[i] = w > 0.0 ? share - floor(share) : -1.0;
+    given += photons[i];
+  }
+  /* Largest remainders get the rest (ties: lower index). */
+  while (rem && sum > 0.0 && given < total) {
+    uint32_t best = 0;
+    for (uint32_t i = 1; i < s->light_count; ++i)
+      if (rem[i] > rem[best]) best = i;
+    if (rem[best] < 0.0) break;
+    photons[best]++;
+    rem[best] = -0.5; /* one extra at most */
+    given++;
+  }
+  free(rem);
+  uint32_t f = 0;
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    first[i] = f;
+    f += photons[i];
+  }
+}
+
+pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs,
+                                  const pb_photon_trace_desc *desc, pb_photon_tracer **out) {
+  *out = NULL;
+  pb_photon_trace_desc d = desc ? *desc : (pb_photon_trace_desc){0};
+  if (!d.photons) d.photons = 1u << 18;
+  if (!d.max_bounces) d.max_bounces = 3;
+  if (d.smoothing == 0.0f) d.smoothing = 1.0f;
+  if (d.smoothing_caustic == 0.0f) d.smoothing_caustic = 5.0f;
+  if (d.max_bounces > 255)
+    return pb_fail(PB_ERR_USAGE, "photons: max_bounces %u (at most 255)", d.max_bounces);
+  if (!(d.smoothing > 0.0f) || !(d.smoothing_caustic > 0.0f) || !isfinite(d.smoothing) ||
+      !isfinite(d.smoothing_caustic))
+    return pb_fail(PB_ERR_USAGE, "photons: smoothing factors must be positive (%g, %g)", d.smoothing,
+                   d.smoothing_caustic);
+  if (d.r_max < 0.0f || !isfinite(d.r_max))
+    return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
+  /* 3-D dispatch fold limit: gid is a uint. */
+  if (d.photons > 0x7fffffffu) return pb_fail(PB_ERR_LIMIT, "photons: %u paths (at most 2^31 - 1)", d.photons);
+  uint64_t capacity = (uint64_t)d.photons * d.max_bounces;
+  uint64_t bytes = capacity * sizeof(pb_gpu_photon);
+  const pb_gpu_limits *lim = pb_gpu_get_limits(g);
+  if (capacity > 0xffffffffu || bytes > lim->max_storage_buffer_range)
+    return pb_fail(PB_ERR_LIMIT,
+                   "photons: %u paths x %u bounces = %llu photon records (%llu bytes) exceed the device's "
+                   "maxStorageBufferRange of %llu bytes; lower the photon budget or max bounces",
+                   d.photons, d.max_bounces, (unsigned long long)capacity, (unsigned long long)bytes,
+                   (unsigned long long)lim->max_storage_buffer_range);
+
+  pb_photon_tracer *t = calloc(1, sizeof *t);
+  if (!t) return pb_fail(PB_ERR_NOMEM, "photons: out of memory");
+  pb_result r = PB_OK;
+  uint32_t *counts = calloc(s->light_count ? s->light_count : 1, sizeof *counts);
+  uint32_t *firsts = calloc(s->light_count ? s->light_count : 1, sizeof *firsts);
+  t->lights = calloc(s->light_count ? s->light_count : 1, sizeof *t->lights);
+  if (!counts || !firsts || !t->lights) {
+    r = pb_fail(PB_ERR_NOMEM, "photons: out of memory");
+    goto fail;
+  }
+  t->gs = gs;
+  float center[3];
+  float radius = scene_radius(s, center);
+  float delta = 2.0f * sqrtf((float)M_PI / (float)d.photons);
+  pb_photon_split_budget(s, d.photons, counts, firsts);
+  uint32_t total = 0;
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    if (!counts[i]) continue;
+    const pb_light *l = &s->lights[i];
+    pb_gpu_photon_light *e = &t->lights[t->light_entries++];
+    e->light = i;
+    e->first = total;
+    e->count = counts[i];
+    total += counts[i];
+    double omega, k;
+    if (l->type == PB_LIGHT_DIRECTIONAL) {
+      omega = M_PI * (double)radius * radius; /* disc area */
+      e->cos_max = 1.0f;
+    } else if (l->type == PB_LIGHT_SPOT) {
+      float co = cosf(fmaxf(l->outer_cone, 0.0f));
+      omega = 2.0 * M_PI * (1.0 - co);
+      e->cos_max = co;
+    } else {
+      omega = 4.0 * M_PI;
+      e->cos_max = -1.0f;
+    }
+    k = omega / counts[i];
+    for (int c = 0; c < 3; ++c) e->power[c] = (float)(l->color[c] * (double)l->intensity * k);
+    e->diff_scale = (float)(sqrt(omega / counts[i]) / delta);
+  }
+  t->p.scene_center[0] = center[0];
+  t->p.scene_center[1] = center[1];
+  t->p.scene_center[2] = center[2];
+  t->p.scene_radius = radius;
+  t->p.photons = total; /* == d.photons when any light has power */
+  t->p.light_count = t->light_entries;
+  t->p.max_bounces = d.max_bounces;
+  t->p.max_depth = d.max_bounces + 1 + PB_PHOTON_MAX_SPECULAR;
+  t->p.capacity = (uint32_t)capacity;
+  t->p.delta = delta;
+  t->p.smoothing = d.smoothing;
+  t->p.smoothing_caustic = d.smoothing_caustic;
+  t->p.r_max = d.r_max > 0.0f ? d.r_max : 0.05f * radius;
+  t->stats.photons = total;
+  t->stats.delta = delta;
+
+  pb_gpu_buffer_desc fd = {.name = "photons.frame", .size = sizeof(pb_gpu_frame), .host_visible = 1};
+  if ((r = pb_gpu_buffer_create(g, &fd, &t->frame)) != PB_OK) goto fail;
+  uint32_t entries = t->light_entries ? t->light_entries : 1;
+  pb_gpu_buffer_desc pd = {.name = "photons.params",
+                           .size = sizeof(pb_gpu_photon_params) + entries * sizeof(pb_gpu_photon_light),
+                           .host_visible = 1};
+  if ((r = pb_gpu_buffer_create(g, &pd, &t->params)) != PB_OK) goto fail;
+
+  uint32_t f = gs->features;
+  t->spec[PB_SPEC_HAS_NORMALS] = gs->has_normals ? 1u : 0u;
+  t->spec[PB_SPEC_TEXTURES] = (f & PB_FEATURE_TEXTURES) ? 1u : 0u;
+  t->spec[PB_SPEC_SPECULAR] = (f & PB_FEATURE_SPECULAR) ? 1u : 0u;
+  t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at delta lights only */
+  t->spec[PB_PHOTON_SPEC_TRANSMISSION] =
+      ((f & PB_FEATURE_SPECULAR) && (f & PB_FEATURE_TRANSMISSION)) ? 1u : 0u;
+  pb_gpu_pipeline_desc pdsc = {
+      .name = "pass.photon_trace",
+      .spirv = pb_spv_photon_trace,
+      .spirv_bytes = sizeof pb_spv_photon_trace,
+      .binding_count = PB_PHOTON_BIND_COUNT,
+      .push_bytes = 0,
+      .spec = t->spec,
+      .spec_count = PB_PHOTON_SPEC_COUNT,
+  };
+  if ((r = pb_gpu_pipeline_create(g, &pdsc, &t->pipe)) != PB_OK) goto fail;
+  free(counts);
+  free(firsts);
+  *out = t;
+  return PB_OK;
+fail:
+  free(counts);
+  free(firsts);
+  pb_photon_tracer_destroy(g, t);
+  return r;
+}
+
+static pb_result map_create(pb_gpu *g, const pb_photon_tracer *t, pb_photon_map *m) {
+  memset(m, 0, sizeof *m);
+  m->capacity = t->p.capacity;
+  pb_gpu_buffer_desc pd = {.name = "photons.map",
+                           .size = (uint64_t)(m->capacity ? m->capacity : 1) * sizeof(pb_gpu_photon)};
+  pb_result r = pb_gpu_buffer_create(g, &pd, &m->photons);
+  if (r != PB_OK) return r;
+  pb_gpu_buffer_desc cd = {.name = "photons.counts", .size = sizeof(pb_gpu_photon_counts), .host_visible = 1};
+  if ((r = pb_gpu_buffer_create(g, &cd, &m->counts)) != PB_OK) pb_photon_map_destroy(g, m);
+  return r;
+}
+
+pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
+                               pb_photon_map *map, double *gpu_ms) {
+  pb_result r;
+  if (!map->photons.buffer) {
+    if ((r = map_create(g, t, map)) != PB_OK) return r;
+  } else if (map->capacity != t->p.capacity) {
+    return pb_fail(PB_ERR_INTERNAL, "photons: map of capacity %u reused with a tracer of capacity %u",
+                   map->capacity, t->p.capacity);
+  }
+  const pb_gpu_scene *gs = t->gs;
+  const pb_gpu_buffer *b[PB_PHOTON_BIND_COUNT] = {
+      &t->frame,        &gs->nodes,     &gs->tris,     &gs->indices, &gs->normals, &gs->uvs,
+      &gs->tri_material, &gs->materials, &gs->textures, &gs->texels,  &gs->lights,  &map->photons,
+      &map->counts,     &gs->positions, &gs->emitters, &t->params};
+  if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, PB_PHOTON_BIND_COUNT)) != PB_OK) return r;
+
+  pb_gpu_frame fr;
+  memset(&fr, 0, sizeof fr);
+  fr.seed_lo = (uint32_t)seed;
+  fr.seed_hi = (uint32_t)(seed >> 32);
+  fr.light_count = gs->light_count;
+  if ((r = pb_gpu_buffer_upload(g, &t->frame, 0, &fr, sizeof fr)) != PB_OK) return r;
+  t->p.iteration = iteration;
+  t->p.guarded = t->p.absorbed = t->p.escaped = 0;
+  if ((r = pb_gpu_buffer_upload(g, &t->params, 0, &t->p, sizeof t->p)) != PB_OK) return r;
+  if (t->light_entries &&
+      (r = pb_gpu_buffer_upload(g, &t->params, sizeof t->p, t->lights,
+                                (uint64_t)t->light_entries * sizeof *t->lights)) != PB_OK)
+    return r;
+  pb_gpu_photon_counts zero = {0};
+  if ((r = pb_gpu_buffer_upload(g, &map->counts, 0, &zero, sizeof zero)) != PB_OK) return r;
+
+  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+  pb_gpu_timestamp(g, 0);
+  if ((r = pb_gpu_dispatch(g, &t->pipe, NULL, t->p.photons)) != PB_OK) {
+    (void)pb_gpu_submit(g); /* end the recording; the dispatch error is the one to report */
+    return r;
+  }
+  pb_gpu_timestamp(g, 1);
+  if ((r = pb_gpu_submit(g)) != PB_OK) return r;
+  if (gpu_ms) *gpu_ms = pb_gpu_elapsed_ms(g, 0, 1);
+
+  pb_gpu_photon_counts c;
+  if ((r = pb_gpu_buffer_download(g, &map->counts, 0, &c, sizeof c)) != PB_OK) return r;
+  map->stored = c.stored;
+  map->caustic = c.caustic;
+  map->emitted = c.emitted;
+  map->overflow = c.overflow;
+  pb_gpu_photon_params pp;
+  if ((r = pb_gpu_buffer_download(g, &t->params, 0, &pp, sizeof pp)) != PB_OK) return r;
+  t->stats.guarded = pp.guarded;
+  t->stats.absorbed = pp.absorbed;
+  t->stats.escaped = pp.escaped;
+  if (c.stored > map->capacity)
+    return pb_fail(PB_ERR_INTERNAL, "photons: %u stored in a map of %u", c.stored, map->capacity);
+  return PB_OK;
+}
+
+void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *out) {
+  memset(out, 0, sizeof *out);
+  if (t) *out = t->stats;
+}
+
+void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32_t flags) {
+  t->p.stencil_h = h > 0.0f ? h : 0.0f;
+  t->p.stencil_depth = depth;
+  t->p.flags = flags & (PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST);
+}
+
+void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t) {
+  if (!t) return;
+  pb_gpu_pipeline_destroy(g, &t->pipe);
+  pb_gpu_buffer_destroy(g, &t->params);
+  pb_gpu_buffer_destroy(g, &t->frame);
+  free(t->lights);
+  free(t);
+}
+
+void pb_photon_map_destroy(pb_gpu *g, pb_photon_map *m) {
+  if (!m) return;
+  pb_gpu_buffer_destroy(g, &m->photons);
+  pb_gpu_buffer_destroy(g, &m->counts);
+  memset(m, 0, sizeof *m);
+}
