@@ -1,0 +1,555 @@
+/* The photon tracer (src/render/photon_trace.c, shaders/photon_trace.comp)
+ * on small code-built scenes and cornell_caustics, photon buffer downloaded:
+ *  (a) energy: closed Lambert box of albedo rho, point light inside: stored
+ *      flux at bounce k is Phi rho^k (first hit never stored);
+ *  (b) differentials against finite differences of traced neighbours
+ *      (stencil triples): direct onto a plane, via a mirror, and after one
+ *      diffuse re-emission (origin offset v, eq. 10-13);
+ *  (c) determinism for a fixed seed/iteration, change for a new iteration;
+ *  (d) no NaN/Inf, photons inside the scene bounds, unit normals/directions;
+ *  (e) caustic flags: caustics only through mirror/glass (cornell_caustics,
+ *      and none when its specular materials are made diffuse);
+ *  (f) budget split over lights in proportion to power, equal photon flux.
+ * Validation layers on, any message fatal; exit 77 without a device. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pbtest.h"
+#include "render/photon.h"
+#include "render/render.h"
+#include "shared/pb_photon.h"
+
+/* ---- code-built scenes --------------------------------------------------- */
+
+enum { MAXV = 64, MAXT = 32, MAXM = 4, MAXL = 4 };
+typedef struct tscene {
+  float pos[MAXV][3], nrm[MAXV][3], uv[MAXV][2];
+  uint32_t tri[MAXT][3], tm[MAXT];
+  uint32_t nv, nt;
+  pb_material mat[MAXM];
+  uint32_t nm;
+  pb_light light[MAXL];
+  uint32_t nl;
+  pb_scene s;
+} tscene;
+
+static uint32_t add_mat(tscene *t, float rho, float metallic) {
+  pb_material *m = &t->mat[t->nm];
+  memset(m, 0, sizeof *m);
+  m->base_color[0] = m->base_color[1] = m->base_color[2] = rho;
+  m->base_color[3] = 1;
+  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+  m->metallic = metallic;
+  m->roughness = metallic > 0 ? 0.0f : 1.0f;
+  m->specular = 0; /* pure Lambert for the non-metals */
+  m->ior = 1.5f;
+  return t->nm++;
+}
+
+/* Quad a, b, c, d (counter-clockwise seen from the side n points to). */
+static void add_quad(tscene *t, const float q[4][3], const float n[3], uint32_t mat) {
+  uint32_t b = t->nv;
+  for (int i = 0; i < 4; ++i) {
+    memcpy(t->pos[b + i], q[i], sizeof t->pos[0]);
+    memcpy(t->nrm[b + i], n, sizeof t->nrm[0]);
+  }
+  t->nv += 4;
+  uint32_t a[2][3] = {{b, b + 1, b + 2}, {b, b + 2, b + 3}};
+  for (int i = 0; i < 2; ++i) {
+    memcpy(t->tri[t->nt], a[i], sizeof a[i]);
+    t->tm[t->nt++] = mat;
+  }
+}
+
+/* Horizontal quad of half-size r at height y. */
+static void add_hplane(tscene *t, float y, float r, int up, uint32_t mat) {
+  float q[4][3] = {{-r, y, -r}, {-r, y, r}, {r, y, r}, {r, y, -r}};
+  float n[3] = {0, up ? 1.0f : -1.0f, 0};
+  add_quad(t, q, n, mat);
+}
+
+static void add_point(tscene *t, float x, float y, float z, float intensity, const float col[3]) {
+  pb_light *l = &t->light[t->nl++];
+  memset(l, 0, sizeof *l);
+  l->type = PB_LIGHT_POINT;
+  l->position[0] = x, l->position[1] = y, l->position[2] = z;
+  memcpy(l->color, col, sizeof l->color);
+  l->intensity = intensity;
+}
+
+static void finish(tscene *t) {
+  pb_scene *s = &t->s;
+  memset(s, 0, sizeof *s);
+  s->positions = t->pos;
+  s->normals = t->nrm;
+  s->uvs = t->uv;
+  s->vertex_count = t->nv;
+  s->triangles = t->tri;
+  s->triangle_material = t->tm;
+  s->triangle_count = t->nt;
+  s->materials = t->mat;
+  s->material_count = t->nm;
+  s->lights = t->light;
+  s->light_count = t->nl;
+  pb_scene_finalize(s);
+}
+
+/* Closed cube [-1, 1]^3 of albedo rho (faces towards the inside). */
+static void box(tscene *t, float rho) {
+  memset(t, 0, sizeof *t);
+  uint32_t m = add_mat(t, rho, 0);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      float q[4][3], n[3] = {0, 0, 0};
+      float c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+      for (int i = 0; i < 4; ++i) {
+        q[i][axis] = (float)side;
+        q[i][u] = c[i][0];
+        q[i][v] = c[i][1];
+      }
+      n[axis] = (float)-side;
+      add_quad(t, q, n, m);
+    }
+}
+
+/* ---- tracing helpers ----------------------------------------------------- */
+
+typedef struct traced {
+  pb_gpu_photon *ph;
+  uint32_t n;
+  pb_photon_map map;
+  pb_photon_trace_stats st;
+} traced;
+
+static int trace(pb_gpu *g, const pb_scene *s, const pb_photon_trace_desc *d, uint64_t seed, uint32_t iter,
+                 float h, uint32_t depth, uint32_t flags, traced *out) {
+  memset(out, 0, sizeof *out);
+  pb_gpu_scene gs;
+  pb_result r = pb_gpu_scene_create(g, s, &gs);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return 0;
+  pb_photon_tracer *t = NULL;
+  r = pb_photon_tracer_create(g, s, &gs, d, &t);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r == PB_OK) {
+    pb_photon_tracer_debug(t, h, depth, flags);
+    double ms = 0;
+    r = pb_photon_tracer_run(g, t, seed, iter, &out->map, &ms);
+    CHECK_EQ_INT(r, PB_OK);
+    if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
+    pb_photon_tracer_stats(t, &out->st);
+    if (r == PB_OK) {
+      out->n = out->map.stored;
+      out->ph = calloc(out->n ? out->n : 1, sizeof *out->ph);
+      if (out->n)
+        CHECK_EQ_INT(pb_gpu_buffer_download(g, &out->map.photons, 0, out->ph, (uint64_t)out->n * sizeof *out->ph),
+                     PB_OK);
+    }
+  }
+  pb_photon_tracer_destroy(g, t);
+  pb_gpu_scene_destroy(g, &gs);
+  return r == PB_OK;
+}
+
+static void release(pb_gpu *g, traced *t) {
+  free(t->ph);
+  pb_photon_map_destroy(g, &t->map);
+}
+
+static uint32_t bounce_of(const pb_gpu_photon *p) { return (p->flags >> PB_PHOTON_BOUNCE_SHIFT) & 255u; }
+
+static int finite3(const float v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
+static double len3(const float v[3]) { return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]); }
+
+/* (d) every record finite, inside the bounds, unit normal/wi on one side,
+ * footprint radius >= both axes. */
+static void check_records(const pb_scene *s, const traced *t, const char *what) {
+  uint32_t bad = 0, outside = 0;
+  for (uint32_t i = 0; i < t->n; ++i) {
+    const pb_gpu_photon *p = &t->ph[i];
+    int ok = finite3(p->position) && finite3(p->power) && finite3(p->wi) && finite3(p->normal) &&
+             finite3(p->axis_u) && finite3(p->axis_v) && isfinite(p->radius) && isfinite(p->normal_extent);
+    ok = ok && fabs(len3(p->normal) - 1) < 1e-3 && fabs(len3(p->wi) - 1) < 1e-3 &&
+         p->normal[0] * p->wi[0] + p->normal[1] * p->wi[1] + p->normal[2] * p->wi[2] >= -1e-4f;
+    ok = ok && p->radius > 0 && p->radius >= len3(p->axis_u) * 0.999 && p->radius >= len3(p->axis_v) * 0.999 &&
+         p->normal_extent >= 0 && p->normal_extent <= p->radius * 1.001f;
+    ok = ok && p->power[0] >= 0 && p->power[1] >= 0 && p->power[2] >= 0;
+    if (!ok) bad++;
+    for (int c = 0; c < 3; ++c) {
+      float e = 1e-4f * (1 + fabsf(s->bounds_max[c] - s->bounds_min[c]));
+      if (!(p->position[c] >= s->bounds_min[c] - e && p->position[c] <= s->bounds_max[c] + e)) {
+        outside++;
+        break;
+      }
+    }
+  }
+  printf("%s: %u records, %u invalid, %u outside the bounds, %u guarded\n", what, t->n, bad, outside,
+         t->st.guarded);
+  CHECK_EQ_INT(bad, 0);
+  CHECK_EQ_INT(outside, 0);
+}
+
+/* ---- (a) energy ------------------------------------------------------------ */
+
+static void energy(pb_gpu *g) {
+  static tscene t;
+  const float rho = 0.6f, I = 2.0f;
+  box(&t, rho);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0.13f, -0.21f, 0.07f, I, w);
+  finish(&t);
+  pb_photon_trace_desc d = {.photons = 60000, .max_bounces = 4};
+  traced tr;
+  if (!trace(g, &t.s, &d, 7, 0, 0, 0, 0, &tr)) return;
+  double sum[8] = {0};
+  uint32_t cnt[8] = {0};
+  for (uint32_t i = 0; i < tr.n; ++i) {
+    uint32_t b = bounce_of(&tr.ph[i]);
+    if (b < 8) sum[b] += tr.ph[i].power[0], cnt[b]++;
+  }
+  double phi = 4 * M_PI * I;
+  CHECK_EQ_INT(cnt[0], 0); /* the first hit is direct light */
+  CHECK_EQ_INT(tr.map.emitted, 60000);
+  CHECK_EQ_INT(tr.map.overflow, 0);
+  CHECK_EQ_INT(tr.st.escaped, 0); /* closed box */
+  CHECK_EQ_INT(tr.map.caustic, 0);
+  for (int k = 1; k <= 4; ++k) {
+    double want = phi * pow(rho, k);
+    printf("energy: bounce %d: %u photons, flux %.5f W, expected Phi rho^k = %.5f W (%+.2f %%)\n", k, cnt[k],
+           sum[k], want, 100 * (sum[k] / want - 1));
+    CHECK_NEAR(sum[k], want, 0.04 * want);
+  }
+  check_records(&t.s, &tr, "energy box");
+  release(g, &tr);
+}
+
+/* ---- (b) differentials against finite differences ------------------------ */
+
+/* Stencil triples (path 3 j + m): for records of triple j at bounce b,
+ * compares the member displacements p_m - p_0 with (h / Delta) axis of
+ * member 0 times `scale(j)` (1, or (t / (v + t)) after a re-emission).
+ * Reports the median and 90th-percentile relative error. */
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
+
+static void fd_check(pb_gpu *g, const char *what, const pb_scene *s, uint32_t depth, uint32_t bounce,
+                     int want_caustic, int reemit, double tol_median, double tol_p90) {
+  const uint32_t triples = 4000;
+  const float h = 2e-3f;
+  pb_photon_trace_desc d = {.photons = 3 * triples, .max_bounces = 2};
+  traced tr;
+  if (!trace(g, s, &d, 11, 0, h, depth, PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST, &tr))
+    return;
+  /* index: [triple][member][bounce] -> record + 1 */
+  uint32_t *idx = calloc((size_t)triples * 3 * 4, sizeof *idx);
+  for (uint32_t i = 0; i < tr.n; ++i) {
+    uint32_t b = bounce_of(&tr.ph[i]), p = tr.ph[i].path;
+    if (b < 4 && p < 3 * triples) idx[(size_t)p * 4 + b] = i + 1;
+  }
+  double *err = calloc((size_t)triples * 2, sizeof *err);
+  uint32_t ne = 0;
+  double delta = tr.st.delta;
+  for (uint32_t j = 0; j < triples; ++j) {
+    uint32_t i0 = idx[(size_t)(3 * j) * 4 + bounce];
+    if (!i0) continue;
+    const pb_gpu_photon *p0 = &tr.ph[i0 - 1];
+    if (((p0->flags & PB_PHOTON_CAUSTIC) != 0) != want_caustic && bounce > 0) continue;
+    double scale = 1.0;
+    if (reemit) {
+      /* the re-emission point: bounce - 1 of member 0 */
+      uint32_t ip = idx[(size_t)(3 * j) * 4 + bounce - 1];
+      if (!ip) continue;
+      const pb_gpu_photon *q = &tr.ph[ip - 1];
+      double cx = (double)q->axis_u[1] * q->axis_v[2] - (double)q->axis_u[2] * q->axis_v[1];
+      double cy = (double)q->axis_u[2] * q->axis_v[0] - (double)q->axis_u[0] * q->axis_v[2];
+      double cz = (double)q->axis_u[0] * q->axis_v[1] - (double)q->axis_u[1] * q->axis_v[0];
+      double v = sqrt(sqrt(cx * cx + cy * cy + cz * cz)) / delta; /* eq. 13, raw axes = Delta dP */
+      float dd[3] = {p0->position[0] - q->position[0], p0->position[1] - q->position[1],
+                     p0->position[2] - q->position[2]};
+      double tt = len3(dd);
+      scale = tt / (v + tt);
+    }
+    for (uint32_t m = 1; m <= 2; ++m) {
+      uint32_t im = idx[(size_t)(3 * j + m) * 4 + bounce];
+      if (!im) continue;
+      const pb_gpu_photon *pm = &tr.ph[im - 1];
+      /* same surface only (a neighbour on another wall is no differential) */
+      if (fabsf(pm->normal[0] - p0->normal[0]) + fabsf(pm->normal[1] - p0->normal[1]) +
+              fabsf(pm->normal[2] - p0->normal[2]) > 1e-4f)
+        continue;
+      const float *ax = m == 1 ? p0->axis_u : p0->axis_v;
+      double e2 = 0, l2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        double pred = (double)h / delta * ax[c] * scale;
+        double got = (double)pm->position[c] - p0->position[c];
+        e2 += (got - pred) * (got - pred);
+        l2 += pred * pred;
+      }
+      if (l2 > 0) err[ne++] = sqrt(e2 / l2);
+    }
+  }
+  qsort(err, ne, sizeof *err, cmp_double);
+  double med = ne ? err[ne / 2] : 1e9, p90 = ne ? err[(ne * 9) / 10] : 1e9;
+  printf("differentials, %s: %u neighbour pairs, relative error of Delta dP vs finite differences: median "
+         "%.2e, 90th percentile %.2e (thresholds %.0e, %.0e)\n",
+         what, ne, med, p90, tol_median, tol_p90);
+  CHECK(ne > triples / 4);
+  CHECK(med < tol_median);
+  CHECK(p90 < tol_p90);
+  free(err);
+  free(idx);
+  release(g, &tr);
+}
+
+static void differentials(pb_gpu *g) {
+  static tscene a, b;
+  float w[3] = {1, 1, 1};
+  /* Two white Lambert planes 2 m apart, light between them. */
+  memset(&a, 0, sizeof a);
+  uint32_t m = add_mat(&a, 1.0f, 0);
+  add_hplane(&a, 0, 30, 1, m);
+  add_hplane(&a, 2, 30, 0, m);
+  add_point(&a, 0, 0.7f, 0, 1, w);
+  finish(&a);
+  fd_check(g, "point light onto a plane", &a.s, 0, 0, 1, 0, 0.01, 0.05);
+  fd_check(g, "after one diffuse re-emission", &a.s, 1, 1, 0, 1, 0.01, 0.05);
+  /* Lambert floor, mirror ceiling. */
+  memset(&b, 0, sizeof b);
+  uint32_t mf = add_mat(&b, 1.0f, 0), mm = add_mat(&b, 1.0f, 1.0f);
+  add_hplane(&b, 0, 30, 1, mf);
+  add_hplane(&b, 2, 30, 0, mm);
+  add_point(&b, 0, 0.7f, 0, 1, w);
+  finish(&b);
+  fd_check(g, "via a mirror", &b.s, 0, 1, 1, 0, 0.01, 0.05);
+}
+
+/* ---- (c) determinism, (d) records ----------------------------------------- */
+
+static void determinism(pb_gpu *g) {
+  static tscene t;
+  box(&t, 0.7f);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0.2f, 0.1f, -0.3f, 1, w);
+  finish(&t);
+  pb_photon_trace_desc d = {.photons = 4096, .max_bounces = 3};
+  traced a, b, c;
+  if (!trace(g, &t.s, &d, 5, 3, 0, 0, 0, &a)) return;
+  if (!trace(g, &t.s, &d, 5, 3, 0, 0, 0, &b)) return;
+  if (!trace(g, &t.s, &d, 5, 4, 0, 0, 0, &c)) return;
+  /* Record order depends on atomics: compare per (path, bounce). */
+  uint32_t n = 4096 * 4;
+  pb_gpu_photon *sa = calloc(n, sizeof *sa), *sb = calloc(n, sizeof *sb), *sc = calloc(n, sizeof *sc);
+  const traced *tt[3] = {&a, &b, &c};
+  pb_gpu_photon *ss[3] = {sa, sb, sc};
+  for (int k = 0; k < 3; ++k)
+    for (uint32_t i = 0; i < tt[k]->n; ++i) {
+      const pb_gpu_photon *p = &tt[k]->ph[i];
+      uint32_t slot = p->path * 4 + bounce_of(p);
+      if (slot < n) ss[k][slot] = *p;
+    }
+  CHECK_EQ_INT(a.n, b.n);
+  CHECK(memcmp(sa, sb, n * sizeof *sa) == 0);
+  CHECK(a.n != c.n || memcmp(sa, sc, n * sizeof *sa) != 0);
+  uint32_t same = 0;
+  for (uint32_t i = 0; i < n; ++i)
+    if (sa[i].power[0] > 0 && memcmp(&sa[i], &sc[i], sizeof *sa) == 0) same++;
+  printf("determinism: %u records twice identical; new iteration: %u records, %u identical\n", a.n, c.n, same);
+  CHECK(same < a.n / 100 + 1);
+  check_records(&t.s, &a, "determinism box");
+  free(sa);
+  free(sb);
+  free(sc);
+  release(g, &a);
+  release(g, &b);
+  release(g, &c);
+}
+
+/* ---- (e) caustics ---------------------------------------------------------- */
+
+static void caustics(pb_gpu *g) {
+  pb_scene s;
+  pb_load_desc ld = {0};
+  pb_result r = pb_scene_load("samples/cornell_caustics/cornell_caustics.gltf", &ld, &s);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return;
+  pb_photon_trace_desc d = {.photons = 30000, .max_bounces = 3};
+  traced tr;
+  if (trace(g, &s, &d, 3, 0, 0, 0, 0, &tr)) {
+    /* A caustic photon's path has no earlier stored (smooth) hit, and its
+     * bounce count is its specular chain length >= 1; non-caustic photons
+     * exist too. */
+    uint32_t bad = 0, nc = 0;
+    uint8_t *has = calloc((size_t)30000 * 16, 1);
+    for (uint32_t i = 0; i < tr.n; ++i) {
+      uint32_t b = bounce_of(&tr.ph[i]);
+      if (b < 16) has[(size_t)tr.ph[i].path * 16 + b] = 1;
+    }
+    for (uint32_t i = 0; i < tr.n; ++i) {
+      const pb_gpu_photon *p = &tr.ph[i];
+      if (!(p->flags & PB_PHOTON_CAUSTIC)) continue;
+      nc++;
+      uint32_t b = bounce_of(p);
+      if (b < 1) bad++;
+      for (uint32_t k = 0; k < b && k < 16; ++k)
+        if (has[(size_t)p->path * 16 + k]) bad++;
+    }
+    printf("caustics: %u of %u photons caustic, %u inconsistent\n", nc, tr.n, bad);
+    CHECK_EQ_INT(nc, tr.map.caustic);
+    CHECK(nc > 0);
+    CHECK(nc < tr.n);
+    CHECK_EQ_INT(bad, 0);
+    check_records(&s, &tr, "cornell_caustics");
+    free(has);
+    release(g, &tr);
+  }
+  /* The same scene with every material made Lambert: no caustics at all
+   * (and the tracer compiles without specular code: SC_SPECULAR = 0). */
+  for (uint32_t i = 0; i < s.material_count; ++i) {
+    s.materials[i].metallic = 0;
+    s.materials[i].transmission = 0;
+    s.materials[i].roughness = 1;
+  }
+  pb_scene_finalize(&s);
+  CHECK_EQ_INT(s.features & PB_FEATURE_SPECULAR, 0);
+  if (trace(g, &s, &d, 3, 0, 0, 0, 0, &tr)) {
+    printf("caustics, all diffuse: %u photons, %u caustic\n", tr.n, tr.map.caustic);
+    CHECK_EQ_INT(tr.map.caustic, 0);
+    CHECK(tr.n > 0);
+    release(g, &tr);
+  }
+  pb_scene_destroy(&s);
+}
+
+/* ---- (f) budget split ----------------------------------------------------- */
+
+static void budget(pb_gpu *g) {
+  static tscene t;
+  box(&t, 0.5f);
+  float red[3] = {1, 0, 0}, green[3] = {0, 1, 0};
+  add_point(&t, -0.5f, 0, 0, 1.0f / 0.2126f, red);   /* luminance 1 */
+  add_point(&t, 0.5f, 0, 0, 3.0f / 0.7152f, green);  /* luminance 3 */
+  finish(&t);
+  uint32_t n[2], first[2];
+  pb_photon_split_budget(&t.s, 40000, n, first);
+  printf("budget: 40000 photons split %u / %u (power 1 : 3)\n", n[0], n[1]);
+  CHECK_EQ_INT(n[0] + n[1], 40000);
+  CHECK_EQ_INT(n[0], 10000);
+  CHECK_EQ_INT(first[1], n[0]);
+  /* Traced: first hits (stored for the test) by colour, and their flux. */
+  pb_photon_trace_desc d = {.photons = 40000, .max_bounces = 1};
+  traced tr;
+  if (!trace(g, &t.s, &d, 9, 0, 0, 0, PB_PHOTON_PARAM_STORE_FIRST, &tr)) return;
+  uint32_t cr = 0, cg = 0;
+  double fr = 0, fg = 0;
+  for (uint32_t i = 0; i < tr.n; ++i) {
+    const pb_gpu_photon *p = &tr.ph[i];
+    if (bounce_of(p) != 0) continue;
+    if (p->power[0] > 0) cr++, fr = p->power[0];
+    if (p->power[1] > 0) cg++, fg = p->power[1];
+    CHECK(p->power[0] == 0 || p->path < first[1]);
+  }
+  printf("budget: first hits red %u, green %u; photon flux red %.6g, green %.6g (luminance-weighted %.6g, %.6g)\n",
+         cr, cg, fr, fg, fr * 0.2126, fg * 0.7152);
+  CHECK_EQ_INT(cr, 10000);
+  CHECK_EQ_INT(cg, 30000);
+  CHECK_NEAR(fr * 0.2126, fg * 0.7152, 1e-4 * fg);
+  release(g, &tr);
+
+  /* A spot and a directional light: split by pb_light_power too. */
+  static tscene u;
+  box(&u, 0.5f);
+  float wcol[3] = {1, 1, 1};
+  add_point(&u, 0, 0, 0, 1, wcol);
+  pb_light *sp = &u.light[u.nl++];
+  memset(sp, 0, sizeof *sp);
+  sp->type = PB_LIGHT_SPOT;
+  sp->position[1] = 0.5f;
+  sp->direction[1] = -1;
+  memcpy(sp->color, wcol, sizeof wcol);
+  sp->intensity = 4;
+  sp->inner_cone = 0.3f;
+  sp->outer_cone = 0.6f;
+  finish(&u);
+  uint32_t n2[2], f2[2];
+  pb_photon_split_budget(&u.s, 10000, n2, f2);
+  float p0[3], p1[3];
+  float r = 0.5f * sqrtf(12.0f);
+  pb_light_power(&u.light[0], r, p0);
+  pb_light_power(&u.light[1], r, p1);
+  double want = 10000.0 * p1[1] / (p0[1] + p1[1]);
+  printf("budget: point %u, spot %u (expected %.1f)\n", n2[0], n2[1], want);
+  CHECK(fabs(n2[1] - want) <= 1.0);
+  traced ts;
+  pb_photon_trace_desc d2 = {.photons = 10000, .max_bounces = 3};
+  if (trace(g, &u.s, &d2, 1, 0, 0, 0, 0, &ts)) {
+    check_records(&u.s, &ts, "point + spot box");
+    release(g, &ts);
+  }
+}
+
+/* (d) on the sample scenes with spot and directional lights. */
+static void samples(pb_gpu *g, const char *name) {
+  char path[256];
+  snprintf(path, sizeof path, "samples/%s/%s.gltf", name, name);
+  pb_scene s;
+  pb_load_desc ld = {0};
+  pb_result r = pb_scene_load(path, &ld, &s);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return;
+  pb_photon_trace_desc d = {.photons = 20000, .max_bounces = 3};
+  traced tr;
+  if (trace(g, &s, &d, 4, 1, 0, 0, 0, &tr)) {
+    CHECK(tr.n > 0);
+    CHECK_EQ_INT(tr.map.overflow, 0);
+    check_records(&s, &tr, name);
+    release(g, &tr);
+  }
+  pb_scene_destroy(&s);
+}
+
+/* Over-budget buffers are refused with a clear message. */
+static void limits(pb_gpu *g) {
+  static tscene t;
+  box(&t, 0.5f);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0, 0, 0, 1, w);
+  finish(&t);
+  pb_gpu_scene gs;
+  if (pb_gpu_scene_create(g, &t.s, &gs) != PB_OK) return;
+  pb_photon_trace_desc d = {.photons = 2000000000u, .max_bounces = 8};
+  pb_photon_tracer *tr = NULL;
+  pb_result r = pb_photon_tracer_create(g, &t.s, &gs, &d, &tr);
+  printf("limits: %s\n", pb_error_message());
+  CHECK_EQ_INT(r, PB_ERR_LIMIT);
+  CHECK(tr == NULL);
+  pb_error_clear();
+  pb_gpu_scene_destroy(g, &gs);
+}
+
+int main(void) {
+  pb_gpu *g;
+  pb_gpu_desc gd = {.validation = 1};
+  pb_result r = pb_gpu_create(&gd, &g);
+  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
+    printf("SKIP: %s\n", pb_error_message());
+    return 77;
+  }
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return pbt_done();
+  energy(g);
+  differentials(g);
+  determinism(g);
+  caustics(g);
+  budget(g);
+  samples(g, "spot_room");
+  samples(g, "sun_atrium");
+  samples(g, "ring");
+  limits(g);
+  CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
+  pb_gpu_destroy(g);
+  return pbt_done();
+}
