@@ -17,7 +17,7 @@ PKGS=(
   clang
 )
 # Optional extras: skipped quietly when the archive lacks them.
-OPTIONAL=(python3-matplotlib)
+OPTIONAL=(python3-matplotlib chromium)
 
 missing=()
 for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do

@@ -1,0 +1,40 @@
+# Cross-renderer validation (issue 7, parts 4 and 5).
+#   validate_report_chromium  `photonbridge validate cornell_box` at 48 px (reference, GPU
+#                             render, POV-Ray draft, Cycles when installed), then the
+#                             report page in headless Chromium: the screenshot must not
+#                             be blank (validation/png_check.py: luma std >= 10, >= 16
+#                             colours) and report.json must hold every pair's metrics.
+#                             Labelled chromium;no-sanitize; skips (77) without chromium.
+#   test_validate_calib       (unit-test glob) reference vs POV-Ray, direct light only,
+#                             thresholds in the file; labelled povray;no-sanitize.
+#   test_validate_calib_cycles  the same binary with --cycles: the watt convention of
+#                             shared/VALIDATION.md and cornell_box direct light vs Cycles.
+#   cli_validate_*            command-line errors.
+add_test(NAME validate_report_chromium
+         COMMAND sh -c "c=$(command -v chromium || command -v chromium-browser) || { echo 'skip: no chromium'; exit 77; }
+                        w='${CMAKE_CURRENT_BINARY_DIR}/validate_report' && rm -rf \"$w\" && mkdir -p \"$w\" &&
+                        \"$0\" validate cornell_box --out \"$w/cb\" --width 48 --spp 2 --ref-spp 8 --pov-quality draft \
+                          --cycles-spp 8 --threads 1 &&
+                        test -s \"$w/cb/index.html\" && test -s \"$w/cb/report.json\" &&
+                        python3 -c \"import json,sys; r=json.load(open(sys.argv[1])); ok=[x['name'] for x in r['renders'] if x['status']=='ok']; n=len(ok); assert len(r['pairs'])==n*(n-1)//2, r['pairs']; assert all('psnr_db' in p and 'relmse' in p and p.get('heatmap') for p in r['pairs']), r['pairs']; assert r['versions']['photonbridge']; print('renders ok:', ok)\" \"$w/cb/report.json\" &&
+                        u=$(mktemp -d) &&
+                        timeout 120 \"$c\" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+                          --disable-background-networking --disable-component-update --disable-sync \
+                          --user-data-dir=\"$u\" --screenshot=\"$w/shot.png\" --window-size=1200,900 \
+                          \"file://$w/cb/index.html\" >\"$w/chromium.log\" 2>&1;
+                        rm -rf \"$u\";
+                        test -s \"$w/shot.png\" || { echo 'no screenshot'; cat \"$w/chromium.log\"; exit 1; } &&
+                        python3 '${PB_ROOT}/validation/png_check.py' \"$w/shot.png\" &&
+                        echo '1 passed, 0 failed'"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(validate_report_chromium PROPERTIES LABELS "chromium;no-sanitize" SKIP_RETURN_CODE 77
+                     TIMEOUT 600 PASS_REGULAR_EXPRESSION "1 passed, 0 failed")
+
+# png_check itself: a uniform picture is blank, a gradient is not.
+add_test(NAME validate_png_check_selftest COMMAND python3 ${PB_ROOT}/validation/png_check.py --selftest)
+set_tests_properties(validate_png_check_selftest PROPERTIES PASS_REGULAR_EXPRESSION "1 passed, 0 failed" TIMEOUT 60)
+
+pb_cli_test(cli_validate_no_out validate cornell_box EXIT 2 REGEX "required: --out.*exit=2")
+pb_cli_test(cli_validate_missing validate does-not-exist.gltf --out x EXIT 2
+            REGEX "does-not-exist.gltf: no such scene.*exit=2")
