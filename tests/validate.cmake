@@ -48,7 +48,7 @@ set_tests_properties(test_validate_calib_gi PROPERTIES LABELS "povray;calibratio
 # cornell_box, direct light only, 1 % mean relative error over smooth regions: FAILS today
 # (11.0 % at 64x64, POV-Ray/ref summed ratio 1.045; the front of the floor and side walls
 # are off by 15-30 % while the back wall agrees, although the plane cases agree within
-# 0.3 %). Disabled, not loosened, until the cause is found: see validation/README.md.
+# 0.3 %). Disabled, not loosened, until the cause is found: see validation/VALIDATE.md.
 add_test(NAME test_validate_calib_cornell_direct COMMAND test_validate_calib --cornell-direct
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(test_validate_calib_cornell_direct PROPERTIES LABELS "povray;calibration;no-sanitize"
