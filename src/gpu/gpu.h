@@ -107,7 +107,7 @@ pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b);
 
 /* ---- pipelines ---------------------------------------------------------- */
 
-enum { PB_GPU_MAX_BINDINGS = 16, PB_GPU_MAX_SPEC = 16 };
+enum { PB_GPU_MAX_BINDINGS = 24, PB_GPU_MAX_SPEC = 16 };
 
 typedef struct pb_gpu_pipeline_desc {
   const char *name;

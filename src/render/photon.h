@@ -76,4 +76,59 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
 void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32_t flags);
 void pb_photon_map_destroy(pb_gpu *g, pb_photon_map *m);
 
+/* ---- estimator: photon LBVH + gather (lbvh.c, gather.c) ------------------
+ * Per photon map (every iteration of every frame): bounds and footprint
+ * areas -> T_auto -> Morton codes -> radix sort -> photons reordered ->
+ * Karras hierarchy -> boxes bottom-up -> leaf merge by T_auto (seed 000
+ * sections 5-6). Then, per sample, the gather pass reads the frame's
+ * G-buffer and adds eq. 1 into per-pixel pb_gpu_photon_accum sums (and into
+ * the beauty accumulator). */
+
+struct pb_pass_setup;
+
+/* Zero means default for every field. */
+typedef struct pb_photon_estimate_desc {
+  int constant_kernel;        /* 1: constant kernel; 0: Epanechnikov */
+} pb_photon_estimate_desc;
+
+typedef struct pb_photon_estimator pb_photon_estimator;
+
+typedef struct pb_photon_estimate_stats {
+  uint32_t photons;           /* photons in the last build */
+  uint32_t t_auto;            /* leaf-size threshold of the last build */
+  uint32_t leaves;            /* leaves after the merge */
+  float area_sum;             /* summed footprint ellipse areas, m^2 */
+  float scene_area;           /* summed triangle areas, m^2 */
+  double build_ms;            /* last build: GPU timestamps (wall without) */
+  uint32_t stack_overflow;    /* gather traversals cut short (expected 0) */
+} pb_photon_estimate_stats;
+
+pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_photon_estimate_desc *desc,
+                                     pb_photon_estimator **out);
+/* Builds the LBVH over map->stored photons (own submission, waits). */
+pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
+                                    double *gpu_ms);
+/* Points the gather at the frame's pass buffers (scene.glsl's bindings and
+ * specialization constants) and at `photon_accum` (pb_gpu_photon_accum per
+ * pixel of the band). Call after every build (buffers may be reallocated). */
+pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
+                                   const pb_gpu_buffer *photon_accum);
+/* Records the gather of sample `sample_index` over `pixels` pixels into the
+ * open command buffer; flags: PB_GATHER_* (shaders/shared/pb_lbvh.h). */
+pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
+                                     uint32_t pixels, uint32_t flags);
+/* Reads the last build's statistics (t_auto, leaves, areas) back. */
+pb_result pb_photon_estimator_stats(pb_gpu *g, pb_photon_estimator *e, pb_photon_estimate_stats *out);
+void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e);
+
+/* Tests: the device buffers of the last build. nodes: pb_gpu_lbvh_node[count
+ * - 1]; photons: pb_gpu_photon[count] in Morton order with leaf-end flags;
+ * keys: the sorted 30-bit codes (first `count` uints); info:
+ * pb_gpu_lbvh_info. */
+typedef struct pb_photon_lbvh_view {
+  const pb_gpu_buffer *nodes, *photons, *keys, *info;
+  uint32_t count;
+} pb_photon_lbvh_view;
+void pb_photon_estimator_lbvh(const pb_photon_estimator *e, pb_photon_lbvh_view *out);
+
 #endif

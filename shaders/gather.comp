@@ -1,0 +1,104 @@
+#version 450
+// Photon gather (seed 000 eq. 1, section 6.3): at the G-buffer's surface
+// (the first smooth vertex after the eye's specular chain) the photon LBVH is
+// traversed, descending into every node whose box holds the point; each
+// photon of a reached leaf whose footprint ellipsoid holds the point adds
+//   K(q) / A_i * f(x, wi_i, wo) * Phi_i,
+// q = a^2 + b^2 from x - x_i = a u_i + b v_i + c n_i e_i (the ellipsoid test
+// is a^2 + b^2 + c^2 <= 1), A_i = pi |u_i x v_i| the ellipse's area, K the
+// Epanechnikov kernel 2 (1 - q) (unit integral over the unit disc divided
+// by pi, so K / A_i integrates to 1 over the ellipse) or the constant 1.
+// f is the reference's smooth BSDF (Lambert + GGX layer, pb_bsdf_eval) with
+// the material and textures at x. Caustic photons go into their own sum;
+// both are multiplied by the specular chain's throughput and added to the
+// beauty (unless PB_GATHER_NO_BEAUTY).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_photon.h"
+#include "shared/pb_lbvh.h"
+
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+
+#define PB_SCENE_OWN_PASS_IO 1
+#include "common/scene.glsl"
+#include "common/photon_map.glsl"
+
+layout(std430, set = 0, binding = 11) readonly buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
+layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
+layout(std430, set = 0, binding = 15) readonly buffer Photons { pb_gpu_photon photons[]; };
+layout(std430, set = 0, binding = 16) readonly buffer Nodes2 { pb_gpu_lbvh_node lnodes[]; };
+layout(std430, set = 0, binding = 17) buffer InfoBuf { pb_gpu_lbvh_info info; };
+layout(std430, set = 0, binding = 18) buffer PhotonAccum { pb_gpu_photon_accum paccum[]; };
+layout(push_constant) uniform GatherPush { pb_gpu_gather_push gp; };
+
+void main() {
+  uint gid = pb_gid();
+  if (gid >= frame.pixel_count) return;
+  pb_gpu_gbuffer g = gbuffer[gid];
+  if (g.prim == PB_GPU_MISS || info.root == PB_LBVH_NONE) return;
+  pb_surface surf = pb_surface_from_hit(g.prim, g.u, g.v, -g.wo);
+  pb_bsdf b = pb_bsdf_setup(surf, g.wo);
+  vec3 x = surf.p;
+  bool box_kernel = (gp.flags & PB_GATHER_CONSTANT_KERNEL) != 0u;
+  vec3 ind = vec3(0.0), cau = vec3(0.0);
+  uint hits = 0u;
+  uint stack[PB_LBVH_STACK];
+  uint sp = 0u;
+  stack[sp++] = info.root;
+  uint n = info.count;
+  while (sp > 0u) {
+    uint ref = stack[--sp];
+    if ((ref & PB_LBVH_LEAF) == 0u) {
+      pb_gpu_lbvh_node nd = lnodes[ref];
+      if (any(lessThan(x, nd.lo)) || any(greaterThan(x, nd.hi))) continue;
+      if (sp + 2u > PB_LBVH_STACK) {
+        atomicAdd(info.stack_overflow, 1u);
+        continue;
+      }
+      stack[sp++] = nd.right;
+      stack[sp++] = nd.left;
+      continue;
+    }
+    for (uint i = ref & ~PB_LBVH_LEAF; i < n; ++i) {
+      pb_gpu_photon p = photons[i];
+      bool end = (p.flags & PB_PHOTON_LEAF_END) != 0u;
+      vec3 d = x - p.position;
+      // Same side of the surface only (thin walls, corners).
+      if (dot(p.normal, surf.ng) > 0.0) {
+        float uu = dot(p.axis_u, p.axis_u), uv = dot(p.axis_u, p.axis_v), vv = dot(p.axis_v, p.axis_v);
+        float det = uu * vv - uv * uv;
+        float dn = dot(d, p.normal);
+        float c = p.normal_extent > 0.0 ? dn / p.normal_extent : (dn == 0.0 ? 0.0 : 2.0);
+        if (det > 0.0 && abs(c) <= 1.0) {
+          float du = dot(d, p.axis_u), dv = dot(d, p.axis_v);
+          float a = (vv * du - uv * dv) / det;
+          float bb = (uu * dv - uv * du) / det;
+          float q = a * a + bb * bb;
+          if (q + c * c <= 1.0) {
+            float area = PB_PI * sqrt(det);
+            float k = (box_kernel ? 1.0 : 2.0 * (1.0 - q)) / area;
+            vec3 f = pb_bsdf_eval(b, g.wo, p.wi);
+            vec3 contrib = k * f * p.power;
+            if (!any(isnan(contrib)) && !any(isinf(contrib))) {
+              if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) cau += contrib;
+              else ind += contrib;
+              hits++;
+            }
+          }
+        }
+      }
+      if (end) break;
+    }
+  }
+  ind *= g.throughput;
+  cau *= g.throughput;
+  pb_gpu_photon_accum pa = paccum[gid];
+  pa.indirect += vec4(ind, float(hits));
+  pa.caustic.rgb += cau;
+  paccum[gid] = pa;
+  if ((gp.flags & PB_GATHER_NO_BEAUTY) == 0u) {
+    pb_gpu_accum acc = accum[gid];
+    acc.beauty.rgb += ind + cau;
+    accum[gid] = acc;
+  }
+}

@@ -1,0 +1,34 @@
+/* Shared by lbvh.c (the build) and gather.c (the gather pass). */
+#ifndef PB_RENDER_ESTIMATOR_INTERNAL_H
+#define PB_RENDER_ESTIMATOR_INTERNAL_H
+
+#include "render/passes.h"
+#include "render/photon.h"
+#include "shared/pb_lbvh.h"
+#include "shared/pb_photon.h"
+
+enum {
+  PB_LBVH_PASS_BOUNDS = 0, PB_LBVH_PASS_REDUCE, PB_LBVH_PASS_MORTON, PB_LBVH_PASS_COUNT_DIGITS,
+  PB_LBVH_PASS_SCAN, PB_LBVH_PASS_SCATTER, PB_LBVH_PASS_REORDER, PB_LBVH_PASS_HIERARCHY,
+  PB_LBVH_PASS_BOXES, PB_LBVH_PASS_FINALIZE, PB_LBVH_PASS_N
+};
+enum { PB_LBVH_BIND_COUNT = 10 };
+/* Gather bindings: scene.glsl's 15, then these. */
+enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
+       PB_GATHER_BIND_COUNT };
+
+struct pb_photon_estimator {
+  pb_photon_estimate_desc desc;
+  float scene_area;
+  pb_gpu_pipeline pass[PB_LBVH_PASS_N];
+  pb_gpu_pipeline gather;
+  uint32_t gather_spec[PB_SPEC_COUNT];
+  int gather_ready;
+  uint32_t capacity;             /* photons the buffers hold */
+  uint32_t count;                /* photons of the last build */
+  pb_gpu_buffer info, sorted, keys, vals, hist, nodes, leaf_parent, visit, partial;
+  pb_gpu_buffer dummy;           /* bound where a map is empty */
+  pb_photon_estimate_stats stats;
+};
+
+#endif

@@ -1,0 +1,46 @@
+/* The gather pass (shaders/gather.comp): eq. 1 of seed 000 at every
+ * G-buffer surface, by traversal of the photon LBVH (lbvh.c). Bound to the
+ * frame's scene buffers plus the sorted photons, the nodes, the build info
+ * and the per-pixel photon accumulators. */
+#include <string.h>
+
+#include "render/estimator_internal.h"
+#include "shaders/gather.spv.h"
+
+pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
+                                   const pb_gpu_buffer *photon_accum) {
+  pb_result r;
+  if (e->gather.pipeline && memcmp(e->gather_spec, ps->spec, sizeof e->gather_spec) != 0)
+    pb_gpu_pipeline_destroy(g, &e->gather);
+  if (!e->gather.pipeline) {
+    pb_gpu_pipeline_desc d = {
+        .name = "pass.gather",
+        .spirv = pb_spv_gather,
+        .spirv_bytes = sizeof pb_spv_gather,
+        .binding_count = PB_GATHER_BIND_COUNT,
+        .push_bytes = sizeof(pb_gpu_gather_push),
+        .spec = ps->spec,
+        .spec_count = PB_SPEC_COUNT,
+    };
+    if ((r = pb_gpu_pipeline_create(g, &d, &e->gather)) != PB_OK) return r;
+    memcpy(e->gather_spec, ps->spec, sizeof e->gather_spec);
+  }
+  if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
+  const pb_gpu_buffer *b[PB_GATHER_BIND_COUNT];
+  for (int i = 0; i < PB_BIND_COUNT; ++i) b[i] = ps->bindings[i];
+  b[PB_GATHER_BIND_PHOTONS] = &e->sorted;
+  b[PB_GATHER_BIND_NODES] = &e->nodes;
+  b[PB_GATHER_BIND_INFO] = &e->info;
+  b[PB_GATHER_BIND_ACCUM] = photon_accum;
+  if ((r = pb_gpu_pipeline_bind(g, &e->gather, b, PB_GATHER_BIND_COUNT)) != PB_OK) return r;
+  e->gather_ready = 1;
+  return PB_OK;
+}
+
+pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
+                                     uint32_t pixels, uint32_t flags) {
+  if (!e->gather_ready) return pb_fail(PB_ERR_INTERNAL, "gather: recorded before pb_photon_estimator_bind");
+  pb_gpu_gather_push push = {.sample_index = sample_index,
+                             .flags = flags | (e->desc.constant_kernel ? PB_GATHER_CONSTANT_KERNEL : 0u)};
+  return pb_gpu_dispatch(g, &e->gather, &push, pixels);
+}
