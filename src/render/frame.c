@@ -8,10 +8,14 @@
 
 #include "core/log.h"
 #include "render/passes.h"
+#include "render/photon.h"
+#include "shared/pb_lbvh.h"
+#include "shared/pb_photon.h"
 #include "render/render.h"
 
-/* Samples recorded per submission: two timestamps each, plus the start. */
-enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 2 * SAMPLES_PER_SUBMIT + 1 };
+/* Samples recorded per submission: three timestamps each (gbuffer, direct,
+ * gather), plus the start. */
+enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 
 void pb_render_result_destroy(pb_render_result *r) {
   if (!r) return;
@@ -21,6 +25,8 @@ void pb_render_result_destroy(pb_render_result *r) {
   free(r->normal);
   free(r->depth);
   free(r->material);
+  free(r->indirect);
+  free(r->caustic);
   memset(r, 0, sizeof *r);
 }
 
@@ -44,6 +50,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_result r = validate(s, camera, width, height, &desc);
   if (r != PB_OK) return r;
   uint32_t spp = desc.spp ? desc.spp : 1;
+  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0);
+  uint32_t iters = photons_on ? (desc.iterations ? desc.iterations : 1) : 1;
+  if (photons_on && spp < iters) spp = iters;
   uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : 8;
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
   double wall0 = pb_time_now();
@@ -68,6 +77,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_buffer frame_buf = {0}, gbuf = {0}, accum = {0};
   pb_gpu_pipeline gp = {0}, dp = {0};
   pb_gpu_accum *host = NULL;
+  pb_gpu_buffer paccum = {0};
+  pb_photon_tracer *tracer = NULL;
+  pb_photon_estimator *est = NULL;
+  pb_photon_map map;
+  memset(&map, 0, sizeof map);
+  double trace_ms = 0, lbvh_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
+  uint64_t stored_sum = 0, caustic_sum = 0;
+  pb_gpu_photon_accum *phost = NULL;
   out->beauty = calloc(4 * n, sizeof(float));
   out->direct = calloc(3 * n, sizeof(float));
   out->albedo = calloc(3 * n, sizeof(float));
@@ -75,7 +92,13 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   out->depth = calloc(n, sizeof(float));
   out->material = calloc(n, sizeof(float));
   host = malloc((size_t)band_pixels * sizeof *host);
-  if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !host) {
+  if (photons_on) {
+    out->indirect = calloc(3 * n, sizeof(float));
+    out->caustic = calloc(3 * n, sizeof(float));
+    phost = malloc((size_t)band_pixels * sizeof *phost);
+  }
+  if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !host ||
+      (photons_on && (!out->indirect || !out->caustic || !phost))) {
     r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
     goto fail;
   }
@@ -96,6 +119,17 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   };
   if ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK) goto fail;
   if ((r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK) goto fail;
+  if (photons_on) {
+    pb_gpu_buffer_desc pd = {.name = "frame.photon_accum",
+                             .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
+    if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
+    if (!desc.photon_map) {
+      pb_photon_trace_desc td = {.photons = desc.photons, .smoothing = desc.smoothing, .r_max = desc.r_max};
+      if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
+    }
+    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel};
+    if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
+  }
 
   const pb_camera *cam = &s->cameras[camera];
   pb_gpu_frame fr;
@@ -126,18 +160,38 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     fr.pixel_count = pixels;
     if ((r = pb_gpu_buffer_upload(g, &frame_buf, 0, &fr, sizeof fr)) != PB_OK) goto fail;
     if ((r = pb_gpu_buffer_fill_zero(g, &accum)) != PB_OK) goto fail;
-    for (uint32_t s0 = 0; s0 < spp; s0 += SAMPLES_PER_SUBMIT) {
-      uint32_t count = spp - s0 < SAMPLES_PER_SUBMIT ? spp - s0 : SAMPLES_PER_SUBMIT;
+    if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &paccum)) != PB_OK) goto fail;
+    for (uint32_t it = 0; it < iters; ++it) {
+    uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
+    if (photons_on && s_end > s_begin) {
+      /* One photon map per iteration (seed, it): traced, LBVH built, gather
+       * bound to this band's buffers. Bands retrace the same maps. */
+      const pb_photon_map *m = desc.photon_map;
+      double ms = 0;
+      if (!m) {
+        if ((r = pb_photon_tracer_run(g, tracer, desc.seed, it, &map, &ms)) != PB_OK) goto fail;
+        if (band == 0) trace_ms += ms > 0 ? ms : 0;
+        m = &map;
+      }
+      if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic;
+      if ((r = pb_photon_estimator_build(g, est, m, &ms)) != PB_OK) goto fail;
+      if (band == 0) lbvh_ms += ms;
+      if ((r = pb_photon_estimator_bind(g, est, &ps, &paccum)) != PB_OK) goto fail;
+    }
+    for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
+      uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
       if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
       pb_gpu_timestamp(g, 0);
       for (uint32_t k = 0; k < count && r == PB_OK; ++k) {
         r = pb_pass_record(g, &gp, s0 + k, pixels);
         pb_gpu_barrier(g);
-        pb_gpu_timestamp(g, 2 * k + 1);
-        /* [future stages: rsm, emit, trace, photon LBVH, estimate] */
+        pb_gpu_timestamp(g, 3 * k + 1);
         if (r == PB_OK) r = pb_pass_record(g, &dp, s0 + k, pixels);
         pb_gpu_barrier(g);
-        pb_gpu_timestamp(g, 2 * k + 2);
+        pb_gpu_timestamp(g, 3 * k + 2);
+        if (photons_on && r == PB_OK) r = pb_photon_estimator_record(g, est, s0 + k, pixels, 0);
+        pb_gpu_barrier(g);
+        pb_gpu_timestamp(g, 3 * k + 3);
       }
       double t0 = pb_time_now();
       pb_result rs = pb_gpu_submit(g);
@@ -146,16 +200,19 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       if (r != PB_OK) goto fail;
       if (ts) {
         for (uint32_t k = 0; k < count; ++k) {
-          double a = pb_gpu_elapsed_ms(g, 2 * k, 2 * k + 1), b = pb_gpu_elapsed_ms(g, 2 * k + 1, 2 * k + 2);
-          if (a < 0 || b < 0) ts = 0;
+          double a = pb_gpu_elapsed_ms(g, 3 * k, 3 * k + 1), b = pb_gpu_elapsed_ms(g, 3 * k + 1, 3 * k + 2);
+          double c = pb_gpu_elapsed_ms(g, 3 * k + 2, 3 * k + 3);
+          if (a < 0 || b < 0 || c < 0) ts = 0;
           gbuf_ms += a;
           direct_ms += b;
+          gather_ms += c;
         }
-        double all = pb_gpu_elapsed_ms(g, 0, 2 * count);
+        double all = pb_gpu_elapsed_ms(g, 0, 3 * count);
         gpu_ms += all > 0 ? all : 0;
       } else {
         gpu_ms += wall;
       }
+    }
     }
     if ((r = pb_gpu_buffer_download(g, &accum, 0, host, (uint64_t)pixels * sizeof *host)) != PB_OK) goto fail;
     float inv = 1.0f / (float)spp;
@@ -172,6 +229,18 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       out->depth[p] = a->beauty[3] > 0 ? a->depth / a->beauty[3] : 0.0f;
       out->material[p] = a->material;
     }
+    if (photons_on) {
+      if ((r = pb_gpu_buffer_download(g, &paccum, 0, phost, (uint64_t)pixels * sizeof *phost)) != PB_OK) goto fail;
+      for (uint32_t i = 0; i < pixels; ++i) {
+        size_t p = (size_t)fr.pixel_base + i;
+        for (int k = 0; k < 3; ++k) {
+          out->indirect[3 * p + k] = phost[i].indirect[k] * inv;
+          out->caustic[3 * p + k] = phost[i].caustic[k] * inv;
+        }
+        k_sum += phost[i].indirect[3];
+        hit_sum += host[i].beauty[3];
+      }
+    }
   }
   out->width = width;
   out->height = height;
@@ -187,8 +256,26 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   st->bvh_depth = gs->bvh.depth;
   st->primary_rays = (uint64_t)n * spp;
   st->shadow_rays_max = (uint64_t)n * spp * (gs->light_count + (fr.emitter_count ? 1u : 0u));
+  if (photons_on) {
+    pb_photon_estimate_stats es;
+    if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
+    st->photon_trace_ms = trace_ms;
+    st->lbvh_ms = lbvh_ms;
+    st->gather_ms = ts ? gather_ms : -1;
+    st->photons_stored = stored_sum;
+    st->photons_caustic = caustic_sum;
+    st->iterations = iters;
+    st->t_auto = es.t_auto;
+    st->lbvh_leaves = es.leaves;
+    st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
+  }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
   free(host);
+  free(phost);
+  pb_gpu_buffer_destroy(g, &paccum);
+  pb_photon_map_destroy(g, &map);
+  pb_photon_estimator_destroy(g, est);
+  pb_photon_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
   pb_gpu_buffer_destroy(g, &frame_buf);
@@ -197,6 +284,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   return PB_OK;
 fail:
   free(host);
+  free(phost);
+  pb_gpu_buffer_destroy(g, &paccum);
+  pb_photon_map_destroy(g, &map);
+  pb_photon_estimator_destroy(g, est);
+  pb_photon_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
   pb_gpu_buffer_destroy(g, &frame_buf);

@@ -64,6 +64,17 @@ typedef struct pb_render_desc {
   int direct_only;             /* 1: only paths with at most one scattering
                                   event (the reference's direct AOV) */
   uint64_t seed;
+  /* Photon mapping (indirect light; off with direct_only or without point,
+   * spot or directional lights, which the tracer emits from). */
+  uint32_t photons;            /* paths per iteration; 0: the tracer's 2^18 */
+  uint32_t iterations;         /* independent photon maps (seeds) averaged;
+                                  sample s gathers from map s * K / spp, spp
+                                  is raised to K; 0: 1 */
+  float smoothing;             /* footprint factor s; 0: the tracer's */
+  float r_max;                 /* footprint clamp, m; 0: the tracer's */
+  int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
+  const struct pb_photon_map *photon_map; /* tests: gather this map (every
+                                  iteration) instead of tracing */
 } pb_render_desc;
 
 enum { PB_RENDER_MAX_SPECULAR_DEPTH = 64 };
@@ -75,6 +86,12 @@ typedef struct pb_render_stats {
   uint64_t primary_rays, shadow_rays_max;     /* shadow_rays_max: upper bound */
   uint32_t spp, bvh_nodes, bvh_depth;
   int timestamps;                             /* 0: *_ms are wall-clock */
+  /* Photon stages (0 when off): sums over iterations; t_auto, leaves of the
+   * last map. k_pd: photons contributing per gather at a surface. */
+  double photon_trace_ms, lbvh_ms, gather_ms;
+  uint64_t photons_stored, photons_caustic;
+  uint32_t iterations, t_auto, lbvh_leaves;
+  double k_pd;
 } pb_render_stats;
 
 /* Per-pixel float buffers, width*height*channels, top row first. */
@@ -86,6 +103,10 @@ typedef struct pb_render_result {
   float *normal;    /* XYZ shading normal at the first hit, facing the camera */
   float *depth;     /* camera-space z of the first hit, 0 on a miss */
   float *material;  /* material index of the first hit + 1, 0 on a miss */
+  float *indirect;  /* RGB: photon gather, non-caustic photons (NULL when the
+                       photon stages are off) */
+  float *caustic;   /* RGB: photon gather, caustic photons (NULL when off);
+                       beauty = emission + direct + indirect + caustic */
   pb_render_stats stats;
 } pb_render_result;
 
