@@ -26,8 +26,9 @@ static const pb_command *self(void) {
 }
 
 typedef struct render_opts {
-  uint32_t spp, max_spec, device;
-  int direct_only, validation;
+  uint32_t spp, max_spec, device, photons, iterations;
+  int direct_only, validation, constant_kernel, progressive;
+  double smoothing, r_max;
   const char *png;
 } render_opts;
 
@@ -58,8 +59,25 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_null(&j, "gbuffer");
     pb_json_null(&j, "direct");
   }
+  if (st->iterations) {
+    pb_json_number(&j, "photon_trace", st->photon_trace_ms);
+    pb_json_number(&j, "lbvh_build", st->lbvh_ms);
+    if (st->timestamps) pb_json_number(&j, "gather", st->gather_ms);
+    else pb_json_null(&j, "gather");
+  }
   pb_json_number(&j, "gpu_total", st->total_gpu_ms);
   pb_json_end_object(&j);
+  if (st->iterations) {
+    pb_json_begin_object(&j, "photons");
+    pb_json_int(&j, "iterations", st->iterations);
+    pb_json_int(&j, "stored", (int64_t)st->photons_stored);
+    pb_json_int(&j, "caustic", (int64_t)st->photons_caustic);
+    pb_json_int(&j, "t_auto", st->t_auto);
+    pb_json_int(&j, "lbvh_leaves", st->lbvh_leaves);
+    pb_json_number(&j, "k_pd", st->k_pd);
+    pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
+    pb_json_end_object(&j);
+  }
   pb_json_number(&j, "wall_ms", st->wall_ms);
   pb_json_int(&j, "primary_rays", (int64_t)st->primary_rays);
   pb_json_int(&j, "bvh_nodes", st->bvh_nodes);
@@ -82,6 +100,18 @@ int pb_cmd_render(int argc, char **argv) {
        "mirror/glass interactions followed along an eye path (default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
       {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
        "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0},
+      {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26},
+      {"iterations", 0, PB_OPT_U32, &o.iterations, "K",
+       "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K; default 1)", NULL, 1,
+       1 << 16},
+      {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
+       "accepted for the CLI contract; the same as --iterations averaging (no radius reduction yet)", NULL, 0, 0},
+      {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s (default: the tracer's, 1)",
+       NULL, 0, 0},
+      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 5% of the scene radius)",
+       NULL, 0, 0},
+      {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
+       "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
       {"device", 0, PB_OPT_U32, &o.device, "N", "Vulkan device (see 'photonbridge info --devices'; default: "
        "a discrete GPU first, lavapipe last)", NULL, 0, 0},
@@ -96,9 +126,11 @@ int pb_cmd_render(int argc, char **argv) {
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
     pb_cli_print_help(stdout, cmd, opts, nopts,
-                      "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1).\n"
-                      "Indirect light (photon mapping) is not rendered yet: beauty = emission + direct\n"
-                      "light, through specular chains.");
+                      "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1),\n"
+                      "indirect, caustic.\n"
+                      "With photon mapping (default unless --direct-only; needs a point, spot or\n"
+                      "directional light): also indirect and caustic layers, beauty = emission + direct\n"
+                      "+ indirect + caustic.");
     return 0;
   }
   if (npos != 1 || !c.out)
@@ -125,7 +157,13 @@ int pb_cmd_render(int argc, char **argv) {
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
-  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed};
+  if (o.smoothing < 0 || o.r_max < 0 || !(o.smoothing < 1e6) || !(o.r_max < 1e9)) {
+    r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
+    goto done;
+  }
+  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
+                       .photons = o.photons, .iterations = o.iterations, .smoothing = (float)o.smoothing,
+                       .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel};
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
 
@@ -133,12 +171,13 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_image_layer layers[] = {
       {"", 4, res.beauty, NULL},      {"direct", 3, res.direct, NULL}, {"albedo", 3, res.albedo, NULL},
       {"normal", 3, res.normal, NULL}, {"depth", 1, res.depth, NULL},  {"material", 1, res.material, NULL},
+      {"indirect", 3, res.indirect, NULL}, {"caustic", 3, res.caustic, NULL},
   };
   char spp_s[32];
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
-  const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : "direct+specular"};
-  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = 6, .attr_names = an,
+  const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
+  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? 8 : 6, .attr_names = an,
                     .attr_values = av, .attr_count = 4};
   r = pb_exr_write(c.out, &ed);
   if (r == PB_OK && o.png) {
