@@ -6,8 +6,11 @@
  *                        emission seen along them) -> direct (shadow rays to
  *                        point, spot and directional lights, and to one
  *                        emissive triangle picked by power)
- *   [future: rsm -> emit -> trace -> photon LBVH -> estimate -> temporal ->
- *    a-trous -> compose]
+ *   photon stages (unless direct_only; render/photon.h): per iteration k < K
+ *     trace (seed, k) -> LBVH build (lbvh.c) -> gather of that iteration's
+ *     samples s in [k spp / K, (k+1) spp / K) (gather.c), after `direct`,
+ *     into the indirect/caustic accumulators and the beauty
+ *   [future: temporal -> a-trous -> compose]
  *   resolve on the host: divide by spp, split into AOVs. */
 #ifndef PB_RENDER_H
 #define PB_RENDER_H
