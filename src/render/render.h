@@ -73,6 +73,7 @@ typedef struct pb_render_desc {
   uint32_t iterations;         /* independent photon maps (seeds) averaged;
                                   sample s gathers from map s * K / spp, spp
                                   is raised to K; 0: 1 */
+  uint32_t photon_bounces;     /* stored diffuse bounces per path; 0: 3 */
   float smoothing;             /* footprint factor s; 0: the tracer's */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
