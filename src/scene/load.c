@@ -439,6 +439,13 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   m->metallic = (float)g->metallic;
   m->roughness = (float)g->roughness;
   m->specular = (float)g->specular;
+  /* Blender writes Principled "Specular" 0 as specularColorFactor [0,0,0]
+   * with specularFactor 1. Read literally, KHR_materials_specular keeps a
+   * grazing reflection (F0 = 0 but F90 = specularFactor = 1), which darkens
+   * the diffuse base by up to (1 - cos)^5 at grazing view in an
+   * energy-conserving BSDF. The scene model's contract (scene.h) is that such
+   * a material is purely diffuse, so a layer with zero F0 is dropped whole. */
+  if (g->specular_color[0] <= 0 && g->specular_color[1] <= 0 && g->specular_color[2] <= 0) m->specular = 0;
   for (int k = 0; k < 3; ++k) {
     m->specular_color[k] = (float)g->specular_color[k];
     m->emissive[k] = (float)(g->emissive[k] * g->emissive_strength);

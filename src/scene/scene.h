@@ -48,8 +48,10 @@ typedef struct pb_material {
   float metallic, roughness;    /* [0,1] */
   int32_t metallic_roughness_tex; /* B = metallic, G = roughness (linear) */
   /* KHR_materials_specular: dielectric F0 = min(((ior-1)/(ior+1))^2 *
-   * specular_color, 1) * specular. Blender writes specular_color 0 for a
-   * purely diffuse material. Without the extension: specular 1, colour 1. */
+   * specular_color, 1) * specular, F90 = specular. Blender writes
+   * specular_color 0 for a purely diffuse material; the loader then sets
+   * specular = 0 too, so no renderer keeps a grazing (F90) reflection on it.
+   * Without the extension: specular 1, colour 1. */
   float specular;
   float specular_color[3];
   float emissive[3];            /* linear, W/(m^2 sr) units of radiance,

@@ -193,6 +193,9 @@ static void test_materials(void) {
   CHECK_EQ_INT(s.material_count, 5); /* four + glTF's default for the unassigned primitive */
   if (s.material_count == 5) {
     CHECK_EQ_INT(pb_material_kind(&s.materials[0]), PB_BSDF_DIFFUSE);
+    /* specularColorFactor 0: the whole layer goes, F90 included. */
+    CHECK_NEAR(s.materials[0].specular, 0, 0);
+    CHECK_NEAR(s.materials[1].specular, 1, 0); /* no extension: the default layer */
     CHECK_NEAR(s.materials[0].base_color[0], 0.8, 1e-6);
     CHECK_EQ_INT(pb_material_kind(&s.materials[1]), PB_BSDF_MIRROR);
     CHECK_EQ_INT(pb_material_kind(&s.materials[2]), PB_BSDF_GLASS);
