@@ -27,7 +27,7 @@ static const pb_command *self(void) {
 
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces;
-  int direct_only, validation, constant_kernel, progressive;
+  int direct_only, validation, constant_kernel;
   double smoothing, r_max;
   const char *png;
 } render_opts;
@@ -106,8 +106,6 @@ int pb_cmd_render(int argc, char **argv) {
        1 << 16},
       {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
        "diffuse bounces stored per photon path (default 3; the reference's 8 scattering events = 7)", NULL, 1, 64},
-      {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
-       "accepted for the CLI contract; the same as --iterations averaging (no radius reduction yet)", NULL, 0, 0},
       {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s (default: the tracer's, 1)",
        NULL, 0, 0},
       {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 5% of the scene radius)",
