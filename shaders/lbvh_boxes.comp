@@ -1,9 +1,13 @@
 #version 450
-// LBVH pass 6: node boxes, one invocation per inner node, as the union of
-// the exact footprint-ellipsoid AABBs of the node's photon interval.
-// O(n * depth) work and the root's invocation loops over every photon: a
-// race-free stand-in for Karras' atomic bottom-up climb, which lost visits
-// on lavapipe (nodes never reached; see the report of issue "photon LBVH").
+// LBVH pass 6a: node boxes of the nodes covering at most pc.src photons, one
+// invocation per inner node, as the union of the exact footprint-ellipsoid
+// AABBs of the node's photon interval (lbvh_boxes_top does the larger ones).
+// A race-free stand-in for Karras' atomic bottom-up climb, which lost visits
+// on lavapipe. The interval bound matters there too: llvmpipe ends every
+// loop of an invocation after 65535 iterations in all (gallivm's
+// LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops of the shader), so one
+// invocation looping over the whole map left the root's box covering only
+// the first 65535 photons, and the gather never entered the other half.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -15,6 +19,7 @@ void main() {
   uint gid = pb_gid();
   if (gid >= pc.count) return; // count - 1 inner nodes
   uint f = nodes[gid].first, l = nodes[gid].last;
+  if (l - f + 1u > pc.src) return; // lbvh_boxes_top
   vec3 lo = vec3(uintBitsToFloat(0x7f800000u)), hi = -lo;
   for (uint i = f; i <= l; ++i) {
     pb_gpu_photon p = photons[i];

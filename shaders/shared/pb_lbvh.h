@@ -22,6 +22,10 @@ PB_CONST(PB_LBVH_STACK, 64)
 PB_CONST(PB_LBVH_RADIX_BITS, 4)
 PB_CONST(PB_LBVH_RADIX, 16)
 PB_CONST(PB_LBVH_SORT_PASSES, 8)
+/* Boxes: nodes of at most this many photons (or count / 4096 where larger)
+ * loop over their interval (lbvh_boxes), larger ones combine those
+ * (lbvh_boxes_top). */
+PB_CONST(PB_LBVH_BOX_INTERVAL, 1024u)
 /* T_auto = clamp(round(footprint area sum / scene area), 1, PB_LBVH_MAX_LEAF) */
 PB_CONST(PB_LBVH_MAX_LEAF, 256)
 
@@ -65,7 +69,8 @@ PB_STRUCT(pb_gpu_lbvh_info) {
 /* Push constants of the LBVH passes. */
 PB_STRUCT(pb_gpu_lbvh_push) {
   uint shift;            /* radix pass: first bit of the digit */
-  uint src;              /* radix pass: offset of the source keys/values */
+  uint src;              /* radix pass: offset of the source keys/values;
+                            boxes passes: the interval bound B */
   uint dst;              /* radix pass: offset of the destination */
   uint count;            /* invocation bound of this dispatch */
 } PB_END(pb_gpu_lbvh_push)

@@ -7,9 +7,14 @@
  *            scatter; no subgroup operations (lavapipe runs subgroups of 8)
  *   reorder  photons copied into Morton order
  *   hierarchy  Karras (2012) radix tree, ties broken by sorted index
- *   boxes    per inner node, the union of its photons' exact ellipsoid
- *            AABBs (O(n depth); the atomic bottom-up climb lost visits on
- *            lavapipe)
+ *   boxes    per inner node of at most B photons, the union of its
+ *            photons' exact ellipsoid AABBs (O(n log B); the atomic
+ *            bottom-up climb lost visits on lavapipe)
+ *   boxes_top  per larger node, the union of the boxes of the B-bounded
+ *            nodes below it (about 2n/B nodes). B bounds every invocation's
+ *            loop iterations: llvmpipe stops all loops of an invocation
+ *            after 65535 iterations in all, which once cut the root's box
+ *            to the first 65535 photons (the gather lost half the map).
  *   finalize leaf merge by T_auto (and of equal-code runs), leaf-end flags
  * All buffers come from the map's capacity, grown when a larger map comes. */
 #include <math.h>
@@ -20,6 +25,7 @@
 #include "render/estimator_internal.h"
 #include "shaders/lbvh_bounds.spv.h"
 #include "shaders/lbvh_boxes.spv.h"
+#include "shaders/lbvh_boxes_top.spv.h"
 #include "shaders/lbvh_finalize.spv.h"
 #include "shaders/lbvh_hierarchy.spv.h"
 #include "shaders/lbvh_morton.spv.h"
@@ -64,6 +70,7 @@ pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_phot
       {"lbvh.reorder", pb_spv_lbvh_reorder, sizeof pb_spv_lbvh_reorder},
       {"lbvh.hierarchy", pb_spv_lbvh_hierarchy, sizeof pb_spv_lbvh_hierarchy},
       {"lbvh.boxes", pb_spv_lbvh_boxes, sizeof pb_spv_lbvh_boxes},
+      {"lbvh.boxes_top", pb_spv_lbvh_boxes_top, sizeof pb_spv_lbvh_boxes_top},
       {"lbvh.finalize", pb_spv_lbvh_finalize, sizeof pb_spv_lbvh_finalize},
   };
   pb_result r = PB_OK;
@@ -195,7 +202,12 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   if (n >= 2) {
     push.count = n - 1;
     DISPATCH(PB_LBVH_PASS_HIERARCHY, n - 1);
+    /* B: interval loops of at most B photons in lbvh_boxes, a traversal of
+     * about 4n/B nodes in lbvh_boxes_top (both << 65535, see above). */
+    push.src = n / 4096u > PB_LBVH_BOX_INTERVAL ? n / 4096u : PB_LBVH_BOX_INTERVAL;
     DISPATCH(PB_LBVH_PASS_BOXES, n - 1);
+    DISPATCH(PB_LBVH_PASS_BOXES_TOP, n - 1);
+    push.src = 0;
     DISPATCH(PB_LBVH_PASS_FINALIZE, n - 1);
   }
 #undef DISPATCH
