@@ -13,10 +13,9 @@ has() { printf '%s\n' $cmds | grep -qx "$1"; }
 "$exe" info "$scene" --quiet
 start=$(date +%s.%N)
 if has render; then
-  # The GPU pipeline renders direct light and specular eye paths today; the
-  # photon stages (indirect light, caustics) come with issue 5.
-  renderer="GPU pipeline (photonbridge render: direct light + specular paths, Vulkan compute)"
-  "$exe" render "$scene" -o out/cornell_box.exr --png out/cornell_box.png --json out/cornell_box.json --spp 16
+  renderer="GPU pipeline (photonbridge render: direct light, specular paths, photon-mapped indirect light; Vulkan compute)"
+  "$exe" render "$scene" -o out/cornell_box.exr --png out/cornell_box.png --json out/cornell_box.json \
+    --width 512 --spp 16 --iterations 16
 elif has reference; then
   renderer="Embree reference path tracer (photonbridge reference)"
   "$exe" reference "$scene" -o out/cornell_box.exr --png out/cornell_box.png --json out/cornell_box.json \
