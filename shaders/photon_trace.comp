@@ -56,6 +56,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
+#include "shared/pb_rsm.h"
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
@@ -66,6 +67,9 @@ layout(std430, set = 0, binding = 15) buffer Params {
   pb_gpu_photon_params params;
   pb_gpu_photon_light plights[];
 };
+// Reflective shadow maps (PB_PHOTON_PARAM_RSM; shaders/photon_rsm.comp).
+layout(std430, set = 0, binding = 16) readonly buffer RsmLights { pb_gpu_rsm_light rlights[]; };
+layout(std430, set = 0, binding = 17) readonly buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
 
 #include "common/scene.glsl"
 
@@ -150,6 +154,64 @@ void pb_stencil_step(uint member, float h, inout float c, inout float sn, inout 
   }
 }
 
+// RSM first bounce (seed 001 24.2.1): photon j of the n = pl.count photons
+// of light entry li picks a texel by inverting the prefix sum of reflected
+// power at (j + u) / n (stratified: texel i receives n p_i photons in
+// expectation, p_i = weight_i / total, several per texel when n exceeds the
+// map), and carries flux_i / (n p_i) (unbiased: E[sum] = flux_i). The path
+// starts at the texel's first hit (direct light, not stored) and continues
+// by BRDF sampling like a traced one.
+//
+// Differentials. In the traced emission a photon stands for Omega / n_i of
+// the light's solid angle (see the header: unit eq.-8 differentials scaled
+// by sqrt(Omega / n_i) / Delta). Here texel i, of solid angle Omega_i
+// (cube/perspective texel, exact), is covered by n p_i photons, so each one
+// stands for Omega_i / (n p_i) steradians: its emission spacing is
+// sqrt(Omega_i / (n p_i)) and, with the same global Delta, dDu, dDv are
+// unit vectors orthogonal to the texel's direction scaled by
+// k_i = sqrt(Omega_i / (n p_i)) / Delta (dP = 0 at the light; the transfer
+// to the texel's hit gives the footprint there, the texel's world footprint
+// divided by sqrt(n p_i) per axis). Directional maps: texel area A_i,
+// dP = k_i (t, b) with k_i = sqrt(A_i / (n p_i)) / Delta and dD = 0. With
+// uniform p_i = Omega_i / Omega this is the traced sqrt(Omega / n_i).
+bool pb_rsm_emit(uint li, uint j, uint n, uint path, out vec3 o, out vec3 d, out vec3 power, out vec3 dPu,
+                 out vec3 dPv, out vec3 dDu, out vec3 dDv, out uint prim, out float t, out float u,
+                 out float v) {
+  pb_gpu_rsm_light rl = rlights[li];
+  o = d = power = dPu = dPv = dDu = dDv = vec3(0.0);
+  prim = PB_GPU_MISS;
+  t = u = v = 0.0;
+  if (!(rl.total > 0.0) || rl.count == 0u) return false;
+  float x = (float(j) + pb_prand(path, 0u)) / float(n) * rl.total;
+  uint lo = 0u, hi = rl.count - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi) >> 1u;
+    if (rtexels[rl.first + mid].cdf > x) hi = mid;
+    else lo = mid + 1u;
+  }
+  pb_gpu_rsm_texel tx = rtexels[rl.first + lo];
+  if (!(tx.weight > 0.0) || tx.prim == PB_GPU_MISS) return false;
+  float np = float(n) * (tx.weight / rl.total);
+  power = tx.flux / np;
+  float k = sqrt(tx.area / np) / params.delta;
+  vec3 tt, bb;
+  pb_basis(tx.dir, tt, bb);
+  o = tx.origin;
+  d = tx.dir;
+  if (lights[rl.light].type == PB_GPU_LIGHT_DIRECTIONAL) {
+    dPu = k * tt;
+    dPv = k * bb;
+  } else {
+    dDu = k * tt;
+    dDv = k * bb;
+  }
+  prim = tx.prim;
+  t = tx.t;
+  u = tx.u;
+  v = tx.v;
+  return pb_finite3(power) && pb_finite3(dPu + dDu + dPv + dDv);
+}
+
 void pb_trace_path(uint gid) {
   uint path = gid, member = 0u;
   float h = params.stencil_h;
@@ -168,7 +230,14 @@ void pb_trace_path(uint gid) {
   vec3 power = pl.power;
   vec3 o, d, dPu = vec3(0.0), dPv = vec3(0.0), dDu = vec3(0.0), dDv = vec3(0.0);
   bool stencil_here = h > 0.0 && params.stencil_depth == 0u;
-  if (L.type == PB_GPU_LIGHT_DIRECTIONAL) {
+  bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u;
+  uint first_prim = PB_GPU_MISS;
+  float first_t = 0.0, first_u = 0.0, first_v = 0.0;
+  if (rsm) {
+    if (!pb_rsm_emit(li, gid - pl.first, pl.count, path, o, d, power, dPu, dPv, dDu, dDv, first_prim, first_t,
+                     first_u, first_v))
+      return;
+  } else if (L.type == PB_GPU_LIGHT_DIRECTIONAL) {
     d = normalize(L.direction);
     vec3 t, b;
     pb_basis(d, t, b);
@@ -211,7 +280,15 @@ void pb_trace_path(uint gid) {
   uint stored = 0u;
   for (uint depth = 0u; depth < params.max_depth; ++depth) {
     float t, u, v;
-    uint prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+    uint prim;
+    if (rsm && depth == 0u) {
+      prim = first_prim; // the texel's hit
+      t = first_t;
+      u = first_u;
+      v = first_v;
+    } else {
+      prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+    }
     if (prim == PB_GPU_MISS) {
       atomicAdd(params.escaped, 1u);
       return;

@@ -6,7 +6,7 @@
 # leaks 13 bytes from a module unloaded before exit, which LeakSanitizer
 # reports as "<unknown module>" and no suppression can name. test_gpu_bvh is
 # GPU-free and runs under the sanitizers.
-foreach(t test_gpu_rays test_gpu_layout test_gpu_render test_gpu_photon_trace)
+foreach(t test_gpu_rays test_gpu_layout test_gpu_render test_gpu_photon_trace test_gpu_photon_rsm)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1"
                          SKIP_RETURN_CODE 77 LABELS gpu)
@@ -23,4 +23,7 @@ if(TEST test_gpu_render)
 endif()
 if(TEST test_gpu_photon_trace)
   set_tests_properties(test_gpu_photon_trace PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 600)
+endif()
+if(TEST test_gpu_photon_rsm)
+  set_tests_properties(test_gpu_photon_rsm PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 600)
 endif()

@@ -29,6 +29,14 @@ typedef struct pb_photon_map {
   uint32_t stored, caustic, emitted, overflow;
 } pb_photon_map;
 
+/* How a path's first hit is found (seed 001 24.2.1). */
+typedef enum pb_photon_first_bounce {
+  PB_FIRST_BOUNCE_DEFAULT = 0, /* PB_FIRST_BOUNCE_TRACE */
+  PB_FIRST_BOUNCE_TRACE,       /* emission traced from the light */
+  PB_FIRST_BOUNCE_RSM          /* texels of a reflective shadow map, sampled
+                                  by reflected power (photon_rsm.c) */
+} pb_photon_first_bounce;
+
 /* Zero means default for every field. */
 typedef struct pb_photon_trace_desc {
   uint32_t photons;           /* paths emitted per iteration; 0: 2^18 */
@@ -37,6 +45,8 @@ typedef struct pb_photon_trace_desc {
   float smoothing_caustic;    /* s for caustic photons; 0: 5 (seed 000) */
   float r_max;                /* footprint radius clamp, metres; 0: 5 % of the
                                  scene's bounding radius */
+  uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
+  uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
 } pb_photon_trace_desc;
 
 typedef struct pb_photon_tracer pb_photon_tracer;

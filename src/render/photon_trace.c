@@ -14,10 +14,11 @@
 
 #include "render/passes.h"
 #include "render/photon.h"
+#include "render/photon_rsm.h"
 #include "shaders/photon_trace.spv.h"
 #include "shared/pb_photon.h"
 
-enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_COUNT = 16 };
+enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_COUNT = 18 }; /* 16, 17: RSM lights, texels */
 enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
 enum { PB_PHOTON_SPEC_TRANSMISSION = 4, PB_PHOTON_SPEC_COUNT = 5 };
 
@@ -31,6 +32,7 @@ struct pb_photon_tracer {
   uint32_t spec[PB_PHOTON_SPEC_COUNT];
   uint64_t seed;
   pb_photon_trace_stats stats;
+  pb_photon_rsm *rsm;           /* PB_FIRST_BOUNCE_RSM, else NULL */
 };
 
 static float luminance(const float c[3]) {
@@ -102,6 +104,9 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
       !isfinite(d.smoothing_caustic))
     return pb_fail(PB_ERR_USAGE, "photons: smoothing factors must be positive (%g, %g)", d.smoothing,
                    d.smoothing_caustic);
+  if (d.first_bounce > PB_FIRST_BOUNCE_RSM)
+    return pb_fail(PB_ERR_USAGE, "photons: first_bounce %u (TRACE or RSM)", d.first_bounce);
+  if (!d.rsm_resolution) d.rsm_resolution = 64;
   if (d.r_max < 0.0f || !isfinite(d.r_max))
     return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
   /* 3-D dispatch fold limit: gid is a uint. */
@@ -171,6 +176,13 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->p.r_max = d.r_max > 0.0f ? d.r_max : 0.05f * radius;
   t->stats.photons = total;
   t->stats.delta = delta;
+  if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
+    for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
+    if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,
+                                  &t->rsm)) != PB_OK)
+      goto fail;
+    t->p.flags |= PB_PHOTON_PARAM_RSM;
+  }
 
   pb_gpu_buffer_desc fd = {.name = "photons.frame", .size = sizeof(pb_gpu_frame), .host_visible = 1};
   if ((r = pb_gpu_buffer_create(g, &fd, &t->frame)) != PB_OK) goto fail;
@@ -233,8 +245,11 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   const pb_gpu_buffer *b[PB_PHOTON_BIND_COUNT] = {
       &t->frame,        &gs->nodes,     &gs->tris,     &gs->indices, &gs->normals, &gs->uvs,
       &gs->tri_material, &gs->materials, &gs->textures, &gs->texels,  &gs->lights,  &map->photons,
-      &map->counts,     &gs->positions, &gs->emitters, &t->params};
+      &map->counts,     &gs->positions, &gs->emitters, &t->params,
+      /* TRACE: never read, any buffer will do */
+      t->rsm ? pb_photon_rsm_lights(t->rsm) : &t->params, t->rsm ? pb_photon_rsm_texels(t->rsm) : &t->params};
   if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, PB_PHOTON_BIND_COUNT)) != PB_OK) return r;
+  if (t->rsm && (r = pb_photon_rsm_bind(g, t->rsm, &t->frame)) != PB_OK) return r;
 
   pb_gpu_frame fr;
   memset(&fr, 0, sizeof fr);
@@ -254,6 +269,10 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
 
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
   pb_gpu_timestamp(g, 0);
+  if (t->rsm && (r = pb_photon_rsm_record(g, t->rsm)) != PB_OK) {
+    (void)pb_gpu_submit(g);
+    return r;
+  }
   if ((r = pb_gpu_dispatch(g, &t->pipe, NULL, t->p.photons)) != PB_OK) {
     (void)pb_gpu_submit(g); /* end the recording; the dispatch error is the one to report */
     return r;
@@ -286,11 +305,13 @@ void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *ou
 void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32_t flags) {
   t->p.stencil_h = h > 0.0f ? h : 0.0f;
   t->p.stencil_depth = depth;
-  t->p.flags = flags & (PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST);
+  t->p.flags = (flags & (PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST)) |
+               (t->p.flags & PB_PHOTON_PARAM_RSM);
 }
 
 void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t) {
   if (!t) return;
+  pb_photon_rsm_destroy(g, t->rsm);
   pb_gpu_pipeline_destroy(g, &t->pipe);
   pb_gpu_buffer_destroy(g, &t->params);
   pb_gpu_buffer_destroy(g, &t->frame);

@@ -1,0 +1,154 @@
+#version 450
+// Reflective shadow maps for the photon tracer's first bounce (seed 001
+// 24.2.1). Two modes of one pass (push.mode):
+//
+// PB_RSM_MODE_RENDER, one invocation per texel of every light's map: the ray
+// from the light through the texel centre, its first hit (prim, u, v, t),
+// and the flux the texel receives:
+//   point: cube map, face f looks along +-axis f/2; a texel is the rectangle
+//     [x0, x1] x [y0, y1] of the face plane at distance 1, of solid angle
+//     Omega = F(x1,y1) - F(x0,y1) - F(x1,y0) + F(x0,y0),
+//     F(x, y) = atan(x y / sqrt(1 + x^2 + y^2)) (exact; the six faces sum
+//     to 4 pi), flux = I Omega;
+//   spot: one perspective face over the outer cone (plane half-size
+//     tan(outer), outer clamped to 1.5 rad), flux = I Omega smoothstep at the
+//     texel centre's cos theta (0 outside the cone);
+//   directional: orthographic map over the square around the scene's
+//     bounding disc (radius R), texel area A = (2R / res)^2, flux = E A
+//     (texels beyond the scene miss, as the traced disc's rays do).
+// The first hit is direct light and is not stored (seed 001 24.2.2): the
+// tracer starts the path at the texel's hit and continues by BRDF sampling.
+// The sampling weight is the luminance of the reflected power, flux x
+// albedo (base colour; at least 5 % of the flux so that every lit texel can
+// be chosen and the estimator stays unbiased for non-diffuse lobes), 0 for
+// texels that miss or see the back of a surface.
+//
+// PB_RSM_MODE_SCAN, one workgroup per light: the inclusive prefix sum of the
+// weights over the light's texels (texel.cdf) and their total (rlights.total),
+// in chunks of PB_GPU_WORKGROUP with a Hillis-Steele scan in shared memory
+// and a running carry. The tracer inverts it (binary search).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_rsm.h"
+
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+
+#define PB_SCENE_OWN_PASS_IO 1
+layout(std430, set = 0, binding = 11) buffer RsmLights { pb_gpu_rsm_light rlights[]; };
+layout(std430, set = 0, binding = 12) buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
+layout(push_constant) uniform Push { pb_gpu_rsm_push push; };
+
+#include "common/scene.glsl"
+
+float pb_rsm_lum(vec3 c) { return dot(max(c, vec3(0.0)), vec3(0.2126, 0.7152, 0.0722)); }
+
+float pb_rsm_F(float x, float y) { return atan(x * y / sqrt(1.0 + x * x + y * y)); }
+
+// Solid angle of [x0, x1] x [y0, y1] on the plane at distance 1.
+float pb_rsm_omega(float x0, float x1, float y0, float y1) {
+  return (pb_rsm_F(x1, y1) - pb_rsm_F(x0, y1)) - (pb_rsm_F(x1, y0) - pb_rsm_F(x0, y0));
+}
+
+void pb_rsm_render(uint gid) {
+  uint li = 0u;
+  for (uint i = 1u; i < push.light_count; ++i)
+    if (gid >= rlights[i].first) li = i;
+  pb_gpu_rsm_light rl = rlights[li];
+  if (gid < rl.first || gid - rl.first >= rl.count) return;
+  uint local = gid - rl.first, res = rl.res;
+  uint face = local / (res * res), pix = local % (res * res);
+  uint ix = pix % res, iy = pix / res;
+  float inv = 1.0 / float(res);
+  // Texel edges and centre in [-1, 1].
+  float x0 = 2.0 * float(ix) * inv - 1.0, x1 = 2.0 * float(ix + 1u) * inv - 1.0;
+  float y0 = 2.0 * float(iy) * inv - 1.0, y1 = 2.0 * float(iy + 1u) * inv - 1.0;
+  float xc = 0.5 * (x0 + x1), yc = 0.5 * (y0 + y1);
+  pb_gpu_light L = lights[rl.light];
+  vec3 o, d, flux;
+  float area;
+  if (L.type == PB_GPU_LIGHT_DIRECTIONAL) {
+    d = normalize(L.direction);
+    vec3 t, b;
+    pb_basis(d, t, b);
+    float R = push.scene_radius;
+    o = push.scene_center + t * (R * xc) + b * (R * yc) - d * (1.01 * R);
+    area = (2.0 * R * inv) * (2.0 * R * inv);
+    flux = L.power * area;
+  } else if (L.type == PB_GPU_LIGHT_SPOT) {
+    vec3 axis = normalize(L.direction), t, b;
+    pb_basis(axis, t, b);
+    float s = rl.tan_half;
+    d = normalize(axis + t * (s * xc) + b * (s * yc));
+    area = pb_rsm_omega(s * x0, s * x1, s * y0, s * y1);
+    float c = dot(d, axis), f;
+    if (L.cos_inner - L.cos_outer <= 1e-7) f = c >= L.cos_outer ? 1.0 : 0.0;
+    else f = pb_smoothstep01((c - L.cos_outer) / (L.cos_inner - L.cos_outer));
+    flux = L.power * (area * f);
+    o = L.position;
+  } else {
+    uint ax = face >> 1u;
+    float sg = (face & 1u) != 0u ? -1.0 : 1.0;
+    vec3 e[3] = vec3[3](vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0));
+    d = normalize(sg * e[ax] + xc * e[(ax + 1u) % 3u] + yc * e[(ax + 2u) % 3u]);
+    area = pb_rsm_omega(x0, x1, y0, y1);
+    flux = L.power * area;
+    o = L.position;
+  }
+  pb_gpu_rsm_texel tx;
+  tx.origin = o;
+  tx.dir = d;
+  tx.flux = flux;
+  tx.area = area;
+  tx.cdf = 0.0;
+  float th, u, v;
+  tx.prim = pb_trace(o, d, 0.0, PB_INF, false, th, u, v);
+  tx.t = th;
+  tx.u = u;
+  tx.v = v;
+  tx.weight = 0.0;
+  if (tx.prim != PB_GPU_MISS) {
+    pb_surface surf = pb_surface_from_hit(tx.prim, u, v, d);
+    pb_bsdf bs = pb_bsdf_setup(surf, -d);
+    float lf = pb_rsm_lum(flux);
+    float w = lf * max(pb_rsm_lum(bs.base), 0.05);
+    if (dot(-d, bs.n) > 0.0 && w > 0.0 && !isinf(w)) tx.weight = w;
+  } else {
+    tx.t = 0.0;
+    tx.u = tx.v = 0.0;
+  }
+  rtexels[gid] = tx;
+}
+
+shared float pb_rsm_scan[PB_GPU_WORKGROUP];
+
+void pb_rsm_prefix(uint li) {
+  uint lid = gl_LocalInvocationID.x;
+  uint first = rlights[li].first, count = rlights[li].count;
+  float carry = 0.0;
+  for (uint base = 0u; base < count; base += PB_GPU_WORKGROUP) {
+    uint i = base + lid;
+    pb_rsm_scan[lid] = i < count ? rtexels[first + i].weight : 0.0;
+    barrier();
+    for (uint off = 1u; off < PB_GPU_WORKGROUP; off <<= 1u) {
+      float y = lid >= off ? pb_rsm_scan[lid - off] : 0.0;
+      barrier();
+      pb_rsm_scan[lid] += y;
+      barrier();
+    }
+    if (i < count) rtexels[first + i].cdf = carry + pb_rsm_scan[lid];
+    carry += pb_rsm_scan[PB_GPU_WORKGROUP - 1u];
+    barrier();
+  }
+  if (lid == 0u) rlights[li].total = carry;
+}
+
+void main() {
+  if (push.mode == PB_RSM_MODE_SCAN) {
+    uint li = gl_WorkGroupID.x;
+    if (li < push.light_count) pb_rsm_prefix(li);
+    return;
+  }
+  uint gid = pb_gid();
+  if (gid >= push.texels) return;
+  pb_rsm_render(gid);
+}

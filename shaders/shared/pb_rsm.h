@@ -1,0 +1,66 @@
+/* Reflective shadow maps for the photon tracer's first bounce (seed 001
+ * 24.2.1; shaders/photon_rsm.comp, src/render/photon_rsm.c). Included after
+ * pb_gpu.h. One map per light entry of the tracer's light table: point
+ * lights a cube map (6 faces of res x res), spots a perspective map over the
+ * outer cone, directional lights an orthographic map over the scene's
+ * bounding disc. */
+#ifndef PB_RSM_SHARED_H
+#define PB_RSM_SHARED_H
+
+PB_CONST(PB_RSM_MODE_RENDER, 0u) /* one invocation per texel */
+PB_CONST(PB_RSM_MODE_SCAN, 1u)   /* one workgroup per light: prefix sum */
+
+/* One light's map: texels first .. first + count - 1; total: the sum of the
+ * texels' sampling weights (written by the scan). */
+PB_STRUCT(pb_gpu_rsm_light) {
+  uint first;
+  uint count;
+  uint res;               /* texels per side of a face */
+  uint light;             /* index into the scene's lights[] */
+  float total;
+  float tan_half;         /* spot: half-size of the image plane at distance 1 */
+  uint pad0;
+  uint pad1;
+} PB_END(pb_gpu_rsm_light)
+
+/* One texel, 64 bytes: the ray through its centre from the light (origin,
+ * unit dir) and its first hit (prim, u, v at distance t; prim ==
+ * PB_GPU_MISS when none), flux: the flux the texel receives, W (intensity x
+ * texel solid angle, spot falloff included; irradiance x texel area for
+ * directional lights); area: that solid angle (sr) or area (m^2); weight:
+ * the luminance of the reflected power (sampling weight); cdf: the inclusive
+ * prefix sum of the weights within the light's map (after the scan). */
+PB_STRUCT(pb_gpu_rsm_texel) {
+  PB_VEC3(origin);
+  uint prim;
+  PB_VEC3(dir);
+  float t;
+  PB_VEC3(flux);
+  float cdf;
+  float u;
+  float v;
+  float area;
+  float weight;
+} PB_END(pb_gpu_rsm_texel)
+
+/* Push constants of photon_rsm.comp. */
+PB_STRUCT(pb_gpu_rsm_push) {
+  PB_VEC3(scene_center);
+  float scene_radius;
+  uint mode;
+  uint light_count;
+  uint texels;            /* all maps together */
+  uint pad0;
+} PB_END(pb_gpu_rsm_push)
+
+#ifndef PB_GLSL
+#include <stddef.h>
+_Static_assert(sizeof(pb_gpu_rsm_light) == 32, "pb_gpu_rsm_light size");
+_Static_assert(sizeof(pb_gpu_rsm_texel) == 64, "pb_gpu_rsm_texel size");
+_Static_assert(offsetof(pb_gpu_rsm_texel, dir) == 16, "pb_gpu_rsm_texel.dir");
+_Static_assert(offsetof(pb_gpu_rsm_texel, flux) == 32, "pb_gpu_rsm_texel.flux");
+_Static_assert(offsetof(pb_gpu_rsm_texel, u) == 48, "pb_gpu_rsm_texel.u");
+_Static_assert(sizeof(pb_gpu_rsm_push) == 32, "pb_gpu_rsm_push size");
+#endif
+
+#endif

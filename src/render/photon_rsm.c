@@ -1,0 +1,133 @@
+/* Reflective shadow maps (shaders/photon_rsm.comp): per light entry of the
+ * photon tracer, a map of first hits seen from the light with the flux each
+ * texel receives and a prefix sum of the reflected power, both built on the
+ * GPU. The tracer (photon_trace.comp, PB_PHOTON_PARAM_RSM) samples texels
+ * from it in proportion to that power and continues each path from the
+ * texel's hit by BRDF sampling. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/passes.h"
+#include "render/photon_rsm.h"
+#include "shaders/photon_rsm.spv.h"
+#include "shared/pb_gpu.h"
+#include "shared/pb_rsm.h"
+
+enum { PB_RSM_BIND_COUNT = 15 };
+
+struct pb_photon_rsm {
+  const pb_gpu_scene *gs;
+  pb_gpu_pipeline pipe;
+  pb_gpu_buffer lights, texels;
+  uint32_t entries, texel_count;
+  float center[3], radius;
+  uint32_t spec[PB_SPEC_COUNT];
+};
+
+pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const uint32_t *light,
+                               uint32_t entries, uint32_t res, const float center[3], float radius,
+                               pb_photon_rsm **out) {
+  *out = NULL;
+  if (res < 1 || res > 4096) return pb_fail(PB_ERR_USAGE, "photons: RSM resolution %u (1 .. 4096)", res);
+  pb_photon_rsm *r = calloc(1, sizeof *r);
+  pb_gpu_rsm_light *tab = calloc(entries ? entries : 1, sizeof *tab);
+  pb_result rc = PB_OK;
+  if (!r || !tab) {
+    free(tab);
+    free(r);
+    return pb_fail(PB_ERR_NOMEM, "photons: out of memory");
+  }
+  r->gs = gs;
+  r->entries = entries;
+  memcpy(r->center, center, sizeof r->center);
+  r->radius = radius;
+  uint64_t total = 0;
+  for (uint32_t i = 0; i < entries; ++i) {
+    const pb_light *l = &s->lights[light[i]];
+    uint64_t faces = l->type == PB_LIGHT_POINT ? 6u : 1u;
+    tab[i].first = (uint32_t)total;
+    tab[i].count = (uint32_t)(faces * res * res);
+    tab[i].res = res;
+    tab[i].light = light[i];
+    tab[i].tan_half = l->type == PB_LIGHT_SPOT ? tanf(fminf(fmaxf(l->outer_cone, 1e-4f), 1.5f)) : 1.0f;
+    total += faces * res * res;
+  }
+  const pb_gpu_limits *lim = pb_gpu_get_limits(g);
+  if (total * sizeof(pb_gpu_rsm_texel) > lim->max_storage_buffer_range || total > 0x7fffffffu) {
+    free(tab);
+    free(r);
+    return pb_fail(PB_ERR_LIMIT, "photons: RSM of %llu texels exceeds maxStorageBufferRange",
+                   (unsigned long long)total);
+  }
+  r->texel_count = (uint32_t)total;
+  pb_gpu_buffer_desc ld = {.name = "photons.rsm_lights",
+                           .size = (entries ? entries : 1) * sizeof(pb_gpu_rsm_light),
+                           .host_visible = 1};
+  if ((rc = pb_gpu_buffer_create(g, &ld, &r->lights)) != PB_OK) goto fail;
+  if (entries && (rc = pb_gpu_buffer_upload(g, &r->lights, 0, tab, entries * sizeof *tab)) != PB_OK) goto fail;
+  pb_gpu_buffer_desc td = {.name = "photons.rsm_texels",
+                           .size = (total ? total : 1) * sizeof(pb_gpu_rsm_texel)};
+  if ((rc = pb_gpu_buffer_create(g, &td, &r->texels)) != PB_OK) goto fail;
+  uint32_t f = gs->features;
+  r->spec[PB_SPEC_HAS_NORMALS] = gs->has_normals ? 1u : 0u;
+  r->spec[PB_SPEC_TEXTURES] = (f & PB_FEATURE_TEXTURES) ? 1u : 0u;
+  r->spec[PB_SPEC_SPECULAR] = (f & PB_FEATURE_SPECULAR) ? 1u : 0u;
+  r->spec[PB_SPEC_EMISSIVE] = 0u;
+  pb_gpu_pipeline_desc pd = {
+      .name = "pass.photon_rsm",
+      .spirv = pb_spv_photon_rsm,
+      .spirv_bytes = sizeof pb_spv_photon_rsm,
+      .binding_count = PB_RSM_BIND_COUNT,
+      .push_bytes = sizeof(pb_gpu_rsm_push),
+      .spec = r->spec,
+      .spec_count = PB_SPEC_COUNT,
+  };
+  if ((rc = pb_gpu_pipeline_create(g, &pd, &r->pipe)) != PB_OK) goto fail;
+  free(tab);
+  *out = r;
+  return PB_OK;
+fail:
+  free(tab);
+  pb_photon_rsm_destroy(g, r);
+  return rc;
+}
+
+pb_result pb_photon_rsm_bind(pb_gpu *g, pb_photon_rsm *r, const pb_gpu_buffer *frame) {
+  const pb_gpu_scene *gs = r->gs;
+  const pb_gpu_buffer *b[PB_RSM_BIND_COUNT] = {
+      frame,       &gs->nodes,     &gs->tris,     &gs->indices, &gs->normals, &gs->uvs,    &gs->tri_material,
+      &gs->materials, &gs->textures, &gs->texels, &gs->lights, &r->lights,   &r->texels,  &gs->positions,
+      &gs->emitters};
+  return pb_gpu_pipeline_bind(g, &r->pipe, b, PB_RSM_BIND_COUNT);
+}
+
+pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r) {
+  pb_gpu_rsm_push p;
+  memset(&p, 0, sizeof p);
+  memcpy(p.scene_center, r->center, sizeof p.scene_center);
+  p.scene_radius = r->radius;
+  p.light_count = r->entries;
+  p.texels = r->texel_count;
+  p.mode = PB_RSM_MODE_RENDER;
+  pb_result rc;
+  if (!r->entries) return PB_OK;
+  if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->texel_count)) != PB_OK) return rc;
+  pb_gpu_barrier(g);
+  p.mode = PB_RSM_MODE_SCAN;
+  if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, (uint64_t)r->entries * PB_GPU_WORKGROUP)) != PB_OK) return rc;
+  pb_gpu_barrier(g);
+  return PB_OK;
+}
+
+const pb_gpu_buffer *pb_photon_rsm_lights(const pb_photon_rsm *r) { return &r->lights; }
+const pb_gpu_buffer *pb_photon_rsm_texels(const pb_photon_rsm *r) { return &r->texels; }
+uint32_t pb_photon_rsm_texel_count(const pb_photon_rsm *r) { return r->texel_count; }
+
+void pb_photon_rsm_destroy(pb_gpu *g, pb_photon_rsm *r) {
+  if (!r) return;
+  pb_gpu_pipeline_destroy(g, &r->pipe);
+  pb_gpu_buffer_destroy(g, &r->lights);
+  pb_gpu_buffer_destroy(g, &r->texels);
+  free(r);
+}

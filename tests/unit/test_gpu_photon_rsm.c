@@ -1,0 +1,342 @@
+/* The RSM first bounce (src/render/photon_rsm.c, shaders/photon_rsm.comp,
+ * pb_photon_trace_desc.first_bounce = PB_FIRST_BOUNCE_RSM) against the traced
+ * first bounce:
+ *  (a) energy: closed Lambert box of albedo rho, point light inside: stored
+ *      flux at bounce k is Phi rho^k; a spot in the box matches the traced
+ *      spot per bounce (falloff and cone);
+ *  (b) the same stored-flux distribution as the traced path: totals per
+ *      bounce and per wall (normal direction) on cornell_box, and per bounce
+ *      on sun_atrium (directional light) and spot_room;
+ *  (c) no NaN/Inf in any record.
+ * Validation layers on, any message fatal; exit 77 without a device. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pbtest.h"
+#include "render/photon.h"
+#include "render/render.h"
+#include "shared/pb_photon.h"
+
+/* ---- code-built scenes --------------------------------------------------- */
+
+enum { MAXV = 64, MAXT = 32, MAXM = 4, MAXL = 4 };
+typedef struct tscene {
+  float pos[MAXV][3], nrm[MAXV][3], uv[MAXV][2];
+  uint32_t tri[MAXT][3], tm[MAXT];
+  uint32_t nv, nt;
+  pb_material mat[MAXM];
+  uint32_t nm;
+  pb_light light[MAXL];
+  uint32_t nl;
+  pb_scene s;
+} tscene;
+
+static uint32_t add_mat(tscene *t, float rho, float metallic) {
+  pb_material *m = &t->mat[t->nm];
+  memset(m, 0, sizeof *m);
+  m->base_color[0] = m->base_color[1] = m->base_color[2] = rho;
+  m->base_color[3] = 1;
+  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+  m->metallic = metallic;
+  m->roughness = metallic > 0 ? 0.0f : 1.0f;
+  m->specular = 0; /* pure Lambert for the non-metals */
+  m->ior = 1.5f;
+  return t->nm++;
+}
+
+/* Quad a, b, c, d (counter-clockwise seen from the side n points to). */
+static void add_quad(tscene *t, const float q[4][3], const float n[3], uint32_t mat) {
+  uint32_t b = t->nv;
+  for (int i = 0; i < 4; ++i) {
+    memcpy(t->pos[b + i], q[i], sizeof t->pos[0]);
+    memcpy(t->nrm[b + i], n, sizeof t->nrm[0]);
+  }
+  t->nv += 4;
+  uint32_t a[2][3] = {{b, b + 1, b + 2}, {b, b + 2, b + 3}};
+  for (int i = 0; i < 2; ++i) {
+    memcpy(t->tri[t->nt], a[i], sizeof a[i]);
+    t->tm[t->nt++] = mat;
+  }
+}
+
+static void add_point(tscene *t, float x, float y, float z, float intensity, const float col[3]) {
+  pb_light *l = &t->light[t->nl++];
+  memset(l, 0, sizeof *l);
+  l->type = PB_LIGHT_POINT;
+  l->position[0] = x, l->position[1] = y, l->position[2] = z;
+  memcpy(l->color, col, sizeof l->color);
+  l->intensity = intensity;
+}
+
+static void finish(tscene *t) {
+  pb_scene *s = &t->s;
+  memset(s, 0, sizeof *s);
+  s->positions = t->pos;
+  s->normals = t->nrm;
+  s->uvs = t->uv;
+  s->vertex_count = t->nv;
+  s->triangles = t->tri;
+  s->triangle_material = t->tm;
+  s->triangle_count = t->nt;
+  s->materials = t->mat;
+  s->material_count = t->nm;
+  s->lights = t->light;
+  s->light_count = t->nl;
+  pb_scene_finalize(s);
+}
+
+/* Closed cube [-1, 1]^3 of albedo rho (faces towards the inside). */
+static void box(tscene *t, float rho) {
+  memset(t, 0, sizeof *t);
+  uint32_t m = add_mat(t, rho, 0);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      float q[4][3], n[3] = {0, 0, 0};
+      float c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+      for (int i = 0; i < 4; ++i) {
+        q[i][axis] = (float)side;
+        q[i][u] = c[i][0];
+        q[i][v] = c[i][1];
+      }
+      n[axis] = (float)-side;
+      add_quad(t, q, n, m);
+    }
+}
+
+/* ---- tracing helpers ----------------------------------------------------- */
+
+typedef struct traced {
+  pb_gpu_photon *ph;
+  uint32_t n;
+  pb_photon_map map;
+  pb_photon_trace_stats st;
+} traced;
+
+static int trace(pb_gpu *g, const pb_scene *s, const pb_photon_trace_desc *d, uint64_t seed, uint32_t iter,
+                 float h, uint32_t depth, uint32_t flags, traced *out) {
+  memset(out, 0, sizeof *out);
+  pb_gpu_scene gs;
+  pb_result r = pb_gpu_scene_create(g, s, &gs);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return 0;
+  pb_photon_tracer *t = NULL;
+  r = pb_photon_tracer_create(g, s, &gs, d, &t);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r == PB_OK) {
+    pb_photon_tracer_debug(t, h, depth, flags);
+    double ms = 0;
+    r = pb_photon_tracer_run(g, t, seed, iter, &out->map, &ms);
+    CHECK_EQ_INT(r, PB_OK);
+    if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
+    pb_photon_tracer_stats(t, &out->st);
+    if (r == PB_OK) {
+      out->n = out->map.stored;
+      out->ph = calloc(out->n ? out->n : 1, sizeof *out->ph);
+      if (out->n)
+        CHECK_EQ_INT(pb_gpu_buffer_download(g, &out->map.photons, 0, out->ph, (uint64_t)out->n * sizeof *out->ph),
+                     PB_OK);
+    }
+  }
+  pb_photon_tracer_destroy(g, t);
+  pb_gpu_scene_destroy(g, &gs);
+  return r == PB_OK;
+}
+
+static void release(pb_gpu *g, traced *t) {
+  free(t->ph);
+  pb_photon_map_destroy(g, &t->map);
+}
+
+static uint32_t bounce_of(const pb_gpu_photon *p) { return (p->flags >> PB_PHOTON_BOUNCE_SHIFT) & 255u; }
+
+static int finite3(const float v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
+static double len3(const float v[3]) { return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]); }
+
+/* (d) every record finite, inside the bounds, unit normal/wi on one side,
+ * footprint radius >= both axes. */
+static void check_records(const pb_scene *s, const traced *t, const char *what) {
+  uint32_t bad = 0, outside = 0;
+  for (uint32_t i = 0; i < t->n; ++i) {
+    const pb_gpu_photon *p = &t->ph[i];
+    int ok = finite3(p->position) && finite3(p->power) && finite3(p->wi) && finite3(p->normal) &&
+             finite3(p->axis_u) && finite3(p->axis_v) && isfinite(p->radius) && isfinite(p->normal_extent);
+    ok = ok && fabs(len3(p->normal) - 1) < 1e-3 && fabs(len3(p->wi) - 1) < 1e-3 &&
+         p->normal[0] * p->wi[0] + p->normal[1] * p->wi[1] + p->normal[2] * p->wi[2] >= -1e-4f;
+    ok = ok && p->radius > 0 && p->radius >= len3(p->axis_u) * 0.999 && p->radius >= len3(p->axis_v) * 0.999 &&
+         p->normal_extent >= 0 && p->normal_extent <= p->radius * 1.001f;
+    ok = ok && p->power[0] >= 0 && p->power[1] >= 0 && p->power[2] >= 0;
+    if (!ok) bad++;
+    for (int c = 0; c < 3; ++c) {
+      float e = 1e-4f * (1 + fabsf(s->bounds_max[c] - s->bounds_min[c]));
+      if (!(p->position[c] >= s->bounds_min[c] - e && p->position[c] <= s->bounds_max[c] + e)) {
+        outside++;
+        break;
+      }
+    }
+  }
+  printf("%s: %u records, %u invalid, %u outside the bounds, %u guarded\n", what, t->n, bad, outside,
+         t->st.guarded);
+  CHECK_EQ_INT(bad, 0);
+  CHECK_EQ_INT(outside, 0);
+}
+
+/* Stored flux per bounce (1..7) and per bounce-1 normal bin (6 axis
+ * directions), luminance-free (sum of the three channels). */
+typedef struct dist {
+  double bounce[8], wall[6], total, area1; /* area1: mean pi a b of bounce-1 footprints */
+  uint32_t bad, n1;
+} dist;
+
+static void tally(const traced *t, dist *d) {
+  memset(d, 0, sizeof *d);
+  for (uint32_t i = 0; i < t->n; ++i) {
+    const pb_gpu_photon *p = &t->ph[i];
+    if (!finite3(p->position) || !finite3(p->power) || !finite3(p->axis_u) || !finite3(p->axis_v) ||
+        !finite3(p->normal) || !finite3(p->wi) || !isfinite(p->radius) || !isfinite(p->normal_extent) ||
+        !(p->radius > 0)) {
+      d->bad++;
+      continue;
+    }
+    double f = (double)p->power[0] + p->power[1] + p->power[2];
+    uint32_t b = bounce_of(p);
+    if (b < 8) d->bounce[b] += f;
+    if (b == 1) d->area1 += M_PI * (double)p->radius * p->normal_extent, d->n1++;
+    d->total += f;
+    int ax = 0;
+    for (int c = 1; c < 3; ++c)
+      if (fabs(p->normal[c]) > fabs(p->normal[ax])) ax = c;
+    d->wall[2 * ax + (p->normal[ax] < 0)] += f;
+  }
+}
+
+static void compare(const char *what, const dist *tr, const dist *rs, double tol, int walls) {
+  /* Differentials: footprints of the first stored bounce (after one diffuse
+   * re-emission, so the texel's footprint / sqrt(n p_i) reached it). */
+  double at = tr->n1 ? tr->area1 / tr->n1 : 0, ar = rs->n1 ? rs->area1 / rs->n1 : 0;
+  printf("%s: bounce-1 mean footprint area: traced %.4g m^2, RSM %.4g m^2 (%+.1f %%)\n", what, at, ar,
+         100 * (ar / at - 1));
+  CHECK_NEAR(ar, at, 0.25 * at);
+  for (int k = 1; k < 8; ++k) {
+    if (tr->bounce[k] < 0.03 * tr->total) continue;
+    printf("%s: bounce %d: traced %.5f W, RSM %.5f W (%+.2f %%)\n", what, k, tr->bounce[k], rs->bounce[k],
+           100 * (rs->bounce[k] / tr->bounce[k] - 1));
+    CHECK_NEAR(rs->bounce[k], tr->bounce[k], tol * tr->bounce[k]);
+  }
+  if (!walls) return;
+  static const char *name[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  for (int w = 0; w < 6; ++w) {
+    if (tr->wall[w] < 0.05 * tr->total) continue;
+    printf("%s: normal %s: traced %.5f W, RSM %.5f W (%+.2f %%)\n", what, name[w], tr->wall[w], rs->wall[w],
+           100 * (rs->wall[w] / tr->wall[w] - 1));
+    CHECK_NEAR(rs->wall[w], tr->wall[w], tol * tr->wall[w]);
+  }
+}
+
+/* Traces s with both first bounces, checks records and compares. */
+static void both(pb_gpu *g, const pb_scene *s, const char *what, uint32_t photons, uint32_t bounces, double tol,
+                 int walls) {
+  pb_photon_trace_desc dt = {.photons = photons, .max_bounces = bounces, .first_bounce = PB_FIRST_BOUNCE_TRACE};
+  pb_photon_trace_desc dr = dt;
+  dr.first_bounce = PB_FIRST_BOUNCE_RSM;
+  traced a, b;
+  if (!trace(g, s, &dt, 11, 0, 0, 0, 0, &a)) return;
+  if (!trace(g, s, &dr, 11, 0, 0, 0, 0, &b)) {
+    release(g, &a);
+    return;
+  }
+  dist da, db;
+  tally(&a, &da);
+  tally(&b, &db);
+  printf("%s: traced %u records, RSM %u records (%u non-finite), RSM guarded %u\n", what, a.n, b.n, db.bad,
+         b.st.guarded);
+  CHECK_EQ_INT(db.bad, 0);
+  CHECK_EQ_INT(b.map.overflow, 0);
+  CHECK(b.n > 0);
+  compare(what, &da, &db, tol, walls);
+  release(g, &a);
+  release(g, &b);
+}
+
+/* ---- (a) energy ------------------------------------------------------------ */
+
+static void energy(pb_gpu *g) {
+  static tscene t;
+  const float rho = 0.6f, I = 2.0f;
+  box(&t, rho);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0.13f, -0.21f, 0.07f, I, w);
+  finish(&t);
+  pb_photon_trace_desc d = {.photons = 60000, .max_bounces = 4, .first_bounce = PB_FIRST_BOUNCE_RSM};
+  traced tr;
+  if (!trace(g, &t.s, &d, 7, 0, 0, 0, 0, &tr)) return;
+  double sum[8] = {0};
+  uint32_t cnt[8] = {0};
+  for (uint32_t i = 0; i < tr.n; ++i) {
+    uint32_t b = bounce_of(&tr.ph[i]);
+    if (b < 8) sum[b] += tr.ph[i].power[0], cnt[b]++;
+  }
+  double phi = 4 * M_PI * I;
+  CHECK_EQ_INT(cnt[0], 0); /* the first hit is direct light */
+  CHECK_EQ_INT(tr.map.emitted, 60000);
+  CHECK_EQ_INT(tr.map.overflow, 0);
+  CHECK_EQ_INT(tr.st.escaped, 0);
+  for (int k = 1; k <= 4; ++k) {
+    double want = phi * pow(rho, k);
+    printf("rsm energy: bounce %d: %u photons, flux %.5f W, expected Phi rho^k = %.5f W (%+.2f %%)\n", k, cnt[k],
+           sum[k], want, 100 * (sum[k] / want - 1));
+    CHECK_NEAR(sum[k], want, 0.04 * want);
+  }
+  check_records(&t.s, &tr, "rsm energy box");
+  release(g, &tr);
+
+  /* A spot in the box: falloff and cone against the traced spot. */
+  static tscene u;
+  box(&u, rho);
+  pb_light *l = &u.light[u.nl++];
+  memset(l, 0, sizeof *l);
+  l->type = PB_LIGHT_SPOT;
+  l->position[1] = 0.5f;
+  l->direction[0] = 0.3f, l->direction[1] = -1.0f, l->direction[2] = 0.1f;
+  l->color[0] = l->color[1] = l->color[2] = 1;
+  l->intensity = 3;
+  l->inner_cone = 0.3f;
+  l->outer_cone = 0.7f;
+  finish(&u);
+  both(g, &u.s, "rsm spot box", 40000, 3, 0.04, 1);
+}
+
+/* ---- (b) distributions on the samples ------------------------------------ */
+
+static void sample(pb_gpu *g, const char *name, uint32_t photons, int walls) {
+  char path[256];
+  snprintf(path, sizeof path, "samples/%s/%s.gltf", name, name);
+  pb_scene s;
+  pb_load_desc ld = {0};
+  pb_result r = pb_scene_load(path, &ld, &s);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return;
+  both(g, &s, name, photons, 3, 0.05, walls);
+  pb_scene_destroy(&s);
+}
+
+int main(void) {
+  pb_gpu *g;
+  pb_gpu_desc gd = {.validation = 1};
+  pb_result r = pb_gpu_create(&gd, &g);
+  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
+    printf("SKIP: %s\n", pb_error_message());
+    return 77;
+  }
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return pbt_done();
+  energy(g);
+  sample(g, "cornell_box", 60000, 1);
+  sample(g, "sun_atrium", 120000, 0);
+  sample(g, "spot_room", 40000, 0);
+  CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
+  pb_gpu_destroy(g);
+  return pbt_done();
+}
