@@ -19,7 +19,8 @@ void main() {
   float a = 0.0;
   if (gid < info.count) {
     pb_gpu_photon p = photons_in[gid];
-    a = pb_footprint_area(p.axis_u, p.axis_v);
+    // Areas of the scaled footprints (lbvh_reorder applies the scale).
+    a = pb_footprint_area(p.axis_u, p.axis_v) * (info.footprint_scale * info.footprint_scale);
     if (isnan(a) || isinf(a)) a = 0.0;
     for (int k = 0; k < 3; ++k) {
       atomicMin(info.bmin[k], pb_float_to_ordered(p.position[k]));

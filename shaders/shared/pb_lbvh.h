@@ -61,7 +61,9 @@ PB_STRUCT(pb_gpu_lbvh_info) {
   PB_VEC3(hi);
   float scene_area;      /* sum of the scene's triangle areas, m^2 */
   uint stack_overflow;   /* gather: traversals cut short (should be 0) */
-  uint pad0;
+  float footprint_scale; /* host: factor on every footprint's axes and normal
+                            extent for this build (progressive bandwidth;
+                            lbvh_bounds, lbvh_reorder) */
   uint pad1;
   uint pad2;
 } PB_END(pb_gpu_lbvh_info)
@@ -106,6 +108,7 @@ _Static_assert(offsetof(pb_gpu_lbvh_info, lo) == 48, "pb_gpu_lbvh_info.lo");
 _Static_assert(offsetof(pb_gpu_lbvh_info, area_sum) == 60, "pb_gpu_lbvh_info.area_sum");
 _Static_assert(offsetof(pb_gpu_lbvh_info, hi) == 64, "pb_gpu_lbvh_info.hi");
 _Static_assert(offsetof(pb_gpu_lbvh_info, stack_overflow) == 80, "pb_gpu_lbvh_info.stack_overflow");
+_Static_assert(offsetof(pb_gpu_lbvh_info, footprint_scale) == 84, "pb_gpu_lbvh_info.footprint_scale");
 _Static_assert(sizeof(pb_gpu_lbvh_push) == 16, "pb_gpu_lbvh_push size");
 _Static_assert(sizeof(pb_gpu_photon_accum) == 32, "pb_gpu_photon_accum size");
 _Static_assert(sizeof(pb_gpu_gather_push) == 16, "pb_gpu_gather_push size");

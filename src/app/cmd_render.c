@@ -17,6 +17,7 @@
 #include "core/json.h"
 #include "core/log.h"
 #include "image/image.h"
+#include "render/photon.h"
 #include "render/render.h"
 
 static const pb_command *self(void) {
@@ -27,8 +28,8 @@ static const pb_command *self(void) {
 
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces;
-  int direct_only, validation, constant_kernel;
-  double smoothing, r_max;
+  int direct_only, validation, constant_kernel, progressive;
+  double smoothing, r_max, alpha;
   const char *png;
 } render_opts;
 
@@ -106,10 +107,15 @@ int pb_cmd_render(int argc, char **argv) {
        1 << 16},
       {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
        "diffuse bounces stored per photon path (default 3; the reference's 8 scattering events = 7)", NULL, 1, 64},
-      {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s (default: the tracer's, 1)",
+      {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s, dimensionless (default " PB_PHOTON_SMOOTHING_DEFAULT_STR ")",
        NULL, 0, 0},
       {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 5% of the scene radius)",
        NULL, 0, 0},
+      {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
+       "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
+       "--iterations converge to the unbiased answer", NULL, 0, 0},
+      {"alpha", 0, PB_OPT_FLOAT, &o.alpha, "A", "--progressive: radius^2 fraction kept per iteration, in (0, 1) "
+       "(default 2/3)", NULL, 0, 0},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
@@ -161,9 +167,14 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
     goto done;
   }
+  if (o.alpha < 0 || !(o.alpha < 1)) {
+    r = pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha);
+    goto done;
+  }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
-                       .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel};
+                       .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel,
+                       .progressive = o.progressive, .alpha = (float)o.alpha};
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
 

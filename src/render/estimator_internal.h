@@ -19,6 +19,7 @@ enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, P
 
 struct pb_photon_estimator {
   pb_photon_estimate_desc desc;
+  float footprint_scale; /* of the next build; 0: 1 */
   float scene_area;
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;

@@ -36,6 +36,8 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   if (w == 0 || h == 0 || w > 16384 || h > 16384)
     return pb_fail(PB_ERR_USAGE, "render: image size %ux%u (1..16384 per side)", w, h);
   if (d->spp > (1u << 20)) return pb_fail(PB_ERR_USAGE, "render: %u samples per pixel (at most 2^20)", d->spp);
+  if (d->alpha < 0.0f || !(d->alpha < 1.0f))
+    return pb_fail(PB_ERR_USAGE, "render: progressive alpha %g (in (0, 1))", d->alpha);
   if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
     return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
                    PB_RENDER_MAX_SPECULAR_DEPTH);
@@ -124,7 +126,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                              .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
     if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
     if (!desc.photon_map) {
-      pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing, .r_max = desc.r_max};
+      pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max};
       if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
     }
     pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel};
@@ -174,6 +176,22 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         m = &map;
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic;
+      /* Progressive mode: Hachisuka & Jensen's SPPM radius reduction in
+       * Knaus & Zwicker's probabilistic form (2011): iteration i = 1, 2, ...
+       * uses an independent map with every footprint scaled by k_i,
+       *   r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1),
+       *   k_i^2 = prod_{j=1}^{i-1} (j + alpha) / (j + 1)  (k_1 = 1),
+       * and the frame averages the K estimates (each with its own radius), so
+       * variance ~ 1 / (K r_K^2) -> 0 and bias ~ r_K^2 -> 0 together
+       * (r_K^2 ~ K^(alpha - 1)). Without it k_i = 1 (a plain average, whose
+       * bias stays). The estimator applies k_i (lbvh_reorder). */
+      float kscale = 1.0f;
+      if (desc.progressive) {
+        double k2 = 1.0, alpha = desc.alpha > 0.0f ? desc.alpha : 2.0 / 3.0;
+        for (uint32_t j = 1; j <= it; ++j) k2 *= (j + alpha) / (j + 1.0);
+        kscale = (float)sqrt(k2);
+      }
+      pb_photon_estimator_set_footprint_scale(est, kscale);
       if ((r = pb_photon_estimator_build(g, est, m, &ms)) != PB_OK) goto fail;
       if (band == 0) lbvh_ms += ms;
       if ((r = pb_photon_estimator_bind(g, est, &ps, &paccum)) != PB_OK) goto fail;

@@ -103,6 +103,10 @@ static void free_buffers(pb_gpu *g, pb_photon_estimator *e) {
   e->capacity = 0;
 }
 
+void pb_photon_estimator_set_footprint_scale(pb_photon_estimator *e, float scale) {
+  e->footprint_scale = scale > 0.0f && isfinite(scale) ? scale : 1.0f;
+}
+
 void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e) {
   if (!e) return;
   for (int i = 0; i < PB_LBVH_PASS_N; ++i) pb_gpu_pipeline_destroy(g, &e->pass[i]);
@@ -163,6 +167,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   info.tiles = tiles;
   info.area_tiles = tiles;
   info.scene_area = e->scene_area;
+  info.footprint_scale = e->footprint_scale > 0.0f ? e->footprint_scale : 1.0f;
   if ((r = pb_gpu_buffer_upload(g, &e->info, 0, &info, sizeof info)) != PB_OK) return r;
   e->count = n;
   const pb_gpu_buffer *b[PB_LBVH_BIND_COUNT] = {&e->info,  n ? &map->photons : &e->dummy,

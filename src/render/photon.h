@@ -29,6 +29,17 @@ typedef struct pb_photon_map {
   uint32_t stored, caustic, emitted, overflow;
 } pb_photon_map;
 
+/* Default s of a frame (render.h: smoothing 0). Footprint radius
+ * r' = s (Delta R)^(3/4) (Delta |dP|)^(1/4) (seed 000 section 4.3 made
+ * scale-free, R the scene's bounding radius; photon_trace.comp pb_store).
+ * s = 2.5, chosen from the sweep in bench/README.md ("Smoothing factor s",
+ * lavapipe, 128 px, 8 maps of 2^16 and 2^17 paths): cornell_box and
+ * spot_room both have their least error vs the reference at s = 2.5-3
+ * (k_PD 50-85); s = 1 (k_PD ~10) loses 3 dB, s >= 4 blurs (k_PD > 130,
+ * where r_max = 5 % of the scene radius does not clamp first). */
+#define PB_PHOTON_SMOOTHING_DEFAULT 2.5f
+#define PB_PHOTON_SMOOTHING_DEFAULT_STR "2.5"
+
 /* How a path's first hit is found (seed 001 24.2.1). */
 typedef enum pb_photon_first_bounce {
   PB_FIRST_BOUNCE_DEFAULT = 0, /* PB_FIRST_BOUNCE_TRACE */
@@ -41,7 +52,9 @@ typedef enum pb_photon_first_bounce {
 typedef struct pb_photon_trace_desc {
   uint32_t photons;           /* paths emitted per iteration; 0: 2^18 */
   uint32_t max_bounces;       /* stored diffuse bounces per path; 0: 3 */
-  float smoothing;            /* s for diffuse photons; 0: 1 */
+  float smoothing;            /* s for diffuse photons (dimensionless, see
+                                 pb_store in photon_trace.comp); 0: 1 here,
+                                 the frame passes PB_PHOTON_SMOOTHING_DEFAULT */
   float smoothing_caustic;    /* s for caustic photons; 0: 5 (seed 000) */
   float r_max;                /* footprint radius clamp, metres; 0: 5 % of the
                                  scene's bounding radius */
@@ -127,6 +140,12 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
  * open command buffer; flags: PB_GATHER_* (shaders/shared/pb_lbvh.h). */
 pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
                                      uint32_t pixels, uint32_t flags);
+/* Bandwidth of the next builds: every footprint's axes, radius and normal
+ * extent are multiplied by `scale` (0 or non-finite: 1) when the LBVH is
+ * built (lbvh_reorder, lbvh_bounds), so the boxes, T_auto and the gather's
+ * kernel and its 1/A normalisation all use the scaled ellipsoid. The
+ * progressive frame (render.h) shrinks it between iterations. */
+void pb_photon_estimator_set_footprint_scale(pb_photon_estimator *e, float scale);
 /* Reads the last build's statistics (t_auto, leaves, areas) back. */
 pb_result pb_photon_estimator_stats(pb_gpu *g, pb_photon_estimator *e, pb_photon_estimate_stats *out);
 void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e);

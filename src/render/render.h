@@ -77,6 +77,10 @@ typedef struct pb_render_desc {
   float smoothing;             /* footprint factor s; 0: the tracer's */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
+  int progressive;             /* 1: footprints shrink between iterations
+                                  (probabilistic SPPM, frame.c) */
+  float alpha;                 /* progressive: radius^2 kept per iteration,
+                                  in (0, 1); 0: 2/3 */
   const struct pb_photon_map *photon_map; /* tests: gather this map (every
                                   iteration) instead of tracing */
 } pb_render_desc;
