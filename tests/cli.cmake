@@ -54,3 +54,8 @@ add_test(NAME cli_render_bad_view_leaves_nothing
                  ${PB_EXE}
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_render_bad_view_leaves_nothing PROPERTIES PASS_REGULAR_EXPRESSION "no view 'Nope'.*exit=2 files=0")
+
+# --progressive's radius reduction: --alpha outside (0, 1) fails before any
+# GPU work (exit 2).
+pb_cli_test(cli_render_progressive_bad_alpha render samples/cornell_box/cornell_box.gltf -o x.exr --progressive
+            --alpha 1.5 EXIT 2 REGEX "--alpha 1.5 must lie in \\(0, 1\\).*exit=2")

@@ -141,6 +141,8 @@ int pb_cmd_render(int argc, char **argv) {
   }
   if (npos != 1 || !c.out)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: expected SCENE and -o OUT.exr (see 'photonbridge render --help')"));
+  if (o.alpha < 0 || !(o.alpha < 1))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha));
   pb_scene s;
   r = pb_cli_load_scene(pos[0], &c, &s);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
@@ -165,10 +167,6 @@ int pb_cmd_render(int argc, char **argv) {
   if (r != PB_OK) goto done;
   if (o.smoothing < 0 || o.r_max < 0 || !(o.smoothing < 1e6) || !(o.r_max < 1e9)) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
-    goto done;
-  }
-  if (o.alpha < 0 || !(o.alpha < 1)) {
-    r = pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha);
     goto done;
   }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
