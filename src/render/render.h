@@ -74,7 +74,8 @@ typedef struct pb_render_desc {
                                   sample s gathers from map s * K / spp, spp
                                   is raised to K; 0: 1 */
   uint32_t photon_bounces;     /* stored diffuse bounces per path; 0: 3 */
-  float smoothing;             /* footprint factor s; 0: the tracer's */
+  float smoothing;             /* footprint factor s (dimensionless); 0:
+                                  PB_PHOTON_SMOOTHING_DEFAULT (photon.h) */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
   int progressive;             /* 1: footprints shrink between iterations
