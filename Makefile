@@ -15,16 +15,18 @@ all: build
 install-deps:
 	@bash scripts/install-deps.sh
 
-$(BUILD)/CMakeCache.txt:
+# The generated Makefile (not CMakeCache.txt, which a failed configure also
+# leaves) marks a configured tree.
+$(BUILD)/Makefile:
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
 
-$(ASAN_BUILD)/CMakeCache.txt:
+$(ASAN_BUILD)/Makefile:
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(CMAKE_FLAGS)
 
-build: install-deps $(BUILD)/CMakeCache.txt
+build: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS)
 
-build-asan: install-deps $(ASAN_BUILD)/CMakeCache.txt
+build-asan: install-deps $(ASAN_BUILD)/Makefile
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 
 demo: build
