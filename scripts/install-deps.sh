@@ -7,14 +7,15 @@ set -euo pipefail
 # Build and runtime: compiler tool chain, Vulkan (loader, lavapipe, validation
 # layers, glslc), Embree 3, OpenEXR 3, OpenColorIO 2, tinygltf + its json, stb.
 # Validation peers: POV-Ray 3.7, Blender 3.4 (headless exporter, Cycles) with
-# numpy. clang is for the libFuzzer targets.
+# numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets;
+# valgrind for the memory checks of the CPU paths.
 PKGS=(
   build-essential cmake pkg-config python3
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libembree-dev libopenexr-dev libopencolorio-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   povray blender python3-numpy
-  clang
+  clang libclang-rt-14-dev valgrind
 )
 # Optional extras: skipped quietly when the archive lacks them.
 OPTIONAL=(python3-matplotlib chromium)
