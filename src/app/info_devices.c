@@ -36,6 +36,7 @@ pb_result pb_info_devices(const pb_core_opts *c) {
         pb_json_int(&j, "subgroup_size", d[i].subgroup_size);
         pb_json_bool(&j, "timestamps", d[i].timestamps);
         pb_json_bool(&j, "usable", d[i].usable);
+        if (!d[i].usable) pb_json_string(&j, "missing", d[i].missing);
         pb_json_bool(&j, "default", d[i].preferred);
         pb_json_end_object(&j);
       }
@@ -51,11 +52,12 @@ pb_result pb_info_devices(const pb_core_opts *c) {
   if (!c->quiet) {
     printf("Vulkan devices (--device N):\n");
     for (uint32_t i = 0; i < n; ++i)
-      printf("  %u%s %-36s %-10s Vulkan %u.%u  %s  storage buffer max %llu MiB, subgroup %u, timestamps %s%s\n", i,
+      printf("  %u%s %-36s %-10s Vulkan %u.%u  %s  storage buffer max %llu MiB, subgroup %u, timestamps %s%s%s%s\n", i,
              d[i].preferred ? "*" : " ", d[i].name, d[i].type, VK_API_VERSION_MAJOR(d[i].api_version),
              VK_API_VERSION_MINOR(d[i].api_version), d[i].driver[0] ? d[i].driver : "-",
              (unsigned long long)(d[i].max_storage_buffer_range >> 20), d[i].subgroup_size,
-             d[i].timestamps ? "yes" : "no", d[i].usable ? "" : "  (unusable: no compute queue or Vulkan < 1.1)");
+             d[i].timestamps ? "yes" : "no", d[i].usable ? "" : "  (unusable, lacks ", d[i].missing,
+             d[i].usable ? "" : ")");
     printf("* = used by default (discrete GPU first, CPU implementations last)\n");
   }
   free(d);

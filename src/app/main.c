@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "core/fs.h"
 #include "core/version.h"
+#include "gpu/gpu.h"
 
 static int cmd_help(int argc, char **argv);
 
@@ -104,5 +105,15 @@ int main(int argc, char **argv) {
             argv[1]);
     return pb_result_exit_code(PB_ERR_USAGE);
   }
-  return c->run(argc - 1, argv + 1);
+  int rc = c->run(argc - 1, argv + 1);
+  /* With PB_VK_VALIDATION=1 (or --validation) every validation message is an
+   * error, also one reported after the last submission (e.g. an object leaked
+   * at vkDestroyDevice), which no pb_gpu_submit saw. */
+  uint32_t nv = pb_gpu_validation_total();
+  if (nv && rc == 0) {
+    fprintf(stderr, "photonbridge %s: error: Vulkan validation reported %u message%s (printed above)\n",
+            c->name, nv, nv == 1 ? "" : "s");
+    rc = pb_result_exit_code(PB_ERR_VULKAN);
+  }
+  return rc;
 }

@@ -16,6 +16,7 @@ static uint32_t find_type(const pb_gpu *g, uint32_t bits, VkMemoryPropertyFlags 
 
 void pb_gpu_buffer_destroy(pb_gpu *g, pb_gpu_buffer *b) {
   if (!b) return;
+  if (g && b->memory && b->size) g->memory_live -= b->size <= g->memory_live ? b->size : g->memory_live;
   if (g && g->device) {
     if (b->mapped) vkUnmapMemory(g->device, b->memory);
     if (b->buffer) vkDestroyBuffer(g->device, b->buffer, NULL);
@@ -37,6 +38,15 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
   if (d->size > g->limits.max_allocation)
     return pb_fail(PB_ERR_LIMIT, "%s: %.1f MiB exceeds %s's maxMemoryAllocationSize (%.1f MiB)", name,
                    (double)d->size / 1048576.0, g->name, (double)g->limits.max_allocation / 1048576.0);
+  /* The memory cap (--gpu-memory-limit, PB_GPU_MEMORY_LIMIT): live
+   * allocations summed, checked before the driver is asked. */
+  if (g->memory_limit && (d->size > g->memory_limit || g->memory_live > g->memory_limit - d->size))
+    return pb_fail(PB_ERR_NOMEM,
+                   "%s: GPU buffer of %.1f MiB would bring GPU memory in use to %.1f MiB, over the cap of "
+                   "%.1f MiB (--gpu-memory-limit / PB_GPU_MEMORY_LIMIT); render a smaller image, fewer "
+                   "photons, or raise the cap",
+                   name, (double)d->size / 1048576.0, (double)(g->memory_live + d->size) / 1048576.0,
+                   (double)g->memory_limit / 1048576.0);
   VkBufferCreateInfo bci = {
       .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
       .size = d->size,
@@ -70,7 +80,14 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
   vr = vkAllocateMemory(g->device, &mai, NULL, &out->memory);
   if (vr != VK_SUCCESS) {
     out->memory = VK_NULL_HANDLE;
-    r = pb_vk_fail(vr, name);
+    if (vr == VK_ERROR_OUT_OF_DEVICE_MEMORY || vr == VK_ERROR_OUT_OF_HOST_MEMORY)
+      r = pb_fail(PB_ERR_NOMEM,
+                  "%s: %s allocating a GPU buffer of %.1f MiB (%.1f MiB already in use) on %s; render a "
+                  "smaller image, fewer photons, or use a device with more memory",
+                  name, pb_vk_result_name(vr), (double)req.size / 1048576.0,
+                  (double)g->memory_live / 1048576.0, g->name);
+    else
+      r = pb_vk_fail(vr, name);
     goto fail;
   }
   vr = vkBindBufferMemory(g->device, out->buffer, out->memory, 0);
@@ -87,6 +104,8 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
     }
   }
   out->size = d->size;
+  g->memory_live += d->size;
+  if (g->memory_live > g->memory_peak) g->memory_peak = g->memory_live;
   pb_gpu_set_name(g, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
   pb_gpu_set_name(g, VK_OBJECT_TYPE_DEVICE_MEMORY, (uint64_t)out->memory, name);
   return PB_OK;

@@ -1,5 +1,6 @@
 /* Vulkan instance, device selection, the compute queue, command recording,
  * submission and timestamps (see gpu.h). */
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,6 +39,9 @@ pb_result pb_vk_fail(VkResult vr, const char *what) {
 
 /* ---- instance ------------------------------------------------------------ */
 
+static uint32_t validation_total;
+uint32_t pb_gpu_validation_total(void) { return __atomic_load_n(&validation_total, __ATOMIC_RELAXED); }
+
 static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug(VkDebugUtilsMessageSeverityFlagBitsEXT sev,
                                                VkDebugUtilsMessageTypeFlagsEXT type,
                                                const VkDebugUtilsMessengerCallbackDataEXT *data,
@@ -46,6 +50,11 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug(VkDebugUtilsMessageSeverityFlagBi
   pb_gpu *g = user;
   if (sev < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
   const char *msg = data && data->pMessage ? data->pMessage : "(no message)";
+  __atomic_fetch_add(&validation_total, 1u, __ATOMIC_RELAXED);
+  if (!g) {
+    fprintf(stderr, "photonbridge: Vulkan validation: %s\n", msg);
+    return VK_FALSE;
+  }
   g->validation_errors++;
   if (!g->validation_first[0])
     snprintf(g->validation_first, sizeof g->validation_first, "%s", msg);
@@ -175,7 +184,65 @@ static uint32_t compute_family(VkPhysicalDevice pd, uint32_t *ts_bits) {
   return best;
 }
 
-static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d) {
+/* ---- requirements and the PB_GPU_MASK_FEATURES test hook ------------------ */
+
+enum {
+  PB_FEAT_VULKAN11 = 1u << 0,
+  PB_FEAT_COMPUTE = 1u << 1,
+  PB_FEAT_WORKGROUP = 1u << 2,
+  PB_FEAT_STORAGE_BUFFERS = 1u << 3,
+  PB_FEAT_TIMESTAMPS = 1u << 4,
+};
+static const struct {
+  const char *name;
+  unsigned bit;
+} feature_names[] = {
+    {"vulkan-1.1", PB_FEAT_VULKAN11},   {"compute", PB_FEAT_COMPUTE},
+    {"workgroup-64", PB_FEAT_WORKGROUP}, {"storage-buffers", PB_FEAT_STORAGE_BUFFERS},
+    {"timestamps", PB_FEAT_TIMESTAMPS},
+};
+
+/* The features PB_GPU_MASK_FEATURES hides; PB_ERR_USAGE for an unknown name. */
+static pb_result masked_features(unsigned *mask) {
+  *mask = 0;
+  const char *v = getenv("PB_GPU_MASK_FEATURES");
+  if (!v) return PB_OK;
+  const char *p = v;
+  while (*p) {
+    size_t len = strcspn(p, ", ");
+    if (len) {
+      unsigned bit = 0;
+      for (size_t i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
+        if (strlen(feature_names[i].name) == len && strncmp(feature_names[i].name, p, len) == 0)
+          bit = feature_names[i].bit;
+      if (!bit)
+        return pb_fail(PB_ERR_USAGE,
+                       "PB_GPU_MASK_FEATURES: unknown feature '%.*s' (known: vulkan-1.1, compute, "
+                       "workgroup-64, storage-buffers, timestamps)",
+                       (int)len, p);
+      *mask |= bit;
+    }
+    p += len;
+    while (*p == ',' || *p == ' ') ++p;
+  }
+  return PB_OK;
+}
+
+static void add_missing(pb_gpu_device_info *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void add_missing(pb_gpu_device_info *d, const char *fmt, ...) {
+  size_t k = strlen(d->missing);
+  if (k + 3 >= sizeof d->missing) return;
+  if (k) {
+    memcpy(d->missing + k, ", ", 3);
+    k += 2;
+  }
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(d->missing + k, sizeof d->missing - k, fmt, ap);
+  va_end(ap);
+}
+
+static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d, unsigned mask) {
   memset(d, 0, sizeof *d);
   VkPhysicalDeviceSubgroupProperties sg = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceDriverProperties drv = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES,
@@ -205,8 +272,35 @@ static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d) {
       d->device_local_bytes += mp.memoryHeaps[i].size;
   uint32_t ts = 0;
   uint32_t fam = compute_family(pd, &ts);
-  d->timestamps = ts > 0 && p.limits.timestampPeriod > 0;
-  d->usable = fam != UINT32_MAX && p.apiVersion >= VK_API_VERSION_1_1;
+  d->timestamps = ts > 0 && p.limits.timestampPeriod > 0 && !(mask & PB_FEAT_TIMESTAMPS);
+  /* What the pipeline needs (gpu.h); a masked feature counts as absent. */
+  static const char masked[] = " (masked by PB_GPU_MASK_FEATURES)";
+  if (mask & PB_FEAT_VULKAN11)
+    add_missing(d, "vulkan-1.1%s", masked);
+  else if (p.apiVersion < VK_API_VERSION_1_1)
+    add_missing(d, "vulkan-1.1 (the driver offers Vulkan %u.%u)", VK_API_VERSION_MAJOR(p.apiVersion),
+                VK_API_VERSION_MINOR(p.apiVersion));
+  if (mask & PB_FEAT_COMPUTE)
+    add_missing(d, "compute%s", masked);
+  else if (fam == UINT32_MAX)
+    add_missing(d, "compute (no queue family with compute)");
+  uint32_t wg = p.limits.maxComputeWorkGroupSize[0] < p.limits.maxComputeWorkGroupInvocations
+                    ? p.limits.maxComputeWorkGroupSize[0]
+                    : p.limits.maxComputeWorkGroupInvocations;
+  if (mask & PB_FEAT_WORKGROUP)
+    add_missing(d, "workgroup-64%s", masked);
+  else if (wg < PB_GPU_WORKGROUP)
+    add_missing(d, "workgroup-64 (workgroups of at most %u invocations, needs %u)", wg,
+                (unsigned)PB_GPU_WORKGROUP);
+  uint32_t sb = p.limits.maxPerStageDescriptorStorageBuffers < p.limits.maxDescriptorSetStorageBuffers
+                    ? p.limits.maxPerStageDescriptorStorageBuffers
+                    : p.limits.maxDescriptorSetStorageBuffers;
+  if (mask & PB_FEAT_STORAGE_BUFFERS)
+    add_missing(d, "storage-buffers%s", masked);
+  else if (sb < PB_GPU_REQUIRED_STORAGE_BUFFERS)
+    add_missing(d, "storage-buffers (%u storage buffers per shader stage, needs %u)", sb,
+                (unsigned)PB_GPU_REQUIRED_STORAGE_BUFFERS);
+  d->usable = d->missing[0] == 0;
 }
 
 static pb_result enumerate(VkInstance inst, VkPhysicalDevice **out, uint32_t *count) {
@@ -250,7 +344,10 @@ pb_result pb_gpu_list_devices(pb_gpu_device_info **out, uint32_t *count) {
   *out = NULL;
   *count = 0;
   VkInstance inst;
-  pb_result r = create_instance(0, NULL, &inst, NULL);
+  unsigned mask;
+  pb_result r = masked_features(&mask);
+  if (r != PB_OK) return r;
+  r = create_instance(0, NULL, &inst, NULL);
   if (r != PB_OK) return r;
   VkPhysicalDevice *pd = NULL;
   uint32_t n = 0;
@@ -261,7 +358,7 @@ pb_result pb_gpu_list_devices(pb_gpu_device_info **out, uint32_t *count) {
     r = pb_fail(PB_ERR_NOMEM, "out of memory listing Vulkan devices");
     goto done;
   }
-  for (uint32_t i = 0; i < n; ++i) describe(pd[i], &d[i]);
+  for (uint32_t i = 0; i < n; ++i) describe(pd[i], &d[i], mask);
   uint32_t best = pick(d, pd, n);
   if (best != UINT32_MAX) d[best].preferred = 1;
   *out = d;
@@ -303,6 +400,20 @@ void pb_gpu_destroy(pb_gpu *g) {
   free(g);
 }
 
+/* The buffer-memory cap: the desc's, else PB_GPU_MEMORY_LIMIT in MiB. */
+static pb_result memory_limit_from(const pb_gpu_desc *d, uint64_t *limit) {
+  *limit = d->memory_limit;
+  const char *v = getenv("PB_GPU_MEMORY_LIMIT");
+  if (*limit || !v || !v[0]) return PB_OK;
+  char *end = NULL;
+  double mib = strtod(v, &end);
+  if (end == v || *end || !(mib > 0) || !(mib < 1e12))
+    return pb_fail(PB_ERR_USAGE, "PB_GPU_MEMORY_LIMIT: '%s' is not a positive number of MiB", v);
+  *limit = (uint64_t)(mib * 1048576.0);
+  if (*limit == 0) *limit = 1;
+  return PB_OK;
+}
+
 pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   *out = NULL;
   pb_gpu_desc desc = {0};
@@ -317,7 +428,12 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   pb_gpu_device_info *info = NULL;
   uint32_t n = 0;
   g->validation = desc.validation || env_validation();
-  pb_result r = create_instance(g->validation, g, &g->instance, &g->messenger);
+  unsigned mask;
+  pb_result r = masked_features(&mask);
+  if (r != PB_OK) goto fail;
+  r = memory_limit_from(&desc, &g->memory_limit);
+  if (r != PB_OK) goto fail;
+  r = create_instance(g->validation, g, &g->instance, &g->messenger);
   if (r != PB_OK) goto fail;
   r = enumerate(g->instance, &pd, &n);
   if (r != PB_OK) goto fail;
@@ -326,7 +442,7 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
     r = pb_fail(PB_ERR_NOMEM, "out of memory listing Vulkan devices");
     goto fail;
   }
-  for (uint32_t i = 0; i < n; ++i) describe(pd[i], &info[i]);
+  for (uint32_t i = 0; i < n; ++i) describe(pd[i], &info[i], mask);
   uint32_t idx;
   if (desc.device_set) {
     if (desc.device >= n) {
@@ -336,14 +452,18 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
     }
     idx = desc.device;
     if (!info[idx].usable) {
-      r = pb_fail(PB_ERR_NO_DEVICE, "--device %u (%s) has no compute queue or lacks Vulkan 1.1", idx,
-                  info[idx].name);
+      r = pb_fail(PB_ERR_NO_DEVICE, "--device %u (%s) lacks %s; pick another with --device "
+                  "(see 'photonbridge info --devices')", idx, info[idx].name, info[idx].missing);
       goto fail;
     }
   } else {
     idx = pick(info, pd, n);
     if (idx == UINT32_MAX) {
-      r = pb_fail(PB_ERR_NO_DEVICE, "no Vulkan 1.1 device with a compute queue: %s", no_driver_advice);
+      /* Name the first device and what it lacks; the others are in info --devices. */
+      r = pb_fail(PB_ERR_NO_DEVICE,
+                  "no usable Vulkan device: %s lacks %s%s; use a GPU with a Vulkan 1.1 driver, or the CPU "
+                  "fallback (apt install mesa-vulkan-drivers)", info[0].name, info[0].missing,
+                  n > 1 ? " (and the others too, see 'photonbridge info --devices')" : "");
       goto fail;
     }
   }
@@ -362,15 +482,9 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   g->limits.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
   g->limits.max_workgroup_count_y = p.limits.maxComputeWorkGroupCount[1];
   g->limits.subgroup_size = info[idx].subgroup_size;
-  g->limits.timestamps = ts_bits > 0 && p.limits.timestampPeriod > 0;
+  g->limits.timestamps = info[idx].timestamps;
   g->limits.timestamp_period_ns = p.limits.timestampPeriod;
   g->ts_mask = ts_bits >= 64 ? UINT64_MAX : ((1ull << ts_bits) - 1);
-  if (p.limits.maxComputeWorkGroupSize[0] < PB_GPU_WORKGROUP ||
-      p.limits.maxComputeWorkGroupInvocations < PB_GPU_WORKGROUP) {
-    r = pb_fail(PB_ERR_NO_DEVICE, "%s: compute workgroups of %u invocations are not supported", g->name,
-                (unsigned)PB_GPU_WORKGROUP);
-    goto fail;
-  }
 
   float prio = 1.0f;
   VkDeviceQueueCreateInfo qci = {
@@ -459,6 +573,9 @@ const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g) { return &g->limits; }
 const char *pb_gpu_device_name(const pb_gpu *g) { return g->name; }
 VkDevice pb_gpu_vk_device(const pb_gpu *g) { return g->device; }
 uint32_t pb_gpu_validation_errors(const pb_gpu *g) { return g->validation_errors; }
+uint64_t pb_gpu_memory_in_use(const pb_gpu *g) { return g->memory_live; }
+uint64_t pb_gpu_memory_peak(const pb_gpu *g) { return g->memory_peak; }
+uint64_t pb_gpu_memory_limit(const pb_gpu *g) { return g->memory_limit; }
 int pb_gpu_validation_enabled(const pb_gpu *g) { return g->validation; }
 
 /* ---- recording ------------------------------------------------------------ */

@@ -31,9 +31,29 @@ typedef struct pb_gpu_device_info {
   uint64_t device_local_bytes;
   uint32_t subgroup_size;      /* 0 if the device cannot say */
   int timestamps;              /* compute queue has timestamps */
-  int usable;                  /* has a compute queue and Vulkan >= 1.1 */
+  int usable;                  /* has everything the pipeline needs (missing[0] == 0) */
   int preferred;               /* the device that --device auto picks */
+  char missing[200];           /* what an unusable device lacks, "" if usable, e.g.
+                                  "storage-buffers (8 storage buffers per shader stage, needs 19)" */
 } pb_gpu_device_info;
+
+/* What the pipeline needs from a device, each with the name that
+ * PB_GPU_MASK_FEATURES uses:
+ *   vulkan-1.1       Vulkan 1.1 (subgroup properties, maintenance3)
+ *   compute          a queue family with compute
+ *   workgroup-64     compute workgroups of PB_GPU_WORKGROUP (64) invocations
+ *   storage-buffers  PB_GPU_REQUIRED_STORAGE_BUFFERS storage buffers per stage
+ *                    and per set (the gather binds 19: the scene's 15 + 4)
+ * Optional: timestamps (per-pass GPU times; without them the times are null).
+ * Nothing else is required: no subgroup operations, no 64-bit integers or
+ * float atomics (shared-memory and 32-bit buffer atomics are core).
+ *
+ * Test hook: the environment variable PB_GPU_MASK_FEATURES, a comma-separated
+ * list of the names above (and "timestamps"), makes device selection treat
+ * those features as absent on every device, so that the "device lacks a
+ * feature" paths can be tested on any machine. An unknown name is a usage
+ * error (PB_ERR_USAGE). */
+enum { PB_GPU_REQUIRED_STORAGE_BUFFERS = 19 };
 
 /* Lists the Vulkan devices. *out is malloc'd (free()). Errors:
  * PB_ERR_NO_DEVICE (no loader, no driver, no device) with the fix in the
@@ -47,6 +67,10 @@ typedef struct pb_gpu_desc {
   int validation;      /* 1: enable the Khronos validation layer (also
                           PB_VK_VALIDATION=1 in the environment) */
   uint32_t max_timestamps; /* timestamp query slots; 0: 256 */
+  uint64_t memory_limit;   /* bytes of buffer memory live at once; 0: the
+                              environment's PB_GPU_MEMORY_LIMIT (MiB), else none.
+                              A buffer that would pass it fails with
+                              PB_ERR_NOMEM naming the buffer, size and cap. */
 } pb_gpu_desc;
 
 typedef struct pb_gpu pb_gpu;
@@ -71,6 +95,15 @@ VkDevice pb_gpu_vk_device(const pb_gpu *g);
 /* Validation messages seen so far (0 without validation). */
 uint32_t pb_gpu_validation_errors(const pb_gpu *g);
 int pb_gpu_validation_enabled(const pb_gpu *g);
+/* Validation messages seen by every context of this process, including those
+ * reported while a context was destroyed (object leaks); main() turns a
+ * non-zero count into exit PB_ERR_VULKAN. */
+uint32_t pb_gpu_validation_total(void);
+/* Buffer memory (bytes requested by pb_gpu_buffer_create) live now and at
+ * most so far, and the cap (0: none). */
+uint64_t pb_gpu_memory_in_use(const pb_gpu *g);
+uint64_t pb_gpu_memory_peak(const pb_gpu *g);
+uint64_t pb_gpu_memory_limit(const pb_gpu *g);
 
 /* Names a Vulkan object for debuggers and validation messages (no-op
  * without VK_EXT_debug_utils). */

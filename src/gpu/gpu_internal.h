@@ -26,6 +26,7 @@ struct pb_gpu {
   uint32_t validation_errors;
   char validation_first[512];
   PFN_vkSetDebugUtilsObjectNameEXT set_name;
+  uint64_t memory_limit, memory_live, memory_peak; /* bytes; limit 0: none */
 };
 
 #endif
