@@ -92,6 +92,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX};
   pb_color_opts co = {0};
+  double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
   const pb_opt opts[] = {
       PB_RENDER_OPTS(&c),
       PB_COLOR_OPTS(&co),
@@ -123,6 +124,8 @@ int pb_cmd_render(int argc, char **argv) {
        "a discrete GPU first, lavapipe last)", NULL, 0, 0},
       {"validation", 0, PB_OPT_FLAG, &o.validation, NULL,
        "enable Vulkan validation layers; any message is an error (also PB_VK_VALIDATION=1)", NULL, 0, 0},
+      {"gpu-memory-limit", 0, PB_OPT_FLOAT, &gpu_memory_mb, "MB", "cap on GPU buffer memory in MiB; a render that "
+       "needs more fails with exit 11 (also PB_GPU_MEMORY_LIMIT)", NULL, 0, 1e9},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -159,7 +162,8 @@ int pb_cmd_render(int argc, char **argv) {
   /* The view is opened before any GPU work so that a misspelt view fails at
    * once. */
   if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
-  pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation};
+  pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
+                    .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
