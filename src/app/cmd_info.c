@@ -17,6 +17,9 @@ static void print_text(const pb_scene *s) {
   printf("triangles  %u\nvertices   %u\n", s->triangle_count, s->vertex_count);
   printf("bounds     [%.4g %.4g %.4g] .. [%.4g %.4g %.4g]\n", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2],
          s->bounds_max[0], s->bounds_max[1], s->bounds_max[2]);
+  if (s->origin[0] != 0 || s->origin[1] != 0 || s->origin[2] != 0)
+    printf("origin     (%.17g %.17g %.17g): far from the world origin, so positions here are relative to it\n",
+           s->origin[0], s->origin[1], s->origin[2]);
   printf("cameras    %u\n", s->camera_count);
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
@@ -85,6 +88,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_json_int(&j, "vertices", s->vertex_count);
   vec3(&j, "bounds_min", s->bounds_min);
   vec3(&j, "bounds_max", s->bounds_max);
+  pb_json_begin_array(&j, "origin"); /* world position of the scene's (0,0,0); see scene.h */
+  for (int k = 0; k < 3; ++k) pb_json_number(&j, NULL, s->origin[k]);
+  pb_json_end_array(&j);
   pb_json_begin_array(&j, "cameras");
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];

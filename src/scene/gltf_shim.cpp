@@ -56,6 +56,7 @@ struct Impl {
 struct FsCtx {
   std::set<std::string> *approved;
   uint64_t max_bytes;
+  std::string base;  // the folder tinygltf joins URIs to
 };
 
 std::string one_line(std::string s) {
@@ -76,7 +77,15 @@ bool approved(const FsCtx *ctx, const std::string &p) {
 bool fs_exists(const std::string &p, void *u) {
   return approved(static_cast<FsCtx *>(u), p);
 }
-std::string fs_expand(const std::string &p, void *) { return p; }
+// tinygltf joins even an absolute URI to the folder ("dir//abs/file.bin"); an
+// absolute URI the precheck allowed (--allow-external-files) is used as is.
+std::string fs_expand(const std::string &p, void *u) {
+  const std::string &b = static_cast<FsCtx *>(u)->base;
+  std::string prefix = !b.empty() && b.back() == '/' ? b : b + "/";
+  if (p.size() > prefix.size() && p.compare(0, prefix.size(), prefix) == 0 && p[prefix.size()] == '/')
+    return p.substr(prefix.size());
+  return p;
+}
 bool fs_read(std::vector<unsigned char> *out, std::string *err,
              const std::string &p, void *u) {
   auto *ctx = static_cast<FsCtx *>(u);
@@ -773,15 +782,15 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
     r = precheck(path, text, is_glb, bin_len, desc, &impl->approved);
     if (r != PB_OK) return r;
 
-    FsCtx ctx{&impl->approved, desc->max_file_bytes};
+    char *dir = pb_dirname(path);
+    std::string base = dir ? dir : ".";
+    free(dir);
+    FsCtx ctx{&impl->approved, desc->max_file_bytes, base};
     tinygltf::FsCallbacks fs{fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(fs);
     loader.SetImageLoader(keep_image_reference, nullptr);
     std::string err, warn;
-    char *dir = pb_dirname(path);
-    std::string base = dir ? dir : ".";
-    free(dir);
     bool ok = is_glb ? loader.LoadBinaryFromMemory(&impl->model, &err, &warn, data,
                                                    (unsigned)n, base)
                      : loader.LoadASCIIFromString(&impl->model, &err, &warn, text.c_str(),

@@ -871,6 +871,74 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
   return PB_OK;
 }
 
+/* ---- precision origin ---------------------------------------------------
+ * Blender writes an object's location as its node's translation, so a scene
+ * modelled far from the world origin (survey coordinates, a level at 1e5 m)
+ * has world positions whose float spacing (1e5 m: 8 mm) moves edges and
+ * defeats ray offsets. The world box of the mesh accessors' min/max (glTF
+ * requires them on POSITION; when a primitive lacks them the scene is left
+ * where it is) is found first, in double; when its centre lies more than
+ * PRECISION_FAR box radii from the world origin, every world point (vertices,
+ * cameras, lights) is computed relative to that centre, which scene.origin
+ * records. Nothing is read here that visit() does not check again. */
+enum { PRECISION_FAR = 8 };
+
+static void extent_add(double box[6], const double p[3]) {
+  for (int k = 0; k < 3; ++k) {
+    if (p[k] < box[k]) box[k] = p[k];
+    if (p[k] > box[3 + k]) box[3 + k] = p[k];
+  }
+}
+
+static void world_extent(loader *L, int32_t node, const mat4 *parent, int depth, double box[6], int *unknown) {
+  pb_gltf_doc *d = L->doc;
+  if (depth > MAX_NODE_DEPTH || node < 0 || (size_t)node >= d->node_count) return;
+  const pb_gltf_node *n = &d->nodes[node];
+  mat4 local = node_local(n);
+  mat4 M = mat_mul(parent, &local);
+  if (!finite_mat(&M)) return;
+  if (n->mesh >= 0 && (size_t)n->mesh < d->mesh_count) {
+    const pb_gltf_mesh *m = &d->meshes[n->mesh];
+    for (size_t pi = 0; pi < m->primitive_count; ++pi) {
+      int32_t a = m->primitives[pi].position;
+      double w[3];
+      if (a >= 0 && (size_t)a < d->accessor_count && d->accessors[a].has_min_max) {
+        const pb_gltf_accessor *ac = &d->accessors[a];
+        for (int c = 0; c < 8; ++c) {
+          double p[3] = {(c & 1) ? ac->max[0] : ac->min[0], (c & 2) ? ac->max[1] : ac->min[1],
+                         (c & 4) ? ac->max[2] : ac->min[2]};
+          xform_point(&M, p, w);
+          if (isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2])) extent_add(box, w);
+        }
+      } else {
+        *unknown = 1;
+      }
+    }
+  }
+  for (size_t c = 0; c < n->child_count; ++c) world_extent(L, n->children[c], &M, depth + 1, box, unknown);
+}
+
+/* The translation every world point gets: -origin, or none. */
+static void precision_origin(loader *L, const int32_t *roots, size_t count, double origin[3]) {
+  mat4 I;
+  memset(&I, 0, sizeof I);
+  I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
+  double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+  int unknown = 0;
+  for (size_t i = 0; i < count; ++i) world_extent(L, roots[i], &I, 0, box, &unknown);
+  origin[0] = origin[1] = origin[2] = 0;
+  if (unknown || !(box[0] <= box[3])) return;
+  double c[3], r2 = 0, far = 0;
+  for (int k = 0; k < 3; ++k) {
+    c[k] = 0.5 * (box[k] + box[3 + k]);
+    double e = 0.5 * (box[3 + k] - box[k]);
+    r2 += e * e;
+    if (fabs(c[k]) > far) far = fabs(c[k]);
+  }
+  if (r2 > 0 && far > PRECISION_FAR * sqrt(r2))
+    for (int k = 0; k < 3; ++k) origin[k] = c[k];
+}
+
 /* A camera framing the whole scene, for files without one: 50 degrees
  * vertical field of view, looking at the bounds' centre from the front (+Z)
  * and a little above, far enough for the bounding sphere to fit. */
@@ -942,6 +1010,8 @@ static pb_result load(loader *L) {
   if (d->scene_count > 0) {
     int32_t si = d->default_scene != -1 ? d->default_scene : 0;
     const pb_gltf_scene *sc = &d->scenes[si];
+    precision_origin(L, sc->nodes, sc->node_count, s->origin);
+    I.m[12] = -s->origin[0], I.m[13] = -s->origin[1], I.m[14] = -s->origin[2];
     for (size_t i = 0; i < sc->node_count; ++i) {
       int32_t n = sc->nodes[i];
       if (n < 0 || (size_t)n >= d->node_count)
@@ -954,6 +1024,14 @@ static pb_result load(loader *L) {
     }
   } else {
     if (d->node_count && (r = warn(L, "scenes: none; every root node is shown")) != PB_OK) return r;
+    int32_t *roots = malloc((d->node_count + 1) * sizeof *roots);
+    if (!roots) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    size_t nr = 0;
+    for (size_t n = 0; n < d->node_count; ++n)
+      if (L->parent[n] < 0) roots[nr++] = (int32_t)n;
+    precision_origin(L, roots, nr, s->origin);
+    free(roots);
+    I.m[12] = -s->origin[0], I.m[13] = -s->origin[1], I.m[14] = -s->origin[2];
     for (size_t n = 0; n < d->node_count; ++n)
       if (L->parent[n] < 0 && (r = visit(L, (int32_t)n, &I, 0)) != PB_OK) return r;
   }

@@ -169,6 +169,12 @@ typedef struct pb_scene {
 
   float bounds_min[3], bounds_max[3];
   uint32_t features;   /* PB_FEATURE_* */
+  /* World position of this scene's (0, 0, 0). Every position, camera and
+   * light above is relative to it: a scene far from the world origin (its
+   * centre more than 8 box radii away) is moved next to it when loaded,
+   * in double precision, so floats keep their resolution (load.c). Zero
+   * for scenes near the origin and for code-built scenes. */
+  double origin[3];
 
   /* Warnings found while loading, in file order ("meshes[2].primitives[0]:
    * mode POINTS skipped"). */
