@@ -1,14 +1,17 @@
 # photonbridge: the two commands of the README.
 #   make demo   install what is missing, build, render samples/cornell_box
 #   make test   install, build (normal + ASan/UBSan), run the whole suite
-# Other targets: build, build-asan, install-deps, clean.
+# Other targets: build, build-asan, install-deps, clean, fuzz-quick (each
+# libFuzzer target 60 s), fuzz (FUZZ_SECONDS each, default 600).
 
 JOBS ?= $(shell nproc)
 BUILD ?= build
 ASAN_BUILD ?= build-asan
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 600
 CMAKE_FLAGS ?=
 
-.PHONY: all demo test build build-asan install-deps clean test-fast
+.PHONY: all demo test build build-asan install-deps clean test-fast build-fuzz fuzz-quick fuzz
 
 all: build
 
@@ -23,25 +26,44 @@ $(BUILD)/Makefile:
 $(ASAN_BUILD)/Makefile:
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(CMAKE_FLAGS)
 
+# The fuzz tree: clang, libFuzzer + ASan + UBSan, only the fuzz targets
+# (tests/fuzz/fuzz.cmake).
+$(FUZZ_BUILD)/Makefile:
+	CC=clang-14 CXX=clang++-14 cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON $(CMAKE_FLAGS)
+
 build: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS)
 
 build-asan: install-deps $(ASAN_BUILD)/Makefile
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 
+build-fuzz: install-deps $(FUZZ_BUILD)/Makefile
+	cmake --build $(FUZZ_BUILD) -j $(JOBS)
+
 demo: build
 	@bash scripts/demo.sh $(BUILD)/photonbridge
 
-# The whole suite, in the normal build and again under ASan + UBSan.
+# The whole suite, in the normal build and again under ASan + UBSan, then
+# fuzz-quick where clang can build libFuzzer programs.
 test: build build-asan
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS) -LE no-sanitize
+	@if bash tests/fuzz/run.sh --check; then $(MAKE) --no-print-directory fuzz-quick; \
+	else echo "fuzz-quick: skipped (needs clang-14 with libFuzzer: libclang-rt-14-dev)"; fi
+
+# libFuzzer runs (tests/fuzz/run.sh): findings are kept in
+# $(FUZZ_BUILD)/fuzz/crashes/TARGET/ and fail the target.
+fuzz-quick: build-fuzz
+	bash tests/fuzz/run.sh $(FUZZ_BUILD) 60
+
+fuzz: build-fuzz
+	NICE=10 bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
 
 # The normal build's suite only.
 test-fast: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out

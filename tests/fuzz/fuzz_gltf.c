@@ -1,0 +1,210 @@
+/* libFuzzer target: the glTF/GLB loader (pb_scene_load) on arbitrary bytes.
+ *
+ * The loader reads a path, so each input is written to a per-process folder
+ * ($TMPDIR or /tmp, pb_fuzz_gltf.XXXXXX) as in.glb when it starts with the GLB
+ * magic "glTF" and as in.gltf otherwise; the loader itself decides by the
+ * magic, so the name only keeps crash files easy to reproduce with
+ * `photonbridge info`. The folder also holds base.bin and tex.png from the
+ * corpus (tests/corpus/valid/base), so that inputs referencing them reach
+ * buffer and image decoding.
+ *
+ * Besides memory errors and undefined behaviour (ASan + UBSan), the target
+ * aborts when the loader breaks its contract (scene.h, README):
+ *   - failure: a code from the loader's set, a one-line message that names
+ *     the file, and an `out` with nothing in it;
+ *   - success: every triangle index below vertex_count, every material and
+ *     texture index in range, finite positions, textures with pixels.
+ * A successful scene is then used the way renderers use it (texture lookups
+ * at the file's UVs, light power, camera image size), so that values the
+ * loader lets through are exercised too. */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/fs.h"
+#include "core/log.h"
+#include "core/result.h"
+#include "scene/scene.h"
+
+int LLVMFuzzerInitialize(int *argc, char ***argv);
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static char dir[512], path_gltf[600], path_glb[600];
+
+#define FAIL(...)                                   \
+  do {                                              \
+    fprintf(stderr, "fuzz_gltf: contract: ");       \
+    fprintf(stderr, __VA_ARGS__);                   \
+    fprintf(stderr, "\n");                          \
+    abort();                                        \
+  } while (0)
+
+static void cleanup(void) {
+  unlink(path_gltf);
+  unlink(path_glb);
+  char p[600];
+  snprintf(p, sizeof p, "%s/base.bin", dir);
+  unlink(p);
+  snprintf(p, sizeof p, "%s/tex.png", dir);
+  unlink(p);
+  rmdir(dir);
+}
+
+static void write_all(const char *path, const uint8_t *data, size_t size) {
+  int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    fprintf(stderr, "fuzz_gltf: cannot create %s: %s\n", path, strerror(errno));
+    abort();
+  }
+  while (size) {
+    ssize_t k = write(fd, data, size);
+    if (k <= 0) {
+      fprintf(stderr, "fuzz_gltf: cannot write %s: %s\n", path, strerror(errno));
+      abort();
+    }
+    data += k;
+    size -= (size_t)k;
+  }
+  close(fd);
+}
+
+static void copy_aux(const char *name) {
+  char src[600], dst[600];
+  snprintf(src, sizeof src, "%s/%s", PB_FUZZ_AUX_DIR, name);
+  snprintf(dst, sizeof dst, "%s/%s", dir, name);
+  uint8_t *d = NULL;
+  size_t n = 0;
+  if (pb_read_file(src, 1 << 20, &d, &n) != PB_OK) {
+    pb_error_clear();
+    return; /* the target still works without it */
+  }
+  write_all(dst, d, n);
+  free(d);
+}
+
+int LLVMFuzzerInitialize(int *argc, char ***argv) {
+  (void)argc, (void)argv;
+  const char *tmp = getenv("TMPDIR");
+  snprintf(dir, sizeof dir, "%s/pb_fuzz_gltf.XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
+  if (!mkdtemp(dir)) {
+    fprintf(stderr, "fuzz_gltf: cannot create a folder in %s: %s\n", tmp ? tmp : "/tmp", strerror(errno));
+    abort();
+  }
+  snprintf(path_gltf, sizeof path_gltf, "%s/in.gltf", dir);
+  snprintf(path_glb, sizeof path_glb, "%s/in.glb", dir);
+  copy_aux("base.bin");
+  copy_aux("tex.png");
+  atexit(cleanup);
+  pb_log_set_level(PB_LOG_QUIET);
+  return 0;
+}
+
+static int all_zero(const void *p, size_t n) {
+  const uint8_t *b = p;
+  for (size_t i = 0; i < n; ++i)
+    if (b[i]) return 0;
+  return 1;
+}
+
+static void check_failure(const char *path, pb_result r, const pb_scene *s) {
+  switch (r) {
+  case PB_ERR_IO: case PB_ERR_SCENE_PARSE: case PB_ERR_SCENE_INVALID:
+  case PB_ERR_SCENE_UNSUPPORTED: case PB_ERR_SCENE_EMPTY: case PB_ERR_IMAGE:
+  case PB_ERR_LIMIT: case PB_ERR_NOMEM:
+    break;
+  default:
+    FAIL("pb_scene_load returned %d (%s)", (int)r, pb_error_message());
+  }
+  const char *msg = pb_error_message();
+  if (!msg || !msg[0]) FAIL("failure %d without a message", (int)r);
+  if (strchr(msg, '\n') || strchr(msg, '\r')) FAIL("message is not one line: %s", msg);
+  if (!strstr(msg, path)) FAIL("message does not name the file: %s", msg);
+  if (!all_zero(s, sizeof *s)) FAIL("failure %d left a non-empty scene (%s)", (int)r, msg);
+}
+
+static void check_tex(const pb_scene *s, int32_t t, const char *what, uint32_t m) {
+  if (t != PB_NO_TEXTURE && (t < 0 || (uint32_t)t >= s->texture_count))
+    FAIL("materials[%u].%s: texture %d of %u", m, what, t, s->texture_count);
+}
+
+static volatile float sink;
+
+static void check_success(const pb_scene *s) {
+  for (uint32_t t = 0; t < s->triangle_count; ++t) {
+    for (int c = 0; c < 3; ++c)
+      if (s->triangles[t][c] >= s->vertex_count)
+        FAIL("triangle %u: vertex %u of %u", t, s->triangles[t][c], s->vertex_count);
+    if (s->triangle_material[t] >= s->material_count)
+      FAIL("triangle %u: material %u of %u", t, s->triangle_material[t], s->material_count);
+  }
+  for (uint32_t v = 0; v < s->vertex_count; ++v)
+    for (int c = 0; c < 3; ++c)
+      if (!isfinite(s->positions[v][c])) FAIL("vertex %u: position is not finite", v);
+  for (uint32_t m = 0; m < s->material_count; ++m) {
+    const pb_material *mt = &s->materials[m];
+    check_tex(s, mt->base_color_tex, "base_color_tex", m);
+    check_tex(s, mt->metallic_roughness_tex, "metallic_roughness_tex", m);
+    check_tex(s, mt->emissive_tex, "emissive_tex", m);
+    check_tex(s, mt->normal_tex, "normal_tex", m);
+    sink += (float)pb_material_kind(mt) + (float)pb_material_is_emissive(mt);
+  }
+  for (uint32_t t = 0; t < s->texture_count; ++t) {
+    const pb_texture *tx = &s->textures[t];
+    if (!tx->rgba8 || !tx->width || !tx->height) FAIL("textures[%u]: %ux%u without pixels", t, tx->width, tx->height);
+    /* Corners (touches the whole allocation's ends) and the file's UVs. */
+    sink += tx->rgba8[0] + tx->rgba8[(size_t)tx->width * tx->height * 4 - 1];
+    float out[4];
+    uint32_t n = s->vertex_count < 64 ? s->vertex_count : 64;
+    for (uint32_t v = 0; v < n; ++v) {
+      pb_texture_sample(tx, s->uvs[v][0], s->uvs[v][1], out);
+      sink += out[0] + out[3];
+    }
+    pb_texture_sample(tx, -1e30f, 1e30f, out);
+    sink += out[1];
+  }
+  float r = 0;
+  for (int c = 0; c < 3; ++c) {
+    float e = s->bounds_max[c] - s->bounds_min[c];
+    r += e * e;
+  }
+  r = sqrtf(r) * 0.5f;
+  for (uint32_t l = 0; l < s->light_count; ++l) {
+    float p[3];
+    pb_light_power(&s->lights[l], r, p);
+    sink += p[0];
+  }
+  for (uint32_t c = 0; c < s->camera_count; ++c) {
+    uint32_t w = 0, h = 0;
+    pb_camera_image_size(&s->cameras[c], 0, 0, &w, &h);
+    if (!w || !h) FAIL("cameras[%u]: image size %ux%u", c, w, h);
+  }
+  if (s->camera_count && pb_scene_find_camera(s, NULL) != 0) FAIL("first camera not found");
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  const char *path = size >= 4 && memcmp(data, "glTF", 4) == 0 ? path_glb : path_gltf;
+  write_all(path, data, size);
+  /* Limits below the defaults keep every run inside libFuzzer's 2 GB
+   * allocation limit (the defaults allow a 64 M triangle scene); the code
+   * paths are the same. */
+  pb_load_desc desc = {.max_file_bytes = 16u << 20, .max_image_dim = 2048,
+                       .max_image_pixels = 1u << 20, .max_triangles = 1u << 20};
+  pb_scene s;
+  pb_error_clear();
+  pb_result r = pb_scene_load(path, &desc, &s);
+  if (r != PB_OK) {
+    check_failure(path, r, &s);
+  } else {
+    check_success(&s);
+    pb_scene_destroy(&s);
+  }
+  pb_error_clear();
+  unlink(path);
+  return 0;
+}
