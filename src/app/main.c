@@ -1,6 +1,7 @@
 /* photonbridge SUBCOMMAND [options]: dispatch only; each subcommand lives in
  * its own src/app/cmd_*.c. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -114,6 +115,12 @@ int main(int argc, char **argv) {
     fprintf(stderr, "photonbridge %s: error: Vulkan validation reported %u message%s (printed above)\n",
             c->name, nv, nv == 1 ? "" : "s");
     rc = pb_result_exit_code(PB_ERR_VULKAN);
+  }
+  /* Output on stdout (info, --json -) that could not be written, e.g. to a
+   * full disk, is an I/O error like any other file's. */
+  if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
+    fprintf(stderr, "photonbridge %s: error: standard output: write failed: %s\n", c->name, strerror(errno));
+    rc = pb_result_exit_code(PB_ERR_IO);
   }
   return rc;
 }

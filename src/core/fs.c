@@ -49,7 +49,17 @@ char *pb_tmp_name(const char *path) {
   return t;
 }
 
+/* PB_TEST_HOLD_OUTPUT=1 (fs.h): wait with the finished temporary in place. */
+static void test_hold(const char *tmp_path) {
+  const char *v = getenv("PB_TEST_HOLD_OUTPUT");
+  if (!v || strcmp(v, "1") != 0) return;
+  fprintf(stderr, "photonbridge: test hook: holding %s\n", tmp_path);
+  fflush(stderr);
+  for (int i = 0; i < 30; ++i) sleep(1);
+}
+
 pb_result pb_commit_rename(const char *tmp_path, const char *path) {
+  test_hold(tmp_path);
   if (rename(tmp_path, path) != 0) {
     int e = errno;
     unlink(tmp_path);

@@ -26,6 +26,11 @@ void pb_atomic_abort(FILE *f, char *tmp_path);
 /* A temporary sibling name for `path` ("PATH.tmp.PID"); malloc'd. Writers
  * that own their file handle (OpenEXR) use it with pb_commit_rename. */
 char *pb_tmp_name(const char *path);
+/* Renames the finished temporary onto `path` (removing it on failure).
+ * Test hook: with PB_TEST_HOLD_OUTPUT=1 in the environment it first prints
+ * "photonbridge: test hook: holding TMP" to stderr and waits up to 30 s, so
+ * that tests/faults.sh can interrupt a process while a temporary exists and
+ * check that the signal handler removes it. */
 pb_result pb_commit_rename(const char *tmp_path, const char *path);
 
 /* The directory part of `path` ("." when none), malloc'd. */

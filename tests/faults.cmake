@@ -1,0 +1,26 @@
+# Fault injection (issue 9, item 3): tests/faults.sh CASE runs photonbridge
+# under one fault each (no Vulkan driver, a device without a needed feature,
+# a GPU memory cap, an unwritable output folder, a full disk, SIGINT/SIGTERM)
+# and asserts the exit code, a one-line error and an unchanged output folder.
+# Cases that open a Vulkan device run with validation layers (any message is
+# then exit 13, which fails the expected code) and the gpu;no-sanitize labels;
+# they skip (77) without a device.
+find_program(PB_BASH bash)
+if(PB_BASH)
+  foreach(c unwritable_cpu disk_full_cpu interrupt_cpu no_device)
+    add_test(NAME faults_${c} COMMAND ${PB_BASH} ${PB_ROOT}/tests/faults.sh ${c} ${PB_EXE}
+             WORKING_DIRECTORY ${PB_ROOT})
+    set_tests_properties(faults_${c} PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed"
+                         FAIL_REGULAR_EXPRESSION "FAIL:" TIMEOUT 300 LABELS faults)
+  endforeach()
+  # no_device opens no device, but the validate run in it starts the reference
+  # renderer and python: no-sanitize keeps the ASan pass short.
+  set_tests_properties(faults_no_device PROPERTIES LABELS "faults;no-sanitize")
+  foreach(c no_feature memory_cap unwritable_gpu disk_full_gpu interrupt_gpu)
+    add_test(NAME faults_${c} COMMAND ${PB_BASH} ${PB_ROOT}/tests/faults.sh ${c} ${PB_EXE}
+             WORKING_DIRECTORY ${PB_ROOT})
+    set_tests_properties(faults_${c} PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed"
+                         FAIL_REGULAR_EXPRESSION "FAIL:" TIMEOUT 600 SKIP_RETURN_CODE 77
+                         ENVIRONMENT "PB_VK_VALIDATION=1" LABELS "faults;gpu;no-sanitize")
+  endforeach()
+endif()
