@@ -24,3 +24,18 @@ if(PB_BASH)
                          ENVIRONMENT "PB_VK_VALIDATION=1" LABELS "faults;gpu;no-sanitize")
   endforeach()
 endif()
+
+# Valgrind memcheck over the CPU paths (issue 9, item 4; tests/valgrind.sh):
+# info and export-pov on every sample, the reference at 16x16 (path tracing,
+# SPPM, textures), compare/display and their error paths, a dozen broken
+# corpus files. Memory errors and definite/indirect/possible leaks fail;
+# suppressions (tests/valgrind.supp) are third-party only. About 80 s in all
+# on the 2-core CI machine. Not under ASan (valgrind cannot run its binaries).
+if(PB_BASH)
+  foreach(g info render_cpu images export_pov corpus)
+    add_test(NAME valgrind_${g} COMMAND ${PB_BASH} ${PB_ROOT}/tests/valgrind.sh ${g} ${PB_EXE}
+             WORKING_DIRECTORY ${PB_ROOT})
+    set_tests_properties(valgrind_${g} PROPERTIES LABELS "valgrind;no-sanitize" SKIP_RETURN_CODE 77 TIMEOUT 600
+                         PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed" FAIL_REGULAR_EXPRESSION "FAIL:")
+  endforeach()
+endif()

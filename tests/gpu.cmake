@@ -39,3 +39,39 @@ foreach(t test_gpu_lbvh test_gpu_gather test_gpu_faults)
                          LABELS "gpu;no-sanitize" TIMEOUT 900)
   endif()
 endforeach()
+
+# The command line's GPU path under validation: `photonbridge render` on every
+# committed sample (photon mapping, textures, spot and sun lights), small, with
+# PB_VK_VALIDATION=1: exit 0, an EXR, a PNG and JSON written, and not one
+# validation message on stderr (main() also turns any message, even one from
+# device destruction, into exit 13).
+file(GLOB PB_GPU_CLI_SCENES ${PB_ROOT}/samples/*/*.gltf)
+foreach(scene ${PB_GPU_CLI_SCENES})
+  get_filename_component(sname ${scene} NAME_WE)
+  add_test(NAME gpu_cli_render_${sname}
+           COMMAND sh -c "\"$0\" info --devices >/dev/null 2>&1 || { echo 'skip: no Vulkan device'; exit 77; };
+                          d=$(mktemp -d); \"$0\" render \"$1\" -o $d/x.exr --png $d/x.png --json $d/x.json --width 32 --spp 2 --photons 16384 --iterations 2 2>$d/err; rc=$?; cat $d/err;
+                          n=$(grep -c 'Vulkan validation' $d/err); ok=0; [ -s $d/x.exr ] && [ -s $d/x.png ] && [ -s $d/x.json ] && ok=1;
+                          rm -rf $d; echo \"exit=$rc validation_messages=$n outputs=$ok\";
+                          [ $rc -eq 0 ] && [ $n -eq 0 ] && [ $ok -eq 1 ]"
+                   ${PB_EXE} ${scene}
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(gpu_cli_render_${sname} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize" TIMEOUT 600
+                       PASS_REGULAR_EXPRESSION "exit=0 validation_messages=0 outputs=1")
+endforeach()
+
+# Every test of this directory runs with PB_VK_VALIDATION=1, also those defined
+# in other tests/*.cmake files that start a renderer which opens a device (the
+# validate report's `photonbridge render`): applied once all are defined. The
+# variable does nothing where no device is opened.
+function(pb_validation_everywhere)
+  get_property(all DIRECTORY PROPERTY TESTS)
+  foreach(t ${all})
+    get_test_property(${t} ENVIRONMENT env)
+    if(NOT env MATCHES "PB_VK_VALIDATION")
+      set_property(TEST ${t} APPEND PROPERTY ENVIRONMENT "PB_VK_VALIDATION=1")
+    endif()
+  endforeach()
+endfunction()
+cmake_language(DEFER CALL pb_validation_everywhere)
