@@ -90,7 +90,9 @@ void main() {
     vec3 f = pb_bsdf_eval(b, g.wo, wi);
     if (all(equal(f, vec3(0.0)))) continue;
     float t, u, v;
-    if (pb_trace(o_shadow, wi, 0.0, dist, true, t, u, v) != PB_GPU_MISS) continue;
+    // Stop short of the light by pbrt's ShadowEpsilon (as src/ref does,
+    // PB_SHADOW_EPSILON): a light exactly on a surface stays visible.
+    if (pb_trace(o_shadow, wi, 0.0, dist * (1.0 - 1e-4), true, t, u, v) != PB_GPU_MISS) continue;
     sum += f * Li * abs(dot(wi, b.n));
   }
   if (SC_EMISSIVE && frame.emitter_count > 0u)

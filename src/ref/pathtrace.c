@@ -100,7 +100,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
         v3 f = pb_bsdf_eval(&b, wo, wi, &pdf);
         if (v3_is_zero(f)) continue;
         rays++;
-        if (pb_ref_occluded(&ctx->accel, o_shadow, wi, dist)) continue;
+        if (pb_ref_occluded(&ctx->accel, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON))) continue;
         float c = fabsf(v3_dot(wi, b.n));
         add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, li), c)), k);
       }

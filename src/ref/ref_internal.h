@@ -17,6 +17,11 @@
 #endif
 #define PB_PI_F 3.14159265358979323846f
 #define PB_INV_PI_F 0.31830988618379067154f
+/* Shadow rays to point, spot and directional lights stop this fraction of the
+ * distance short of the light (pbrt's ShadowEpsilon), so a light placed
+ * exactly on a surface is not hidden by that surface. The GPU's direct.comp
+ * uses the same value. */
+#define PB_SHADOW_EPSILON 1e-4f
 
 /* ---- vectors ------------------------------------------------------------ */
 

@@ -1,0 +1,19 @@
+# Hard cases for numerical stability (issue 9, part 1): tests/hard/hard_cases.py
+# generates the scenes, renders them through the CLI and checks the pictures;
+# exr_probe dumps an EXR's channels as JSON for it. The reference half runs
+# under the sanitizers too; the GPU half opens a Vulkan device (validation
+# layers fatal, skipped without a device).
+add_executable(exr_probe ${PB_ROOT}/tests/hard/exr_probe.c)
+target_compile_options(exr_probe PRIVATE ${PB_C_WARN})
+target_link_libraries(exr_probe PRIVATE pb)
+if(Python3_Interpreter_FOUND)
+  foreach(kind ref gpu)
+    add_test(NAME hard_cases_${kind}
+             COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                     ${CMAKE_CURRENT_BINARY_DIR}/hard_${kind} --renderer ${kind}
+             WORKING_DIRECTORY ${PB_ROOT})
+  endforeach()
+  set_tests_properties(hard_cases_ref PROPERTIES TIMEOUT 900 LABELS hard)
+  set_tests_properties(hard_cases_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize;hard" TIMEOUT 900)
+endif()
