@@ -67,3 +67,23 @@ test-fast: build
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out
+
+# Speed against error (bench/run_bench.py, BENCHMARKS.md; results in
+# bench/results/DEVICE/MODE/):
+#   make bench        every renderer and sample (about half an hour on 2 cores)
+#   make bench-quick  2 scenes, small images, few points (a few minutes)
+# DEVICE=N renders photonbridge on Vulkan device N (photonbridge info
+# --devices), e.g. an NVIDIA GPU; its results go to that device's folder.
+# Debian's python3 has python3-matplotlib (the plots); another python3
+# without it still writes the tables. BENCH_ARGS: more run_bench.py options.
+.PHONY: bench bench-quick bench-build
+BENCH_PYTHON ?= $(shell [ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)
+BENCH_ARGS ?=
+bench-build: install-deps $(BUILD)/Makefile
+	cmake --build $(BUILD) -j $(JOBS) --target photonbridge pb_bench_lbvh
+
+bench: bench-build
+	$(BENCH_PYTHON) bench/run_bench.py --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+
+bench-quick: bench-build
+	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)

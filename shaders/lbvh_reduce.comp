@@ -29,7 +29,10 @@ void main() {
     info.area_sum = sum;
     float ratio = info.scene_area > 0.0 ? sum / info.scene_area : 1.0;
     if (isnan(ratio)) ratio = 1.0;
-    info.t_auto = uint(clamp(round(ratio), 1.0, float(PB_LBVH_MAX_LEAF)));
+    uint t = uint(clamp(round(ratio), 1.0, float(PB_LBVH_MAX_LEAF)));
+    info.t_computed = t;
+    // A fixed threshold from the host (benchmark leaf-size sweeps) wins.
+    info.t_auto = info.t_fixed != 0u ? info.t_fixed : t;
     if (info.count > 0u) {
       info.lo = vec3(pb_ordered_to_float(info.bmin[0]), pb_ordered_to_float(info.bmin[1]),
                      pb_ordered_to_float(info.bmin[2]));

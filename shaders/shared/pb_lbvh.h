@@ -28,6 +28,9 @@ PB_CONST(PB_LBVH_SORT_PASSES, 8)
 PB_CONST(PB_LBVH_BOX_INTERVAL, 1024u)
 /* T_auto = clamp(round(footprint area sum / scene area), 1, PB_LBVH_MAX_LEAF) */
 PB_CONST(PB_LBVH_MAX_LEAF, 256)
+/* A fixed threshold (info.t_fixed) may go up to this (seed 000 Table 1's
+ * sweep reaches 512). */
+PB_CONST(PB_LBVH_MAX_FIXED_LEAF, 4096)
 
 /* Inner node, 48 bytes. lo/hi: the union of the footprint boxes (exact
  * AABBs of the ellipsoids) below it. left/right: child references (an inner
@@ -64,8 +67,10 @@ PB_STRUCT(pb_gpu_lbvh_info) {
   float footprint_scale; /* host: factor on every footprint's axes and normal
                             extent for this build (progressive bandwidth;
                             lbvh_bounds, lbvh_reorder) */
-  uint pad1;
-  uint pad2;
+  uint t_fixed;          /* host: leaf-size threshold to use instead of T_auto
+                            (benchmark sweeps); 0: T_auto */
+  uint t_computed;       /* T_auto as computed (lbvh_reduce), also when
+                            t_fixed overrides it */
 } PB_END(pb_gpu_lbvh_info)
 
 /* Push constants of the LBVH passes. */

@@ -19,6 +19,9 @@
 #include "image/image.h"
 #include "render/photon.h"
 #include "render/render.h"
+#include "shared/pb_gpu.h"
+#include "shared/pb_photon.h"
+#include "shared/pb_lbvh.h"
 
 static const pb_command *self(void) {
   for (size_t i = 0; i < pb_command_count; ++i)
@@ -27,8 +30,8 @@ static const pb_command *self(void) {
 }
 
 typedef struct render_opts {
-  uint32_t spp, max_spec, device, photons, iterations, photon_bounces;
-  int direct_only, validation, constant_kernel, progressive;
+  uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
+  int direct_only, validation, constant_kernel, progressive, radius_histogram;
   double smoothing, r_max, alpha;
   const char *png;
 } render_opts;
@@ -74,11 +77,30 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_int(&j, "stored", (int64_t)st->photons_stored);
     pb_json_int(&j, "caustic", (int64_t)st->photons_caustic);
     pb_json_int(&j, "t_auto", st->t_auto);
+    pb_json_int(&j, "leaf_size", st->leaf_size);
     pb_json_int(&j, "lbvh_leaves", st->lbvh_leaves);
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
+    if (st->lbvh_sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", st->lbvh_sort_ms);
+    else pb_json_null(&j, "lbvh_sort_ms");
+    if (st->radius_histogram) {
+      /* Footprint radii over all maps (seed 000 Table 3): bins of r_max / 20
+       * below the clamp, then the count at the clamp. */
+      pb_json_begin_object(&j, "radius_histogram");
+      pb_json_number(&j, "r_max_m", st->radius_r_max);
+      pb_json_number(&j, "scene_radius_m", st->scene_radius);
+      pb_json_number(&j, "bin_m", st->radius_r_max / (PB_RENDER_RADIUS_BINS - 1));
+      pb_json_begin_array(&j, "counts");
+      for (int b = 0; b < PB_RENDER_RADIUS_BINS; ++b) pb_json_int(&j, NULL, (int64_t)st->radius_hist[b]);
+      pb_json_end_array(&j);
+      pb_json_end_object(&j);
+    }
     pb_json_end_object(&j);
   }
+  pb_json_begin_object(&j, "guarded");
+  pb_json_int(&j, "nonfinite_values", (int64_t)st->nonfinite_values);
+  pb_json_int(&j, "photon_divisions", (int64_t)st->photon_guarded);
+  pb_json_end_object(&j);
   pb_json_number(&j, "wall_ms", st->wall_ms);
   pb_json_int(&j, "primary_rays", (int64_t)st->primary_rays);
   pb_json_int(&j, "bvh_nodes", st->bvh_nodes);
@@ -117,6 +139,12 @@ int pb_cmd_render(int argc, char **argv) {
        "--iterations converge to the unbiased answer", NULL, 0, 0},
       {"alpha", 0, PB_OPT_FLOAT, &o.alpha, "A", "--progressive: radius^2 fraction kept per iteration, in (0, 1) "
        "(default 2/3)", NULL, 0, 0},
+      {"leaf-size", 0, PB_OPT_U32, &o.leaf_size, "N",
+       "benchmark: fixed LBVH leaf-size threshold instead of the automatic T_auto (seed 000 Table 1)", NULL, 1,
+       PB_LBVH_MAX_FIXED_LEAF},
+      {"radius-histogram", 0, PB_OPT_FLAG, &o.radius_histogram, NULL,
+       "benchmark: bin every map's footprint radii into --json photons.radius_histogram (reads each map back; "
+       "slows the render)", NULL, 0, 0},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
@@ -176,7 +204,8 @@ int pb_cmd_render(int argc, char **argv) {
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel,
-                       .progressive = o.progressive, .alpha = (float)o.alpha};
+                       .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
+                       .radius_histogram = o.radius_histogram};
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
 

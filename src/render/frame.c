@@ -44,6 +44,50 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   return PB_OK;
 }
 
+/* Bins the footprint radii of one traced map into stats->radius_hist (seed
+ * 000 Table 3); *buf is a host copy grown as needed (freed by the caller). */
+static pb_result radius_histogram(pb_gpu *g, const pb_photon_tracer *t, const pb_photon_map *m,
+                                  pb_gpu_photon **buf, pb_render_stats *st) {
+  pb_photon_trace_stats ts;
+  pb_photon_tracer_stats(t, &ts);
+  uint32_t n = m->stored < m->capacity ? m->stored : m->capacity;
+  st->radius_histogram = 1;
+  st->radius_r_max = ts.r_max;
+  st->scene_radius = ts.scene_radius;
+  if (n == 0 || !(ts.r_max > 0.0f)) return PB_OK;
+  pb_gpu_photon *p = realloc(*buf, (size_t)n * sizeof *p);
+  if (!p) return pb_fail(PB_ERR_NOMEM, "render: out of memory for the radius histogram (%u photons)", n);
+  *buf = p;
+  pb_result r = pb_gpu_buffer_download(g, &m->photons, 0, p, (uint64_t)n * sizeof *p);
+  if (r != PB_OK) return r;
+  const int below = PB_RENDER_RADIUS_BINS - 1;
+  for (uint32_t i = 0; i < n; ++i) {
+    double x = p[i].radius / ts.r_max;
+    int b = below; /* at the clamp */
+    if (x < 1.0 - 1e-5) {
+      b = x > 0 ? (int)(x * below) : 0;
+      if (b > below - 1) b = below - 1;
+    }
+    st->radius_hist[b]++;
+  }
+  return PB_OK;
+}
+
+/* Replaces NaN/Inf in every AOV of n pixels by 0 and counts them: nothing
+ * non-finite leaves the renderer, and the count says whether a pass failed to
+ * guard itself (it should be 0; issue 9). */
+static uint64_t guard_nonfinite(pb_render_result *o, size_t n) {
+  struct { float *p; size_t c; } aov[] = {{o->beauty, 4}, {o->direct, 3}, {o->albedo, 3}, {o->normal, 3},
+                                          {o->depth, 1},  {o->material, 1}, {o->indirect, 3}, {o->caustic, 3}};
+  uint64_t bad = 0;
+  for (size_t a = 0; a < sizeof aov / sizeof *aov; ++a) {
+    if (!aov[a].p) continue;
+    for (size_t i = 0; i < n * aov[a].c; ++i)
+      if (!isfinite(aov[a].p[i])) aov[a].p[i] = 0.0f, ++bad;
+  }
+  return bad;
+}
+
 pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
                           uint32_t height, const pb_render_desc *desc_in, pb_render_result *out) {
   memset(out, 0, sizeof *out);
@@ -84,7 +128,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_photon_estimator *est = NULL;
   pb_photon_map map;
   memset(&map, 0, sizeof map);
-  double trace_ms = 0, lbvh_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
+  double trace_ms = 0, lbvh_ms = 0, sort_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
+  pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
   pb_gpu_photon_accum *phost = NULL;
   out->beauty = calloc(4 * n, sizeof(float));
@@ -129,7 +174,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max};
       if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
     }
-    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel};
+    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size};
     if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
   }
 
@@ -176,6 +221,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         m = &map;
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic;
+      if (band == 0 && !desc.photon_map) {
+        pb_photon_trace_stats pts;
+        pb_photon_tracer_stats(tracer, &pts);
+        out->stats.photon_guarded += pts.guarded;
+      }
+      if (band == 0 && desc.radius_histogram && !desc.photon_map &&
+          (r = radius_histogram(g, tracer, m, &hist_host, &out->stats)) != PB_OK)
+        goto fail;
       /* Progressive mode: Hachisuka & Jensen's SPPM radius reduction in
        * Knaus & Zwicker's probabilistic form (2011): iteration i = 1, 2, ...
        * uses an independent map with every footprint scaled by k_i,
@@ -193,7 +246,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       pb_photon_estimator_set_footprint_scale(est, kscale);
       if ((r = pb_photon_estimator_build(g, est, m, &ms)) != PB_OK) goto fail;
-      if (band == 0) lbvh_ms += ms;
+      if (band == 0) {
+        pb_photon_estimate_stats es;
+        lbvh_ms += ms;
+        if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
+        sort_ms = sort_ms >= 0 && es.sort_ms >= 0 ? sort_ms + es.sort_ms : -1;
+      }
       if ((r = pb_photon_estimator_bind(g, est, &ps, &paccum)) != PB_OK) goto fail;
     }
     for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
@@ -263,6 +321,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   out->width = width;
   out->height = height;
   pb_render_stats *st = &out->stats;
+  st->nonfinite_values = guard_nonfinite(out, n);
   st->spp = spp;
   st->timestamps = ts;
   st->gbuffer_ms = ts ? gbuf_ms : -1;
@@ -284,10 +343,13 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     st->photons_caustic = caustic_sum;
     st->iterations = iters;
     st->t_auto = es.t_auto;
+    st->leaf_size = es.leaf_size;
+    st->lbvh_sort_ms = sort_ms;
     st->lbvh_leaves = es.leaves;
     st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
   }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
+  free(hist_host);
   free(host);
   free(phost);
   pb_gpu_buffer_destroy(g, &paccum);
@@ -301,6 +363,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_buffer_destroy(g, &accum);
   return PB_OK;
 fail:
+  free(hist_host);
   free(host);
   free(phost);
   pb_gpu_buffer_destroy(g, &paccum);

@@ -55,6 +55,11 @@ pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_phot
   pb_photon_estimator *e = calloc(1, sizeof *e);
   if (!e) return pb_fail(PB_ERR_NOMEM, "photon estimator: out of memory");
   if (desc) e->desc = *desc;
+  if (e->desc.leaf_size > PB_LBVH_MAX_FIXED_LEAF) {
+    free(e);
+    return pb_fail(PB_ERR_USAGE, "photon estimator: leaf size %u (at most %u)", desc->leaf_size,
+                   (unsigned)PB_LBVH_MAX_FIXED_LEAF);
+  }
   e->scene_area = (float)scene_area(s);
   static const struct {
     const char *name;
@@ -168,6 +173,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   info.area_tiles = tiles;
   info.scene_area = e->scene_area;
   info.footprint_scale = e->footprint_scale > 0.0f ? e->footprint_scale : 1.0f;
+  info.t_fixed = e->desc.leaf_size;
   if ((r = pb_gpu_buffer_upload(g, &e->info, 0, &info, sizeof info)) != PB_OK) return r;
   e->count = n;
   const pb_gpu_buffer *b[PB_LBVH_BIND_COUNT] = {&e->info,  n ? &map->photons : &e->dummy,
@@ -179,6 +185,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   if (n == 0) {
     if (gpu_ms) *gpu_ms = 0.0;
     e->stats.build_ms = 0.0;
+    e->stats.sort_ms = 0.0;
     return PB_OK;
   }
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
@@ -193,6 +200,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   DISPATCH(PB_LBVH_PASS_BOUNDS, tiled);
   DISPATCH(PB_LBVH_PASS_REDUCE, PB_GPU_WORKGROUP);
   DISPATCH(PB_LBVH_PASS_MORTON, n);
+  pb_gpu_timestamp(g, 2);
   for (uint32_t p = 0; p < PB_LBVH_SORT_PASSES; ++p) {
     push.shift = p * PB_LBVH_RADIX_BITS;
     push.src = (p & 1u) ? e->capacity : 0u;
@@ -201,6 +209,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
     DISPATCH(PB_LBVH_PASS_SCAN, PB_GPU_WORKGROUP);
     DISPATCH(PB_LBVH_PASS_SCATTER, tiled);
   }
+  pb_gpu_timestamp(g, 3);
   /* An even number of passes: the sorted keys and values are at offset 0. */
   push.shift = push.src = push.dst = 0;
   DISPATCH(PB_LBVH_PASS_REORDER, n);
@@ -223,6 +232,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   double ms = pb_gpu_elapsed_ms(g, 0, 1);
   if (ms < 0) ms = (pb_time_now() - wall0) * 1e3;
   e->stats.build_ms = ms;
+  e->stats.sort_ms = pb_gpu_elapsed_ms(g, 2, 3);
   if (gpu_ms) *gpu_ms = ms;
   return PB_OK;
 }
@@ -232,7 +242,8 @@ pb_result pb_photon_estimator_stats(pb_gpu *g, pb_photon_estimator *e, pb_photon
   pb_result r = pb_gpu_buffer_download(g, &e->info, 0, &info, sizeof info);
   if (r != PB_OK) return r;
   e->stats.photons = info.count;
-  e->stats.t_auto = info.t_auto;
+  e->stats.t_auto = info.t_computed ? info.t_computed : info.t_auto;
+  e->stats.leaf_size = info.t_auto;
   e->stats.leaves = info.leaves;
   e->stats.area_sum = info.area_sum;
   e->stats.scene_area = info.scene_area;

@@ -81,6 +81,8 @@ typedef struct pb_photon_trace_stats {
   uint32_t escaped;    /* paths that left the scene */
   uint32_t photons;    /* paths per iteration (the budget) */
   float delta;         /* global spacing Delta = 2 sqrt(pi / photons) */
+  float r_max;         /* footprint radius clamp in use, metres */
+  float scene_radius;  /* the scene's bounding radius R, metres */
 } pb_photon_trace_stats;
 void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *out);
 
@@ -112,17 +114,24 @@ struct pb_pass_setup;
 /* Zero means default for every field. */
 typedef struct pb_photon_estimate_desc {
   int constant_kernel;        /* 1: constant kernel; 0: Epanechnikov */
+  uint32_t leaf_size;         /* fixed leaf-size threshold instead of T_auto
+                                 (1..PB_LBVH_MAX_FIXED_LEAF; benchmark sweeps
+                                 as in seed 000 Table 1); 0: T_auto */
 } pb_photon_estimate_desc;
 
 typedef struct pb_photon_estimator pb_photon_estimator;
 
 typedef struct pb_photon_estimate_stats {
   uint32_t photons;           /* photons in the last build */
-  uint32_t t_auto;            /* leaf-size threshold of the last build */
+  uint32_t t_auto;            /* T_auto of the last build (as computed, also
+                                 when desc.leaf_size overrides it) */
+  uint32_t leaf_size;         /* threshold the last build used */
   uint32_t leaves;            /* leaves after the merge */
   float area_sum;             /* summed footprint ellipse areas, m^2 */
   float scene_area;           /* summed triangle areas, m^2 */
   double build_ms;            /* last build: GPU timestamps (wall without) */
+  double sort_ms;             /* of which the radix sort (all passes); -1
+                                 without timestamps */
   uint32_t stack_overflow;    /* gather traversals cut short (expected 0) */
 } pb_photon_estimate_stats;
 

@@ -176,6 +176,8 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->p.r_max = d.r_max > 0.0f ? d.r_max : 0.05f * radius;
   t->stats.photons = total;
   t->stats.delta = delta;
+  t->stats.r_max = t->p.r_max;
+  t->stats.scene_radius = radius;
   if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,

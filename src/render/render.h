@@ -84,9 +84,19 @@ typedef struct pb_render_desc {
                                   in (0, 1); 0: 2/3 */
   const struct pb_photon_map *photon_map; /* tests: gather this map (every
                                   iteration) instead of tracing */
+  /* Benchmark (bench/run_bench.py): */
+  uint32_t leaf_size;          /* fixed LBVH leaf-size threshold instead of
+                                  T_auto (seed 000 Table 1); 0: T_auto */
+  int radius_histogram;        /* 1: read every traced map back and bin its
+                                  footprint radii (stats.radius_hist; costs a
+                                  download per map, so off for timing) */
 } pb_render_desc;
 
 enum { PB_RENDER_MAX_SPECULAR_DEPTH = 64 };
+/* Footprint radius histogram: PB_RENDER_RADIUS_BINS - 1 bins of width
+ * r_max / (PB_RENDER_RADIUS_BINS - 1) below the clamp, then the footprints
+ * at the clamp r_max (seed 000 Table 3). */
+enum { PB_RENDER_RADIUS_BINS = 21 };
 
 typedef struct pb_render_stats {
   double upload_ms, bvh_build_ms;
@@ -101,6 +111,20 @@ typedef struct pb_render_stats {
   uint64_t photons_stored, photons_caustic;
   uint32_t iterations, t_auto, lbvh_leaves;
   double k_pd;
+  /* Guards (issue 9): NaN/Inf values met in the resolved AOVs and replaced
+   * by 0 (a correct render has none), and divisions the photon tracer
+   * guarded, summed over iterations (grazing hits, degenerate footprints;
+   * never stored non-finite). */
+  uint64_t nonfinite_values, photon_guarded;
+  uint32_t leaf_size;                         /* threshold used (T_auto or
+                                                 desc.leaf_size), last map */
+  double lbvh_sort_ms;                        /* radix sort part of lbvh_ms
+                                                 (-1 without timestamps) */
+  /* With desc.radius_histogram: counts over all maps; bin width r_max /
+   * (PB_RENDER_RADIUS_BINS - 1) metres; the last bin: at the clamp. */
+  uint64_t radius_hist[PB_RENDER_RADIUS_BINS];
+  float radius_r_max, scene_radius;
+  int radius_histogram;
 } pb_render_stats;
 
 /* Per-pixel float buffers, width*height*channels, top row first. */
