@@ -247,7 +247,10 @@ class Runner:
         if kind == "ref":
             guarded = stats.get("guarded_samples", 0)
         else:
-            guarded = stats.get("guarded", {}).get("nonfinite_values", 0)
+            guarded = stats.get("guarded", {}).get("nonfinite_values")
+            if guarded is None:
+                check(False, "%s %s: render --json has no guarded.nonfinite_values" % (kind, name))
+                return
         check(bad == 0 and guarded == 0,
               "%s %s: no NaN/Inf (EXR %d non-finite, %d guarded before writing)" % (kind, name, bad, guarded))
 
