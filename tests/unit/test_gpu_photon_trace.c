@@ -9,7 +9,10 @@
  *  (d) no NaN/Inf, photons inside the scene bounds, unit normals/directions;
  *  (e) caustic flags: caustics only through mirror/glass (cornell_caustics,
  *      and none when its specular materials are made diffuse);
- *  (f) budget split over lights in proportion to power, equal photon flux.
+ *  (f) budget split over lights in proportion to power, equal photon flux;
+ *  (g) hard cases: a 0.5-degree spot (every photon at the emission pole) and
+ *      two parallel mirrors (long specular chains): records finite, every
+ *      footprint within r_max.
  * Validation layers on, any message fatal; exit 77 without a device. */
 #include <math.h>
 #include <stdlib.h>
@@ -530,6 +533,76 @@ static void limits(pb_gpu *g) {
   pb_gpu_scene_destroy(g, &gs);
 }
 
+/* ---- (g) hard cases (issue 9) -------------------------------------------- */
+
+/* Every record finite (check_records) and every footprint within the clamp. */
+static void check_clamped(const pb_scene *s, const traced *t, const char *what) {
+  check_records(s, t, what);
+  uint32_t over = 0;
+  float rmax = 0;
+  for (uint32_t i = 0; i < t->n; ++i) {
+    if (!(t->ph[i].radius <= t->st.r_max * (1 + 1e-5f))) over++;
+    if (t->ph[i].radius > rmax) rmax = t->ph[i].radius;
+  }
+  printf("%s: largest footprint %.4g m, r_max %.4g m, %u over the clamp\n", what, rmax, t->st.r_max, over);
+  CHECK(t->n > 0);
+  CHECK_EQ_INT(over, 0);
+}
+
+static void hard_cases(pb_gpu *g) {
+  /* A spot of 0.5 degree half-angle straight down in a closed box: every
+   * photon leaves within 0.5 degree of the emission pole (sin theta -> 0 in
+   * the (cos theta, phi) parameterisation, seed 000 eq. 6-8). */
+  static tscene t;
+  box(&t, 0.7f);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0, 0.99f, 0, 50.0f, w);
+  t.light[0].type = PB_LIGHT_SPOT;
+  t.light[0].direction[0] = 0, t.light[0].direction[1] = -1, t.light[0].direction[2] = 0;
+  t.light[0].outer_cone = 0.5f * (float)M_PI / 180.0f;
+  t.light[0].inner_cone = 0.25f * (float)M_PI / 180.0f;
+  finish(&t);
+  pb_photon_trace_desc d = {.photons = 1u << 16, .max_bounces = 3};
+  traced tr;
+  if (trace(g, &t.s, &d, 21, 0, 0, 0, PB_PHOTON_PARAM_STORE_FIRST, &tr)) {
+    uint32_t first = 0;
+    for (uint32_t i = 0; i < tr.n; ++i) first += bounce_of(&tr.ph[i]) == 0;
+    CHECK(first > (1u << 15)); /* the pole's photons are really there */
+    check_clamped(&t.s, &tr, "hard: spot of 0.5 deg at the emission pole");
+    release(g, &tr);
+  }
+
+  /* Two parallel mirrors 1 m apart (x = +-0.5), 40 m long, over a diffuse
+   * floor, a point light between them: photons leaving nearly along x bounce
+   * between the mirrors up to the tracer's specular limit, their
+   * differentials growing at every reflection. */
+  memset(&t, 0, sizeof t);
+  uint32_t mirror = add_mat(&t, 0.95f, 1.0f), floor_m = add_mat(&t, 0.5f, 0);
+  float L = 20.0f;
+  float left[4][3] = {{-0.5f, 0, -L}, {-0.5f, 0, L}, {-0.5f, 2, L}, {-0.5f, 2, -L}};
+  float right[4][3] = {{0.5f, 0, -L}, {0.5f, 2, -L}, {0.5f, 2, L}, {0.5f, 0, L}};
+  float nl[3] = {1, 0, 0}, nr[3] = {-1, 0, 0};
+  add_quad(&t, left, nl, mirror);
+  add_quad(&t, right, nr, mirror);
+  float fl[4][3] = {{-0.5f, 0, -L}, {0.5f, 0, -L}, {0.5f, 0, L}, {-0.5f, 0, L}};
+  float nf[3] = {0, 1, 0};
+  add_quad(&t, fl, nf, floor_m);
+  add_point(&t, 0.1f, 1.0f, 0, 10.0f, w);
+  finish(&t);
+  d = (pb_photon_trace_desc){.photons = 1u << 16, .max_bounces = 3};
+  if (trace(g, &t.s, &d, 22, 0, 0, 0, 0, &tr)) {
+    uint32_t deepest = 0;
+    for (uint32_t i = 0; i < tr.n; ++i)
+      if (bounce_of(&tr.ph[i]) > deepest) deepest = bounce_of(&tr.ph[i]);
+    printf("hard: parallel mirrors: %u photons (%u caustic), deepest after %u interactions\n",
+           tr.n, tr.map.caustic, deepest);
+    CHECK(deepest >= 10);
+    CHECK(tr.map.caustic > 0);
+    check_clamped(&t.s, &tr, "hard: parallel mirrors");
+    release(g, &tr);
+  }
+}
+
 int main(void) {
   pb_gpu *g;
   pb_gpu_desc gd = {.validation = 1};
@@ -549,6 +622,7 @@ int main(void) {
   samples(g, "sun_atrium");
   samples(g, "ring");
   limits(g);
+  hard_cases(g);
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
   pb_gpu_destroy(g);
   return pbt_done();
