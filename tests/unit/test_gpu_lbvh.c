@@ -6,7 +6,7 @@
  * photons, leaves no larger than T_auto unless they are a run of one Morton
  * code, T_auto = round(footprint area sum / scene area). Cases: random
  * photons with skewed footprints, all photons at one position (identical
- * codes), one photon, two photons, zero photons. Validation layers on, any
+ * codes), one photon, two photons, zero photons, 10^7 photons. Validation layers on, any
  * message fatal; exit 77 without a Vulkan device. */
 #include <math.h>
 #include <stdlib.h>
@@ -238,6 +238,26 @@ int main(void) {
      * iterations in all, which cut the root's box short when one invocation
      * looped over the whole map (the gather then lost the x > 0 half). */
     check_case(g, e, 100000, 0, 0.02f, "random, > 65535");
+    /* Ten million (issue 9): 960 MB of records, every structural check, on a
+     * device whose storage buffers can hold them (NVIDIA: 4 GiB). lavapipe's
+     * maxStorageBufferRange is 128 MiB: there the largest map that fits
+     * (1.4 M photons) is checked, and the 10^7 map must fail cleanly with
+     * PB_ERR_LIMIT naming the buffer, never be truncated. */
+    uint64_t range = pb_gpu_get_limits(g)->max_storage_buffer_range;
+    uint64_t fit = range / sizeof(pb_gpu_photon);
+    if (fit >= 10000000) {
+      check_case(g, e, 10000000, 0, 0.001f, "random, 10^7");
+    } else {
+      printf("lbvh: 10^7 photons need %llu MiB storage buffers, the device allows %llu MiB: checking %llu\n",
+             (unsigned long long)(10000000ull * sizeof(pb_gpu_photon) >> 20), (unsigned long long)(range >> 20),
+             (unsigned long long)fit);
+      check_case(g, e, (uint32_t)fit, 0, 0.001f, "random, largest map");
+      pb_gpu_buffer b;
+      pb_gpu_buffer_desc bd = {.name = "photons", .size = 10000000ull * sizeof(pb_gpu_photon)};
+      CHECK_EQ_INT(pb_gpu_buffer_create(g, &bd, &b), PB_ERR_LIMIT);
+      CHECK(strstr(pb_error_message(), "photons") != NULL);
+      pb_error_clear();
+    }
   }
   pb_photon_estimator_destroy(g, e);
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
