@@ -265,8 +265,10 @@ interrupt_cpu | interrupt_gpu)
       bad "$name: exit $rc, expected $want: $(cat "$work/ierr")"
     elif [ "$before" != "$after" ]; then
       bad "$name: folder changed: before [$before] after [$after]"
-    elif ! tail -1 "$work/ierr" | grep -q '^photonbridge: interrupted$'; then
-      bad "$name: last stderr line is not 'photonbridge: interrupted': $(tail -2 "$work/ierr")"
+    elif ! tail -1 "$work/ierr" | grep -Eq "^photonbridge [a-z-]+: interrupted by SIG$sig; no output written\$"; then
+      bad "$name: last stderr line is not 'photonbridge CMD: interrupted by SIG$sig; no output written': $(tail -2 "$work/ierr")"
+    elif [ "$(grep -c '^$' "$work/ierr")" -ne 0 ]; then
+      bad "$name: empty lines on stderr (not a terminal)"
     else
       ok "$name: exit $rc, nothing left${held:+ (temporary $held removed)}"
     fi

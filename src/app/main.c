@@ -72,12 +72,28 @@ static int cmd_help(int argc, char **argv) {
 }
 
 /* SIGINT/SIGTERM: remove the temporaries of outputs being written, then die
- * with the conventional status; no half-written file survives. */
+ * with the conventional status (128 + signal: 130, 143); no half-written file
+ * survives. One line on stderr, "photonbridge render: interrupted by SIGINT;
+ * no output written", preceded by a newline only on a terminal (to end a
+ * progress bar). Everything the handler writes is prepared before it runs. */
+static const char *sig_command = "";
+static int sig_stderr_tty;
+
+static void put(const char *s) {
+  ssize_t ignored = write(STDERR_FILENO, s, strlen(s));
+  (void)ignored;
+}
+
 static void on_signal(int sig) {
   pb_tmp_remove_all_signal_safe();
-  static const char msg[] = "\nphotonbridge: interrupted\n";
-  ssize_t ignored = write(STDERR_FILENO, msg, sizeof msg - 1);
-  (void)ignored;
+  if (sig_stderr_tty) put("\n");
+  put("photonbridge");
+  if (sig_command[0]) {
+    put(" ");
+    put(sig_command);
+  }
+  put(sig == SIGINT ? ": interrupted by SIGINT" : ": interrupted by SIGTERM");
+  put("; no output written\n");
   _exit(128 + sig);
 }
 
@@ -87,6 +103,7 @@ int main(int argc, char **argv) {
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
+  sig_stderr_tty = isatty(STDERR_FILENO);
 
   if (argc < 2) {
     usage(stderr);
@@ -106,6 +123,7 @@ int main(int argc, char **argv) {
             argv[1]);
     return pb_result_exit_code(PB_ERR_USAGE);
   }
+  sig_command = c->name;
   int rc = c->run(argc - 1, argv + 1);
   /* With PB_VK_VALIDATION=1 (or --validation) every validation message is an
    * error, also one reported after the last submission (e.g. an object leaked
