@@ -175,6 +175,8 @@ unwritable_cpu | unwritable_gpu)
         "$exe" compare "$work/in.exr" "$work/in.exr" --json "$u/c.json" -q
       run "export_pov_$k" 3 "export-pov: error: $u/s.pov: cannot write" "$d" -- "$exe" export-pov "$scene" -o "$u/s.pov" -q
       run "info_json_$k" 3 "info: error: $u/i.json: cannot write" "$d" -- "$exe" info "$scene" --json "$u/i.json" -q
+      run "validate_$k" 3 "validate: error: $u/v: cannot create the output folder" "$d" -- \
+        "$exe" validate cornell_box --out "$u/v" --width 16
     else
       run "render_$k" 3 "render: error: $u/x.exr: cannot" "$d" -- "$exe" $R -o "$u/x.exr"
       # The EXR is written, then the PNG/JSON fails: the EXR is removed again.

@@ -121,7 +121,12 @@ def main(argv):
         return 2
     exe = os.path.abspath(a.exe)
     out = os.path.abspath(a.out)
-    os.makedirs(out, exist_ok=True)
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as e:  # one line and the result table's PB_ERR_IO (3), not a traceback
+        print("photonbridge validate: error: %s: cannot create the output folder: %s" % (out, e.strerror),
+              file=sys.stderr)
+        return 3
     color = []
     for k in ("ocio_config", "display", "view", "look"):
         v = getattr(a, k)
