@@ -28,8 +28,9 @@ histogram (Table 3), and LBVH build / radix-sort rates against photon count
 Writes DIR/results.json (everything, with settings, tool versions, device,
 machine and load), DIR/results.csv (one row per point), DIR/*.svg and *.png
 (matplotlib, when importable; Debian's python3-matplotlib) and the Markdown
-report (DIR/BENCHMARKS.md; the full run on the default device also writes
-the repository's BENCHMARKS.md). DIR defaults to
+report (DIR/BENCHMARKS.md; a full run also writes the repository's
+BENCHMARKS.md, naming its device and listing the other result sets without
+their numbers). DIR defaults to
 bench/results/DEVICE-SLUG/{full,quick}: results of different devices are
 kept apart and never compared as absolute times; the photonbridge / best
 peer ratios are taken within one run.
@@ -62,48 +63,48 @@ PEERS = ("reference", "povray", "cycles")
 # curve is skipped, with a note, when this build's `render --help` lacks it).
 
 
-def pb_curve(label, photons, iters, spp_per_iter=2, min_spp=4, extra=(), needs=None):
-    pts = [{"photons": photons, "iterations": k, "spp": max(min_spp, spp_per_iter * k), "extra": list(extra)}
-           for k in iters]
+def pb_curve(label, photons, maps_spp, extra=(), needs=None):
+    """maps_spp: (photon maps K, samples per pixel) per point."""
+    pts = [{"photons": photons, "iterations": k, "spp": spp, "extra": list(extra)} for k, spp in maps_spp]
     return {"label": label, "points": pts, "needs": needs}
 
 
 CONFIGS = {
     "full": {
-        "width": 160,
-        "scenes": ["cornell_box", "cornell_caustics", "ring", "spot_room", "sun_atrium"],
-        "reference_spp": 4096,
+        "width": 128,
+        "scenes": ["cornell_box", "cornell_caustics", "ring", "spot_room"],
+        # Converged references: spp per scene (noise PSNR about 40 dB or more).
+        "reference_spp": {"cornell_box": 4096, "default": 2048},
         "photonbridge": [
-            pb_curve("2^16 photons/map", 1 << 16, [1, 2, 4, 8, 16, 32]),
-            pb_curve("2^18 photons/map", 1 << 18, [1, 2, 4, 8, 16]),
-            pb_curve("2^16, progressive", 1 << 16, [2, 4, 8, 16, 32], extra=["--progressive"]),
-            pb_curve("2^16, constant kernel", 1 << 16, [1, 4, 16], extra=["--constant-kernel"]),
+            pb_curve("2^16 photons/map", 1 << 16, [(1, 1), (1, 4), (2, 4), (4, 8), (8, 16), (16, 32)]),
+            pb_curve("2^18 photons/map", 1 << 18, [(1, 4), (4, 8), (16, 32)]),
+            pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
+            pb_curve("2^16, constant kernel", 1 << 16, [(4, 8), (16, 32)], extra=["--constant-kernel"]),
         ],
-        "reference": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512],
-        "povray": ["draft", "medium"],
-        "povray_high_scenes": ["cornell_box"],
-        "cycles": [4, 16, 64, 256, 1024],
+        "reference": [1, 4, 16, 64, 256, 1024],
+        "povray": {"default": ["draft", "medium"]},
+        "cycles": [16, 256],
         "leaf_scenes": ["cornell_box", "cornell_caustics"],
         "leaf_sizes": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512],
         "leaf_setup": {"width": 96, "photons": 1 << 17, "iterations": 2, "spp": 2, "repeat": 2},
         "lbvh_counts": [1e4, 3e4, 1e5, 3e5, 1e6, 1.39e6, 3e6, 1e7],
-        "timeout_s": 900,
+        "timeout_s": 600,
     },
     "quick": {
         "width": 96,
         "scenes": ["cornell_box", "cornell_caustics"],
-        "reference_spp": 2048,
+        "reference_spp": {"default": 2048},
         "photonbridge": [
-            pb_curve("2^16 photons/map", 1 << 16, [1, 4, 16]),
-            pb_curve("2^16, progressive", 1 << 16, [4, 16], extra=["--progressive"]),
+            pb_curve("2^16 photons/map", 1 << 16, [(1, 1), (1, 4), (4, 8), (16, 32)]),
+            pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
         ],
         "reference": [4, 16, 64, 256],
-        "povray": ["draft", "medium"],
-        "povray_high_scenes": [],
+        # POV-Ray's medium radiosity + photons takes minutes on cornell_caustics.
+        "povray": {"default": ["draft"], "cornell_box": ["draft", "medium"]},
         "cycles": [16, 128],
         "leaf_scenes": ["cornell_box"],
         "leaf_sizes": [1, 4, 16, 64, 256, 512],
-        "leaf_setup": {"width": 64, "photons": 1 << 16, "iterations": 1, "spp": 1, "repeat": 1},
+        "leaf_setup": {"width": 64, "photons": 1 << 16, "iterations": 1, "spp": 1, "repeat": 2},
         "lbvh_counts": [1e4, 1e5, 1e6],
         "timeout_s": 300,
     },
@@ -111,11 +112,10 @@ CONFIGS = {
     "smoke": {
         "width": 32,
         "scenes": ["cornell_box"],
-        "reference_spp": 256,
-        "photonbridge": [pb_curve("2^14 photons/map", 1 << 14, [1, 4], spp_per_iter=1, min_spp=1)],
+        "reference_spp": {"default": 256},
+        "photonbridge": [pb_curve("2^14 photons/map", 1 << 14, [(1, 1), (4, 4)])],
         "reference": [1, 16],
-        "povray": ["draft"],
-        "povray_high_scenes": [],
+        "povray": {"default": ["draft"]},
         "cycles": [],
         "leaf_scenes": ["cornell_box"],
         "leaf_sizes": [1, 512],
@@ -267,7 +267,8 @@ class Bench:
     # ---- converged references (cached) -----------------------------------
 
     def reference(self, scene):
-        spp = self.a.ref_spp or self.cfg["reference_spp"]
+        rs = self.cfg["reference_spp"]
+        spp = self.a.ref_spp or rs.get(scene, rs["default"])
         h = hashlib.sha1()
         sdir = os.path.dirname(self.scene_path(scene))
         for fn in sorted(os.listdir(sdir)):
@@ -336,10 +337,8 @@ class Bench:
         if not shutil.which("povray"):
             self.notes.append("POV-Ray: not installed")
             return
-        presets = list(self.cfg["povray"])
-        if scene in self.cfg["povray_high_scenes"]:
-            presets.append("high")
-        for q in presets:
+        pc = self.cfg["povray"]
+        for q in pc.get(scene, pc["default"]):
             tag = "%s_pov_%s" % (scene, q)
             pdir = os.path.join(self.work, tag)
             os.makedirs(pdir, exist_ok=True)
@@ -517,6 +516,9 @@ def summarise(points, scenes):
                 best = min(peers)
                 row["best_peer"] = best[1]
                 row["ratio"] = pb["time_s"] / best[0]
+                # A time reached at a sweep's first point is an upper bound.
+                pb_b, peer_b = pb["bound"] == "<=", row["renderers"][best[1]]["bound"] == "<="
+                row["ratio_bound"] = "?" if pb_b and peer_b else ("<=" if pb_b else (">=" if peer_b else "="))
             table.append(row)
     return table
 
@@ -573,7 +575,7 @@ def devices(exe):
 def slug(name):
     s = re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
     if s.startswith("llvmpipe"):
-        s = "lavapipe-" + s
+        s = "lavapipe"  # Mesa's CPU Vulkan; its version is in results.json
     return s[:48] or "device"
 
 
@@ -645,14 +647,14 @@ def plots(res, out):
             for k in r["passes_ms"]:
                 if k not in names:
                     names.append(k)
-        fig, ax = plt.subplots(figsize=(7, 0.6 + 0.5 * len(rows)))
+        fig, ax = plt.subplots(figsize=(8.5, 1.0 + 0.5 * len(rows)))
         left = [0.0] * len(rows)
         for k in names:
             v = [r["passes_ms"].get(k, 0.0) or 0.0 for r in rows]
             ax.barh([r["scene"] for r in rows], v, left=left, label=k)
             left = [a + b for a, b in zip(left, v)]
         ax.set_xlabel("GPU ms per image (timestamps, summed over maps and samples)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
         fig.tight_layout()
         for ext in ("svg", "png"):
             fig.savefig(os.path.join(out, "passes.%s" % ext), dpi=110)
@@ -723,7 +725,8 @@ def markdown(res, rel):
     L.append("## Time to reach 25, 30 and 35 dB PSNR\n")
     L.append("Best over each renderer's configurations (interpolated in log time between the sweep's points; "
              "&le;: already reached at the first point). Ratio = photonbridge / best peer, within this run "
-             "(< 1: photonbridge faster).\n")
+             "(< 1: photonbridge faster; &le;/&ge;: a bound, because one side reached the level at its cheapest point; "
+             "~: both did).\n")
     L.append("| scene | ref. noise | dB | photonbridge | reference (CPU) | POV-Ray | Cycles | photonbridge / best peer |")
     L.append("|---|---|---|---|---|---|---|---|")
     for row in res["summary"]:
@@ -733,7 +736,8 @@ def markdown(res, rel):
             row["scene"], "%.1f dB" % noise if noise else "-", row["psnr_db"],
             fmt_t(rr.get("photonbridge")), fmt_t(rr.get("reference")), fmt_t(rr.get("povray")),
             fmt_t(rr.get("cycles")),
-            "**%.2f** (vs %s)" % (row["ratio"], row["best_peer"]) if row.get("ratio") else "-"))
+            "**%s%.2f** (vs %s)" % ({"=": "", "<=": "&le; ", ">=": "&ge; ", "?": "~"}[row["ratio_bound"]],
+                                   row["ratio"], row["best_peer"]) if row.get("ratio") else "-"))
     L.append("\nThe configuration behind each best time is in results.json (`summary`). A PSNR near the "
              "converged reference's own noise PSNR (column 2) is limited by the reference, not by the "
              "renderer.\n")
@@ -820,6 +824,16 @@ def markdown(res, rel):
     if res["notes"]:
         L.append("\nNotes:\n")
         L += ["- " + n for n in res["notes"]]
+    others = []
+    rdir = os.path.join(ROOT, "bench", "results")
+    for d in sorted(os.listdir(rdir)) if os.path.isdir(rdir) else []:
+        for m_ in ("full", "quick"):
+            f = os.path.join(rdir, d, m_, "results.json")
+            if os.path.isfile(f) and os.path.abspath(os.path.dirname(f)) != os.path.abspath(res["out_abs"]):
+                others.append("bench/results/%s/%s" % (d, m_))
+    if others:
+        L.append("\nOther result sets (other devices or modes; their own BENCHMARKS.md, never compared with this "
+                 "one in absolute time): " + ", ".join("`%s`" % o for o in others) + ".")
     failed = [p for p in res["points"] if p.get("status") != "ok"]
     if failed:
         L.append("\nFailed points (%d):\n" % len(failed))
@@ -841,10 +855,11 @@ def main(argv):
     ap.add_argument("--ref-spp", type=int, default=0, help="converged reference spp (default: the mode's)")
     ap.add_argument("--out", help="results folder (default bench/results/DEVICE/MODE)")
     ap.add_argument("--cache", default=os.path.join(HERE, "cache"))
-    ap.add_argument("--markdown", help="also write the report here (default: BENCHMARKS.md for a full run on the "
-                    "default device)")
+    ap.add_argument("--markdown", help="also write the report here (default: BENCHMARKS.md for a full run)")
     ap.add_argument("--no-cycles", action="store_true")
     ap.add_argument("--refresh-references", action="store_true", help="render the converged references again")
+    ap.add_argument("--references-only", action="store_true", help="only render (or find) the cached converged "
+                    "references, e.g. ahead of a timed run")
     ap.add_argument("--no-internals", action="store_true")
     ap.add_argument("--note", action="append", default=[], help="a line for the report's notes")
     a = ap.parse_args(argv)
@@ -877,19 +892,22 @@ def main(argv):
     refs = {}
     for s in scenes:  # references first: they are cached, and not timed
         refs[s] = b.reference(s)
+    if a.references_only:
+        return 0
     for s in scenes:
         b.bench_photonbridge(s, refs[s])
         b.bench_reference(s, refs[s])
         b.bench_povray(s, refs[s])
         b.bench_cycles(s, refs[s])
     internals = {"passes": [], "leaf_sweep": [], "histograms": [], "lbvh_rates": []}
-    # Fig. 5: the photonbridge point of the first curve nearest 1 s per scene.
+    # Fig. 5: the photonbridge point of the first curve with 4 maps, per scene.
     first = cfg["photonbridge"][0]["label"]
     for s in scenes:
         cand = [p for p in b.points if p["scene"] == s and p["renderer"] == "photonbridge" and p["config"] == first
                 and p.get("passes_ms")]
         if cand:
-            p = min(cand, key=lambda p: abs(math.log(max(p["wall_s"], 1e-3))))
+            four = [p for p in cand if p["params"]["iterations"] == 4]
+            p = four[0] if four else max(cand, key=lambda p: p["params"]["iterations"])
             pm = {k: v for k, v in p["passes_ms"].items() if k not in ("gpu_total", "upload", "bvh_build")}
             internals["passes"].append({"scene": s, "what": "%s, K maps and spp as listed" % first,
                                         "params": p["params"], "passes_ms": pm, "wall_ms": 1e3 * p["wall_s"]})
@@ -912,17 +930,18 @@ def main(argv):
            "scenes": scenes, "config": {k: v for k, v in cfg.items()}, "references": refs, "points": b.points,
            "internals": internals, "notes": b.notes + a.note, "peak_memory": PEAK["how"], "out": os.path.relpath(b.out, ROOT)}
     res["summary"] = summarise(b.points, scenes)
+    res["out_abs"] = b.out
     res["plots"] = plots(res, b.out)
     if res["plots"] and not res["plots"][0].endswith((".svg", ".png")):
         res["notes"].append(res["plots"].pop())
     if not a.keep_work:
         shutil.rmtree(b.work, ignore_errors=True)
     with open(os.path.join(b.out, "results.json"), "w") as f:
-        json.dump(res, f, indent=1)
+        json.dump({k: v for k, v in res.items() if k != "out_abs"}, f, indent=1)
     write_csv(os.path.join(b.out, "results.csv"), b.points)
     with open(os.path.join(b.out, "BENCHMARKS.md"), "w") as f:
         f.write(markdown(res, "."))
-    md = a.markdown or (os.path.join(ROOT, "BENCHMARKS.md") if mode == "full" and a.device is None else None)
+    md = a.markdown or (os.path.join(ROOT, "BENCHMARKS.md") if mode == "full" else None)
     if md:
         with open(md, "w") as f:
             f.write(markdown(res, os.path.relpath(b.out, os.path.dirname(os.path.abspath(md)))))
@@ -930,8 +949,8 @@ def main(argv):
                                   (" and " + os.path.relpath(md, ROOT)) if md else ""))
     for row in res["summary"]:
         if row.get("ratio"):
-            b.log("%s %g dB: photonbridge / best peer (%s) = %.2f" % (row["scene"], row["psnr_db"], row["best_peer"],
-                                                                     row["ratio"]))
+            b.log("%s %g dB: photonbridge / best peer (%s) %s %.2f" % (
+                row["scene"], row["psnr_db"], row["best_peer"], row["ratio_bound"], row["ratio"]))
     return 0
 
 
