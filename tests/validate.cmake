@@ -7,8 +7,11 @@
 #                             Labelled chromium;no-sanitize; skips (77) without chromium.
 #   test_validate_calib       (unit-test glob) reference vs POV-Ray, direct light only,
 #                             thresholds in the file; labelled povray;no-sanitize.
-#   test_validate_calib_cycles  the same binary with --cycles: the watt convention of
-#                             shared/VALIDATION.md and cornell_box direct light vs Cycles.
+#   cycles_calib              validation/cycles_calib_check.py: the watt convention of
+#                             shared/VALIDATION.md against Blender's Cycles (point, spot,
+#                             sun on a Lambertian plane, direct light, 1 %), with the
+#                             reference rendering the glTF Blender exported from the same
+#                             scenes. Labelled blender;no-sanitize; skips without Blender.
 #   cli_validate_*            command-line errors.
 add_test(NAME validate_report_chromium
          COMMAND sh -c "c=$(command -v chromium || command -v chromium-browser) || { echo 'skip: no chromium'; exit 77; }
@@ -54,3 +57,11 @@ add_test(NAME test_validate_calib_cornell_direct COMMAND test_validate_calib --c
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(test_validate_calib_cornell_direct PROPERTIES LABELS "povray;calibration;no-sanitize"
                      SKIP_RETURN_CODE 77 TIMEOUT 600)
+
+# The watt convention against Cycles (validation/cycles_calib_check.py; thresholds there).
+add_test(NAME cycles_calib
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/validation/cycles_calib_check.py ${PB_EXE}
+                 $<TARGET_FILE:exr_probe> ${CMAKE_CURRENT_BINARY_DIR}/cycles_calib --threads 1
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cycles_calib PROPERTIES LABELS "blender;calibration;no-sanitize" SKIP_RETURN_CODE 77
+                     TIMEOUT 600)

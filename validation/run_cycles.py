@@ -45,6 +45,10 @@ def main(argv):
     ap.add_argument("--threads", type=int, default=0, help="0: all cores")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--bounces", type=int, default=64, help="max bounces (0: direct light only)")
+    ap.add_argument("--diffuse-bsdf", action="store_true",
+                    help="calibration: replace every Principled BSDF whose Specular and Metallic are 0 by a "
+                         "Diffuse BSDF of its base colour (Blender 3.4's Principled keeps a grazing GGX layer "
+                         "at Specular 0, which glTF's Specular-0 export does not describe)")
     args = ap.parse_args(argv)
 
     samples = load_samples_module()
@@ -53,6 +57,16 @@ def main(argv):
               file=sys.stderr)
         return 2
     tmpdirs = samples.SCENES[args.scene]() or []
+    if args.diffuse_bsdf:
+        for mat in bpy.data.materials:
+            nt = mat.node_tree
+            p = nt.nodes.get("Principled BSDF") if nt else None
+            if not p or p.inputs["Specular"].default_value != 0 or p.inputs["Metallic"].default_value != 0 \
+                    or p.inputs["Transmission"].default_value != 0 or p.inputs["Base Color"].is_linked:
+                continue
+            d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+            d.inputs["Color"].default_value = p.inputs["Base Color"].default_value
+            nt.links.new(d.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     sc = bpy.context.scene
     r = sc.render
     if args.width:
@@ -99,7 +113,8 @@ def main(argv):
         os.rmdir(d)
     info = {"renderer": "cycles", "blender": bpy.app.version_string, "scene": args.scene,
             "width": r.resolution_x, "height": r.resolution_y, "samples": args.samples,
-            "seed": args.seed, "bounces": args.bounces, "render_s": round(dt, 3)}
+            "seed": args.seed, "bounces": args.bounces, "diffuse_bsdf": args.diffuse_bsdf,
+            "render_s": round(dt, 3)}
     with open(out + ".json", "w") as f:
         json.dump(info, f, indent=1)
     print("run_cycles: %s %dx%d %d spp in %.3f s" % (out, r.resolution_x, r.resolution_y, args.samples, dt))
