@@ -2,6 +2,7 @@
  * any data is read, then the node tree is flattened into world-space arrays.
  * Errors are one line "FILE: JSON-PATH: why" (pb_fail). See gltf_doc.h for
  * what the shim has (and has not) checked. */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -262,6 +263,10 @@ static int normalize3(double v[3]) {
   v[0] /= l, v[1] /= l, v[2] /= l;
   return 1;
 }
+/* A double that becomes a finite float (the scene model stores floats). */
+static int fits_float(double v) { return fabs(v) <= FLT_MAX; }
+static int fits_float3(const double v[3]) { return fits_float(v[0]) && fits_float(v[1]) && fits_float(v[2]); }
+
 static int finite_mat(const mat4 *M) {
   for (int k = 0; k < 16; ++k)
     if (!isfinite(M->m[k])) return 0;
@@ -502,7 +507,7 @@ static int32_t default_material(loader *L) {
 
 /* ---- meshes -------------------------------------------------------------- */
 
-static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M) {
+static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
   pb_gltf_doc *d = L->doc;
   pb_scene *s = L->s;
   const pb_gltf_primitive *p = &d->meshes[mesh].primitives[pi];
@@ -609,6 +614,9 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
     for (uint64_t i = 0; i < pos.count; ++i) {
       double pl[3] = {read_f(&pos, i, 0), read_f(&pos, i, 1), read_f(&pos, i, 2)}, pw[3];
       xform_point(M, pl, pw);
+      if (!fits_float3(pw))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %llu out of float range",
+                       L->path, node, p->position, (unsigned long long)i);
       double nl[3] = {read_f(&nrm, i, 0), read_f(&nrm, i, 1), read_f(&nrm, i, 2)}, nw[3];
       for (int rr = 0; rr < 3; ++rr) nw[rr] = N[rr] * nl[0] + N[3 + rr] * nl[1] + N[6 + rr] * nl[2];
       if (!normalize3(nw)) nw[0] = nw[1] = 0, nw[2] = 0; /* fixed below from the face */
@@ -650,6 +658,9 @@ static pb_result add_primitive(loader *L, int32_t mesh, size_t pi, const mat4 *M
       for (int c = 0; c < 3; ++c) {
         double pl[3] = {read_f(&pos, v[c], 0), read_f(&pos, v[c], 1), read_f(&pos, v[c], 2)};
         xform_point(M, pl, pw[c]);
+        if (!fits_float3(pw[c]))
+          return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %u out of float range",
+                         L->path, node, p->position, v[c]);
       }
       double e1[3] = {pw[1][0] - pw[0][0], pw[1][1] - pw[0][1], pw[1][2] - pw[0][2]};
       double e2[3] = {pw[2][0] - pw[0][0], pw[2][1] - pw[0][1], pw[2][2] - pw[0][2]};
@@ -702,9 +713,12 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
     return warn(L, "cameras[%d]: type '%s' skipped: only perspective cameras are supported", ci, c->type);
   if (!(c->yfov > 0 && c->yfov < M_PI))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.yfov: %g is not in (0, pi)", L->path, ci, c->yfov);
-  if (!(c->znear > 0) || !isfinite(c->znear))
+  if (!(c->znear > 0) || !fits_float(c->znear))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.znear: %g is not positive", L->path, ci, c->znear);
-  if (c->aspect_ratio < 0 || !isfinite(c->aspect_ratio))
+  if (c->zfar != 0 && !(c->zfar > c->znear && fits_float(c->zfar)))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.zfar: %g is not above znear (%g)", L->path, ci, c->zfar,
+                   c->znear);
+  if (c->aspect_ratio < 0 || !fits_float(c->aspect_ratio))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.aspectRatio: %g is not positive", L->path, ci,
                    c->aspect_ratio);
   double o[3] = {0, 0, 0}, pos[3], f[3], u[3];
@@ -712,6 +726,8 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
   xform_point(M, o, pos);
   xform_dir(M, fz, f);
   xform_dir(M, uy, u);
+  if (!fits_float3(pos))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: camera position is out of float range", L->path, node);
   if (!normalize3(f))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: camera transform is degenerate", L->path, node);
   /* Orthonormalise (Gram-Schmidt) so a sheared or scaled node still gives a
@@ -754,15 +770,15 @@ static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
   else if (strcmp(g->type, "directional") == 0) type = PB_LIGHT_DIRECTIONAL;
   else return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].type: '%s' is not point, spot or directional",
                       L->path, li, g->type);
-  if (!isfinite(g->intensity) || g->intensity < 0)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].intensity: %g is not a finite non-negative number",
+  if (!fits_float(g->intensity) || g->intensity < 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].intensity: %g is not a non-negative float",
                    L->path, li, g->intensity);
   for (int k = 0; k < 3; ++k)
-    if (!isfinite(g->color[k]) || g->color[k] < 0)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].color[%d]: %g is not a finite non-negative number",
+    if (!fits_float(g->color[k]) || g->color[k] < 0)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].color[%d]: %g is not a non-negative float",
                      L->path, li, k, g->color[k]);
-  if (!isfinite(g->range) || g->range < 0)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].range: %g is negative", L->path, li, g->range);
+  if (!fits_float(g->range) || g->range < 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].range: %g is not a non-negative float", L->path, li, g->range);
   if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone < g->outer_cone && g->outer_cone <= M_PI / 2 + 1e-6))
     return pb_fail(PB_ERR_SCENE_INVALID,
                    "%s: extensions.KHR_lights_punctual.lights[%d].spot: need 0 <= innerConeAngle (%g) < outerConeAngle (%g) <= pi/2",
@@ -770,6 +786,8 @@ static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
   double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
   xform_point(M, o, pos);
   xform_dir(M, fz, dir);
+  if (!fits_float3(pos))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light position is out of float range", L->path, node);
   if (type != PB_LIGHT_POINT && !normalize3(dir))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", L->path, node);
   pb_scene *s = L->s;
@@ -862,7 +880,7 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].mesh: %d does not exist (%zu meshes)", L->path, node, n->mesh,
                      d->mesh_count);
     for (size_t pi = 0; pi < d->meshes[n->mesh].primitive_count; ++pi)
-      if ((r = add_primitive(L, n->mesh, pi, &M)) != PB_OK) return r;
+      if ((r = add_primitive(L, node, n->mesh, pi, &M)) != PB_OK) return r;
   }
   if (n->camera != -1 && (r = add_camera(L, node, &M)) != PB_OK) return r;
   if (n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;

@@ -430,6 +430,17 @@ def broken_cases(C, png):
     case("node_transform_overflow", EXIT_INVALID, ["nodes[4]", "not finite"],
          lambda d: d["nodes"][4].update({"translation": [1e308, 0, 0], "scale": [1e308, 1, 1]}) or
          d["nodes"][1].update({"scale": [1e10, 1e10, 1e10]}))
+    lights_path = ("extensions", "KHR_lights_punctual", "lights")
+    # Found by fuzz_gltf: a finite double transform whose result is beyond
+    # float range (the scene model stores floats).
+    case("node_translation_float_range", EXIT_INVALID, ["nodes[4]", "out of float range"],
+         setp(("nodes", 4, "translation"), [1e39, 0, 0]))
+    case("camera_position_float_range", EXIT_INVALID, ["nodes[2]", "camera position", "out of float range"],
+         setp(("nodes", 2, "translation"), [0, 0, 1e39]))
+    case("light_intensity_float_range", EXIT_INVALID, "lights[0].intensity",
+         setp(lights_path + (0, "intensity"), 1e39))
+    case("camera_zfar_below_znear", EXIT_INVALID, "cameras[0].perspective.zfar",
+         setp(("cameras", 0, "perspective", "zfar"), 0.05))
     case("scene_oob", EXIT_INVALID, "scene: 4", setp(("scene",), 4))
     case("scene_node_oob", EXIT_INVALID, "scenes[0].nodes[1]", setp(("scenes", 0, "nodes"), [0, 12]))
     case("scene_root_is_child", EXIT_INVALID, "scenes[0].nodes[1]", setp(("scenes", 0, "nodes"), [0, 4]))

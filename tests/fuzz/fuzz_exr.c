@@ -27,6 +27,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static char dir[512], path[600];
+static int verbose; /* PB_FUZZ_VERBOSE=1: print each input's result */
 
 #define FAIL(...)                                   \
   do {                                              \
@@ -52,6 +53,8 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   snprintf(path, sizeof path, "%s/in.exr", dir);
   atexit(cleanup);
   pb_log_set_level(PB_LOG_QUIET); /* multi-part files warn */
+  const char *v = getenv("PB_FUZZ_VERBOSE");
+  verbose = v && v[0] == '1';
   return 0;
 }
 
@@ -81,6 +84,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   pb_image img;
   pb_error_clear();
   pb_result r = pb_exr_read(path, &lim, &img);
+  if (verbose) fprintf(stderr, "fuzz_exr: result %d: %s\n", (int)r, r ? pb_error_message() : "ok");
   if (r != PB_OK) {
     if (r != PB_ERR_IMAGE && r != PB_ERR_LIMIT && r != PB_ERR_NOMEM)
       FAIL("pb_exr_read returned %d (%s)", (int)r, pb_error_message());

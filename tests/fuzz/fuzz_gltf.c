@@ -16,7 +16,11 @@
  *     texture index in range, finite positions, textures with pixels.
  * A successful scene is then used the way renderers use it (texture lookups
  * at the file's UVs, light power, camera image size), so that values the
- * loader lets through are exercised too. */
+ * loader lets through are exercised too. Cameras, lights and material
+ * factors must be finite floats.
+ *
+ * PB_FUZZ_VERBOSE=1 prints each input's result and message (reproducing:
+ * PB_FUZZ_VERBOSE=1 build-fuzz/fuzz_gltf FILE). */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -36,6 +40,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static char dir[512], path_gltf[600], path_glb[600];
+static int verbose; /* PB_FUZZ_VERBOSE=1: print each input's result */
 
 #define FAIL(...)                                   \
   do {                                              \
@@ -102,6 +107,8 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   copy_aux("tex.png");
   atexit(cleanup);
   pb_log_set_level(PB_LOG_QUIET);
+  const char *v = getenv("PB_FUZZ_VERBOSE");
+  verbose = v && v[0] == '1';
   return 0;
 }
 
@@ -146,8 +153,33 @@ static void check_success(const pb_scene *s) {
   for (uint32_t v = 0; v < s->vertex_count; ++v)
     for (int c = 0; c < 3; ++c)
       if (!isfinite(s->positions[v][c])) FAIL("vertex %u: position is not finite", v);
+  for (uint32_t c = 0; c < s->camera_count; ++c) {
+    const pb_camera *k = &s->cameras[c];
+    for (int i = 0; i < 3; ++i)
+      if (!isfinite(k->position[i]) || !isfinite(k->forward[i]) || !isfinite(k->up[i]) || !isfinite(k->right[i]))
+        FAIL("cameras[%u]: position or frame is not finite", c);
+    if (!(k->yfov > 0) || !isfinite(k->yfov) || !(k->znear > 0) || !isfinite(k->znear) || !isfinite(k->zfar) ||
+        !isfinite(k->aspect) || k->aspect < 0)
+      FAIL("cameras[%u]: yfov %g znear %g zfar %g aspect %g", c, k->yfov, k->znear, k->zfar, k->aspect);
+  }
+  for (uint32_t l = 0; l < s->light_count; ++l) {
+    const pb_light *g = &s->lights[l];
+    for (int i = 0; i < 3; ++i)
+      if (!isfinite(g->position[i]) || !isfinite(g->direction[i]) || !isfinite(g->color[i]) || g->color[i] < 0)
+        FAIL("lights[%u]: position, direction or colour is not finite", l);
+    if (!isfinite(g->intensity) || g->intensity < 0 || !isfinite(g->file_intensity) || !isfinite(g->range) ||
+        !isfinite(g->inner_cone) ||
+        !isfinite(g->outer_cone))
+      FAIL("lights[%u]: intensity %g range %g cones %g %g", l, g->intensity, g->range, g->inner_cone, g->outer_cone);
+  }
   for (uint32_t m = 0; m < s->material_count; ++m) {
     const pb_material *mt = &s->materials[m];
+    const float f[] = {mt->base_color[0], mt->base_color[1], mt->base_color[2], mt->base_color[3], mt->metallic,
+                       mt->roughness, mt->specular, mt->specular_color[0], mt->specular_color[1],
+                       mt->specular_color[2], mt->emissive[0], mt->emissive[1], mt->emissive[2], mt->transmission,
+                       mt->ior, mt->normal_scale, mt->alpha_cutoff};
+    for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
+      if (!isfinite(f[i])) FAIL("materials[%u]: factor %zu is not finite", m, i);
     check_tex(s, mt->base_color_tex, "base_color_tex", m);
     check_tex(s, mt->metallic_roughness_tex, "metallic_roughness_tex", m);
     check_tex(s, mt->emissive_tex, "emissive_tex", m);
@@ -198,6 +230,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   pb_scene s;
   pb_error_clear();
   pb_result r = pb_scene_load(path, &desc, &s);
+  if (verbose) fprintf(stderr, "fuzz_gltf: %s: result %d: %s\n", path, (int)r, r ? pb_error_message() : "ok");
   if (r != PB_OK) {
     check_failure(path, r, &s);
   } else {
