@@ -491,7 +491,7 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
     std::string u = uri->get<std::string>();
     if (u.rfind("data:", 0) == 0) {
       size_t comma = u.find(',');
-      if (comma == std::string::npos || u.compare(comma - 7, 7, ";base64") != 0)
+      if (comma == std::string::npos || comma < 7 || u.compare(comma - 7, 7, ";base64") != 0)
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: buffers[%zu].uri: data URI is not base64", path, i);
       long long sz = b64_size(u.substr(comma + 1));
       if (sz < 0)

@@ -498,6 +498,12 @@ def broken_cases(C, png):
     d = copy.deepcopy(doc0)
     d["buffers"][0]["uri"] = "data:application/octet-stream," + "A" * 8
     C.gltf(B, "data_uri_not_base64", d, None, png, code=EXIT_INVALID, expect="buffers[0].uri")
+    # Found by fuzzing: a comma within 7 bytes of "data:" made the ";base64"
+    # test read before the string (a C++ exception, not our message).
+    d = copy.deepcopy(doc0)
+    d["buffers"][0]["uri"] = "data:,AAAA"
+    C.gltf(B, "data_uri_short_header", d, None, png, code=EXIT_INVALID,
+           expect=["buffers[0].uri", "data URI is not base64"])
     d = copy.deepcopy(doc0)
     d["buffers"][0]["uri"] = "../../outside.bin"
     rel = C.gltf(B, "uri_outside", d, None, png, code=EXIT_INVALID,
