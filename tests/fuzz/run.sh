@@ -48,10 +48,11 @@ TARGETS=${*:-gltf exr}
 NICE=${NICE:-0}
 FUZZ_TIMEOUT=${FUZZ_TIMEOUT:-10}
 W=$BUILD/fuzz
-mkdir -p "$W/logs" "$W/tmp"
-# The targets write their inputs under $TMPDIR; a crash skips their clean-up.
-rm -rf "$W/tmp"/pb_fuzz_*
-export TMPDIR=$W/tmp
+# The targets write their inputs under $TMPDIR, one folder per run of this
+# script (a crash skips the targets' own clean-up).
+export TMPDIR=$W/tmp/run.$$
+mkdir -p "$W/logs" "$TMPDIR"
+trap 'rm -rf "$TMPDIR"' EXIT
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
@@ -117,5 +118,4 @@ for t in $TARGETS; do
     echo "fuzz_$t: full log: $log"
   fi
 done
-rm -rf "$W/tmp"/pb_fuzz_*
 exit $status
