@@ -7,6 +7,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "core/json.h"
+#include "render/plan.h"
 
 static const char *const light_type_names[] = {"point", "spot", "directional"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
@@ -66,6 +67,13 @@ static void print_text(const pb_scene *s) {
   if (!s->features) printf(" none (diffuse only)");
   for (uint32_t b = 1; b; b <<= 1)
     if (s->features & b) printf(" [%s]", pb_feature_name(b));
+  pb_render_plan pl;
+  pb_render_plan_of(s, 0, &pl);
+  printf("\npipeline   photon stages %s, caustic photons %s, photon refraction %s, specular eye paths %s, "
+         "emissive-triangle sampling %s, textures %s (GPU passes compile only what is on)",
+         pl.photons ? "on" : "off (no point, spot or directional light)",
+         pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
+         pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off");
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
 }
@@ -160,6 +168,16 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   for (uint32_t b = 1; b; b <<= 1)
     if (s->features & b) pb_json_string(&j, NULL, pb_feature_name(b));
   pb_json_end_array(&j);
+  pb_render_plan pl;
+  pb_render_plan_of(s, 0, &pl);
+  pb_json_begin_object(&j, "pipeline"); /* what the GPU passes compile in (render/plan.h) */
+  pb_json_bool(&j, "photons", pl.photons);
+  pb_json_bool(&j, "caustic_photons", pl.caustic_photons);
+  pb_json_bool(&j, "photon_refraction", pl.refraction);
+  pb_json_bool(&j, "specular_eye_paths", pl.eye_chains);
+  pb_json_bool(&j, "emitter_sampling", pl.emitter_sampling);
+  pb_json_bool(&j, "textures", pl.textures);
+  pb_json_end_object(&j);
   pb_json_begin_array(&j, "warnings");
   for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);
   pb_json_end_array(&j);

@@ -18,6 +18,7 @@
 #include "core/log.h"
 #include "image/image.h"
 #include "render/photon.h"
+#include "render/plan.h"
 #include "render/render.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -97,6 +98,23 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     }
     pb_json_end_object(&j);
   }
+  /* Buffer memory photonbridge allocated on the device, at its peak (driver
+   * and pipeline memory not included). */
+  pb_json_begin_object(&j, "device_memory");
+  pb_json_int(&j, "buffers_peak_bytes", (int64_t)pb_gpu_memory_peak(g));
+  if (pb_gpu_memory_limit(g)) pb_json_int(&j, "limit_bytes", (int64_t)pb_gpu_memory_limit(g));
+  else pb_json_null(&j, "limit_bytes");
+  pb_json_end_object(&j);
+  pb_render_plan pl;
+  pb_render_plan_of(s, o->direct_only, &pl);
+  pb_json_begin_object(&j, "pipeline"); /* what the passes compiled in (render/plan.h) */
+  pb_json_bool(&j, "photons", pl.photons);
+  pb_json_bool(&j, "caustic_photons", pl.caustic_photons);
+  pb_json_bool(&j, "photon_refraction", pl.refraction);
+  pb_json_bool(&j, "specular_eye_paths", pl.eye_chains);
+  pb_json_bool(&j, "emitter_sampling", pl.emitter_sampling);
+  pb_json_bool(&j, "textures", pl.textures);
+  pb_json_end_object(&j);
   pb_json_begin_object(&j, "guarded");
   pb_json_int(&j, "nonfinite_values", (int64_t)st->nonfinite_values);
   pb_json_int(&j, "photon_divisions", (int64_t)st->photon_guarded);
@@ -241,6 +259,15 @@ int pb_cmd_render(int argc, char **argv) {
     else
       pb_log_info("render: %ux%u, %u spp on %s: %.0f ms -> %s", w, h, st->spp, pb_gpu_device_name(g), st->wall_ms,
                   c.out);
+    if (st->iterations)
+      pb_log_info("render: photons: %u maps, %llu stored (%llu caustic), k_PD %.1f, T_auto %u; trace %.0f ms, "
+                  "LBVH %.0f ms, gather %.0f ms; device buffers peak %.1f MiB", st->iterations,
+                  (unsigned long long)st->photons_stored, (unsigned long long)st->photons_caustic, st->k_pd,
+                  st->t_auto, st->photon_trace_ms, st->lbvh_ms, st->gather_ms,
+                  (double)pb_gpu_memory_peak(g) / 1048576.0);
+    if (st->nonfinite_values)
+      pb_log_warn("render: %llu NaN/Inf values in the result were written as 0 (a pass failed to guard them)",
+                  (unsigned long long)st->nonfinite_values);
   }
 done:
   pb_color_destroy(color);

@@ -9,6 +9,7 @@
 #include "core/log.h"
 #include "render/passes.h"
 #include "render/photon.h"
+#include "render/plan.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
@@ -157,12 +158,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   if ((r = pb_gpu_buffer_create(g, &gd, &gbuf)) != PB_OK) goto fail;
   if ((r = pb_gpu_buffer_create(g, &ad, &accum)) != PB_OK) goto fail;
 
+  pb_render_plan plan;
+  pb_render_plan_of(s, desc.direct_only, &plan);
   pb_pass_setup ps = {
       .bindings = {&frame_buf, &gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs, &gs->tri_material,
                    &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
                    &gs->emitters},
-      .spec = {gs->has_normals ? 1u : 0u, (gs->features & PB_FEATURE_TEXTURES) ? 1u : 0u,
-               (gs->features & PB_FEATURE_SPECULAR) ? 1u : 0u, (gs->features & PB_FEATURE_EMISSIVE) ? 1u : 0u},
+      .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
+               plan.emitter_sampling ? 1u : 0u},
   };
   if ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK) goto fail;
   if ((r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK) goto fail;

@@ -10,6 +10,7 @@
 
 #include "render/passes.h"
 #include "render/photon_rsm.h"
+#include "render/plan.h"
 #include "shaders/photon_rsm.spv.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_rsm.h"
@@ -69,10 +70,11 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   pb_gpu_buffer_desc td = {.name = "photons.rsm_texels",
                            .size = (total ? total : 1) * sizeof(pb_gpu_rsm_texel)};
   if ((rc = pb_gpu_buffer_create(g, &td, &r->texels)) != PB_OK) goto fail;
-  uint32_t f = gs->features;
-  r->spec[PB_SPEC_HAS_NORMALS] = gs->has_normals ? 1u : 0u;
-  r->spec[PB_SPEC_TEXTURES] = (f & PB_FEATURE_TEXTURES) ? 1u : 0u;
-  r->spec[PB_SPEC_SPECULAR] = (f & PB_FEATURE_SPECULAR) ? 1u : 0u;
+  pb_render_plan plan;
+  pb_render_plan_of(s, 0, &plan);
+  r->spec[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u;
+  r->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
+  r->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
   r->spec[PB_SPEC_EMISSIVE] = 0u;
   pb_gpu_pipeline_desc pd = {
       .name = "pass.photon_rsm",

@@ -15,6 +15,7 @@
 #include "render/passes.h"
 #include "render/photon.h"
 #include "render/photon_rsm.h"
+#include "render/plan.h"
 #include "shaders/photon_trace.spv.h"
 #include "shared/pb_photon.h"
 
@@ -194,13 +195,13 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
                            .host_visible = 1};
   if ((r = pb_gpu_buffer_create(g, &pd, &t->params)) != PB_OK) goto fail;
 
-  uint32_t f = gs->features;
-  t->spec[PB_SPEC_HAS_NORMALS] = gs->has_normals ? 1u : 0u;
-  t->spec[PB_SPEC_TEXTURES] = (f & PB_FEATURE_TEXTURES) ? 1u : 0u;
-  t->spec[PB_SPEC_SPECULAR] = (f & PB_FEATURE_SPECULAR) ? 1u : 0u;
+  pb_render_plan plan;
+  pb_render_plan_of(s, 0, &plan);
+  t->spec[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u;
+  t->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
+  t->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
   t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at delta lights only */
-  t->spec[PB_PHOTON_SPEC_TRANSMISSION] =
-      ((f & PB_FEATURE_SPECULAR) && (f & PB_FEATURE_TRANSMISSION)) ? 1u : 0u;
+  t->spec[PB_PHOTON_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
       .spirv = pb_spv_photon_trace,

@@ -265,6 +265,75 @@ static void cornell_halves(pb_gpu *g) {
   pb_error_clear();
 }
 
+/* cornell_caustics (a glass sphere and a mirror box in a Cornell box, point
+ * light) at 48 px: GPU beauty (direct + specular eye paths + indirect +
+ * caustic photons) against the reference with SPPM caustics (256 spp). The
+ * PSNR must pass CAUSTICS_PSNR_MIN with 8 maps and rise from 1 to 8 maps,
+ * the mean beauty must be within 5 % of the reference's, and the caustic
+ * photons must carry light (caustic AOV mean > 2 % of the indirect mean;
+ * measured 5.9 %). Measured on llvmpipe: 29.25 dB (1 map), 30.17 dB (8),
+ * mean beauty 1.8255 vs 1.8251. */
+#ifndef CAUSTICS_PSNR_MIN
+#define CAUSTICS_PSNR_MIN 27.0
+#endif
+static double caustics_psnr(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const pb_ref_result *rr,
+                            uint32_t w, uint32_t h, uint32_t iterations) {
+  pb_render_result gr;
+  memset(&gr, 0, sizeof gr);
+  pb_render_desc rd = {.spp = 16, .seed = 5, .photons = 1u << 16, .iterations = iterations, .photon_bounces = 7};
+  pb_result r = pb_render_frame(g, s, gs, 0, w, h, &rd, &gr);
+  CHECK_EQ_INT(r, PB_OK);
+  double psnr = -1;
+  if (r == PB_OK) {
+    pb_metrics m;
+    CHECK_EQ_INT(pb_metrics_compute(gr.beauty, rr->beauty, w, h, 4, NULL, &m), PB_OK);
+    psnr = m.psnr;
+    double ci = 0, ii = 0, gm = 0, rm = 0;
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+      for (int c = 0; c < 3; ++c) {
+        ci += gr.caustic[3 * i + c], ii += gr.indirect[3 * i + c];
+        gm += gr.beauty[4 * i + c], rm += rr->beauty[4 * i + c];
+      }
+    printf("cornell_caustics %ux%u, 16 spp, %u x 2^16 photons: beauty PSNR %.2f dB, relMSE %.4g, mean beauty %.4f vs "
+           "ref %.4f; caustic AOV mean %.4f, indirect %.4f; %llu caustic photons\n",
+           w, h, iterations, m.psnr, m.relmse, gm / (3.0 * w * h), rm / (3.0 * w * h), ci / (3.0 * w * h),
+           ii / (3.0 * w * h), (unsigned long long)gr.stats.photons_caustic);
+    CHECK_EQ_INT(m.nonfinite, 0);
+    CHECK(gr.stats.photons_caustic > 0);
+    CHECK(ci > 0.02 * ii);
+    CHECK(fabs(gm - rm) < 0.05 * rm); /* energy: mean beauty within 5 % */
+  }
+  pb_render_result_destroy(&gr);
+  return psnr;
+}
+
+static void caustics(pb_gpu *g) {
+  pb_scene s;
+  pb_load_desc ld = {0};
+  pb_result r = pb_scene_load("samples/cornell_caustics/cornell_caustics.gltf", &ld, &s);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return;
+  uint32_t w, h;
+  pb_camera_image_size(&s.cameras[0], 48, 0, &w, &h);
+  pb_gpu_scene gs;
+  pb_ref_result rr;
+  memset(&rr, 0, sizeof rr);
+  CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
+  pb_ref_desc fd = {.spp = 256, .seed = 9, .mode = PB_REF_MODE_SPPM};
+  r = pb_ref_render(&s, 0, w, h, &fd, &rr);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r == PB_OK) {
+    double p1 = caustics_psnr(g, &s, &gs, &rr, w, h, 1);
+    double p8 = caustics_psnr(g, &s, &gs, &rr, w, h, 8);
+    CHECK(p8 > CAUSTICS_PSNR_MIN);
+    CHECK(p8 > p1);
+  }
+  pb_ref_result_destroy(&rr);
+  pb_gpu_scene_destroy(g, &gs);
+  pb_scene_destroy(&s);
+  pb_error_clear();
+}
+
 int main(void) {
   pb_gpu *g;
   pb_gpu_desc gd = {.validation = 1};
@@ -279,6 +348,7 @@ int main(void) {
   run(g, 1);
   cornell(g);
   cornell_halves(g);
+  caustics(g);
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
   pb_gpu_destroy(g);
   return pbt_done();

@@ -1,0 +1,16 @@
+/* The pipeline's switches for a scene; see plan.h. */
+#include "render/plan.h"
+
+#include <string.h>
+
+void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) {
+  memset(out, 0, sizeof *out);
+  uint32_t f = s->features;
+  out->eye_chains = (f & PB_FEATURE_SPECULAR) != 0;
+  out->emitter_sampling = (f & PB_FEATURE_EMISSIVE) != 0;
+  out->textures = (f & PB_FEATURE_TEXTURES) != 0;
+  out->vertex_normals = s->normals != NULL;
+  out->photons = !direct_only && s->light_count > 0;
+  out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
+  out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
+}

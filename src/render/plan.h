@@ -1,0 +1,26 @@
+/* What the GPU pipeline compiles in for a scene (issue 5, part 8: "the scene
+ * pays only for what it uses"). The passes switch code paths with
+ * specialization constants set from the scene's PB_FEATURE_* flags
+ * taken from this plan (frame.c's pass setup, photon_trace.c, photon_rsm.c),
+ * and `info` and render --json report it. */
+#ifndef PB_RENDER_PLAN_H
+#define PB_RENDER_PLAN_H
+
+#include "scene/scene.h"
+
+typedef struct pb_render_plan {
+  int eye_chains;        /* mirror/glass eye paths (SC_SPECULAR) */
+  int emitter_sampling;  /* shadow rays to emissive triangles (SC_EMISSIVE) */
+  int textures;          /* texture fetches (SC_TEXTURES) */
+  int vertex_normals;    /* interpolated shading normals (SC_HAS_NORMALS) */
+  int photons;           /* photon stages: the scene has point, spot or
+                            directional lights (and not --direct-only) */
+  int caustic_photons;   /* photons follow specular chains (photon_trace's
+                            SC_SPECULAR) */
+  int refraction;        /* photons refract (SC_TRANSMISSION) */
+} pb_render_plan;
+
+/* direct_only: render --direct-only (no photon stages). */
+void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out);
+
+#endif
