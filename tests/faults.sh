@@ -24,7 +24,7 @@
 #                    for an EXR (reference), a PNG (display), JSON (info,
 #                    compare), POV (export-pov), and stdout on /dev/full
 #   disk_full_gpu    the same for render's EXR
-#   interrupt_cpu    SIGINT/SIGTERM during reference (after its progress
+#   interrupt_cpu    SIGINT/SIGTERM during reference and validate (after its progress
 #                    appears), and SIGINT while a finished temporary waits for
 #                    its rename (PB_TEST_HOLD_OUTPUT=1, see src/core/fs.h) for
 #                    an EXR, a PNG and a JSON: exit 130/143, temporary removed
@@ -89,7 +89,9 @@ R="render $scene --width 16 --spp 1 --photons 4096 -q"
 case $case_name in
 no_device)
   d=$work/out && mkdir -p "$d"
-  nodrv=(env VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json)
+  # Without validation layers: with PB_VK_VALIDATION=1 (set for every test)
+  # the loader's own complaints about the missing driver are printed too.
+  nodrv=(env -u PB_VK_VALIDATION VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json)
   run render 12 "error: .*(no Vulkan driver|no Vulkan device).*apt install mesa-vulkan-drivers" "$d" -- \
     "${nodrv[@]}" "$exe" $R -o "$d/x.exr" --png "$d/x.png" --json "$d/x.json"
   run info_devices 12 "info: error: .*apt install mesa-vulkan-drivers" "$d" -- \
@@ -286,6 +288,11 @@ interrupt_cpu | interrupt_gpu)
       "$exe" display "$work/in.exr" -o "$d/x.png"
     interrupt hold_json INT 130 "test hook: holding" env PB_TEST_HOLD_OUTPUT=1 \
       "$exe" info "$scene" --json "$d/i.json" -q
+    # validate passes the signal on to its script and the renderers it runs;
+    # the report folder it created goes too.
+    VAL=("$exe" validate "$scene" --width 64 --ref-spp 100000 --threads 1 --no-gpu --no-povray --no-cycles)
+    interrupt validate_sigint INT 130 "validate: reference" "${VAL[@]}" --out "$d/v"
+    interrupt validate_sigterm TERM 143 "validate: reference" "${VAL[@]}" --out "$d/v"
   else
     interrupt render_sigint INT 130 "render: .* on " \
       "$exe" render "$scene" --width 256 --spp 4096 -v -o "$d/x.exr" --png "$d/x.png" --json "$d/x.json"

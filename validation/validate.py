@@ -33,6 +33,7 @@ import html
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -89,6 +90,29 @@ def resolve_scene(scene):
     return path, sample
 
 
+CREATED = None  # the output folder, when this run created it (removed if interrupted)
+
+
+class Terminated(Exception):
+    pass
+
+
+def progress(what):
+    """One stderr line as each renderer starts (progress goes to stderr)."""
+    print("validate: %s ..." % what, file=sys.stderr, flush=True)
+
+
+def write_atomic(path, text):
+    tmp = "%s.tmp.%d" % (path, os.getpid())
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
 def main(argv):
     ap = argparse.ArgumentParser(prog="validate.py")
     ap.add_argument("scene")
@@ -121,7 +145,10 @@ def main(argv):
         return 2
     exe = os.path.abspath(a.exe)
     out = os.path.abspath(a.out)
+    global CREATED
     try:
+        if not os.path.exists(out):
+            CREATED = out
         os.makedirs(out, exist_ok=True)
     except OSError as e:  # one line and the result table's PB_ERR_IO (3), not a traceback
         print("photonbridge validate: error: %s: cannot create the output folder: %s" % (out, e.strerror),
@@ -146,6 +173,7 @@ def main(argv):
         print("validate: %-12s %s%s" % (name, status, (": " + reason) if reason else ""))
 
     # Reference (CPU).
+    progress("reference")
     exr = os.path.join(out, "reference.exr")
     cmd = [exe, "reference", scene, "-o", exr, "--width", str(a.width), "--spp", str(a.ref_spp),
            "--estimate-noise", "--json", os.path.join(out, "reference.json"), "-q"]
@@ -165,6 +193,7 @@ def main(argv):
         record("reference", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
 
     # photonbridge render (GPU).
+    progress("photonbridge render")
     if a.no_gpu:
         record("photonbridge", "skipped", "--no-gpu")
     else:
@@ -184,6 +213,7 @@ def main(argv):
             record("photonbridge", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
 
     # POV-Ray.
+    progress("POV-Ray")
     if a.no_povray:
         record("povray", "skipped", "--no-povray")
     elif not shutil.which("povray"):
@@ -218,6 +248,7 @@ def main(argv):
                        command=cmd1 + [";"] + cmd2)
 
     # Cycles.
+    progress("Cycles")
     if a.no_cycles:
         record("cycles", "skipped", "--no-cycles")
     elif not shutil.which(os.environ.get("BLENDER", "blender")):
@@ -295,10 +326,10 @@ def main(argv):
         "renders": [renders[n] for n in ORDER if n in renders], "pairs": pairs, "versions": versions,
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
-    with open(os.path.join(out, "report.json"), "w") as f:
-        json.dump(report, f, indent=1)
-    with open(os.path.join(out, "index.html"), "w") as f:
-        f.write(render_html(report))
+    # Written to a temporary and renamed: an interrupted run leaves no
+    # half-written report.
+    write_atomic(os.path.join(out, "report.json"), json.dumps(report, indent=1))
+    write_atomic(os.path.join(out, "index.html"), render_html(report))
     print("validate: wrote %s and %s" % (os.path.join(out, "index.html"), os.path.join(out, "report.json")))
     return 0 if "reference" in ok and len(ok) >= 2 else 1
 
@@ -367,5 +398,18 @@ def render_html(rep):
     return "\n".join(h)
 
 
+def on_term(sig, frame):
+    raise Terminated()
+
+
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    # photonbridge validate passes SIGINT/SIGTERM on to this script's process
+    # group (the renderers remove their own temporaries) and prints the one
+    # line itself; a folder this run created goes with it.
+    signal.signal(signal.SIGTERM, on_term)
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except (KeyboardInterrupt, Terminated) as e:
+        if CREATED:
+            shutil.rmtree(CREATED, ignore_errors=True)
+        sys.exit(143 if isinstance(e, Terminated) else 130)

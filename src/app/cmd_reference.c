@@ -13,6 +13,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "color/color_cli.h"
+#include "core/fs.h"
 #include "core/json.h"
 #include "core/log.h"
 #include "image/image.h"
@@ -162,6 +163,10 @@ int pb_cmd_reference(int argc, char **argv) {
                                                   "(see 'photonbridge reference --help')"));
   if (o.caustics) o.mode = PB_REF_MODE_SPPM;
 
+  /* Outputs that cannot be written fail now, not after the render. */
+  const char *outs[] = {c.out, o.png, c.json};
+  for (size_t i = 0; i < sizeof outs / sizeof *outs; ++i)
+    if ((r = pb_check_writable(outs[i])) != PB_OK) return pb_cli_exit(cmd, r);
   pb_scene s;
   r = pb_cli_load_scene(pos[0], &c, &s);
   if (r != PB_OK) return pb_cli_exit(cmd, r);

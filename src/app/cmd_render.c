@@ -14,6 +14,7 @@
 #include "app/cli.h"
 #include "color/color_cli.h"
 #include "app/commands.h"
+#include "core/fs.h"
 #include "core/json.h"
 #include "core/log.h"
 #include "image/image.h"
@@ -193,6 +194,12 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.alpha < 0 || !(o.alpha < 1))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha));
   pb_scene s;
+  /* Outputs that cannot be written fail now, not after the render. */
+  {
+    const char *outs[] = {c.out, o.png, c.json};
+    for (size_t i = 0; i < sizeof outs / sizeof *outs; ++i)
+      if ((r = pb_check_writable(outs[i])) != PB_OK) return pb_cli_exit(cmd, r);
+  }
   r = pb_cli_load_scene(pos[0], &c, &s);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   int camera;

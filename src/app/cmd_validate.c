@@ -6,7 +6,9 @@
  * ./validation. Exit status: the script's (0 ok, 1 too few renders, 2 usage);
  * 3 when the script or python3 cannot be run. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <limits.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +18,16 @@
 #include "app/commands.h"
 
 static int exists(const char *p) { return access(p, R_OK) == 0; }
+
+/* SIGINT/SIGTERM while the script runs: passed on to its whole process group
+ * (the script, and the renderers it started, which remove their temporaries),
+ * then this process waits for it and exits 128 + signal like every command. */
+static volatile sig_atomic_t child_group, forwarded;
+
+static void forward(int sig) {
+  forwarded = sig;
+  if (child_group > 0) kill(-(pid_t)child_group, sig);
+}
 
 static int find_script(char *out, size_t n, char *exe, size_t exe_n) {
   ssize_t len = readlink("/proc/self/exe", exe, exe_n - 1);
@@ -73,14 +85,34 @@ int pb_cmd_validate(int argc, char **argv) {
   fflush(stderr);
   pid_t pid = fork();
   if (pid == 0) {
+    setpgid(0, 0); /* its own group: a signal reaches it (and its children) only through forward() */
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
     execvp("python3", av);
     fprintf(stderr, "photonbridge validate: error: cannot run python3\n");
     _exit(127);
   }
   free(av);
   if (pid < 0) return 3;
+  setpgid(pid, pid); /* also here: no race with the child's own call */
+  child_group = pid;
+  struct sigaction sa, old_int, old_term;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = forward;
+  sigaction(SIGINT, &sa, &old_int);
+  sigaction(SIGTERM, &sa, &old_term);
   int st = 0;
-  if (waitpid(pid, &st, 0) < 0) return 3;
+  pid_t w;
+  while ((w = waitpid(pid, &st, 0)) < 0 && errno == EINTR) {
+  }
+  sigaction(SIGINT, &old_int, NULL);
+  sigaction(SIGTERM, &old_term, NULL);
+  if (forwarded) {
+    fprintf(stderr, "photonbridge validate: interrupted by %s; no output written\n",
+            forwarded == SIGINT ? "SIGINT" : "SIGTERM");
+    return 128 + forwarded;
+  }
+  if (w < 0) return 3;
   if (WIFEXITED(st)) return WEXITSTATUS(st) == 127 ? 3 : WEXITSTATUS(st);
   return 3;
 }

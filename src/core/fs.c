@@ -85,6 +85,15 @@ pb_result pb_atomic_open(const char *path, FILE **f, char **tmp_path) {
   return PB_OK;
 }
 
+pb_result pb_check_writable(const char *path) {
+  if (!path || strcmp(path, "-") == 0) return PB_OK;
+  FILE *f;
+  char *tmp;
+  pb_result r = pb_atomic_open(path, &f, &tmp);
+  if (r == PB_OK) pb_atomic_abort(f, tmp);
+  return r;
+}
+
 pb_result pb_atomic_commit(const char *path, FILE *f, char *tmp_path) {
   int bad = ferror(f);
   int e = errno;

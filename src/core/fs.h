@@ -22,6 +22,10 @@ pb_result pb_atomic_open(const char *path, FILE **f, char **tmp_path);
 pb_result pb_atomic_commit(const char *path, FILE *f, char *tmp_path);
 /* Closes and removes the temporary without touching `path`. */
 void pb_atomic_abort(FILE *f, char *tmp_path);
+/* Checks, before any long work, that `path` could be written: creates and
+ * removes its temporary sibling. NULL and "-" (stdout) pass. Errors as
+ * pb_atomic_open's (PB_ERR_IO naming the path). */
+pb_result pb_check_writable(const char *path);
 
 /* A temporary sibling name for `path` ("PATH.tmp.PID"); malloc'd. Writers
  * that own their file handle (OpenEXR) use it with pb_commit_rename. */
