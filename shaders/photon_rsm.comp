@@ -20,8 +20,11 @@
 // tracer starts the path at the texel's hit and continues by BRDF sampling.
 // The sampling weight is the luminance of the reflected power, flux x
 // albedo (base colour; at least 5 % of the flux so that every lit texel can
-// be chosen and the estimator stays unbiased for non-diffuse lobes), 0 for
-// texels that miss or see the back of a surface.
+// be chosen and the estimator stays unbiased for non-diffuse lobes), with
+// the flux taken at the largest density over the texel's centre and corners
+// (photons are jittered over the whole texel, common/rsm_texel.glsl); 5 % of
+// that flux for a texel whose centre misses or sees a back face while a
+// corner sees a front face; 0 for the rest.
 //
 // PB_RSM_MODE_SCAN, one workgroup per light: the inclusive prefix sum of the
 // weights over the light's texels (texel.cdf) and their total (rlights.total),
@@ -39,6 +42,7 @@ layout(std430, set = 0, binding = 12) buffer RsmTexels { pb_gpu_rsm_texel rtexel
 layout(push_constant) uniform Push { pb_gpu_rsm_push push; };
 
 #include "common/scene.glsl"
+#include "common/rsm_texel.glsl"
 
 float pb_rsm_lum(vec3 c) { return dot(max(c, vec3(0.0)), vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -56,43 +60,26 @@ void pb_rsm_render(uint gid) {
   pb_gpu_rsm_light rl = rlights[li];
   if (gid < rl.first || gid - rl.first >= rl.count) return;
   uint local = gid - rl.first, res = rl.res;
-  uint face = local / (res * res), pix = local % (res * res);
-  uint ix = pix % res, iy = pix / res;
   float inv = 1.0 / float(res);
-  // Texel edges and centre in [-1, 1].
+  uint pix = local % (res * res);
+  uint ix = pix % res, iy = pix / res;
+  // Texel edges in [-1, 1]: the exact solid angle (point, spot).
   float x0 = 2.0 * float(ix) * inv - 1.0, x1 = 2.0 * float(ix + 1u) * inv - 1.0;
   float y0 = 2.0 * float(iy) * inv - 1.0, y1 = 2.0 * float(iy + 1u) * inv - 1.0;
-  float xc = 0.5 * (x0 + x1), yc = 0.5 * (y0 + y1);
   pb_gpu_light L = lights[rl.light];
-  vec3 o, d, flux;
-  float area;
+  vec3 o, d, dens, flux;
+  float area, measure;
+  pb_rsm_texel_point(rl, local, vec2(0.5), push.scene_center, push.scene_radius, o, d, dens, measure);
   if (L.type == PB_GPU_LIGHT_DIRECTIONAL) {
-    d = normalize(L.direction);
-    vec3 t, b;
-    pb_basis(d, t, b);
-    float R = push.scene_radius;
-    o = push.scene_center + t * (R * xc) + b * (R * yc) - d * (1.01 * R);
-    area = (2.0 * R * inv) * (2.0 * R * inv);
-    flux = L.power * area;
-  } else if (L.type == PB_GPU_LIGHT_SPOT) {
-    vec3 axis = normalize(L.direction), t, b;
-    pb_basis(axis, t, b);
-    float s = rl.tan_half;
-    d = normalize(axis + t * (s * xc) + b * (s * yc));
-    area = pb_rsm_omega(s * x0, s * x1, s * y0, s * y1);
-    float c = dot(d, axis), f;
-    if (L.cos_inner - L.cos_outer <= 1e-7) f = c >= L.cos_outer ? 1.0 : 0.0;
-    else f = pb_smoothstep01((c - L.cos_outer) / (L.cos_inner - L.cos_outer));
-    flux = L.power * (area * f);
-    o = L.position;
+    area = measure;
+    flux = dens * area;
   } else {
-    uint ax = face >> 1u;
-    float sg = (face & 1u) != 0u ? -1.0 : 1.0;
-    vec3 e[3] = vec3[3](vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0));
-    d = normalize(sg * e[ax] + xc * e[(ax + 1u) % 3u] + yc * e[(ax + 2u) % 3u]);
-    area = pb_rsm_omega(x0, x1, y0, y1);
-    flux = L.power * area;
-    o = L.position;
+    float s = L.type == PB_GPU_LIGHT_SPOT ? rl.tan_half : 1.0;
+    area = pb_rsm_omega(s * x0, s * x1, s * y0, s * y1);
+    // I f(centre) Omega: the centre's falloff (dens / the centre's
+    // dOmega/dA), times the exact solid angle.
+    float X = s * 0.5 * (x0 + x1), Y = s * 0.5 * (y0 + y1), q = 1.0 + X * X + Y * Y;
+    flux = dens * (q * sqrt(q)) * area;
   }
   pb_gpu_rsm_texel tx;
   tx.origin = o;
@@ -106,16 +93,36 @@ void pb_rsm_render(uint gid) {
   tx.u = u;
   tx.v = v;
   tx.weight = 0.0;
+  // The largest flux density over the centre and the corners: a texel
+  // straddling a spot's cone edge keeps a weight though its centre is
+  // outside (photons are jittered over the whole texel).
+  float dmax = pb_rsm_lum(dens);
+  bool corner_front = false;
+  for (uint c = 0u; c < 4u; ++c) {
+    vec3 oc, dc, dn;
+    float mc, tc, uc, vc;
+    pb_rsm_texel_point(rl, local, vec2(float(c & 1u), float(c >> 1u)), push.scene_center, push.scene_radius, oc, dc,
+                       dn, mc);
+    dmax = max(dmax, pb_rsm_lum(dn));
+    uint pc = pb_trace(oc, dc, 0.0, PB_INF, false, tc, uc, vc);
+    if (pc != PB_GPU_MISS) corner_front = corner_front || dot(-dc, pb_surface_from_hit(pc, uc, vc, dc).ng) > 0.0;
+  }
+  float lf = dmax * measure;
+  bool centre_front = false;
   if (tx.prim != PB_GPU_MISS) {
     pb_surface surf = pb_surface_from_hit(tx.prim, u, v, d);
     pb_bsdf bs = pb_bsdf_setup(surf, -d);
-    float lf = pb_rsm_lum(flux);
-    float w = lf * max(pb_rsm_lum(bs.base), 0.05);
-    if (dot(-d, bs.n) > 0.0 && w > 0.0 && !isinf(w)) tx.weight = w;
+    centre_front = dot(-d, bs.n) > 0.0;
+    if (centre_front) tx.weight = lf * max(pb_rsm_lum(bs.base), 0.05);
   } else {
     tx.t = 0.0;
     tx.u = tx.v = 0.0;
   }
+  // A texel whose centre misses (or sees a back face) while a corner sees a
+  // lit front face: the smallest weight, so that the part of it that sees
+  // the scene still gets photons (unbiased at silhouettes).
+  if (!centre_front && corner_front) tx.weight = 0.05 * lf;
+  if (!(tx.weight > 0.0) || isinf(tx.weight)) tx.weight = 0.0;
   rtexels[gid] = tx;
 }
 

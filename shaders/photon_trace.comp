@@ -78,8 +78,12 @@ layout(std430, set = 0, binding = 17) readonly buffer RsmTexels { pb_gpu_rsm_tex
 layout(constant_id = 4) const bool SC_TRANSMISSION = true;
 
 #include "common/photon_diff.glsl"
+#include "common/rsm_texel.glsl"
 
 float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim); }
+// Sequence dimensions: 0, 1 emission (RSM: texel pick, jitter x), 2 + 4 k ..
+// the k-th bounce; the RSM jitter's y lies far above any bounce.
+const uint PB_RSM_JITTER_DIM = 1000u;
 
 void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
               uint path) {
@@ -170,9 +174,13 @@ void pb_stencil_step(uint member, float h, inout float c, inout float sn, inout 
 // of light entry li picks a texel by inverting the prefix sum of reflected
 // power at (j + u) / n (stratified: texel i receives n p_i photons in
 // expectation, p_i = weight_i / total, several per texel when n exceeds the
-// map), and carries flux_i / (n p_i) (unbiased: E[sum] = flux_i). The path
-// starts at the texel's first hit (direct light, not stored) and continues
-// by BRDF sampling like a traced one.
+// map). Within the texel the photon takes a uniform point (jitter, two
+// dimensions of its own; common/rsm_texel.glsl), traces the ray from the
+// light through it, and carries the flux density there times the texel's
+// measure over n p_i: unbiased (E[sum] = the texel's flux) wherever p_i > 0,
+// and the photons of one texel land spread over its footprint instead of on
+// one point. The path starts at that first hit (direct light, not stored)
+// and continues by BRDF sampling like a traced one.
 //
 // Differentials. In the traced emission a photon stands for Omega / n_i of
 // the light's solid angle (see the header: unit eq.-8 differentials scaled
@@ -202,14 +210,21 @@ bool pb_rsm_emit(uint li, uint j, uint n, uint path, out vec3 o, out vec3 d, out
     else lo = mid + 1u;
   }
   pb_gpu_rsm_texel tx = rtexels[rl.first + lo];
-  if (!(tx.weight > 0.0) || tx.prim == PB_GPU_MISS) return false;
+  if (!(tx.weight > 0.0)) return false;
   float np = float(n) * (tx.weight / rl.total);
-  power = tx.flux / np;
+  // A uniform point of the texel (its own two dimensions of the path's
+  // sequence), the ray through it and its first hit: the photon carries the
+  // flux density there times the texel's measure, over n p_i.
+  vec3 dens;
+  float measure;
+  pb_rsm_texel_point(rl, lo, vec2(pb_prand(path, 1u), pb_prand(path, PB_RSM_JITTER_DIM)), params.scene_center,
+                     params.scene_radius, o, d, dens, measure);
+  power = dens * (measure / np);
+  prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+  if (prim == PB_GPU_MISS || !(pb_max3(power) > 0.0)) return false;
   float k = sqrt(tx.area / np) / params.delta;
   vec3 tt, bb;
-  pb_basis(tx.dir, tt, bb);
-  o = tx.origin;
-  d = tx.dir;
+  pb_basis(d, tt, bb);
   if (lights[rl.light].type == PB_GPU_LIGHT_DIRECTIONAL) {
     dPu = k * tt;
     dPv = k * bb;
@@ -217,10 +232,6 @@ bool pb_rsm_emit(uint li, uint j, uint n, uint path, out vec3 o, out vec3 d, out
     dDu = k * tt;
     dDv = k * bb;
   }
-  prim = tx.prim;
-  t = tx.t;
-  u = tx.u;
-  v = tx.v;
   return pb_finite3(power) && pb_finite3(dPu + dDu + dPv + dDv);
 }
 

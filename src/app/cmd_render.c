@@ -34,9 +34,13 @@ static const pb_command *self(void) {
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
   int direct_only, validation, constant_kernel, progressive, radius_histogram;
+  int first_bounce; /* index into first_bounce_names */
   double smoothing, r_max, alpha;
   const char *png;
 } render_opts;
+
+/* --first-bounce, in pb_photon_first_bounce order from PB_FIRST_BOUNCE_TRACE. */
+static const char *const first_bounce_names[] = {"traced", "rsm", NULL};
 
 static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g, const pb_render_result *res,
                             const render_opts *o) {
@@ -83,6 +87,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_int(&j, "lbvh_leaves", st->lbvh_leaves);
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
+    pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
     if (st->lbvh_sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", st->lbvh_sort_ms);
     else pb_json_null(&j, "lbvh_sort_ms");
     if (st->radius_histogram) {
@@ -164,6 +169,9 @@ int pb_cmd_render(int argc, char **argv) {
       {"radius-histogram", 0, PB_OPT_FLAG, &o.radius_histogram, NULL,
        "benchmark: bin every map's footprint radii into --json photons.radius_histogram (reads each map back; "
        "slows the render)", NULL, 0, 0},
+      {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
+       "how photons find their first hit: traced from the light, or rsm: sampled from reflective shadow maps by "
+       "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
@@ -230,7 +238,8 @@ int pb_cmd_render(int argc, char **argv) {
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
-                       .radius_histogram = o.radius_histogram};
+                       .radius_histogram = o.radius_histogram,
+                       .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce)};
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
 

@@ -174,7 +174,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                              .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
     if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
     if (!desc.photon_map) {
-      pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max};
+      pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
+                                 .first_bounce = desc.first_bounce};
       if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
     }
     pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size};

@@ -78,6 +78,8 @@ typedef struct pb_render_desc {
                                   PB_PHOTON_SMOOTHING_DEFAULT (photon.h) */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
+  uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
+                                  traced from the light */
   int progressive;             /* 1: footprints shrink between iterations
                                   (probabilistic SPPM, frame.c) */
   float alpha;                 /* progressive: radius^2 kept per iteration,
