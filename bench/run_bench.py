@@ -81,8 +81,10 @@ CONFIGS = {
             pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
             pb_curve("2^16, constant kernel", 1 << 16, [(4, 8), (16, 32)], extra=["--constant-kernel"]),
         ],
-        "reference": [1, 4, 16, 64, 256, 1024],
-        "povray": {"default": ["draft", "medium"]},
+        "reference": [4, 16, 64, 256, 1024],
+        # POV-Ray's medium radiosity + caustic photons on cornell_caustics
+        # took 62 s at 48 px and 156 s at 64 px (loaded machine): draft only.
+        "povray": {"default": ["draft", "medium"], "cornell_caustics": ["draft"]},
         "cycles": [16, 256],
         "leaf_scenes": ["cornell_box", "cornell_caustics"],
         "leaf_sizes": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512],
@@ -223,11 +225,20 @@ class Bench:
         self.dev = ["--device", str(a.device)] if a.device is not None else []
         self.points = []
         self.notes = []
+        self.deadline = time.time() + 60 * a.minutes if a.minutes else None
+        self.skipped = []
         os.makedirs(self.work, exist_ok=True)
         os.makedirs(self.cache, exist_ok=True)
         rc = subprocess.run([self.exe, "render", "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             universal_newlines=True)
         self.render_help = rc.stdout
+
+    def expired(self, what):
+        """True past --minutes: the point `what` is skipped (and listed)."""
+        if self.deadline is None or time.time() < self.deadline:
+            return False
+        self.skipped.append(what)
+        return True
 
     def scene_path(self, name):
         return os.path.join(ROOT, "samples", name, name + ".gltf")
@@ -307,6 +318,8 @@ class Bench:
                 self.notes.append("photonbridge curve '%s' skipped: render has no %s" % (curve["label"], curve["needs"]))
                 continue
             for p in curve["points"]:
+                if self.expired("%s photonbridge %s %s" % (scene, curve["label"], json.dumps(p))):
+                    continue
                 tag = "%s_pb_%s_%d_%d_%d" % (scene, re.sub(r"\W+", "", curve["label"]), p["photons"], p["iterations"],
                                             p["spp"])
                 exr, js = os.path.join(self.work, tag + ".exr"), os.path.join(self.work, tag + ".json")
@@ -323,6 +336,8 @@ class Bench:
 
     def bench_reference(self, scene, ref):
         for spp in self.cfg["reference"]:
+            if self.expired("%s reference %d spp" % (scene, spp)):
+                continue
             tag = "%s_ref_%d" % (scene, spp)
             exr, js = os.path.join(self.work, tag + ".exr"), os.path.join(self.work, tag + ".json")
             # Seed 1: independent of the converged reference's seed 0.
@@ -339,6 +354,8 @@ class Bench:
             return
         pc = self.cfg["povray"]
         for q in pc.get(scene, pc["default"]):
+            if self.expired("%s povray %s" % (scene, q)):
+                continue
             tag = "%s_pov_%s" % (scene, q)
             pdir = os.path.join(self.work, tag)
             os.makedirs(pdir, exist_ok=True)
@@ -371,6 +388,8 @@ class Bench:
             self.notes.append("Cycles: Blender not installed")
             return
         for spp in self.cfg["cycles"]:
+            if self.expired("%s cycles %d" % (scene, spp)):
+                continue
             tag = "%s_cycles_%d" % (scene, spp)
             exr = os.path.join(self.work, tag + ".exr")
             cmd = ["sh", os.path.join(ROOT, "validation", "run_cycles.sh"), scene, exr, "--width", str(self.width),
@@ -389,6 +408,8 @@ class Bench:
         s = self.cfg["leaf_setup"]
         rows = []
         for leaf in [0] + list(self.cfg["leaf_sizes"]):
+            if self.expired("%s leaf sweep %s" % (scene, leaf or "auto")):
+                continue
             best = None
             for rep in range(s["repeat"]):
                 tag = "%s_leaf_%d_%d" % (scene, leaf, rep)
@@ -430,6 +451,8 @@ class Bench:
 
     def kpd_histogram(self, scene):
         """Table 2's k_PD and Table 3's radius histogram, default settings."""
+        if self.expired("%s radius histogram" % scene):
+            return {"scene": scene, "error": "skipped (--minutes)"}
         tag = "%s_hist" % scene
         exr, js = os.path.join(self.work, tag + ".exr"), os.path.join(self.work, tag + ".json")
         cmd = [self.exe, "render", self.scene_path(scene), "-o", exr, "--width", str(self.width), "--spp", "4",
@@ -449,6 +472,8 @@ class Bench:
         exe = os.path.join(os.path.dirname(self.exe), "pb_bench_lbvh")
         if not os.access(exe, os.X_OK):
             self.notes.append("LBVH rates: %s not built" % exe)
+            return []
+        if self.expired("LBVH rates"):
             return []
         counts = ["%d" % c for c in self.cfg["lbvh_counts"]]
         r = run_point([exe, "--repeat", "3"] + self.dev + counts, os.path.join(self.work, "lbvh_rates.log"),
@@ -758,7 +783,7 @@ def markdown(res, rel):
         names = []
         for r in it["passes"]:
             names += [k for k in r["passes_ms"] if k not in names]
-        L.append("| scene | " + " | ".join(names) + " | wall ms |")
+        L.append("| scene | " + " | ".join(names) + " | process wall ms |")
         L.append("|---|" + "---|" * (len(names) + 1))
         for r in it["passes"]:
             L.append("| %s | %s | %.0f |" % (r["scene"], " | ".join(
@@ -862,6 +887,8 @@ def main(argv):
                     "references, e.g. ahead of a timed run")
     ap.add_argument("--no-internals", action="store_true")
     ap.add_argument("--note", action="append", default=[], help="a line for the report's notes")
+    ap.add_argument("--minutes", type=float, default=0, help="skip (and list) the points that would start after "
+                    "this many minutes (0: no limit)")
     a = ap.parse_args(argv)
     mode = a.mode or ("quick" if a.quick else "full")
     cfg = CONFIGS[mode]
@@ -909,7 +936,8 @@ def main(argv):
             four = [p for p in cand if p["params"]["iterations"] == 4]
             p = four[0] if four else max(cand, key=lambda p: p["params"]["iterations"])
             pm = {k: v for k, v in p["passes_ms"].items() if k not in ("gpu_total", "upload", "bvh_build")}
-            internals["passes"].append({"scene": s, "what": "%s, K maps and spp as listed" % first,
+            internals["passes"].append({"scene": s, "what": "%s, %d maps, %d spp, %d px" % (
+                                            first, p["params"]["iterations"], p["params"]["spp"], b.width),
                                         "params": p["params"], "passes_ms": pm, "wall_ms": 1e3 * p["wall_s"]})
     if not a.no_internals:
         for s in cfg["leaf_scenes"]:
@@ -928,7 +956,9 @@ def main(argv):
            "machine": machine_info(), "device": dev, "devices": devs, "versions": tool_versions(b.exe),
            "load_start": load_start, "load_end": load_end, "load_note": load_note, "width": b.width,
            "scenes": scenes, "config": {k: v for k, v in cfg.items()}, "references": refs, "points": b.points,
-           "internals": internals, "notes": b.notes + a.note, "peak_memory": PEAK["how"], "out": os.path.relpath(b.out, ROOT)}
+           "internals": internals, "notes": b.notes + a.note + (
+               ["stopped by --minutes %g: %d points skipped (%s)" % (a.minutes, len(b.skipped), "; ".join(b.skipped))]
+               if b.skipped else []), "skipped": b.skipped, "peak_memory": PEAK["how"], "out": os.path.relpath(b.out, ROOT)}
     res["summary"] = summarise(b.points, scenes)
     res["out_abs"] = b.out
     res["plots"] = plots(res, b.out)
