@@ -80,6 +80,8 @@ CONFIGS = {
             pb_curve("2^18 photons/map", 1 << 18, [(1, 4), (4, 8), (16, 32)]),
             pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
             pb_curve("2^16, constant kernel", 1 << 16, [(4, 8), (16, 32)], extra=["--constant-kernel"]),
+            pb_curve("2^16, RSM first bounce", 1 << 16, [(4, 8), (16, 32)], extra=["--first-bounce", "rsm"],
+                     needs="--first-bounce"),
         ],
         "reference": [4, 16, 64, 256, 1024],
         # POV-Ray's medium radiosity + caustic photons on cornell_caustics
@@ -329,8 +331,10 @@ class Bench:
                 r = run_point(cmd, os.path.join(self.work, tag + ".log"), self.timeout)
                 st = read_json(js) or {}
                 ph = st.get("photons") or {}
+                dm = (st.get("device_memory") or {}).get("buffers_peak_bytes")
                 extra = {"passes_ms": st.get("passes_ms"), "device": st.get("device"), "k_pd": ph.get("k_pd"),
-                         "t_auto": ph.get("t_auto"), "photons_stored": ph.get("stored")}
+                         "t_auto": ph.get("t_auto"), "photons_stored": ph.get("stored"),
+                         "gpu_buffers_peak_mb": round(dm / 1048576.0, 1) if isinstance(dm, (int, float)) else None}
                 rs = st["wall_ms"] / 1e3 if isinstance(st.get("wall_ms"), (int, float)) else None
                 self.add_point(scene, "photonbridge", curve["label"], p, r, exr, ref, rs, extra)
 
@@ -607,7 +611,8 @@ def slug(name):
 # ---- outputs ---------------------------------------------------------------
 
 CSV_FIELDS = ["scene", "width", "renderer", "config", "params", "status", "wall_s", "render_s", "maxrss_mb",
-              "psnr_db", "ssim", "rmse", "relmse", "ref_noise_psnr_db", "k_pd", "t_auto", "load_1m", "error"]
+              "psnr_db", "ssim", "rmse", "relmse", "ref_noise_psnr_db", "k_pd", "t_auto", "gpu_buffers_peak_mb",
+              "load_1m", "error"]
 
 
 def write_csv(path, points):
@@ -767,12 +772,13 @@ def markdown(res, rel):
              "converged reference's own noise PSNR (column 2) is limited by the reference, not by the "
              "renderer.\n")
     L.append("## Best PSNR reached and its cost\n")
-    L.append("| scene | renderer | configuration | best PSNR dB | SSIM | at s | peak RSS MiB |")
-    L.append("|---|---|---|---|---|---|---|")
+    L.append("| scene | renderer | configuration | best PSNR dB | SSIM | at s | peak RSS MiB | GPU buffers MiB |")
+    L.append("|---|---|---|---|---|---|---|---|")
     for (sc, rn, cf), pts in sorted(curves(res["points"]).items()):
         b = max(pts, key=lambda p: p["psnr_db"])
-        L.append("| %s | %s | %s | %.2f | %.3f | %.2f | %s |" % (sc, rn, cf, b["psnr_db"], b["ssim"], b["wall_s"],
-                                                             b["maxrss_mb"]))
+        L.append("| %s | %s | %s | %.2f | %.3f | %.2f | %s | %s |" % (
+            sc, rn, cf, b["psnr_db"], b["ssim"], b["wall_s"], b["maxrss_mb"],
+            b["gpu_buffers_peak_mb"] if b.get("gpu_buffers_peak_mb") is not None else "-"))
     for s in res["scenes"]:
         if "error_vs_time_%s.svg" % s in res["plots"]:
             L.append("\n![%s](%s/error_vs_time_%s.svg)" % (s, rel, s))
