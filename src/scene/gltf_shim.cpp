@@ -801,6 +801,13 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
     convert(*impl, doc);
   } catch (const std::bad_alloc &) {
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory while parsing", path);
+  } catch (const std::logic_error &e) {
+    // out_of_range, invalid_argument, length_error: a check here that reads
+    // past what it tested, never the file's fault (JSON is parsed without
+    // exceptions, so a json::exception is the same kind of bug).
+    return pb_fail(PB_ERR_INTERNAL, "%s: internal error while checking the file: %s", path, one_line(e.what()).c_str());
+  } catch (const Json::exception &e) {
+    return pb_fail(PB_ERR_INTERNAL, "%s: internal error while checking the file: %s", path, one_line(e.what()).c_str());
   } catch (const std::exception &e) {
     return pb_fail(PB_ERR_SCENE_PARSE, "%s: %s", path, one_line(e.what()).c_str());
   }
