@@ -72,10 +72,23 @@ bool pb_intersect_tri(in pb_ray_prep r, vec3 p0, vec3 p1, vec3 p2, float tmin,
   // Distance from the triangle's plane (as Embree does), better conditioned
   // for grazing rays than the sheared-space numerator; the inside test
   // above stays the watertight one.
-  vec3 N = cross(p1 - p0, p2 - p0);
+  vec3 e1 = p1 - p0, e2 = p2 - p0;
+  vec3 N = cross(e1, e2);
   float den = dot(r.dir, N);
   if (den == 0.0) return false;
-  float tt = dot(A, N) / den;
+  float num = dot(A, N);
+  // An origin on the plane within the rounding of num is no hit (as pbrt-v4
+  // rejects t <= deltaT): N from the float edges errs by ~eps |e1||e2| per
+  // component, so the plane distance errs by ~eps |A| / sin(angle), which
+  // beats the 256-ulp offset of pb_offset_ray on slivers and on triangles
+  // much larger than the hit point's coordinates (tests/unit/hard_rays.h).
+  // First-order bound 8 eps dot(|A|, M) (eps = 2^-24; M: the magnitudes of
+  // the cross product's terms; rounding of e1, e2, N, A and the dot), with
+  // a margin: 12 eps.
+  vec3 a1 = abs(e1), a2 = abs(e2);
+  vec3 M = vec3(a1.y * a2.z + a1.z * a2.y, a1.z * a2.x + a1.x * a2.z, a1.x * a2.y + a1.y * a2.x);
+  if (abs(num) <= 7.1525574e-7 * dot(abs(A), M)) return false;
+  float tt = num / den;
   if (!(tt > tmin) || !(tt < t)) return false;
   float inv_det = 1.0 / det;
   t = tt;
