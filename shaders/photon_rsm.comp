@@ -26,10 +26,12 @@
 // that flux for a texel whose centre misses or sees a back face while a
 // corner sees a front face; 0 for the rest.
 //
-// PB_RSM_MODE_SCAN, one workgroup per light: the inclusive prefix sum of the
-// weights over the light's texels (texel.cdf) and their total (rlights.total),
-// in chunks of PB_GPU_WORKGROUP with a Hillis-Steele scan in shared memory
-// and a running carry. The tracer inverts it (binary search).
+// PB_RSM_MODE_PYRAMID, dispatched once per level l = 1 .. log2(res), one
+// invocation per node: the sum of its 2 x 2 children at level l - 1 (the
+// texels' weights at level 0), stored as common/rsm_texel.glsl's
+// pb_rsm_node describes. PB_RSM_MODE_TOTAL, one invocation per light: the
+// sum of its faces' tops (rlights.total). The tracer warps stratified points
+// down the pyramid (hierarchical warp, seed 001 24.2.1).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_rsm.h"
@@ -86,7 +88,7 @@ void pb_rsm_render(uint gid) {
   tx.dir = d;
   tx.flux = flux;
   tx.area = area;
-  tx.cdf = 0.0;
+  tx.pyramid = 0.0;
   float th, u, v;
   tx.prim = pb_trace(o, d, 0.0, PB_INF, false, th, u, v);
   tx.t = th;
@@ -126,36 +128,35 @@ void pb_rsm_render(uint gid) {
   rtexels[gid] = tx;
 }
 
-shared float pb_rsm_scan[PB_GPU_WORKGROUP];
+void pb_rsm_pyramid(uint gid) {
+  uint li = 0u;
+  for (uint i = 1u; i < push.light_count; ++i)
+    if (gid >= rlights[i].first) li = i;
+  pb_gpu_rsm_light rl = rlights[li];
+  if (gid < rl.first || push.level > rl.levels) return;
+  uint side = rl.res >> push.level, local = gid - rl.first;
+  if (local >= rl.faces * side * side) return;
+  uint face = local / (side * side), p = local % (side * side);
+  uint x = p % side, y = p / side, l = push.level - 1u;
+  float w = pb_rsm_weight(rl, l, face, 2u * x, 2u * y) + pb_rsm_weight(rl, l, face, 2u * x + 1u, 2u * y) +
+            pb_rsm_weight(rl, l, face, 2u * x, 2u * y + 1u) + pb_rsm_weight(rl, l, face, 2u * x + 1u, 2u * y + 1u);
+  rtexels[rl.first + pb_rsm_node(rl, push.level, face, x, y)].pyramid = w;
+}
 
-void pb_rsm_prefix(uint li) {
-  uint lid = gl_LocalInvocationID.x;
-  uint first = rlights[li].first, count = rlights[li].count;
-  float carry = 0.0;
-  for (uint base = 0u; base < count; base += PB_GPU_WORKGROUP) {
-    uint i = base + lid;
-    pb_rsm_scan[lid] = i < count ? rtexels[first + i].weight : 0.0;
-    barrier();
-    for (uint off = 1u; off < PB_GPU_WORKGROUP; off <<= 1u) {
-      float y = lid >= off ? pb_rsm_scan[lid - off] : 0.0;
-      barrier();
-      pb_rsm_scan[lid] += y;
-      barrier();
-    }
-    if (i < count) rtexels[first + i].cdf = carry + pb_rsm_scan[lid];
-    carry += pb_rsm_scan[PB_GPU_WORKGROUP - 1u];
-    barrier();
-  }
-  if (lid == 0u) rlights[li].total = carry;
+void pb_rsm_total(uint li) {
+  pb_gpu_rsm_light rl = rlights[li];
+  float t = 0.0;
+  for (uint f = 0u; f < rl.faces; ++f) t += pb_rsm_weight(rl, rl.levels, f, 0u, 0u);
+  rlights[li].total = t;
 }
 
 void main() {
-  if (push.mode == PB_RSM_MODE_SCAN) {
-    uint li = gl_WorkGroupID.x;
-    if (li < push.light_count) pb_rsm_prefix(li);
+  uint gid = pb_gid();
+  if (push.mode == PB_RSM_MODE_TOTAL) {
+    if (gid < push.light_count) pb_rsm_total(gid);
     return;
   }
-  uint gid = pb_gid();
   if (gid >= push.texels) return;
-  pb_rsm_render(gid);
+  if (push.mode == PB_RSM_MODE_PYRAMID) pb_rsm_pyramid(gid);
+  else pb_rsm_render(gid);
 }

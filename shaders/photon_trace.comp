@@ -81,9 +81,10 @@ layout(constant_id = 4) const bool SC_TRANSMISSION = true;
 #include "common/rsm_texel.glsl"
 
 float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim); }
-// Sequence dimensions: 0, 1 emission (RSM: texel pick, jitter x), 2 + 4 k ..
-// the k-th bounce; the RSM jitter's y lies far above any bounce.
-const uint PB_RSM_JITTER_DIM = 1000u;
+// Sequence dimensions: 0, 1 emission (RSM: 0 the stratum jitter), 2 + 4 k ..
+// the k-th bounce; the RSM's per-iteration rotation lies far above any
+// bounce (drawn for path 0).
+const uint PB_RSM_ROTATION_DIM = 1000u;
 
 void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
               uint path) {
@@ -171,16 +172,16 @@ void pb_stencil_step(uint member, float h, inout float c, inout float sn, inout 
 }
 
 // RSM first bounce (seed 001 24.2.1): photon j of the n = pl.count photons
-// of light entry li picks a texel by inverting the prefix sum of reflected
-// power at (j + u) / n (stratified: texel i receives n p_i photons in
-// expectation, p_i = weight_i / total, several per texel when n exceeds the
-// map). Within the texel the photon takes a uniform point (jitter, two
-// dimensions of its own; common/rsm_texel.glsl), traces the ray from the
-// light through it, and carries the flux density there times the texel's
-// measure over n p_i: unbiased (E[sum] = the texel's flux) wherever p_i > 0,
-// and the photons of one texel land spread over its footprint instead of on
-// one point. The path starts at that first hit (direct light, not stored)
-// and continues by BRDF sampling like a traced one.
+// of light entry li warps a stratified 2-D point down the light's pyramid of
+// reflected power (hierarchical warp, common/rsm_texel.glsl pb_rsm_warp):
+// texel i is picked with p_i = weight_i / total, receives n p_i photons in
+// expectation (several when n exceeds the map), and the point's remainder is
+// a uniform position within the texel. The photon traces the ray from the
+// light through that position and carries the flux density there times the
+// texel's measure over n p_i: unbiased (E[sum] = the texel's flux) wherever
+// p_i > 0, with one texel's photons spread over its footprint. The path
+// starts at that first hit (direct light, not stored) and continues by BRDF
+// sampling like a traced one.
 //
 // Differentials. In the traced emission a photon stands for Omega / n_i of
 // the light's solid angle (see the header: unit eq.-8 differentials scaled
@@ -202,23 +203,21 @@ bool pb_rsm_emit(uint li, uint j, uint n, uint path, out vec3 o, out vec3 d, out
   prim = PB_GPU_MISS;
   t = u = v = 0.0;
   if (!(rl.total > 0.0) || rl.count == 0u) return false;
-  float x = (float(j) + pb_prand(path, 0u)) / float(n) * rl.total;
-  uint lo = 0u, hi = rl.count - 1u;
-  while (lo < hi) {
-    uint mid = (lo + hi) >> 1u;
-    if (rtexels[rl.first + mid].cdf > x) hi = mid;
-    else lo = mid + 1u;
-  }
+  // A stratified point of the unit square for photon j of n: (j + xi) / n
+  // and the radical inverse of j turned by this iteration's offset
+  // (Hammersley, Cranley-Patterson rotated), warped down the pyramid.
+  float su = (float(j) + pb_prand(path, 0u)) / float(n);
+  float sv = fract(float(bitfieldReverse(j)) * 2.3283064e-10 + pb_rand(0u, params.iteration, PB_RSM_ROTATION_DIM));
+  uint lo = pb_rsm_warp(rl, su, sv);
   pb_gpu_rsm_texel tx = rtexels[rl.first + lo];
   if (!(tx.weight > 0.0)) return false;
   float np = float(n) * (tx.weight / rl.total);
-  // A uniform point of the texel (its own two dimensions of the path's
-  // sequence), the ray through it and its first hit: the photon carries the
-  // flux density there times the texel's measure, over n p_i.
+  // The warp's remainder is a uniform point of the texel: the ray through it
+  // and its first hit; the photon carries the flux density there times the
+  // texel's measure, over n p_i.
   vec3 dens;
   float measure;
-  pb_rsm_texel_point(rl, lo, vec2(pb_prand(path, 1u), pb_prand(path, PB_RSM_JITTER_DIM)), params.scene_center,
-                     params.scene_radius, o, d, dens, measure);
+  pb_rsm_texel_point(rl, lo, vec2(su, sv), params.scene_center, params.scene_radius, o, d, dens, measure);
   power = dens * (measure / np);
   prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
   if (prim == PB_GPU_MISS || !(pb_max3(power) > 0.0)) return false;

@@ -7,20 +7,22 @@
 #ifndef PB_RSM_SHARED_H
 #define PB_RSM_SHARED_H
 
-PB_CONST(PB_RSM_MODE_RENDER, 0u) /* one invocation per texel */
-PB_CONST(PB_RSM_MODE_SCAN, 1u)   /* one workgroup per light: prefix sum */
+PB_CONST(PB_RSM_MODE_RENDER, 0u)  /* one invocation per texel */
+PB_CONST(PB_RSM_MODE_PYRAMID, 1u) /* one invocation per node of level push.level */
+PB_CONST(PB_RSM_MODE_TOTAL, 2u)   /* one invocation per light: sum of its faces */
 
-/* One light's map: texels first .. first + count - 1; total: the sum of the
- * texels' sampling weights (written by the scan). */
+/* One light's map: texels first .. first + count - 1 (faces x res x res,
+ * face-major, then rows); total: the sum of the texels' sampling weights
+ * (written by PB_RSM_MODE_TOTAL). */
 PB_STRUCT(pb_gpu_rsm_light) {
   uint first;
   uint count;
-  uint res;               /* texels per side of a face */
+  uint res;               /* texels per side of a face, a power of two */
   uint light;             /* index into the scene's lights[] */
   float total;
   float tan_half;         /* spot: half-size of the image plane at distance 1 */
-  uint pad0;
-  uint pad1;
+  uint faces;             /* 6 (point: cube map) or 1 */
+  uint levels;            /* log2(res): pyramid levels above the texels */
 } PB_END(pb_gpu_rsm_light)
 
 /* One texel, 64 bytes: the ray through its centre from the light (origin,
@@ -28,15 +30,17 @@ PB_STRUCT(pb_gpu_rsm_light) {
  * PB_GPU_MISS when none), flux: the flux the texel receives, W (intensity x
  * texel solid angle, spot falloff included; irradiance x texel area for
  * directional lights); area: that solid angle (sr) or area (m^2); weight:
- * the luminance of the reflected power (sampling weight); cdf: the inclusive
- * prefix sum of the weights within the light's map (after the scan). */
+ * the luminance of the reflected power (sampling weight); pyramid: storage
+ * for node k of the light's weight pyramid, not for this texel (a map has
+ * fewer pyramid nodes than texels, see common/rsm_texel.glsl's
+ * pb_rsm_node). */
 PB_STRUCT(pb_gpu_rsm_texel) {
   PB_VEC3(origin);
   uint prim;
   PB_VEC3(dir);
   float t;
   PB_VEC3(flux);
-  float cdf;
+  float pyramid;
   float u;
   float v;
   float area;
@@ -50,7 +54,7 @@ PB_STRUCT(pb_gpu_rsm_push) {
   uint mode;
   uint light_count;
   uint texels;            /* all maps together */
-  uint pad0;
+  uint level;             /* PB_RSM_MODE_PYRAMID: the level built, 1 .. levels */
 } PB_END(pb_gpu_rsm_push)
 
 #ifndef PB_GLSL

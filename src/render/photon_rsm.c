@@ -1,9 +1,10 @@
 /* Reflective shadow maps (shaders/photon_rsm.comp): per light entry of the
  * photon tracer, a map of first hits seen from the light with the flux each
- * texel receives and a prefix sum of the reflected power, both built on the
- * GPU. The tracer (photon_trace.comp, PB_PHOTON_PARAM_RSM) samples texels
- * from it in proportion to that power and continues each path from the
- * texel's hit by BRDF sampling. */
+ * texel receives and a pyramid of the reflected power (sums of 2 x 2
+ * texels, level by level), all built on the GPU. The tracer
+ * (photon_trace.comp, PB_PHOTON_PARAM_RSM) warps stratified points through
+ * the pyramid (hierarchical warp), so texels are chosen in proportion to that
+ * power, and continues each path by BRDF sampling. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,7 +22,7 @@ struct pb_photon_rsm {
   const pb_gpu_scene *gs;
   pb_gpu_pipeline pipe;
   pb_gpu_buffer lights, texels;
-  uint32_t entries, texel_count;
+  uint32_t entries, texel_count, res;
   float center[3], radius;
   uint32_t spec[PB_SPEC_COUNT];
 };
@@ -30,7 +31,8 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
                                uint32_t entries, uint32_t res, const float center[3], float radius,
                                pb_photon_rsm **out) {
   *out = NULL;
-  if (res < 1 || res > 4096) return pb_fail(PB_ERR_USAGE, "photons: RSM resolution %u (1 .. 4096)", res);
+  if (res < 1 || res > 4096 || (res & (res - 1)))
+    return pb_fail(PB_ERR_USAGE, "photons: RSM resolution %u is not a power of two in 1 .. 4096", res);
   pb_photon_rsm *r = calloc(1, sizeof *r);
   pb_gpu_rsm_light *tab = calloc(entries ? entries : 1, sizeof *tab);
   pb_result rc = PB_OK;
@@ -41,6 +43,7 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   }
   r->gs = gs;
   r->entries = entries;
+  r->res = res;
   memcpy(r->center, center, sizeof r->center);
   r->radius = radius;
   uint64_t total = 0;
@@ -52,6 +55,10 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
     tab[i].res = res;
     tab[i].light = light[i];
     tab[i].tan_half = l->type == PB_LIGHT_SPOT ? tanf(fminf(fmaxf(l->outer_cone, 1e-4f), 1.5f)) : 1.0f;
+    tab[i].faces = (uint32_t)faces;
+    uint32_t levels = 0;
+    while ((1u << levels) < res) ++levels;
+    tab[i].levels = levels;
     total += faces * res * res;
   }
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
@@ -116,8 +123,15 @@ pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r) {
   if (!r->entries) return PB_OK;
   if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->texel_count)) != PB_OK) return rc;
   pb_gpu_barrier(g);
-  p.mode = PB_RSM_MODE_SCAN;
-  if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, (uint64_t)r->entries * PB_GPU_WORKGROUP)) != PB_OK) return rc;
+  /* The weight pyramid, one level at a time (every light shares res), then
+   * each light's total. */
+  p.mode = PB_RSM_MODE_PYRAMID;
+  for (p.level = 1; (1u << p.level) <= r->res; ++p.level) {
+    if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->texel_count)) != PB_OK) return rc;
+    pb_gpu_barrier(g);
+  }
+  p.mode = PB_RSM_MODE_TOTAL;
+  if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->entries)) != PB_OK) return rc;
   pb_gpu_barrier(g);
   return PB_OK;
 }
