@@ -2,11 +2,12 @@
 # Runs the libFuzzer targets of a PB_FUZZ build tree (tests/fuzz/fuzz.cmake).
 #
 #   tests/fuzz/run.sh BUILD SECONDS [TARGET...]   fuzz each target SECONDS s, one after another
-#   tests/fuzz/run.sh --replay BUILD              run the seeds and tests/fuzz/regressions once
+#   tests/fuzz/run.sh --replay BUILD              run the seeds, regressions and findings once
 #   tests/fuzz/run.sh --check                     exit 0 when clang-14 links a libFuzzer program
 #
 # TARGET is gltf or exr (default: both). Every run first replays the seeds and
-# the kept regression inputs (tests/fuzz/regressions/TARGET/), then fuzzes
+# the kept regression inputs (tests/fuzz/regressions/TARGET/) and earlier
+# findings still in crashes/TARGET/ (so one fails every run until fixed), then fuzzes
 # with the seeds (samples, broken-file corpus, EXR variants) and the corpus
 # grown by earlier runs. Everything lives under BUILD/fuzz/:
 #   seeds/TARGET/    rewritten every run (make_seeds.py, fuzz_exr_seeds)
@@ -20,7 +21,6 @@
 # before libFuzzer reports a timeout), FUZZ_ARGS (extra libFuzzer flags).
 set -u
 HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/../.." && pwd)
 
 if [ "${1:-}" = "--check" ]; then
   command -v clang-14 >/dev/null 2>&1 || { echo "clang-14 not found"; exit 1; }
@@ -77,16 +77,19 @@ for t in $TARGETS; do
   log=$W/logs/$t.log
   dirs=("$W/seeds/$t")
   [ -d "$reg" ] && dirs+=("$reg")
-  # 1. Replay: every seed and regression input once.
+  # 1. Replay: every seed, regression input and earlier finding once (a
+  #    finding keeps failing the run until the code is fixed).
+  found=()
+  [ -n "$(ls -A "$W/crashes/$t")" ] && found=("$W/crashes/$t")
   if ! "$bin" -runs=0 -timeout="$FUZZ_TIMEOUT" -rss_limit_mb=2048 -artifact_prefix="$W/crashes/$t/" \
-       "${dirs[@]}" >"$log.replay" 2>&1; then
-    echo "fuzz_$t: FAILED replaying the seeds/regressions (log: $log.replay):"
+       "${dirs[@]}" "${found[@]}" >"$log.replay" 2>&1; then
+    echo "fuzz_$t: FAILED replaying the seeds, regressions and earlier findings (log: $log.replay):"
     grep -E "^(==|SUMMARY|fuzz_$t: contract)|runtime error|artifact_prefix" "$log.replay" | head -20
     status=1
     continue
   fi
-  n=$(find "${dirs[@]}" -type f | wc -l)
-  echo "fuzz_$t: replayed $n seed and regression inputs"
+  n=$(find "${dirs[@]}" "${found[@]}" -type f | wc -l)
+  echo "fuzz_$t: replayed $n seed, regression and earlier finding inputs"
   [ $replay = 1 ] && continue
   # 2. Fuzz for SECONDS_EACH seconds; new inputs go to corpus/TARGET.
   before=$(find "$W/crashes/$t" -type f | wc -l)
