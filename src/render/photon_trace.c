@@ -34,6 +34,10 @@ struct pb_photon_tracer {
   uint64_t seed;
   pb_photon_trace_stats stats;
   pb_photon_rsm *rsm;           /* PB_FIRST_BOUNCE_RSM, else NULL */
+  int rsm_ready;                /* the maps are rendered: they depend on the
+                                   scene and lights only, so a tracer (one
+                                   frame) renders them once and every
+                                   iteration warps new points through them */
 };
 
 static float luminance(const float c[3]) {
@@ -272,7 +276,7 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
 
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
   pb_gpu_timestamp(g, 0);
-  if (t->rsm && (r = pb_photon_rsm_record(g, t->rsm)) != PB_OK) {
+  if (t->rsm && !t->rsm_ready && (r = pb_photon_rsm_record(g, t->rsm)) != PB_OK) {
     (void)pb_gpu_submit(g);
     return r;
   }
@@ -282,6 +286,7 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   }
   pb_gpu_timestamp(g, 1);
   if ((r = pb_gpu_submit(g)) != PB_OK) return r;
+  if (t->rsm) t->rsm_ready = 1;
   if (gpu_ms) *gpu_ms = pb_gpu_elapsed_ms(g, 0, 1);
 
   pb_gpu_photon_counts c;
