@@ -53,8 +53,8 @@ typedef struct pb_photon_trace_desc {
   uint32_t photons;           /* paths emitted per iteration; 0: 2^18 */
   uint32_t max_bounces;       /* stored diffuse bounces per path; 0: 3 */
   float smoothing;            /* s for diffuse photons (dimensionless, see
-                                 pb_store in photon_trace.comp); 0: 1 here,
-                                 the frame passes PB_PHOTON_SMOOTHING_DEFAULT */
+                                 pb_store in photon_trace.comp); 0:
+                                 PB_PHOTON_SMOOTHING_DEFAULT */
   float smoothing_caustic;    /* s for caustic photons; 0: 5 (seed 000) */
   float r_max;                /* footprint radius clamp, metres; 0: 5 % of the
                                  scene's bounding radius */

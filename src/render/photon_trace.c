@@ -101,7 +101,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   pb_photon_trace_desc d = desc ? *desc : (pb_photon_trace_desc){0};
   if (!d.photons) d.photons = 1u << 18;
   if (!d.max_bounces) d.max_bounces = 3;
-  if (d.smoothing == 0.0f) d.smoothing = 1.0f;
+  if (d.smoothing == 0.0f) d.smoothing = PB_PHOTON_SMOOTHING_DEFAULT;
   if (d.smoothing_caustic == 0.0f) d.smoothing_caustic = 5.0f;
   if (d.max_bounces > 255)
     return pb_fail(PB_ERR_USAGE, "photons: max_bounces %u (at most 255)", d.max_bounces);
