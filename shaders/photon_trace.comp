@@ -171,6 +171,32 @@ void pb_stencil_step(uint member, float h, inout float c, inout float sn, inout 
   }
 }
 
+// Derivative of the shading normal n (as the BSDF uses it: interpolated
+// from the vertex normals, flipped to the photon's side) along the hit's
+// positional differential dP (Igehy 1999 section 3.3): dP = db1 e1 + db2 e2
+// in the triangle's plane gives the barycentric steps, the unnormalised
+// m = n0 + b1 (n1 - n0) + b2 (n2 - n0) changes by dm, and
+// dn = (dm - (dm.n) n) / |m|. Zero on flat-shaded triangles.
+vec3 pb_diff_dn(uint prim, float u, float v, vec3 n, vec3 dP) {
+  if (!SC_HAS_NORMALS) return vec3(0.0);
+  uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
+  vec3 p0 = pb_position(i0), e1 = pb_position(i1) - p0, e2 = pb_position(i2) - p0;
+  vec3 ng = cross(e1, e2);
+  float g = dot(ng, ng);
+  if (!(g > 0.0) || isinf(g)) return vec3(0.0);
+  float db1 = dot(cross(dP, e2), ng) / g, db2 = dot(cross(e1, dP), ng) / g;
+  vec3 n0 = vec3(normals[3u * i0], normals[3u * i0 + 1u], normals[3u * i0 + 2u]);
+  vec3 n1 = vec3(normals[3u * i1], normals[3u * i1 + 1u], normals[3u * i1 + 2u]);
+  vec3 n2 = vec3(normals[3u * i2], normals[3u * i2 + 1u], normals[3u * i2 + 2u]);
+  vec3 m = n0 * (1.0 - u - v) + n1 * u + n2 * v;
+  float l = length(m);
+  if (!(l > 1e-12) || isinf(l)) return vec3(0.0);
+  vec3 mn = m / l, dm = (n1 - n0) * db1 + (n2 - n0) * db2;
+  vec3 dn = (dm - dot(dm, mn) * mn) / l;
+  dn = dot(mn, n) < 0.0 ? -dn : dn;
+  return pb_finite3(dn) ? dn : vec3(0.0);
+}
+
 // RSM first bounce (seed 001 24.2.1): photon j of the n = pl.count photons
 // of light entry li warps a stratified 2-D point down the light's pyramid of
 // reflected power (hierarchical warp, common/rsm_texel.glsl pb_rsm_warp):
@@ -350,7 +376,7 @@ void pb_trace_path(uint gid) {
       wi = reflect(d, b.n);
       if (dot(wi, b.ng) <= 0.0) return;
       w = pb_spec_fresnel(b, cos_o) / l.y;
-      pb_diff_reflect(dDu, dDv, b.n);
+      pb_diff_reflect(dDu, dDv, d, b.n, pb_diff_dn(prim, u, v, b.n, dPu), pb_diff_dn(prim, u, v, b.n, dPv));
     } else if (SC_SPECULAR && SC_TRANSMISSION && l.z > 0.0) {
       float eta = b.entering ? 1.0 / b.ior : b.ior;
       float cos_t;
@@ -361,13 +387,14 @@ void pb_trace_path(uint gid) {
         wi = reflect(d, b.n);
         if (dot(wi, b.ng) <= 0.0) return;
         w = vec3(kg);
-        pb_diff_reflect(dDu, dDv, b.n);
+        pb_diff_reflect(dDu, dDv, d, b.n, pb_diff_dn(prim, u, v, b.n, dPu), pb_diff_dn(prim, u, v, b.n, dPv));
       } else {
         wi = normalize(eta * d + (eta * cos_o - cos_t) * b.n);
         if (dot(wi, b.ng) >= 0.0) return;
         w = b.base * kg;
         transmit = true;
-        pb_diff_refract(dDu, dDv, b.n, eta, cos_o, cos_t);
+        pb_diff_refract(dDu, dDv, d, b.n, pb_diff_dn(prim, u, v, b.n, dPu), pb_diff_dn(prim, u, v, b.n, dPv), eta,
+                        cos_o, cos_t);
       }
     } else {
       return;

@@ -3,8 +3,9 @@
 // position and direction differentiated by the two parameters of its last
 // emission (light or diffuse re-emission), pre-scaled per seed 000 eq. 8 so
 // that ONE global spacing Delta turns them into footprint semi-axes
-// (Delta dPu, Delta dPv). Flat triangles: the normal's derivative is zero
-// (interpolated shading normals would add dN terms; not modelled).
+// (Delta dPu, Delta dPv). Specular updates take the shading normal's
+// derivative dN along dP (interpolated vertex normals; photon_trace.comp's
+// pb_diff_dn), zero on flat-shaded triangles.
 //
 // Every division is guarded; pb_diff_guarded counts the guards hit by this
 // invocation (the kernel adds it to the statistics once).
@@ -33,23 +34,28 @@ void pb_diff_transfer(inout vec3 dPu, inout vec3 dPv, vec3 dDu, vec3 dDv, vec3 D
   dPv = b - D * (dot(b, N) / dn);
 }
 
-// Mirror reflection about N (Igehy eq. 14-15 with dN = 0):
-//   R = D - 2 (D.N) N,  dR = dD - 2 (dD.N) N;  dP unchanged.
-void pb_diff_reflect(inout vec3 dDu, inout vec3 dDv, vec3 N) {
-  dDu -= 2.0 * dot(dDu, N) * N;
-  dDv -= 2.0 * dot(dDv, N) * N;
+// Mirror reflection about N (Igehy eq. 14-15):
+//   R = D - 2 (D.N) N,
+//   dR = dD - 2 [(D.N) dN + (dD.N + D.dN) N];  dP unchanged.
+void pb_diff_reflect(inout vec3 dDu, inout vec3 dDv, vec3 D, vec3 N, vec3 dNu, vec3 dNv) {
+  float dn = dot(D, N);
+  dDu -= 2.0 * (dn * dNu + (dot(dDu, N) + dot(D, dNu)) * N);
+  dDv -= 2.0 * (dn * dNv + (dot(dDv, N) + dot(D, dNv)) * N);
 }
 
-// Refraction (Igehy eq. 16-19, dN = 0). N faces the incident side
-// (D.N = -cos_i < 0), T = eta D - mu N with mu = eta (D.N) - (T.N),
-// T.N = -cos_t:
-//   dT = eta dD - dmu N,  dmu = (eta - eta^2 (D.N) / (T.N)) (dD.N)
-//                            = (eta - eta^2 cos_i / cos_t) (dD.N).
+// Refraction (Igehy eq. 16-19). N faces the incident side (D.N = -cos_i <
+// 0), T = eta D - mu N with mu = eta (D.N) - (T.N), T.N = -cos_t, so
+// mu = cos_t - eta cos_i:
+//   dT = eta dD - (mu dN + dmu N),
+//   dmu = (eta - eta^2 (D.N) / (T.N)) d(D.N) = (eta - eta^2 cos_i / cos_t) d(D.N),
+//   d(D.N) = dD.N + D.dN.
 // cos_t -> 0 (grazing exit near total internal reflection) is guarded.
-void pb_diff_refract(inout vec3 dDu, inout vec3 dDv, vec3 N, float eta, float cos_i, float cos_t) {
+void pb_diff_refract(inout vec3 dDu, inout vec3 dDv, vec3 D, vec3 N, vec3 dNu, vec3 dNv, float eta, float cos_i,
+                     float cos_t) {
   float k = eta - eta * eta * cos_i / pb_guard_div(cos_t, 1e-4);
-  dDu = eta * dDu - k * dot(dDu, N) * N;
-  dDv = eta * dDv - k * dot(dDv, N) * N;
+  float mu = cos_t - eta * cos_i;
+  dDu = eta * dDu - mu * dNu - k * (dot(dDu, N) + dot(D, dNu)) * N;
+  dDv = eta * dDv - mu * dNv - k * (dot(dDv, N) + dot(D, dNv)) * N;
 }
 
 // Scaled directional differentials of d = (cos phi sin theta, sin phi sin

@@ -3,8 +3,9 @@
  *  (a) energy: closed Lambert box of albedo rho, point light inside: stored
  *      flux at bounce k is Phi rho^k (first hit never stored);
  *  (b) differentials against finite differences of traced neighbours
- *      (stencil triples): direct onto a plane, via a mirror, and after one
- *      diffuse re-emission (origin offset v, eq. 10-13);
+ *      (stencil triples): direct onto a plane, via a flat and a curved mirror
+ *      (interpolated normals: Igehy's dN term), and after one diffuse
+ *      re-emission (origin offset v, eq. 10-13);
  *  (c) determinism for a fixed seed/iteration, change for a new iteration;
  *  (d) no NaN/Inf, photons inside the scene bounds, unit normals/directions;
  *  (e) caustic flags: caustics only through mirror/glass (cornell_caustics,
@@ -328,6 +329,46 @@ static void differentials(pb_gpu *g) {
   add_point(&b, 0, 0.7f, 0, 1, w);
   finish(&b);
   fd_check(g, "via a mirror", &b.s, 0, 1, 1, 0, 0.01, 0.05);
+  /* The same mirror curved: its four vertex normals tilt outwards, so the
+   * interpolated shading normal turns across it like a concave mirror's
+   * (Igehy's dN term; without it the footprints after the mirror are off by
+   * the normal's derivative). */
+  static tscene c;
+  memset(&c, 0, sizeof c);
+  mf = add_mat(&c, 1.0f, 0), mm = add_mat(&c, 1.0f, 1.0f);
+  add_hplane(&c, 0, 30, 1, mf);
+  uint32_t first = c.nv;
+  add_hplane(&c, 2, 30, 0, mm);
+  for (uint32_t i = first; i < c.nv; ++i) {
+    float n[3] = {-0.02f * c.pos[i][0], -1.0f, -0.02f * c.pos[i][2]};
+    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; ++k) c.nrm[i][k] = n[k] / l;
+  }
+  add_point(&c, 0, 0.7f, 0, 1, w);
+  finish(&c);
+  fd_check(g, "via a curved mirror (interpolated normals)", &c.s, 0, 1, 1, 0, 0.01, 0.05);
+  /* A curved glass interface (ior 1.5, the same tilted normals) between the
+   * light above and the floor: Igehy's refraction with dN. */
+  static tscene e;
+  memset(&e, 0, sizeof e);
+  mf = add_mat(&e, 1.0f, 0);
+  uint32_t mg = add_mat(&e, 1.0f, 0);
+  e.mat[mg].transmission = 1;
+  e.mat[mg].roughness = 0;
+  e.mat[mg].ior = 1.5f;
+  e.mat[mg].specular = 1;
+  e.mat[mg].specular_color[0] = e.mat[mg].specular_color[1] = e.mat[mg].specular_color[2] = 1;
+  add_hplane(&e, 0, 30, 1, mf);
+  first = e.nv;
+  add_hplane(&e, 1, 30, 1, mg);
+  for (uint32_t i = first; i < e.nv; ++i) {
+    float n[3] = {0.02f * e.pos[i][0], 1.0f, 0.02f * e.pos[i][2]};
+    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; ++k) e.nrm[i][k] = n[k] / l;
+  }
+  add_point(&e, 0, 1.7f, 0, 1, w);
+  finish(&e);
+  fd_check(g, "through a curved glass interface", &e.s, 0, 1, 1, 0, 0.01, 0.05);
 }
 
 /* ---- (c) determinism, (d) records ----------------------------------------- */
