@@ -80,6 +80,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   if (st->iterations) {
     pb_json_begin_object(&j, "photons");
     pb_json_int(&j, "iterations", st->iterations);
+    pb_json_int(&j, "emitted", (int64_t)st->photons_emitted);
     pb_json_int(&j, "stored", (int64_t)st->photons_stored);
     pb_json_int(&j, "caustic", (int64_t)st->photons_caustic);
     pb_json_int(&j, "t_auto", st->t_auto);
@@ -276,9 +277,9 @@ int pb_cmd_render(int argc, char **argv) {
       pb_log_info("render: %ux%u, %u spp on %s: %.0f ms -> %s", w, h, st->spp, pb_gpu_device_name(g), st->wall_ms,
                   c.out);
     if (st->iterations)
-      pb_log_info("render: photons: %u maps, %llu stored (%llu caustic), k_PD %.1f, T_auto %u; trace %.0f ms, "
+      pb_log_info("render: photons: %u maps, %llu emitted, %llu stored (%llu caustic), k_PD %.1f, T_auto %u; trace %.0f ms, "
                   "LBVH %.0f ms, gather %.0f ms; device buffers peak %.1f MiB", st->iterations,
-                  (unsigned long long)st->photons_stored, (unsigned long long)st->photons_caustic, st->k_pd,
+                  (unsigned long long)st->photons_emitted, (unsigned long long)st->photons_stored, (unsigned long long)st->photons_caustic, st->k_pd,
                   st->t_auto, st->photon_trace_ms, st->lbvh_ms, st->gather_ms,
                   (double)pb_gpu_memory_peak(g) / 1048576.0);
     if (st->nonfinite_values)

@@ -224,7 +224,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         if (band == 0) trace_ms += ms > 0 ? ms : 0;
         m = &map;
       }
-      if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic;
+      if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted;
       if (band == 0 && !desc.photon_map) {
         pb_photon_trace_stats pts;
         pb_photon_tracer_stats(tracer, &pts);

@@ -110,7 +110,7 @@ typedef struct pb_render_stats {
   /* Photon stages (0 when off): sums over iterations; t_auto, leaves of the
    * last map. k_pd: photons contributing per gather at a surface. */
   double photon_trace_ms, lbvh_ms, gather_ms;
-  uint64_t photons_stored, photons_caustic;
+  uint64_t photons_emitted, photons_stored, photons_caustic;
   uint32_t iterations, t_auto, lbvh_leaves;
   double k_pd;
   /* Guards (issue 9): NaN/Inf values met in the resolved AOVs and replaced
