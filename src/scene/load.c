@@ -962,28 +962,35 @@ static void precision_origin(loader *L, const int32_t *roots, size_t count, doub
  * and a little above, far enough for the bounding sphere to fit. */
 static pb_result synthesize_camera(loader *L) {
   pb_scene *s = L->s;
+  /* In double: the bounds of a scene that fits in float may not (a 1e20 m
+   * box's squared radius overflows float, found by fuzz_gltf). */
+  const float yfov = 50.0f * (float)M_PI / 180.0f;
+  double ctr[3], rad = 0;
+  for (int k = 0; k < 3; ++k) {
+    ctr[k] = 0.5 * ((double)s->bounds_min[k] + s->bounds_max[k]);
+    double e = 0.5 * ((double)s->bounds_max[k] - s->bounds_min[k]);
+    rad += e * e;
+  }
+  rad = sqrt(rad);
+  if (!(rad > 0)) rad = 1;
+  double dist = 1.1 * rad / sin(0.5 * yfov);
+  double f[3] = {0, -0.25, -1}, pos[3];
+  normalize3(f);
+  for (int k = 0; k < 3; ++k) pos[k] = ctr[k] - dist * f[k];
+  if (!fits_float3(pos))
+    return pb_fail(PB_ERR_LIMIT, "%s: cameras: none, and the scene (%g across) is too large to frame with a default camera",
+                   L->path, 2 * rad);
   pb_result r = grow(L, (void **)&s->cameras, &L->camera_cap, 1, sizeof *s->cameras, "cameras");
   if (r != PB_OK) return r;
   pb_camera *c = &s->cameras[0];
   memset(c, 0, sizeof *c);
   snprintf(c->name, PB_NAME_MAX, "default");
   c->synthesized = 1;
-  c->yfov = 50.0f * (float)M_PI / 180.0f;
+  c->yfov = yfov;
   c->znear = 0.01f;
-  float ctr[3], rad = 0;
-  for (int k = 0; k < 3; ++k) {
-    ctr[k] = 0.5f * (s->bounds_min[k] + s->bounds_max[k]);
-    float e = 0.5f * (s->bounds_max[k] - s->bounds_min[k]);
-    rad += e * e;
-  }
-  rad = sqrtf(rad);
-  if (!(rad > 0)) rad = 1;
-  float dist = 1.1f * rad / sinf(0.5f * c->yfov);
-  double f[3] = {0, -0.25, -1};
-  normalize3(f);
   for (int k = 0; k < 3; ++k) {
     c->forward[k] = (float)f[k];
-    c->position[k] = ctr[k] - dist * (float)f[k];
+    c->position[k] = (float)pos[k];
   }
   /* up = orthonormalised +Y, right = forward x up */
   double u[3] = {0, 1, 0}, dp = f[1];

@@ -441,6 +441,12 @@ def broken_cases(C, png):
          setp(lights_path + (0, "intensity"), 1e39))
     case("camera_zfar_below_znear", EXIT_INVALID, "cameras[0].perspective.zfar",
          setp(("cameras", 0, "perspective", "zfar"), 0.05))
+    def huge_no_camera(d):  # found by fuzz_gltf: the default camera's framing overflowed float
+        d["nodes"][0]["children"] = [1, 3]
+        del d["nodes"][2]["camera"]
+        del d["cameras"]
+        d["nodes"][4]["scale"] = [1e38, 1e38, 1e38]
+    case("no_camera_scene_too_large", EXIT_LIMIT, ["cameras: none", "too large"], huge_no_camera)
     case("scene_oob", EXIT_INVALID, "scene: 4", setp(("scene",), 4))
     case("scene_node_oob", EXIT_INVALID, "scenes[0].nodes[1]", setp(("scenes", 0, "nodes"), [0, 12]))
     case("scene_root_is_child", EXIT_INVALID, "scenes[0].nodes[1]", setp(("scenes", 0, "nodes"), [0, 4]))
