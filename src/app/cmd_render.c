@@ -35,6 +35,8 @@ typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
   int direct_only, validation, constant_kernel, progressive, radius_histogram;
   int first_bounce; /* index into first_bounce_names */
+  uint32_t atrous;
+  double atrous_gamma;
   double smoothing, r_max, alpha;
   const char *png;
 } render_opts;
@@ -74,6 +76,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "lbvh_build", st->lbvh_ms);
     if (st->timestamps) pb_json_number(&j, "gather", st->gather_ms);
     else pb_json_null(&j, "gather");
+    pb_json_number(&j, "filter", st->filter_ms);
   }
   pb_json_number(&j, "gpu_total", st->total_gpu_ms);
   pb_json_end_object(&j);
@@ -89,6 +92,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
     pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
+    pb_json_int(&j, "atrous_iterations", o->atrous);
     if (st->lbvh_sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", st->lbvh_sort_ms);
     else pb_json_null(&j, "lbvh_sort_ms");
     if (st->radius_histogram) {
@@ -137,7 +141,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
 int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
-  render_opts o = {.device = UINT32_MAX};
+  render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */};
   pb_color_opts co = {0};
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
   const pb_opt opts[] = {
@@ -173,6 +177,12 @@ int pb_cmd_render(int argc, char **argv) {
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
        "how photons find their first hit: traced from the light, or rsm: sampled from reflective shadow maps by "
        "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
+      {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
+       "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
+       "default 0: off)", NULL, 0, 12},
+      {"atrous-clip", 0, PB_OPT_FLOAT, &o.atrous_gamma, "G",
+       "A-Trous detail kept within G local standard deviations (variance clipping, eq. 18; default 0.25; 0: "
+       "none, the plain A-Trous blur)", NULL, 0, 100},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
@@ -240,7 +250,9 @@ int pb_cmd_render(int argc, char **argv) {
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
                        .radius_histogram = o.radius_histogram,
-                       .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce)};
+                       .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
+                       .atrous_iterations = o.atrous,
+                       .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f)};
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
 

@@ -80,6 +80,11 @@ typedef struct pb_render_desc {
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
+  uint32_t atrous_iterations;  /* spatial filter of the indirect AOV
+                                  (atrous.h, seed 001 24.4.2); 0: off */
+  float atrous_gamma;          /* its detail clipping in standard
+                                  deviations; 0: the filter's default, < 0:
+                                  no detail kept (plain A-Trous) */
   int progressive;             /* 1: footprints shrink between iterations
                                   (probabilistic SPPM, frame.c) */
   float alpha;                 /* progressive: radius^2 kept per iteration,
@@ -110,6 +115,7 @@ typedef struct pb_render_stats {
   /* Photon stages (0 when off): sums over iterations; t_auto, leaves of the
    * last map. k_pd: photons contributing per gather at a surface. */
   double photon_trace_ms, lbvh_ms, gather_ms;
+  double filter_ms;                           /* A-Trous passes (0 when off) */
   uint64_t photons_emitted, photons_stored, photons_caustic;
   uint32_t iterations, t_auto, lbvh_leaves;
   double k_pd;
