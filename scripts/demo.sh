@@ -15,7 +15,7 @@ start=$(date +%s.%N)
 if has render; then
   renderer="GPU pipeline (photonbridge render: direct light, specular paths, photon-mapped indirect light; Vulkan compute)"
   "$exe" render "$scene" -o out/cornell_box.exr --png out/cornell_box.png --json out/cornell_box.json \
-    --width 512 --spp 16 --iterations 16
+    --width 512 --spp 8 --iterations 8 --atrous-iterations 5 --atrous-clip 0
 elif has reference; then
   renderer="Embree reference path tracer (photonbridge reference)"
   "$exe" reference "$scene" -o out/cornell_box.exr --png out/cornell_box.png --json out/cornell_box.json \
