@@ -867,6 +867,42 @@ def markdown(res, rel):
     return "\n".join(L) + "\n"
 
 
+def note_load(load_start, cores):
+    """The load before the run started (the run itself then adds about one
+    per core, so the load at the end says little about other work)."""
+    if load_start is not None and load_start > 0.5 * cores:
+        return ("Other work was running when the run started (load %.2f on %d cores), so times carry extra "
+                "noise." % (load_start, cores))
+    return "The machine was otherwise quiet when the run started (the load at the end is mostly the run's own)."
+
+
+def write_reports(res, out, md):
+    with open(os.path.join(out, "results.json"), "w") as f:
+        json.dump({k: v for k, v in res.items() if k != "out_abs"}, f, indent=1)
+    write_csv(os.path.join(out, "results.csv"), res["points"])
+    with open(os.path.join(out, "BENCHMARKS.md"), "w") as f:
+        f.write(markdown(res, "."))
+    if md:
+        with open(md, "w") as f:
+            f.write(markdown(res, os.path.relpath(out, os.path.dirname(os.path.abspath(md)))))
+
+
+def rebuild(out, md):
+    """--rebuild-report: the tables, notes and plots again from DIR/results.json."""
+    res = read_json(os.path.join(out, "results.json"))
+    if not res:
+        print("run_bench: %s: no results.json" % out, file=sys.stderr)
+        return 2
+    res["out_abs"] = os.path.abspath(out)
+    res["load_note"] = note_load(res.get("load_start"), res["machine"].get("cores") or 1)
+    res["summary"] = summarise(res["points"], res["scenes"])
+    res["plots"] = plots(res, out)
+    if res["plots"] and not res["plots"][0].endswith((".svg", ".png")):
+        res["notes"].append(res["plots"].pop())
+    write_reports(res, out, md or (os.path.join(ROOT, "BENCHMARKS.md") if res["mode"] == "full" else None))
+    return 0
+
+
 def main(argv):
     ap = argparse.ArgumentParser(prog="run_bench.py", description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="a few minutes: 2 scenes, small images, few points "
@@ -889,7 +925,11 @@ def main(argv):
     ap.add_argument("--note", action="append", default=[], help="a line for the report's notes")
     ap.add_argument("--minutes", type=float, default=0, help="skip (and list) the renderer sweeps' points that "
                     "would start after this many minutes (0: no limit); the internals always run")
+    ap.add_argument("--rebuild-report", metavar="DIR", help="only rewrite DIR's tables, plots and BENCHMARKS.md "
+                    "from its results.json (after a change to the report code)")
     a = ap.parse_args(argv)
+    if a.rebuild_report:
+        return rebuild(a.rebuild_report, a.markdown)
     mode = a.mode or ("quick" if a.quick else "full")
     cfg = CONFIGS[mode]
     if not os.access(a.exe, os.X_OK):
@@ -947,10 +987,7 @@ def main(argv):
             internals["histograms"].append(b.kpd_histogram(s))
         internals["lbvh_rates"] = b.lbvh_rates()
     load_end = loadavg()
-    cores = os.cpu_count() or 1
-    busy = max(load_start or 0, load_end or 0) > 0.5 * cores
-    load_note = ("Other work was running on the machine (load above half the cores), so times carry extra noise."
-                 if busy else "The machine was otherwise quiet.")
+    load_note = note_load(load_start, os.cpu_count() or 1)
     res = {"mode": mode, "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(t_start)),
            "finished": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "duration_s": round(time.time() - t_start),
            "machine": machine_info(), "device": dev, "devices": devs, "versions": tool_versions(b.exe),
@@ -966,15 +1003,8 @@ def main(argv):
         res["notes"].append(res["plots"].pop())
     if not a.keep_work:
         shutil.rmtree(b.work, ignore_errors=True)
-    with open(os.path.join(b.out, "results.json"), "w") as f:
-        json.dump({k: v for k, v in res.items() if k != "out_abs"}, f, indent=1)
-    write_csv(os.path.join(b.out, "results.csv"), b.points)
-    with open(os.path.join(b.out, "BENCHMARKS.md"), "w") as f:
-        f.write(markdown(res, "."))
     md = a.markdown or (os.path.join(ROOT, "BENCHMARKS.md") if mode == "full" else None)
-    if md:
-        with open(md, "w") as f:
-            f.write(markdown(res, os.path.relpath(b.out, os.path.dirname(os.path.abspath(md)))))
+    write_reports(res, b.out, md)
     b.log("done in %d s: %s%s" % (res["duration_s"], os.path.relpath(os.path.join(b.out, "BENCHMARKS.md"), ROOT),
                                   (" and " + os.path.relpath(md, ROOT)) if md else ""))
     for row in res["summary"]:
