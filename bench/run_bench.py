@@ -82,6 +82,8 @@ CONFIGS = {
             pb_curve("2^16, constant kernel", 1 << 16, [(4, 8), (16, 32)], extra=["--constant-kernel"]),
             pb_curve("2^16, RSM first bounce", 1 << 16, [(4, 8), (16, 32)], extra=["--first-bounce", "rsm"],
                      needs="--first-bounce"),
+            pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(1, 4), (4, 8), (16, 32)],
+                     extra=["--atrous-iterations", "5"], needs="--atrous-iterations"),
         ],
         "reference": [4, 16, 64, 256, 1024],
         # POV-Ray's medium radiosity + caustic photons on cornell_caustics
@@ -101,6 +103,8 @@ CONFIGS = {
         "photonbridge": [
             pb_curve("2^16 photons/map", 1 << 16, [(1, 1), (1, 4), (4, 8), (16, 32)]),
             pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
+            pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(4, 8), (16, 32)], extra=["--atrous-iterations", "5"],
+                     needs="--atrous-iterations"),
         ],
         "reference": [4, 16, 64, 256],
         # POV-Ray's medium radiosity + photons takes minutes on cornell_caustics.
