@@ -158,7 +158,8 @@ int pb_cmd_render(int argc, char **argv) {
        "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K; default 1)", NULL, 1,
        1 << 16},
       {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
-       "diffuse bounces stored per photon path (default 3; the reference's 8 scattering events = 7)", NULL, 1, 64},
+       "diffuse bounces stored per photon path (default 7: with the unstored direct hit, the reference's 8 "
+       "scattering events)", NULL, 1, 64},
       {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s, dimensionless (default " PB_PHOTON_SMOOTHING_DEFAULT_STR ")",
        NULL, 0, 0},
       {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 5% of the scene radius)",

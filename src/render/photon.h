@@ -51,7 +51,7 @@ typedef enum pb_photon_first_bounce {
 /* Zero means default for every field. */
 typedef struct pb_photon_trace_desc {
   uint32_t photons;           /* paths emitted per iteration; 0: 2^18 */
-  uint32_t max_bounces;       /* stored diffuse bounces per path; 0: 3 */
+  uint32_t max_bounces;       /* stored diffuse bounces per path; 0: 7 */
   float smoothing;            /* s for diffuse photons (dimensionless, see
                                  pb_store in photon_trace.comp); 0:
                                  PB_PHOTON_SMOOTHING_DEFAULT */

@@ -73,7 +73,7 @@ typedef struct pb_render_desc {
   uint32_t iterations;         /* independent photon maps (seeds) averaged;
                                   sample s gathers from map s * K / spp, spp
                                   is raised to K; 0: 1 */
-  uint32_t photon_bounces;     /* stored diffuse bounces per path; 0: 3 */
+  uint32_t photon_bounces;     /* stored diffuse bounces per path; 0: 7 */
   float smoothing;             /* footprint factor s (dimensionless); 0:
                                   PB_PHOTON_SMOOTHING_DEFAULT (photon.h) */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */

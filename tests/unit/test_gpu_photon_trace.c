@@ -572,6 +572,35 @@ static void limits(pb_gpu *g) {
   CHECK(tr == NULL);
   pb_error_clear();
   pb_gpu_scene_destroy(g, &gs);
+
+  /* A map larger than the device holds: every path of a closed white box
+   * stores all of its bounces. The buffer is the largest one storage buffer
+   * allows (or the worst case where that fits); what does not fit is
+   * PB_ERR_LIMIT, never dropped photons. */
+  uint64_t fit = pb_gpu_get_limits(g)->max_storage_buffer_range / sizeof(pb_gpu_photon);
+  static tscene u;
+  box(&u, 1.0f);
+  add_point(&u, 0, 0, 0, 1, w);
+  finish(&u);
+  uint32_t paths = (uint32_t)(fit / 4 + 1000);
+  if (fit < 0x7fffffffu && paths < 4000000u && pb_gpu_scene_create(g, &u.s, &gs) == PB_OK) {
+    d = (pb_photon_trace_desc){.photons = paths, .max_bounces = 7};
+    r = pb_photon_tracer_create(g, &u.s, &gs, &d, &tr);
+    CHECK_EQ_INT(r, PB_OK);
+    if (r == PB_OK) {
+      pb_photon_map map;
+      memset(&map, 0, sizeof map);
+      r = pb_photon_tracer_run(g, tr, 1, 0, &map, NULL);
+      printf("limits: %u paths x 7 bounces in a white box, %llu records fit: %s\n", paths,
+             (unsigned long long)fit, r == PB_OK ? "fitted" : pb_error_message());
+      CHECK_EQ_INT(r, PB_ERR_LIMIT);
+      CHECK(strstr(pb_error_message(), "lower --photons") != NULL);
+      pb_error_clear();
+      pb_photon_map_destroy(g, &map);
+    }
+    pb_photon_tracer_destroy(g, tr);
+    pb_gpu_scene_destroy(g, &gs);
+  }
 }
 
 /* ---- (g) hard cases (issue 9) -------------------------------------------- */
