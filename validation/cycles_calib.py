@@ -34,9 +34,8 @@ ROOT = os.path.dirname(HERE)
 CASES = ("point", "spot", "sun")
 
 
-def load_samples_module():
-    path = os.path.join(ROOT, "exporters", "blender", "make_samples.py")
-    spec = importlib.util.spec_from_file_location("pb_make_samples", path)
+def load_module(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
@@ -63,31 +62,8 @@ def build(S, case, width):
         S.add_sun("Sun", (math.sin(t), 0.0, -math.cos(t)), 3.0)
 
 
-def render(path, samples, threads):
-    sc = bpy.context.scene
-    r = sc.render
-    r.engine = 'CYCLES'
-    cy = sc.cycles
-    cy.device = 'CPU'
-    cy.samples = samples
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.seed = 0
-    cy.sample_clamp_direct = 0.0
-    cy.sample_clamp_indirect = 0.0
-    cy.light_sampling_threshold = 0.0
-    cy.max_bounces = 0          # direct light only
-    if threads:
-        r.threads_mode = 'FIXED'
-        r.threads = threads
-    r.film_transparent = False
-    s = r.image_settings
-    s.file_format = 'OPEN_EXR'
-    s.color_mode = 'RGB'
-    s.color_depth = '32'
-    s.exr_codec = 'ZIP'
-    r.filepath = path
-    r.use_file_extension = False
+def render(RC, path, samples, threads):
+    RC.configure(bpy.context.scene, path, samples, threads, 0, 0)  # max bounces 0: direct light only
     t0 = time.time()
     bpy.ops.render.render(write_still=True)
     return time.time() - t0
@@ -100,7 +76,8 @@ def main(argv):
     ap.add_argument("--samples", type=int, default=64)
     ap.add_argument("--threads", type=int, default=0)
     args = ap.parse_args(argv)
-    S = load_samples_module()
+    S = load_module("pb_make_samples", os.path.join(ROOT, "exporters", "blender", "make_samples.py"))
+    RC = load_module("pb_run_cycles", os.path.join(HERE, "run_cycles.py"))
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     info = {"blender": bpy.app.version_string, "width": args.width, "samples": args.samples, "cases": {}}
@@ -109,7 +86,7 @@ def main(argv):
         d = os.path.join(out, case)
         os.makedirs(d, exist_ok=True)
         S.gltf_export(os.path.join(d, case + ".gltf"))
-        dt = render(os.path.join(out, case + ".exr"), args.samples, args.threads)
+        dt = render(RC, os.path.join(out, case + ".exr"), args.samples, args.threads)
         info["cases"][case] = {"render_s": round(dt, 3)}
         print("cycles_calib: %s rendered in %.2f s" % (case, dt))
     with open(os.path.join(out, "cycles.json"), "w") as f:

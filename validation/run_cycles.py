@@ -36,6 +36,41 @@ def load_samples_module():
     return mod
 
 
+def configure(sc, out, samples, threads, seed, bounces):
+    """Cycles settings for an unbiased reference (see the module comment),
+    32-bit float RGB EXR output to `out`. cycles_calib.py uses them too."""
+    r = sc.render
+    r.engine = 'CYCLES'
+    cy = sc.cycles
+    cy.device = 'CPU'
+    cy.samples = samples
+    cy.use_adaptive_sampling = False
+    cy.use_denoising = False
+    cy.seed = seed
+    cy.sample_clamp_direct = 0.0
+    cy.sample_clamp_indirect = 0.0
+    cy.blur_glossy = 0.0
+    cy.caustics_reflective = True
+    cy.caustics_refractive = True
+    cy.light_sampling_threshold = 0.0
+    cy.max_bounces = bounces
+    cy.diffuse_bounces = bounces
+    cy.glossy_bounces = bounces
+    cy.transmission_bounces = bounces
+    cy.transparent_max_bounces = 64
+    if threads:
+        r.threads_mode = 'FIXED'
+        r.threads = threads
+    r.film_transparent = False
+    s = r.image_settings
+    s.file_format = 'OPEN_EXR'
+    s.color_mode = 'RGB'
+    s.color_depth = '32'
+    s.exr_codec = 'ZIP'
+    r.filepath = out
+    r.use_file_extension = False
+
+
 def main(argv):
     ap = argparse.ArgumentParser(prog="run_cycles.py")
     ap.add_argument("--scene", required=True)
@@ -74,36 +109,8 @@ def main(argv):
         r.resolution_x = args.width
         r.resolution_y = max(1, round(args.width * aspect))
     r.resolution_percentage = 100
-    r.engine = 'CYCLES'
-    cy = sc.cycles
-    cy.device = 'CPU'
-    cy.samples = args.samples
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.seed = args.seed
-    cy.sample_clamp_direct = 0.0
-    cy.sample_clamp_indirect = 0.0
-    cy.blur_glossy = 0.0
-    cy.caustics_reflective = True
-    cy.caustics_refractive = True
-    cy.light_sampling_threshold = 0.0
-    cy.max_bounces = args.bounces
-    cy.diffuse_bounces = args.bounces
-    cy.glossy_bounces = args.bounces
-    cy.transmission_bounces = args.bounces
-    cy.transparent_max_bounces = 64
-    if args.threads:
-        r.threads_mode = 'FIXED'
-        r.threads = args.threads
-    r.film_transparent = False
-    s = r.image_settings
-    s.file_format = 'OPEN_EXR'
-    s.color_mode = 'RGB'
-    s.color_depth = '32'
-    s.exr_codec = 'ZIP'
     out = os.path.abspath(args.out)
-    r.filepath = out
-    r.use_file_extension = False
+    configure(sc, out, args.samples, args.threads, args.seed, args.bounces)
     t0 = time.time()
     bpy.ops.render.render(write_still=True)
     dt = time.time() - t0

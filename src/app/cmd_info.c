@@ -170,14 +170,7 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_json_end_array(&j);
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
-  pb_json_begin_object(&j, "pipeline"); /* what the GPU passes compile in (render/plan.h) */
-  pb_json_bool(&j, "photons", pl.photons);
-  pb_json_bool(&j, "caustic_photons", pl.caustic_photons);
-  pb_json_bool(&j, "photon_refraction", pl.refraction);
-  pb_json_bool(&j, "specular_eye_paths", pl.eye_chains);
-  pb_json_bool(&j, "emitter_sampling", pl.emitter_sampling);
-  pb_json_bool(&j, "textures", pl.textures);
-  pb_json_end_object(&j);
+  pb_render_plan_json(&j, "pipeline", &pl); /* what the GPU passes compile in */
   pb_json_begin_array(&j, "warnings");
   for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);
   pb_json_end_array(&j);

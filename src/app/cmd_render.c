@@ -118,14 +118,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_end_object(&j);
   pb_render_plan pl;
   pb_render_plan_of(s, o->direct_only, &pl);
-  pb_json_begin_object(&j, "pipeline"); /* what the passes compiled in (render/plan.h) */
-  pb_json_bool(&j, "photons", pl.photons);
-  pb_json_bool(&j, "caustic_photons", pl.caustic_photons);
-  pb_json_bool(&j, "photon_refraction", pl.refraction);
-  pb_json_bool(&j, "specular_eye_paths", pl.eye_chains);
-  pb_json_bool(&j, "emitter_sampling", pl.emitter_sampling);
-  pb_json_bool(&j, "textures", pl.textures);
-  pb_json_end_object(&j);
+  pb_render_plan_json(&j, "pipeline", &pl); /* what the passes compiled in */
   pb_json_begin_object(&j, "guarded");
   pb_json_int(&j, "nonfinite_values", (int64_t)st->nonfinite_values);
   pb_json_int(&j, "photon_divisions", (int64_t)st->photon_guarded);

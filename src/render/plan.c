@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "core/json.h"
+
 void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) {
   memset(out, 0, sizeof *out);
   uint32_t f = s->features;
@@ -13,4 +15,15 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   out->photons = !direct_only && s->light_count > 0;
   out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
   out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
+}
+
+void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_plan *p) {
+  pb_json_begin_object(j, key);
+  pb_json_bool(j, "photons", p->photons);
+  pb_json_bool(j, "caustic_photons", p->caustic_photons);
+  pb_json_bool(j, "photon_refraction", p->refraction);
+  pb_json_bool(j, "specular_eye_paths", p->eye_chains);
+  pb_json_bool(j, "emitter_sampling", p->emitter_sampling);
+  pb_json_bool(j, "textures", p->textures);
+  pb_json_end_object(j);
 }

@@ -23,4 +23,8 @@ typedef struct pb_render_plan {
 /* direct_only: render --direct-only (no photon stages). */
 void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out);
 
+/* The plan as a JSON object under `key` (info --json, render --json). */
+struct pb_json;
+void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_plan *p);
+
 #endif
