@@ -15,6 +15,7 @@
 
 #include "metrics/metrics.h"
 #include "pbtest.h"
+#include "gpu_test.h"
 #include "ref/ref.h"
 #include "render/atrous.h"
 #include "render/render.h"
@@ -133,15 +134,7 @@ static void cornell(pb_gpu *g) {
 }
 
 int main(void) {
-  pb_gpu *g;
-  pb_gpu_desc gd = {.validation = 1};
-  pb_result r = pb_gpu_create(&gd, &g);
-  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
-    printf("SKIP: %s\n", pb_error_message());
-    return 77;
-  }
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return pbt_done();
+  PBT_GPU_OPEN(g);
   constant(g);
   noisy_plane(g, -1, 1.0 / 3.0);
   noisy_plane(g, 0, 1.0);

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "pbtest.h"
+#include "gpu_test.h"
 #include "render/photon.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -209,15 +210,7 @@ static void check_case(pb_gpu *g, pb_photon_estimator *e, uint32_t n, int mode, 
 }
 
 int main(void) {
-  pb_gpu *g;
-  pb_gpu_desc gd = {.validation = 1};
-  pb_result r = pb_gpu_create(&gd, &g);
-  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
-    printf("SKIP: %s\n", pb_error_message());
-    return 77;
-  }
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return pbt_done();
+  PBT_GPU_OPEN(g);
   float pos[4][3];
   uint32_t tri[2][3], tm[2];
   pb_material mat;

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "pbtest.h"
+#include "gpu_test.h"
 #include "render/photon.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -67,15 +68,7 @@ static void build(pb_gpu *g, const pb_scene *s, const pb_photon_map *map, uint32
 }
 
 int main(void) {
-  pb_gpu *g;
-  pb_gpu_desc gd = {.validation = 1};
-  pb_result r = pb_gpu_create(&gd, &g);
-  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
-    printf("SKIP: %s\n", pb_error_message());
-    return 77;
-  }
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return pbt_done();
+  PBT_GPU_OPEN(g);
   /* A 10 x 10 m floor; 20000 photons whose footprints cover a point about
    * 12 times (T_auto ~ 12). */
   float pos[4][3] = {{-5, 0, -5}, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}};

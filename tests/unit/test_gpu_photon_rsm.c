@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "pbtest.h"
+#include "gpu_test.h"
 #include "render/photon.h"
 #include "render/render.h"
 #include "shared/pb_photon.h"
@@ -393,15 +394,7 @@ static void jitter(pb_gpu *g) {
 }
 
 int main(void) {
-  pb_gpu *g;
-  pb_gpu_desc gd = {.validation = 1};
-  pb_result r = pb_gpu_create(&gd, &g);
-  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
-    printf("SKIP: %s\n", pb_error_message());
-    return 77;
-  }
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return pbt_done();
+  PBT_GPU_OPEN(g);
   energy(g);
   sample(g, "cornell_box", 60000, 1);
   sample(g, "sun_atrium", 120000, 0);

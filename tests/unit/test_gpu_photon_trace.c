@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "pbtest.h"
+#include "gpu_test.h"
 #include "render/photon.h"
 #include "render/render.h"
 #include "shared/pb_photon.h"
@@ -674,15 +675,7 @@ static void hard_cases(pb_gpu *g) {
 }
 
 int main(void) {
-  pb_gpu *g;
-  pb_gpu_desc gd = {.validation = 1};
-  pb_result r = pb_gpu_create(&gd, &g);
-  if (r == PB_ERR_NO_DEVICE || r == PB_ERR_NOT_AVAILABLE) {
-    printf("SKIP: %s\n", pb_error_message());
-    return 77;
-  }
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return pbt_done();
+  PBT_GPU_OPEN(g);
   energy(g);
   differentials(g);
   determinism(g);
