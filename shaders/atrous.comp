@@ -14,7 +14,8 @@
 //   w_n = max(0, n(P) . n(Q))^sigma_n; and the detail coefficient
 //   d_i = s_i - s_{i+1} (eq. 16) clipped to +-b_i, b_i = gamma sigma_i(P),
 //   sigma_i the standard deviation of s_i over the same weighted taps
-//   (variance clipping, eq. 18), added to the detail sum.
+//   (variance clipping, eq. 18), added to the detail sum; after temporal
+//   accumulation b_i = gamma sqrt(L) sigma_i (L: history length, atrous.h).
 // FINISH: E = s_n + sum_i clamp(d_i, -b_i, b_i) (eq. 18), indirect =
 //   E x albedo (eq. 19).
 // Pixels without a surface (depth 0) pass through unchanged.
@@ -94,7 +95,9 @@ void main() {
     }
   vec3 next = wsum > 0.0 ? sum / wsum : sp;
   vec3 mean = next, var = wsum > 0.0 ? max(sum2 / wsum - mean * mean, vec3(0.0)) : vec3(0.0);
-  vec3 b = push.gamma * sqrt(var);
+  // Clip bound gamma sqrt(L) sigma_i, L the temporal history length carried
+  // in the albedo's w (1 for a single frame; atrous.h).
+  vec3 b = push.gamma * sqrt(max(albedo[gid].w, 1.0)) * sqrt(var);
   s[dst + gid] = vec4(next, 0.0);
   detail[gid].rgb += clamp(sp - next, -b, b);
 }

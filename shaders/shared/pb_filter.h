@@ -22,8 +22,30 @@ PB_STRUCT(pb_gpu_atrous_push) {
   float gamma;      /* variance clipping: b_i = gamma sigma_i (eq. 18) */
 } PB_END(pb_gpu_atrous_push)
 
+/* The temporal filter (seed 001 24.4.1; src/render/temporal.c,
+ * shaders/temporal.comp). Buffers, vec4 per pixel, top row first: 0 the
+ * previous frame's temporally filtered irradiance (rgb) and history length
+ * (w), 1 the previous frame's geometry (shading normal xyz, camera depth),
+ * 2 this frame's geometry, 3 this frame's indirect radiance (rgb; the
+ * filtered radiance on return, w = its history length), 4 the albedo
+ * (demodulation, as the A-Trous), 5 the motion (dx, dy: where this pixel's
+ * surface point was in the previous frame, in pixels, previous minus
+ * current; z: its camera depth in the previous frame; w: 1 valid, 0 none),
+ * 6 the new history (irradiance, length) for the next frame. */
+PB_STRUCT(pb_gpu_temporal_push) {
+  uint width;
+  uint height;
+  uint has_history; /* 0: first frame (or reset): no history read */
+  uint still;       /* 1: camera and scene unchanged: progressive mean */
+  float alpha;      /* eq. 13's 0.95 */
+  float sigma_z;    /* eq. 10 (1) */
+  float sigma_n;    /* eq. 11 (32) */
+  float max_history;/* cap on the history length with still = 1 */
+} PB_END(pb_gpu_temporal_push)
+
 #ifndef PB_GLSL
 _Static_assert(sizeof(pb_gpu_atrous_push) == 32, "pb_gpu_atrous_push size");
+_Static_assert(sizeof(pb_gpu_temporal_push) == 32, "pb_gpu_temporal_push size");
 #endif
 
 #endif

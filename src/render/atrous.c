@@ -41,7 +41,8 @@ pb_result pb_atrous_filter(pb_gpu *g, uint32_t width, uint32_t height, const flo
       alb[4 * i + k] = albedo[3 * i + k];
     }
     geo[4 * i + 3] = depth[i];
-    ind[4 * i + 3] = alb[4 * i + 3] = 0.0f;
+    ind[4 * i + 3] = 0.0f;
+    alb[4 * i + 3] = d.history ? d.history[i] : 1.0f; /* L for the clip bound */
   }
   static const char *const names[PB_ATROUS_BIND_COUNT] = {"filter.irradiance", "filter.detail", "filter.geometry",
                                                           "filter.indirect", "filter.albedo"};

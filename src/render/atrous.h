@@ -20,6 +20,14 @@ typedef struct pb_atrous_desc {
   float gamma;          /* detail clipping at gamma standard deviations; 0:
                            PB_ATROUS_GAMMA_DEFAULT; < 0: no detail kept
                            (plain A-Trous, s_n) */
+  /* Per-pixel temporal history length L (the frames the temporal filter's
+   * average spans, temporal.h) or NULL (single frames: L = 1). The clip
+   * bound becomes gamma sqrt(L) sigma_i: the noise left after temporal
+   * accumulation is about 1/sqrt(L) of one frame's, so the same gamma keeps
+   * detail in proportion (seed 001 24.6.2 proposes scaling the clipping
+   * constant by the temporal weights). As L grows the clipping opens and a
+   * still view converges to the temporally accumulated value. */
+  const float *history;
 } pb_atrous_desc;
 
 /* gamma = 0.25, measured (lavapipe, 128 px, 16 spp, 8 maps of 2^16 paths,

@@ -10,7 +10,7 @@
 #include "render/passes.h"
 #include "render/photon.h"
 #include "render/plan.h"
-#include "render/atrous.h"
+#include "render/filters.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
@@ -328,22 +328,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_render_stats *st = &out->stats;
   st->nonfinite_values = guard_nonfinite(out, n);
   if (photons_on && desc.atrous_iterations) {
-    /* The spatial filter (atrous.h) on the indirect AOV; the beauty takes
-     * the filtered indirect in place of the raw one. Caustics stay sharp. */
-    float *raw = malloc(3 * n * sizeof *raw);
-    if (!raw) {
-      r = pb_fail(PB_ERR_NOMEM, "render: out of memory for the filter");
-      goto fail;
-    }
-    memcpy(raw, out->indirect, 3 * n * sizeof *raw);
-    pb_atrous_desc fdesc = {.iterations = desc.atrous_iterations, .gamma = desc.atrous_gamma};
-    r = pb_atrous_filter(g, width, height, out->normal, out->depth, out->albedo, out->indirect, &fdesc, &st->filter_ms);
-    if (r == PB_OK)
-      for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) out->beauty[4 * i + k] += out->indirect[3 * i + k] - raw[3 * i + k];
-    free(raw);
-    if (r != PB_OK) goto fail;
-    st->nonfinite_values += guard_nonfinite(out, n);
+    /* The spatial filter (atrous.h) on the indirect AOV (a single frame: no
+     * temporal history; sequences filter in sequence.c). */
+    pb_filter_desc fdesc = {.atrous_iterations = desc.atrous_iterations, .atrous_gamma = desc.atrous_gamma};
+    if ((r = pb_filter_indirect(g, out, &fdesc)) != PB_OK) goto fail;
   }
   st->spp = spp;
   st->timestamps = ts;

@@ -116,6 +116,10 @@ typedef struct pb_render_stats {
    * last map. k_pd: photons contributing per gather at a surface. */
   double photon_trace_ms, lbvh_ms, gather_ms;
   double filter_ms;                           /* A-Trous passes (0 when off) */
+  double temporal_ms;                         /* temporal filter (0 when off) */
+  uint64_t temporal_surface_pixels;           /* temporal filter: pixels with a */
+  uint64_t temporal_reset_pixels;             /* surface; of those, without */
+  double temporal_mean_history;               /* history; mean history length */
   uint64_t photons_emitted, photons_stored, photons_caustic;
   uint32_t iterations, t_auto, lbvh_leaves;
   double k_pd;

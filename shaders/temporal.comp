@@ -1,0 +1,125 @@
+#version 450
+// Temporal filter of the indirect irradiance (seed 001 24.4.1, after Karis's
+// TAA applied to irradiance), one invocation per pixel P:
+//
+//   E~_i(P) = (1 - alpha) E_i(P) + alpha E~_{i-1}(Q)              (eq. 12)
+//   alpha   = 0.95 w_z(P,Q) w_n(P,Q)                              (eq. 13)
+//
+// E_i = indirect radiance / albedo, demodulated exactly as the A-Trous does
+// (atrous.comp), so the two filters see the same signal. Q is where P's
+// surface point was in the previous frame (the motion buffer, from the
+// first hit of the pixel-centre ray: src/render/motion.c). E~_{i-1} is read
+// at Q bilinearly, and the edge-stopping weights are evaluated per tap
+// against the previous frame's G-buffer (eq. 10 with P's depth gradient
+// times the one-pixel reach of the bilinear footprint, against P's depth
+// as seen from the previous camera; eq. 11 with sigma_n = 32): a tap whose
+// surface is not P's surface drops out, and w = sum of bilinear x w_z x w_n
+// over the taps is the w_z w_n of eq. 13. History taps off-screen or
+// without a surface count as weight 0, so a disocclusion (w -> 0) resets
+// the pixel to this frame's value: no ghosting.
+//
+// Two departures, both in the direction of the chapter's intent:
+//  * A per-pixel history length L (the w channel; L = 1 / (1 - alpha), the
+//    frames the average spans) caps alpha at L / (L + 1) while the history
+//    is young, so the first frames after a reset average equally (a
+//    cumulative mean) instead of starting at 95 % weight on one frame.
+//  * With `still` (camera and scene unchanged since the previous frame)
+//    alpha = w L / (L + 1) with no 0.95 cap: the cumulative mean of every
+//    frame so far, i.e. progressive rendering, so a still view converges
+//    (to the estimator's expectation) instead of plateauing at the
+//    variance of a 0.95 moving average.
+// The history written for the next frame is E~_i itself, before the
+// spatial filter: feeding the A-Trous output back would compound its blur
+// frame after frame, and a still view would converge to the blurred image.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_filter.h"
+
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+layout(std430, set = 0, binding = 0) readonly buffer HistIn { vec4 hist_in[]; };
+layout(std430, set = 0, binding = 1) readonly buffer GeoPrev { vec4 geo_prev[]; };
+layout(std430, set = 0, binding = 2) readonly buffer GeoCur { vec4 geo[]; };
+layout(std430, set = 0, binding = 3) buffer Indirect { vec4 indirect[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Albedo { vec4 albedo[]; };
+layout(std430, set = 0, binding = 5) readonly buffer Motion { vec4 motion[]; };
+layout(std430, set = 0, binding = 6) writeonly buffer HistOut { vec4 hist_out[]; };
+layout(push_constant) uniform Push { pb_gpu_temporal_push push; };
+
+const float PB_ALBEDO_MIN = 1e-3;
+
+vec3 pb_demod(vec3 a) { return max(a, vec3(PB_ALBEDO_MIN)); }
+
+float pb_depth(int x, int y) {
+  x = clamp(x, 0, int(push.width) - 1);
+  y = clamp(y, 0, int(push.height) - 1);
+  return geo[uint(y) * push.width + uint(x)].w;
+}
+
+// The smaller one-sided difference (as atrous.comp): a depth step next to P
+// reads as P's own slope.
+float pb_grad(float z, float z0, float z1) {
+  float b = z0 > 0.0 ? z - z0 : 1e30, f = z1 > 0.0 ? z1 - z : 1e30;
+  float g = abs(b) < abs(f) ? b : f;
+  return abs(g) < 1e29 ? g : 0.0;
+}
+
+void main() {
+  uint gid = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP;
+  uint n = push.width * push.height;
+  if (gid >= n) return;
+  vec4 gp = geo[gid];
+  vec3 a = pb_demod(albedo[gid].rgb);
+  vec3 e = indirect[gid].rgb / a;
+  if (!(gp.w > 0.0)) {  // no surface: nothing to filter, no history
+    hist_out[gid] = vec4(e, 0.0);
+    indirect[gid].w = 0.0;
+    return;
+  }
+  vec3 hist = vec3(0.0);
+  float len = 0.0, w = 0.0;
+  vec4 mv = motion[gid];
+  if (push.has_history != 0u && mv.w > 0.0) {
+    int x = int(gid % push.width), y = int(gid / push.width);
+    float gx = pb_grad(gp.w, pb_depth(x - 1, y), pb_depth(x + 1, y));
+    float gy = pb_grad(gp.w, pb_depth(x, y - 1), pb_depth(x, y + 1));
+    float zq = mv.z;  // P's surface point's depth seen from the previous camera
+    float tol = push.sigma_z * (abs(gx) + abs(gy)) + 1e-3 * zq;
+    // Bilinear taps around Q in pixel-index space (centres at integers).
+    vec2 q = vec2(float(x) + mv.x, float(y) + mv.y);
+    vec2 qf = floor(q);
+    vec2 f = q - qf;
+    ivec2 q0 = ivec2(qf);
+    for (int j = 0; j <= 1; ++j)
+      for (int i = 0; i <= 1; ++i) {
+        float bil = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
+        int tx = q0.x + i, ty = q0.y + j;
+        if (bil <= 0.0 || tx < 0 || ty < 0 || tx >= int(push.width) || ty >= int(push.height)) continue;
+        uint t = uint(ty) * push.width + uint(tx);
+        vec4 gq = geo_prev[t];
+        if (!(gq.w > 0.0)) continue;
+        float wz = exp(-abs(zq - gq.w) / tol);
+        float wn = pow(max(0.0, dot(gp.xyz, gq.xyz)), push.sigma_n);
+        float wt = bil * wz * wn;
+        vec4 h = hist_in[t];
+        hist += wt * h.rgb;
+        len += wt * h.w;
+        w += wt;
+      }
+    // A history worth less than 0.1 % of a frame is a disocclusion met at a
+    // tap with a vanishing bilinear weight (motion a hair off an integer):
+    // reset exactly rather than keep a trace of it.
+    if (w > 1e-3) {
+      hist /= w;
+      len /= w;
+    } else {
+      w = 0.0;
+    }
+  }
+  float young = len / (len + 1.0);
+  float alpha = w * (push.still != 0u ? young : min(push.alpha, young));
+  if (push.still != 0u && len >= push.max_history) alpha = w * push.max_history / (push.max_history + 1.0);
+  vec3 filtered = max((1.0 - alpha) * e + alpha * hist, vec3(0.0));  // eq. 12
+  float len_new = 1.0 / (1.0 - alpha);
+  hist_out[gid] = vec4(filtered, len_new);
+  indirect[gid] = vec4(filtered * a, len_new);
+}

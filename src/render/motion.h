@@ -1,0 +1,48 @@
+/* Motion vectors (issue 6; the temporal filter's reprojection, seed 001
+ * 24.4.1 "using velocity vectors"): for each pixel, where the surface point
+ * its centre sees was in the previous frame, on the previous frame's
+ * screen, and at which camera depth.
+ *
+ * The point is the first hit of the pixel-centre ray (the G-buffer's camera
+ * ray, gbuffer.comp, at the pixel centre), traced on the GPU against the
+ * current scene; its triangle and barycentrics give the same point on the
+ * triangle's previous vertex positions (triangle i is the same triangle at
+ * every time: pb_scene_set_time), projected by the previous camera. So
+ * camera motion, moving objects and moving cameras are all covered; what
+ * a mirror or glass shows (specular eye chains) moves with the surface it
+ * is seen in, not with the object reflected (the first hit is the mirror). */
+#ifndef PB_RENDER_MOTION_H
+#define PB_RENDER_MOTION_H
+
+#include <stdint.h>
+
+#include "core/result.h"
+#include "gpu/gpu.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+/* Per pixel, 4 floats (top row first):
+ *   dx, dy  previous-frame screen position minus this pixel's centre, in
+ *           pixels (x right, y down);
+ *   z       the point's camera depth in the previous frame (along the
+ *           previous camera's forward axis);
+ *   valid   1 when the ray hit a surface that was in front of the previous
+ *           camera, else 0 (the other three are then 0). */
+enum { PB_MOTION_CHANNELS = 4 };
+
+/* s: the scene as posed for this frame, gs its GPU copy (updated to the
+ * same pose). prev_positions: s's vertex positions in the previous frame
+ * (vertex_count entries), or NULL when no geometry moved. cam/prev_cam:
+ * this and the previous frame's camera; width x height the image. gpu_ms
+ * (may be NULL): the ray pass's time. */
+pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const float (*prev_positions)[3],
+                            const pb_camera *cam, const pb_camera *prev_cam, uint32_t width, uint32_t height,
+                            float *motion, double *gpu_ms);
+
+/* Projects world point p by camera c onto a width x height image: pixel
+ * coordinates (x right, y down, pixel centres at +0.5) and camera depth.
+ * Returns 0 when p is not in front of the camera. Shared with the tests. */
+int pb_camera_project(const pb_camera *c, uint32_t width, uint32_t height, const float p[3], float *x, float *y,
+                      float *depth);
+
+#endif
