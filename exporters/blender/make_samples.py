@@ -744,7 +744,7 @@ def cornell_box_moving_light():
               (ANIM_LAST, {"location": (0.6, 0.0, 1.75)})], 'LINEAR')
 
 
-@animated("GlassSphere", "GlassSphereRoll")
+@animated("GlassSphere", "GlassSphereAcrossFloor")
 def cornell_caustics_moving_sphere():
     """cornell_caustics with GlassSphere sliding across the floor from its
     place front right (0.45, -0.3) to front left (-0.4, -0.55), resting on the
@@ -755,7 +755,7 @@ def cornell_caustics_moving_sphere():
     set_animation_range()
     sphere = bpy.data.objects["GlassSphere"]
     z = sphere.location.z
-    keyframe(sphere, "GlassSphereRoll",
+    keyframe(sphere, "GlassSphereAcrossFloor",
              [(ANIM_FIRST, {"location": (0.45, -0.3, z)}),
               (ANIM_LAST, {"location": (-0.4, -0.55, z)})], 'LINEAR')
 
