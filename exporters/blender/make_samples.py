@@ -776,10 +776,11 @@ def sun_atrium_flythrough():
     east along the north row of columns, lit through the skylights: five
     location + rotation keys with Bezier (auto-clamped) interpolation.
     Rotation is Euler XYZ (pitch about X, heading about Z, no roll), so the
-    camera never rolls between keys.  The heading stays within 180 degrees of
-    the first one: the exporter takes each sampled rotation from the matrix
-    with w >= 0 and does not keep consecutive quaternions in one hemisphere,
-    so a wider turn would put a sign flip into the rotation keys."""
+    camera never rolls between keys.  The turn stays well under 180 degrees
+    from the first orientation: the exporter decomposes each sampled rotation
+    from its frame's matrix on its own and does not keep consecutive
+    quaternions in one hemisphere; a first path turning further got a sign
+    flip between two rotation keys (describe_animation now fails on one)."""
     sun_atrium()
     set_animation_range()
     cam = bpy.context.scene.camera
