@@ -5,6 +5,12 @@
     gltf_content.py --check F.gltf|DIR ...
                                          exit 0 when every file (DIR: every .gltf/.glb
                                          below it) is well formed, 1 if not
+    gltf_content.py --animated F.gltf NODE KIND PATHS [F.gltf NODE KIND PATHS ...]
+                                         exit 0 when each F is an animated sample that
+                                         moves node NODE (KIND: light, camera or mesh)
+                                         and only it, by the node TRS PATHS
+                                         (comma-separated, e.g. translation,rotation),
+                                         49 keys from 0 to 2 s; 1 if not
 
 Pure Python (json + struct + hashlib); no numpy, so it runs with any python3.
 
@@ -13,8 +19,10 @@ references), the same meshes with the same decoded accessor data for every
 attribute, index list and morph target (floats within 1e-6, relative for
 values above 1), the same primitive modes and materials, the same materials
 (every field, extensions included), textures, samplers, cameras, lights
-(KHR_lights_punctual), animations (decoded sampler data) and skins, and the
-same bytes in every referenced image.  Ignored: asset.generator, and how data
+(KHR_lights_punctual), animations and skins, and the same bytes in every
+referenced image.  Animations are compared channel by channel: the target
+(node and path), the sampler's interpolation, and its decoded key times and
+values (same tolerance), whatever the order of channels and samplers.  Ignored: asset.generator, and how data
 is laid out in buffers (buffers, bufferViews, byte offsets and strides,
 accessor order and index component type, accessor min/max).
 
@@ -23,6 +31,8 @@ asset.version 2.x, every buffer it references exists with at least the
 declared byteLength, every accessor lies inside its buffer, every image file
 exists, and the file has at least one camera, one KHR_lights_punctual light
 and one mesh.  A .glb is read too (its BIN chunk is buffer 0).
+
+--animated (the samples_animated test): see check_animated.
 """
 
 import base64
@@ -262,14 +272,7 @@ def canonical(g):
     out["cameras"] = d.get("cameras", [])
     out["extensions"] = d.get("extensions", {})
 
-    anims = []
-    for a in g.list("animations"):
-        ca = {k: v for k, v in a.items() if k != "samplers"}
-        ca["samplers"] = [{"input": acc(s["input"]), "output": acc(s["output"]),
-                           "interpolation": s.get("interpolation", "LINEAR")}
-                          for s in a.get("samplers", [])]
-        anims.append(ca)
-    out["animations"] = anims
+    out["animations"] = [canonical_animation(g, a, acc) for a in g.list("animations")]
     skins = []
     for s in g.list("skins"):
         cs = dict(s)
@@ -279,6 +282,36 @@ def canonical(g):
     out["skins"] = skins
     out["extras"] = d.get("extras")
     return out
+
+
+def canonical_animation(g, a, acc):
+    """An animation as a list of channels, each with its target (node index
+    and name, path) and its sampler inlined: interpolation, key times (input)
+    and values (output), decoded.  Channels are ordered by (node, path), so
+    only what moves and how it moves matters, not the order of channels and
+    samplers in the file."""
+    nodes = g.list("nodes")
+    samplers = a.get("samplers", [])
+    ca = {k: v for k, v in a.items() if k not in ("samplers", "channels")}
+    channels = []
+    for ch in a.get("channels", []):
+        t = ch.get("target", {})
+        node = t.get("node")
+        name = nodes[node].get("name") if isinstance(node, int) and 0 <= node < len(nodes) else None
+        si = ch.get("sampler")
+        if not isinstance(si, int) or not 0 <= si < len(samplers):
+            raise GltfError("%s: animation %r: channel refers to sampler %r"
+                            % (g.path, a.get("name"), si))
+        s = samplers[si]
+        cc = {k: v for k, v in ch.items() if k not in ("sampler", "target")}
+        cc["target"] = dict(t, node_name=name)
+        cc["interpolation"] = s.get("interpolation", "LINEAR")
+        cc["input"] = acc(s["input"])
+        cc["output"] = acc(s["output"])
+        channels.append(cc)
+    channels.sort(key=lambda c: (str(c["target"].get("node")), str(c["target"].get("path"))))
+    ca["channels"] = channels
+    return ca
 
 
 def canonical_node(n):
@@ -312,6 +345,9 @@ def label(seq, i):
     item = seq[i]
     if isinstance(item, dict) and isinstance(item.get("name"), str):
         return "[%d](%s)" % (i, item["name"])
+    if isinstance(item, dict) and isinstance(item.get("target"), dict):
+        t = item["target"]
+        return "[%d](%s.%s)" % (i, t.get("node_name", t.get("node")), t.get("path"))
     return "[%d]" % i
 
 
@@ -437,6 +473,100 @@ def check(path):
             for p in problems]
 
 
+ANIM_KEYS = 49              # 2 s at 24 fps, both ends included
+ANIM_T0, ANIM_T1 = 0.0, 2.0
+ANIM_TOL = 1e-5
+NODE_KIND = {  # --animated KIND -> what the node must carry
+    "light": lambda n: "KHR_lights_punctual" in n.get("extensions", {}),
+    "camera": lambda n: "camera" in n,
+    "mesh": lambda n: "mesh" in n,
+}
+
+
+def check_animated(path, node_name, kind, paths):
+    """Problems with one animated sample: it must have at least one
+    animation; every channel must move node `node_name` (which must be a
+    `kind` node) by node TRS (translation / rotation / scale), and together
+    they must cover `paths`; every channel has ANIM_KEYS keys evenly spaced
+    from ANIM_T0 to ANIM_T1 s, really moves the node, and starts from the
+    node's static TRS (the file's static pose is the first frame's pose);
+    rotation keys are unit quaternions without sign flips between
+    consecutive keys."""
+    problems = []
+    g = Gltf(path)
+    d = g.doc
+    nodes = g.list("nodes")
+    named = [n for n in nodes if n.get("name") == node_name]
+    if len(named) != 1:
+        return ["%d nodes named %r, expected 1" % (len(named), node_name)]
+    if not NODE_KIND[kind](named[0]):
+        problems.append("node %r is not a %s node" % (node_name, kind))
+    static = canonical_node(named[0])
+    anims = g.list("animations")
+    if not anims:
+        problems.append("no animations")
+    if g.list("skins"):
+        problems.append("has skins; the samples animate node TRS only")
+
+    def acc(i):
+        return Accessor(g.accessor(i), d["accessors"][i]["type"])
+
+    seen = set()
+    step = (ANIM_T1 - ANIM_T0) / (ANIM_KEYS - 1)
+    for a in anims:
+        ca = canonical_animation(g, a, acc)
+        if not ca["channels"]:
+            problems.append("animation %r has no channels" % a.get("name"))
+        for ch in ca["channels"]:
+            t = ch["target"]
+            tp = t.get("path")
+            who = "animation %r, channel %s.%s" % (a.get("name"), t.get("node_name"), tp)
+            if t.get("node_name") != node_name:
+                problems.append("%s: moves node %r, expected only %r"
+                                % (who, t.get("node_name"), node_name))
+                continue
+            if tp not in ("translation", "rotation", "scale"):
+                problems.append("%s: not a node TRS path" % who)
+                continue
+            seen.add(tp)
+            times = [v[0] for v in ch["input"].values]
+            if len(times) != ANIM_KEYS:
+                problems.append("%s: %d keys, expected %d" % (who, len(times), ANIM_KEYS))
+            if not times:
+                continue
+            if abs(times[0] - ANIM_T0) > ANIM_TOL or abs(times[-1] - ANIM_T1) > ANIM_TOL:
+                problems.append("%s: keys from %.6g to %.6g s, expected %g to %g s"
+                                % (who, times[0], times[-1], ANIM_T0, ANIM_T1))
+            if len(times) == ANIM_KEYS and any(abs(b - a_ - step) > ANIM_TOL
+                                               for a_, b in zip(times, times[1:])):
+                problems.append("%s: keys not %.6g s apart" % (who, step))
+            cubic = ch["interpolation"] == "CUBICSPLINE"
+            vals = ch["output"].values
+            if len(vals) != len(times) * (3 if cubic else 1):
+                problems.append("%s: %d values for %d keys (%s)"
+                                % (who, len(vals), len(times), ch["interpolation"]))
+                continue
+            keys = vals[1::3] if cubic else vals
+            first = keys[0]
+            if any(abs(x - y) > ANIM_TOL for x, y in zip(first, static[tp])):
+                problems.append("%s: first key %s is not the node's static %s %s"
+                                % (who, fmt(list(first)), tp, fmt(static[tp])))
+            span = max(abs(x - y) for k in keys for x, y in zip(k, first))
+            if span < 1e-3:
+                problems.append("%s: does not move (largest change %.3g)" % (who, span))
+            if tp == "rotation":
+                if any(abs(sum(c * c for c in q) - 1.0) > 1e-4 for q in keys):
+                    problems.append("%s: rotation keys are not unit quaternions" % who)
+                flips = sum(1 for p, q in zip(keys, keys[1:])
+                            if sum(x * y for x, y in zip(p, q)) < 0.0)
+                if flips:
+                    problems.append("%s: %d quaternion sign flips between keys" % (who, flips))
+    missing = sorted(set(paths) - seen)
+    if anims and missing:
+        problems.append("node %r: no %s channel" % (node_name, ", ".join(missing)))
+    return ["%s: %s" % (path, p) for p in problems]
+
+
 def triangles(path):
     g = Gltf(path)
     n = 0
@@ -465,6 +595,25 @@ def main(argv):
             problems += found
             if not found:
                 print("ok: %s (%d triangles)" % (p, triangles(p)))
+        for p in problems:
+            print("FAIL: " + p)
+        return 1 if problems else 0
+    if len(argv) >= 5 and argv[0] == "--animated" and (len(argv) - 1) % 4 == 0:
+        problems = []
+        for k in range(1, len(argv), 4):
+            path, node, kind, paths = argv[k:k + 4]
+            if kind not in NODE_KIND:
+                print("error: node kind %r is not one of %s" % (kind, sorted(NODE_KIND)),
+                      file=sys.stderr)
+                return 2
+            try:
+                found = check_animated(path, node, kind, paths.split(","))
+            except (GltfError, OSError, KeyError, ValueError) as e:
+                found = ["%s: %s" % (path, e)]
+            problems += found
+            if not found:
+                print("ok: %s: %s (%s) animated (%s), %d keys over %g .. %g s"
+                      % (path, node, kind, paths, ANIM_KEYS, ANIM_T0, ANIM_T1))
         for p in problems:
             print("FAIL: " + p)
         return 1 if problems else 0

@@ -3,10 +3,15 @@
 #   samples_wellformed  every committed .gltf parses, its buffers and images
 #                       exist with the declared sizes, and it has at least one
 #                       camera, light and mesh (tests/gltf_content.py --check).
-#   samples_reexport    when Blender is installed: re-export every sample into
-#                       the build tree and compare each with the committed file
-#                       by content (tests/gltf_content.py A B); skipped without
-#                       Blender.
+#   samples_animated    the animated samples (PB_ANIMATED_SAMPLES below) each
+#                       move the intended node (and only it) by node TRS keys,
+#                       49 of them from 0 to 2 s, starting from the node's
+#                       static pose (tests/gltf_content.py --animated).
+#   samples_reexport    when Blender is installed: re-export every sample
+#                       (every folder under samples/, animated ones included)
+#                       into the build tree and compare each with the
+#                       committed file by content, animations included
+#                       (tests/gltf_content.py A B); skipped without Blender.
 #
 # This file is included by tests/CMakeLists.txt (PB_ROOT, Python3_EXECUTABLE)
 # and is also the script samples_reexport runs (cmake -P, with BLENDER, PYTHON,
@@ -16,6 +21,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
   # ---- script mode: the body of samples_reexport -------------------------
   file(REMOVE_RECURSE "${WORK}")
   file(MAKE_DIRECTORY "${WORK}")
+  # Blender's embedded Python picks up the first python3 on PATH, and a pyenv
+  # interpreter breaks its glTF exporter: run Blender without pyenv's
+  # directories (as validation/cycles_calib_check.py does).
+  string(REPLACE ":" ";" path_dirs "$ENV{PATH}")
+  list(FILTER path_dirs EXCLUDE REGEX "[.]pyenv")
+  string(REPLACE ";" ":" path_clean "${path_dirs}")
+  set(ENV{PATH} "${path_clean}")
   execute_process(
     COMMAND "${BLENDER}" -b --factory-startup --python-exit-code 1
             -P "${ROOT}/exporters/blender/make_samples.py" -- --out "${WORK}"
@@ -63,6 +75,15 @@ else()
   else()
     add_test(NAME samples_wellformed
              COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/gltf_content.py --check ${PB_ROOT}/samples
+             WORKING_DIRECTORY ${PB_ROOT})
+
+    # Animated samples: file, node that moves, its kind, node TRS paths keyed.
+    set(PB_ANIMATED_SAMPLES
+        samples/cornell_box_moving_light/cornell_box_moving_light.gltf CeilingLight light translation
+        samples/cornell_caustics_moving_sphere/cornell_caustics_moving_sphere.gltf GlassSphere mesh translation
+        samples/sun_atrium_flythrough/sun_atrium_flythrough.gltf Camera camera translation,rotation)
+    add_test(NAME samples_animated
+             COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/gltf_content.py --animated ${PB_ANIMATED_SAMPLES}
              WORKING_DIRECTORY ${PB_ROOT})
 
     find_program(PB_BLENDER blender)

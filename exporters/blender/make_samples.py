@@ -680,10 +680,131 @@ def sun_atrium():
 
 
 # --------------------------------------------------------------------------
+# Animated variants: the same scenes with one object keyframed (node TRS only)
+# --------------------------------------------------------------------------
+
+# 2 s at 24 fps: 49 frames, keys on Blender frames ANIM_FIRST..ANIM_LAST.  The
+# 3.4 exporter writes a key at Blender frame f as time f / fps (no offset to
+# the start of the range), so the range starts at frame 0 to make the file's
+# times run from 0 to 2 s.  Without export_current_frame the exporter also
+# sets frame 0 before it writes the static node TRS, so the static pose in the
+# file is the first key's pose.
+ANIM_FPS = 24
+ANIM_FIRST = 0
+ANIM_LAST = 48
+ANIMATED = {}  # scene name -> (animated object = glTF node name, animation name)
+
+
+def animated(target, anim_name):
+    def register(fn):
+        ANIMATED[fn.__name__] = (target, anim_name)
+        return scene(fn)
+    return register
+
+
+def set_animation_range():
+    sc = bpy.context.scene
+    sc.render.fps = ANIM_FPS
+    sc.render.fps_base = 1.0
+    sc.frame_start = ANIM_FIRST
+    sc.frame_end = ANIM_LAST
+    sc.frame_set(ANIM_FIRST)
+
+
+def keyframe(obj, action_name, keys, interpolation):
+    """keys: [(frame, {data_path: value})].  interpolation: 'LINEAR' or
+    'BEZIER' (Blender's auto-clamped handles).  Extrapolation stays constant,
+    so frames outside the keys hold the first / last pose."""
+    ad = obj.animation_data_create()
+    ad.action = bpy.data.actions.new(action_name)
+    for frame, values in keys:
+        for path, value in values.items():
+            setattr(obj, path, value)
+            obj.keyframe_insert(path, frame=frame)
+    for fc in ad.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = interpolation
+            if interpolation == 'BEZIER':
+                kp.handle_left_type = 'AUTO_CLAMPED'
+                kp.handle_right_type = 'AUTO_CLAMPED'
+        fc.extrapolation = 'CONSTANT'
+        fc.update()
+    bpy.context.scene.frame_set(ANIM_FIRST)
+
+
+@animated("CeilingLight", "LightAcrossCeiling")
+def cornell_box_moving_light():
+    """cornell_box with CeilingLight moving left to right under the ceiling,
+    x -0.6 -> 0.6 m at z = 1.75 m (two linear keys); everything else still."""
+    cornell_box()
+    set_animation_range()
+    light = bpy.data.objects["CeilingLight"]
+    keyframe(light, "LightAcrossCeiling",
+             [(ANIM_FIRST, {"location": (-0.6, 0.0, 1.75)}),
+              (ANIM_LAST, {"location": (0.6, 0.0, 1.75)})], 'LINEAR')
+
+
+@animated("GlassSphere", "GlassSphereAcrossFloor")
+def cornell_caustics_moving_sphere():
+    """cornell_caustics with GlassSphere sliding across the floor from its
+    place front right (0.45, -0.3) to front left (-0.4, -0.55), resting on the
+    floor (z = r) all the way; two linear translation keys.  The path stays
+    at least 0.87 m (centre to centre) from MirrorSphere, 5 cm inside the
+    left wall and the box opening."""
+    cornell_caustics()
+    set_animation_range()
+    sphere = bpy.data.objects["GlassSphere"]
+    z = sphere.location.z
+    keyframe(sphere, "GlassSphereAcrossFloor",
+             [(ANIM_FIRST, {"location": (0.45, -0.3, z)}),
+              (ANIM_LAST, {"location": (-0.4, -0.55, z)})], 'LINEAR')
+
+
+ATRIUM_FLIGHT = [  # (frame, camera position, point looked at), Blender coordinates
+    (0, (11.2, -1.5, 1.7), (-6.0, 1.0, 4.0)),     # sun_atrium's camera
+    (12, (6.0, -0.8, 2.4), (-8.0, 1.5, 4.5)),
+    (24, (0.0, 0.0, 3.2), (-8.0, -1.0, 6.0)),
+    (36, (-5.0, 0.8, 3.0), (-10.0, 3.5, 4.0)),
+    (48, (-9.0, 0.5, 2.5), (-2.0, 5.0, 4.0)),     # turned to the sunlit north row
+]
+
+
+@animated("Camera", "CameraFlythrough")
+def sun_atrium_flythrough():
+    """sun_atrium with the camera flying west along the nave (between the
+    column rows, 1.7 - 3.2 m high), turning right at the end to look back
+    east along the north row of columns, lit through the skylights: five
+    location + rotation keys with Bezier (auto-clamped) interpolation.
+    Rotation is Euler XYZ (pitch about X, heading about Z, no roll), so the
+    camera never rolls between keys.  The turn stays well under 180 degrees
+    from the first orientation: the exporter decomposes each sampled rotation
+    from its frame's matrix on its own and does not keep consecutive
+    quaternions in one hemisphere; a first path turning further got a sign
+    flip between two rotation keys (describe_animation now fails on one)."""
+    sun_atrium()
+    set_animation_range()
+    cam = bpy.context.scene.camera
+    cam.rotation_mode = 'XYZ'
+    keys, prev = [], None
+    for frame, pos, target in ATRIUM_FLIGHT:
+        q = (Vector(target) - Vector(pos)).to_track_quat('-Z', 'Y')
+        e = q.to_euler('XYZ', prev) if prev is not None else q.to_euler('XYZ')
+        keys.append((frame, {"location": pos, "rotation_euler": e}))
+        prev = e
+    assert keys[0][0] == ANIM_FIRST and keys[-1][0] == ANIM_LAST
+    keyframe(cam, "CameraFlythrough", keys, 'BEZIER')
+
+
+# --------------------------------------------------------------------------
 # Export
 # --------------------------------------------------------------------------
 
-def gltf_export(path):
+def gltf_export(path, animation=None):
+    """animation: None (static scenes: no animations) or the name of the one
+    glTF animation to write: every active action, sampled at every frame of
+    the playback range into LINEAR keys (export_force_sampling; all 49 kept,
+    export_optimize_animation_size off), merged into one animation
+    (export_nla_strips off), static TRS = the pose at frame 0."""
     props = bpy.ops.export_scene.gltf.get_rna_type().properties.keys()
     opts = dict(
         filepath=path,
@@ -710,6 +831,18 @@ def gltf_export(path):
         use_active_collection=False,
         export_draco_mesh_compression_enable=False,
     )
+    if animation is not None:
+        opts.update(
+            export_animations=True,
+            export_frame_range=True,
+            export_frame_step=1,
+            export_force_sampling=True,
+            export_nla_strips=False,
+            export_nla_strips_merged_animation_name=animation,
+            export_optimize_animation_size=False,
+            export_current_frame=False,
+            export_def_bones=False,
+        )
     # "Standard" (physical) lighting units; the option was renamed in 3.6.
     for key in ("export_import_convert_lighting_mode", "convert_lighting_mode"):
         if key in props:
@@ -739,6 +872,40 @@ def gltf_triangles(path):
     return n, doc
 
 
+def read_floats(doc, folder, accessor):
+    """The float components of a tightly packed accessor of the written file."""
+    acc = doc["accessors"][accessor]
+    view = doc["bufferViews"][acc["bufferView"]]
+    n = acc["count"] * {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[acc["type"]]
+    with open(os.path.join(folder, doc["buffers"][view["buffer"]]["uri"]), "rb") as f:
+        f.seek(view.get("byteOffset", 0) + acc.get("byteOffset", 0))
+        return struct.unpack("<%df" % n, f.read(4 * n))
+
+
+def describe_animation(name, doc, target):
+    """Print the exported animation and check that it moves `target` over
+    0 .. 2 s (49 keys)."""
+    anims = doc.get("animations", [])
+    assert anims, "%s: no animations exported" % name
+    nodes = doc["nodes"]
+    for a in anims:
+        for ch in a["channels"]:
+            s = a["samplers"][ch["sampler"]]
+            acc = doc["accessors"][s["input"]]
+            node = nodes[ch["target"]["node"]].get("name")
+            print("make_samples: %s:   animation %s: %s.%s %s, %d keys, %.6g .. %.6g s" % (
+                name, a.get("name"), node, ch["target"]["path"],
+                s.get("interpolation", "LINEAR"), acc["count"], acc["min"][0], acc["max"][0]))
+            assert node == target, (name, node, target)
+            assert acc["count"] == ANIM_LAST - ANIM_FIRST + 1, (name, acc["count"])
+            if ch["target"]["path"] == "rotation":
+                q = read_floats(doc, os.path.dirname(doc["_path"]), s["output"])
+                q = [q[i:i + 4] for i in range(0, len(q), 4)]
+                flips = sum(1 for a_, b_ in zip(q, q[1:])
+                            if sum(x * y for x, y in zip(a_, b_)) < 0.0)
+                assert not flips, "%s: %d quaternion sign flips" % (name, flips)
+
+
 def export_scene(name, out_root):
     outdir = os.path.join(out_root, name)
     os.makedirs(outdir, exist_ok=True)
@@ -748,14 +915,18 @@ def export_scene(name, out_root):
             os.remove(os.path.join(outdir, fn))
     tmpdirs = SCENES[name]() or []
     path = os.path.join(outdir, name + ".gltf")
-    gltf_export(path)
+    anim = ANIMATED.get(name)
+    gltf_export(path, anim[1] if anim else None)
     for d in tmpdirs:
         for fn in os.listdir(d):
             os.remove(os.path.join(d, fn))
         os.rmdir(d)
     tris, doc = gltf_triangles(path)
-    if name == "sun_atrium":
+    if name.startswith("sun_atrium"):
         assert tris >= 100_000, tris
+    if anim:
+        doc["_path"] = path
+        describe_animation(name, doc, anim[0])
     lights = doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])
     sizes = {fn: os.path.getsize(os.path.join(outdir, fn)) for fn in sorted(os.listdir(outdir))}
     print("make_samples: %s: %d triangles, files %s" % (name, tris, sizes))
