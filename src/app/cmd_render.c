@@ -21,6 +21,7 @@
 #include "render/photon.h"
 #include "render/plan.h"
 #include "render/render.h"
+#include "app/render_seq.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
@@ -39,7 +40,16 @@ typedef struct render_opts {
   double atrous_gamma;
   double smoothing, r_max, alpha;
   const char *png;
+  /* Sequences (issue 6; render_seq.h). */
+  const char *frames;
+  double fps, orbit_seconds;
+  int orbit, no_temporal, bvh_update;
+  uint32_t reference_spp;
+  const char *reference_cache;
 } render_opts;
+
+/* --bvh-update, in PB_BVH_UPDATE_* order. */
+static const char *const bvh_update_names[] = {"auto", "refit", "rebuild", NULL};
 
 /* --first-bounce, in pb_photon_first_bounce order from PB_FIRST_BOUNCE_TRACE. */
 static const char *const first_bounce_names[] = {"traced", "rsm", NULL};
@@ -134,7 +144,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
 int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
-  render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */};
+  render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
+                   .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = {0};
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
   const pb_opt opts[] = {
@@ -173,10 +184,28 @@ int pb_cmd_render(int argc, char **argv) {
        "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
       {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
        "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
-       "default 0: off)", NULL, 0, 12},
+       "default 0: off for one frame, 4 for --frames)", NULL, 0, 12},
       {"atrous-clip", 0, PB_OPT_FLOAT, &o.atrous_gamma, "G",
        "A-Trous detail kept within G local standard deviations (variance clipping, eq. 18; default 0.25; 0: "
        "none, the plain A-Trous blur)", NULL, 0, 100},
+      {"frames", 0, PB_OPT_STRING, &o.frames, "A:B",
+       "render frames A to B (inclusive) of the scene's animation at time frame/fps; -o and --png then need a "
+       "run of '#' for the frame number (out/frame_####.exr)", NULL, 0, 0},
+      {"fps", 0, PB_OPT_FLOAT, &o.fps, "F", "--frames: frames per second (default 24)", NULL, 0, 0},
+      {"orbit", 0, PB_OPT_FLAG, &o.orbit, NULL,
+       "--frames: move the camera on a circle around the scene's centre, one turn over the frames (or "
+       "--orbit-seconds), looking at the centre", NULL, 0, 0},
+      {"orbit-seconds", 0, PB_OPT_FLOAT, &o.orbit_seconds, "S", "--orbit: seconds per turn", NULL, 0, 0},
+      {"no-temporal", 0, PB_OPT_FLAG, &o.no_temporal, NULL,
+       "--frames: no temporal filter (reprojected history, seed 001 24.4.1; on by default)", NULL, 0, 0},
+      {"bvh-update", 0, PB_OPT_CHOICE, &o.bvh_update, "MODE",
+       "--frames: how moving geometry updates the scene BVH: auto, refit or rebuild (default auto)",
+       bvh_update_names, 0, 0},
+      {"reference-spp", 0, PB_OPT_U32, &o.reference_spp, "N",
+       "--frames: render each frame with the reference renderer too (N samples per pixel, cached) and report "
+       "per-frame error and flicker in --json", NULL, 1, 1 << 20},
+      {"reference-cache", 0, PB_OPT_STRING, &o.reference_cache, "DIR",
+       "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
@@ -206,9 +235,19 @@ int pb_cmd_render(int argc, char **argv) {
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: expected SCENE and -o OUT.exr (see 'photonbridge render --help')"));
   if (o.alpha < 0 || !(o.alpha < 1))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha));
+  int32_t first = 0, last = 0;
+  if (o.frames && (r = pb_seq_parse_frames(o.frames, &first, &last)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (!o.frames && (o.orbit || o.fps != 0 || o.no_temporal || o.reference_spp || o.reference_cache ||
+                    o.orbit_seconds != 0))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal and --reference-* need "
+                                    "--frames A:B"));
+  if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
+  if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
   pb_scene s;
-  /* Outputs that cannot be written fail now, not after the render. */
-  {
+  /* Outputs that cannot be written fail now, not after the render
+   * (sequences check their expanded names in render_seq.c). */
+  if (!o.frames) {
     const char *outs[] = {c.out, o.png, c.json};
     for (size_t i = 0; i < sizeof outs / sizeof *outs; ++i)
       if ((r = pb_check_writable(outs[i])) != PB_OK) return pb_cli_exit(cmd, r);
@@ -247,6 +286,17 @@ int pb_cmd_render(int argc, char **argv) {
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .atrous_iterations = o.atrous,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f)};
+  if (o.frames) {
+    static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
+    double fps = o.fps > 0 ? o.fps : 24.0;
+    pb_sequence_desc sd = {.render = rd, .temporal = !o.no_temporal, .bvh_update = bvh_modes[o.bvh_update],
+                           .orbit = o.orbit,
+                           .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
+    pb_seq_opts so = {.first = first, .last = last, .fps = fps, .png = o.png, .reference_spp = o.reference_spp,
+                      .reference_cache = o.reference_cache};
+    r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
+    goto done;
+  }
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
 

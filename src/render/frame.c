@@ -246,7 +246,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       float kscale = 1.0f;
       if (desc.progressive) {
         double k2 = 1.0, alpha = desc.alpha > 0.0f ? desc.alpha : 2.0 / 3.0;
-        for (uint32_t j = 1; j <= it; ++j) k2 *= (j + alpha) / (j + 1.0);
+        for (uint32_t j = 1; j <= desc.iteration_base + it; ++j) k2 *= (j + alpha) / (j + 1.0);
         kscale = (float)sqrt(k2);
       }
       pb_photon_estimator_set_footprint_scale(est, kscale);

@@ -89,6 +89,10 @@ typedef struct pb_render_desc {
                                   (probabilistic SPPM, frame.c) */
   float alpha;                 /* progressive: radius^2 kept per iteration,
                                   in (0, 1); 0: 2/3 */
+  uint32_t iteration_base;     /* progressive: iterations already averaged
+                                  by earlier frames of a still view
+                                  (sequence.h); the radius schedule goes on
+                                  from there */
   const struct pb_photon_map *photon_map; /* tests: gather this map (every
                                   iteration) instead of tracing */
   /* Benchmark (bench/run_bench.py): */

@@ -1,0 +1,178 @@
+/* Frame sequences (sequence.h). */
+#include "render/sequence.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "render/filters.h"
+#include "render/motion.h"
+
+struct pb_sequence {
+  pb_scene *s;
+  pb_gpu_scene *gs;
+  int camera;
+  uint32_t width, height;
+  pb_sequence_desc desc;
+  pb_temporal *temporal;
+  float (*prev_positions)[3];
+  pb_light *prev_lights;
+  pb_camera prev_cam, start_cam;
+  int has_prev;
+  float *motion;
+  uint32_t still_iterations; /* photon maps averaged by the still run so far */
+};
+
+void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
+  if (!q) return;
+  pb_temporal_destroy(g, q->temporal);
+  free(q->prev_positions);
+  free(q->prev_lights);
+  free(q->motion);
+  free(q);
+}
+
+pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camera, uint32_t width,
+                             uint32_t height, const pb_sequence_desc *desc, pb_sequence **out) {
+  *out = NULL;
+  if (camera < 0 || (uint32_t)camera >= s->camera_count)
+    return pb_fail(PB_ERR_USAGE, "sequence: camera %d of %u", camera, s->camera_count);
+  pb_sequence *q = calloc(1, sizeof *q);
+  if (!q) return pb_fail(PB_ERR_NOMEM, "sequence: out of memory");
+  q->s = s;
+  q->gs = gs;
+  q->camera = camera;
+  q->width = width;
+  q->height = height;
+  q->desc = *desc;
+  q->start_cam = s->cameras[camera];
+  size_t n = (size_t)width * height;
+  q->prev_positions = malloc((size_t)(s->vertex_count ? s->vertex_count : 1) * sizeof *q->prev_positions);
+  q->prev_lights = malloc((size_t)(s->light_count ? s->light_count : 1) * sizeof *q->prev_lights);
+  q->motion = malloc(n * PB_MOTION_CHANNELS * sizeof *q->motion);
+  pb_result r = PB_OK;
+  if (!q->prev_positions || !q->prev_lights || !q->motion) {
+    r = pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", width, height);
+    goto fail;
+  }
+  if (desc->temporal && (r = pb_temporal_create(g, width, height, &desc->temporal_desc, &q->temporal)) != PB_OK)
+    goto fail;
+  *out = q;
+  return PB_OK;
+fail:
+  pb_sequence_destroy(g, q);
+  return r;
+}
+
+static void normalize3(float v[3]) {
+  float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (l > 0) v[0] /= l, v[1] /= l, v[2] /= l;
+}
+
+void pb_sequence_orbit_camera(const pb_scene *s, const pb_camera *start, double t, double period, pb_camera *out) {
+  *out = *start;
+  double c[3], d[3];
+  for (int k = 0; k < 3; ++k) {
+    c[k] = 0.5 * ((double)s->bounds_min[k] + s->bounds_max[k]);
+    d[k] = start->position[k] - c[k];
+  }
+  double r = sqrt(d[0] * d[0] + d[2] * d[2]);
+  if (!(r > 1e-6)) { /* straight above or below the centre: orbit at the box's size */
+    double e = 0;
+    for (int k = 0; k < 3; ++k) e += ((double)s->bounds_max[k] - s->bounds_min[k]) * (s->bounds_max[k] - s->bounds_min[k]);
+    r = sqrt(e) > 0 ? sqrt(e) : 1.0;
+    d[0] = r, d[2] = 0;
+  }
+  double a = atan2(d[2], d[0]) + (period > 0 ? 2.0 * M_PI * t / period : 0.0);
+  out->position[0] = (float)(c[0] + r * cos(a));
+  out->position[1] = (float)(c[1] + d[1]);
+  out->position[2] = (float)(c[2] + r * sin(a));
+  float f[3] = {(float)c[0] - out->position[0], (float)c[1] - out->position[1], (float)c[2] - out->position[2]};
+  normalize3(f);
+  /* right = forward x (0, 1, 0), up = right x forward: the camera's -Z looks
+   * at the centre, +Y stays as upright as the view allows. */
+  float rt[3] = {-f[2], 0.0f, f[0]};
+  if (!(rt[0] * rt[0] + rt[2] * rt[2] > 1e-12f)) rt[0] = 1.0f, rt[2] = 0.0f; /* looking straight down */
+  normalize3(rt);
+  float up[3] = {rt[1] * f[2] - rt[2] * f[1], rt[2] * f[0] - rt[0] * f[2], rt[0] * f[1] - rt[1] * f[0]};
+  normalize3(up);
+  memcpy(out->forward, f, sizeof f);
+  memcpy(out->right, rt, sizeof rt);
+  memcpy(out->up, up, sizeof up);
+}
+
+static int camera_equal(const pb_camera *a, const pb_camera *b) {
+  return !memcmp(a->position, b->position, sizeof a->position) && !memcmp(a->forward, b->forward, sizeof a->forward) &&
+         !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov;
+}
+
+/* SplitMix64's finaliser: frame i's seed, independent of frame i+1's. */
+static uint64_t mix_seed(uint64_t seed, uint32_t index) {
+  uint64_t z = seed + 0x9e3779b97f4a7c15ull * ((uint64_t)index + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t, pb_render_result *out,
+                            pb_sequence_frame_info *info) {
+  memset(out, 0, sizeof *out);
+  pb_sequence_frame_info fi;
+  memset(&fi, 0, sizeof fi);
+  fi.time = t;
+  pb_scene *s = q->s;
+  pb_result r;
+  /* The scene still holds the previous frame's pose: keep it for motion. */
+  if (q->has_prev) {
+    memcpy(q->prev_positions, s->positions, (size_t)s->vertex_count * sizeof *q->prev_positions);
+    memcpy(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights);
+    q->prev_cam = s->cameras[q->camera];
+  }
+  double t0 = pb_time_now();
+  if (s->anim && (r = pb_scene_set_time(s, t)) != PB_OK) return r;
+  if (q->desc.orbit)
+    pb_sequence_orbit_camera(s, &q->start_cam, t, q->desc.orbit_period, &s->cameras[q->camera]);
+  fi.pose_ms = (pb_time_now() - t0) * 1e3;
+  const pb_camera *cam = &s->cameras[q->camera];
+  fi.camera = *cam;
+  if (q->has_prev) {
+    fi.geometry_moved = memcmp(q->prev_positions, s->positions, (size_t)s->vertex_count * sizeof *q->prev_positions) != 0;
+    fi.lights_moved = memcmp(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights) != 0;
+    fi.camera_moved = !camera_equal(&q->prev_cam, cam);
+  }
+  fi.still = !fi.geometry_moved && !fi.lights_moved && !fi.camera_moved;
+  if (fi.geometry_moved || fi.lights_moved || (!q->has_prev && s->anim)) {
+    /* The GPU scene was made from the file's static pose: the first frame
+     * of an animated scene updates it too. */
+    if ((r = pb_gpu_scene_update(g, s, q->gs, q->desc.bvh_update, &fi.scene_update_ms)) != PB_OK) return r;
+  }
+  pb_render_desc rd = q->desc.render;
+  rd.seed = mix_seed(q->desc.render.seed, index);
+  rd.atrous_iterations = 0; /* after the temporal filter, below */
+  uint32_t iters = rd.iterations ? rd.iterations : 1;
+  if (!fi.still || !q->has_prev) q->still_iterations = 0;
+  rd.iteration_base = rd.progressive ? q->still_iterations : 0;
+  if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, out)) != PB_OK) return r;
+  q->still_iterations += iters;
+  int moving = q->has_prev && !fi.still;
+  if (moving && out->indirect && (q->temporal)) {
+    t0 = pb_time_now();
+    r = pb_motion_vectors(g, s, q->gs, fi.geometry_moved ? (const float(*)[3])q->prev_positions : NULL, cam,
+                          &q->prev_cam, q->width, q->height, q->motion, NULL);
+    fi.motion_ms = (pb_time_now() - t0) * 1e3;
+    if (r != PB_OK) goto fail;
+  }
+  pb_filter_desc fd = {.atrous_iterations = q->desc.render.atrous_iterations,
+                       .atrous_gamma = q->desc.render.atrous_gamma,
+                       .temporal = q->temporal,
+                       .motion = moving ? q->motion : NULL,
+                       .still = !moving};
+  if ((r = pb_filter_indirect(g, out, &fd)) != PB_OK) goto fail;
+  q->has_prev = 1;
+  if (info) *info = fi;
+  return PB_OK;
+fail:
+  pb_render_result_destroy(out);
+  return r;
+}

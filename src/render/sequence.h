@@ -1,0 +1,62 @@
+/* Frame sequences (issue 6): the scene posed at each frame's time (glTF
+ * animation, pb_scene_set_time), the GPU scene updated (BVH refit or
+ * rebuild, pb_gpu_scene_update), the frame rendered with new photon seeds,
+ * motion vectors (motion.h), then temporal and spatial filtering of the
+ * indirect light (filters.h), history carried from frame to frame.
+ *
+ * A frame in which nothing moved (camera, geometry and lights as in the
+ * previous frame) is "still": the temporal filter then keeps a cumulative
+ * mean (progressive rendering), and with render.progressive the photon
+ * footprints keep shrinking from frame to frame as they do between the
+ * iterations of one frame (frame.c), so a still view converges. */
+#ifndef PB_RENDER_SEQUENCE_H
+#define PB_RENDER_SEQUENCE_H
+
+#include <stdint.h>
+
+#include "core/result.h"
+#include "gpu/gpu.h"
+#include "render/render.h"
+#include "render/temporal.h"
+#include "scene/scene.h"
+
+typedef struct pb_sequence_desc {
+  pb_render_desc render;   /* every frame's settings; frame i uses the seed
+                              render.seed mixed with i; atrous_iterations
+                              run after the temporal filter */
+  int temporal;            /* 1: temporal filter (seed 001 24.4.1) */
+  pb_temporal_desc temporal_desc;
+  int bvh_update;          /* PB_BVH_UPDATE_* for moving geometry */
+  int orbit;               /* 1: replace the camera by an orbit around the
+                              scene: one turn per orbit_period seconds */
+  double orbit_period;
+} pb_sequence_desc;
+
+/* What happened in one frame. */
+typedef struct pb_sequence_frame_info {
+  double time;                 /* seconds */
+  int still;                   /* nothing moved since the previous frame */
+  int geometry_moved, lights_moved, camera_moved;
+  double pose_ms, scene_update_ms, motion_ms;
+  pb_camera camera;            /* the camera used */
+} pb_sequence_frame_info;
+
+typedef struct pb_sequence pb_sequence;
+
+/* s and gs stay owned by the caller and are posed/updated in place by
+ * every frame; `camera` indexes s->cameras. */
+pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camera, uint32_t width,
+                             uint32_t height, const pb_sequence_desc *desc, pb_sequence **out);
+void pb_sequence_destroy(pb_gpu *g, pb_sequence *q);
+
+/* Renders the frame at time t (seconds); index numbers the frame for its
+ * photon seeds. out: as pb_render_frame's, filtered. */
+pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t, pb_render_result *out,
+                            pb_sequence_frame_info *info);
+
+/* The orbit camera at time t: around the centre of the scene's bounds at
+ * the original camera's height and horizontal distance, starting where the
+ * original camera stands, looking at the centre, world +Y up (glTF). */
+void pb_sequence_orbit_camera(const pb_scene *s, const pb_camera *start, double t, double period, pb_camera *out);
+
+#endif

@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+"""Frame sequences (issue 6), through the CLI:
+
+  smoke     every animated sample renders a short sequence: one EXR per frame
+            with its frame number and time, --json lists the frames, the
+            moving ones are not "still", the temporal filter ran;
+  flicker   cornell_box_moving_light, 64 px, 8 frames, few photons, against
+            per-frame references (cached): temporal + A-Trous has at least 4x
+            less excess flicker than no filter, and its mean per-frame error
+            (relMSE) is no worse;
+  still     cornell_box with a still camera converges: with --progressive the
+            error against the reference falls frame after frame;
+  orbit     --orbit moves the camera around a scene without animation;
+  errors    bad --frames, an output name without '#', --orbit without
+            --frames: exit 2 with one line naming the option.
+
+usage: sequence_check.py PHOTONBRIDGE ROOT WORKDIR [PART...]
+Exit 77 when no Vulkan device is present."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
+PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker"]
+failures = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def run(args, expect_rc=0):
+    p = subprocess.run([EXE] + args, capture_output=True, text=True)
+    if p.returncode != expect_rc:
+        print(" ".join(args))
+        print(p.stdout[-3000:])
+        print(p.stderr[-3000:])
+    return p
+
+
+def sample(name):
+    return os.path.join(ROOT, "samples", name, name + ".gltf")
+
+
+def fresh(sub):
+    d = os.path.join(WORK, sub)
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    return d
+
+
+def exr_attrs(path):
+    """photonbridge/frame and /time from the EXR header (plain bytes scan)."""
+    data = open(path, "rb").read(4096)
+    out = {}
+    for key in (b"photonbridge/frame", b"photonbridge/time"):
+        i = data.find(key + b"\0string\0")
+        if i >= 0:
+            j = i + len(key) + 8
+            n = int.from_bytes(data[j:j + 4], "little")
+            out[key.decode()] = data[j + 4:j + 4 + n].decode()
+    return out
+
+
+if subprocess.run([EXE, "info", "--devices"], capture_output=True).returncode != 0:
+    print("skip: no Vulkan device")
+    sys.exit(77)
+
+if "errors" in PARTS:
+    d = fresh("errors")
+    cases = [
+        (["--frames", "3:1", "-o", d + "/f_#.exr"], "--frames '3:1'"),
+        (["--frames", "x", "-o", d + "/f_#.exr"], "--frames 'x'"),
+        (["--frames", "0:2", "-o", d + "/f.exr"], "needs '#'"),
+        (["--orbit", "-o", d + "/f.exr"], "need --frames"),
+        (["--frames", "0:1", "--fps", "-1", "-o", d + "/f_#.exr"], "--fps"),
+    ]
+    for args, want in cases:
+        p = run(["render", sample("cornell_box"), "--width", "16"] + args, expect_rc=2)
+        lines = [l for l in p.stderr.splitlines() if l.strip()]
+        check(p.returncode == 2 and len(lines) == 1 and want in lines[0],
+              "error %s: exit %d, %r" % (" ".join(args[:2]), p.returncode, lines[:2]))
+    check(os.listdir(d) == [], "errors leave no output behind")
+
+if "smoke" in PARTS:
+    for name in ("cornell_box_moving_light", "cornell_caustics_moving_sphere", "sun_atrium_flythrough"):
+        d = fresh("smoke_" + name)
+        p = run(["render", sample(name), "--frames", "10:12", "--width", "32", "--photons", "8192",
+                 "-o", d + "/f_###.exr", "--png", d + "/f_###.png", "--json", d + "/seq.json"])
+        check(p.returncode == 0, "%s: 3 frames render (exit %d)" % (name, p.returncode))
+        if p.returncode:
+            continue
+        files = sorted(os.listdir(d))
+        check(files == ["f_010.exr", "f_010.png", "f_011.exr", "f_011.png", "f_012.exr", "f_012.png", "seq.json"],
+              "%s: one EXR and PNG per frame: %s" % (name, files))
+        a = exr_attrs(d + "/f_011.exr")
+        check(a.get("photonbridge/frame") == "11" and abs(float(a.get("photonbridge/time", "nan")) - 11 / 24) < 1e-6,
+              "%s: frame 11's EXR says frame 11 at t = 11/24 s: %s" % (name, a))
+        js = json.load(open(d + "/seq.json"))
+        fr = js["frames"]
+        check(len(fr) == 3 and [f["frame"] for f in fr] == [10, 11, 12], "%s: --json lists the frames" % name)
+        check(all(not f["still"] for f in fr[1:]), "%s: the moving frames are not still" % name)
+        moved = {"cornell_box_moving_light": "lights_moved", "cornell_caustics_moving_sphere": "geometry_moved",
+                 "sun_atrium_flythrough": "camera_moved"}[name]
+        check(all(f[moved] for f in fr[1:]), "%s: %s in every frame after the first" % (name, moved))
+        check(js["filters"]["temporal"] and js["filters"]["atrous_iterations"] == 4
+              and all("temporal" in f for f in fr), "%s: temporal + 4 A-Trous passes by default" % name)
+
+if "orbit" in PARTS:
+    d = fresh("orbit")
+    p = run(["render", sample("cornell_box"), "--frames", "0:3", "--orbit", "--width", "32", "--photons", "8192",
+             "-o", d + "/o_#.exr", "--json", d + "/o.json"])
+    check(p.returncode == 0, "orbit renders (exit %d)" % p.returncode)
+    if p.returncode == 0:
+        fr = json.load(open(d + "/o.json"))["frames"]
+        check(all(f["camera_moved"] and not f["still"] for f in fr[1:]), "orbit: the camera moves every frame")
+        # A quarter turn per frame: about a quarter of the pixels keep a surface
+        # seen before, the rest reset; never all history kept.
+        check(all(f["temporal"]["reset_fraction"] > 0.05 for f in fr[1:]), "orbit: disocclusions reset history")
+
+cache = os.path.join(WORK, "reference_cache")
+os.makedirs(cache, exist_ok=True)
+
+if "still" in PARTS:
+    d = fresh("still")
+    p = run(["render", sample("cornell_box"), "--frames", "0:7", "--width", "48", "--height", "48",
+             "--photons", "16384", "--progressive", "--reference-spp", "512", "--reference-cache", cache,
+             "-o", d + "/s_#.exr", "--json", d + "/s.json"])
+    check(p.returncode == 0, "still view renders (exit %d)" % p.returncode)
+    if p.returncode == 0:
+        fr = json.load(open(d + "/s.json"))["frames"]
+        ps = [f["reference"]["psnr_db"] for f in fr]
+        print("still: PSNR per frame " + " ".join("%.2f" % x for x in ps))
+        check(all(f["still"] for f in fr[1:]), "still: frames after the first are still")
+        check(all(b >= a - 0.3 for a, b in zip(ps, ps[1:])), "still: the error never grows by more than noise")
+        check(ps[-1] >= ps[0] + 3.0, "still: 8 frames gain >= 3 dB over the first (%.2f -> %.2f)" % (ps[0], ps[-1]))
+        check(abs(fr[-1]["temporal"]["mean_history"] - 8) < 0.01, "still: history length 8 after 8 frames")
+
+if "flicker" in PARTS:
+    d = fresh("flicker")
+    common = ["render", sample("cornell_box_moving_light"), "--frames", "0:7", "--width", "64", "--height", "64",
+              "--photons", "16384", "--reference-spp", "1024", "--reference-cache", cache]
+    p0 = run(common + ["--no-temporal", "--atrous-iterations", "0", "-o", d + "/raw_#.exr", "--json", d + "/raw.json"])
+    p1 = run(common + ["-o", d + "/filt_#.exr", "--json", d + "/filt.json"])
+    check(p0.returncode == 0 and p1.returncode == 0, "flicker: both sequences render")
+    if p0.returncode == 0 and p1.returncode == 0:
+        raw = json.load(open(d + "/raw.json"))["summary"]
+        filt = json.load(open(d + "/filt.json"))["summary"]
+        print("flicker: unfiltered excess %.5f (result %.5f, reference %.5f), relMSE %.5f, %.2f dB" %
+              (raw["flicker_excess"], raw["flicker_result"], raw["flicker_reference"], raw["mean_relmse"],
+               raw["mean_psnr_db"]))
+        print("flicker: filtered   excess %.5f (result %.5f, reference %.5f), relMSE %.5f, %.2f dB" %
+              (filt["flicker_excess"], filt["flicker_result"], filt["flicker_reference"], filt["mean_relmse"],
+               filt["mean_psnr_db"]))
+        check(raw["flicker_excess"] > 0, "flicker: the unfiltered sequence flickers more than the reference")
+        check(filt["flicker_excess"] * 4 <= raw["flicker_excess"],
+              "flicker: filtered excess flicker at least 4x below unfiltered")
+        check(filt["mean_relmse"] <= raw["mean_relmse"], "flicker: filtered per-frame error no worse")
+
+print("%d failure(s)" % len(failures))
+sys.exit(1 if failures else 0)
