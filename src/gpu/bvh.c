@@ -231,6 +231,73 @@ done:
   return r;
 }
 
+/* ---- refit ----------------------------------------------------------------- */
+
+pb_result pb_bvh_refit(const pb_scene *s, pb_bvh *b) {
+  const char *path = s->path ? s->path : "scene";
+  for (uint32_t i = 0; i < b->tri_count; ++i) {
+    uint32_t prim = b->tris[i].prim;
+    if (prim >= s->triangle_count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: BVH refit: triangle %u of %u (not the scene the BVH was built from)", path,
+                     prim, s->triangle_count);
+    for (int k = 0; k < 3; ++k) {
+      uint32_t v = s->triangles[prim][k];
+      if (v >= s->vertex_count)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: BVH refit: triangle %u uses vertex %u of %u", path, prim, v, s->vertex_count);
+      const float *p = s->positions[v];
+      if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: BVH refit: triangle %u is not finite", path, prim);
+    }
+  }
+  for (uint32_t i = 0; i < b->tri_count; ++i) {
+    pb_gpu_tri *g = &b->tris[i];
+    const uint32_t *tri = s->triangles[g->prim];
+    memcpy(g->p0, s->positions[tri[0]], sizeof g->p0);
+    memcpy(g->p1, s->positions[tri[1]], sizeof g->p1);
+    memcpy(g->p2, s->positions[tri[2]], sizeof g->p2);
+  }
+  for (uint32_t i = b->node_count; i-- > 0;) {
+    pb_gpu_bvh_node *n = &b->nodes[i];
+    if (n->count == 0 && n->first == 0) continue; /* empty child slot */
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    if (n->count > 0) {
+      for (uint32_t k = 0; k < n->count; ++k) {
+        const pb_gpu_tri *g = &b->tris[n->first + k];
+        box_add(lo, hi, g->p0);
+        box_add(lo, hi, g->p1);
+        box_add(lo, hi, g->p2);
+      }
+    } else {
+      for (uint32_t k = 0; k < PB_BVH_WIDTH; ++k) {
+        const pb_gpu_bvh_node *c = &b->nodes[n->first + k];
+        if (c->count == 0 && c->first == 0) continue;
+        box_add(lo, hi, c->lo);
+        box_add(lo, hi, c->hi);
+      }
+    }
+    memcpy(n->lo, lo, sizeof lo);
+    memcpy(n->hi, hi, sizeof hi);
+  }
+  return PB_OK;
+}
+
+static double box_area(const float lo[3], const float hi[3]) {
+  double d[3];
+  for (int k = 0; k < 3; ++k) d[k] = hi[k] > lo[k] ? (double)hi[k] - lo[k] : 0.0;
+  return 2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+double pb_bvh_sah_cost(const pb_bvh *b) {
+  if (!b->node_count) return 0;
+  double root = box_area(b->nodes[0].lo, b->nodes[0].hi), sum = 0;
+  for (uint32_t i = 0; i < b->node_count; ++i) {
+    const pb_gpu_bvh_node *n = &b->nodes[i];
+    if (n->count == 0 && n->first == 0 && i != 0) continue;
+    sum += box_area(n->lo, n->hi) * (n->count ? (double)n->count : 1.0);
+  }
+  return root > 0 ? sum / root : 0;
+}
+
 /* ---- structural check ---------------------------------------------------- */
 
 static int box_eq(const float a[3], const float b[3]) {

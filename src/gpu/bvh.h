@@ -32,6 +32,20 @@ typedef struct pb_bvh {
 pb_result pb_bvh_build(const pb_scene *s, pb_bvh *out);
 void pb_bvh_destroy(pb_bvh *b);
 
+/* Refits `b` to the current vertex positions of `s` (the scene it was built
+ * from, posed again: same triangles, pb_scene_set_time): the triangle copies
+ * in b->tris are refreshed and every box is recomputed bottom-up (children
+ * sit after their parent, so one reverse sweep). The topology is kept, so a
+ * refitted tree loses quality as objects move apart (see pb_bvh_sah_cost).
+ * PB_ERR_SCENE_INVALID when a vertex index is out of range or a triangle in
+ * the tree is no longer finite (rebuild instead); b is unchanged then. */
+pb_result pb_bvh_refit(const pb_scene *s, pb_bvh *b);
+
+/* Surface-area heuristic cost of the tree relative to its root box: sum over
+ * inner nodes of area(box) + sum over leaves of area(box) x triangles, over
+ * area(root). Comparable between a tree and its refits. */
+double pb_bvh_sah_cost(const pb_bvh *b);
+
 /* Structural check: every node reached exactly once from the root (empty
  * child slots: never entered, zero box), no inner node with fewer than two
  * children or a repeated child, leaves of 1..PB_BVH_MAX_LEAF

@@ -38,10 +38,39 @@ typedef struct pb_gpu_scene {
   uint32_t features;          /* PB_FEATURE_* of the scene */
   int has_normals;
   double upload_s;
+  /* For pb_gpu_scene_update: the shape of the scene it was made from, and
+   * room for a rebuilt BVH (PB_BVH_WIDTH x triangles + 1 nodes, the most a
+   * build can make, when the scene has anim; the first build's otherwise)
+   * and for every emissive triangle, so that updates never replace a buffer
+   * that passes have bound. */
+  uint32_t vertex_count, triangle_count, node_capacity, emitter_capacity;
+  double sah_built;           /* pb_bvh_sah_cost after the last (re)build */
+  double sah;                 /* ... now (after refits) */
+  uint32_t refits;            /* refits since the last (re)build */
 } pb_gpu_scene;
 
 pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *out);
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs);
+
+/* How pb_gpu_scene_update brings the BVH up to date. */
+enum {
+  PB_BVH_UPDATE_AUTO = 0,    /* refit, or rebuild once the refitted tree's SAH
+                                cost exceeds PB_BVH_REFIT_MAX_SAH x that of the
+                                last build (scene_gpu.c, bench/anim.c) */
+  PB_BVH_UPDATE_REFIT = 1,   /* same topology, boxes recomputed bottom-up */
+  PB_BVH_UPDATE_REBUILD = 2, /* a new SAH build (pb_bvh_build) */
+};
+
+/* Brings `gs` (made by pb_gpu_scene_create from `s`) up to date after `s`
+ * was posed again (pb_scene_set_time): uploads positions, normals, lights and
+ * the emitter table (emissive triangles move too), and refits or rebuilds the
+ * BVH per `mode`. Buffers are kept (passes created on `gs` stay valid); the
+ * scene must have the same vertices, triangles, lights and materials as at
+ * creation (PB_ERR_USAGE otherwise). `ms` (may be NULL): wall time of the
+ * whole update. A refit that meets a non-finite triangle rebuilds instead;
+ * a rebuild that needs more nodes than gs holds (a scene without anim at
+ * creation) refits in AUTO mode and fails with PB_ERR_LIMIT in REBUILD. */
+pb_result pb_gpu_scene_update(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs, int mode, double *ms);
 
 /* Ray queries (tests, benchmark): closest hit or occlusion for each ray. */
 typedef struct pb_raycast_pass {

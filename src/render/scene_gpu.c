@@ -26,6 +26,42 @@ static pb_result make(pb_gpu *g, pb_gpu_buffer *b, const char *name, const void 
   return pb_gpu_buffer_upload(g, b, 0, data, size);
 }
 
+/* Creates a buffer of `capacity` (>= size) bytes holding `size` bytes of data. */
+static pb_result make_cap(pb_gpu *g, pb_gpu_buffer *b, const char *name, const void *data, uint64_t size,
+                          uint64_t capacity) {
+  pb_gpu_buffer_desc d = {.name = name, .size = capacity < 16 ? 16 : capacity};
+  pb_result r = pb_gpu_buffer_create(g, &d, b);
+  if (r != PB_OK) return r;
+  if (!data || !size) return pb_gpu_buffer_fill_zero(g, b);
+  if (size < capacity && (r = pb_gpu_buffer_fill_zero(g, b)) != PB_OK) return r;
+  return pb_gpu_buffer_upload(g, b, 0, data, size);
+}
+
+static uint32_t emissive_triangles(const pb_scene *s) {
+  uint32_t n = 0;
+  for (uint32_t t = 0; t < s->triangle_count; ++t)
+    if (pb_material_is_emissive(&s->materials[s->triangle_material[t]])) n++;
+  return n;
+}
+
+static void convert_lights(const pb_scene *s, pb_gpu_light *lights) {
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    pb_gpu_light *o = &lights[i];
+    memcpy(o->position, l->position, sizeof o->position);
+    float d[3] = {l->direction[0], l->direction[1], l->direction[2]};
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; ++k) {
+      o->direction[k] = len > 0 ? d[k] / len : 0.0f;
+      o->power[k] = l->color[k] * l->intensity;
+    }
+    o->type = l->type == PB_LIGHT_SPOT ? PB_GPU_LIGHT_SPOT
+              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL : PB_GPU_LIGHT_POINT;
+    o->cos_outer = cosf(l->outer_cone);
+    o->cos_inner = cosf(l->inner_cone);
+  }
+}
+
 /* The emitter table (pb_gpu_emitter): every triangle with an emissive
  * material and power > 0, weighted exactly as the reference weights them
  * (src/ref/lights.c pb_ref_lights_build: area x max(luminance, 1e-3 max
@@ -111,7 +147,15 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   if (r != PB_OK) goto fail;
   pb_log_verbose("gpu: BVH of %u triangles: %u nodes, depth %u, %.1f ms", gs->bvh.tri_count,
                  gs->bvh.node_count, gs->bvh.depth, gs->bvh.build_s * 1e3);
-  r = make(g, &gs->nodes, "scene.bvh_nodes", gs->bvh.nodes, (uint64_t)gs->bvh.node_count * sizeof(pb_gpu_bvh_node));
+  /* An animated scene may be rebuilt (pb_gpu_scene_update): room for the
+   * largest tree a build can make (pb_bvh_build's own allocation). */
+  gs->node_capacity = s->anim ? PB_BVH_WIDTH * gs->bvh.tri_count + 1 : gs->bvh.node_count;
+  if (gs->node_capacity < gs->bvh.node_count) gs->node_capacity = gs->bvh.node_count;
+  gs->sah_built = gs->sah = pb_bvh_sah_cost(&gs->bvh);
+  gs->vertex_count = s->vertex_count;
+  gs->triangle_count = s->triangle_count;
+  r = make_cap(g, &gs->nodes, "scene.bvh_nodes", gs->bvh.nodes, (uint64_t)gs->bvh.node_count * sizeof(pb_gpu_bvh_node),
+               (uint64_t)gs->node_capacity * sizeof(pb_gpu_bvh_node));
   if (r != PB_OK) goto fail;
   r = make(g, &gs->tris, "scene.bvh_triangles", gs->bvh.tris, (uint64_t)gs->bvh.tri_count * sizeof(pb_gpu_tri));
   if (r != PB_OK) goto fail;
@@ -172,21 +216,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     }
     off += (uint32_t)n;
   }
-  for (uint32_t i = 0; i < s->light_count; ++i) {
-    const pb_light *l = &s->lights[i];
-    pb_gpu_light *o = &lights[i];
-    memcpy(o->position, l->position, sizeof o->position);
-    float d[3] = {l->direction[0], l->direction[1], l->direction[2]};
-    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; ++k) {
-      o->direction[k] = len > 0 ? d[k] / len : 0.0f;
-      o->power[k] = l->color[k] * l->intensity;
-    }
-    o->type = l->type == PB_LIGHT_SPOT ? PB_GPU_LIGHT_SPOT
-              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL : PB_GPU_LIGHT_POINT;
-    o->cos_outer = cosf(l->outer_cone);
-    o->cos_inner = cosf(l->inner_cone);
-  }
+  convert_lights(s, lights);
   r = make(g, &gs->materials, "scene.materials", mats, (uint64_t)s->material_count * sizeof *mats);
   if (r != PB_OK) goto fail;
   r = make(g, &gs->textures, "scene.textures", texs, (uint64_t)s->texture_count * sizeof *texs);
@@ -197,7 +227,12 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   if (r != PB_OK) goto fail;
   r = build_emitters(s, &emitters, &gs->emitter_count);
   if (r != PB_OK) goto fail;
-  r = make(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters);
+  /* Room for every emissive triangle: a pose can give area to one that had
+   * none (pb_gpu_scene_update). */
+  gs->emitter_capacity = emissive_triangles(s);
+  if (gs->emitter_capacity < gs->emitter_count) gs->emitter_capacity = gs->emitter_count;
+  r = make_cap(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters,
+               (uint64_t)gs->emitter_capacity * sizeof *emitters);
   if (r != PB_OK) goto fail;
   if (gs->emitter_count)
     pb_log_verbose("gpu: %u emissive triangles in the light-sampling table", gs->emitter_count);
@@ -220,4 +255,93 @@ fail:
   free(emitters);
   pb_gpu_scene_destroy(g, gs);
   return r;
+}
+
+/* Refit against rebuild, measured by bench/anim.c (pb_bench_anim) on a
+ * 2-core AMD EPYC VM with Mesa lavapipe (bench/README.md, "Animated scenes:
+ * BVH refit against rebuild"): see PB_BVH_REFIT_MAX_SAH there. A refit costs
+ * a linear sweep on the host and an upload of the same bytes; a rebuild an
+ * Embree SAH build. The refitted tree's rays slow down as its SAH cost grows,
+ * so AUTO refits while that cost stays within PB_BVH_REFIT_MAX_SAH of the last
+ * build's and rebuilds beyond. */
+#ifndef PB_BVH_REFIT_MAX_SAH
+#define PB_BVH_REFIT_MAX_SAH 1.3
+#endif
+
+pb_result pb_gpu_scene_update(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs, int mode, double *ms) {
+  double t0 = pb_time_now();
+  const char *path = s->path ? s->path : "scene";
+  if (ms) *ms = 0;
+  if (mode != PB_BVH_UPDATE_AUTO && mode != PB_BVH_UPDATE_REFIT && mode != PB_BVH_UPDATE_REBUILD)
+    return pb_fail(PB_ERR_USAGE, "%s: pb_gpu_scene_update: mode %d is not AUTO, REFIT or REBUILD", path, mode);
+  if (s->vertex_count != gs->vertex_count || s->triangle_count != gs->triangle_count || s->light_count != gs->light_count ||
+      s->material_count != gs->material_count)
+    return pb_fail(PB_ERR_USAGE,
+                   "%s: pb_gpu_scene_update: the scene has %u vertices, %u triangles, %u lights, %u materials; the GPU scene "
+                   "was made from %u, %u, %u, %u",
+                   path, s->vertex_count, s->triangle_count, s->light_count, s->material_count, gs->vertex_count,
+                   gs->triangle_count, gs->light_count, gs->material_count);
+  pb_result r = PB_OK;
+  int rebuild = mode == PB_BVH_UPDATE_REBUILD;
+  if (!rebuild) {
+    r = pb_bvh_refit(s, &gs->bvh);
+    if (r != PB_OK) { /* a triangle of the tree is no longer finite */
+      pb_error_clear();
+      rebuild = 1;
+    } else {
+      gs->sah = pb_bvh_sah_cost(&gs->bvh);
+      gs->refits++;
+      if (mode == PB_BVH_UPDATE_AUTO && gs->sah > PB_BVH_REFIT_MAX_SAH * gs->sah_built) rebuild = 1;
+    }
+  }
+  if (rebuild) {
+    pb_bvh nb;
+    r = pb_bvh_build(s, &nb);
+    if (r != PB_OK) return r;
+    if (nb.node_count > gs->node_capacity || nb.tri_count != gs->bvh.tri_count) {
+      uint32_t need = nb.node_count, tris = nb.tri_count;
+      pb_bvh_destroy(&nb);
+      if (mode == PB_BVH_UPDATE_REBUILD || gs->refits == 0 || tris != gs->bvh.tri_count)
+        return pb_fail(PB_ERR_LIMIT,
+                       "%s: BVH rebuild needs %u nodes and %u triangles, the GPU scene holds %u and %u (make it from a "
+                       "scene with animation)",
+                       path, need, tris, gs->node_capacity, gs->bvh.tri_count);
+      pb_log_verbose("gpu: BVH rebuild does not fit the node buffer; keeping the refit");
+    } else {
+      pb_bvh_destroy(&gs->bvh);
+      gs->bvh = nb;
+      gs->sah_built = gs->sah = pb_bvh_sah_cost(&gs->bvh);
+      gs->refits = 0;
+    }
+  }
+  r = pb_gpu_buffer_upload(g, &gs->nodes, 0, gs->bvh.nodes, (uint64_t)gs->bvh.node_count * sizeof(pb_gpu_bvh_node));
+  if (r == PB_OK) r = pb_gpu_buffer_upload(g, &gs->tris, 0, gs->bvh.tris, (uint64_t)gs->bvh.tri_count * sizeof(pb_gpu_tri));
+  if (r == PB_OK && s->vertex_count)
+    r = pb_gpu_buffer_upload(g, &gs->positions, 0, s->positions, (uint64_t)s->vertex_count * 12);
+  if (r == PB_OK && s->vertex_count && s->normals)
+    r = pb_gpu_buffer_upload(g, &gs->normals, 0, s->normals, (uint64_t)s->vertex_count * 12);
+  if (r != PB_OK) return r;
+  if (s->light_count) {
+    pb_gpu_light *lights = calloc(s->light_count, sizeof *lights);
+    if (!lights) return pb_fail(PB_ERR_NOMEM, "out of memory preparing the scene for the GPU");
+    convert_lights(s, lights);
+    r = pb_gpu_buffer_upload(g, &gs->lights, 0, lights, (uint64_t)s->light_count * sizeof *lights);
+    free(lights);
+    if (r != PB_OK) return r;
+  }
+  if (gs->emitter_capacity) {
+    pb_gpu_emitter *emitters = NULL;
+    uint32_t count = 0;
+    if ((r = build_emitters(s, &emitters, &count)) != PB_OK) return r;
+    if (count > gs->emitter_capacity) { /* cannot happen: capacity counts every emissive triangle */
+      free(emitters);
+      return pb_fail(PB_ERR_INTERNAL, "%s: %u emitters, room for %u", path, count, gs->emitter_capacity);
+    }
+    if (count) r = pb_gpu_buffer_upload(g, &gs->emitters, 0, emitters, (uint64_t)count * sizeof *emitters);
+    free(emitters);
+    if (r != PB_OK) return r;
+    gs->emitter_count = count;
+  }
+  if (ms) *ms = (pb_time_now() - t0) * 1e3;
+  return PB_OK;
 }

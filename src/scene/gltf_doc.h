@@ -120,6 +120,29 @@ typedef struct pb_gltf_sampler {
   int32_t mag_filter, min_filter, wrap_s, wrap_t;
 } pb_gltf_sampler;
 
+/* animations[i].samplers[j]: keyframe times (input) and values (output). */
+typedef struct pb_gltf_anim_sampler {
+  int32_t input, output;      /* accessors; -1 when absent */
+  const char *interpolation;  /* "LINEAR" (the default), "STEP",
+                                 "CUBICSPLINE", or whatever the file says */
+} pb_gltf_anim_sampler;
+
+/* animations[i].channels[j]: which sampler drives which node property. */
+typedef struct pb_gltf_anim_channel {
+  int32_t sampler;            /* index into the animation's samplers */
+  int32_t target_node;        /* -1 when absent */
+  const char *path;           /* "translation", "rotation", "scale",
+                                 "weights", or whatever the file says */
+} pb_gltf_anim_channel;
+
+typedef struct pb_gltf_animation {
+  const char *name;
+  pb_gltf_anim_sampler *samplers;
+  size_t sampler_count;
+  pb_gltf_anim_channel *channels;
+  size_t channel_count;
+} pb_gltf_animation;
+
 typedef struct pb_gltf_doc {
   const char *generator;
   const char *const *extensions_used;
@@ -139,6 +162,7 @@ typedef struct pb_gltf_doc {
   pb_gltf_texture *textures; size_t texture_count;
   pb_gltf_image *images; size_t image_count;
   pb_gltf_sampler *samplers; size_t sampler_count;
+  pb_gltf_animation *animations; /* animation_count of them */
   size_t animation_count, animation_channel_count, skin_count;
   void *impl;             /* the shim's own storage */
 } pb_gltf_doc;

@@ -49,6 +49,9 @@ struct Impl {
   std::vector<pb_gltf_texture> textures;
   std::vector<pb_gltf_image> images;
   std::vector<pb_gltf_sampler> samplers;
+  std::vector<std::vector<pb_gltf_anim_sampler>> anim_samplers;
+  std::vector<std::vector<pb_gltf_anim_channel>> anim_channels;
+  std::vector<pb_gltf_animation> animations;
   std::vector<const char *> ext_used, ext_required;
   std::set<std::string> approved;  // files the URI check allowed
 };
@@ -731,6 +734,22 @@ void convert(Impl &m, pb_gltf_doc *doc) {
 
   size_t channels = 0;
   for (auto &a : g.animations) channels += a.channels.size();
+  m.anim_samplers.resize(g.animations.size());
+  m.anim_channels.resize(g.animations.size());
+  for (size_t i = 0; i < g.animations.size(); ++i) {
+    const tinygltf::Animation &a = g.animations[i];
+    for (auto &sm : a.samplers) m.anim_samplers[i].push_back(pb_gltf_anim_sampler{sm.input, sm.output, s(sm.interpolation)});
+    for (auto &ch : a.channels)
+      m.anim_channels[i].push_back(pb_gltf_anim_channel{ch.sampler, ch.target_node, s(ch.target_path)});
+    pb_gltf_animation x{};
+    x.name = s(a.name);
+    x.samplers = m.anim_samplers[i].data();
+    x.sampler_count = m.anim_samplers[i].size();
+    x.channels = m.anim_channels[i].data();
+    x.channel_count = m.anim_channels[i].size();
+    m.animations.push_back(x);
+  }
+  doc->animations = m.animations.data();
   doc->animation_count = g.animations.size();
   doc->animation_channel_count = channels;
   doc->skin_count = g.skins.size();

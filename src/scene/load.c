@@ -13,7 +13,9 @@
 #include "scene/gltf_doc.h"
 #include "scene/scene.h"
 
+#include "scene/anim.h"
 #include "scene/image_decode.h"
+#include "scene/xform.h"
 
 enum {
   MODE_TRIANGLES = 4,
@@ -43,6 +45,7 @@ typedef struct loader {
   uint32_t *image_w, *image_h;
   uint8_t *node_state;        /* cycle detection: 0 new, 1 on stack, 2 done */
   int32_t *parent;
+  struct pb_scene_anim *anim; /* being built (anim.h); moved to s->anim */
 } loader;
 
 /* ---- growth helpers ---------------------------------------------------- */
@@ -196,81 +199,15 @@ static uint32_t read_index(const span *sp, uint64_t i) {
   }
 }
 
-/* ---- transforms (double precision; column-major 4x4 as glTF) ------------ */
-
-typedef struct mat4 { double m[16]; } mat4;
-
-static mat4 mat_mul(const mat4 *a, const mat4 *b) {
-  mat4 r;
-  for (int c = 0; c < 4; ++c)
-    for (int rr = 0; rr < 4; ++rr) {
-      double s = 0;
-      for (int k = 0; k < 4; ++k) s += a->m[k * 4 + rr] * b->m[c * 4 + k];
-      r.m[c * 4 + rr] = s;
-    }
-  return r;
-}
+/* ---- transforms: scene/xform.h ------------------------------------------ */
 
 static mat4 node_local(const pb_gltf_node *n) {
-  mat4 r;
   if (n->has_matrix) {
+    mat4 r;
     memcpy(r.m, n->matrix, sizeof r.m);
     return r;
   }
-  double x = n->rotation[0], y = n->rotation[1], z = n->rotation[2], w = n->rotation[3];
-  double len = sqrt(x * x + y * y + z * z + w * w);
-  if (len > 0) x /= len, y /= len, z /= len, w /= len;
-  double R[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
-                 2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
-                 2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
-  for (int c = 0; c < 3; ++c) {
-    for (int rr = 0; rr < 3; ++rr) r.m[c * 4 + rr] = R[c * 3 + rr] * n->scale[c];
-    r.m[c * 4 + 3] = 0;
-  }
-  r.m[12] = n->translation[0];
-  r.m[13] = n->translation[1];
-  r.m[14] = n->translation[2];
-  r.m[15] = 1;
-  return r;
-}
-
-static void xform_point(const mat4 *M, const double p[3], double o[3]) {
-  for (int r = 0; r < 3; ++r) o[r] = M->m[r] * p[0] + M->m[4 + r] * p[1] + M->m[8 + r] * p[2] + M->m[12 + r];
-}
-static void xform_dir(const mat4 *M, const double v[3], double o[3]) {
-  for (int r = 0; r < 3; ++r) o[r] = M->m[r] * v[0] + M->m[4 + r] * v[1] + M->m[8 + r] * v[2];
-}
-static double det3(const mat4 *M) {
-  const double *m = M->m;
-  return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
-         m[8] * (m[1] * m[6] - m[5] * m[2]);
-}
-/* Inverse-transpose of the upper 3x3 (cofactor matrix / det), for normals. */
-static void normal_matrix(const mat4 *M, double N[9]) {
-  const double *m = M->m;
-  double a = m[0], b = m[4], c = m[8], d = m[1], e = m[5], f = m[9], g = m[2], h = m[6], i = m[10];
-  double cof[9] = {e * i - f * h, -(d * i - f * g), d * h - e * g,
-                   -(b * i - c * h), a * i - c * g, -(a * h - b * g),
-                   b * f - c * e, -(a * f - c * d), a * e - b * d};
-  /* cof is row-major cofactors; (M^-1)^T = cof / det. Sign of det is kept so
-   * the normal keeps pointing out of the (possibly mirrored) surface. */
-  double det = det3(M);
-  for (int k = 0; k < 9; ++k) N[k] = det != 0 ? cof[k] / det : 0;
-}
-static int normalize3(double v[3]) {
-  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (!(l > 1e-30) || !isfinite(l)) return 0;
-  v[0] /= l, v[1] /= l, v[2] /= l;
-  return 1;
-}
-/* A double that becomes a finite float (the scene model stores floats). */
-static int fits_float(double v) { return fabs(v) <= FLT_MAX; }
-static int fits_float3(const double v[3]) { return fits_float(v[0]) && fits_float(v[1]) && fits_float(v[2]); }
-
-static int finite_mat(const mat4 *M) {
-  for (int k = 0; k < 16; ++k)
-    if (!isfinite(M->m[k])) return 0;
-  return 1;
+  return trs_matrix(n->translation, n->rotation, n->scale);
 }
 
 /* ---- images and textures ------------------------------------------------- */
@@ -505,6 +442,276 @@ static int32_t default_material(loader *L) {
   return L->default_material;
 }
 
+/* ---- animations ----------------------------------------------------------
+ * glTF animations are checked like every other accessor user, then kept in
+ * a pb_scene_anim (anim.h) for pb_scene_set_time. All animations of the file
+ * play together on one timeline: Blender exports one action per object as
+ * one animation each, and a file's animations are meant to be seen at once
+ * (a player that picks one would freeze every other object). Channels apply
+ * in file order, so where two animations drive the same node property the
+ * later one wins (warned). Morph "weights" channels and channels on nodes
+ * given by `matrix` (which glTF does not allow to animate) are ignored with a
+ * warning. */
+
+static const char *const anim_paths[] = {"translation", "rotation", "scale"};
+
+static pb_result anim_reserve(loader *L, struct pb_scene_anim *a, uint64_t more) {
+  uint64_t need = (uint64_t)a->local_count + more;
+  if (need <= a->local_cap) return PB_OK;
+  if (need > UINT32_MAX / 2) return pb_fail(PB_ERR_LIMIT, "%s: too many animated vertices (%llu)", L->path, (unsigned long long)need);
+  uint64_t c = a->local_cap ? a->local_cap : 256;
+  while (c < need) c *= 2;
+  void *p = realloc(a->local_pos, (size_t)c * sizeof *a->local_pos);
+  if (p) a->local_pos = p;
+  void *n = p ? realloc(a->local_nrm, (size_t)c * sizeof *a->local_nrm) : NULL;
+  if (n) a->local_nrm = n;
+  if (!p || !n) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for animated vertices", L->path);
+  a->local_cap = (uint32_t)c;
+  return PB_OK;
+}
+
+static pb_result anim_push_node(loader *L, int32_t **arr, uint32_t *cap, uint32_t at, int32_t node) {
+  if (at >= *cap) {
+    uint32_t c = *cap ? *cap : 8;
+    while (c <= at) c *= 2;
+    int32_t *q = realloc(*arr, (size_t)c * sizeof *q);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    for (uint32_t i = *cap; i < c; ++i) q[i] = -1;
+    *arr = q;
+    *cap = c;
+  }
+  (*arr)[at] = node;
+  return PB_OK;
+}
+
+/* Checks animations[ai].samplers[si]'s interpolation and input (key times:
+ * float SCALAR, finite, non-decreasing) and that its output accessor exists. */
+static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp) {
+  pb_gltf_doc *d = L->doc;
+  const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
+  static const int32_t float_only[] = {CT_FLOAT, 0};
+  char w[96];
+  const char *ip = g->interpolation ? g->interpolation : "LINEAR";
+  if (strcmp(ip, "LINEAR") == 0) *interp = PB_ANIM_LINEAR;
+  else if (strcmp(ip, "STEP") == 0) *interp = PB_ANIM_STEP;
+  else if (strcmp(ip, "CUBICSPLINE") == 0) *interp = PB_ANIM_CUBICSPLINE;
+  else
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].samplers[%zu].interpolation: '%s' is not LINEAR, STEP or CUBICSPLINE",
+                   L->path, ai, si, ip);
+  snprintf(w, sizeof w, "animations[%zu].samplers[%zu].input", ai, si);
+  span in;
+  pb_result r = check_accessor(L, g->input, w, 1, float_only, &in);
+  if (r != PB_OK) return r;
+  float prev = 0;
+  for (uint64_t k = 0; k < in.count; ++k) {
+    float v = read_f(&in, k, 0);
+    if (!isfinite(v)) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: time at key %llu is not finite", L->path, w, (unsigned long long)k);
+    if (k > 0 && v < prev)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: times decrease at key %llu (%g after %g)", L->path, w, (unsigned long long)k,
+                     (double)v, (double)prev);
+    prev = v;
+  }
+  if (*interp == PB_ANIM_CUBICSPLINE && in.count < 2)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: CUBICSPLINE needs at least 2 keys, accessor %d has %llu", L->path, w, g->input,
+                   (unsigned long long)in.count);
+  if (g->output < 0 || (size_t)g->output >= d->accessor_count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].samplers[%zu].output: accessor %d does not exist (%zu accessors)",
+                   L->path, ai, si, g->output, d->accessor_count);
+  return PB_OK;
+}
+
+/* Reads animations[ai].samplers[si] for a channel of `path` into a new
+ * pb_anim_sampler: output shape per path, count = keys (x3 for CUBICSPLINE),
+ * every value finite. */
+static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t ai, size_t si, int interp, int path,
+                                      int *negative_scale) {
+  pb_gltf_doc *d = L->doc;
+  const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
+  static const int32_t float_only[] = {CT_FLOAT, 0};
+  static const int32_t rot_types[] = {CT_FLOAT, CT_BYTE, CT_UBYTE, CT_SHORT, CT_USHORT, 0};
+  int comps = path == PB_ANIM_ROTATION ? 4 : 3;
+  char wi[96], wo[128];
+  snprintf(wi, sizeof wi, "animations[%zu].samplers[%zu].input", ai, si);
+  snprintf(wo, sizeof wo, "animations[%zu].samplers[%zu].output (%s)", ai, si, anim_paths[path]);
+  span in, out;
+  pb_result r = check_accessor(L, g->input, wi, 1, float_only, &in);
+  if (r == PB_OK) r = check_accessor(L, g->output, wo, comps, path == PB_ANIM_ROTATION ? rot_types : float_only, &out);
+  if (r != PB_OK) return r;
+  if (out.ct != CT_FLOAT && !out.normalized)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer rotation keys must be normalized (%s)", L->path, g->output, wo);
+  uint64_t per = interp == PB_ANIM_CUBICSPLINE ? 3 : 1;
+  if (out.count != in.count * per)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, %s with %llu keys needs %llu", L->path, wo,
+                   g->output, (unsigned long long)out.count, interp == PB_ANIM_CUBICSPLINE ? "CUBICSPLINE" : "LINEAR/STEP",
+                   (unsigned long long)in.count, (unsigned long long)(in.count * per));
+  pb_anim_sampler *S = &a->samplers[a->sampler_count];
+  memset(S, 0, sizeof *S);
+  S->times = malloc((size_t)in.count * sizeof *S->times);
+  S->values = malloc((size_t)out.count * (size_t)comps * sizeof *S->values);
+  if (!S->times || !S->values) {
+    free(S->times);
+    free(S->values);
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory for %s", L->path, wo);
+  }
+  a->sampler_count++; /* owned by a from here */
+  S->key_count = (uint32_t)in.count;
+  S->comps = comps;
+  S->interp = interp;
+  for (uint64_t k = 0; k < in.count; ++k) S->times[k] = read_f(&in, k, 0);
+  for (uint64_t k = 0; k < out.count; ++k)
+    for (int c = 0; c < comps; ++c) {
+      float v = read_f(&out, k, c);
+      if (!isfinite(v))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: element %llu is not finite", L->path, wo, (unsigned long long)k);
+      if (path == PB_ANIM_SCALE && (per == 1 || k % 3 == 1) && v < 0) *negative_scale = 1;
+      S->values[k * (uint64_t)comps + (uint64_t)c] = v;
+    }
+  return PB_OK;
+}
+
+static pb_result build_anim(loader *L) {
+  pb_gltf_doc *d = L->doc;
+  pb_result r = PB_OK;
+  if (!d->animation_count || !d->animations) return PB_OK;
+  size_t nch = 0;
+  for (size_t ai = 0; ai < d->animation_count; ++ai) nch += d->animations[ai].channel_count;
+  struct pb_scene_anim *a = calloc(1, sizeof *a);
+  if (!a) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  L->anim = a; /* freed by pb_scene_load unless moved to the scene */
+  /* Per node and path: which animation and channel drives it (1-based). */
+  size_t (*owner)[3][2] = calloc(d->node_count + 1, sizeof *owner);
+  a->channels = calloc(nch + 1, sizeof *a->channels);
+  a->samplers = calloc(nch + 1, sizeof *a->samplers);
+  if (!owner || !a->channels || !a->samplers) {
+    free(owner);
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  }
+  int negative_scale = 0;
+  for (size_t ai = 0; ai < d->animation_count && r == PB_OK; ++ai) {
+    const pb_gltf_animation *an = &d->animations[ai];
+    int *interp = calloc(an->sampler_count + 1, sizeof *interp);
+    if (!interp) r = pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    for (size_t si = 0; si < an->sampler_count && r == PB_OK; ++si) r = check_anim_sampler(L, ai, si, &interp[si]);
+    for (size_t ci = 0; ci < an->channel_count && r == PB_OK; ++ci) {
+      const pb_gltf_anim_channel *ch = &an->channels[ci];
+      if (ch->sampler < 0 || (size_t)ch->sampler >= an->sampler_count) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].channels[%zu].sampler: %d does not exist (%zu samplers)", L->path, ai,
+                    ci, ch->sampler, an->sampler_count);
+        break;
+      }
+      const char *ps = ch->path ? ch->path : "";
+      int path = -1;
+      for (int k = 0; k < 3; ++k)
+        if (strcmp(ps, anim_paths[k]) == 0) path = k;
+      if (path < 0 && strcmp(ps, "weights") != 0 && strcmp(ps, "pointer") != 0) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].channels[%zu].target.path: '%s' is not translation, rotation, scale or weights",
+                    L->path, ai, ci, ps);
+        break;
+      }
+      if (ch->target_node != -1 && (ch->target_node < 0 || (size_t)ch->target_node >= d->node_count)) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].channels[%zu].target.node: %d does not exist (%zu nodes)", L->path, ai,
+                    ci, ch->target_node, d->node_count);
+        break;
+      }
+      if (path < 0) {
+        r = warn(L, "animations[%zu].channels[%zu]: '%s' channel ignored (morph targets and animation pointers are not animated)",
+                 ai, ci, ps);
+        continue;
+      }
+      if (ch->target_node == -1) {
+        r = warn(L, "animations[%zu].channels[%zu].target: no node; channel ignored", ai, ci);
+        continue;
+      }
+      int32_t node = ch->target_node;
+      if (d->nodes[node].has_matrix) {
+        r = warn(L, "animations[%zu].channels[%zu]: nodes[%d] is given by a matrix, which glTF does not allow to animate; channel ignored",
+                 ai, ci, node);
+        continue;
+      }
+      size_t *own = owner[node][path];
+      if (own[0] == ai + 1) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].channels[%zu].target: nodes[%d].%s is already animated by channels[%zu]",
+                    L->path, ai, ci, node, anim_paths[path], own[1] - 1);
+        break;
+      }
+      if (own[0] &&
+          (r = warn(L, "animations[%zu].channels[%zu]: nodes[%d].%s is also animated by animations[%zu].channels[%zu]; the later one wins",
+                    ai, ci, node, anim_paths[path], own[0] - 1, own[1] - 1)) != PB_OK)
+        break;
+      own[0] = ai + 1;
+      own[1] = ci + 1;
+      uint32_t sidx = a->sampler_count;
+      if ((r = convert_anim_sampler(L, a, ai, (size_t)ch->sampler, interp[ch->sampler], path, &negative_scale)) != PB_OK) break;
+      a->channels[a->channel_count++] = (pb_anim_channel){.sampler = sidx, .node = node, .path = path};
+    }
+    free(interp);
+  }
+  free(owner);
+  if (r != PB_OK) return r;
+  if (negative_scale &&
+      (r = warn(L, "animations: negative scale keys; a pose mirrored differently from the rest pose keeps the rest pose's winding")) != PB_OK)
+    return r;
+  if (a->channel_count == 0) { /* nothing to pose */
+    pb_scene_anim_destroy(a);
+    L->anim = NULL;
+    return PB_OK;
+  }
+  a->node_count = (uint32_t)d->node_count;
+  a->nodes = calloc(d->node_count + 1, sizeof *a->nodes);
+  a->order = calloc(d->node_count + 1, sizeof *a->order);
+  a->trs = calloc(d->node_count + 1, sizeof *a->trs);
+  a->world = calloc(d->node_count + 1, sizeof *a->world);
+  if (!a->nodes || !a->order || !a->trs || !a->world) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  for (size_t i = 0; i < d->node_count; ++i) {
+    const pb_gltf_node *n = &d->nodes[i];
+    pb_anim_node *o = &a->nodes[i];
+    o->parent = L->parent[i];
+    o->has_matrix = n->has_matrix;
+    o->matrix = node_local(n);
+    memcpy(o->t, n->translation, sizeof o->t);
+    memcpy(o->r, n->rotation, sizeof o->r);
+    memcpy(o->s, n->scale, sizeof o->s);
+  }
+  /* A node with a channel is animated; visit() passes it down the tree. */
+  for (uint32_t i = 0; i < a->channel_count; ++i) a->nodes[a->channels[i].node].animated = 1;
+  return PB_OK;
+}
+
+/* The union of the key times of the samplers in use. */
+static void anim_range(const struct pb_scene_anim *a, double *start, double *end) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (uint32_t i = 0; i < a->sampler_count; ++i) {
+    const pb_anim_sampler *S = &a->samplers[i];
+    lo = fmin(lo, S->times[0]);
+    hi = fmax(hi, S->times[S->key_count - 1]);
+  }
+  *start = lo <= hi ? lo : 0;
+  *end = lo <= hi ? hi : 0;
+}
+
+/* Once every camera (a synthesized one included) and light exists: their
+ * nodes for the whole arrays, and their rest frames. */
+static pb_result anim_finish(loader *L, struct pb_scene_anim *a) {
+  pb_scene *s = L->s;
+  pb_result r = PB_OK;
+  if (s->camera_count) r = anim_push_node(L, &a->camera_node, &a->camera_cap, s->camera_count - 1,
+                                          a->camera_cap >= s->camera_count ? a->camera_node[s->camera_count - 1] : -1);
+  if (r == PB_OK && s->light_count)
+    r = anim_push_node(L, &a->light_node, &a->light_cap, s->light_count - 1,
+                       a->light_cap >= s->light_count ? a->light_node[s->light_count - 1] : -1);
+  if (r != PB_OK) return r;
+  a->camera_frame = calloc(s->camera_count + 1, sizeof *a->camera_frame);
+  a->light_dir = calloc(s->light_count + 1, sizeof *a->light_dir);
+  if (!a->camera_frame || !a->light_dir) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  for (uint32_t i = 0; i < s->camera_count; ++i) {
+    memcpy(a->camera_frame[i], s->cameras[i].forward, 3 * sizeof(float));
+    memcpy(a->camera_frame[i] + 3, s->cameras[i].up, 3 * sizeof(float));
+    memcpy(a->camera_frame[i] + 6, s->cameras[i].right, 3 * sizeof(float));
+  }
+  for (uint32_t i = 0; i < s->light_count; ++i) memcpy(a->light_dir[i], s->lights[i].direction, 3 * sizeof(float));
+  return PB_OK;
+}
+
 /* ---- meshes -------------------------------------------------------------- */
 
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
@@ -605,6 +812,13 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     s->triangle_material = q;
   }
 
+  /* Under an animated node the local-space vertices are kept for posing. */
+  struct pb_scene_anim *an = L->anim && L->anim->nodes[node].animated ? L->anim : NULL;
+  uint32_t local = 0;
+  if (an) {
+    if ((r = anim_reserve(L, an, nverts)) != PB_OK) return r;
+    local = an->local_count;
+  }
   int flip = det3(M) < 0; /* a mirroring transform reverses the winding */
   double N[9];
   normal_matrix(M, N);
@@ -622,6 +836,8 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       if (!normalize3(nw)) nw[0] = nw[1] = 0, nw[2] = 0; /* fixed below from the face */
       float *P = s->positions[base + i], *Nn = s->normals[base + i], *U = s->uvs[base + i];
       for (int c = 0; c < 3; ++c) P[c] = (float)pw[c], Nn[c] = (float)nw[c];
+      if (an)
+        for (int c = 0; c < 3; ++c) an->local_pos[local + i][c] = (float)pl[c], an->local_nrm[local + i][c] = (float)nl[c];
       U[0] = has_uv ? read_f(&uv, i, 0) : 0.0f;
       U[1] = has_uv ? read_f(&uv, i, 1) : 0.0f;
       if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
@@ -669,6 +885,9 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       for (int c = 0; c < 3; ++c) {
         uint32_t o = s->vertex_count++;
         for (int a = 0; a < 3; ++a) s->positions[o][a] = (float)pw[c][a], s->normals[o][a] = (float)fn[a];
+        if (an)
+          for (int a = 0; a < 3; ++a)
+            an->local_pos[local + (o - base)][a] = read_f(&pos, v[c], a), an->local_nrm[local + (o - base)][a] = 0;
         s->uvs[o][0] = has_uv ? read_f(&uv, v[c], 0) : 0.0f;
         s->uvs[o][1] = has_uv ? read_f(&uv, v[c], 1) : 0.0f;
         out[c] = o;
@@ -694,6 +913,19 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
           for (int a2 = 0; a2 < 3; ++a2) Nn[a2] = (float)fn[a2];
         }
       }
+  if (an && s->vertex_count > base) {
+    if (an->range_count == an->range_cap) {
+      uint32_t c = an->range_cap ? 2 * an->range_cap : 16;
+      void *q = realloc(an->ranges, (size_t)c * sizeof *an->ranges);
+      if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+      an->ranges = q;
+      an->range_cap = c;
+    }
+    an->ranges[an->range_count++] = (pb_anim_range){.node = node, .first_vertex = base, .vertex_count = s->vertex_count - base,
+                                                    .first_tri = tri_base, .tri_count = s->triangle_count - tri_base,
+                                                    .local = local, .flat = !has_n};
+    an->local_count += s->vertex_count - base;
+  }
   if (dropped)
     return warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
                 (unsigned long long)dropped);
@@ -869,6 +1101,12 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: reached twice (listed in a scene and as a child?)", L->path, node);
   L->node_state[node] = 1;
   const pb_gltf_node *n = &d->nodes[node];
+  struct pb_scene_anim *an = L->anim;
+  if (an) {
+    an->order[an->order_count++] = node;
+    int32_t p = an->nodes[node].parent;
+    if (p >= 0 && an->nodes[p].animated) an->nodes[node].animated = 1;
+  }
   mat4 local = node_local(n);
   mat4 M = mat_mul(parent, &local);
   if (!finite_mat(&M))
@@ -882,8 +1120,11 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
     for (size_t pi = 0; pi < d->meshes[n->mesh].primitive_count; ++pi)
       if ((r = add_primitive(L, node, n->mesh, pi, &M)) != PB_OK) return r;
   }
+  uint32_t nc = L->s->camera_count, nl = L->s->light_count;
   if (n->camera != -1 && (r = add_camera(L, node, &M)) != PB_OK) return r;
   if (n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
+  if (an && L->s->camera_count > nc && (r = anim_push_node(L, &an->camera_node, &an->camera_cap, nc, node)) != PB_OK) return r;
+  if (an && L->s->light_count > nl && (r = anim_push_node(L, &an->light_node, &an->light_cap, nl, node)) != PB_OK) return r;
   for (size_t c = 0; c < n->child_count; ++c)
     if ((r = visit(L, n->children[c], &M, depth + 1)) != PB_OK) return r;
   return PB_OK;
@@ -1025,6 +1266,7 @@ static pb_result load(loader *L) {
     s->material_count++;
   }
   if ((r = check_nodes(L)) != PB_OK) return r;
+  if ((r = build_anim(L)) != PB_OK) return r;
 
   /* The scene to show: `scene`, else scenes[0], else every root node. */
   mat4 I;
@@ -1070,11 +1312,18 @@ static pb_result load(loader *L) {
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
     if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
   }
+  struct pb_scene_anim *an = L->anim;
+  if (an) { /* s owns it from here */
+    s->anim = an;
+    L->anim = NULL;
+    anim_range(an, &s->anim_start, &s->anim_end);
+  }
   pb_scene_finalize(s);
   if (s->camera_count == 0) {
     if ((r = synthesize_camera(L)) != PB_OK) return r;
     if ((r = warn(L, "cameras: none in the scene; using a default camera framing the bounds")) != PB_OK) return r;
   }
+  if (an && (r = anim_finish(L, an)) != PB_OK) return r;
   if (s->triangle_count == 0 && (r = warn(L, "meshes: no triangles to render")) != PB_OK) return r;
   if (s->light_count == 0 && !(s->features & PB_FEATURE_EMISSIVE) &&
       (r = warn(L, "lights: none, and no emissive material: the render will be black")) != PB_OK)
@@ -1114,6 +1363,7 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   free(L.texture_map);
   free(L.node_state);
   free(L.parent);
+  pb_scene_anim_destroy(L.anim);
   pb_gltf_doc_destroy(&doc);
   if (r != PB_OK) pb_scene_destroy(out);
   return r;

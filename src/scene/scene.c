@@ -1,6 +1,8 @@
 /* The scene model's own operations (the glTF loader is load.c). */
 #include "scene/scene.h"
 
+#include "scene/anim.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -65,7 +67,7 @@ pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...) {
   return PB_OK;
 }
 
-void pb_scene_finalize(pb_scene *s) {
+void pb_scene_update_bounds(pb_scene *s) {
   for (int k = 0; k < 3; ++k) {
     s->bounds_min[k] = INFINITY;
     s->bounds_max[k] = -INFINITY;
@@ -81,6 +83,10 @@ void pb_scene_finalize(pb_scene *s) {
     }
   if (s->triangle_count == 0)
     for (int k = 0; k < 3; ++k) s->bounds_min[k] = s->bounds_max[k] = 0;
+}
+
+void pb_scene_finalize(pb_scene *s) {
+  pb_scene_update_bounds(s);
 
   uint32_t f = 0;
   uint8_t *used = calloc(s->material_count ? s->material_count : 1, 1);
@@ -101,7 +107,7 @@ void pb_scene_finalize(pb_scene *s) {
     if (m->alpha_mode != PB_ALPHA_OPAQUE) f |= PB_FEATURE_ALPHA;
   }
   free(used);
-  if (s->animation_count) f |= PB_FEATURE_ANIMATION;
+  if (s->anim) f |= PB_FEATURE_ANIMATION;
   s->features = f;
 }
 
@@ -205,5 +211,6 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->cameras);
   for (uint32_t i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
   free(s->warnings);
+  pb_scene_anim_destroy(s->anim);
   memset(s, 0, sizeof *s);
 }

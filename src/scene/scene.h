@@ -164,8 +164,18 @@ typedef struct pb_scene {
   pb_camera *cameras;
   uint32_t camera_count;
 
-  uint32_t animation_count;  /* glTF animations (sampled in a later stage) */
+  uint32_t animation_count;  /* glTF animations in the file */
   uint32_t animation_channel_count;
+  /* Node animation (translation / rotation / scale channels), posed by
+   * pb_scene_set_time. Opaque; NULL when the file has no usable channel
+   * (none, or only morph "weights" and channels on `matrix` nodes, which
+   * are ignored with a warning). Every animation of the file plays at once on
+   * one timeline (Blender exports one action per object). anim_start,
+   * anim_end: seconds, the union of the key times of the samplers those
+   * channels use; 0, 0 without anim. After loading, the arrays hold the rest
+   * pose (the nodes' own TRS), which need not be the pose at any time. */
+  struct pb_scene_anim *anim;
+  double anim_start, anim_end;
 
   float bounds_min[3], bounds_max[3];
   uint32_t features;   /* PB_FEATURE_* */
@@ -204,6 +214,21 @@ void pb_scene_destroy(pb_scene *s);
 /* Adds a warning (printf format). Returns PB_ERR_NOMEM on failure. */
 pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+
+/* Poses the scene at time t seconds, clamped to [anim_start, anim_end] (glTF
+ * holds the first and last keys outside them): rewrites positions, normals
+ * (inverse-transpose, unit length), cameras (position and frame), lights
+ * (position, direction) and the bounds, all relative to pb_scene.origin as
+ * the static load is. Topology, triangle order, materials, counts and
+ * features never change: triangle i is the same triangle at every time (for
+ * motion vectors and BVH refits). A deterministic function of t (not of
+ * earlier calls). PB_OK and nothing changed for scenes without anim.
+ * Sampling per glTF 2.0 Appendix C: STEP, LINEAR (rotations: slerp on the
+ * shorter arc), CUBICSPLINE (Hermite, tangents times the key interval;
+ * rotations normalised). Errors: PB_ERR_USAGE for t NaN; PB_ERR_SCENE_INVALID
+ * when the pose leaves float range (the scene is then partly posed: pose it
+ * at another time before use). Not thread-safe on one scene. */
+pb_result pb_scene_set_time(pb_scene *s, double t);
 
 /* Recomputes bounds and features from the arrays (loaders and code-built test
  * scenes call it once the arrays are filled). */
