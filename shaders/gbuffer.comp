@@ -22,10 +22,12 @@ void main() {
   uint px = pixel % frame.width, py = pixel / frame.width;
   uint s = pass.sample_index;
 
-  // Sample position in the pixel: centre for one sample; otherwise the
-  // sample's cell of an m x m grid (m = ceil(sqrt(spp))), jittered.
+  // Sample position in the pixel: centre for one sample (unless the frame
+  // asks for jitter: the still frames of a sequence, which accumulate into
+  // a box-filtered pixel); otherwise the sample's cell of an m x m grid
+  // (m = ceil(sqrt(spp))), jittered.
   vec2 jitter = vec2(0.5);
-  if (frame.spp > 1u) {
+  if (frame.spp > 1u || (frame.flags & PB_GPU_FRAME_JITTER) != 0u) {
     uint m = uint(ceil(sqrt(float(frame.spp))));
     uint cell = s % (m * m);
     jitter = (vec2(float(cell % m), float(cell / m)) +

@@ -78,7 +78,16 @@ void main() {
   vec3 hist = vec3(0.0);
   float len = 0.0, w = 0.0;
   vec4 mv = motion[gid];
-  if (push.has_history != 0u && mv.w > 0.0) {
+  if (push.has_history != 0u && push.still != 0u) {
+    // Nothing moved: the history is this pixel's own. No edge-stopping: the
+    // still frames of a sequence jitter their samples in the pixel, and the
+    // differences that makes in depth and normal are anti-aliasing, not
+    // disocclusion. A pixel that had no surface has no history (L = 0).
+    vec4 h = hist_in[gid];
+    hist = h.rgb;
+    len = h.w;
+    w = len > 0.0 ? 1.0 : 0.0;
+  } else if (push.has_history != 0u && mv.w > 0.0) {
     int x = int(gid % push.width), y = int(gid / push.width);
     float gx = pb_grad(gp.w, pb_depth(x - 1, y), pb_depth(x + 1, y));
     float gy = pb_grad(gp.w, pb_depth(x, y - 1), pb_depth(x, y + 1));

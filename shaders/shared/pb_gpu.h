@@ -177,6 +177,7 @@ PB_STRUCT(pb_gpu_frame) {
   uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
+PB_CONST(PB_GPU_FRAME_JITTER, 2u)      /* jitter the sample in the pixel also at 1 spp */
 
 /* G-buffer entry of one pixel for the current sample, 64 bytes: the first
  * non-delta surface along the eye path (after any specular chain), in world

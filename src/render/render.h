@@ -118,6 +118,8 @@ typedef struct pb_render_desc {
                                   (probabilistic SPPM, frame.c) */
   float alpha;                 /* progressive: radius^2 kept per iteration,
                                   in (0, 1); 0: 2/3 */
+  int jitter;                  /* 1: jittered sample positions also at 1
+                                  spp (still frames of a sequence) */
   uint32_t iteration_base;     /* progressive: iterations already averaged
                                   by earlier frames of a still view
                                   (sequence.h); the radius schedule goes on

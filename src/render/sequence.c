@@ -22,6 +22,11 @@ struct pb_sequence {
   int has_prev;
   float *motion;
   uint32_t still_iterations; /* photon maps averaged by the still run so far */
+  /* Still runs: running means of what the temporal filter does not see
+   * (beauty minus indirect: emission, direct light, caustics; and the
+   * direct and caustic AOVs) over the run's frames. */
+  float *acc_rest, *acc_direct, *acc_caustic;
+  uint32_t acc_frames;
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
@@ -30,6 +35,9 @@ void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   free(q->prev_positions);
   free(q->prev_lights);
   free(q->motion);
+  free(q->acc_rest);
+  free(q->acc_direct);
+  free(q->acc_caustic);
   free(q);
 }
 
@@ -51,8 +59,11 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   q->prev_positions = malloc((size_t)(s->vertex_count ? s->vertex_count : 1) * sizeof *q->prev_positions);
   q->prev_lights = malloc((size_t)(s->light_count ? s->light_count : 1) * sizeof *q->prev_lights);
   q->motion = malloc(n * PB_MOTION_CHANNELS * sizeof *q->motion);
+  q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
+  q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
+  q->acc_caustic = malloc(n * 3 * sizeof *q->acc_caustic);
   pb_result r = PB_OK;
-  if (!q->prev_positions || !q->prev_lights || !q->motion) {
+  if (!q->prev_positions || !q->prev_lights || !q->motion || !q->acc_rest || !q->acc_direct || !q->acc_caustic) {
     r = pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", width, height);
     goto fail;
   }
@@ -115,6 +126,34 @@ static uint64_t mix_seed(uint64_t seed, uint32_t index) {
   return z ^ (z >> 31);
 }
 
+/* Progressive rendering of a still run: the temporal filter already keeps
+ * the cumulative mean of the indirect light; the rest of the frame (beauty
+ * minus indirect, and the direct and caustic AOVs) is averaged here, so the
+ * whole picture converges. A frame that moved starts a new run. */
+static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
+  size_t n = (size_t)q->width * q->height;
+  if (!still) q->acc_frames = 0;
+  float k = (float)q->acc_frames, inv = 1.0f / (k + 1.0f);
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 4; ++c) {
+      float rest = out->beauty[4 * i + c] - (c < 3 && out->indirect ? out->indirect[3 * i + c] : 0.0f);
+      float m = q->acc_frames ? (q->acc_rest[4 * i + c] * k + rest) * inv : rest;
+      q->acc_rest[4 * i + c] = m;
+      out->beauty[4 * i + c] = m + (c < 3 && out->indirect ? out->indirect[3 * i + c] : 0.0f);
+    }
+    for (int c = 0; c < 3; ++c) {
+      float d = out->direct[3 * i + c];
+      out->direct[3 * i + c] = q->acc_direct[3 * i + c] = q->acc_frames ? (q->acc_direct[3 * i + c] * k + d) * inv : d;
+      if (out->caustic) {
+        float e = out->caustic[3 * i + c];
+        out->caustic[3 * i + c] = q->acc_caustic[3 * i + c] =
+            q->acc_frames ? (q->acc_caustic[3 * i + c] * k + e) * inv : e;
+      }
+    }
+  }
+  q->acc_frames++;
+}
+
 pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t, pb_render_result *out,
                             pb_sequence_frame_info *info) {
   memset(out, 0, sizeof *out);
@@ -153,6 +192,9 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   uint32_t iters = rd.iterations ? rd.iterations : 1;
   if (!fi.still || !q->has_prev) q->still_iterations = 0;
   rd.iteration_base = rd.progressive ? q->still_iterations : 0;
+  /* Still frames after the first sample new positions in the pixel, so the
+   * run's mean is the box-filtered pixel (progressive anti-aliasing). */
+  if (fi.still && q->has_prev) rd.jitter = 1;
   if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, out)) != PB_OK) return r;
   q->still_iterations += iters;
   int moving = q->has_prev && !fi.still;
@@ -169,6 +211,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
                        .motion = moving ? q->motion : NULL,
                        .still = !moving};
   if ((r = pb_filter_indirect(g, out, &fd)) != PB_OK) goto fail;
+  accumulate(q, out, fi.still && q->has_prev);
   q->has_prev = 1;
   if (info) *info = fi;
   return PB_OK;
