@@ -85,5 +85,13 @@ bench-build: install-deps $(BUILD)/Makefile
 bench: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
+# Animated sequences: per-frame error and flicker with the filters off,
+# temporal, temporal + A-Trous, and the filters' cost at 1920x1080
+# (bench/run_sequences.py; results in bench/results/DEVICE/sequences/).
+.PHONY: bench-sequences
+bench-sequences: install-deps $(BUILD)/Makefile
+	cmake --build $(BUILD) -j $(JOBS) --target photonbridge pb_bench_filters
+	$(BENCH_PYTHON) bench/run_sequences.py --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
