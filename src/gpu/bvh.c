@@ -289,13 +289,13 @@ static double box_area(const float lo[3], const float hi[3]) {
 
 double pb_bvh_sah_cost(const pb_bvh *b) {
   if (!b->node_count) return 0;
-  double root = box_area(b->nodes[0].lo, b->nodes[0].hi), sum = 0;
+  double sum = 0;
   for (uint32_t i = 0; i < b->node_count; ++i) {
     const pb_gpu_bvh_node *n = &b->nodes[i];
     if (n->count == 0 && n->first == 0 && i != 0) continue;
     sum += box_area(n->lo, n->hi) * (n->count ? (double)n->count : 1.0);
   }
-  return root > 0 ? sum / root : 0;
+  return sum;
 }
 
 /* ---- structural check ---------------------------------------------------- */

@@ -41,9 +41,12 @@ void pb_bvh_destroy(pb_bvh *b);
  * the tree is no longer finite (rebuild instead); b is unchanged then. */
 pb_result pb_bvh_refit(const pb_scene *s, pb_bvh *b);
 
-/* Surface-area heuristic cost of the tree relative to its root box: sum over
- * inner nodes of area(box) + sum over leaves of area(box) x triangles, over
- * area(root). Comparable between a tree and its refits. */
+/* Surface-area heuristic cost of the tree, in m^2, not divided by the root's
+ * area: sum over inner nodes of area(box) + sum over leaves of area(box) x
+ * triangles. Compare a tree with its refits: when the scene spreads out (the
+ * root grows), the root-normalised cost of a stale refit can even fall while
+ * its rays slow down 1.5x (bench/README.md, spot_room_debris); this one
+ * follows the slowdown. */
 double pb_bvh_sah_cost(const pb_bvh *b);
 
 /* Structural check: every node reached exactly once from the root (empty

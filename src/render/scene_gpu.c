@@ -257,15 +257,29 @@ fail:
   return r;
 }
 
-/* Refit against rebuild, measured by bench/anim.c (pb_bench_anim) on a
- * 2-core AMD EPYC VM with Mesa lavapipe (bench/README.md, "Animated scenes:
- * BVH refit against rebuild"): see PB_BVH_REFIT_MAX_SAH there. A refit costs
- * a linear sweep on the host and an upload of the same bytes; a rebuild an
- * Embree SAH build. The refitted tree's rays slow down as its SAH cost grows,
- * so AUTO refits while that cost stays within PB_BVH_REFIT_MAX_SAH of the last
- * build's and rebuilds beyond. */
+/* Refit against rebuild, measured with bench/anim.c (pb_bench_anim, scenes
+ * from bench/anim_scenes.py) on a shared 2-core AMD EPYC VM, Mesa lavapipe
+ * 22.3.6 (LLVM 15), 2026-11-30, 640x360 rays, load average 3-5 from other
+ * builds (ray rates +-15 %); tables in bench/README.md, "Animated scenes:
+ * BVH refit against rebuild":
+ *   update, 108-124k triangles: refit 13-16 ms, rebuild 54-81 ms (4-5x;
+ *     one outlier pair 32 / 130 ms);
+ *   2,230 triangles: 0.23 ms against 0.9-1.2 ms;
+ *   random rays, rebuilt tree against the refitted one, by the refit's SAH
+ *   cost over the last build's (pb_bvh_sah_cost, AUTO's gauge):
+ *     <= 1.19: -11..+18 %, within the noise (sun_atrium's columns turning
+ *              and sliding, spot_room's ball and crate, the debris early);
+ *     1.32:    +17 % (spot_room_debris, 48 balls flying apart, at 1 s);
+ *     2.3-3.9: +64-70 % (the debris through the walls, 2-3 s).
+ * Where the rebuild's rays are faster, its extra 40-50 ms is repaid from 0.8e5
+ * to 1.8e5 rays per frame, and a frame of pb_render_frame traces more than
+ * 1e6 (640x360 primary and shadow rays plus 2^18 photon paths); where the
+ * gain is within the noise, the rebuild is not shown to pay at all. So AUTO refits while the ratio stays
+ * at most PB_BVH_REFIT_MAX_SAH = 1.2 and rebuilds beyond (the ratio then
+ * starts again from the new tree). A caller tracing far fewer rays per frame
+ * (a preview) does better with REFIT throughout. */
 #ifndef PB_BVH_REFIT_MAX_SAH
-#define PB_BVH_REFIT_MAX_SAH 1.3
+#define PB_BVH_REFIT_MAX_SAH 1.2
 #endif
 
 pb_result pb_gpu_scene_update(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs, int mode, double *ms) {

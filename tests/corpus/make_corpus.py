@@ -576,6 +576,40 @@ def broken_cases(C, png):
     C.glb(B, "glb_image_view_past_buffer", make_glb(img_doc, gbin), EXIT_INVALID,
           ["bufferViews[4]", "exceeds buffers[0]"])
 
+    # -- animations (issue 6): keys in a second, data-URI buffer
+    def anim(times, values, comps, path="translation", interp=None, node=1, sampler=0):
+        def f(d):
+            blob = f32(*times) + b"".join(f32(*v) for v in values)
+            d["buffers"].append({"byteLength": len(blob),
+                                 "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()})
+            nb, nv, na = len(d["buffers"]) - 1, len(d["bufferViews"]), len(d["accessors"])
+            d["bufferViews"] += [{"buffer": nb, "byteOffset": 0, "byteLength": 4 * len(times)},
+                                 {"buffer": nb, "byteOffset": 4 * len(times), "byteLength": 4 * comps * len(values)}]
+            d["accessors"] += [{"bufferView": nv, "componentType": FLOAT, "count": len(times), "type": "SCALAR"},
+                               {"bufferView": nv + 1, "componentType": FLOAT, "count": len(values),
+                                "type": {3: "VEC3", 4: "VEC4"}[comps]}]
+            s = {"input": na, "output": na + 1}
+            if interp:
+                s["interpolation"] = interp
+            d["animations"] = [{"samplers": [s], "channels": [{"sampler": sampler,
+                                                               "target": {"node": node, "path": path}}]}]
+        return f
+
+    V3 = [(0, 0, 0), (1, 0, 0), (2, 0, 0)]
+    case("anim_times_decrease", EXIT_INVALID, "animations[0].samplers[0].input: times decrease at key 2",
+         anim([0, 2, 1], V3, 3))
+    case("anim_cubic_count", EXIT_INVALID,
+         ["animations[0].samplers[0].output (translation)", "CUBICSPLINE with 2 keys needs 6"],
+         anim([0, 1], V3[:2], 3, interp="CUBICSPLINE"))
+    case("anim_rotation_vec3", EXIT_INVALID, "animations[0].samplers[0].output (rotation) needs 4",
+         anim([0, 1, 2], V3, 3, path="rotation"))
+    case("anim_node_oob", EXIT_INVALID, "animations[0].channels[0].target.node: 99 does not exist",
+         anim([0, 1, 2], V3, 3, node=99))
+    case("anim_sampler_oob", EXIT_INVALID, "animations[0].channels[0].sampler: 4 does not exist",
+         anim([0, 1, 2], V3, 3, sampler=4))
+    case("anim_interpolation_bogus", EXIT_INVALID, "animations[0].samplers[0].interpolation: 'SMOOTH'",
+         anim([0, 1, 2], V3, 3, interp="SMOOTH"))
+
 
 def valid_cases(C, png):
     V = "valid"
