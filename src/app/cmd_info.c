@@ -62,7 +62,11 @@ static void print_text(const pb_scene *s) {
     const pb_texture *t = &s->textures[i];
     printf("  %-20s %ux%u %s\n", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
   }
-  printf("animations %u (%u channels)\n", s->animation_count, s->animation_channel_count);
+  printf("animations %u (%u channels)", s->animation_count, s->animation_channel_count);
+  if (s->anim)
+    printf(", %.4g to %.4g s (render --frames %d:%d at 24 fps)", s->anim_start, s->anim_end,
+           (int)ceil(s->anim_start * 24.0 - 1e-6), (int)floor(s->anim_end * 24.0 + 1e-6));
+  printf("\n");
   printf("features  ");
   if (!s->features) printf(" none (diffuse only)");
   for (uint32_t b = 1; b; b <<= 1)
@@ -164,6 +168,10 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   }
   pb_json_end_array(&j);
   pb_json_int(&j, "animations", s->animation_count);
+  if (s->anim) {
+    pb_json_number(&j, "animation_start_s", s->anim_start);
+    pb_json_number(&j, "animation_end_s", s->anim_end);
+  }
   pb_json_begin_array(&j, "features");
   for (uint32_t b = 1; b; b <<= 1)
     if (s->features & b) pb_json_string(&j, NULL, pb_feature_name(b));
