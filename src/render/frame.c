@@ -11,6 +11,7 @@
 #include "render/photon.h"
 #include "render/plan.h"
 #include "render/atrous.h"
+#include "render/shading_correction.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
@@ -29,6 +30,9 @@ void pb_render_result_destroy(pb_render_result *r) {
   free(r->material);
   free(r->indirect);
   free(r->caustic);
+  free(r->geo_normal);
+  free(r->photon_dir);
+  free(r->shading_normal);
   memset(r, 0, sizeof *r);
 }
 
@@ -108,7 +112,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   /* Band: whole rows whose G-buffer and accumulators each fit one storage
    * buffer (64 bytes per pixel each). Never truncated: a row that does not
    * fit is refused. */
-  uint64_t per_pixel = sizeof(pb_gpu_gbuffer);
+  uint64_t per_pixel = sizeof(pb_gpu_gbuffer) > sizeof(pb_gpu_photon_accum) ? sizeof(pb_gpu_gbuffer) : sizeof(pb_gpu_photon_accum);
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
   if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
   if (max_pixels < width)
@@ -201,6 +205,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.seed_lo = (uint32_t)desc.seed;
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
   fr.flags = desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u;
+  fr.tangent_base = gs->tangent_base;
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
@@ -321,6 +326,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         k_sum += phost[i].indirect[3];
         hit_sum += host[i].beauty[3];
       }
+      if ((r = pb_shading_correction_resolve(s, phost, pixels, fr.pixel_base, n, spp, out)) != PB_OK) goto fail;
     }
   }
   out->width = width;
@@ -345,6 +351,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if (r != PB_OK) goto fail;
     st->nonfinite_values += guard_nonfinite(out, n);
   }
+  if (!desc.no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX); /* eq. 20 */
   st->spp = spp;
   st->timestamps = ts;
   st->gbuffer_ms = ts ? gbuf_ms : -1;
