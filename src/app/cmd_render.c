@@ -196,7 +196,7 @@ int pb_cmd_render(int argc, char **argv) {
   if (help) {
     pb_cli_print_help(stdout, cmd, opts, nopts,
                       "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1),\n"
-                      "indirect, caustic.\n"
+                      "indirect, caustic; geo_normal, photon_dir in scenes with normal maps.\n"
                       "With photon mapping (default unless --direct-only; needs a point, spot or\n"
                       "directional light): also indirect and caustic layers, beauty = emission + direct\n"
                       "+ indirect + caustic.");
@@ -255,12 +255,14 @@ int pb_cmd_render(int argc, char **argv) {
       {"", 4, res.beauty, NULL},      {"direct", 3, res.direct, NULL}, {"albedo", 3, res.albedo, NULL},
       {"normal", 3, res.normal, NULL}, {"depth", 1, res.depth, NULL},  {"material", 1, res.material, NULL},
       {"indirect", 3, res.indirect, NULL}, {"caustic", 3, res.caustic, NULL},
+      /* Scenes with normal maps: seed 001 eq. 20's inputs (render.h). */
+      {"geo_normal", 3, res.geo_normal, NULL}, {"photon_dir", 3, res.photon_dir, NULL},
   };
   char spp_s[32];
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
   const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
-  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? 8 : 6, .attr_names = an,
+  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? (res.geo_normal ? 10 : 8) : 6, .attr_names = an,
                     .attr_values = av, .attr_count = 4};
   r = pb_exr_write(c.out, &ed);
   if (r == PB_OK && o.png) {
