@@ -45,7 +45,7 @@ endforeach()
 # PB_VK_VALIDATION=1: exit 0, an EXR, a PNG and JSON written, and not one
 # validation message on stderr (main() also turns any message, even one from
 # device destruction, into exit 13).
-file(GLOB PB_GPU_CLI_SCENES ${PB_ROOT}/samples/*/*.gltf)
+file(GLOB PB_GPU_CLI_SCENES ${PB_ROOT}/samples/*/*.gltf ${PB_ROOT}/tests/data/normal_map/*.gltf)
 foreach(scene ${PB_GPU_CLI_SCENES})
   get_filename_component(sname ${scene} NAME_WE)
   add_test(NAME gpu_cli_render_${sname}
