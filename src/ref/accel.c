@@ -235,7 +235,7 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
  * ng and n_s (bsdf.c), so light never leaks through the geometric surface. */
 void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) {
   const pb_material *m = o->mat;
-  if (!s->tangents || m->normal_tex < 0 || (uint32_t)m->normal_tex >= s->texture_count) return;
+  if (!s->tangents || !s->uvs || m->normal_tex < 0 || (uint32_t)m->normal_tex >= s->texture_count) return;
   const uint32_t *tri = s->triangles[h->prim];
   float w = 1.0f - h->u - h->v;
   float uv[2] = {0.0f, 0.0f};

@@ -343,7 +343,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     }
     memcpy(raw, out->indirect, 3 * n * sizeof *raw);
     pb_atrous_desc fdesc = {.iterations = desc.atrous_iterations, .gamma = desc.atrous_gamma};
-    r = pb_atrous_filter(g, width, height, out->normal, out->depth, out->albedo, out->indirect, &fdesc, &st->filter_ms);
+    /* With normal maps the filter's edge-stopping uses the geometric normal
+     * (seed 001 24.4.3: the photon irradiance has no normal-map detail to
+     * keep; eq. 20 puts it back after the filter). */
+    const float *fn = out->geo_normal ? out->geo_normal : out->normal;
+    r = pb_atrous_filter(g, width, height, fn, out->depth, out->albedo, out->indirect, &fdesc, &st->filter_ms);
     if (r == PB_OK)
       for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) out->beauty[4 * i + k] += out->indirect[3 * i + k] - raw[3 * i + k];

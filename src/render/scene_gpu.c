@@ -120,7 +120,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   r = make(g, &gs->positions, "scene.positions", s->positions, (uint64_t)s->vertex_count * 12);
   if (r != PB_OK) goto fail;
   gs->has_normals = s->normals != NULL;
-  if (s->tangents && (s->features & PB_FEATURE_NORMAL_MAPS) && s->vertex_count &&
+  if (s->tangents && s->uvs && (s->features & PB_FEATURE_NORMAL_MAPS) && s->vertex_count &&
       (uint64_t)s->vertex_count * 7 < UINT32_MAX) {
     /* Normal maps: the tangents (float[4] per vertex) follow the normals in
      * the same buffer, from float index tangent_base (pb_gpu_frame), so the
@@ -177,7 +177,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->ior = m->ior;
     o->specular = m->specular;
     o->flags = m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0;
-    o->normal_tex = s->tangents ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+    o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;
   }
   uint32_t off = 0;

@@ -25,7 +25,7 @@ static void unit(const float *in, float *out) {
 
 pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_accum *pa, uint32_t pixels,
                                         size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out) {
-  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || !s->tangents) return PB_OK;
+  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || !s->tangents || !s->uvs) return PB_OK;
   if (!out->geo_normal) {
     out->geo_normal = calloc(3 * n, sizeof(float));
     out->photon_dir = calloc(3 * n, sizeof(float));
