@@ -110,8 +110,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   double wall0 = pb_time_now();
 
   /* Band: whole rows whose G-buffer and accumulators each fit one storage
-   * buffer (64 bytes per pixel each). Never truncated: a row that does not
-   * fit is refused. */
+   * buffer (64 bytes per pixel of G-buffer, 80 of photon accumulators).
+   * Never truncated: a row that does not fit is refused. */
   uint64_t per_pixel = sizeof(pb_gpu_gbuffer) > sizeof(pb_gpu_photon_accum) ? sizeof(pb_gpu_gbuffer) : sizeof(pb_gpu_photon_accum);
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
   if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
