@@ -106,18 +106,18 @@ void main() {
   }
   ind *= g.throughput;
   cau *= g.throughput;
-  pb_gpu_photon_accum pa = paccum[gid];
-  pa.indirect += vec4(ind, float(hits));
-  pa.caustic.rgb += cau;
+  // Member by member: scenes without normal maps touch only the first 32
+  // bytes of the 80-byte record.
+  paccum[gid].indirect += vec4(ind, float(hits));
+  paccum[gid].caustic.xyz += cau;
   if (nmap) {
     pb_surface ms = surf;
     pb_apply_normal_map(ms, g.prim, g.u, g.v);
-    if (materials[surf.mat].normal_tex != PB_GPU_NO_TEXTURE) pa.caustic.w += 1.0;
-    if (!any(isnan(dir)) && !any(isinf(dir))) pa.dir += dir;
-    pa.geo.xyz += surf.ng;
-    pa.ns.xyz += ms.ns;
+    if (materials[surf.mat].normal_tex != PB_GPU_NO_TEXTURE) paccum[gid].caustic.w += 1.0;
+    if (!any(isnan(dir)) && !any(isinf(dir))) paccum[gid].dir += dir;
+    paccum[gid].geo.xyz += surf.ng;
+    paccum[gid].ns.xyz += ms.ns;
   }
-  paccum[gid] = pa;
   if ((gp.flags & PB_GATHER_NO_BEAUTY) == 0u) {
     pb_gpu_accum acc = accum[gid];
     acc.beauty.rgb += ind + cau;
