@@ -80,6 +80,9 @@ void main() {
   pb_gpu_gbuffer g = gbuffer[gid];
   if (g.prim == PB_GPU_MISS) return;
   pb_surface surf = pb_surface_from_hit(g.prim, g.u, g.v, -g.wo);
+  // Normal map: the BSDF (and its |cos| below) use n_s; shadow-ray offsets
+  // and side tests keep surf.ng.
+  pb_apply_normal_map(surf, g.prim, g.u, g.v);
   pb_bsdf b = pb_bsdf_setup(surf, g.wo);
   vec3 o_shadow = pb_offset_ray(surf.p, surf.ng);
   vec3 sum = vec3(0.0);

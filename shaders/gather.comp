@@ -41,6 +41,13 @@ void main() {
   vec3 x = surf.p;
   bool box_kernel = (gp.flags & PB_GATHER_CONSTANT_KERNEL) != 0u;
   vec3 ind = vec3(0.0), cau = vec3(0.0);
+  // Seed 001 24.4.3 (eq. 20): in scenes with normal maps, also the
+  // power-weighted incoming direction of the non-caustic photons (dir) and
+  // both normals of this surface. The BSDF above stays the one without the
+  // normal map: the photon density carries the geometric cosine, which
+  // shading_correction.c swaps for the shading one after the filter.
+  bool nmap = frame.tangent_base != 0u;
+  vec4 dir = vec4(0.0);
   uint hits = 0u;
   uint stack[PB_LBVH_STACK];
   uint sp = 0u;
@@ -80,8 +87,15 @@ void main() {
             vec3 f = pb_bsdf_eval(b, g.wo, p.wi);
             vec3 contrib = k * f * p.power;
             if (!any(isnan(contrib)) && !any(isinf(contrib))) {
-              if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) cau += contrib;
-              else ind += contrib;
+              if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) {
+                cau += contrib;
+              } else {
+                ind += contrib;
+                if (nmap) {
+                  float wgt = k * pb_lum(p.power);
+                  if (wgt > 0.0) dir += vec4(p.wi * wgt, wgt);
+                }
+              }
               hits++;
             }
           }
@@ -92,10 +106,18 @@ void main() {
   }
   ind *= g.throughput;
   cau *= g.throughput;
-  pb_gpu_photon_accum pa = paccum[gid];
-  pa.indirect += vec4(ind, float(hits));
-  pa.caustic.rgb += cau;
-  paccum[gid] = pa;
+  // Member by member: scenes without normal maps touch only the first 32
+  // bytes of the 80-byte record.
+  paccum[gid].indirect += vec4(ind, float(hits));
+  paccum[gid].caustic.xyz += cau;
+  if (nmap) {
+    pb_surface ms = surf;
+    pb_apply_normal_map(ms, g.prim, g.u, g.v);
+    if (materials[surf.mat].normal_tex != PB_GPU_NO_TEXTURE) paccum[gid].caustic.w += 1.0;
+    if (!any(isnan(dir)) && !any(isinf(dir))) paccum[gid].dir += dir;
+    paccum[gid].geo.xyz += surf.ng;
+    paccum[gid].ns.xyz += ms.ns;
+  }
   if ((gp.flags & PB_GATHER_NO_BEAUTY) == 0u) {
     pb_gpu_accum acc = accum[gid];
     acc.beauty.rgb += ind + cau;

@@ -59,6 +59,7 @@ void main() {
     uint prim = pb_trace(org, dir, 0.0, uintBitsToFloat(0x7f800000u), false, t, u, v);
     if (prim == PB_GPU_MISS) break;
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
+    pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV
     vec3 wo = -dir;
     pb_bsdf b = pb_bsdf_setup(surf, wo);
     if (chain == 0u) {

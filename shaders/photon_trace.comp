@@ -341,6 +341,13 @@ void pb_trace_path(uint gid) {
       atomicAdd(params.escaped, 1u);
       return;
     }
+    // No normal map here (pb_apply_normal_map is not called): photons bounce
+    // with the interpolated vertex normal as before. The density of photons
+    // arriving on a surface already carries the geometric cosine (seed 001,
+    // 24.4.3: "surfaces with their geometry normals pointing toward the
+    // incoming light direction have a higher probability of being hit by
+    // photons"); the normal map's effect on the gathered indirect light is
+    // restored afterwards by eq. 20 (src/render/shading_correction.c).
     pb_surface surf = pb_surface_from_hit(prim, u, v, d);
     pb_diff_transfer(dPu, dPv, dDu, dDv, d, t, surf.ng);
     vec3 wo = -d;

@@ -59,3 +59,11 @@ set_tests_properties(cli_render_bad_view_leaves_nothing PROPERTIES PASS_REGULAR_
 # GPU work (exit 2).
 pb_cli_test(cli_render_progressive_bad_alpha render samples/cornell_box/cornell_box.gltf -o x.exr --progressive
             --alpha 1.5 EXIT 2 REGEX "--alpha 1.5 must lie in \\(0, 1\\).*exit=2")
+
+# The normal-map test scene (tests/data/normal_map, issue 6 part 4): the
+# loader generates its tangents and the plan compiles normal maps and seed
+# 001's eq. 20 correction in.
+pb_cli_test(cli_info_normal_map info tests/data/normal_map/normal_map.gltf EXIT 0
+            REGEX "\\[normal maps\\].*normal maps on \\(\\+ eq. 20 indirect correction\\).*exit=0")
+pb_cli_test(cli_info_normal_map_json info --json - tests/data/normal_map/normal_map.gltf EXIT 0
+            REGEX "\"normal_maps\": *true.*\"shading_normal_correction\": *true.*exit=0")

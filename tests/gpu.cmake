@@ -33,7 +33,8 @@ endif()
 # The photon LBVH and gather tests open a device like the others: validation
 # layers fatal, skip without a device, and (lavapipe's unnameable leak, above)
 # kept out of the LeakSanitizer run.
-foreach(t test_gpu_lbvh test_gpu_gather test_gpu_faults test_gpu_atrous test_gpu_temporal test_gpu_anim)
+foreach(t test_gpu_lbvh test_gpu_gather test_gpu_faults test_gpu_atrous test_gpu_temporal test_gpu_anim
+        test_gpu_normal_map)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                          LABELS "gpu;no-sanitize" TIMEOUT 900)
@@ -45,7 +46,7 @@ endforeach()
 # PB_VK_VALIDATION=1: exit 0, an EXR, a PNG and JSON written, and not one
 # validation message on stderr (main() also turns any message, even one from
 # device destruction, into exit 13).
-file(GLOB PB_GPU_CLI_SCENES ${PB_ROOT}/samples/*/*.gltf)
+file(GLOB PB_GPU_CLI_SCENES ${PB_ROOT}/samples/*/*.gltf ${PB_ROOT}/tests/data/normal_map/*.gltf)
 foreach(scene ${PB_GPU_CLI_SCENES})
   get_filename_component(sname ${scene} NAME_WE)
   add_test(NAME gpu_cli_render_${sname}

@@ -174,4 +174,58 @@ vec3 pb_emission(pb_surface s) {
 
 #include "common/bsdf.glsl"
 
+// Normal mapping (glTF 2.0, material.normalTexture): in the tangent frame of
+// the interpolated vertex normal N, tangent T (Gram-Schmidt against N at the
+// hit) and bitangent B = cross(N, T) w (glTF TANGENT's handedness),
+//   n_s = normalize(T t.x + B t.y + N t.z),  t = (2 rgb - 1) (scale, scale, 1)
+// with linear (not sRGB) texels. Oriented like s.ns (flipped with it when
+// the hit is on the side opposite the vertex normal). s.ng is untouched: it
+// stays the normal for ray offsets and side tests, and pb_bsdf_setup /
+// pb_bsdf_eval keep their guards (n_s replaced by ng when wo is below it;
+// no reflection unless wi is above both ng and n_s). Identical to the
+// reference's pb_apply_normal_map (src/ref/accel.c). The eye passes (gbuffer,
+// direct) and the gather's n_s accumulator call it; the photon tracer does
+// not (photon_trace.comp).
+void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
+  if (frame.tangent_base == 0u) return;
+  pb_gpu_material m = materials[s.mat];
+  if (m.normal_tex == PB_GPU_NO_TEXTURE) return;
+  float w = 1.0 - u - v;
+  uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
+  vec2 uv = vec2(uvs[2u * i0], uvs[2u * i0 + 1u]) * w + vec2(uvs[2u * i1], uvs[2u * i1 + 1u]) * u +
+            vec2(uvs[2u * i2], uvs[2u * i2 + 1u]) * v;
+  vec3 p0 = pb_position(i0), p1 = pb_position(i1), p2 = pb_position(i2);
+  vec3 n = normalize(cross(p1 - p0, p2 - p0)); // as stored (not facing the ray)
+  if (SC_HAS_NORMALS) {
+    vec3 vn = vec3(normals[3u * i0], normals[3u * i0 + 1u], normals[3u * i0 + 2u]) * w +
+              vec3(normals[3u * i1], normals[3u * i1 + 1u], normals[3u * i1 + 2u]) * u +
+              vec3(normals[3u * i2], normals[3u * i2 + 1u], normals[3u * i2 + 2u]) * v;
+    float l = length(vn);
+    if (l > 1e-12 && !isinf(l) && !isnan(l)) n = vn / l;
+  }
+  uint tb = frame.tangent_base;
+  vec4 t4 = vec4(normals[tb + 4u * i0], normals[tb + 4u * i0 + 1u], normals[tb + 4u * i0 + 2u],
+                 normals[tb + 4u * i0 + 3u]) * w +
+            vec4(normals[tb + 4u * i1], normals[tb + 4u * i1 + 1u], normals[tb + 4u * i1 + 2u],
+                 normals[tb + 4u * i1 + 3u]) * u +
+            vec4(normals[tb + 4u * i2], normals[tb + 4u * i2 + 1u], normals[tb + 4u * i2 + 2u],
+                 normals[tb + 4u * i2 + 3u]) * v;
+  vec3 t = t4.xyz - n * dot(n, t4.xyz);
+  float tl = length(t);
+  vec3 bb;
+  if (tl > 1e-12 && !isinf(tl) && !isnan(tl)) {
+    t /= tl;
+    bb = cross(n, t) * (t4.w < 0.0 ? -1.0 : 1.0);
+  } else {
+    pb_basis(n, t, bb);
+  }
+  vec3 c = pb_texture_sample(m.normal_tex, uv).rgb * 2.0 - 1.0;
+  c.xy *= m.normal_scale;
+  vec3 nm = t * c.x + bb * c.y + n * c.z;
+  float ml = length(nm);
+  if (!(ml > 1e-12) || isinf(ml)) return;
+  nm /= ml;
+  s.ns = dot(n, s.ng) < 0.0 ? -nm : nm;
+}
+
 #endif

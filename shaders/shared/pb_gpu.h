@@ -101,7 +101,13 @@ PB_STRUCT(pb_gpu_material) {
   float specular;
   uint emissive_tex;
   uint flags;                /* PB_GPU_MAT_* */
+  uint normal_tex;           /* glTF normalTexture (linear texels), or
+                                PB_GPU_NO_TEXTURE; only set for scenes with
+                                tangents (pb_gpu_frame.tangent_base) */
+  float normal_scale;        /* normalTexture.scale */
   uint pad0;
+  uint pad1;
+  uint pad2;
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
@@ -172,7 +178,10 @@ PB_STRUCT(pb_gpu_frame) {
   uint pixel_base;       /* first pixel of the band: the image is rendered
                             in bands of rows when its buffers would exceed
                             maxStorageBufferRange */
-  uint pad0;
+  uint tangent_base;     /* normal maps: the vertex tangents (float[4] per
+                            vertex, pb_scene.tangents) start at this float
+                            index of the normals buffer; 0: the scene has
+                            no normal maps */
   uint pad1;
   uint pad2;
 } PB_END(pb_gpu_frame)
@@ -295,11 +304,12 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 80)
+PB_LAYOUT(pb_gpu_material, 96)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
 PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
+PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
 PB_LAYOUT(pb_gpu_texture, 32)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
 PB_LAYOUT(pb_gpu_light, 48)
@@ -315,7 +325,7 @@ PB_OFFSET(pb_gpu_frame, tan_x, 44) PB_OFFSET(pb_gpu_frame, cam_up, 48)
 PB_OFFSET(pb_gpu_frame, tan_y, 60) PB_OFFSET(pb_gpu_frame, spp, 64)
 PB_OFFSET(pb_gpu_frame, emitter_count, 68)
 PB_OFFSET(pb_gpu_frame, seed_lo, 80) PB_OFFSET(pb_gpu_frame, pixel_count, 92)
-PB_OFFSET(pb_gpu_frame, pixel_base, 96)
+PB_OFFSET(pb_gpu_frame, pixel_base, 96) PB_OFFSET(pb_gpu_frame, tangent_base, 100)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)

@@ -34,7 +34,7 @@ static const pb_command *self(void) {
 
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
-  int direct_only, validation, constant_kernel, progressive, radius_histogram;
+  int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
   int first_bounce; /* index into first_bounce_names */
   uint32_t atrous;
   double atrous_gamma;
@@ -208,6 +208,8 @@ int pb_cmd_render(int argc, char **argv) {
        "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
+      {"no-shading-correction", 0, PB_OPT_FLAG, &o.no_shading_correction, NULL,
+       "scenes with normal maps: leave the indirect light without seed 001's eq. 20 correction (24.4.3)", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
       {"device", 0, PB_OPT_U32, &o.device, "N", "Vulkan device (see 'photonbridge info --devices'; default: "
        "a discrete GPU first, lavapipe last)", NULL, 0, 0},
@@ -225,7 +227,7 @@ int pb_cmd_render(int argc, char **argv) {
   if (help) {
     pb_cli_print_help(stdout, cmd, opts, nopts,
                       "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1),\n"
-                      "indirect, caustic.\n"
+                      "indirect, caustic; geo_normal, photon_dir in scenes with normal maps.\n"
                       "With photon mapping (default unless --direct-only; needs a point, spot or\n"
                       "directional light): also indirect and caustic layers, beauty = emission + direct\n"
                       "+ indirect + caustic.");
@@ -280,7 +282,7 @@ int pb_cmd_render(int argc, char **argv) {
   }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
-                       .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel,
+                       .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel, .no_shading_correction = o.no_shading_correction,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
@@ -305,12 +307,14 @@ int pb_cmd_render(int argc, char **argv) {
       {"", 4, res.beauty, NULL},      {"direct", 3, res.direct, NULL}, {"albedo", 3, res.albedo, NULL},
       {"normal", 3, res.normal, NULL}, {"depth", 1, res.depth, NULL},  {"material", 1, res.material, NULL},
       {"indirect", 3, res.indirect, NULL}, {"caustic", 3, res.caustic, NULL},
+      /* Scenes with normal maps: seed 001 eq. 20's inputs (render.h). */
+      {"geo_normal", 3, res.geo_normal, NULL}, {"photon_dir", 3, res.photon_dir, NULL},
   };
   char spp_s[32];
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
   const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
-  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? 8 : 6, .attr_names = an,
+  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? (res.geo_normal ? 10 : 8) : 6, .attr_names = an,
                     .attr_values = av, .attr_count = 4};
   r = pb_exr_write(c.out, &ed);
   if (r == PB_OK && o.png) {

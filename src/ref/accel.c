@@ -219,4 +219,58 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
     o->uv[0] = o->uv[1] = 0.0f;
   }
   o->mat = &s->materials[s->triangle_material[h->prim]];
+  pb_apply_normal_map(s, h, o);
+}
+
+/* Normal mapping, the same computation as shaders/common/scene.glsl's
+ * pb_apply_normal_map (glTF 2.0 normalTexture): in the frame of the
+ * interpolated vertex normal N, the interpolated tangent T (Gram-Schmidt
+ * against N) and B = cross(N, T) w,
+ *   n_s = normalize(T t.x + B t.y + N t.z),  t = (2 rgb - 1) (scale, scale, 1),
+ * linear texels, oriented like o->ns. The reference shades with it at every
+ * vertex of every path (path tracer and photons alike); o->ng stays the
+ * geometric normal for offsets and side tests. The guards are pbrt's
+ * (pbrt-v3 BSDF::f): pb_bsdf_setup falls back to ng when wo is below n_s,
+ * and pb_bsdf_eval / _sample_dir give no reflection unless wi is above both
+ * ng and n_s (bsdf.c), so light never leaks through the geometric surface. */
+void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) {
+  const pb_material *m = o->mat;
+  if (!s->tangents || !s->uvs || m->normal_tex < 0 || (uint32_t)m->normal_tex >= s->texture_count) return;
+  const uint32_t *tri = s->triangles[h->prim];
+  float w = 1.0f - h->u - h->v;
+  float uv[2] = {0.0f, 0.0f};
+  if (s->uvs)
+    for (int k = 0; k < 2; ++k)
+      uv[k] = s->uvs[tri[0]][k] * w + s->uvs[tri[1]][k] * h->u + s->uvs[tri[2]][k] * h->v;
+  v3 p0 = v3_load(s->positions[tri[0]]), p1 = v3_load(s->positions[tri[1]]),
+     p2 = v3_load(s->positions[tri[2]]);
+  v3 n = v3_norm(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0))); /* as stored */
+  if (s->normals) {
+    v3 vn = v3_add(v3_add(v3_scale(v3_load(s->normals[tri[0]]), w), v3_scale(v3_load(s->normals[tri[1]]), h->u)),
+                   v3_scale(v3_load(s->normals[tri[2]]), h->v));
+    float l = v3_len(vn);
+    if (l > 1e-12f && isfinite(l)) n = v3_scale(vn, 1.0f / l);
+  }
+  float t4[4];
+  for (int k = 0; k < 4; ++k)
+    t4[k] = s->tangents[tri[0]][k] * w + s->tangents[tri[1]][k] * h->u + s->tangents[tri[2]][k] * h->v;
+  v3 t = v3_make(t4[0], t4[1], t4[2]);
+  t = v3_sub(t, v3_scale(n, v3_dot(n, t)));
+  float tl = v3_len(t);
+  v3 b;
+  if (tl > 1e-12f && isfinite(tl)) {
+    t = v3_scale(t, 1.0f / tl);
+    b = v3_scale(v3_cross(n, t), t4[3] < 0.0f ? -1.0f : 1.0f);
+  } else {
+    v3_basis(n, &t, &b);
+  }
+  float c[4];
+  pb_texture_sample(&s->textures[m->normal_tex], uv[0], uv[1], c);
+  float cx = (c[0] * 2.0f - 1.0f) * m->normal_scale, cy = (c[1] * 2.0f - 1.0f) * m->normal_scale;
+  float cz = c[2] * 2.0f - 1.0f;
+  v3 nm = v3_add(v3_add(v3_scale(t, cx), v3_scale(b, cy)), v3_scale(n, cz));
+  float ml = v3_len(nm);
+  if (!(ml > 1e-12f) || !isfinite(ml)) return;
+  nm = v3_scale(nm, 1.0f / ml);
+  o->ns = v3_dot(n, o->ng) < 0.0f ? v3_neg(nm) : nm;
 }

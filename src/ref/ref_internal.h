@@ -151,6 +151,9 @@ typedef struct pb_surface {
 
 void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
                          pb_surface *out);
+/* Replaces out->ns by the normal-mapped shading normal where the material has
+ * a normal map and the scene has tangents (called by pb_surface_from_hit). */
+void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *out);
 
 /* The material at one point with textures applied, split into lobes:
  *  D  Lambertian: (1-m)(1-T)(1 - max F_s(n.wo)) base / pi

@@ -20,9 +20,13 @@ pb_result pb_filter_indirect(pb_gpu *g, pb_render_result *res, const pb_filter_d
   memcpy(raw, res->indirect, 3 * n * sizeof *raw);
   pb_result r = PB_OK;
   pb_render_stats *st = &res->stats;
+  /* Edge-stopping on the geometric normal where normal maps bend the
+   * shading one (seed 001 24.4.3: the photon irradiance has no normal-map
+   * detail to keep; eq. 20 puts it back after the filters). */
+  const float *fn = res->geo_normal ? res->geo_normal : res->normal;
   if (d->temporal) {
     pb_temporal_stats ts;
-    r = pb_temporal_apply(g, d->temporal, res->normal, res->depth, res->albedo, d->motion, d->still,
+    r = pb_temporal_apply(g, d->temporal, fn, res->depth, res->albedo, d->motion, d->still,
                           res->indirect, hist, &ts);
     if (r == PB_OK) {
       st->temporal_ms += ts.gpu_ms;
@@ -34,7 +38,7 @@ pb_result pb_filter_indirect(pb_gpu *g, pb_render_result *res, const pb_filter_d
   if (r == PB_OK && d->atrous_iterations) {
     pb_atrous_desc fd = {.iterations = d->atrous_iterations, .gamma = d->atrous_gamma, .history = hist};
     double ms = 0;
-    r = pb_atrous_filter(g, res->width, res->height, res->normal, res->depth, res->albedo, res->indirect, &fd, &ms);
+    r = pb_atrous_filter(g, res->width, res->height, fn, res->depth, res->albedo, res->indirect, &fd, &ms);
     st->filter_ms += ms;
   }
   if (r == PB_OK) {

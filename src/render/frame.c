@@ -11,6 +11,7 @@
 #include "render/photon.h"
 #include "render/plan.h"
 #include "render/filters.h"
+#include "render/shading_correction.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
@@ -29,6 +30,9 @@ void pb_render_result_destroy(pb_render_result *r) {
   free(r->material);
   free(r->indirect);
   free(r->caustic);
+  free(r->geo_normal);
+  free(r->photon_dir);
+  free(r->shading_normal);
   memset(r, 0, sizeof *r);
 }
 
@@ -106,9 +110,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   double wall0 = pb_time_now();
 
   /* Band: whole rows whose G-buffer and accumulators each fit one storage
-   * buffer (64 bytes per pixel each). Never truncated: a row that does not
-   * fit is refused. */
-  uint64_t per_pixel = sizeof(pb_gpu_gbuffer);
+   * buffer (64 bytes per pixel of G-buffer, 80 of photon accumulators).
+   * Never truncated: a row that does not fit is refused. */
+  uint64_t per_pixel = sizeof(pb_gpu_gbuffer) > sizeof(pb_gpu_photon_accum) ? sizeof(pb_gpu_gbuffer) : sizeof(pb_gpu_photon_accum);
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
   if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
   if (max_pixels < width)
@@ -201,6 +205,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.seed_lo = (uint32_t)desc.seed;
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
   fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u);
+  fr.tangent_base = gs->tangent_base;
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
@@ -321,6 +326,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         k_sum += phost[i].indirect[3];
         hit_sum += host[i].beauty[3];
       }
+      if ((r = pb_shading_correction_resolve(s, phost, pixels, fr.pixel_base, n, spp, out)) != PB_OK) goto fail;
     }
   }
   out->width = width;
@@ -329,10 +335,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   st->nonfinite_values = guard_nonfinite(out, n);
   if (photons_on && desc.atrous_iterations) {
     /* The spatial filter (atrous.h) on the indirect AOV (a single frame: no
-     * temporal history; sequences filter in sequence.c). */
+     * temporal history; sequences filter in sequence.c). With normal maps
+     * its edge-stopping uses the geometric normal (filters.c). */
     pb_filter_desc fdesc = {.atrous_iterations = desc.atrous_iterations, .atrous_gamma = desc.atrous_gamma};
     if ((r = pb_filter_indirect(g, out, &fdesc)) != PB_OK) goto fail;
   }
+  if (!desc.no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX); /* eq. 20 */
   st->spp = spp;
   st->timestamps = ts;
   st->gbuffer_ms = ts ? gbuf_ms : -1;

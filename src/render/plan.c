@@ -15,6 +15,7 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   out->photons = !direct_only && s->light_count > 0;
   out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
   out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
+  out->normal_maps = (f & PB_FEATURE_NORMAL_MAPS) != 0 && s->tangents != NULL && s->uvs != NULL;
 }
 
 void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_plan *p) {
@@ -25,5 +26,7 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
   pb_json_bool(j, "specular_eye_paths", p->eye_chains);
   pb_json_bool(j, "emitter_sampling", p->emitter_sampling);
   pb_json_bool(j, "textures", p->textures);
+  pb_json_bool(j, "normal_maps", p->normal_maps);
+  pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);
   pb_json_end_object(j);
 }

@@ -18,6 +18,10 @@ typedef struct pb_render_plan {
   int caustic_photons;   /* photons follow specular chains (photon_trace's
                             SC_SPECULAR) */
   int refraction;        /* photons refract (SC_TRANSMISSION) */
+  int normal_maps;       /* normal-mapped shading normals in the eye passes
+                            (tangents uploaded, pb_gpu_frame.tangent_base)
+                            and, with photons, seed 001's eq. 20 correction
+                            of the indirect light (shading_correction.h) */
 } pb_render_plan;
 
 /* direct_only: render --direct-only (no photon stages). */

@@ -37,6 +37,9 @@ typedef struct pb_gpu_scene {
   uint32_t emitter_count;     /* emissive triangles with power > 0 */
   uint32_t features;          /* PB_FEATURE_* of the scene */
   int has_normals;
+  uint32_t tangent_base;      /* normal maps: float index of the tangents in
+                                 `normals` (pb_gpu_frame.tangent_base); 0:
+                                 none */
   double upload_s;
   /* For pb_gpu_scene_update: the shape of the scene it was made from, and
    * room for a rebuilt BVH (PB_BVH_WIDTH x triangles + 1 nodes, the most a
@@ -114,6 +117,9 @@ typedef struct pb_render_desc {
   float atrous_gamma;          /* its detail clipping in standard
                                   deviations; 0: the filter's default, < 0:
                                   no detail kept (plain A-Trous) */
+  int no_shading_correction;   /* 1: skip seed 001's eq. 20 on the indirect
+                                  AOV in scenes with normal maps
+                                  (shading_correction.h; tests, ablation) */
   int progressive;             /* 1: footprints shrink between iterations
                                   (probabilistic SPPM, frame.c) */
   float alpha;                 /* progressive: radius^2 kept per iteration,
@@ -187,6 +193,15 @@ typedef struct pb_render_result {
                        photon stages are off) */
   float *caustic;   /* RGB: photon gather, caustic photons (NULL when off);
                        beauty = emission + direct + indirect + caustic */
+  /* Seed 001's shading-normal correction (24.4.3, eq. 20;
+   * shading_correction.h), only in scenes with normal maps and the photon
+   * stages on (NULL otherwise), all at the gather surface (the first smooth
+   * vertex after the eye's specular chain), unit length or 0: */
+  float *geo_normal;    /* XYZ geometric normal, facing the eye */
+  float *photon_dir;    /* XYZ power-weighted mean incoming direction wi of
+                           the indirect (non-caustic) photons; 0: none */
+  float *shading_normal;/* XYZW: XYZ the normal-mapped n_s, W the fraction
+                           of samples on a normal-mapped material */
   pb_render_stats stats;
 } pb_render_result;
 

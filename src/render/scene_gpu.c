@@ -164,7 +164,26 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   r = make(g, &gs->positions, "scene.positions", s->positions, (uint64_t)s->vertex_count * 12);
   if (r != PB_OK) goto fail;
   gs->has_normals = s->normals != NULL;
-  r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);
+  if (s->tangents && s->uvs && (s->features & PB_FEATURE_NORMAL_MAPS) && s->vertex_count &&
+      (uint64_t)s->vertex_count * 7 < UINT32_MAX) {
+    /* Normal maps: the tangents (float[4] per vertex) follow the normals in
+     * the same buffer, from float index tangent_base (pb_gpu_frame), so the
+     * passes keep their bindings and scenes without normal maps pay
+     * nothing. */
+    uint64_t nf = (uint64_t)s->vertex_count * 3, tf = (uint64_t)s->vertex_count * 4;
+    float *nt = calloc(nf + tf, sizeof *nt);
+    if (!nt) {
+      r = pb_fail(PB_ERR_NOMEM, "out of memory for the normals and tangents");
+      goto fail;
+    }
+    if (s->normals) memcpy(nt, s->normals, nf * sizeof *nt);
+    memcpy(nt + nf, s->tangents, tf * sizeof *nt);
+    r = make(g, &gs->normals, "scene.normals_tangents", nt, (nf + tf) * sizeof *nt);
+    free(nt);
+    gs->tangent_base = (uint32_t)nf;
+  } else {
+    r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);
+  }
   if (r != PB_OK) goto fail;
   r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
   if (r != PB_OK) goto fail;
@@ -202,6 +221,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->ior = m->ior;
     o->specular = m->specular;
     o->flags = m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0;
+    o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+    o->normal_scale = m->normal_scale;
   }
   uint32_t off = 0;
   for (uint32_t i = 0; i < s->texture_count; ++i) {
@@ -334,6 +355,9 @@ pb_result pb_gpu_scene_update(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs, in
     r = pb_gpu_buffer_upload(g, &gs->positions, 0, s->positions, (uint64_t)s->vertex_count * 12);
   if (r == PB_OK && s->vertex_count && s->normals)
     r = pb_gpu_buffer_upload(g, &gs->normals, 0, s->normals, (uint64_t)s->vertex_count * 12);
+  if (r == PB_OK && gs->tangent_base && s->tangents) /* normal maps: after the normals */
+    r = pb_gpu_buffer_upload(g, &gs->normals, (uint64_t)gs->tangent_base * 4, s->tangents,
+                             (uint64_t)s->vertex_count * 16);
   if (r != PB_OK) return r;
   if (s->light_count) {
     pb_gpu_light *lights = calloc(s->light_count, sizeof *lights);

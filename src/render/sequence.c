@@ -8,6 +8,7 @@
 #include "core/log.h"
 #include "render/filters.h"
 #include "render/motion.h"
+#include "render/shading_correction.h"
 
 struct pb_sequence {
   pb_scene *s;
@@ -188,7 +189,8 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   }
   pb_render_desc rd = q->desc.render;
   rd.seed = mix_seed(q->desc.render.seed, index);
-  rd.atrous_iterations = 0; /* after the temporal filter, below */
+  rd.atrous_iterations = 0;     /* after the temporal filter, below */
+  rd.no_shading_correction = 1; /* eq. 20 after the filters, below */
   uint32_t iters = rd.iterations ? rd.iterations : 1;
   if (!fi.still || !q->has_prev) q->still_iterations = 0;
   rd.iteration_base = rd.progressive ? q->still_iterations : 0;
@@ -211,6 +213,11 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
                        .motion = moving ? q->motion : NULL,
                        .still = !moving};
   if ((r = pb_filter_indirect(g, out, &fd)) != PB_OK) goto fail;
+  /* Eq. 20 (normal maps) on the filtered indirect, with this frame's mean
+   * photon direction (the chapter filters that direction too; here it is
+   * the frame's own). */
+  if (!q->desc.render.no_shading_correction)
+    pb_shading_correction_apply(out, (size_t)q->width * q->height, PB_SHADING_CORRECTION_S_MAX);
   accumulate(q, out, fi.still && q->has_prev);
   q->has_prev = 1;
   if (info) *info = fi;

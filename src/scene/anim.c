@@ -9,6 +9,7 @@
 
 #include "scene/anim.h"
 #include "scene/scene.h"
+#include "scene/tangents.h"
 
 void pb_scene_anim_destroy(struct pb_scene_anim *a) {
   if (!a) return;
@@ -266,5 +267,13 @@ pb_result pb_scene_set_time(pb_scene *s, double t) {
       memcpy(l->direction, a->light_dir[i], sizeof l->direction);
   }
   pb_scene_update_bounds(s);
+  /* Normal maps: the tangent frames follow the posed vertices. They are
+   * generated from the uvs (tangents.c) at every pose, also where the file
+   * gave TANGENT (its rest-pose values would need their node transforms,
+   * which only the loader holds); the rest pose keeps the file's. */
+  if (s->tangents && s->uvs)
+    return pb_tangents_generate((const float(*)[3])s->positions, (const float(*)[3])s->normals,
+                                (const float(*)[2])s->uvs, s->vertex_count, (const uint32_t(*)[3])s->triangles,
+                                s->triangle_count, NULL, s->tangents);
   return PB_OK;
 }

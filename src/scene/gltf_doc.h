@@ -41,6 +41,7 @@ typedef struct pb_gltf_accessor {
 typedef struct pb_gltf_primitive {
   int32_t mode;           /* 4 = TRIANGLES */
   int32_t position, normal, texcoord0, indices, material;
+  int32_t tangent;        /* TANGENT accessor, -1: absent */
   int has_targets;        /* morph targets (ignored with a warning) */
 } pb_gltf_primitive;
 

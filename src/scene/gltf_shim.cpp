@@ -609,6 +609,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
       x.position = at("POSITION");
       x.normal = at("NORMAL");
       x.texcoord0 = at("TEXCOORD_0");
+      x.tangent = at("TANGENT");
       x.indices = p.indices;
       x.material = p.material;
       x.has_targets = !p.targets.empty();

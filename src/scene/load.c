@@ -11,6 +11,7 @@
 
 #include "core/fs.h"
 #include "scene/gltf_doc.h"
+#include "scene/tangents.h"
 #include "scene/scene.h"
 
 #include "scene/anim.h"
@@ -46,6 +47,13 @@ typedef struct loader {
   uint8_t *node_state;        /* cycle detection: 0 new, 1 on stack, 2 done */
   int32_t *parent;
   struct pb_scene_anim *anim; /* being built (anim.h); moved to s->anim */
+  /* TANGENT attributes of normal-mapped primitives, world space, per vertex
+   * of s (grown lazily to tan_cap; NULL until the first one); tan_given[v]
+   * != 0 where the file gave vertex v one. finish_tangents() hands them to
+   * pb_tangents_generate (tangents.c) for the rest. */
+  float (*tan)[4];
+  uint8_t *tan_given;
+  uint32_t tan_cap;
 } loader;
 
 /* ---- growth helpers ---------------------------------------------------- */
@@ -714,6 +722,31 @@ static pb_result anim_finish(loader *L, struct pb_scene_anim *a) {
 
 /* ---- meshes -------------------------------------------------------------- */
 
+/* Records the file's TANGENT element `src` as vertex `dst` of the scene, in
+ * world space: xyz by the node's 3x3 (a direction in the surface, like an
+ * edge), w reduced to its sign and flipped by a mirroring transform, since
+ * the world normal keeps pointing out while cross(n, t) changes orientation.
+ * A non-finite or collapsed tangent is left to pb_tangents_generate. */
+static pb_result store_tangent(loader *L, uint32_t dst, const span *tg, uint64_t src, const mat4 *M, int flip) {
+  if (dst >= L->tan_cap) {
+    uint32_t old = L->tan_cap;
+    pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, (uint64_t)dst + 1, sizeof *L->tan, "tangents");
+    if (r != PB_OK) return r;
+    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
+    memset(q + old, 0, L->tan_cap - old);
+    L->tan_given = q;
+  }
+  double tl[3] = {read_f(tg, src, 0), read_f(tg, src, 1), read_f(tg, src, 2)}, tw[3];
+  float w = read_f(tg, src, 3);
+  xform_dir(M, tl, tw);
+  if (!isfinite(w) || !normalize3(tw)) return PB_OK;
+  for (int k = 0; k < 3; ++k) L->tan[dst][k] = (float)tw[k];
+  L->tan[dst][3] = ((w < 0.0f) != (flip != 0)) ? -1.0f : 1.0f;
+  L->tan_given[dst] = 1;
+  return PB_OK;
+}
+
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
   pb_gltf_doc *d = L->doc;
   pb_scene *s = L->s;
@@ -750,6 +783,17 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
                      p->texcoord0, (unsigned long long)uv.count, (unsigned long long)pos.count);
   }
+  /* TANGENT (glTF 2.0 3.7.2.1: VEC4 float, w = +-1 the handedness): checked
+   * whenever present, read only for a normal-mapped material. */
+  span tng = {0};
+  int has_t = p->tangent != -1;
+  if (has_t) {
+    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TANGENT", mesh, pi);
+    if ((r = check_accessor(L, p->tangent, w, 4, float_only, &tng)) != PB_OK) return r;
+    if (tng.count != pos.count)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
+                     p->tangent, (unsigned long long)tng.count, (unsigned long long)pos.count);
+  }
   uint64_t nidx = pos.count;
   if (indexed) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].indices", mesh, pi);
@@ -765,6 +809,8 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   } else {
     mat = default_material(L);
   }
+  int use_t = has_t && tng.base && mat >= 0 && (uint32_t)mat < s->material_count &&
+              s->materials[mat].normal_tex >= 0;
 
   /* Triangle list from the mode. Limits come before any per-element work:
    * an accessor without a bufferView costs the file nothing per element. */
@@ -841,6 +887,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       U[0] = has_uv ? read_f(&uv, i, 0) : 0.0f;
       U[1] = has_uv ? read_f(&uv, i, 1) : 0.0f;
       if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
+      if (use_t && (r = store_tangent(L, base + (uint32_t)i, &tng, i, M, flip)) != PB_OK) return r;
     }
     s->vertex_count += (uint32_t)pos.count;
   }
@@ -890,6 +937,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
             an->local_pos[local + (o - base)][a] = read_f(&pos, v[c], a), an->local_nrm[local + (o - base)][a] = 0;
         s->uvs[o][0] = has_uv ? read_f(&uv, v[c], 0) : 0.0f;
         s->uvs[o][1] = has_uv ? read_f(&uv, v[c], 1) : 0.0f;
+        if (use_t && (r = store_tangent(L, o, &tng, v[c], M, flip)) != PB_OK) return r;
         out[c] = o;
       }
     }
@@ -1245,6 +1293,30 @@ static pb_result synthesize_camera(loader *L) {
   return PB_OK;
 }
 
+/* Tangent frames for normal maps: only scenes with PB_FEATURE_NORMAL_MAPS
+ * get s->tangents (the others pay nothing). The file's TANGENTs are kept,
+ * every other vertex gets one from its uvs (tangents.c). */
+static pb_result finish_tangents(loader *L) {
+  pb_scene *s = L->s;
+  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || s->vertex_count == 0) return PB_OK;
+  s->tangents = calloc(s->vertex_count, sizeof *s->tangents);
+  uint8_t *given = calloc(s->vertex_count, 1);
+  if (!s->tangents || !given) {
+    free(given);
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
+  }
+  for (uint32_t v = 0; v < s->vertex_count && v < L->tan_cap; ++v)
+    if (L->tan_given[v]) {
+      memcpy(s->tangents[v], L->tan[v], sizeof s->tangents[v]);
+      given[v] = 1;
+    }
+  pb_result r = pb_tangents_generate((const float(*)[3])s->positions, (const float(*)[3])s->normals,
+                                     (const float(*)[2])s->uvs, s->vertex_count,
+                                     (const uint32_t(*)[3])s->triangles, s->triangle_count, given, s->tangents);
+  free(given);
+  return r;
+}
+
 static pb_result load(loader *L) {
   pb_gltf_doc *d = L->doc;
   pb_scene *s = L->s;
@@ -1319,6 +1391,7 @@ static pb_result load(loader *L) {
     anim_range(an, &s->anim_start, &s->anim_end);
   }
   pb_scene_finalize(s);
+  if ((r = finish_tangents(L)) != PB_OK) return r;
   if (s->camera_count == 0) {
     if ((r = synthesize_camera(L)) != PB_OK) return r;
     if ((r = warn(L, "cameras: none in the scene; using a default camera framing the bounds")) != PB_OK) return r;
@@ -1364,6 +1437,8 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   free(L.node_state);
   free(L.parent);
   pb_scene_anim_destroy(L.anim);
+  free(L.tan);
+  free(L.tan_given);
   pb_gltf_doc_destroy(&doc);
   if (r != PB_OK) pb_scene_destroy(out);
   return r;

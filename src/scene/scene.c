@@ -202,6 +202,7 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->positions);
   free(s->normals);
   free(s->uvs);
+  free(s->tangents);
   free(s->triangles);
   free(s->triangle_material);
   free(s->materials);

@@ -150,6 +150,12 @@ typedef struct pb_scene {
   float (*positions)[3];
   float (*normals)[3];   /* unit length; generated when the file has none */
   float (*uvs)[2];       /* (0,0) when the file has none */
+  /* Normal-map tangent frames, world space (scenes/tangents.h): xyz unit,
+   * orthogonal to the normal, along +u; w = +-1, bitangent = cross(normal,
+   * xyz) * w (glTF TANGENT). From the file's TANGENT where a normal-mapped
+   * primitive has one, generated from the uvs otherwise. NULL unless the
+   * scene has PB_FEATURE_NORMAL_MAPS. */
+  float (*tangents)[4];
   uint32_t vertex_count;
   uint32_t (*triangles)[3];   /* counter-clockwise seen from the front */
   uint32_t *triangle_material; /* index into materials */

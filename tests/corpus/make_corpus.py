@@ -344,6 +344,13 @@ def broken_cases(C, png):
          setp(("accessors", 1, "count"), 3))
     case("texcoord_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.TEXCOORD_0",
          setp(("accessors", 2, "count"), 2))
+    # TANGENT (normal maps): VEC4 float with POSITION's count, checked when
+    # present even where no material has a normal map.
+    case("tangent_vec3", EXIT_INVALID, ["accessors[1]", "has 3 components",
+                                        "meshes[0].primitives[0].attributes.TANGENT needs 4"],
+         setp(("meshes", 0, "primitives", 0, "attributes", "TANGENT"), 1))
+    case("prim_tangent_oob", EXIT_INVALID, ["meshes[1].primitives[0].attributes.TANGENT", "accessor 42 does not exist"],
+         setp(("meshes", 1, "primitives", 0, "attributes", "TANGENT"), 42))
 
     # -- primitives
     case("prim_position_oob", EXIT_INVALID, "meshes[0].primitives[0].attributes.POSITION",

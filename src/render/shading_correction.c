@@ -1,0 +1,66 @@
+/* Seed 001's shading-normal correction (24.4.3, eq. 20); see
+ * shading_correction.h. */
+#include "render/shading_correction.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+float pb_shading_correction_factor(const float wi[3], const float ns[3], const float ng[3], float s_max) {
+  float l = sqrtf(dot3(wi, wi));
+  if (!(l > 0.0f) || !isfinite(l)) return 1.0f;
+  float cs = dot3(wi, ns) / l, cg = dot3(wi, ng) / l;
+  if (!isfinite(cs) || !isfinite(cg)) return 1.0f;
+  /* Eq. 20: min((w_i . w_ns) / (w_i . w_ng + eps), s_max). */
+  float f = fmaxf(cs, 0.0f) / (fmaxf(cg, 0.0f) + PB_SHADING_CORRECTION_EPS);
+  return fminf(f, s_max);
+}
+
+static void unit(const float *in, float *out) {
+  float l = sqrtf(in[0] * in[0] + in[1] * in[1] + in[2] * in[2]);
+  for (int k = 0; k < 3; ++k) out[k] = l > 0.0f && isfinite(l) ? in[k] / l : 0.0f;
+}
+
+pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_accum *pa, uint32_t pixels,
+                                        size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out) {
+  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || !s->tangents || !s->uvs) return PB_OK;
+  if (!out->geo_normal) {
+    out->geo_normal = calloc(3 * n, sizeof(float));
+    out->photon_dir = calloc(3 * n, sizeof(float));
+    out->shading_normal = calloc(4 * n, sizeof(float));
+    if (!out->geo_normal || !out->photon_dir || !out->shading_normal)
+      return pb_fail(PB_ERR_NOMEM, "render: out of memory for the shading-correction AOVs");
+  }
+  float inv = spp ? 1.0f / (float)spp : 0.0f;
+  for (uint32_t i = 0; i < pixels; ++i) {
+    size_t p = pixel_base + i;
+    unit(pa[i].geo, out->geo_normal + 3 * p);
+    unit(pa[i].dir, out->photon_dir + 3 * p);
+    unit(pa[i].ns, out->shading_normal + 4 * p);
+    float frac = pa[i].caustic[3] * inv;
+    out->shading_normal[4 * p + 3] = isfinite(frac) ? fminf(fmaxf(frac, 0.0f), 1.0f) : 0.0f;
+  }
+  return PB_OK;
+}
+
+size_t pb_shading_correction_apply(pb_render_result *out, size_t n, float s_max) {
+  if (!out->indirect || !out->photon_dir || !out->geo_normal || !out->shading_normal) return 0;
+  size_t changed = 0;
+  for (size_t p = 0; p < n; ++p) {
+    float frac = out->shading_normal[4 * p + 3];
+    if (!(frac > 0.0f)) continue;
+    float f = pb_shading_correction_factor(out->photon_dir + 3 * p, out->shading_normal + 4 * p,
+                                           out->geo_normal + 3 * p, s_max);
+    float k = 1.0f + frac * (f - 1.0f);
+    if (k == 1.0f) continue;
+    for (int c = 0; c < 3; ++c) {
+      float before = out->indirect[3 * p + c], after = before * k;
+      out->indirect[3 * p + c] = after;
+      if (out->beauty) out->beauty[4 * p + c] += after - before;
+    }
+    changed++;
+  }
+  return changed;
+}

@@ -1,0 +1,51 @@
+/* Seed 001 (Smal & Aizenshtein, Ray Tracing Gems ch. 24), 24.4.3:
+ * incorporating the effect of shading normals (normal maps) into photon-
+ * mapped indirect light. Photon density carries the geometric cosine
+ * (w_i . w_ng) implicitly; eq. 20 swaps it for the shading one,
+ *   L = E_final f_BRDF min((w_i . w_ns) / (w_i . w_ng + eps), s_max),
+ * with w_i the power-weighted mean incoming photon direction, filtered as its
+ * own target. Here the gather (shaders/gather.comp) sums w_i, w_ng and w_ns
+ * per pixel into pb_gpu_photon_accum; this step resolves them into AOVs and
+ * applies eq. 20 to the resolved indirect AOV on the host, after the A-Trous
+ * filter when that is on (the filter also runs on resolved AOVs, atrous.h),
+ * so the filtered E f is what gets rescaled. Only scenes with
+ * PB_FEATURE_NORMAL_MAPS. */
+#ifndef PB_RENDER_SHADING_CORRECTION_H
+#define PB_RENDER_SHADING_CORRECTION_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "render/render.h"
+#include "shared/pb_gpu.h"
+#include "shared/pb_lbvh.h"
+
+/* s_max, seed 001 24.3.1.2: "a constant defining the maximum scaling factor"
+ * (there it bounds s_u = min(1 / (w_g . w_i), s_max), the kernel's
+ * stretch towards grazing light; eq. 20 reuses it). The chapter gives no
+ * value (its listing names MAX_SCALING_CONSTANT only), so it is chosen here:
+ * 4, the ratio 1 / cos at 75.5 degrees, beyond which the mean direction of
+ * a few grazing photons is too noisy to scale by. */
+#define PB_SHADING_CORRECTION_S_MAX 4.0f
+/* eps of eq. 20: keeps the division finite for w_i in the tangent plane. */
+#define PB_SHADING_CORRECTION_EPS 1e-3f
+
+/* Eq. 20's factor min(max(w_i . n_s, 0) / (w_i . n_g + eps), s_max) for unit
+ * vectors; 1 when w_i is 0 (no photon) or not finite. Light below the
+ * shading normal (w_i . n_s <= 0) gives 0, as the BSDF's own guard does. */
+float pb_shading_correction_factor(const float wi[3], const float ns[3], const float ng[3], float s_max);
+
+/* Resolves one band's accumulators (pixels of the band from pixel_base; n
+ * pixels in the image, spp samples) into out->geo_normal, photon_dir and
+ * shading_normal, allocating them on the first call. Does nothing unless the
+ * scene has PB_FEATURE_NORMAL_MAPS. */
+pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_accum *pa, uint32_t pixels,
+                                        size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out);
+
+/* Eq. 20 on out->indirect (n pixels): each pixel's indirect is scaled by
+ * 1 + frac (factor - 1), frac the fraction of its samples on a normal-mapped
+ * material; the beauty takes the same change. No-op without the AOVs.
+ * Returns the number of pixels changed. */
+size_t pb_shading_correction_apply(pb_render_result *out, size_t n, float s_max);
+
+#endif
