@@ -63,7 +63,8 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(g->device, out->buffer, &req);
   const VkMemoryPropertyFlags hv = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  uint32_t type = find_type(g, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | hv);
+  uint32_t type = d->readback ? find_type(g, req.memoryTypeBits, hv | VK_MEMORY_PROPERTY_HOST_CACHED_BIT) : UINT32_MAX;
+  if (type == UINT32_MAX) type = find_type(g, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | hv);
   if (type == UINT32_MAX)
     type = d->host_visible ? find_type(g, req.memoryTypeBits, hv)
                            : find_type(g, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
@@ -102,6 +103,7 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
       r = pb_vk_fail(vr, name);
       goto fail;
     }
+    out->cached = (g->mem.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT) != 0;
   }
   out->size = d->size;
   g->memory_live += d->size;
@@ -118,7 +120,7 @@ fail:
 static pb_result staged(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *host,
                         uint64_t size, int upload) {
   pb_gpu_buffer st;
-  pb_gpu_buffer_desc sd = {.name = "pb.staging", .size = size, .host_visible = 1};
+  pb_gpu_buffer_desc sd = {.name = "pb.staging", .size = size, .host_visible = 1, .readback = !upload};
   pb_result r = pb_gpu_buffer_create(g, &sd, &st);
   if (r != PB_OK) return r;
   if (!st.mapped) {
@@ -159,11 +161,11 @@ pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t off
                                  uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
-  if (b->mapped) {
+  if (b->mapped && b->cached) {
     memcpy(data, (const char *)b->mapped + offset, size);
     return PB_OK;
   }
-  return staged(g, b, offset, data, size, 0);
+  return staged(g, b, offset, data, size, 0); /* GPU copy into cached memory, then read */
 }
 
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {

@@ -116,12 +116,18 @@ typedef struct pb_gpu_buffer {
   VkDeviceMemory memory;
   uint64_t size;
   void *mapped;       /* non-NULL when the memory is host-visible and coherent */
+  int cached;         /* mapped memory is also HOST_CACHED: the host reads it at
+                         memory speed (device-local host-visible memory, as a
+                         discrete GPU's resizable BAR, is write-combined: reads
+                         from it crawl, so downloads go through a cached
+                         staging copy instead) */
 } pb_gpu_buffer;
 
 typedef struct pb_gpu_buffer_desc {
   const char *name;   /* object name, and the subject of limit errors */
   uint64_t size;      /* bytes, > 0 */
   int host_visible;   /* 1: must be mappable (readback of large results) */
+  int readback;       /* 1: the host reads it: HOST_CACHED memory first */
 } pb_gpu_buffer_desc;
 
 /* A storage buffer (also a transfer source and destination). Sizes over

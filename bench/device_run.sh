@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The NVIDIA measurements of issues 4-6, as one script for a borrowed GPU
+# machine that has none of our Debian packages: PACK holds devlib.tar.xz (our
+# shared libraries: Embree, OpenEXR, OpenColorIO, the Vulkan loader, ...) and
+# bin.tar (photonbridge and the bench programs, built on Debian 12); results
+# go to OUT (and, after every step, into the archive PB_DEVICE_TAR when set,
+# so a run stopped at its limit still returns what it measured). Every step
+# has its own time limit and the script goes on after a failure.
+#   bench/device_run.sh PACK OUT
+set -u
+pack=$1 out=$2
+mkdir -p /tmp/pb "$out"
+tar -xJf "$pack/devlib.tar.xz" -C /tmp/pb && tar -xf "$pack/bin.tar" -C /tmp/pb || exit 1
+export LD_LIBRARY_PATH=/tmp/pb/devlib
+icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+[ -f "$icd" ] && export VK_DRIVER_FILES=$icd
+b=/tmp/pb/bin
+step() { # NAME SECONDS CMD...: output to OUT/NAME.txt, exit code and time appended
+  local name=$1 limit=$2; shift 2
+  local t0=$(date +%s.%N)
+  timeout "$limit" "$@" > "$out/$name.txt" 2>&1
+  local rc=$?
+  echo "exit=$rc seconds=$(awk "BEGIN{print $(date +%s.%N) - $t0}")" >> "$out/$name.txt"
+  echo "$name: exit $rc"
+  [ -n "${PB_DEVICE_TAR:-}" ] && tar -czf "$PB_DEVICE_TAR" -C "$(dirname "$out")" "$(basename "$out")"
+}
+{ nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv; nproc; uname -r; } > "$out/machine.txt" 2>&1
+step devices 60 $b/photonbridge info --devices
+s=samples
+# Issue 5: a 1080p frame of sun_atrium (1 spp, 2^18 photon paths, 7 bounces);
+# the first render also compiles the pipelines, so it runs twice.
+step atrium_warm 120 $b/photonbridge render $s/sun_atrium/sun_atrium.gltf --width 1920 --height 1080 -o /tmp/a.exr -q
+step atrium_1080p 120 $b/photonbridge render $s/sun_atrium/sun_atrium.gltf --width 1920 --height 1080 -o /tmp/a.exr --json "$out/atrium_1080p.json"
+step cornell_1080p 120 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 1920 --height 1080 -o /tmp/c.exr --json "$out/cornell_1080p.json"
+# Cross-driver check: the same seed as on lavapipe (compared on the host).
+step cornell_128 60 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 128 --spp 4 --iterations 4 --seed 1 -o "$out/cornell_128_nvidia.exr"
+# Issue 6: the filters at 1920x1080, and a 1080p fly-through with both filters.
+step filters 60 $b/pb_bench_filters --repeat 10 1920x1080
+step flythrough 90 $b/photonbridge render $s/sun_atrium_flythrough/sun_atrium_flythrough.gltf --frames 0:11 --width 1920 --height 1080 -o /tmp/f_##.exr --json "$out/flythrough_1080p.json" -q
+# Issue 4: ray throughput; issue 8: LBVH build rates.
+step rays 90 bash -c "for sc in cornell_box spot_room sun_atrium; do $b/pb_bench_rays $s/\$sc/\$sc.gltf 1920 5; done"
+step lbvh 45 $b/pb_bench_lbvh --repeat 3 262144 1048576 4194304 16777216
+[ -x $b/pb_bench_anim ] && step anim 45 $b/pb_bench_anim $s/cornell_caustics_moving_sphere/cornell_caustics_moving_sphere.gltf 0 1
+echo done
