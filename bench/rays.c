@@ -20,6 +20,7 @@
 
 #include "core/log.h"
 #include "gpu_embree.h"
+#include "render/motion.h"
 #include "render/render.h"
 
 typedef struct job {
@@ -51,26 +52,7 @@ static double embree_run(const pbt_embree *e, const pb_gpu_ray *rays, pb_gpu_hit
 }
 
 static void primary_rays(const pb_scene *s, uint32_t w, uint32_t h, pb_gpu_ray *rays) {
-  const pb_camera *c = &s->cameras[0];
-  float ty = tanf(0.5f * c->yfov), tx = ty * (float)w / (float)h;
-  for (uint32_t y = 0; y < h; ++y)
-    for (uint32_t x = 0; x < w; ++x) {
-      float sx = (2.0f * ((float)x + 0.5f) / (float)w - 1.0f) * tx;
-      float sy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)h) * ty;
-      pb_gpu_ray *r = &rays[(size_t)y * w + x];
-      float d[3], l = 0;
-      for (int k = 0; k < 3; ++k) {
-        d[k] = c->forward[k] + sx * c->right[k] + sy * c->up[k];
-        l += d[k] * d[k];
-      }
-      l = sqrtf(l);
-      for (int k = 0; k < 3; ++k) {
-        r->org[k] = c->position[k];
-        r->dir[k] = d[k] / l;
-      }
-      r->tmin = 0;
-      r->tmax = INFINITY;
-    }
+  pb_camera_primary_rays(&s->cameras[0], w, h, 0, w * h, rays); /* render/motion.h */
 }
 
 int main(int argc, char **argv) {

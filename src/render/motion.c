@@ -23,6 +23,28 @@ int pb_camera_project(const pb_camera *c, uint32_t width, uint32_t height, const
   return isfinite(*x) && isfinite(*y);
 }
 
+void pb_camera_primary_rays(const pb_camera *c, uint32_t width, uint32_t height, size_t first, uint32_t count,
+                            pb_gpu_ray *rays) {
+  float tan_y = tanf(0.5f * c->yfov), tan_x = tan_y * (float)width / (float)height;
+  for (uint32_t i = 0; i < count; ++i) {
+    size_t pix = first + i;
+    float fx = (float)(pix % width) + 0.5f, fy = (float)(pix / width) + 0.5f;
+    float sx = (2.0f * fx / (float)width - 1.0f) * tan_x, sy = (1.0f - 2.0f * fy / (float)height) * tan_y;
+    float d[3], len = 0;
+    for (int k = 0; k < 3; ++k) {
+      d[k] = c->forward[k] + c->right[k] * sx + c->up[k] * sy;
+      len += d[k] * d[k];
+    }
+    len = sqrtf(len);
+    for (int k = 0; k < 3; ++k) {
+      rays[i].org[k] = c->position[k];
+      rays[i].dir[k] = d[k] / len;
+    }
+    rays[i].tmin = 0.0f;
+    rays[i].tmax = INFINITY;
+  }
+}
+
 pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const float (*prev_positions)[3],
                             const pb_camera *cam, const pb_camera *prev_cam, uint32_t width, uint32_t height,
                             float *motion, double *gpu_ms) {
@@ -39,26 +61,9 @@ pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs
     goto done;
   }
   const float (*pp)[3] = prev_positions ? prev_positions : (const float (*)[3])s->positions;
-  float tan_y = tanf(0.5f * cam->yfov), tan_x = tan_y * (float)width / (float)height;
   for (size_t base = 0; base < n; base += cap) {
     uint32_t m = n - base < cap ? (uint32_t)(n - base) : cap;
-    for (uint32_t i = 0; i < m; ++i) {
-      size_t pix = base + i;
-      float fx = (float)(pix % width) + 0.5f, fy = (float)(pix / width) + 0.5f;
-      float sx = (2.0f * fx / (float)width - 1.0f) * tan_x, sy = (1.0f - 2.0f * fy / (float)height) * tan_y;
-      float d[3], len = 0;
-      for (int k = 0; k < 3; ++k) {
-        d[k] = cam->forward[k] + cam->right[k] * sx + cam->up[k] * sy;
-        len += d[k] * d[k];
-      }
-      len = sqrtf(len);
-      for (int k = 0; k < 3; ++k) {
-        rays[i].org[k] = cam->position[k];
-        rays[i].dir[k] = d[k] / len;
-      }
-      rays[i].tmin = 0.0f;
-      rays[i].tmax = INFINITY;
-    }
+    pb_camera_primary_rays(cam, width, height, base, m, rays);
     double ms = 0;
     if ((r = pb_raycast_run(g, &rc, rays, m, 0, hits, &ms)) != PB_OK) goto done;
     if (gpu_ms) *gpu_ms += ms > 0 ? ms : 0;

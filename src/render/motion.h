@@ -39,6 +39,13 @@ pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs
                             const pb_camera *cam, const pb_camera *prev_cam, uint32_t width, uint32_t height,
                             float *motion, double *gpu_ms);
 
+/* The camera rays through the centres of pixels first .. first + count - 1
+ * of a width x height image (row-major, top row first): gbuffer.comp's
+ * camera ray at one sample per pixel, tmin 0, tmax infinite. Shared with
+ * the ray benchmarks (bench/). */
+void pb_camera_primary_rays(const pb_camera *c, uint32_t width, uint32_t height, size_t first, uint32_t count,
+                            pb_gpu_ray *rays);
+
 /* Projects world point p by camera c onto a width x height image: pixel
  * coordinates (x right, y down, pixel centres at +0.5) and camera depth.
  * Returns 0 when p is not in front of the camera. Shared with the tests. */

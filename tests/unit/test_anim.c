@@ -11,24 +11,11 @@
 #include <unistd.h>
 
 #include "pbtest.h"
+#include "gltf_test.h"
 #include "scene/scene.h"
 
 static char dir[] = "/tmp/pbtest_anim_XXXXXX";
 
-static char *b64(const void *data, size_t n) {
-  static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const uint8_t *p = data;
-  char *o = malloc(4 * ((n + 2) / 3) + 1), *q = o;
-  for (size_t i = 0; i < n; i += 3) {
-    uint32_t v = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0) | (i + 2 < n ? p[i + 2] : 0);
-    *q++ = t[v >> 18 & 63];
-    *q++ = t[v >> 12 & 63];
-    *q++ = i + 1 < n ? t[v >> 6 & 63] : '=';
-    *q++ = i + 2 < n ? t[v & 63] : '=';
-  }
-  *q = 0;
-  return o;
-}
 
 /* A glTF under construction: one float buffer, one bufferView and accessor
  * per array. Accessors 0..2 always exist: 0 triangle positions (0,0,0)
@@ -75,7 +62,7 @@ static void gltf_init(gltf *g) {
  * `animations` (a JSON list, or "" for none) and `extra` top-level members. */
 static pb_result gltf_load(gltf *g, const char *nodes, const char *scene_nodes, const char *animations, const char *extra,
                            pb_scene *s) {
-  char *data = b64(g->data, g->n * 4);
+  char *data = pbt_b64(g->data, g->n * 4);
   char path[256];
   snprintf(path, sizeof path, "%s/a.gltf", dir);
   FILE *f = fopen(path, "w");

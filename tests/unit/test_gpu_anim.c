@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "pbtest.h"
+#include "gltf_test.h"
 #include "gpu_test.h"
 #include "gpu_embree.h"
 #include "ref/ref_internal.h"
@@ -18,20 +19,6 @@
 
 static char dir[] = "/tmp/pbtest_gpu_anim_XXXXXX";
 
-static char *b64(const void *data, size_t n) {
-  static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const uint8_t *p = data;
-  char *o = malloc(4 * ((n + 2) / 3) + 1), *q = o;
-  for (size_t i = 0; i < n; i += 3) {
-    uint32_t v = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0) | (i + 2 < n ? p[i + 2] : 0);
-    *q++ = t[v >> 18 & 63];
-    *q++ = t[v >> 12 & 63];
-    *q++ = i + 1 < n ? t[v >> 6 & 63] : '=';
-    *q++ = i + 2 < n ? t[v & 63] : '=';
-  }
-  *q = 0;
-  return o;
-}
 
 enum { GRID = 12, NODES = 24 };
 
@@ -69,7 +56,7 @@ static pb_result load_scene(pb_scene *s) {
   uint8_t *all = malloc(fbytes + ibytes);
   memcpy(all, buf, fbytes);
   memcpy(all + fbytes, idx, ibytes);
-  char *data = b64(all, fbytes + ibytes);
+  char *data = pbt_b64(all, fbytes + ibytes);
   free(all);
   char path[256];
   snprintf(path, sizeof path, "%s/g.gltf", dir);

@@ -7,30 +7,17 @@
 #include <unistd.h>
 
 #include "pbtest.h"
+#include "gltf_test.h"
 #include "scene/scene.h"
 
 static char dir[] = "/tmp/pbtest_scene_XXXXXX";
 
-static char *b64(const void *data, size_t n) {
-  static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const uint8_t *p = data;
-  char *o = malloc(4 * ((n + 2) / 3) + 1), *q = o;
-  for (size_t i = 0; i < n; i += 3) {
-    uint32_t v = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0) | (i + 2 < n ? p[i + 2] : 0);
-    *q++ = t[v >> 18 & 63];
-    *q++ = t[v >> 12 & 63];
-    *q++ = i + 1 < n ? t[v >> 6 & 63] : '=';
-    *q++ = i + 2 < n ? t[v & 63] : '=';
-  }
-  *q = 0;
-  return o;
-}
 
 /* One triangle (0,0,0) (1,0,0) (0,1,0), CCW seen from +Z, with normals +Z
  * (or none), as buffer 0 in a data URI; `nodes`, `extra` complete the file. */
 static pb_result load_json(const char *nodes, const char *extra, int with_normals, const pb_load_desc *desc, pb_scene *s) {
   float v[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  char *data = b64(v, sizeof v);
+  char *data = pbt_b64(v, sizeof v);
   char path[256];
   snprintf(path, sizeof path, "%s/t.gltf", dir);
   FILE *f = fopen(path, "w");

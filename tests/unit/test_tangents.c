@@ -12,26 +12,13 @@
 
 #include "image/image.h"
 #include "pbtest.h"
+#include "gltf_test.h"
 #include "render/shading_correction.h"
 #include "scene/scene.h"
 #include "scene/tangents.h"
 
 static char dir[] = "/tmp/pbtest_tangents_XXXXXX";
 
-static char *b64(const void *data, size_t n) {
-  static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const uint8_t *p = data;
-  char *o = malloc(4 * ((n + 2) / 3) + 1), *q = o;
-  for (size_t i = 0; i < n; i += 3) {
-    uint32_t v = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0) | (i + 2 < n ? p[i + 2] : 0);
-    *q++ = t[v >> 18 & 63];
-    *q++ = t[v >> 12 & 63];
-    *q++ = i + 1 < n ? t[v >> 6 & 63] : '=';
-    *q++ = i + 2 < n ? t[v & 63] : '=';
-  }
-  *q = 0;
-  return o;
-}
 
 /* Unit quad in the XY plane, normal +Z, u = x, v = 1 - y (glTF: v runs down
  * the image), so dP/du = +X, -dP/dv = +Y: T = +X, w = +1. */
@@ -108,7 +95,7 @@ static pb_result load_quad(const char *tangent, int tan_count, const char *node,
   memcpy(buf + 128, tg, 64);
   uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
   memcpy(buf + 192, idx, 12);
-  char *data = b64(buf, sizeof buf);
+  char *data = pbt_b64(buf, sizeof buf);
   char png[256], path[256];
   snprintf(png, sizeof png, "%s/n.png", dir);
   /* Flat normal map (128, 128, 255): bytes written through the sRGB encode. */
