@@ -20,6 +20,53 @@
  * gather), plus the start. */
 enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 
+/* ---- the frame context (render.h) ------------------------------------------ */
+
+/* What a reusable context must match: everything its contents depend on.
+ * Zeroed before filling, so memcmp compares no padding garbage. */
+typedef struct ctx_key {
+  const pb_gpu_scene *gs;
+  const void *photon_map;
+  uint32_t width, height, photons, bounces, first_bounce, leaf_size;
+  float smoothing, r_max;
+  int constant_kernel, direct_only, photons_on;
+} ctx_key;
+
+struct pb_frame_context {
+  int valid;
+  ctx_key key;
+  pb_gpu_buffer frame_buf, gbuf, accum, paccum;
+  pb_gpu_pipeline gp, dp;
+  pb_photon_tracer *tracer;
+  pb_photon_estimator *est;
+  pb_photon_map map;
+};
+
+pb_result pb_frame_context_create(pb_frame_context **out) {
+  *out = calloc(1, sizeof **out);
+  return *out ? PB_OK : pb_fail(PB_ERR_NOMEM, "render: out of memory");
+}
+
+static void context_clear(pb_gpu *g, pb_frame_context *c) {
+  if (!c->valid) return;
+  pb_gpu_buffer_destroy(g, &c->paccum);
+  pb_photon_map_destroy(g, &c->map);
+  pb_photon_estimator_destroy(g, c->est);
+  pb_photon_tracer_destroy(g, c->tracer);
+  pb_gpu_pipeline_destroy(g, &c->gp);
+  pb_gpu_pipeline_destroy(g, &c->dp);
+  pb_gpu_buffer_destroy(g, &c->frame_buf);
+  pb_gpu_buffer_destroy(g, &c->gbuf);
+  pb_gpu_buffer_destroy(g, &c->accum);
+  memset(c, 0, sizeof *c);
+}
+
+void pb_frame_context_destroy(pb_gpu *g, pb_frame_context *c) {
+  if (!c) return;
+  context_clear(g, c);
+  free(c);
+}
+
 void pb_render_result_destroy(pb_render_result *r) {
   if (!r) return;
   free(r->beauty);
@@ -138,6 +185,25 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
   pb_gpu_photon_accum *phost = NULL;
+  /* A context from the previous frame of a sequence: reused when it matches,
+   * its contents owned by this call until the end (a failure destroys them). */
+  pb_frame_context *ctx = desc.context;
+  ctx_key key;
+  memset(&key, 0, sizeof key);
+  key.gs = gs;
+  key.photon_map = desc.photon_map;
+  key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
+  key.first_bounce = desc.first_bounce, key.leaf_size = desc.leaf_size;
+  key.smoothing = desc.smoothing, key.r_max = desc.r_max;
+  key.constant_kernel = desc.constant_kernel, key.direct_only = desc.direct_only, key.photons_on = photons_on;
+  int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
+  if (ctx && !reuse) context_clear(g, ctx);
+  if (reuse) {
+    frame_buf = ctx->frame_buf, gbuf = ctx->gbuf, accum = ctx->accum, paccum = ctx->paccum;
+    gp = ctx->gp, dp = ctx->dp;
+    tracer = ctx->tracer, est = ctx->est, map = ctx->map;
+    memset(ctx, 0, sizeof *ctx);
+  }
   out->beauty = calloc(4 * n, sizeof(float));
   out->direct = calloc(3 * n, sizeof(float));
   out->albedo = calloc(3 * n, sizeof(float));
@@ -159,9 +225,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_buffer_desc gd = {.name = "frame.gbuffer", .size = (uint64_t)band_pixels * sizeof(pb_gpu_gbuffer)};
   pb_gpu_buffer_desc ad = {.name = "frame.accum", .size = (uint64_t)band_pixels * sizeof(pb_gpu_accum),
                            .host_visible = 1};
-  if ((r = pb_gpu_buffer_create(g, &fd, &frame_buf)) != PB_OK) goto fail;
-  if ((r = pb_gpu_buffer_create(g, &gd, &gbuf)) != PB_OK) goto fail;
-  if ((r = pb_gpu_buffer_create(g, &ad, &accum)) != PB_OK) goto fail;
+  if (!reuse && ((r = pb_gpu_buffer_create(g, &fd, &frame_buf)) != PB_OK ||
+                 (r = pb_gpu_buffer_create(g, &gd, &gbuf)) != PB_OK || (r = pb_gpu_buffer_create(g, &ad, &accum)) != PB_OK))
+    goto fail;
 
   pb_render_plan plan;
   pb_render_plan_of(s, desc.direct_only, &plan);
@@ -172,9 +238,13 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
                plan.emitter_sampling ? 1u : 0u},
   };
-  if ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK) goto fail;
-  if ((r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK) goto fail;
-  if (photons_on) {
+  if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
+    goto fail;
+  if (reuse) {
+    /* The scene may have moved since the context was made. */
+    if (tracer && (r = pb_photon_tracer_update(g, tracer, s)) != PB_OK) goto fail;
+    pb_photon_estimator_update(est, s);
+  } else if (photons_on) {
     pb_gpu_buffer_desc pd = {.name = "frame.photon_accum",
                              .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
     if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
@@ -371,6 +441,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   free(hist_host);
   free(host);
   free(phost);
+  if (ctx) { /* kept for the next frame */
+    ctx->frame_buf = frame_buf, ctx->gbuf = gbuf, ctx->accum = accum, ctx->paccum = paccum;
+    ctx->gp = gp, ctx->dp = dp;
+    ctx->tracer = tracer, ctx->est = est, ctx->map = map;
+    ctx->key = key;
+    ctx->valid = 1;
+    return PB_OK;
+  }
   pb_gpu_buffer_destroy(g, &paccum);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);

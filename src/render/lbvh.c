@@ -49,6 +49,10 @@ static double scene_area(const pb_scene *s) {
   return a;
 }
 
+void pb_photon_estimator_update(pb_photon_estimator *e, const pb_scene *s) {
+  if (e) e->scene_area = (float)scene_area(s);
+}
+
 pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_photon_estimate_desc *desc,
                                      pb_photon_estimator **out) {
   *out = NULL;

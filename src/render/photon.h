@@ -66,6 +66,11 @@ typedef struct pb_photon_tracer pb_photon_tracer;
 
 pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs,
                                   const pb_photon_trace_desc *desc, pb_photon_tracer **out);
+/* A new pose of the same scene (sequences: pb_scene_set_time, the GPU scene
+ * updated in place): the budget split, light powers, scene centre and radius
+ * (and r_max when it was defaulted) follow s, and reflective shadow maps are
+ * made again. The scene's counts must be those the tracer was made with. */
+pb_result pb_photon_tracer_update(pb_gpu *g, pb_photon_tracer *t, const pb_scene *s);
 /* Traces one iteration with seed (seed, iteration) into `map` (created on the
  * first call, reused after). gpu_ms gets per-pass times (may be NULL). */
 pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
@@ -137,6 +142,8 @@ typedef struct pb_photon_estimate_stats {
 
 pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_photon_estimate_desc *desc,
                                      pb_photon_estimator **out);
+/* A new pose of the same scene: the surface area T_auto divides by. */
+void pb_photon_estimator_update(pb_photon_estimator *e, const pb_scene *s);
 /* Builds the LBVH over map->stored photons (own submission, waits). */
 pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
                                     double *gpu_ms);

@@ -41,6 +41,7 @@ struct pb_photon_tracer {
                                    scene and lights only, so a tracer (one
                                    frame) renders them once and every
                                    iteration warps new points through them */
+  pb_photon_trace_desc desc;    /* with defaults filled in */
 };
 
 static float luminance(const float c[3]) {
@@ -98,6 +99,83 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
   }
 }
 
+/* The parts of a tracer that follow the scene's pose: the photon budget
+ * split by light power, each light's photon power and differential scale,
+ * the scene's centre and radius (directional lights emit from its disc;
+ * the default r_max is 5 % of the radius). counts/firsts: scratch of
+ * light_count entries. */
+static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *counts, uint32_t *firsts,
+                         float center[3], float *radius_out) {
+  const pb_photon_trace_desc *d = &t->desc;
+  float radius = scene_radius(s, center);
+  float delta = 2.0f * sqrtf((float)M_PI / (float)d->photons);
+  pb_photon_split_budget(s, d->photons, counts, firsts);
+  uint32_t total = 0;
+  t->light_entries = 0;
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    if (!counts[i]) continue;
+    const pb_light *l = &s->lights[i];
+    pb_gpu_photon_light *e = &t->lights[t->light_entries++];
+    e->light = i;
+    e->first = total;
+    e->count = counts[i];
+    total += counts[i];
+    double omega, k;
+    if (l->type == PB_LIGHT_DIRECTIONAL) {
+      omega = M_PI * (double)radius * radius; /* disc area */
+      e->cos_max = 1.0f;
+    } else if (l->type == PB_LIGHT_SPOT) {
+      float co = cosf(fmaxf(l->outer_cone, 0.0f));
+      omega = 2.0 * M_PI * (1.0 - co);
+      e->cos_max = co;
+    } else {
+      omega = 4.0 * M_PI;
+      e->cos_max = -1.0f;
+    }
+    k = omega / counts[i];
+    for (int c = 0; c < 3; ++c) e->power[c] = (float)(l->color[c] * (double)l->intensity * k);
+    e->diff_scale = (float)(sqrt(omega / counts[i]) / delta);
+  }
+  t->p.scene_center[0] = center[0];
+  t->p.scene_center[1] = center[1];
+  t->p.scene_center[2] = center[2];
+  t->p.scene_radius = radius;
+  t->p.photons = total; /* == d->photons when any light has power */
+  t->p.light_count = t->light_entries;
+  t->p.delta = delta;
+  t->p.r_max = d->r_max > 0.0f ? d->r_max : 0.05f * radius;
+  t->stats.photons = total;
+  t->stats.delta = delta;
+  t->stats.r_max = t->p.r_max;
+  t->stats.scene_radius = radius;
+  *radius_out = radius;
+}
+
+pb_result pb_photon_tracer_update(pb_gpu *g, pb_photon_tracer *t, const pb_scene *s) {
+  uint32_t *counts = calloc(s->light_count ? s->light_count : 1, sizeof *counts);
+  uint32_t *firsts = calloc(s->light_count ? s->light_count : 1, sizeof *firsts);
+  pb_result r = PB_OK;
+  if (!counts || !firsts) {
+    r = pb_fail(PB_ERR_NOMEM, "photons: out of memory");
+    goto done;
+  }
+  float center[3], radius;
+  scene_lights(t, s, counts, firsts, center, &radius);
+  if (t->rsm) {
+    /* The reflective shadow maps follow the lights and the geometry: made
+     * again for the new pose and rendered by the next run. */
+    pb_photon_rsm_destroy(g, t->rsm);
+    t->rsm = NULL;
+    t->rsm_ready = 0;
+    for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
+    r = pb_photon_rsm_create(g, s, t->gs, counts, t->light_entries, t->desc.rsm_resolution, center, radius, &t->rsm);
+  }
+done:
+  free(counts);
+  free(firsts);
+  return r;
+}
+
 pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs,
                                   const pb_photon_trace_desc *desc, pb_photon_tracer **out) {
   *out = NULL;
@@ -146,52 +224,14 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
     goto fail;
   }
   t->gs = gs;
-  float center[3];
-  float radius = scene_radius(s, center);
-  float delta = 2.0f * sqrtf((float)M_PI / (float)d.photons);
-  pb_photon_split_budget(s, d.photons, counts, firsts);
-  uint32_t total = 0;
-  for (uint32_t i = 0; i < s->light_count; ++i) {
-    if (!counts[i]) continue;
-    const pb_light *l = &s->lights[i];
-    pb_gpu_photon_light *e = &t->lights[t->light_entries++];
-    e->light = i;
-    e->first = total;
-    e->count = counts[i];
-    total += counts[i];
-    double omega, k;
-    if (l->type == PB_LIGHT_DIRECTIONAL) {
-      omega = M_PI * (double)radius * radius; /* disc area */
-      e->cos_max = 1.0f;
-    } else if (l->type == PB_LIGHT_SPOT) {
-      float co = cosf(fmaxf(l->outer_cone, 0.0f));
-      omega = 2.0 * M_PI * (1.0 - co);
-      e->cos_max = co;
-    } else {
-      omega = 4.0 * M_PI;
-      e->cos_max = -1.0f;
-    }
-    k = omega / counts[i];
-    for (int c = 0; c < 3; ++c) e->power[c] = (float)(l->color[c] * (double)l->intensity * k);
-    e->diff_scale = (float)(sqrt(omega / counts[i]) / delta);
-  }
-  t->p.scene_center[0] = center[0];
-  t->p.scene_center[1] = center[1];
-  t->p.scene_center[2] = center[2];
-  t->p.scene_radius = radius;
-  t->p.photons = total; /* == d.photons when any light has power */
-  t->p.light_count = t->light_entries;
+  t->desc = d;
+  float center[3], radius;
+  scene_lights(t, s, counts, firsts, center, &radius);
   t->p.max_bounces = d.max_bounces;
   t->p.max_depth = d.max_bounces + 1 + PB_PHOTON_MAX_SPECULAR;
   t->p.capacity = (uint32_t)capacity;
-  t->p.delta = delta;
   t->p.smoothing = d.smoothing;
   t->p.smoothing_caustic = d.smoothing_caustic;
-  t->p.r_max = d.r_max > 0.0f ? d.r_max : 0.05f * radius;
-  t->stats.photons = total;
-  t->stats.delta = delta;
-  t->stats.r_max = t->p.r_max;
-  t->stats.scene_radius = radius;
   if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,
@@ -202,7 +242,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
 
   pb_gpu_buffer_desc fd = {.name = "photons.frame", .size = sizeof(pb_gpu_frame), .host_visible = 1};
   if ((r = pb_gpu_buffer_create(g, &fd, &t->frame)) != PB_OK) goto fail;
-  uint32_t entries = t->light_entries ? t->light_entries : 1;
+  uint32_t entries = s->light_count ? s->light_count : 1; /* room for every light: poses may change the split */
   pb_gpu_buffer_desc pd = {.name = "photons.params",
                            .size = sizeof(pb_gpu_photon_params) + entries * sizeof(pb_gpu_photon_light),
                            .host_visible = 1};

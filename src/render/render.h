@@ -132,6 +132,9 @@ typedef struct pb_render_desc {
                                   from there */
   const struct pb_photon_map *photon_map; /* tests: gather this map (every
                                   iteration) instead of tracing */
+  struct pb_frame_context *context; /* sequences: keeps pipelines, per-pixel
+                                  buffers, the photon tracer and estimator
+                                  for the next frame (pb_frame_context_*) */
   /* Benchmark (bench/run_bench.py): */
   uint32_t leaf_size;          /* fixed LBVH leaf-size threshold instead of
                                   T_auto (seed 000 Table 1); 0: T_auto */
@@ -204,6 +207,16 @@ typedef struct pb_render_result {
                            of samples on a normal-mapped material */
   pb_render_stats stats;
 } pb_render_result;
+
+/* What one frame builds before it renders (pipelines, per-pixel buffers,
+ * the photon tracer and density estimator, the photon map's storage), kept
+ * between the frames of a sequence: a frame with the same GPU scene, size
+ * and photon settings reuses it, updating the tracer and estimator to the
+ * scene's new pose; anything else builds afresh. Saves the pipeline
+ * compilation and allocations of every frame. */
+typedef struct pb_frame_context pb_frame_context;
+pb_result pb_frame_context_create(pb_frame_context **out);
+void pb_frame_context_destroy(pb_gpu *g, pb_frame_context *c);
 
 pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera,
                           uint32_t width, uint32_t height, const pb_render_desc *desc,

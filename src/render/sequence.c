@@ -28,11 +28,13 @@ struct pb_sequence {
    * direct and caustic AOVs) over the run's frames. */
   float *acc_rest, *acc_direct, *acc_caustic;
   uint32_t acc_frames;
+  pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   if (!q) return;
   pb_temporal_destroy(g, q->temporal);
+  pb_frame_context_destroy(g, q->frame_ctx);
   free(q->prev_positions);
   free(q->prev_lights);
   free(q->motion);
@@ -68,6 +70,7 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     r = pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", width, height);
     goto fail;
   }
+  if ((r = pb_frame_context_create(&q->frame_ctx)) != PB_OK) goto fail;
   if (desc->temporal && (r = pb_temporal_create(g, width, height, &desc->temporal_desc, &q->temporal)) != PB_OK)
     goto fail;
   *out = q;
@@ -191,6 +194,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   rd.seed = mix_seed(q->desc.render.seed, index);
   rd.atrous_iterations = 0;     /* after the temporal filter, below */
   rd.no_shading_correction = 1; /* eq. 20 after the filters, below */
+  rd.context = q->frame_ctx;
   uint32_t iters = rd.iterations ? rd.iterations : 1;
   if (!fi.still || !q->has_prev) q->still_iterations = 0;
   rd.iteration_base = rd.progressive ? q->still_iterations : 0;
