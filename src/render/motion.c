@@ -5,7 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { CHUNK = 1u << 20 }; /* rays per raycast submission */
+#include "shaders/motion.spv.h"
+#include "shared/pb_gpu.h"
+#include "shared/pb_filter.h"
 
 int pb_camera_project(const pb_camera *c, uint32_t width, uint32_t height, const float p[3], float *x, float *y,
                       float *depth) {
@@ -45,48 +47,96 @@ void pb_camera_primary_rays(const pb_camera *c, uint32_t width, uint32_t height,
   }
 }
 
+struct pb_motion_pass {
+  uint32_t width, height, vertex_count;
+  pb_gpu_pipeline pipe;
+  pb_gpu_buffer params, prev, motion;
+};
+
+void pb_motion_pass_destroy(pb_gpu *g, pb_motion_pass *m) {
+  if (!m) return;
+  pb_gpu_pipeline_destroy(g, &m->pipe);
+  pb_gpu_buffer_destroy(g, &m->params);
+  pb_gpu_buffer_destroy(g, &m->prev);
+  pb_gpu_buffer_destroy(g, &m->motion);
+  free(m);
+}
+
+pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint32_t vertex_count,
+                                pb_motion_pass **out) {
+  *out = NULL;
+  pb_motion_pass *m = calloc(1, sizeof *m);
+  if (!m) return pb_fail(PB_ERR_NOMEM, "motion vectors: out of memory");
+  m->width = width, m->height = height, m->vertex_count = vertex_count;
+  pb_gpu_buffer_desc pd = {.name = "motion.params", .size = sizeof(pb_gpu_motion_params), .host_visible = 1};
+  pb_gpu_buffer_desc vd = {.name = "motion.prev_positions", .size = (uint64_t)(vertex_count ? vertex_count : 1) * 12};
+  pb_gpu_buffer_desc md = {.name = "motion.vectors", .size = (uint64_t)width * height * 4 * sizeof(float),
+                           .host_visible = 1, .readback = 1};
+  pb_gpu_pipeline_desc pl = {.name = "pass.motion", .spirv = pb_spv_motion, .spirv_bytes = sizeof pb_spv_motion,
+                             .binding_count = 6};
+  pb_result r;
+  if ((r = pb_gpu_buffer_create(g, &pd, &m->params)) != PB_OK || (r = pb_gpu_buffer_create(g, &vd, &m->prev)) != PB_OK ||
+      (r = pb_gpu_buffer_create(g, &md, &m->motion)) != PB_OK || (r = pb_gpu_pipeline_create(g, &pl, &m->pipe)) != PB_OK) {
+    pb_motion_pass_destroy(g, m);
+    return r;
+  }
+  *out = m;
+  return PB_OK;
+}
+
+static void vec4_of(float dst[4], const float src[3]) {
+  dst[0] = src[0], dst[1] = src[1], dst[2] = src[2], dst[3] = 0.0f;
+}
+
+pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
+                             const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam,
+                             float *motion, double *gpu_ms) {
+  if (gpu_ms) *gpu_ms = 0;
+  if (s->vertex_count != m->vertex_count)
+    return pb_fail(PB_ERR_USAGE, "motion vectors: scene of %u vertices, pass made for %u", s->vertex_count,
+                   m->vertex_count);
+  pb_gpu_motion_params p;
+  memset(&p, 0, sizeof p);
+  vec4_of(p.cam_pos, cam->position), vec4_of(p.cam_forward, cam->forward);
+  vec4_of(p.cam_right, cam->right), vec4_of(p.cam_up, cam->up);
+  vec4_of(p.prev_pos, prev_cam->position), vec4_of(p.prev_forward, prev_cam->forward);
+  vec4_of(p.prev_right, prev_cam->right), vec4_of(p.prev_up, prev_cam->up);
+  float aspect = (float)m->width / (float)m->height;
+  p.tan_y = tanf(0.5f * cam->yfov), p.tan_x = p.tan_y * aspect;
+  p.prev_tan_y = tanf(0.5f * prev_cam->yfov), p.prev_tan_x = p.prev_tan_y * aspect;
+  p.width = m->width, p.height = m->height, p.triangle_count = s->triangle_count;
+  pb_result r = pb_gpu_buffer_upload(g, &m->params, 0, &p, sizeof p);
+  /* Geometry that did not move: the scene's own positions are the previous ones. */
+  const pb_gpu_buffer *prev = &gs->positions;
+  if (r == PB_OK && prev_positions && s->vertex_count) {
+    r = pb_gpu_buffer_upload(g, &m->prev, 0, prev_positions, (uint64_t)s->vertex_count * 12);
+    prev = &m->prev;
+  }
+  if (r != PB_OK) return r;
+  const pb_gpu_buffer *b[6] = {&gs->nodes, &gs->tris, &gs->indices, prev, &m->params, &m->motion};
+  if ((r = pb_gpu_pipeline_bind(g, &m->pipe, b, 6)) != PB_OK) return r;
+  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+  pb_gpu_timestamp(g, 0);
+  r = pb_gpu_dispatch(g, &m->pipe, NULL, (uint64_t)m->width * m->height);
+  pb_gpu_barrier(g);
+  pb_gpu_timestamp(g, 1);
+  pb_result rs = pb_gpu_submit(g);
+  if (r == PB_OK) r = rs;
+  if (r != PB_OK) return r;
+  if (gpu_ms) {
+    double ms = pb_gpu_elapsed_ms(g, 0, 1);
+    *gpu_ms = ms > 0 ? ms : 0;
+  }
+  return pb_gpu_buffer_download(g, &m->motion, 0, motion, (uint64_t)m->width * m->height * 4 * sizeof(float));
+}
+
 pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const float (*prev_positions)[3],
                             const pb_camera *cam, const pb_camera *prev_cam, uint32_t width, uint32_t height,
                             float *motion, double *gpu_ms) {
-  size_t n = (size_t)width * height;
-  if (gpu_ms) *gpu_ms = 0;
-  uint32_t cap = n < CHUNK ? (uint32_t)n : CHUNK;
-  pb_raycast_pass rc;
-  pb_result r = pb_raycast_create(g, gs, cap, &rc);
+  pb_motion_pass *m;
+  pb_result r = pb_motion_pass_create(g, width, height, s->vertex_count, &m);
   if (r != PB_OK) return r;
-  pb_gpu_ray *rays = malloc((size_t)cap * sizeof *rays);
-  pb_gpu_hit *hits = malloc((size_t)cap * sizeof *hits);
-  if (!rays || !hits) {
-    r = pb_fail(PB_ERR_NOMEM, "motion vectors: out of memory for %ux%u pixels", width, height);
-    goto done;
-  }
-  const float (*pp)[3] = prev_positions ? prev_positions : (const float (*)[3])s->positions;
-  for (size_t base = 0; base < n; base += cap) {
-    uint32_t m = n - base < cap ? (uint32_t)(n - base) : cap;
-    pb_camera_primary_rays(cam, width, height, base, m, rays);
-    double ms = 0;
-    if ((r = pb_raycast_run(g, &rc, rays, m, 0, hits, &ms)) != PB_OK) goto done;
-    if (gpu_ms) *gpu_ms += ms > 0 ? ms : 0;
-    for (uint32_t i = 0; i < m; ++i) {
-      float *mv = motion + 4 * (base + i);
-      memset(mv, 0, 4 * sizeof *mv);
-      const pb_gpu_hit *h = &hits[i];
-      if (h->prim == PB_GPU_MISS || h->prim >= s->triangle_count) continue;
-      const uint32_t *tri = s->triangles[h->prim];
-      float b0 = 1.0f - h->u - h->v, p[3];
-      for (int k = 0; k < 3; ++k) p[k] = b0 * pp[tri[0]][k] + h->u * pp[tri[1]][k] + h->v * pp[tri[2]][k];
-      float x, y, z;
-      if (!pb_camera_project(prev_cam, width, height, p, &x, &y, &z)) continue;
-      size_t pix = base + i;
-      mv[0] = x - ((float)(pix % width) + 0.5f);
-      mv[1] = y - ((float)(pix / width) + 0.5f);
-      mv[2] = z;
-      mv[3] = 1.0f;
-    }
-  }
-done:
-  free(rays);
-  free(hits);
-  pb_raycast_destroy(g, &rc);
+  r = pb_motion_pass_run(g, m, s, gs, prev_positions, cam, prev_cam, motion, gpu_ms);
+  pb_motion_pass_destroy(g, m);
   return r;
 }

@@ -30,11 +30,22 @@
  *           camera, else 0 (the other three are then 0). */
 enum { PB_MOTION_CHANNELS = 4 };
 
+/* The pass (shaders/motion.comp), kept between the frames of a sequence:
+ * its pipeline, the parameters, the previous positions and the output. */
+typedef struct pb_motion_pass pb_motion_pass;
+pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint32_t vertex_count,
+                                pb_motion_pass **out);
+void pb_motion_pass_destroy(pb_gpu *g, pb_motion_pass *m);
 /* s: the scene as posed for this frame, gs its GPU copy (updated to the
  * same pose). prev_positions: s's vertex positions in the previous frame
  * (vertex_count entries), or NULL when no geometry moved. cam/prev_cam:
- * this and the previous frame's camera; width x height the image. gpu_ms
- * (may be NULL): the ray pass's time. */
+ * this and the previous frame's camera. motion: width x height x 4 floats
+ * out. gpu_ms (may be NULL): the pass's time. */
+pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
+                             const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam,
+                             float *motion, double *gpu_ms);
+
+/* One-shot: create, run, destroy (tests). */
 pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const float (*prev_positions)[3],
                             const pb_camera *cam, const pb_camera *prev_cam, uint32_t width, uint32_t height,
                             float *motion, double *gpu_ms);
@@ -47,8 +58,9 @@ void pb_camera_primary_rays(const pb_camera *c, uint32_t width, uint32_t height,
                             pb_gpu_ray *rays);
 
 /* Projects world point p by camera c onto a width x height image: pixel
- * coordinates (x right, y down, pixel centres at +0.5) and camera depth.
- * Returns 0 when p is not in front of the camera. Shared with the tests. */
+ * coordinates (x right, y down, pixel centres at +0.5) and camera depth, as
+ * motion.comp does on the GPU. Returns 0 when p is not in front of the
+ * camera. */
 int pb_camera_project(const pb_camera *c, uint32_t width, uint32_t height, const float p[3], float *x, float *y,
                       float *depth);
 

@@ -29,12 +29,14 @@ struct pb_sequence {
   float *acc_rest, *acc_direct, *acc_caustic;
   uint32_t acc_frames;
   pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
+  pb_motion_pass *motion_pass; /* made by the first moving frame */
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   if (!q) return;
   pb_temporal_destroy(g, q->temporal);
   pb_frame_context_destroy(g, q->frame_ctx);
+  pb_motion_pass_destroy(g, q->motion_pass);
   free(q->prev_positions);
   free(q->prev_lights);
   free(q->motion);
@@ -206,8 +208,12 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   int moving = q->has_prev && !fi.still;
   if (moving && out->indirect && (q->temporal)) {
     t0 = pb_time_now();
-    r = pb_motion_vectors(g, s, q->gs, fi.geometry_moved ? (const float(*)[3])q->prev_positions : NULL, cam,
-                          &q->prev_cam, q->width, q->height, q->motion, NULL);
+    if (!q->motion_pass)
+      r = pb_motion_pass_create(g, q->width, q->height, s->vertex_count, &q->motion_pass);
+    if (r == PB_OK)
+      r = pb_motion_pass_run(g, q->motion_pass, s, q->gs,
+                             fi.geometry_moved ? (const float(*)[3])q->prev_positions : NULL, cam, &q->prev_cam,
+                             q->motion, NULL);
     fi.motion_ms = (pb_time_now() - t0) * 1e3;
     if (r != PB_OK) goto fail;
   }

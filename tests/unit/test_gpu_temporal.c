@@ -134,7 +134,7 @@ static void pan(pb_gpu *g) {
   memcpy(want, b.indirect, sizeof want);
   pb_temporal_stats ts;
   CHECK_EQ_INT(pb_temporal_apply(g, t, b.normal, b.depth, b.albedo, b.motion, 0, b.indirect, b.hist, &ts), PB_OK);
-  int kept = 0, reset = 0, bad_mv = 0, bad_keep = 0, bad_reset = 0;
+  int kept = 0, reset = 0, bad_mv = 0, bad_keep = 0, bad_reset = 0, bad_proj = 0;
   double max_err = 0;
   for (int p = 0; p < N; ++p) {
     int x = p % W, on_card = b.depth[p] < 3.0f;
@@ -143,6 +143,11 @@ static void pan(pb_gpu *g) {
     if (mv[3] != 1.0f || fabsf(mv[0] - want_dx) > 1e-3f || fabsf(mv[1]) > 1e-3f ||
         fabsf(mv[2] - b.depth[p]) > 1e-4f * b.depth[p])
       ++bad_mv;
+    /* The same against the host's projection of the analytic point. */
+    float hx, hy, hz;
+    if (!pb_camera_project(&prev, W, H, b.world[p], &hx, &hy, &hz) ||
+        fabsf(mv[0] - (hx - ((float)x + 0.5f))) > 1e-3f || fabsf(mv[1] - (hy - ((float)(p / W) + 0.5f))) > 1e-3f)
+      ++bad_proj;
     /* Where was this point in frame a: pixel x + dx, same row. Visible
      * there (same depth) and on screen: reprojected; else disoccluded. */
     int qx = x + (int)want_dx;
@@ -164,6 +169,7 @@ static void pan(pb_gpu *g) {
   printf("pan: %d pixels reprojected (max relative difference %.2e), %d reset (disoccluded or off-screen); "
          "pass %.3f ms\n", kept, max_err, reset, ts.gpu_ms);
   CHECK_EQ_INT(bad_mv, 0);
+  CHECK_EQ_INT(bad_proj, 0);
   CHECK(kept > N / 2);
   CHECK(reset >= 3 * H + 10); /* the entering columns plus the card's trail */
   CHECK_EQ_INT(bad_keep, 0);
