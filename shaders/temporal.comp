@@ -39,7 +39,7 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 layout(std430, set = 0, binding = 0) readonly buffer HistIn { vec4 hist_in[]; };
 layout(std430, set = 0, binding = 1) readonly buffer GeoPrev { vec4 geo_prev[]; };
 layout(std430, set = 0, binding = 2) readonly buffer GeoCur { vec4 geo[]; };
-layout(std430, set = 0, binding = 3) buffer Indirect { vec4 indirect[]; };
+layout(std430, set = 0, binding = 3) readonly buffer Indirect { vec4 indirect[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Albedo { vec4 albedo[]; };
 layout(std430, set = 0, binding = 5) readonly buffer Motion { vec4 motion[]; };
 layout(std430, set = 0, binding = 6) writeonly buffer HistOut { vec4 hist_out[]; };
@@ -72,7 +72,6 @@ void main() {
   vec3 e = indirect[gid].rgb / a;
   if (!(gp.w > 0.0)) {  // no surface: nothing to filter, no history
     hist_out[gid] = vec4(e, 0.0);
-    indirect[gid].w = 0.0;
     return;
   }
   vec3 hist = vec3(0.0);
@@ -124,11 +123,33 @@ void main() {
       w = 0.0;
     }
   }
+  // Caustics (clamp_gamma > 0): light that moves over a still surface has no
+  // motion vector, so the history is also clamped to this frame's 3x3
+  // neighbourhood, mean +- clamp_gamma sigma (Salvi's variance clipping in
+  // TAA; seed 001 24.4.1 finds colour clipping too loose for noisy
+  // irradiance, which is why the indirect light does without it).
+  if (push.clamp_gamma > 0.0 && w > 0.0 && push.still == 0u) {
+    int x = int(gid % push.width), y = int(gid / push.width);
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+    float k = 0.0;
+    for (int j = -1; j <= 1; ++j)
+      for (int i = -1; i <= 1; ++i) {
+        int qx = x + i, qy = y + j;
+        if (qx < 0 || qy < 0 || qx >= int(push.width) || qy >= int(push.height)) continue;
+        uint q = uint(qy) * push.width + uint(qx);
+        if (!(geo[q].w > 0.0)) continue;
+        vec3 c = indirect[q].rgb / pb_demod(albedo[q].rgb);
+        m1 += c;
+        m2 += c * c;
+        k += 1.0;
+      }
+    vec3 mu = m1 / k, sd = sqrt(max(m2 / k - mu * mu, vec3(0.0)));
+    hist = clamp(hist, mu - push.clamp_gamma * sd, mu + push.clamp_gamma * sd);
+  }
   float young = len / (len + 1.0);
   float alpha = w * (push.still != 0u ? young : min(push.alpha, young));
   if (push.still != 0u && len >= push.max_history) alpha = w * push.max_history / (push.max_history + 1.0);
   vec3 filtered = max((1.0 - alpha) * e + alpha * hist, vec3(0.0));  // eq. 12
   float len_new = 1.0 / (1.0 - alpha);
   hist_out[gid] = vec4(filtered, len_new);
-  indirect[gid] = vec4(filtered * a, len_new);
 }

@@ -11,6 +11,9 @@
   still     cornell_box with a still camera converges: the error against the
             reference falls frame after frame (16 frames: >= 3 dB);
   orbit     --orbit moves the camera around a scene without animation;
+  caustics  cornell_caustics_moving_sphere (48 px, 8 frames): the filters (the
+            caustics' own clamped temporal filter included) cut the excess
+            flicker at least 3x with per-frame error no worse;
   errors    bad --frames, an output name without '#', --orbit without
             --frames: exit 2 with one line naming the option.
 
@@ -23,7 +26,7 @@ import subprocess
 import sys
 
 EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
-PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker"]
+PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics"]
 failures = []
 
 
@@ -161,6 +164,21 @@ if "flicker" in PARTS:
         check(filt["flicker_excess"] * 4 <= raw["flicker_excess"],
               "flicker: filtered excess flicker at least 4x below unfiltered")
         check(filt["mean_relmse"] <= raw["mean_relmse"], "flicker: filtered per-frame error no worse")
+
+if "caustics" in PARTS:
+    d = fresh("caustics")
+    common = ["render", sample("cornell_caustics_moving_sphere"), "--frames", "0:7", "--width", "48", "--height",
+              "48", "--photons", "16384", "--reference-spp", "256", "--reference-cache", cache]
+    p0 = run(common + ["--no-temporal", "--atrous-iterations", "0", "-o", d + "/raw_#.exr", "--json", d + "/raw.json"])
+    p1 = run(common + ["-o", d + "/filt_#.exr", "--json", d + "/filt.json"])
+    check(p0.returncode == 0 and p1.returncode == 0, "caustics: both sequences render")
+    if p0.returncode == 0 and p1.returncode == 0:
+        raw = json.load(open(d + "/raw.json"))["summary"]
+        filt = json.load(open(d + "/filt.json"))["summary"]
+        print("caustics: excess flicker %.5f -> %.5f, relMSE %.5f -> %.5f" %
+              (raw["flicker_excess"], filt["flicker_excess"], raw["mean_relmse"], filt["mean_relmse"]))
+        check(filt["flicker_excess"] * 3 <= raw["flicker_excess"], "caustics: excess flicker at least 3x lower")
+        check(filt["mean_relmse"] <= raw["mean_relmse"], "caustics: per-frame error no worse")
 
 print("%d failure(s)" % len(failures))
 sys.exit(1 if failures else 0)

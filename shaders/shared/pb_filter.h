@@ -26,12 +26,12 @@ PB_STRUCT(pb_gpu_atrous_push) {
  * shaders/temporal.comp). Buffers, vec4 per pixel, top row first: 0 the
  * previous frame's temporally filtered irradiance (rgb) and history length
  * (w), 1 the previous frame's geometry (shading normal xyz, camera depth),
- * 2 this frame's geometry, 3 this frame's indirect radiance (rgb; the
- * filtered radiance on return, w = its history length), 4 the albedo
+ * 2 this frame's geometry, 3 this frame's radiance (rgb; read only), 4 the albedo
  * (demodulation, as the A-Trous), 5 the motion (dx, dy: where this pixel's
  * surface point was in the previous frame, in pixels, previous minus
  * current; z: its camera depth in the previous frame; w: 1 valid, 0 none),
- * 6 the new history (irradiance, length) for the next frame. */
+ * 6 the new history (filtered irradiance, length): this frame's result
+ * (times the albedo on the host) and the next frame's history. */
 PB_STRUCT(pb_gpu_temporal_push) {
   uint width;
   uint height;
@@ -41,6 +41,11 @@ PB_STRUCT(pb_gpu_temporal_push) {
   float sigma_z;    /* eq. 10 (1) */
   float sigma_n;    /* eq. 11 (32) */
   float max_history;/* cap on the history length with still = 1 */
+  float clamp_gamma;/* > 0: history clamped to this frame's 3x3 mean +-
+                       clamp_gamma sigma (caustics); 0: off (eq. 13 only) */
+  uint pad0;
+  uint pad1;
+  uint pad2;
 } PB_END(pb_gpu_temporal_push)
 
 /* Motion vectors (src/render/motion.c, shaders/motion.comp): this frame's
@@ -66,7 +71,7 @@ PB_STRUCT(pb_gpu_motion_params) {
 #ifndef PB_GLSL
 _Static_assert(sizeof(pb_gpu_motion_params) == 160, "pb_gpu_motion_params size");
 _Static_assert(sizeof(pb_gpu_atrous_push) == 32, "pb_gpu_atrous_push size");
-_Static_assert(sizeof(pb_gpu_temporal_push) == 32, "pb_gpu_temporal_push size");
+_Static_assert(sizeof(pb_gpu_temporal_push) == 48, "pb_gpu_temporal_push size");
 #endif
 
 #endif

@@ -7,7 +7,33 @@
 
 #include "render/atrous.h"
 
+/* Caustics: their own temporal filter (filters.h), the beauty updated. */
+static pb_result filter_caustic(pb_gpu *g, pb_render_result *res, const pb_filter_desc *d, const float *normal) {
+  size_t n = (size_t)res->width * res->height;
+  float *raw = malloc(3 * n * sizeof *raw);
+  if (!raw) return pb_fail(PB_ERR_NOMEM, "render: out of memory for the filters");
+  memcpy(raw, res->caustic, 3 * n * sizeof *raw);
+  pb_temporal_stats ts;
+  pb_result r = pb_temporal_apply(g, d->temporal_caustic, normal, res->depth, res->albedo, d->motion, d->still,
+                                  res->caustic, NULL, &ts);
+  if (r == PB_OK) {
+    res->stats.temporal_ms += ts.gpu_ms;
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        float *c = &res->caustic[3 * i + k];
+        if (!isfinite(*c)) *c = 0.0f, res->stats.nonfinite_values++;
+        res->beauty[4 * i + k] += *c - raw[3 * i + k];
+      }
+  }
+  free(raw);
+  return r;
+}
+
 pb_result pb_filter_indirect(pb_gpu *g, pb_render_result *res, const pb_filter_desc *d) {
+  if (d->temporal_caustic && res->caustic) {
+    pb_result r = filter_caustic(g, res, d, res->geo_normal ? res->geo_normal : res->normal);
+    if (r != PB_OK) return r;
+  }
   if (!res->indirect || (!d->temporal && !d->atrous_iterations)) return PB_OK;
   size_t n = (size_t)res->width * res->height;
   float *raw = malloc(3 * n * sizeof *raw);

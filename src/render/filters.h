@@ -1,7 +1,8 @@
 /* The post-filters of the indirect light, in the chapter's order (seed 001
  * 24.4): temporal (temporal.h, eq. 12-13) then spatial (atrous.h, eq.
  * 14-19), on a resolved frame's AOVs; the beauty takes the filtered
- * indirect in place of the raw one. Caustics stay unfiltered (sharp). */
+ * indirect in place of the raw one. Caustics get at most a temporal filter
+ * (no blur across them). */
 #ifndef PB_RENDER_FILTERS_H
 #define PB_RENDER_FILTERS_H
 
@@ -16,6 +17,10 @@ typedef struct pb_filter_desc {
   uint32_t atrous_iterations; /* 0: no spatial filter */
   float atrous_gamma;         /* as pb_render_desc.atrous_gamma */
   pb_temporal *temporal;      /* NULL: no temporal filter */
+  pb_temporal *temporal_caustic; /* NULL: caustics unfiltered; else their own
+                                 temporal filter (history clamped to the
+                                 frame's neighbourhood; no spatial filter,
+                                 so they stay sharp) */
   const float *motion;        /* motion.h vectors (NULL with still) */
   int still;                  /* camera and scene unchanged since the
                                  previous frame */

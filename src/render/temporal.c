@@ -10,6 +10,8 @@
 #include "shared/pb_filter.h"
 
 enum { BIND_COUNT = 7 };
+/* The demodulation floor of temporal.comp and atrous.comp. */
+static const float PB_ALBEDO_MIN = 1e-3f;
 
 struct pb_temporal {
   uint32_t width, height;
@@ -66,7 +68,7 @@ pb_result pb_temporal_create(pb_gpu *g, uint32_t width, uint32_t height, const p
                                       "temporal.motion"};
   pb_gpu_buffer *bufs[] = {&t->hist[0], &t->hist[1], &t->geo[0], &t->geo[1], &t->indirect, &t->albedo, &t->motion};
   for (size_t i = 0; i < sizeof bufs / sizeof *bufs; ++i) {
-    pb_gpu_buffer_desc bd = {.name = names[i], .size = bytes, .host_visible = bufs[i] == &t->indirect};
+    pb_gpu_buffer_desc bd = {.name = names[i], .size = bytes};
     if ((r = pb_gpu_buffer_create(g, &bd, bufs[i])) != PB_OK) goto fail;
   }
   pb_gpu_pipeline_desc pd = {.name = "pass.temporal", .spirv = pb_spv_temporal, .spirv_bytes = sizeof pb_spv_temporal,
@@ -124,7 +126,8 @@ pb_result pb_temporal_apply(pb_gpu *g, pb_temporal *t, const float *normal, cons
   if ((r = pb_gpu_pipeline_bind(g, &t->pipe, bind, BIND_COUNT)) != PB_OK) return r;
   pb_gpu_temporal_push p = {.width = t->width, .height = t->height, .has_history = (uint32_t)t->has_history,
                             .still = still ? 1u : 0u, .alpha = t->desc.alpha, .sigma_z = t->desc.sigma_z,
-                            .sigma_n = t->desc.sigma_n, .max_history = t->desc.max_history};
+                            .sigma_n = t->desc.sigma_n, .max_history = t->desc.max_history,
+                            .clamp_gamma = t->desc.clamp_gamma};
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
   pb_gpu_timestamp(g, 0);
   r = pb_gpu_dispatch(g, &t->pipe, &p, n);
@@ -136,13 +139,16 @@ pb_result pb_temporal_apply(pb_gpu *g, pb_temporal *t, const float *normal, cons
   if (r == PB_OK) r = rs;
   if (r != PB_OK) return r;
   double ms = pb_gpu_elapsed_ms(g, 0, 1);
-  if ((r = pb_gpu_buffer_download(g, &t->indirect, 0, t->host, bytes)) != PB_OK) return r;
+  /* The new history is the filtered irradiance: times the albedo (as the
+   * pass demodulated it) it is the result. */
+  if ((r = pb_gpu_buffer_download(g, &t->hist[cur], 0, t->host, bytes)) != PB_OK) return r;
   uint64_t surf = 0, reset = 0;
   double lsum = 0;
   for (size_t i = 0; i < n; ++i) {
     float L = t->host[4 * i + 3];
     if (depth[i] > 0.0f) {
-      for (int k = 0; k < 3; ++k) indirect[3 * i + k] = t->host[4 * i + k];
+      for (int k = 0; k < 3; ++k)
+        indirect[3 * i + k] = t->host[4 * i + k] * (albedo[3 * i + k] > PB_ALBEDO_MIN ? albedo[3 * i + k] : PB_ALBEDO_MIN);
       ++surf;
       lsum += L;
       if (L < 1.0001f) ++reset;

@@ -25,6 +25,9 @@ typedef struct pb_temporal_desc {
   float sigma_z;      /* eq. 10; 0: 1 */
   float sigma_n;      /* eq. 11; 0: 32 */
   float max_history;  /* still views: frames averaged at most; 0: 4096 */
+  float clamp_gamma;  /* > 0: history also clamped to this frame's 3x3 mean
+                         +- clamp_gamma sigma (for caustics, which move over
+                         still surfaces); 0: off */
 } pb_temporal_desc;
 
 typedef struct pb_temporal pb_temporal;
