@@ -17,13 +17,17 @@ enum { PB_LBVH_BIND_COUNT = 10 };
 enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
        PB_GATHER_BIND_COUNT };
 
+/* The gather's specialization constants: scene.glsl's (constant_id 0-3),
+ * one unused id (4, photon_trace's SC_TRANSMISSION), SC_NORMAL_MAPS (5). */
+enum { PB_GATHER_SPEC_NORMAL_MAPS = 5, PB_GATHER_SPEC_COUNT = 6 };
+
 struct pb_photon_estimator {
   pb_photon_estimate_desc desc;
   float footprint_scale; /* of the next build; 0: 1 */
   float scene_area;
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;
-  uint32_t gather_spec[PB_SPEC_COUNT];
+  uint32_t gather_spec[PB_GATHER_SPEC_COUNT]; /* scene.glsl's, then SC_NORMAL_MAPS */
   int gather_ready;
   uint32_t capacity;             /* photons the buffers hold */
   uint32_t count;                /* photons of the last build */

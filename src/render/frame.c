@@ -237,6 +237,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                    &gs->emitters},
       .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
                plan.emitter_sampling ? 1u : 0u},
+      .normal_maps = plan.normal_maps ? 1u : 0u,
   };
   if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
     goto fail;

@@ -10,7 +10,10 @@
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
                                    const pb_gpu_buffer *photon_accum) {
   pb_result r;
-  if (e->gather.pipeline && memcmp(e->gather_spec, ps->spec, sizeof e->gather_spec) != 0)
+  uint32_t spec[PB_GATHER_SPEC_COUNT] = {0};
+  memcpy(spec, ps->spec, sizeof ps->spec);
+  spec[PB_GATHER_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
+  if (e->gather.pipeline && memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0)
     pb_gpu_pipeline_destroy(g, &e->gather);
   if (!e->gather.pipeline) {
     pb_gpu_pipeline_desc d = {
@@ -19,11 +22,11 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
         .spirv_bytes = sizeof pb_spv_gather,
         .binding_count = PB_GATHER_BIND_COUNT,
         .push_bytes = sizeof(pb_gpu_gather_push),
-        .spec = ps->spec,
-        .spec_count = PB_SPEC_COUNT,
+        .spec = spec,
+        .spec_count = PB_GATHER_SPEC_COUNT,
     };
     if ((r = pb_gpu_pipeline_create(g, &d, &e->gather)) != PB_OK) return r;
-    memcpy(e->gather_spec, ps->spec, sizeof e->gather_spec);
+    memcpy(e->gather_spec, spec, sizeof e->gather_spec);
   }
   if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
   const pb_gpu_buffer *b[PB_GATHER_BIND_COUNT];

@@ -19,6 +19,8 @@ enum { PB_SPEC_HAS_NORMALS = 0, PB_SPEC_TEXTURES, PB_SPEC_SPECULAR, PB_SPEC_EMIS
 typedef struct pb_pass_setup {
   const pb_gpu_buffer *bindings[PB_BIND_COUNT];
   uint32_t spec[PB_SPEC_COUNT];
+  uint32_t normal_maps; /* the gather's SC_NORMAL_MAPS (constant_id 5): eq. 20's
+                           extra sums, compiled out for scenes without */
 } pb_pass_setup;
 
 /* gbuffer.c: primary visibility + specular eye chains + emission + AOVs. */
