@@ -29,6 +29,7 @@ layout(std430, set = 0, binding = 15) readonly buffer Photons { pb_gpu_photon ph
 layout(std430, set = 0, binding = 16) readonly buffer Nodes2 { pb_gpu_lbvh_node lnodes[]; };
 layout(std430, set = 0, binding = 17) buffer InfoBuf { pb_gpu_lbvh_info info; };
 layout(std430, set = 0, binding = 18) buffer PhotonAccum { pb_gpu_photon_accum paccum[]; };
+layout(std430, set = 0, binding = 19) buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; }; // normal maps only
 layout(push_constant) uniform GatherPush { pb_gpu_gather_push gp; };
 // Scenes with normal maps (eq. 20's sums below); compiled out for the rest.
 layout(constant_id = 5) const bool SC_NORMAL_MAPS = true;
@@ -108,17 +109,19 @@ void main() {
   }
   ind *= g.throughput;
   cau *= g.throughput;
-  // Member by member: scenes without normal maps touch only the first 32
-  // bytes of the 80-byte record.
-  paccum[gid].indirect += vec4(ind, float(hits));
-  paccum[gid].caustic.xyz += cau;
+  pb_gpu_photon_accum pa = paccum[gid];
+  pa.indirect += vec4(ind, float(hits));
+  pa.caustic.xyz += cau;
+  paccum[gid] = pa;
   if (nmap) {
     pb_surface ms = surf;
     pb_apply_normal_map(ms, g.prim, g.u, g.v);
-    if (materials[surf.mat].normal_tex != PB_GPU_NO_TEXTURE) paccum[gid].caustic.w += 1.0;
-    if (!any(isnan(dir)) && !any(isinf(dir))) paccum[gid].dir += dir;
-    paccum[gid].geo.xyz += surf.ng;
-    paccum[gid].ns.xyz += ms.ns;
+    pb_gpu_photon_nmap pn = pnmap[gid];
+    if (materials[surf.mat].normal_tex != PB_GPU_NO_TEXTURE) pn.ns.w += 1.0;
+    if (!any(isnan(dir)) && !any(isinf(dir))) pn.dir += dir;
+    pn.geo.xyz += surf.ng;
+    pn.ns.xyz += ms.ns;
+    pnmap[gid] = pn;
   }
   if ((gp.flags & PB_GATHER_NO_BEAUTY) == 0u) {
     pb_gpu_accum acc = accum[gid];

@@ -82,23 +82,27 @@ PB_STRUCT(pb_gpu_lbvh_push) {
   uint count;            /* invocation bound of this dispatch */
 } PB_END(pb_gpu_lbvh_push)
 
-/* Gather output per pixel of the band, sums over samples, 80 bytes.
- * indirect.w: photons that contributed (for k_PD); caustic.w: samples whose
- * gather surface has a normal-mapped material (0 in scenes without normal
- * maps). For seed 001's shading-normal correction (24.4.3, eq. 20; only
- * written in scenes with normal maps, src/render/shading_correction.c):
- * dir.xyz: sum of w_i wi over the non-caustic photons gathered, w_i the
- * kernel weight times the luminance of the photon's power ("an additional
- * blending target"), dir.w: sum of w_i; geo.xyz: sum of the gather
- * surface's geometric normal (facing the eye); ns.xyz: sum of its
- * normal-mapped shading normal n_s. geo.w, ns.w: unused. */
+/* Gather output per pixel of the band, sums over samples, 32 bytes.
+ * indirect.w: photons that contributed (for k_PD); caustic.w: unused. */
 PB_STRUCT(pb_gpu_photon_accum) {
   PB_VEC4(indirect);
   PB_VEC4(caustic);
+} PB_END(pb_gpu_photon_accum)
+
+/* Only in scenes with normal maps (a buffer of its own, so other scenes
+ * move 32 bytes per pixel, not 80), per pixel, sums over samples, for seed
+ * 001's shading-normal correction (24.4.3, eq. 20;
+ * src/render/shading_correction.c): dir.xyz: sum of w_i wi over the
+ * non-caustic photons gathered, w_i the kernel weight times the luminance
+ * of the photon's power ("an additional blending target"), dir.w: sum of
+ * w_i; geo.xyz: sum of the gather surface's geometric normal (facing the
+ * eye); ns.xyz: sum of its normal-mapped shading normal n_s; ns.w: samples
+ * whose gather surface has a normal-mapped material; geo.w: unused. */
+PB_STRUCT(pb_gpu_photon_nmap) {
   PB_VEC4(dir);
   PB_VEC4(geo);
   PB_VEC4(ns);
-} PB_END(pb_gpu_photon_accum)
+} PB_END(pb_gpu_photon_nmap)
 
 PB_CONST(PB_GATHER_CONSTANT_KERNEL, 1u) /* box kernel instead of Epanechnikov */
 PB_CONST(PB_GATHER_NO_BEAUTY, 2u)       /* do not add into accum.beauty */
@@ -126,7 +130,8 @@ _Static_assert(offsetof(pb_gpu_lbvh_info, hi) == 64, "pb_gpu_lbvh_info.hi");
 _Static_assert(offsetof(pb_gpu_lbvh_info, stack_overflow) == 80, "pb_gpu_lbvh_info.stack_overflow");
 _Static_assert(offsetof(pb_gpu_lbvh_info, footprint_scale) == 84, "pb_gpu_lbvh_info.footprint_scale");
 _Static_assert(sizeof(pb_gpu_lbvh_push) == 16, "pb_gpu_lbvh_push size");
-_Static_assert(sizeof(pb_gpu_photon_accum) == 80, "pb_gpu_photon_accum size");
+_Static_assert(sizeof(pb_gpu_photon_accum) == 32, "pb_gpu_photon_accum size");
+_Static_assert(sizeof(pb_gpu_photon_nmap) == 48, "pb_gpu_photon_nmap size");
 _Static_assert(sizeof(pb_gpu_gather_push) == 16, "pb_gpu_gather_push size");
 #endif
 

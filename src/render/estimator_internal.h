@@ -15,7 +15,7 @@ enum {
 enum { PB_LBVH_BIND_COUNT = 10 };
 /* Gather bindings: scene.glsl's 15, then these. */
 enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
-       PB_GATHER_BIND_COUNT };
+       PB_GATHER_BIND_NMAP, PB_GATHER_BIND_COUNT };
 
 /* The gather's specialization constants: scene.glsl's (constant_id 0-3),
  * one unused id (4, photon_trace's SC_TRANSMISSION), SC_NORMAL_MAPS (5). */

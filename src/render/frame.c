@@ -35,7 +35,7 @@ typedef struct ctx_key {
 struct pb_frame_context {
   int valid;
   ctx_key key;
-  pb_gpu_buffer frame_buf, gbuf, accum, paccum;
+  pb_gpu_buffer frame_buf, gbuf, accum, paccum, pnmap;
   pb_gpu_pipeline gp, dp;
   pb_photon_tracer *tracer;
   pb_photon_estimator *est;
@@ -50,6 +50,7 @@ pb_result pb_frame_context_create(pb_frame_context **out) {
 static void context_clear(pb_gpu *g, pb_frame_context *c) {
   if (!c->valid) return;
   pb_gpu_buffer_destroy(g, &c->paccum);
+  pb_gpu_buffer_destroy(g, &c->pnmap);
   pb_photon_map_destroy(g, &c->map);
   pb_photon_estimator_destroy(g, c->est);
   pb_photon_tracer_destroy(g, c->tracer);
@@ -157,9 +158,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   double wall0 = pb_time_now();
 
   /* Band: whole rows whose G-buffer and accumulators each fit one storage
-   * buffer (64 bytes per pixel of G-buffer, 80 of photon accumulators).
+   * buffer (64 bytes per pixel of G-buffer, 32 of photon accumulators, 48
+   * of eq. 20's sums with normal maps).
    * Never truncated: a row that does not fit is refused. */
-  uint64_t per_pixel = sizeof(pb_gpu_gbuffer) > sizeof(pb_gpu_photon_accum) ? sizeof(pb_gpu_gbuffer) : sizeof(pb_gpu_photon_accum);
+  uint64_t per_pixel = sizeof(pb_gpu_gbuffer);
+  if (per_pixel < sizeof(pb_gpu_photon_accum)) per_pixel = sizeof(pb_gpu_photon_accum);
+  if (per_pixel < sizeof(pb_gpu_photon_nmap)) per_pixel = sizeof(pb_gpu_photon_nmap);
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
   if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
   if (max_pixels < width)
@@ -176,7 +180,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_buffer frame_buf = {0}, gbuf = {0}, accum = {0};
   pb_gpu_pipeline gp = {0}, dp = {0};
   pb_gpu_accum *host = NULL;
-  pb_gpu_buffer paccum = {0};
+  pb_gpu_buffer paccum = {0}, pnmap = {0}; /* pnmap: scenes with normal maps */
+  pb_gpu_photon_nmap *pnhost = NULL;
+  int nmap_on = 0;
   pb_photon_tracer *tracer = NULL;
   pb_photon_estimator *est = NULL;
   pb_photon_map map;
@@ -199,7 +205,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
   if (reuse) {
-    frame_buf = ctx->frame_buf, gbuf = ctx->gbuf, accum = ctx->accum, paccum = ctx->paccum;
+    frame_buf = ctx->frame_buf, gbuf = ctx->gbuf, accum = ctx->accum, paccum = ctx->paccum, pnmap = ctx->pnmap;
     gp = ctx->gp, dp = ctx->dp;
     tracer = ctx->tracer, est = ctx->est, map = ctx->map;
     memset(ctx, 0, sizeof *ctx);
@@ -249,6 +255,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     pb_gpu_buffer_desc pd = {.name = "frame.photon_accum",
                              .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
     if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
+    if (gs->tangent_base) { /* the gather's eq. 20 sums (its SC_NORMAL_MAPS) */
+      pb_gpu_buffer_desc nd = {.name = "frame.photon_nmap",
+                               .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_nmap), .host_visible = 1,
+                               .readback = 1};
+      if ((r = pb_gpu_buffer_create(g, &nd, &pnmap)) != PB_OK) goto fail;
+    }
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
                                  .first_bounce = desc.first_bounce};
@@ -258,6 +270,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
   }
 
+  nmap_on = photons_on && pnmap.size > 0;
+  if (nmap_on && !(pnhost = malloc((size_t)band_pixels * sizeof *pnhost))) {
+    r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
+    goto fail;
+  }
   const pb_camera *cam = &s->cameras[camera];
   pb_gpu_frame fr;
   memset(&fr, 0, sizeof fr);
@@ -289,6 +306,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if ((r = pb_gpu_buffer_upload(g, &frame_buf, 0, &fr, sizeof fr)) != PB_OK) goto fail;
     if ((r = pb_gpu_buffer_fill_zero(g, &accum)) != PB_OK) goto fail;
     if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &paccum)) != PB_OK) goto fail;
+    if (nmap_on && (r = pb_gpu_buffer_fill_zero(g, &pnmap)) != PB_OK) goto fail;
     for (uint32_t it = 0; it < iters; ++it) {
     uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
     if (photons_on && s_end > s_begin) {
@@ -333,7 +351,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
         sort_ms = sort_ms >= 0 && es.sort_ms >= 0 ? sort_ms + es.sort_ms : -1;
       }
-      if ((r = pb_photon_estimator_bind(g, est, &ps, &paccum)) != PB_OK) goto fail;
+      if ((r = pb_photon_estimator_bind(g, est, &ps, &paccum, nmap_on ? &pnmap : NULL)) != PB_OK) goto fail;
     }
     for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
       uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
@@ -397,7 +415,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         k_sum += phost[i].indirect[3];
         hit_sum += host[i].beauty[3];
       }
-      if ((r = pb_shading_correction_resolve(s, phost, pixels, fr.pixel_base, n, spp, out)) != PB_OK) goto fail;
+      if (nmap_on &&
+          ((r = pb_gpu_buffer_download(g, &pnmap, 0, pnhost, (uint64_t)pixels * sizeof *pnhost)) != PB_OK ||
+           (r = pb_shading_correction_resolve(s, pnhost, pixels, fr.pixel_base, n, spp, out)) != PB_OK))
+        goto fail;
     }
   }
   out->width = width;
@@ -442,8 +463,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   free(hist_host);
   free(host);
   free(phost);
+  free(pnhost);
   if (ctx) { /* kept for the next frame */
-    ctx->frame_buf = frame_buf, ctx->gbuf = gbuf, ctx->accum = accum, ctx->paccum = paccum;
+    ctx->frame_buf = frame_buf, ctx->gbuf = gbuf, ctx->accum = accum, ctx->paccum = paccum, ctx->pnmap = pnmap;
     ctx->gp = gp, ctx->dp = dp;
     ctx->tracer = tracer, ctx->est = est, ctx->map = map;
     ctx->key = key;
@@ -451,6 +473,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     return PB_OK;
   }
   pb_gpu_buffer_destroy(g, &paccum);
+  pb_gpu_buffer_destroy(g, &pnmap);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
   pb_photon_tracer_destroy(g, tracer);
@@ -464,7 +487,9 @@ fail:
   free(hist_host);
   free(host);
   free(phost);
+  free(pnhost);
   pb_gpu_buffer_destroy(g, &paccum);
+  pb_gpu_buffer_destroy(g, &pnmap);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
   pb_photon_tracer_destroy(g, tracer);

@@ -8,7 +8,7 @@
 #include "shaders/gather.spv.h"
 
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
-                                   const pb_gpu_buffer *photon_accum) {
+                                   const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
   pb_result r;
   uint32_t spec[PB_GATHER_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, sizeof ps->spec);
@@ -35,6 +35,8 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
   b[PB_GATHER_BIND_NODES] = &e->nodes;
   b[PB_GATHER_BIND_INFO] = &e->info;
   b[PB_GATHER_BIND_ACCUM] = photon_accum;
+  /* Without normal maps the shader never reads it: any buffer will do. */
+  b[PB_GATHER_BIND_NMAP] = photon_nmap ? photon_nmap : photon_accum;
   if ((r = pb_gpu_pipeline_bind(g, &e->gather, b, PB_GATHER_BIND_COUNT)) != PB_OK) return r;
   e->gather_ready = 1;
   return PB_OK;

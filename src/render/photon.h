@@ -148,10 +148,12 @@ void pb_photon_estimator_update(pb_photon_estimator *e, const pb_scene *s);
 pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
                                     double *gpu_ms);
 /* Points the gather at the frame's pass buffers (scene.glsl's bindings and
- * specialization constants) and at `photon_accum` (pb_gpu_photon_accum per
- * pixel of the band). Call after every build (buffers may be reallocated). */
+ * specialization constants), at `photon_accum` (pb_gpu_photon_accum per
+ * pixel of the band) and, in scenes with normal maps, `photon_nmap`
+ * (pb_gpu_photon_nmap per pixel; NULL otherwise). Call after every build
+ * (buffers may be reallocated). */
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
-                                   const pb_gpu_buffer *photon_accum);
+                                   const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap);
 /* Records the gather of sample `sample_index` over `pixels` pixels into the
  * open command buffer; flags: PB_GATHER_* (shaders/shared/pb_lbvh.h). */
 pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,

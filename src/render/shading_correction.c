@@ -23,9 +23,9 @@ static void unit(const float *in, float *out) {
   for (int k = 0; k < 3; ++k) out[k] = l > 0.0f && isfinite(l) ? in[k] / l : 0.0f;
 }
 
-pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_accum *pa, uint32_t pixels,
+pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_nmap *pa, uint32_t pixels,
                                         size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out) {
-  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || !s->tangents || !s->uvs) return PB_OK;
+  if (!pa || !(s->features & PB_FEATURE_NORMAL_MAPS) || !s->tangents || !s->uvs) return PB_OK;
   if (!out->geo_normal) {
     out->geo_normal = calloc(3 * n, sizeof(float));
     out->photon_dir = calloc(3 * n, sizeof(float));
@@ -39,7 +39,7 @@ pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_a
     unit(pa[i].geo, out->geo_normal + 3 * p);
     unit(pa[i].dir, out->photon_dir + 3 * p);
     unit(pa[i].ns, out->shading_normal + 4 * p);
-    float frac = pa[i].caustic[3] * inv;
+    float frac = pa[i].ns[3] * inv;
     out->shading_normal[4 * p + 3] = isfinite(frac) ? fminf(fmaxf(frac, 0.0f), 1.0f) : 0.0f;
   }
   return PB_OK;

@@ -5,7 +5,7 @@
  *   L = E_final f_BRDF min((w_i . w_ns) / (w_i . w_ng + eps), s_max),
  * with w_i the power-weighted mean incoming photon direction, filtered as its
  * own target. Here the gather (shaders/gather.comp) sums w_i, w_ng and w_ns
- * per pixel into pb_gpu_photon_accum; this step resolves them into AOVs and
+ * per pixel into pb_gpu_photon_nmap; this step resolves them into AOVs and
  * applies eq. 20 to the resolved indirect AOV on the host, after the A-Trous
  * filter when that is on (the filter also runs on resolved AOVs, atrous.h),
  * so the filtered E f is what gets rescaled. Only scenes with
@@ -39,7 +39,7 @@ float pb_shading_correction_factor(const float wi[3], const float ns[3], const f
  * pixels in the image, spp samples) into out->geo_normal, photon_dir and
  * shading_normal, allocating them on the first call. Does nothing unless the
  * scene has PB_FEATURE_NORMAL_MAPS. */
-pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_accum *pa, uint32_t pixels,
+pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_nmap *pa, uint32_t pixels,
                                         size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out);
 
 /* Eq. 20 on out->indirect (n pixels): each pixel's indirect is scaled by
