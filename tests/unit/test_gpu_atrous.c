@@ -16,6 +16,7 @@
 #include "metrics/metrics.h"
 #include "pbtest.h"
 #include "gpu_test.h"
+#include "sample_fixture.h"
 #include "ref/ref.h"
 #include "render/atrous.h"
 #include "render/render.h"
@@ -98,28 +99,19 @@ static void edges(pb_gpu *g, int depth_step) {
 }
 
 static void cornell(pb_gpu *g) {
-  pb_scene s;
-  pb_load_desc ld = {0};
-  pb_result r = pb_scene_load("samples/cornell_box/cornell_box.gltf", &ld, &s);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return;
-  uint32_t w, h;
-  pb_camera_image_size(&s.cameras[0], 64, 0, &w, &h);
-  pb_gpu_scene gs;
-  CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
-  pb_ref_result rr;
-  memset(&rr, 0, sizeof rr);
+  pbt_sample fx;
   pb_ref_desc fd = {.spp = 256, .seed = 9};
-  if (pb_ref_render(&s, 0, w, h, &fd, &rr) == PB_OK) {
+  if (pbt_sample_open(g, "cornell_box", 64, &fd, &fx)) {
+    uint32_t w = fx.w, h = fx.h;
     double psnr[2] = {0, 0};
     for (int f = 0; f < 2; ++f) {
       pb_render_result gr;
       memset(&gr, 0, sizeof gr);
       pb_render_desc rd = {.spp = 16, .seed = 5, .photons = 1u << 15, .iterations = 4,
                            .atrous_iterations = f ? 4 : 0};
-      CHECK_EQ_INT(pb_render_frame(g, &s, &gs, 0, w, h, &rd, &gr), PB_OK);
+      CHECK_EQ_INT(pb_render_frame(g, &fx.s, &fx.gs, 0, w, h, &rd, &gr), PB_OK);
       pb_metrics m;
-      if (gr.beauty && pb_metrics_compute(gr.beauty, rr.beauty, w, h, 4, NULL, &m) == PB_OK) psnr[f] = m.psnr;
+      if (gr.beauty && pb_metrics_compute(gr.beauty, fx.ref.beauty, w, h, 4, NULL, &m) == PB_OK) psnr[f] = m.psnr;
       if (f) CHECK(gr.stats.filter_ms > 0);
       pb_render_result_destroy(&gr);
     }
@@ -127,10 +119,7 @@ static void cornell(pb_gpu *g) {
            "A-Trous passes\n", w, h, psnr[0], psnr[1]);
     CHECK(psnr[1] > psnr[0] + 0.5);
   }
-  pb_ref_result_destroy(&rr);
-  pb_gpu_scene_destroy(g, &gs);
-  pb_scene_destroy(&s);
-  pb_error_clear();
+  pbt_sample_close(g, &fx);
 }
 
 int main(void) {

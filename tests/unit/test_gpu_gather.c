@@ -15,6 +15,7 @@
 #include "metrics/metrics.h"
 #include "pbtest.h"
 #include "gpu_test.h"
+#include "sample_fixture.h"
 #include "ref/ref.h"
 #include "render/photon.h"
 #include "render/render.h"
@@ -198,34 +199,19 @@ static double cornell_psnr(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs,
 }
 
 static void cornell(pb_gpu *g) {
-  pb_scene s;
-  pb_load_desc ld = {0};
-  pb_result r = pb_scene_load("samples/cornell_box/cornell_box.gltf", &ld, &s);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return;
-  uint32_t w, h;
-  pb_camera_image_size(&s.cameras[0], 64, 0, &w, &h);
-  pb_gpu_scene gs;
-  pb_ref_result rr;
-  memset(&rr, 0, sizeof rr);
-  CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
+  pbt_sample f;
   pb_ref_desc fd = {.spp = 256, .seed = 9};
-  r = pb_ref_render(&s, 0, w, h, &fd, &rr);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r == PB_OK) {
+  if (pbt_sample_open(g, "cornell_box", 64, &fd, &f)) {
     pb_render_stats st1, st8;
     memset(&st1, 0, sizeof st1);
     memset(&st8, 0, sizeof st8);
-    double p1 = cornell_psnr(g, &s, &gs, &rr, w, h, 1, &st1);
-    double p8 = cornell_psnr(g, &s, &gs, &rr, w, h, 8, &st8);
+    double p1 = cornell_psnr(g, &f.s, &f.gs, &f.ref, f.w, f.h, 1, &st1);
+    double p8 = cornell_psnr(g, &f.s, &f.gs, &f.ref, f.w, f.h, 8, &st8);
     CHECK(p8 > CORNELL_PSNR_MIN);
     CHECK(p8 > p1);
     CHECK(st8.photons_stored > 0);
   }
-  pb_ref_result_destroy(&rr);
-  pb_gpu_scene_destroy(g, &gs);
-  pb_scene_destroy(&s);
-  pb_error_clear();
+  pbt_sample_close(g, &f);
 }
 
 /* cornell_box with the default photon budget (over 65535 stored photons, an
@@ -309,30 +295,15 @@ static double caustics_psnr(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs
 }
 
 static void caustics(pb_gpu *g) {
-  pb_scene s;
-  pb_load_desc ld = {0};
-  pb_result r = pb_scene_load("samples/cornell_caustics/cornell_caustics.gltf", &ld, &s);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return;
-  uint32_t w, h;
-  pb_camera_image_size(&s.cameras[0], 48, 0, &w, &h);
-  pb_gpu_scene gs;
-  pb_ref_result rr;
-  memset(&rr, 0, sizeof rr);
-  CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
+  pbt_sample f;
   pb_ref_desc fd = {.spp = 256, .seed = 9, .mode = PB_REF_MODE_SPPM};
-  r = pb_ref_render(&s, 0, w, h, &fd, &rr);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r == PB_OK) {
-    double p1 = caustics_psnr(g, &s, &gs, &rr, w, h, 1);
-    double p8 = caustics_psnr(g, &s, &gs, &rr, w, h, 8);
+  if (pbt_sample_open(g, "cornell_caustics", 48, &fd, &f)) {
+    double p1 = caustics_psnr(g, &f.s, &f.gs, &f.ref, f.w, f.h, 1);
+    double p8 = caustics_psnr(g, &f.s, &f.gs, &f.ref, f.w, f.h, 8);
     CHECK(p8 > CAUSTICS_PSNR_MIN);
     CHECK(p8 > p1);
   }
-  pb_ref_result_destroy(&rr);
-  pb_gpu_scene_destroy(g, &gs);
-  pb_scene_destroy(&s);
-  pb_error_clear();
+  pbt_sample_close(g, &f);
 }
 
 int main(void) {

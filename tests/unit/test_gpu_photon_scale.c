@@ -22,6 +22,7 @@
 #include "metrics/metrics.h"
 #include "pbtest.h"
 #include "gpu_test.h"
+#include "sample_fixture.h"
 #include "ref/ref.h"
 #include "render/photon.h"
 #include "render/render.h"
@@ -115,36 +116,21 @@ static double prog_relmse(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
 }
 
 static void progressive(pb_gpu *g) {
-  pb_scene s;
-  pb_load_desc ld = {0};
-  pb_result r = pb_scene_load("samples/cornell_box/cornell_box.gltf", &ld, &s);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) return;
-  uint32_t w, h;
-  pb_camera_image_size(&s.cameras[0], 32, 0, &w, &h);
-  pb_gpu_scene gs;
-  pb_ref_result rr;
-  memset(&rr, 0, sizeof rr);
-  CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
+  pbt_sample f;
   pb_ref_desc fd = {.spp = 1024, .seed = 9};
-  r = pb_ref_render(&s, 0, w, h, &fd, &rr);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r == PB_OK) {
+  if (pbt_sample_open(g, "cornell_box", 32, &fd, &f)) {
     static const uint32_t ks[] = {1, 2, 4, 8, 16};
     double e[5], best = INFINITY;
     for (int i = 0; i < 5; ++i) {
-      e[i] = prog_relmse(g, &s, &gs, &rr, w, h, ks[i], 1);
+      e[i] = prog_relmse(g, &f.s, &f.gs, &f.ref, f.w, f.h, ks[i], 1);
       CHECK(e[i] >= 0 && e[i] < 1.1 * best);
       if (e[i] < best) best = e[i];
     }
-    double plain = prog_relmse(g, &s, &gs, &rr, w, h, 16, 0);
+    double plain = prog_relmse(g, &f.s, &f.gs, &f.ref, f.w, f.h, 16, 0);
     CHECK(e[4] < e[0]);
     CHECK(e[4] < plain);
   }
-  pb_ref_result_destroy(&rr);
-  pb_gpu_scene_destroy(g, &gs);
-  pb_scene_destroy(&s);
-  pb_error_clear();
+  pbt_sample_close(g, &f);
 }
 
 int main(void) {
