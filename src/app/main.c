@@ -93,7 +93,9 @@ static void on_signal(int sig) {
     put(sig_command);
   }
   put(sig == SIGINT ? ": interrupted by SIGINT" : ": interrupted by SIGTERM");
-  put("; no output written\n");
+  put("; ");
+  put(pb_tmp_interrupt_note());
+  put("\n");
   _exit(128 + sig);
 }
 

@@ -153,6 +153,10 @@ void pb_tmp_unregister(const char *t) {
   for (int i = 0; i < PB_TMP_SLOTS; ++i)
     if (strcmp(tmp_table[i], t) == 0) tmp_table[i][0] = 0;
 }
+static const char *volatile interrupt_note;
+void pb_tmp_set_interrupt_note(const char *note) { interrupt_note = note; }
+const char *pb_tmp_interrupt_note(void) { return interrupt_note ? interrupt_note : "no output written"; }
+
 void pb_tmp_remove_all_signal_safe(void) {
   for (int i = 0; i < PB_TMP_SLOTS; ++i)
     if (tmp_table[i][0]) unlink(tmp_table[i]);

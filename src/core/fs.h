@@ -47,5 +47,10 @@ const char *pb_basename(const char *path);
 void pb_tmp_register(const char *tmp_path);
 void pb_tmp_unregister(const char *tmp_path);
 void pb_tmp_remove_all_signal_safe(void);
+/* What the interrupt message says was kept (main.c's handler): NULL (the
+ * default) "no output written"; a sequence that has finished frames sets
+ * its own (a string constant: the handler reads it asynchronously). */
+void pb_tmp_set_interrupt_note(const char *note);
+const char *pb_tmp_interrupt_note(void);
 
 #endif
