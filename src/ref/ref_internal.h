@@ -9,6 +9,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "core/mix.h"
 #include "ref/ref.h"
 #include "scene/scene.h"
 
@@ -72,12 +73,6 @@ typedef struct pb_rng {
   uint64_t state, inc;
 } pb_rng;
 
-static inline uint64_t pb_mix64(uint64_t z) { /* splitmix64 finaliser */
-  z += 0x9e3779b97f4a7c15ull;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 static inline uint32_t pb_rng_u32(pb_rng *r) {
   uint64_t old = r->state;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "core/mix.h"
 #include "render/filters.h"
 #include "render/motion.h"
 #include "render/plan.h"
@@ -142,14 +143,6 @@ static int camera_equal(const pb_camera *a, const pb_camera *b) {
          !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov;
 }
 
-/* SplitMix64's finaliser: frame i's seed, independent of frame i+1's. */
-static uint64_t mix_seed(uint64_t seed, uint32_t index) {
-  uint64_t z = seed + 0x9e3779b97f4a7c15ull * ((uint64_t)index + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
 /* Progressive rendering of a still run: the temporal filters already keep
  * the cumulative mean of the indirect light (and of the caustics when they
  * have their own); the rest of the frame (beauty minus those: emission,
@@ -216,7 +209,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     if ((r = pb_gpu_scene_update(g, s, q->gs, q->desc.bvh_update, &fi.scene_update_ms)) != PB_OK) return r;
   }
   pb_render_desc rd = q->desc.render;
-  rd.seed = mix_seed(q->desc.render.seed, index);
+  rd.seed = pb_mix64(q->desc.render.seed + 0x9e3779b97f4a7c15ull * index); /* frame i's own photons */
   rd.atrous_iterations = 0;     /* after the temporal filter, below */
   rd.no_shading_correction = 1; /* eq. 20 after the filters, below */
   rd.context = q->frame_ctx;
