@@ -9,7 +9,7 @@
 #include "core/json.h"
 #include "render/plan.h"
 
-static const char *const light_type_names[] = {"point", "spot", "directional"};
+static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
 
 static void print_text(const pb_scene *s) {
@@ -28,25 +28,52 @@ static void print_text(const pb_scene *s) {
            c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
            c->yfov * 180.0 / M_PI, c->aspect, c->synthesized ? " (default framing, not in the file)" : "");
   }
-  printf("lights     %u  (units: %s; point/spot in W/sr, directional in W/m^2)\n", s->light_count,
-         pb_light_units_names[s->light_units]);
+  printf("lights     %u  (units: %s for KHR_lights_punctual, Blender's own for PHOTONBRIDGE_blender; point/spot "
+         "in W/sr, directional in W/m^2, area in W/(m^2 sr))\n",
+         s->light_count, pb_light_units_names[s->light_units]);
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
     printf("  %-20s %-11s ", l->name, light_type_names[l->type]);
-    if (l->type == PB_LIGHT_DIRECTIONAL)
-      printf("E = %.4g W/m^2 (file: %.4g lx) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)\n", l->intensity,
-             l->file_intensity, l->color[0], l->color[1], l->color[2], l->direction[0], l->direction[1], l->direction[2]);
-    else {
+    if (l->type == PB_LIGHT_DIRECTIONAL) {
+      printf("E = %.4g W/m^2 (file: %.4g %s) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)", l->intensity,
+             l->file_intensity, l->from_blender ? "W/m^2" : "lx", l->color[0], l->color[1], l->color[2],
+             l->direction[0], l->direction[1], l->direction[2]);
+      if (l->angle > 0) printf(", angle %.3g deg (soft)", l->angle * 180.0 / M_PI);
+    } else if (l->type == PB_LIGHT_AREA) {
+      printf("L = %.4g W/(m^2 sr) (file: %.4g W) x colour (%.3g %.3g %.3g), %s %.4g x %.4g m at (%.4g %.4g %.4g), "
+             "facing (%.3f %.3f %.3f), spread %.3g deg",
+             l->intensity, l->file_intensity, l->color[0], l->color[1], l->color[2],
+             l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle", l->size[0], l->size[1], l->position[0],
+             l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
+             (l->spread > 0 ? l->spread : M_PI) * 180.0 / M_PI);
+    } else {
       float power[3];
       pb_light_power(l, 0, power);
-      printf("I = %.4g W/sr (file: %.4g cd) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), power %.4g W", l->intensity,
-             l->file_intensity, l->color[0], l->color[1], l->color[2], l->position[0], l->position[1], l->position[2],
-             (power[0] + power[1] + power[2]) / 3);
+      printf("I = %.4g W/sr (file: %.4g %s) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), power %.4g W", l->intensity,
+             l->file_intensity, l->from_blender ? "W" : "cd", l->color[0], l->color[1], l->color[2], l->position[0],
+             l->position[1], l->position[2], (power[0] + power[1] + power[2]) / 3);
       if (l->type == PB_LIGHT_SPOT)
-        printf(", cone %.2f..%.2f deg", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI);
-      printf("\n");
+        printf(", cone %.2f..%.2f deg%s", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI,
+               l->spot_model == PB_SPOT_CYCLES ? " (Cycles falloff)" : "");
+      if (l->radius > 0) printf(", radius %.4g m (soft)", l->radius);
     }
+    if (l->no_shadow) printf(", casts no shadow");
+    if (l->no_mis) printf(", no MIS");
+    printf("\n");
   }
+  const pb_world *w = &s->world;
+  if (w->present) {
+    if (w->env)
+      printf("world      map '%s' %ux%u x %.4g, %.4g W/m^2 over the sphere%s\n", w->env_name, w->env_width,
+             w->env_height, w->env_scale, (w->integral[0] + w->integral[1] + w->integral[2]) / 3,
+             w->hidden_from_camera ? ", hidden from the camera" : "");
+    else
+      printf("world      L = (%.4g %.4g %.4g) W/(m^2 sr)%s\n", w->color[0], w->color[1], w->color[2],
+             w->hidden_from_camera ? ", hidden from the camera" : "");
+  } else {
+    printf("world      none (black)\n");
+  }
+  printf("film       %s\n", s->film_opaque ? "opaque (alpha 1)" : "transparent (alpha = coverage)");
   printf("materials  %u\n", s->material_count);
   for (uint32_t i = 0; i < s->material_count; ++i) {
     const pb_material *m = &s->materials[i];
@@ -74,11 +101,13 @@ static void print_text(const pb_scene *s) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   printf("\npipeline   photon stages %s, caustic photons %s, photon refraction %s, specular eye paths %s, "
-         "emissive-triangle sampling %s, textures %s, normal maps %s (GPU passes compile only what is on)",
-         pl.photons ? "on" : "off (no point, spot or directional light)",
+         "emissive-triangle sampling %s, textures %s, normal maps %s, soft lights %s, world light %s "
+         "(GPU passes compile only what is on)",
+         pl.photons ? "on" : "off (no light but emissive triangles, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
-         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off");
+         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off",
+         pl.soft_lights ? "on" : "off", pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off");
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
 }
@@ -125,18 +154,52 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_begin_object(&j, NULL);
     pb_json_string(&j, "name", l->name);
     pb_json_string(&j, "type", light_type_names[l->type]);
-    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "irradiance_w_m2" : "intensity_w_sr", l->intensity);
-    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "file_lux" : "file_candela", l->file_intensity);
+    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "irradiance_w_m2"
+                       : l->type == PB_LIGHT_AREA ? "radiance_w_m2_sr" : "intensity_w_sr",
+                   l->intensity);
+    pb_json_number(&j,
+                   l->from_blender ? (l->type == PB_LIGHT_DIRECTIONAL ? "file_w_m2" : "file_watts")
+                   : l->type == PB_LIGHT_DIRECTIONAL ? "file_lux" : "file_candela",
+                   l->file_intensity);
     vec3(&j, "color", l->color);
     vec3(&j, "position", l->position);
     vec3(&j, "direction", l->direction);
     if (l->type == PB_LIGHT_SPOT) {
       pb_json_number(&j, "inner_cone", l->inner_cone);
       pb_json_number(&j, "outer_cone", l->outer_cone);
+      pb_json_string(&j, "spot_falloff", l->spot_model == PB_SPOT_CYCLES ? "cycles" : "smoothstep");
     }
+    if (l->type == PB_LIGHT_POINT || l->type == PB_LIGHT_SPOT) pb_json_number(&j, "radius", l->radius);
+    if (l->type == PB_LIGHT_DIRECTIONAL) pb_json_number(&j, "angle", l->angle);
+    if (l->type == PB_LIGHT_AREA) {
+      pb_json_string(&j, "shape", l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle");
+      pb_json_number(&j, "size_u", l->size[0]);
+      pb_json_number(&j, "size_v", l->size[1]);
+      vec3(&j, "axis_u", l->axis_u);
+      vec3(&j, "axis_v", l->axis_v);
+      pb_json_number(&j, "spread", l->spread > 0 ? l->spread : M_PI);
+    }
+    pb_json_bool(&j, "cast_shadow", !l->no_shadow);
+    pb_json_bool(&j, "use_mis", !l->no_mis);
+    pb_json_bool(&j, "blender_units", l->from_blender);
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
+  pb_json_begin_object(&j, "world");
+  pb_json_bool(&j, "present", s->world.present);
+  if (s->world.present) {
+    vec3(&j, "color", s->world.color);
+    if (s->world.env) {
+      pb_json_string(&j, "map", s->world.env_name);
+      pb_json_int(&j, "map_width", s->world.env_width);
+      pb_json_int(&j, "map_height", s->world.env_height);
+      pb_json_number(&j, "map_scale", s->world.env_scale);
+    }
+    vec3(&j, "radiance_integral_w_m2", s->world.integral);
+    pb_json_bool(&j, "visible_to_camera", !s->world.hidden_from_camera);
+  }
+  pb_json_end_object(&j);
+  pb_json_bool(&j, "film_opaque", s->film_opaque);
   pb_json_begin_array(&j, "materials");
   for (uint32_t i = 0; i < s->material_count; ++i) {
     const pb_material *m = &s->materials[i];

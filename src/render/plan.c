@@ -12,10 +12,13 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   out->emitter_sampling = (f & PB_FEATURE_EMISSIVE) != 0;
   out->textures = (f & PB_FEATURE_TEXTURES) != 0;
   out->vertex_normals = s->normals != NULL;
-  out->photons = !direct_only && s->light_count > 0;
+  out->photons = !direct_only && (s->light_count > 0 || s->world.present);
   out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
   out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->normal_maps = (f & PB_FEATURE_NORMAL_MAPS) != 0 && s->tangents != NULL && s->uvs != NULL;
+  out->soft_lights = (f & PB_FEATURE_SOFT_LIGHTS) != 0;
+  out->world = s->world.present;
+  out->world_map = s->world.present && s->world.env != NULL;
 }
 
 void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_plan *p) {
@@ -28,5 +31,8 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
   pb_json_bool(j, "textures", p->textures);
   pb_json_bool(j, "normal_maps", p->normal_maps);
   pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);
+  pb_json_bool(j, "soft_lights", p->soft_lights);
+  pb_json_bool(j, "world_light", p->world);
+  pb_json_bool(j, "world_map", p->world_map);
   pb_json_end_object(j);
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "scene/emitters.h"
 #include "render/render.h"
 
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
@@ -62,64 +63,30 @@ static void convert_lights(const pb_scene *s, pb_gpu_light *lights) {
   }
 }
 
-/* The emitter table (pb_gpu_emitter): every triangle with an emissive
- * material and power > 0, weighted exactly as the reference weights them
- * (src/ref/lights.c pb_ref_lights_build: area x max(luminance, 1e-3 max
- * channel) of the clamped emission, x2 when double-sided), so both renderers
- * pick emitters with the same probabilities. The CDF is summed in double and
- * stored as float; `pick` is the difference of consecutive stored values, the
- * probability the shader's search actually realises. */
+/* The emitter table (pb_gpu_emitter) from the scene's (scene/emitters.h),
+ * which the reference samples too. The CDF is stored as float; `pick` is the
+ * difference of consecutive stored values, the probability the shader's
+ * search actually realises. */
 static pb_result build_emitters(const pb_scene *s, pb_gpu_emitter **out, uint32_t *count) {
   *out = NULL;
   *count = 0;
-  uint32_t n = 0;
-  for (uint32_t t = 0; t < s->triangle_count; ++t)
-    if (pb_material_is_emissive(&s->materials[s->triangle_material[t]])) n++;
-  if (!n) return PB_OK;
-  pb_gpu_emitter *e = calloc(n, sizeof *e);
-  double *w = calloc(n, sizeof *w);
-  if (!e || !w) {
-    free(e);
-    free(w);
-    return pb_fail(PB_ERR_NOMEM, "out of memory for %u emitters", n);
+  pb_emitter_table t;
+  pb_result r = pb_emitter_table_build(s, &t);
+  if (r != PB_OK || !t.count) return r;
+  pb_gpu_emitter *e = calloc(t.count, sizeof *e);
+  if (!e) {
+    pb_emitter_table_destroy(&t);
+    return pb_fail(PB_ERR_NOMEM, "out of memory for %u emitters", t.count);
   }
-  double total = 0.0;
-  uint32_t k = 0;
-  for (uint32_t t = 0; t < s->triangle_count; ++t) {
-    const pb_material *m = &s->materials[s->triangle_material[t]];
-    if (!pb_material_is_emissive(m)) continue;
-    const uint32_t *tri = s->triangles[t];
-    const float *p0 = s->positions[tri[0]], *p1 = s->positions[tri[1]], *p2 = s->positions[tri[2]];
-    float a[3], b[3], c[3];
-    for (int i = 0; i < 3; ++i) {
-      a[i] = p1[i] - p0[i];
-      b[i] = p2[i] - p0[i];
-    }
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-    float area = 0.5f * sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    float r = fmaxf(m->emissive[0], 0), g = fmaxf(m->emissive[1], 0), bl = fmaxf(m->emissive[2], 0);
-    float lum = 0.2126f * r + 0.7152f * g + 0.0722f * bl, mx = fmaxf(r, fmaxf(g, bl));
-    double wt = (double)area * fmax(lum, 1e-3 * mx) * (m->double_sided ? 2.0 : 1.0);
-    if (!(wt > 0.0) || !isfinite(wt) || !(area > 0.0f)) continue;
-    e[k].prim = t;
-    e[k].area = area;
-    w[k] = total;
-    total += wt;
-    k++;
+  for (uint32_t i = 0; i < t.count; ++i) {
+    e[i].prim = t.prim[i];
+    e[i].area = t.area[i];
+    e[i].cdf = (float)t.cdf[i];
   }
-  if (k == 0 || !(total > 0.0) || !isfinite(total)) {
-    free(e);
-    free(w);
-    return PB_OK;
-  }
-  for (uint32_t i = 0; i < k; ++i) e[i].cdf = (float)(w[i] / total);
-  e[0].cdf = 0.0f;
-  for (uint32_t i = 0; i < k; ++i) e[i].pick = (i + 1 < k ? e[i + 1].cdf : 1.0f) - e[i].cdf;
-  free(w);
+  for (uint32_t i = 0; i < t.count; ++i) e[i].pick = (i + 1 < t.count ? e[i + 1].cdf : 1.0f) - e[i].cdf;
+  *count = t.count;
+  pb_emitter_table_destroy(&t);
   *out = e;
-  *count = k;
   return PB_OK;
 }
 

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "scene/anim.h"
+#include "scene/blender_lights.h"
 #include "scene/scene.h"
 #include "scene/tangents.h"
 
@@ -261,10 +262,14 @@ pb_result pb_scene_set_time(pb_scene *s, double t) {
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations: at t = %g nodes[%d] moves its light out of float range", path, t, n);
     for (int k = 0; k < 3; ++k) l->position[k] = (float)pos[k];
     if (l->type == PB_LIGHT_POINT) continue; /* direction stays (0, 0, -1), as loaded */
-    if (normalize3(dir))
+    if (normalize3(dir)) {
       for (int k = 0; k < 3; ++k) l->direction[k] = (float)dir[k];
-    else
+      /* Area lights: the rectangle turns with its node (a degenerate pose
+       * keeps the last axes). */
+      if (l->type == PB_LIGHT_AREA) pb_area_light_axes(M, dir, l->axis_u, l->axis_v);
+    } else {
       memcpy(l->direction, a->light_dir[i], sizeof l->direction);
+    }
   }
   pb_scene_update_bounds(s);
   /* Normal maps: the tangent frames follow the posed vertices. They are

@@ -13,6 +13,41 @@
 
 #include "core/result.h"
 
+/* A JSON value of an extension the loader reads itself (PHOTONBRIDGE_blender),
+ * as parsed: objects keep their members sorted by name (a repeated name keeps
+ * one value), numbers are doubles (tinygltf's integers converted; a literal
+ * too large for a double is +-inf, which the reader refuses by name). */
+typedef enum pb_gltf_value_type {
+  PB_GLTF_NULL = 0,
+  PB_GLTF_BOOL,
+  PB_GLTF_NUMBER,
+  PB_GLTF_STRING,
+  PB_GLTF_ARRAY,
+  PB_GLTF_OBJECT,
+} pb_gltf_value_type;
+
+typedef struct pb_gltf_value {
+  pb_gltf_value_type type;
+  int boolean;
+  int integer;                        /* a number written without fraction or exponent */
+  double number;
+  const char *string;
+  size_t count;                       /* array items or object members */
+  const struct pb_gltf_value *items;  /* array items, or object member values */
+  const char *const *keys;            /* object member names (NULL for arrays) */
+} pb_gltf_value;
+
+/* Member `key` of an object value, or NULL (also when v is no object). */
+static inline const pb_gltf_value *pb_gltf_member(const pb_gltf_value *v, const char *key) {
+  if (!v || v->type != PB_GLTF_OBJECT) return NULL;
+  for (size_t i = 0; i < v->count; ++i) {
+    const char *a = v->keys[i], *b = key;
+    while (*a && *a == *b) ++a, ++b;
+    if (*a == *b) return &v->items[i];
+  }
+  return NULL;
+}
+
 typedef struct pb_gltf_buffer {
   const uint8_t *data; /* loaded bytes (GLB BIN chunk, data URI or file) */
   uint64_t size;       /* bytes actually loaded */
@@ -59,6 +94,7 @@ typedef struct pb_gltf_node {
   int has_matrix;
   double matrix[16];      /* column-major, as in glTF */
   double translation[3], rotation[4] /* x y z w */, scale[3];
+  const pb_gltf_value *blender; /* extensions.PHOTONBRIDGE_blender, NULL if absent */
 } pb_gltf_node;
 
 typedef struct pb_gltf_scene {
@@ -165,6 +201,7 @@ typedef struct pb_gltf_doc {
   pb_gltf_sampler *samplers; size_t sampler_count;
   pb_gltf_animation *animations; /* animation_count of them */
   size_t animation_count, animation_channel_count, skin_count;
+  const pb_gltf_value *blender; /* root extensions.PHOTONBRIDGE_blender, NULL if absent */
   void *impl;             /* the shim's own storage */
 } pb_gltf_doc;
 

@@ -54,6 +54,11 @@ struct Impl {
   std::vector<pb_gltf_animation> animations;
   std::vector<const char *> ext_used, ext_required;
   std::set<std::string> approved;  // files the URI check allowed
+  // Extension values (pb_gltf_value trees): every container's items in a
+  // vector of its own, kept here so the pointers stay valid.
+  std::vector<std::unique_ptr<std::vector<pb_gltf_value>>> value_items;
+  std::vector<std::unique_ptr<std::vector<const char *>>> value_keys;
+  std::vector<std::unique_ptr<pb_gltf_value>> value_roots;
 };
 
 struct FsCtx {
@@ -422,14 +427,76 @@ pb_result precheck_objects(const char *path, const Json &j, const std::vector<un
   return PB_OK;
 }
 
+// JSON has no NaN or Infinity, but Python's json module writes them (the
+// Blender add-on's writer is Python): when a file does not parse, find the
+// first such token outside strings and name its JSON path, so that the error
+// says which value is broken ("nodes[2].extensions.PHOTONBRIDGE_blender.
+// light.power: NaN"). Returns false when there is none.
+bool find_nonfinite(const std::string &t, std::string *path, std::string *token) {
+  struct Frame {
+    bool object;
+    std::string key;
+    size_t index;
+  };
+  std::vector<Frame> st;
+  bool want_key = false;
+  for (size_t i = 0; i < t.size(); ++i) {
+    char c = t[i];
+    if (c == '"') {
+      size_t j = i + 1;
+      std::string s;
+      while (j < t.size() && t[j] != '"') {
+        if (t[j] == '\\' && j + 1 < t.size()) ++j;
+        s += t[j++];
+      }
+      if (!st.empty() && st.back().object && want_key) st.back().key = s;
+      i = j;
+    } else if (c == '{') {
+      st.push_back({true, "", 0});
+      want_key = true;
+    } else if (c == '[') {
+      st.push_back({false, "", 0});
+      want_key = false;
+    } else if (c == '}' || c == ']') {
+      if (!st.empty()) st.pop_back();
+      want_key = false;
+    } else if (c == ':') {
+      want_key = false;
+    } else if (c == ',') {
+      if (!st.empty() && !st.back().object) st.back().index++;
+      want_key = !st.empty() && st.back().object;
+    } else if (c == 'N' || c == 'I' || (c == '-' && i + 1 < t.size() && t[i + 1] == 'I')) {
+      size_t j = i + (c == '-');
+      for (const char *lit : {"NaN", "Infinity"}) {
+        size_t n = std::strlen(lit);
+        if (t.compare(j, n, lit) != 0) continue;
+        *token = t.substr(i, j - i + n);
+        std::string p;
+        for (const Frame &f : st) {
+          if (f.object) p += (p.empty() ? "" : ".") + f.key;
+          else p += "[" + std::to_string(f.index) + "]";
+        }
+        *path = p.empty() ? "(top level)" : p;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 // Checks what tinygltf would take on trust: required extensions and buffers.
 pb_result precheck(const char *path, const std::string &text, bool is_glb, long long bin_len,
                    const pb_gltf_read_desc *desc, std::set<std::string> *approved) {
   pb_result dr = check_depth(path, text);
   if (dr != PB_OK) return dr;
   Json j = Json::parse(text, nullptr, false);
-  if (j.is_discarded())
+  if (j.is_discarded()) {
+    std::string where, token;
+    if (find_nonfinite(text, &where, &token))
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not a finite number (JSON has no NaN or Infinity)", path,
+                     where.c_str(), token.c_str());
     return pb_fail(PB_ERR_SCENE_PARSE, "%s: not valid JSON", path);
+  }
   if (!j.is_object()) return pb_fail(PB_ERR_SCENE_PARSE, "%s: top level is not a JSON object", path);
   auto asset = j.find("asset");
   if (asset == j.end() || !asset->is_object())
@@ -445,7 +512,7 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
       "KHR_lights_punctual",  "KHR_materials_specular", "KHR_materials_transmission",
       "KHR_materials_ior",    "KHR_materials_emissive_strength", "KHR_texture_transform",
       "KHR_materials_volume", "KHR_materials_clearcoat", "KHR_materials_sheen",
-      "KHR_mesh_quantization"};
+      "KHR_mesh_quantization", "PHOTONBRIDGE_blender"};
   auto req = j.find("extensionsRequired");
   if (req != j.end()) {
     if (!req->is_array()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensionsRequired: not an array", path);
@@ -534,6 +601,54 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
   return precheck_objects(path, j, declared_lengths);
 }
 
+// tinygltf's extension value -> pb_gltf_value (depth is bounded by
+// check_depth: at most MAX_JSON_DEPTH levels).
+void fill_value(Impl &m, const tinygltf::Value &v, pb_gltf_value *out) {
+  *out = pb_gltf_value{};
+  if (v.IsBool()) {
+    out->type = PB_GLTF_BOOL;
+    out->boolean = v.Get<bool>() ? 1 : 0;
+  } else if (v.IsNumber()) {
+    out->type = PB_GLTF_NUMBER;
+    out->integer = v.IsInt() ? 1 : 0;
+    out->number = v.GetNumberAsDouble();
+  } else if (v.IsString()) {
+    out->type = PB_GLTF_STRING;
+    out->string = v.Get<std::string>().c_str();
+  } else if (v.IsArray()) {
+    out->type = PB_GLTF_ARRAY;
+    const tinygltf::Value::Array &a = v.Get<tinygltf::Value::Array>();
+    m.value_items.emplace_back(new std::vector<pb_gltf_value>(a.size()));
+    std::vector<pb_gltf_value> &items = *m.value_items.back();
+    for (size_t i = 0; i < a.size(); ++i) fill_value(m, a[i], &items[i]);
+    out->count = a.size();
+    out->items = items.data();
+  } else if (v.IsObject()) {
+    out->type = PB_GLTF_OBJECT;
+    const tinygltf::Value::Object &o = v.Get<tinygltf::Value::Object>();
+    m.value_items.emplace_back(new std::vector<pb_gltf_value>(o.size()));
+    m.value_keys.emplace_back(new std::vector<const char *>());
+    std::vector<pb_gltf_value> &items = *m.value_items.back();
+    std::vector<const char *> &keys = *m.value_keys.back();
+    size_t i = 0;
+    for (auto &kv : o) {
+      keys.push_back(kv.first.c_str());
+      fill_value(m, kv.second, &items[i++]);
+    }
+    out->count = o.size();
+    out->items = items.data();
+    out->keys = keys.data();
+  }
+}
+
+const pb_gltf_value *extension_value(Impl &m, const tinygltf::ExtensionMap &ext, const char *name) {
+  auto it = ext.find(name);
+  if (it == ext.end()) return nullptr;
+  m.value_roots.emplace_back(new pb_gltf_value);
+  fill_value(m, it->second, m.value_roots.back().get());
+  return m.value_roots.back().get();
+}
+
 // load.c decodes images itself, with size limits; tinygltf only keeps the
 // reference (uri or bufferView).
 bool keep_image_reference(tinygltf::Image *, const int, std::string *, std::string *, int, int,
@@ -561,6 +676,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
   for (auto &e : g.extensionsUsed) m.ext_used.push_back(s(e));
   for (auto &e : g.extensionsRequired) m.ext_required.push_back(s(e));
   doc->default_scene = g.defaultScene;
+  doc->blender = extension_value(m, g.extensions, "PHOTONBRIDGE_blender");
 
   for (auto &b : g.buffers) {
     pb_gltf_buffer x{};
@@ -650,6 +766,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     if (n.translation.size() == 3) for (size_t k = 0; k < 3; ++k) x.translation[k] = n.translation[k];
     if (n.rotation.size() == 4) for (size_t k = 0; k < 4; ++k) x.rotation[k] = n.rotation[k];
     if (n.scale.size() == 3) for (size_t k = 0; k < 3; ++k) x.scale[k] = n.scale[k];
+    x.blender = extension_value(m, n.extensions, "PHOTONBRIDGE_blender");
     m.nodes.push_back(x);
   }
   m.scene_nodes.resize(g.scenes.size());

@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 
 #include "scene/anim.h"
+#include "scene/blender_lights.h"
 #include "scene/image_decode.h"
 #include "scene/xform.h"
 
@@ -1170,7 +1171,20 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
   }
   uint32_t nc = L->s->camera_count, nl = L->s->light_count;
   if (n->camera != -1 && (r = add_camera(L, node, &M)) != PB_OK) return r;
-  if (n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
+  /* PHOTONBRIDGE_blender's light replaces the node's KHR_lights_punctual
+   * approximation of it (never both: no light counted twice). */
+  int blender_light = 0;
+  if (n->blender) {
+    pb_light bl;
+    if ((r = pb_blender_read_light(L->path, node, n->name, n->blender, &M, &bl, &blender_light)) != PB_OK) return r;
+    if (blender_light) {
+      if ((r = grow(L, (void **)&L->s->lights, &L->light_cap, (uint64_t)L->s->light_count + 1, sizeof *L->s->lights,
+                    "lights")) != PB_OK)
+        return r;
+      L->s->lights[L->s->light_count++] = bl;
+    }
+  }
+  if (!blender_light && n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
   if (an && L->s->camera_count > nc && (r = anim_push_node(L, &an->camera_node, &an->camera_cap, nc, node)) != PB_OK) return r;
   if (an && L->s->light_count > nl && (r = anim_push_node(L, &an->light_node, &an->light_cap, nl, node)) != PB_OK) return r;
   for (size_t c = 0; c < n->child_count; ++c)
@@ -1339,6 +1353,8 @@ static pb_result load(loader *L) {
   }
   if ((r = check_nodes(L)) != PB_OK) return r;
   if ((r = build_anim(L)) != PB_OK) return r;
+  /* PHOTONBRIDGE_blender's root: film and world (blender_lights.c). */
+  if (d->blender && (r = pb_blender_read_root(L->path, d->blender, L->desc, s)) != PB_OK) return r;
 
   /* The scene to show: `scene`, else scenes[0], else every root node. */
   mat4 I;
@@ -1379,7 +1395,7 @@ static pb_result load(loader *L) {
   for (size_t i = 0; i < d->extensions_used_count; ++i) {
     const char *e = d->extensions_used[i];
     static const char *const known[] = {"KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_transmission",
-                                        "KHR_materials_ior", "KHR_materials_emissive_strength"};
+                                        "KHR_materials_ior", "KHR_materials_emissive_strength", "PHOTONBRIDGE_blender"};
     int ok = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
     if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
@@ -1398,8 +1414,8 @@ static pb_result load(loader *L) {
   }
   if (an && (r = anim_finish(L, an)) != PB_OK) return r;
   if (s->triangle_count == 0 && (r = warn(L, "meshes: no triangles to render")) != PB_OK) return r;
-  if (s->light_count == 0 && !(s->features & PB_FEATURE_EMISSIVE) &&
-      (r = warn(L, "lights: none, and no emissive material: the render will be black")) != PB_OK)
+  if (s->light_count == 0 && !(s->features & PB_FEATURE_EMISSIVE) && !s->world.present &&
+      (r = warn(L, "lights: none, no world and no emissive material: the render will be black")) != PB_OK)
     return r;
   return PB_OK;
 }

@@ -24,6 +24,21 @@ int pb_material_is_emissive(const pb_material *m) {
   return m->emissive[0] > 0 || m->emissive[1] > 0 || m->emissive[2] > 0;
 }
 
+int pb_light_is_delta(const pb_light *l) {
+  switch (l->type) {
+  case PB_LIGHT_POINT:
+  case PB_LIGHT_SPOT: return !(l->radius > 0.0f);
+  case PB_LIGHT_DIRECTIONAL: return !(l->angle > 0.0f);
+  default: return 0;
+  }
+}
+
+float pb_light_area(const pb_light *l) {
+  if (l->type != PB_LIGHT_AREA) return 0.0f;
+  float a = l->size[0] * l->size[1];
+  return l->shape == PB_AREA_ELLIPSE ? 0.25f * (float)M_PI * a : a;
+}
+
 void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
   float k;
   switch (l->type) {
@@ -32,11 +47,18 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
     break;
   case PB_LIGHT_SPOT: {
     /* Solid angle of the cone, with the smooth-step band counted at half
-     * weight: 2 pi (1 - cos) at the mean of the two cone angles. */
-    float a = 0.5f * (l->inner_cone + l->outer_cone);
+     * weight: 2 pi (1 - cos) at the mean of the two cone angles. Cycles'
+     * falloff (its cos factor, its band inside the outer cone) is within the
+     * same estimate's error: the split only needs a rough power. */
+    float inner = l->spot_model == PB_SPOT_CYCLES ? l->outer_cone * (1.0f - l->spot_blend) : l->inner_cone;
+    float a = 0.5f * (inner + l->outer_cone);
     k = 2.0f * (float)M_PI * (1.0f - cosf(a)) * l->intensity;
     break;
   }
+  case PB_LIGHT_AREA:
+    /* pi A L: the Lambertian exitance; the spread profile keeps it. */
+    k = (float)M_PI * pb_light_area(l) * l->intensity;
+    break;
   default:
     k = (float)M_PI * scene_radius * scene_radius * l->intensity;
   }
@@ -45,7 +67,8 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
 
 static const char *const feature_names[] = {
     "specular paths", "transmission", "glossy", "textures",
-    "emissive triangles", "animation", "alpha", "normal maps"};
+    "emissive triangles", "animation", "alpha", "normal maps",
+    "soft lights", "world light"};
 
 const char *pb_feature_name(uint32_t bit) {
   for (unsigned i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
@@ -108,6 +131,9 @@ void pb_scene_finalize(pb_scene *s) {
   }
   free(used);
   if (s->anim) f |= PB_FEATURE_ANIMATION;
+  for (uint32_t i = 0; i < s->light_count; ++i)
+    if (!pb_light_is_delta(&s->lights[i])) f |= PB_FEATURE_SOFT_LIGHTS;
+  if (s->world.present) f |= PB_FEATURE_WORLD;
   s->features = f;
 }
 
@@ -210,6 +236,7 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->textures);
   free(s->lights);
   free(s->cameras);
+  free(s->world.env);
   for (uint32_t i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
   free(s->warnings);
   pb_scene_anim_destroy(s->anim);

@@ -84,14 +84,55 @@ typedef enum pb_light_type {
   PB_LIGHT_POINT = 0,
   PB_LIGHT_SPOT = 1,
   PB_LIGHT_DIRECTIONAL = 2,
+  PB_LIGHT_AREA = 3,
 } pb_light_type;
 
-/* Radiometric light. Per channel c:
- *   point/spot: radiant intensity I_c = color_c * intensity [W/sr]
- *   directional: irradiance E_c = color_c * intensity [W/m^2] normal to it.
- * A spot scales I by smoothstep over the angle to `direction`, between
- * cos(outer_cone) and cos(inner_cone) (KHR_lights_punctual's recommended
- * falloff). `direction` is the unit direction light travels (the node's -Z). */
+/* How a spot's intensity falls off with the angle to its axis. */
+typedef enum pb_spot_model {
+  /* KHR_lights_punctual's recommendation: smoothstep from cos(outer_cone)
+   * to cos(inner_cone). */
+  PB_SPOT_SMOOTHSTEP = 0,
+  /* Cycles 3.4 (kernel/light/light.h spot_light_attenuation): with
+   * c = cos(angle), c0 = cos(outer_cone) (half of Blender's spot size) and
+   * band = (1 - c0) spot_blend: 0 for c <= c0, else c, times
+   * smoothstep((c - c0) / band) inside the band (3 t^2 - 2 t^3). The factor
+   * c is Cycles' own (measured: validation/VALIDATE.md). */
+  PB_SPOT_CYCLES = 1,
+} pb_spot_model;
+
+typedef enum pb_area_shape {
+  PB_AREA_RECTANGLE = 0, /* Blender's SQUARE and RECTANGLE */
+  PB_AREA_ELLIPSE = 1,   /* DISK and ELLIPSE */
+} pb_area_shape;
+
+/* Radiometric light. Per channel c, with C_c = color_c * intensity:
+ *   point/spot: radiant intensity I_c = C_c [W/sr]. With radius r > 0 it is
+ *     Cycles 3.4's soft light: a disc of radius r centred at `position`,
+ *     facing the lit point, of uniform radiance I_c / (pi r^2) (so far away
+ *     it is the point light; on its axis at distance d the irradiance is
+ *     I / (d^2 + r^2)). A spot multiplies by its falloff, evaluated for the
+ *     direction from the disc's point to the lit point.
+ *   directional: irradiance E_c = C_c [W/m^2] normal to it. With angle > 0,
+ *     Cycles 3.4's soft sun: a disc of radius R = tan(angle / 2) at unit
+ *     distance, uniform in area, so the radiance in a direction at angle t
+ *     from the axis is E / (pi R^2 cos^3 t) inside the cone of half-angle
+ *     angle / 2 (and the irradiance normal to the axis E 2 (sqrt(1 + R^2) -
+ *     1) / R^2, slightly under E).
+ *   area: a one-sided rectangle or ellipse of full widths size[0] along
+ *     axis_u and size[1] along axis_v, centred at `position`, emitting along
+ *     `direction` with radiance L_c = C_c [W/(m^2 sr)] normal to itself, times
+ *     the spread profile: with s = spread in (0, pi], a = (pi - max(s, 1
+ *     degree)) / 2, the radiance at angle t from the normal is
+ *     L max(0, 1 - tan(a) tan(t)) N(a), N(a) = 2 / (2 + (2 a - pi) tan(a)),
+ *     which keeps the emitted power pi A L for every spread (Cycles 3.4,
+ *     scene/light.cpp; s = pi is the Lambertian emitter). Blender's power P
+ *     [W] gives L = P / (4 A) (Cycles 3.4's eval_fac = 1/(4 A), measured:
+ *     src/scene/blender_lights.c), A the shape's area.
+ * A spot's falloff follows `spot_model`. `direction` is the unit direction
+ * light travels (the node's -Z). Soft lights (radius, angle > 0, area
+ * lights) are seen by rays: camera rays and specular chains see their
+ * emission, BSDF-sampled rays hit them (combined with light sampling by
+ * multiple importance sampling unless no_mis); they never occlude. */
 typedef struct pb_light {
   char name[PB_NAME_MAX];
   pb_light_type type;
@@ -99,14 +140,64 @@ typedef struct pb_light {
   float direction[3];
   float color[3];
   float intensity;
-  float inner_cone, outer_cone; /* radians, spot only */
+  float inner_cone, outer_cone; /* radians, spot only (PB_SPOT_CYCLES: outer only) */
   float range;                  /* 0: infinite */
-  float file_intensity;         /* as written in the file: cd or lx */
+  float file_intensity;         /* as written in the file: cd or lx (KHR), or
+                                   Blender's watts / W/m^2 (PHOTONBRIDGE_blender) */
+  pb_spot_model spot_model;
+  float spot_blend;             /* PB_SPOT_CYCLES: Blender's spot blend, [0, 1] */
+  float radius;                 /* point/spot: soft radius [m]; 0: a delta light */
+  float angle;                  /* directional: angular diameter [rad]; 0: delta */
+  pb_area_shape shape;          /* area lights */
+  float axis_u[3], axis_v[3];   /* area: unit, orthogonal to each other and to `direction` */
+  float size[2];                /* area: full widths along axis_u, axis_v [m] */
+  float spread;                 /* area: (0, pi] radians; 0 in a code-built
+                                   scene means pi */
+  int no_shadow;                /* Blender's "Cast Shadow" off: lights through geometry */
+  int no_mis;                   /* Blender's "Multiple Importance" off: only
+                                   light sampling (and camera rays) reach it */
+  int from_blender;             /* read from PHOTONBRIDGE_blender (Blender's
+                                   own units), not from KHR_lights_punctual */
 } pb_light;
+
+/* 1 when the light is a delta light (point/spot of radius 0, directional of
+ * angle 0): only next-event estimation or photons reach it. */
+int pb_light_is_delta(const pb_light *l);
+/* Area of an area light's shape [m^2] (0 for other types). */
+float pb_light_area(const pb_light *l);
 
 /* Total emitted power [W] of a light per channel, used to split photon
  * budgets; directional lights use the area of the scene's bounding disc. */
 void pb_light_power(const pb_light *l, float scene_radius, float power[3]);
+
+/* The world (Blender's World: a Background shader, optionally fed by an
+ * equirectangular Environment Texture), light arriving from infinitely far
+ * in every direction. Radiance [W/(m^2 sr)] arriving from direction w (unit,
+ * pointing away from the scene, scene axes):
+ *   no map: color;
+ *   map: env_scale x the map's bilinear texel (Cycles' "Linear" filter,
+ *     texel centres at (i + 1/2) / width, u periodic, v clamped) at
+ *     m = env_to_map w (Blender's Z-up axes after the Mapping node's
+ *     rotation): u = 1/2 - atan2(m_y, m_x) / (2 pi), v = acos(m_z) / pi
+ *     from the top row (Cycles 3.4 direction_to_equirectangular: the top
+ *     row is the zenith, the image centre looks along +X).
+ * `integral` is the radiance integrated over the sphere [W/m^2] (photon
+ * budgets). */
+typedef struct pb_world {
+  int present;               /* 0: black, no world light */
+  float color[3];
+  float *env;                /* RGB float, env_width x env_height, top row first;
+                                NULL: constant colour */
+  uint32_t env_width, env_height;
+  float env_scale;           /* Environment strength x Background strength */
+  float env_to_map[9];       /* row-major 3x3 */
+  char env_name[PB_NAME_MAX];
+  int hidden_from_camera;    /* Blender: World ray visibility "Camera" off */
+  float integral[3];
+} pb_world;
+
+/* Radiance of the world arriving from unit direction w. */
+void pb_world_radiance(const pb_world *w, const float dir[3], float out[3]);
 
 /* Perspective camera in world space. Looks along -Z of its node. */
 typedef struct pb_camera {
@@ -129,6 +220,8 @@ enum {
   PB_FEATURE_ANIMATION = 1u << 5,
   PB_FEATURE_ALPHA = 1u << 6,        /* alpha mask/blend materials */
   PB_FEATURE_NORMAL_MAPS = 1u << 7,
+  PB_FEATURE_SOFT_LIGHTS = 1u << 8,  /* area lights, radius > 0, sun angle > 0 */
+  PB_FEATURE_WORLD = 1u << 9,        /* world light (constant or map) */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -169,6 +262,14 @@ typedef struct pb_scene {
   uint32_t light_count;
   pb_camera *cameras;
   uint32_t camera_count;
+  pb_world world;
+  /* What camera rays that leave the scene give. 0 (plain glTF, and Blender's
+   * Film > Transparent): no colour, alpha 0 (the beauty's A is the fraction of
+   * camera samples that met geometry; lights seen on the way add their
+   * emission, as Cycles' lights do not stop rays). 1 (Blender's opaque film):
+   * alpha 1 everywhere and the world's radiance, unless it is hidden from the
+   * camera. */
+  int film_opaque;
 
   uint32_t animation_count;  /* glTF animations in the file */
   uint32_t animation_channel_count;
