@@ -4,6 +4,13 @@
  * At every vertex with a smooth (non-delta) lobe:
  *  - every point, spot and directional light gets a shadow ray (they are
  *    delta lights: only next-event estimation can reach them);
+ *  - every soft light (sphere, area, soft sun; soft_lights.c) gets one light
+ *    sample, and the world one from its map (scene/world.h), each combined
+ *    with the BSDF-sampled continuation that reaches it by the power
+ *    heuristic (two strategies per light: Veach 1997, 9.2; a light with
+ *    no_mis is reached by its light sample alone, weight 1, as Cycles'
+ *    "Multiple Importance" off). A constant world has no light sample: the
+ *    BSDF-sampled ray that leaves the scene sees it with weight 1;
  *  - one emissive triangle, picked by power, gets a shadow ray, and the
  *    BSDF-sampled continuation that hits an emitter counts too; the two are
  *    combined with the power heuristic. After a delta lobe (or from the
@@ -14,7 +21,16 @@
  *    strategy above can sample. The partition is exact: a path ending at a
  *    delta light is counted by next-event estimation when the vertex before
  *    the light is smooth and by the photon map when it is a delta
- *    interaction, never by both.
+ *    interaction, never by both. The photons also leave every soft light and
+ *    the world (photons.c), so in SPPM mode a path that reaches one of those
+ *    through a delta chain after a smooth vertex is the photon map's; the
+ *    path tracer still counts it after a chain that started at the camera.
+ *  - lights never stop rays (Cycles' lights are not surfaces): a ray adds the
+ *    emission of every soft light it passes before its hit, and a ray that
+ *    leaves the scene the world's and the soft suns'. The camera sees the
+ *    world only with an opaque film (pb_scene.film_opaque) and when it is not
+ *    hidden from the camera; a transparent film shows neither the world nor
+ *    the suns' discs to camera rays (mirrors still reflect them).
  * Bounce counting: a path of k scattering events between the emitter and the
  * eye has k bounces (direct lighting 1, an emitter seen directly 0); paths
  * over max_bounces are not counted. Russian roulette from the third bounce
@@ -26,6 +42,80 @@
 static inline void add_contrib(pb_sample_out *o, v3 c, uint32_t bounces) {
   if (bounces <= 1) o->direct = v3_add(o->direct, c);
   else o->indirect = v3_add(o->indirect, c);
+}
+
+/* What a path vertex needs to weigh the emission its next ray meets. */
+typedef struct path_state {
+  uint32_t k;       /* the ray leaves vertex k - 1 (k == 1: the camera) */
+  int prev_delta;   /* the last interaction was a delta lobe (or the camera) */
+  float prev_pdf;   /* solid-angle pdf of the last smooth BSDF sample */
+  int after_smooth; /* the path scattered off a smooth lobe before */
+} path_state;
+
+/* Emission the ray (o, d) meets before t_hit (INFINITY: it left the scene):
+ * soft lights on the way, then the world and the soft suns. */
+static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const path_state *ps, v3 o, v3 d,
+                         float t_hit, v3 beta, pb_sample_out *out) {
+  const pb_scene *s = ctx->scene;
+  int camera = ps->k == 1;
+  /* SPPM: the photons carry light -> delta chain -> smooth vertex. */
+  if (map && ps->after_smooth && ps->prev_delta) return;
+  for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    if (pb_light_is_delta(l) || (!camera && l->no_mis)) continue;
+    if (camera && l->type == PB_LIGHT_DIRECTIONAL && !s->film_opaque) continue;
+    float t, pl;
+    v3 L;
+    if (!pb_soft_light_hit(l, o, d, t_hit, &t, &L, &pl)) continue;
+    float w = ps->prev_delta ? 1.0f : pb_mis_power(ps->prev_pdf, pl);
+    add_contrib(out, v3_scale(v3_mul(beta, L), w), ps->k - 1);
+  }
+  if (t_hit < INFINITY || !s->world.present) return;
+  if (camera && (!s->film_opaque || s->world.hidden_from_camera)) return;
+  float dir[3] = {d.x, d.y, d.z}, L[3];
+  pb_world_radiance(&s->world, dir, L);
+  float w = 1.0f;
+  if (!ps->prev_delta && ctx->lights.world_nee)
+    w = pb_mis_power(ps->prev_pdf, pb_world_pdf(&s->world, &ctx->lights.world_dist, dir));
+  add_contrib(out, v3_scale(v3_mul(beta, v3_load(L)), w), ps->k - 1);
+}
+
+/* One light sample of every soft light and of the world's map at a smooth
+ * vertex, with shadow rays from o_shadow. */
+static void soft_nee(const pb_ref_ctx *ctx, pb_rng *rng, const pb_bsdf *b, const pb_surface *surf, v3 wo,
+                     v3 o_shadow, v3 beta, uint32_t k, pb_sample_out *out, uint64_t *rays) {
+  const pb_scene *s = ctx->scene;
+  for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    if (pb_light_is_delta(l)) continue;
+    float u1 = pb_rng_f(rng), u2 = pb_rng_f(rng);
+    pb_light_sample ls;
+    if (!pb_soft_light_sample(l, surf->p, u1, u2, &ls)) continue;
+    float pdf_b;
+    v3 f = pb_bsdf_eval(b, wo, ls.wi, &pdf_b);
+    if (v3_is_zero(f)) continue;
+    if (!l->no_shadow) {
+      (*rays)++;
+      float tmax = ls.dist < INFINITY ? ls.dist * (1.0f - PB_SHADOW_EPSILON) : INFINITY;
+      if (pb_ref_occluded(&ctx->accel, o_shadow, ls.wi, tmax)) continue;
+    }
+    float w = l->no_mis ? 1.0f : pb_mis_power(ls.pdf, pdf_b);
+    float c = fabsf(v3_dot(ls.wi, b->n));
+    add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, ls.L), c * w / ls.pdf)), k);
+  }
+  if (!ctx->lights.world_nee) return;
+  float u1 = pb_rng_f(rng), u2 = pb_rng_f(rng), dir[3], pw;
+  if (!pb_world_sample(&s->world, &ctx->lights.world_dist, u1, u2, dir, &pw)) return;
+  v3 wi = v3_load(dir);
+  float pdf_b;
+  v3 f = pb_bsdf_eval(b, wo, wi, &pdf_b);
+  if (v3_is_zero(f)) return;
+  (*rays)++;
+  if (pb_ref_occluded(&ctx->accel, o_shadow, wi, INFINITY)) return;
+  float L[3];
+  pb_world_radiance(&s->world, dir, L);
+  float c = fabsf(v3_dot(wi, b->n)) * pb_mis_power(pw, pdf_b) / pw;
+  add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, v3_load(L)), c)), k);
 }
 
 void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
@@ -58,12 +148,16 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   v3 beta = v3_make(1, 1, 1);
   int prev_delta = 1;     /* the camera is a delta "vertex" for MIS */
   float prev_pdf = 0.0f;  /* solid-angle pdf of the last smooth sample */
+  int after_smooth = 0;
   uint64_t rays = 0;
 
   for (uint32_t k = 1;; ++k) {
     pb_ref_hit h;
     rays++;
-    if (!pb_ref_intersect(&ctx->accel, org, dir, INFINITY, &h)) break;
+    int hit = pb_ref_intersect(&ctx->accel, org, dir, INFINITY, &h);
+    path_state ps = {k, prev_delta, prev_pdf, after_smooth};
+    ray_emission(ctx, map, &ps, org, dir, hit ? h.t : INFINITY, beta, out);
+    if (!hit) break;
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
@@ -95,12 +189,14 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
       for (uint32_t i = 0; i < s->light_count; ++i) {
         v3 wi, li;
         float dist;
-        if (!pb_delta_light_at(&s->lights[i], surf.p, &wi, &dist, &li)) continue;
+        if (!pb_light_is_delta(&s->lights[i]) || !pb_delta_light_at(&s->lights[i], surf.p, &wi, &dist, &li)) continue;
         float pdf;
         v3 f = pb_bsdf_eval(&b, wo, wi, &pdf);
         if (v3_is_zero(f)) continue;
         rays++;
-        if (pb_ref_occluded(&ctx->accel, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON))) continue;
+        if (!s->lights[i].no_shadow &&
+            pb_ref_occluded(&ctx->accel, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON)))
+          continue;
         float c = fabsf(v3_dot(wi, b.n));
         add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, li), c)), k);
       }
@@ -149,6 +245,9 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
         add_contrib(out, v3_mul(beta, pb_photon_gather(map, &b, surf.p, wo, k,
                                                        ctx->max_bounces)),
                     2);
+      /* After the emitter and photon terms: a scene without soft lights or
+       * a world map draws the same random numbers as before they existed. */
+      soft_nee(ctx, &rng, &b, &surf, wo, o_shadow, beta, k, out, &rays);
     }
 
     pb_bsdf_sample bs;
@@ -157,6 +256,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     beta = v3_mul(beta, bs.weight);
     if (v3_is_zero(beta)) break;
     prev_delta = bs.delta;
+    if (!bs.delta) after_smooth = 1; /* a smooth scattering: chains after it are the photons' */
     prev_pdf = bs.pdf;
     org = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);
     dir = bs.wi;

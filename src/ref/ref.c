@@ -43,7 +43,8 @@ const char *pb_ref_mode_name(pb_ref_mode m) {
 }
 
 pb_ref_mode pb_ref_auto_mode(const pb_scene *s) {
-  if (s->light_count == 0) return PB_REF_MODE_PT;
+  /* Photons leave every light but emissive triangles, and the world. */
+  if (s->light_count == 0 && !s->world.present) return PB_REF_MODE_PT;
   pb_ref_lights l;
   if (pb_ref_lights_build(s, &l) != PB_OK) {
     pb_error_clear();
@@ -490,7 +491,8 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
         hb[k] = to_float(nb ? (d + id - acc.half_a[k]) / nb : 0.0, &g);
       }
     }
-    out->beauty[4 * i + 3] = to_float(acc.hits[i] * inv, &g);
+    /* Alpha: coverage, or 1 with an opaque film (pb_scene.film_opaque). */
+    out->beauty[4 * i + 3] = scene->film_opaque ? 1.0f : to_float(acc.hits[i] * inv, &g);
     out->depth[i] = acc.hits[i] ? to_float(acc.depth[i] / acc.hits[i], &g) : 0.0f;
   }
   out->stats.guarded_samples += g;
