@@ -8,12 +8,40 @@
 // First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
 // the reference's lobe probabilities, so the estimate stays unbiased.
+// Lights do not stop rays (src/ref/pathtrace.c ray_emission): every segment
+// adds the soft lights it passes before its hit (a light with
+// PB_GPU_LIGHT_NO_MIS only on the camera ray), and a ray that leaves the
+// scene the world and the soft suns' discs; the camera ray sees the world
+// only when PB_GPU_WORLD_CAMERA says so (opaque film, visible), and the
+// suns only with an opaque film. These paths start at the camera, so the
+// reference counts them by path tracing too, with weight 1.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
+#define PB_WORLD_BINDING 15
 #include "common/scene.glsl"
+#include "common/lights.glsl"
+
+// Emission met by the segment (org, dir) before t_hit (inf: it left the
+// scene), `chain` delta interactions after the camera.
+vec3 pb_segment_emission(vec3 org, vec3 dir, float t_hit, uint chain) {
+  vec3 e = vec3(0.0);
+  bool film_opaque = (world.flags & PB_GPU_WORLD_FILM_OPAQUE) != 0u;
+  if (SC_SOFT_LIGHTS)
+    for (uint i = 0u; i < frame.light_count; ++i) {
+      pb_gpu_light l = lights[i];
+      if (!pb_light_is_soft(l) || (chain > 0u && (l.flags & PB_GPU_LIGHT_NO_MIS) != 0u)) continue;
+      if (chain == 0u && l.type == PB_GPU_LIGHT_DIRECTIONAL && !film_opaque) continue;
+      float t, pdf;
+      vec3 L;
+      if (pb_soft_light_hit(l, org, dir, t_hit, t, L, pdf)) e += L;
+    }
+  if (SC_WORLD && isinf(t_hit) && (chain > 0u || (world.flags & PB_GPU_WORLD_CAMERA) != 0u))
+    e += pb_world_radiance(dir);
+  return e;
+}
 
 void main() {
   uint gid = pb_gid();
@@ -57,6 +85,11 @@ void main() {
   for (uint chain = 0u;; ++chain) {
     float t, u, v;
     uint prim = pb_trace(org, dir, 0.0, uintBitsToFloat(0x7f800000u), false, t, u, v);
+    if (SC_SOFT_LIGHTS || SC_WORLD) {
+      vec3 le = beta * pb_segment_emission(org, dir, prim == PB_GPU_MISS ? PB_INF : t, chain);
+      acc.beauty.rgb += le;
+      if (chain <= 1u) acc.direct += le;
+    }
     if (prim == PB_GPU_MISS) break;
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
     pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV

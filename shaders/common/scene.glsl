@@ -36,6 +36,11 @@ layout(constant_id = 0) const bool SC_HAS_NORMALS = true;
 layout(constant_id = 1) const bool SC_TEXTURES = true;
 layout(constant_id = 2) const bool SC_SPECULAR = true;   // delta lobes: eye chains
 layout(constant_id = 3) const bool SC_EMISSIVE = true;
+// Ids 4 and 5 belong to the photon tracer (SC_TRANSMISSION) and the gather
+// (SC_NORMAL_MAPS). Soft lights (sphere, area, soft sun) and the world
+// light, for the passes that include common/lights.glsl.
+layout(constant_id = 6) const bool SC_SOFT_LIGHTS = true;
+layout(constant_id = 7) const bool SC_WORLD = true;
 
 #include "common/bvh.glsl"
 

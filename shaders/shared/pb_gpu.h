@@ -126,12 +126,24 @@ PB_STRUCT(pb_gpu_texture) {
   uint pad1;
 } PB_END(pb_gpu_texture)
 
-/* Delta light, radiometric (scene.h): radiance = color * intensity folded
- * into `power` [W/sr or W/m^2]. direction: unit, the way light travels.
- * Spot: cos_outer/cos_inner of the cone. */
+/* Light, radiometric (scene.h pb_light): color * intensity folded into
+ * `power` (point/spot: W/sr; directional: W/m^2; area: W/(m^2 sr) normal to
+ * it). direction: unit, the way light travels. Spot: cos_outer/cos_inner of
+ * KHR's smooth step, or with PB_GPU_LIGHT_CYCLES_SPOT Cycles 3.4's falloff
+ * from cos_outer and spot_blend. Soft lights (src/ref/soft_lights.c,
+ * shaders/common/lights.glsl): point/spot with radius > 0 (Cycles' disc
+ * facing the lit point); directional with radius = tan(angle / 2) > 0 (the
+ * sun's disc at unit distance; cos_half = cos(angle / 2)); area lights of
+ * full widths size_u, size_v along the unit axes axis_u, axis_v, with the
+ * spread profile's tan_spread (tan a; 0: no spread) and norm_spread N(a). */
 PB_CONST(PB_GPU_LIGHT_POINT, 0u)
 PB_CONST(PB_GPU_LIGHT_SPOT, 1u)
 PB_CONST(PB_GPU_LIGHT_DIRECTIONAL, 2u)
+PB_CONST(PB_GPU_LIGHT_AREA, 3u)
+PB_CONST(PB_GPU_LIGHT_ELLIPSE, 1u)     /* flags: an area light's shape is an ellipse */
+PB_CONST(PB_GPU_LIGHT_CYCLES_SPOT, 2u) /* Cycles 3.4's spot falloff */
+PB_CONST(PB_GPU_LIGHT_NO_SHADOW, 4u)   /* casts no shadow */
+PB_CONST(PB_GPU_LIGHT_NO_MIS, 8u)      /* not seen by BSDF-sampled rays */
 PB_STRUCT(pb_gpu_light) {
   PB_VEC3(position);
   uint type;
@@ -139,7 +151,43 @@ PB_STRUCT(pb_gpu_light) {
   float cos_outer;
   PB_VEC3(power);
   float cos_inner;
+  PB_VEC3(axis_u);
+  float radius;
+  PB_VEC3(axis_v);
+  float spot_blend;
+  float size_u;
+  float size_v;
+  float tan_spread;
+  float norm_spread;
+  uint flags;              /* PB_GPU_LIGHT_* flags */
+  float cos_half;          /* directional: cos(angle / 2) */
+  uint pad0;
+  uint pad1;
 } PB_END(pb_gpu_light)
+
+/* The world light (scene.h pb_world, scene/world.h), at the start of its own
+ * buffer, followed by float data[]: per map texel (top row first) a vec4
+ * (R, G, B radiance before `scale`, and the row's conditional CDF at this
+ * cell's left edge), then height + 1 floats of the marginal CDF over the
+ * rows. map_to: rows of the 3x3 taking a scene direction to the map's
+ * frame. flags: PB_GPU_WORLD_*. */
+PB_CONST(PB_GPU_WORLD_PRESENT, 1u)
+PB_CONST(PB_GPU_WORLD_MAP, 2u)         /* a map (else the constant colour) */
+PB_CONST(PB_GPU_WORLD_CAMERA, 4u)      /* camera rays see it (opaque film, visible) */
+PB_CONST(PB_GPU_WORLD_SAMPLED, 8u)     /* the map has a sampling table */
+PB_CONST(PB_GPU_WORLD_FILM_OPAQUE, 16u) /* the scene's film is opaque (also without a world) */
+PB_CONST(PB_GPU_WORLD_LIGHT, 0xffffffffu) /* pb_gpu_photon_light.light of the world */
+PB_STRUCT(pb_gpu_world) {
+  PB_VEC3(color);
+  uint flags;
+  PB_VEC4(map_to0);
+  PB_VEC4(map_to1);
+  PB_VEC4(map_to2);
+  uint width;
+  uint height;
+  float scale;
+  uint marg_offset;        /* float index of the marginal CDF in data[] */
+} PB_END(pb_gpu_world)
 
 /* Emissive triangle of the light-sampling table, 16 bytes, in scene order.
  * Picked by power (area x luminance of `emissive` x sides, the reference's
@@ -274,10 +322,13 @@ PB_STRUCT(pb_gpu_photon_params) {
 } PB_END(pb_gpu_photon_params)
 
 /* One light's share of the photon budget: paths first .. first + count - 1
- * start at lights[light]. power: flux of each photon before the spot
- * falloff, W (point: 4 pi I / count; spot: 2 pi (1 - cos_outer) I / count;
- * directional: E pi R^2 / count). diff_scale: factor on the emission
- * differentials so that the global Delta applies (see photon_trace.comp). */
+ * start at lights[light] (or the world, light == PB_GPU_WORLD_LIGHT).
+ * power: flux of each photon before its direction's factor, W (point,
+ * sphere: 4 pi I / count; spot: 2 pi (1 - cos_outer) I / count, times the
+ * falloff; directional, soft sun: E pi R^2 / count; area: L A pi cos^2 a /
+ * count, times the spread profile; world: pi R^2 / count, times L / pdf of
+ * the direction). diff_scale: factor on the emission differentials so that
+ * the global Delta applies (see photon_trace.comp). */
 PB_STRUCT(pb_gpu_photon_light) {
   PB_VEC3(power);
   uint light;
@@ -312,10 +363,18 @@ PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
 PB_LAYOUT(pb_gpu_texture, 32)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
-PB_LAYOUT(pb_gpu_light, 48)
+PB_LAYOUT(pb_gpu_light, 112)
 PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
 PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
-PB_OFFSET(pb_gpu_light, cos_inner, 44)
+PB_OFFSET(pb_gpu_light, cos_inner, 44) PB_OFFSET(pb_gpu_light, axis_u, 48)
+PB_OFFSET(pb_gpu_light, radius, 60) PB_OFFSET(pb_gpu_light, axis_v, 64)
+PB_OFFSET(pb_gpu_light, spot_blend, 76) PB_OFFSET(pb_gpu_light, size_u, 80)
+PB_OFFSET(pb_gpu_light, norm_spread, 92) PB_OFFSET(pb_gpu_light, flags, 96)
+PB_OFFSET(pb_gpu_light, cos_half, 100)
+PB_LAYOUT(pb_gpu_world, 80)
+PB_OFFSET(pb_gpu_world, flags, 12) PB_OFFSET(pb_gpu_world, map_to0, 16)
+PB_OFFSET(pb_gpu_world, map_to2, 48) PB_OFFSET(pb_gpu_world, width, 64)
+PB_OFFSET(pb_gpu_world, scale, 72) PB_OFFSET(pb_gpu_world, marg_offset, 76)
 PB_LAYOUT(pb_gpu_emitter, 16)
 PB_OFFSET(pb_gpu_emitter, cdf, 4) PB_OFFSET(pb_gpu_emitter, pick, 8) PB_OFFSET(pb_gpu_emitter, area, 12)
 PB_LAYOUT(pb_gpu_frame, 112)

@@ -150,7 +150,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_result r = validate(s, camera, width, height, &desc);
   if (r != PB_OK) return r;
   uint32_t spp = desc.spp ? desc.spp : 1;
-  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0);
+  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0 || s->world.present);
   uint32_t iters = photons_on ? (desc.iterations ? desc.iterations : 1) : 1;
   if (photons_on && spp < iters) spp = iters;
   uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : 8;
@@ -240,9 +240,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_pass_setup ps = {
       .bindings = {&frame_buf, &gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs, &gs->tri_material,
                    &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
-                   &gs->emitters},
-      .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
-               plan.emitter_sampling ? 1u : 0u},
+                   &gs->emitters, &gs->world},
+      .spec = {[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u, [PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u,
+               [PB_SPEC_SPECULAR] = plan.eye_chains ? 1u : 0u, [PB_SPEC_EMISSIVE] = plan.emitter_sampling ? 1u : 0u,
+               [PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan.world ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
   };
   if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
@@ -395,6 +396,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       size_t p = (size_t)fr.pixel_base + i;
       const pb_gpu_accum *a = &host[i];
       for (int k = 0; k < 4; ++k) out->beauty[4 * p + k] = a->beauty[k] * inv;
+      if (s->film_opaque) out->beauty[4 * p + 3] = 1.0f; /* alpha: coverage, or 1 (pb_scene.film_opaque) */
       for (int k = 0; k < 3; ++k) {
         out->direct[3 * p + k] = a->direct[k] * inv;
         out->albedo[3 * p + k] = a->albedo[k] * inv;

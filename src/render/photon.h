@@ -94,7 +94,11 @@ void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *ou
 /* The budget split (seed 001 24.2.1): photons[i] paths for light i, in
  * proportion to the luminance of pb_light_power (directional lights over the
  * disc of the scene's bounding radius), largest remainders, summing to
- * `total` when any light has power. first[i] is the light's first path. */
+ * `total` when any light has power. first[i] is the light's first path. A
+ * scene with a world has one slot more, the last (index light_count), of
+ * power pi R^2 x its radiance integrated over the sphere (the flux through
+ * the scene's bounding disc): the arrays hold pb_photon_slots(s) entries. */
+uint32_t pb_photon_slots(const pb_scene *s);
 void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons, uint32_t *first);
 
 /* Tests only: trace paths in triples whose members 1 and 2 step the

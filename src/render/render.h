@@ -33,6 +33,9 @@ typedef struct pb_gpu_scene {
   pb_gpu_buffer tri_material; /* uint[triangle_count] */
   pb_gpu_buffer materials, textures, texels, lights;
   pb_gpu_buffer emitters;     /* pb_gpu_emitter[emitter_count] (or 1 dummy) */
+  pb_gpu_buffer world;        /* pb_gpu_world + its map and sampling table
+                                 (shared/pb_gpu.h); a header with flags 0
+                                 when the scene has no world */
   uint32_t light_count, material_count, texture_count;
   uint32_t emitter_count;     /* emissive triangles with power > 0 */
   uint32_t features;          /* PB_FEATURE_* of the scene */

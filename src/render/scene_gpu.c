@@ -6,13 +6,14 @@
 
 #include "core/log.h"
 #include "scene/emitters.h"
+#include "scene/world.h"
 #include "render/render.h"
 
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
   if (!gs) return;
   pb_gpu_buffer *b[] = {&gs->nodes, &gs->tris, &gs->indices, &gs->positions, &gs->normals, &gs->uvs,
                         &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights,
-                        &gs->emitters};
+                        &gs->emitters, &gs->world};
   for (size_t i = 0; i < sizeof b / sizeof *b; ++i) pb_gpu_buffer_destroy(g, b[i]);
   pb_bvh_destroy(&gs->bvh);
   memset(gs, 0, sizeof *gs);
@@ -49,18 +50,106 @@ static void convert_lights(const pb_scene *s, pb_gpu_light *lights) {
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
     pb_gpu_light *o = &lights[i];
+    memset(o, 0, sizeof *o);
     memcpy(o->position, l->position, sizeof o->position);
     float d[3] = {l->direction[0], l->direction[1], l->direction[2]};
     float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int k = 0; k < 3; ++k) {
       o->direction[k] = len > 0 ? d[k] / len : 0.0f;
       o->power[k] = l->color[k] * l->intensity;
+      o->axis_u[k] = l->axis_u[k];
+      o->axis_v[k] = l->axis_v[k];
     }
     o->type = l->type == PB_LIGHT_SPOT ? PB_GPU_LIGHT_SPOT
-              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL : PB_GPU_LIGHT_POINT;
+              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL
+              : l->type == PB_LIGHT_AREA ? PB_GPU_LIGHT_AREA : PB_GPU_LIGHT_POINT;
     o->cos_outer = cosf(l->outer_cone);
     o->cos_inner = cosf(l->inner_cone);
+    o->spot_blend = l->spot_blend;
+    if (l->spot_model == PB_SPOT_CYCLES) o->flags |= PB_GPU_LIGHT_CYCLES_SPOT;
+    if (l->no_shadow) o->flags |= PB_GPU_LIGHT_NO_SHADOW;
+    if (l->no_mis) o->flags |= PB_GPU_LIGHT_NO_MIS;
+    if (l->type == PB_LIGHT_DIRECTIONAL) {
+      /* The soft sun: its disc's radius at unit distance (0: a delta light). */
+      o->radius = l->angle > 0.0f ? tanf(0.5f * l->angle) : 0.0f;
+      o->cos_half = cosf(0.5f * l->angle);
+    } else if (l->type == PB_LIGHT_AREA) {
+      if (l->shape == PB_AREA_ELLIPSE) o->flags |= PB_GPU_LIGHT_ELLIPSE;
+      o->size_u = l->size[0];
+      o->size_v = l->size[1];
+      /* The spread profile (scene.h; src/ref/soft_lights.c spread_params). */
+      float sp = l->spread > 0.0f ? l->spread : (float)M_PI;
+      float a = 0.5f * ((float)M_PI - fmaxf(sp, (float)M_PI / 180.0f));
+      o->tan_spread = tanf(a);
+      o->norm_spread = 2.0f / (2.0f + (2.0f * a - (float)M_PI) * o->tan_spread);
+    } else {
+      o->radius = l->radius;
+    }
   }
+}
+
+/* The world's buffer: pb_gpu_world, then per texel (R, G, B, conditional
+ * CDF) and the marginal CDF (shared/pb_gpu.h), from the table both
+ * renderers sample (scene/world.h). Errors: PB_ERR_LIMIT when it exceeds
+ * the device's storage-buffer range (name the map: a smaller one fits),
+ * PB_ERR_NOMEM. */
+static pb_result make_world(pb_gpu *g, const pb_scene *s, pb_gpu_buffer *out) {
+  const pb_world *w = &s->world;
+  pb_gpu_world h;
+  memset(&h, 0, sizeof h);
+  pb_world_dist dist;
+  memset(&dist, 0, sizeof dist);
+  if (w->present) {
+    h.flags = PB_GPU_WORLD_PRESENT;
+    if (s->film_opaque && !w->hidden_from_camera) h.flags |= PB_GPU_WORLD_CAMERA;
+    memcpy(h.color, w->color, sizeof h.color);
+    float *rows[3] = {h.map_to0, h.map_to1, h.map_to2};
+    for (int r = 0; r < 3; ++r) memcpy(rows[r], w->env_to_map + 3 * r, 3 * sizeof(float));
+  }
+  if (s->film_opaque) h.flags |= PB_GPU_WORLD_FILM_OPAQUE;
+  uint64_t floats = 0;
+  if (w->present && w->env) {
+    pb_result r = pb_world_dist_build(w, &dist);
+    if (r != PB_OK) return r;
+    h.flags |= PB_GPU_WORLD_MAP | (dist.width ? PB_GPU_WORLD_SAMPLED : 0u);
+    h.width = w->env_width;
+    h.height = w->env_height;
+    h.scale = w->env_scale;
+    uint64_t texels = (uint64_t)w->env_width * w->env_height;
+    h.marg_offset = (uint32_t)(4 * texels);
+    floats = 4 * texels + w->env_height + 1;
+  }
+  uint64_t bytes = sizeof h + floats * sizeof(float);
+  const pb_gpu_limits *lim = pb_gpu_get_limits(g);
+  if (bytes > lim->max_storage_buffer_range || 4 * (uint64_t)h.width * h.height > UINT32_MAX) {
+    pb_world_dist_destroy(&dist);
+    return pb_fail(PB_ERR_LIMIT,
+                   "%s: the world map '%s' (%ux%u) needs %llu bytes on the GPU, over the device's "
+                   "maxStorageBufferRange of %llu bytes; use a smaller map",
+                   s->path ? s->path : "scene", w->env_name, w->env_width, w->env_height,
+                   (unsigned long long)bytes, (unsigned long long)lim->max_storage_buffer_range);
+  }
+  uint8_t *buf = calloc(1, bytes);
+  if (!buf) {
+    pb_world_dist_destroy(&dist);
+    return pb_fail(PB_ERR_NOMEM, "out of memory for the world's GPU buffer (%llu bytes)", (unsigned long long)bytes);
+  }
+  memcpy(buf, &h, sizeof h);
+  float *data = (float *)(buf + sizeof h);
+  if (floats) {
+    uint32_t W = w->env_width, H = w->env_height;
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        size_t i = (size_t)y * W + x;
+        memcpy(data + 4 * i, w->env + 3 * i, 3 * sizeof(float));
+        data[4 * i + 3] = dist.width ? dist.cond[(size_t)y * (W + 1) + x] : 0.0f;
+      }
+    for (uint32_t y = 0; y <= H; ++y) data[h.marg_offset + y] = dist.width ? dist.marg[y] : 0.0f;
+  }
+  pb_world_dist_destroy(&dist);
+  pb_result r = make(g, out, "scene.world", buf, bytes);
+  free(buf);
+  return r;
 }
 
 /* The emitter table (pb_gpu_emitter) from the scene's (scene/emitters.h),
@@ -222,6 +311,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   r = make_cap(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters,
                (uint64_t)gs->emitter_capacity * sizeof *emitters);
   if (r != PB_OK) goto fail;
+  if ((r = make_world(g, s, &gs->world)) != PB_OK) goto fail;
   if (gs->emitter_count)
     pb_log_verbose("gpu: %u emissive triangles in the light-sampling table", gs->emitter_count);
   gs->light_count = s->light_count;

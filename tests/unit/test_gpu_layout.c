@@ -32,7 +32,13 @@ static const member members[] = {
     M(pb_gpu_texture, offset), M(pb_gpu_texture, width), M(pb_gpu_texture, height), M(pb_gpu_texture, flags),
     M(pb_gpu_texture, wrap_s), M(pb_gpu_texture, wrap_t), M(pb_gpu_texture, pad0), M(pb_gpu_texture, pad1),
     M(pb_gpu_light, position), M(pb_gpu_light, type), M(pb_gpu_light, direction), M(pb_gpu_light, cos_outer),
-    M(pb_gpu_light, power), M(pb_gpu_light, cos_inner),
+    M(pb_gpu_light, power), M(pb_gpu_light, cos_inner), M(pb_gpu_light, axis_u), M(pb_gpu_light, radius),
+    M(pb_gpu_light, axis_v), M(pb_gpu_light, spot_blend), M(pb_gpu_light, size_u), M(pb_gpu_light, size_v),
+    M(pb_gpu_light, tan_spread), M(pb_gpu_light, norm_spread), M(pb_gpu_light, flags), M(pb_gpu_light, cos_half),
+    M(pb_gpu_light, pad0), M(pb_gpu_light, pad1),
+    M(pb_gpu_world, color), M(pb_gpu_world, flags), M(pb_gpu_world, map_to0), M(pb_gpu_world, map_to1),
+    M(pb_gpu_world, map_to2), M(pb_gpu_world, width), M(pb_gpu_world, height), M(pb_gpu_world, scale),
+    M(pb_gpu_world, marg_offset),
     M(pb_gpu_frame, cam_pos), M(pb_gpu_frame, width), M(pb_gpu_frame, cam_forward), M(pb_gpu_frame, height),
     M(pb_gpu_frame, cam_right), M(pb_gpu_frame, tan_x), M(pb_gpu_frame, cam_up), M(pb_gpu_frame, tan_y),
     M(pb_gpu_frame, spp), M(pb_gpu_frame, emitter_count), M(pb_gpu_frame, light_count),
@@ -57,7 +63,7 @@ static const struct {
 } sizes[] = {S(pb_gpu_bvh_node), S(pb_gpu_tri),     S(pb_gpu_ray),   S(pb_gpu_hit),
              S(pb_gpu_material), S(pb_gpu_texture), S(pb_gpu_light), S(pb_gpu_frame),
              S(pb_gpu_gbuffer),  S(pb_gpu_accum),   S(pb_gpu_raycast_push), S(pb_gpu_pass_push),
-             S(pb_gpu_emitter)};
+             S(pb_gpu_emitter),  S(pb_gpu_world)};
 
 /* ---- a minimal SPIR-V reader ---------------------------------------------- */
 
@@ -138,7 +144,7 @@ int main(void) {
   if (pb_gpu_create(&gd, &g) == PB_OK) {
     pb_gpu_pipeline p;
     pb_gpu_pipeline_desc pd = {.name = "layout_probe", .spirv = pb_spv_layout_probe,
-                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 13};
+                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 14};
     CHECK_EQ_INT(pb_gpu_pipeline_create(g, &pd, &p), PB_OK);
     pb_gpu_pipeline_destroy(g, &p);
     pb_gpu_pipeline_destroy(g, &p); /* destroy twice: handles were reset */
