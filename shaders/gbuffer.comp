@@ -9,12 +9,12 @@
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
 // the reference's lobe probabilities, so the estimate stays unbiased.
 // Lights do not stop rays (src/ref/pathtrace.c ray_emission): every segment
-// adds the soft lights it passes before its hit (a light with
-// PB_GPU_LIGHT_NO_MIS only on the camera ray), and a ray that leaves the
-// scene the world and the soft suns' discs; the camera ray sees the world
-// only when PB_GPU_WORLD_CAMERA says so (opaque film, visible), and the
-// suns only with an opaque film. These paths start at the camera, so the
-// reference counts them by path tracing too, with weight 1.
+// after a delta interaction adds the soft lights it passes before its hit
+// (but those with PB_GPU_LIGHT_NO_MIS), and a ray that leaves the scene the
+// world and the soft suns' discs; the camera ray sees no light (Cycles 3.4,
+// scene.h) and the world only when PB_GPU_WORLD_CAMERA says so (opaque film,
+// visible). These paths start at the camera, so the reference counts them
+// by path tracing too, with weight 1.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
@@ -28,12 +28,10 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 // scene), `chain` delta interactions after the camera.
 vec3 pb_segment_emission(vec3 org, vec3 dir, float t_hit, uint chain) {
   vec3 e = vec3(0.0);
-  bool film_opaque = (world.flags & PB_GPU_WORLD_FILM_OPAQUE) != 0u;
-  if (SC_SOFT_LIGHTS)
+  if (SC_SOFT_LIGHTS && chain > 0u)
     for (uint i = 0u; i < frame.light_count; ++i) {
       pb_gpu_light l = lights[i];
-      if (!pb_light_is_soft(l) || (chain > 0u && (l.flags & PB_GPU_LIGHT_NO_MIS) != 0u)) continue;
-      if (chain == 0u && l.type == PB_GPU_LIGHT_DIRECTIONAL && !film_opaque) continue;
+      if (!pb_light_is_soft(l) || (l.flags & PB_GPU_LIGHT_NO_MIS) != 0u) continue;
       float t, pdf;
       vec3 L;
       if (pb_soft_light_hit(l, org, dir, t_hit, t, L, pdf)) e += L;

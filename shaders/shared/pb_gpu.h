@@ -175,7 +175,6 @@ PB_CONST(PB_GPU_WORLD_PRESENT, 1u)
 PB_CONST(PB_GPU_WORLD_MAP, 2u)         /* a map (else the constant colour) */
 PB_CONST(PB_GPU_WORLD_CAMERA, 4u)      /* camera rays see it (opaque film, visible) */
 PB_CONST(PB_GPU_WORLD_SAMPLED, 8u)     /* the map has a sampling table */
-PB_CONST(PB_GPU_WORLD_FILM_OPAQUE, 16u) /* the scene's film is opaque (also without a world) */
 PB_CONST(PB_GPU_WORLD_LIGHT, 0xffffffffu) /* pb_gpu_photon_light.light of the world */
 PB_STRUCT(pb_gpu_world) {
   PB_VEC3(color);

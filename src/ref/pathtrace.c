@@ -27,10 +27,10 @@
  *    path tracer still counts it after a chain that started at the camera.
  *  - lights never stop rays (Cycles' lights are not surfaces): a ray adds the
  *    emission of every soft light it passes before its hit, and a ray that
- *    leaves the scene the world's and the soft suns'. The camera sees the
- *    world only with an opaque film (pb_scene.film_opaque) and when it is not
- *    hidden from the camera; a transparent film shows neither the world nor
- *    the suns' discs to camera rays (mirrors still reflect them).
+ *    leaves the scene the world's and the soft suns'. Camera rays see no
+ *    light (Cycles 3.4 shows lights only in reflections and refractions:
+ *    scene.h), and the world only with an opaque film (pb_scene.film_opaque)
+ *    when it is not hidden from the camera (mirrors still reflect it).
  * Bounce counting: a path of k scattering events between the emitter and the
  * eye has k bounces (direct lighting 1, an emitter seen directly 0); paths
  * over max_bounces are not counted. Russian roulette from the third bounce
@@ -60,10 +60,9 @@ static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const 
   int camera = ps->k == 1;
   /* SPPM: the photons carry light -> delta chain -> smooth vertex. */
   if (map && ps->after_smooth && ps->prev_delta) return;
-  for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count; ++i) {
+  for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count && !camera; ++i) {
     const pb_light *l = &s->lights[i];
-    if (pb_light_is_delta(l) || (!camera && l->no_mis)) continue;
-    if (camera && l->type == PB_LIGHT_DIRECTIONAL && !s->film_opaque) continue;
+    if (pb_light_is_delta(l) || l->no_mis) continue;
     float t, pl;
     v3 L;
     if (!pb_soft_light_hit(l, o, d, t_hit, &t, &L, &pl)) continue;

@@ -106,7 +106,6 @@ static pb_result make_world(pb_gpu *g, const pb_scene *s, pb_gpu_buffer *out) {
     float *rows[3] = {h.map_to0, h.map_to1, h.map_to2};
     for (int r = 0; r < 3; ++r) memcpy(rows[r], w->env_to_map + 3 * r, 3 * sizeof(float));
   }
-  if (s->film_opaque) h.flags |= PB_GPU_WORLD_FILM_OPAQUE;
   uint64_t floats = 0;
   if (w->present && w->env) {
     pb_result r = pb_world_dist_build(w, &dist);

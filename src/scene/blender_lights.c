@@ -51,6 +51,9 @@
 #define DEF_WORLD_COLOR 0.050876
 
 static const double PI = 3.14159265358979323846;
+/* Blender stores angles as floats: its pi is 3.14159274. Ranges that end at
+ * pi accept that (and the value is clamped to pi). */
+static const double PI_F32 = 3.1415927410125732;
 
 typedef struct rd {
   const char *path;  /* scene file */
@@ -180,12 +183,12 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
   if ((e = number(&r, lo, "power", DEF_POWER, 0, 0, HUGE_VAL, 0, "a non-negative number of watts", &power)) != PB_OK ||
       (e = number(&r, lo, "strength", 1.0, 0, 0, HUGE_VAL, 0, "a non-negative irradiance (W/m^2)", &strength)) != PB_OK ||
       (e = number(&r, lo, "radius", DEF_RADIUS, 0, 0, HUGE_VAL, 0, "a non-negative radius (m)", &radius)) != PB_OK ||
-      (e = number(&r, lo, "spotSize", DEF_SPOT_SIZE, 0, 1, PI, 0, "in (0, pi] radians", &spot_size)) != PB_OK ||
+      (e = number(&r, lo, "spotSize", DEF_SPOT_SIZE, 0, 1, PI_F32, 0, "in (0, pi] radians", &spot_size)) != PB_OK ||
       (e = number(&r, lo, "spotBlend", DEF_SPOT_BLEND, 0, 0, 1, 0, "in [0, 1]", &spot_blend)) != PB_OK ||
       (e = number(&r, lo, "angle", DEF_SUN_ANGLE, 0, 0, PI, 1, "in [0, pi) radians", &angle)) != PB_OK ||
       (e = number(&r, lo, "size", DEF_AREA_SIZE, 0, 0, HUGE_VAL, 0, "a non-negative size (m)", &size)) != PB_OK ||
       (e = number(&r, lo, "sizeY", DEF_AREA_SIZE, 0, 0, HUGE_VAL, 0, "a non-negative size (m)", &size_y)) != PB_OK ||
-      (e = number(&r, lo, "spread", PI, 0, 1, PI, 0, "in (0, pi] radians", &spread)) != PB_OK ||
+      (e = number(&r, lo, "spread", PI, 0, 1, PI_F32, 0, "in (0, pi] radians", &spread)) != PB_OK ||
       (e = boolean(&r, lo, "castShadow", 1, &cast)) != PB_OK || (e = boolean(&r, lo, "useMIS", 1, &mis)) != PB_OK ||
       (e = string(&r, lo, "shape", &shape)) != PB_OK)
     return e;
@@ -205,6 +208,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     l.radius = (float)radius;
     if (l.type == PB_LIGHT_SPOT) {
       l.spot_model = PB_SPOT_CYCLES;
+      spot_size = fmin(spot_size, PI);
       l.outer_cone = (float)(0.5 * spot_size);
       l.spot_blend = (float)spot_blend;
       l.inner_cone = (float)(0.5 * spot_size * (1.0 - spot_blend)); /* for info and POV-Ray's cone */
@@ -230,7 +234,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     l.shape = ellipse ? PB_AREA_ELLIPSE : PB_AREA_RECTANGLE;
     l.size[0] = (float)size;
     l.size[1] = (float)size_y;
-    l.spread = (float)spread;
+    l.spread = (float)fmin(spread, PI);
     k = power / (4.0 * area);
     if (!pb_area_light_axes(M, dir, l.axis_u, l.axis_v))
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", path, node);

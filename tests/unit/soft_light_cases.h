@@ -560,30 +560,55 @@ static void test_environment(void) {
 }
 
 
+/* Cycles 3.4 shows lights only in reflections: camera rays do not see an
+ * area light, a sphere light or a sun in front of them, a mirror does, at
+ * their radiance (and lights do not stop rays: the floor behind is hit). */
 static void test_lights_seen(void) {
-  pb_scene s;
-  /* The camera sees an area light and a sphere light (with the floor
-   * behind them: lights do not stop rays) at their radiance. */
-  plane_scene(&s, 0.0f, 3.0f, 10.0f);
-  area_light(&s, PB_AREA_RECTANGLE, 4.0f, 4.0f, 1.0f, 7.0f);
-  s.lights[0].direction[2] = 1.0f; /* facing the camera above */
-  s.lights[0].axis_v[1] = 1.0f;
-  pb_scene_finalize(&s);
-  slc_image r;
-  if (render(&s, 4, 60, &r)) {
-    CHECK(fabs(tsc_mean(r.beauty, W, H, 4, 0) - 7.0) < 1e-4);
-    CHECK_NEAR(tsc_mean(r.beauty, W, H, 4, 3), 1.0, 0); /* the black floor is still hit */
-    image_destroy(&r);
+  for (int mirror = 0; mirror < 2; ++mirror) {
+    pb_scene s;
+    tsc_init(&s);
+    uint32_t m = tsc_material(&s, mirror ? tsc_mirror() : tsc_lambert(0, 0, 0));
+    tsc_floor(&s, 20.0f, 0.0f, m);
+    /* Camera at 2 m looking down; the lights at 1 m facing it (direct) or
+     * at 3 m facing down, seen in the mirror floor. */
+    float pos[3] = {0, 0, 2.0f}, fwd[3] = {0, 0, -1}, up[3] = {0, 1, 0};
+    tsc_camera(&s, pos, fwd, up, 10.0f);
+    pb_light *l = area_light(&s, PB_AREA_RECTANGLE, 4.0f, 4.0f, mirror ? 3.0f : 1.0f, 7.0f);
+    if (!mirror) l->direction[2] = 1.0f, l->axis_v[1] = 1.0f; /* facing up, to the camera */
+    pb_scene_finalize(&s);
+    slc_image r;
+    const char *what = mirror ? "in a mirror" : "by the camera";
+    if (render(&s, 4, 60, &r)) {
+      double got = tsc_mean(r.beauty, W, H, 4, 0);
+      printf("area light seen %s: %.5f (expected %g)\n", what, got, mirror ? 7.0 : 0.0);
+      CHECK(fabs(got - (mirror ? 7.0 : 0.0)) < 1e-4);
+      CHECK_NEAR(tsc_mean(r.beauty, W, H, 4, 3), 1.0, 0); /* the floor is still hit */
+      image_destroy(&r);
+    }
+    s.lights[0].type = PB_LIGHT_POINT;
+    s.lights[0].radius = 2.0f;
+    s.lights[0].intensity = 2.0f;
+    pb_scene_finalize(&s);
+    if (render(&s, 4, 61, &r)) {
+      double got = r.beauty[4 * (12 * W + 12)], want = mirror ? 2.0 / (M_PI * 4.0) : 0.0;
+      printf("sphere light seen %s: %.5f (expected %.5f)\n", what, got, want);
+      CHECK(fabs(got - want) < 1e-4);
+      image_destroy(&r);
+    }
+    s.lights[0].type = PB_LIGHT_DIRECTIONAL;
+    s.lights[0].direction[2] = mirror ? -1.0f : 1.0f; /* toward the camera, or down onto the mirror */
+    s.lights[0].angle = (float)(M_PI / 3);
+    s.lights[0].intensity = 1.0f;
+    pb_scene_finalize(&s);
+    if (render(&s, 4, 62, &r)) {
+      double R = tan(M_PI / 6), got = r.beauty[4 * (12 * W + 12)];
+      double want = mirror ? 1.0 / (M_PI * R * R) : 0.0; /* at the disc's centre: cos = 1 */
+      printf("sun seen %s: %.5f (expected about %.5f)\n", what, got, want);
+      CHECK(fabs(got - want) < (mirror ? 0.01 * want : 1e-6));
+      image_destroy(&r);
+    }
+    pb_scene_destroy(&s);
   }
-  s.lights[0].type = PB_LIGHT_POINT;
-  s.lights[0].radius = 1.0f;
-  s.lights[0].intensity = 2.0f;
-  pb_scene_finalize(&s);
-  if (render(&s, 4, 61, &r)) {
-    CHECK(fabs(r.beauty[4 * (12 * W + 12)] - 2.0 / M_PI) < 1e-4);
-    image_destroy(&r);
-  }
-  pb_scene_destroy(&s);
 }
 
 static void slc_run_all(void) {
