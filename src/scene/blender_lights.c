@@ -242,7 +242,10 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     break;
   }
   }
-  if (!fits_float(k)) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: light intensity %g is out of float range", path, where, k);
+  if (!fits_float(k))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.%s: %g gives an intensity of %g, out of float range", path, where,
+                   l.type == PB_LIGHT_DIRECTIONAL ? "strength" : "power",
+                   l.type == PB_LIGHT_DIRECTIONAL ? strength : power, k);
   l.intensity = (float)k;
   for (int c = 0; c < 3; ++c) {
     l.position[c] = (float)pos[c];

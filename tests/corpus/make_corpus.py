@@ -17,7 +17,8 @@ the case. expected.tsv has one line per run of `photonbridge info`:
 PATH is relative to OUT_DIR; EXIT the exact exit status; for a failure EXPECT
 lists substrings, separated by '|', that the one-line error must contain (the
 JSON path first); for a success EXPECT is '-' or checks separated by '|' on
-`info --json -`: 'triangles=N' or 'warn=SUBSTRING'. ARGS are extra options,
+`info --json -`: 'triangles=N', 'warn=SUBSTRING' or 'has=SUBSTRING' (of the
+JSON output). ARGS are extra options,
 '-' for none.
 """
 import base64
@@ -28,6 +29,8 @@ import shutil
 import struct
 import sys
 import zlib
+
+DELETE = object()  # blender_cases: remove the member
 
 # Result codes (src/core/result.h).
 EXIT_OK, EXIT_IO, EXIT_PARSE, EXIT_INVALID, EXIT_UNSUPPORTED = 0, 3, 4, 5, 6
@@ -66,6 +69,17 @@ def huge_png():
             png_chunk(b"IHDR", struct.pack(">IIBBBBB", 100000, 100000, 8, 2, 0, 0, 0)) +
             png_chunk(b"IDAT", zlib.compress(b"\x00" * 64)) +
             png_chunk(b"IEND", b""))
+
+
+def make_hdr(w, h, rgb=(0.5, 0.6, 0.8), header_res=None):
+    """A flat (uncompressed) Radiance RGBE image of one colour; header_res
+    replaces the resolution line."""
+    m = max(rgb)
+    e = (m and __import__("math").frexp(m)[1]) or 0
+    sc = 2.0 ** -e * 256.0 if m else 0.0
+    px = bytes((min(255, int(rgb[0] * sc)), min(255, int(rgb[1] * sc)), min(255, int(rgb[2] * sc)), e + 128 if m else 0))
+    res = header_res if header_res is not None else b"-Y %d +X %d" % (h, w)
+    return b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n" + res + b"\n" + px * (w * h)
 
 
 def pad4(b, fill=b"\x00"):
@@ -618,6 +632,134 @@ def broken_cases(C, png):
          anim([0, 1, 2], V3, 3, interp="SMOOTH"))
 
 
+def blender_doc():
+    """The base scene with the PHOTONBRIDGE_blender extension: a world with an
+    environment map (sky.hdr), an opaque film, the lamp as a soft point light
+    (replacing its KHR light), and an area light on a node of its own."""
+    doc, blob = base()
+    doc["extensionsUsed"].append("PHOTONBRIDGE_blender")
+    doc["extensions"]["PHOTONBRIDGE_blender"] = {
+        "version": 1, "blender": "3.4.1", "render": {"filmTransparent": False},
+        "world": {"color": [0.05, 0.05, 0.05], "strength": 1.0,
+                  "environment": {"uri": "sky.hdr", "projection": "EQUIRECTANGULAR",
+                                  "rotation": [0.0, 0.0, 1.0], "strength": 2.0}}}
+    doc["nodes"][3]["extensions"]["PHOTONBRIDGE_blender"] = {
+        "light": {"type": "POINT", "power": 100.0, "radius": 0.1, "color": [1.0, 0.9, 0.8]}}
+    doc["nodes"].append({"name": "softbox", "translation": [0, 2, 0], "rotation": [-0.70710678, 0, 0, 0.70710678],
+                         "extensions": {"PHOTONBRIDGE_blender": {"light": {
+                             "type": "AREA", "power": 200.0, "shape": "RECTANGLE", "size": 1.0, "sizeY": 0.5,
+                             "spread": 1.2}}}})
+    doc["nodes"][0]["children"].append(len(doc["nodes"]) - 1)
+    return doc, blob
+
+
+def blender_cases(C, png):
+    """PHOTONBRIDGE_blender's lights and world: what loads, and every bad value
+    named by its JSON path (exporters/blender/PHOTONBRIDGE_blender.md)."""
+    doc0, bin0 = blender_doc()
+    hdr = make_hdr(8, 4)
+    X = "PHOTONBRIDGE_blender"
+    W = ("extensions", X, "world")
+    L = ("nodes", 3, "extensions", X, "light")
+    A = ("nodes", 5, "extensions", X, "light")
+
+    def write(group, name, d, code, expect, sky=hdr):
+        rel = C.gltf(group, name, d, bin0, png, code=code, expect=expect)
+        if sky is not None:
+            C.raw(os.path.dirname(rel) + "/sky.hdr", sky)
+
+    def case(name, code, expect, path=None, value=None, sky=hdr, edit=None):
+        d = copy.deepcopy(doc0)
+        if path is not None:
+            o = d
+            for k in path[:-1]:
+                o = o[k]
+            if value is DELETE:
+                del o[path[-1]]
+            else:
+                o[path[-1]] = value
+        if edit:
+            edit(d)
+        write("broken" if code else "valid", name, d, code, expect, sky)
+
+    # Valid: two lights (the KHR lamp replaced, never counted twice), the map.
+    case("blender_lights_world", EXIT_OK, ["triangles=%d" % BASE_TRIANGLES, 'has="type": "area"',
+                                           'has="map": "sky.hdr"', 'has="radius": 0.1', 'has="film_opaque": true',
+                                           'has="blender_units": true'])
+    case("blender_film_transparent", EXIT_OK, ['has="film_opaque": false'], W[:-1] + ("render", "filmTransparent"),
+         True)
+    d = copy.deepcopy(doc0)
+    d["extensions"][X]["world"]["environment"]["uri"] = "sky.png"
+    rel = C.gltf("valid", "blender_world_png", d, bin0, png, code=EXIT_OK, expect=['has="map_width": 4'])
+    C.raw(os.path.dirname(rel) + "/sky.png", make_png(4, 2, [[200, 180, 160, 255] * 4, [40, 40, 40, 255] * 4]))
+    # Broken: the version, the world and its map, each light value.
+    case("blender_version_2", EXIT_UNSUPPORTED, "extensions.PHOTONBRIDGE_blender.version: 2",
+         ("extensions", X, "version"), 2)
+    case("blender_version_missing", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.version: missing",
+         ("extensions", X, "version"), DELETE)
+    case("blender_world_hdr_missing", EXIT_IO, ["world.environment.uri", "nothere.hdr"],
+         W + ("environment", "uri"), "nothere.hdr")
+    case("blender_world_hdr_truncated", EXIT_IMAGE, ["world.environment.uri", "sky.hdr", "scanline"],
+         sky=hdr[:len(hdr) - 20])
+    case("blender_world_hdr_zero_width", EXIT_IMAGE, ["world.environment.uri", "0 x 4 pixels"],
+         sky=make_hdr(0, 4, header_res=b"-Y 4 +X 0"))
+    case("blender_world_hdr_not_hdr", EXIT_IMAGE, ["world.environment.uri", "not a Radiance HDR"], sky=b"P6 4 4 255\n")
+    case("blender_world_hdr_huge", EXIT_LIMIT, ["world.environment.uri", "exceeds the limit"],
+         sky=make_hdr(1, 1, header_res=b"-Y 100000 +X 100000"))
+    case("blender_world_hdr_outside", EXIT_INVALID, ["world.environment.uri", "leaves the scene's folder"],
+         W + ("environment", "uri"), "../../outside.bin")
+    case("blender_world_projection", EXIT_UNSUPPORTED, "world.environment.projection: 'MIRROR_BALL'",
+         W + ("environment", "projection"), "MIRROR_BALL")
+    case("blender_world_strength_negative", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world.strength: -1",
+         W + ("strength",), -1.0)
+    case("blender_world_color_string", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world.color: not an array",
+         W + ("color",), "grey")
+    case("blender_world_rotation_short", EXIT_INVALID, "world.environment.rotation: not an array of 3",
+         W + ("environment", "rotation"), [0.0, 1.0])
+    case("blender_world_not_object", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world: not an object", W, [1])
+    case("blender_light_type", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.type: 'HEMI'",
+         L + ("type",), "HEMI")
+    case("blender_light_type_missing", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.type: missing",
+         L + ("type",), DELETE)
+    case("blender_light_power_negative", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.power: -5",
+         L + ("power",), -5.0)
+    case("blender_light_power_overflow", EXIT_INVALID,
+         "nodes[3].extensions.PHOTONBRIDGE_blender.light.power", L + ("power",), 1e300)
+    case("blender_light_color_negative", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.color[1]",
+         L + ("color",), [1.0, -0.5, 1.0])
+    case("blender_light_radius_bool", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.radius: not a number",
+         L + ("radius",), True)
+    case("blender_area_zero_size", EXIT_INVALID, ["nodes[5].extensions.PHOTONBRIDGE_blender.light", "zero area"],
+         A + ("size",), 0.0)
+    case("blender_area_shape", EXIT_INVALID, "nodes[5].extensions.PHOTONBRIDGE_blender.light.shape: 'STAR'",
+         A + ("shape",), "STAR")
+    case("blender_area_spread_zero", EXIT_INVALID, "nodes[5].extensions.PHOTONBRIDGE_blender.light.spread: 0",
+         A + ("spread",), 0.0)
+    case("blender_spot_blend", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.spotBlend: 2",
+         L + ("spotBlend",), 2.0)
+    case("blender_sun_angle_pi", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.angle",
+         L, {"type": "SUN", "angle": 3.5})
+    case("blender_light_not_object", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light: not an object",
+         L, "POINT")
+    case("blender_light_cast_shadow_string", EXIT_INVALID,
+         "nodes[3].extensions.PHOTONBRIDGE_blender.light.castShadow: not true or false", L + ("castShadow",), "yes")
+    # Python's json writes NaN and Infinity, which JSON does not have: the
+    # error still names the value's path.
+    for name, token in (("blender_light_power_nan", "NaN"), ("blender_world_strength_infinity", "-Infinity")):
+        d = copy.deepcopy(doc0)
+        key = "power" if "power" in name else "strength"
+        (d["nodes"][3]["extensions"][X]["light"] if key == "power" else d["extensions"][X]["world"])[key] = 12345.678
+        rel = C.gltf("broken", name, d, bin0, png, code=EXIT_INVALID,
+                     expect=[("nodes[3].extensions.PHOTONBRIDGE_blender.light.power" if key == "power" else
+                              "extensions.PHOTONBRIDGE_blender.world.strength") + ": " + token, "not a finite number"])
+        p = C.path(rel)
+        with open(p, "rb") as f:
+            text = f.read()
+        with open(p, "wb") as f:
+            f.write(text.replace(b"12345.678", token.encode()))
+        C.raw(os.path.dirname(rel) + "/sky.hdr", hdr)
+
+
 def valid_cases(C, png):
     V = "valid"
     doc0, bin0 = base()
@@ -707,6 +849,7 @@ def main():
     C.raw("outside.bin", bin0)  # reached by broken/uri_outside through ../../
     broken_cases(C, png)
     valid_cases(C, png)
+    blender_cases(C, png)
     with open(os.path.join(root, "expected.tsv"), "w", newline="\n") as f:
         f.write("# path\texit\texpect\targs  (written by make_corpus.py; see its docstring)\n")
         for line in C.lines:
