@@ -400,6 +400,24 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
       r = note(x->rep, 1, "light '%s': range %.4g m ignored (POV-Ray has no cut-off; the inverse square law holds)",
                l->name, l->range);
     if (r != PB_OK) return r;
+    /* Soft lights: POV-Ray's area_light is a grid of point lights, not
+     * Cycles' models (scene.h); the export keeps what it can say exactly. */
+    if (l->type == PB_LIGHT_AREA) {
+      if ((r = note(x->rep, 1, "light '%s': area light not exported (the POV-Ray export writes point, spot and "
+                                "directional lights)", l->name)) != PB_OK)
+        return r;
+      continue;
+    }
+    if (!pb_light_is_delta(l) &&
+        (r = note(x->rep, 1, "light '%s': exported as a hard %s light (its %s of %.4g is ignored)", l->name,
+                  l->type == PB_LIGHT_DIRECTIONAL ? "directional" : "point or spot",
+                  l->type == PB_LIGHT_DIRECTIONAL ? "angle" : "radius",
+                  l->type == PB_LIGHT_DIRECTIONAL ? l->angle : l->radius)) != PB_OK)
+      return r;
+    if (l->type == PB_LIGHT_SPOT && l->spot_model == PB_SPOT_CYCLES &&
+        (r = note(x->rep, 1, "light '%s': Cycles' spot falloff exported as a smooth step between %.4g and %.4g "
+                             "degrees", l->name, l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI)) != PB_OK)
+      return r;
     if (l->type == PB_LIGHT_DIRECTIONAL) {
       /* E [W/m^2] -> colour E/pi; placed beyond the scene along -direction. */
       double far = 2.0 * diag + 1.0, p[3];
@@ -557,6 +575,8 @@ pb_result pb_pov_export(const pb_scene *s, const pb_pov_desc *desc, const char *
   for (uint32_t mi = 0; r == PB_OK && mi < s->material_count; ++mi) r = write_mesh(&x, f, mi, remap, verts);
   if (r == PB_OK && s->animation_count)
     r = note(rep, 1, "%u animation(s) ignored: the scene is exported at rest", s->animation_count);
+  if (r == PB_OK && s->world.present)
+    r = note(rep, 1, "world light not exported (the POV-Ray export has no sky or environment light)");
   if (r != PB_OK) {
     pb_atomic_abort(f, tmp);
     goto fail;
