@@ -93,5 +93,14 @@ bench-sequences: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS) --target photonbridge pb_bench_filters
 	$(BENCH_PYTHON) bench/run_sequences.py --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
+# Soft lights and the world against Cycles 3.4 (bench/run_lights.py; results
+# in bench/results/DEVICE/lights/): the studio and world scenes of
+# bench/scenes/lights, the reference and the GPU pipeline swept, and what the
+# lights cost per pass.
+.PHONY: bench-lights
+bench-lights: install-deps $(BUILD)/Makefile
+	cmake --build $(BUILD) -j $(JOBS) --target photonbridge exr_probe
+	$(BENCH_PYTHON) bench/run_lights.py --exe $(BUILD)/photonbridge --probe $(BUILD)/tests/exr_probe $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
