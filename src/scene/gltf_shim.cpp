@@ -17,6 +17,8 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
@@ -429,16 +431,27 @@ pb_result precheck_objects(const char *path, const Json &j, const std::vector<un
 
 // JSON has no NaN or Infinity, but Python's json module writes them (the
 // Blender add-on's writer is Python): when a file does not parse, find the
-// first such token outside strings and name its JSON path, so that the error
-// says which value is broken ("nodes[2].extensions.PHOTONBRIDGE_blender.
-// light.power: NaN"). Returns false when there is none.
+// first such token (or a number literal beyond double range) outside strings
+// and name its JSON path, so that the error says which value is broken
+// ("nodes[2].extensions.PHOTONBRIDGE_blender.light.power: NaN"). Returns
+// false when there is none.
+struct JsonFrame {
+  bool object;
+  std::string key;
+  size_t index;
+};
+
+std::string frame_path(const std::vector<JsonFrame> &st) {
+  std::string p;
+  for (const JsonFrame &f : st) {
+    if (f.object) p += (p.empty() ? "" : ".") + f.key;
+    else p += "[" + std::to_string(f.index) + "]";
+  }
+  return p.empty() ? "(top level)" : p;
+}
+
 bool find_nonfinite(const std::string &t, std::string *path, std::string *token) {
-  struct Frame {
-    bool object;
-    std::string key;
-    size_t index;
-  };
-  std::vector<Frame> st;
+  std::vector<JsonFrame> st;
   bool want_key = false;
   for (size_t i = 0; i < t.size(); ++i) {
     char c = t[i];
@@ -471,14 +484,23 @@ bool find_nonfinite(const std::string &t, std::string *path, std::string *token)
         size_t n = std::strlen(lit);
         if (t.compare(j, n, lit) != 0) continue;
         *token = t.substr(i, j - i + n);
-        std::string p;
-        for (const Frame &f : st) {
-          if (f.object) p += (p.empty() ? "" : ".") + f.key;
-          else p += "[" + std::to_string(f.index) + "]";
-        }
-        *path = p.empty() ? "(top level)" : p;
+        *path = frame_path(st);
         return true;
       }
+    } else if (c == '-' || (c >= '0' && c <= '9')) {
+      // A literal beyond double range (1e999) is no JSON number either for
+      // the parser: name it too.
+      size_t j = i + 1;
+      while (j < t.size() && (std::isdigit((unsigned char)t[j]) || t[j] == '.' || t[j] == 'e' || t[j] == 'E' ||
+                              t[j] == '+' || t[j] == '-'))
+        ++j;
+      std::string num = t.substr(i, j - i);
+      if (std::isinf(std::strtod(num.c_str(), nullptr))) {
+        *token = num;
+        *path = frame_path(st);
+        return true;
+      }
+      i = j - 1;
     }
   }
   return false;
@@ -492,9 +514,12 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
   Json j = Json::parse(text, nullptr, false);
   if (j.is_discarded()) {
     std::string where, token;
-    if (find_nonfinite(text, &where, &token))
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not a finite number (JSON has no NaN or Infinity)", path,
-                     where.c_str(), token.c_str());
+    if (find_nonfinite(text, &where, &token)) {
+      bool literal = token[0] == 'N' || token.find("Infinity") != std::string::npos;
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not a finite number (%s)", path, where.c_str(),
+                     token.size() > 40 ? (token.substr(0, 40) + "...").c_str() : token.c_str(),
+                     literal ? "JSON has no NaN or Infinity" : "beyond the range of a double");
+    }
     return pb_fail(PB_ERR_SCENE_PARSE, "%s: not valid JSON", path);
   }
   if (!j.is_object()) return pb_fail(PB_ERR_SCENE_PARSE, "%s: top level is not a JSON object", path);

@@ -743,9 +743,11 @@ def blender_cases(C, png):
          L, "POINT")
     case("blender_light_cast_shadow_string", EXIT_INVALID,
          "nodes[3].extensions.PHOTONBRIDGE_blender.light.castShadow: not true or false", L + ("castShadow",), "yes")
-    # Python's json writes NaN and Infinity, which JSON does not have: the
-    # error still names the value's path.
-    for name, token in (("blender_light_power_nan", "NaN"), ("blender_world_strength_infinity", "-Infinity")):
+    # Python's json writes NaN and Infinity, which JSON does not have, and a
+    # literal beyond double range is no number either: the error still names
+    # the value's path.
+    for name, token in (("blender_light_power_nan", "NaN"), ("blender_world_strength_infinity", "-Infinity"),
+                        ("blender_light_power_1e999", "1e999")):
         d = copy.deepcopy(doc0)
         key = "power" if "power" in name else "strength"
         (d["nodes"][3]["extensions"][X]["light"] if key == "power" else d["extensions"][X]["world"])[key] = 12345.678
