@@ -311,7 +311,8 @@ static pb_result load_map(const char *path, const char *where, const char *uri, 
       pb_error_clear();
     } else if (ends_with(uri, ".hdr") || ends_with(uri, ".pic")) {
       e = pb_hdr_decode(bytes, size, desc->max_image_dim, desc->max_image_pixels, &rgb, &W, &H, why, sizeof why);
-    } else if (ends_with(uri, ".png")) {
+    } else if (ends_with(uri, ".png") || ends_with(uri, ".jpg") || ends_with(uri, ".jpeg")) {
+      /* 8-bit images through the texture decoder (PNG or JPEG by signature). */
       uint8_t *px = NULL;
       const char *dwhy = NULL;
       int rc = pb_decode_image_rgba8(bytes, size, desc->max_image_dim, desc->max_image_pixels, &px, &W, &H, &dwhy);
@@ -325,14 +326,15 @@ static pb_result load_map(const char *path, const char *where, const char *uri, 
         e = PB_ERR_NOMEM;
         snprintf(why, sizeof why, "out of memory");
       } else {
-        /* Blender reads 8-bit PNGs as sRGB (the Image's default colour space). */
+        /* Blender reads 8-bit PNG and JPEG files as sRGB (the Image's default
+         * colour space), and the writer copies such files as they are. */
         for (size_t i = 0; i < (size_t)W * H; ++i)
           for (int c = 0; c < 3; ++c) rgb[3 * i + c] = pb_srgb_to_linear(px[4 * i + c] * (1.0f / 255.0f));
       }
       free(px);
     } else {
       e = PB_ERR_SCENE_UNSUPPORTED;
-      snprintf(why, sizeof why, "not a .hdr, .exr or .png file");
+      snprintf(why, sizeof why, "not a .hdr, .exr, .png or .jpg file");
     }
     free(bytes);
   }

@@ -692,6 +692,17 @@ def blender_cases(C, png):
     d["extensions"][X]["world"]["environment"]["uri"] = "sky.png"
     rel = C.gltf("valid", "blender_world_png", d, bin0, png, code=EXIT_OK, expect=['has="map_width": 4'])
     C.raw(os.path.dirname(rel) + "/sky.png", make_png(4, 2, [[200, 180, 160, 255] * 4, [40, 40, 40, 255] * 4]))
+    # A JPEG map (the writer copies a .jpg Environment Texture as it is): the
+    # same 4 x 2 picture, written by Pillow 9.4 (quality 95, no chroma
+    # subsampling, optimised Huffman tables); it decodes to (201, 180, 161)
+    # over (39, 39, 39).
+    d["extensions"][X]["world"]["environment"]["uri"] = "sky.jpg"
+    rel = C.gltf("valid", "blender_world_jpg", d, bin0, png, code=EXIT_OK, expect=['has="map_width": 4'])
+    C.raw(os.path.dirname(rel) + "/sky.jpg", base64.b64decode(
+        "/9j/4AAQSkZJRgABAQAAAQABAAD/2wBDAAIBAQEBAQIBAQECAgICAgQDAgICAgUEBAMEBgUGBgYFBgYGBwkIBgcJBwYGCAsICQoKCgoK"
+        "BggLDAsKDAkKCgr/2wBDAQICAgICAgUDAwUKBwYHCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoK"
+        "Cgr/wAARCAACAAQDAREAAhEBAxEB/8QAFAABAAAAAAAAAAAAAAAAAAAACf/EABsQAAAHAQAAAAAAAAAAAAAAAAAFBwgYWJbT/8QAFAEB"
+        "AAAAAAAAAAAAAAAAAAAAA//EABkRAAEFAAAAAAAAAAAAAAAAAAEABBRSkf/aAAwDAQACEQMRAD8AOeZDvLUqRuTDsAjNqDAmkOLnSv/Z"))
     # Broken: the version, the world and its map, each light value.
     case("blender_version_2", EXIT_UNSUPPORTED, "extensions.PHOTONBRIDGE_blender.version: 2",
          ("extensions", X, "version"), 2)
@@ -708,6 +719,11 @@ def blender_cases(C, png):
          sky=make_hdr(1, 1, header_res=b"-Y 100000 +X 100000"))
     case("blender_world_hdr_outside", EXIT_INVALID, ["world.environment.uri", "leaves the scene's folder"],
          W + ("environment", "uri"), "../../outside.bin")
+    d = copy.deepcopy(doc0)
+    d["extensions"][X]["world"]["environment"]["uri"] = "sky.tga"
+    rel = C.gltf("broken", "blender_world_map_tga", d, bin0, png, code=EXIT_UNSUPPORTED,
+                 expect=["world.environment.uri", "'sky.tga': not a .hdr, .exr, .png or .jpg file"])
+    C.raw(os.path.dirname(rel) + "/sky.tga", b"\0\0\2" + b"\0" * 15)
     case("blender_world_projection", EXIT_UNSUPPORTED, "world.environment.projection: 'MIRROR_BALL'",
          W + ("environment", "projection"), "MIRROR_BALL")
     case("blender_world_strength_negative", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world.strength: -1",
