@@ -2,7 +2,7 @@
  * blender_lights.h). Conventions, each measured with Cycles 3.4.1 on this
  * machine (a Diffuse BSDF plane of albedo 0.8, direct light only, 256 spp;
  * the scenes are made by exporters/blender/light_scenes.py and the committed
- * renders are checked by the cycles_lights test):
+ * renders are checked by the lights_cycles_ref and lights_cycles_gpu tests):
  *
  *  point, spot: I = P / (4 pi) W/sr (Cycles 3.4 kernel/light/light.h:
  *    eval_fac = invarea / (4 pi) on a disc of area pi r^2 = 1 / invarea);
