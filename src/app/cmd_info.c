@@ -6,11 +6,25 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "color/color.h"
 #include "core/json.h"
 #include "render/plan.h"
 
 static const char *const light_type_names[] = {"point", "spot", "directional"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
+
+/* The view PNG previews of this scene go through by default (`render --png`,
+ * `display`, `validate`'s pictures): one line, or why there is none. */
+static void default_view(char *buf, size_t size) {
+  pb_color *c = NULL;
+  if (pb_color_open(NULL, &c) == PB_OK) {
+    pb_color_describe(c, buf, size);
+  } else {
+    snprintf(buf, size, "unavailable: %s", pb_error_message());
+    pb_error_clear();
+  }
+  pb_color_destroy(c);
+}
 
 static void print_text(const pb_scene *s) {
   printf("scene      %s\n", s->path);
@@ -79,6 +93,9 @@ static void print_text(const pb_scene *s) {
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
          pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off");
+  char view[768];
+  default_view(view, sizeof view);
+  printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
 }
@@ -180,6 +197,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   pb_render_plan_json(&j, "pipeline", &pl); /* what the GPU passes compile in */
+  char view[768];
+  default_view(view, sizeof view);
+  pb_json_string(&j, "display_view", view);
   pb_json_begin_array(&j, "warnings");
   for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);
   pb_json_end_array(&j);

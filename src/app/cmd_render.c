@@ -318,7 +318,7 @@ int pb_cmd_render(int argc, char **argv) {
                     .attr_values = av, .attr_count = 4};
   r = pb_exr_write(c.out, &ed);
   if (r == PB_OK && o.png) {
-    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty, 0.0f);
+    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty);
     if (r != PB_OK) unlink(c.out);
   }
   if (r == PB_OK && c.json) {

@@ -370,7 +370,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     if ((r = pb_exr_write(path, &ed)) != PB_OK) goto done;
     if (so->png) {
       if ((r = pb_seq_frame_path(so->png, f, png, sizeof png)) != PB_OK) goto done;
-      if ((r = pb_png_write_display(png, color, w, h, 4, res.beauty, 0.0f)) != PB_OK) goto done;
+      if ((r = pb_png_write_display(png, color, w, h, 4, res.beauty)) != PB_OK) goto done;
     }
     /* An interrupt from now on keeps the finished frames (each file whole). */
     pb_tmp_set_interrupt_note("the frames written before it are complete; the frame in progress was not written");
