@@ -1,10 +1,15 @@
 # Cross-renderer validation (issue 7, parts 4 and 5).
 #   validate_report_chromium  `photonbridge validate cornell_box` at 48 px (reference, GPU
 #                             render, POV-Ray draft, Cycles when installed), then the
-#                             report page in headless Chromium: the screenshot must not
-#                             be blank (validation/png_check.py: luma std >= 10, >= 16
-#                             colours) and report.json must hold every pair's metrics.
-#                             Labelled chromium;no-sanitize; skips (77) without chromium.
+#                             report page in headless Chromium (validation/report_check.py):
+#                             every image loaded, no console error, the screenshot not
+#                             blank (png_check.py: luma std >= 10, >= 16 colours), the
+#                             flip and slider comparison change the picture; report.json
+#                             must hold every pair's metrics and one shared heat scale.
+#   validate_sequence_chromium  `validate --frames 0:2` on cornell_box_moving_light (24 px):
+#                             the frame strip with each frame's reference and the error
+#                             and flicker plots, checked the same way.
+#                             Both labelled chromium;no-sanitize; skip (77) without chromium.
 #   test_validate_calib       (unit-test glob) reference vs POV-Ray, direct light only,
 #                             thresholds in the file; labelled povray;no-sanitize.
 #   cycles_calib              validation/cycles_calib_check.py: the watt convention of
@@ -19,19 +24,25 @@ add_test(NAME validate_report_chromium
                         \"$0\" validate cornell_box --out \"$w/cb\" --width 48 --spp 2 --ref-spp 8 --pov-quality draft \
                           --cycles-spp 8 --threads 1 &&
                         test -s \"$w/cb/index.html\" && test -s \"$w/cb/report.json\" &&
-                        python3 -c \"import json,sys; r=json.load(open(sys.argv[1])); ok=[x['name'] for x in r['renders'] if x['status']=='ok']; n=len(ok); assert len(r['pairs'])==n*(n-1)//2, r['pairs']; assert all('psnr_db' in p and 'relmse' in p and p.get('heatmap') for p in r['pairs']), r['pairs']; assert r['versions']['photonbridge']; print('renders ok:', ok)\" \"$w/cb/report.json\" &&
-                        u=$(mktemp -d) &&
-                        timeout 120 \"$c\" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
-                          --disable-background-networking --disable-component-update --disable-sync \
-                          --user-data-dir=\"$u\" --screenshot=\"$w/shot.png\" --window-size=1200,900 \
-                          \"file://$w/cb/index.html\" >\"$w/chromium.log\" 2>&1;
-                        rm -rf \"$u\";
-                        test -s \"$w/shot.png\" || { echo 'no screenshot'; cat \"$w/chromium.log\"; exit 1; } &&
-                        python3 '${PB_ROOT}/validation/png_check.py' \"$w/shot.png\" &&
+                        python3 -c \"import json,sys; r=json.load(open(sys.argv[1])); ok=[x['name'] for x in r['renders'] if x['status']=='ok']; n=len(ok); assert len(r['pairs'])==n*(n-1)//2, r['pairs']; assert all('psnr_db' in p and 'relmse' in p and p.get('heatmap') for p in r['pairs']), r['pairs']; assert r['heat_scale'] > 0 and 'Filmic' in r['picture_view'], (r['heat_scale'], r['picture_view']); assert r['versions']['photonbridge']; print('renders ok:', ok)\" \"$w/cb/report.json\" &&
+                        python3 '${PB_ROOT}/validation/report_check.py' \"$w/cb/index.html\" --work \"$w/check\" &&
                         echo '1 passed, 0 failed'"
                  ${PB_EXE}
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(validate_report_chromium PROPERTIES LABELS "chromium;no-sanitize" SKIP_RETURN_CODE 77
+                     TIMEOUT 600 PASS_REGULAR_EXPRESSION "1 passed, 0 failed")
+
+add_test(NAME validate_sequence_chromium
+         COMMAND sh -c "command -v chromium >/dev/null || command -v chromium-browser >/dev/null || { echo 'skip: no chromium'; exit 77; }
+                        w='${CMAKE_CURRENT_BINARY_DIR}/validate_sequence' && rm -rf \"$w\" && mkdir -p \"$w\" &&
+                        \"$0\" validate cornell_box_moving_light --out \"$w/s\" --width 24 --spp 1 --ref-spp 4 \
+                          --no-povray --no-cycles --frames 0:2 --seq-ref-spp 4 --threads 1 &&
+                        python3 -c \"import json,sys; r=json.load(open(sys.argv[1])); q=r['sequence']; f=q['frames']; assert [x['frame'] for x in f]==[0,1,2], f; assert all(x.get('png') and x.get('reference_png') and x.get('psnr_db') for x in f), f; assert f[1].get('change_result') is not None, f; print('frames ok')\" \"$w/s/report.json\" &&
+                        grep -q '<svg' \"$w/s/index.html\" &&
+                        python3 '${PB_ROOT}/validation/report_check.py' \"$w/s/index.html\" --work \"$w/check\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(validate_sequence_chromium PROPERTIES LABELS "chromium;no-sanitize" SKIP_RETURN_CODE 77
                      TIMEOUT 600 PASS_REGULAR_EXPRESSION "1 passed, 0 failed")
 
 # png_check itself: a uniform picture is blank, a gradient is not.
@@ -65,3 +76,17 @@ add_test(NAME cycles_calib
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cycles_calib PROPERTIES LABELS "blender;calibration;no-sanitize" SKIP_RETURN_CODE 77
                      TIMEOUT 600)
+
+# make demo's script at a tiny size: both EXRs and PNGs, the page with its
+# comparison, checked in Chromium as above.
+add_test(NAME demo_page
+         COMMAND sh -c "command -v chromium >/dev/null || command -v chromium-browser >/dev/null || { echo 'skip: no chromium'; exit 77; }
+                        w='${CMAKE_CURRENT_BINARY_DIR}/demo_page' && rm -rf \"$w\" &&
+                        DEMO_OUT=\"$w/demo\" DEMO_WIDTH=40 DEMO_SPP=1 DEMO_ITERATIONS=1 DEMO_REF_SPP=8 bash scripts/demo.sh \"$0\" &&
+                        for f in photonbridge.exr photonbridge.png reference.exr reference.png index.html report.json; do
+                          test -s \"$w/demo/$f\" || { echo \"missing $f\"; exit 1; }; done &&
+                        python3 '${PB_ROOT}/validation/report_check.py' \"$w/demo/index.html\" --work \"$w/check\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(demo_page PROPERTIES LABELS "chromium;no-sanitize" SKIP_RETURN_CODE 77
+                     TIMEOUT 600 PASS_REGULAR_EXPRESSION "demo: open .*1 passed, 0 failed")

@@ -32,6 +32,7 @@ import argparse
 import html
 import json
 import os
+import shlex
 import shutil
 import signal
 import subprocess
@@ -118,7 +119,7 @@ def main(argv):
     ap.add_argument("scene")
     ap.add_argument("--out", required=True)
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "photonbridge"))
-    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--width", type=int, default=384)
     ap.add_argument("--spp", type=int, default=16, help="photonbridge render samples per pixel")
     ap.add_argument("--ref-spp", type=int, default=64, help="reference samples per pixel")
     ap.add_argument("--pov-quality", default="medium", choices=["draft", "medium", "high", "direct"])
@@ -134,6 +135,12 @@ def main(argv):
     ap.add_argument("--display")
     ap.add_argument("--view")
     ap.add_argument("--look")
+    ap.add_argument("--exposure")
+    ap.add_argument("--render-args", default="", help="more options for photonbridge render (one string)")
+    ap.add_argument("--ref-args", default="", help="more options for photonbridge reference (one string)")
+    ap.add_argument("--frames", help="A:B: a sequence (photonbridge render --frames with per-frame references) "
+                                     "instead of one picture")
+    ap.add_argument("--seq-ref-spp", type=int, default=64, help="per-frame reference spp of --frames")
     a = ap.parse_args(argv)
 
     scene, sample = resolve_scene(a.scene)
@@ -155,7 +162,7 @@ def main(argv):
               file=sys.stderr)
         return 3
     color = []
-    for k in ("ocio_config", "display", "view", "look"):
+    for k in ("ocio_config", "display", "view", "look", "exposure"):
         v = getattr(a, k)
         if v:
             color += ["--" + k.replace("_", "-"), v]
@@ -181,6 +188,7 @@ def main(argv):
         cmd += ["--threads", str(a.threads)]
     if a.direct_only:
         cmd += ["--max-bounces", "1"]
+    cmd += shlex.split(a.ref_args)
     rc, o, dt = run(cmd, os.path.join(out, "reference.log"))
     st = read_json(os.path.join(out, "reference.json")) or {}
     if rc == 0 and os.path.isfile(exr):
@@ -202,12 +210,16 @@ def main(argv):
                "--json", os.path.join(out, "photonbridge.json"), "-q"]
         if a.direct_only:
             cmd += ["--direct-only"]
+        cmd += shlex.split(a.render_args)
         rc, o, dt = run(cmd, os.path.join(out, "photonbridge.log"))
         st = read_json(os.path.join(out, "photonbridge.json")) or {}
         if rc == 0 and os.path.isfile(exr):
             record("photonbridge", "ok", exr="photonbridge.exr", wall_s=round(dt, 3),
                    render_s=(st["wall_ms"] / 1000.0) if isinstance(st.get("wall_ms"), (int, float)) else None,
-                   settings={"spp": a.spp, "direct_only": a.direct_only, "device": st.get("device")},
+                   settings={"spp": a.spp, "direct_only": a.direct_only, "device": st.get("device"),
+                             "photons_emitted": (st.get("photons") or {}).get("emitted"),
+                             "photons_stored": (st.get("photons") or {}).get("stored"),
+                             "extra": a.render_args or None},
                    command=cmd)
         else:
             record("photonbridge", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
@@ -275,19 +287,26 @@ def main(argv):
 
     ok = [n for n in ORDER if renders.get(n, {}).get("status") == "ok"]
 
-    # Display images, all through the same OCIO view.
-    display_name = None
+    # Display images, all through the same OCIO view (Blender's Filmic by
+    # default, as Blender shows renders).
+    picture_view = None
     for n in ok:
         png = n + ".png"
         cmd = [exe, "display", os.path.join(out, renders[n]["exr"]), "-o", os.path.join(out, png)] + color
         rc, o, _ = run(cmd, os.path.join(out, n + "-display.log"))
         if rc == 0:
             renders[n]["png"] = png
+            for line in o.splitlines():
+                if line.startswith("display: wrote ") and " through " in line:
+                    picture_view = picture_view or line.split(" through ", 1)[1]
         else:
             renders[n]["display_error"] = o.strip()[-300:]
 
-    # Every pair through the shared metrics.
+    # Every pair through the shared metrics, then the heat maps again on one
+    # scale (the largest of the pairs' 99th percentiles), so that their
+    # colours compare across maps.
     pairs = []
+    display_name = None
     for i, r in enumerate(ok):
         for t in ok[i + 1:]:
             tag = "%s_vs_%s" % (t, r)
@@ -297,15 +316,28 @@ def main(argv):
                    "--json", js, "--heatmap", os.path.join(out, heat), "-q"] + color
             rc, o, _ = run(cmd, os.path.join(out, "cmp_" + tag + ".log"))
             m = read_json(js) if rc == 0 else None
-            p = {"test": t, "reference": r}
+            p = {"test": t, "reference": r, "_cmd": cmd}
             if m:
                 display_name = display_name or m.get("display")
                 p.update({k: m.get(k) for k in ("width", "height", "rmse", "relmse", "psnr_db", "ssim",
                                                 "max_abs_error", "nonfinite_values")})
                 p["heatmap"] = heat if os.path.isfile(os.path.join(out, heat)) else None
+                p["_scale"] = (m.get("heatmap") or {}).get("scale_max")
             else:
                 p["error"] = o.strip()[-300:]
             pairs.append(p)
+    scales = [p["_scale"] for p in pairs if isinstance(p.get("_scale"), (int, float)) and p["_scale"] > 0]
+    heat_scale = max(scales) if scales else None
+    for p in pairs:
+        cmd = p.pop("_cmd")
+        p.pop("_scale", None)
+        if heat_scale and p.get("heatmap"):
+            rc, o, _ = run(cmd + ["--heatmap-max", repr(heat_scale)],
+                           os.path.join(out, "cmp_%s_vs_%s.log" % (p["test"], p["reference"])))
+            if rc != 0:
+                p["heatmap"] = None
+
+    sequence = run_sequence(a, exe, scene, out, color) if a.frames else None
 
     versions = {
         "photonbridge": tool_version([exe, "--version"]),
@@ -321,6 +353,7 @@ def main(argv):
     report = {
         "scene": scene, "sample": sample, "width": a.width, "direct_only": a.direct_only,
         "display": display_name or "sRGB / Standard (built-in)", "color_options": color,
+        "picture_view": picture_view, "heat_scale": heat_scale, "sequence": sequence,
         "metrics_note": "RMSE and relMSE (mean of (t-r)^2/(r^2+0.01)) on scene-linear RGB; PSNR and SSIM "
                         "on the display image through the OCIO view above (src/metrics, photonbridge compare)",
         "renders": [renders[n] for n in ORDER if n in renders], "pairs": pairs, "versions": versions,
@@ -334,6 +367,50 @@ def main(argv):
     return 0 if "reference" in ok and len(ok) >= 2 else 1
 
 
+def run_sequence(a, exe, scene, out, color):
+    """photonbridge render --frames A:B with per-frame references (cached in
+    DIR/seq/ref): each frame's picture and its reference's, the per-frame error
+    and the flicker, for the sequence part of the page."""
+    sdir = os.path.join(out, "seq")
+    os.makedirs(os.path.join(sdir, "ref"), exist_ok=True)
+    progress("photonbridge render --frames %s (with per-frame references)" % a.frames)
+    js = os.path.join(sdir, "sequence.json")
+    cmd = [exe, "render", scene, "--frames", a.frames, "-o", os.path.join(sdir, "frame_####.exr"),
+           "--png", os.path.join(sdir, "frame_####.png"), "--width", str(a.width), "--spp", str(a.spp),
+           "--reference-spp", str(a.seq_ref_spp), "--reference-cache", os.path.join(sdir, "ref"),
+           "--json", js, "-q"] + color + shlex.split(a.render_args)
+    rc, o, dt = run(cmd, os.path.join(out, "sequence.log"))
+    st = read_json(js)
+    if rc != 0 or not st:
+        return {"first": 0, "last": -1, "frames": [], "note": "sequence failed: exit %d: %s" % (rc, o.strip()[-300:]),
+                "summary": {}}
+    frames = []
+    for f in st.get("frames", []):
+        n = f.get("frame")
+        ref = f.get("reference") or {}
+        item = {"frame": n, "psnr_db": ref.get("psnr_db"), "relmse": ref.get("relmse"),
+                "change_result": ref.get("change_result"), "change_reference": ref.get("change_reference"),
+                "wall_ms": f.get("wall_ms"), "_ref": ref.get("file")}
+        png = "seq/frame_%04d.png" % n
+        if os.path.isfile(os.path.join(out, png)):
+            item["png"] = png
+        frames.append(item)
+    # The cached references, through the same view, beside each frame.
+    for item in frames:
+        ref = item.pop("_ref", None)
+        if ref and os.path.isfile(ref):
+            png = "seq/ref_%04d.png" % item["frame"]
+            rc2, _, _ = run([exe, "display", ref, "-o", os.path.join(out, png)] + color)
+            if rc2 == 0:
+                item["reference_png"] = png
+    nums = [f["frame"] for f in frames] or [0]
+    return {"first": min(nums), "last": max(nums), "frames": frames, "summary": st.get("summary", {}),
+            "wall_s": round(dt, 3),
+            "note": "photonbridge render --frames %s (temporal + A-Trous filtering), top row; each frame's reference "
+                    "(%d spp, Embree path tracer) below it. Settings: %s" % (a.frames, a.seq_ref_spp,
+                                                                          " ".join(cmd[2:]))}
+
+
 def fmt(v, spec):
     if v is None:
         return "—"
@@ -343,59 +420,264 @@ def fmt(v, spec):
         return html.escape(str(v))
 
 
+# matplotlib's viridis at 0, 1/8, ..., 1: the heat maps' colour map
+# (src/metrics/metrics.c), for the colour bar.
+VIRIDIS = ["#440154", "#482878", "#3e4989", "#31688e", "#26828e", "#1f9e89", "#35b779", "#6ece58",
+           "#fde725"]
+
+STYLE = """
+body{font-family:system-ui,sans-serif;margin:16px 24px;background:#1e1e1e;color:#ddd;max-width:1600px}
+a{color:#8cf} h1{font-size:22px;margin:4px 0} h2{font-size:17px;margin:22px 0 6px;color:#fff}
+p.note{font-size:13px;color:#aaa;max-width:1100px}
+table{border-collapse:collapse;margin:6px 0}td,th{border:1px solid #555;padding:3px 8px;font-size:13px}
+th{background:#333} td.num{text-align:right;font-variant-numeric:tabular-nums} .bad{color:#f77}
+.pics{display:flex;flex-wrap:wrap;gap:10px}
+.fig{text-align:center;font-size:13px}
+.fig img{display:block;max-width:100%;height:auto;image-rendering:pixelated;border:1px solid #666;background:#000}
+#cmp{position:relative;display:inline-block;border:1px solid #888;background:#000;line-height:0}
+#cmp img{display:block;image-rendering:pixelated;height:auto}
+#cmp #cmpB{position:absolute;left:0;top:0;width:100%;height:100%}
+#cmp .lab{position:absolute;top:6px;padding:2px 6px;background:rgba(0,0,0,.6);font-size:13px;line-height:16px;color:#fff}
+#cmp #labA{left:6px} #cmp #labB{right:6px}
+#divider{position:absolute;top:0;bottom:0;width:2px;background:#fff;pointer-events:none}
+.controls{margin:6px 0;font-size:14px} .controls select,.controls button{font-size:14px;margin-right:6px}
+.bar{display:flex;align-items:center;gap:8px;font-size:13px;margin:6px 0}
+.bar .grad{width:320px;height:14px;border:1px solid #888}
+.strip{display:flex;gap:4px;overflow-x:auto} .strip .fig img{width:160px}
+"""
+
+SCRIPT = r"""
+(function(){
+  var R = JSON.parse(document.getElementById('renders-data').textContent);
+  var loaded = 0, failed = 0, imgs = document.images;
+  function tally(){ document.body.setAttribute('data-images-loaded', loaded);
+                    document.body.setAttribute('data-images-failed', failed); }
+  for (var i = 0; i < imgs.length; ++i) {
+    var im = imgs[i];
+    if (im.complete && im.naturalWidth) { loaded++; continue; }
+    im.addEventListener('load', function(){ loaded++; tally(); });
+    im.addEventListener('error', function(){ failed++; tally(); });
+  }
+  tally();
+  var a = document.getElementById('selA'), b = document.getElementById('selB');
+  var ia = document.getElementById('cmpA'), ib = document.getElementById('cmpB');
+  var mode = 'slider', pos = 50, show = 'B', timer = null;
+  function url(n){ for (var k = 0; k < R.length; ++k) if (R[k].name == n) return R[k].png; return ''; }
+  function label(n){ for (var k = 0; k < R.length; ++k) if (R[k].name == n) return R[k].label; return n; }
+  function draw(){
+    ia.src = url(a.value); ib.src = url(b.value);
+    document.getElementById('labA').textContent = label(a.value);
+    document.getElementById('labB').textContent = label(b.value);
+    var d = document.getElementById('divider');
+    if (mode == 'slider') {
+      ib.style.visibility = 'visible';
+      ib.style.clipPath = 'inset(0 0 0 ' + pos + '%)';
+      d.style.display = 'block'; d.style.left = pos + '%';
+      document.getElementById('labA').style.visibility = 'visible';
+      document.getElementById('labB').style.visibility = 'visible';
+    } else {
+      ib.style.clipPath = 'none'; d.style.display = 'none';
+      ib.style.visibility = show == 'B' ? 'visible' : 'hidden';
+      document.getElementById('labA').style.visibility = show == 'A' ? 'visible' : 'hidden';
+      document.getElementById('labB').style.visibility = show == 'B' ? 'visible' : 'hidden';
+    }
+    document.getElementById('cmp').setAttribute('data-state', mode + ':' + (mode == 'slider' ? pos : show));
+  }
+  function setMode(m){ mode = m; if (timer) { clearInterval(timer); timer = null; } draw(); }
+  document.getElementById('modeSlider').onclick = function(){ setMode('slider'); };
+  document.getElementById('modeFlip').onclick = function(){ setMode('flip'); };
+  document.getElementById('autoFlip').onclick = function(){
+    setMode('flip'); timer = setInterval(function(){ show = show == 'A' ? 'B' : 'A'; draw(); }, 700); };
+  document.getElementById('swap').onclick = function(){ var t = a.value; a.value = b.value; b.value = t; draw(); };
+  a.onchange = b.onchange = draw;
+  var box = document.getElementById('cmp');
+  function slide(e){ if (mode != 'slider') return; var r = box.getBoundingClientRect();
+    pos = Math.max(0, Math.min(100, 100 * (e.clientX - r.left) / r.width)); draw(); }
+  box.addEventListener('mousemove', function(e){ if (e.buttons & 1) slide(e); });
+  box.addEventListener('mousedown', slide);
+  box.addEventListener('click', function(){ if (mode == 'flip') { show = show == 'A' ? 'B' : 'A'; draw(); } });
+  document.addEventListener('keydown', function(e){
+    if (e.key == 'f' || e.key == ' ') { if (mode != 'flip') setMode('flip'); show = show == 'A' ? 'B' : 'A'; draw(); e.preventDefault(); }
+    if (e.key == 's') setMode('slider');
+  });
+  // State from the address: #a=reference&b=photonbridge&mode=flip&show=A (or &pos=30),
+  // so a link (or a headless browser) opens a given comparison.
+  var h = {}; location.hash.replace(/^#/, '').split('&').forEach(function(kv){
+    var p = kv.split('='); if (p[0]) h[decodeURIComponent(p[0])] = decodeURIComponent(p[1] || ''); });
+  if (h.a && url(h.a)) a.value = h.a;
+  if (h.b && url(h.b)) b.value = h.b;
+  if (h.mode == 'flip' || h.mode == 'slider') mode = h.mode;
+  if (h.show == 'A' || h.show == 'B') show = h.show;
+  if (h.pos && !isNaN(+h.pos)) pos = Math.max(0, Math.min(100, +h.pos));
+  draw();
+})();
+"""
+
+
 def render_html(rep):
     e = html.escape
+    shown = [r for r in rep["renders"] if r.get("png")]
+    # Pictures at least 384 px wide on the page (small renders scaled up with
+    # square pixels), the comparison at least 640; full size on click.
+    fig_w = max(384, rep["width"])
+    cmp_w = max(640, rep["width"])
     h = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>photonbridge validation: %s</title>"
-         % e(os.path.basename(rep["scene"])),
-         "<style>body{font-family:sans-serif;margin:16px;background:#fafafa}"
-         "table{border-collapse:collapse;margin:8px 0}td,th{border:1px solid #bbb;padding:3px 8px;"
-         "font-size:13px}th{background:#e4e4e4}img{image-rendering:pixelated;width:256px;"
-         "border:1px solid #888;background:#333}.fig{display:inline-block;margin:4px;text-align:center;"
-         "font-size:13px}.bad{color:#b00}</style></head><body>",
+         % e(os.path.basename(rep["scene"])), "<style>%s</style></head><body>" % STYLE,
          "<h1>Validation: %s</h1>" % e(os.path.basename(rep["scene"])),
-         "<p>Scene <code>%s</code>, width %d px%s. Every picture through the same OCIO view: <b>%s</b>.</p>"
+         "<p class='note'>Scene <code>%s</code>, %d px wide%s. Pictures through <b>%s</b> (scene-linear EXRs "
+         "beside this page). Metrics through <b>%s</b>.</p>"
          % (e(rep["scene"]), rep["width"], ", direct light only" if rep["direct_only"] else "",
-            e(rep["display"])),
-         "<h2>Images</h2><div>"]
+            e(rep.get("picture_view") or "?"), e(rep["display"]))]
+
+    # The comparison: any two renderers, slider or flip.
+    if len(shown) >= 2:
+        ref = "reference" if any(r["name"] == "reference" for r in shown) else shown[0]["name"]
+        test = next((r["name"] for r in shown if r["name"] == "photonbridge"),
+                    next(r["name"] for r in shown if r["name"] != ref))
+        opts = lambda sel: "".join("<option value='%s'%s>%s</option>" % (e(r["name"]), " selected" if r["name"] == sel
+                                                                          else "", e(r["label"])) for r in shown)
+        h += ["<h2>Compare</h2>",
+              "<div class='controls'>A <select id='selA'>%s</select> B <select id='selB'>%s</select>"
+              "<button id='swap'>swap</button> <button id='modeSlider'>slider</button>"
+              "<button id='modeFlip'>flip (click, f or space)</button><button id='autoFlip'>auto flip</button></div>"
+              % (opts(ref), opts(test)),
+              "<div id='cmp'><img id='cmpA' alt='A' style='width:%dpx'><img id='cmpB' alt='B'><div id='divider'></div>"
+              % cmp_w +
+              "<span class='lab' id='labA'></span><span class='lab' id='labB'></span></div>",
+              "<p class='note'>Drag across the picture to move the divider (A left, B right); in flip mode a "
+              "click, f or space switches A and B in place, which shows differences the eye misses side by "
+              "side.</p>"]
+
+    h.append("<h2>Pictures</h2><div class='pics'>")
     for r in rep["renders"]:
         if r.get("png"):
-            h.append("<div class='fig'><img src='%s' alt='%s'><br>%s</div>" % (e(r["png"]), e(r["name"]),
-                                                                               e(r["label"])))
+            t = r.get("render_s")
+            h.append("<div class='fig'><a href='%s'><img src='%s' alt='%s' style='width:%dpx'></a>%s<br>"
+                     "<small>%s</small></div>" % (e(r["png"]), e(r["png"]), e(r["name"]), fig_w, e(r["label"]),
+                        ("%.2f s" % t) if isinstance(t, (int, float)) else ""))
     h.append("</div>")
-    h.append("<h2>Per-pixel error (relative: sqrt(mean over RGB of (t-r)^2/(r^2+0.01)), viridis, each map scaled to its own 99th percentile; test vs reference)</h2><div>")
-    for p in rep["pairs"]:
-        if p.get("heatmap"):
-            h.append("<div class='fig'><img src='%s' alt='heat'><br>%s vs %s</div>"
-                     % (e(p["heatmap"]), e(p["test"]), e(p["reference"])))
-    h.append("</div><h2>Metrics</h2><p>%s</p>" % e(rep["metrics_note"]))
-    h.append("<table><tr><th>test</th><th>reference</th><th>size</th><th>RMSE</th><th>relMSE</th>"
-             "<th>PSNR dB</th><th>SSIM</th><th>max abs</th></tr>")
+
+    heat = [p for p in rep["pairs"] if p.get("heatmap")]
+    if heat:
+        scale = rep.get("heat_scale")
+        grad = "linear-gradient(to right,%s)" % ",".join(VIRIDIS)
+        h.append("<h2>Per-pixel error</h2><p class='note'>sqrt(mean over RGB of (t-r)^2/(r^2+0.01)) of test "
+                 "against reference, scene-linear; every map on the same scale, so colours compare across "
+                 "maps.</p>")
+        h.append("<div class='bar'>0 <div class='grad' style='background:%s'></div> %s (and above)</div>"
+                 % (grad, fmt(scale, ".3g")))
+        h.append("<div class='pics'>")
+        for p in heat:
+            h.append("<div class='fig'><a href='%s'><img src='%s' alt='heat' style='width:%dpx'></a>%s vs %s<br>"
+                     "<small>PSNR %s dB</small></div>" % (e(p["heatmap"]), e(p["heatmap"]), fig_w, e(p["test"]),
+                                                          e(p["reference"]),
+                                         fmt(p.get("psnr_db"), ".2f")))
+        h.append("</div>")
+
+    times = {r["name"]: r.get("render_s") for r in rep["renders"]}
+    h.append("<h2>Metrics</h2><p class='note'>%s</p>" % e(rep["metrics_note"]))
+    h.append("<table><tr><th>test</th><th>reference</th><th>PSNR dB</th><th>SSIM</th><th>relMSE</th>"
+             "<th>RMSE</th><th>max abs</th><th>test s</th><th>reference s</th><th>size</th></tr>")
     for p in rep["pairs"]:
         if "error" in p:
-            h.append("<tr><td>%s</td><td>%s</td><td colspan=6 class='bad'>%s</td></tr>"
+            h.append("<tr><td>%s</td><td>%s</td><td colspan=8 class='bad'>%s</td></tr>"
                      % (e(p["test"]), e(p["reference"]), e(p["error"])))
             continue
-        h.append("<tr><td>%s</td><td>%s</td><td>%sx%s</td><td>%s</td><td>%s</td><td>%s</td><td>%s</td>"
-                 "<td>%s</td></tr>" % (e(p["test"]), e(p["reference"]), p.get("width"), p.get("height"),
-                                       fmt(p.get("rmse"), ".4g"), fmt(p.get("relmse"), ".4g"),
-                                       fmt(p.get("psnr_db"), ".2f"), fmt(p.get("ssim"), ".4f"),
-                                       fmt(p.get("max_abs_error"), ".4g")))
+        h.append("<tr><td>%s</td><td>%s</td><td class=num>%s</td><td class=num>%s</td><td class=num>%s</td>"
+                 "<td class=num>%s</td><td class=num>%s</td><td class=num>%s</td><td class=num>%s</td>"
+                 "<td>%sx%s</td></tr>"
+                 % (e(p["test"]), e(p["reference"]), fmt(p.get("psnr_db"), ".2f"), fmt(p.get("ssim"), ".4f"),
+                    fmt(p.get("relmse"), ".4g"), fmt(p.get("rmse"), ".4g"), fmt(p.get("max_abs_error"), ".4g"),
+                    fmt(times.get(p["test"]), ".2f"), fmt(times.get(p["reference"]), ".2f"),
+                    p.get("width"), p.get("height")))
     h.append("</table><h2>Renders: times and settings</h2><table><tr><th>renderer</th><th>status</th>"
              "<th>render s</th><th>wall s</th><th>settings</th></tr>")
     for r in rep["renders"]:
         st = r.get("settings", {})
         if r.get("noise"):
             st = dict(st, noise=r["noise"])
-        h.append("<tr><td>%s</td><td%s>%s</td><td>%s</td><td>%s</td><td><code>%s</code></td></tr>"
-                 % (e(r["label"]), "" if r["status"] == "ok" else " class='bad'",
-                    e(r["status"] + (": " + r["reason"] if r.get("reason") else "")),
-                    fmt(r.get("render_s"), ".3f"), fmt(r.get("wall_s"), ".3f"), e(json.dumps(st))))
-    h.append("</table><h2>Tool versions</h2><table>")
+        h.append("<tr><td>%s</td><td%s>%s</td><td class=num>%s</td><td class=num>%s</td><td><code>%s</code></td>"
+                 "</tr>" % (e(r["label"]), "" if r["status"] == "ok" else " class='bad'",
+                            e(r["status"] + (": " + r["reason"] if r.get("reason") else "")),
+                            fmt(r.get("render_s"), ".3f"), fmt(r.get("wall_s"), ".3f"), e(json.dumps(st))))
+    h.append("</table>")
+    if rep.get("sequence"):
+        h += render_sequence_html(rep["sequence"])
+    h.append("<h2>Tool versions</h2><table>")
     for k, v in rep["versions"].items():
         h.append("<tr><th>%s</th><td>%s</td></tr>" % (e(k), e(v or "not available")))
-    h.append("</table><p>Numbers: <a href='report.json'>report.json</a>. Created %s.</p></body></html>\n"
+    h.append("</table><p class='note'>Numbers: <a href='report.json'>report.json</a>. Created %s.</p>"
              % e(rep["created"]))
+    data = [{"name": r["name"], "label": r["label"], "png": r["png"]} for r in shown]
+    # "</" cannot appear inside the script element.
+    h.append("<script type='application/json' id='renders-data'>%s</script>"
+             % json.dumps(data).replace("</", "<\\/"))
+    h.append("<script>%s</script></body></html>\n" % SCRIPT)
     return "\n".join(h)
+
+
+def svg_plot(series, width=640, height=220, ylabel=""):
+    """A line plot as inline SVG: series = [(label, colour, [(x, y), ...])]."""
+    pts = [p for _, _, ps in series for p in ps if p[1] is not None]
+    if not pts:
+        return ""
+    x0, x1 = min(p[0] for p in pts), max(p[0] for p in pts)
+    y0, y1 = min(0.0, min(p[1] for p in pts)), max(p[1] for p in pts)
+    if x1 == x0:
+        x1 = x0 + 1
+    if y1 == y0:
+        y1 = y0 + 1
+    L, R, T, B = 56, 12, 10, 30
+    X = lambda x: L + (width - L - R) * (x - x0) / (x1 - x0)
+    Y = lambda y: height - B - (height - T - B) * (y - y0) / (y1 - y0)
+    o = ["<svg xmlns='http://www.w3.org/2000/svg' width='%d' height='%d' style='background:#111'>" % (width, height)]
+    for k in range(5):
+        yv = y0 + (y1 - y0) * k / 4
+        o.append("<line x1='%d' x2='%d' y1='%.1f' y2='%.1f' stroke='#333'/><text x='4' y='%.1f' fill='#aaa' "
+                 "font-size='11'>%.3g</text>" % (L, width - R, Y(yv), Y(yv), Y(yv) + 4, yv))
+    o.append("<text x='%d' y='%d' fill='#aaa' font-size='11'>frame</text>" % (width // 2, height - 6))
+    o.append("<text x='4' y='%d' fill='#aaa' font-size='11'>%s</text>" % (height - 6, html.escape(ylabel)))
+    for i, (lab, col, ps) in enumerate(series):
+        ps = [p for p in ps if p[1] is not None]
+        if ps:
+            o.append("<polyline fill='none' stroke='%s' stroke-width='2' points='%s'/>"
+                     % (col, " ".join("%.1f,%.1f" % (X(x), Y(y)) for x, y in ps)))
+        o.append("<text x='%d' y='%d' fill='%s' font-size='12'>%s</text>" % (L + 8, T + 14 + 14 * i, col,
+                                                                            html.escape(lab)))
+    o.append("</svg>")
+    return "".join(o)
+
+
+def render_sequence_html(seq):
+    e = html.escape
+    h = ["<h2>Sequence: frames %d-%d</h2>" % (seq["first"], seq["last"]),
+         "<p class='note'>%s</p>" % e(seq["note"]), "<div class='strip'>"]
+    for f in seq["frames"]:
+        cell = "<div class='fig'>"
+        if f.get("png"):
+            cell += "<a href='%s'><img src='%s' alt='frame %d'></a>" % (e(f["png"]), e(f["png"]), f["frame"])
+        if f.get("reference_png"):
+            cell += "<a href='%s'><img src='%s' alt='reference %d'></a>" % (e(f["reference_png"]),
+                                                                           e(f["reference_png"]), f["frame"])
+        cell += "frame %d<br><small>%s dB</small></div>" % (f["frame"], fmt(f.get("psnr_db"), ".2f"))
+        h.append(cell)
+    h.append("</div>")
+    fr = [f["frame"] for f in seq["frames"]]
+    h.append("<h3>Error per frame</h3>")
+    h.append(svg_plot([("PSNR against the frame's reference (dB)", "#6ece58",
+                        list(zip(fr, [f.get("psnr_db") for f in seq["frames"]])))], ylabel="dB"))
+    h.append("<h3>Flicker: change from the previous frame</h3>")
+    h.append(svg_plot([("photonbridge (filtered)", "#fde725",
+                        list(zip(fr, [f.get("change_result") for f in seq["frames"]]))),
+                       ("reference (the motion itself)", "#35b7e9",
+                        list(zip(fr, [f.get("change_reference") for f in seq["frames"]])))], ylabel="RMS change"))
+    sm = seq.get("summary", {})
+    h.append("<p class='note'>Mean PSNR %s dB, mean relMSE %s; flicker: result %s, reference %s, excess %s "
+             "(RMS change between consecutive frames, scene-linear; excess = result - reference).</p>"
+             % (fmt(sm.get("mean_psnr_db"), ".2f"), fmt(sm.get("mean_relmse"), ".4g"),
+                fmt(sm.get("flicker_result"), ".4g"), fmt(sm.get("flicker_reference"), ".4g"),
+                fmt(sm.get("flicker_excess"), ".4g")))
+    return h
 
 
 def on_term(sig, frame):

@@ -87,6 +87,11 @@ int pb_cmd_display(int argc, char **argv) {
     r = gather(&img, pos[0], layer, &rgba, &nc);
     if (r == PB_OK)
       r = pb_png_write_display(out, color, img.width, img.height, nc, rgba);
+    if (r == PB_OK) {
+      char view[768];
+      pb_color_describe(color, view, sizeof view);
+      printf("display: wrote %s through %s\n", out, view);
+    }
     free(rgba);
     pb_image_destroy(&img);
   }

@@ -107,12 +107,13 @@ static uint64_t reference_key(const pb_scene *s, const pb_camera *cam, uint32_t 
 }
 
 /* The reference beauty (RGBA) of the current pose: read from the cache or
- * rendered and stored there. *cached: whether it came from the cache. */
+ * rendered and stored there (at `path`, PATH_MAX bytes). *cached: whether
+ * it came from the cache. */
 static pb_result reference_frame(pb_scene *s, int camera, uint32_t w, uint32_t h, const pb_seq_opts *so,
-                                 uint64_t seed, const char *cache_dir, float *rgba, int *cached, double *ms) {
-  char path[PATH_MAX];
+                                 uint64_t seed, const char *cache_dir, float *rgba, int *cached, double *ms,
+                                 char *path) {
   uint64_t key = reference_key(s, &s->cameras[camera], w, h, so->reference_spp, seed);
-  if (snprintf(path, sizeof path, "%s/ref_%016" PRIx64 ".exr", cache_dir, key) >= (int)sizeof path)
+  if (snprintf(path, PATH_MAX, "%s/ref_%016" PRIx64 ".exr", cache_dir, key) >= PATH_MAX)
     return pb_fail(PB_ERR_USAGE, "render: reference cache path too long");
   *cached = 0;
   *ms = 0;
@@ -164,6 +165,7 @@ typedef struct frame_record {
   double psnr, relmse, flicker_result, flicker_reference; /* NAN when absent */
   int reference_cached;
   double reference_ms;
+  char reference_file[PATH_MAX]; /* the cached reference EXR of this frame */
 } frame_record;
 
 static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
@@ -208,6 +210,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
       pb_json_number(j, "change_reference", f->flicker_reference);
     }
     pb_json_bool(j, "cached", f->reference_cached);
+    pb_json_string(j, "file", f->reference_file);
     pb_json_number(j, "render_ms", f->reference_ms);
     pb_json_end_object(j);
   }
@@ -338,7 +341,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     fr->stats = res.stats;
     if (so->reference_spp) {
       if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref, &fr->reference_cached,
-                               &fr->reference_ms)) != PB_OK)
+                               &fr->reference_ms, fr->reference_file)) != PB_OK)
         goto done;
       pb_metrics m;
       if ((r = pb_metrics_compute(res.beauty, ref, w, h, 4, NULL, &m)) != PB_OK) goto done;
