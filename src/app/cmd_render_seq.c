@@ -98,9 +98,10 @@ static uint64_t reference_key(const pb_scene *s, const pb_camera *cam, uint32_t 
     k = fnv(k, f, sizeof f);
     k = fnv(k, &l->type, sizeof l->type);
   }
-  float c[13] = {cam->position[0], cam->position[1], cam->position[2], cam->forward[0], cam->forward[1],
+  float c[19] = {cam->position[0], cam->position[1], cam->position[2], cam->forward[0], cam->forward[1],
                  cam->forward[2], cam->up[0], cam->up[1], cam->up[2], cam->right[0], cam->right[1], cam->right[2],
-                 cam->yfov};
+                 cam->yfov, cam->ortho_size, cam->shift[0], cam->shift[1], cam->znear, cam->zfar,
+                 (float)(cam->orthographic * 4 + (int)cam->fit)};
   k = fnv(k, c, sizeof c);
   uint64_t v[4] = {w, h, spp, seed};
   return fnv(k, v, sizeof v);

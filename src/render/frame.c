@@ -15,6 +15,7 @@
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
+#include "scene/camera.h"
 
 /* Samples recorded per submission: three timestamps each (gbuffer, direct,
  * gather), plus the start. */
@@ -92,6 +93,10 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   if (d->spp > (1u << 20)) return pb_fail(PB_ERR_USAGE, "render: %u samples per pixel (at most 2^20)", d->spp);
   if (d->alpha < 0.0f || !(d->alpha < 1.0f))
     return pb_fail(PB_ERR_USAGE, "render: progressive alpha %g (in (0, 1))", d->alpha);
+  if (d->full_width && ((uint64_t)d->crop_x + w > d->full_width || (uint64_t)d->crop_y + h > d->full_height ||
+                        d->full_width > 65536 || d->full_height > 65536))
+    return pb_fail(PB_ERR_USAGE, "render: crop %ux%u at (%u, %u) does not fit in the %ux%u frame", w, h, d->crop_x,
+                   d->crop_y, d->full_width, d->full_height);
   if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
     return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
                    PB_RENDER_MAX_SPECULAR_DEPTH);
@@ -278,14 +283,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   const pb_camera *cam = &s->cameras[camera];
   pb_gpu_frame fr;
   memset(&fr, 0, sizeof fr);
-  memcpy(fr.cam_pos, cam->position, sizeof fr.cam_pos);
-  memcpy(fr.cam_forward, cam->forward, sizeof fr.cam_forward);
-  memcpy(fr.cam_right, cam->right, sizeof fr.cam_right);
-  memcpy(fr.cam_up, cam->up, sizeof fr.cam_up);
+  if (desc.full_width) {
+    pb_camera_view(cam, desc.full_width, desc.full_height, &fr.cam);
+    fr.key_x0 = desc.crop_x, fr.key_y0 = desc.crop_y, fr.key_width = desc.full_width;
+  } else {
+    pb_camera_view(cam, width, height, &fr.cam);
+  }
   fr.width = width;
   fr.height = height;
-  fr.tan_y = tanf(0.5f * cam->yfov);
-  fr.tan_x = fr.tan_y * (float)width / (float)height;
   fr.spp = spp;
   fr.light_count = gs->light_count;
   fr.emitter_count = (gs->features & PB_FEATURE_EMISSIVE) ? gs->emitter_count : 0;

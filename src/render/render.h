@@ -130,6 +130,13 @@ typedef struct pb_render_desc {
                                   by earlier frames of a still view
                                   (sequence.h); the radius schedule goes on
                                   from there */
+  /* A crop of a larger frame (render --crop, Blender's border): the image
+   * is the width x height pixels at column crop_x, row crop_y (top row
+   * first) of a full_width x full_height frame, with that frame's camera
+   * window and random numbers, so it equals that part of the full render
+   * (up to the photon maps' own sampling, which does not depend on the
+   * image). full_width 0: the image is the whole frame. */
+  uint32_t full_width, full_height, crop_x, crop_y;
   const struct pb_photon_map *photon_map; /* tests: gather this map (every
                                   iteration) instead of tracing */
   struct pb_frame_context *context; /* sequences: keeps pipelines, per-pixel
