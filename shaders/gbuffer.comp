@@ -77,6 +77,7 @@ void main() {
     if (any(notEqual(le, vec3(0.0)))) {
       acc.beauty.rgb += beta * le;
       if (chain <= 1u) acc.direct += beta * le;
+      if (chain == 0u) acc.emission += le;
     }
     if (direct_only && chain >= 1u) break;
 

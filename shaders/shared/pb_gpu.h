@@ -231,9 +231,10 @@ PB_STRUCT(pb_gpu_gbuffer) {
 } PB_END(pb_gpu_gbuffer)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
- * spp).
+ * spp), 80 bytes.
  * beauty.w: samples that hit geometry. depth: camera-space z summed over hit
- * samples (divide by beauty.w). */
+ * samples (divide by beauty.w). emission: what the first hit emits toward
+ * the camera (Blender's Emit pass; also in direct and beauty). */
 PB_STRUCT(pb_gpu_accum) {
   PB_VEC4(beauty);
   PB_VEC3(direct);       /* at most one scattering event (reference's split) */
@@ -242,6 +243,8 @@ PB_STRUCT(pb_gpu_accum) {
   float material;        /* material index of the first hit, + 1 (0: miss) */
   PB_VEC3(normal);
   float pad0;
+  PB_VEC3(emission);
+  float pad1;
 } PB_END(pb_gpu_accum)
 
 /* Push constants of the render passes: which sample of the frame this
@@ -355,10 +358,10 @@ PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)
 PB_OFFSET(pb_gpu_gbuffer, motion_x, 48) PB_OFFSET(pb_gpu_gbuffer, chain, 56)
-PB_LAYOUT(pb_gpu_accum, 64)
+PB_LAYOUT(pb_gpu_accum, 80)
 PB_OFFSET(pb_gpu_accum, direct, 16) PB_OFFSET(pb_gpu_accum, depth, 28)
 PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
-PB_OFFSET(pb_gpu_accum, normal, 48)
+PB_OFFSET(pb_gpu_accum, normal, 48) PB_OFFSET(pb_gpu_accum, emission, 64)
 PB_LAYOUT(pb_gpu_raycast_push, 16)
 PB_LAYOUT(pb_gpu_pass_push, 16)
 PB_LAYOUT(pb_gpu_photon_params, 80)
