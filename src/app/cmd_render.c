@@ -50,7 +50,7 @@ typedef struct render_opts {
   uint32_t reference_spp;
   const char *reference_cache;
   /* Driving photonbridge from another program (the Blender add-on). */
-  const char *crop, *preview, *blender_layer;
+  const char *crop, *preview, *blender_layer, *blender_passes;
   double time_limit, preview_interval;
   int progress_lines;
 } render_opts;
@@ -90,7 +90,7 @@ static pb_result on_progress(void *user, const pb_render_progress *p) {
     snprintf(spp_s, sizeof spp_s, "%u", p->samples);
     const char *an[] = {"photonbridge/renderer", "photonbridge/spp", "photonbridge/preview"};
     const char *av[] = {"gpu", spp_s, "1"};
-    pb_result r = pb_render_write_exr(pc->o->preview, &pr, pc->o->blender_layer, an, av, 3);
+    pb_result r = pb_render_write_exr(pc->o->preview, &pr, pc->o->blender_layer, pc->o->blender_passes, an, av, 3);
     if (r != PB_OK) return r;
     written = pc->o->preview;
     /* A preview is a whole file: an interrupt keeps it (main.c's note). */
@@ -287,6 +287,9 @@ int pb_cmd_render(int argc, char **argv) {
       {"blender-layer", 0, PB_OPT_STRING, &o.blender_layer, "NAME",
        "name the EXR's channels as Blender's multilayer EXR: NAME.Combined.R..A, NAME.Depth.Z, NAME.Normal.X..Z, "
        "NAME.Emit, NAME.Direct, NAME.Indirect, NAME.Caustic, NAME.Albedo (.R..B)", NULL, 0, 0},
+      {"blender-passes", 0, PB_OPT_STRING, &o.blender_passes, "LIST",
+       "--blender-layer: write only these passes (comma-separated; default all): the passes of Blender's render "
+       "result, so that it finds every channel it reads and nothing else", NULL, 0, 0},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -325,6 +328,9 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.blender_layer && (!o.blender_layer[0] || strchr(o.blender_layer, '.') || strlen(o.blender_layer) > 40))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-layer '%s': a view layer name of 1 to 40 "
                                     "characters without '.'", o.blender_layer));
+  if (o.blender_passes && !o.blender_layer)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-passes needs --blender-layer"));
+  if ((r = pb_render_check_blender_passes(o.blender_passes)) != PB_OK) return pb_cli_exit(cmd, r);
   pb_progress_lines_enable(o.progress_lines);
   double t_start = pb_time_now();
   pb_scene s;
@@ -390,7 +396,8 @@ int pb_cmd_render(int argc, char **argv) {
                            .orbit = o.orbit,
                            .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
     pb_seq_opts so = {.first = first, .last = last, .fps = fps, .png = o.png, .reference_spp = o.reference_spp,
-                      .reference_cache = o.reference_cache, .blender_layer = o.blender_layer};
+                      .reference_cache = o.reference_cache, .blender_layer = o.blender_layer,
+                      .blender_passes = o.blender_passes};
     r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
     goto done;
   }
@@ -402,7 +409,7 @@ int pb_cmd_render(int argc, char **argv) {
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
   const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
-  r = pb_render_write_exr(c.out, &res, o.blender_layer, an, av, 4);
+  r = pb_render_write_exr(c.out, &res, o.blender_layer, o.blender_passes, an, av, 4);
   if (r == PB_OK && o.png) {
     r = pb_png_write_display(o.png, color, w, h, 4, res.beauty, 0.0f);
     if (r != PB_OK) unlink(c.out);

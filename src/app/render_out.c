@@ -11,8 +11,41 @@
 /* Cycles' depth for rays that hit nothing (its Depth pass background). */
 #define BLENDER_DEPTH_MISS 1e10f
 
+static const char *const blender_pass[] = {"Combined", "Depth", "Normal", "Emit", "Direct", "Indirect", "Caustic",
+                                           "Albedo"};
+enum { BLENDER_PASSES = sizeof blender_pass / sizeof *blender_pass };
+
+/* Whether `name` is in the comma-separated `list` (NULL: every pass). */
+static int listed(const char *list, const char *name) {
+  if (!list) return 1;
+  size_t n = strlen(name);
+  for (const char *p = list; *p;) {
+    const char *e = strchr(p, ',');
+    size_t len = e ? (size_t)(e - p) : strlen(p);
+    if (len == n && strncmp(p, name, n) == 0) return 1;
+    p += len + (e ? 1 : 0);
+  }
+  return 0;
+}
+
+pb_result pb_render_check_blender_passes(const char *list) {
+  if (!list) return PB_OK;
+  for (const char *p = list; *p;) {
+    const char *e = strchr(p, ',');
+    size_t len = e ? (size_t)(e - p) : strlen(p);
+    int ok = 0;
+    for (int i = 0; i < BLENDER_PASSES; ++i) ok |= strlen(blender_pass[i]) == len && !strncmp(p, blender_pass[i], len);
+    if (!ok)
+      return pb_fail(PB_ERR_USAGE, "render: --blender-passes: '%.*s' is not one of Combined, Depth, Normal, Emit, "
+                     "Direct, Indirect, Caustic, Albedo", (int)len, p);
+    p += len + (e ? 1 : 0);
+  }
+  return PB_OK;
+}
+
 pb_result pb_render_write_exr(const char *path, const pb_render_result *res, const char *blender_layer,
-                              const char *const *attr_names, const char *const *attr_values, uint32_t attr_count) {
+                              const char *blender_passes, const char *const *attr_names,
+                              const char *const *attr_values, uint32_t attr_count) {
   pb_exr_desc ed = {.width = res->width, .height = res->height, .attr_names = attr_names,
                     .attr_values = attr_values, .attr_count = attr_count};
   if (!blender_layer) {
@@ -42,24 +75,24 @@ pb_result pb_render_write_exr(const char *path, const pb_render_result *res, con
   }
   for (size_t i = 0; i < n; ++i)
     depth[i] = res->depth && res->beauty[4 * i + 3] > 0 ? res->depth[i] : BLENDER_DEPTH_MISS;
-  static const char *const pass[] = {"Combined", "Depth", "Normal", "Emit", "Direct", "Indirect", "Caustic", "Albedo"};
-  static const char *const chans[] = {"RGBA", "Z", "XYZ", "RGB", "RGB", "RGB", "RGB", "RGB"};
-  const float *px[] = {res->beauty, depth, res->normal, res->emission, res->direct, res->indirect, res->caustic,
-                       res->albedo};
-  enum { PASSES = sizeof pass / sizeof *pass };
-  char names[PASSES][4][64];
-  const char *name_ptr[PASSES][4];
-  pb_image_layer layers[PASSES];
-  for (int p = 0; p < PASSES; ++p) {
+  static const char *const chans[BLENDER_PASSES] = {"RGBA", "Z", "XYZ", "RGB", "RGB", "RGB", "RGB", "RGB"};
+  const float *px[BLENDER_PASSES] = {res->beauty, depth, res->normal, res->emission, res->direct, res->indirect,
+                                     res->caustic, res->albedo};
+  char names[BLENDER_PASSES][4][64];
+  const char *name_ptr[BLENDER_PASSES][4];
+  pb_image_layer layers[BLENDER_PASSES];
+  uint32_t count = 0;
+  for (int p = 0; p < BLENDER_PASSES; ++p) {
+    if (!listed(blender_passes, blender_pass[p])) continue;
     uint32_t ch = (uint32_t)strlen(chans[p]);
     for (uint32_t c = 0; c < ch; ++c) {
-      snprintf(names[p][c], sizeof names[p][c], "%s.%s.%c", blender_layer, pass[p], chans[p][c]);
+      snprintf(names[p][c], sizeof names[p][c], "%s.%s.%c", blender_layer, blender_pass[p], chans[p][c]);
       name_ptr[p][c] = names[p][c];
     }
-    layers[p] = (pb_image_layer){pass[p], ch, px[p] ? px[p] : zero, name_ptr[p]};
+    layers[count++] = (pb_image_layer){blender_pass[p], ch, px[p] ? px[p] : zero, name_ptr[p]};
   }
   ed.layers = layers;
-  ed.layer_count = PASSES;
+  ed.layer_count = count;
   pb_result r = pb_exr_write(path, &ed);
   free(zero);
   free(depth);
