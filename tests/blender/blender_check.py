@@ -125,13 +125,33 @@ def sample_blend(name):
     return os.path.join(ROOT, "samples", name, name + ".blend")
 
 
-def write_with_addon(blend, out):
-    p = blender([blend, "-P", os.path.join(ROOT, "exporters", "blender", "export_photonbridge.py"), "--", out])
+def write_with_addon(blend, out, *extra):
+    p = blender([blend, "-P", os.path.join(ROOT, "exporters", "blender", "export_photonbridge.py"), "--", out] +
+                list(extra))
     return p.returncode == 0 and os.path.isfile(out), p.stdout
 
 
 def close(a, b, tol):
     return abs(a - b) <= tol * max(1.0, abs(a), abs(b))
+
+
+def same_values(x, y, tol):
+    """Equal JSON values, numbers within tol (relative above 1)."""
+    if isinstance(x, dict):
+        if set(x) != set(y):
+            print("  keys differ:", sorted(set(x) ^ set(y)))
+            return False
+        return all(same_values(x[k], y[k], tol) for k in x)
+    if isinstance(x, list):
+        return len(x) == len(y) and all(same_values(p, q, tol) for p, q in zip(x, y))
+    if isinstance(x, (int, float)) and not isinstance(x, bool) and isinstance(y, (int, float)):
+        if not close(x, y, tol):
+            print("  %r != %r" % (x, y))
+            return False
+        return True
+    if x != y:
+        print("  %r != %r" % (x, y))
+    return x == y
 
 
 # ---- parts ---------------------------------------------------------------------
@@ -150,19 +170,12 @@ def compare_info(name, a, b):
     ok = all(close(x, y, 1e-4) for k in ("bounds_min", "bounds_max") for x, y in zip(a[k], b[k]))
     check(ok, "%s: bounds %s..%s = %s..%s" % (name, a["bounds_min"], a["bounds_max"], b["bounds_min"],
                                                b["bounds_max"]))
-    ma, mb = a["materials"], b["materials"]
-    same = len(ma) == len(mb) and all(
-        x["name"] == y["name"] and all(close(p, q, 1e-5) for p, q in zip(x["base_color"], y["base_color"])) and
-        all(close(x[k], y[k], 1e-5) for k in ("metallic", "roughness", "transmission", "ior", "specular"))
-        for x, y in zip(sorted(ma, key=lambda m: m["name"]), sorted(mb, key=lambda m: m["name"])))
-    check(same, "%s: %d materials, same colours and factors" % (name, len(ma)))
-    la, lb = a["lights"], b["lights"]
-    same = len(la) == len(lb) and all(
-        x["type"] == y["type"] and close(x["intensity"], y["intensity"], 1e-5) and
-        all(close(p, q, 1e-4) for p, q in zip(x["position"], y["position"])) and
-        all(close(p, q, 1e-4) for p, q in zip(x["direction"], y["direction"]))
-        for x, y in zip(sorted(la, key=lambda l: l["name"]), sorted(lb, key=lambda l: l["name"])))
-    check(same, "%s: %d lights, same type, intensity, position and direction" % (name, len(la)))
+    ma, mb = (sorted(x["materials"], key=lambda m: m["name"]) for x in (a, b))
+    same = len(ma) == len(mb) and all(same_values(x, y, 1e-5) for x, y in zip(ma, mb))
+    check(same, "%s: %d materials, the same names, kinds, colours, factors and textures" % (name, len(ma)))
+    la, lb = (sorted(x["lights"], key=lambda m: m["name"]) for x in (a, b))
+    same = len(la) == len(lb) and all(same_values(x, y, 1e-4) for x, y in zip(la, lb))
+    check(same, "%s: %d lights, the same type, intensity, position, direction and cone" % (name, len(la)))
     ca, cb = a["cameras"], b["cameras"]
     same = len(ca) == len(cb) == 1 and all(
         close(p, q, 1e-4) for k in ("position", "forward", "up", "window") for p, q in zip(ca[0][k], cb[0][k])) and \
@@ -210,6 +223,18 @@ def part_validator():
         print(p.stdout.strip())
         check(ok and p.returncode == 0 and " 0 errors, 0 warnings" in p.stdout,
               "%s: glTF-Validator: no errors, no warnings" % name)
+    # The animated hand-off of "Render Animation as One Sequence".
+    out = os.path.join(d, "anim", "cornell_caustics_moving_sphere.gltf")
+    ok, _ = write_with_addon(sample_blend("cornell_caustics_moving_sphere"), out, "--animation")
+    p = subprocess.run(["node", os.path.join(HERE, "validate_gltf.js"), vdir, out], capture_output=True, text=True)
+    print(p.stdout.strip())
+    check(ok and p.returncode == 0 and " 0 errors, 0 warnings" in p.stdout,
+          "the animated hand-off (frames as node animation): no errors, no warnings")
+    if ok:
+        doc = info(out)
+        # frames 0-48 at 24 fps: 2 s of animation
+        check(doc.get("animations") == 1 and close(doc.get("animation_end_s", 0), 2.0, 1e-5),
+              "the animated hand-off has the frame range as 0 .. %s s of animation" % doc.get("animation_end_s"))
 
 
 def render_f12(d, blend, settings, fmt="OPEN_EXR_MULTILAYER", frames=("-f", "1"), env=None, timeout=600):
@@ -388,10 +413,11 @@ def part_badinput():
         p = render_f12(d, blend_file, dict(QUICK, **(settings or {})), fmt="OPEN_EXR", env=env, timeout=300)
         secs = time.time() - t0
         text = p.stdout + p.stderr
-        found = needle in text
-        if not found:
-            print(text[-2500:])
-        check(found, "%s: the message says '%s' (%.1f s)" % (what, needle, secs))
+        for n in needle if isinstance(needle, list) else [needle]:
+            found = n in text
+            if not found:
+                print(text[-2500:])
+            check(found, "%s: the message says '%s' (%.1f s)" % (what, n, secs))
         made = os.path.isdir(d) and any(f.endswith(".exr") for f in os.listdir(d))
         check(made == expect_file, "%s: %s" % (what, "an image" if expect_file else "no image written"))
         check(not tmp_left(), "%s: no temporary files left" % what)
@@ -400,15 +426,17 @@ def part_badinput():
     env["PATH"] = "/usr/bin:/bin"
     case("missing binary", blend, "photonbridge binary not found; looked in the add-on preferences (not set), "
          "$PHOTONBRIDGE_BIN (%s: not an executable file), PATH" % os.path.join(WORK, "no", "photonbridge"), env=env)
-    case("no camera", os.path.join(scenes, "nocamera.blend"), "No camera found in scene")
+    # Blender itself refuses these before the engine runs.
+    case("no camera", os.path.join(scenes, "nocamera.blend"), "Cannot render, no camera")
     case("no lights", os.path.join(scenes, "nolights.blend"), "no lights and no emissive materials",
          expect_file=True)
-    case("only an empty mesh", os.path.join(scenes, "empty_mesh.blend"), "its mesh has no faces")
-    case("0-pixel image", blend, "nothing to render", settings={"border": "0.5,0.5,0.5,0.9", "crop": "1"})
+    case("only an empty mesh", os.path.join(scenes, "empty_mesh.blend"),
+         ["object 'Edges': its mesh has no faces; left out", "(exit 7)"])
+    case("0-pixel image", blend, "Image too small", settings={"border": "0.5,0.5,0.5,0.9", "crop": "1"})
     blocker = os.path.join(WORK, "not_a_folder")
     with open(blocker, "w") as f:
         f.write("a file where the output folder should be\n")
-    case("unwritable output", blend, "Cannot create directory", out_dir=os.path.join(blocker, "out"))
+    case("unwritable output", blend, "cannot save", out_dir=os.path.join(blocker, "out"))
     # A CLI killed mid-render: its exit status in Blender's report, no hang.
     d = fresh("killed")
     proc, child, lines = start_long_render(d, sample_blend("cornell_box"))

@@ -12,6 +12,7 @@ exporter does with "Always Sample Animations". What glTF node animation
 cannot carry (deforming meshes, changing light power or camera lens,
 instances that appear later) is a warning; the frame at the start is
 restored at the end."""
+import os
 import time
 
 import numpy as np
@@ -33,6 +34,7 @@ def write_sequence_gltf(engine, depsgraph, path, camera):
     start, end, current = scene.frame_start, scene.frame_end, scene.frame_current
     fps = scene.render.fps / scene.render.fps_base
     engine.frame_set(start, 0.0)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     w = writer.SceneWriter(depsgraph, path, camera)
     w.collect()
     cam = w.camera or scene.camera
