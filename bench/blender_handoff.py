@@ -26,7 +26,7 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-STAMP = re.compile(r"Time:(\d+):(\d+\.\d+) \|.*?\| (.*)$")
+STAMP = re.compile(r"Time:(\d+):(\d+\.\d+) \| (.*)$")
 
 SCENE_1M = """
 import bpy, sys

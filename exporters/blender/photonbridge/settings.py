@@ -8,7 +8,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 
 class PhotonbridgeSettings(bpy.types.PropertyGroup):
     photons: IntProperty(
-        name="Photons per Map", description="Photon paths traced per photon map (--photons)",
+        name="Photons", description="Photon paths traced per photon map (--photons)",
         default=262144, min=1, max=1 << 26)
     iterations: IntProperty(
         name="Maps", description="Independent photon maps averaged; the picture refines after each one "
@@ -28,10 +28,10 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
                ("rsm", "Shadow Maps", "Sampled from reflective shadow maps by reflected power")],
         default="traced")
     photon_bounces: IntProperty(
-        name="Photon Bounces", description="Diffuse bounces stored per photon path (--photon-bounces)",
+        name="Bounces", description="Diffuse bounces stored per photon path (--photon-bounces)",
         default=7, min=1, max=64)
     specular_depth: IntProperty(
-        name="Specular Depth", description="Mirror and glass interactions followed from the camera "
+        name="Mirror Depth", description="Mirror and glass interactions followed from the camera "
         "(--max-specular-depth)", default=8, min=1, max=64)
     filter_passes: IntProperty(
         name="Filter Passes", description="Edge-avoiding A-Trous passes over the indirect light; 0: off "
@@ -42,7 +42,7 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     seed: IntProperty(
         name="Seed", description="Random seed (--seed)", default=0, min=0)
     animation_sequence: BoolProperty(
-        name="Render Animation as One Sequence",
+        name="Animation as Sequence",
         description="For animation renders: render the whole frame range as one photonbridge sequence "
         "(--frames, temporal filtering across frames) and hand Blender the frames one by one",
         default=False)

@@ -43,17 +43,17 @@ class PHOTONBRIDGE_PT_render(bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         s = context.scene.photonbridge
-        col = layout.column(heading="Photons")
+        col = layout.column()
         col.prop(s, "photons")
         col.prop(s, "iterations")
         col.prop(s, "progressive")
         col.prop(s, "first_bounce")
         col.prop(s, "photon_bounces")
-        col = layout.column(heading="Camera")
+        col = layout.column()
         col.prop(s, "spp")
         col.prop(s, "specular_depth")
         col.prop(s, "filter_passes")
-        col = layout.column(heading="Run")
+        col = layout.column()
         col.prop(s, "time_limit")
         col.prop(s, "preview_interval")
         col.prop(s, "device")

@@ -258,16 +258,25 @@ def read_mesh(mesh, want_tangents, warn, name):
                 cols.append(tangent)
             except RuntimeError as e:
                 warn("mesh '%s': tangents failed (%s); photonbridge derives them from the UVs" % (name, e))
-    loops = np.concatenate(cols, axis=1).astype(np.float32)[tri_loops]
-    # Merge loops whose attributes are bit-identical (one vertex per corner
-    # that glTF would share), preserving first-use order.
-    row = np.ascontiguousarray(loops).view(np.dtype((np.void, loops.shape[1] * 4))).ravel()
-    _, first, inverse = np.unique(row, return_index=True, return_inverse=True)
-    order = np.argsort(first)
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
-    verts = loops[first[order]]
-    idx = rank[inverse].astype(np.uint32).reshape(-1, 3)
+    attr = np.ascontiguousarray(np.concatenate(cols, axis=1), dtype=np.float32)
+    # Merge loops whose attributes are bit-identical into one vertex (the
+    # corners glTF shares): sort the loops by vertex index, then by a hash of
+    # their attribute bits, and start a new vertex wherever a row differs
+    # from the one before. Rows that are equal end up adjacent (up to hash
+    # collisions, which only merge less), in O(n log n) on two int keys.
+    bits = attr.view(np.uint32)
+    h = bits[:, 0].astype(np.uint64)
+    for c in range(1, bits.shape[1]):
+        h = (h * np.uint64(0x100000001B3)) ^ bits[:, c]
+    order = np.lexsort((h, loop_vert))
+    sb = bits[order]
+    new = np.empty(n_loops, bool)
+    new[0] = True
+    np.any(sb[1:] != sb[:-1], axis=1, out=new[1:])
+    vertex_of_loop = np.empty(n_loops, np.uint32)
+    vertex_of_loop[order] = np.cumsum(new, dtype=np.uint32) - 1
+    verts = attr[order[new]]
+    idx = vertex_of_loop[tri_loops].reshape(-1, 3)
     pos = (verts[:, 0:3] @ AXIS3.T).astype(np.float32)
     n = (verts[:, 3:6] @ AXIS3.T).astype(np.float32)
     length = np.linalg.norm(n, axis=1)
