@@ -28,7 +28,6 @@ the same material Blender's exporter would write:
 A Diffuse BSDF is written as a dielectric with Specular 0 (Blender's
 exporter, which reads only Principled nodes, writes such a material as
 white metal), an Emission shader as black with its emission."""
-import bpy
 
 GLTF_IOR = 1.5
 BLENDER_SPECULAR = 0.5
@@ -158,7 +157,7 @@ class MaterialWriter:
                         % (name, _fmt(_value(socket))))
         return None
 
-    def _texture_entry(self, link, color, member):
+    def _texture_entry(self, link, color):
         """The extension's texture entry (and glTF texture index) for a link."""
         node, channel = link
         image = node.image
@@ -270,13 +269,13 @@ class MaterialWriter:
                 self._warn_node(_source(s).node, "drives %s and is not translated" % other)
         textures, tex_index = {}, {}
         for member, link in links.items():
-            entry, index = self._texture_entry(link, member in COLOR_INPUTS, member)
+            entry, index = self._texture_entry(link, member in COLOR_INPUTS)
             if entry is not None:
                 textures[member] = entry
                 tex_index[member] = (index, link)
         if normal_link is not None:
             img_node, strength = normal_link
-            entry, index = self._texture_entry((img_node, "RGB"), False, "normal")
+            entry, index = self._texture_entry((img_node, "RGB"), False)
             if entry is not None:
                 entry.pop("channel", None)
                 entry["strength"] = strength
@@ -395,13 +394,13 @@ class MaterialWriter:
         ext = {"model": "diffuse", "diffuse": {"color": color, "roughness": rough}}
         tex = {}
         if link is not None:
-            entry, index = self._texture_entry(link, True, "baseColor")
+            entry, index = self._texture_entry(link, True)
             if entry is not None:
                 ext["textures"] = {"baseColor": entry}
                 tex["baseColor"] = (index, link)
         normal = self._normal_link(node.inputs["Normal"])
         if normal is not None:
-            entry, index = self._texture_entry((normal[0], "RGB"), False, "normal")
+            entry, index = self._texture_entry((normal[0], "RGB"), False)
             if entry is not None:
                 entry.pop("channel", None)
                 entry["strength"] = normal[1]
@@ -418,7 +417,7 @@ class MaterialWriter:
         tex = {}
         link = self._texture_link(node.inputs["Color"], "Color")
         if link is not None:
-            entry, index = self._texture_entry(link, True, "emission")
+            entry, index = self._texture_entry(link, True)
             if entry is not None:
                 ext["textures"] = {"emission": entry}
                 tex["emission"] = (index, link)

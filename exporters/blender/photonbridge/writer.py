@@ -34,7 +34,7 @@ import time
 import numpy as np
 
 import bpy
-from mathutils import Matrix, Quaternion
+from mathutils import Matrix
 
 from . import images as images_mod
 from . import materials as materials_mod
