@@ -7,6 +7,9 @@ the folder after '--':
   nolights.blend     a box and a camera, no light
   empty_mesh.blend   a camera, a light and only a mesh without faces
   nocamera.blend     a box and a light, no camera
+  instances.blend    a floor and a collection with one box, instanced three
+                     times (collection instances) and once more through
+                     geometry nodes' Instance on Points on a 4-vertex mesh
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -119,4 +122,34 @@ floor()
 light()
 box("Box", (0, 0, 0.5), 0.5)
 save("nocamera.blend")
+reset()
+floor()
+light()
+camera()
+col = bpy.data.collections.new("Crates")
+bpy.context.scene.collection.children.link(col)
+crate = box("Crate", (0, 0, 0.25), 0.25, material("Wood", (0.5, 0.3, 0.1)))
+bpy.context.scene.collection.objects.unlink(crate)
+col.objects.link(crate)
+bpy.context.view_layer.layer_collection.children["Crates"].exclude = True
+for i, x in enumerate((-2.0, 0.0, 2.0)):
+    e = bpy.data.objects.new("CrateInstance%d" % i, None)
+    e.instance_type = 'COLLECTION'
+    e.instance_collection = col
+    e.location = (x, 1.0, 0.0)
+    bpy.context.scene.collection.objects.link(e)
+pts = mesh("Points", [(-1.5, -1.5, 0), (1.5, -1.5, 0), (-1.5, -2.5, 0), (1.5, -2.5, 0)], [])
+gn = pts.modifiers.new("Scatter", 'NODES')
+tree = bpy.data.node_groups.new("Scatter", 'GeometryNodeTree')
+tree.inputs.new('NodeSocketGeometry', "Geometry")
+tree.outputs.new('NodeSocketGeometry', "Geometry")
+gin, gout = tree.nodes.new("NodeGroupInput"), tree.nodes.new("NodeGroupOutput")
+inst = tree.nodes.new("GeometryNodeInstanceOnPoints")
+info = tree.nodes.new("GeometryNodeObjectInfo")
+info.inputs[0].default_value = crate
+tree.links.new(gin.outputs[0], inst.inputs["Points"])
+tree.links.new(info.outputs["Geometry"], inst.inputs["Instance"])
+tree.links.new(inst.outputs[0], gout.inputs[0])
+gn.node_group = tree
+save("instances.blend")
 print("bl_scenes: saved into", out)

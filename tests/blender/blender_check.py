@@ -209,6 +209,29 @@ def part_writer():
         check(mb > 0 and rel < 0.05, "%s: mean beauty of the two renders within 5%% (%.2f%%)" % (name, 100 * rel))
 
 
+def part_instances():
+    """Instances: each mesh written once, one node per instance."""
+    scenes = fresh("inst_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    out = os.path.join(WORK, "instances", "instances.gltf")
+    ok, text = write_with_addon(os.path.join(scenes, "instances.blend"), out)
+    check(ok, "the instances scene is written")
+    if not ok:
+        print(text[-2000:])
+        return
+    with open(out) as f:
+        doc = json.load(f)
+    crates = [n for n in doc["nodes"] if "instance of" in n.get("name", "") and "mesh" in n]
+    coll = {n["mesh"] for n in crates if n["name"].startswith("CrateInstance")}
+    gn = {n["mesh"] for n in crates if n["name"].startswith("Points")}
+    check(len(crates) == 7 and len(coll) == 1 and len(gn) == 1 and len(doc["meshes"]) == 3,
+          "3 collection instances share one mesh, 4 geometry-node instances another (%d nodes, %d meshes)"
+          % (len(crates), len(doc["meshes"])))
+    xs = sorted(round(n["translation"][0], 3) for n in crates)
+    check(xs == [-2.0, -1.5, -1.5, 0.0, 1.5, 1.5, 2.0], "at their places (x %s)" % xs)
+    check(info(out)["triangles"] == 2 + 7 * 12, "photonbridge loads 2 + 7 x 12 triangles")
+
+
 def part_validator():
     vdir = os.path.join(ROOT, "tools", "node_modules", "gltf-validator")
     if not shutil.which("node") or not os.path.isdir(vdir):
