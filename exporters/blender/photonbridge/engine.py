@@ -18,6 +18,7 @@ writes the whole frame range as one glTF with animation (sampled at every
 frame, anim.py) and starts one `photonbridge render --frames` (temporal
 filtering across frames); each frame Blender asks for is then loaded from
 that sequence as soon as its EXR exists."""
+import atexit
 import os
 import shutil
 import tempfile
@@ -290,7 +291,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         result.load_from_file(seq["frames"][index])
         self.end_result(result)
         self.update_progress(1.0)
-        if scene.frame_current >= scene.frame_end:
+        if scene.frame_current + max(1, scene.frame_step) > scene.frame_end:  # Blender's last frame
             run.finish()
             self._end_sequence(key)
 
@@ -302,19 +303,27 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
             shutil.rmtree(seq["folder"], ignore_errors=True)
 
 
+def stop_sequences():
+    """Ends every running sequence (the add-on unregistered, Blender
+    exiting): no CLI outlives Blender."""
+    for key in list(_sequence):
+        seq = _sequence.pop(key)
+        if seq.get("run") and seq["run"].running():
+            seq["run"].cancel()
+        shutil.rmtree(seq["folder"], ignore_errors=True)
+
+
 classes = (PhotonbridgeRenderEngine,)
 
 
 def register():
     for c in classes:
         bpy.utils.register_class(c)
+    atexit.register(stop_sequences)
 
 
 def unregister():
-    for key in list(_sequence):
-        seq = _sequence.pop(key)
-        if seq.get("run") and seq["run"].running():
-            seq["run"].cancel()
-        shutil.rmtree(seq["folder"], ignore_errors=True)
+    atexit.unregister(stop_sequences)
+    stop_sequences()
     for c in reversed(classes):
         bpy.utils.unregister_class(c)
