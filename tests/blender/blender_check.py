@@ -188,9 +188,9 @@ def part_writer():
     d = fresh("writer")
     for name in SAMPLES:
         ours, theirs = os.path.join(d, name, "addon.gltf"), os.path.join(d, name, "blender.gltf")
-        ok, out = write_with_addon(sample_blend(name), ours)
+        p = blender([sample_blend(name), "-P", os.path.join(HERE, "bl_export_blender.py"), "--", theirs, ours])
+        ok = p.returncode == 0 and os.path.isfile(ours)
         check(ok, "%s: the add-on's writer wrote %s" % (name, ours))
-        p = blender([sample_blend(name), "-P", os.path.join(HERE, "bl_export_blender.py"), "--", theirs])
         check(p.returncode == 0 and os.path.isfile(theirs), "%s: Blender's exporter wrote %s" % (name, theirs))
         if not (ok and os.path.isfile(theirs)):
             continue
