@@ -318,6 +318,7 @@ class SceneWriter:
         self.warned = set()
         # instance key -> glTF node index (anim.py samples these over frames)
         self.node_of = {}
+        self._holdout_objects = None  # names in the view layer's holdout collections
 
     def warn(self, text):
         if text not in self.warned:
@@ -329,19 +330,15 @@ class SceneWriter:
     def _materials(self, obj):
         return tuple(s.material for s in obj.material_slots) or (None,)
 
-    def _mesh_index(self, obj, holdout):
-        """glTF mesh of an evaluated object (cached by its evaluated data and
-        materials), or None."""
+    def _mesh_entry(self, obj, holdout):
+        """[glTF mesh index or None until a TRS instance needs it, MeshData or
+        None] of an evaluated object, cached by its evaluated data and
+        materials (each mesh read and written once)."""
         mats = self._materials(obj)
         key = (obj.data.as_pointer() if obj.data else obj.as_pointer(), tuple(m.name if m else "" for m in mats),
                holdout)
-        if key in self.mesh_cache:
-            return self.mesh_cache[key]
-        data = self._mesh_data(obj, mats, holdout)
-        index = None
-        if data is not None:
-            index = self._write_mesh(obj.name, data, mats, holdout)
-        self.mesh_cache[key] = (index, data)
+        if key not in self.mesh_cache:
+            self.mesh_cache[key] = [None, self._mesh_data(obj, mats, holdout)]
         return self.mesh_cache[key]
 
     def _mesh_data(self, obj, mats, holdout):
@@ -364,7 +361,7 @@ class SceneWriter:
             data.gltf_materials = gltf_mats
         return data
 
-    def _write_mesh(self, name, data, mats, holdout, world=None):
+    def _write_mesh(self, name, data, world=None):
         """A glTF mesh of `data` (vertices transformed by `world`, a 4x4 in
         glTF axes, when an instance cannot be a TRS node)."""
         pos, nrm, tan = data.positions, data.normals, data.tangents
@@ -398,8 +395,9 @@ class SceneWriter:
 
     def _instance(self, inst, obj):
         holdout = bool(getattr(obj, "is_holdout", False)) or self._collection_holdout(obj)
-        index, data = self._mesh_index(obj, holdout)
-        if index is None:
+        entry = self._mesh_entry(obj, holdout)
+        data = entry[1]
+        if data is None:
             return
         m = node_matrix(inst)
         node = _trs(m)
@@ -409,8 +407,11 @@ class SceneWriter:
         if baked:
             # Shear: this instance's vertices in world space (glTF nodes are TRS).
             node = {}
-            index = self._write_mesh(obj.name + " (baked)", data, None, holdout,
-                                     world=[list(r) for r in m])
+            index = self._write_mesh(obj.name + " (baked)", data, world=[list(r) for r in m])
+        else:
+            if entry[0] is None:
+                entry[0] = self._write_mesh(obj.name, data)
+            index = entry[0]
         node["name"] = name
         node["mesh"] = index
         n = self.doc.add_node(node)
@@ -421,7 +422,7 @@ class SceneWriter:
 
     def _collection_holdout(self, obj):
         """The view layer's holdout collections (Cycles' layer holdout)."""
-        holdouts = getattr(self, "_holdout_objects", None)
+        holdouts = self._holdout_objects
         if holdouts is None:
             holdouts = set()
 
