@@ -197,16 +197,18 @@ def part_writer():
         compare_info(name, info(ours), info(theirs))
         if name not in STATIC:
             continue
-        # A small render of both: the same scene, so within the noise of two
-        # independent photon sets (different seeds would differ as much).
-        for f, seed in ((ours, "1"), (theirs, "2")):
+        # A small render of both with the same seed: what differs is only the
+        # files' vertex and triangle order (other BVHs, so other photon
+        # paths), which moves the mean by 0.06 % on sun_atrium, while two
+        # seeds of one file differ by up to 5 % at this size.
+        for f in (ours, theirs):
             subprocess.run([EXE, "render", f, "-o", f[:-5] + ".exr", "--width", "48", "--photons", "16384",
-                            "--iterations", "2", "--spp", "2", "--seed", seed, "-q"], check=False)
+                            "--iterations", "2", "--spp", "2", "--seed", "1", "-q"], check=False)
         a, b = exr(ours[:-5] + ".exr"), exr(theirs[:-5] + ".exr")
         ma = sum(sum(a["channels"][c]) for c in "RGB")
         mb = sum(sum(b["channels"][c]) for c in "RGB")
         rel = abs(ma - mb) / max(mb, 1e-9)
-        check(mb > 0 and rel < 0.05, "%s: mean beauty of the two renders within 5%% (%.2f%%)" % (name, 100 * rel))
+        check(mb > 0 and rel < 0.01, "%s: mean beauty of the two renders within 1%% (%.2f%%)" % (name, 100 * rel))
 
 
 def part_instances():
