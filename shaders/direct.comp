@@ -99,7 +99,7 @@ void main() {
     sum += f * Li * abs(dot(wi, b.n));
   }
   if (SC_EMISSIVE && frame.emitter_count > 0u)
-    sum += pb_emitter_light(surf, b, g.wo, o_shadow, frame.pixel_base + gid, pass.sample_index);
+    sum += pb_emitter_light(surf, b, g.wo, o_shadow, pb_pixel_key(frame.pixel_base + gid), pass.sample_index);
   vec3 c = g.throughput * sum;
   pb_gpu_accum acc = accum[gid];
   acc.beauty.rgb += c;

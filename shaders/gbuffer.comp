@@ -14,12 +14,14 @@
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 #include "common/scene.glsl"
+#include "common/camera.glsl"
 
 void main() {
   uint gid = pb_gid();
   if (gid >= frame.pixel_count) return;
   uint pixel = frame.pixel_base + gid;
   uint px = pixel % frame.width, py = pixel / frame.width;
+  uint key = pb_pixel_key(pixel);
   uint s = pass.sample_index;
 
   // Sample position in the pixel: centre for one sample (unless the frame
@@ -31,13 +33,12 @@ void main() {
     uint m = uint(ceil(sqrt(float(frame.spp))));
     uint cell = s % (m * m);
     jitter = (vec2(float(cell % m), float(cell / m)) +
-              vec2(pb_rand(pixel, s, 0u), pb_rand(pixel, s, 1u))) / float(m);
+              vec2(pb_rand(key, s, 0u), pb_rand(key, s, 1u))) / float(m);
   }
-  float fx = float(px) + jitter.x, fy = float(py) + jitter.y;
-  float sx = (2.0 * fx / float(frame.width) - 1.0) * frame.tan_x;
-  float sy = (1.0 - 2.0 * fy / float(frame.height)) * frame.tan_y;
-  vec3 dir = normalize(frame.cam_forward + frame.cam_right * sx + frame.cam_up * sy);
-  vec3 org = frame.cam_pos;
+  float fx = float(px + frame.key_x0) + jitter.x, fy = float(py + frame.key_y0) + jitter.y;
+  vec3 org, dir;
+  float t0, tmax;
+  pb_camera_ray(frame.cam, vec2(fx, fy), org, dir, t0, tmax);
   vec3 beta = vec3(1.0);
   bool direct_only = (frame.flags & PB_GPU_FRAME_DIRECT_ONLY) != 0u;
 
@@ -56,7 +57,8 @@ void main() {
 
   for (uint chain = 0u;; ++chain) {
     float t, u, v;
-    uint prim = pb_trace(org, dir, 0.0, uintBitsToFloat(0x7f800000u), false, t, u, v);
+    // The camera segment ends at the far clip plane (tmax), the others never.
+    uint prim = pb_trace(org, dir, 0.0, chain == 0u ? tmax : uintBitsToFloat(0x7f800000u), false, t, u, v);
     if (prim == PB_GPU_MISS) break;
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
     pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV
@@ -65,7 +67,7 @@ void main() {
     if (chain == 0u) {
       acc.beauty.w += 1.0;
       acc.normal += surf.ns;
-      acc.depth += t * dot(dir, frame.cam_forward);
+      acc.depth += (t0 + t) * dot(dir, frame.cam.forward);
       acc.albedo += pb_bsdf_albedo(b);
       acc.material = float(surf.mat + 1u);
     }
@@ -75,6 +77,7 @@ void main() {
     if (any(notEqual(le, vec3(0.0)))) {
       acc.beauty.rgb += beta * le;
       if (chain <= 1u) acc.direct += beta * le;
+      if (chain == 0u) acc.emission += le;
     }
     if (direct_only && chain >= 1u) break;
 
@@ -86,7 +89,7 @@ void main() {
     if (!SC_SPECULAR) p_delta = 0.0;
     float p_sum = p_smooth + p_delta;
     if (!(p_sum > 0.0)) break;
-    float uc = pb_rand(pixel, s, 2u + 4u * chain);
+    float uc = pb_rand(key, s, 2u + 4u * chain);
     if (uc * p_sum < p_smooth || chain >= frame.max_specular_depth) {
       // Stop here: the smooth lobes are lit by the direct pass. With a delta
       // lobe too, this choice had probability p_smooth / p_sum.
@@ -121,7 +124,7 @@ void main() {
       float cos_t;
       float F = pb_fresnel_dielectric(lo.z, eta, cos_t);
       float kg = (1.0 - b.metallic) * b.transmission / (l.z / p_sum);
-      float ug2 = pb_rand(pixel, s, 3u + 4u * chain);
+      float ug2 = pb_rand(key, s, 3u + 4u * chain);
       if (ug2 < F) {
         wi = b.t * -lo.x + b.b * -lo.y + b.n * lo.z;
         if (dot(wi, b.ng) <= 0.0) break;

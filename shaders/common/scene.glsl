@@ -64,6 +64,13 @@ float pb_rand(uint pixel, uint s, uint dim) {
   return float(h >> 8) * (1.0 / 16777216.0);
 }
 
+// The random-number key of pixel `pixel` of this image: its index in the
+// full frame (frame.key_*), so a crop draws the full frame's numbers.
+uint pb_pixel_key(uint pixel) {
+  if (frame.key_width == 0u) return pixel;
+  return (pixel / frame.width + frame.key_y0) * frame.key_width + pixel % frame.width + frame.key_x0;
+}
+
 // ---- textures: pb_texture_sample semantics (scene.c) ----------------------
 
 float pb_srgb_to_linear(float v) {

@@ -9,6 +9,7 @@
 #include "color/color.h"
 #include "core/json.h"
 #include "render/plan.h"
+#include "scene/camera.h"
 
 static const char *const light_type_names[] = {"point", "spot", "directional"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
@@ -25,6 +26,7 @@ static void default_view(char *buf, size_t size) {
   }
   pb_color_destroy(c);
 }
+static const char *const camera_fit_names[] = {"vertical", "horizontal", "larger"};
 
 static void print_text(const pb_scene *s) {
   printf("scene      %s\n", s->path);
@@ -38,9 +40,14 @@ static void print_text(const pb_scene *s) {
   printf("cameras    %u\n", s->camera_count);
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
-    printf("  %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), yfov %.2f deg, aspect %.4g%s\n", c->name,
-           c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
-           c->yfov * 180.0 / M_PI, c->aspect, c->synthesized ? " (default framing, not in the file)" : "");
+    printf("  %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), ", c->name, c->position[0], c->position[1],
+           c->position[2], c->forward[0], c->forward[1], c->forward[2]);
+    if (c->orthographic) printf("orthographic %.4g m", c->ortho_size);
+    else printf("%s %.2f deg", c->fit == PB_CAMERA_FIT_VERTICAL ? "yfov" : "fov", c->yfov * 180.0 / M_PI);
+    if (c->fit != PB_CAMERA_FIT_VERTICAL) printf(" (%s side)", camera_fit_names[c->fit]);
+    if (c->shift[0] != 0 || c->shift[1] != 0) printf(", shift (%.4g %.4g)", c->shift[0], c->shift[1]);
+    printf(", aspect %.4g, clip %.4g..%.4g m%s\n", c->aspect, c->znear, c->zfar,
+           c->synthesized ? " (default framing, not in the file)" : "");
   }
   printf("lights     %u  (units: %s; point/spot in W/sr, directional in W/m^2)\n", s->light_count,
          pb_light_units_names[s->light_units]);
@@ -129,8 +136,25 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     vec3(&j, "position", c->position);
     vec3(&j, "forward", c->forward);
     vec3(&j, "up", c->up);
+    pb_json_string(&j, "projection", c->orthographic ? "orthographic" : "perspective");
+    pb_json_string(&j, "fit", camera_fit_names[c->fit]);
     pb_json_number(&j, "yfov", c->yfov);
+    pb_json_number(&j, "ortho_size", c->ortho_size);
+    pb_json_begin_array(&j, "shift");
+    for (int k = 0; k < 2; ++k) pb_json_number(&j, NULL, c->shift[k]);
+    pb_json_end_array(&j);
     pb_json_number(&j, "aspect", c->aspect);
+    pb_json_number(&j, "znear", c->znear);
+    pb_json_number(&j, "zfar", c->zfar);
+    /* The view window at the camera's own aspect (4:3 without one), however
+     * the file described it (scene/camera.h): width, height (at distance 1,
+     * or metres when orthographic) and the centre's offset. */
+    double a = c->aspect > 0 ? c->aspect : 4.0 / 3.0, win[4];
+    uint32_t wh = 100000, ww = (uint32_t)fmin(4e9, fmax(1.0, round(a * wh)));
+    pb_camera_window(c, ww, wh, &win[0], &win[1], &win[2], &win[3]);
+    pb_json_begin_array(&j, "window");
+    for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, win[k]);
+    pb_json_end_array(&j);
     pb_json_bool(&j, "synthesized", c->synthesized);
     pb_json_end_object(&j);
   }

@@ -1,6 +1,7 @@
 /* pb_scene -> POV-Ray 3.7 SDL. The unit mappings and their derivations are in
  * pov.h; the tests render with POV-Ray and compare with the analytic values. */
 #include "pov/pov.h"
+#include "scene/camera.h"
 
 #include <assert.h>
 #include <errno.h>
@@ -435,13 +436,19 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
   return PB_OK;
 }
 
-static void write_camera(FILE *f, const pb_camera *c, double aspect) {
-  const double half = tan(0.5 * c->yfov);
-  const double dlen = 0.5 / half;
-  const double hfov = 2.0 * atan(aspect * half) * 180.0 / M_PI;
+/* The camera's window (scene/camera.h) as POV-Ray vectors: ray = direction
+ * + x right + y up, x, y in [-1/2, 1/2] (perspective), or from location + x
+ * right + y up along direction (orthographic), scaled so that |up| = 1.
+ * A lens shift puts the window's centre off the axis: direction is then not
+ * perpendicular to right and up (POV-Ray warns and renders the skewed
+ * window, which is the shifted lens). POV-Ray has no clip planes: znear and
+ * zfar are not written (a note says so when they would cut geometry). */
+static void write_camera(FILE *f, const pb_camera *c, uint32_t w, uint32_t h) {
+  double ww, wh, cx, cy;
+  pb_camera_window(c, w, h, &ww, &wh, &cx, &cy);
   /* Re-orthonormalise in double (the file's float basis is orthonormal to
    * ~1e-7): forward, up made perpendicular to it, right = forward x up. */
-  double fw[3], up[3], rt[3], d[3], u[3], r3[3];
+  double fw[3], up[3], rt[3], d[3], u[3], r3[3], loc[3];
   double n = 0, dot = 0;
   for (int k = 0; k < 3; ++k) n += (double)c->forward[k] * c->forward[k];
   for (int k = 0; k < 3; ++k) fw[k] = c->forward[k] / sqrt(n);
@@ -456,18 +463,33 @@ static void write_camera(FILE *f, const pb_camera *c, double aspect) {
   rt[1] = fw[2] * up[0] - fw[0] * up[2];
   rt[2] = fw[0] * up[1] - fw[1] * up[0];
   for (int k = 0; k < 3; ++k) {
-    d[k] = fw[k] * dlen;
     u[k] = up[k];
-    r3[k] = rt[k] * aspect;
+    r3[k] = rt[k] * ww / wh;
+    if (c->orthographic) {
+      d[k] = fw[k];
+      loc[k] = c->position[k] + rt[k] * cx + up[k] * cy;
+    } else {
+      d[k] = (fw[k] + rt[k] * cx + up[k] * cy) / wh;
+      loc[k] = c->position[k];
+    }
   }
   char name[PB_NAME_MAX];
   safe_name(name, sizeof name, c->name);
-  fprintf(f,
-          "\n// camera '%s': yfov %.9g deg, aspect %.9g (horizontal angle %.9g deg). Explicit vectors, mirrored\n"
-          "// like the geometry (so the picture is not): ray = direction + x right + y up, x, y in [-1/2, 1/2].\n"
-          "camera {\n  perspective\n  location ",
-          name, c->yfov * 180.0 / M_PI, aspect, hfov);
-  vec(f, c->position);
+  if (c->orthographic) {
+    fprintf(f,
+            "\n// camera '%s': orthographic, %.9g x %.9g m, shift (%.9g, %.9g). Explicit vectors, mirrored like the\n"
+            "// geometry (so the picture is not): ray from location + x right + y up along direction.\n"
+            "camera {\n  orthographic\n  location ",
+            name, ww, wh, c->shift[0], c->shift[1]);
+    for (int k = 0; k < 3; ++k) u[k] *= wh, r3[k] *= wh;
+  } else {
+    fprintf(f,
+            "\n// camera '%s': %.9g x %.9g deg, shift (%.9g, %.9g). Explicit vectors, mirrored like the geometry\n"
+            "// (so the picture is not): ray = direction + x right + y up, x, y in [-1/2, 1/2].\n"
+            "camera {\n  perspective\n  location ",
+            name, 2.0 * atan(0.5 * ww) * 180.0 / M_PI, 2.0 * atan(0.5 * wh) * 180.0 / M_PI, c->shift[0], c->shift[1]);
+  }
+  vecd(f, loc);
   fprintf(f, "\n  right ");
   vec17(f, r3);
   fprintf(f, "\n  up ");
@@ -552,7 +574,7 @@ pb_result pb_pov_export(const pb_scene *s, const pb_pov_desc *desc, const char *
           pb_pov_quality_names[(desc->quality == PB_POV_QUALITY_DEFAULT ? PB_POV_MEDIUM : desc->quality) - 1],
           photons ? ", photons on (specular paths)" : "");
   write_global(f, p, photons);
-  write_camera(f, cam, (double)w / h);
+  write_camera(f, cam, w, h);
   r = write_lights(&x, f, fade);
   for (uint32_t mi = 0; r == PB_OK && mi < s->material_count; ++mi) r = write_mesh(&x, f, mi, remap, verts);
   if (r == PB_OK && s->animation_count)

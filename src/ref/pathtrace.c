@@ -49,12 +49,11 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   jx -= floor(jx);
   jy -= floor(jy);
   float px = (float)x + (float)jx, py = (float)y + (float)jy;
-  float sx = (2.0f * px / (float)ctx->width - 1.0f) * ctx->tan_x;
-  float sy = (1.0f - 2.0f * py / (float)ctx->height) * ctx->tan_y;
+  float o3[3], d3[3], t0, tmax;
+  pb_camera_ray(&ctx->view, px, py, o3, d3, &t0, &tmax);
   v3 fwd = v3_load(cam->forward);
-  v3 dir = v3_norm(v3_add(v3_add(fwd, v3_scale(v3_load(cam->right), sx)),
-                          v3_scale(v3_load(cam->up), sy)));
-  v3 org = v3_load(cam->position);
+  v3 dir = v3_load(d3);
+  v3 org = v3_load(o3);
   v3 beta = v3_make(1, 1, 1);
   int prev_delta = 1;     /* the camera is a delta "vertex" for MIS */
   float prev_pdf = 0.0f;  /* solid-angle pdf of the last smooth sample */
@@ -63,14 +62,15 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   for (uint32_t k = 1;; ++k) {
     pb_ref_hit h;
     rays++;
-    if (!pb_ref_intersect(&ctx->accel, org, dir, INFINITY, &h)) break;
+    /* The camera segment ends at the far clip plane. */
+    if (!pb_ref_intersect(&ctx->accel, org, dir, k == 1 ? tmax : INFINITY, &h)) break;
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
     if (k == 1) {
       out->hit = 1;
       out->normal = surf.ns;
-      out->depth = h.t * v3_dot(dir, fwd);
+      out->depth = (t0 + h.t) * v3_dot(dir, fwd);
     }
 
     v3 le = pb_surface_emission(s, &surf);

@@ -11,6 +11,7 @@
 
 #include "core/mix.h"
 #include "ref/ref.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 
 #ifndef M_PI
@@ -302,8 +303,8 @@ struct pb_ref_ctx {
   pb_ref_mode mode;
   pb_ref_accel accel;
   pb_ref_lights lights;
-  /* Camera: pixel (x, y) looks along forward + sx right + sy up. */
-  float tan_x, tan_y;
+  /* The camera's window for this image (scene/camera.h). */
+  pb_gpu_camera view;
 };
 
 /* Runs fn(ctx, item, thread) for item in [0, count) on ctx->threads threads

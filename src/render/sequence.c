@@ -140,7 +140,9 @@ void pb_sequence_orbit_camera(const pb_scene *s, const pb_camera *start, double 
 
 static int camera_equal(const pb_camera *a, const pb_camera *b) {
   return !memcmp(a->position, b->position, sizeof a->position) && !memcmp(a->forward, b->forward, sizeof a->forward) &&
-         !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov;
+         !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov &&
+         a->orthographic == b->orthographic && a->fit == b->fit && a->ortho_size == b->ortho_size &&
+         !memcmp(a->shift, b->shift, sizeof a->shift) && a->znear == b->znear && a->zfar == b->zfar;
 }
 
 /* Progressive rendering of a still run: the temporal filters already keep

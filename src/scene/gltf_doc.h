@@ -67,11 +67,28 @@ typedef struct pb_gltf_scene {
   size_t node_count;
 } pb_gltf_scene;
 
+/* cameras[i].extensions.PHOTONBRIDGE_blender
+ * (exporters/blender/PHOTONBRIDGE_blender.md), as written: strings NULL and
+ * numbers NAN where a member is absent. A member of the wrong JSON type is
+ * named by bad_member (bad_expect says what it should be: "a number", "a
+ * string"; bad_member "" when the extension itself is not an object); the
+ * loader reports it. */
+typedef struct pb_gltf_camera_blender {
+  int present;
+  const char *bad_member, *bad_expect;
+  const char *type, *sensor_fit;
+  double lens, sensor_width, sensor_height, ortho_scale, shift_x, shift_y, clip_start, clip_end, aspect;
+} pb_gltf_camera_blender;
+
 typedef struct pb_gltf_camera {
   const char *name;
-  int perspective;        /* 0: orthographic or unknown type */
+  int perspective;        /* type "perspective" */
+  int orthographic;       /* type "orthographic" */
   const char *type;
-  double yfov, aspect_ratio, znear, zfar; /* aspect 0 / zfar 0: absent */
+  double yfov, aspect_ratio; /* perspective; aspect 0: absent */
+  double xmag, ymag;      /* orthographic */
+  double znear, zfar;     /* of the camera's type; zfar 0: absent */
+  pb_gltf_camera_blender blender;
 } pb_gltf_camera;
 
 typedef struct pb_gltf_light {

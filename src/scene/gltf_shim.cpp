@@ -17,6 +17,7 @@
 
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
@@ -324,6 +325,17 @@ pb_result precheck_objects(const char *path, const Json &j, const std::vector<un
   pb_result ir = precheck_ids(path, j);
   if (ir != PB_OK) return ir;
   bool bad = false;
+  // tinygltf drops an extension that is not an object; ours must say so.
+  const Json *cams = array_member(j, "cameras", &bad);
+  for (size_t i = 0; cams && i < cams->size(); ++i) {
+    const Json &c = (*cams)[i];
+    auto ext = c.is_object() ? c.find("extensions") : c.end();
+    if (ext == c.end() || !ext->is_object()) continue;
+    auto pbx = ext->find("PHOTONBRIDGE_blender");
+    if (pbx != ext->end() && !pbx->is_object())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%zu].extensions.PHOTONBRIDGE_blender: not an object", path, i);
+  }
+  bad = false;
   const Json *views = array_member(j, "bufferViews", &bad);
   if (bad) return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews: not an array", path);
   size_t n_views = views ? views->size() : 0;
@@ -555,6 +567,41 @@ double num_or(const tinygltf::Value &v, const char *key, double dflt) {
   return x.IsNumber() ? x.GetNumberAsDouble() : dflt;
 }
 
+// cameras[i].extensions.PHOTONBRIDGE_blender, member by member (gltf_doc.h).
+void camera_blender(const tinygltf::Value &v, pb_gltf_camera_blender *x) {
+  x->present = 1;
+  x->type = x->sensor_fit = nullptr;
+  if (!v.IsObject()) {
+    x->bad_member = "";
+    x->bad_expect = "an object";
+    return;
+  }
+  auto str = [&](const char *key, const char **out) {
+    if (!v.Has(key)) return;
+    const tinygltf::Value &m = v.Get(key);
+    if (m.IsString()) *out = m.Get<std::string>().c_str();
+    else if (!x->bad_member) x->bad_member = key, x->bad_expect = "a string";
+  };
+  auto num = [&](const char *key, double *out) {
+    *out = NAN;
+    if (!v.Has(key)) return;
+    const tinygltf::Value &m = v.Get(key);
+    if (m.IsNumber()) *out = m.GetNumberAsDouble();
+    else if (!x->bad_member) x->bad_member = key, x->bad_expect = "a number";
+  };
+  str("type", &x->type);
+  str("sensorFit", &x->sensor_fit);
+  num("lens", &x->lens);
+  num("sensorWidth", &x->sensor_width);
+  num("sensorHeight", &x->sensor_height);
+  num("orthoScale", &x->ortho_scale);
+  num("shiftX", &x->shift_x);
+  num("shiftY", &x->shift_y);
+  num("clipStart", &x->clip_start);
+  num("clipEnd", &x->clip_end);
+  num("aspect", &x->aspect);
+}
+
 void convert(Impl &m, pb_gltf_doc *doc) {
   tinygltf::Model &g = m.model;
   doc->generator = s(g.asset.generator);
@@ -666,10 +713,15 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.name = s(c.name);
     x.type = s(c.type);
     x.perspective = c.type == "perspective";
+    x.orthographic = c.type == "orthographic";
     x.yfov = c.perspective.yfov;
     x.aspect_ratio = c.perspective.aspectRatio;
-    x.znear = c.perspective.znear;
-    x.zfar = c.perspective.zfar;
+    x.xmag = c.orthographic.xmag;
+    x.ymag = c.orthographic.ymag;
+    x.znear = x.orthographic ? c.orthographic.znear : c.perspective.znear;
+    x.zfar = x.orthographic ? c.orthographic.zfar : c.perspective.zfar;
+    auto e = c.extensions.find("PHOTONBRIDGE_blender");
+    if (e != c.extensions.end()) camera_blender(e->second, &x.blender);
     m.cameras.push_back(x);
   }
   for (auto &l : g.lights) {

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/fs.h"
+#include "scene/camera.h"
 #include "scene/gltf_doc.h"
 #include "scene/tangents.h"
 #include "scene/scene.h"
@@ -989,18 +990,12 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].camera: %d does not exist (%zu cameras)", L->path, node, ci,
                    d->camera_count);
   const pb_gltf_camera *c = &d->cameras[ci];
-  if (!c->perspective)
-    return warn(L, "cameras[%d]: type '%s' skipped: only perspective cameras are supported", ci, c->type);
-  if (!(c->yfov > 0 && c->yfov < M_PI))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.yfov: %g is not in (0, pi)", L->path, ci, c->yfov);
-  if (!(c->znear > 0) || !fits_float(c->znear))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.znear: %g is not positive", L->path, ci, c->znear);
-  if (c->zfar != 0 && !(c->zfar > c->znear && fits_float(c->zfar)))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.zfar: %g is not above znear (%g)", L->path, ci, c->zfar,
-                   c->znear);
-  if (c->aspect_ratio < 0 || !fits_float(c->aspect_ratio))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.aspectRatio: %g is not positive", L->path, ci,
-                   c->aspect_ratio);
+  if (!c->perspective && !c->orthographic && !c->blender.present)
+    return warn(L, "cameras[%d]: type '%s' skipped: only perspective and orthographic cameras are supported", ci,
+                c->type);
+  pb_camera proj;
+  pb_result r = pb_camera_projection_from_gltf(L->path, ci, c, &proj);
+  if (r != PB_OK) return r;
   double o[3] = {0, 0, 0}, pos[3], f[3], u[3];
   double fz[3] = {0, 0, -1}, uy[3] = {0, 1, 0};
   xform_point(M, o, pos);
@@ -1017,20 +1012,16 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
   if (!normalize3(u))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: camera transform is degenerate", L->path, node);
   pb_scene *s = L->s;
-  pb_result r = grow(L, (void **)&s->cameras, &L->camera_cap, (uint64_t)s->camera_count + 1, sizeof *s->cameras, "cameras");
+  r = grow(L, (void **)&s->cameras, &L->camera_cap, (uint64_t)s->camera_count + 1, sizeof *s->cameras, "cameras");
   if (r != PB_OK) return r;
   pb_camera *cam = &s->cameras[s->camera_count++];
-  memset(cam, 0, sizeof *cam);
+  *cam = proj;
   copy_name(cam->name, d->nodes[node].name, c->name);
   if (!cam->name[0]) snprintf(cam->name, PB_NAME_MAX, "cameras[%d]", ci);
   for (int k = 0; k < 3; ++k) cam->position[k] = (float)pos[k], cam->forward[k] = (float)f[k], cam->up[k] = (float)u[k];
   cam->right[0] = (float)(f[1] * u[2] - f[2] * u[1]);
   cam->right[1] = (float)(f[2] * u[0] - f[0] * u[2]);
   cam->right[2] = (float)(f[0] * u[1] - f[1] * u[0]);
-  cam->yfov = (float)c->yfov;
-  cam->aspect = (float)c->aspect_ratio;
-  cam->znear = (float)c->znear;
-  cam->zfar = (float)c->zfar;
   return PB_OK;
 }
 
@@ -1275,8 +1266,7 @@ static pb_result synthesize_camera(loader *L) {
   memset(c, 0, sizeof *c);
   snprintf(c->name, PB_NAME_MAX, "default");
   c->synthesized = 1;
-  c->yfov = yfov;
-  c->znear = 0.01f;
+  c->yfov = yfov; /* no clip planes: it frames the bounds whatever their size */
   for (int k = 0; k < 3; ++k) {
     c->forward[k] = (float)f[k];
     c->position[k] = (float)pos[k];
@@ -1379,7 +1369,8 @@ static pb_result load(loader *L) {
   for (size_t i = 0; i < d->extensions_used_count; ++i) {
     const char *e = d->extensions_used[i];
     static const char *const known[] = {"KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_transmission",
-                                        "KHR_materials_ior", "KHR_materials_emissive_strength"};
+                                        "KHR_materials_ior", "KHR_materials_emissive_strength",
+                                        "PHOTONBRIDGE_blender"};
     int ok = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
     if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;

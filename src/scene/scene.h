@@ -108,14 +108,39 @@ typedef struct pb_light {
  * budgets; directional lights use the area of the scene's bounding disc. */
 void pb_light_power(const pb_light *l, float scene_radius, float power[3]);
 
-/* Perspective camera in world space. Looks along -Z of its node. */
+/* Which side of the picture a camera's field of view (or orthographic size)
+ * spans; the other side follows the image's aspect ratio. glTF's yfov and
+ * ymag are vertical; Blender's sensor fit is any of the three, AUTO being
+ * the larger side (BKE_camera_sensor_fit: width when width >= height). */
+typedef enum pb_camera_fit {
+  PB_CAMERA_FIT_VERTICAL = 0,
+  PB_CAMERA_FIT_HORIZONTAL = 1,
+  PB_CAMERA_FIT_AUTO = 2,
+} pb_camera_fit;
+
+/* Camera in world space, looking along -Z of its node. Zero-initialised
+ * extras (orthographic, fit, shift) give glTF's perspective camera. The
+ * rays of an image of it are pb_camera_view's (camera.c); every renderer
+ * goes through that one function. */
 typedef struct pb_camera {
   char name[PB_NAME_MAX];
   float position[3];
   float forward[3], up[3], right[3]; /* orthonormal, right-handed */
-  float yfov;                        /* radians, vertical */
+  int orthographic;                  /* 1: parallel rays along forward */
+  pb_camera_fit fit;                 /* the side yfov / ortho_size spans */
+  float yfov;                        /* perspective: radians, the full angle
+                                        across the fitted side (vertical for
+                                        glTF cameras); 0 when orthographic */
+  float ortho_size;                  /* orthographic: metres across the fitted
+                                        side (glTF 2 ymag, Blender's
+                                        ortho_scale) */
+  float shift[2];                    /* lens shift right and up, in units of
+                                        the fitted side's extent (Blender's
+                                        shift_x, shift_y) */
   float aspect;                      /* width/height; 0 if the file gives none */
-  float znear, zfar;                 /* zfar 0: infinite */
+  float znear, zfar;                 /* clip planes, metres along forward
+                                        (Cycles' clip_start / clip_end);
+                                        zfar 0: infinite */
   int synthesized;                   /* 1: made by the loader (file had none) */
 } pb_camera;
 

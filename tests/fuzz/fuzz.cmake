@@ -25,8 +25,10 @@ file(GLOB PB_FUZZ_LIB_SOURCES CONFIGURE_DEPENDS
      ${CMAKE_SOURCE_DIR}/src/core/*.c ${CMAKE_SOURCE_DIR}/src/scene/*.c
      ${CMAKE_SOURCE_DIR}/src/scene/*.cpp ${CMAKE_SOURCE_DIR}/src/image/*.c)
 add_library(pb_fuzzlib STATIC ${PB_FUZZ_LIB_SOURCES})
+# shaders/: the camera view struct (shared/pb_gpu.h) that src/scene/camera.h
+# shares with the GPU.
 target_include_directories(pb_fuzzlib PUBLIC ${CMAKE_SOURCE_DIR}/src ${CMAKE_BINARY_DIR}/generated
-                           PRIVATE /usr/include/stb)
+                           ${CMAKE_SOURCE_DIR}/shaders PRIVATE /usr/include/stb)
 target_compile_definitions(pb_fuzzlib PUBLIC _GNU_SOURCE)
 target_compile_options(pb_fuzzlib PRIVATE
   $<$<COMPILE_LANGUAGE:C>:${PB_C_WARN}>

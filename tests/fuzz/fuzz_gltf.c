@@ -160,9 +160,14 @@ static void check_success(const pb_scene *s) {
     for (int i = 0; i < 3; ++i)
       if (!isfinite(k->position[i]) || !isfinite(k->forward[i]) || !isfinite(k->up[i]) || !isfinite(k->right[i]))
         FAIL("cameras[%u]: position or frame is not finite", c);
-    if (!(k->yfov > 0) || !isfinite(k->yfov) || !(k->znear > 0) || !isfinite(k->znear) || !isfinite(k->zfar) ||
+    /* scene/camera.h: perspective yfov in (0, pi) or a positive orthographic
+     * size; clip planes 0 <= znear < zfar (zfar 0: none); finite shift. */
+    int proj_ok = k->orthographic ? k->ortho_size > 0 && isfinite(k->ortho_size) : k->yfov > 0 && k->yfov < 3.1416f;
+    if (!proj_ok || !(k->znear >= 0) || !isfinite(k->znear) || !isfinite(k->zfar) ||
+        (k->zfar != 0 && !(k->zfar > k->znear)) || !isfinite(k->shift[0]) || !isfinite(k->shift[1]) ||
         !isfinite(k->aspect) || k->aspect < 0)
-      FAIL("cameras[%u]: yfov %g znear %g zfar %g aspect %g", c, k->yfov, k->znear, k->zfar, k->aspect);
+      FAIL("cameras[%u]: yfov %g ortho %g znear %g zfar %g aspect %g", c, k->yfov, k->ortho_size, k->znear, k->zfar,
+           k->aspect);
   }
   for (uint32_t l = 0; l < s->light_count; ++l) {
     const pb_light *g = &s->lights[l];
