@@ -33,7 +33,7 @@ target_compile_options(pb_fuzzlib PRIVATE
   $<$<COMPILE_LANGUAGE:CXX>:${PB_WARN}>
   PUBLIC ${PB_FUZZ_SAN} -fsanitize=fuzzer-no-link)
 target_link_options(pb_fuzzlib PUBLIC -fsanitize=address,undefined)
-target_link_libraries(pb_fuzzlib PUBLIC OpenEXR::OpenEXRCore Threads::Threads m)
+target_link_libraries(pb_fuzzlib PUBLIC OpenEXR::OpenEXRCore PkgConfig::SPNG JPEG::JPEG Threads::Threads m)
 
 foreach(t gltf exr)
   add_executable(fuzz_${t} ${CMAKE_SOURCE_DIR}/tests/fuzz/fuzz_${t}.c)
