@@ -7,7 +7,7 @@ against stb_image's) and of bench/image_decode.c.
 
 PNG: every colour type (grey, RGB, palette, grey+alpha, RGBA) at every bit
 depth the format allows (1-16), Adam7-interlaced and not, each of the five
-row filters, palettes with tRNS, grey and RGB tRNS, tiny (1x1) to 256 px;
+row filters, palettes with tRNS, grey and RGB tRNS, tiny (1x1) to 2048 px;
 written here by a small encoder (Pillow writes neither interlaced nor 16-bit
 RGB PNGs). JPEG (Pillow): baseline at 4:4:4 / 4:2:2 / 4:2:0, grey,
 progressive, optimised Huffman tables, Adobe CMYK, low and high quality.
@@ -167,6 +167,9 @@ def png_variants(out):
     files["tiny_1x1.png"] = png(1, 1, 6, 8, lambda x, y: (10, 20, 30, 40))
     files["tiny_3x2_adam7.png"] = png(3, 2, 2, 8, lambda x, y: (x * 80, y * 120, 7), True)
     files["wide_257x3.png"] = png(257, 3, 2, 8, lambda x, y: (x % 256, y * 80, (x * 7) % 256))
+    # Large in pixels, small in bytes: a gradient that deflate packs into a
+    # few KB (fuzz_image's inputs stop at 64 KiB and 256 Kpixel).
+    files["large_2048x128.png"] = png(2048, 128, 2, 8, lambda x, y: (x // 8, y * 2, 128), filt=lambda y: 2)
     big = noise_rgba(256, 256, 11)
     files["rgba8_256.png"] = png(256, 256, 6, 8, lambda x, y: big[y * 256 + x])
     for name, data in files.items():
@@ -195,6 +198,8 @@ def jpeg_variants(out, img, suffix="", extra=True):
     img.convert("CMYK").save(os.path.join(out, "cmyk_adobe.jpg"), quality=90)
     rgb.crop((0, 0, 1, 1)).save(os.path.join(out, "tiny_1x1.jpg"), quality=90)
     rgb.crop((0, 0, 17, 9)).save(os.path.join(out, "odd_17x9_420.jpg"), quality=90, subsampling=2)
+    rgb.resize((512, 512), Image.BILINEAR).save(os.path.join(out, "large_512_progressive.jpg"), quality=60,
+                                                 progressive=True)
 
 
 BLENDER_SCRIPT = r"""
