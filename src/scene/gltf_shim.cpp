@@ -316,8 +316,9 @@ pb_result precheck_ids(const char *path, const Json &j) {
   return r;
 }
 
-// An image's data URI (what Blender's "glTF Embedded" export writes) must be
-// one tinygltf decodes as an image (its IsDataURI: exactly
+// An image's data URI (embedded glTF from three.js and other writers; Blender
+// 3.4's "glTF Embedded" uses bufferViews instead) must be one tinygltf
+// decodes as an image (its IsDataURI: exactly
 // "data:image/png;base64," or "data:image/jpeg;base64,") with strict base64:
 // tinygltf's decoder skips bad characters instead of failing. The decoded
 // bytes are bounded by the file's own size limit (3 bytes per 4 characters);
