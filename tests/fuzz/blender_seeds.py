@@ -92,7 +92,7 @@ def skin_morph():
             d.co.x *= s
             d.co.y *= s
     keys = bar.data.shape_keys
-    for f, v, i in ((1, 0.0, 'CONSTANT'), (6, 1.0, 'LINEAR'), (12, 0.2, 'BEZIER')):
+    for f, v in ((1, 0.0), (6, 1.0), (12, 0.2)):
         keys.key_blocks["Fat"].value = v
         keys.key_blocks["Fat"].keyframe_insert("value", frame=f)
     for fc in keys.animation_data.action.fcurves:
