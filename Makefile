@@ -2,7 +2,7 @@
 #   make demo   install what is missing, build, render samples/cornell_box
 #   make test   install, build (normal + ASan/UBSan), run the whole suite
 # Other targets: build, build-asan, install-deps, clean, fuzz-quick (each
-# libFuzzer target 60 s), fuzz (FUZZ_SECONDS each, default 600),
+# libFuzzer target 60 s), fuzz (FUZZ_SECONDS each, default 600, at nice 19),
 # blender-addon (links and enables the Blender add-on for this user).
 
 JOBS ?= $(shell nproc)
@@ -63,8 +63,15 @@ test: build build-asan
 fuzz-quick: build-fuzz
 	bash tests/fuzz/run.sh $(FUZZ_BUILD) 60
 
+# make fuzz [FUZZ_TARGETS="gltf exr image"] [FUZZ_SECONDS=600] [FUZZ_RUNS=N]:
+# one target after another at nice $(FUZZ_NICE), each stopping after
+# FUZZ_SECONDS or FUZZ_RUNS executions, whichever comes first.
+FUZZ_NICE ?= 19
+FUZZ_TARGETS ?=
+FUZZ_RUNS ?=
 fuzz: build-fuzz
-	NICE=10 bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+	NICE=$(FUZZ_NICE) FUZZ_ARGS="$(FUZZ_ARGS)$(if $(FUZZ_RUNS), -runs=$(FUZZ_RUNS))" \
+	  bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 # The normal build's suite only.
 test-fast: build

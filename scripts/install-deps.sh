@@ -5,17 +5,19 @@
 set -euo pipefail
 
 # Build and runtime: compiler tool chain, Vulkan (loader, lavapipe, validation
-# layers, glslc), Embree 3, OpenEXR 3, OpenColorIO 2, tinygltf + its json, stb.
+# layers, glslc), Embree 3, OpenEXR 3, OpenColorIO 2, tinygltf + its json, stb
+# (image writing), libspng and libjpeg-turbo (texture decoding).
 # Validation peers: POV-Ray 3.7, Blender 3.4 (headless exporter, Cycles) with
-# numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets;
+# numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets,
+# Pillow for their image seeds (tests/fuzz/make_image_seeds.py);
 # valgrind for the memory checks of the CPU paths.
 PKGS=(
   build-essential cmake pkg-config python3
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libembree-dev libopenexr-dev libopencolorio-dev
-  libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev libspng-dev libjpeg62-turbo-dev
   povray blender python3-numpy
-  clang libclang-rt-14-dev valgrind
+  clang libclang-rt-14-dev python3-pil valgrind
 )
 # Optional extras: skipped quietly when the archive lacks them. xvfb: the
 # Blender window screenshot of the README (exporters/blender/screenshot.sh).

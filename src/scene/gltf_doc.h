@@ -129,9 +129,13 @@ typedef struct pb_gltf_texture {
 
 typedef struct pb_gltf_image {
   const char *name;
-  const char *uri;        /* "" when from a bufferView */
+  const char *uri;        /* "" when from a bufferView or a data URI */
   const char *mime_type;
   int32_t buffer_view;
+  /* A data URI's decoded bytes (image/png or image/jpeg, base64 checked
+   * strictly by the shim); NULL otherwise. */
+  const uint8_t *data;
+  size_t data_size;
 } pb_gltf_image;
 
 typedef struct pb_gltf_sampler {

@@ -317,6 +317,33 @@ pb_result precheck_ids(const char *path, const Json &j) {
   return r;
 }
 
+// An image's data URI (embedded glTF from three.js and other writers; Blender
+// 3.4's "glTF Embedded" uses bufferViews instead) must be one tinygltf
+// decodes as an image (its IsDataURI: exactly
+// "data:image/png;base64," or "data:image/jpeg;base64,") with strict base64:
+// tinygltf's decoder skips bad characters instead of failing. The decoded
+// bytes are bounded by the file's own size limit (3 bytes per 4 characters);
+// the image's pixel size is checked by load.c from its header, as for files.
+pb_result check_image_data_uri(const char *path, size_t i, const std::string &u) {
+  if (u.rfind("data:", 0) != 0) return PB_OK;
+  size_t comma = u.find(',');
+  std::string head = u.substr(0, comma == std::string::npos ? u.size() : comma);
+  if (comma == std::string::npos || head.size() < 7 || head.compare(head.size() - 7, 7, ";base64") != 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu].uri: data URI is not base64", path, i);
+  std::string media = head.substr(5, head.size() - 12);
+  if (media != "image/png" && media != "image/jpeg") {
+    if (media.size() > 40) media = media.substr(0, 40) + "...";
+    for (char &c : media)
+      if ((unsigned char)c < 0x20 || (unsigned char)c > 0x7e) c = '?';
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%zu].uri: data URI of media type '%s' (only image/png and image/jpeg are supported)",
+                   path, i, media.c_str());
+  }
+  long long sz = b64_size(u.substr(comma + 1));
+  if (sz < 0) return pb_fail(PB_ERR_SCENE_PARSE, "%s: images[%zu].uri: malformed base64 data", path, i);
+  if (sz == 0) return pb_fail(PB_ERR_IMAGE, "%s: images[%zu].uri: data URI holds no image bytes", path, i);
+  return PB_OK;
+}
+
 // What tinygltf refuses itself with messages that name no JSON path (or
 // trusts, as the byte offset of an image's bufferView): checked here first so
 // that the error reads "FILE: accessors[3].count: ...". `declared` holds each
@@ -427,9 +454,8 @@ pb_result precheck_objects(const char *path, const Json &j, const std::vector<un
     auto uri = im.find("uri");
     if (uri == im.end() || !uri->is_string())
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu]: neither uri nor bufferView", path, i);
-    if (uri->get<std::string>().rfind("data:", 0) == 0)
-      return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%zu].uri: embedded data URI images are not supported (export with separate or GLB images)",
-                     path, i);
+    pb_result r = check_image_data_uri(path, i, uri->get<std::string>());
+    if (r != PB_OK) return r;
   }
   return PB_OK;
 }
@@ -547,9 +573,11 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
 }
 
 // load.c decodes images itself, with size limits; tinygltf only keeps the
-// reference (uri or bufferView).
-bool keep_image_reference(tinygltf::Image *, const int, std::string *, std::string *, int, int,
-                          const unsigned char *, int, void *) {
+// reference (uri or bufferView), and for a data URI the bytes it decoded
+// (check_image_data_uri approved the URI first).
+bool keep_image_reference(tinygltf::Image *image, const int, std::string *, std::string *, int, int,
+                          const unsigned char *bytes, int size, void *) {
+  if (image->bufferView < 0 && image->uri.empty() && bytes && size > 0) image->image.assign(bytes, bytes + size);
   return true;
 }
 
@@ -781,6 +809,10 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.uri = s(im.uri);
     x.mime_type = s(im.mimeType);
     x.buffer_view = im.bufferView;
+    if (!im.image.empty()) {
+      x.data = im.image.data();
+      x.data_size = im.image.size();
+    }
     m.images.push_back(x);
   }
   for (auto &sm : g.samplers) m.samplers.push_back(pb_gltf_sampler{sm.magFilter, sm.minFilter, sm.wrapS, sm.wrapT});

@@ -11,12 +11,12 @@
 
 #include "core/fs.h"
 #include "scene/camera.h"
+#include "image/decode.h"
 #include "scene/gltf_doc.h"
 #include "scene/tangents.h"
 #include "scene/scene.h"
 
 #include "scene/anim.h"
-#include "scene/image_decode.h"
 #include "scene/xform.h"
 
 enum {
@@ -243,9 +243,9 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
                      (unsigned long long)v->byte_length, v->buffer, (unsigned long long)b->size);
     bytes = b->data + v->byte_offset;
     size = v->byte_length;
-  } else if (strncmp(im->uri, "data:", 5) == 0) {
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d].uri: embedded data URI images are not supported (export with separate or GLB images)",
-                   L->path, img);
+  } else if (im->data) {
+    bytes = im->data; /* a data URI, decoded and checked by the shim */
+    size = im->data_size;
   } else if (im->uri[0]) {
     char *real = NULL;
     char w[64];
@@ -262,34 +262,23 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
   } else {
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%d]: neither uri nor bufferView", L->path, img);
   }
-  int ok = size >= 8 && size <= INT32_MAX &&
-           ((bytes[0] == 0x89 && memcmp(bytes + 1, "PNG", 3) == 0) || (bytes[0] == 0xFF && bytes[1] == 0xD8));
-  if (!ok) {
-    free(file);
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG or JPEG file", L->path, img, where);
-  }
-  uint32_t w = 0, h = 0;
-  uint8_t *px = NULL;
-  const char *why = NULL;
-  int rc = PB_DECODE_OK;
-  /* stb_image refuses a PNG over 2^30 decoded bytes as "corrupt": read the
-   * IHDR size first so that a huge declared size is reported as a limit. */
-  if (bytes[0] == 0x89 && size >= 24 && memcmp(bytes + 12, "IHDR", 4) == 0) {
-    w = (uint32_t)bytes[16] << 24 | (uint32_t)bytes[17] << 16 | (uint32_t)bytes[18] << 8 | bytes[19];
-    h = (uint32_t)bytes[20] << 24 | (uint32_t)bytes[21] << 16 | (uint32_t)bytes[22] << 8 | bytes[23];
-    if (w > L->desc->max_image_dim || h > L->desc->max_image_dim || (uint64_t)w * h > L->desc->max_image_pixels)
-      rc = PB_DECODE_TOO_LARGE;
-  }
-  if (rc == PB_DECODE_OK)
-    rc = pb_decode_image_rgba8(bytes, size, L->desc->max_image_dim, L->desc->max_image_pixels, &px, &w, &h, &why);
+  /* The declared size is checked from the header before any pixel memory
+   * is allocated (image/decode.h). */
+  const pb_decode_limits lim = {.max_dim = L->desc->max_image_dim, .max_pixels = L->desc->max_image_pixels};
+  pb_decoded dec;
+  pb_decode_status st = pb_decode_image_rgba8(bytes, size, &lim, &dec);
   free(file);
-  if (rc == PB_DECODE_TOO_LARGE)
+  if (st == PB_DECODE_UNKNOWN)
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG or JPEG file", L->path, img, where);
+  if (st == PB_DECODE_TOO_LARGE)
     return pb_fail(PB_ERR_LIMIT, "%s: images[%d]: %ux%u is over the image size limit (%u per side, %llu pixels)",
-                   L->path, img, w, h, L->desc->max_image_dim, (unsigned long long)L->desc->max_image_pixels);
-  if (rc != PB_DECODE_OK) return pb_fail(PB_ERR_IMAGE, "%s: images[%d]: cannot decode: %s", L->path, img, why);
-  L->image_cache[img] = px;
-  L->image_w[img] = w;
-  L->image_h[img] = h;
+                   L->path, img, dec.width, dec.height, L->desc->max_image_dim,
+                   (unsigned long long)L->desc->max_image_pixels);
+  if (st == PB_DECODE_NOMEM) return pb_fail(PB_ERR_NOMEM, "%s: images[%d]: out of memory decoding it", L->path, img);
+  if (st != PB_DECODE_OK) return pb_fail(PB_ERR_IMAGE, "%s: images[%d]: cannot decode: %s", L->path, img, dec.why);
+  L->image_cache[img] = dec.rgba;
+  L->image_w[img] = dec.width;
+  L->image_h[img] = dec.height;
   return PB_OK;
 }
 

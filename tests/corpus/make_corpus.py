@@ -35,8 +35,15 @@ EXIT_IMAGE, EXIT_LIMIT = 8, 10
 
 FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+
 
 # ---- byte builders ------------------------------------------------------------
+
+def read_bytes(path):
+    with open(path, "rb") as f:
+        return f.read()
+
 
 def png_chunk(kind, data):
     return (struct.pack(">I", len(data)) + kind + data +
@@ -50,6 +57,25 @@ def make_png(w, h, rgba_rows):
             png_chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0)) +
             png_chunk(b"IDAT", zlib.compress(raw, 9)) +
             png_chunk(b"IEND", b""))
+
+
+# A real 2x2 baseline JPEG of the same checker (Pillow 9.4, quality 90).
+JPEG_2X2 = bytes.fromhex(
+    "ffd8ffe000104a46494600010100000100010000ffdb0043000302020302020303030304030304050805050404050a07"
+    "0706080c0a0c0c0b0a0b0b0d0e12100d0e110e0b0b1016101113141515150c0f171816141812141514ffdb0043010304"
+    "0405040509050509140d0b0d141414141414141414141414141414141414141414141414141414141414141414141414"
+    "1414141414141414141414141414ffc00011080002000203012200021101031101ffc4001f0000010501010101010100"
+    "000000000000000102030405060708090a0bffc400b5100002010303020403050504040000017d010203000411051221"
+    "31410613516107227114328191a1082342b1c11552d1f02433627282090a161718191a25262728292a3435363738393a"
+    "434445464748494a535455565758595a636465666768696a737475767778797a838485868788898a9293949596979899"
+    "9aa2a3a4a5a6a7a8a9aab2b3b4b5b6b7b8b9bac2c3c4c5c6c7c8c9cad2d3d4d5d6d7d8d9dae1e2e3e4e5e6e7e8e9eaf1"
+    "f2f3f4f5f6f7f8f9faffc4001f0100030101010101010101010000000000000102030405060708090a0bffc400b51100"
+    "020102040403040705040400010277000102031104052131061241510761711322328108144291a1b1c109233352f015"
+    "6272d10a162434e125f11718191a262728292a35363738393a434445464748494a535455565758595a63646566676869"
+    "6a737475767778797a82838485868788898a92939495969798999aa2a3a4a5a6a7a8a9aab2b3b4b5b6b7b8b9bac2c3c4"
+    "c5c6c7c8c9cad2d3d4d5d6d7d8d9dae2e3e4e5e6e7e8e9eaf2f3f4f5f6f7f8f9faffda000c03010002110311003f00f9"
+    "f7e3d7c7af899e0ef8e7f11740d03e22f8b343d0b4af11ea363a7e99a6eb9736f6d676f15cc891431448e1638d115555"
+    "54000000000514515fd3780ff74a3fe18fe48f3f1bfef557fc4ff33fffd9")
 
 
 def tex_png():
@@ -410,12 +436,25 @@ def broken_cases(C, png):
     case("image_missing", EXIT_IO, "images[0].uri", setp(("images", 0, "uri"), "nothere.png"))
     case("image_uri_outside", EXIT_INVALID, ["images[0].uri", "leaves the scene's folder"],
          setp(("images", 0, "uri"), "../image_not_png/tex.png"))
-    case("image_data_uri", EXIT_UNSUPPORTED, "images[0].uri",
-         setp(("images", 0, "uri"), "data:image/png;base64," + base64.b64encode(png).decode()))
     case("image_bufferview_oob", EXIT_INVALID, "images[0].bufferView",
          setp(("images", 0), {"bufferView": 9, "mimeType": "image/png"}))
-    case("image_data_uri_empty", EXIT_UNSUPPORTED, "images[0].uri",
+    # Data-URI images ("glTF Embedded" files): the same decoder and limits as
+    # files, and the URI itself checked before tinygltf's lenient decoder.
+    b64 = base64.b64encode(png).decode()
+    case("image_data_uri_empty", EXIT_IMAGE, "images[0].uri: data URI holds no image bytes",
          setp(("images", 0, "uri"), "data:image/png;base64,"))
+    case("image_data_uri_bad_base64", EXIT_PARSE, "images[0].uri: malformed base64 data",
+         setp(("images", 0, "uri"), "data:image/png;base64," + b64[:8] + "!" + b64[9:]))
+    case("image_data_uri_wrong_mime", EXIT_UNSUPPORTED,
+         "images[0].uri: data URI of media type 'image/gif' (only image/png and image/jpeg are supported)",
+         setp(("images", 0, "uri"), "data:image/gif;base64," + b64))
+    case("image_data_uri_not_base64", EXIT_INVALID, "images[0].uri: data URI is not base64",
+         setp(("images", 0, "uri"), "data:image/png," + b64))
+    case("image_data_uri_oversize", EXIT_LIMIT,
+         "images[0]: 100000x100000 is over the image size limit (16384 per side, 67108864 pixels)",
+         setp(("images", 0, "uri"), "data:image/png;base64," + base64.b64encode(huge_png()).decode()))
+    case("image_data_uri_truncated", EXIT_IMAGE, "images[0]: cannot decode: PNG",
+         setp(("images", 0, "uri"), "data:image/png;base64," + base64.b64encode(png[:len(png) - 30]).decode()))
     case("image_no_source", EXIT_INVALID, "images[0]: neither uri nor bufferView",
          setp(("images", 0), {"name": "nothing"}))
 
@@ -598,6 +637,12 @@ def broken_cases(C, png):
     C.glb(B, "glb_chunk_header_truncated", patch(good + b"\0\0\0\0", 8, "<I", len(good) + 4), EXIT_PARSE,
           ["GLB chunk 2", "truncated chunk header"])
     C.glb(B, "glb_no_chunks", b"glTF" + struct.pack("<II", 2, 12), EXIT_PARSE, "GLB")
+    # The fuzzing finding that made stb_image add an offset to a null pointer
+    # (an empty IDAT chunk with a wrong CRC, then garbage): the regression
+    # input of fuzz_gltf, byte for byte.
+    C.glb(B, "image_png_empty_idat", read_bytes(os.path.join(HERE, "..", "fuzz", "regressions", "gltf",
+                                                             "stb_png_idat_null.glb")),
+          EXIT_IMAGE, "images[0]: cannot decode: PNG data: invalid chunk checksum")
     short_doc = copy.deepcopy(gdoc)
     short_doc["buffers"][0]["byteLength"] = len(gbin) + 400
     C.glb(B, "glb_bin_short", make_glb(short_doc, gbin), EXIT_INVALID, "buffers[0]")
@@ -715,6 +760,13 @@ def valid_cases(C, png):
     d["meshes"][1]["primitives"].append({"attributes": {"POSITION": len(d["accessors"]) - 1}})
     C.gltf(V, "position_without_bufferview", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=POSITION has no bufferView (all zeros): primitive skipped"])
+    # Images as data URIs, PNG and JPEG (the loader decodes them like files).
+    d = copy.deepcopy(doc0)
+    d["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(png).decode()
+    C.gltf(V, "image_data_uri_png", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    d = copy.deepcopy(doc0)
+    d["images"][0]["uri"] = "data:image/jpeg;base64," + base64.b64encode(JPEG_2X2).decode()
+    C.gltf(V, "image_data_uri_jpeg", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
     d = copy.deepcopy(doc0)
     d["extensionsUsed"].append("KHR_draco_mesh_compression")
     C.gltf(V, "draco_used_not_required", d, bin0, png, code=EXIT_OK,
@@ -722,8 +774,7 @@ def valid_cases(C, png):
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
-    root = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else here
+    root = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else HERE
     for sub in ("broken", "valid"):
         shutil.rmtree(os.path.join(root, sub), ignore_errors=True)
     C = Corpus(root)

@@ -1,8 +1,8 @@
 /* libFuzzer target: the glTF/GLB loader (pb_scene_load) on arbitrary bytes.
  *
- * The loader reads a path, so each input is written to a per-process folder
- * ($TMPDIR or /tmp, pb_fuzz_gltf.XXXXXX) as in.glb when it starts with the GLB
- * magic "glTF" and as in.gltf otherwise; the loader itself decides by the
+ * The loader reads a path, so each input is written to the target's folder
+ * (fuzz_util.h) as in.glb when it starts with the GLB magic "glTF" and as
+ * in.gltf otherwise; the loader itself decides by the
  * magic, so the name only keeps crash files easy to reproduce with
  * `photonbridge info`. The folder also holds base.bin and tex.png from the
  * corpus (tests/corpus/valid/base), so that inputs referencing them reach
@@ -23,9 +23,6 @@
  *
  * PB_FUZZ_VERBOSE=1 prints each input's result and message (reproducing:
  * PB_FUZZ_VERBOSE=1 build-fuzz/fuzz_gltf FILE). */
-#include <dirent.h>
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -36,89 +33,37 @@
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/result.h"
+#include "fuzz_util.h"
 #include "scene/scene.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static char dir[512], path_gltf[600], path_glb[600];
-static int verbose; /* PB_FUZZ_VERBOSE=1: print each input's result */
+static const char *path_gltf, *path_glb;
 
-#define FAIL(...)                                   \
-  do {                                              \
-    fprintf(stderr, "fuzz_gltf: contract: ");       \
-    fprintf(stderr, __VA_ARGS__);                   \
-    fprintf(stderr, "\n");                          \
-    abort();                                        \
-  } while (0)
-
-static void cleanup(void) {
-  unlink(path_gltf);
-  unlink(path_glb);
-  char p[600];
-  snprintf(p, sizeof p, "%s/base.bin", dir);
-  unlink(p);
-  snprintf(p, sizeof p, "%s/tex.png", dir);
-  unlink(p);
-  rmdir(dir);
-}
-
-static void write_all(const char *path, const uint8_t *data, size_t size) {
-  int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-  if (fd < 0) {
-    fprintf(stderr, "fuzz_gltf: cannot create %s: %s\n", path, strerror(errno));
-    abort();
-  }
-  while (size) {
-    ssize_t k = write(fd, data, size);
-    if (k <= 0) {
-      fprintf(stderr, "fuzz_gltf: cannot write %s: %s\n", path, strerror(errno));
-      abort();
-    }
-    data += k;
-    size -= (size_t)k;
-  }
-  close(fd);
-}
+#define FAIL pb_fuzz_fail
 
 static void copy_aux(const char *name) {
-  char src[600], dst[600];
+  char src[600];
   snprintf(src, sizeof src, "%s/%s", PB_FUZZ_AUX_DIR, name);
-  snprintf(dst, sizeof dst, "%s/%s", dir, name);
   uint8_t *d = NULL;
   size_t n = 0;
   if (pb_read_file(src, 1 << 20, &d, &n) != PB_OK) {
     pb_error_clear();
     return; /* the target still works without it */
   }
-  write_all(dst, d, n);
+  pb_fuzz_write(pb_fuzz_path(name), d, n);
   free(d);
 }
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc, (void)argv;
-  const char *tmp = getenv("TMPDIR");
-  snprintf(dir, sizeof dir, "%s/pb_fuzz_gltf.XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
-  if (!mkdtemp(dir)) {
-    fprintf(stderr, "fuzz_gltf: cannot create a folder in %s: %s\n", tmp ? tmp : "/tmp", strerror(errno));
-    abort();
-  }
-  snprintf(path_gltf, sizeof path_gltf, "%s/in.gltf", dir);
-  snprintf(path_glb, sizeof path_glb, "%s/in.glb", dir);
+  pb_fuzz_init("gltf");
+  path_gltf = pb_fuzz_path("in.gltf");
+  path_glb = pb_fuzz_path("in.glb");
   copy_aux("base.bin");
   copy_aux("tex.png");
-  atexit(cleanup);
-  pb_log_set_level(PB_LOG_QUIET);
-  const char *v = getenv("PB_FUZZ_VERBOSE");
-  verbose = v && v[0] == '1';
   return 0;
-}
-
-static int all_zero(const void *p, size_t n) {
-  const uint8_t *b = p;
-  for (size_t i = 0; i < n; ++i)
-    if (b[i]) return 0;
-  return 1;
 }
 
 static void check_failure(const char *path, pb_result r, const pb_scene *s) {
@@ -134,7 +79,7 @@ static void check_failure(const char *path, pb_result r, const pb_scene *s) {
   if (!msg || !msg[0]) FAIL("failure %d without a message", (int)r);
   if (strchr(msg, '\n') || strchr(msg, '\r')) FAIL("message is not one line: %s", msg);
   if (!strstr(msg, path)) FAIL("message does not name the file: %s", msg);
-  if (!all_zero(s, sizeof *s)) FAIL("failure %d left a non-empty scene (%s)", (int)r, msg);
+  if (!pb_fuzz_all_zero(s, sizeof *s)) FAIL("failure %d left a non-empty scene (%s)", (int)r, msg);
 }
 
 static void check_tex(const pb_scene *s, int32_t t, const char *what, uint32_t m) {
@@ -228,7 +173,7 @@ static void check_success(const pb_scene *s) {
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   const char *path = size >= 4 && memcmp(data, "glTF", 4) == 0 ? path_glb : path_gltf;
-  write_all(path, data, size);
+  pb_fuzz_write(path, data, size);
   /* Limits below the defaults keep every run inside libFuzzer's 2 GB
    * allocation limit (the defaults allow a 64 M triangle scene); the code
    * paths are the same. */
@@ -237,7 +182,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   pb_scene s;
   pb_error_clear();
   pb_result r = pb_scene_load(path, &desc, &s);
-  if (verbose) fprintf(stderr, "fuzz_gltf: %s: result %d: %s\n", path, (int)r, r ? pb_error_message() : "ok");
+  if (pb_fuzz_verbose()) fprintf(stderr, "fuzz_gltf: %s: result %d: %s\n", path, (int)r, r ? pb_error_message() : "ok");
   if (r != PB_OK) {
     check_failure(path, r, &s);
   } else {

@@ -14,7 +14,7 @@
 #include "core/fs.h"
 #include "image/image.h"
 #include "pbtest.h"
-#include "scene/image_decode.h"
+#include "image/decode.h"
 #include "scene/scene.h"
 
 #define BLENDER_CONFIG "/usr/share/blender/datafiles/colormanagement/config.ocio"
@@ -195,10 +195,11 @@ static void test_png(void) {
   uint8_t *bytes = NULL;
   size_t size = 0;
   CHECK_EQ_INT(pb_read_file(path, 1 << 20, &bytes, &size), PB_OK);
-  uint8_t *rgba = NULL;
-  uint32_t w = 0, h = 0;
-  const char *why = NULL;
-  if (bytes) CHECK_EQ_INT(pb_decode_image_rgba8(bytes, size, 4096, 1 << 20, &rgba, &w, &h, &why), PB_DECODE_OK);
+  pb_decoded dec = {0};
+  const pb_decode_limits lim = {.max_dim = 4096, .max_pixels = 1 << 20};
+  if (bytes) CHECK_EQ_INT(pb_decode_image_rgba8(bytes, size, &lim, &dec), PB_DECODE_OK);
+  uint8_t *rgba = dec.rgba;
+  uint32_t w = dec.width;
   if (rgba) {
     CHECK_EQ_INT(w, W);
     int worst = 0;
@@ -383,9 +384,13 @@ static int read_png(const char *path, uint8_t **rgba, uint32_t *w, uint32_t *h) 
   uint8_t *bytes = NULL;
   size_t size = 0;
   if (pb_read_file(path, 1 << 24, &bytes, &size) != PB_OK) return 0;
-  const char *why = NULL;
-  int ok = pb_decode_image_rgba8(bytes, size, 4096, 1 << 22, rgba, w, h, &why) == PB_DECODE_OK;
+  pb_decoded dec;
+  const pb_decode_limits lim = {.max_dim = 4096, .max_pixels = 1 << 22};
+  int ok = pb_decode_image_rgba8(bytes, size, &lim, &dec) == PB_DECODE_OK;
   free(bytes);
+  *rgba = dec.rgba;
+  *w = dec.width;
+  *h = dec.height;
   return ok;
 }
 
