@@ -84,8 +84,9 @@ typedef struct pb_core_opts {
    NULL, 1, 16384},                                                            \
   {"height", 0, PB_OPT_U32, &(c)->height, "H",                                 \
    "image height (default from the camera's aspect ratio)", NULL, 1, 16384},  \
-  {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME",                           \
-   "camera to render (default: the first)", NULL, 0, 0},                       \
+  {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME|N",                         \
+   "camera to render, by name or by its number in 'info' (default: 0)", NULL, \
+   0, 0},                                                                      \
   {"seed", 0, PB_OPT_U64, &(c)->seed, "N", "random seed (default 0)", NULL,   \
    0, 0},                                                                      \
   PB_SCENE_OPTS(c)

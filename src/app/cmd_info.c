@@ -24,9 +24,12 @@ static void print_text(const pb_scene *s) {
   printf("cameras    %u\n", s->camera_count);
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
-    printf("  %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), yfov %.2f deg, aspect %.4g%s\n", c->name,
-           c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
-           c->yfov * 180.0 / M_PI, c->aspect, c->synthesized ? " (default framing, not in the file)" : "");
+    uint32_t w, h;
+    pb_camera_image_size(c, 0, 0, &w, &h);
+    printf("  %-3u %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), yfov %.2f deg, aspect %.4g (%ux%u by default%s)%s\n",
+           i, c->name, c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
+           c->yfov * 180.0 / M_PI, (double)w / h, w, h, c->aspect > 0 ? "" : "; the file gives no aspect ratio",
+           c->synthesized ? " (default framing, not in the file)" : "");
   }
   printf("lights     %u  (units: %s; point/spot in W/sr, directional in W/m^2)\n", s->light_count,
          pb_light_units_names[s->light_units]);
@@ -107,13 +110,19 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_json_begin_array(&j, "cameras");
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
+    uint32_t w, h;
+    pb_camera_image_size(c, 0, 0, &w, &h);
     pb_json_begin_object(&j, NULL);
+    pb_json_int(&j, "index", i); /* what --camera N selects */
     pb_json_string(&j, "name", c->name);
     vec3(&j, "position", c->position);
     vec3(&j, "forward", c->forward);
     vec3(&j, "up", c->up);
     pb_json_number(&j, "yfov", c->yfov);
-    pb_json_number(&j, "aspect", c->aspect);
+    pb_json_number(&j, "aspect", (double)w / h); /* of the default image size (what render uses) */
+    pb_json_number(&j, "file_aspect", c->aspect); /* aspectRatio in the file, 0: none */
+    pb_json_int(&j, "default_width", w);
+    pb_json_int(&j, "default_height", h);
     pb_json_bool(&j, "synthesized", c->synthesized);
     pb_json_end_object(&j);
   }

@@ -112,11 +112,21 @@ void pb_scene_finalize(pb_scene *s) {
 }
 
 int pb_scene_find_camera(const pb_scene *s, const char *name) {
-  if (s->camera_count == 0) return -1;
+  if (s->camera_count == 0) return PB_CAMERA_ABSENT;
   if (!name) return 0;
+  size_t digits = strspn(name, "0123456789");
+  if (name[0] && !name[digits]) {
+    if (digits > 9) return PB_CAMERA_ABSENT; /* beyond any uint32 camera count we hold */
+    unsigned long i = strtoul(name, NULL, 10);
+    return i < s->camera_count ? (int)i : PB_CAMERA_ABSENT;
+  }
+  int found = PB_CAMERA_ABSENT;
   for (uint32_t i = 0; i < s->camera_count; ++i)
-    if (strcmp(s->cameras[i].name, name) == 0) return (int)i;
-  return -1;
+    if (strcmp(s->cameras[i].name, name) == 0) {
+      if (found >= 0) return PB_CAMERA_AMBIGUOUS;
+      found = (int)i;
+    }
+  return found;
 }
 
 void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,

@@ -240,7 +240,12 @@ pb_result pb_scene_set_time(pb_scene *s, double t);
  * scenes call it once the arrays are filled). */
 void pb_scene_finalize(pb_scene *s);
 
-/* Camera by name; NULL name picks the first. Returns -1 when absent. */
+/* Camera by name or index. NULL picks the first; a string of decimal digits
+ * is an index into cameras (the numbers `info` lists); anything else is a
+ * name. Returns the index; -1 when there is no such camera; -2 when several
+ * cameras share the name (glTF does not require unique names: select one by
+ * index). */
+enum { PB_CAMERA_ABSENT = -1, PB_CAMERA_AMBIGUOUS = -2 };
 int pb_scene_find_camera(const pb_scene *s, const char *name);
 
 /* Image size from a camera and optional overrides (0 = derive): width

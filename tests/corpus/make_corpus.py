@@ -694,6 +694,15 @@ def valid_cases(C, png):
     d["extensionsUsed"].append("KHR_draco_mesh_compression")
     C.gltf(V, "draco_used_not_required", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=KHR_draco_mesh_compression"])
+    # Three camera nodes that share the name "Camera" (glTF does not require
+    # unique names): `--camera Camera` is refused, `--camera 2` picks the
+    # third (tests/cli.cmake).
+    d = copy.deepcopy(doc0)
+    d["nodes"][2]["name"] = "Camera"
+    for z in (7, 9):
+        d["nodes"].append({"name": "Camera", "camera": 0, "translation": [0, 0, z]})
+        d["nodes"][0]["children"].append(len(d["nodes"]) - 1)
+    C.gltf(V, "duplicate_camera_names", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
 
 
 def main():
