@@ -26,14 +26,25 @@ typedef struct pb_gltf_buffer_view {
   uint32_t byte_stride; /* 0: tightly packed */
 } pb_gltf_buffer_view;
 
+/* accessor.sparse: `count` elements replaced; indices and values are
+ * packed in their bufferViews (offsets default 0, views -1 when absent). */
+typedef struct pb_gltf_sparse {
+  uint64_t count;
+  int32_t indices_view, indices_ct;
+  uint64_t indices_offset;
+  int32_t values_view;
+  uint64_t values_offset;
+} pb_gltf_sparse;
+
 typedef struct pb_gltf_accessor {
-  int32_t buffer_view;    /* -1: all zeros (or sparse) */
+  int32_t buffer_view;    /* -1: all zeros (then sparse values, if any) */
   uint64_t byte_offset;
   int32_t component_type; /* 5120..5126 */
   int32_t components;     /* 1 (SCALAR) .. 16 (MAT4), 0 if type unknown */
   uint64_t count;
   int normalized;
-  int sparse;             /* sparse accessors are refused by the loader */
+  int sparse;             /* 1: sparse_info applies */
+  pb_gltf_sparse sparse_info;
   int has_min_max;
   double min[3], max[3];  /* first three components */
 } pb_gltf_accessor;

@@ -251,6 +251,38 @@ pb_result check_id_array(const char *path, const Json &o, const char *key, const
   return PB_OK;
 }
 
+// accessor.sparse: tinygltf reads its members as int (truncating) and
+// refuses missing ones with messages that name no JSON path.
+pb_result check_sparse(const char *path, const Json &o, const std::string &w) {
+  auto it = o.is_object() ? o.find("sparse") : o.end();
+  if (it == o.end()) return PB_OK;
+  std::string sw = w + ".sparse";
+  if (!it->is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: not an object", path, sw.c_str());
+  auto c = it->find("count");
+  if (c == it->end() || !c->is_number_unsigned() || c->get<unsigned long long>() < 1 || c->get<unsigned long long>() > INT32_MAX)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.count: %s is not an integer from 1 to 2^31-1", path, sw.c_str(),
+                   c == it->end() ? "missing, which" : c->dump().c_str());
+  for (const char *k : {"indices", "values"}) {
+    std::string kw = sw + "." + k;
+    auto p = it->find(k);
+    if (p == it->end() || !p->is_object())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: missing or not an object", path, kw.c_str());
+    if (p->find("bufferView") == p->end()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.bufferView: missing", path, kw.c_str());
+    pb_result x = check_id(path, *p, "bufferView", kw);
+    if (x == PB_OK) x = check_offset(path, *p, "byteOffset", kw);
+    if (x != PB_OK) return x;
+    auto off = p->find("byteOffset");
+    if (off != p->end() && off->get<unsigned long long>() > INT32_MAX)
+      return pb_fail(PB_ERR_LIMIT, "%s: %s.byteOffset: %s is over 2^31-1", path, kw.c_str(), off->dump().c_str());
+    if (std::string(k) == "indices") {
+      auto ct = p->find("componentType");
+      if (ct == p->end() || !ct->is_number_integer())
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.componentType: missing or not an integer", path, kw.c_str());
+    }
+  }
+  return PB_OK;
+}
+
 pb_result precheck_ids(const char *path, const Json &j) {
   pb_result r = check_id(path, j, "scene", "");
   auto each = [&](const char *key, const std::function<pb_result(const Json &, const std::string &)> &fn) {
@@ -286,7 +318,8 @@ pb_result precheck_ids(const char *path, const Json &j) {
   });
   each("accessors", [&](const Json &o, const std::string &w) {
     pb_result x = check_id(path, o, "bufferView", w);
-    return x == PB_OK ? check_offset(path, o, "byteOffset", w) : x;
+    if (x == PB_OK) x = check_offset(path, o, "byteOffset", w);
+    return x == PB_OK ? check_sparse(path, o, w) : x;
   });
   each("bufferViews", [&](const Json &o, const std::string &w) {
     pb_result x = check_id(path, o, "buffer", w);
@@ -588,6 +621,16 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.count = a.count;
     x.normalized = a.normalized;
     x.sparse = a.sparse.isSparse;
+    x.sparse_info.indices_view = x.sparse_info.values_view = -1;
+    if (x.sparse) {
+      // precheck_ids has checked that these were integers in int range.
+      x.sparse_info.count = (uint64_t)a.sparse.count;
+      x.sparse_info.indices_view = a.sparse.indices.bufferView;
+      x.sparse_info.indices_offset = (uint64_t)a.sparse.indices.byteOffset;
+      x.sparse_info.indices_ct = a.sparse.indices.componentType;
+      x.sparse_info.values_view = a.sparse.values.bufferView;
+      x.sparse_info.values_offset = (uint64_t)a.sparse.values.byteOffset;
+    }
     if (a.minValues.size() >= 3 && a.maxValues.size() >= 3) {
       x.has_min_max = 1;
       for (int k = 0; k < 3; ++k) {

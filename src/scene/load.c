@@ -14,6 +14,7 @@
 #include "scene/tangents.h"
 #include "scene/scene.h"
 
+#include "scene/accessor.h"
 #include "scene/anim.h"
 #include "scene/image_decode.h"
 #include "scene/xform.h"
@@ -22,12 +23,6 @@ enum {
   MODE_TRIANGLES = 4,
   MODE_TRIANGLE_STRIP = 5,
   MODE_TRIANGLE_FAN = 6,
-  CT_BYTE = 5120,
-  CT_UBYTE = 5121,
-  CT_SHORT = 5122,
-  CT_USHORT = 5123,
-  CT_UINT = 5125,
-  CT_FLOAT = 5126,
   MAX_NODE_DEPTH = 1024,
 };
 
@@ -87,124 +82,6 @@ static pb_result warn(loader *L, const char *fmt, ...) {
 static void copy_name(char dst[PB_NAME_MAX], const char *a, const char *b) {
   const char *src = (a && a[0]) ? a : (b ? b : "");
   snprintf(dst, PB_NAME_MAX, "%s", src);
-}
-
-/* ---- accessors ----------------------------------------------------------- */
-
-static uint32_t component_size(int32_t ct) {
-  switch (ct) {
-  case CT_BYTE: case CT_UBYTE: return 1;
-  case CT_SHORT: case CT_USHORT: return 2;
-  case CT_UINT: case CT_FLOAT: return 4;
-  default: return 0;
-  }
-}
-
-/* A checked view of an accessor's elements. */
-typedef struct span {
-  const uint8_t *base; /* NULL: no bufferView, every element is zero */
-  uint64_t count;
-  uint32_t stride, elem;
-  int32_t ct;
-  int normalized;
-} span;
-
-/* Checks accessors[idx] (used at `where`) against the expected shape and its
- * bufferView and buffer, so that reading element i < count of it is in
- * bounds. `types` is a 0-terminated list of allowed component types. */
-static pb_result check_accessor(loader *L, int32_t idx, const char *where, int components,
-                                const int32_t *types, span *out) {
-  pb_gltf_doc *d = L->doc;
-  if (idx < 0 || (size_t)idx >= d->accessor_count)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d does not exist (%zu accessors)", L->path,
-                   where, idx, d->accessor_count);
-  const pb_gltf_accessor *a = &d->accessors[idx];
-  if (a->sparse)
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: accessors[%d]: sparse accessors are not supported", L->path, idx);
-  if (a->components != components)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: has %d components, %s needs %d", L->path, idx,
-                   a->components, where, components);
-  int ok = 0;
-  for (const int32_t *t = types; *t; ++t) ok |= *t == a->component_type;
-  if (!ok)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: componentType %d is not allowed for %s", L->path,
-                   idx, a->component_type, where);
-  uint32_t csize = component_size(a->component_type);
-  uint32_t elem = csize * (uint32_t)components;
-  memset(out, 0, sizeof *out);
-  out->count = a->count;
-  out->elem = elem;
-  out->stride = elem;
-  out->ct = a->component_type;
-  out->normalized = a->normalized;
-  if (a->count == 0)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count is 0", L->path, idx);
-  if (a->buffer_view == -1) {
-    /* All zeros, per the spec: no bytes in the file back the count. */
-    if (a->count > UINT32_MAX)
-      return pb_fail(PB_ERR_LIMIT, "%s: accessors[%d]: count %llu is over the limit", L->path, idx,
-                     (unsigned long long)a->count);
-    return PB_OK;
-  }
-  if (a->buffer_view < 0 || (size_t)a->buffer_view >= d->buffer_view_count)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].bufferView: %d does not exist (%zu bufferViews)",
-                   L->path, idx, a->buffer_view, d->buffer_view_count);
-  const pb_gltf_buffer_view *v = &d->buffer_views[a->buffer_view];
-  if (v->buffer < 0 || (size_t)v->buffer >= d->buffer_count)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].buffer: %d does not exist (%zu buffers)", L->path,
-                   a->buffer_view, v->buffer, d->buffer_count);
-  const pb_gltf_buffer *b = &d->buffers[v->buffer];
-  if (v->byte_offset > b->size || v->byte_length > b->size - v->byte_offset)
-    return pb_fail(PB_ERR_SCENE_INVALID,
-                   "%s: bufferViews[%d]: offset %llu + length %llu exceeds buffers[%d] (%llu bytes)", L->path,
-                   a->buffer_view, (unsigned long long)v->byte_offset, (unsigned long long)v->byte_length,
-                   v->buffer, (unsigned long long)b->size);
-  uint32_t stride = v->byte_stride ? v->byte_stride : elem;
-  if (v->byte_stride && (v->byte_stride < elem || v->byte_stride > 252 || v->byte_stride % 4))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].byteStride: %u is invalid for accessors[%d] (element %u bytes)",
-                   L->path, a->buffer_view, v->byte_stride, idx, elem);
-  if (a->byte_offset % csize || (v->byte_offset + a->byte_offset) % csize)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].byteOffset: %llu is not aligned to its %u-byte components",
-                   L->path, idx, (unsigned long long)a->byte_offset, csize);
-  /* Needed bytes: offset + stride * (count - 1) + elem, computed without
-   * overflow (count < 2^32 is checked first). */
-  if (a->count > UINT32_MAX || a->byte_offset > v->byte_length)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count %llu x stride %u exceeds bufferViews[%d] (%llu bytes)",
-                   L->path, idx, (unsigned long long)a->count, stride, a->buffer_view,
-                   (unsigned long long)v->byte_length);
-  uint64_t need = a->byte_offset + (uint64_t)stride * (a->count - 1) + elem;
-  if (need > v->byte_length)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count %llu x stride %u exceeds bufferViews[%d] (%llu bytes)",
-                   L->path, idx, (unsigned long long)a->count, stride, a->buffer_view,
-                   (unsigned long long)v->byte_length);
-  out->base = b->data + v->byte_offset + a->byte_offset;
-  out->stride = stride;
-  return PB_OK;
-}
-
-/* Reads component c of element i as a float (normalized integers mapped per
- * the glTF spec). */
-static float read_f(const span *sp, uint64_t i, int c) {
-  if (!sp->base) return 0.0f;
-  const uint8_t *p = sp->base + i * sp->stride + (uint64_t)c * component_size(sp->ct);
-  switch (sp->ct) {
-  case CT_FLOAT: { float f; memcpy(&f, p, 4); return f; }
-  case CT_UBYTE: return sp->normalized ? (float)p[0] / 255.0f : (float)p[0];
-  case CT_BYTE: { int8_t x = (int8_t)p[0]; return sp->normalized ? fmaxf((float)x / 127.0f, -1.0f) : (float)x; }
-  case CT_USHORT: { uint16_t x; memcpy(&x, p, 2); return sp->normalized ? (float)x / 65535.0f : (float)x; }
-  case CT_SHORT: { int16_t x; memcpy(&x, p, 2); return sp->normalized ? fmaxf((float)x / 32767.0f, -1.0f) : (float)x; }
-  default: return 0.0f;
-  }
-}
-
-static uint32_t read_index(const span *sp, uint64_t i) {
-  if (!sp->base) return 0;
-  const uint8_t *p = sp->base + i * sp->stride;
-  switch (sp->ct) {
-  case CT_UBYTE: return p[0];
-  case CT_USHORT: { uint16_t x; memcpy(&x, p, 2); return x; }
-  default: { uint32_t x; memcpy(&x, p, 4); return x; }
-  }
 }
 
 /* ---- transforms: scene/xform.h ------------------------------------------ */
@@ -497,7 +374,7 @@ static pb_result anim_push_node(loader *L, int32_t **arr, uint32_t *cap, uint32_
 static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp) {
   pb_gltf_doc *d = L->doc;
   const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
-  static const int32_t float_only[] = {CT_FLOAT, 0};
+  static const int32_t float_only[] = {PB_CT_FLOAT, 0};
   char w[96];
   const char *ip = g->interpolation ? g->interpolation : "LINEAR";
   if (strcmp(ip, "LINEAR") == 0) *interp = PB_ANIM_LINEAR;
@@ -507,12 +384,12 @@ static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].samplers[%zu].interpolation: '%s' is not LINEAR, STEP or CUBICSPLINE",
                    L->path, ai, si, ip);
   snprintf(w, sizeof w, "animations[%zu].samplers[%zu].input", ai, si);
-  span in;
-  pb_result r = check_accessor(L, g->input, w, 1, float_only, &in);
+  pb_span in;
+  pb_result r = pb_accessor_check(L->path, L->doc, g->input, w, 1, float_only, &in);
   if (r != PB_OK) return r;
   float prev = 0;
   for (uint64_t k = 0; k < in.count; ++k) {
-    float v = read_f(&in, k, 0);
+    float v = pb_span_f(&in, k, 0);
     if (!isfinite(v)) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: time at key %llu is not finite", L->path, w, (unsigned long long)k);
     if (k > 0 && v < prev)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: times decrease at key %llu (%g after %g)", L->path, w, (unsigned long long)k,
@@ -535,17 +412,17 @@ static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t
                                       int *negative_scale) {
   pb_gltf_doc *d = L->doc;
   const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
-  static const int32_t float_only[] = {CT_FLOAT, 0};
-  static const int32_t rot_types[] = {CT_FLOAT, CT_BYTE, CT_UBYTE, CT_SHORT, CT_USHORT, 0};
+  static const int32_t float_only[] = {PB_CT_FLOAT, 0};
+  static const int32_t rot_types[] = {PB_CT_FLOAT, PB_CT_BYTE, PB_CT_UBYTE, PB_CT_SHORT, PB_CT_USHORT, 0};
   int comps = path == PB_ANIM_ROTATION ? 4 : 3;
   char wi[96], wo[128];
   snprintf(wi, sizeof wi, "animations[%zu].samplers[%zu].input", ai, si);
   snprintf(wo, sizeof wo, "animations[%zu].samplers[%zu].output (%s)", ai, si, anim_paths[path]);
-  span in, out;
-  pb_result r = check_accessor(L, g->input, wi, 1, float_only, &in);
-  if (r == PB_OK) r = check_accessor(L, g->output, wo, comps, path == PB_ANIM_ROTATION ? rot_types : float_only, &out);
+  pb_span in, out;
+  pb_result r = pb_accessor_check(L->path, L->doc, g->input, wi, 1, float_only, &in);
+  if (r == PB_OK) r = pb_accessor_check(L->path, L->doc, g->output, wo, comps, path == PB_ANIM_ROTATION ? rot_types : float_only, &out);
   if (r != PB_OK) return r;
-  if (out.ct != CT_FLOAT && !out.normalized)
+  if (out.ct != PB_CT_FLOAT && !out.normalized)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer rotation keys must be normalized (%s)", L->path, g->output, wo);
   uint64_t per = interp == PB_ANIM_CUBICSPLINE ? 3 : 1;
   if (out.count != in.count * per)
@@ -565,10 +442,10 @@ static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t
   S->key_count = (uint32_t)in.count;
   S->comps = comps;
   S->interp = interp;
-  for (uint64_t k = 0; k < in.count; ++k) S->times[k] = read_f(&in, k, 0);
+  for (uint64_t k = 0; k < in.count; ++k) S->times[k] = pb_span_f(&in, k, 0);
   for (uint64_t k = 0; k < out.count; ++k)
     for (int c = 0; c < comps; ++c) {
-      float v = read_f(&out, k, c);
+      float v = pb_span_f(&out, k, c);
       if (!isfinite(v))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: element %llu is not finite", L->path, wo, (unsigned long long)k);
       if (path == PB_ANIM_SCALE && (per == 1 || k % 3 == 1) && v < 0) *negative_scale = 1;
@@ -727,7 +604,7 @@ static pb_result anim_finish(loader *L, struct pb_scene_anim *a) {
  * edge), w reduced to its sign and flipped by a mirroring transform, since
  * the world normal keeps pointing out while cross(n, t) changes orientation.
  * A non-finite or collapsed tangent is left to pb_tangents_generate. */
-static pb_result store_tangent(loader *L, uint32_t dst, const span *tg, uint64_t src, const mat4 *M, int flip) {
+static pb_result store_tangent(loader *L, uint32_t dst, const pb_span *tg, uint64_t src, const mat4 *M, int flip) {
   if (dst >= L->tan_cap) {
     uint32_t old = L->tan_cap;
     pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, (uint64_t)dst + 1, sizeof *L->tan, "tangents");
@@ -737,8 +614,8 @@ static pb_result store_tangent(loader *L, uint32_t dst, const span *tg, uint64_t
     memset(q + old, 0, L->tan_cap - old);
     L->tan_given = q;
   }
-  double tl[3] = {read_f(tg, src, 0), read_f(tg, src, 1), read_f(tg, src, 2)}, tw[3];
-  float w = read_f(tg, src, 3);
+  double tl[3] = {pb_span_f(tg, src, 0), pb_span_f(tg, src, 1), pb_span_f(tg, src, 2)}, tw[3];
+  float w = pb_span_f(tg, src, 3);
   xform_dir(M, tl, tw);
   if (!isfinite(w) || !normalize3(tw)) return PB_OK;
   for (int k = 0; k < 3; ++k) L->tan[dst][k] = (float)tw[k];
@@ -760,24 +637,24 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   if (p->has_targets && (r = warn(L, "meshes[%d].primitives[%zu]: morph targets ignored", mesh, pi)) != PB_OK) return r;
   if (p->position == -1)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].attributes: no POSITION", L->path, mesh, pi);
-  static const int32_t float_only[] = {CT_FLOAT, 0};
-  static const int32_t uv_types[] = {CT_FLOAT, CT_UBYTE, CT_USHORT, 0};
-  static const int32_t index_types[] = {CT_UBYTE, CT_USHORT, CT_UINT, 0};
-  span pos, nrm, uv, idx;
+  static const int32_t float_only[] = {PB_CT_FLOAT, 0};
+  static const int32_t uv_types[] = {PB_CT_FLOAT, PB_CT_UBYTE, PB_CT_USHORT, 0};
+  static const int32_t index_types[] = {PB_CT_UBYTE, PB_CT_USHORT, PB_CT_UINT, 0};
+  pb_span pos, nrm, uv, idx;
   snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.POSITION", mesh, pi);
-  if ((r = check_accessor(L, p->position, w, 3, float_only, &pos)) != PB_OK) return r;
+  if ((r = pb_accessor_check(L->path, L->doc, p->position, w, 3, float_only, &pos)) != PB_OK) return r;
   int has_n = p->normal != -1, has_uv = p->texcoord0 != -1, indexed = p->indices != -1;
   if (has_n) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.NORMAL", mesh, pi);
-    if ((r = check_accessor(L, p->normal, w, 3, float_only, &nrm)) != PB_OK) return r;
+    if ((r = pb_accessor_check(L->path, L->doc, p->normal, w, 3, float_only, &nrm)) != PB_OK) return r;
     if (nrm.count != pos.count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
                      p->normal, (unsigned long long)nrm.count, (unsigned long long)pos.count);
   }
   if (has_uv) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TEXCOORD_0", mesh, pi);
-    if ((r = check_accessor(L, p->texcoord0, w, 2, uv_types, &uv)) != PB_OK) return r;
-    if (uv.ct != CT_FLOAT && !uv.normalized)
+    if ((r = pb_accessor_check(L->path, L->doc, p->texcoord0, w, 2, uv_types, &uv)) != PB_OK) return r;
+    if (uv.ct != PB_CT_FLOAT && !uv.normalized)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer TEXCOORD_0 must be normalized", L->path, p->texcoord0);
     if (uv.count != pos.count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
@@ -785,11 +662,11 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   }
   /* TANGENT (glTF 2.0 3.7.2.1: VEC4 float, w = +-1 the handedness): checked
    * whenever present, read only for a normal-mapped material. */
-  span tng = {0};
+  pb_span tng = {0};
   int has_t = p->tangent != -1;
   if (has_t) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TANGENT", mesh, pi);
-    if ((r = check_accessor(L, p->tangent, w, 4, float_only, &tng)) != PB_OK) return r;
+    if ((r = pb_accessor_check(L->path, L->doc, p->tangent, w, 4, float_only, &tng)) != PB_OK) return r;
     if (tng.count != pos.count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
                      p->tangent, (unsigned long long)tng.count, (unsigned long long)pos.count);
@@ -797,7 +674,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   uint64_t nidx = pos.count;
   if (indexed) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].indices", mesh, pi);
-    if ((r = check_accessor(L, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
+    if ((r = pb_accessor_check(L->path, L->doc, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
     nidx = idx.count;
   }
   int32_t mat;
@@ -809,7 +686,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   } else {
     mat = default_material(L);
   }
-  int use_t = has_t && tng.base && mat >= 0 && (uint32_t)mat < s->material_count &&
+  int use_t = has_t && pb_span_has_data(&tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
               s->materials[mat].normal_tex >= 0;
 
   /* Triangle list from the mode. Limits come before any per-element work:
@@ -829,16 +706,16 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
    * positions or zero indices make every triangle degenerate. Within the
    * limits such a primitive is skipped before any per-element work or
    * allocation. */
-  if (!pos.base || (indexed && !idx.base))
+  if (!pb_span_has_data(&pos) || (indexed && !pb_span_has_data(&idx)))
     return warn(L, "meshes[%d].primitives[%zu]: %s has no bufferView (all zeros): primitive skipped", mesh, pi,
-                !pos.base ? "POSITION" : "indices");
+                !pb_span_has_data(&pos) ? "POSITION" : "indices");
 
   /* Vertex positions: all finite, checked once per accessor element. */
-  for (uint64_t i = 0; pos.base && i < pos.count; ++i)
+  for (uint64_t i = 0; i < pos.count; ++i)
     for (int c = 0; c < 3; ++c)
-      if (!isfinite(read_f(&pos, i, c)))
+      if (!isfinite(pb_span_f(&pos, i, c)))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: POSITION element %llu is not finite (%g)", L->path,
-                       p->position, (unsigned long long)i, (double)read_f(&pos, i, c));
+                       p->position, (unsigned long long)i, (double)pb_span_f(&pos, i, c));
   if (p->mode == MODE_TRIANGLES && nidx % 3 &&
       (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
                 (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
@@ -872,20 +749,20 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   uint64_t dropped = 0;
   if (has_n) {
     for (uint64_t i = 0; i < pos.count; ++i) {
-      double pl[3] = {read_f(&pos, i, 0), read_f(&pos, i, 1), read_f(&pos, i, 2)}, pw[3];
+      double pl[3] = {pb_span_f(&pos, i, 0), pb_span_f(&pos, i, 1), pb_span_f(&pos, i, 2)}, pw[3];
       xform_point(M, pl, pw);
       if (!fits_float3(pw))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %llu out of float range",
                        L->path, node, p->position, (unsigned long long)i);
-      double nl[3] = {read_f(&nrm, i, 0), read_f(&nrm, i, 1), read_f(&nrm, i, 2)}, nw[3];
+      double nl[3] = {pb_span_f(&nrm, i, 0), pb_span_f(&nrm, i, 1), pb_span_f(&nrm, i, 2)}, nw[3];
       for (int rr = 0; rr < 3; ++rr) nw[rr] = N[rr] * nl[0] + N[3 + rr] * nl[1] + N[6 + rr] * nl[2];
       if (!normalize3(nw)) nw[0] = nw[1] = 0, nw[2] = 0; /* fixed below from the face */
       float *P = s->positions[base + i], *Nn = s->normals[base + i], *U = s->uvs[base + i];
       for (int c = 0; c < 3; ++c) P[c] = (float)pw[c], Nn[c] = (float)nw[c];
       if (an)
         for (int c = 0; c < 3; ++c) an->local_pos[local + i][c] = (float)pl[c], an->local_nrm[local + i][c] = (float)nl[c];
-      U[0] = has_uv ? read_f(&uv, i, 0) : 0.0f;
-      U[1] = has_uv ? read_f(&uv, i, 1) : 0.0f;
+      U[0] = has_uv ? pb_span_f(&uv, i, 0) : 0.0f;
+      U[1] = has_uv ? pb_span_f(&uv, i, 1) : 0.0f;
       if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
       if (use_t && (r = store_tangent(L, base + (uint32_t)i, &tng, i, M, flip)) != PB_OK) return r;
     }
@@ -898,7 +775,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     else k[0] = t + 1, k[1] = t + 2, k[2] = 0;
     uint32_t v[3];
     for (int c = 0; c < 3; ++c) {
-      uint64_t vi = indexed ? read_index(&idx, k[c]) : k[c];
+      uint64_t vi = indexed ? pb_span_u(&idx, k[c], 0) : k[c];
       if (vi >= pos.count)
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
                        L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)pos.count);
@@ -919,7 +796,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     } else {
       double pw[3][3];
       for (int c = 0; c < 3; ++c) {
-        double pl[3] = {read_f(&pos, v[c], 0), read_f(&pos, v[c], 1), read_f(&pos, v[c], 2)};
+        double pl[3] = {pb_span_f(&pos, v[c], 0), pb_span_f(&pos, v[c], 1), pb_span_f(&pos, v[c], 2)};
         xform_point(M, pl, pw[c]);
         if (!fits_float3(pw[c]))
           return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %u out of float range",
@@ -934,9 +811,9 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
         for (int a = 0; a < 3; ++a) s->positions[o][a] = (float)pw[c][a], s->normals[o][a] = (float)fn[a];
         if (an)
           for (int a = 0; a < 3; ++a)
-            an->local_pos[local + (o - base)][a] = read_f(&pos, v[c], a), an->local_nrm[local + (o - base)][a] = 0;
-        s->uvs[o][0] = has_uv ? read_f(&uv, v[c], 0) : 0.0f;
-        s->uvs[o][1] = has_uv ? read_f(&uv, v[c], 1) : 0.0f;
+            an->local_pos[local + (o - base)][a] = pb_span_f(&pos, v[c], a), an->local_nrm[local + (o - base)][a] = 0;
+        s->uvs[o][0] = has_uv ? pb_span_f(&uv, v[c], 0) : 0.0f;
+        s->uvs[o][1] = has_uv ? pb_span_f(&uv, v[c], 1) : 0.0f;
         if (use_t && (r = store_tangent(L, o, &tng, v[c], M, flip)) != PB_OK) return r;
         out[c] = o;
       }

@@ -182,6 +182,21 @@ def base(index_type=USHORT, indices=INDICES, positions=POSITIONS, mode=None,
     return doc, blob
 
 
+def add_buffer(d, *blobs):
+    """Appends a data-URI buffer holding `blobs` (each 4-byte aligned) and one
+    bufferView per blob; returns the views' indices."""
+    data, offsets = b"", []
+    for b in blobs:
+        offsets.append(len(data))
+        data += pad4(b)
+    d["buffers"].append({"byteLength": len(data),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()})
+    nb, first = len(d["buffers"]) - 1, len(d["bufferViews"])
+    for b, off in zip(blobs, offsets):
+        d["bufferViews"].append({"buffer": nb, "byteOffset": off, "byteLength": len(b)})
+    return list(range(first, first + len(blobs)))
+
+
 # ---- writing ----------------------------------------------------------------------
 
 class Corpus:
@@ -336,10 +351,41 @@ def broken_cases(C, png):
          setp(("accessors", 0, "componentType"), USHORT))
     case("indices_float", EXIT_INVALID, ["accessors[3]", "componentType 5126"],
          setp(("accessors", 3, "componentType"), FLOAT))
-    case("sparse_accessor", EXIT_UNSUPPORTED, ["accessors[0]", "sparse"],
-         setp(("accessors", 0, "sparse"), {
-             "count": 1, "indices": {"bufferView": 3, "componentType": USHORT},
-             "values": {"bufferView": 0}}))
+    # Sparse accessors (glTF 2.0 3.6.2.3): indices and values in a second,
+    # data-URI buffer; every rule of the spec's sparse object.
+    def sparse(indices, values, ict=USHORT, count=None, acc=0, edit=None):
+        def f(d):
+            ib = pad4(struct.pack("<%d%s" % (len(indices), INDEX_FORMAT[ict]), *indices))
+            vb = b"".join(f32(*v) for v in values)
+            views = add_buffer(d, ib, vb)
+            d["accessors"][acc]["sparse"] = {
+                "count": len(indices) if count is None else count,
+                "indices": {"bufferView": views[0], "componentType": ict},
+                "values": {"bufferView": views[1]}}
+            if edit:
+                edit(d["accessors"][acc]["sparse"], d)
+        return f
+    P2 = [(0, 0, 1), (0, 0, 2)]
+    case("sparse_count_zero", EXIT_INVALID, "accessors[0].sparse.count: 0 is not an integer from 1",
+         sparse([1, 2], P2, count=0))
+    case("sparse_count_over", EXIT_INVALID, "accessors[0].sparse.count: 5 is not in [1, 4]",
+         sparse([0, 1, 2, 3, 3], P2 * 3, count=5))
+    case("sparse_indices_not_increasing", EXIT_INVALID,
+         "accessors[0].sparse.indices: element 1 (1) does not increase on 2", sparse([2, 1], P2))
+    case("sparse_index_out_of_range", EXIT_INVALID,
+         "accessors[0].sparse.indices: index 4 at element 1 is out of range (count 4)", sparse([1, 4], P2))
+    case("sparse_indices_float", EXIT_INVALID, "accessors[0].sparse.indices.componentType: 5126",
+         sparse([1, 2], P2, edit=lambda sp, d: sp["indices"].update({"componentType": FLOAT})))
+    case("sparse_values_short", EXIT_INVALID,
+         "accessors[0].sparse.values: 2 elements of 12 bytes at offset 16 exceed bufferViews[",
+         sparse([1, 2], P2, edit=lambda sp, d: sp["values"].update({"byteOffset": 16})))
+    case("sparse_values_view_oob", EXIT_INVALID, "accessors[0].sparse.values.bufferView: 17 does not exist",
+         sparse([1, 2], P2, edit=lambda sp, d: sp["values"].update({"bufferView": 17})))
+    case("sparse_no_indices", EXIT_INVALID, "accessors[0].sparse.indices: missing",
+         sparse([1, 2], P2, edit=lambda sp, d: sp.pop("indices")))
+    case("sparse_indices_strided", EXIT_INVALID, "accessors[0].sparse.indices: bufferViews[",
+         sparse([1, 2], P2, edit=lambda sp, d: d["bufferViews"][sp["indices"]["bufferView"]].update({"byteStride": 4})))
+    case("sparse_not_object", EXIT_INVALID, "accessors[0].sparse: not an object", setp(("accessors", 0, "sparse"), 3))
     case("normal_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.NORMAL",
          setp(("accessors", 1, "count"), 3))
     case("texcoord_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.TEXCOORD_0",
@@ -703,6 +749,18 @@ def valid_cases(C, png):
         d["nodes"].append({"name": "Camera", "camera": 0, "translation": [0, 0, z]})
         d["nodes"][0]["children"].append(len(d["nodes"]) - 1)
     C.gltf(V, "duplicate_camera_names", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # A sparse POSITION (one vertex moved) and a sparse accessor without a
+    # bufferView (zeros, then the sparse values) as TEXCOORD_0.
+    d = copy.deepcopy(doc0)
+    iv, vv = add_buffer(d, struct.pack("<HH", 2, 0), f32(1, 1, 0.5))
+    d["accessors"][0]["sparse"] = {"count": 1, "indices": {"bufferView": iv, "componentType": USHORT},
+                                   "values": {"bufferView": vv}}
+    d["accessors"][0]["max"] = [1, 1, 0.5]
+    iv, vv = add_buffer(d, bytes([3, 0, 0, 0]), f32(0.5, 0.5))
+    d["accessors"].append({"componentType": FLOAT, "count": 4, "type": "VEC2", "sparse": {
+        "count": 1, "indices": {"bufferView": iv, "componentType": UBYTE}, "values": {"bufferView": vv}}})
+    d["meshes"][1]["primitives"][0]["attributes"]["TEXCOORD_0"] = len(d["accessors"]) - 1
+    C.gltf(V, "sparse_accessors", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
 
 
 def main():
