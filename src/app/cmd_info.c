@@ -70,6 +70,10 @@ static void print_text(const pb_scene *s) {
     printf(", %.4g to %.4g s (render --frames %d:%d at 24 fps)", s->anim_start, s->anim_end,
            (int)ceil(s->anim_start * 24.0 - 1e-6), (int)floor(s->anim_end * 24.0 + 1e-6));
   printf("\n");
+  if (s->skinned_vertex_count || s->morphed_vertex_count)
+    printf("deform     skinned vertices %u, morphed vertices %u; %u of them posed again per frame%s\n",
+           s->skinned_vertex_count, s->morphed_vertex_count, s->posed_vertex_count,
+           s->posed_vertex_count ? " (CPU, pb_scene_set_time)" : " (static: posed once when loaded)");
   printf("features  ");
   if (!s->features) printf(" none (diffuse only)");
   for (uint32_t b = 1; b; b <<= 1)
@@ -182,6 +186,11 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_number(&j, "animation_start_s", s->anim_start);
     pb_json_number(&j, "animation_end_s", s->anim_end);
   }
+  pb_json_begin_object(&j, "deform"); /* skins and morph targets, posed on the CPU */
+  pb_json_int(&j, "skinned_vertices", s->skinned_vertex_count);
+  pb_json_int(&j, "morphed_vertices", s->morphed_vertex_count);
+  pb_json_int(&j, "posed_per_frame", s->posed_vertex_count);
+  pb_json_end_object(&j);
   pb_json_begin_array(&j, "features");
   for (uint32_t b = 1; b; b <<= 1)
     if (s->features & b) pb_json_string(&j, NULL, pb_feature_name(b));

@@ -16,6 +16,7 @@
 
 #include "scene/accessor.h"
 #include "scene/anim.h"
+#include "scene/deform.h"
 #include "scene/image_decode.h"
 #include "scene/xform.h"
 
@@ -49,6 +50,14 @@ typedef struct loader {
   float (*tan)[4];
   uint8_t *tan_given;
   uint32_t tan_cap;
+  /* Skins and morph targets (deform.h): moved to the scene's anim when an
+   * instance moves, freed after the static pose otherwise. world: every
+   * node's world matrix in the file's own pose (with the precision origin),
+   * which the static pose of skinned instances needs before visit() has
+   * reached their joints. */
+  pb_deform deform;
+  mat4 *world;
+  int need_uv1;               /* some texture reads TEXCOORD_1 */
 } loader;
 
 /* ---- growth helpers ---------------------------------------------------- */
@@ -334,11 +343,20 @@ static int32_t default_material(loader *L) {
  * one animation each, and a file's animations are meant to be seen at once
  * (a player that picks one would freeze every other object). Channels apply
  * in file order, so where two animations drive the same node property the
- * later one wins (warned). Morph "weights" channels and channels on nodes
- * given by `matrix` (which glTF does not allow to animate) are ignored with a
- * warning. */
+ * later one wins (warned). "weights" channels drive the morph weights of
+ * their node's mesh (deform.h). Translation, rotation and scale channels on
+ * nodes given by `matrix` (which glTF does not allow to animate) are ignored
+ * with a warning. */
 
-static const char *const anim_paths[] = {"translation", "rotation", "scale"};
+static const char *const anim_paths[] = {"translation", "rotation", "scale", "weights"};
+
+/* Morph targets of the mesh nodes[node] draws (every primitive has as many:
+ * pb_morph_weights_load). */
+static size_t node_targets(const pb_gltf_doc *d, int32_t node) {
+  int32_t m = d->nodes[node].mesh;
+  if (m < 0 || (size_t)m >= d->mesh_count || !d->meshes[m].primitive_count) return 0;
+  return d->meshes[m].primitives[0].target_count;
+}
 
 static pb_result anim_reserve(loader *L, struct pb_scene_anim *a, uint64_t more) {
   uint64_t need = (uint64_t)a->local_count + more;
@@ -409,30 +427,36 @@ static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp
  * pb_anim_sampler: output shape per path, count = keys (x3 for CUBICSPLINE),
  * every value finite. */
 static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t ai, size_t si, int interp, int path,
-                                      int *negative_scale) {
+                                      size_t weights, int *negative_scale) {
   pb_gltf_doc *d = L->doc;
   const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
   static const int32_t float_only[] = {PB_CT_FLOAT, 0};
-  static const int32_t rot_types[] = {PB_CT_FLOAT, PB_CT_BYTE, PB_CT_UBYTE, PB_CT_SHORT, PB_CT_USHORT, 0};
-  int comps = path == PB_ANIM_ROTATION ? 4 : 3;
+  static const int32_t norm_types[] = {PB_CT_FLOAT, PB_CT_BYTE, PB_CT_UBYTE, PB_CT_SHORT, PB_CT_USHORT, 0};
+  /* Weights: one SCALAR per target per key (glTF 2.0 5.6.2). */
+  int comps = path == PB_ANIM_ROTATION ? 4 : path == PB_ANIM_WEIGHTS ? (int)weights : 3;
   char wi[96], wo[128];
   snprintf(wi, sizeof wi, "animations[%zu].samplers[%zu].input", ai, si);
   snprintf(wo, sizeof wo, "animations[%zu].samplers[%zu].output (%s)", ai, si, anim_paths[path]);
   pb_span in, out;
   pb_result r = pb_accessor_check(L->path, L->doc, g->input, wi, 1, float_only, &in);
-  if (r == PB_OK) r = pb_accessor_check(L->path, L->doc, g->output, wo, comps, path == PB_ANIM_ROTATION ? rot_types : float_only, &out);
+  int normalizable = path == PB_ANIM_ROTATION || path == PB_ANIM_WEIGHTS;
+  if (r == PB_OK)
+    r = pb_accessor_check(L->path, L->doc, g->output, wo, path == PB_ANIM_WEIGHTS ? 1 : comps,
+                          normalizable ? norm_types : float_only, &out);
   if (r != PB_OK) return r;
   if (out.ct != PB_CT_FLOAT && !out.normalized)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer rotation keys must be normalized (%s)", L->path, g->output, wo);
-  uint64_t per = interp == PB_ANIM_CUBICSPLINE ? 3 : 1;
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer %s keys must be normalized (%s)", L->path, g->output,
+                   anim_paths[path], wo);
+  uint64_t per = (interp == PB_ANIM_CUBICSPLINE ? 3 : 1) * (path == PB_ANIM_WEIGHTS ? (uint64_t)comps : 1);
   if (out.count != in.count * per)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, %s with %llu keys needs %llu", L->path, wo,
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, %s with %llu keys%s needs %llu", L->path, wo,
                    g->output, (unsigned long long)out.count, interp == PB_ANIM_CUBICSPLINE ? "CUBICSPLINE" : "LINEAR/STEP",
-                   (unsigned long long)in.count, (unsigned long long)(in.count * per));
+                   (unsigned long long)in.count, path == PB_ANIM_WEIGHTS ? " for its node's morph targets" : "",
+                   (unsigned long long)(in.count * per));
   pb_anim_sampler *S = &a->samplers[a->sampler_count];
   memset(S, 0, sizeof *S);
   S->times = malloc((size_t)in.count * sizeof *S->times);
-  S->values = malloc((size_t)out.count * (size_t)comps * sizeof *S->values);
+  S->values = malloc((size_t)in.count * per * (size_t)(path == PB_ANIM_WEIGHTS ? 1 : comps) * sizeof *S->values);
   if (!S->times || !S->values) {
     free(S->times);
     free(S->values);
@@ -443,13 +467,15 @@ static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t
   S->comps = comps;
   S->interp = interp;
   for (uint64_t k = 0; k < in.count; ++k) S->times[k] = pb_span_f(&in, k, 0);
+  /* Weights arrive as scalars, `comps` per key (element): the same layout. */
+  int ec = path == PB_ANIM_WEIGHTS ? 1 : comps;
   for (uint64_t k = 0; k < out.count; ++k)
-    for (int c = 0; c < comps; ++c) {
+    for (int c = 0; c < ec; ++c) {
       float v = pb_span_f(&out, k, c);
       if (!isfinite(v))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: element %llu is not finite", L->path, wo, (unsigned long long)k);
       if (path == PB_ANIM_SCALE && (per == 1 || k % 3 == 1) && v < 0) *negative_scale = 1;
-      S->values[k * (uint64_t)comps + (uint64_t)c] = v;
+      S->values[k * (uint64_t)ec + (uint64_t)c] = v;
     }
   return PB_OK;
 }
@@ -464,7 +490,7 @@ static pb_result build_anim(loader *L) {
   if (!a) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
   L->anim = a; /* freed by pb_scene_load unless moved to the scene */
   /* Per node and path: which animation and channel drives it (1-based). */
-  size_t (*owner)[3][2] = calloc(d->node_count + 1, sizeof *owner);
+  size_t (*owner)[4][2] = calloc(d->node_count + 1, sizeof *owner);
   a->channels = calloc(nch + 1, sizeof *a->channels);
   a->samplers = calloc(nch + 1, sizeof *a->samplers);
   if (!owner || !a->channels || !a->samplers) {
@@ -486,9 +512,9 @@ static pb_result build_anim(loader *L) {
       }
       const char *ps = ch->path ? ch->path : "";
       int path = -1;
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < 4; ++k)
         if (strcmp(ps, anim_paths[k]) == 0) path = k;
-      if (path < 0 && strcmp(ps, "weights") != 0 && strcmp(ps, "pointer") != 0) {
+      if (path < 0 && strcmp(ps, "pointer") != 0) {
         r = pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].channels[%zu].target.path: '%s' is not translation, rotation, scale or weights",
                     L->path, ai, ci, ps);
         break;
@@ -499,8 +525,7 @@ static pb_result build_anim(loader *L) {
         break;
       }
       if (path < 0) {
-        r = warn(L, "animations[%zu].channels[%zu]: '%s' channel ignored (morph targets and animation pointers are not animated)",
-                 ai, ci, ps);
+        r = warn(L, "animations[%zu].channels[%zu]: '%s' channel ignored (animation pointers are not animated)", ai, ci, ps);
         continue;
       }
       if (ch->target_node == -1) {
@@ -508,7 +533,12 @@ static pb_result build_anim(loader *L) {
         continue;
       }
       int32_t node = ch->target_node;
-      if (d->nodes[node].has_matrix) {
+      size_t targets = path == PB_ANIM_WEIGHTS ? node_targets(d, node) : 0;
+      if (path == PB_ANIM_WEIGHTS && !targets) {
+        r = warn(L, "animations[%zu].channels[%zu]: nodes[%d] draws no morph targets; 'weights' channel ignored", ai, ci, node);
+        continue;
+      }
+      if (path != PB_ANIM_WEIGHTS && d->nodes[node].has_matrix) {
         r = warn(L, "animations[%zu].channels[%zu]: nodes[%d] is given by a matrix, which glTF does not allow to animate; channel ignored",
                  ai, ci, node);
         continue;
@@ -526,7 +556,8 @@ static pb_result build_anim(loader *L) {
       own[0] = ai + 1;
       own[1] = ci + 1;
       uint32_t sidx = a->sampler_count;
-      if ((r = convert_anim_sampler(L, a, ai, (size_t)ch->sampler, interp[ch->sampler], path, &negative_scale)) != PB_OK) break;
+      if ((r = convert_anim_sampler(L, a, ai, (size_t)ch->sampler, interp[ch->sampler], path, targets, &negative_scale)) != PB_OK)
+        break;
       a->channels[a->channel_count++] = (pb_anim_channel){.sampler = sidx, .node = node, .path = path};
     }
     free(interp);
@@ -546,7 +577,11 @@ static pb_result build_anim(loader *L) {
   a->order = calloc(d->node_count + 1, sizeof *a->order);
   a->trs = calloc(d->node_count + 1, sizeof *a->trs);
   a->world = calloc(d->node_count + 1, sizeof *a->world);
-  if (!a->nodes || !a->order || !a->trs || !a->world) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  int comps = 4;
+  for (uint32_t i = 0; i < a->sampler_count; ++i)
+    if (a->samplers[i].comps > comps) comps = a->samplers[i].comps;
+  a->values = calloc((size_t)comps, sizeof *a->values);
+  if (!a->nodes || !a->order || !a->trs || !a->world || !a->values) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
   for (size_t i = 0; i < d->node_count; ++i) {
     const pb_gltf_node *n = &d->nodes[i];
     pb_anim_node *o = &a->nodes[i];
@@ -557,8 +592,25 @@ static pb_result build_anim(loader *L) {
     memcpy(o->r, n->rotation, sizeof o->r);
     memcpy(o->s, n->scale, sizeof o->s);
   }
-  /* A node with a channel is animated; visit() passes it down the tree. */
-  for (uint32_t i = 0; i < a->channel_count; ++i) a->nodes[a->channels[i].node].animated = 1;
+  /* A node with a translation, rotation or scale channel is animated, and
+   * so is every descendant: walk up from each node to the first one known
+   * (node_state as scratch: 0 unknown, 1 no, 2 yes; the graph is a forest,
+   * check_nodes). */
+  for (uint32_t i = 0; i < a->channel_count; ++i) {
+    pb_anim_node *o = &a->nodes[a->channels[i].node];
+    if (a->channels[i].path == PB_ANIM_WEIGHTS) o->weights_animated = 1;
+    else o->animated = 1;
+  }
+  uint8_t *st = L->node_state;
+  for (size_t i = 0; i < d->node_count; ++i) {
+    int32_t p = (int32_t)i;
+    while (p >= 0 && !st[p] && !a->nodes[p].animated) p = L->parent[p];
+    uint8_t v = p >= 0 && (a->nodes[p].animated || st[p] == 2) ? 2 : 1;
+    for (int32_t q = (int32_t)i; q >= 0 && q != p; q = L->parent[q]) st[q] = v;
+    if (p >= 0 && !st[p]) st[p] = v;
+  }
+  for (size_t i = 0; i < d->node_count; ++i) a->nodes[i].animated = st[i] == 2;
+  memset(st, 0, d->node_count); /* visit() starts from zero */
   return PB_OK;
 }
 
@@ -624,6 +676,220 @@ static pb_result store_tangent(loader *L, uint32_t dst, const pb_span *tg, uint6
   return PB_OK;
 }
 
+/* A vertex attribute of meshes[mesh].primitives[pi] named `name`:
+ * `comps` components of the allowed types (integers normalized), with
+ * POSITION's count. */
+static pb_result check_attribute(loader *L, int32_t mesh, size_t pi, const char *name, int32_t acc, int comps,
+                                 const int32_t *types, uint64_t count, pb_span *out) {
+  char w[128];
+  snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.%s", mesh, pi, name);
+  pb_result r = pb_accessor_check(L->path, L->doc, acc, w, comps, types, out);
+  if (r != PB_OK) return r;
+  if (out->ct != PB_CT_FLOAT && !out->normalized)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer %s must be normalized", L->path, acc, name);
+  if (out->count != count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w, acc,
+                   (unsigned long long)out->count, (unsigned long long)count);
+  return PB_OK;
+}
+
+/* What one primitive instance writes per vertex (add_primitive). */
+typedef struct prim_src {
+  pb_span pos, nrm, uv, uv1, col, tng;
+  int has_n, has_uv, has_uv1, has_col, use_t;
+  const mat4 *M;        /* vertices are written through it (identity for a
+                           deformed instance, which pb_deform_pose poses) */
+  double N[9];          /* its normal matrix */
+  int flip;
+  struct pb_scene_anim *an; /* rigid animation: local vertices kept */
+  uint32_t local, base;
+  uint32_t *src_of;     /* deformed: scene vertex - base -> source vertex */
+} prim_src;
+
+/* Grows a per-vertex array of the scene that exists only once some
+ * primitive has the attribute: `*arr` NULL until then; the vertices before
+ * it get `fill`. */
+static pb_result vertex_attr(loader *L, float **arr, size_t comps, const float *fill, int present) {
+  pb_scene *s = L->s;
+  if (!*arr && !present) return PB_OK;
+  int fresh = !*arr;
+  float *q = realloc(*arr, (size_t)L->vertex_cap * comps * sizeof *q);
+  if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+  *arr = q;
+  if (fresh)
+    for (uint32_t v = 0; v < s->vertex_count; ++v) memcpy(q + (size_t)v * comps, fill, comps * sizeof *fill);
+  return PB_OK;
+}
+
+/* Scene vertex `dst` from source element `i`. World position and normal
+ * come from the caller (the flat path computes the face normal). */
+static pb_result emit_vertex(loader *L, prim_src *P, uint32_t dst, uint64_t i, const double pw[3], const double nw[3],
+                             const double pl[3], const double nl[3]) {
+  pb_scene *s = L->s;
+  static const float white[4] = {1, 1, 1, 1};
+  for (int c = 0; c < 3; ++c) s->positions[dst][c] = (float)pw[c], s->normals[dst][c] = (float)nw[c];
+  if (P->an)
+    for (int c = 0; c < 3; ++c)
+      P->an->local_pos[P->local + (dst - P->base)][c] = (float)pl[c], P->an->local_nrm[P->local + (dst - P->base)][c] = (float)nl[c];
+  float *U = s->uvs[dst];
+  U[0] = P->has_uv ? pb_span_f(&P->uv, i, 0) : 0.0f;
+  U[1] = P->has_uv ? pb_span_f(&P->uv, i, 1) : 0.0f;
+  if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
+  if (s->uvs1) {
+    float *U1 = s->uvs1[dst];
+    U1[0] = P->has_uv1 ? pb_span_f(&P->uv1, i, 0) : 0.0f;
+    U1[1] = P->has_uv1 ? pb_span_f(&P->uv1, i, 1) : 0.0f;
+    if (!isfinite(U1[0]) || !isfinite(U1[1])) U1[0] = U1[1] = 0;
+  }
+  if (s->colors) {
+    /* COLOR_0 (glTF 2.0 3.7.2.1): linear RGB or RGBA, alpha 1 for VEC3;
+     * clamped to [0, 1] (float colours may stray; a base colour is a
+     * reflectance). */
+    float *C = s->colors[dst];
+    memcpy(C, white, sizeof white);
+    if (P->has_col)
+      for (int c = 0; c < (P->col.elem / pb_component_size(P->col.ct) == 4 ? 4 : 3); ++c) {
+        float x = pb_span_f(&P->col, i, c);
+        C[c] = isfinite(x) ? (x < 0 ? 0 : x > 1 ? 1 : x) : 0;
+      }
+  }
+  if (P->src_of) P->src_of[dst - P->base] = (uint32_t)i;
+  if (P->use_t && !P->src_of) return store_tangent(L, dst, &P->tng, i, P->M, P->flip);
+  return PB_OK;
+}
+
+/* Reads what pb_deform_pose needs of a skinned or morphed primitive, per
+ * source vertex, then (deform_add) keeps it per scene vertex and poses it. */
+typedef struct deform_src {
+  int32_t skin;
+  float (*pos)[3], (*nrm)[3], (*tan)[4];
+  float *dpos, *dnrm, *dtan; /* [target][source][3] */
+  uint32_t targets;
+  uint32_t influences;
+  uint16_t *joint;
+  float *weight;
+  uint64_t count;
+} deform_src;
+
+static void deform_src_free(deform_src *D) {
+  free(D->pos);
+  free(D->nrm);
+  free(D->tan);
+  free(D->dpos);
+  free(D->dnrm);
+  free(D->dtan);
+  free(D->joint);
+  free(D->weight);
+  memset(D, 0, sizeof *D);
+}
+
+static pb_result deform_read(loader *L, int32_t mesh, size_t pi, int32_t skin, const prim_src *P, deform_src *D) {
+  pb_gltf_doc *d = L->doc;
+  const pb_gltf_primitive *p = &d->meshes[mesh].primitives[pi];
+  uint64_t n = P->pos.count;
+  memset(D, 0, sizeof *D);
+  D->skin = skin;
+  D->count = n;
+  D->targets = (uint32_t)p->target_count;
+  D->pos = malloc((size_t)n * sizeof *D->pos);
+  if (P->has_n) D->nrm = malloc((size_t)n * sizeof *D->nrm);
+  if (P->use_t) D->tan = malloc((size_t)n * sizeof *D->tan);
+  if (!D->pos || (P->has_n && !D->nrm) || (P->use_t && !D->tan))
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory for meshes[%d].primitives[%zu]", L->path, mesh, pi);
+  for (uint64_t i = 0; i < n; ++i)
+    for (int c = 0; c < 4; ++c) {
+      if (c < 3) D->pos[i][c] = pb_span_f(&P->pos, i, c);
+      if (c < 3 && D->nrm) D->nrm[i][c] = pb_span_f(&P->nrm, i, c);
+      if (D->tan) D->tan[i][c] = pb_span_f(&P->tng, i, c);
+    }
+  pb_result r = PB_OK;
+  if (D->targets)
+    r = pb_morph_read_targets(L->path, d, mesh, pi, n, P->has_n, P->use_t, &D->dpos, &D->dnrm, &D->dtan);
+  if (r == PB_OK && skin >= 0)
+    r = pb_skin_read_influences(L->path, d, L->s, mesh, pi, &L->deform.skins[skin], n, &D->influences, &D->joint, &D->weight);
+  return r;
+}
+
+/* The winding of a skinned instance: reversed when most of its vertices'
+ * rest skin matrices mirror (the node's transform, which glTF ignores for a
+ * skinned mesh, does not decide it). */
+static int skinned_flip(loader *L, int32_t node, const deform_src *D) {
+  pb_deform_range tmp = {.node = node, .skin = D->skin, .influences = D->influences, .joint = D->joint, .weight = D->weight};
+  uint64_t neg = 0;
+  for (uint64_t i = 0; i < D->count; ++i) {
+    mat4 S;
+    pb_skin_matrix(&L->deform, &tmp, (uint32_t)i, &L->world[node], &S);
+    neg += det3(&S) < 0;
+  }
+  return 2 * neg > D->count;
+}
+
+static pb_result deform_add(loader *L, int32_t node, const deform_src *D, const prim_src *P, uint32_t tri_base) {
+  pb_scene *s = L->s;
+  pb_deform *df = &L->deform;
+  uint32_t nv = s->vertex_count - P->base;
+  if (!nv) return PB_OK;
+  if (df->range_count == df->range_cap) {
+    uint32_t c = df->range_cap ? 2 * df->range_cap : 8;
+    void *q = realloc(df->ranges, (size_t)c * sizeof *df->ranges);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    df->ranges = q;
+    df->range_cap = c;
+  }
+  pb_deform_range *R = &df->ranges[df->range_count++];
+  memset(R, 0, sizeof *R);
+  R->node = node;
+  R->skin = D->skin;
+  R->first_vertex = P->base;
+  R->vertex_count = nv;
+  R->first_tri = tri_base;
+  R->tri_count = s->triangle_count - tri_base;
+  R->flat = !P->has_n;
+  R->target_count = D->targets;
+  R->weights = D->targets ? df->node_weights[node] : 0;
+  R->influences = D->influences;
+  size_t t3 = (size_t)D->targets * nv * 3;
+  R->pos = malloc((size_t)nv * sizeof *R->pos);
+  if (D->nrm) R->nrm = malloc((size_t)nv * sizeof *R->nrm);
+  if (D->tan) R->tan = malloc((size_t)nv * sizeof *R->tan);
+  if (D->dpos) R->dpos = malloc(t3 * sizeof *R->dpos);
+  if (D->dnrm) R->dnrm = malloc(t3 * sizeof *R->dnrm);
+  if (D->dtan) R->dtan = malloc(t3 * sizeof *R->dtan);
+  if (D->joint) R->joint = malloc((size_t)nv * D->influences * sizeof *R->joint);
+  if (D->weight) R->weight = malloc((size_t)nv * D->influences * sizeof *R->weight);
+  if (!R->pos || (D->nrm && !R->nrm) || (D->tan && !R->tan) || (D->dpos && !R->dpos) || (D->dnrm && !R->dnrm) ||
+      (D->dtan && !R->dtan) || (D->joint && !R->joint) || (D->weight && !R->weight))
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory for the skin or morph targets of nodes[%d]", L->path, node);
+  for (uint32_t v = 0; v < nv; ++v) {
+    uint64_t i = P->src_of[v];
+    memcpy(R->pos[v], D->pos[i], sizeof R->pos[v]);
+    if (R->nrm) memcpy(R->nrm[v], D->nrm[i], sizeof R->nrm[v]);
+    if (R->tan) memcpy(R->tan[v], D->tan[i], sizeof R->tan[v]);
+    for (uint32_t t = 0; t < D->targets; ++t) {
+      size_t o = ((size_t)t * nv + v) * 3, q = ((size_t)t * D->count + i) * 3;
+      if (R->dpos) memcpy(R->dpos + o, D->dpos + q, 3 * sizeof *R->dpos);
+      if (R->dnrm) memcpy(R->dnrm + o, D->dnrm + q, 3 * sizeof *R->dnrm);
+      if (R->dtan) memcpy(R->dtan + o, D->dtan + q, 3 * sizeof *R->dtan);
+    }
+    if (R->joint) memcpy(R->joint + (size_t)v * D->influences, D->joint + i * D->influences, D->influences * sizeof *R->joint);
+    if (R->weight)
+      memcpy(R->weight + (size_t)v * D->influences, D->weight + i * D->influences, D->influences * sizeof *R->weight);
+  }
+  if (R->skin >= 0) df->skinned_vertices += nv;
+  if (R->target_count) df->morphed_vertices += nv;
+  /* The static pose: the file's transforms and weights. Tangents go to the
+   * loader's TANGENT table (finish_tangents keeps them). */
+  if (R->tan) {
+    pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, s->vertex_count, sizeof *L->tan, "tangents");
+    if (r != PB_OK) return r;
+    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
+    L->tan_given = q;
+    memset(q + P->base, 1, nv);
+  }
+  return pb_deform_pose(s, df, R, L->world, L->tan, NAN);
+}
+
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
   pb_gltf_doc *d = L->doc;
   pb_scene *s = L->s;
@@ -634,44 +900,41 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     const char *mn = p->mode >= 0 && p->mode <= 6 ? mode_names[p->mode] : "unknown";
     return warn(L, "meshes[%d].primitives[%zu]: mode %d (%s) skipped: only triangles are rendered", mesh, pi, p->mode, mn);
   }
-  if (p->has_targets && (r = warn(L, "meshes[%d].primitives[%zu]: morph targets ignored", mesh, pi)) != PB_OK) return r;
   if (p->position == -1)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].attributes: no POSITION", L->path, mesh, pi);
   static const int32_t float_only[] = {PB_CT_FLOAT, 0};
   static const int32_t uv_types[] = {PB_CT_FLOAT, PB_CT_UBYTE, PB_CT_USHORT, 0};
   static const int32_t index_types[] = {PB_CT_UBYTE, PB_CT_USHORT, PB_CT_UINT, 0};
-  pb_span pos, nrm, uv, idx;
+  prim_src P;
+  memset(&P, 0, sizeof P);
+  pb_span idx;
   snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.POSITION", mesh, pi);
-  if ((r = pb_accessor_check(L->path, L->doc, p->position, w, 3, float_only, &pos)) != PB_OK) return r;
-  int has_n = p->normal != -1, has_uv = p->texcoord0 != -1, indexed = p->indices != -1;
-  if (has_n) {
-    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.NORMAL", mesh, pi);
-    if ((r = pb_accessor_check(L->path, L->doc, p->normal, w, 3, float_only, &nrm)) != PB_OK) return r;
-    if (nrm.count != pos.count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
-                     p->normal, (unsigned long long)nrm.count, (unsigned long long)pos.count);
+  if ((r = pb_accessor_check(L->path, L->doc, p->position, w, 3, float_only, &P.pos)) != PB_OK) return r;
+  uint64_t count = P.pos.count;
+  int indexed = p->indices != -1;
+  P.has_n = p->normal != -1, P.has_uv = p->texcoord0 != -1;
+  if (P.has_n && (r = check_attribute(L, mesh, pi, "NORMAL", p->normal, 3, float_only, count, &P.nrm)) != PB_OK) return r;
+  if (P.has_uv && (r = check_attribute(L, mesh, pi, "TEXCOORD_0", p->texcoord0, 2, uv_types, count, &P.uv)) != PB_OK)
+    return r;
+  /* TEXCOORD_1: checked whenever present, kept only when a texture reads
+   * uv set 1. */
+  if (p->texcoord1 != -1) {
+    if ((r = check_attribute(L, mesh, pi, "TEXCOORD_1", p->texcoord1, 2, uv_types, count, &P.uv1)) != PB_OK) return r;
+    P.has_uv1 = L->need_uv1;
   }
-  if (has_uv) {
-    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TEXCOORD_0", mesh, pi);
-    if ((r = pb_accessor_check(L->path, L->doc, p->texcoord0, w, 2, uv_types, &uv)) != PB_OK) return r;
-    if (uv.ct != PB_CT_FLOAT && !uv.normalized)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer TEXCOORD_0 must be normalized", L->path, p->texcoord0);
-    if (uv.count != pos.count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
-                     p->texcoord0, (unsigned long long)uv.count, (unsigned long long)pos.count);
+  /* COLOR_0 (glTF 2.0 3.7.2.1): VEC3 or VEC4, float or normalized UBYTE /
+   * USHORT. */
+  if (p->color0 != -1) {
+    int32_t ca = p->color0;
+    int comps = ca >= 0 && (size_t)ca < d->accessor_count && d->accessors[ca].components == 3 ? 3 : 4;
+    if ((r = check_attribute(L, mesh, pi, "COLOR_0", ca, comps, uv_types, count, &P.col)) != PB_OK) return r;
+    P.has_col = 1;
   }
   /* TANGENT (glTF 2.0 3.7.2.1: VEC4 float, w = +-1 the handedness): checked
    * whenever present, read only for a normal-mapped material. */
-  pb_span tng = {0};
   int has_t = p->tangent != -1;
-  if (has_t) {
-    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TANGENT", mesh, pi);
-    if ((r = pb_accessor_check(L->path, L->doc, p->tangent, w, 4, float_only, &tng)) != PB_OK) return r;
-    if (tng.count != pos.count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
-                     p->tangent, (unsigned long long)tng.count, (unsigned long long)pos.count);
-  }
-  uint64_t nidx = pos.count;
+  if (has_t && (r = check_attribute(L, mesh, pi, "TANGENT", p->tangent, 4, float_only, count, &P.tng)) != PB_OK) return r;
+  uint64_t nidx = count;
   if (indexed) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].indices", mesh, pi);
     if ((r = pb_accessor_check(L->path, L->doc, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
@@ -686,8 +949,21 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   } else {
     mat = default_material(L);
   }
-  int use_t = has_t && pb_span_has_data(&tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
-              s->materials[mat].normal_tex >= 0;
+  P.use_t = has_t && pb_span_has_data(&P.tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
+            s->materials[mat].normal_tex >= 0;
+  if (p->variant_mapping_count &&
+      (r = warn(L, "meshes[%d].primitives[%zu]: KHR_materials_variants: %zu variant mapping(s); the default material is shown",
+                mesh, pi, p->variant_mapping_count)) != PB_OK)
+    return r;
+
+  /* Skin and morph targets (deform.h). */
+  int32_t skin = d->nodes[node].skin;
+  int skinned = skin >= 0 && (p->joint_set_count || p->weight_set_count);
+  if (skin >= 0 && !skinned &&
+      (r = warn(L, "nodes[%d]: skins[%d], but meshes[%d].primitives[%zu] has no JOINTS_0 / WEIGHTS_0: drawn with the node's transform",
+                node, skin, mesh, pi)) != PB_OK)
+    return r;
+  int deformed = skinned || p->target_count;
 
   /* Triangle list from the mode. Limits come before any per-element work:
    * an accessor without a bufferView costs the file nothing per element. */
@@ -697,7 +973,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
                    pi, (unsigned long long)L->desc->max_triangles);
   /* Flat normals (the glTF rule when NORMAL is absent) need 3 vertices per
    * triangle; otherwise the accessor's vertices are shared. */
-  uint64_t nverts = has_n ? pos.count : ntri * 3;
+  uint64_t nverts = P.has_n ? count : ntri * 3;
   if ((uint64_t)s->vertex_count + nverts > 3 * L->desc->max_triangles)
     return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: %llu vertices is over the limit of %llu in the scene",
                    L->path, mesh, pi, (unsigned long long)nverts, (unsigned long long)(3 * L->desc->max_triangles));
@@ -706,67 +982,86 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
    * positions or zero indices make every triangle degenerate. Within the
    * limits such a primitive is skipped before any per-element work or
    * allocation. */
-  if (!pb_span_has_data(&pos) || (indexed && !pb_span_has_data(&idx)))
+  if (!pb_span_has_data(&P.pos) || (indexed && !pb_span_has_data(&idx)))
     return warn(L, "meshes[%d].primitives[%zu]: %s has no bufferView (all zeros): primitive skipped", mesh, pi,
-                !pb_span_has_data(&pos) ? "POSITION" : "indices");
+                !pb_span_has_data(&P.pos) ? "POSITION" : "indices");
 
   /* Vertex positions: all finite, checked once per accessor element. */
-  for (uint64_t i = 0; i < pos.count; ++i)
+  for (uint64_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c)
-      if (!isfinite(pb_span_f(&pos, i, c)))
+      if (!isfinite(pb_span_f(&P.pos, i, c)))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: POSITION element %llu is not finite (%g)", L->path,
-                       p->position, (unsigned long long)i, (double)pb_span_f(&pos, i, c));
+                       p->position, (unsigned long long)i, (double)pb_span_f(&P.pos, i, c));
   if (p->mode == MODE_TRIANGLES && nidx % 3 &&
       (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
                 (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
     return r;
-  if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK) return r;
+  deform_src D;
+  memset(&D, 0, sizeof D);
+  if (deformed && (r = deform_read(L, mesh, pi, skinned ? skin : -1, &P, &D)) != PB_OK) goto done;
+  if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK)
+    goto done;
   uint32_t vcap = L->vertex_cap;
   void *q1 = realloc(s->normals, (size_t)vcap * sizeof *s->normals);
   if (q1) s->normals = q1;
   void *q2 = q1 ? realloc(s->uvs, (size_t)vcap * sizeof *s->uvs) : NULL;
   if (q2) s->uvs = q2;
-  if (!q1 || !q2) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+  if (!q1 || !q2) {
+    r = pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+    goto done;
+  }
+  static const float zero2[2] = {0, 0}, white[4] = {1, 1, 1, 1};
+  if ((r = vertex_attr(L, (float **)&s->uvs1, 2, zero2, P.has_uv1)) != PB_OK) goto done;
+  if ((r = vertex_attr(L, (float **)&s->colors, 4, white, P.has_col)) != PB_OK) goto done;
   uint32_t tcap = L->triangle_cap;
-  if ((r = grow(L, (void **)&s->triangles, &L->triangle_cap, (uint64_t)s->triangle_count + ntri, sizeof *s->triangles, "triangles")) != PB_OK) return r;
+  if ((r = grow(L, (void **)&s->triangles, &L->triangle_cap, (uint64_t)s->triangle_count + ntri, sizeof *s->triangles, "triangles")) != PB_OK)
+    goto done;
   if (L->triangle_cap != tcap) {
     void *q = realloc(s->triangle_material, (size_t)L->triangle_cap * sizeof *s->triangle_material);
-    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for triangles", L->path);
+    if (!q) {
+      r = pb_fail(PB_ERR_NOMEM, "%s: out of memory for triangles", L->path);
+      goto done;
+    }
     s->triangle_material = q;
   }
 
-  /* Under an animated node the local-space vertices are kept for posing. */
-  struct pb_scene_anim *an = L->anim && L->anim->nodes[node].animated ? L->anim : NULL;
-  uint32_t local = 0;
-  if (an) {
-    if ((r = anim_reserve(L, an, nverts)) != PB_OK) return r;
-    local = an->local_count;
+  /* Under an animated node the local-space vertices of a rigid instance are
+   * kept for posing (anim.h); a deformed one keeps its own (deform.h) and is
+   * written in mesh space here, then posed. */
+  mat4 I;
+  memset(&I, 0, sizeof I);
+  I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
+  P.M = deformed ? &I : M;
+  P.an = !deformed && L->anim && L->anim->nodes[node].animated ? L->anim : NULL;
+  if (P.an) {
+    if ((r = anim_reserve(L, P.an, nverts)) != PB_OK) goto done;
+    P.local = P.an->local_count;
   }
-  int flip = det3(M) < 0; /* a mirroring transform reverses the winding */
-  double N[9];
-  normal_matrix(M, N);
-  uint32_t base = s->vertex_count, tri_base = s->triangle_count;
+  if (deformed && !(P.src_of = malloc((size_t)(nverts ? nverts : 1) * sizeof *P.src_of))) {
+    r = pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    goto done;
+  }
+  /* A mirroring transform reverses the winding. */
+  P.flip = skinned ? skinned_flip(L, node, &D) : det3(M) < 0;
+  normal_matrix(P.M, P.N);
+  P.base = s->vertex_count;
+  uint32_t tri_base = s->triangle_count;
   uint64_t dropped = 0;
-  if (has_n) {
-    for (uint64_t i = 0; i < pos.count; ++i) {
-      double pl[3] = {pb_span_f(&pos, i, 0), pb_span_f(&pos, i, 1), pb_span_f(&pos, i, 2)}, pw[3];
-      xform_point(M, pl, pw);
-      if (!fits_float3(pw))
-        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %llu out of float range",
-                       L->path, node, p->position, (unsigned long long)i);
-      double nl[3] = {pb_span_f(&nrm, i, 0), pb_span_f(&nrm, i, 1), pb_span_f(&nrm, i, 2)}, nw[3];
-      for (int rr = 0; rr < 3; ++rr) nw[rr] = N[rr] * nl[0] + N[3 + rr] * nl[1] + N[6 + rr] * nl[2];
+  if (P.has_n) {
+    for (uint64_t i = 0; i < count; ++i) {
+      double pl[3] = {pb_span_f(&P.pos, i, 0), pb_span_f(&P.pos, i, 1), pb_span_f(&P.pos, i, 2)}, pw[3];
+      xform_point(P.M, pl, pw);
+      if (!fits_float3(pw)) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %llu out of float range",
+                    L->path, node, p->position, (unsigned long long)i);
+        goto done;
+      }
+      double nl[3] = {pb_span_f(&P.nrm, i, 0), pb_span_f(&P.nrm, i, 1), pb_span_f(&P.nrm, i, 2)}, nw[3];
+      for (int rr = 0; rr < 3; ++rr) nw[rr] = P.N[rr] * nl[0] + P.N[3 + rr] * nl[1] + P.N[6 + rr] * nl[2];
       if (!normalize3(nw)) nw[0] = nw[1] = 0, nw[2] = 0; /* fixed below from the face */
-      float *P = s->positions[base + i], *Nn = s->normals[base + i], *U = s->uvs[base + i];
-      for (int c = 0; c < 3; ++c) P[c] = (float)pw[c], Nn[c] = (float)nw[c];
-      if (an)
-        for (int c = 0; c < 3; ++c) an->local_pos[local + i][c] = (float)pl[c], an->local_nrm[local + i][c] = (float)nl[c];
-      U[0] = has_uv ? pb_span_f(&uv, i, 0) : 0.0f;
-      U[1] = has_uv ? pb_span_f(&uv, i, 1) : 0.0f;
-      if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
-      if (use_t && (r = store_tangent(L, base + (uint32_t)i, &tng, i, M, flip)) != PB_OK) return r;
+      if ((r = emit_vertex(L, &P, P.base + (uint32_t)i, i, pw, nw, pl, nl)) != PB_OK) goto done;
     }
-    s->vertex_count += (uint32_t)pos.count;
+    s->vertex_count += (uint32_t)count;
   }
   for (uint64_t t = 0; t < ntri; ++t) {
     uint64_t k[3];
@@ -776,45 +1071,44 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     uint32_t v[3];
     for (int c = 0; c < 3; ++c) {
       uint64_t vi = indexed ? pb_span_u(&idx, k[c], 0) : k[c];
-      if (vi >= pos.count)
-        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
-                       L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)pos.count);
+      if (vi >= count) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
+                    L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)count);
+        goto done;
+      }
       v[c] = (uint32_t)vi;
     }
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
       dropped++;
       continue;
     }
-    if (flip) {
+    if (P.flip) {
       uint32_t tmp = v[1];
       v[1] = v[2];
       v[2] = tmp;
     }
     uint32_t out[3];
-    if (has_n) {
-      for (int c = 0; c < 3; ++c) out[c] = base + v[c];
+    if (P.has_n) {
+      for (int c = 0; c < 3; ++c) out[c] = P.base + v[c];
     } else {
-      double pw[3][3];
+      double pl[3][3], pw[3][3];
       for (int c = 0; c < 3; ++c) {
-        double pl[3] = {pb_span_f(&pos, v[c], 0), pb_span_f(&pos, v[c], 1), pb_span_f(&pos, v[c], 2)};
-        xform_point(M, pl, pw[c]);
-        if (!fits_float3(pw[c]))
-          return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %u out of float range",
-                         L->path, node, p->position, v[c]);
+        for (int a = 0; a < 3; ++a) pl[c][a] = pb_span_f(&P.pos, v[c], a);
+        xform_point(P.M, pl[c], pw[c]);
+        if (!fits_float3(pw[c])) {
+          r = pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %u out of float range",
+                      L->path, node, p->position, v[c]);
+          goto done;
+        }
       }
       double e1[3] = {pw[1][0] - pw[0][0], pw[1][1] - pw[0][1], pw[1][2] - pw[0][2]};
       double e2[3] = {pw[2][0] - pw[0][0], pw[2][1] - pw[0][1], pw[2][2] - pw[0][2]};
       double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       if (!normalize3(fn)) fn[0] = 0, fn[1] = 0, fn[2] = 1; /* zero area: any unit normal */
+      static const double none[3] = {0, 0, 0};
       for (int c = 0; c < 3; ++c) {
         uint32_t o = s->vertex_count++;
-        for (int a = 0; a < 3; ++a) s->positions[o][a] = (float)pw[c][a], s->normals[o][a] = (float)fn[a];
-        if (an)
-          for (int a = 0; a < 3; ++a)
-            an->local_pos[local + (o - base)][a] = pb_span_f(&pos, v[c], a), an->local_nrm[local + (o - base)][a] = 0;
-        s->uvs[o][0] = has_uv ? pb_span_f(&uv, v[c], 0) : 0.0f;
-        s->uvs[o][1] = has_uv ? pb_span_f(&uv, v[c], 1) : 0.0f;
-        if (use_t && (r = store_tangent(L, o, &tng, v[c], M, flip)) != PB_OK) return r;
+        if ((r = emit_vertex(L, &P, o, v[c], pw[c], fn, pl[c], none)) != PB_OK) goto done;
         out[c] = o;
       }
     }
@@ -824,7 +1118,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   }
   /* Zero normals in the file (or collapsed by a degenerate transform): use the
    * face normal of a triangle that uses the vertex. */
-  if (has_n)
+  if (P.has_n)
     for (uint32_t t = tri_base; t < s->triangle_count; ++t)
       for (int c = 0; c < 3; ++c) {
         uint32_t vi = s->triangles[t][c];
@@ -838,23 +1132,31 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
           for (int a2 = 0; a2 < 3; ++a2) Nn[a2] = (float)fn[a2];
         }
       }
-  if (an && s->vertex_count > base) {
+  struct pb_scene_anim *an = P.an;
+  if (an && s->vertex_count > P.base) {
     if (an->range_count == an->range_cap) {
       uint32_t c = an->range_cap ? 2 * an->range_cap : 16;
       void *q = realloc(an->ranges, (size_t)c * sizeof *an->ranges);
-      if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+      if (!q) {
+        r = pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+        goto done;
+      }
       an->ranges = q;
       an->range_cap = c;
     }
-    an->ranges[an->range_count++] = (pb_anim_range){.node = node, .first_vertex = base, .vertex_count = s->vertex_count - base,
+    an->ranges[an->range_count++] = (pb_anim_range){.node = node, .first_vertex = P.base, .vertex_count = s->vertex_count - P.base,
                                                     .first_tri = tri_base, .tri_count = s->triangle_count - tri_base,
-                                                    .local = local, .flat = !has_n};
-    an->local_count += s->vertex_count - base;
+                                                    .local = P.local, .flat = !P.has_n};
+    an->local_count += s->vertex_count - P.base;
   }
+  if (deformed && (r = deform_add(L, node, &D, &P, tri_base)) != PB_OK) goto done;
   if (dropped)
-    return warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
-                (unsigned long long)dropped);
-  return PB_OK;
+    r = warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
+             (unsigned long long)dropped);
+done:
+  deform_src_free(&D);
+  free(P.src_of);
+  return r;
 }
 
 /* ---- cameras and lights -------------------------------------------------- */
@@ -1027,17 +1329,17 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
   L->node_state[node] = 1;
   const pb_gltf_node *n = &d->nodes[node];
   struct pb_scene_anim *an = L->anim;
-  if (an) {
-    an->order[an->order_count++] = node;
-    int32_t p = an->nodes[node].parent;
-    if (p >= 0 && an->nodes[p].animated) an->nodes[node].animated = 1;
-  }
+  if (an) an->order[an->order_count++] = node;
   mat4 local = node_local(n);
   mat4 M = mat_mul(parent, &local);
   if (!finite_mat(&M))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform is not finite", L->path, node);
   pb_result r = PB_OK;
-  if (n->skin >= 0 && (r = warn(L, "nodes[%d]: skinning ignored (rendered in bind pose)", node)) != PB_OK) return r;
+  if (n->skin != -1 && (n->skin < 0 || (size_t)n->skin >= d->skin_count))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].skin: %d does not exist (%zu skins)", L->path, node, n->skin, d->skin_count);
+  if (n->skin >= 0 && n->mesh == -1 &&
+      (r = warn(L, "nodes[%d]: skin %d but no mesh; the skin is unused", node, n->skin)) != PB_OK)
+    return r;
   if (n->mesh != -1) {
     if (n->mesh < 0 || (size_t)n->mesh >= d->mesh_count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].mesh: %d does not exist (%zu meshes)", L->path, node, n->mesh,
@@ -1083,6 +1385,14 @@ static void world_extent(loader *L, int32_t node, const mat4 *parent, int depth,
   if (!finite_mat(&M)) return;
   if (n->mesh >= 0 && (size_t)n->mesh < d->mesh_count) {
     const pb_gltf_mesh *m = &d->meshes[n->mesh];
+    /* A skinned mesh ignores its node's transform: its bind pose maps
+     * through the first joint (L->world holds the origin-free rest worlds
+     * here, load()). */
+    mat4 B = M;
+    if (n->skin >= 0 && (uint32_t)n->skin < L->deform.skin_count) {
+      const pb_skin *k = &L->deform.skins[n->skin];
+      B = mat_mul(&L->world[k->joints[0]], &k->ibm[0]);
+    }
     for (size_t pi = 0; pi < m->primitive_count; ++pi) {
       int32_t a = m->primitives[pi].position;
       double w[3];
@@ -1091,7 +1401,7 @@ static void world_extent(loader *L, int32_t node, const mat4 *parent, int depth,
         for (int c = 0; c < 8; ++c) {
           double p[3] = {(c & 1) ? ac->max[0] : ac->min[0], (c & 2) ? ac->max[1] : ac->min[1],
                          (c & 4) ? ac->max[2] : ac->min[2]};
-          xform_point(&M, p, w);
+          xform_point(&B, p, w);
           if (isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2])) extent_add(box, w);
         }
       } else {
@@ -1170,6 +1480,88 @@ static pb_result synthesize_camera(loader *L) {
   return PB_OK;
 }
 
+/* Every node's world matrix in the file's pose, parents first (iterative:
+ * a chain of nodes may be deeper than visit() allows, and the nodes outside
+ * the shown scene count too: joints may be among them). `root` is the
+ * roots' parent (the precision origin's translation). */
+static pb_result rest_worlds(loader *L, const mat4 *root) {
+  pb_gltf_doc *d = L->doc;
+  if (!L->world) L->world = malloc((d->node_count + 1) * sizeof *L->world);
+  int32_t *stack = malloc((d->node_count + 1) * sizeof *stack);
+  if (!L->world || !stack) {
+    free(stack);
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  }
+  for (size_t n = 0; n < d->node_count; ++n) {
+    if (L->parent[n] >= 0) continue;
+    size_t top = 0;
+    stack[top++] = (int32_t)n;
+    while (top) {
+      int32_t k = stack[--top];
+      mat4 local = node_local(&d->nodes[k]);
+      L->world[k] = mat_mul(L->parent[k] >= 0 ? &L->world[L->parent[k]] : root, &local);
+      /* A forest (check_nodes): each node is pushed once, so top stays
+       * below node_count. */
+      for (size_t c = 0; c < d->nodes[k].child_count; ++c) stack[top++] = d->nodes[k].children[c];
+    }
+  }
+  free(stack);
+  pb_skins_update(&L->deform, L->world);
+  return PB_OK;
+}
+
+/* After visit(): a scene with animation keeps the instances that move
+ * (dynamic: an animated joint or mesh node, or animated weights) with the nodes visit() did not reach appended to the pose order
+ * (joints outside the shown scene); everything else was posed once. */
+static pb_result deform_finish(loader *L) {
+  pb_scene *s = L->s;
+  pb_deform *df = &L->deform;
+  struct pb_scene_anim *an = L->anim;
+  s->skinned_vertex_count = df->skinned_vertices;
+  s->morphed_vertex_count = df->morphed_vertices;
+  uint32_t dynamic = 0;
+  for (uint32_t i = 0; an && i < df->range_count; ++i) {
+    pb_deform_range *R = &df->ranges[i];
+    /* The mesh node counts for a skinned instance too: its vertices
+     * without weight follow it (skin.c). */
+    int moves = an->nodes[R->node].animated;
+    if (R->target_count && an->nodes[R->node].weights_animated) moves = 1;
+    for (uint32_t j = 0; R->skin >= 0 && j < df->skins[R->skin].joint_count; ++j)
+      if (an->nodes[df->skins[R->skin].joints[j]].animated) moves = 1;
+    R->dynamic = moves;
+    dynamic += (uint32_t)moves;
+    s->posed_vertex_count += moves ? R->vertex_count : 0;
+  }
+  if (!dynamic) {
+    pb_deform_destroy(df);
+    return PB_OK;
+  }
+  /* The pose order: visit()'s, then every node it did not reach, parents
+   * first (node_state marks the visited ones). */
+  pb_gltf_doc *d = L->doc;
+  for (size_t n = 0; n < d->node_count; ++n) {
+    if (L->node_state[n] || L->parent[n] >= 0) continue;
+    size_t first = an->order_count;
+    an->order[an->order_count++] = (int32_t)n;
+    for (size_t k = first; k < an->order_count; ++k) {
+      const pb_gltf_node *g = &d->nodes[an->order[k]];
+      for (size_t c = 0; c < g->child_count; ++c) an->order[an->order_count++] = g->children[c];
+    }
+  }
+  an->deform = malloc(sizeof *an->deform);
+  if (!an->deform) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  *an->deform = *df; /* the anim owns it from here */
+  memset(df, 0, sizeof *df);
+  for (uint32_t i = 0; i < an->deform->range_count; ++i) {
+    const pb_deform_range *R = &an->deform->ranges[i];
+    if (!R->tan) continue;
+    if (!an->tan_given && !(an->tan_given = calloc(s->vertex_count + 1, 1)))
+      return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    memset(an->tan_given + R->first_vertex, 1, R->vertex_count);
+  }
+  return PB_OK;
+}
+
 /* Tangent frames for normal maps: only scenes with PB_FEATURE_NORMAL_MAPS
  * get s->tangents (the others pay nothing). The file's TANGENTs are kept,
  * every other vertex gets one from its uvs (tangents.c). */
@@ -1215,12 +1607,17 @@ static pb_result load(loader *L) {
     s->material_count++;
   }
   if ((r = check_nodes(L)) != PB_OK) return r;
+  if ((r = pb_skins_load(L->path, d, &L->deform)) != PB_OK) return r;
+  if ((r = pb_morph_weights_load(L->path, d, &L->deform)) != PB_OK) return r;
   if ((r = build_anim(L)) != PB_OK) return r;
 
   /* The scene to show: `scene`, else scenes[0], else every root node. */
   mat4 I;
   memset(&I, 0, sizeof I);
   I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
+  /* The rest worlds without the precision origin first: the origin's
+   * estimate reads skinned meshes through their joints. */
+  if ((r = rest_worlds(L, &I)) != PB_OK) return r;
   if (d->default_scene != -1 && (d->default_scene < 0 || (size_t)d->default_scene >= d->scene_count))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: scene: %d does not exist (%zu scenes)", L->path, d->default_scene, d->scene_count);
   if (d->scene_count > 0) {
@@ -1228,6 +1625,7 @@ static pb_result load(loader *L) {
     const pb_gltf_scene *sc = &d->scenes[si];
     precision_origin(L, sc->nodes, sc->node_count, s->origin);
     I.m[12] = -s->origin[0], I.m[13] = -s->origin[1], I.m[14] = -s->origin[2];
+    if ((r = rest_worlds(L, &I)) != PB_OK) return r;
     for (size_t i = 0; i < sc->node_count; ++i) {
       int32_t n = sc->nodes[i];
       if (n < 0 || (size_t)n >= d->node_count)
@@ -1248,15 +1646,18 @@ static pb_result load(loader *L) {
     precision_origin(L, roots, nr, s->origin);
     free(roots);
     I.m[12] = -s->origin[0], I.m[13] = -s->origin[1], I.m[14] = -s->origin[2];
+    if ((r = rest_worlds(L, &I)) != PB_OK) return r;
     for (size_t n = 0; n < d->node_count; ++n)
       if (L->parent[n] < 0 && (r = visit(L, (int32_t)n, &I, 0)) != PB_OK) return r;
   }
+  if ((r = deform_finish(L)) != PB_OK) return r;
   s->animation_count = (uint32_t)d->animation_count;
   s->animation_channel_count = (uint32_t)d->animation_channel_count;
   for (size_t i = 0; i < d->extensions_used_count; ++i) {
     const char *e = d->extensions_used[i];
     static const char *const known[] = {"KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_transmission",
-                                        "KHR_materials_ior", "KHR_materials_emissive_strength"};
+                                        "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform",
+                                        "KHR_materials_unlit", "KHR_materials_volume", "KHR_materials_variants"};
     int ok = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
     if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
@@ -1314,6 +1715,8 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   free(L.node_state);
   free(L.parent);
   pb_scene_anim_destroy(L.anim);
+  pb_deform_destroy(&L.deform);
+  free(L.world);
   free(L.tan);
   free(L.tan_given);
   pb_gltf_doc_destroy(&doc);

@@ -45,7 +45,8 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
 
 static const char *const feature_names[] = {
     "specular paths", "transmission", "glossy", "textures",
-    "emissive triangles", "animation", "alpha", "normal maps"};
+    "emissive triangles", "animation", "alpha", "normal maps",
+    "vertex colours", "skinning", "morph targets"};
 
 const char *pb_feature_name(uint32_t bit) {
   for (unsigned i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
@@ -108,6 +109,9 @@ void pb_scene_finalize(pb_scene *s) {
   }
   free(used);
   if (s->anim) f |= PB_FEATURE_ANIMATION;
+  if (s->colors) f |= PB_FEATURE_VERTEX_COLORS;
+  if (s->skinned_vertex_count) f |= PB_FEATURE_SKINNING;
+  if (s->morphed_vertex_count) f |= PB_FEATURE_MORPH_TARGETS;
   s->features = f;
 }
 
@@ -212,6 +216,8 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->positions);
   free(s->normals);
   free(s->uvs);
+  free(s->uvs1);
+  free(s->colors);
   free(s->tangents);
   free(s->triangles);
   free(s->triangle_material);

@@ -129,6 +129,9 @@ enum {
   PB_FEATURE_ANIMATION = 1u << 5,
   PB_FEATURE_ALPHA = 1u << 6,        /* alpha mask/blend materials */
   PB_FEATURE_NORMAL_MAPS = 1u << 7,
+  PB_FEATURE_VERTEX_COLORS = 1u << 8,  /* COLOR_0 */
+  PB_FEATURE_SKINNING = 1u << 9,       /* skinned instances */
+  PB_FEATURE_MORPH_TARGETS = 1u << 10, /* morphed instances */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -150,6 +153,12 @@ typedef struct pb_scene {
   float (*positions)[3];
   float (*normals)[3];   /* unit length; generated when the file has none */
   float (*uvs)[2];       /* (0,0) when the file has none */
+  /* TEXCOORD_1, NULL unless a texture reads uv set 1 (pb_texture.texcoord);
+   * (0,0) where a primitive has none. */
+  float (*uvs1)[2];
+  /* COLOR_0, linear RGBA in [0,1], NULL unless a primitive has one; (1,1,1,1)
+   * on vertices without. Multiplies the base colour (glTF 2.0 3.9.2). */
+  float (*colors)[4];
   /* Normal-map tangent frames, world space (scenes/tangents.h): xyz unit,
    * orthogonal to the normal, along +u; w = +-1, bitangent = cross(normal,
    * xyz) * w (glTF TANGENT). From the file's TANGENT where a normal-mapped
@@ -182,6 +191,12 @@ typedef struct pb_scene {
    * pose (the nodes' own TRS), which need not be the pose at any time. */
   struct pb_scene_anim *anim;
   double anim_start, anim_end;
+
+  /* Skins and morph targets (glTF 2.0 3.7.3, 3.7.2.2), deformed on the CPU:
+   * scene vertices of skinned and of morphed instances, and how many of
+   * them pb_scene_set_time poses again (the rest were posed once, when
+   * loaded). */
+  uint32_t skinned_vertex_count, morphed_vertex_count, posed_vertex_count;
 
   float bounds_min[3], bounds_max[3];
   uint32_t features;   /* PB_FEATURE_* */
