@@ -37,7 +37,7 @@ typedef struct loader {
   pb_scene *s;
   uint32_t vertex_cap, triangle_cap, light_cap, camera_cap, texture_cap;
   int32_t default_material;   /* index in s->materials, -1 until needed */
-  int32_t *texture_map;       /* [gltf texture * 2 + srgb] -> s->textures */
+  int32_t *texture_src;       /* per s->textures: its glTF texture */
   uint8_t **image_cache;      /* decoded RGBA8 per gltf image */
   uint32_t *image_w, *image_h;
   uint8_t *node_state;        /* cycle detection: 0 new, 1 on stack, 2 done */
@@ -188,18 +188,47 @@ static pb_result wrap_mode(loader *L, int32_t v, int32_t sampler, const char *fi
   }
 }
 
-/* Resolves a material's texture reference to an index in s->textures. */
-static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where, int32_t *out) {
+/* Resolves a material's texture reference to an index in s->textures: one
+ * pb_texture per glTF texture, colour space, uv set and KHR_texture_transform
+ * (scene.h), shared by every slot that reads it the same way. */
+static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb, const char *where, int32_t *out) {
   pb_gltf_doc *d = L->doc;
+  int32_t tex = ref->index;
   *out = PB_NO_TEXTURE;
   if (tex == -1) return PB_OK;
   if (tex < 0 || (size_t)tex >= d->texture_count)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.index: texture %d does not exist (%zu textures)", L->path, where,
                    tex, d->texture_count);
-  int32_t *slot = &L->texture_map[tex * 2 + srgb];
-  if (*slot >= 0) {
-    *out = *slot;
-    return PB_OK;
+  /* KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv, i.e.
+   * u' = cos sx u + sin sy v + ox, v' = -sin sx u + cos sy v + oy (the
+   * extension's matrices, rotation counter-clockwise in uv with v down);
+   * its texCoord replaces the textureInfo's. */
+  const pb_gltf_texture_transform *x = &ref->transform;
+  float m[6] = {0, 0, 0, 0, 0, 0};
+  int texcoord = x->present && x->texcoord >= 0 ? x->texcoord : ref->texcoord;
+  if (x->present) {
+    const double v[5] = {x->offset[0], x->offset[1], x->rotation, x->scale[0], x->scale[1]};
+    for (int k = 0; k < 5; ++k)
+      if (!isfinite(v[k]) || fabs(v[k]) > 1e30)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.extensions.KHR_texture_transform: %s %g is not finite", L->path, where,
+                       k < 2 ? "offset" : k == 2 ? "rotation" : "scale", v[k]);
+    double c = cos(x->rotation), sn = sin(x->rotation);
+    m[0] = (float)(c * x->scale[0]), m[1] = (float)(sn * x->scale[1]), m[2] = (float)x->offset[0];
+    m[3] = (float)(-sn * x->scale[0]), m[4] = (float)(c * x->scale[1]), m[5] = (float)x->offset[1];
+  }
+  if (texcoord > 1) {
+    pb_result r = warn(L, "%s.texCoord: %d (only TEXCOORD_0 and TEXCOORD_1 are read; using TEXCOORD_0)", where, texcoord);
+    if (r != PB_OK) return r;
+    texcoord = 0;
+  }
+  pb_scene *s = L->s;
+  for (uint32_t i = 0; i < s->texture_count; ++i) {
+    const pb_texture *pt = &s->textures[i];
+    if (L->texture_src[i] == tex && pt->srgb == srgb && pt->texcoord == texcoord && pt->uv_transformed == x->present &&
+        !memcmp(pt->uv_xform, m, sizeof m)) {
+      *out = (int32_t)i;
+      return PB_OK;
+    }
   }
   const pb_gltf_texture *t = &d->textures[tex];
   if (t->source < 0 || (size_t)t->source >= d->image_count)
@@ -219,9 +248,15 @@ static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where
   }
   pb_result r = decode_image(L, t->source, where);
   if (r != PB_OK) return r;
-  pb_scene *s = L->s;
+  uint32_t cap = L->texture_cap;
   r = grow(L, (void **)&s->textures, &L->texture_cap, (uint64_t)s->texture_count + 1, sizeof *s->textures, "textures");
   if (r != PB_OK) return r;
+  if (cap != L->texture_cap) {
+    int32_t *q = realloc(L->texture_src, (size_t)L->texture_cap * sizeof *q);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for textures", L->path);
+    L->texture_src = q;
+  }
+  L->texture_src[s->texture_count] = tex;
   pb_texture *pt = &s->textures[s->texture_count];
   memset(pt, 0, sizeof *pt);
   size_t bytes = (size_t)L->image_w[t->source] * L->image_h[t->source] * 4;
@@ -234,9 +269,12 @@ static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where
   pt->wrap_s = ws;
   pt->wrap_t = wt;
   pt->nearest = nearest;
+  pt->texcoord = texcoord;
+  pt->uv_transformed = x->present;
+  memcpy(pt->uv_xform, m, sizeof m);
+  if (texcoord == 1) L->need_uv1 = 1;
   copy_name(pt->name, d->images[t->source].name, d->images[t->source].uri);
-  *slot = (int32_t)s->texture_count++;
-  *out = *slot;
+  *out = (int32_t)s->texture_count++;
   return PB_OK;
 }
 
@@ -247,6 +285,45 @@ static float clamp01(double v) { return (float)(v < 0 ? 0 : (v > 1 ? 1 : v)); }
 static pb_result check_factor(loader *L, int i, const char *field, double v, double lo, double hi) {
   if (!isfinite(v) || v < lo || v > hi)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].%s: %g is outside [%g, %g]", L->path, i, field, v, lo, hi);
+  return PB_OK;
+}
+
+/* KHR_materials_unlit and KHR_materials_volume (scene.h, pb_material). */
+static pb_result material_extensions(loader *L, int i, const pb_gltf_material *g, pb_material *m) {
+  pb_result r = PB_OK;
+  if (g->unlit) {
+    /* The extension's shading is the base colour alone: every other lobe
+     * and the emission are ignored (KHR_materials_unlit, "Overview"). */
+    m->unlit = 1;
+    m->metallic = 0;
+    m->specular = 0;
+    m->transmission = 0;
+    memset(m->emissive, 0, sizeof m->emissive);
+  }
+  if (!g->has_volume) return PB_OK;
+  const char *vw = "extensions.KHR_materials_volume";
+  char w[96];
+  snprintf(w, sizeof w, "%s.thicknessFactor", vw);
+  if ((r = check_factor(L, i, w, g->thickness, 0, 1e30)) != PB_OK) return r;
+  if (g->attenuation_distance != 0 && !(g->attenuation_distance > 0 && isfinite(g->attenuation_distance)))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].%s.attenuationDistance: %g is not positive", L->path, i, vw,
+                   g->attenuation_distance);
+  for (int k = 0; k < 3 && r == PB_OK; ++k) {
+    snprintf(w, sizeof w, "%s.attenuationColor[%d]", vw, k);
+    r = check_factor(L, i, w, g->attenuation_color[k], 0, 1);
+  }
+  if (r != PB_OK) return r;
+  /* Thin-walled (thickness 0) and an absent distance (infinite) mean no
+   * absorption (KHR_materials_volume). A colour of 0 would absorb
+   * everything at once: it is held at 1e-6 (sigma_a d = 13.8 at d = the
+   * attenuation distance), so paths stay finite. */
+  if (g->thickness > 0 && g->attenuation_distance > 0)
+    for (int k = 0; k < 3; ++k)
+      m->attenuation[k] = (float)(-log(fmax(g->attenuation_color[k], 1e-6)) / g->attenuation_distance);
+  if (m->transmission <= 0 &&
+      (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0) &&
+      (r = warn(L, "materials[%d].%s: no transmission, so no light enters the volume", i, vw)) != PB_OK)
+    return r;
   return PB_OK;
 }
 
@@ -300,6 +377,7 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   else if (strcmp(g->alpha_mode, "BLEND") == 0) m->alpha_mode = PB_ALPHA_BLEND;
   else return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].alphaMode: '%s' is not OPAQUE, MASK or BLEND", L->path, i, g->alpha_mode);
 
+  if ((r = material_extensions(L, i, g, m)) != PB_OK) return r;
   const pb_gltf_texture_ref *refs[4] = {&g->base_color_tex, &g->metallic_roughness_tex, &g->emissive_tex, &g->normal_tex};
   static const char *const names[4] = {"pbrMetallicRoughness.baseColorTexture", "pbrMetallicRoughness.metallicRoughnessTexture",
                                        "emissiveTexture", "normalTexture"};
@@ -307,30 +385,43 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   int32_t *dst[4] = {&m->base_color_tex, &m->metallic_roughness_tex, &m->emissive_tex, &m->normal_tex};
   for (int k = 0; k < 4; ++k) {
     snprintf(w, sizeof w, "materials[%d].%s", i, names[k]);
-    if (refs[k]->index != -1 && refs[k]->texcoord != 0) {
-      r = warn(L, "%s.texCoord: %d (only TEXCOORD_0 is read; using it)", w, refs[k]->texcoord);
-      if (r != PB_OK) return r;
-    }
-    r = texture_ref(L, refs[k]->index, srgb[k], w, dst[k]);
+    r = texture_ref(L, refs[k], srgb[k], w, dst[k]);
     if (r != PB_OK) return r;
   }
   return PB_OK;
 }
 
+/* Whether asset.generator names Blender's own glTF exporter. */
+static int from_blender(const pb_scene *s) { return strncmp(s->generator, "Khronos glTF Blender I/O", 24) == 0; }
+
+/* The material of primitives without one. glTF's default (3.9.1: white,
+ * metallic 1, roughness 1), or, in a file Blender wrote, what Cycles 3.4
+ * shows for an object without material: its default surface, a Diffuse
+ * BSDF of colour 0.8 (intern/cycles/scene/shader.cpp, add_default, used by
+ * the Blender sync for empty slots; measured here: a plane under a sun of
+ * pi W/m^2 gives 0.8000 with no material and with a Diffuse BSDF 0.8, 0.9036
+ * with a new Principled material). Its glTF form: baseColorFactor 0.8,
+ * metallicFactor 0, KHR_materials_specular specularFactor 0 (no specular
+ * layer: Lambertian). */
 static int32_t default_material(loader *L) {
-  /* glTF's default material: white, metallic 1, roughness 1. */
   if (L->default_material < 0) {
     pb_scene *s = L->s;
     pb_material *m = &s->materials[s->material_count];
     memset(m, 0, sizeof *m);
-    snprintf(m->name, PB_NAME_MAX, "(default)");
-    for (int k = 0; k < 4; ++k) m->base_color[k] = 1;
-    m->metallic = 1;
-    m->roughness = 1;
-    m->specular = 1;
-    m->specular_color[0] = m->specular_color[1] = m->specular_color[2] = 1;
     m->ior = 1.5f;
+    m->roughness = 1;
+    m->specular_color[0] = m->specular_color[1] = m->specular_color[2] = 1;
     m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+    m->base_color[3] = 1;
+    if (from_blender(s)) {
+      snprintf(m->name, PB_NAME_MAX, "(Blender default surface)");
+      m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.8f;
+    } else {
+      snprintf(m->name, PB_NAME_MAX, "(glTF default)");
+      m->base_color[0] = m->base_color[1] = m->base_color[2] = 1;
+      m->metallic = 1;
+      m->specular = 1;
+    }
     L->default_material = (int32_t)s->material_count++;
   }
   return L->default_material;
@@ -1238,10 +1329,20 @@ static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
                      L->path, li, k, g->color[k]);
   if (!fits_float(g->range) || g->range < 0)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].range: %g is not a non-negative float", L->path, li, g->range);
-  if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone < g->outer_cone && g->outer_cone <= M_PI / 2 + 1e-6))
+  if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone <= g->outer_cone && g->outer_cone > 0 &&
+                                 g->outer_cone <= M_PI / 2 + 1e-6))
     return pb_fail(PB_ERR_SCENE_INVALID,
                    "%s: extensions.KHR_lights_punctual.lights[%d].spot: need 0 <= innerConeAngle (%g) < outerConeAngle (%g) <= pi/2",
                    L->path, li, g->inner_cone, g->outer_cone);
+  /* Blender writes a spot of blend 0 as innerConeAngle = outerConeAngle
+   * (inner = outer (1 - blend)), which glTF's schema forbids (inner <
+   * outer) but which means what Cycles draws: a hard-edged cone. Every
+   * renderer's falloff is a step when the two are equal (pb_spot_falloff). */
+  pb_result wr;
+  if (type == PB_LIGHT_SPOT && g->inner_cone == g->outer_cone &&
+      (wr = warn(L, "extensions.KHR_lights_punctual.lights[%d].spot: innerConeAngle = outerConeAngle (%g, Blender's spot blend 0): a hard-edged spot",
+                 li, g->outer_cone)) != PB_OK)
+    return wr;
   double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
   xform_point(M, o, pos);
   xform_dir(M, fz, dir);
@@ -1593,15 +1694,13 @@ static pb_result load(loader *L) {
   /* Materials first (textures are decoded only when a material uses them),
    * with room for glTF's default material. */
   s->materials = calloc(d->material_count + 1, sizeof *s->materials);
-  L->texture_map = malloc((d->texture_count * 2 + 1) * sizeof *L->texture_map);
   L->image_cache = calloc(d->image_count + 1, sizeof *L->image_cache);
   L->image_w = calloc(d->image_count + 1, sizeof *L->image_w);
   L->image_h = calloc(d->image_count + 1, sizeof *L->image_h);
   L->node_state = calloc(d->node_count + 1, 1);
   L->parent = malloc((d->node_count + 1) * sizeof *L->parent);
-  if (!s->materials || !L->texture_map || !L->image_cache || !L->image_w || !L->image_h || !L->node_state || !L->parent)
+  if (!s->materials || !L->image_cache || !L->image_w || !L->image_h || !L->node_state || !L->parent)
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
-  for (size_t i = 0; i < d->texture_count * 2; ++i) L->texture_map[i] = -1;
   for (size_t i = 0; i < d->material_count; ++i) {
     if ((r = convert_material(L, (int)i, &s->materials[i])) != PB_OK) return r;
     s->material_count++;
@@ -1711,7 +1810,7 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   free(L.image_cache);
   free(L.image_w);
   free(L.image_h);
-  free(L.texture_map);
+  free(L.texture_src);
   free(L.node_state);
   free(L.parent);
   pb_scene_anim_destroy(L.anim);

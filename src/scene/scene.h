@@ -29,6 +29,13 @@ typedef struct pb_texture {
   int srgb;         /* 1: texels are sRGB-encoded (base colour, emissive) */
   pb_wrap wrap_s, wrap_t;
   int nearest;      /* 1: magFilter NEAREST; otherwise bilinear */
+  /* How the material reads it (glTF textureInfo): the uv set (0: uvs,
+   * 1: uvs1) and, when uv_transformed, KHR_texture_transform as the affine
+   * map u' = m[0] u + m[1] v + m[2],  v' = m[3] u + m[4] v + m[5] (0: the
+   * uvs as they are). A texture read two ways is two pb_textures. */
+  int texcoord;
+  int uv_transformed;
+  float uv_xform[6];
 } pb_texture;
 
 enum { PB_NO_TEXTURE = -1 };
@@ -64,6 +71,17 @@ typedef struct pb_material {
   pb_alpha_mode alpha_mode;
   float alpha_cutoff;
   int double_sided;
+  /* KHR_materials_unlit: the surface shows its base colour (factor x
+   * texture x COLOR_0) as radiance [W/(m^2 sr)] to camera paths (the eye and
+   * its mirror/glass chains) and neither reflects nor emits light into the
+   * scene; the loader zeroes its other lobes and its emission. */
+  int unlit;
+  /* KHR_materials_volume: absorption coefficient sigma_a [1/m] per channel
+   * of the medium inside the (closed) surface, -ln(attenuationColor) /
+   * attenuationDistance (Beer-Lambert: transmittance exp(-sigma_a d) over a
+   * path length d inside); 0 when absent, thin-walled (thicknessFactor 0)
+   * or infinitely clear. Applies to paths that refract into it. */
+  float attenuation[3];
 } pb_material;
 
 /* What a material does to light, for renderers that branch on it. */
@@ -132,6 +150,8 @@ enum {
   PB_FEATURE_VERTEX_COLORS = 1u << 8,  /* COLOR_0 */
   PB_FEATURE_SKINNING = 1u << 9,       /* skinned instances */
   PB_FEATURE_MORPH_TARGETS = 1u << 10, /* morphed instances */
+  PB_FEATURE_UNLIT = 1u << 11,         /* KHR_materials_unlit surfaces */
+  PB_FEATURE_VOLUME = 1u << 12,        /* absorbing media (KHR_materials_volume) */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -271,6 +291,28 @@ void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
 /* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
  * RGBA out (sRGB decoded when the texture is sRGB). */
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
+
+/* A material's texture at a surface point with uv sets uv0 and uv1 (uv1 may
+ * be NULL: zero): the texture's uv set through its uv_xform, then
+ * pb_texture_sample. */
+void pb_texture_lookup(const pb_texture *t, const float uv0[2], const float uv1[2], float out[4]);
+/* Its uv transform alone (the POV-Ray export writes transformed uvs). */
+void pb_texture_uv(const pb_texture *t, const float uv0[2], const float uv1[2], float out[2]);
+
+/* A material's inputs at a surface point with uv sets uv0, uv1 (uv1 NULL:
+ * zero) and vertex colour `color` (NULL: white), the same in every renderer
+ * (shaders/common/scene.glsl mirrors them):
+ *   base colour (glTF 2.0 3.9.2): baseColorFactor x baseColorTexture x
+ *     COLOR_0, RGBA, each channel clamped to [0, 1];
+ *   metallic, roughness: the factors x the metallicRoughnessTexture's B, G;
+ *   emission: emissive x emissiveTexture, or for an unlit material the base
+ *     colour (scene.h, pb_material.unlit). */
+void pb_material_base_color(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                            const float color[4], float out[4]);
+void pb_material_metal_rough(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                             float *metallic, float *roughness);
+void pb_material_emission(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                          const float color[4], float out[3]);
 
 /* sRGB transfer, exact IEC 61966-2-1 piecewise form. */
 float pb_srgb_to_linear(float v);

@@ -881,6 +881,13 @@ def valid_cases(C, png):
         "count": 1, "indices": {"bufferView": iv, "componentType": UBYTE}, "values": {"bufferView": vv}}})
     d["meshes"][1]["primitives"][0]["attributes"]["TEXCOORD_0"] = len(d["accessors"]) - 1
     C.gltf(V, "sparse_accessors", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # Blender's spot of blend 0: innerConeAngle = outerConeAngle, a hard edge.
+    d = copy.deepcopy(doc0)
+    d["nodes"][3]["extensions"]["KHR_lights_punctual"]["light"] = 1
+    d["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["innerConeAngle"] = 0.6
+    C.gltf(V, "spot_blend_zero", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=lights[1].spot: innerConeAngle = outerConeAngle (0.6, Blender's spot blend 0): a hard-edged spot"])
     # Skins and morph targets that load: the plain ones, an animated weights
     # channel, and the repairs (warned).
     d = copy.deepcopy(doc0)
