@@ -199,6 +199,18 @@ pb_result pb_cli_load_scene(const char *path, const pb_core_opts *c,
   return PB_OK;
 }
 
+pb_result pb_cli_pose(pb_scene *s, const pb_pose_opts *p, double *t) {
+  if (t) *t = NAN;
+  if (isnan(p->frame)) return PB_OK;
+  if (!s->anim) {
+    pb_log_warn("%s: --frame %g: the scene has no animation; the file's pose is used", s->path, p->frame);
+    return PB_OK;
+  }
+  double time = p->frame / (p->fps > 0 ? p->fps : 24.0);
+  if (t) *t = time;
+  return pb_scene_set_time(s, time);
+}
+
 pb_result pb_cli_pick_camera(const pb_scene *s, const pb_core_opts *c,
                              int *camera, uint32_t *w, uint32_t *h) {
   *camera = pb_scene_find_camera(s, c->camera);

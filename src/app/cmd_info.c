@@ -58,12 +58,20 @@ static void print_text(const pb_scene *s) {
            m->roughness);
     if (m->transmission > 0) printf(" transmission %.3g ior %.3g", m->transmission, m->ior);
     if (pb_material_is_emissive(m)) printf(" emissive (%.3g %.3g %.3g)", m->emissive[0], m->emissive[1], m->emissive[2]);
+    if (m->unlit) printf(" unlit (its colour on camera paths, lights nothing)");
+    if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0)
+      printf(" absorbing medium (%.3g %.3g %.3g)/m", m->attenuation[0], m->attenuation[1], m->attenuation[2]);
     printf("\n");
   }
   printf("textures   %u\n", s->texture_count);
   for (uint32_t i = 0; i < s->texture_count; ++i) {
     const pb_texture *t = &s->textures[i];
-    printf("  %-20s %ux%u %s\n", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    printf("  %-20s %ux%u %s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    if (t->texcoord) printf(", TEXCOORD_%d", t->texcoord);
+    if (t->uv_transformed)
+      printf(", KHR_texture_transform u' = %.3g u %+.3g v %+.3g, v' = %.3g u %+.3g v %+.3g", t->uv_xform[0], t->uv_xform[1],
+             t->uv_xform[2], t->uv_xform[3], t->uv_xform[4], t->uv_xform[5]);
+    printf("\n");
   }
   printf("animations %u (%u channels)", s->animation_count, s->animation_channel_count);
   if (s->anim)
@@ -170,6 +178,8 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_number(&j, "ior", m->ior);
     vec3(&j, "emissive", m->emissive);
     pb_json_bool(&j, "double_sided", m->double_sided);
+    pb_json_bool(&j, "unlit", m->unlit);
+    vec3(&j, "attenuation_per_m", m->attenuation);
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);

@@ -1775,7 +1775,7 @@ static pb_result load(loader *L) {
   }
   if (an && (r = anim_finish(L, an)) != PB_OK) return r;
   if (s->triangle_count == 0 && (r = warn(L, "meshes: no triangles to render")) != PB_OK) return r;
-  if (s->light_count == 0 && !(s->features & PB_FEATURE_EMISSIVE) &&
+  if (s->light_count == 0 && !(s->features & (PB_FEATURE_EMISSIVE | PB_FEATURE_UNLIT)) &&
       (r = warn(L, "lights: none, and no emissive material: the render will be black")) != PB_OK)
     return r;
   return PB_OK;
