@@ -15,3 +15,19 @@ if(Python3_Interpreter_FOUND)
                    fresh ${PB_GLTF_EXT_FRESH} ${Python3_EXECUTABLE} ${PB_ROOT})
   set_tests_properties(gltf_ext_scenes_fresh PROPERTIES PASS_REGULAR_EXPRESSION "1 passed, 0 failed")
 endif()
+
+# The skin and shape-key scene (tests/data/deform, test_deform_blender): when
+# Blender is installed, re-export it and compare by content (skins, morph
+# targets, animations and the baked frames included); skipped without.
+find_program(PB_BLENDER_DEFORM blender)
+if(Python3_Interpreter_FOUND AND PB_BLENDER_DEFORM)
+  add_test(NAME deform_reexport
+           COMMAND sh -c "w='${CMAKE_CURRENT_BINARY_DIR}/deform_reexport'; rm -rf \"$w\" && mkdir -p \"$w\" &&
+                          PATH=$(echo \"$PATH\" | tr : '\\n' | grep -v pyenv | paste -sd:) \"$0\" -b --factory-startup --python-exit-code 1 -P tests/data/deform/make_deform.py -- --out \"$w\" > \"$w/log\" 2>&1 || { cat \"$w/log\"; exit 1; };
+                          for f in deform deform_baked_f00 deform_baked_f12 deform_baked_f24; do
+                            \"$1\" tests/gltf_content.py tests/data/deform/$f.gltf \"$w/$f.gltf\" || exit 1; done; echo '4 passed, 0 failed'"
+                   ${PB_BLENDER_DEFORM} ${Python3_EXECUTABLE}
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(deform_reexport PROPERTIES LABELS "blender;no-sanitize" TIMEOUT 600
+                       PASS_REGULAR_EXPRESSION "4 passed, 0 failed")
+endif()
