@@ -15,7 +15,8 @@ The scene (Blender Z up; the exporter writes glTF Y up), 24 fps, frames 0-24:
   - "ShapeCube": a 1 m cube at x = 2 with two shape keys, "Tall" (the top
     face 1 m higher) and "Pinch" (the top face scaled by 0.5), whose values
     go 0 -> 1 and 0 -> 0.6 over frames 0-24;
-  - a floor (8 m, no material), a camera and a sun (4 W/m^2).
+  - a floor and a backdrop 2 m behind (8 m each, no material), a camera
+    and a sun (4 W/m^2).
 
 Written to OUT: deform.gltf (+ deform.bin): skins, shape keys as morph
 targets, every frame sampled (LINEAR keys); deform_baked_fNN.gltf (+ .bin)
@@ -138,6 +139,8 @@ def build(sc):
 
     bpy.ops.mesh.primitive_plane_add(size=8, location=(1, 0, 0))
     bpy.context.object.name = "Floor"
+    bpy.ops.mesh.primitive_plane_add(size=8, location=(1, 2, 4), rotation=(math.radians(90), 0, 0))
+    bpy.context.object.name = "Backdrop"
 
     cam_data = bpy.data.cameras.new("Camera")
     cam = bpy.data.objects.new("Camera", cam_data)
