@@ -31,3 +31,12 @@ if(Python3_Interpreter_FOUND AND PB_BLENDER_DEFORM)
   set_tests_properties(deform_reexport PROPERTIES LABELS "blender;no-sanitize" TIMEOUT 600
                        PASS_REGULAR_EXPRESSION "4 passed, 0 failed")
 endif()
+
+# --frame N poses skins and morph targets in export-pov and reference
+# (tests/pose_check.py, against Blender's bake of tests/data/deform).
+if(Python3_Interpreter_FOUND)
+  add_test(NAME pose_frame_option
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/pose_check.py ${PB_EXE} ${PB_ROOT}
+                   ${CMAKE_CURRENT_BINARY_DIR}/pose_frame_option)
+  set_tests_properties(pose_frame_option PROPERTIES TIMEOUT 300 PASS_REGULAR_EXPRESSION "9 passed, 0 failed")
+endif()

@@ -190,6 +190,12 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_int(&j, "width", s->textures[i].width);
     pb_json_int(&j, "height", s->textures[i].height);
     pb_json_bool(&j, "srgb", s->textures[i].srgb);
+    pb_json_int(&j, "texcoord", s->textures[i].texcoord);
+    if (s->textures[i].uv_transformed) { /* KHR_texture_transform: u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5 */
+      pb_json_begin_array(&j, "uv_transform");
+      for (int k = 0; k < 6; ++k) pb_json_number(&j, NULL, s->textures[i].uv_xform[k]);
+      pb_json_end_array(&j);
+    }
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
