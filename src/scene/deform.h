@@ -29,6 +29,7 @@
 
 #include <stdint.h>
 
+#include "scene/accessor.h"
 #include "scene/gltf_doc.h"
 #include "scene/scene.h"
 #include "scene/xform.h"
@@ -110,6 +111,41 @@ pb_result pb_morph_weights_load(const char *path, const pb_gltf_doc *doc, pb_def
  * count, every value finite. */
 pb_result pb_morph_read_targets(const char *path, const pb_gltf_doc *doc, int32_t mesh, size_t pi, uint64_t count,
                                 int want_normal, int want_tangent, float **dpos, float **dnrm, float **dtan);
+
+/* A skinned or morphed primitive's data per source (accessor) vertex, read
+ * by pb_deform_read; pb_deform_add_range then keeps it per scene vertex. */
+typedef struct pb_deform_src {
+  int32_t skin;        /* -1: morphed only */
+  uint64_t count;      /* source vertices */
+  float (*pos)[3], (*nrm)[3], (*tan)[4]; /* rest data; nrm, tan may be NULL */
+  float *dpos, *dnrm, *dtan;             /* [target][source][3], NULL if none */
+  uint32_t targets;
+  uint32_t influences;
+  uint16_t *joint;
+  float *weight;
+} pb_deform_src;
+
+void pb_deform_src_free(pb_deform_src *D);
+
+/* Reads meshes[mesh].primitives[pi]'s rest vertices (the checked spans
+ * pos, nrm and tng; nrm NULL: no NORMAL, tng NULL: no TANGENT wanted), its
+ * morph targets and, with skin >= 0, its joint influences (warnings on s). */
+pb_result pb_deform_read(const char *path, const pb_gltf_doc *doc, pb_scene *s, const pb_deform *d, int32_t mesh,
+                         size_t pi, int32_t skin, const pb_span *pos, const pb_span *nrm, const pb_span *tng,
+                         pb_deform_src *out);
+
+/* Whether most of a skinned source's vertices mirror in the rest pose (det
+ * of the skin matrix < 0; after pb_skins_update with the rest worlds): the
+ * loader then reverses the winding, as a mirroring node transform does. */
+int pb_deform_src_mirrors(const pb_deform *d, const pb_deform_src *D, int32_t node, const mat4 *node_world);
+
+/* Keeps D as a new range of node's instance: scene vertices [first, +count)
+ * (src_of[i]: the source vertex of scene vertex first + i), triangles
+ * [first_tri, +tri_count); flat: no NORMAL. *out: the range (NULL when count
+ * is 0), owned by d. */
+pb_result pb_deform_add_range(const char *path, pb_deform *d, const pb_deform_src *D, int32_t node,
+                              const uint32_t *src_of, uint32_t first, uint32_t count, uint32_t first_tri,
+                              uint32_t tri_count, int flat, pb_deform_range **out);
 
 /* ---- posing ----------------------------------------------------------------- */
 

@@ -849,136 +849,23 @@ static pb_result emit_vertex(loader *L, prim_src *P, uint32_t dst, uint64_t i, c
   return PB_OK;
 }
 
-/* Reads what pb_deform_pose needs of a skinned or morphed primitive, per
- * source vertex, then (deform_add) keeps it per scene vertex and poses it. */
-typedef struct deform_src {
-  int32_t skin;
-  float (*pos)[3], (*nrm)[3], (*tan)[4];
-  float *dpos, *dnrm, *dtan; /* [target][source][3] */
-  uint32_t targets;
-  uint32_t influences;
-  uint16_t *joint;
-  float *weight;
-  uint64_t count;
-} deform_src;
-
-static void deform_src_free(deform_src *D) {
-  free(D->pos);
-  free(D->nrm);
-  free(D->tan);
-  free(D->dpos);
-  free(D->dnrm);
-  free(D->dtan);
-  free(D->joint);
-  free(D->weight);
-  memset(D, 0, sizeof *D);
-}
-
-static pb_result deform_read(loader *L, int32_t mesh, size_t pi, int32_t skin, const prim_src *P, deform_src *D) {
-  pb_gltf_doc *d = L->doc;
-  const pb_gltf_primitive *p = &d->meshes[mesh].primitives[pi];
-  uint64_t n = P->pos.count;
-  memset(D, 0, sizeof *D);
-  D->skin = skin;
-  D->count = n;
-  D->targets = (uint32_t)p->target_count;
-  D->pos = malloc((size_t)n * sizeof *D->pos);
-  if (P->has_n) D->nrm = malloc((size_t)n * sizeof *D->nrm);
-  if (P->use_t) D->tan = malloc((size_t)n * sizeof *D->tan);
-  if (!D->pos || (P->has_n && !D->nrm) || (P->use_t && !D->tan))
-    return pb_fail(PB_ERR_NOMEM, "%s: out of memory for meshes[%d].primitives[%zu]", L->path, mesh, pi);
-  for (uint64_t i = 0; i < n; ++i)
-    for (int c = 0; c < 4; ++c) {
-      if (c < 3) D->pos[i][c] = pb_span_f(&P->pos, i, c);
-      if (c < 3 && D->nrm) D->nrm[i][c] = pb_span_f(&P->nrm, i, c);
-      if (D->tan) D->tan[i][c] = pb_span_f(&P->tng, i, c);
-    }
-  pb_result r = PB_OK;
-  if (D->targets)
-    r = pb_morph_read_targets(L->path, d, mesh, pi, n, P->has_n, P->use_t, &D->dpos, &D->dnrm, &D->dtan);
-  if (r == PB_OK && skin >= 0)
-    r = pb_skin_read_influences(L->path, d, L->s, mesh, pi, &L->deform.skins[skin], n, &D->influences, &D->joint, &D->weight);
-  return r;
-}
-
-/* The winding of a skinned instance: reversed when most of its vertices'
- * rest skin matrices mirror (the node's transform, which glTF ignores for a
- * skinned mesh, does not decide it). */
-static int skinned_flip(loader *L, int32_t node, const deform_src *D) {
-  pb_deform_range tmp = {.node = node, .skin = D->skin, .influences = D->influences, .joint = D->joint, .weight = D->weight};
-  uint64_t neg = 0;
-  for (uint64_t i = 0; i < D->count; ++i) {
-    mat4 S;
-    pb_skin_matrix(&L->deform, &tmp, (uint32_t)i, &L->world[node], &S);
-    neg += det3(&S) < 0;
-  }
-  return 2 * neg > D->count;
-}
-
-static pb_result deform_add(loader *L, int32_t node, const deform_src *D, const prim_src *P, uint32_t tri_base) {
+/* A deformed instance's range (deform.c keeps it), posed once with the
+ * file's transforms and weights; the file's tangents go to the loader's
+ * TANGENT table (finish_tangents keeps them). */
+static pb_result deform_add(loader *L, int32_t node, const pb_deform_src *D, const prim_src *P, uint32_t tri_base) {
   pb_scene *s = L->s;
-  pb_deform *df = &L->deform;
-  uint32_t nv = s->vertex_count - P->base;
-  if (!nv) return PB_OK;
-  if (df->range_count == df->range_cap) {
-    uint32_t c = df->range_cap ? 2 * df->range_cap : 8;
-    void *q = realloc(df->ranges, (size_t)c * sizeof *df->ranges);
-    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
-    df->ranges = q;
-    df->range_cap = c;
-  }
-  pb_deform_range *R = &df->ranges[df->range_count++];
-  memset(R, 0, sizeof *R);
-  R->node = node;
-  R->skin = D->skin;
-  R->first_vertex = P->base;
-  R->vertex_count = nv;
-  R->first_tri = tri_base;
-  R->tri_count = s->triangle_count - tri_base;
-  R->flat = !P->has_n;
-  R->target_count = D->targets;
-  R->weights = D->targets ? df->node_weights[node] : 0;
-  R->influences = D->influences;
-  size_t t3 = (size_t)D->targets * nv * 3;
-  R->pos = malloc((size_t)nv * sizeof *R->pos);
-  if (D->nrm) R->nrm = malloc((size_t)nv * sizeof *R->nrm);
-  if (D->tan) R->tan = malloc((size_t)nv * sizeof *R->tan);
-  if (D->dpos) R->dpos = malloc(t3 * sizeof *R->dpos);
-  if (D->dnrm) R->dnrm = malloc(t3 * sizeof *R->dnrm);
-  if (D->dtan) R->dtan = malloc(t3 * sizeof *R->dtan);
-  if (D->joint) R->joint = malloc((size_t)nv * D->influences * sizeof *R->joint);
-  if (D->weight) R->weight = malloc((size_t)nv * D->influences * sizeof *R->weight);
-  if (!R->pos || (D->nrm && !R->nrm) || (D->tan && !R->tan) || (D->dpos && !R->dpos) || (D->dnrm && !R->dnrm) ||
-      (D->dtan && !R->dtan) || (D->joint && !R->joint) || (D->weight && !R->weight))
-    return pb_fail(PB_ERR_NOMEM, "%s: out of memory for the skin or morph targets of nodes[%d]", L->path, node);
-  for (uint32_t v = 0; v < nv; ++v) {
-    uint64_t i = P->src_of[v];
-    memcpy(R->pos[v], D->pos[i], sizeof R->pos[v]);
-    if (R->nrm) memcpy(R->nrm[v], D->nrm[i], sizeof R->nrm[v]);
-    if (R->tan) memcpy(R->tan[v], D->tan[i], sizeof R->tan[v]);
-    for (uint32_t t = 0; t < D->targets; ++t) {
-      size_t o = ((size_t)t * nv + v) * 3, q = ((size_t)t * D->count + i) * 3;
-      if (R->dpos) memcpy(R->dpos + o, D->dpos + q, 3 * sizeof *R->dpos);
-      if (R->dnrm) memcpy(R->dnrm + o, D->dnrm + q, 3 * sizeof *R->dnrm);
-      if (R->dtan) memcpy(R->dtan + o, D->dtan + q, 3 * sizeof *R->dtan);
-    }
-    if (R->joint) memcpy(R->joint + (size_t)v * D->influences, D->joint + i * D->influences, D->influences * sizeof *R->joint);
-    if (R->weight)
-      memcpy(R->weight + (size_t)v * D->influences, D->weight + i * D->influences, D->influences * sizeof *R->weight);
-  }
-  if (R->skin >= 0) df->skinned_vertices += nv;
-  if (R->target_count) df->morphed_vertices += nv;
-  /* The static pose: the file's transforms and weights. Tangents go to the
-   * loader's TANGENT table (finish_tangents keeps them). */
+  pb_deform_range *R = NULL;
+  pb_result r = pb_deform_add_range(L->path, &L->deform, D, node, P->src_of, P->base, s->vertex_count - P->base, tri_base,
+                                    s->triangle_count - tri_base, !P->has_n, &R);
+  if (r != PB_OK || !R) return r;
   if (R->tan) {
-    pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, s->vertex_count, sizeof *L->tan, "tangents");
-    if (r != PB_OK) return r;
+    if ((r = grow(L, (void **)&L->tan, &L->tan_cap, s->vertex_count, sizeof *L->tan, "tangents")) != PB_OK) return r;
     uint8_t *q = realloc(L->tan_given, L->tan_cap);
     if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
     L->tan_given = q;
-    memset(q + P->base, 1, nv);
+    memset(q + P->base, 1, R->vertex_count);
   }
-  return pb_deform_pose(s, df, R, L->world, L->tan, NAN);
+  return pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN);
 }
 
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
@@ -1087,9 +974,11 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
                 (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
     return r;
-  deform_src D;
+  pb_deform_src D;
   memset(&D, 0, sizeof D);
-  if (deformed && (r = deform_read(L, mesh, pi, skinned ? skin : -1, &P, &D)) != PB_OK) goto done;
+  if (deformed && (r = pb_deform_read(L->path, d, s, &L->deform, mesh, pi, skinned ? skin : -1, &P.pos,
+                                      P.has_n ? &P.nrm : NULL, P.use_t ? &P.tng : NULL, &D)) != PB_OK)
+    goto done;
   if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK)
     goto done;
   uint32_t vcap = L->vertex_cap;
@@ -1133,7 +1022,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     goto done;
   }
   /* A mirroring transform reverses the winding. */
-  P.flip = skinned ? skinned_flip(L, node, &D) : det3(M) < 0;
+  P.flip = skinned ? pb_deform_src_mirrors(&L->deform, &D, node, &L->world[node]) : det3(M) < 0;
   normal_matrix(P.M, P.N);
   P.base = s->vertex_count;
   uint32_t tri_base = s->triangle_count;
@@ -1245,7 +1134,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     r = warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
              (unsigned long long)dropped);
 done:
-  deform_src_free(&D);
+  pb_deform_src_free(&D);
   free(P.src_of);
   return r;
 }
