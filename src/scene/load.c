@@ -767,6 +767,14 @@ static pb_result store_tangent(loader *L, uint32_t dst, const pb_span *tg, uint6
   return PB_OK;
 }
 
+/* Whether any texture of m reads uv set 1. */
+static int reads_uv1(const pb_scene *s, const pb_material *m) {
+  const int32_t t[4] = {m->base_color_tex, m->metallic_roughness_tex, m->emissive_tex, m->normal_tex};
+  for (int k = 0; k < 4; ++k)
+    if (t[k] >= 0 && (uint32_t)t[k] < s->texture_count && s->textures[t[k]].texcoord == 1) return 1;
+  return 0;
+}
+
 /* A vertex attribute of meshes[mesh].primitives[pi] named `name`:
  * `comps` components of the allowed types (integers normalized), with
  * POSITION's count. */
@@ -800,7 +808,7 @@ typedef struct prim_src {
 /* Grows a per-vertex array of the scene that exists only once some
  * primitive has the attribute: `*arr` NULL until then; the vertices before
  * it get `fill`. */
-static pb_result vertex_attr(loader *L, float **arr, size_t comps, const float *fill, int present) {
+static pb_result vertex_attr(loader *L, void **arr, size_t comps, const float *fill, int present) {
   pb_scene *s = L->s;
   if (!*arr && !present) return PB_OK;
   int fresh = !*arr;
@@ -929,6 +937,10 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   }
   P.use_t = has_t && pb_span_has_data(&P.tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
             s->materials[mat].normal_tex >= 0;
+  if (p->texcoord1 == -1 && reads_uv1(s, &s->materials[mat]) &&
+      (r = warn(L, "meshes[%d].primitives[%zu]: its material reads TEXCOORD_1, which the primitive lacks: (0, 0) is used",
+                mesh, pi)) != PB_OK)
+    return r;
   if (p->variant_mapping_count &&
       (r = warn(L, "meshes[%d].primitives[%zu]: KHR_materials_variants: %zu variant mapping(s); the default material is shown",
                 mesh, pi, p->variant_mapping_count)) != PB_OK)
@@ -991,8 +1003,8 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     goto done;
   }
   static const float zero2[2] = {0, 0}, white[4] = {1, 1, 1, 1};
-  if ((r = vertex_attr(L, (float **)&s->uvs1, 2, zero2, P.has_uv1)) != PB_OK) goto done;
-  if ((r = vertex_attr(L, (float **)&s->colors, 4, white, P.has_col)) != PB_OK) goto done;
+  if ((r = vertex_attr(L, (void **)&s->uvs1, 2, zero2, P.has_uv1)) != PB_OK) goto done;
+  if ((r = vertex_attr(L, (void **)&s->colors, 4, white, P.has_col)) != PB_OK) goto done;
   uint32_t tcap = L->triangle_cap;
   if ((r = grow(L, (void **)&s->triangles, &L->triangle_cap, (uint64_t)s->triangle_count + ntri, sizeof *s->triangles, "triangles")) != PB_OK)
     goto done;

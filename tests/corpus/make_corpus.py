@@ -448,6 +448,20 @@ def broken_cases(C, png):
     case("sparse_indices_strided", EXIT_INVALID, "accessors[0].sparse.indices: bufferViews[",
          sparse([1, 2], P2, edit=lambda sp, d: d["bufferViews"][sp["indices"]["bufferView"]].update({"byteStride": 4})))
     case("sparse_not_object", EXIT_INVALID, "accessors[0].sparse: not an object", setp(("accessors", 0, "sparse"), 3))
+    # KHR_texture_transform's members and KHR_materials_volume's are typed.
+    tt = ("materials", 0, "pbrMetallicRoughness", "baseColorTexture", "extensions")
+    case("texture_transform_offset_bad", EXIT_INVALID,
+         "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.offset: not an array of 2 numbers",
+         setp(tt, {"KHR_texture_transform": {"offset": [1]}}))
+    case("texture_transform_texcoord_bad", EXIT_INVALID,
+         "baseColorTexture.extensions.KHR_texture_transform.texCoord: -1 is not an index",
+         setp(tt, {"KHR_texture_transform": {"texCoord": -1}}))
+    case("volume_distance_negative", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_volume.attenuationDistance: -2 is not positive",
+         setp(("materials", 1, "extensions"), {"KHR_materials_volume": {"thicknessFactor": 1, "attenuationDistance": -2}}))
+    case("volume_color_range", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_volume.attenuationColor[1]: 2 is outside [0, 1]",
+         setp(("materials", 1, "extensions"), {"KHR_materials_volume": {"attenuationColor": [1, 2, 1]}}))
     case("normal_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.NORMAL",
          setp(("accessors", 1, "count"), 3))
     case("texcoord_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.TEXCOORD_0",
@@ -888,6 +902,28 @@ def valid_cases(C, png):
     C.gltf(V, "spot_blend_zero", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES,
                    "warn=lights[1].spot: innerConeAngle = outerConeAngle (0.6, Blender's spot blend 0): a hard-edged spot"])
+    # Blender marks KHR_texture_transform required whenever a Mapping node
+    # feeds a texture: it loads (texCoord 1 from the extension, without a
+    # TEXCOORD_1 in the primitive: warned, read as (0, 0)).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"].append("KHR_texture_transform")
+    d["extensionsRequired"] = ["KHR_texture_transform"]
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"offset": [0.5, 0], "rotation": 0.3, "scale": [2, 2], "texCoord": 1}}
+    C.gltf(V, "texture_transform_required", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=meshes[0].primitives[0]: its material reads TEXCOORD_1, which the primitive lacks"])
+    # KHR_materials_unlit and KHR_materials_variants (the default material
+    # shown, warned).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"] += ["KHR_materials_unlit", "KHR_materials_variants"]
+    d["materials"][1]["extensions"] = {"KHR_materials_unlit": {}}
+    d["extensions"]["KHR_materials_variants"] = {"variants": [{"name": "red"}, {"name": "blue"}]}
+    d["meshes"][1]["primitives"][0]["extensions"] = {"KHR_materials_variants": {"mappings": [
+        {"material": 0, "variants": [1]}]}}
+    C.gltf(V, "unlit_and_variants", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=meshes[1].primitives[0]: KHR_materials_variants: 1 variant mapping(s); the default material is shown"])
     # Skins and morph targets that load: the plain ones, an animated weights
     # channel, and the repairs (warned).
     d = copy.deepcopy(doc0)
