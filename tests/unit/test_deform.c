@@ -3,7 +3,8 @@
  * every vertex checked against values worked out by hand:
  *   - a morphed quad: mesh.weights and node.weights at load, a sparse target
  *     without a bufferView, NORMAL targets (normals n + sum w dN,
- *     renormalised), LINEAR and CUBICSPLINE "weights" channels, the pose at
+ *     renormalised), TANGENT targets on a normal-mapped quad, LINEAR and
+ *     CUBICSPLINE "weights" channels, the pose at
  *     the file's weights equal to the static load byte for byte;
  *   - a skinned strip of two joints: the static load already posed by a
  *     rotated joint (no animation), the joint animated (slerp), the skinned
@@ -222,6 +223,52 @@ static void test_morph_animated(void) {
   pb_scene_destroy(&s);
 }
 
+/* A normal-mapped morphed quad: TANGENT (1,0,0,1) and a TANGENT target
+ * (-1,1,0) at weight 0.5 pose the tangent (0.5,0.5,0), normalised, w kept;
+ * animated to weight 1 it is +Y. The normal map is a flat 1x1 PNG. */
+static void test_morph_tangent(void) {
+  static const uint8_t flat_png[70] = {137,80,78,71,13,10,26,10,0,0,0,13,73,72,68,82,0,0,0,1,0,0,0,1,8,6,0,0,0,31,21,196,
+                                       137,0,0,0,13,73,68,65,84,120,156,99,104,104,248,255,31,0,6,130,2,255,179,190,81,51,
+                                       0,0,0,0,73,69,78,68,174,66,96,130};
+  char png[256];
+  snprintf(png, sizeof png, "%s/flat.png", dir);
+  FILE *f = fopen(png, "wb");
+  fwrite(flat_png, 1, sizeof flat_png, f);
+  fclose(f);
+  doc g;
+  int pos, nrm, idx, t0p, t0n, t1p;
+  morph_doc(&g, &pos, &nrm, &idx, &t0p, &t0n, &t1p);
+  const float tan[16] = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+  const float dt[12] = {-1, 1, 0, -1, 1, 0, -1, 1, 0, -1, 1, 0};
+  const float uv[8] = {0, 0, 1, 0, 1, 1, 0, 1}, t[2] = {0, 1}, w[4] = {0.5f, 0, 1, 0};
+  int ta = floats(&g, tan, 4, "VEC4"), tt = floats(&g, dt, 4, "VEC3");
+  int ua = accessor(&g, view(&g, uv, sizeof uv), F32, 4, "VEC2", "");
+  int in = floats(&g, t, 2, "SCALAR"), out = floats(&g, w, 4, "SCALAR");
+  char body[4096];
+  snprintf(body, sizeof body,
+           "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d,\"TANGENT\":%d,\"TEXCOORD_0\":%d},"
+           "\"indices\":%d,\"material\":0,\"targets\":[{\"TANGENT\":%d},{\"POSITION\":%d}]}],\"weights\":[0.5,0]}],"
+           "\"materials\":[{\"normalTexture\":{\"index\":0}}],\"textures\":[{\"source\":0}],"
+           "\"images\":[{\"uri\":\"flat.png\"}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],"
+           "\"animations\":[{\"samplers\":[{\"input\":%d,\"output\":%d}],"
+           "\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"weights\"}}]}]",
+           pos, nrm, ta, ua, idx, tt, t1p, in, out);
+  pb_scene s;
+  CHECK_EQ_INT(load(&g, body, &s), PB_OK);
+  CHECK(s.tangents != NULL);
+  if (s.tangents) {
+    const double h = 0.70710678;
+    VEC(s.tangents[0], h, h, 0);
+    CHECK_NEAR(s.tangents[0][3], 1, 0);
+    CHECK_EQ_INT(pb_scene_set_time(&s, 1.0), PB_OK);
+    VEC(s.tangents[2], 0, 1, 0);
+    CHECK_EQ_INT(pb_scene_set_time(&s, 0.0), PB_OK);
+    VEC(s.tangents[3], h, h, 0);
+  }
+  pb_scene_destroy(&s);
+  unlink(png);
+}
+
 /* ---- skins ------------------------------------------------------------------
  * A strip along x: vertices (x, y, 0) for x = 0, 1, 2 and y = 0, 1 (index
  * 2x + y), normals +Z. Joint 0 (node 1) at the origin, joint 1 (node 2, its
@@ -369,6 +416,7 @@ int main(void) {
   if (!mkdtemp(dir)) return 1;
   test_morph_static();
   test_morph_animated();
+  test_morph_tangent();
   test_skin_static();
   test_skin_animated();
   test_skin_repairs();
