@@ -192,11 +192,12 @@ def deform_cost(a, dev_args, dev_name, out, work, frames):
         row = {"mode": mode, "triangles": info["triangles"], "vertices": info["vertices"],
                "posed_per_frame": info["deform"]["posed_per_frame"], "skinned": info["deform"]["skinned_vertices"],
                "morphed": info["deform"]["morphed_vertices"], "frames": len(fr), "pose_ms": mean("pose"),
+               "pose_cpu_ms": mean("pose_cpu"),
                "scene_update_ms": mean("scene_update"), "wall_ms": sum(f["wall_ms"] for f in fr) / len(fr)}
         rows.append(row)
-        print("deform %-8s %d triangles, %d vertices posed per frame: pose %.2f ms, GPU scene update %.2f ms, "
-              "wall %.1f ms per frame" % (mode, row["triangles"], row["posed_per_frame"], row["pose_ms"],
-                                           row["scene_update_ms"], row["wall_ms"]))
+        print("deform %-8s %d triangles, %d vertices posed per frame: pose %.2f ms (CPU %.2f ms), GPU scene update "
+              "%.2f ms, wall %.1f ms per frame" % (mode, row["triangles"], row["posed_per_frame"], row["pose_ms"],
+                                                    row["pose_cpu_ms"], row["scene_update_ms"], row["wall_ms"]))
     result = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
               "machine": run_bench.machine_info(), "device": dev_name, "frames": frames, "rows": rows,
               "load_1m": os.getloadavg()[0]}
@@ -207,17 +208,19 @@ def deform_cost(a, dev_args, dev_name, out, work, frames):
              "Measured %s on %s (%s cores, load %.1f), Vulkan device %s; frames %s (the first, which uploads the "
              "scene, left out), 32 px, 4096 photon paths, no filters. bench/deform_scene.py: 100,000 triangles; "
              "skinned: four joints (four influences per vertex) and two morph targets (POSITION, NORMAL), all "
-             "animated; rigid: its node moves; static: no animation. Pose: pb_scene_set_time on the CPU (one thread); "
-             "scene update: the GPU BVH refit (or rebuild) and the vertex upload." %
+             "animated; rigid: its node moves; static: no animation. Pose: pb_scene_set_time on the CPU (one thread), "
+             "wall and the thread's CPU time (the cost without the machine's other load); scene update: the GPU BVH "
+             "refit (or rebuild) and the vertex upload." %
              (result["date"], m.get("cpu", "?"), m.get("cores"), result["load_1m"], dev_name, frames), "",
-             "| mesh | triangles | skinned/morphed vertices posed per frame | pose ms | GPU scene update ms | wall ms/frame |",
-             "|---|---:|---:|---:|---:|---:|"]
+             "| mesh | triangles | skinned/morphed vertices posed per frame | pose ms | pose CPU ms | GPU scene update ms "
+             "| wall ms/frame |", "|---|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         if "error" in r:
-            lines.append("| %s | failed | | | | |" % r["mode"])
+            lines.append("| %s | failed | | | | | |" % r["mode"])
         else:
-            lines.append("| %s | %d | %d | %.2f | %.2f | %.1f |" % (r["mode"], r["triangles"], r["posed_per_frame"],
-                                                                   r["pose_ms"], r["scene_update_ms"], r["wall_ms"]))
+            lines.append("| %s | %d | %d | %.2f | %.2f | %.2f | %.1f |" % (
+                r["mode"], r["triangles"], r["posed_per_frame"], r["pose_ms"], r["pose_cpu_ms"], r["scene_update_ms"],
+                r["wall_ms"]))
     with open(os.path.join(out, "DEFORM.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("wrote %s" % os.path.join(out, "DEFORM.md"))
