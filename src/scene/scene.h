@@ -201,10 +201,11 @@ typedef struct pb_scene {
 
   uint32_t animation_count;  /* glTF animations in the file */
   uint32_t animation_channel_count;
-  /* Node animation (translation / rotation / scale channels), posed by
-   * pb_scene_set_time. Opaque; NULL when the file has no usable channel
-   * (none, or only morph "weights" and channels on `matrix` nodes, which
-   * are ignored with a warning). Every animation of the file plays at once on
+  /* Node animation (translation / rotation / scale channels) and morph
+   * weight channels, posed by pb_scene_set_time with the skins. Opaque; NULL
+   * when the file has no usable channel (none, or only channels on `matrix`
+   * nodes and weights of meshes without targets, which are ignored with a
+   * warning). Every animation of the file plays at once on
    * one timeline (Blender exports one action per object). anim_start,
    * anim_end: seconds, the union of the key times of the samplers those
    * channels use; 0, 0 without anim. After loading, the arrays hold the rest
@@ -258,9 +259,10 @@ pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...)
 
 /* Poses the scene at time t seconds, clamped to [anim_start, anim_end] (glTF
  * holds the first and last keys outside them): rewrites positions, normals
- * (inverse-transpose, unit length), cameras (position and frame), lights
- * (position, direction) and the bounds, all relative to pb_scene.origin as
- * the static load is. Topology, triangle order, materials, counts and
+ * (inverse-transpose, unit length), the skinned and morphed vertices that
+ * move (deform.h; their file tangents too), cameras (position and frame),
+ * lights (position, direction) and the bounds, all relative to
+ * pb_scene.origin as the static load is. Topology, triangle order, materials, counts and
  * features never change: triangle i is the same triangle at every time (for
  * motion vectors and BVH refits). A deterministic function of t (not of
  * earlier calls). PB_OK and nothing changed for scenes without anim.
