@@ -4,7 +4,9 @@
 // spp 1, stratified/jittered otherwise) follows delta interactions (mirror,
 // glass) up to max_specular_depth and stops at the first surface with a
 // smooth lobe, which goes into the G-buffer for the direct pass (and later
-// for photon gathering). Emission met along the way is accumulated here.
+// for photon gathering). Emission met along the way is accumulated here
+// (unlit surfaces included: this is the camera path), and the chain's
+// throughput falls by Beer-Lambert inside absorbing media.
 // First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
 // the reference's lobe probabilities, so the estimate stays unbiased.
@@ -40,6 +42,7 @@ void main() {
   float t0, tmax;
   pb_camera_ray(frame.cam, vec2(fx, fy), org, dir, t0, tmax);
   vec3 beta = vec3(1.0);
+  vec3 sigma = vec3(0.0); // absorbing medium the chain is in (KHR_materials_volume)
   bool direct_only = (frame.flags & PB_GPU_FRAME_DIRECT_ONLY) != 0u;
 
   pb_gpu_accum acc = accum[gid];
@@ -60,6 +63,7 @@ void main() {
     // The camera segment ends at the far clip plane (tmax), the others never.
     uint prim = pb_trace(org, dir, 0.0, chain == 0u ? tmax : uintBitsToFloat(0x7f800000u), false, t, u, v);
     if (prim == PB_GPU_MISS) break;
+    beta *= pb_medium_transmittance(sigma, t);
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
     pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV
     vec3 wo = -dir;
@@ -138,6 +142,7 @@ void main() {
       }
     }
     if (all(equal(beta, vec3(0.0)))) break;
+    sigma = pb_medium_after(sigma, surf, transmit);
     org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
     dir = wi;
   }

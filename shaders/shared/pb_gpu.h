@@ -88,6 +88,7 @@ PB_STRUCT(pb_gpu_hit) {
  * Textures are indices into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
 PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
 PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
+PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
 PB_STRUCT(pb_gpu_material) {
   PB_VEC4(base_color);       /* linear RGBA */
   PB_VEC3(emissive);         /* W/(m^2 sr) */
@@ -108,11 +109,17 @@ PB_STRUCT(pb_gpu_material) {
   uint pad0;
   uint pad1;
   uint pad2;
+  PB_VEC3(attenuation);      /* KHR_materials_volume: sigma_a [1/m] of the
+                                medium inside (pb_material.attenuation) */
+  uint pad3;
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
  * byte), rows top to bottom, starting at texel `offset` of the texel buffer.
- * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. */
+ * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. How the material
+ * reads it (pb_texture.texcoord, uv_xform): uv set `texcoord` (0 or 1),
+ * then u' = dot(xform_u.xyz, (u, v, 1)), v' = dot(xform_v.xyz, (u, v, 1))
+ * (the identity rows without KHR_texture_transform). */
 PB_CONST(PB_GPU_TEX_SRGB, 1u)
 PB_CONST(PB_GPU_TEX_NEAREST, 2u)
 PB_STRUCT(pb_gpu_texture) {
@@ -122,8 +129,10 @@ PB_STRUCT(pb_gpu_texture) {
   uint flags;
   uint wrap_s;
   uint wrap_t;
-  uint pad0;
+  uint texcoord;
   uint pad1;
+  PB_VEC4(xform_u);
+  PB_VEC4(xform_v);
 } PB_END(pb_gpu_texture)
 
 /* Delta light, radiometric (scene.h): radiance = color * intensity folded
@@ -207,7 +216,13 @@ PB_STRUCT(pb_gpu_frame) {
   uint key_x0;
   uint key_y0;
   uint key_width;
+  uint uv1_base;         /* TEXCOORD_1 (float[2] per vertex, pb_scene.uvs1)
+                            from this float index of the uvs buffer; 0: none */
+  uint color_base;       /* COLOR_0 (float[4] per vertex, pb_scene.colors)
+                            from this float index of the uvs buffer; 0: none */
   uint pad0;
+  uint pad1;
+  uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
 PB_CONST(PB_GPU_FRAME_JITTER, 2u)      /* jitter the sample in the pixel also at 1 spp */
@@ -331,14 +346,17 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 96)
+PB_LAYOUT(pb_gpu_material, 112)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
 PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
-PB_LAYOUT(pb_gpu_texture, 32)
+PB_OFFSET(pb_gpu_material, attenuation, 96)
+PB_LAYOUT(pb_gpu_texture, 64)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
+PB_OFFSET(pb_gpu_texture, texcoord, 24) PB_OFFSET(pb_gpu_texture, xform_u, 32)
+PB_OFFSET(pb_gpu_texture, xform_v, 48)
 PB_LAYOUT(pb_gpu_light, 48)
 PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
 PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
@@ -349,11 +367,12 @@ PB_LAYOUT(pb_gpu_camera, 80)
 PB_OFFSET(pb_gpu_camera, x0, 12) PB_OFFSET(pb_gpu_camera, forward, 16) PB_OFFSET(pb_gpu_camera, dx, 28)
 PB_OFFSET(pb_gpu_camera, right, 32) PB_OFFSET(pb_gpu_camera, y0, 44) PB_OFFSET(pb_gpu_camera, up, 48)
 PB_OFFSET(pb_gpu_camera, dy, 60) PB_OFFSET(pb_gpu_camera, clip_near, 64) PB_OFFSET(pb_gpu_camera, orthographic, 72)
-PB_LAYOUT(pb_gpu_frame, 144)
+PB_LAYOUT(pb_gpu_frame, 160)
 PB_OFFSET(pb_gpu_frame, width, 80) PB_OFFSET(pb_gpu_frame, spp, 88)
 PB_OFFSET(pb_gpu_frame, seed_lo, 104) PB_OFFSET(pb_gpu_frame, flags, 112)
 PB_OFFSET(pb_gpu_frame, pixel_base, 120) PB_OFFSET(pb_gpu_frame, tangent_base, 124)
 PB_OFFSET(pb_gpu_frame, key_x0, 128) PB_OFFSET(pb_gpu_frame, key_width, 136)
+PB_OFFSET(pb_gpu_frame, uv1_base, 140) PB_OFFSET(pb_gpu_frame, color_base, 144)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)

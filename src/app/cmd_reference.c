@@ -105,8 +105,10 @@ int pb_cmd_reference(int argc, char **argv) {
   pb_core_opts c = {0};
   pb_color_opts co = {0};
   ref_opts o = {.max_bounces = UINT32_MAX};
+  pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
       PB_RENDER_OPTS(&c),
+      PB_POSE_OPTS(&pose),
       {"spp", 0, PB_OPT_U32, &o.spp, "N",
        "samples per pixel (default 64; with only --time-limit: until the time is up)",
        NULL, 1, 1 << 24},
@@ -174,7 +176,8 @@ int pb_cmd_reference(int argc, char **argv) {
   int wrote_exr = 0, wrote_png = 0;
   int camera;
   uint32_t w, h;
-  r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
+  r = pb_cli_pose(&s, &pose, NULL);
+  if (r == PB_OK) r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
   if (r != PB_OK) goto done;
   if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
   if (o.estimate_noise &&

@@ -182,6 +182,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   pb_json_number(j, "wall_ms", st->wall_ms);
   pb_json_begin_object(j, "passes_ms");
   pb_json_number(j, "pose", f->info.pose_ms);
+  pb_json_number(j, "pose_cpu", f->info.pose_cpu_ms);
   pb_json_number(j, "scene_update", f->info.scene_update_ms);
   if (st->timestamps) {
     pb_json_number(j, "gbuffer", st->gbuffer_ms);

@@ -15,6 +15,9 @@
  *    delta light is counted by next-event estimation when the vertex before
  *    the light is smooth and by the photon map when it is a delta
  *    interaction, never by both.
+ * Along segments inside an absorbing medium (KHR_materials_volume, entered
+ * by refraction) the throughput falls by the Beer-Lambert transmittance
+ * exp(-sigma_a t).
  * Bounce counting: a path of k scattering events between the emitter and the
  * eye has k bounces (direct lighting 1, an emitter seen directly 0); paths
  * over max_bounces are not counted. Russian roulette from the third bounce
@@ -55,6 +58,8 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   v3 dir = v3_load(d3);
   v3 org = v3_load(o3);
   v3 beta = v3_make(1, 1, 1);
+  v3 sigma = v3_make(0, 0, 0); /* absorption of the medium the path is in */
+  int camera_path = 1;    /* only delta interactions so far (unlit surfaces) */
   int prev_delta = 1;     /* the camera is a delta "vertex" for MIS */
   float prev_pdf = 0.0f;  /* solid-angle pdf of the last smooth sample */
   uint64_t rays = 0;
@@ -64,6 +69,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     rays++;
     /* The camera segment ends at the far clip plane. */
     if (!pb_ref_intersect(&ctx->accel, org, dir, k == 1 ? tmax : INFINITY, &h)) break;
+    if (!v3_is_zero(sigma)) beta = v3_mul(beta, pb_medium_transmittance(sigma, h.t));
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
@@ -73,7 +79,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
       out->depth = (t0 + h.t) * v3_dot(dir, fwd);
     }
 
-    v3 le = pb_surface_emission(s, &surf);
+    v3 le = pb_surface_emission(s, &surf, camera_path);
     if (!v3_is_zero(le)) {
       float w = 1.0f;
       if (!prev_delta) {
@@ -122,7 +128,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
             float dl = sqrtf(d2);
             v3 wi = v3_scale(d, 1.0f / dl);
             pb_surface_from_hit(s, &eh, wi, &es);
-            v3 le2 = pb_surface_emission(s, &es);
+            v3 le2 = pb_surface_emission(s, &es, 0);
             float cos_l = v3_dot(es.ng, v3_neg(wi));
             float pdf_b;
             v3 f = v3_is_zero(le2) || cos_l <= 0.0f ? v3_make(0, 0, 0)
@@ -158,6 +164,8 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     if (v3_is_zero(beta)) break;
     prev_delta = bs.delta;
     prev_pdf = bs.pdf;
+    camera_path &= bs.delta;
+    sigma = pb_medium_after(sigma, &surf, &bs);
     org = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);
     dir = bs.wi;
     if (k >= 3) {

@@ -141,7 +141,8 @@ typedef struct pb_surface {
   v3 ns;      /* shading normal, unit, same hemisphere as ng */
   int front;  /* 1: the ray hit the counter-clockwise (front) side */
   uint32_t prim;
-  float uv[2];
+  float uv[2], uv1[2]; /* TEXCOORD_0 and _1 (0 when the scene has none) */
+  float color[4];      /* COLOR_0 (white when the scene has none) */
   const pb_material *mat;
 } pb_surface;
 
@@ -207,9 +208,24 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
 v3 pb_bsdf_albedo(const pb_bsdf *b);
 
 /* Emitted radiance leaving surf toward wo (facing the surface's hit side):
- * material emissive x emissive texture, from the front side only unless the
- * material is double-sided. */
-v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf);
+ * material emissive x emissive texture (pb_material_emission), from the front
+ * side only unless the material is double-sided. An unlit surface's base
+ * colour is counted only on camera paths (camera_path: the eye, or a chain of
+ * delta interactions from it); it is no light to anything else. */
+v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_path);
+
+/* The medium a path is in after a sampled bounce (KHR_materials_volume,
+ * pb_material.attenuation): refracting into a front face enters the
+ * material's, refracting out of a back face leaves it for clear air (media
+ * are not nested); reflections stay where they are. */
+static inline v3 pb_medium_after(v3 sigma, const pb_surface *surf, const pb_bsdf_sample *bs) {
+  if (!bs->transmit) return sigma;
+  return surf->front ? v3_load(surf->mat->attenuation) : v3_make(0, 0, 0);
+}
+/* Beer-Lambert transmittance exp(-sigma t) over a segment of length t. */
+static inline v3 pb_medium_transmittance(v3 sigma, float t) {
+  return v3_make(expf(-sigma.x * t), expf(-sigma.y * t), expf(-sigma.z * t));
+}
 
 /* ---- lights ------------------------------------------------------------- */
 

@@ -297,7 +297,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                    &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
                    &gs->emitters},
       .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
-               plan.emitter_sampling ? 1u : 0u},
+               plan.emitter_sampling || plan.unlit ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
   };
   if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
@@ -349,6 +349,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
   fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u);
   fr.tangent_base = gs->tangent_base;
+  fr.uv1_base = gs->uv1_base;
+  fr.color_base = gs->color_base;
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;

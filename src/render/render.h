@@ -40,6 +40,8 @@ typedef struct pb_gpu_scene {
   uint32_t tangent_base;      /* normal maps: float index of the tangents in
                                  `normals` (pb_gpu_frame.tangent_base); 0:
                                  none */
+  uint32_t uv1_base, color_base; /* float indices of TEXCOORD_1 and COLOR_0
+                                 in `uvs` (pb_gpu_frame); 0: none */
   double upload_s;
   /* For pb_gpu_scene_update: the shape of the scene it was made from, and
    * room for a rebuilt BVH (PB_BVH_WIDTH x triangles + 1 nodes, the most a

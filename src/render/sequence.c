@@ -192,11 +192,12 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     memcpy(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights);
     q->prev_cam = s->cameras[q->camera];
   }
-  double t0 = pb_time_now();
+  double t0 = pb_time_now(), c0 = pb_thread_cpu_now();
   if (s->anim && (r = pb_scene_set_time(s, t)) != PB_OK) return r;
   if (q->desc.orbit)
     pb_sequence_orbit_camera(s, &q->start_cam, t, q->desc.orbit_period, &s->cameras[q->camera]);
   fi.pose_ms = (pb_time_now() - t0) * 1e3;
+  fi.pose_cpu_ms = (pb_thread_cpu_now() - c0) * 1e3;
   const pb_camera *cam = &s->cameras[q->camera];
   fi.camera = *cam;
   if (q->has_prev) {

@@ -100,6 +100,12 @@ static void check_success(const pb_scene *s) {
   for (uint32_t v = 0; v < s->vertex_count; ++v)
     for (int c = 0; c < 3; ++c)
       if (!isfinite(s->positions[v][c])) FAIL("vertex %u: position is not finite", v);
+  /* COLOR_0 in [0, 1], TEXCOORD_1 finite (scene.h). */
+  for (uint32_t v = 0; s->colors && v < s->vertex_count; ++v)
+    for (int c = 0; c < 4; ++c)
+      if (!(s->colors[v][c] >= 0 && s->colors[v][c] <= 1)) FAIL("vertex %u: colour %g is not in [0, 1]", v, s->colors[v][c]);
+  for (uint32_t v = 0; s->uvs1 && v < s->vertex_count; ++v)
+    if (!isfinite(s->uvs1[v][0]) || !isfinite(s->uvs1[v][1])) FAIL("vertex %u: TEXCOORD_1 is not finite", v);
   for (uint32_t c = 0; c < s->camera_count; ++c) {
     const pb_camera *k = &s->cameras[c];
     for (int i = 0; i < 3; ++i)
@@ -187,6 +193,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     check_failure(path, r, &s);
   } else {
     check_success(&s);
+    /* Poses (node animation, skins, morph weights) at the start, the middle
+     * and the end: PB_OK with the same contract, or a one-line
+     * PB_ERR_SCENE_INVALID naming the file (a pose out of float range). */
+    for (int k = 0; s.anim && k < 3; ++k) {
+      pb_error_clear();
+      double t = s.anim_start + 0.5 * k * (s.anim_end - s.anim_start);
+      pb_result pr = pb_scene_set_time(&s, t);
+      if (pr == PB_OK) {
+        check_success(&s);
+        continue;
+      }
+      const char *msg = pb_error_message();
+      if (pr != PB_ERR_SCENE_INVALID || !strstr(msg, path) || strchr(msg, '\n'))
+        FAIL("pb_scene_set_time(%g) returned %d: %s", t, (int)pr, msg);
+      break;
+    }
     pb_scene_destroy(&s);
   }
   pb_error_clear();
