@@ -150,7 +150,6 @@ uint32_t pb_radix_sort_capacity(const pb_radix_sort *s) { return s->desc.capacit
 pb_radix_sort_path pb_radix_sort_get_path(const pb_radix_sort *s) { return s->path; }
 const pb_gpu_buffer *pb_radix_sort_keys(const pb_radix_sort *s) { return &s->keys; }
 const pb_gpu_buffer *pb_radix_sort_vals(const pb_radix_sort *s) { return &s->vals; }
-const pb_gpu_buffer *pb_radix_sort_state(const pb_radix_sort *s) { return &s->state; }
 uint32_t pb_radix_sort_result(const pb_radix_sort *s) { return (s->passes & 1u) ? s->desc.capacity : 0u; }
 
 pb_result pb_radix_sort_bind(pb_gpu *g, pb_radix_sort *s, const pb_gpu_buffer *count, uint32_t count_word) {

@@ -56,8 +56,6 @@ const char *pb_radix_sort_path_name(pb_radix_sort_path p);
 const pb_gpu_buffer *pb_radix_sort_keys(const pb_radix_sort *s);
 const pb_gpu_buffer *pb_radix_sort_vals(const pb_radix_sort *s);
 uint32_t pb_radix_sort_result(const pb_radix_sort *s);
-/* The sort's state (pb_gpu_sort_state: count, tiles, dispatch grids). */
-const pb_gpu_buffer *pb_radix_sort_state(const pb_radix_sort *s);
 
 /* n = min(count[count_word], capacity), read by the GPU when the sort runs.
  * Call after create/reserve and whenever the count buffer changes. */
