@@ -22,23 +22,34 @@ shading point, with c = |n . wo| (n the shading normal) and m5 = (1 - c)^5:
   Fd    = s (F0 + (1 - F0) m5)      dielectric Schlick, F90 = s
   Fm    = base + (1 - base) m5      metal Schlick (glTF Appendix B)
   Diffuse BSDF  (Lambert)  base x (1-m)(1-t) x clamp(1 - s max_rgb(F0 + (1-F0) m5))
-  Glossy BSDF   (GGX, r)   m Fm + (1-m)(1-t) Fd + (1-m) t Fg
-  Refraction    (GGX, r)   (1-m) t (1 - Fg) base,  Fg: exact dielectric Fresnel (ior)
-  Emission                 emissiveFactor x emissiveTexture x emissive_strength,
-                           front side only unless doubleSided
-  alpha         MASK / BLEND mix with a Transparent BSDF (the reference is opaque)
+  mirrors (r < 0.02): sharp Glossy BSDF  m Fm + (1-m)(1-t) Fd + (1-m) t Fg
+  rough:  Principled BSDF at Metallic 1 (one GGX lobe, F on the half vector)
+          of weight w = m + k and colour (m base + k F0) / w, k = (1-m)(1-t) s
+  glass:  sharp Refraction BSDF  (1-m) t (1 - Fg) base  (Fg: the exact
+          dielectric Fresnel of ior at n . wo, the Fresnel node), or a GGX
+          Glass BSDF of colour base and weight (1-m) t when rough
+  Emission  emissiveFactor x emissiveTexture x emissive_strength, front side
+          only unless doubleSided
+  alpha   MASK / BLEND mix with a Transparent BSDF (the reference is opaque)
 
 which is src/ref/bsdf.c term by term: the diffuse weight there is also
 1 - max(F(n . wo)) (not the specification's per-direction fresnel_mix), the
 glass lobe uses the exact Fresnel equations, and roughness under 0.02
-(PB_SPECULAR_ROUGHNESS) is a perfect mirror on both sides (Cycles 3.4 treats
-alpha^2 <= 1e-7 as singular, i.e. r <= 0.018; r_eff = 0 below 0.02 closes the
-gap). What Cycles 3.4's nodes cannot say exactly (NOTES): a Glossy BSDF's
-colour is one value per shading point, so the rough lobe's Fresnel is taken
-at n . wo instead of wo . h (exact for mirrors); Cycles 3.4's GGX uses the
-separable Smith G1(wo) G1(wi) (kernel/closure/bsdf_microfacet.h), the
-reference the height-correlated form (Heitz 2014); rough transmission is
-rough here, as the specification says, and smooth in the reference.
+(PB_SPECULAR_ROUGHNESS) is a perfect mirror on both sides. For mirrors the
+Fresnel weight at n . wo is exact (h = n). What Cycles 3.4's nodes cannot say
+exactly (NOTES): a rough lobe needs its Fresnel per direction pair, which
+node colours cannot give (one value per shading point; at n . wo a rough
+dielectric wall seen at grazing angles came out 2x too glossy), and the only
+3.4 closure that evaluates a coloured Fresnel on wo . h is the Principled
+BSDF's specular lobe, whose F = c + (1 - c) FH uses the normalised dielectric
+Fresnel FH of ior 1.5 instead of Schlick's (1 - wo . h)^5 (at most 0.037
+apart, see build_material); Cycles 3.4's GGX has the separable Smith
+G1(wo) G1(wi) (kernel/closure/bsdf_microfacet.h), the reference the
+height-correlated G2 (Heitz 2014), which leaves a rough lobe's directional
+albedo equal at normal view and lower at grazing view (measured by
+integration: roughness 0.35: -0.4 % at cos 0.2; 0.6: -0.7 / -3.7 % at cos 0.5
+/ 0.2; 0.9: -5.8 / -14.7 %; 1.0: -9.3 / -20.5 %); rough transmission is rough
+here, as the specification says, and smooth in the reference.
 
 Textures: every image is converted to a linear float image first (sRGB
 decoded per texel with the exact IEC 61966-2-1 curve, like
@@ -436,11 +447,6 @@ def build_material(mat, gmat, textures, vertex_color, notes, what):
         G.link(sep.inputs[0], t[0])
         rough, metal = G.mul(rough, sep.outputs[1]), G.mul(metal, sep.outputs[2])
     metal, rough = G.clamp01(metal), G.clamp01(rough)
-    # Perfect mirror under PB_SPECULAR_ROUGHNESS, as in the reference.
-    if _is_sock(rough):
-        rough = G.mul(rough, G.math("GREATER_THAN", rough, SPECULAR_ROUGHNESS - 1e-7))
-    elif rough < SPECULAR_ROUGHNESS:
-        rough = 0.0
 
     spec_ext = exts.get("KHR_materials_specular")
     spec, spec_color = 1.0, (1.0, 1.0, 1.0)
@@ -506,40 +512,86 @@ def build_material(mat, gmat, textures, vertex_color, notes, what):
     nonmetal = G.one_minus(metal)
     dielectric = G.mul(nonmetal, G.one_minus(trans))  # (1-m)(1-t)
     glassw = G.mul(nonmetal, trans)                   # (1-m) t
+    k = G.mul(dielectric, spec)                       # the dielectric specular layer's weight
     r0 = ((ior - 1.0) / (ior + 1.0)) ** 2
     f0 = G.cmin1(G.cmul(r0, spec_color))
     fd_unit = G.cmix_white(f0, m5)                    # F0 + (1 - F0) m5
     kd = G.mul(dielectric, G.clamp01(G.one_minus(G.mul(spec, G.cmax_channel(fd_unit)))))
-    glossy = G.cmul(G.mul(dielectric, spec), fd_unit)
-    glossy = G.cadd(glossy, G.cmul(metal, G.cmix_white(base, m5)))
+    # 1 where the surface is a perfect mirror (roughness < PB_SPECULAR_ROUGHNESS).
+    if _is_sock(rough):
+        delta = G.math("LESS_THAN", rough, SPECULAR_ROUGHNESS)
+    else:
+        delta = 1.0 if rough < SPECULAR_ROUGHNESS else 0.0
+    glossy_w = G.one_minus(delta)
 
     closures = []
 
-    def bsdf(kind, color, **inputs):
+    def closure(kind, color=None, weight=1.0, **inputs):
+        """A BSDF node (colour, inputs, the normal map), scaled by `weight`
+        through a Mix Shader with an empty input when it is not 1."""
+        if G.is_zero(weight):
+            return None
         n = G.node(kind)
-        G.link(n.inputs["Color"], color)
-        for k, v in inputs.items():
-            G.link(n.inputs[k], v)
+        if color is not None:
+            G.link(n.inputs["Color"], color)
+        for name, v in inputs.items():
+            G.link(n.inputs[name.replace("_", " ")], v)
         if normal is not None:
             G.link(n.inputs["Normal"], normal)
-        closures.append(n.outputs[0])
+        out = n.outputs[0]
+        if _is_sock(weight) or weight != 1.0:
+            mix = G.node("ShaderNodeMixShader")
+            G.link(mix.inputs["Fac"], weight)
+            nt.links.new(out, mix.inputs[2])
+            out = mix.outputs[0]
+        closures.append(out)
         return n
 
-    if not G.is_zero(kd) and not G.is_zero(base):
-        bsdf("ShaderNodeBsdfDiffuse", G.cmul(base, kd), Roughness=0.0)
+    if not G.is_zero(base):
+        closure("ShaderNodeBsdfDiffuse", G.cmul(base, kd), weight=1.0 if not G.is_zero(kd) else 0.0, Roughness=0.0)
+    # Perfect mirrors: a sharp Glossy BSDF whose colour is the Fresnel
+    # weight at n . wo = h . wo, the reference's exactly; with glass, the
+    # exact dielectric Fresnel Fg of its reflection (refraction below).
+    mirror = G.cadd(G.cmul(k, fd_unit), G.cmul(metal, G.cmix_white(base, m5)))
+    fg = None
     if not G.is_zero(glassw):
         fr = G.node("ShaderNodeFresnel")
         fr.inputs["IOR"].default_value = ior
         if normal is not None:
             G.link(fr.inputs["Normal"], normal)
         fg = fr.outputs[0]
-        glossy = G.cadd(glossy, G.mul(glassw, fg))
-        refr = bsdf("ShaderNodeBsdfRefraction", G.cmul(base, G.mul(glassw, G.one_minus(fg))), Roughness=rough,
-                    IOR=ior)
-        refr.distribution = "GGX"
-    if not G.is_zero(glossy):
-        gl = bsdf("ShaderNodeBsdfGlossy", glossy, Roughness=rough)
-        gl.distribution = "GGX"
+        mirror = G.cadd(mirror, G.mul(glassw, fg))
+    gl = closure("ShaderNodeBsdfGlossy", mirror, weight=delta)
+    if gl:
+        gl.distribution = "SHARP"
+    # Rough specular: Fresnel on the half vector needs a closure that
+    # evaluates it per direction pair. Cycles 3.4's Principled BSDF at
+    # Metallic 1 is one GGX lobe with F = c + (1 - c) FH(wo . h), FH the
+    # dielectric Fresnel of ior 2 / (1 - sqrt(0.08 Specular)) - 1 normalised
+    # to [0, 1] (bsdf_microfacet.h, interpolate_fresnel_color); at Specular
+    # 0.5 (ior 1.5) FH is within 0.037 of Schlick's (1 - wo . h)^5 over the
+    # whole hemisphere (cosine-weighted mean +0.006; ior 1.2 and 2 do worse).
+    # The metal and dielectric layers, m (base + (1-base) F) + k (F0 + (1-F0) F),
+    # are one such lobe of weight w = m + k and c = (m base + k F0) / w.
+    w = G.math("ADD", metal, k, lambda x, y: x + y)
+    if not G.is_zero(w):
+        c = G.vmath("DIVIDE", G.cadd(G.cmul(metal, base), G.cmul(k, f0)), w,
+                    lambda x, y: tuple(p / q if q else 0.0 for p, q in zip(x, y)))
+        p = closure("ShaderNodeBsdfPrincipled", weight=G.mul(w, glossy_w), Base_Color=c, Metallic=1.0,
+                    Specular=0.5, Specular_Tint=0.0, Roughness=rough, Anisotropic=0.0, Sheen=0.0, Clearcoat=0.0,
+                    Transmission=0.0, Subsurface=0.0, Emission=(0.0, 0.0, 0.0), Emission_Strength=0.0)
+        if p:
+            p.distribution = "GGX"  # single scattering, as the reference
+    if fg is not None:
+        refr = closure("ShaderNodeBsdfRefraction", G.cmul(base, G.mul(glassw, G.one_minus(fg))), weight=delta,
+                       IOR=ior)
+        if refr:
+            refr.distribution = "SHARP"
+        # Rough glass: Cycles' GGX Glass BSDF (Fresnel on the half vector),
+        # as the specification says; its colour also tints the reflection.
+        gb = closure("ShaderNodeBsdfGlass", base, weight=G.mul(glassw, glossy_w), Roughness=rough, IOR=ior)
+        if gb:
+            gb.distribution = "GGX"
 
     emissive = tuple(float(x) for x in gmat.get("emissiveFactor", [0.0, 0.0, 0.0]))
     es = exts.get("KHR_materials_emissive_strength")
@@ -558,7 +610,7 @@ def build_material(mat, gmat, textures, vertex_color, notes, what):
         closures.append(em.outputs[0])
 
     if not closures:  # black: a Diffuse BSDF of colour 0 keeps the surface opaque
-        bsdf("ShaderNodeBsdfDiffuse", (0.0, 0.0, 0.0))
+        closure("ShaderNodeBsdfDiffuse", (0.0, 0.0, 0.0))
     shader = closures[0]
     for c in closures[1:]:
         add = G.node("ShaderNodeAddShader")
@@ -582,10 +634,10 @@ def build_material(mat, gmat, textures, vertex_color, notes, what):
         mat.blend_method = "BLEND" if mode == "BLEND" else "CLIP"
     out = G.node("ShaderNodeOutputMaterial", target="CYCLES")
     nt.links.new(shader, out.inputs["Surface"])
-    if not G.is_zero(glassw) and (_is_sock(rough) or rough > 0.0):
-        notes.append("%s: rough transmission (roughness %s) is rough in Cycles (as the glTF specification "
-                     "says); photonbridge refracts it smoothly" % (what, "textured" if _is_sock(rough) else
-                                                                   "%.3g" % rough))
+    if not G.is_zero(glassw) and not (not _is_sock(delta) and delta == 1.0):
+        notes.append("%s: rough transmission (roughness %s) is rough in Cycles (a GGX Glass BSDF, as the glTF "
+                     "specification says); photonbridge refracts it smoothly" %
+                     (what, "textured" if _is_sock(rough) else "%.3g" % rough))
     return G.count
 
 
