@@ -49,6 +49,7 @@ import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)  # gltf_json, for cycles_gltf
 
 
 def load_module(name, path):
@@ -222,7 +223,7 @@ def main(argv):
             if "BSDF_GLOSSY" in simple_bsdfs(cg):
                 info["notes"].append("mirrors: Glossy colour = base colour (glTF: Schlick towards white at grazing "
                                      "incidence; the samples' mirrors have base colours 0.95-0.97)")
-            cg.convert_lights(None, info["notes"])
+            cg.convert_lights()
         if args.width:
             aspect = r.resolution_y / r.resolution_x
             r.resolution_x = args.width
