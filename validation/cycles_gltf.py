@@ -98,8 +98,8 @@ class _SkipAnimations:
     """An importer user extension: no animation is imported, so every node
     keeps its own TRS, the rest pose photonbridge renders for one picture."""
 
-    def gather_import_animations(self, gltf, animations, options):
-        gltf.data.animations = None
+    def gather_import_animations(self, *args):
+        args[-1].data.animations = None  # io_scene_gltf2 passes (animations, options, gltf)
 
 
 def import_gltf(path, light_units="standard"):
@@ -131,6 +131,9 @@ def import_gltf(path, light_units="standard"):
         BlenderGlTF.create(gltf)
     except Exception as e:  # the importer raises ImportError, and whatever its code hits
         raise ImportFailed(one_line(e))
+    if any(ob.animation_data and ob.animation_data.action for ob in bpy.data.objects):
+        raise ImportFailed("this importer kept the file's animation (its user-extension hook changed), so the "
+                           "rest pose photonbridge renders cannot be shown")
     return gltf
 
 

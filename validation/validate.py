@@ -221,7 +221,7 @@ def halves_noise(exe, out, halves, color):
     psnr = m.get("psnr_db")
     return {"rmse": m["rmse"] / 2, "relmse": m["relmse"] / 4,
             "psnr_db": psnr + 10 * math.log10(4) if isinstance(psnr, (int, float)) else None,
-            "method": "two independent halves (seeds s and s+1): Var(mean) = E[(A-B)^2]/4"}
+            "method": "two independent halves (hashed seeds): Var(mean) = E[(A-B)^2]/4"}
 
 
 CREATED = None  # the output folder, when this run created it (removed if interrupted)
