@@ -105,7 +105,8 @@ class _SkipAnimations:
 def import_gltf(path, light_units="standard"):
     """Blender's glTF importer on `path`, in the current (empty) scene.
     Returns the importer object (its .data holds the parsed file). Raises
-    ImportFailed with a one-line reason."""
+    ImportFailed with a one-line reason ("Blender's glTF importer: ..." for
+    what the importer itself refuses)."""
     try:
         import numpy
         if not hasattr(numpy, "bool"):  # removed from Debian's numpy, still used by the add-on
@@ -113,7 +114,7 @@ def import_gltf(path, light_units="standard"):
         from io_scene_gltf2.io.imp.gltf2_io_gltf import glTFImporter
         from io_scene_gltf2.blender.imp.gltf2_blender_gltf import BlenderGlTF
     except ImportError as e:
-        raise ImportFailed("Blender's glTF add-on is not available: %s" % one_line(e))
+        raise ImportFailed("Blender's glTF importer is not available: %s" % one_line(e))
     # The operator's own defaults, as bpy.ops.import_scene.gltf would pass them.
     settings = {}
     for p in bpy.ops.import_scene.gltf.get_rna_type().properties:
@@ -130,10 +131,10 @@ def import_gltf(path, light_units="standard"):
         gltf.checks()
         BlenderGlTF.create(gltf)
     except Exception as e:  # the importer raises ImportError, and whatever its code hits
-        raise ImportFailed(one_line(e))
+        raise ImportFailed("Blender's glTF importer: " + one_line(e))
     if any(ob.animation_data and ob.animation_data.action for ob in bpy.data.objects):
-        raise ImportFailed("this importer kept the file's animation (its user-extension hook changed), so the "
-                           "rest pose photonbridge renders cannot be shown")
+        raise ImportFailed("Blender's glTF importer kept the file's animation (its user-extension hook changed), "
+                           "so the rest pose photonbridge renders cannot be shown")
     return gltf
 
 
@@ -328,7 +329,9 @@ class Textures:
             img = bpy.data.images.get(name) if name else None
             lin = linear_float_image(img, srgb) if img else None
             if lin is None:
-                raise ImportFailed("images[%d]: Blender could not read the image" % src)
+                uri = (self.doc.get("images") or [{}] * (src + 1))[src].get("uri", "")
+                raise ImportFailed("images[%d]: Blender cannot read the image%s" %
+                                   (src, " " + uri if uri and not uri.startswith("data:") else ""))
             self.images[key] = lin
         return self.images[key]
 

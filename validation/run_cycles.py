@@ -28,8 +28,9 @@ model, and `notes` (what this Cycles scene models differently from
 photonbridge). --halves renders two independent halves (seeds hashed from N,
 half the samples each) to OUT.a.exr and OUT.b.exr and writes their average
 as OUT, so that the image's own noise can be measured as photonbridge
-reference --estimate-noise does. A file the importer cannot read: OUT.json
-holds "error" (one line), nothing else is written, exit status 1.
+reference --estimate-noise does. A file the glTF path cannot read: OUT.json
+holds "error" (one line: "Blender's glTF importer: ..." for what the importer
+refuses), nothing else is written, exit status 1.
 
 Settings chosen for an unbiased reference: no denoising, no clamping,
 blur_glossy 0 (no caustic blurring), reflective and refractive caustics on,
@@ -44,6 +45,7 @@ import json
 import os
 import sys
 import time
+import traceback
 
 import bpy
 
@@ -256,8 +258,11 @@ def main(argv):
         r = sc.render
         try:
             cam, notes = cg.setup(os.path.abspath(args.gltf), pbinfo, materials, args.camera)
-        except cg.ImportFailed as e:
-            info["error"] = "Blender's glTF importer: %s" % e
+        except Exception as e:  # ImportFailed, or a bug: either way one line in the report
+            if not isinstance(e, cg.ImportFailed):
+                traceback.print_exc()
+            info["error"] = str(e) if isinstance(e, cg.ImportFailed) else \
+                "Cycles glTF path: %s: %s (a bug; traceback in the log)" % (type(e).__name__, cg.one_line(e))
             write_json(out + ".json", info)
             print("run_cycles: error: %s: %s" % (args.gltf, info["error"]), file=sys.stderr)
             return 1

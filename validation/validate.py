@@ -3,7 +3,8 @@
 
     python3 validation/validate.py SCENE --out DIR --exe build/photonbridge \
         [--width 128] [--spp 16] [--ref-spp 64] [--pov-quality medium] \
-        [--cycles-spp 64] [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
+        [--cycles-spp 64] [--cycles-source auto|sample|gltf] [--cycles-materials model|principled] \
+        [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
         [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L]
 
 `photonbridge validate` runs this script. SCENE is a glTF file or the name of
@@ -14,14 +15,26 @@ follows the camera's aspect in every renderer):
                 has caustics; --estimate-noise gives its own noise
   photonbridge  photonbridge render (GPU pipeline)
   povray        photonbridge export-pov + validation/run_povray.sh
-  cycles        validation/run_cycles.sh (when Blender is installed and SCENE
-                is a sample that exporters/blender/make_samples.py builds)
+  cycles        validation/run_cycles.sh, when Blender is installed, with
+                photonbridge's camera, image size and path-length limit (the
+                reference's max_bounces - 1 Cycles bounces), as two
+                independent halves for its own noise. The Cycles scene comes
+                from one of two sources (cycles_source): a sample is built by
+                exporters/blender/make_samples.py with Diffuse / Glossy /
+                Glass BSDFs; any other .gltf / .glb goes through Blender's glTF
+                importer with every material rebuilt as glTF's metallic-
+                roughness model (cycles_gltf.py). A file the importer cannot
+                read leaves Cycles failed with the importer's one-line reason.
 
 Every EXR goes through `photonbridge display` with the same OCIO options, and
 every pair through `photonbridge compare --json --heatmap` (the shared
 src/metrics code; the earlier renderer of the list above is the pair's
 reference). Writes DIR/index.html (images side by side, heat maps, metric
 table, times, settings, tool versions) and DIR/report.json (the same numbers).
+Every pair's row also lists what its two renderers model differently on this
+scene (renderer_notes: a feature one side lacks, a material model, bounce
+limits; from photonbridge info, the glTF's JSON and each renderer's own
+report), so that a modelling difference is not read as an error.
 A renderer that is missing or fails is listed with the reason and left out of
 the comparisons; the exit status is 0 when the reference and at least one
 other renderer produced an image, 1 otherwise, 2 on usage errors.
@@ -490,8 +503,12 @@ def main(argv):
                    "--json", js, "--heatmap", os.path.join(out, heat), "-q"] + color
             rc, o, _ = run(cmd, os.path.join(out, "cmp_" + tag + ".log"))
             m = read_json(js) if rc == 0 else None
+            # A note both renderers carry (the loader both read the file with)
+            # leaves them alike: only the others can separate the pair.
+            both = set(renders[t]["notes"]) & set(renders[r]["notes"])
             p = {"test": t, "reference": r, "_cmd": cmd,
-                 "by_design": [{"renderer": x, "note": note} for x in (t, r) for note in renders[x]["notes"]]}
+                 "by_design": [{"renderer": x, "note": note} for x in (t, r) for note in renders[x]["notes"]
+                               if note not in both]}
             if m:
                 display_name = display_name or m.get("display")
                 p.update({k: m.get(k) for k in ("width", "height", "rmse", "relmse", "psnr_db", "ssim",
