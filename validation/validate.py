@@ -362,8 +362,8 @@ def main(argv):
                    os.path.join(out, "info.log"))
     info = read_json(info_path) if rc == 0 else None
     info_error = o.strip().splitlines()[-1] if o.strip() else "exit %d" % rc
-    st = renders["reference"]
-    size = (st.get("width"), st.get("height")) if st.get("width") else image_size(info, a.width)
+    ref_r = renders["reference"]
+    size = (ref_r.get("width"), ref_r.get("height")) if ref_r.get("width") else image_size(info, a.width)
 
     # photonbridge render (GPU).
     progress("photonbridge render")
@@ -438,13 +438,13 @@ def main(argv):
         record("cycles", "failed", "photonbridge info could not read the scene: %s" % info_error)
     else:
         exr = os.path.join(out, "cycles.exr")
-        ref_st = renders["reference"].get("settings") or {}
+        ref_st = ref_r.get("settings") or {}
         # The reference's path-length limit: max_bounces scattering events
         # between light and eye (direct light: 1); Cycles counts the first
         # hit's light as bounce 0, so max_bounces - 1 is the same set of paths.
         bounces = max(0, (ref_st.get("max_bounces") or (1 if a.direct_only else 8)) - 1)
         if src["kind"] == "gltf":
-            src["args"] += ["--info", info_path] + (["--camera", st["camera"]] if st.get("camera") else [])
+            src["args"] += ["--info", info_path] + (["--camera", ref_r["camera"]] if ref_r.get("camera") else [])
         cmd = ["sh", os.path.join(HERE, "run_cycles.sh"), src["scene"], exr, "--width", str(size[0]),
                "--height", str(size[1]), "--samples", str(a.cycles_spp), "--bounces", str(bounces),
                "--materials", src["materials"], "--halves"] + src["args"]
@@ -779,7 +779,7 @@ def render_html(rep):
              "<th>can differ by design</th></tr>")
     for p in rep["pairs"]:
         if "error" in p:
-            h.append("<tr><td>%s</td><td>%s</td><td colspan=8 class='bad'>%s</td></tr>"
+            h.append("<tr><td>%s</td><td>%s</td><td colspan=9 class='bad'>%s</td></tr>"
                      % (e(p["test"]), e(p["reference"]), e(p["error"])))
             continue
         design = "".join("<li><b>%s</b>: %s</li>" % (e(d["renderer"]), e(d["note"])) for d in p.get("by_design", []))
