@@ -17,6 +17,20 @@
 #                             sun on a Lambertian plane, direct light, 1 %), with the
 #                             reference rendering the glTF Blender exported from the same
 #                             scenes. Labelled blender;no-sanitize; skips without Blender.
+#   cycles_gltf_samples       validation/cycles_gltf_check.py samples: every sample through
+#                             the Cycles glTF path (Blender's importer, materials rebuilt as
+#                             glTF's model) against the sample script's Cycles scene (within
+#                             noise) and, on diffuse scenes, photonbridge's reference (mean
+#                             within 1 %, MSE within noise, PSNR); the naive Principled import
+#                             must fail the same thresholds.
+#   cycles_gltf_scene         validation/cycles_gltf_check.py scene: a GLB written by code
+#                             (rough metal and dielectrics, textures, normal map, emission)
+#                             through `photonbridge validate`: Cycles against the reference;
+#                             KHR_texture_transform / TEXCOORD_1 / COLOR_0 said instead of baked.
+#   cycles_gltf_unreadable    a glTF Blender's importer refuses (asset.version 2.1, which
+#                             photonbridge reads): validate's report has the reference and
+#                             Cycles marked failed with the importer's one-line reason.
+#                             All three labelled blender;no-sanitize; skip without Blender.
 #   cli_validate_*            command-line errors.
 add_test(NAME validate_report_chromium
          COMMAND sh -c "c=$(command -v chromium || command -v chromium-browser) || { echo 'skip: no chromium'; exit 77; }
@@ -76,6 +90,16 @@ add_test(NAME cycles_calib
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cycles_calib PROPERTIES LABELS "blender;calibration;no-sanitize" SKIP_RETURN_CODE 77
                      TIMEOUT 600)
+
+# The Cycles glTF path (validation/cycles_gltf_check.py; thresholds there).
+foreach(mode samples scene unreadable)
+  add_test(NAME cycles_gltf_${mode}
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/validation/cycles_gltf_check.py ${mode} ${PB_EXE}
+                   $<TARGET_FILE:exr_probe> ${CMAKE_CURRENT_BINARY_DIR}/cycles_gltf_${mode} --threads 1
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(cycles_gltf_${mode} PROPERTIES LABELS "blender;no-sanitize" SKIP_RETURN_CODE 77
+                       TIMEOUT 900 PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+endforeach()
 
 # make demo's script at a tiny size: both EXRs and PNGs, the page with its
 # comparison, checked in Chromium as above.

@@ -3,7 +3,8 @@
 
     python3 validation/validate.py SCENE --out DIR --exe build/photonbridge \
         [--width 128] [--spp 16] [--ref-spp 64] [--pov-quality medium] \
-        [--cycles-spp 64] [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
+        [--cycles-spp 64] [--cycles-source auto|sample|gltf] [--cycles-materials model|principled] \
+        [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
         [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L]
 
 `photonbridge validate` runs this script. SCENE is a glTF file or the name of
@@ -14,14 +15,26 @@ follows the camera's aspect in every renderer):
                 has caustics; --estimate-noise gives its own noise
   photonbridge  photonbridge render (GPU pipeline)
   povray        photonbridge export-pov + validation/run_povray.sh
-  cycles        validation/run_cycles.sh (when Blender is installed and SCENE
-                is a sample that exporters/blender/make_samples.py builds)
+  cycles        validation/run_cycles.sh, when Blender is installed, with
+                photonbridge's camera, image size and path-length limit (the
+                reference's max_bounces - 1 Cycles bounces), as two
+                independent halves for its own noise. The Cycles scene comes
+                from one of two sources (cycles_source): a sample is built by
+                exporters/blender/make_samples.py with Diffuse / Glossy /
+                Glass BSDFs; any other .gltf / .glb goes through Blender's glTF
+                importer with every material rebuilt as glTF's metallic-
+                roughness model (cycles_gltf.py). A file the importer cannot
+                read leaves Cycles failed with the importer's one-line reason.
 
 Every EXR goes through `photonbridge display` with the same OCIO options, and
 every pair through `photonbridge compare --json --heatmap` (the shared
 src/metrics code; the earlier renderer of the list above is the pair's
 reference). Writes DIR/index.html (images side by side, heat maps, metric
 table, times, settings, tool versions) and DIR/report.json (the same numbers).
+Every pair's row also lists what its two renderers model differently on this
+scene (renderer_notes: a feature one side lacks, a material model, bounce
+limits; from photonbridge info, the glTF's JSON and each renderer's own
+report), so that a modelling difference is not read as an error.
 A renderer that is missing or fails is listed with the reason and left out of
 the comparisons; the exit status is 0 when the reference and at least one
 other renderer produced an image, 1 otherwise, 2 on usage errors.
@@ -31,13 +44,17 @@ Only the Python standard library is used.
 import argparse
 import html
 import json
+import math
 import os
 import shlex
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import time
+
+import gltf_json
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -91,6 +108,135 @@ def resolve_scene(scene):
     return path, sample
 
 
+def loader_args(args):
+    """The options of a --ref-args string that change what the loader reads
+    (for photonbridge info)."""
+    words, out = shlex.split(args), []
+    for i, w in enumerate(words):
+        if w == "--allow-external-files":
+            out.append(w)
+        elif w == "--light-units" and i + 1 < len(words):
+            out += [w, words[i + 1]]
+        elif w.startswith("--light-units="):
+            out.append(w)
+    return out
+
+
+def image_size(info, width):
+    """pb_camera_image_size (src/scene/scene.c) for the first camera, in
+    float32 as there; used when the reference did not say its size."""
+    f32 = lambda x: struct.unpack("f", struct.pack("f", x))[0]
+    cams = (info or {}).get("cameras") or [{}]
+    aspect = f32(cams[0].get("aspect") or 0.0)
+    if not aspect > 0:
+        aspect = f32(f32(4.0) / f32(3.0))
+    return width, max(1, int(math.floor(f32(f32(width) / aspect) + 0.5)))
+
+
+def cycles_source(a, scene, sample):
+    """Where the Cycles scene comes from, as run_cycles.sh takes it: the
+    sample script for a sample, Blender's glTF importer for any other file.
+    (A .blend would be one more source here: Cycles renders it as the artist
+    set it up, photonbridge the render engine's hand-off of it.) None when
+    --cycles-source sample is asked of a file that is not a sample."""
+    kind = a.cycles_source if a.cycles_source != "auto" else ("sample" if sample else "gltf")
+    model = a.cycles_materials == "model"
+    if kind == "sample":
+        return {"kind": "sample", "scene": sample, "materials": "bsdf" if model else "principled",
+                "args": []} if sample else None
+    return {"kind": "gltf", "scene": scene, "materials": "gltf" if model else "principled", "args": []}
+
+
+def _paths(xs, n=4):
+    return ", ".join(xs[:n]) + (" and %d more" % (len(xs) - n) if len(xs) > n else "")
+
+
+def renderer_notes(name, r, info, facts):
+    """What renderer `name` models differently from the others on this
+    scene, one line each: the differences a reader must not take for errors
+    (a feature one side lacks, a material model, bounce limits). info:
+    photonbridge info --json; facts: gltf_json.facts of the file (None if it
+    is not readable JSON)."""
+    st = r.get("settings") or {}
+    notes = list(r.get("notes") or [])
+    mats = (info or {}).get("materials") or []
+    delta = [m.get("name", "?") for m in mats if m.get("kind") in ("mirror", "glass")]
+    f = facts or {}
+    if name in ("reference", "photonbridge"):
+        notes += ["loader: " + w for w in (info or {}).get("warnings") or []]
+        if f.get("alpha"):
+            notes.append("alphaMode MASK / BLEND rendered opaque: " + _paths(f["alpha"]))
+        if f.get("color0"):
+            notes.append("COLOR_0 (vertex colours) not read: " + _paths(f["color0"]))
+        if f.get("extension_textures"):
+            notes.append("KHR_materials_specular / transmission textures not read (their factors are): " +
+                         _paths(f["extension_textures"]))
+        if f.get("rough_transmission"):
+            notes.append("transmission refracted as smooth glass whatever its roughness: " +
+                         _paths(f["rough_transmission"]))
+    if name == "reference":
+        notes.append("paths of up to %s scattering events (--max-bounces; direct light is 1)" % st.get("max_bounces"))
+        if st.get("mode") == "sppm":
+            notes.append("caustics (point, spot or sun light through perfect mirrors or glass) from SPPM photons")
+    elif name == "photonbridge":
+        notes.append("photon density estimation for indirect light and caustics: consistent but biased at a "
+                     "finite photon count (%s emitted): light blurred over the gather footprint" %
+                     st.get("photons_emitted"))
+    elif name == "povray":
+        notes += ["export-pov " + n for n in st.get("notes") or []]
+        notes.append("diffuse inter-reflection from radiosity (--quality %s), truncated at its recursion limit"
+                     % st.get("quality"))
+    elif name == "cycles":
+        notes.insert(0, "material model: %s" % st.get("materials"))
+        if "Principled" in (st.get("materials") or ""):
+            notes.insert(1, "Blender's Principled BSDF is not glTF's model: Disney diffuse with retro-reflection, "
+                            "and a GGX layer whose Fresnel rises to 1 at grazing angles even at Specular 0 "
+                            "(cornell_box renders 16.7 % brighter than with Diffuse BSDFs)")
+        notes.append("paths of up to %s bounces (Cycles counts direct light as 0: the reference's limit)"
+                     % st.get("bounces"))
+        if delta and (info or {}).get("lights"):
+            notes.append("caustics of point, spot and sun lights through perfect mirrors or glass (%s) are "
+                         "unreachable for Cycles' path tracing (a delta light seen through a delta surface); "
+                         "the reference renders them from photons" % _paths(delta))
+        if st.get("source") == "gltf":
+            for k, what in (("texture_transform", "KHR_texture_transform"), ("texcoord1", "texCoord > 0"),
+                            ("color0", "COLOR_0"), ("alpha", "alphaMode MASK / BLEND")):
+                if f.get(k):
+                    notes.append("%s applied as glTF says: %s" % (what, _paths(f[k])))
+            if f.get("unmodelled_extensions"):
+                notes.append("extensions not modelled: %s" % ", ".join(f["unmodelled_extensions"]))
+    return notes
+
+
+def scene_notes(facts):
+    """What every renderer here leaves out of the file (no pair differs by it)."""
+    f, notes = facts or {}, []
+    if f.get("occlusion"):
+        notes.append("occlusionTexture ignored by every renderer (path tracing computes what it approximates): " +
+                     _paths(f["occlusion"]))
+    if f.get("light_range"):
+        notes.append("light range ignored by every renderer (inverse-square fall-off everywhere): " +
+                     _paths(f["light_range"]))
+    return notes
+
+
+def halves_noise(exe, out, halves, color):
+    """The noise of the average of two independent halves A and B, as
+    photonbridge reference --estimate-noise reports its own (src/metrics:
+    Var(M) = E[(A - B)^2] / 4): RMSE / 2, relMSE / 4 (over B^2 + 0.01 rather
+    than M^2 + 0.01), display MSE / 4, i.e. PSNR + 6.02 dB."""
+    js = os.path.join(out, "cycles_halves.json")
+    rc, _, _ = run([exe, "compare", halves[0], halves[1], "--json", js, "-q"] + color,
+                   os.path.join(out, "cycles_halves.log"))
+    m = read_json(js) if rc == 0 else None
+    if not m or not isinstance(m.get("rmse"), (int, float)):
+        return None
+    psnr = m.get("psnr_db")
+    return {"rmse": m["rmse"] / 2, "relmse": m["relmse"] / 4,
+            "psnr_db": psnr + 10 * math.log10(4) if isinstance(psnr, (int, float)) else None,
+            "method": "two independent halves (hashed seeds): Var(mean) = E[(A-B)^2]/4"}
+
+
 CREATED = None  # the output folder, when this run created it (removed if interrupted)
 
 
@@ -123,7 +269,15 @@ def main(argv):
     ap.add_argument("--spp", type=int, default=16, help="photonbridge render samples per pixel")
     ap.add_argument("--ref-spp", type=int, default=64, help="reference samples per pixel")
     ap.add_argument("--pov-quality", default="medium", choices=["draft", "medium", "high", "direct"])
-    ap.add_argument("--cycles-spp", type=int, default=64)
+    ap.add_argument("--cycles-spp", type=int, default=64,
+                    help="Cycles samples per pixel (two independent halves, for its own noise)")
+    ap.add_argument("--cycles-source", choices=["auto", "sample", "gltf"], default="auto",
+                    help="where the Cycles scene comes from: sample (exporters/blender/make_samples.py builds it), "
+                         "gltf (Blender's importer reads SCENE, materials rebuilt as glTF's model); auto: sample "
+                         "for the samples, gltf for every other file")
+    ap.add_argument("--cycles-materials", choices=["model", "principled"], default="model",
+                    help="model: glTF's material model (sample: Diffuse/Glossy/Glass BSDFs; gltf: rebuilt from "
+                         "Cycles nodes); principled: Blender's Principled BSDFs as Blender sets them up")
     ap.add_argument("--threads", type=int, default=0, help="CPU threads for reference/POV-Ray/Cycles (0: all)")
     ap.add_argument("--direct-only", action="store_true",
                     help="direct light only everywhere: reference --max-bounces 1, render --direct-only, "
@@ -193,12 +347,23 @@ def main(argv):
     st = read_json(os.path.join(out, "reference.json")) or {}
     if rc == 0 and os.path.isfile(exr):
         record("reference", "ok", exr="reference.exr", wall_s=round(dt, 3), render_s=st.get("time_s"),
+               width=st.get("width"), height=st.get("height"), camera=st.get("camera"),
                settings={"spp": st.get("spp"), "mode": st.get("mode"), "max_bounces": st.get("max_bounces"),
                          "seed": st.get("seed"), "threads": st.get("threads"),
                          "photon_paths": st.get("photon_paths")},
                noise=st.get("noise"), command=cmd)
     else:
         record("reference", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
+
+    # What the loader made of the scene (cameras, lights, units, warnings):
+    # the Cycles scene takes photonbridge's camera, and the report's notes.
+    info_path = os.path.join(out, "info.json")
+    rc, o, _ = run([exe, "info", scene, "--json", info_path, "-q"] + loader_args(a.ref_args),
+                   os.path.join(out, "info.log"))
+    info = read_json(info_path) if rc == 0 else None
+    info_error = o.strip().splitlines()[-1] if o.strip() else "exit %d" % rc
+    ref_r = renders["reference"]
+    size = (ref_r.get("width"), ref_r.get("height")) if ref_r.get("width") else image_size(info, a.width)
 
     # photonbridge render (GPU).
     progress("photonbridge render")
@@ -261,29 +426,42 @@ def main(argv):
 
     # Cycles.
     progress("Cycles")
+    src = cycles_source(a, scene, sample)
     if a.no_cycles:
         record("cycles", "skipped", "--no-cycles")
     elif not shutil.which(os.environ.get("BLENDER", "blender")):
         record("cycles", "unavailable", "blender not installed")
-    elif not sample:
-        record("cycles", "unavailable", "not a sample built by exporters/blender/make_samples.py")
+    elif src is None:
+        record("cycles", "unavailable", "--cycles-source sample: %s is not a sample built by "
+               "exporters/blender/make_samples.py" % os.path.basename(scene))
+    elif not info:
+        record("cycles", "failed", "photonbridge info could not read the scene: %s" % info_error)
     else:
         exr = os.path.join(out, "cycles.exr")
-        cmd = ["sh", os.path.join(HERE, "run_cycles.sh"), sample, exr, "--width", str(a.width),
-               "--samples", str(a.cycles_spp)]
+        ref_st = ref_r.get("settings") or {}
+        # The reference's path-length limit: max_bounces scattering events
+        # between light and eye (direct light: 1); Cycles counts the first
+        # hit's light as bounce 0, so max_bounces - 1 is the same set of paths.
+        bounces = max(0, (ref_st.get("max_bounces") or (1 if a.direct_only else 8)) - 1)
+        if src["kind"] == "gltf":
+            src["args"] += ["--info", info_path] + (["--camera", ref_r["camera"]] if ref_r.get("camera") else [])
+        cmd = ["sh", os.path.join(HERE, "run_cycles.sh"), src["scene"], exr, "--width", str(size[0]),
+               "--height", str(size[1]), "--samples", str(a.cycles_spp), "--bounces", str(bounces),
+               "--materials", src["materials"], "--halves"] + src["args"]
         if a.threads:
             cmd += ["--threads", str(a.threads)]
-        if a.direct_only:
-            cmd += ["--bounces", "0"]
         rc, o, dt = run(cmd, os.path.join(out, "cycles-run.log"))
         st = read_json(exr + ".json") or {}
         if rc == 0 and os.path.isfile(exr):
+            noise = halves_noise(exe, out, [exr + "." + h for h in ("a.exr", "b.exr")], color)
             record("cycles", "ok", exr="cycles.exr", wall_s=round(dt, 3), render_s=st.get("render_s"),
-                   settings={"samples": st.get("samples"), "bounces": st.get("bounces"),
-                             "seed": st.get("seed"), "denoising": False, "clamping": False},
-                   command=cmd)
+                   settings={"source": src["kind"], "materials": st.get("material_model"),
+                             "samples": st.get("samples"), "bounces": st.get("bounces"), "seed": st.get("seed"),
+                             "pixel_filter": st.get("pixel_filter"), "denoising": False, "clamping": False},
+                   noise=noise, notes=st.get("notes") or [], command=cmd)
         else:
-            record("cycles", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
+            reason = st.get("error") or "exit %d: %s" % (rc, o.strip()[-300:])
+            record("cycles", "failed", reason, command=cmd)
 
     ok = [n for n in ORDER if renders.get(n, {}).get("status") == "ok"]
 
@@ -302,6 +480,15 @@ def main(argv):
         else:
             renders[n]["display_error"] = o.strip()[-300:]
 
+    # What each renderer shows differently by design, for every pair's row.
+    try:
+        facts = gltf_json.facts(gltf_json.read(scene))
+    except gltf_json.GltfError:
+        facts = None
+    for n, r in renders.items():
+        if r["status"] == "ok":
+            r["notes"] = renderer_notes(n, r, info, facts)
+
     # Every pair through the shared metrics, then the heat maps again on one
     # scale (the largest of the pairs' 99th percentiles), so that their
     # colours compare across maps.
@@ -316,7 +503,12 @@ def main(argv):
                    "--json", js, "--heatmap", os.path.join(out, heat), "-q"] + color
             rc, o, _ = run(cmd, os.path.join(out, "cmp_" + tag + ".log"))
             m = read_json(js) if rc == 0 else None
-            p = {"test": t, "reference": r, "_cmd": cmd}
+            # A note both renderers carry (the loader both read the file with)
+            # leaves them alike: only the others can separate the pair.
+            both = set(renders[t]["notes"]) & set(renders[r]["notes"])
+            p = {"test": t, "reference": r, "_cmd": cmd,
+                 "by_design": [{"renderer": x, "note": note} for x in (t, r) for note in renders[x]["notes"]
+                               if note not in both]}
             if m:
                 display_name = display_name or m.get("display")
                 p.update({k: m.get(k) for k in ("width", "height", "rmse", "relmse", "psnr_db", "ssim",
@@ -354,6 +546,7 @@ def main(argv):
         "scene": scene, "sample": sample, "width": a.width, "direct_only": a.direct_only,
         "display": display_name or "sRGB / Standard (built-in)", "color_options": color,
         "picture_view": picture_view, "heat_scale": heat_scale, "sequence": sequence,
+        "scene_notes": scene_notes(facts),
         "metrics_note": "RMSE and relMSE (mean of (t-r)^2/(r^2+0.01)) on scene-linear RGB; PSNR and SSIM "
                         "on the display image through the OCIO view above (src/metrics, photonbridge compare)",
         "renders": [renders[n] for n in ORDER if n in renders], "pairs": pairs, "versions": versions,
@@ -443,6 +636,7 @@ th{background:#333} td.num{text-align:right;font-variant-numeric:tabular-nums} .
 .controls{margin:6px 0;font-size:14px} .controls select,.controls button{font-size:14px;margin-right:6px}
 .bar{display:flex;align-items:center;gap:8px;font-size:13px;margin:6px 0}
 .bar .grad{width:320px;height:14px;border:1px solid #888}
+td.design{font-size:12px;color:#bbb;max-width:560px} td.design ul{margin:0;padding-left:16px}
 .strip{display:flex;gap:4px;overflow-x:auto} .strip .fig img{width:160px}
 """
 
@@ -575,21 +769,27 @@ def render_html(rep):
         h.append("</div>")
 
     times = {r["name"]: r.get("render_s") for r in rep["renders"]}
-    h.append("<h2>Metrics</h2><p class='note'>%s</p>" % e(rep["metrics_note"]))
+    h.append("<h2>Metrics</h2><p class='note'>%s. The last column lists what each renderer of the pair models "
+             "differently on this scene (a feature one side lacks, a material model, a bounce limit): a difference "
+             "it explains is not an error.</p>" % e(rep["metrics_note"]))
+    if rep.get("scene_notes"):
+        h.append("<p class='note'>%s</p>" % "<br>".join(e(n) for n in rep["scene_notes"]))
     h.append("<table><tr><th>test</th><th>reference</th><th>PSNR dB</th><th>SSIM</th><th>relMSE</th>"
-             "<th>RMSE</th><th>max abs</th><th>test s</th><th>reference s</th><th>size</th></tr>")
+             "<th>RMSE</th><th>max abs</th><th>test s</th><th>reference s</th><th>size</th>"
+             "<th>can differ by design</th></tr>")
     for p in rep["pairs"]:
         if "error" in p:
-            h.append("<tr><td>%s</td><td>%s</td><td colspan=8 class='bad'>%s</td></tr>"
+            h.append("<tr><td>%s</td><td>%s</td><td colspan=9 class='bad'>%s</td></tr>"
                      % (e(p["test"]), e(p["reference"]), e(p["error"])))
             continue
+        design = "".join("<li><b>%s</b>: %s</li>" % (e(d["renderer"]), e(d["note"])) for d in p.get("by_design", []))
         h.append("<tr><td>%s</td><td>%s</td><td class=num>%s</td><td class=num>%s</td><td class=num>%s</td>"
                  "<td class=num>%s</td><td class=num>%s</td><td class=num>%s</td><td class=num>%s</td>"
-                 "<td>%sx%s</td></tr>"
+                 "<td>%sx%s</td><td class='design'><ul>%s</ul></td></tr>"
                  % (e(p["test"]), e(p["reference"]), fmt(p.get("psnr_db"), ".2f"), fmt(p.get("ssim"), ".4f"),
                     fmt(p.get("relmse"), ".4g"), fmt(p.get("rmse"), ".4g"), fmt(p.get("max_abs_error"), ".4g"),
                     fmt(times.get(p["test"]), ".2f"), fmt(times.get(p["reference"]), ".2f"),
-                    p.get("width"), p.get("height")))
+                    p.get("width"), p.get("height"), design))
     h.append("</table><h2>Renders: times and settings</h2><table><tr><th>renderer</th><th>status</th>"
              "<th>render s</th><th>wall s</th><th>settings</th></tr>")
     for r in rep["renders"]:
