@@ -114,3 +114,17 @@ add_test(NAME demo_page
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(demo_page PROPERTIES LABELS "chromium;no-sanitize" SKIP_RETURN_CODE 77
                      TIMEOUT 600 PASS_REGULAR_EXPRESSION "demo: open .*1 passed, 0 failed")
+
+# validate on a .blend: photonbridge renders the render engine's hand-off
+# (exporters/blender/export_photonbridge.py), Cycles the .blend itself; the
+# report names the hand-off, Cycles' source and each side's material model.
+add_test(NAME validate_blend
+         COMMAND sh -c "command -v blender >/dev/null || { echo 'skip: no blender'; exit 77; }
+                        w='${CMAKE_CURRENT_BINARY_DIR}/validate_blend' && rm -rf \"$w\" &&
+                        \"$0\" validate samples/spot_room/spot_room.blend --out \"$w\" --width 32 --ref-spp 16 \
+                          --cycles-spp 16 --no-gpu --no-povray --threads 1 &&
+                        python3 -c \"import json,sys; r=json.load(open(sys.argv[1])); assert r['blend'].endswith('spot_room.blend') and r['handoff']['triangles']==2230, r['handoff']; c={x['name']:x for x in r['renders']}; assert c['cycles']['status']=='ok' and c['cycles']['settings']['source']=='blend', c['cycles']; assert c['reference'].get('handoff'), c['reference']; n=[d['note'] for p in r['pairs'] for d in p['by_design']]; assert any(x.startswith('material model: the .blend') for x in n) and any('hand-off of the .blend' in x for x in n), n; print('1 passed, 0 failed')\" \"$w/report.json\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(validate_blend PROPERTIES LABELS "blender;no-sanitize" SKIP_RETURN_CODE 77
+                     TIMEOUT 600 PASS_REGULAR_EXPRESSION "1 passed, 0 failed")

@@ -1,5 +1,9 @@
-"""Render a scene with Cycles, headless, from one of two sources of the
+"""Render a scene with Cycles, headless, from one of three sources of the
 Cycles scene:
+
+  --blend FILE   a .blend as the artist set it up: its own node trees,
+                 lights, world and active camera (the render settings are
+                 the unbiased ones below; its border is ignored);
 
   --scene NAME   a photonbridge sample, built by the very Blender script the
                  glTF was exported from (exporters/blender/make_samples.py);
@@ -18,7 +22,7 @@ Cycles scene:
                  photonbridge's camera (--info: `photonbridge info --json`).
 
     blender -b --factory-startup --python-exit-code 1 -P validation/run_cycles.py -- \\
-        (--scene NAME | --gltf FILE --info INFO.json) --out OUT.exr [--width W] [--height H] \\
+        (--scene NAME | --gltf FILE --info INFO.json | --blend FILE) --out OUT.exr [--width W] [--height H] \\
         [--samples N] [--threads N] [--seed N] [--bounces N] [--materials M] [--halves]
     blender -b --factory-startup --python-exit-code 1 -P validation/run_cycles.py -- --jobs JOBS.json
 
@@ -160,6 +164,7 @@ MODEL = {
                         "scene as its glTF means it)",
     ("gltf", "gltf"): "glTF metallic-roughness rebuilt from Cycles closures and math nodes (cycles_gltf.py)",
     ("gltf", "principled"): "Blender's glTF importer's Principled BSDFs",
+    ("blend", "blend"): "the .blend's own shader node trees, lights and world, as Cycles 3.4 evaluates them",
 }
 
 
@@ -205,9 +210,10 @@ def main(argv):
     src = ap.add_mutually_exclusive_group(required=True)
     src.add_argument("--scene", help="a sample of exporters/blender/make_samples.py")
     src.add_argument("--gltf", help="a .gltf or .glb file, through Blender's importer")
+    src.add_argument("--blend", help="a .blend file: its scene as the artist set it up")
     ap.add_argument("--info", help="with --gltf: `photonbridge info --json` of the file (camera, units, origin)")
     ap.add_argument("--camera", help="with --gltf: the camera photonbridge renders (default: its first)")
-    ap.add_argument("--materials", choices=["principled", "bsdf", "gltf"],
+    ap.add_argument("--materials", choices=["principled", "bsdf", "gltf", "blend"],
                     help="material model (see the module comment)")
     ap.add_argument("--out", required=True)
     ap.add_argument("--width", type=int, default=0, help="image width (height from the aspect)")
@@ -218,13 +224,13 @@ def main(argv):
     ap.add_argument("--bounces", type=int, default=64, help="max bounces (0: direct light only)")
     ap.add_argument("--halves", action="store_true", help="two independent halves and their average")
     args = ap.parse_args(argv)
-    source = "sample" if args.scene else "gltf"
-    materials = args.materials or ("principled" if source == "sample" else "gltf")
+    source = "sample" if args.scene else ("blend" if args.blend else "gltf")
+    materials = args.materials or {"sample": "principled", "gltf": "gltf", "blend": "blend"}[source]
     if (source, materials) not in MODEL:
-        ap.error("--materials %s does not apply to --%s" % (materials, "scene" if args.scene else "gltf"))
+        ap.error("--materials %s does not apply to --%s" % (materials, source if source != "sample" else "scene"))
     out = os.path.abspath(args.out)
     info = {"renderer": "cycles", "blender": bpy.app.version_string, "source": source,
-            "scene": args.scene or os.path.abspath(args.gltf), "materials": materials,
+            "scene": args.scene or os.path.abspath(args.gltf or args.blend), "materials": materials,
             "material_model": MODEL[(source, materials)], "notes": []}
     cg = load_module("pb_cycles_gltf", os.path.join(HERE, "cycles_gltf.py"))
     tmpdirs = []
@@ -248,6 +254,32 @@ def main(argv):
             aspect = r.resolution_y / r.resolution_x
             r.resolution_x = args.width
             r.resolution_y = args.height or max(1, round(args.width * aspect))
+    elif source == "blend":
+        # The scene as the artist left it: its materials, lights, world and
+        # active camera; only the render settings below are validation's.
+        try:
+            bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend), load_ui=False)
+        except RuntimeError as e:
+            info["error"] = "Blender cannot open %s: %s" % (args.blend, cg.one_line(e))
+            write_json(out + ".json", info)
+            print("run_cycles: error: %s" % info["error"], file=sys.stderr)
+            return 1
+        sc = bpy.context.scene
+        r = sc.render
+        if sc.camera is None:
+            info["error"] = "%s: the scene '%s' has no active camera" % (args.blend, sc.name)
+            write_json(out + ".json", info)
+            print("run_cycles: error: %s" % info["error"], file=sys.stderr)
+            return 1
+        r.use_border = False
+        if args.width:
+            aspect = (r.resolution_y * r.pixel_aspect_y) / (r.resolution_x * r.pixel_aspect_x)
+            r.resolution_x = args.width
+            r.resolution_y = args.height or max(1, round(args.width * aspect))
+        info["camera"] = sc.camera.name
+        info["notes"].append("Cycles renders the .blend's own materials, lights and world; validation's render "
+                             "settings replace its own (bounces, 1-px box filter, no denoising, clamping, "
+                             "light threshold or caustic blur)")
     else:
         if not args.info:
             ap.error("--gltf needs --info (photonbridge info --json of the file)")
@@ -271,7 +303,8 @@ def main(argv):
         r.resolution_x, r.resolution_y = cg.image_size(cam, args.width, args.height)
     r.resolution_percentage = 100
     r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-    sc.world = None  # glTF has no environment: black, as in the reference
+    if source != "blend":
+        sc.world = None  # glTF has no environment: black, as in the reference
     configure(sc, out, args.samples, args.threads, args.seed, args.bounces)
     if args.halves:
         half = max(1, args.samples // 2)

@@ -3,6 +3,7 @@
 #
 #   validation/run_cycles.sh NAME OUT.exr [run_cycles.py options]
 #   validation/run_cycles.sh FILE.gltf|FILE.glb OUT.exr --info INFO.json [run_cycles.py options]
+#   validation/run_cycles.sh FILE.blend OUT.exr [run_cycles.py options]
 #
 # NAME is a sample of exporters/blender/make_samples.py (the scene is built by
 # that script); a .gltf / .glb goes through Blender's glTF importer with its
@@ -24,6 +25,7 @@ scene=$1 out=$2
 shift 2
 case $scene in
   *.gltf|*.glb|*.GLTF|*.GLB) source=--gltf ;;
+  *.blend|*.BLEND) source=--blend ;;
   *) source=--scene ;;
 esac
 BLENDER=${BLENDER:-blender}

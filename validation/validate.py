@@ -7,9 +7,13 @@
         [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
         [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L]
 
-`photonbridge validate` runs this script. SCENE is a glTF file or the name of
-a sample (samples/NAME/NAME.gltf). Renders, all at the same width (the height
-follows the camera's aspect in every renderer):
+`photonbridge validate` runs this script. SCENE is a glTF/GLB file, a .blend,
+or the name of a sample (samples/NAME/NAME.gltf). A .blend is handed over by
+the Blender render engine's writer (exporters/blender/export_photonbridge.py,
+the same as F12: its glTF and the PHOTONBRIDGE_blender extension, into
+DIR/handoff/), which the photonbridge renderers and POV-Ray render, while
+Cycles renders the .blend itself as the artist set it up. Renders, all at the
+same width (the height follows the camera's aspect in every renderer):
 
   reference     photonbridge reference (CPU, Embree): PT, SPPM when the scene
                 has caustics; --estimate-noise gives its own noise
@@ -19,7 +23,8 @@ follows the camera's aspect in every renderer):
                 photonbridge's camera, image size and path-length limit (the
                 reference's max_bounces - 1 Cycles bounces), as two
                 independent halves for its own noise. The Cycles scene comes
-                from one of two sources (cycles_source): a sample is built by
+                from one of three sources (cycles_source): a .blend is opened
+                as it is (its own materials, lights and world); a sample is built by
                 exporters/blender/make_samples.py with Diffuse / Glossy /
                 Glass BSDFs; any other .gltf / .glb goes through Blender's glTF
                 importer with every material rebuilt as glTF's metallic-
@@ -108,6 +113,38 @@ def resolve_scene(scene):
     return path, sample
 
 
+def blend_handoff(blend, out):
+    """The render engine's hand-off of a .blend (exporters/blender/
+    export_photonbridge.py: the same writer as F12) into OUT/handoff/.
+    Returns (gltf path, report dict) or (None, one-line reason)."""
+    bl = os.environ.get("BLENDER", "blender")
+    if not shutil.which(bl):
+        return None, "blender not installed (a .blend needs Blender's render engine hand-off)"
+    hdir = os.path.join(out, "handoff")
+    os.makedirs(hdir, exist_ok=True)
+    gltf = os.path.join(hdir, os.path.splitext(os.path.basename(blend))[0] + ".gltf")
+    js = os.path.join(hdir, "handoff.json")
+    env = dict(os.environ)
+    env["PATH"] = ":".join(p for p in env.get("PATH", "").split(":") if "pyenv" not in p)
+    cmd = [bl, "-b", blend, "--factory-startup", "--python-exit-code", "1", "-P",
+           os.path.join(ROOT, "exporters", "blender", "export_photonbridge.py"), "--", gltf, "--json", js]
+    t0 = time.time()
+    try:
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                           timeout=1800, env=env)
+        rc, o = p.returncode, p.stdout
+    except subprocess.TimeoutExpired:
+        rc, o = 124, "timed out"
+    with open(os.path.join(out, "handoff.log"), "w") as f:
+        f.write("$ " + " ".join(cmd) + "\n" + o + "\nexit=%d wall_s=%.3f\n" % (rc, time.time() - t0))
+    rep = read_json(js)
+    if rc != 0 or not os.path.isfile(gltf) or rep is None:
+        lines = [l for l in o.splitlines() if "rror" in l] or o.strip().splitlines()[-1:] or ["no output"]
+        return None, "the render engine's hand-off of %s failed (exit %d): %s" % (blend, rc, lines[-1][-300:])
+    rep["command"] = cmd
+    return gltf, rep
+
+
 def loader_args(args):
     """The options of a --ref-args string that change what the loader reads
     (for photonbridge info)."""
@@ -133,12 +170,14 @@ def image_size(info, width):
     return width, max(1, int(math.floor(f32(f32(width) / aspect) + 0.5)))
 
 
-def cycles_source(a, scene, sample):
+def cycles_source(a, scene, sample, blend=None):
     """Where the Cycles scene comes from, as run_cycles.sh takes it: the
-    sample script for a sample, Blender's glTF importer for any other file.
-    (A .blend would be one more source here: Cycles renders it as the artist
-    set it up, photonbridge the render engine's hand-off of it.) None when
+    sample script for a sample, the .blend itself for a .blend (Cycles renders
+    it as the artist set it up; photonbridge renders the render engine's
+    hand-off of it), Blender's glTF importer for any other file. None when
     --cycles-source sample is asked of a file that is not a sample."""
+    if blend:
+        return {"kind": "blend", "scene": blend, "materials": "blend", "args": []}
     kind = a.cycles_source if a.cycles_source != "auto" else ("sample" if sample else "gltf")
     model = a.cycles_materials == "model"
     if kind == "sample":
@@ -163,11 +202,13 @@ def renderer_notes(name, r, info, facts):
     delta = [m.get("name", "?") for m in mats if m.get("kind") in ("mirror", "glass")]
     f = facts or {}
     if name in ("reference", "photonbridge"):
+        models = sorted({m.get("model") or "glTF metallic-roughness" for m in mats})
+        notes.append("material model: %s%s" % (", ".join(models) or "none",
+                                               " (the Blender render engine's hand-off of the .blend)"
+                                               if r.get("handoff") else ""))
         notes += ["loader: " + w for w in (info or {}).get("warnings") or []]
         if f.get("alpha"):
             notes.append("alphaMode MASK / BLEND rendered opaque: " + _paths(f["alpha"]))
-        if f.get("color0"):
-            notes.append("COLOR_0 (vertex colours) not read: " + _paths(f["color0"]))
         if f.get("extension_textures"):
             notes.append("KHR_materials_specular / transmission textures not read (their factors are): " +
                          _paths(f["extension_textures"]))
@@ -301,6 +342,7 @@ def main(argv):
     if not scene:
         print("validate: %s: no such scene file or sample" % a.scene, file=sys.stderr)
         return 2
+    blend = scene if scene.lower().endswith(".blend") else None
     if not os.access(a.exe, os.X_OK):
         print("validate: %s: photonbridge executable not found (--exe)" % a.exe, file=sys.stderr)
         return 2
@@ -323,10 +365,24 @@ def main(argv):
     if a.direct_only:
         a.pov_quality = "direct"
 
+    # A .blend: photonbridge (reference, GPU, POV-Ray) renders what the
+    # Blender render engine hands over (its glTF and the PHOTONBRIDGE_blender
+    # extension); Cycles renders the .blend itself.
+    handoff = None
+    if blend:
+        progress("the render engine's hand-off of the .blend")
+        gltf, handoff = blend_handoff(blend, out)
+        if gltf is None:
+            print("photonbridge validate: error: %s" % handoff, file=sys.stderr)
+            return 1
+        scene = gltf
+
     renders = {}
 
     def record(name, status, reason=None, **kw):
         r = {"name": name, "label": LABEL[name], "status": status}
+        if handoff and name != "cycles":
+            r["handoff"] = True  # renders the render engine's hand-off of the .blend
         if reason:
             r["reason"] = reason
         r.update(kw)
@@ -426,7 +482,7 @@ def main(argv):
 
     # Cycles.
     progress("Cycles")
-    src = cycles_source(a, scene, sample)
+    src = cycles_source(a, scene, sample, blend)
     if a.no_cycles:
         record("cycles", "skipped", "--no-cycles")
     elif not shutil.which(os.environ.get("BLENDER", "blender")):
@@ -543,7 +599,8 @@ def main(argv):
     if rc == 0 and o.strip():
         versions["opencolorio"] = o.strip()
     report = {
-        "scene": scene, "sample": sample, "width": a.width, "direct_only": a.direct_only,
+        "scene": scene, "sample": sample, "blend": blend, "handoff": handoff, "width": a.width,
+        "direct_only": a.direct_only,
         "display": display_name or "sRGB / Standard (built-in)", "color_options": color,
         "picture_view": picture_view, "heat_scale": heat_scale, "sequence": sequence,
         "scene_notes": scene_notes(facts),
