@@ -176,10 +176,12 @@ void main() {
       continue;
     sum += f * Li * abs(dot(wi, b.n));
   }
-  uint pixel = frame.pixel_base + gid;
-  if (SC_EMISSIVE && frame.emitter_count > 0u) sum += pb_emitter_light(surf, b, g.wo, o_shadow, pixel, pass.sample_index);
-  if (SC_SOFT_LIGHTS) sum += pb_soft_direct(surf, b, g.wo, o_shadow, pixel, pass.sample_index);
-  if (SC_WORLD) sum += pb_world_direct(b, g.wo, o_shadow, pixel, pass.sample_index);
+  // Random numbers keyed by the pixel's index in the full frame (a crop
+  // draws the full frame's samples).
+  uint key = pb_pixel_key(frame.pixel_base + gid);
+  if (SC_EMISSIVE && frame.emitter_count > 0u) sum += pb_emitter_light(surf, b, g.wo, o_shadow, key, pass.sample_index);
+  if (SC_SOFT_LIGHTS) sum += pb_soft_direct(surf, b, g.wo, o_shadow, key, pass.sample_index);
+  if (SC_WORLD) sum += pb_world_direct(b, g.wo, o_shadow, key, pass.sample_index);
   vec3 c = g.throughput * sum;
   pb_gpu_accum acc = accum[gid];
   acc.beauty.rgb += c;

@@ -366,6 +366,7 @@ void pb_trace_path(uint gid) {
 
   bool caustic = true; // only delta interactions so far
   uint stored = 0u;
+  vec3 sigma = vec3(0.0); // absorbing medium the photon is in
   for (uint depth = 0u; depth < params.max_depth; ++depth) {
     float t, u, v;
     uint prim;
@@ -381,6 +382,7 @@ void pb_trace_path(uint gid) {
       atomicAdd(params.escaped, 1u);
       return;
     }
+    power *= pb_medium_transmittance(sigma, t); // Beer-Lambert (KHR_materials_volume)
     // No normal map here (pb_apply_normal_map is not called): photons bounce
     // with the interpolated vertex normal as before. The density of photons
     // arriving on a surface already carries the geometric cosine (seed 001,
@@ -466,6 +468,7 @@ void pb_trace_path(uint gid) {
       pb_diff_guarded++;
       return;
     }
+    sigma = pb_medium_after(sigma, surf, transmit);
     o = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
     d = wi;
   }

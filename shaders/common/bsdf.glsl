@@ -40,17 +40,10 @@ void pb_basis(vec3 n, out vec3 t, out vec3 b) {
 pb_bsdf pb_bsdf_setup(pb_surface surf, vec3 wo) {
   pb_gpu_material m = materials[surf.mat];
   pb_bsdf b;
-  vec3 base = m.base_color.rgb;
-  float metallic = m.metallic, rough = m.roughness;
-  if (SC_TEXTURES) {
-    if (m.base_color_tex != PB_GPU_NO_TEXTURE) base *= pb_texture_sample(m.base_color_tex, surf.uv).rgb;
-    if (m.metallic_roughness_tex != PB_GPU_NO_TEXTURE) {
-      vec4 t = pb_texture_sample(m.metallic_roughness_tex, surf.uv);
-      rough *= t.g;
-      metallic *= t.b;
-    }
-  }
-  b.base = clamp(base, 0.0, 1.0);
+  vec2 mr = pb_surface_metal_rough(surf);
+  float metallic = mr.x, rough = mr.y;
+  // An unlit surface reflects nothing (its colour is its emission).
+  b.base = (m.flags & PB_GPU_MAT_UNLIT) != 0u ? vec3(0.0) : pb_surface_base_color(surf).rgb;
   b.metallic = clamp(metallic, 0.0, 1.0);
   b.roughness = clamp(rough, 0.0, 1.0);
   b.alpha = b.roughness * b.roughness;

@@ -88,6 +88,7 @@ PB_STRUCT(pb_gpu_hit) {
  * Textures are indices into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
 PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
 PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
+PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
 PB_STRUCT(pb_gpu_material) {
   PB_VEC4(base_color);       /* linear RGBA */
   PB_VEC3(emissive);         /* W/(m^2 sr) */
@@ -108,11 +109,17 @@ PB_STRUCT(pb_gpu_material) {
   uint pad0;
   uint pad1;
   uint pad2;
+  PB_VEC3(attenuation);      /* KHR_materials_volume: sigma_a [1/m] of the
+                                medium inside (pb_material.attenuation) */
+  uint pad3;
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
  * byte), rows top to bottom, starting at texel `offset` of the texel buffer.
- * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. */
+ * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. How the material
+ * reads it (pb_texture.texcoord, uv_xform): uv set `texcoord` (0 or 1),
+ * then u' = dot(xform_u.xyz, (u, v, 1)), v' = dot(xform_v.xyz, (u, v, 1))
+ * (the identity rows without KHR_texture_transform). */
 PB_CONST(PB_GPU_TEX_SRGB, 1u)
 PB_CONST(PB_GPU_TEX_NEAREST, 2u)
 PB_STRUCT(pb_gpu_texture) {
@@ -122,8 +129,10 @@ PB_STRUCT(pb_gpu_texture) {
   uint flags;
   uint wrap_s;
   uint wrap_t;
-  uint pad0;
+  uint texcoord;
   uint pad1;
+  PB_VEC4(xform_u);
+  PB_VEC4(xform_v);
 } PB_END(pb_gpu_texture)
 
 /* Light, radiometric (scene.h pb_light): color * intensity folded into
@@ -201,19 +210,41 @@ PB_STRUCT(pb_gpu_emitter) {
   float area;
 } PB_END(pb_gpu_emitter)
 
+/* A camera's rays for one image, 80 bytes (src/scene/camera.h builds it from
+ * a pb_camera; shaders/common/camera.glsl and pb_camera_ray trace it). Image
+ * position (px, py) in pixels, top row first, maps to the screen point
+ *   sx = x0 + px dx, sy = y0 + py dy  (dy < 0: rows run down);
+ * perspective: the ray leaves `position` along normalize(forward + sx right
+ * + sy up) (sx, sy at distance 1); orthographic: it leaves position + sx
+ * right + sy up (metres) along forward. Either starts at the near clip plane
+ * (depth clip_near along forward) and ends at the far one (clip_far, 0:
+ * none), as Cycles' camera rays do (kernel/camera/camera.h). A crop of a
+ * larger image keeps the larger image's window (pb_gpu_frame.key_*). */
+PB_STRUCT(pb_gpu_camera) {
+  PB_VEC3(position);
+  float x0;
+  PB_VEC3(forward);
+  float dx;
+  PB_VEC3(right);
+  float y0;
+  PB_VEC3(up);
+  float dy;
+  float clip_near;
+  float clip_far;
+  uint orthographic;
+  uint pad0;
+} PB_END(pb_gpu_camera)
+
 /* Per-frame constants (a storage buffer, read by every render pass).
- * Camera: pixel (x, y), top row first, looks along
- *   forward + sx right + sy up, sx = (2 px / width - 1) tan_x,
- *   sy = (1 - 2 py / height) tan_y, (px, py) the sample position in pixels. */
+ * A crop of a larger frame (render --crop): pixel (x, y) of this image is
+ * the frame's pixel (x + key_x0, y + key_y0): `cam` is the frame's window,
+ * traced at that position, and the pixel's random numbers are keyed by its
+ * index in the frame, (y + key_y0) key_width + x + key_x0, so a crop has
+ * exactly the full frame's samples there. key_width 0: no crop. */
 PB_STRUCT(pb_gpu_frame) {
-  PB_VEC3(cam_pos);
+  pb_gpu_camera cam;
   uint width;
-  PB_VEC3(cam_forward);
   uint height;
-  PB_VEC3(cam_right);
-  float tan_x;
-  PB_VEC3(cam_up);
-  float tan_y;
   uint spp;              /* samples per pixel of the whole frame */
   uint emitter_count;    /* entries of the emitter table (0: none) */
   uint light_count;
@@ -229,6 +260,14 @@ PB_STRUCT(pb_gpu_frame) {
                             vertex, pb_scene.tangents) start at this float
                             index of the normals buffer; 0: the scene has
                             no normal maps */
+  uint key_x0;
+  uint key_y0;
+  uint key_width;
+  uint uv1_base;         /* TEXCOORD_1 (float[2] per vertex, pb_scene.uvs1)
+                            from this float index of the uvs buffer; 0: none */
+  uint color_base;       /* COLOR_0 (float[4] per vertex, pb_scene.colors)
+                            from this float index of the uvs buffer; 0: none */
+  uint pad0;
   uint pad1;
   uint pad2;
 } PB_END(pb_gpu_frame)
@@ -254,9 +293,10 @@ PB_STRUCT(pb_gpu_gbuffer) {
 } PB_END(pb_gpu_gbuffer)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
- * spp).
+ * spp), 80 bytes.
  * beauty.w: samples that hit geometry. depth: camera-space z summed over hit
- * samples (divide by beauty.w). */
+ * samples (divide by beauty.w). emission: what the first hit emits toward
+ * the camera (Blender's Emit pass; also in direct and beauty). */
 PB_STRUCT(pb_gpu_accum) {
   PB_VEC4(beauty);
   PB_VEC3(direct);       /* at most one scattering event (reference's split) */
@@ -265,6 +305,8 @@ PB_STRUCT(pb_gpu_accum) {
   float material;        /* material index of the first hit, + 1 (0: miss) */
   PB_VEC3(normal);
   float pad0;
+  PB_VEC3(emission);
+  float pad1;
 } PB_END(pb_gpu_accum)
 
 /* Push constants of the render passes: which sample of the frame this
@@ -354,14 +396,17 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 96)
+PB_LAYOUT(pb_gpu_material, 112)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
 PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
-PB_LAYOUT(pb_gpu_texture, 32)
+PB_OFFSET(pb_gpu_material, attenuation, 96)
+PB_LAYOUT(pb_gpu_texture, 64)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
+PB_OFFSET(pb_gpu_texture, texcoord, 24) PB_OFFSET(pb_gpu_texture, xform_u, 32)
+PB_OFFSET(pb_gpu_texture, xform_v, 48)
 PB_LAYOUT(pb_gpu_light, 112)
 PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
 PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
@@ -376,22 +421,24 @@ PB_OFFSET(pb_gpu_world, map_to2, 48) PB_OFFSET(pb_gpu_world, width, 64)
 PB_OFFSET(pb_gpu_world, scale, 72) PB_OFFSET(pb_gpu_world, marg_offset, 76)
 PB_LAYOUT(pb_gpu_emitter, 16)
 PB_OFFSET(pb_gpu_emitter, cdf, 4) PB_OFFSET(pb_gpu_emitter, pick, 8) PB_OFFSET(pb_gpu_emitter, area, 12)
-PB_LAYOUT(pb_gpu_frame, 112)
-PB_OFFSET(pb_gpu_frame, width, 12) PB_OFFSET(pb_gpu_frame, cam_forward, 16)
-PB_OFFSET(pb_gpu_frame, height, 28) PB_OFFSET(pb_gpu_frame, cam_right, 32)
-PB_OFFSET(pb_gpu_frame, tan_x, 44) PB_OFFSET(pb_gpu_frame, cam_up, 48)
-PB_OFFSET(pb_gpu_frame, tan_y, 60) PB_OFFSET(pb_gpu_frame, spp, 64)
-PB_OFFSET(pb_gpu_frame, emitter_count, 68)
-PB_OFFSET(pb_gpu_frame, seed_lo, 80) PB_OFFSET(pb_gpu_frame, pixel_count, 92)
-PB_OFFSET(pb_gpu_frame, pixel_base, 96) PB_OFFSET(pb_gpu_frame, tangent_base, 100)
+PB_LAYOUT(pb_gpu_camera, 80)
+PB_OFFSET(pb_gpu_camera, x0, 12) PB_OFFSET(pb_gpu_camera, forward, 16) PB_OFFSET(pb_gpu_camera, dx, 28)
+PB_OFFSET(pb_gpu_camera, right, 32) PB_OFFSET(pb_gpu_camera, y0, 44) PB_OFFSET(pb_gpu_camera, up, 48)
+PB_OFFSET(pb_gpu_camera, dy, 60) PB_OFFSET(pb_gpu_camera, clip_near, 64) PB_OFFSET(pb_gpu_camera, orthographic, 72)
+PB_LAYOUT(pb_gpu_frame, 160)
+PB_OFFSET(pb_gpu_frame, width, 80) PB_OFFSET(pb_gpu_frame, spp, 88)
+PB_OFFSET(pb_gpu_frame, seed_lo, 104) PB_OFFSET(pb_gpu_frame, flags, 112)
+PB_OFFSET(pb_gpu_frame, pixel_base, 120) PB_OFFSET(pb_gpu_frame, tangent_base, 124)
+PB_OFFSET(pb_gpu_frame, key_x0, 128) PB_OFFSET(pb_gpu_frame, key_width, 136)
+PB_OFFSET(pb_gpu_frame, uv1_base, 140) PB_OFFSET(pb_gpu_frame, color_base, 144)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)
 PB_OFFSET(pb_gpu_gbuffer, motion_x, 48) PB_OFFSET(pb_gpu_gbuffer, chain, 56)
-PB_LAYOUT(pb_gpu_accum, 64)
+PB_LAYOUT(pb_gpu_accum, 80)
 PB_OFFSET(pb_gpu_accum, direct, 16) PB_OFFSET(pb_gpu_accum, depth, 28)
 PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
-PB_OFFSET(pb_gpu_accum, normal, 48)
+PB_OFFSET(pb_gpu_accum, normal, 48) PB_OFFSET(pb_gpu_accum, emission, 64)
 PB_LAYOUT(pb_gpu_raycast_push, 16)
 PB_LAYOUT(pb_gpu_pass_push, 16)
 PB_LAYOUT(pb_gpu_photon_params, 80)

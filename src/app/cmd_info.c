@@ -6,11 +6,27 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "color/color.h"
 #include "core/json.h"
 #include "render/plan.h"
+#include "scene/camera.h"
 
 static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
+
+/* The view PNG previews of this scene go through by default (`render --png`,
+ * `display`, `validate`'s pictures): one line, or why there is none. */
+static void default_view(char *buf, size_t size) {
+  pb_color *c = NULL;
+  if (pb_color_open(NULL, &c) == PB_OK) {
+    pb_color_describe(c, buf, size);
+  } else {
+    snprintf(buf, size, "unavailable: %s", pb_error_message());
+    pb_error_clear();
+  }
+  pb_color_destroy(c);
+}
+static const char *const camera_fit_names[] = {"vertical", "horizontal", "larger"};
 
 static void print_text(const pb_scene *s) {
   printf("scene      %s\n", s->path);
@@ -24,9 +40,17 @@ static void print_text(const pb_scene *s) {
   printf("cameras    %u\n", s->camera_count);
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
-    printf("  %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), yfov %.2f deg, aspect %.4g%s\n", c->name,
-           c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
-           c->yfov * 180.0 / M_PI, c->aspect, c->synthesized ? " (default framing, not in the file)" : "");
+    uint32_t w, h;
+    pb_camera_image_size(c, 0, 0, &w, &h);
+    printf("  %-3u %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), ", i, c->name, c->position[0],
+           c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2]);
+    if (c->orthographic) printf("orthographic %.4g m", c->ortho_size);
+    else printf("%s %.2f deg", c->fit == PB_CAMERA_FIT_VERTICAL ? "yfov" : "fov", c->yfov * 180.0 / M_PI);
+    if (c->fit != PB_CAMERA_FIT_VERTICAL) printf(" (%s side)", camera_fit_names[c->fit]);
+    if (c->shift[0] != 0 || c->shift[1] != 0) printf(", shift (%.4g %.4g)", c->shift[0], c->shift[1]);
+    printf(", aspect %.4g (%ux%u by default%s), clip %.4g..%.4g m%s\n", (double)w / h, w, h,
+           c->aspect > 0 ? "" : "; the file gives no aspect ratio", c->znear, c->zfar,
+           c->synthesized ? " (default framing, not in the file)" : "");
   }
   printf("lights     %u  (units: %s for KHR_lights_punctual, Blender's own for PHOTONBRIDGE_blender; point/spot "
          "in W/sr, directional in W/m^2, area in W/(m^2 sr))\n",
@@ -82,18 +106,30 @@ static void print_text(const pb_scene *s) {
            m->roughness);
     if (m->transmission > 0) printf(" transmission %.3g ior %.3g", m->transmission, m->ior);
     if (pb_material_is_emissive(m)) printf(" emissive (%.3g %.3g %.3g)", m->emissive[0], m->emissive[1], m->emissive[2]);
+    if (m->unlit) printf(" unlit (its colour on camera paths, lights nothing)");
+    if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0)
+      printf(" absorbing medium (%.3g %.3g %.3g)/m", m->attenuation[0], m->attenuation[1], m->attenuation[2]);
     printf("\n");
   }
   printf("textures   %u\n", s->texture_count);
   for (uint32_t i = 0; i < s->texture_count; ++i) {
     const pb_texture *t = &s->textures[i];
-    printf("  %-20s %ux%u %s\n", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    printf("  %-20s %ux%u %s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    if (t->texcoord) printf(", TEXCOORD_%d", t->texcoord);
+    if (t->uv_transformed)
+      printf(", KHR_texture_transform u' = %.3g u %+.3g v %+.3g, v' = %.3g u %+.3g v %+.3g", t->uv_xform[0], t->uv_xform[1],
+             t->uv_xform[2], t->uv_xform[3], t->uv_xform[4], t->uv_xform[5]);
+    printf("\n");
   }
   printf("animations %u (%u channels)", s->animation_count, s->animation_channel_count);
   if (s->anim)
     printf(", %.4g to %.4g s (render --frames %d:%d at 24 fps)", s->anim_start, s->anim_end,
            (int)ceil(s->anim_start * 24.0 - 1e-6), (int)floor(s->anim_end * 24.0 + 1e-6));
   printf("\n");
+  if (s->skinned_vertex_count || s->morphed_vertex_count)
+    printf("deform     skinned vertices %u, morphed vertices %u; %u of them posed again per frame%s\n",
+           s->skinned_vertex_count, s->morphed_vertex_count, s->posed_vertex_count,
+           s->posed_vertex_count ? " (CPU, pb_scene_set_time)" : " (static: posed once when loaded)");
   printf("features  ");
   if (!s->features) printf(" none (diffuse only)");
   for (uint32_t b = 1; b; b <<= 1)
@@ -101,13 +137,17 @@ static void print_text(const pb_scene *s) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   printf("\npipeline   photon stages %s, caustic photons %s, photon refraction %s, specular eye paths %s, "
-         "emissive-triangle sampling %s, textures %s, normal maps %s, soft lights %s, world light %s "
-         "(GPU passes compile only what is on)",
+         "emissive-triangle sampling %s, textures %s, normal maps %s, unlit %s, vertex colours %s, absorbing media %s, "
+         "soft lights %s, world light %s (GPU passes compile only what is on)",
          pl.photons ? "on" : "off (no light but emissive triangles, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
-         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off",
-         pl.soft_lights ? "on" : "off", pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off");
+         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",
+         pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
+         pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off");
+  char view[768];
+  default_view(view, sizeof view);
+  printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
 }
@@ -136,13 +176,36 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_json_begin_array(&j, "cameras");
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
+    uint32_t w, h;
+    pb_camera_image_size(c, 0, 0, &w, &h);
     pb_json_begin_object(&j, NULL);
+    pb_json_int(&j, "index", i); /* what --camera N selects */
     pb_json_string(&j, "name", c->name);
     vec3(&j, "position", c->position);
     vec3(&j, "forward", c->forward);
     vec3(&j, "up", c->up);
+    pb_json_string(&j, "projection", c->orthographic ? "orthographic" : "perspective");
+    pb_json_string(&j, "fit", camera_fit_names[c->fit]);
     pb_json_number(&j, "yfov", c->yfov);
-    pb_json_number(&j, "aspect", c->aspect);
+    pb_json_number(&j, "ortho_size", c->ortho_size);
+    pb_json_begin_array(&j, "shift");
+    for (int k = 0; k < 2; ++k) pb_json_number(&j, NULL, c->shift[k]);
+    pb_json_end_array(&j);
+    pb_json_number(&j, "aspect", c->aspect); /* the file's aspect ratio (or the writer's), 0: none */
+    pb_json_number(&j, "default_aspect", (double)w / h); /* of the default image size (what render uses) */
+    pb_json_int(&j, "default_width", w);
+    pb_json_int(&j, "default_height", h);
+    pb_json_number(&j, "znear", c->znear);
+    pb_json_number(&j, "zfar", c->zfar);
+    /* The view window at the camera's own aspect (4:3 without one), however
+     * the file described it (scene/camera.h): width, height (at distance 1,
+     * or metres when orthographic) and the centre's offset. */
+    double a = c->aspect > 0 ? c->aspect : 4.0 / 3.0, win[4];
+    uint32_t wh = 100000, ww = (uint32_t)fmin(4e9, fmax(1.0, round(a * wh)));
+    pb_camera_window(c, ww, wh, &win[0], &win[1], &win[2], &win[3]);
+    pb_json_begin_array(&j, "window");
+    for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, win[k]);
+    pb_json_end_array(&j);
     pb_json_bool(&j, "synthesized", c->synthesized);
     pb_json_end_object(&j);
   }
@@ -218,6 +281,8 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_number(&j, "ior", m->ior);
     vec3(&j, "emissive", m->emissive);
     pb_json_bool(&j, "double_sided", m->double_sided);
+    pb_json_bool(&j, "unlit", m->unlit);
+    vec3(&j, "attenuation_per_m", m->attenuation);
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
@@ -228,6 +293,12 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_int(&j, "width", s->textures[i].width);
     pb_json_int(&j, "height", s->textures[i].height);
     pb_json_bool(&j, "srgb", s->textures[i].srgb);
+    pb_json_int(&j, "texcoord", s->textures[i].texcoord);
+    if (s->textures[i].uv_transformed) { /* KHR_texture_transform: u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5 */
+      pb_json_begin_array(&j, "uv_transform");
+      for (int k = 0; k < 6; ++k) pb_json_number(&j, NULL, s->textures[i].uv_xform[k]);
+      pb_json_end_array(&j);
+    }
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
@@ -236,6 +307,11 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_number(&j, "animation_start_s", s->anim_start);
     pb_json_number(&j, "animation_end_s", s->anim_end);
   }
+  pb_json_begin_object(&j, "deform"); /* skins and morph targets, posed on the CPU */
+  pb_json_int(&j, "skinned_vertices", s->skinned_vertex_count);
+  pb_json_int(&j, "morphed_vertices", s->morphed_vertex_count);
+  pb_json_int(&j, "posed_per_frame", s->posed_vertex_count);
+  pb_json_end_object(&j);
   pb_json_begin_array(&j, "features");
   for (uint32_t b = 1; b; b <<= 1)
     if (s->features & b) pb_json_string(&j, NULL, pb_feature_name(b));
@@ -243,6 +319,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   pb_render_plan_json(&j, "pipeline", &pl); /* what the GPU passes compile in */
+  char view[768];
+  default_view(view, sizeof view);
+  pb_json_string(&j, "display_view", view);
   pb_json_begin_array(&j, "warnings");
   for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);
   pb_json_end_array(&j);

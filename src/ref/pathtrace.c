@@ -30,7 +30,13 @@
  *    leaves the scene the world's and the soft suns'. Camera rays see no
  *    light (Cycles 3.4 shows lights only in reflections and refractions:
  *    scene.h), and the world only with an opaque film (pb_scene.film_opaque)
- *    when it is not hidden from the camera (mirrors still reflect it).
+ *    when it is not hidden from the camera (mirrors still reflect it). A
+ *    camera ray ends at the far clip plane and then sees the world, as a
+ *    Cycles camera ray without a hit shades the background.
+ * Along segments inside an absorbing medium (KHR_materials_volume, entered
+ * by refraction) the throughput falls by the Beer-Lambert transmittance
+ * exp(-sigma_a t); lights met inside one by their own distance, the world
+ * beyond it entirely.
  * Bounce counting: a path of k scattering events between the emitter and the
  * eye has k bounces (direct lighting 1, an emitter seen directly 0); paths
  * over max_bounces are not counted. Russian roulette from the third bounce
@@ -53,9 +59,10 @@ typedef struct path_state {
 } path_state;
 
 /* Emission the ray (o, d) meets before t_hit (INFINITY: it left the scene):
- * soft lights on the way, then the world and the soft suns. */
+ * soft lights on the way, then the world and the soft suns, each through
+ * the absorbing medium sigma the ray is in up to its distance. */
 static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const path_state *ps, v3 o, v3 d,
-                         float t_hit, v3 beta, pb_sample_out *out) {
+                         float t_hit, v3 beta, v3 sigma, pb_sample_out *out) {
   const pb_scene *s = ctx->scene;
   int camera = ps->k == 1;
   /* SPPM: the photons carry light -> delta chain -> smooth vertex. */
@@ -67,6 +74,7 @@ static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const 
     v3 L;
     if (!pb_soft_light_hit(l, o, d, t_hit, &t, &L, &pl)) continue;
     float w = ps->prev_delta ? 1.0f : pb_mis_power(ps->prev_pdf, pl);
+    if (!v3_is_zero(sigma)) L = v3_mul(L, pb_medium_transmittance(sigma, t));
     add_contrib(out, v3_scale(v3_mul(beta, L), w), ps->k - 1);
   }
   if (t_hit < INFINITY || !s->world.present) return;
@@ -76,7 +84,9 @@ static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const 
   float w = 1.0f;
   if (!ps->prev_delta && ctx->lights.world_nee)
     w = pb_mis_power(ps->prev_pdf, pb_world_pdf(&s->world, &ctx->lights.world_dist, dir));
-  add_contrib(out, v3_scale(v3_mul(beta, v3_load(L)), w), ps->k - 1);
+  v3 Lw = v3_load(L);
+  if (!v3_is_zero(sigma)) Lw = v3_mul(Lw, pb_medium_transmittance(sigma, INFINITY));
+  add_contrib(out, v3_scale(v3_mul(beta, Lw), w), ps->k - 1);
 }
 
 /* One light sample of every soft light and of the world's map at a smooth
@@ -138,13 +148,14 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   jx -= floor(jx);
   jy -= floor(jy);
   float px = (float)x + (float)jx, py = (float)y + (float)jy;
-  float sx = (2.0f * px / (float)ctx->width - 1.0f) * ctx->tan_x;
-  float sy = (1.0f - 2.0f * py / (float)ctx->height) * ctx->tan_y;
+  float o3[3], d3[3], t0, tmax;
+  pb_camera_ray(&ctx->view, px, py, o3, d3, &t0, &tmax);
   v3 fwd = v3_load(cam->forward);
-  v3 dir = v3_norm(v3_add(v3_add(fwd, v3_scale(v3_load(cam->right), sx)),
-                          v3_scale(v3_load(cam->up), sy)));
-  v3 org = v3_load(cam->position);
+  v3 dir = v3_load(d3);
+  v3 org = v3_load(o3);
   v3 beta = v3_make(1, 1, 1);
+  v3 sigma = v3_make(0, 0, 0); /* absorption of the medium the path is in */
+  int camera_path = 1;    /* only delta interactions so far (unlit surfaces) */
   int prev_delta = 1;     /* the camera is a delta "vertex" for MIS */
   float prev_pdf = 0.0f;  /* solid-angle pdf of the last smooth sample */
   int after_smooth = 0;
@@ -153,20 +164,22 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   for (uint32_t k = 1;; ++k) {
     pb_ref_hit h;
     rays++;
-    int hit = pb_ref_intersect(&ctx->accel, org, dir, INFINITY, &h);
+    /* The camera segment ends at the far clip plane. */
+    int hit = pb_ref_intersect(&ctx->accel, org, dir, k == 1 ? tmax : INFINITY, &h);
     path_state ps = {k, prev_delta, prev_pdf, after_smooth};
-    ray_emission(ctx, map, &ps, org, dir, hit ? h.t : INFINITY, beta, out);
+    ray_emission(ctx, map, &ps, org, dir, hit ? h.t : INFINITY, beta, sigma, out);
     if (!hit) break;
+    if (!v3_is_zero(sigma)) beta = v3_mul(beta, pb_medium_transmittance(sigma, h.t));
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
     if (k == 1) {
       out->hit = 1;
       out->normal = surf.ns;
-      out->depth = h.t * v3_dot(dir, fwd);
+      out->depth = (t0 + h.t) * v3_dot(dir, fwd);
     }
 
-    v3 le = pb_surface_emission(s, &surf);
+    v3 le = pb_surface_emission(s, &surf, camera_path);
     if (!v3_is_zero(le)) {
       float w = 1.0f;
       if (!prev_delta) {
@@ -217,7 +230,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
             float dl = sqrtf(d2);
             v3 wi = v3_scale(d, 1.0f / dl);
             pb_surface_from_hit(s, &eh, wi, &es);
-            v3 le2 = pb_surface_emission(s, &es);
+            v3 le2 = pb_surface_emission(s, &es, 0);
             float cos_l = v3_dot(es.ng, v3_neg(wi));
             float pdf_b;
             v3 f = v3_is_zero(le2) || cos_l <= 0.0f ? v3_make(0, 0, 0)
@@ -257,6 +270,8 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     prev_delta = bs.delta;
     if (!bs.delta) after_smooth = 1; /* a smooth scattering: chains after it are the photons' */
     prev_pdf = bs.pdf;
+    camera_path &= bs.delta;
+    sigma = pb_medium_after(sigma, &surf, &bs);
     org = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);
     dir = bs.wi;
     if (k >= 3) {

@@ -177,10 +177,12 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
   if (v3_is_zero(power) || !v3_finite(power)) return;
 
   uint32_t chain = 0;
+  v3 sigma = v3_make(0, 0, 0); /* absorbing medium the photon is in */
   for (;;) {
     pb_ref_hit h;
     (*rays)++;
     if (!pb_ref_intersect(&ctx->accel, o, d, INFINITY, &h)) return;
+    if (!v3_is_zero(sigma)) power = v3_mul(power, pb_medium_transmittance(sigma, h.t));
     pb_surface surf;
     pb_surface_from_hit(s, &h, d, &surf);
     v3 wo = v3_neg(d);
@@ -209,6 +211,7 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
     power = v3_mul(power, bs.weight);
     if (v3_is_zero(power) || !v3_finite(power)) return;
     chain++;
+    sigma = pb_medium_after(sigma, &surf, &bs);
     o = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);
     d = bs.wi;
   }

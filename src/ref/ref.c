@@ -307,9 +307,10 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   if (w == 0 || h == 0 || w > 65536 || h > 65536 || (uint64_t)w * h > (1ull << 28))
     return pb_fail(PB_ERR_USAGE, "reference: image size %ux%u is out of range", w, h);
   const pb_camera *c = &s->cameras[camera];
-  if (!(c->yfov > 0.0f && c->yfov < 3.1f))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: camera '%s': yfov %g is not in (0, pi)",
-                   name, c->name, (double)c->yfov);
+  if (c->orthographic ? !(c->ortho_size > 0.0f && isfinite(c->ortho_size)) : !(c->yfov > 0.0f && c->yfov < 3.1f))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: camera '%s': %s %g is out of range", name, c->name,
+                   c->orthographic ? "orthographic size" : "yfov",
+                   (double)(c->orthographic ? c->ortho_size : c->yfov));
   if (!(d->time_limit_s >= 0.0) || !isfinite(d->time_limit_s))
     return pb_fail(PB_ERR_USAGE, "reference: time limit %g is not a duration",
                    d->time_limit_s);
@@ -352,8 +353,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   if (ctx.threads > 1024) ctx.threads = 1024;
   ctx.seed = desc.seed;
   ctx.mode = desc.mode == PB_REF_MODE_AUTO ? pb_ref_auto_mode(scene) : desc.mode;
-  ctx.tan_y = tanf(0.5f * ctx.cam->yfov);
-  ctx.tan_x = ctx.tan_y * (float)width / (float)height;
+  pb_camera_view(ctx.cam, width, height, &ctx.view);
 
   size_t n = (size_t)width * height;
   accum acc;
@@ -395,7 +395,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   if (!(radius > 0.0f)) {
     float dist = v3_len(v3_sub(ctx.lights.center, v3_load(ctx.cam->position)));
     if (!(dist > ctx.lights.radius * 1e-3f)) dist = ctx.lights.radius;
-    radius = 2.0f * (2.0f * dist * ctx.tan_y / (float)height);
+    radius = 2.0f * pb_camera_pixel_size(&ctx.view, dist);
   }
   out->stats.photon_radius_first = radius;
 

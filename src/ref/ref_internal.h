@@ -11,6 +11,7 @@
 
 #include "core/mix.h"
 #include "ref/ref.h"
+#include "scene/camera.h"
 #include "scene/emitters.h"
 #include "scene/scene.h"
 #include "scene/world.h"
@@ -142,7 +143,8 @@ typedef struct pb_surface {
   v3 ns;      /* shading normal, unit, same hemisphere as ng */
   int front;  /* 1: the ray hit the counter-clockwise (front) side */
   uint32_t prim;
-  float uv[2];
+  float uv[2], uv1[2]; /* TEXCOORD_0 and _1 (0 when the scene has none) */
+  float color[4];      /* COLOR_0 (white when the scene has none) */
   const pb_material *mat;
 } pb_surface;
 
@@ -208,9 +210,27 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
 v3 pb_bsdf_albedo(const pb_bsdf *b);
 
 /* Emitted radiance leaving surf toward wo (facing the surface's hit side):
- * material emissive x emissive texture, from the front side only unless the
- * material is double-sided. */
-v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf);
+ * material emissive x emissive texture (pb_material_emission), from the front
+ * side only unless the material is double-sided. An unlit surface's base
+ * colour is counted only on camera paths (camera_path: the eye, or a chain of
+ * delta interactions from it); it is no light to anything else. */
+v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_path);
+
+/* The medium a path is in after a sampled bounce (KHR_materials_volume,
+ * pb_material.attenuation): refracting into a front face enters the
+ * material's, refracting out of a back face leaves it for clear air (media
+ * are not nested); reflections stay where they are. */
+static inline v3 pb_medium_after(v3 sigma, const pb_surface *surf, const pb_bsdf_sample *bs) {
+  if (!bs->transmit) return sigma;
+  return surf->front ? v3_load(surf->mat->attenuation) : v3_make(0, 0, 0);
+}
+/* Beer-Lambert transmittance exp(-sigma t) over a segment of length t; t
+ * may be INFINITY (a ray that leaves the scene): 1 where sigma is 0, else 0. */
+static inline float pb_medium_transmittance1(float sigma, float t) { return sigma > 0 ? expf(-sigma * t) : 1.0f; }
+static inline v3 pb_medium_transmittance(v3 sigma, float t) {
+  return v3_make(pb_medium_transmittance1(sigma.x, t), pb_medium_transmittance1(sigma.y, t),
+                 pb_medium_transmittance1(sigma.z, t));
+}
 
 /* ---- lights ------------------------------------------------------------- */
 
@@ -359,8 +379,8 @@ struct pb_ref_ctx {
   pb_ref_mode mode;
   pb_ref_accel accel;
   pb_ref_lights lights;
-  /* Camera: pixel (x, y) looks along forward + sx right + sy up. */
-  float tan_x, tan_y;
+  /* The camera's window for this image (scene/camera.h). */
+  pb_gpu_camera view;
 };
 
 /* Runs fn(ctx, item, thread) for item in [0, count) on ctx->threads threads

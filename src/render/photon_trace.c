@@ -342,6 +342,8 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   fr.seed_lo = (uint32_t)seed;
   fr.seed_hi = (uint32_t)(seed >> 32);
   fr.light_count = gs->light_count;
+  fr.uv1_base = gs->uv1_base; /* base colours of photon bounces */
+  fr.color_base = gs->color_base;
   if ((r = pb_gpu_buffer_upload(g, &t->frame, 0, &fr, sizeof fr)) != PB_OK) return r;
   t->p.iteration = iteration;
   t->p.guarded = t->p.absorbed = t->p.escaped = 0;

@@ -10,6 +10,9 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   uint32_t f = s->features;
   out->eye_chains = (f & PB_FEATURE_SPECULAR) != 0;
   out->emitter_sampling = (f & PB_FEATURE_EMISSIVE) != 0;
+  out->unlit = (f & PB_FEATURE_UNLIT) != 0;
+  out->vertex_colors = s->colors != NULL;
+  out->media = (f & PB_FEATURE_VOLUME) != 0 && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->textures = (f & PB_FEATURE_TEXTURES) != 0;
   out->vertex_normals = s->normals != NULL;
   out->photons = !direct_only && (s->light_count > 0 || s->world.present);
@@ -28,6 +31,9 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
   pb_json_bool(j, "photon_refraction", p->refraction);
   pb_json_bool(j, "specular_eye_paths", p->eye_chains);
   pb_json_bool(j, "emitter_sampling", p->emitter_sampling);
+  pb_json_bool(j, "unlit", p->unlit);
+  pb_json_bool(j, "vertex_colors", p->vertex_colors);
+  pb_json_bool(j, "absorbing_media", p->media);
   pb_json_bool(j, "textures", p->textures);
   pb_json_bool(j, "normal_maps", p->normal_maps);
   pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);

@@ -11,6 +11,10 @@
 typedef struct pb_render_plan {
   int eye_chains;        /* mirror/glass eye paths (SC_SPECULAR) */
   int emitter_sampling;  /* shadow rays to emissive triangles (SC_EMISSIVE) */
+  int unlit;             /* KHR_materials_unlit surfaces: their colour on
+                            camera paths (SC_EMISSIVE's emission code) */
+  int vertex_colors;     /* COLOR_0 uploaded (pb_gpu_frame.color_base) */
+  int media;             /* absorbing media on transmission paths */
   int textures;          /* texture fetches (SC_TEXTURES) */
   int vertex_normals;    /* interpolated shading normals (SC_HAS_NORMALS) */
   int photons;           /* photon stages: the scene has a light other than

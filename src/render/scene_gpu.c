@@ -240,7 +240,27 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);
   }
   if (r != PB_OK) goto fail;
-  r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
+  if ((s->uvs1 || s->colors) && s->vertex_count && (uint64_t)s->vertex_count * 8 < UINT32_MAX) {
+    /* TEXCOORD_1 and COLOR_0 follow TEXCOORD_0 in the same buffer, from the
+     * float indices uv1_base and color_base (pb_gpu_frame), as the tangents
+     * follow the normals: the passes keep their bindings, and scenes
+     * without them pay nothing. */
+    uint64_t n0 = (uint64_t)s->vertex_count * 2, n1 = s->uvs1 ? n0 : 0, nc = s->colors ? (uint64_t)s->vertex_count * 4 : 0;
+    float *u = calloc(n0 + n1 + nc, sizeof *u);
+    if (!u) {
+      r = pb_fail(PB_ERR_NOMEM, "out of memory for the uvs and vertex colours");
+      goto fail;
+    }
+    if (s->uvs) memcpy(u, s->uvs, n0 * sizeof *u);
+    if (s->uvs1) memcpy(u + n0, s->uvs1, n1 * sizeof *u);
+    if (s->colors) memcpy(u + n0 + n1, s->colors, nc * sizeof *u);
+    r = make(g, &gs->uvs, "scene.uvs_colors", u, (n0 + n1 + nc) * sizeof *u);
+    free(u);
+    gs->uv1_base = s->uvs1 ? (uint32_t)n0 : 0;
+    gs->color_base = s->colors ? (uint32_t)(n0 + n1) : 0;
+  } else {
+    r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
+  }
   if (r != PB_OK) goto fail;
   r = make(g, &gs->tri_material, "scene.triangle_material", s->triangle_material, (uint64_t)s->triangle_count * 4);
   if (r != PB_OK) goto fail;
@@ -275,7 +295,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->transmission = m->transmission;
     o->ior = m->ior;
     o->specular = m->specular;
-    o->flags = m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0;
+    o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0);
+    memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
     o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;
   }
@@ -285,7 +306,11 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     uint64_t n = (uint64_t)t->width * t->height;
     texs[i] = (pb_gpu_texture){.offset = off, .width = t->width, .height = t->height,
                                .flags = (t->srgb ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0),
-                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t};
+                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t,
+                               .texcoord = t->texcoord == 1 && gs->uv1_base ? 1u : 0u,
+                               .xform_u = {1, 0, 0, 0}, .xform_v = {0, 1, 0, 0}};
+    if (t->uv_transformed)
+      for (int k = 0; k < 3; ++k) texs[i].xform_u[k] = t->uv_xform[k], texs[i].xform_v[k] = t->uv_xform[3 + k];
     for (uint64_t k = 0; k < n; ++k) {
       const uint8_t *p = t->rgba8 + 4 * k;
       texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;

@@ -35,9 +35,9 @@
 #include <string.h>
 
 #include "core/fs.h"
+#include "image/decode.h"
 #include "image/hdr.h"
 #include "image/image.h"
-#include "scene/image_decode.h"
 #include "scene/world.h"
 
 /* Defaults of a missing member: the contract's (PHOTONBRIDGE_blender.md),
@@ -312,26 +312,35 @@ static pb_result load_map(const char *path, const char *where, const char *uri, 
     } else if (ends_with(uri, ".hdr") || ends_with(uri, ".pic")) {
       e = pb_hdr_decode(bytes, size, desc->max_image_dim, desc->max_image_pixels, &rgb, &W, &H, why, sizeof why);
     } else if (ends_with(uri, ".png") || ends_with(uri, ".jpg") || ends_with(uri, ".jpeg")) {
-      /* 8-bit images through the texture decoder (PNG or JPEG by signature). */
-      uint8_t *px = NULL;
-      const char *dwhy = NULL;
-      int rc = pb_decode_image_rgba8(bytes, size, desc->max_image_dim, desc->max_image_pixels, &px, &W, &H, &dwhy);
-      if (rc == PB_DECODE_TOO_LARGE) {
+      /* 8-bit images through the texture decoder (PNG or JPEG by signature),
+       * the declared size checked from the header before any pixel memory
+       * is allocated (image/decode.h). */
+      const pb_decode_limits lim = {.max_dim = desc->max_image_dim, .max_pixels = desc->max_image_pixels};
+      pb_decoded dec;
+      pb_decode_status st = pb_decode_image_rgba8(bytes, size, &lim, &dec);
+      if (st == PB_DECODE_TOO_LARGE) {
         e = PB_ERR_LIMIT;
-        snprintf(why, sizeof why, "%u x %u pixels exceeds the limit", W, H);
-      } else if (rc != PB_DECODE_OK) {
+        snprintf(why, sizeof why, "%u x %u pixels exceeds the limit", dec.width, dec.height);
+      } else if (st == PB_DECODE_UNKNOWN) {
+        e = PB_ERR_SCENE_UNSUPPORTED; /* as a texture's (load.c) */
+        snprintf(why, sizeof why, "not a PNG or JPEG file");
+      } else if (st == PB_DECODE_NOMEM) {
+        e = PB_ERR_NOMEM;
+        snprintf(why, sizeof why, "out of memory decoding it");
+      } else if (st != PB_DECODE_OK) {
         e = PB_ERR_IMAGE;
-        snprintf(why, sizeof why, "%s", dwhy ? dwhy : "cannot decode");
-      } else if (!(rgb = malloc((size_t)W * H * 3 * sizeof *rgb))) {
+        snprintf(why, sizeof why, "%s", dec.why[0] ? dec.why : "cannot decode");
+      } else if (!(rgb = malloc((size_t)dec.width * dec.height * 3 * sizeof *rgb))) {
         e = PB_ERR_NOMEM;
         snprintf(why, sizeof why, "out of memory");
       } else {
         /* Blender reads 8-bit PNG and JPEG files as sRGB (the Image's default
          * colour space), and the writer copies such files as they are. */
+        W = dec.width, H = dec.height;
         for (size_t i = 0; i < (size_t)W * H; ++i)
-          for (int c = 0; c < 3; ++c) rgb[3 * i + c] = pb_srgb_to_linear(px[4 * i + c] * (1.0f / 255.0f));
+          for (int c = 0; c < 3; ++c) rgb[3 * i + c] = pb_srgb_to_linear(dec.rgba[4 * i + c] * (1.0f / 255.0f));
       }
-      free(px);
+      free(dec.rgba);
     } else {
       e = PB_ERR_SCENE_UNSUPPORTED;
       snprintf(why, sizeof why, "not a .hdr, .exr, .png or .jpg file");

@@ -29,6 +29,13 @@ typedef struct pb_texture {
   int srgb;         /* 1: texels are sRGB-encoded (base colour, emissive) */
   pb_wrap wrap_s, wrap_t;
   int nearest;      /* 1: magFilter NEAREST; otherwise bilinear */
+  /* How the material reads it (glTF textureInfo): the uv set (0: uvs,
+   * 1: uvs1) and, when uv_transformed, KHR_texture_transform as the affine
+   * map u' = m[0] u + m[1] v + m[2],  v' = m[3] u + m[4] v + m[5] (0: the
+   * uvs as they are). A texture read two ways is two pb_textures. */
+  int texcoord;
+  int uv_transformed;
+  float uv_xform[6];
 } pb_texture;
 
 enum { PB_NO_TEXTURE = -1 };
@@ -64,6 +71,17 @@ typedef struct pb_material {
   pb_alpha_mode alpha_mode;
   float alpha_cutoff;
   int double_sided;
+  /* KHR_materials_unlit: the surface shows its base colour (factor x
+   * texture x COLOR_0) as radiance [W/(m^2 sr)] to camera paths (the eye and
+   * its mirror/glass chains) and neither reflects nor emits light into the
+   * scene; the loader zeroes its other lobes and its emission. */
+  int unlit;
+  /* KHR_materials_volume: absorption coefficient sigma_a [1/m] per channel
+   * of the medium inside the (closed) surface, -ln(attenuationColor) /
+   * attenuationDistance (Beer-Lambert: transmittance exp(-sigma_a d) over a
+   * path length d inside); 0 when absent, thin-walled (thicknessFactor 0)
+   * or infinitely clear. Applies to paths that refract into it. */
+  float attenuation[3];
 } pb_material;
 
 /* What a material does to light, for renderers that branch on it. */
@@ -202,14 +220,39 @@ typedef struct pb_world {
 /* Radiance of the world arriving from unit direction w. */
 void pb_world_radiance(const pb_world *w, const float dir[3], float out[3]);
 
-/* Perspective camera in world space. Looks along -Z of its node. */
+/* Which side of the picture a camera's field of view (or orthographic size)
+ * spans; the other side follows the image's aspect ratio. glTF's yfov and
+ * ymag are vertical; Blender's sensor fit is any of the three, AUTO being
+ * the larger side (BKE_camera_sensor_fit: width when width >= height). */
+typedef enum pb_camera_fit {
+  PB_CAMERA_FIT_VERTICAL = 0,
+  PB_CAMERA_FIT_HORIZONTAL = 1,
+  PB_CAMERA_FIT_AUTO = 2,
+} pb_camera_fit;
+
+/* Camera in world space, looking along -Z of its node. Zero-initialised
+ * extras (orthographic, fit, shift) give glTF's perspective camera. The
+ * rays of an image of it are pb_camera_view's (camera.c); every renderer
+ * goes through that one function. */
 typedef struct pb_camera {
   char name[PB_NAME_MAX];
   float position[3];
   float forward[3], up[3], right[3]; /* orthonormal, right-handed */
-  float yfov;                        /* radians, vertical */
+  int orthographic;                  /* 1: parallel rays along forward */
+  pb_camera_fit fit;                 /* the side yfov / ortho_size spans */
+  float yfov;                        /* perspective: radians, the full angle
+                                        across the fitted side (vertical for
+                                        glTF cameras); 0 when orthographic */
+  float ortho_size;                  /* orthographic: metres across the fitted
+                                        side (glTF 2 ymag, Blender's
+                                        ortho_scale) */
+  float shift[2];                    /* lens shift right and up, in units of
+                                        the fitted side's extent (Blender's
+                                        shift_x, shift_y) */
   float aspect;                      /* width/height; 0 if the file gives none */
-  float znear, zfar;                 /* zfar 0: infinite */
+  float znear, zfar;                 /* clip planes, metres along forward
+                                        (Cycles' clip_start / clip_end);
+                                        zfar 0: infinite */
   int synthesized;                   /* 1: made by the loader (file had none) */
 } pb_camera;
 
@@ -223,8 +266,13 @@ enum {
   PB_FEATURE_ANIMATION = 1u << 5,
   PB_FEATURE_ALPHA = 1u << 6,        /* alpha mask/blend materials */
   PB_FEATURE_NORMAL_MAPS = 1u << 7,
-  PB_FEATURE_SOFT_LIGHTS = 1u << 8,  /* area lights, radius > 0, sun angle > 0 */
-  PB_FEATURE_WORLD = 1u << 9,        /* world light (constant or map) */
+  PB_FEATURE_VERTEX_COLORS = 1u << 8,  /* COLOR_0 */
+  PB_FEATURE_SKINNING = 1u << 9,       /* skinned instances */
+  PB_FEATURE_MORPH_TARGETS = 1u << 10, /* morphed instances */
+  PB_FEATURE_UNLIT = 1u << 11,         /* KHR_materials_unlit surfaces */
+  PB_FEATURE_VOLUME = 1u << 12,        /* absorbing media (KHR_materials_volume) */
+  PB_FEATURE_SOFT_LIGHTS = 1u << 13,   /* area lights, radius > 0, sun angle > 0 */
+  PB_FEATURE_WORLD = 1u << 14,         /* world light (constant or map) */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -246,6 +294,12 @@ typedef struct pb_scene {
   float (*positions)[3];
   float (*normals)[3];   /* unit length; generated when the file has none */
   float (*uvs)[2];       /* (0,0) when the file has none */
+  /* TEXCOORD_1, NULL unless a texture reads uv set 1 (pb_texture.texcoord);
+   * (0,0) where a primitive has none. */
+  float (*uvs1)[2];
+  /* COLOR_0, linear RGBA in [0,1], NULL unless a primitive has one; (1,1,1,1)
+   * on vertices without. Multiplies the base colour (glTF 2.0 3.9.2). */
+  float (*colors)[4];
   /* Normal-map tangent frames, world space (scenes/tangents.h): xyz unit,
    * orthogonal to the normal, along +u; w = +-1, bitangent = cross(normal,
    * xyz) * w (glTF TANGENT). From the file's TANGENT where a normal-mapped
@@ -276,16 +330,23 @@ typedef struct pb_scene {
 
   uint32_t animation_count;  /* glTF animations in the file */
   uint32_t animation_channel_count;
-  /* Node animation (translation / rotation / scale channels), posed by
-   * pb_scene_set_time. Opaque; NULL when the file has no usable channel
-   * (none, or only morph "weights" and channels on `matrix` nodes, which
-   * are ignored with a warning). Every animation of the file plays at once on
+  /* Node animation (translation / rotation / scale channels) and morph
+   * weight channels, posed by pb_scene_set_time with the skins. Opaque; NULL
+   * when the file has no usable channel (none, or only channels on `matrix`
+   * nodes and weights of meshes without targets, which are ignored with a
+   * warning). Every animation of the file plays at once on
    * one timeline (Blender exports one action per object). anim_start,
    * anim_end: seconds, the union of the key times of the samplers those
    * channels use; 0, 0 without anim. After loading, the arrays hold the rest
    * pose (the nodes' own TRS), which need not be the pose at any time. */
   struct pb_scene_anim *anim;
   double anim_start, anim_end;
+
+  /* Skins and morph targets (glTF 2.0 3.7.3, 3.7.2.2), deformed on the CPU:
+   * scene vertices of skinned and of morphed instances, and how many of
+   * them pb_scene_set_time poses again (the rest were posed once, when
+   * loaded). */
+  uint32_t skinned_vertex_count, morphed_vertex_count, posed_vertex_count;
 
   float bounds_min[3], bounds_max[3];
   uint32_t features;   /* PB_FEATURE_* */
@@ -327,9 +388,10 @@ pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...)
 
 /* Poses the scene at time t seconds, clamped to [anim_start, anim_end] (glTF
  * holds the first and last keys outside them): rewrites positions, normals
- * (inverse-transpose, unit length), cameras (position and frame), lights
- * (position, direction) and the bounds, all relative to pb_scene.origin as
- * the static load is. Topology, triangle order, materials, counts and
+ * (inverse-transpose, unit length), the skinned and morphed vertices that
+ * move (deform.h; their file tangents too), cameras (position and frame),
+ * lights (position, direction) and the bounds, all relative to
+ * pb_scene.origin as the static load is. Topology, triangle order, materials, counts and
  * features never change: triangle i is the same triangle at every time (for
  * motion vectors and BVH refits). A deterministic function of t (not of
  * earlier calls). PB_OK and nothing changed for scenes without anim.
@@ -344,7 +406,12 @@ pb_result pb_scene_set_time(pb_scene *s, double t);
  * scenes call it once the arrays are filled). */
 void pb_scene_finalize(pb_scene *s);
 
-/* Camera by name; NULL name picks the first. Returns -1 when absent. */
+/* Camera by name or index. NULL picks the first; a string of decimal digits
+ * is an index into cameras (the numbers `info` lists); anything else is a
+ * name. Returns the index; -1 when there is no such camera; -2 when several
+ * cameras share the name (glTF does not require unique names: select one by
+ * index). */
+enum { PB_CAMERA_ABSENT = -1, PB_CAMERA_AMBIGUOUS = -2 };
 int pb_scene_find_camera(const pb_scene *s, const char *name);
 
 /* Image size from a camera and optional overrides (0 = derive): width
@@ -355,6 +422,28 @@ void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
 /* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
  * RGBA out (sRGB decoded when the texture is sRGB). */
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
+
+/* A material's texture at a surface point with uv sets uv0 and uv1 (uv1 may
+ * be NULL: zero): the texture's uv set through its uv_xform, then
+ * pb_texture_sample. */
+void pb_texture_lookup(const pb_texture *t, const float uv0[2], const float uv1[2], float out[4]);
+/* Its uv transform alone (the POV-Ray export writes transformed uvs). */
+void pb_texture_uv(const pb_texture *t, const float uv0[2], const float uv1[2], float out[2]);
+
+/* A material's inputs at a surface point with uv sets uv0, uv1 (uv1 NULL:
+ * zero) and vertex colour `color` (NULL: white), the same in every renderer
+ * (shaders/common/scene.glsl mirrors them):
+ *   base colour (glTF 2.0 3.9.2): baseColorFactor x baseColorTexture x
+ *     COLOR_0, RGBA, each channel clamped to [0, 1];
+ *   metallic, roughness: the factors x the metallicRoughnessTexture's B, G;
+ *   emission: emissive x emissiveTexture, or for an unlit material the base
+ *     colour (scene.h, pb_material.unlit). */
+void pb_material_base_color(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                            const float color[4], float out[4]);
+void pb_material_metal_rough(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                             float *metallic, float *roughness);
+void pb_material_emission(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                          const float color[4], float out[3]);
 
 /* sRGB transfer, exact IEC 61966-2-1 piecewise form. */
 float pb_srgb_to_linear(float v);
