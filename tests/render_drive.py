@@ -3,7 +3,7 @@
 add-on), through the CLI:
 
   crop      --crop X,Y,W,H of a --width x --height frame equals that part of
-            the full render exactly (same seed; photons, jitter, emitters);
+            the full render to float rounding (same seed; photons, jitter, emitters);
   blender   --blender-layer NAME writes exactly Blender's multilayer EXR
             channels (NAME.Combined.R..A, NAME.Depth.Z, ...), Depth 1e10
             where nothing is hit, Combined equal to the plain beauty;
@@ -57,6 +57,20 @@ def exr(path):
     return json.loads(p.stdout)
 
 
+# Two renders of one scene and seed agree to float rounding, not bit for bit:
+# photon_trace.comp stores each photon at the slot an atomic counter hands
+# out, so on a device running workgroups in parallel (lavapipe on several
+# threads, any GPU) the store's order, the order of Morton-code ties after
+# the stable sort and so the order of the gather's sums follow the
+# scheduling. A channel mix-up or a missing pass differs by far more.
+ROUNDING = 1e-5
+
+
+def worst_rel(a, b):
+    peak = max(max((abs(v) for v in a), default=0.0), 1e-6)
+    return max((abs(x - y) for x, y in zip(a, b)), default=0.0) / peak
+
+
 # Small and quick: 48 x 40, 4 jittered samples over 2 photon maps.
 COMMON = ["--width", "48", "--height", "40", "--spp", "4", "--iterations", "2", "--photons", "8192",
           "--seed", "3", "-q"]
@@ -87,14 +101,13 @@ def part_crop():
     worst, total = 0.0, 0.0
     names = ["R", "G", "B", "A", "indirect.R", "caustic.G", "direct.B", "depth.Z"]
     for ch in names:
-        for y in range(17):
-            for x in range(20):
-                a = full["channels"][ch][(y + 7) * 48 + x + 11]
-                b = crop["channels"][ch][y * 20 + x]
-                worst = max(worst, abs(a - b))
-                total += abs(a)
-    print("crop vs full frame: largest difference %g over %s" % (worst, ", ".join(names)))
-    check(total > 0 and worst == 0.0, "the crop equals the full render there, channel for channel")
+        a = [full["channels"][ch][(y + 7) * 48 + x + 11] for y in range(17) for x in range(20)]
+        b = crop["channels"][ch]
+        worst = max(worst, worst_rel(a, b))
+        total += sum(abs(v) for v in a)
+    print("crop vs full frame: largest difference %g of the channel's peak over %s" % (worst, ", ".join(names)))
+    check(total > 0 and worst <= ROUNDING,
+          "the crop equals the full render there, channel for channel, to float rounding")
 
 
 def part_blender():
@@ -107,11 +120,13 @@ def part_blender():
                   ["ViewLayer.%s.%s" % (p, c) for p in ("Emit", "Direct", "Indirect", "Caustic", "Albedo")
                    for c in "RGB"])
     check(sorted(bl["channels"]) == want, "Blender's channel names, exactly: %s" % sorted(bl["channels"]))
-    same = all(plain["channels"][a] == bl["channels"]["ViewLayer.Combined." + a] for a in "RGBA")
-    check(same, "Combined is the beauty")
+    worst = max(worst_rel(plain["channels"][a], bl["channels"]["ViewLayer.Combined." + a]) for a in "RGBA")
+    print("Combined vs the plain beauty: largest difference %g of the channel's peak" % worst)
+    check(worst <= ROUNDING, "Combined is the beauty (to float rounding)")
     depth, alpha = bl["channels"]["ViewLayer.Depth.Z"], plain["channels"]["A"]
     misses = [z for z, a in zip(depth, alpha) if a == 0]
     hits = [(z, p) for z, p, a in zip(depth, plain["channels"]["depth.Z"], alpha) if a > 0]
+    # Depth is the primary hit, traced without photons: exact in both runs.
     check(all(z == 1e10 for z in misses), "Depth is 1e10 where nothing is hit (%d pixels)" % len(misses))
     check(hits and all(z == p for z, p in hits), "Depth is the camera depth elsewhere")
 
