@@ -21,3 +21,9 @@ if(EXISTS /usr/share/blender/datafiles/colormanagement/config.ocio)
 endif()
 pb_cli_test(cli_display_missing_config display --list --ocio-config no/such.ocio EXIT 3
             REGEX "no/such.ocio: cannot open.*exit=3")
+
+# A scene's own colour management (the Blender render engine's
+# colorManagement) is its PNGs' default view: tests/scene_view.py.
+add_test(NAME scene_view COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/scene_view.py ${PB_EXE} ${PB_ROOT}
+                                 ${CMAKE_CURRENT_BINARY_DIR}/scene_view)
+set_tests_properties(scene_view PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 300)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "color/color_cli.h"
 #include "core/log.h"
 
 const char *const pb_light_units_names[] = {"standard", "unitless", NULL};
@@ -233,4 +234,26 @@ pb_result pb_cli_pick_camera(const pb_scene *s, const pb_core_opts *c,
   }
   pb_camera_image_size(&s->cameras[*camera], c->width, c->height, w, h);
   return PB_OK;
+}
+
+pb_result pb_color_opts_open_scene(const pb_color_opts *o, const pb_scene *s, pb_color **out) {
+  const pb_scene_view *sv = s ? &s->view : NULL;
+  if (!sv || !sv->set) return pb_color_opts_open(o, out);
+  int cli_view = o->display || o->view;
+  pb_color_desc d = {o->ocio_config,
+                     o->display ? o->display : sv->display,
+                     o->view ? o->view : sv->view,
+                     o->look ? o->look : (cli_view ? NULL : sv->look),
+                     isnan(o->exposure) ? sv->exposure : o->exposure,
+                     o->gamma != 0 ? o->gamma : sv->gamma,
+                     PB_COLOR_PICTURE};
+  pb_result r = pb_color_open(&d, out);
+  if (r != PB_ERR_USAGE) return r;
+  /* A name the config lacks: the scene's, or one given here? Without the
+   * scene's names, a command-line name fails again and says so. */
+  pb_log_warn("%s: the scene's colour management (%s / %s%s%s): %s; the config's defaults are used", s->path,
+              sv->display, sv->view, sv->look[0] ? ", look " : "", sv->look, pb_error_message());
+  pb_error_clear();
+  d.display = o->display, d.view = o->view, d.look = o->look;
+  return pb_color_open(&d, out);
 }

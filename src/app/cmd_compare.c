@@ -70,7 +70,7 @@ int pb_cmd_compare(int argc, char **argv) {
   const char *json = NULL, *heatmap = NULL, *layer = "";
   int heat_metric = 0, quiet = 0;
   double heat_max = 0;
-  pb_color_opts co = {0};
+  pb_color_opts co = PB_COLOR_OPTS_INIT;
   const pb_opt opts[] = {
       {"layer", 0, PB_OPT_STRING, &layer, "NAME",
        "compare this layer (direct, indirect, albedo, normal, depth...; default: the "

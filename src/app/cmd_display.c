@@ -44,7 +44,7 @@ static pb_result gather(const pb_image *img, const char *path, const char *layer
 
 int pb_cmd_display(int argc, char **argv) {
   const pb_command *cmd = self();
-  pb_color_opts co = {0};
+  pb_color_opts co = PB_COLOR_OPTS_INIT;
   const char *out = NULL, *layer = NULL;
   int list = 0;
   const pb_opt opts[] = {

@@ -7,6 +7,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "color/color.h"
+#include "color/color_cli.h"
 #include "core/json.h"
 #include "render/plan.h"
 #include "scene/camera.h"
@@ -14,11 +15,14 @@
 static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
 
-/* The view PNG previews of this scene go through by default (`render --png`,
- * `display`, `validate`'s pictures): one line, or why there is none. */
-static void default_view(char *buf, size_t size) {
+/* The view PNG previews of this scene go through by default (`render --png`
+ * and `reference --png`: the scene's own colour management where it has
+ * one, else the config's default, which `display` and `validate`'s pictures
+ * use): one line, or why there is none. */
+static void default_view(const pb_scene *s, char *buf, size_t size) {
   pb_color *c = NULL;
-  if (pb_color_open(NULL, &c) == PB_OK) {
+  const pb_color_opts co = PB_COLOR_OPTS_INIT;
+  if (pb_color_opts_open_scene(&co, s, &c) == PB_OK) {
     pb_color_describe(c, buf, size);
   } else {
     snprintf(buf, size, "unavailable: %s", pb_error_message());
@@ -146,7 +150,7 @@ static void print_text(const pb_scene *s) {
          pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
          pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off");
   char view[768];
-  default_view(view, sizeof view);
+  default_view(s, view, sizeof view);
   printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
@@ -320,7 +324,7 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_render_plan_of(s, 0, &pl);
   pb_render_plan_json(&j, "pipeline", &pl); /* what the GPU passes compile in */
   char view[768];
-  default_view(view, sizeof view);
+  default_view(s, view, sizeof view);
   pb_json_string(&j, "display_view", view);
   pb_json_begin_array(&j, "warnings");
   for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);

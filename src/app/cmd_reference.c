@@ -103,7 +103,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const char *cam
 int pb_cmd_reference(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
-  pb_color_opts co = {0};
+  pb_color_opts co = PB_COLOR_OPTS_INIT;
   ref_opts o = {.max_bounces = UINT32_MAX};
   pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
@@ -179,7 +179,7 @@ int pb_cmd_reference(int argc, char **argv) {
   r = pb_cli_pose(&s, &pose, NULL);
   if (r == PB_OK) r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
   if (r != PB_OK) goto done;
-  if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
+  if (o.png && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
   if (o.estimate_noise &&
       (r = pb_color_opts_open_for(&co, PB_COLOR_METRICS, &metric_color)) != PB_OK)
     goto done;

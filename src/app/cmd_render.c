@@ -198,7 +198,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
-  pb_color_opts co = {0};
+  pb_color_opts co = PB_COLOR_OPTS_INIT;
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
   const pb_opt opts[] = {
       PB_RENDER_OPTS(&c),
@@ -364,7 +364,7 @@ int pb_cmd_render(int argc, char **argv) {
   }
   /* The view is opened before any GPU work so that a misspelt view fails at
    * once. */
-  if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
+  if (o.png && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);

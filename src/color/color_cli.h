@@ -1,11 +1,13 @@
 /* The colour-management options of every subcommand that writes a display
  * image (render, reference, compare, display). A subcommand adds
- *     pb_color_opts co = {0};
+ *     pb_color_opts co = PB_COLOR_OPTS_INIT;
  *     const pb_opt opts[] = {..., PB_COLOR_OPTS(&co)};
  * and, once parsed, opens the view with pb_color_opts_open(&co, &color) and
  * writes its PNG with pb_png_write_display(path, color, ...). */
 #ifndef PB_COLOR_CLI_H
 #define PB_COLOR_CLI_H
+
+#include <math.h>
 
 #include "app/cli.h"
 #include "color/color.h"
@@ -15,9 +17,11 @@ typedef struct pb_color_opts {
   const char *display;     /* --display */
   const char *view;        /* --view */
   const char *look;        /* --look */
-  double exposure;         /* --exposure, stops */
+  double exposure;         /* --exposure, stops; NAN: not given (0) */
   double gamma;            /* --gamma; 0: 1 */
 } pb_color_opts;
+
+#define PB_COLOR_OPTS_INIT {.exposure = NAN}
 
 #define PB_COLOR_OPTS(c)                                                       \
   {"ocio-config", 0, PB_OPT_STRING, &(c)->ocio_config, "FILE",                 \
@@ -45,12 +49,25 @@ typedef struct pb_color_opts {
  * Blender's config and view) or metrics (defaults: built-in, Standard). */
 static inline pb_result pb_color_opts_open_for(const pb_color_opts *o, pb_color_purpose purpose,
                                                pb_color **out) {
-  pb_color_desc d = {o->ocio_config, o->display, o->view, o->look, o->exposure, o->gamma, purpose};
+  pb_color_desc d = {o->ocio_config, o->display, o->view,    o->look,
+                     isnan(o->exposure) ? 0 : o->exposure, o->gamma, purpose};
   return pb_color_open(&d, out);
 }
 
 static inline pb_result pb_color_opts_open(const pb_color_opts *o, pb_color **out) {
   return pb_color_opts_open_for(o, PB_COLOR_PICTURE, out);
 }
+
+/* The pictures of a scene (render and reference PNGs, info's display
+ * line): what the command line gives, else the scene's own colour
+ * management (scene.h pb_scene_view: a scene from the Blender render engine
+ * keeps its display, view, look, exposure and gamma), else the config's
+ * defaults. A scene's look is not applied under a --view or --display of
+ * the command line (Blender's looks belong to their view). A name of the
+ * scene's that the config lacks (Blender's config has views and looks the
+ * built-in one has not) is a warning and the config's default display,
+ * view and look (the scene's exposure and gamma kept), not an error: nobody
+ * typed it. Errors as pb_color_open for the command line's. */
+pb_result pb_color_opts_open_scene(const pb_color_opts *o, const pb_scene *s, pb_color **out);
 
 #endif

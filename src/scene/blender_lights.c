@@ -414,6 +414,44 @@ static pb_result read_world(const char *path, const pb_gltf_value *wo, const pb_
   return PB_OK;
 }
 
+/* ---- colour management ---------------------------------------------------- */
+
+/* An optional name of at most PB_SCENE_VIEW_NAME - 1 bytes into buf ("" when
+ * absent). */
+static pb_result name(const rd *r, const pb_gltf_value *o, const char *key, char *buf) {
+  const char *v;
+  pb_result e = string(r, o, key, &v);
+  buf[0] = 0;
+  if (e != PB_OK || !v) return e;
+  size_t n = strlen(v);
+  if (n >= PB_SCENE_VIEW_NAME)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.%s: a name of %zu bytes (at most %d)", r->path, r->where, key, n,
+                   PB_SCENE_VIEW_NAME - 1);
+  memcpy(buf, v, n + 1);
+  return PB_OK;
+}
+
+/* colorManagement: Blender's display device, view transform, look ("None"
+ * is no look), exposure and gamma, in the ranges of Blender's RNA
+ * (rna_color.c: exposure -32..32 stops, gamma 0..5; gamma 0 is taken as
+ * Blender does not allow it, so it must be > 0). Missing members keep
+ * Blender 3.4's defaults: sRGB / Filmic, no look, 0, 1. Whether the OCIO
+ * config has those names is checked where a display image is made. */
+static pb_result read_view(const char *path, const pb_gltf_value *cm, pb_scene_view *v) {
+  rd r = {path, "extensions.PHOTONBRIDGE_blender.colorManagement"};
+  pb_result e;
+  if ((e = name(&r, cm, "display", v->display)) != PB_OK || (e = name(&r, cm, "view", v->view)) != PB_OK ||
+      (e = name(&r, cm, "look", v->look)) != PB_OK ||
+      (e = number(&r, cm, "exposure", 0, -32, 0, 32, 0, "in [-32, 32]", &v->exposure)) != PB_OK ||
+      (e = number(&r, cm, "gamma", 1, 0, 1, 5, 0, "in (0, 5]", &v->gamma)) != PB_OK)
+    return e;
+  if (!v->display[0]) snprintf(v->display, sizeof v->display, "sRGB");
+  if (!v->view[0]) snprintf(v->view, sizeof v->view, "Filmic");
+  if (!strcmp(v->look, "None")) v->look[0] = 0;
+  v->set = 1;
+  return PB_OK;
+}
+
 pb_result pb_blender_read_root(const char *path, const pb_gltf_value *root, const pb_load_desc *desc, pb_scene *s) {
   rd r = {path, "extensions"};
   if (root->type != PB_GLTF_OBJECT) return type_error(&r, "PHOTONBRIDGE_blender", "an object");
@@ -424,9 +462,12 @@ pb_result pb_blender_read_root(const char *path, const pb_gltf_value *root, cons
   if (v->number != 1)
     return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: %s.version: %g (this photonbridge reads version 1)", path, r.where,
                    v->number);
-  const pb_gltf_value *render, *world;
+  const pb_gltf_value *render, *world, *cm;
   pb_result e;
-  if ((e = object(&r, root, "render", &render)) != PB_OK || (e = object(&r, root, "world", &world)) != PB_OK) return e;
+  if ((e = object(&r, root, "render", &render)) != PB_OK || (e = object(&r, root, "world", &world)) != PB_OK ||
+      (e = object(&r, root, "colorManagement", &cm)) != PB_OK)
+    return e;
+  if (cm && (e = read_view(path, cm, &s->view)) != PB_OK) return e;
   int transparent = 0;
   if (render) {
     rd rr = {path, "extensions.PHOTONBRIDGE_blender.render"};

@@ -11,7 +11,7 @@
 #include "scene/xform.h"
 
 /* The root extension object: checks `version`, reads render.filmTransparent
- * into s->film_opaque and `world` into s->world (its environment map loaded
+ * into s->film_opaque, colorManagement into s->view and `world` into s->world (its environment map loaded
  * and checked). Errors name the JSON path: PB_ERR_SCENE_INVALID for a wrong
  * type, a non-finite number or a value out of range, PB_ERR_SCENE_UNSUPPORTED
  * for another version or projection, PB_ERR_IO / PB_ERR_IMAGE / PB_ERR_LIMIT

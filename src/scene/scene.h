@@ -287,6 +287,16 @@ typedef enum pb_light_units {
 
 #define PB_LUMENS_PER_WATT 683.0f
 
+/* Names as Blender's OCIO config spells them ("sRGB", "Filmic",
+ * "Medium High Contrast"); look "" for Blender's "None". */
+#define PB_SCENE_VIEW_NAME 64
+typedef struct pb_scene_view {
+  int set;
+  char display[PB_SCENE_VIEW_NAME], view[PB_SCENE_VIEW_NAME], look[PB_SCENE_VIEW_NAME];
+  double exposure; /* stops, before the view */
+  double gamma;    /* after the view; 1: none */
+} pb_scene_view;
+
 typedef struct pb_scene {
   char *path;
 
@@ -327,6 +337,12 @@ typedef struct pb_scene {
    * alpha 1 everywhere and the world's radiance, unless it is hidden from the
    * camera. */
   int film_opaque;
+  /* How the artist looks at the scene in Blender (its Colour Management
+   * panel: scene.display_settings / view_settings, PHOTONBRIDGE_blender.
+   * colorManagement): the defaults of the display images made from it (PNG
+   * previews; the EXR stays scene-linear). set 0: the file does not say
+   * (plain glTF), the display images use the config's defaults. */
+  pb_scene_view view;
 
   uint32_t animation_count;  /* glTF animations in the file */
   uint32_t animation_channel_count;

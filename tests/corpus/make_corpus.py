@@ -939,6 +939,22 @@ def blender_cases(C, png):
                                            'has="blender_units": true'])
     case("blender_film_transparent", EXIT_OK, ['has="film_opaque": false'], W[:-1] + ("render", "filmTransparent"),
          True)
+    # Blender's colour management: the display images' defaults (info names
+    # the view they use; tests/scene_view.py renders with them).
+    CM = W[:-1] + ("colorManagement",)
+    case("blender_color_management", EXIT_OK, ['has=sRGB / Standard, look None, exposure 1.5, gamma 1'],
+         CM, {"display": "sRGB", "view": "Standard", "look": "None", "exposure": 1.5, "gamma": 1.0})
+    case("blender_color_management_exposure", EXIT_INVALID,
+         "extensions.PHOTONBRIDGE_blender.colorManagement.exposure: 40 is not in [-32, 32]", CM, {"exposure": 40.0})
+    case("blender_color_management_gamma_zero", EXIT_INVALID,
+         "extensions.PHOTONBRIDGE_blender.colorManagement.gamma: 0 is not in (0, 5]", CM, {"gamma": 0.0})
+    case("blender_color_management_view_number", EXIT_INVALID,
+         "extensions.PHOTONBRIDGE_blender.colorManagement.view: not a string", CM, {"view": 3})
+    case("blender_color_management_look_long", EXIT_INVALID,
+         "extensions.PHOTONBRIDGE_blender.colorManagement.look: a name of 80 bytes (at most 63)", CM,
+         {"look": "L" * 80})
+    case("blender_color_management_not_object", EXIT_INVALID,
+         "extensions.PHOTONBRIDGE_blender.colorManagement: not an object", CM, "Filmic")
     d = copy.deepcopy(doc0)
     d["extensions"][X]["world"]["environment"]["uri"] = "sky.png"
     rel = C.gltf("valid", "blender_world_png", d, bin0, png, code=EXIT_OK, expect=['has="map_width": 4'])
