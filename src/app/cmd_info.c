@@ -55,6 +55,15 @@ static void print_text(const pb_scene *s) {
            m->roughness);
     if (m->transmission > 0) printf(" transmission %.3g ior %.3g", m->transmission, m->ior);
     if (pb_material_is_emissive(m)) printf(" emissive (%.3g %.3g %.3g)", m->emissive[0], m->emissive[1], m->emissive[2]);
+    const pb_blender_material *b = &m->blender;
+    if (b->model == PB_MODEL_PRINCIPLED)
+      printf(" [Blender principled, %s: specular %.3g tint %.3g, sheen %.3g, clearcoat %.3g (roughness %.3g), "
+             "anisotropic %.3g, alpha %.3g%s]", b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX",
+             b->input[PB_IN_SPECULAR], b->input[PB_IN_SPECULAR_TINT], b->input[PB_IN_SHEEN], b->input[PB_IN_CLEARCOAT],
+             b->input[PB_IN_CLEARCOAT_ROUGHNESS], b->input[PB_IN_ANISOTROPIC], b->input[PB_IN_ALPHA],
+             b->input[PB_IN_SUBSURFACE] > 0 ? ", subsurface as diffuse" : "");
+    else if (b->model != PB_MODEL_GLTF)
+      printf(" [Blender %s]", pb_material_model_name(b->model));
     printf("\n");
   }
   printf("textures   %u\n", s->texture_count);
@@ -143,6 +152,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_begin_object(&j, NULL);
     pb_json_string(&j, "name", m->name);
     pb_json_string(&j, "kind", bsdf_names[pb_material_kind(m)]);
+    pb_json_string(&j, "model", pb_material_model_name(m->blender.model));
+    if (m->blender.model == PB_MODEL_PRINCIPLED)
+      pb_json_string(&j, "distribution", m->blender.distribution == PB_DISTRIBUTION_MULTI_GGX ? "MULTI_GGX" : "GGX");
     pb_json_begin_array(&j, "base_color");
     for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, m->base_color[k]);
     pb_json_end_array(&j);

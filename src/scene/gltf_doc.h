@@ -87,6 +87,29 @@ typedef struct pb_gltf_texture_ref {
   double scale;           /* normalTexture.scale */
 } pb_gltf_texture_ref;
 
+/* A JSON value of an extension the shim hands over whole: objects' members
+ * in name order (as tinygltf keeps them). Numbers are doubles; is_integer:
+ * the number was written as an integer. */
+typedef enum pb_gltf_value_type {
+  PB_GLTF_NULL = 0, PB_GLTF_BOOL, PB_GLTF_NUMBER, PB_GLTF_STRING, PB_GLTF_ARRAY, PB_GLTF_OBJECT
+} pb_gltf_value_type;
+
+typedef struct pb_gltf_value {
+  pb_gltf_value_type type;
+  int boolean;
+  int is_integer;
+  double number;
+  const char *string;                 /* STRING */
+  const struct pb_gltf_value *items;  /* ARRAY: the elements; OBJECT: the members' values */
+  const char *const *keys;            /* OBJECT: the members' names */
+  size_t count;
+} pb_gltf_value;
+
+/* Member `key` of an object, NULL when absent (or v is not an object). */
+const pb_gltf_value *pb_gltf_value_get(const pb_gltf_value *v, const char *key);
+/* "object", "array", ... for messages. */
+const char *pb_gltf_value_type_name(const pb_gltf_value *v);
+
 typedef struct pb_gltf_material {
   const char *name;
   double base_color[4];
@@ -104,6 +127,7 @@ typedef struct pb_gltf_material {
   const char *alpha_mode;
   double alpha_cutoff;
   int double_sided;
+  const pb_gltf_value *blender; /* extensions.PHOTONBRIDGE_blender, NULL if absent */
 } pb_gltf_material;
 
 typedef struct pb_gltf_texture {

@@ -19,6 +19,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <set>
@@ -54,6 +55,13 @@ struct Impl {
   std::vector<pb_gltf_animation> animations;
   std::vector<const char *> ext_used, ext_required;
   std::set<std::string> approved;  // files the URI check allowed
+  // Extensions handed over whole (pb_gltf_value): the roots, every array of
+  // elements or members, every member name and string. Deques, so that
+  // growing them keeps what earlier values point to.
+  std::deque<pb_gltf_value> value_roots;
+  std::deque<std::vector<pb_gltf_value>> value_items;
+  std::deque<std::vector<const char *>> value_keys;
+  std::deque<std::string> value_strings;
 };
 
 struct FsCtx {
@@ -555,6 +563,61 @@ double num_or(const tinygltf::Value &v, const char *key, double dflt) {
   return x.IsNumber() ? x.GetNumberAsDouble() : dflt;
 }
 
+// A tinygltf value as a pb_gltf_value whose arrays live in m. The JSON
+// nesting is bounded (check_depth), so the recursion is too.
+pb_gltf_value convert_value(Impl &m, const tinygltf::Value &v) {
+  pb_gltf_value x{};
+  switch (v.Type()) {
+  case tinygltf::BOOL_TYPE:
+    x.type = PB_GLTF_BOOL;
+    x.boolean = v.Get<bool>();
+    break;
+  case tinygltf::INT_TYPE:
+  case tinygltf::REAL_TYPE:
+    x.type = PB_GLTF_NUMBER;
+    x.is_integer = v.IsInt();
+    x.number = v.GetNumberAsDouble();
+    break;
+  case tinygltf::STRING_TYPE:
+    x.type = PB_GLTF_STRING;
+    m.value_strings.push_back(v.Get<std::string>());
+    x.string = m.value_strings.back().c_str();
+    break;
+  case tinygltf::ARRAY_TYPE: {
+    x.type = PB_GLTF_ARRAY;
+    m.value_items.emplace_back();
+    std::vector<pb_gltf_value> &items = m.value_items.back();
+    items.resize(v.ArrayLen());
+    for (size_t i = 0; i < items.size(); ++i) items[i] = convert_value(m, v.Get((int)i));
+    x.items = items.data();
+    x.count = items.size();
+    break;
+  }
+  case tinygltf::OBJECT_TYPE: {
+    x.type = PB_GLTF_OBJECT;
+    std::vector<std::string> keys = v.Keys();
+    m.value_items.emplace_back();
+    std::vector<pb_gltf_value> &items = m.value_items.back();
+    m.value_keys.emplace_back();
+    std::vector<const char *> &names = m.value_keys.back();
+    items.resize(keys.size());
+    names.resize(keys.size());
+    for (size_t i = 0; i < keys.size(); ++i) {
+      m.value_strings.push_back(keys[i]);
+      names[i] = m.value_strings.back().c_str();
+      items[i] = convert_value(m, v.Get(keys[i]));
+    }
+    x.items = items.data();
+    x.keys = names.data();
+    x.count = items.size();
+    break;
+  }
+  default:
+    x.type = PB_GLTF_NULL;
+  }
+  return x;
+}
+
 void convert(Impl &m, pb_gltf_doc *doc) {
   tinygltf::Model &g = m.model;
   doc->generator = s(g.asset.generator);
@@ -720,6 +783,10 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.alpha_mode = s(mt.alphaMode);
     x.alpha_cutoff = mt.alphaCutoff;
     x.double_sided = mt.doubleSided;
+    if (auto *e = ext("PHOTONBRIDGE_blender")) {
+      m.value_roots.push_back(convert_value(m, *e));
+      x.blender = &m.value_roots.back();
+    }
     m.materials.push_back(x);
   }
   for (auto &t : g.textures) m.textures.push_back(pb_gltf_texture{t.source, t.sampler});
@@ -833,6 +900,18 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
   }
   doc->impl = impl.release();
   return PB_OK;
+}
+
+extern "C" const pb_gltf_value *pb_gltf_value_get(const pb_gltf_value *v, const char *key) {
+  if (!v || v->type != PB_GLTF_OBJECT) return nullptr;
+  for (size_t i = 0; i < v->count; ++i)
+    if (std::strcmp(v->keys[i], key) == 0) return &v->items[i];
+  return nullptr;
+}
+
+extern "C" const char *pb_gltf_value_type_name(const pb_gltf_value *v) {
+  static const char *const names[] = {"null", "a boolean", "a number", "a string", "an array", "an object"};
+  return v && (unsigned)v->type < sizeof names / sizeof *names ? names[v->type] : "absent";
 }
 
 extern "C" void pb_gltf_doc_destroy(pb_gltf_doc *doc) {

@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 
 #include "scene/anim.h"
+#include "scene/blender_material.h"
 #include "scene/image_decode.h"
 #include "scene/xform.h"
 
@@ -364,6 +365,13 @@ static pb_result check_factor(loader *L, int i, const char *field, double v, dou
   return PB_OK;
 }
 
+/* The PHOTONBRIDGE_blender material reader's way to textures and warnings
+ * (blender_material.h). */
+static pb_result blender_texture(void *user, int32_t tex, int srgb, const char *where, int32_t *out) {
+  return texture_ref(user, tex, srgb, where, out);
+}
+static pb_result blender_warn(void *user, const char *line) { return warn(user, "%s", line); }
+
 static pb_result convert_material(loader *L, int i, pb_material *m) {
   const pb_gltf_material *g = &L->doc->materials[i];
   pb_result r = PB_OK;
@@ -427,6 +435,10 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
     }
     r = texture_ref(L, refs[k]->index, srgb[k], w, dst[k]);
     if (r != PB_OK) return r;
+  }
+  if (g->blender) {
+    pb_blender_material_io io = {L->path, L, blender_texture, blender_warn};
+    return pb_blender_material_read(&io, i, g->blender, m);
   }
   return PB_OK;
 }
@@ -1379,7 +1391,7 @@ static pb_result load(loader *L) {
   for (size_t i = 0; i < d->extensions_used_count; ++i) {
     const char *e = d->extensions_used[i];
     static const char *const known[] = {"KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_transmission",
-                                        "KHR_materials_ior", "KHR_materials_emissive_strength"};
+                                        "KHR_materials_ior", "KHR_materials_emissive_strength", "PHOTONBRIDGE_blender"};
     int ok = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
     if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
