@@ -219,6 +219,13 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
     o->uv[0] = o->uv[1] = 0.0f;
   }
   o->mat = &s->materials[s->triangle_material[h->prim]];
+  o->tangent = v3_make(0.0f, 0.0f, 0.0f);
+  if (s->tangents) {
+    v3 t = v3_add(v3_add(v3_scale(v3_load(s->tangents[tri[0]]), w), v3_scale(v3_load(s->tangents[tri[1]]), h->u)),
+                  v3_scale(v3_load(s->tangents[tri[2]]), h->v));
+    float l = v3_len(t);
+    if (l > 1e-12f && isfinite(l)) o->tangent = v3_scale(t, 1.0f / l);
+  }
   pb_apply_normal_map(s, h, o);
 }
 

@@ -23,6 +23,31 @@
 
 #include "ref/ref_internal.h"
 
+/* Fraction of light reaching o + tmax d from o: 0 or 1, or through
+ * surfaces with Alpha < 1 (Cycles' transparent shadows) the product of
+ * their transparencies. */
+static v3 shadow(const pb_ref_ctx *ctx, v3 o, v3 d, float tmax, uint64_t *rays) {
+  const pb_scene *s = ctx->scene;
+  if (!(s->features & PB_FEATURE_ALPHA)) {
+    (*rays)++;
+    return pb_ref_occluded(&ctx->accel, o, d, tmax) ? v3_make(0, 0, 0) : v3_make(1, 1, 1);
+  }
+  v3 T = v3_make(1, 1, 1);
+  for (int n = 0; n < 64 && tmax > 0.0f; ++n) {
+    pb_ref_hit h;
+    (*rays)++;
+    if (!pb_ref_intersect(&ctx->accel, o, d, tmax, &h)) return T;
+    pb_surface surf;
+    pb_surface_from_hit(s, &h, d, &surf);
+    float t = surf.mat->blender.model == PB_MODEL_PRINCIPLED ? 1.0f - pb_blender_alpha(s, &surf) : 0.0f;
+    if (!(t > 0.0f)) return v3_make(0, 0, 0);
+    T = v3_scale(T, t);
+    o = pb_offset_ray(surf.p, v3_neg(surf.ng));
+    tmax -= h.t;
+  }
+  return v3_make(0, 0, 0);
+}
+
 static inline void add_contrib(pb_sample_out *o, v3 c, uint32_t bounces) {
   if (bounces <= 1) o->direct = v3_add(o->direct, c);
   else o->indirect = v3_add(o->indirect, c);
@@ -67,6 +92,9 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
+    /* Holdout: the camera sees a hole (no coverage, black); any other ray
+     * a black absorber (no closures: nothing below reflects). */
+    if (k == 1 && surf.mat->blender.model == PB_MODEL_HOLDOUT) break;
     if (k == 1) {
       out->hit = 1;
       out->normal = surf.ns;
@@ -87,7 +115,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     if (k > ctx->max_bounces) break;
 
     pb_bsdf b;
-    pb_bsdf_setup(s, &surf, wo, &b);
+    pb_bsdf_setup(s, &surf, wo, &rng, &b);
     if (k == 1) out->albedo = pb_bsdf_albedo(&b);
 
     if (pb_bsdf_has_smooth(&b)) {
@@ -99,10 +127,10 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
         float pdf;
         v3 f = pb_bsdf_eval(&b, wo, wi, &pdf);
         if (v3_is_zero(f)) continue;
-        rays++;
-        if (pb_ref_occluded(&ctx->accel, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON))) continue;
+        v3 vis = shadow(ctx, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON), &rays);
+        if (v3_is_zero(vis)) continue;
         float c = fabsf(v3_dot(wi, b.n));
-        add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, li), c)), k);
+        add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, li), c)), k);
       }
       if (ctx->lights.emitter_count) {
         float u0 = pb_rng_f(&rng), u1 = pb_rng_f(&rng), u2 = pb_rng_f(&rng);
@@ -134,12 +162,11 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
               v3 tgt = pb_offset_ray(es.p, es.ng);
               v3 seg = v3_sub(tgt, o_shadow);
               float sl = v3_len(seg);
-              rays++;
-              if (sl > 0.0f &&
-                  !pb_ref_occluded(&ctx->accel, o_shadow, v3_scale(seg, 1.0f / sl), sl)) {
+              v3 vis = sl > 0.0f ? shadow(ctx, o_shadow, v3_scale(seg, 1.0f / sl), sl, &rays) : v3_make(0, 0, 0);
+              if (!v3_is_zero(vis)) {
                 float w = pb_mis_power(pl, pdf_b);
                 float c = fabsf(v3_dot(wi, b.n));
-                add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, le2), c * w / pl)), k);
+                add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, le2), c * w / pl)), k);
               }
             }
           }

@@ -263,8 +263,6 @@ static pb_result read_principled(const reader *R, const pb_gltf_value *ext, pb_m
   const pb_gltf_value *p;
   pb_result r = opt_object(R, ext, "principled", &p);
   if (r != PB_OK) return r;
-  for (size_t i = 0; i < sizeof principled_inputs / sizeof *principled_inputs; ++i)
-    b->input[principled_inputs[i].input] = principled_inputs[i].dflt;
   float base[3] = {0.8f, 0.8f, 0.8f}, ss[3] = {0.8f, 0.8f, 0.8f}, em[3] = {0.0f, 0.0f, 0.0f}, strength = 1.0f;
   float radius[3] = {1.0f, 0.2f, 0.1f};
   int dist = 0, ssm = 0;
@@ -344,6 +342,41 @@ static pb_result read_emission(const reader *R, const pb_gltf_value *ext, pb_mat
   return PB_OK;
 }
 
+void pb_blender_material_defaults(pb_material *m, pb_material_model model) {
+  /* The extension replaces the plain glTF form: start from nothing. */
+  pb_blender_material *b = &m->blender;
+  memset(b, 0, sizeof *b);
+  for (int k = 0; k < 4; ++k) m->base_color[k] = k == 3 ? 1.0f : 0.0f;
+  for (int k = 0; k < 3; ++k) m->emissive[k] = 0.0f;
+  m->metallic = m->roughness = m->transmission = 0.0f;
+  m->ior = 1.5f;
+  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+  m->normal_scale = 1.0f;
+  m->alpha_mode = PB_ALPHA_OPAQUE;
+  m->double_sided = 1; /* Cycles' emission leaves both sides of a face */
+  b->model = model;
+  b->subsurface_color_tex = PB_NO_TEXTURE;
+  b->normal_strength = 1.0f;
+  for (int i = 0; i < PB_IN_COUNT; ++i) b->input_tex[i].tex = PB_NO_TEXTURE;
+  switch (model) {
+  case PB_MODEL_PRINCIPLED:
+    for (size_t i = 0; i < sizeof principled_inputs / sizeof *principled_inputs; ++i)
+      b->input[principled_inputs[i].input] = principled_inputs[i].dflt;
+    for (int k = 0; k < 3; ++k) m->base_color[k] = b->subsurface_color[k] = 0.8f;
+    m->roughness = b->input[PB_IN_ROUGHNESS];
+    m->ior = b->input[PB_IN_IOR];
+    break;
+  case PB_MODEL_DIFFUSE:
+    for (int k = 0; k < 3; ++k) m->base_color[k] = 0.8f;
+    break;
+  case PB_MODEL_EMISSION:
+    for (int k = 0; k < 3; ++k) m->emissive[k] = 1.0f;
+    break;
+  default:
+    break;
+  }
+}
+
 pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, const pb_gltf_value *ext,
                                    pb_material *m) {
   reader R = {io, index};
@@ -356,22 +389,8 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
   if (r != PB_OK) return r;
   if (model < 0) return bad(&R, "model", "missing (required: principled, diffuse, emission or holdout)");
 
-  /* The extension replaces the plain glTF form: start from nothing. */
   pb_blender_material *b = &m->blender;
-  memset(b, 0, sizeof *b);
-  for (int k = 0; k < 4; ++k) m->base_color[k] = k == 3 ? 1.0f : 0.0f;
-  for (int k = 0; k < 3; ++k) m->emissive[k] = 0.0f;
-  m->metallic = m->roughness = m->transmission = 0.0f;
-  m->ior = 1.5f;
-  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
-  m->normal_scale = 1.0f;
-  m->alpha_mode = PB_ALPHA_OPAQUE;
-  m->double_sided = 1; /* Cycles' emission leaves both sides of a face */
-  b->model = (pb_material_model)(PB_MODEL_PRINCIPLED + model);
-  b->subsurface_color_tex = PB_NO_TEXTURE;
-  b->normal_strength = 1.0f;
-  for (int i = 0; i < PB_IN_COUNT; ++i) b->input_tex[i].tex = PB_NO_TEXTURE;
-
+  pb_blender_material_defaults(m, (pb_material_model)(PB_MODEL_PRINCIPLED + model));
   switch (b->model) {
   case PB_MODEL_PRINCIPLED: r = read_principled(&R, ext, m); break;
   case PB_MODEL_DIFFUSE: r = read_diffuse(&R, ext, m); break;

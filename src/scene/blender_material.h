@@ -23,6 +23,10 @@ typedef struct pb_blender_material_io {
   pb_result (*warn)(void *user, const char *line);
 } pb_blender_material_io;
 
+/* Sets m to a Blender shader of `model` with Blender 3.4's defaults (the
+ * reader starts from these; code-built scenes and tests use them too). */
+void pb_blender_material_defaults(pb_material *m, pb_material_model model);
+
 /* Fills m's Blender model from `ext` (the extension object of
  * materials[index]). Errors are one line "FILE: materials[i].extensions.
  * PHOTONBRIDGE_blender.MEMBER: why" with PB_ERR_SCENE_INVALID (wrong JSON
