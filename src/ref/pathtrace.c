@@ -119,7 +119,10 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     if (k == 1) out->albedo = pb_bsdf_albedo(&b);
 
     if (pb_bsdf_has_smooth(&b)) {
-      v3 o_shadow = pb_offset_ray(surf.p, surf.ng);
+      /* Shadow rays leave on the side their light lies on: transmitting
+       * lobes (a Principled glass) see lights through the surface. */
+      v3 o_front = pb_offset_ray(surf.p, surf.ng), o_back = o_front;
+      if (b.model != PB_MODEL_GLTF) o_back = pb_offset_ray(surf.p, v3_neg(surf.ng));
       for (uint32_t i = 0; i < s->light_count; ++i) {
         v3 wi, li;
         float dist;
@@ -127,7 +130,8 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
         float pdf;
         v3 f = pb_bsdf_eval(&b, wo, wi, &pdf);
         if (v3_is_zero(f)) continue;
-        v3 vis = shadow(ctx, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON), &rays);
+        v3 vis = shadow(ctx, v3_dot(wi, surf.ng) >= 0.0f ? o_front : o_back, wi,
+                        dist * (1.0f - PB_SHADOW_EPSILON), &rays);
         if (v3_is_zero(vis)) continue;
         float c = fabsf(v3_dot(wi, b.n));
         add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, li), c)), k);
@@ -160,6 +164,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
               /* Both ends moved off their surfaces (Waechter & Binder), so
                * the segment between them touches neither. */
               v3 tgt = pb_offset_ray(es.p, es.ng);
+              v3 o_shadow = v3_dot(wi, surf.ng) >= 0.0f ? o_front : o_back;
               v3 seg = v3_sub(tgt, o_shadow);
               float sl = v3_len(seg);
               v3 vis = sl > 0.0f ? shadow(ctx, o_shadow, v3_scale(seg, 1.0f / sl), sl, &rays) : v3_make(0, 0, 0);
