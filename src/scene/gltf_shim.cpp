@@ -319,6 +319,16 @@ pb_result precheck_ids(const char *path, const Json &j) {
         x = check_id(path, o[t], "index", w + "." + t);
         if (x == PB_OK) x = check_id(path, o[t], "texCoord", w + "." + t);
       }
+    // tinygltf keeps only objects as extensions: a PHOTONBRIDGE_blender of
+    // another type would vanish instead of being refused.
+    auto ext = o.is_object() ? o.find("extensions") : o.end();
+    if (x == PB_OK && ext != o.end() && ext->is_object()) {
+      auto pb = ext->find("PHOTONBRIDGE_blender");
+      if (pb != ext->end() && !pb->is_object())
+        x = pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.extensions.PHOTONBRIDGE_blender: %s, expected an object", path,
+                    w.c_str(), pb->is_string() ? "a string" : pb->is_array() ? "an array" : pb->is_number() ? "a number"
+                                                                                                          : "not an object");
+    }
     return x;
   });
   return r;
