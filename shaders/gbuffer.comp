@@ -14,6 +14,7 @@
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 #include "common/scene.glsl"
+#include "common/direct_light.glsl"
 
 void main() {
   uint gid = pb_gid();
@@ -52,7 +53,7 @@ void main() {
   g.motion_x = 0.0;
   g.motion_y = 0.0;
   g.chain = 0u;
-  g.pad0 = 0u;
+  g.lobes = 0u;
 
   for (uint chain = 0u;; ++chain) {
     float t, u, v;
@@ -61,7 +62,10 @@ void main() {
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
     pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV
     vec3 wo = -dir;
-    pb_bsdf b = pb_bsdf_setup(surf, wo);
+    pb_bsdf b = pb_bsdf_setup_t(surf, wo, pb_surface_tangent(prim, u, v));
+    bool blender = SC_BLENDER && b.model != PB_GPU_MODEL_GLTF;
+    // Holdout: the camera sees a hole (no coverage, nothing behind).
+    if (blender && chain == 0u && b.model == PB_GPU_MODEL_HOLDOUT) break;
     if (chain == 0u) {
       acc.beauty.w += 1.0;
       acc.normal += surf.ns;
@@ -77,6 +81,58 @@ void main() {
       if (chain <= 1u) acc.direct += beta * le;
     }
     if (direct_only && chain >= 1u) break;
+
+    if (blender) {
+      // A Blender material: stop here with probability sw_D / sw (the
+      // diffuse-like closures' share of the sample weights; they are lit by
+      // the direct pass and shaded by the photon map), else light the
+      // glossy closures here and follow one glossy, delta or transparent
+      // closure (Cycles' eye path through glossy lobes). Each branch
+      // divides by its probability, so the sum is the whole BSDF. Emitters
+      // are reached through the glossy closures by this continuation only
+      // and through the diffuse ones by the direct pass's light sample
+      // only: no path is counted twice. At the depth limit everything is
+      // left to the direct pass and the photon map.
+      float sw_d = 0.0, sw_g = 0.0;
+      for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
+        if (b.cl[i].type <= PB_CL_SHEEN) sw_d += b.cl[i].sample_weight;
+        else sw_g += b.cl[i].sample_weight;
+      }
+      if (!(sw_d + sw_g > 0.0)) break;
+      float uc = pb_rand(pixel, s, 2u + 4u * chain);
+      float p_d = sw_d / (sw_d + sw_g);
+      if (chain >= frame.max_specular_depth || !(sw_g > 0.0) || uc < p_d) {
+        bool all_lobes = chain >= frame.max_specular_depth || !(sw_g > 0.0);
+        g.lobes = all_lobes ? PB_GPU_LOBES_ALL : PB_GPU_LOBES_DIFFUSE;
+        if (all_lobes && !pb_bsdf_has_smooth(b)) break;
+        g.prim = prim;
+        g.position = surf.p;
+        g.wo = wo;
+        g.u = u;
+        g.v = v;
+        g.throughput = all_lobes ? beta : beta / p_d;
+        g.chain = chain;
+        if (direct_only && chain > 0u) g.prim = PB_GPU_MISS;
+        break;
+      }
+      float p_g = 1.0 - p_d;
+      vec3 beta_g = beta / p_g;
+      b.mask = PB_GPU_LOBES_GLOSSY;
+      uint rng = pb_walk_seed(pixel, s, 16u + chain);
+      vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
+      acc.beauty.rgb += dl;
+      if (chain == 0u) acc.direct += dl;
+      vec3 wi, wgt;
+      float pdf;
+      bool delta, transmit;
+      float u1 = pb_rand(pixel, s, 4u + 4u * chain), u2 = pb_rand(pixel, s, 5u + 4u * chain);
+      if (!pb_blender_sample(b, wo, (uc - p_d) / p_g, u1, u2, false, rng, wi, wgt, pdf, delta, transmit)) break;
+      beta = beta_g * wgt;
+      if (all(equal(beta, vec3(0.0))) || any(isnan(beta)) || any(isinf(beta))) break;
+      org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
+      dir = wi;
+      continue;
+    }
 
     float cos_o = dot(pb_to_local(b, wo), vec3(0.0, 0.0, 1.0));
     if (cos_o <= 0.0) break;

@@ -84,10 +84,42 @@ PB_STRUCT(pb_gpu_hit) {
   float v;
 } PB_END(pb_gpu_hit)
 
-/* Material: the reference's model (src/ref/bsdf.c) with glTF factors.
- * Textures are indices into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
+/* Material: the reference's model (src/ref/bsdf.c) with glTF factors, or
+ * a Blender shader (model != PB_GPU_MODEL_GLTF; src/ref/principled.c,
+ * shaders/common/principled.glsl) with its inputs. Textures are indices
+ * into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
 PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
 PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
+/* model: pb_material_model's values. */
+PB_CONST(PB_GPU_MODEL_GLTF, 0u)
+PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
+PB_CONST(PB_GPU_MODEL_DIFFUSE, 2u)
+PB_CONST(PB_GPU_MODEL_EMISSION, 3u)
+PB_CONST(PB_GPU_MODEL_HOLDOUT, 4u)
+PB_CONST(PB_GPU_DISTRIBUTION_GGX, 0u)
+PB_CONST(PB_GPU_DISTRIBUTION_MULTI_GGX, 1u)
+/* in_value / in_tex slots: pb_blender_input's values. */
+PB_CONST(PB_GPU_IN_METALLIC, 0u)
+PB_CONST(PB_GPU_IN_SPECULAR, 1u)
+PB_CONST(PB_GPU_IN_SPECULAR_TINT, 2u)
+PB_CONST(PB_GPU_IN_ROUGHNESS, 3u)
+PB_CONST(PB_GPU_IN_ANISOTROPIC, 4u)
+PB_CONST(PB_GPU_IN_ANISOTROPIC_ROTATION, 5u)
+PB_CONST(PB_GPU_IN_SHEEN, 6u)
+PB_CONST(PB_GPU_IN_SHEEN_TINT, 7u)
+PB_CONST(PB_GPU_IN_CLEARCOAT, 8u)
+PB_CONST(PB_GPU_IN_CLEARCOAT_ROUGHNESS, 9u)
+PB_CONST(PB_GPU_IN_IOR, 10u)
+PB_CONST(PB_GPU_IN_TRANSMISSION, 11u)
+PB_CONST(PB_GPU_IN_TRANSMISSION_ROUGHNESS, 12u)
+PB_CONST(PB_GPU_IN_ALPHA, 13u)
+PB_CONST(PB_GPU_IN_SUBSURFACE, 14u)
+PB_CONST(PB_GPU_IN_SLOTS, 16u)
+/* in_tex: texture index in the low 28 bits, the channel above (0..3 R, G,
+ * B, A; 4 the Rec.709 luminance of RGB, Cycles' colour-to-float), or
+ * PB_GPU_NO_TEXTURE. */
+PB_CONST(PB_GPU_INPUT_TEX_INDEX, 0x0fffffffu)
+PB_CONST(PB_GPU_INPUT_TEX_CHANNEL_SHIFT, 28u)
 PB_STRUCT(pb_gpu_material) {
   PB_VEC4(base_color);       /* linear RGBA */
   PB_VEC3(emissive);         /* W/(m^2 sr) */
@@ -105,9 +137,13 @@ PB_STRUCT(pb_gpu_material) {
                                 PB_GPU_NO_TEXTURE; only set for scenes with
                                 tangents (pb_gpu_frame.tangent_base) */
   float normal_scale;        /* normalTexture.scale */
-  uint pad0;
-  uint pad1;
-  uint pad2;
+  uint model;                /* PB_GPU_MODEL_*; the rest is for model != GLTF */
+  uint distribution;         /* PB_GPU_DISTRIBUTION_* */
+  uint subsurface_color_tex;
+  PB_VEC3(subsurface_color); /* linear */
+  float normal_strength;     /* Blender's Normal Map strength (normal_tex) */
+  float in_value[16];        /* PB_GPU_IN_* inputs, Blender's socket values */
+  uint in_tex[16];           /* their textures (see PB_GPU_INPUT_TEX_INDEX) */
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
@@ -202,9 +238,18 @@ PB_STRUCT(pb_gpu_gbuffer) {
   float v;
   float motion_x;        /* reserved: motion vector, pixels */
   float motion_y;
-  uint chain;            /* delta interactions before this vertex */
-  uint pad0;
+  uint chain;            /* delta (and, for Blender materials, glossy)
+                            interactions before this vertex */
+  uint lobes;            /* which closures of a Blender material the direct
+                            light and the gather evaluate here
+                            (PB_GPU_LOBES_*); 0 for glTF materials */
 } PB_END(pb_gpu_gbuffer)
+/* A Blender material's closures: the diffuse-like ones (diffuse, sheen,
+ * Oren-Nayar), which the photon map shades, and the glossy and delta ones,
+ * which eye paths follow (gbuffer.comp). */
+PB_CONST(PB_GPU_LOBES_DIFFUSE, 1u)
+PB_CONST(PB_GPU_LOBES_GLOSSY, 2u)
+PB_CONST(PB_GPU_LOBES_ALL, 3u)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
  * spp).
@@ -304,12 +349,15 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 96)
+PB_LAYOUT(pb_gpu_material, 240)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
 PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
+PB_OFFSET(pb_gpu_material, model, 84) PB_OFFSET(pb_gpu_material, subsurface_color, 96)
+PB_OFFSET(pb_gpu_material, normal_strength, 108) PB_OFFSET(pb_gpu_material, in_value, 112)
+PB_OFFSET(pb_gpu_material, in_tex, 176)
 PB_LAYOUT(pb_gpu_texture, 32)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
 PB_LAYOUT(pb_gpu_light, 48)

@@ -83,11 +83,15 @@ static void print_text(const pb_scene *s) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   printf("\npipeline   photon stages %s, caustic photons %s, photon refraction %s, specular eye paths %s, "
-         "emissive-triangle sampling %s, textures %s, normal maps %s (GPU passes compile only what is on)",
+         "emissive-triangle sampling %s, textures %s, normal maps %s, Blender materials %s, transparent "
+         "shadows %s (GPU passes compile only what is on)",
          pl.photons ? "on" : "off (no point, spot or directional light)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
-         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off");
+         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off",
+         pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
+                              : "off",
+         pl.alpha ? "on" : "off");
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
 }

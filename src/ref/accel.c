@@ -279,5 +279,14 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) 
   float ml = v3_len(nm);
   if (!(ml > 1e-12f) || !isfinite(ml)) return;
   nm = v3_scale(nm, 1.0f / ml);
+  /* Blender's Normal Map node: strength s blends from the interpolated
+   * normal, normalize(n + (nm - n) s) (svm_node_normal_map). */
+  float st = m->blender.model != PB_MODEL_GLTF ? m->blender.normal_strength : 1.0f;
+  if (st != 1.0f) {
+    v3 bl = v3_add(n, v3_scale(v3_sub(nm, n), fmaxf(st, 0.0f)));
+    float bl_len = v3_len(bl);
+    if (!(bl_len > 1e-12f) || !isfinite(bl_len)) return;
+    nm = v3_scale(bl, 1.0f / bl_len);
+  }
   o->ns = v3_dot(n, o->ng) < 0.0f ? v3_neg(nm) : nm;
 }

@@ -28,7 +28,7 @@
  * their transparencies. */
 static v3 shadow(const pb_ref_ctx *ctx, v3 o, v3 d, float tmax, uint64_t *rays) {
   const pb_scene *s = ctx->scene;
-  if (!(s->features & PB_FEATURE_ALPHA)) {
+  if (!(s->features & PB_FEATURE_ALPHA) || !(s->features & PB_FEATURE_BLENDER)) {
     (*rays)++;
     return pb_ref_occluded(&ctx->accel, o, d, tmax) ? v3_make(0, 0, 0) : v3_make(1, 1, 1);
   }

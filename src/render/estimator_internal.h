@@ -17,9 +17,9 @@ enum { PB_LBVH_BIND_COUNT = 10 };
 enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
        PB_GATHER_BIND_NMAP, PB_GATHER_BIND_COUNT };
 
-/* The gather's specialization constants: scene.glsl's (constant_id 0-3),
- * one unused id (4, photon_trace's SC_TRANSMISSION), SC_NORMAL_MAPS (5). */
-enum { PB_GATHER_SPEC_NORMAL_MAPS = 5, PB_GATHER_SPEC_COUNT = 6 };
+/* The gather's specialization constants: scene.glsl's (passes.h), with its
+ * own SC_NORMAL_MAPS in id 5 (4 is photon_trace's SC_TRANSMISSION, unused). */
+enum { PB_GATHER_SPEC_NORMAL_MAPS = PB_SPEC_PASS_5, PB_GATHER_SPEC_COUNT = PB_SPEC_COUNT };
 
 struct pb_photon_estimator {
   pb_photon_estimate_desc desc;

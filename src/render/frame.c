@@ -242,7 +242,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                    &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
                    &gs->emitters},
       .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
-               plan.emitter_sampling ? 1u : 0u},
+               plan.emitter_sampling ? 1u : 0u, 0u, 0u, plan.blender_materials ? 1u : 0u, plan.alpha ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
   };
   if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
@@ -255,7 +255,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     pb_gpu_buffer_desc pd = {.name = "frame.photon_accum",
                              .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
     if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
-    if (gs->tangent_base) { /* the gather's eq. 20 sums (its SC_NORMAL_MAPS) */
+    if (plan.normal_maps) { /* the gather's eq. 20 sums (its SC_NORMAL_MAPS) */
       pb_gpu_buffer_desc nd = {.name = "frame.photon_nmap",
                                .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_nmap), .host_visible = 1,
                                .readback = 1};

@@ -13,8 +13,11 @@ enum {
   PB_BIND_GBUFFER, PB_BIND_ACCUM, PB_BIND_POSITIONS, PB_BIND_EMITTERS, PB_BIND_COUNT
 };
 
-/* Specialization constants, constant_id order of scene.glsl. */
-enum { PB_SPEC_HAS_NORMALS = 0, PB_SPEC_TEXTURES, PB_SPEC_SPECULAR, PB_SPEC_EMISSIVE, PB_SPEC_COUNT };
+/* Specialization constants, constant_id order of scene.glsl; 4 and 5 are
+ * the photon tracer's and the gather's own (photon_trace.c,
+ * estimator_internal.h), unused by the other passes. */
+enum { PB_SPEC_HAS_NORMALS = 0, PB_SPEC_TEXTURES, PB_SPEC_SPECULAR, PB_SPEC_EMISSIVE, PB_SPEC_PASS_4,
+       PB_SPEC_PASS_5, PB_SPEC_BLENDER, PB_SPEC_ALPHA, PB_SPEC_COUNT };
 
 typedef struct pb_pass_setup {
   const pb_gpu_buffer *bindings[PB_BIND_COUNT];

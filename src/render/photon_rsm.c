@@ -83,6 +83,8 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   r->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
   r->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
   r->spec[PB_SPEC_EMISSIVE] = 0u;
+  r->spec[PB_SPEC_BLENDER] = plan.blender_materials ? 1u : 0u;
+  r->spec[PB_SPEC_ALPHA] = 0u; /* the maps only trace first hits */
   pb_gpu_pipeline_desc pd = {
       .name = "pass.photon_rsm",
       .spirv = pb_spv_photon_rsm,

@@ -24,7 +24,7 @@
 
 enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_COUNT = 18 }; /* 16, 17: RSM lights, texels */
 enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
-enum { PB_PHOTON_SPEC_TRANSMISSION = 4, PB_PHOTON_SPEC_COUNT = 5 };
+enum { PB_PHOTON_SPEC_TRANSMISSION = PB_SPEC_PASS_4, PB_PHOTON_SPEC_COUNT = PB_SPEC_COUNT };
 
 struct pb_photon_tracer {
   const pb_gpu_scene *gs;
@@ -255,6 +255,8 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
   t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at delta lights only */
   t->spec[PB_PHOTON_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
+  t->spec[PB_SPEC_BLENDER] = plan.blender_materials ? 1u : 0u;
+  t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
       .spirv = pb_spv_photon_trace,

@@ -307,6 +307,12 @@ static pb_result read_principled(const reader *R, const pb_gltf_value *ext, pb_m
   m->roughness = b->input[PB_IN_ROUGHNESS];
   m->transmission = b->input[PB_IN_TRANSMISSION];
   m->ior = b->input[PB_IN_IOR] >= 1.0f ? b->input[PB_IN_IOR] : 1.0f;
+  if (b->distribution == PB_DISTRIBUTION_MULTI_GGX &&
+      (b->input[PB_IN_TRANSMISSION] > 0.0f || b->input_tex[PB_IN_TRANSMISSION].tex >= 0) &&
+      (b->input[PB_IN_ROUGHNESS] > 0.05f || b->input_tex[PB_IN_ROUGHNESS].tex >= 0) &&
+      (r = warn(R, "materials[%d]." EXT ".principled.distribution: MULTI_GGX glass (roughness above 0.05) is rendered "
+                   "with the single-scatter GGX glass closures", R->index)) != PB_OK)
+    return r;
   if ((b->input[PB_IN_SUBSURFACE] > 0.0f || b->input_tex[PB_IN_SUBSURFACE].tex >= 0) &&
       (r = warn(R, "materials[%d]." EXT ".principled.subsurface: %g: approximated as diffuse with the subsurface-mixed "
                    "colour (no subsurface scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
@@ -424,4 +430,32 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
     }
   }
   return PB_OK;
+}
+
+int pb_blender_needs_tangent(const pb_material *m) {
+  const pb_blender_material *b = &m->blender;
+  return b->model == PB_MODEL_PRINCIPLED && m->normal_tex < 0 &&
+         (b->input[PB_IN_ANISOTROPIC] > 0.0f || b->input_tex[PB_IN_ANISOTROPIC].tex >= 0);
+}
+
+int pb_blender_radial_tangent(const double pl[3], const double bmin[3], const double bmax[3], const double N[9],
+                              float out[3]) {
+  /* Blender's texture space: a zero extent counts as 1 (so the division
+   * stays finite; BKE_mesh_texspace_calc). glTF x is Blender's x, glTF z is
+   * Blender's -y: (g.x - 1/2, g.y - 1/2) = ((x - cx) / sx, -(z - cz) / sz),
+   * and Blender's (-(g.y - 1/2), g.x - 1/2, 0) is glTF's
+   * ((z - cz) / sz, 0, -(x - cx) / sx). */
+  double sx = bmax[0] - bmin[0], sz = bmax[2] - bmin[2];
+  if (!(sx > 0.0)) sx = 1.0;
+  if (!(sz > 0.0)) sz = 1.0;
+  double t[3] = {(pl[2] - 0.5 * (bmin[2] + bmax[2])) / sz, 0.0, -(pl[0] - 0.5 * (bmin[0] + bmax[0])) / sx};
+  double w[3], l = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    w[r] = N[r] * t[0] + N[3 + r] * t[1] + N[6 + r] * t[2];
+    l += w[r] * w[r];
+  }
+  l = sqrt(l);
+  if (!(l > 1e-12) || !isfinite(l)) return 0;
+  for (int r = 0; r < 3; ++r) out[r] = (float)(w[r] / l);
+  return 1;
 }

@@ -35,4 +35,19 @@ void pb_blender_material_defaults(pb_material *m, pb_material_model model);
 pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, const pb_gltf_value *ext,
                                    pb_material *m);
 
+/* Cycles 3.4's tangent for a Principled BSDF whose Tangent input is left
+ * unlinked: radial about the object's Z axis in Blender's generated
+ * coordinates (the Tangent node, direction Radial, axis Z:
+ * (-(g.y - 1/2), g.x - 1/2, 0) in object space, g = (p - min) / size over the
+ * mesh's bounding box), transformed as a normal. Here for a vertex pl of a
+ * glTF mesh in its local frame (Blender's exporter writes x, z, -y of
+ * Blender's axes), the mesh's bounds bmin, bmax in that frame and the node's
+ * normal matrix N (column-major 3x3, inverse transpose). out: world space,
+ * unit; false when it vanishes (on the axis). */
+int pb_blender_radial_tangent(const double pl[3], const double bmin[3], const double bmax[3], const double N[9],
+                              float out[3]);
+
+/* Does the material need pb_blender_radial_tangent's tangents? */
+int pb_blender_needs_tangent(const pb_material *m);
+
 #endif

@@ -759,6 +759,56 @@ static pb_result store_tangent(loader *L, uint32_t dst, const span *tg, uint64_t
   return PB_OK;
 }
 
+/* Cycles' default anisotropy tangent for vertex dst (local position pl) of
+ * an anisotropic Blender material (pb_blender_radial_tangent), kept like a
+ * file TANGENT. */
+static pb_result store_radial_tangent(loader *L, uint32_t dst, const double pl[3], const double bmin[3],
+                                      const double bmax[3], const double N[9]) {
+  if (dst >= L->tan_cap) {
+    uint32_t old = L->tan_cap;
+    pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, (uint64_t)dst + 1, sizeof *L->tan, "tangents");
+    if (r != PB_OK) return r;
+    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
+    memset(q + old, 0, L->tan_cap - old);
+    L->tan_given = q;
+  }
+  if (!pb_blender_radial_tangent(pl, bmin, bmax, N, L->tan[dst])) return PB_OK;
+  L->tan[dst][3] = 1.0f;
+  L->tan_given[dst] = 1;
+  return PB_OK;
+}
+
+/* The local bounds of every POSITION of glTF mesh `mesh` (Blender's texture
+ * space of the mesh); from the accessors' min/max, the data where those are
+ * missing. */
+static void mesh_bounds(loader *L, int32_t mesh, double bmin[3], double bmax[3]) {
+  const pb_gltf_mesh *me = &L->doc->meshes[mesh];
+  for (int k = 0; k < 3; ++k) bmin[k] = INFINITY, bmax[k] = -INFINITY;
+  for (size_t pi = 0; pi < me->primitive_count; ++pi) {
+    int32_t a = me->primitives[pi].position;
+    if (a < 0 || (size_t)a >= L->doc->accessor_count) continue;
+    const pb_gltf_accessor *acc = &L->doc->accessors[a];
+    if (acc->has_min_max) {
+      for (int k = 0; k < 3; ++k) bmin[k] = fmin(bmin[k], acc->min[k]), bmax[k] = fmax(bmax[k], acc->max[k]);
+      continue;
+    }
+    static const int32_t float_only[] = {CT_FLOAT, 0};
+    span sp;
+    if (check_accessor(L, a, "POSITION", 3, float_only, &sp) != PB_OK) {
+      pb_error_clear(); /* add_primitive reports it */
+      continue;
+    }
+    for (uint64_t i = 0; sp.base && i < sp.count; ++i)
+      for (int k = 0; k < 3; ++k) {
+        double v = read_f(&sp, i, k);
+        if (isfinite(v)) bmin[k] = fmin(bmin[k], v), bmax[k] = fmax(bmax[k], v);
+      }
+  }
+  for (int k = 0; k < 3; ++k)
+    if (!(bmin[k] <= bmax[k])) bmin[k] = bmax[k] = 0.0;
+}
+
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
   pb_gltf_doc *d = L->doc;
   pb_scene *s = L->s;
@@ -823,6 +873,9 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   }
   int use_t = has_t && tng.base && mat >= 0 && (uint32_t)mat < s->material_count &&
               s->materials[mat].normal_tex >= 0;
+  int radial = mat >= 0 && (uint32_t)mat < s->material_count && pb_blender_needs_tangent(&s->materials[mat]);
+  double bmin[3] = {0, 0, 0}, bmax[3] = {0, 0, 0};
+  if (radial) mesh_bounds(L, mesh, bmin, bmax);
 
   /* Triangle list from the mode. Limits come before any per-element work:
    * an accessor without a bufferView costs the file nothing per element. */
@@ -900,6 +953,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       U[1] = has_uv ? read_f(&uv, i, 1) : 0.0f;
       if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
       if (use_t && (r = store_tangent(L, base + (uint32_t)i, &tng, i, M, flip)) != PB_OK) return r;
+      if (radial && (r = store_radial_tangent(L, base + (uint32_t)i, pl, bmin, bmax, N)) != PB_OK) return r;
     }
     s->vertex_count += (uint32_t)pos.count;
   }
@@ -950,6 +1004,8 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
         s->uvs[o][0] = has_uv ? read_f(&uv, v[c], 0) : 0.0f;
         s->uvs[o][1] = has_uv ? read_f(&uv, v[c], 1) : 0.0f;
         if (use_t && (r = store_tangent(L, o, &tng, v[c], M, flip)) != PB_OK) return r;
+        double pl[3] = {read_f(&pos, v[c], 0), read_f(&pos, v[c], 1), read_f(&pos, v[c], 2)};
+        if (radial && (r = store_radial_tangent(L, o, pl, bmin, bmax, N)) != PB_OK) return r;
         out[c] = o;
       }
     }
@@ -1310,7 +1366,7 @@ static pb_result synthesize_camera(loader *L) {
  * every other vertex gets one from its uvs (tangents.c). */
 static pb_result finish_tangents(loader *L) {
   pb_scene *s = L->s;
-  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || s->vertex_count == 0) return PB_OK;
+  if (!(s->features & (PB_FEATURE_NORMAL_MAPS | PB_FEATURE_ANISOTROPY)) || s->vertex_count == 0) return PB_OK;
   s->tangents = calloc(s->vertex_count, sizeof *s->tangents);
   uint8_t *given = calloc(s->vertex_count, 1);
   if (!s->tangents || !given) {

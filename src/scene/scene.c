@@ -83,7 +83,7 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
 static const char *const feature_names[] = {
     "specular paths", "transmission", "glossy", "textures",
     "emissive triangles", "animation", "alpha", "normal maps",
-    "Blender materials", "multiscatter GGX", "holdout"};
+    "Blender materials", "multiscatter GGX", "holdout", "anisotropy"};
 
 const char *pb_material_model_name(pb_material_model m) {
   switch (m) {
@@ -162,6 +162,7 @@ void pb_scene_finalize(pb_scene *s) {
           blender_max(b, PB_IN_CLEARCOAT) > 0.0f)
         f |= PB_FEATURE_GLOSSY;
       if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) f |= PB_FEATURE_MULTI_GGX;
+      if (blender_max(b, PB_IN_ANISOTROPIC) > 0.0f) f |= PB_FEATURE_ANISOTROPY;
       if (blender_min(b, PB_IN_ALPHA) < 1.0f) f |= PB_FEATURE_ALPHA;
       for (int in = 0; in < PB_IN_COUNT; ++in)
         if (b->input_tex[in].tex >= 0) f |= PB_FEATURE_TEXTURES;

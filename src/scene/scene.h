@@ -195,6 +195,7 @@ enum {
   PB_FEATURE_BLENDER = 1u << 8,      /* PHOTONBRIDGE_blender materials (Principled, ...) */
   PB_FEATURE_MULTI_GGX = 1u << 9,    /* a Principled BSDF with Multiscatter GGX */
   PB_FEATURE_HOLDOUT = 1u << 10,     /* holdout materials */
+  PB_FEATURE_ANISOTROPY = 1u << 11,  /* an anisotropic Principled BSDF (needs tangents) */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -219,8 +220,11 @@ typedef struct pb_scene {
   /* Normal-map tangent frames, world space (scenes/tangents.h): xyz unit,
    * orthogonal to the normal, along +u; w = +-1, bitangent = cross(normal,
    * xyz) * w (glTF TANGENT). From the file's TANGENT where a normal-mapped
-   * primitive has one, generated from the uvs otherwise. NULL unless the
-   * scene has PB_FEATURE_NORMAL_MAPS. */
+   * primitive has one, generated from the uvs otherwise; on the vertices of
+   * an anisotropic Blender Principled BSDF without a normal map, Cycles'
+   * default tangent instead (blender_material.h pb_blender_radial_tangent).
+   * NULL unless the scene has PB_FEATURE_NORMAL_MAPS or
+   * PB_FEATURE_ANISOTROPY. */
   float (*tangents)[4];
   uint32_t vertex_count;
   uint32_t (*triangles)[3];   /* counter-clockwise seen from the front */
