@@ -9,7 +9,8 @@ Each scene is one Blender 3.4 material on a smooth UV sphere (radius 1 m,
 seen by a 50 mm camera 4 m away, 64 x 64 pixels: each Principled lobe alone
 (diffuse at roughness 0, 0.5 and 1; the specular layer of a black dielectric
 at three roughnesses with GGX and with Multiscatter GGX; a copper metal with
-each distribution; sheen, lit from behind; clearcoat), a rough Principled glass in front of an
+each distribution; an anisotropic metal, whose tangent is Cycles' default
+(radial about the object's Z); sheen, lit from behind; clearcoat), a rough Principled glass in front of an
 emissive card (which it refracts), and a white furnace (an albedo-1
 Principled sphere inside a closed emissive sphere of radiance 1, which is a
 uniform world). For each NAME the script writes
@@ -78,6 +79,8 @@ CASES = {
     "metal_ggx": {"Base Color": (0.95, 0.64, 0.54, 1.0), "Metallic": 1.0, "Roughness": 0.4},
     "metal_multi": {"Base Color": (0.95, 0.64, 0.54, 1.0), "Metallic": 1.0, "Roughness": 0.8,
                     "_distribution": "MULTI_GGX"},
+    "metal_aniso": {"Base Color": (0.9, 0.9, 0.9, 1.0), "Metallic": 1.0, "Roughness": 0.35, "Anisotropic": 0.8,
+                    "Anisotropic Rotation": 0.1},
     "sheen": dict(ISOLATED, **{"Sheen": 1.0, "Sheen Tint": 0.0}),
     "clearcoat": dict(ISOLATED, **{"Clearcoat": 1.0, "Clearcoat Roughness": 0.2}),
     "glass": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission": 1.0, "Roughness": 0.3, "IOR": 1.45},
