@@ -38,8 +38,15 @@ layout(constant_id = 2) const bool SC_SPECULAR = true;   // delta lobes: eye cha
 layout(constant_id = 3) const bool SC_EMISSIVE = true;
 // constant_id 4 and 5 are pass-specific (photon_trace's SC_TRANSMISSION,
 // gather's SC_NORMAL_MAPS).
-layout(constant_id = 6) const bool SC_BLENDER = true;    // Blender materials (principled.glsl)
-layout(constant_id = 7) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
+// Blender materials (principled.glsl) exist only in the PB_BLENDER build of
+// a pass (shaders.cmake); the other build has them compiled out entirely.
+#ifdef PB_BLENDER
+const bool SC_BLENDER = true;
+layout(constant_id = 6) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
+#else
+const bool SC_BLENDER = false;
+const bool SC_ALPHA = false;
+#endif
 
 #include "common/bvh.glsl"
 

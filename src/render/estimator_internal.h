@@ -28,6 +28,7 @@ struct pb_photon_estimator {
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;
   uint32_t gather_spec[PB_GATHER_SPEC_COUNT]; /* scene.glsl's, then SC_NORMAL_MAPS */
+  uint32_t gather_blender;                     /* the module: 1 the PB_BLENDER build */
   int gather_ready;
   uint32_t capacity;             /* photons the buffers hold */
   uint32_t count;                /* photons of the last build */

@@ -242,8 +242,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                    &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
                    &gs->emitters},
       .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
-               plan.emitter_sampling ? 1u : 0u, 0u, 0u, plan.blender_materials ? 1u : 0u, plan.alpha ? 1u : 0u},
+               plan.emitter_sampling ? 1u : 0u, 0u, 0u, plan.alpha ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
+      .blender = plan.blender_materials ? 1u : 0u,
   };
   if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
     goto fail;

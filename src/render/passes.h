@@ -17,13 +17,14 @@ enum {
  * the photon tracer's and the gather's own (photon_trace.c,
  * estimator_internal.h), unused by the other passes. */
 enum { PB_SPEC_HAS_NORMALS = 0, PB_SPEC_TEXTURES, PB_SPEC_SPECULAR, PB_SPEC_EMISSIVE, PB_SPEC_PASS_4,
-       PB_SPEC_PASS_5, PB_SPEC_BLENDER, PB_SPEC_ALPHA, PB_SPEC_COUNT };
+       PB_SPEC_PASS_5, PB_SPEC_ALPHA, PB_SPEC_COUNT };
 
 typedef struct pb_pass_setup {
   const pb_gpu_buffer *bindings[PB_BIND_COUNT];
   uint32_t spec[PB_SPEC_COUNT];
   uint32_t normal_maps; /* the gather's SC_NORMAL_MAPS (constant_id 5): eq. 20's
                            extra sums, compiled out for scenes without */
+  uint32_t blender;     /* 1: the passes' PB_BLENDER builds (Blender materials) */
 } pb_pass_setup;
 
 /* gbuffer.c: primary visibility + specular eye chains + emission + AOVs. */
