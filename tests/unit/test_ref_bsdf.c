@@ -22,7 +22,7 @@ static void setup(pb_material *m, v3 wo, pb_bsdf *b) {
   surf.ng = surf.ns = v3_make(0, 0, 1);
   surf.front = 1;
   surf.mat = m;
-  pb_bsdf_setup(&scene, &surf, wo, b);
+  pb_bsdf_setup(&scene, &surf, wo, NULL, b);
 }
 
 static v3 dir_from_theta(float theta_deg) {
@@ -154,7 +154,7 @@ static void test_glass(void) {
   surf.front = 0; /* inside */
   surf.mat = &g;
   v3 wo3 = dir_from_theta(60); /* asin(1/1.5) = 41.8 degrees */
-  pb_bsdf_setup(&scene, &surf, wo3, &b);
+  pb_bsdf_setup(&scene, &surf, wo3, NULL, &b);
   int tir = 0;
   for (int i = 0; i < 100; ++i) {
     pb_bsdf_sample s;
