@@ -20,7 +20,13 @@
 // Le > 0 has a positive pdf). Only the variance differs. The BSDF-sampled
 // continuation is not traced on the GPU, so an emitter hit after a smooth
 // bounce is never counted twice (the G-buffer pass counts emission only along
-// delta chains, where the reference's weight is 1 too).
+// delta chains, where the reference's weight is 1 too). Blender materials
+// split the same way by closure: the G-buffer pass follows their glossy
+// closures and counts the emitters those reach (their BSDF sampling alone),
+// this pass lights only the closures it was left (gbuffer.lobes: the
+// diffuse ones, or all at the end of the eye path), so each path is counted
+// once; direct.comp and the G-buffer's glossy vertices share
+// common/direct_light.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 

@@ -7,7 +7,9 @@
 // for photon gathering). Emission met along the way is accumulated here.
 // First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
-// the reference's lobe probabilities, so the estimate stays unbiased.
+// the reference's lobe probabilities, so the estimate stays unbiased. Blender
+// materials (the PB_BLENDER build) also continue through their glossy
+// closures, lit here by the delta lights (see the branch below).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
@@ -93,9 +95,13 @@ void main() {
       // and through the diffuse ones by the direct pass's light sample
       // only: no path is counted twice. At the depth limit everything is
       // left to the direct pass and the photon map.
+      // (With PB_GPU_FRAME_NO_GLOSSY_PATHS every non-delta closure stops
+      // here and only the delta and transparent ones are followed.)
+      bool no_glossy = (frame.flags & PB_GPU_FRAME_NO_GLOSSY_PATHS) != 0u;
       float sw_d = 0.0, sw_g = 0.0;
       for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
-        if (b.cl[i].type <= PB_CL_SHEEN) sw_d += b.cl[i].sample_weight;
+        bool stop = no_glossy ? b.cl[i].type != PB_CL_TRANSPARENT && !b.cl[i].singular : b.cl[i].type <= PB_CL_SHEEN;
+        if (stop) sw_d += b.cl[i].sample_weight;
         else sw_g += b.cl[i].sample_weight;
       }
       if (!(sw_d + sw_g > 0.0)) break;
@@ -103,7 +109,7 @@ void main() {
       float p_d = sw_d / (sw_d + sw_g);
       if (chain >= frame.max_specular_depth || !(sw_g > 0.0) || uc < p_d) {
         bool all_lobes = chain >= frame.max_specular_depth || !(sw_g > 0.0);
-        g.lobes = all_lobes ? PB_GPU_LOBES_ALL : PB_GPU_LOBES_DIFFUSE;
+        g.lobes = all_lobes || no_glossy ? PB_GPU_LOBES_ALL : PB_GPU_LOBES_DIFFUSE;
         if (all_lobes && !pb_bsdf_has_smooth(b)) break;
         g.prim = prim;
         g.position = surf.p;
@@ -117,11 +123,13 @@ void main() {
       }
       float p_g = 1.0 - p_d;
       vec3 beta_g = beta / p_g;
-      b.mask = PB_GPU_LOBES_GLOSSY;
+      b.mask = PB_GPU_LOBES_GLOSSY | (no_glossy ? PB_GPU_LOBES_DELTA_ONLY : 0u);
       uint rng = pb_walk_seed(pixel, s, 16u + chain);
-      vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
-      acc.beauty.rgb += dl;
-      if (chain == 0u) acc.direct += dl;
+      if (!no_glossy) { // delta closures get no light from delta lights
+        vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
+        acc.beauty.rgb += dl;
+        if (chain == 0u) acc.direct += dl;
+      }
       vec3 wi, wgt;
       float pdf;
       bool delta, transmit;

@@ -9,11 +9,13 @@ Each scene is one Blender 3.4 material on a smooth UV sphere (radius 1 m,
 seen by a 50 mm camera 4 m away, 64 x 64 pixels: each Principled lobe alone
 (diffuse at roughness 0, 0.5 and 1; the specular layer of a black dielectric
 at three roughnesses with GGX and with Multiscatter GGX; a copper metal with
-each distribution; an anisotropic metal, whose tangent is Cycles' default
+each distribution; Blender's Diffuse BSDF (Oren-Nayar); an anisotropic metal, whose tangent is Cycles' default
 (radial about the object's Z); sheen, lit from behind; clearcoat), a rough Principled glass in front of an
-emissive card (which it refracts), and a white furnace (an albedo-1
+emissive card (which it refracts), a white furnace (an albedo-1
 Principled sphere inside a closed emissive sphere of radiance 1, which is a
-uniform world). For each NAME the script writes
+uniform world), and a studio (floor, wall, two spheres and a box, all
+Blender's default Principled BSDF, GGX and Multiscatter GGX, 128 x 96,
+8192 samples, full global illumination). For each NAME the script writes
 
   OUT/NAME/NAME.gltf + .bin   Blender's own glTF export, with the
                               PHOTONBRIDGE_blender material extension added
@@ -85,7 +87,16 @@ CASES = {
     "clearcoat": dict(ISOLATED, **{"Clearcoat": 1.0, "Clearcoat Roughness": 0.2}),
     "glass": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission": 1.0, "Roughness": 0.3, "IOR": 1.45},
     "furnace": {"Base Color": (1.0, 1.0, 1.0, 1.0), "_furnace": True},
+    # Blender's Diffuse BSDF (Oren-Nayar at roughness 0.6), not a Principled.
+    "diffuse_bsdf": {"_diffuse_bsdf": (0.3, 0.6, 0.9, 0.6)},
+    # The studio: every surface Blender's default Principled BSDF (Base 0.8,
+    # Specular 0.5, Roughness 0.5, GGX), full global illumination.
+    "studio": {"_studio": True},
+    "studio_multi": {"_studio": True, "_distribution": "MULTI_GGX"},
 }
+# Image size and Cycles samples where a scene needs its own.
+SIZE = {"studio": (128, 96), "studio_multi": (128, 96)}
+SAMPLES = {"studio": 8192, "studio_multi": 8192}
 
 # Principled BSDF socket -> the extension's lowerCamelCase member.
 SOCKETS = ["Base Color", "Subsurface", "Subsurface Radius", "Subsurface Color", "Metallic", "Specular",
@@ -120,7 +131,32 @@ def emission_material(name, strength):
     return mat
 
 
+def build_studio(inputs):
+    """A floor and a back wall, a sphere, a box and a small sphere, all one
+    default Principled material, lit by a 1000 W point light."""
+    sc = samples.reset_scene(*SIZE["studio"])
+    world_black(sc)
+    mat = bpy.data.materials.new("Default")
+    mat.use_nodes = True
+    mat.node_tree.nodes["Principled BSDF"].distribution = inputs.get("_distribution", "GGX")
+    room = samples.MeshBuilder()
+    room.face([(-4.0, -4.0, 0.0), (4.0, -4.0, 0.0), (4.0, 3.0, 0.0), (-4.0, 3.0, 0.0)], normal=(0.0, 0.0, 1.0))
+    room.face([(-4.0, 3.0, 0.0), (4.0, 3.0, 0.0), (4.0, 3.0, 4.0), (-4.0, 3.0, 4.0)], normal=(0.0, -1.0, 0.0))
+    samples.mesh_object("Room", room, [mat])
+    ball = samples.MeshBuilder()
+    samples.uv_sphere(ball, (-0.8, 0.5, 0.6), 0.6, 64, 32)
+    samples.uv_sphere(ball, (0.25, -0.7, 0.3), 0.3, 48, 24, group="small")
+    samples.mesh_object("Spheres", ball, [mat])
+    box = samples.MeshBuilder()
+    samples.box(box, (0.8, 0.4, 0.4), (0.8, 0.8, 0.8), rot_z_deg=25.0, skip=('-z',))
+    samples.mesh_object("Box", box, [mat])
+    samples.add_point_light("Light", (1.5, -1.5, 3.0), 150.0)
+    samples.add_camera((0.0, -5.0, 1.6), (0.0, 0.5, 0.6), 40.0)
+
+
 def build(name, inputs):
+    if inputs.get("_studio"):
+        return build_studio(inputs)
     sc = samples.reset_scene(WIDTH, WIDTH)
     world_black(sc)
     mat = bpy.data.materials.new(name)
@@ -130,6 +166,14 @@ def build(name, inputs):
         if not k.startswith("_"):
             p.inputs[k].default_value = v
     p.distribution = inputs.get("_distribution", "GGX")
+    if "_diffuse_bsdf" in inputs:
+        r, g, b_, rough = inputs["_diffuse_bsdf"]
+        nt = mat.node_tree
+        nt.nodes.remove(p)
+        d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = (r, g, b_, 1.0)
+        d.inputs["Roughness"].default_value = rough
+        nt.links.new(d.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     b = samples.MeshBuilder()
     samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
     samples.mesh_object("Sphere", b, [mat])
@@ -153,11 +197,14 @@ def build(name, inputs):
 
 def material_extension(mat):
     """The PHOTONBRIDGE_blender member of one material, from its node tree
-    (only what these scenes use: a Principled BSDF or an Emission shader on
-    the output)."""
+    (only what these scenes use: a Principled BSDF, a Diffuse BSDF or an
+    Emission shader on the output)."""
     nt = mat.node_tree
     out = nt.nodes["Material Output"].inputs["Surface"]
     node = out.links[0].from_node
+    if node.type == 'BSDF_DIFFUSE':
+        return {"model": "diffuse", "diffuse": {"color": list(node.inputs["Color"].default_value),
+                                                 "roughness": node.inputs["Roughness"].default_value}}
     if node.type == 'EMISSION':
         return {"model": "emission",
                 "emission": {"color": list(node.inputs["Color"].default_value),
@@ -240,7 +287,7 @@ def main(argv):
         if args.no_render:
             continue
         sc = bpy.context.scene
-        half = max(1, args.samples // 2)
+        half = max(1, SAMPLES.get(name, args.samples) // 2)
         t0 = time.time()
         render(sc, os.path.join(d, "cycles.exr"), 2 * half, 0)
         dt = time.time() - t0

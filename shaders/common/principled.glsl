@@ -509,7 +509,9 @@ bool pb_lobe_in(pb_closure c, uint mask) {
 // Closures a mask samples: its own, and the transparent pass with the glossy
 // ones (both are followed by eye paths).
 bool pb_lobe_sampled(pb_closure c, uint mask) {
-  return pb_lobe_in(c, mask) || (c.on && c.type == PB_CL_TRANSPARENT && (mask & PB_GPU_LOBES_GLOSSY) != 0u);
+  bool transparent = c.on && c.type == PB_CL_TRANSPARENT && (mask & PB_GPU_LOBES_GLOSSY) != 0u;
+  if ((mask & PB_GPU_LOBES_DELTA_ONLY) != 0u) return transparent || (pb_lobe_in(c, mask) && c.singular);
+  return pb_lobe_in(c, mask) || transparent;
 }
 
 // Adds closure c's f cos (e) and pdf (pc) to the sums when it is in the

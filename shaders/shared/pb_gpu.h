@@ -223,6 +223,7 @@ PB_STRUCT(pb_gpu_frame) {
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
 PB_CONST(PB_GPU_FRAME_JITTER, 2u)      /* jitter the sample in the pixel also at 1 spp */
+PB_CONST(PB_GPU_FRAME_NO_GLOSSY_PATHS, 4u) /* render.h pb_render_desc.no_glossy_paths */
 
 /* G-buffer entry of one pixel for the current sample, 64 bytes: the first
  * non-delta surface along the eye path (after any specular chain), in world
@@ -250,6 +251,8 @@ PB_STRUCT(pb_gpu_gbuffer) {
 PB_CONST(PB_GPU_LOBES_DIFFUSE, 1u)
 PB_CONST(PB_GPU_LOBES_GLOSSY, 2u)
 PB_CONST(PB_GPU_LOBES_ALL, 3u)
+/* With GLOSSY for sampling: only the delta and transparent closures. */
+PB_CONST(PB_GPU_LOBES_DELTA_ONLY, 4u)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
  * spp).

@@ -34,7 +34,7 @@ static const pb_command *self(void) {
 
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
-  int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
+  int direct_only, no_glossy_paths, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
   int first_bounce; /* index into first_bounce_names */
   uint32_t atrous;
   double atrous_gamma;
@@ -69,6 +69,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "height", res->height);
   pb_json_int(&j, "spp", st->spp);
   pb_json_bool(&j, "direct_only", o->direct_only);
+  pb_json_bool(&j, "glossy_eye_paths", !o->no_glossy_paths);
   pb_json_int(&j, "max_specular_depth", o->max_spec ? o->max_spec : 8);
   pb_json_bool(&j, "timestamps", st->timestamps);
   pb_json_begin_object(&j, "passes_ms");
@@ -155,6 +156,9 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 1, 1 << 20},
       {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
        "mirror/glass interactions followed along an eye path (default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
+      {"no-glossy-eye-paths", 0, PB_OPT_FLAG, &o.no_glossy_paths, NULL,
+       "Blender materials: shade every closure at the first non-mirror hit (direct light and photon map) "
+       "instead of following glossy closures with the eye path", NULL, 0, 0},
       {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
        "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0},
       {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26},
@@ -280,7 +284,7 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
     goto done;
   }
-  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
+  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .no_glossy_paths = o.no_glossy_paths, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel, .no_shading_correction = o.no_shading_correction,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,

@@ -293,7 +293,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.max_specular_depth = max_spec;
   fr.seed_lo = (uint32_t)desc.seed;
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
-  fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u);
+  fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u) |
+             (desc.no_glossy_paths ? PB_GPU_FRAME_NO_GLOSSY_PATHS : 0u);
   fr.tangent_base = gs->tangent_base;
 
   int ts = lim->timestamps;

@@ -96,6 +96,10 @@ pb_result pb_raycast_run(pb_gpu *g, pb_raycast_pass *p, const pb_gpu_ray *rays, 
 typedef struct pb_render_desc {
   uint32_t spp;                /* 0: 1 (pixel centres); >1 jittered/stratified */
   uint32_t max_specular_depth; /* delta interactions along an eye path; 0: 8 */
+  int no_glossy_paths;         /* 1: Blender materials shade every non-delta
+                                  closure at the first such hit (direct light
+                                  and photon map) instead of following their
+                                  glossy closures (the benchmark's comparison) */
   int direct_only;             /* 1: only paths with at most one scattering
                                   event (the reference's direct AOV) */
   uint64_t seed;
