@@ -133,7 +133,7 @@ def emission_material(name, strength):
 
 def build_studio(inputs):
     """A floor and a back wall, a sphere, a box and a small sphere, all one
-    default Principled material, lit by a 1000 W point light."""
+    default Principled material, lit by a 150 W point light."""
     sc = samples.reset_scene(*SIZE["studio"])
     world_black(sc)
     mat = bpy.data.materials.new("Default")
