@@ -21,12 +21,12 @@
 // continuation is not traced on the GPU, so an emitter hit after a smooth
 // bounce is never counted twice (the G-buffer pass counts emission only along
 // delta chains, where the reference's weight is 1 too). Blender materials
-// split the same way by closure: the G-buffer pass follows their glossy
-// closures and counts the emitters those reach (their BSDF sampling alone),
-// this pass lights only the closures it was left (gbuffer.lobes: the
-// diffuse ones, or all at the end of the eye path), so each path is counted
-// once; direct.comp and the G-buffer's glossy vertices share
-// common/direct_light.glsl.
+// split the same way by closure: the G-buffer pass follows their smoother
+// glossy closures and counts the emitters those reach (their BSDF sampling
+// alone), this pass lights only the closures it was left (gbuffer.lobes:
+// those that stop, pb_blender_split, or all at the end of the eye path), so
+// each path is counted once; direct.comp and the G-buffer's glossy vertices
+// share common/direct_light.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
@@ -47,8 +47,11 @@ void main() {
   pb_apply_normal_map(surf, g.prim, g.u, g.v);
   pb_bsdf b = pb_bsdf_setup_t(surf, g.wo, pb_surface_tangent(g.prim, g.u, g.v));
   // A Blender material's vertex lights the closures the G-buffer pass left
-  // to it (the diffuse ones, or all at the end of its eye path).
-  if (g.lobes != 0u) b.mask = g.lobes;
+  // to it (those that stop, or all at the end of its eye path).
+  if (SC_BLENDER && g.lobes != 0u) {
+    b.mask = g.lobes;
+    pb_blender_split(b, frame.glossy_path_alpha2);
+  }
   uint pixel = frame.pixel_base + gid;
   uint rng = pb_walk_seed(pixel, pass.sample_index, 1u);
   vec3 sum = pb_delta_lights(surf, b, g.wo, rng);

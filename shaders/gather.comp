@@ -42,7 +42,10 @@ void main() {
   if (g.prim == PB_GPU_MISS || info.root == PB_LBVH_NONE) return;
   pb_surface surf = pb_surface_from_hit(g.prim, g.u, g.v, -g.wo);
   pb_bsdf b = pb_bsdf_setup_t(surf, g.wo, pb_surface_tangent(g.prim, g.u, g.v));
-  if (g.lobes != 0u) b.mask = g.lobes; // a Blender material: the closures left to the photon map
+  if (SC_BLENDER && g.lobes != 0u) { // a Blender material: the closures left to the photon map
+    b.mask = g.lobes;
+    pb_blender_split(b, frame.glossy_path_alpha2);
+  }
   uint rng = pb_walk_seed(frame.pixel_base + gid, gp.sample_index, 2u);
   vec3 x = surf.p;
   bool box_kernel = (gp.flags & PB_GATHER_CONSTANT_KERNEL) != 0u;

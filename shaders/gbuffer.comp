@@ -8,8 +8,8 @@
 // First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
 // the reference's lobe probabilities, so the estimate stays unbiased. Blender
-// materials (the PB_BLENDER build) also continue through their glossy
-// closures, lit here by the delta lights (see the branch below).
+// materials (the PB_BLENDER build) also continue through their smoother
+// glossy closures, lit here by the delta lights (see the branch below).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
@@ -85,23 +85,21 @@ void main() {
     if (direct_only && chain >= 1u) break;
 
     if (blender) {
-      // A Blender material: stop here with probability sw_D / sw (the
-      // diffuse-like closures' share of the sample weights; they are lit by
-      // the direct pass and shaded by the photon map), else light the
+      // A Blender material: stop here with probability sw_D / sw (the share
+      // of the sample weights of the closures that stop: the diffuse ones
+      // and the layers rougher than frame.glossy_path_alpha2, lit by the
+      // direct pass and shaded by the photon map), else light the other
       // glossy closures here and follow one glossy, delta or transparent
       // closure (Cycles' eye path through glossy lobes). Each branch
       // divides by its probability, so the sum is the whole BSDF. Emitters
-      // are reached through the glossy closures by this continuation only
-      // and through the diffuse ones by the direct pass's light sample
+      // are reached through the followed closures by this continuation only
+      // and through the stopping ones by the direct pass's light sample
       // only: no path is counted twice. At the depth limit everything is
       // left to the direct pass and the photon map.
-      // (With PB_GPU_FRAME_NO_GLOSSY_PATHS every non-delta closure stops
-      // here and only the delta and transparent ones are followed.)
-      bool no_glossy = (frame.flags & PB_GPU_FRAME_NO_GLOSSY_PATHS) != 0u;
+      pb_blender_split(b, frame.glossy_path_alpha2);
       float sw_d = 0.0, sw_g = 0.0;
       for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
-        bool stop = no_glossy ? b.cl[i].type != PB_CL_TRANSPARENT && !b.cl[i].singular : b.cl[i].type <= PB_CL_SHEEN;
-        if (stop) sw_d += b.cl[i].sample_weight;
+        if (pb_lobe_in(b.cl[i], PB_GPU_LOBES_DIFFUSE)) sw_d += b.cl[i].sample_weight;
         else sw_g += b.cl[i].sample_weight;
       }
       if (!(sw_d + sw_g > 0.0)) break;
@@ -109,7 +107,7 @@ void main() {
       float p_d = sw_d / (sw_d + sw_g);
       if (chain >= frame.max_specular_depth || !(sw_g > 0.0) || uc < p_d) {
         bool all_lobes = chain >= frame.max_specular_depth || !(sw_g > 0.0);
-        g.lobes = all_lobes || no_glossy ? PB_GPU_LOBES_ALL : PB_GPU_LOBES_DIFFUSE;
+        g.lobes = all_lobes ? PB_GPU_LOBES_ALL : PB_GPU_LOBES_DIFFUSE;
         if (all_lobes && !pb_bsdf_has_smooth(b)) break;
         g.prim = prim;
         g.position = surf.p;
@@ -123,13 +121,11 @@ void main() {
       }
       float p_g = 1.0 - p_d;
       vec3 beta_g = beta / p_g;
-      b.mask = PB_GPU_LOBES_GLOSSY | (no_glossy ? PB_GPU_LOBES_DELTA_ONLY : 0u);
+      b.mask = PB_GPU_LOBES_GLOSSY;
       uint rng = pb_walk_seed(pixel, s, 16u + chain);
-      if (!no_glossy) { // delta closures get no light from delta lights
-        vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
-        acc.beauty.rgb += dl;
-        if (chain == 0u) acc.direct += dl;
-      }
+      vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
+      acc.beauty.rgb += dl;
+      if (chain == 0u) acc.direct += dl;
       vec3 wi, wgt;
       float pdf;
       bool delta, transmit;

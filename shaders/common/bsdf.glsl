@@ -35,6 +35,7 @@ struct pb_closure {
   vec3 cspec0, color;
   float rough, on_a, on_b, clearcoat;
   bool singular;
+  bool stops; // a glossy closure shaded where the eye path stops (pb_blender_split)
 };
 
 struct pb_bsdf {

@@ -367,7 +367,7 @@ void pb_add_closure(inout pb_bsdf b, uint slot, uint type, vec3 weight) {
   c.f0 = 0.0;
   c.cspec0 = c.color = vec3(0.0);
   c.rough = c.on_a = c.on_b = c.clearcoat = 0.0;
-  c.singular = false;
+  c.singular = c.stops = false;
   b.cl[slot] = c;
 }
 
@@ -499,10 +499,27 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
 }
 
-// Which closures a lobe mask keeps (PB_GPU_LOBES_*): the diffuse-like ones the
-// photon map shades, the glossy and delta ones eye paths follow.
+// Marks the specular and clearcoat layers of b whose alpha_x alpha_y is above
+// alpha2 (pb_gpu_frame.glossy_path_alpha2) as shaded where the eye
+// path stops, with the diffuse closures (PB_GPU_LOBES_DIFFUSE): direct light
+// and the photon map, whose photons are stored on every non-delta surface,
+// weighted by these closures' BSDF. The smoother ones, the glass pair and
+// the delta lobes stay with the eye path (PB_GPU_LOBES_GLOSSY). Either way
+// each closure is counted once (gbuffer.comp); only the variance and the
+// photon map's blur differ, and the threshold is where the two cross
+// (bench/README.md, "Blender materials"). Every pass that reads a lobe
+// mask other than ALL calls this with the same alpha2 before it does.
+bool pb_layer_stops(pb_closure c, float alpha2) { return c.on && !c.singular && c.ax * c.ay > alpha2; }
+void pb_blender_split(inout pb_bsdf b, float alpha2) {
+  b.cl[PB_SLOT_SPECULAR].stops = pb_layer_stops(b.cl[PB_SLOT_SPECULAR], alpha2);
+  b.cl[PB_SLOT_CLEARCOAT].stops = pb_layer_stops(b.cl[PB_SLOT_CLEARCOAT], alpha2);
+}
+
+// Which closures a lobe mask keeps (PB_GPU_LOBES_*): the diffuse-like ones
+// and the layers pb_blender_split let stop, which the photon map shades; the
+// other glossy and the delta ones, which eye paths follow.
 bool pb_lobe_in(pb_closure c, uint mask) {
-  bool diffuse = c.type <= PB_CL_SHEEN;
+  bool diffuse = c.type <= PB_CL_SHEEN || c.stops;
   return c.on && c.type != PB_CL_TRANSPARENT &&
          ((diffuse && (mask & PB_GPU_LOBES_DIFFUSE) != 0u) || (!diffuse && (mask & PB_GPU_LOBES_GLOSSY) != 0u));
 }
@@ -510,7 +527,6 @@ bool pb_lobe_in(pb_closure c, uint mask) {
 // ones (both are followed by eye paths).
 bool pb_lobe_sampled(pb_closure c, uint mask) {
   bool transparent = c.on && c.type == PB_CL_TRANSPARENT && (mask & PB_GPU_LOBES_GLOSSY) != 0u;
-  if ((mask & PB_GPU_LOBES_DELTA_ONLY) != 0u) return transparent || (pb_lobe_in(c, mask) && c.singular);
   return pb_lobe_in(c, mask) || transparent;
 }
 

@@ -218,12 +218,16 @@ PB_STRUCT(pb_gpu_frame) {
                             vertex, pb_scene.tangents) start at this float
                             index of the normals buffer; 0: the scene has
                             no normal maps */
-  uint pad1;
+  float glossy_path_alpha2; /* Blender materials: a specular or clearcoat
+                            closure whose alpha_x alpha_y (alpha = Blender
+                            roughness^2) is above this is shaded where the
+                            eye path stops, a smoother one followed by the
+                            eye path (render.h glossy_path_roughness^4;
+                            bench/README.md has the measurement) */
   uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
 PB_CONST(PB_GPU_FRAME_JITTER, 2u)      /* jitter the sample in the pixel also at 1 spp */
-PB_CONST(PB_GPU_FRAME_NO_GLOSSY_PATHS, 4u) /* render.h pb_render_desc.no_glossy_paths */
 
 /* G-buffer entry of one pixel for the current sample, 64 bytes: the first
  * non-delta surface along the eye path (after any specular chain), in world
@@ -245,14 +249,14 @@ PB_STRUCT(pb_gpu_gbuffer) {
                             light and the gather evaluate here
                             (PB_GPU_LOBES_*); 0 for glTF materials */
 } PB_END(pb_gpu_gbuffer)
-/* A Blender material's closures: the diffuse-like ones (diffuse, sheen,
- * Oren-Nayar), which the photon map shades, and the glossy and delta ones,
- * which eye paths follow (gbuffer.comp). */
+/* A Blender material's closures: DIFFUSE, those shaded where the eye path
+ * stops, by direct light and the photon map (diffuse, sheen, Oren-Nayar, and
+ * the specular and clearcoat layers above pb_gpu_frame.glossy_path_alpha2);
+ * GLOSSY, those the eye path follows (the smoother layers, glass, delta
+ * lobes; gbuffer.comp). */
 PB_CONST(PB_GPU_LOBES_DIFFUSE, 1u)
 PB_CONST(PB_GPU_LOBES_GLOSSY, 2u)
 PB_CONST(PB_GPU_LOBES_ALL, 3u)
-/* With GLOSSY for sampling: only the delta and transparent closures. */
-PB_CONST(PB_GPU_LOBES_DELTA_ONLY, 4u)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
  * spp).

@@ -6,6 +6,7 @@
  * per-pass milliseconds. Outputs are written only after the whole frame
  * rendered, each atomically, so a failure (no device, device lost) leaves
  * none half-written. */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -34,11 +35,11 @@ static const pb_command *self(void) {
 
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
-  int direct_only, no_glossy_paths, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
+  int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
   int first_bounce; /* index into first_bounce_names */
   uint32_t atrous;
   double atrous_gamma;
-  double smoothing, r_max, alpha;
+  double smoothing, r_max, alpha, glossy_path_roughness;
   const char *png;
   /* Sequences (issue 6; render_seq.h). */
   const char *frames;
@@ -69,7 +70,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "height", res->height);
   pb_json_int(&j, "spp", st->spp);
   pb_json_bool(&j, "direct_only", o->direct_only);
-  pb_json_bool(&j, "glossy_eye_paths", !o->no_glossy_paths);
+  pb_json_number(&j, "glossy_path_roughness",
+                 isnan(o->glossy_path_roughness) ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : o->glossy_path_roughness);
   pb_json_int(&j, "max_specular_depth", o->max_spec ? o->max_spec : 8);
   pb_json_bool(&j, "timestamps", st->timestamps);
   pb_json_begin_object(&j, "passes_ms");
@@ -146,6 +148,7 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
+                   .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = {0};
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
@@ -156,9 +159,10 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 1, 1 << 20},
       {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
        "mirror/glass interactions followed along an eye path (default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
-      {"no-glossy-eye-paths", 0, PB_OPT_FLAG, &o.no_glossy_paths, NULL,
-       "Blender materials: shade every closure at the first non-mirror hit (direct light and photon map) "
-       "instead of following glossy closures with the eye path", NULL, 0, 0},
+      {"glossy-path-roughness", 0, PB_OPT_FLOAT, &o.glossy_path_roughness, "R",
+       "Blender materials: specular and clearcoat layers of Roughness above R are shaded where the eye path stops "
+       "(direct light and the photon map), smoother ones are followed by the eye path; 0: every layer shaded at "
+       "the first hit, 1: every one followed (default " PB_RENDER_GLOSSY_PATH_ROUGHNESS_STR ")", NULL, 0, 1},
       {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
        "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0},
       {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26},
@@ -284,14 +288,16 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
     goto done;
   }
-  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .no_glossy_paths = o.no_glossy_paths, .seed = c.seed,
+  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel, .no_shading_correction = o.no_shading_correction,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .atrous_iterations = o.atrous,
-                       .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f)};
+                       .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
+                       .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
+                                                : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f)};
   if (o.frames) {
     static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
     double fps = o.fps > 0 ? o.fps : 24.0;

@@ -92,6 +92,8 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   if (d->spp > (1u << 20)) return pb_fail(PB_ERR_USAGE, "render: %u samples per pixel (at most 2^20)", d->spp);
   if (d->alpha < 0.0f || !(d->alpha < 1.0f))
     return pb_fail(PB_ERR_USAGE, "render: progressive alpha %g (in (0, 1))", d->alpha);
+  if (!(d->glossy_path_roughness <= 1.0f))
+    return pb_fail(PB_ERR_USAGE, "render: glossy path roughness %g (at most 1)", d->glossy_path_roughness);
   if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
     return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
                    PB_RENDER_MAX_SPECULAR_DEPTH);
@@ -293,8 +295,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.max_specular_depth = max_spec;
   fr.seed_lo = (uint32_t)desc.seed;
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
-  fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u) |
-             (desc.no_glossy_paths ? PB_GPU_FRAME_NO_GLOSSY_PATHS : 0u);
+  fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u);
+  float gr = desc.glossy_path_roughness == 0.0f ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : fmaxf(desc.glossy_path_roughness, 0.0f);
+  fr.glossy_path_alpha2 = gr * gr * gr * gr; /* alpha = roughness^2 */
   fr.tangent_base = gs->tangent_base;
 
   int ts = lim->timestamps;
