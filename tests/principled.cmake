@@ -17,3 +17,20 @@ if(Python3_Interpreter_FOUND)
   set_tests_properties(principled_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        TIMEOUT 1200 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
 endif()
+# The studio benchmark's driver end to end in its smoke mode (one tiny point
+# per renderer and scene: every option it passes exists, every output it
+# reads is written).
+if(Python3_Interpreter_FOUND)
+  add_test(NAME bench_principled_smoke
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/bench/principled_studio.py --smoke --exe ${PB_EXE}
+                   --probe $<TARGET_FILE:exr_probe> --out ${CMAKE_CURRENT_BINARY_DIR}/bench_principled_smoke
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(bench_principled_smoke PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                       LABELS "gpu;no-sanitize;bench;principled" PASS_REGULAR_EXPRESSION "principled_studio: 8 points")
+endif()
+add_test(NAME cli_render_glossy_path_roughness_over
+         COMMAND sh -c "\"$0\" render tests/data/principled/studio/studio.gltf -o x.exr --glossy-path-roughness 1.5; echo \"exit=$?\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_glossy_path_roughness_over PROPERTIES
+                     PASS_REGULAR_EXPRESSION "glossy-path-roughness: 1.5 is outside \\[0, 1\\].*exit=2")
