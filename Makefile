@@ -2,7 +2,8 @@
 #   make demo   install what is missing, build, render samples/cornell_box
 #   make test   install, build (normal + ASan/UBSan), run the whole suite
 # Other targets: build, build-asan, install-deps, clean, fuzz-quick (each
-# libFuzzer target 60 s), fuzz (FUZZ_SECONDS each, default 600).
+# libFuzzer target 60 s), fuzz (FUZZ_SECONDS each, default 600, at nice 19),
+# blender-addon (links and enables the Blender add-on for this user).
 
 JOBS ?= $(shell nproc)
 BUILD ?= build
@@ -11,7 +12,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 600
 CMAKE_FLAGS ?=
 
-.PHONY: all demo test build build-asan install-deps clean test-fast build-fuzz fuzz-quick fuzz
+.PHONY: all demo test build build-asan install-deps clean test-fast build-fuzz fuzz-quick fuzz blender-addon
 
 all: build
 
@@ -43,6 +44,10 @@ build-fuzz: install-deps $(FUZZ_BUILD)/Makefile
 demo: build
 	@bash scripts/demo.sh $(BUILD)/photonbridge
 
+# The Blender render engine for this user (README, "Blender render engine").
+blender-addon: build
+	@bash scripts/install-blender-addon.sh $(BUILD)/photonbridge
+
 # The whole suite, in the normal build and again under ASan + UBSan, then
 # fuzz-quick where clang can build libFuzzer programs.
 test: build build-asan
@@ -58,8 +63,15 @@ test: build build-asan
 fuzz-quick: build-fuzz
 	bash tests/fuzz/run.sh $(FUZZ_BUILD) 60
 
+# make fuzz [FUZZ_TARGETS="gltf exr image"] [FUZZ_SECONDS=600] [FUZZ_RUNS=N]:
+# one target after another at nice $(FUZZ_NICE), each stopping after
+# FUZZ_SECONDS or FUZZ_RUNS executions, whichever comes first.
+FUZZ_NICE ?= 19
+FUZZ_TARGETS ?=
+FUZZ_RUNS ?=
 fuzz: build-fuzz
-	NICE=10 bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+	NICE=$(FUZZ_NICE) FUZZ_ARGS="$(FUZZ_ARGS)$(if $(FUZZ_RUNS), -runs=$(FUZZ_RUNS))" \
+	  bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 # The normal build's suite only.
 test-fast: build
@@ -93,6 +105,15 @@ bench-sequences: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS) --target photonbridge pb_bench_filters
 	$(BENCH_PYTHON) bench/run_sequences.py --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
+# Soft lights and the world against Cycles 3.4 (bench/run_lights.py; results
+# in bench/results/DEVICE/lights/): the studio and world scenes of
+# bench/scenes/lights, the reference and the GPU pipeline swept, and what the
+# lights cost per pass.
+.PHONY: bench-lights
+bench-lights: install-deps $(BUILD)/Makefile
+	cmake --build $(BUILD) -j $(JOBS) --target photonbridge exr_probe
+	$(BENCH_PYTHON) bench/run_lights.py --exe $(BUILD)/photonbridge --probe $(BUILD)/tests/exr_probe $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
@@ -103,3 +124,8 @@ bench-quick: bench-build
 bench-principled: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS) --target photonbridge exr_probe
 	$(BENCH_PYTHON) bench/principled_studio.py --exe $(BUILD)/photonbridge --probe $(BUILD)/tests/exr_probe $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+# The Blender add-on's hand-off and first picture against Cycles
+# (bench/blender_handoff.py; bench/results/lavapipe/blender/HANDOFF.md).
+.PHONY: bench-blender
+bench-blender: bench-build
+	$(BENCH_PYTHON) bench/blender_handoff.py $(BUILD)/photonbridge

@@ -6,9 +6,13 @@
 # go to OUT (and, after every step, into the archive PB_DEVICE_TAR when set,
 # so a run stopped at its limit still returns what it measured). Every step
 # has its own time limit and the script goes on after a failure.
-#   bench/device_run.sh PACK OUT
+# bench/device_pack.sh BUILD PACK makes PACK from a Debian 12 build.
+#   bench/device_run.sh PACK OUT [STEPS]
+# STEPS: comma-separated step names to run (default: all), e.g.
+# "devices,lbvh,lbvh_paths,cornell_1080p,cornell_1080p_1m_warm,cornell_1080p_1m,cornell_128" for
+# the photon map's numbers alone (issue 22, about 3 minutes).
 set -u
-pack=$1 out=$2
+pack=$1 out=$2 only=${3:-}
 mkdir -p /tmp/pb "$out"
 tar -xJf "$pack/devlib.tar.xz" -C /tmp/pb && tar -xf "$pack/bin.tar" -C /tmp/pb || exit 1
 export LD_LIBRARY_PATH=/tmp/pb/devlib
@@ -17,6 +21,7 @@ icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 b=/tmp/pb/bin
 step() { # NAME SECONDS CMD...: output to OUT/NAME.txt, exit code and time appended
   local name=$1 limit=$2; shift 2
+  case ",$only," in ",,"|*",$name,"*) ;; *) return 0 ;; esac
   local t0=$(date +%s.%N)
   timeout "$limit" "$@" > "$out/$name.txt" 2>&1
   local rc=$?
@@ -32,6 +37,10 @@ s=samples
 step atrium_warm 120 $b/photonbridge render $s/sun_atrium/sun_atrium.gltf --width 1920 --height 1080 -o /tmp/a.exr -q
 step atrium_1080p 120 $b/photonbridge render $s/sun_atrium/sun_atrium.gltf --width 1920 --height 1080 -o /tmp/a.exr --json "$out/atrium_1080p.json"
 step cornell_1080p 120 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 1920 --height 1080 -o /tmp/c.exr --json "$out/cornell_1080p.json"
+# Issue 22: the gather at 1080p over at least 1 M stored photons (2^20 paths
+# store about 1.1 M on cornell_box); twice, the first compiles the pipelines.
+step cornell_1080p_1m_warm 120 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 1920 --height 1080 --photons 1048576 -o /tmp/c.exr -q
+step cornell_1080p_1m 120 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 1920 --height 1080 --photons 1048576 -o /tmp/c.exr --json "$out/cornell_1080p_1m.json"
 # Cross-driver check: the same seed as on lavapipe (compared on the host).
 step cornell_128 60 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 128 --spp 4 --iterations 4 --seed 1 -o "$out/cornell_128_nvidia.exr"
 # Issue 6: the filters at 1920x1080, and a 1080p fly-through with both filters.
@@ -39,6 +48,10 @@ step filters 60 $b/pb_bench_filters --repeat 10 1920x1080
 step flythrough 90 $b/photonbridge render $s/sun_atrium_flythrough/sun_atrium_flythrough.gltf --frames 0:11 --width 1920 --height 1080 -o /tmp/f_##.exr --json "$out/flythrough_1080p.json" -q
 # Issue 4: ray throughput; issue 8: LBVH build rates.
 step rays 90 bash -c "for sc in cornell_box spot_room sun_atrium; do $b/pb_bench_rays $s/\$sc/\$sc.gltf 1920 5; done"
-step lbvh 45 $b/pb_bench_lbvh --repeat 3 262144 1048576 4194304 16777216
+# Issue 22: LBVH build (stages) and radix sort against photon count, 10^4 to
+# the device's limit (3.2 x 10^7 records of 96 bytes fit 4 GiB buffers), the
+# default sort path (subgroups); then the portable path against it.
+step lbvh 120 $b/pb_bench_lbvh --repeat 3 10000 100000 1000000 4194304 16777216 33554432
+step lbvh_paths 90 bash -c "$b/pb_bench_lbvh --repeat 3 --sort portable 1000000 16777216; $b/pb_bench_lbvh --repeat 3 --sort subgroup 1000000 16777216"
 [ -x $b/pb_bench_anim ] && step anim 45 $b/pb_bench_anim $s/cornell_caustics_moving_sphere/cornell_caustics_moving_sphere.gltf 0 1
 echo done

@@ -20,7 +20,16 @@ frame-to-frame change of both. Reported per scene and setting:
 
 Writes SEQUENCES.md, sequences.json and sequences.csv to
 bench/results/DEVICE/sequences/ (DEVICE: the Vulkan device's name) with the
-machine, the device and the date."""
+machine, the device and the date.
+
+Deformation cost (DEFORM.md and deform.json in the same folder; --deform-only
+runs just this): bench/deform_scene.py's 100,000-triangle cylinder skinned to
+four animated joints with two animated morph targets, the same mesh moved
+rigidly by its node, and the same mesh static, each rendered as a sequence
+(32 px, few photons, no filters, so that the frame is cheap): per frame (the
+first, which uploads the scene, left out) the CPU pose (pb_scene_set_time:
+skinning and morphing every vertex), the GPU scene update (BVH refit or
+rebuild and the vertex upload) and the wall time."""
 import argparse
 import csv
 import datetime
@@ -53,6 +62,8 @@ def main():
     ap.add_argument("--reference-spp", type=int, default=None, help="default 512")
     ap.add_argument("--filter-sizes", default="1920x1080", help="pb_bench_filters sizes")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--deform-only", action="store_true", help="only the deformation cost")
+    ap.add_argument("--deform-frames", default=None, help="frames of the deformation runs (default 0:23, quick 0:7)")
     a = ap.parse_args()
     frames = a.frames or ("0:7" if a.quick else "0:23")
     width = a.width or (48 if a.quick else 96)
@@ -68,6 +79,9 @@ def main():
     work = os.path.join(HERE, "cache", "sequences_work")
     os.makedirs(cache, exist_ok=True)
     os.makedirs(work, exist_ok=True)
+    deform_cost(a, dev_args, dev_name, out, work, a.deform_frames or ("0:7" if a.quick else "0:23"))
+    if a.deform_only:
+        return 0
     rows = []
     for scene in scenes:
         gltf = os.path.join(ROOT, "samples", scene, scene + ".gltf")
@@ -153,6 +167,63 @@ def main():
         f.write("\n".join(lines) + "\n")
     print("wrote %s" % os.path.join(out, "SEQUENCES.md"))
     return 1 if any("error" in r for r in rows) else 0
+
+
+def deform_cost(a, dev_args, dev_name, out, work, frames):
+    """The deformation table (see the module's docstring)."""
+    rows = []
+    for mode in ("static", "rigid", "skinned"):
+        gltf = os.path.join(work, "deform_%s.gltf" % mode)
+        subprocess.run([sys.executable, os.path.join(HERE, "deform_scene.py"), gltf, "--mode", mode], check=True,
+                       stdout=subprocess.DEVNULL)
+        info = json.loads(subprocess.run([a.exe, "info", gltf, "--json", "-"], stdout=subprocess.PIPE,
+                                         universal_newlines=True, check=True).stdout)
+        js = os.path.join(work, "deform_%s.json" % mode)
+        p = subprocess.run([a.exe, "render", gltf, "--frames", frames, "--width", "32", "--photons", "4096",
+                            "--no-temporal", "--atrous-iterations", "0", "-o",
+                            os.path.join(work, "deform_%s_####.exr" % mode), "--json", js, "-q"] + dev_args,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+        if p.returncode != 0:
+            print("deform %s: failed (exit %d)\n%s" % (mode, p.returncode, p.stdout[-2000:]))
+            rows.append({"mode": mode, "error": p.stdout.strip().splitlines()[-1:]})
+            continue
+        fr = json.load(open(js))["frames"][1:]
+        mean = lambda key: sum(f["passes_ms"].get(key, 0) for f in fr) / len(fr)
+        row = {"mode": mode, "triangles": info["triangles"], "vertices": info["vertices"],
+               "posed_per_frame": info["deform"]["posed_per_frame"], "skinned": info["deform"]["skinned_vertices"],
+               "morphed": info["deform"]["morphed_vertices"], "frames": len(fr), "pose_ms": mean("pose"),
+               "pose_cpu_ms": mean("pose_cpu"),
+               "scene_update_ms": mean("scene_update"), "wall_ms": sum(f["wall_ms"] for f in fr) / len(fr)}
+        rows.append(row)
+        print("deform %-8s %d triangles, %d vertices posed per frame: pose %.2f ms (CPU %.2f ms), GPU scene update "
+              "%.2f ms, wall %.1f ms per frame" % (mode, row["triangles"], row["posed_per_frame"], row["pose_ms"],
+                                                    row["pose_cpu_ms"], row["scene_update_ms"], row["wall_ms"]))
+    result = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+              "machine": run_bench.machine_info(), "device": dev_name, "frames": frames, "rows": rows,
+              "load_1m": os.getloadavg()[0]}
+    with open(os.path.join(out, "deform.json"), "w") as f:
+        json.dump(result, f, indent=1)
+    m = result["machine"]
+    lines = ["# Sequences: the cost of skinning and morphing", "",
+             "Measured %s on %s (%s cores, load %.1f), Vulkan device %s; frames %s (the first, which uploads the "
+             "scene, left out), 32 px, 4096 photon paths, no filters. bench/deform_scene.py: 100,000 triangles; "
+             "skinned: four joints (four influences per vertex) and two morph targets (POSITION, NORMAL), all "
+             "animated; rigid: its node moves; static: no animation. Pose: pb_scene_set_time on the CPU (one thread), "
+             "wall and the thread's CPU time (the cost without the machine's other load); scene update: the GPU BVH "
+             "refit (or rebuild) and the vertex upload." %
+             (result["date"], m.get("cpu", "?"), m.get("cores"), result["load_1m"], dev_name, frames), "",
+             "| mesh | triangles | skinned/morphed vertices posed per frame | pose ms | pose CPU ms | GPU scene update ms "
+             "| wall ms/frame |", "|---|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        if "error" in r:
+            lines.append("| %s | failed | | | | | |" % r["mode"])
+        else:
+            lines.append("| %s | %d | %d | %.2f | %.2f | %.2f | %.1f |" % (
+                r["mode"], r["triangles"], r["posed_per_frame"], r["pose_ms"], r["pose_cpu_ms"], r["scene_update_ms"],
+                r["wall_ms"]))
+    with open(os.path.join(out, "DEFORM.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("wrote %s" % os.path.join(out, "DEFORM.md"))
 
 
 if __name__ == "__main__":

@@ -5,20 +5,37 @@
 set -euo pipefail
 
 # Build and runtime: compiler tool chain, Vulkan (loader, lavapipe, validation
-# layers, glslc), Embree 3, OpenEXR 3, OpenColorIO 2, tinygltf + its json, stb.
+# layers, glslc), Embree 3, OpenEXR 3, OpenColorIO 2, tinygltf + its json, stb
+# (image writing), libspng and libjpeg-turbo (texture decoding).
 # Validation peers: POV-Ray 3.7, Blender 3.4 (headless exporter, Cycles) with
-# numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets;
+# numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets,
+# Pillow for their image seeds (tests/fuzz/make_image_seeds.py);
 # valgrind for the memory checks of the CPU paths.
 PKGS=(
   build-essential cmake pkg-config python3
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libembree-dev libopenexr-dev libopencolorio-dev
-  libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev libspng-dev libjpeg62-turbo-dev
   povray blender python3-numpy
-  clang libclang-rt-14-dev valgrind
+  clang libclang-rt-14-dev python3-pil valgrind
 )
-# Optional extras: skipped quietly when the archive lacks them.
-OPTIONAL=(python3-matplotlib chromium)
+# Optional extras: skipped quietly when the archive lacks them. xvfb: the
+# Blender window screenshot of the README (exporters/blender/screenshot.sh).
+OPTIONAL=(python3-matplotlib chromium xvfb)
+
+# The Khronos glTF-Validator (npm gltf-validator) for the Blender add-on's
+# tests, into tools/node_modules (ignored by git). npm comes from Debian's
+# npm package unless an npm is already on PATH (e.g. with another nodejs).
+VALIDATOR_VERSION=2.0.0-dev.3.10
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+install_validator() {
+  [ -f "$ROOT/tools/node_modules/gltf-validator/package.json" ] && return 0
+  command -v npm >/dev/null 2>&1 || return 0
+  echo "install-deps: npm install gltf-validator@$VALIDATOR_VERSION into tools/"
+  npm install --no-audit --no-fund --prefix "$ROOT/tools" "gltf-validator@$VALIDATOR_VERSION" >/dev/null ||
+    echo "install-deps: gltf-validator not installed (the Blender add-on's validator test will say so)" >&2
+}
+command -v npm >/dev/null 2>&1 || OPTIONAL+=(npm)
 
 missing=()
 for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
@@ -27,6 +44,7 @@ for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
   fi
 done
 if [ ${#missing[@]} -eq 0 ]; then
+  install_validator
   echo "install-deps: all packages present"
   exit 0
 fi
@@ -54,4 +72,5 @@ for p in "${OPTIONAL[@]}"; do
     $SUDO apt-get install -y -qq --no-install-recommends "$p" || echo "install-deps: optional $p not installed" >&2;;
   esac
 done
+install_validator
 echo "install-deps: done"

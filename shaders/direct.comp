@@ -7,8 +7,20 @@
 //    on it (Shirley's map, as the reference), the solid-angle pdf
 //    pick / area * d^2 / cos_l and one shadow ray between the two points,
 //    both moved off their surfaces (the reference's segment).
+//  - soft lights (SC_SOFT_LIGHTS): one light sample each (common/lights.glsl,
+//    the reference's strategies), a shadow ray unless the light casts none;
+//  - the world (SC_WORLD): a cosine-weighted direction over the smooth lobes
+//    and, for a map, a direction from its table, combined by the power
+//    heuristic (a constant world: the cosine direction alone, weight 1),
+//    each with a shadow ray to infinity.
 // Added to beauty, and to the direct AOV when the surface is the first hit
 // (one scattering event).
+//
+// Soft lights and the reference: the reference also reaches them by its
+// BSDF-sampled continuation, MIS-weighted; light sampling alone has the same
+// expectation wherever the light's pdf is positive where it emits, which
+// holds for every strategy here (the emitter argument below). The world's two
+// strategies are combined here as there, with other BSDF pdfs.
 //
 // Emitters and the reference: src/ref/pathtrace.c combines this light sample
 // with the BSDF-sampled continuation that hits an emitter (power heuristic).
@@ -32,7 +44,9 @@
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
+#define PB_WORLD_BINDING 15
 #include "common/scene.glsl"
+#include "common/lights.glsl"
 
 #include "common/direct_light.glsl"
 
@@ -52,11 +66,14 @@ void main() {
     b.mask = g.lobes;
     pb_blender_split(b, frame.glossy_path_alpha2);
   }
-  uint pixel = frame.pixel_base + gid;
-  uint rng = pb_walk_seed(pixel, pass.sample_index, 1u);
+  // Random numbers keyed by the pixel's index in the full frame (a crop
+  // draws the full frame's samples).
+  uint key = pb_pixel_key(frame.pixel_base + gid);
+  uint rng = pb_walk_seed(key, pass.sample_index, 1u);
   vec3 sum = pb_delta_lights(surf, b, g.wo, rng);
-  if (SC_EMISSIVE && frame.emitter_count > 0u)
-    sum += pb_emitter_light(surf, b, g.wo, pixel, pass.sample_index, rng);
+  if (SC_EMISSIVE && frame.emitter_count > 0u) sum += pb_emitter_light(surf, b, g.wo, key, pass.sample_index, rng);
+  if (SC_SOFT_LIGHTS) sum += pb_soft_direct(surf, b, g.wo, key, pass.sample_index, rng);
+  if (SC_WORLD) sum += pb_world_direct(surf, b, g.wo, key, pass.sample_index, rng);
   vec3 c = g.throughput * sum;
   pb_gpu_accum acc = accum[gid];
   acc.beauty.rgb += c;

@@ -1,8 +1,9 @@
 #version 450
 // Photon gather (seed 000 eq. 1, section 6.3): at the G-buffer's surface
 // (the first smooth vertex after the eye's specular chain) the photon LBVH is
-// traversed, descending into every node whose box holds the point; each
-// photon of a reached leaf whose footprint ellipsoid holds the point adds
+// traversed (common/lbvh_traverse.glsl), opening every child whose box
+// holds the point; each photon of a reached leaf whose footprint ellipsoid
+// holds the point adds
 //   K(q) / A_i * f(x, wi_i, wo) * Phi_i,
 // q = a^2 + b^2 from x - x_i = a u_i + b v_i + c n_i e_i (the ellipsoid test
 // is a^2 + b^2 + c^2 <= 1), A_i = pi |u_i x v_i| the ellipse's area, K the
@@ -26,14 +27,17 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 layout(std430, set = 0, binding = 11) readonly buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
 layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
-layout(std430, set = 0, binding = 15) readonly buffer Photons { pb_gpu_photon photons[]; };
-layout(std430, set = 0, binding = 16) readonly buffer Nodes2 { pb_gpu_lbvh_node lnodes[]; };
+// The sorted photons (pb_gpu_photon) and the nodes (pb_gpu_lbvh_node) as
+// uvec4, read through common/lbvh_traverse.glsl.
+layout(std430, set = 0, binding = 15) readonly buffer Photons { uvec4 photons4[]; };
+layout(std430, set = 0, binding = 16) readonly buffer Nodes2 { uvec4 lnodes4[]; };
 layout(std430, set = 0, binding = 17) buffer InfoBuf { pb_gpu_lbvh_info info; };
 layout(std430, set = 0, binding = 18) buffer PhotonAccum { pb_gpu_photon_accum paccum[]; };
 layout(std430, set = 0, binding = 19) buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; }; // normal maps only
 layout(push_constant) uniform GatherPush { pb_gpu_gather_push gp; };
 // Scenes with normal maps (eq. 20's sums below); compiled out for the rest.
 layout(constant_id = 5) const bool SC_NORMAL_MAPS = true;
+#include "common/lbvh_traverse.glsl"
 
 void main() {
   uint gid = pb_gid();
@@ -46,7 +50,7 @@ void main() {
     b.mask = g.lobes;
     pb_blender_split(b, frame.glossy_path_alpha2);
   }
-  uint rng = pb_walk_seed(frame.pixel_base + gid, gp.sample_index, 2u);
+  uint rng = pb_walk_seed(pb_pixel_key(frame.pixel_base + gid), gp.sample_index, 2u);
   vec3 x = surf.p;
   bool box_kernel = (gp.flags & PB_GATHER_CONSTANT_KERNEL) != 0u;
   vec3 ind = vec3(0.0), cau = vec3(0.0);
@@ -58,26 +62,11 @@ void main() {
   bool nmap = SC_NORMAL_MAPS && frame.tangent_base != 0u;
   vec4 dir = vec4(0.0);
   uint hits = 0u;
-  uint stack[PB_LBVH_STACK];
-  uint sp = 0u;
-  stack[sp++] = info.root;
-  uint n = info.count;
-  while (sp > 0u) {
-    uint ref = stack[--sp];
-    if ((ref & PB_LBVH_LEAF) == 0u) {
-      pb_gpu_lbvh_node nd = lnodes[ref];
-      if (any(lessThan(x, nd.lo)) || any(greaterThan(x, nd.hi))) continue;
-      if (sp + 2u > PB_LBVH_STACK) {
-        atomicAdd(info.stack_overflow, 1u);
-        continue;
-      }
-      stack[sp++] = nd.right;
-      stack[sp++] = nd.left;
-      continue;
-    }
-    for (uint i = ref & ~PB_LBVH_LEAF; i < n; ++i) {
-      pb_gpu_photon p = photons[i];
-      bool end = (p.flags & PB_PHOTON_LEAF_END) != 0u;
+  pb_lbvh_begin();
+  uint first, count;
+  while (pb_lbvh_next_leaf(x, first, count)) {
+    for (uint i = first; i < first + count; ++i) {
+      pb_gpu_photon p = pb_lbvh_photon(i);
       vec3 d = x - p.position;
       // Same side of the surface only (thin walls, corners).
       if (dot(p.normal, surf.ng) > 0.0) {
@@ -110,7 +99,6 @@ void main() {
           }
         }
       }
-      if (end) break;
     }
   }
   ind *= g.throughput;

@@ -4,25 +4,59 @@
 // spp 1, stratified/jittered otherwise) follows delta interactions (mirror,
 // glass) up to max_specular_depth and stops at the first surface with a
 // smooth lobe, which goes into the G-buffer for the direct pass (and later
-// for photon gathering). Emission met along the way is accumulated here.
+// for photon gathering). Emission met along the way is accumulated here
+// (unlit surfaces included: this is the camera path), and the chain's
+// throughput falls by Beer-Lambert inside absorbing media.
 // First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
 // the reference's lobe probabilities, so the estimate stays unbiased. Blender
 // materials (the PB_BLENDER build) also continue through their smoother
 // glossy closures, lit here by the delta lights (see the branch below).
+// Lights do not stop rays (src/ref/pathtrace.c ray_emission): every segment
+// after a delta (or followed glossy) interaction adds the soft lights it
+// passes before its hit (but those with PB_GPU_LIGHT_NO_MIS), and a ray that
+// leaves the scene the world and the soft suns' discs; the camera ray sees
+// no light (Cycles 3.4, scene.h) and the world only when PB_GPU_WORLD_CAMERA
+// says so (opaque film, visible). These paths start at the camera, so the
+// reference counts them by path tracing too, with weight 1 (a followed
+// glossy closure is lit here by the delta lights alone, so what its
+// continuation meets is counted once).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
+#define PB_WORLD_BINDING 15
 #include "common/scene.glsl"
+#include "common/lights.glsl"
+#include "common/camera.glsl"
 #include "common/direct_light.glsl"
+
+// Emission met by the segment (org, dir) before t_hit (inf: it left the
+// scene), `chain` delta interactions after the camera, inside the absorbing
+// medium sigma (each light attenuated to its own distance; the world beyond
+// a medium of sigma > 0 is absorbed entirely).
+vec3 pb_segment_emission(vec3 org, vec3 dir, float t_hit, uint chain, vec3 sigma) {
+  vec3 e = vec3(0.0);
+  if (SC_SOFT_LIGHTS && chain > 0u)
+    for (uint i = 0u; i < frame.light_count; ++i) {
+      pb_gpu_light l = lights[i];
+      if (!pb_light_is_soft(l) || (l.flags & PB_GPU_LIGHT_NO_MIS) != 0u) continue;
+      float t, pdf;
+      vec3 L;
+      if (pb_soft_light_hit(l, org, dir, t_hit, t, L, pdf)) e += L * pb_medium_transmittance(sigma, t);
+    }
+  if (SC_WORLD && isinf(t_hit) && (chain > 0u || (world.flags & PB_GPU_WORLD_CAMERA) != 0u))
+    e += pb_world_radiance(dir) * pb_medium_transmittance(sigma, t_hit);
+  return e;
+}
 
 void main() {
   uint gid = pb_gid();
   if (gid >= frame.pixel_count) return;
   uint pixel = frame.pixel_base + gid;
   uint px = pixel % frame.width, py = pixel / frame.width;
+  uint key = pb_pixel_key(pixel);
   uint s = pass.sample_index;
 
   // Sample position in the pixel: centre for one sample (unless the frame
@@ -34,14 +68,14 @@ void main() {
     uint m = uint(ceil(sqrt(float(frame.spp))));
     uint cell = s % (m * m);
     jitter = (vec2(float(cell % m), float(cell / m)) +
-              vec2(pb_rand(pixel, s, 0u), pb_rand(pixel, s, 1u))) / float(m);
+              vec2(pb_rand(key, s, 0u), pb_rand(key, s, 1u))) / float(m);
   }
-  float fx = float(px) + jitter.x, fy = float(py) + jitter.y;
-  float sx = (2.0 * fx / float(frame.width) - 1.0) * frame.tan_x;
-  float sy = (1.0 - 2.0 * fy / float(frame.height)) * frame.tan_y;
-  vec3 dir = normalize(frame.cam_forward + frame.cam_right * sx + frame.cam_up * sy);
-  vec3 org = frame.cam_pos;
+  float fx = float(px + frame.key_x0) + jitter.x, fy = float(py + frame.key_y0) + jitter.y;
+  vec3 org, dir;
+  float t0, tmax;
+  pb_camera_ray(frame.cam, vec2(fx, fy), org, dir, t0, tmax);
   vec3 beta = vec3(1.0);
+  vec3 sigma = vec3(0.0); // absorbing medium the chain is in (KHR_materials_volume)
   bool direct_only = (frame.flags & PB_GPU_FRAME_DIRECT_ONLY) != 0u;
 
   pb_gpu_accum acc = accum[gid];
@@ -59,8 +93,17 @@ void main() {
 
   for (uint chain = 0u;; ++chain) {
     float t, u, v;
-    uint prim = pb_trace(org, dir, 0.0, uintBitsToFloat(0x7f800000u), false, t, u, v);
+    // The camera segment ends at the far clip plane (tmax), the others never.
+    // A camera ray that ends there sees the world beyond it, as in Cycles
+    // (a camera ray without a hit shades the background).
+    uint prim = pb_trace(org, dir, 0.0, chain == 0u ? tmax : uintBitsToFloat(0x7f800000u), false, t, u, v);
+    if (SC_SOFT_LIGHTS || SC_WORLD) {
+      vec3 le = beta * pb_segment_emission(org, dir, prim == PB_GPU_MISS ? PB_INF : t, chain, sigma);
+      acc.beauty.rgb += le;
+      if (chain <= 1u) acc.direct += le;
+    }
     if (prim == PB_GPU_MISS) break;
+    beta *= pb_medium_transmittance(sigma, t);
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
     pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV
     vec3 wo = -dir;
@@ -71,7 +114,7 @@ void main() {
     if (chain == 0u) {
       acc.beauty.w += 1.0;
       acc.normal += surf.ns;
-      acc.depth += t * dot(dir, frame.cam_forward);
+      acc.depth += (t0 + t) * dot(dir, frame.cam.forward);
       acc.albedo += pb_bsdf_albedo(b);
       acc.material = float(surf.mat + 1u);
     }
@@ -81,6 +124,7 @@ void main() {
     if (any(notEqual(le, vec3(0.0)))) {
       acc.beauty.rgb += beta * le;
       if (chain <= 1u) acc.direct += beta * le;
+      if (chain == 0u) acc.emission += le;
     }
     if (direct_only && chain >= 1u) break;
 
@@ -103,7 +147,7 @@ void main() {
         else sw_g += b.cl[i].sample_weight;
       }
       if (!(sw_d + sw_g > 0.0)) break;
-      float uc = pb_rand(pixel, s, 2u + 4u * chain);
+      float uc = pb_rand(key, s, 2u + 4u * chain);
       float p_d = sw_d / (sw_d + sw_g);
       if (chain >= frame.max_specular_depth || !(sw_g > 0.0) || uc < p_d) {
         bool all_lobes = chain >= frame.max_specular_depth || !(sw_g > 0.0);
@@ -122,17 +166,18 @@ void main() {
       float p_g = 1.0 - p_d;
       vec3 beta_g = beta / p_g;
       b.mask = PB_GPU_LOBES_GLOSSY;
-      uint rng = pb_walk_seed(pixel, s, 16u + chain);
+      uint rng = pb_walk_seed(key, s, 16u + chain);
       vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
       acc.beauty.rgb += dl;
       if (chain == 0u) acc.direct += dl;
       vec3 wi, wgt;
       float pdf;
       bool delta, transmit;
-      float u1 = pb_rand(pixel, s, 4u + 4u * chain), u2 = pb_rand(pixel, s, 5u + 4u * chain);
+      float u1 = pb_rand(key, s, 4u + 4u * chain), u2 = pb_rand(key, s, 5u + 4u * chain);
       if (!pb_blender_sample(b, wo, (uc - p_d) / p_g, u1, u2, false, rng, wi, wgt, pdf, delta, transmit)) break;
       beta = beta_g * wgt;
       if (all(equal(beta, vec3(0.0))) || any(isnan(beta)) || any(isinf(beta))) break;
+      sigma = pb_medium_after(sigma, surf, transmit);
       org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
       dir = wi;
       continue;
@@ -146,7 +191,7 @@ void main() {
     if (!SC_SPECULAR) p_delta = 0.0;
     float p_sum = p_smooth + p_delta;
     if (!(p_sum > 0.0)) break;
-    float uc = pb_rand(pixel, s, 2u + 4u * chain);
+    float uc = pb_rand(key, s, 2u + 4u * chain);
     if (uc * p_sum < p_smooth || chain >= frame.max_specular_depth) {
       // Stop here: the smooth lobes are lit by the direct pass. With a delta
       // lobe too, this choice had probability p_smooth / p_sum.
@@ -181,7 +226,7 @@ void main() {
       float cos_t;
       float F = pb_fresnel_dielectric(lo.z, eta, cos_t);
       float kg = (1.0 - b.metallic) * b.transmission / (l.z / p_sum);
-      float ug2 = pb_rand(pixel, s, 3u + 4u * chain);
+      float ug2 = pb_rand(key, s, 3u + 4u * chain);
       if (ug2 < F) {
         wi = b.t * -lo.x + b.b * -lo.y + b.n * lo.z;
         if (dot(wi, b.ng) <= 0.0) break;
@@ -195,6 +240,7 @@ void main() {
       }
     }
     if (all(equal(beta, vec3(0.0)))) break;
+    sigma = pb_medium_after(sigma, surf, transmit);
     org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
     dir = wi;
   }

@@ -1,7 +1,14 @@
 #version 450
-// LBVH pass 1: bounds of the photon positions (atomic min/max on
-// order-preserving uints) and the footprint areas summed per workgroup
-// (a shared-memory tree, no subgroup assumption) into area_partial[tile].
+// LBVH pass 1, one workgroup per tile of PB_LBVH_BOUNDS_TILE photons: the
+// bounds of the photon positions (the Morton codes' box; atomic min/max of
+// order-preserving uints, one per workgroup and axis) and the sum of the
+// scaled footprint areas per tile. The last workgroup to finish (an atomic
+// count; it waits on no one, so no forward-progress assumption) adds the
+// tiles' sums in tile order (the same float sum whatever the finishing
+// order), sets T_auto (seed 000 section 5.3: proportional to the ratio of
+// the summed footprint areas to the scene's surface area, i.e. the expected
+// number of footprints over a surface point; factor 1) and converts the
+// bounds to floats.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -9,29 +16,69 @@
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 #include "common/lbvh.glsl"
 
+shared vec3 s_lo[PB_GPU_WORKGROUP], s_hi[PB_GPU_WORKGROUP];
 shared float s_area[PB_GPU_WORKGROUP];
+shared bool s_last;
 
 void main() {
-  uint gid = pb_gid();
-  uint tile = gid / PB_GPU_WORKGROUP; // uniform in the workgroup
-  if (tile >= info.tiles) return;
-  uint l = gl_LocalInvocationID.x;
-  float a = 0.0;
-  if (gid < info.count) {
-    pb_gpu_photon p = photons_in[gid];
-    // Areas of the scaled footprints (lbvh_reorder applies the scale).
-    a = pb_footprint_area(p.axis_u, p.axis_v) * (info.footprint_scale * info.footprint_scale);
-    if (isnan(a) || isinf(a)) a = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      atomicMin(info.bmin[k], pb_float_to_ordered(p.position[k]));
-      atomicMax(info.bmax[k], pb_float_to_ordered(p.position[k]));
-    }
+  uint tile = pb_group();
+  if (tile >= info.tiles) return; // uniform in the workgroup
+  uint l = gl_LocalInvocationID.x, n = info.count;
+  vec3 lo = vec3(uintBitsToFloat(0x7f800000u)), hi = -lo;
+  float a = 0.0, k2 = info.footprint_scale * info.footprint_scale;
+  for (uint r = 0u; r < PB_LBVH_BOUNDS_PPT; ++r) {
+    uint i = tile * PB_LBVH_BOUNDS_TILE + r * PB_GPU_WORKGROUP + l;
+    if (i >= n) break;
+    pb_gpu_photon p = photons_in[i];
+    lo = min(lo, p.position);
+    hi = max(hi, p.position);
+    // Areas of the scaled footprints (lbvh_climb applies the scale).
+    float ai = pb_footprint_area(p.axis_u, p.axis_v) * k2;
+    if (!isnan(ai) && !isinf(ai)) a += ai;
   }
+  s_lo[l] = lo;
+  s_hi[l] = hi;
   s_area[l] = a;
+  barrier();
+  for (uint w = PB_GPU_WORKGROUP / 2u; w > 0u; w >>= 1u) {
+    if (l < w) {
+      s_lo[l] = min(s_lo[l], s_lo[l + w]);
+      s_hi[l] = max(s_hi[l], s_hi[l + w]);
+      s_area[l] += s_area[l + w];
+    }
+    barrier();
+  }
+  if (l == 0u) {
+    for (int k = 0; k < 3; ++k) {
+      atomicMin(info.bmin[k], pb_float_to_ordered(s_lo[0][k]));
+      atomicMax(info.bmax[k], pb_float_to_ordered(s_hi[0][k]));
+    }
+    area_partial[tile] = s_area[0];
+    memoryBarrierBuffer(); // the bounds and the partial before the count (release)
+    s_last = atomicAdd(info.tiles_done, 1u) == info.tiles - 1u;
+  }
+  barrier();
+  if (!s_last) return;
+  memoryBarrierBuffer(); // every tile's partial and bounds after the count (acquire)
+  float sum = 0.0;
+  for (uint t = l; t < info.tiles; t += PB_GPU_WORKGROUP) sum += area_partial[t];
+  s_area[l] = sum;
   barrier();
   for (uint w = PB_GPU_WORKGROUP / 2u; w > 0u; w >>= 1u) {
     if (l < w) s_area[l] += s_area[l + w];
     barrier();
   }
-  if (l == 0u) area_partial[tile] = s_area[0];
+  if (l != 0u) return;
+  sum = s_area[0];
+  info.area_sum = sum;
+  float ratio = info.scene_area > 0.0 ? sum / info.scene_area : 1.0;
+  if (isnan(ratio)) ratio = 1.0;
+  uint t = uint(clamp(round(ratio), 1.0, float(PB_LBVH_MAX_LEAF)));
+  info.t_computed = t;
+  // A fixed threshold from the host (benchmark leaf-size sweeps) wins.
+  info.t_auto = info.t_fixed != 0u ? info.t_fixed : t;
+  info.lo = vec3(pb_ordered_to_float(info.bmin[0]), pb_ordered_to_float(info.bmin[1]),
+                 pb_ordered_to_float(info.bmin[2]));
+  info.hi = vec3(pb_ordered_to_float(info.bmax[0]), pb_ordered_to_float(info.bmax[1]),
+                 pb_ordered_to_float(info.bmax[2]));
 }

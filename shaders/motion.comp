@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = 4) readonly buffer Params { pb_gpu_motion_para
 layout(std430, set = 0, binding = 5) writeonly buffer Motion { vec4 motion[]; };
 
 #include "common/bvh.glsl"
+#include "common/camera.glsl"
 
 vec3 pb_prev_vertex(uint i) {
   return vec3(prev_positions[3u * i], prev_positions[3u * i + 1u], prev_positions[3u * i + 2u]);
@@ -29,23 +30,18 @@ void main() {
   uint gid = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP;
   if (gid >= mp.width * mp.height) return;
   float fx = float(gid % mp.width) + 0.5, fy = float(gid / mp.width) + 0.5;
-  float sx = (2.0 * fx / float(mp.width) - 1.0) * mp.tan_x;
-  float sy = (1.0 - 2.0 * fy / float(mp.height)) * mp.tan_y;
-  vec3 dir = normalize(mp.cam_forward.xyz + mp.cam_right.xyz * sx + mp.cam_up.xyz * sy);
+  vec3 org, dir;
+  float t0, tmax;
+  pb_camera_ray(mp.cam, vec2(fx, fy), org, dir, t0, tmax);
   float t, u, v;
-  uint prim = pb_trace(mp.cam_pos.xyz, dir, 0.0, uintBitsToFloat(0x7f800000u), false, t, u, v);
+  uint prim = pb_trace(org, dir, 0.0, tmax, false, t, u, v);
   vec4 result = vec4(0.0);
   if (prim != PB_GPU_MISS && prim < mp.triangle_count) {
     vec3 p = (1.0 - u - v) * pb_prev_vertex(indices[3u * prim]) + u * pb_prev_vertex(indices[3u * prim + 1u]) +
              v * pb_prev_vertex(indices[3u * prim + 2u]);
-    // The inverse of the previous camera's ray: x = (sx / tan_x + 1) W / 2.
-    vec3 d = p - mp.prev_pos.xyz;
-    float z = dot(d, mp.prev_forward.xyz);
-    if (z > 0.0) {
-      float x = 0.5 * (dot(d, mp.prev_right.xyz) / z / mp.prev_tan_x + 1.0) * float(mp.width);
-      float y = 0.5 * (1.0 - dot(d, mp.prev_up.xyz) / z / mp.prev_tan_y) * float(mp.height);
-      if (!isinf(x) && !isinf(y) && !isnan(x) && !isnan(y)) result = vec4(x - fx, y - fy, z, 1.0);
-    }
+    vec2 q;
+    float z;
+    if (pb_camera_project(mp.prev, p, q, z)) result = vec4(q.x - fx, q.y - fy, z, 1.0);
   }
   motion[gid] = result;
 }

@@ -1,12 +1,19 @@
 #version 450
 // The photon tracer: one invocation per photon path (gid < params.photons).
 //
-// Emission (seed 001 24.2.1): the host splits the budget over the lights in
-// proportion to their power (pb_light_power), so every photon starts with
-// about the same flux; path gid belongs to the light whose range
-// [first, first + count) holds it. Point: uniform sphere; spot: uniform in
-// the outer cone, flux weighted by the smoothstep falloff; directional:
-// parallel rays from a disc of the scene's bounding radius.
+// Emission (seed 001 24.2.1): the host splits the budget over the lights
+// (and the world) in proportion to their power (pb_light_power), so every
+// photon starts with about the same flux; path gid belongs to the light whose
+// range [first, first + count) holds it. Point: uniform sphere; spot:
+// uniform in the outer cone, flux weighted by the spot's falloff; sphere
+// lights: the same directions from the point of the sphere facing them
+// (src/ref/soft_lights.c pb_sphere_light_origin); directional: parallel rays
+// from a disc of the scene's bounding radius, for the soft sun in a
+// direction from its disc; area lights: pb_area_light_emit (a point of the
+// shape, a cosine-weighted direction in the spread's cone, flux x the
+// spread profile); the world: a direction from its table (uniform for a
+// constant world), parallel over the disc, flux x L / pdf. Soft lights and
+// the world are traced also with the RSM first bounce (their maps are empty).
 //
 // First hit: traced from the light (equivalent to an RSM texel's surface
 // point, see below). It is direct light and never stored (seed 001 24.2.2).
@@ -71,7 +78,9 @@ layout(std430, set = 0, binding = 15) buffer Params {
 layout(std430, set = 0, binding = 16) readonly buffer RsmLights { pb_gpu_rsm_light rlights[]; };
 layout(std430, set = 0, binding = 17) readonly buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
 
+#define PB_WORLD_BINDING 18
 #include "common/scene.glsl"
+#include "common/lights.glsl"
 
 // Transmission (glass) code only for scenes that have it (SC_SPECULAR, from
 // scene.glsl, compiles out mirror and glass altogether).
@@ -83,8 +92,10 @@ layout(constant_id = 4) const bool SC_TRANSMISSION = true;
 float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim); }
 // Sequence dimensions: 0, 1 emission (RSM: 0 the stratum jitter), 2 + 4 k ..
 // the k-th bounce; the RSM's per-iteration rotation lies far above any
-// bounce (drawn for path 0).
+// bounce (drawn for path 0); soft lights' and the world's second pair of
+// emission numbers above that.
 const uint PB_RSM_ROTATION_DIM = 1000u;
+const uint PB_EMIT_DIM = 1002u;
 
 void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
               uint path) {
@@ -272,30 +283,63 @@ void pb_trace_path(uint gid) {
     if (gid >= plights[i].first) li = i;
   pb_gpu_photon_light pl = plights[li];
   if (gid < pl.first || gid - pl.first >= pl.count) return;
-  pb_gpu_light L = lights[pl.light];
+  bool world_entry = pl.light == PB_GPU_WORLD_LIGHT;
+  // The world has no entry in lights[] (which may be empty): L is read only
+  // for a light.
+  pb_gpu_light L = pb_gpu_light(vec3(0.0), PB_GPU_LIGHT_DIRECTIONAL, vec3(0.0, -1.0, 0.0), 0.0, vec3(0.0), 0.0,
+                                vec3(0.0), 0.0, vec3(0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 1.0, 0u, 0u);
+  if (!world_entry) L = lights[pl.light];
+  bool soft = (SC_WORLD && world_entry) || (SC_SOFT_LIGHTS && !world_entry && pb_light_is_soft(L));
   float k = pl.diff_scale;
   float u1 = pb_prand(path, 0u), u2 = pb_prand(path, 1u);
   vec3 power = pl.power;
   vec3 o, d, dPu = vec3(0.0), dPv = vec3(0.0), dDu = vec3(0.0), dDv = vec3(0.0);
   bool stencil_here = h > 0.0 && params.stencil_depth == 0u;
-  bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u;
+  bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u && !soft;
   uint first_prim = PB_GPU_MISS;
   float first_t = 0.0, first_u = 0.0, first_v = 0.0;
   if (rsm) {
     if (!pb_rsm_emit(li, gid - pl.first, pl.count, path, o, d, power, dPu, dPv, dDu, dDv, first_prim, first_t,
                      first_u, first_v))
       return;
-  } else if (L.type == PB_GPU_LIGHT_DIRECTIONAL) {
-    d = normalize(L.direction);
+  } else if (world_entry || L.type == PB_GPU_LIGHT_DIRECTIONAL) {
+    float v1 = u1, v2 = u2;
+    if (world_entry) {
+      vec3 w;
+      float pw;
+      if (!pb_world_sample(u1, u2, w, pw)) return;
+      d = -w;
+      power *= pb_world_radiance(w) / pw;
+      v1 = pb_prand(path, PB_EMIT_DIM), v2 = pb_prand(path, PB_EMIT_DIM + 1u);
+    } else if (soft) {
+      vec3 wi, Ls;
+      float dist, pdf;
+      if (!pb_soft_light_sample(L, params.scene_center, u1, u2, wi, dist, Ls, pdf)) return;
+      d = -wi; // radiance / density = E: pl.power holds it
+      v1 = pb_prand(path, PB_EMIT_DIM), v2 = pb_prand(path, PB_EMIT_DIM + 1u);
+    } else {
+      d = normalize(L.direction);
+    }
     vec3 t, b;
     pb_basis(d, t, b);
-    float r = params.scene_radius * sqrt(u1), phi = 2.0 * PB_PI * u2;
+    float r = params.scene_radius * sqrt(v1), phi = 2.0 * PB_PI * v2;
     vec2 xy = r * vec2(cos(phi), sin(phi));
     if (stencil_here && member == 1u) xy.x += h * k;
     if (stencil_here && member == 2u) xy.y += h * k;
     o = params.scene_center + t * xy.x + b * xy.y - d * (1.01 * params.scene_radius);
     dPu = k * t;
     dPv = k * b;
+  } else if (L.type == PB_GPU_LIGHT_AREA) {
+    float wt;
+    if (!pb_area_light_emit(L, u1, u2, pb_prand(path, PB_EMIT_DIM), pb_prand(path, PB_EMIT_DIM + 1u), o, d, wt))
+      return;
+    power *= pb_spread_factor(L, dot(d, L.direction)); // wt / (A pi cos^2 a): pl.power holds the rest
+    // Directional differentials as from a point emitting into the cone
+    // (the host's diff_scale counts its solid angle).
+    vec3 t, b;
+    pb_basis(d, t, b);
+    dDu = k * t;
+    dDv = k * b;
   } else {
     vec3 axis, t, b;
     if (L.type == PB_GPU_LIGHT_SPOT) {
@@ -314,18 +358,15 @@ void pb_trace_path(uint gid) {
     pb_diff_emission_dirs(t, b, axis, c, sn, phi, dDu, dDv);
     dDu *= k;
     dDv *= k;
-    if (L.type == PB_GPU_LIGHT_SPOT) {
-      float f;
-      if (L.cos_inner - L.cos_outer <= 1e-7) f = c >= L.cos_outer ? 1.0 : 0.0;
-      else f = pb_smoothstep01((c - L.cos_outer) / (L.cos_inner - L.cos_outer));
-      power *= f;
-    }
+    if (L.type == PB_GPU_LIGHT_SPOT) power *= pb_spot_factor(L, c);
     o = L.position;
+    if (soft) o = pb_sphere_light_origin(L, d, pb_prand(path, PB_EMIT_DIM), pb_prand(path, PB_EMIT_DIM + 1u));
   }
   if (!(pb_max3(power) > 0.0)) return;
 
   bool caustic = true; // only delta interactions so far
   uint stored = 0u;
+  vec3 sigma = vec3(0.0); // absorbing medium the photon is in
   for (uint depth = 0u; depth < params.max_depth; ++depth) {
     float t, u, v;
     uint prim;
@@ -341,6 +382,7 @@ void pb_trace_path(uint gid) {
       atomicAdd(params.escaped, 1u);
       return;
     }
+    power *= pb_medium_transmittance(sigma, t); // Beer-Lambert (KHR_materials_volume)
     // No normal map here (pb_apply_normal_map is not called): photons bounce
     // with the interpolated vertex normal as before. The density of photons
     // arriving on a surface already carries the geometric cosine (seed 001,
@@ -457,6 +499,7 @@ void pb_trace_path(uint gid) {
       pb_diff_guarded++;
       return;
     }
+    sigma = pb_medium_after(sigma, surf, transmit);
     o = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
     d = wi;
   }

@@ -67,3 +67,44 @@ pb_cli_test(cli_info_normal_map info tests/data/normal_map/normal_map.gltf EXIT 
             REGEX "\\[normal maps\\].*normal maps on \\(\\+ eq. 20 indirect correction\\).*exit=0")
 pb_cli_test(cli_info_normal_map_json info --json - tests/data/normal_map/normal_map.gltf EXIT 0
             REGEX "\"normal_maps\": *true.*\"shading_normal_correction\": *true.*exit=0")
+
+# An option that takes a value never takes the next option as it: the error
+# names the option that lacks its value (exit 2, before any work). "-" and
+# negative numbers stay values (--seed -1 reaches the number check).
+pb_cli_test(cli_value_not_an_option render samples/cornell_box/cornell_box.gltf -o x.exr --png --width 96 EXIT 2
+            REGEX "--png needs a value, got the option '--width'.*exit=2")
+pb_cli_test(cli_value_short_option render samples/cornell_box/cornell_box.gltf --camera -o x.exr EXIT 2
+            REGEX "--camera needs a value, got the option '-o'.*exit=2")
+pb_cli_test(cli_value_negative_number render samples/cornell_box/cornell_box.gltf -o x.exr --seed -1 EXIT 2
+            REGEX "--seed: '-1' is not a non-negative integer.*exit=2")
+
+# Every subcommand's --help from outside the checkout: the binary copied to
+# a temporary folder and run from / (validate finds its script through the
+# source tree it was built from, and prints its help even without it).
+add_test(NAME cli_help_from_anywhere
+         COMMAND sh -c "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT; cp \"$0\" \"$d/pb\"; cd /;
+                        cmds=$(\"$d/pb\" help | sed -n '/^subcommands:/,$p' | awk 'NR>1{print $1}'); n=0;
+                        for c in $cmds; do \"$d/pb\" $c --help > \"$d/out\"; grep -q \"usage: photonbridge $c\" \"$d/out\"; n=$((n+1)); done;
+                        grep -q 'usage: validate.py' \"$d/out\" || { \"$d/pb\" validate --help | grep -q 'usage: validate.py'; };
+                        echo \"$n passed, 0 failed\""
+                 ${PB_EXE})
+set_tests_properties(cli_help_from_anywhere PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# Cameras that share a name (tests/corpus/valid/duplicate_camera_names: three
+# nodes named "Camera" at z = 5, 7, 9): info numbers them, a shared name is
+# refused with the numbers, --camera N selects by number.
+set(PB_DUP_CAMS tests/corpus/valid/duplicate_camera_names/duplicate_camera_names.gltf)
+pb_cli_test(cli_info_camera_numbers info ${PB_DUP_CAMS} EXIT 0
+            REGEX "cameras    3\n  0   Camera .*\n  1   Camera .*\n  2   Camera  .*at \\(0 0 9\\).*exit=0")
+pb_cli_test(cli_camera_ambiguous_name export-pov ${PB_DUP_CAMS} --camera Camera -o /dev/null EXIT 2
+            REGEX "cameras 0, 1, 2 are all named 'Camera': choose one by its number.*exit=2")
+pb_cli_test(cli_camera_number_out_of_range export-pov ${PB_DUP_CAMS} --camera 3 -o /dev/null EXIT 2
+            REGEX "no camera 3 \\(the scene has 3, numbered from 0.*exit=2")
+add_test(NAME cli_camera_by_number
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" export-pov \"$1\" --camera 2 -o $d/c.pov -q && grep -q 'location <0,0,-9>' $d/c.pov; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
+                 ${PB_EXE} ${PB_DUP_CAMS}
+         WORKING_DIRECTORY ${PB_ROOT})
+# A file without a camera: info shows the default camera's real aspect (the
+# default 640x480 image), not the file's missing one.
+pb_cli_test(cli_info_default_camera_aspect info tests/corpus/valid/no_camera/no_camera.gltf EXIT 0
+            REGEX "0   default .*aspect 1.333 \\(640x480 by default. the file gives no aspect ratio\\).*exit=0")

@@ -9,8 +9,15 @@ set_tests_properties(color_filmic_vs_blender PROPERTIES
 
 # display subcommand: usage errors and --list.
 pb_cli_test(cli_display_no_args display EXIT 2 REGEX "expected IMAGE.exr.*exit=2")
-pb_cli_test(cli_display_list display --list EXIT 0 REGEX "display sRGB: Standard, ACES 1.0 - SDR Video, Raw.*exit=0")
-pb_cli_test(cli_display_bad_view display --list --view Nope EXIT 2
+pb_cli_test(cli_display_list display --list --ocio-config built-in EXIT 0
+            REGEX "config built-in.*display sRGB: Filmic, Standard, ACES 1.0 - SDR Video, Raw.*exit=0")
+pb_cli_test(cli_display_bad_view display --list --ocio-config built-in --view Nope EXIT 2
             REGEX "config built-in: display 'sRGB' has no view 'Nope'.*exit=2")
+# Without --ocio-config, pictures use Blender's own config where Blender is
+# installed (this test's machine has it whenever the Blender tests run).
+if(EXISTS /usr/share/blender/datafiles/colormanagement/config.ocio)
+  pb_cli_test(cli_display_list_blender display --list EXIT 0
+              REGEX "config Blender's /usr/share/blender/datafiles/colormanagement/config.ocio.*Filmic.*exit=0")
+endif()
 pb_cli_test(cli_display_missing_config display --list --ocio-config no/such.ocio EXIT 3
             REGEX "no/such.ocio: cannot open.*exit=3")

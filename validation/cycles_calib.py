@@ -7,6 +7,9 @@ plane across the image), lit by one light:
   spot   100 W spot 1 m above, pointing down, 90 degree cone, blend 0.1
          (the view lies inside the inner cone)
   sun    3 W/m^2 sun at 30 degrees from the plane's normal
+  spot_band  100 W spot 1 m above, pointing down, 30 degree cone, blend 0.5:
+         the glTF export's inner cone is 7.5, the outer 15 degrees, so the
+         view holds the inside, the smooth-step band and the dark outside
 
 Each case is rendered by Cycles with direct light only (max bounces 0, 64
 spp, no denoising or clamping) to OUT/CASE.exr and exported with Blender's
@@ -31,7 +34,7 @@ import bpy
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-CASES = ("point", "spot", "sun")
+CASES = ("point", "spot", "sun", "spot_band")
 
 
 def load_module(name, path):
@@ -57,6 +60,8 @@ def build(S, case, width):
         S.add_point_light("Point", (0.0, 0.0, 1.0), 100.0)
     elif case == "spot":
         S.add_spot_light("Spot", (0.0, 0.0, 1.0), (0.0, 0.0, 0.0), 100.0, 90.0, 0.1)
+    elif case == "spot_band":
+        S.add_spot_light("Spot", (0.0, 0.0, 1.0), (0.0, 0.0, 0.0), 100.0, 30.0, 0.5)
     else:
         t = math.radians(30.0)
         S.add_sun("Sun", (math.sin(t), 0.0, -math.cos(t)), 3.0)

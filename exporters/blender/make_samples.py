@@ -906,17 +906,28 @@ def describe_animation(name, doc, target):
                 assert not flips, "%s: %d quaternion sign flips" % (name, flips)
 
 
+def save_blend(path):
+    """The scene as a .blend beside its glTF, images packed (the texture
+    files live in a temporary folder), so that it renders from Blender with
+    any engine, photonbridge's included, and the render engine's own glTF
+    writer can be compared with Blender's exporter on the same scene."""
+    if bpy.data.images:
+        bpy.ops.file.pack_all()
+    bpy.ops.wm.save_as_mainfile(filepath=path, compress=True, check_existing=False)
+
+
 def export_scene(name, out_root):
     outdir = os.path.join(out_root, name)
     os.makedirs(outdir, exist_ok=True)
     # Remove what an earlier run wrote, so a renamed texture leaves nothing stale.
     for fn in sorted(os.listdir(outdir)):
-        if fn.endswith((".gltf", ".bin", ".png", ".jpg")):
+        if fn.endswith((".gltf", ".bin", ".png", ".jpg", ".blend", ".blend1")):
             os.remove(os.path.join(outdir, fn))
     tmpdirs = SCENES[name]() or []
     path = os.path.join(outdir, name + ".gltf")
     anim = ANIMATED.get(name)
     gltf_export(path, anim[1] if anim else None)
+    save_blend(os.path.join(outdir, name + ".blend"))
     for d in tmpdirs:
         for fn in os.listdir(d):
             os.remove(os.path.join(d, fn))

@@ -98,17 +98,10 @@ pb_bsdf pb_bsdf_setup_t(pb_surface surf, vec3 wo, vec3 tangent) {
     pb_blender_setup(surf, wo, tangent, b);
     return b;
   }
-  vec3 base = m.base_color.rgb;
-  float metallic = m.metallic, rough = m.roughness;
-  if (SC_TEXTURES) {
-    if (m.base_color_tex != PB_GPU_NO_TEXTURE) base *= pb_texture_sample(m.base_color_tex, surf.uv).rgb;
-    if (m.metallic_roughness_tex != PB_GPU_NO_TEXTURE) {
-      vec4 t = pb_texture_sample(m.metallic_roughness_tex, surf.uv);
-      rough *= t.g;
-      metallic *= t.b;
-    }
-  }
-  b.base = clamp(base, 0.0, 1.0);
+  vec2 mr = pb_surface_metal_rough(surf);
+  float metallic = mr.x, rough = mr.y;
+  // An unlit surface reflects nothing (its colour is its emission).
+  b.base = (m.flags & PB_GPU_MAT_UNLIT) != 0u ? vec3(0.0) : pb_surface_base_color(surf).rgb;
   b.metallic = clamp(metallic, 0.0, 1.0);
   b.roughness = clamp(rough, 0.0, 1.0);
   b.alpha = b.roughness * b.roughness;
@@ -218,6 +211,19 @@ float pb_smoothstep01(float t) {
   return t * t * (3.0 - 2.0 * t);
 }
 
+// A spot's falloff for the cosine c of the angle between its axis and the
+// direction light leaves in (src/ref/lights.c pb_spot_factor): KHR's smooth
+// step between the cones, or Cycles 3.4's c x smoothstep over its band.
+float pb_spot_factor(pb_gpu_light l, float c) {
+  if ((l.flags & PB_GPU_LIGHT_CYCLES_SPOT) != 0u) {
+    if (c <= l.cos_outer) return 0.0;
+    float band = (1.0 - l.cos_outer) * l.spot_blend, t = c - l.cos_outer;
+    return band > 0.0 && t < band ? c * pb_smoothstep01(t / band) : c;
+  }
+  if (l.cos_inner - l.cos_outer <= 1e-7) return c >= l.cos_outer ? 1.0 : 0.0;
+  return pb_smoothstep01((c - l.cos_outer) / (l.cos_inner - l.cos_outer));
+}
+
 // Direction to the light, distance (inf for directional) and Li such that
 // reflected radiance is f |cos| Li. Returns false when it adds nothing.
 bool pb_delta_light_at(pb_gpu_light l, vec3 p, out vec3 wi, out float dist, out vec3 Li) {
@@ -238,13 +244,7 @@ bool pb_delta_light_at(pb_gpu_light l, vec3 p, out vec3 wi, out float dist, out 
   wi = d / dl;
   dist = dl;
   float k = 1.0 / d2;
-  if (l.type == PB_GPU_LIGHT_SPOT) {
-    float c = -dot(l.direction, wi);
-    float f;
-    if (l.cos_inner - l.cos_outer <= 1e-7) f = c >= l.cos_outer ? 1.0 : 0.0;
-    else f = pb_smoothstep01((c - l.cos_outer) / (l.cos_inner - l.cos_outer));
-    k *= f;
-  }
+  if (l.type == PB_GPU_LIGHT_SPOT) k *= pb_spot_factor(l, -dot(l.direction, wi));
   Li = l.power * k;
   return k > 0.0 && any(notEqual(l.power, vec3(0.0)));
 }

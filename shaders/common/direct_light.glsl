@@ -1,13 +1,22 @@
 // Direct light at a surface, shared by the direct pass (the G-buffer's
 // vertex) and the G-buffer pass (the glossy vertices a Blender material's
-// eye path passes through): shadow rays to the delta lights and one emitter
-// sample. See direct.comp for how they combine with the reference's MIS.
+// eye path passes through): shadow rays to the delta lights, one emitter
+// sample, one sample of each soft light and the world's (after
+// common/lights.glsl). See direct.comp for how they combine with the
+// reference's MIS.
 #ifndef PB_DIRECT_LIGHT_GLSL
 #define PB_DIRECT_LIGHT_GLSL
 
 // Random dimensions of the emitter sample (the G-buffer pass uses 0..3+4k
-// for small k).
+// for small k), of soft light i (2 each) and of the world's two samples.
 const uint PB_DIM_EMITTER = 0x40000000u;
+const uint PB_DIM_SOFT = 0x40000010u;
+const uint PB_DIM_WORLD = 0x20000000u;
+
+float pb_mis_power(float a, float b) {
+  float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+}
 
 // Largest i with emitters[i].cdf <= u (emitters[0].cdf == 0).
 uint pb_pick_emitter(float u) {
@@ -46,18 +55,76 @@ vec3 pb_shadow_origin(pb_surface surf, vec3 wi) {
   return pb_offset_ray(surf.p, dot(wi, surf.ng) >= 0.0 ? surf.ng : -surf.ng);
 }
 
-// Every point, spot and directional light: f Li |cos| summed, one shadow
-// ray each (stopped pbrt's ShadowEpsilon short of the light, as src/ref).
+// Every point, spot and directional light (soft ones are pb_soft_direct's):
+// f Li |cos| summed, one shadow ray each (stopped pbrt's ShadowEpsilon
+// short of the light, as src/ref; none for a light that casts no shadow).
 vec3 pb_delta_lights(pb_surface surf, pb_bsdf b, vec3 wo, inout uint rng) {
   vec3 sum = vec3(0.0);
   for (uint i = 0u; i < frame.light_count; ++i) {
+    if (SC_SOFT_LIGHTS && pb_light_is_soft(lights[i])) continue;
     vec3 wi, Li;
     float dist;
     if (!pb_delta_light_at(lights[i], surf.p, wi, dist, Li)) continue;
     vec3 f = pb_bsdf_eval(b, wo, wi, rng);
     if (all(equal(f, vec3(0.0)))) continue;
-    vec3 vis = pb_shadow(pb_shadow_origin(surf, wi), wi, dist * (1.0 - 1e-4));
+    vec3 vis = (lights[i].flags & PB_GPU_LIGHT_NO_SHADOW) != 0u
+                   ? vec3(1.0)
+                   : pb_shadow(pb_shadow_origin(surf, wi), wi, dist * (1.0 - 1e-4));
     sum += vis * f * Li * abs(dot(wi, b.n));
+  }
+  return sum;
+}
+
+// One light sample of every soft light: f L |cos| / pdf summed.
+vec3 pb_soft_direct(pb_surface surf, pb_bsdf b, vec3 wo, uint pixel, uint s, inout uint rng) {
+  vec3 sum = vec3(0.0);
+  for (uint i = 0u; i < frame.light_count; ++i) {
+    pb_gpu_light l = lights[i];
+    if (!pb_light_is_soft(l)) continue;
+    vec3 wi, L;
+    float dist, pdf;
+    if (!pb_soft_light_sample(l, surf.p, pb_rand(pixel, s, PB_DIM_SOFT + 2u * i),
+                              pb_rand(pixel, s, PB_DIM_SOFT + 2u * i + 1u), wi, dist, L, pdf))
+      continue;
+    vec3 f = pb_bsdf_eval(b, wo, wi, rng);
+    if (all(equal(f, vec3(0.0)))) continue;
+    vec3 vis = (l.flags & PB_GPU_LIGHT_NO_SHADOW) != 0u
+                   ? vec3(1.0)
+                   : pb_shadow(pb_shadow_origin(surf, wi), wi, isinf(dist) ? dist : dist * (1.0 - 1e-4));
+    sum += vis * f * L * (abs(dot(wi, b.n)) / pdf);
+  }
+  return sum;
+}
+
+// The world: a cosine-weighted direction (density cos / pi about b.n) and a
+// map sample, MIS.
+vec3 pb_world_direct(pb_surface surf, pb_bsdf b, vec3 wo, uint pixel, uint s, inout uint rng) {
+  if ((world.flags & PB_GPU_WORLD_PRESENT) == 0u) return vec3(0.0);
+  bool sampled = (world.flags & PB_GPU_WORLD_SAMPLED) != 0u;
+  vec3 sum = vec3(0.0);
+  float s1 = pb_rand(pixel, s, PB_DIM_WORLD), s2 = pb_rand(pixel, s, PB_DIM_WORLD + 1u);
+  float c = sqrt(max(0.0, 1.0 - s1)), sn = sqrt(s1), phi = 2.0 * PB_PI * s2;
+  vec3 wi = b.t * (sn * cos(phi)) + b.b * (sn * sin(phi)) + b.n * c;
+  if (c > 0.0 && dot(wi, b.ng) > 0.0) {
+    vec3 f = pb_bsdf_eval(b, wo, wi, rng);
+    float pb = c * PB_INV_PI;
+    if (any(notEqual(f, vec3(0.0)))) {
+      vec3 vis = pb_shadow(pb_shadow_origin(surf, wi), wi, PB_INF);
+      float w = sampled ? pb_mis_power(pb, pb_world_pdf(wi)) : 1.0;
+      sum += vis * f * pb_world_radiance(wi) * (c * w / pb);
+    }
+  }
+  if (sampled) {
+    vec3 dir;
+    float pw;
+    if (pb_world_sample(pb_rand(pixel, s, PB_DIM_WORLD + 2u), pb_rand(pixel, s, PB_DIM_WORLD + 3u), dir, pw)) {
+      vec3 f = pb_bsdf_eval(b, wo, dir, rng);
+      float cd = dot(dir, b.n);
+      if (any(notEqual(f, vec3(0.0)))) {
+        vec3 vis = pb_shadow(pb_shadow_origin(surf, dir), dir, PB_INF);
+        sum += vis * f * pb_world_radiance(dir) * (abs(cd) * pb_mis_power(pw, max(cd, 0.0) * PB_INV_PI) / pw);
+      }
+    }
   }
   return sum;
 }

@@ -332,21 +332,21 @@ vec3 pb_eval_refract(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
 
 // ---- setup ------------------------------------------------------------------
 
-float pb_input_value(pb_gpu_material m, uint i, vec2 uv) {
+float pb_input_value(pb_gpu_material m, uint i, pb_surface s) {
   uint t = m.in_tex[i];
   if (!SC_TEXTURES || t == PB_GPU_NO_TEXTURE) return m.in_value[i];
-  vec4 c = pb_texture_sample(t & PB_GPU_INPUT_TEX_INDEX, uv);
+  vec4 c = pb_texture_lookup(t & PB_GPU_INPUT_TEX_INDEX, s);
   uint ch = t >> PB_GPU_INPUT_TEX_CHANNEL_SHIFT;
   return ch == 0u ? c.r : (ch == 1u ? c.g : (ch == 2u ? c.b : (ch == 3u ? c.a : pb_luma709(c.rgb))));
 }
 // Every input at uv, in one loop (one texture fetch in the code instead of
 // one per input: the shader stays small).
-void pb_inputs(pb_gpu_material m, vec2 uv, out float v[PB_GPU_IN_SLOTS]) {
-  for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) v[i] = pb_input_value(m, i, uv);
+void pb_inputs(pb_gpu_material m, pb_surface s, out float v[PB_GPU_IN_SLOTS]) {
+  for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) v[i] = pb_input_value(m, i, s);
 }
 
 float pb_blender_alpha(pb_surface s) {
-  return clamp(pb_input_value(materials[s.mat], PB_GPU_IN_ALPHA, s.uv), 0.0, 1.0);
+  return clamp(pb_input_value(materials[s.mat], PB_GPU_IN_ALPHA, s), 0.0, 1.0);
 }
 
 // Fills slot `slot` with a closure of `type` and colour weight `weight`,
@@ -392,7 +392,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   b.sw_sum = 0.0;
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) pb_add_closure(b, i, PB_CL_TRANSPARENT, vec3(0.0));
   vec3 base = m.base_color.rgb;
-  if (SC_TEXTURES && m.base_color_tex != PB_GPU_NO_TEXTURE) base = pb_texture_sample(m.base_color_tex, surf.uv).rgb;
+  if (SC_TEXTURES && m.base_color_tex != PB_GPU_NO_TEXTURE) base = pb_texture_lookup(m.base_color_tex, surf).rgb;
   base = max(base, vec3(0.0));
   b.base = clamp(base, 0.0, 1.0);
   b.albedo = b.base;
@@ -404,7 +404,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   if (m.model == PB_GPU_MODEL_DIFFUSE) {
     pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_OREN_NAYAR, base);
     pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], n, tangent);
-    float sigma = clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf.uv), 0.0, 1.0);
+    float sigma = clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0);
     if (sigma == 0.0) {
       b.cl[PB_SLOT_DIFFUSE].on_a = PB_INV_PI;
     } else {
@@ -414,7 +414,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     }
   } else {
     float in_v[PB_GPU_IN_SLOTS];
-    pb_inputs(m, surf.uv, in_v);
+    pb_inputs(m, surf, in_v);
     float metallic = in_v[PB_GPU_IN_METALLIC];
     float roughness = in_v[PB_GPU_IN_ROUGHNESS];
     float specular = in_v[PB_GPU_IN_SPECULAR];
@@ -437,7 +437,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     float ss = clamp(in_v[PB_GPU_IN_SUBSURFACE], 0.0, 1.0);
     vec3 ssc = m.subsurface_color;
     if (SC_TEXTURES && m.subsurface_color_tex != PB_GPU_NO_TEXTURE)
-      ssc = pb_texture_sample(m.subsurface_color_tex, surf.uv).rgb;
+      ssc = pb_texture_lookup(m.subsurface_color_tex, surf).rgb;
     vec3 mixed = ssc * ss + base * (1.0 - ss);
     if (abs(pb_avg3(mixed)) > PB_CUTOFF && diffuse_w > PB_CUTOFF) {
       pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_DIFFUSE, mixed * (w * diffuse_w));

@@ -12,7 +12,7 @@
 // uniformly placed photon of the texel carries dens x measure:
 //   point, spot: I f(d) (1 + X^2 + Y^2)^(-3/2), (X, Y) the point on the face
 //     plane at distance 1 (s = tan(outer) scales a spot's plane; f the spot's
-//     smooth step, 1 for point lights), dOmega = (1 + X^2 + Y^2)^(-3/2) dA;
+//     falloff, pb_spot_factor, 1 for point lights), dOmega = (1 + X^2 + Y^2)^(-3/2) dA;
 //   directional: E, over the square around the scene's bounding disc.
 void pb_rsm_texel_point(pb_gpu_rsm_light rl, uint local, vec2 jit, vec3 center, float radius, out vec3 o,
                         out vec3 d, out vec3 dens, out float measure) {
@@ -50,12 +50,7 @@ void pb_rsm_texel_point(pb_gpu_rsm_light rl, uint local, vec2 jit, vec3 center, 
   d = normalize(axis + t * X + b * Y);
   o = L.position;
   measure = (2.0 * s * inv) * (2.0 * s * inv);
-  float f = 1.0;
-  if (L.type == PB_GPU_LIGHT_SPOT) {
-    float c = dot(d, axis);
-    if (L.cos_inner - L.cos_outer <= 1e-7) f = c >= L.cos_outer ? 1.0 : 0.0;
-    else f = pb_smoothstep01((c - L.cos_outer) / (L.cos_inner - L.cos_outer));
-  }
+  float f = L.type == PB_GPU_LIGHT_SPOT ? pb_spot_factor(L, dot(d, axis)) : 1.0;
   float q = 1.0 + X * X + Y * Y;
   dens = L.power * (f / (q * sqrt(q)));
 }

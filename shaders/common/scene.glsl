@@ -35,14 +35,17 @@ layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
 layout(constant_id = 0) const bool SC_HAS_NORMALS = true;
 layout(constant_id = 1) const bool SC_TEXTURES = true;
 layout(constant_id = 2) const bool SC_SPECULAR = true;   // delta lobes: eye chains
-layout(constant_id = 3) const bool SC_EMISSIVE = true;
-// constant_id 4 and 5 are pass-specific (photon_trace's SC_TRANSMISSION,
-// gather's SC_NORMAL_MAPS).
+layout(constant_id = 3) const bool SC_EMISSIVE = true;  // emissive triangles or unlit surfaces
+// Ids 4 and 5 belong to the photon tracer (SC_TRANSMISSION) and the gather
+// (SC_NORMAL_MAPS). Soft lights (sphere, area, soft sun) and the world
+// light, for the passes that include common/lights.glsl.
+layout(constant_id = 6) const bool SC_SOFT_LIGHTS = true;
+layout(constant_id = 7) const bool SC_WORLD = true;
 // Blender materials (principled.glsl) exist only in the PB_BLENDER build of
 // a pass (shaders.cmake); the other build has them compiled out entirely.
 #ifdef PB_BLENDER
 const bool SC_BLENDER = true;
-layout(constant_id = 6) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
+layout(constant_id = 8) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
 #else
 const bool SC_BLENDER = false;
 const bool SC_ALPHA = false;
@@ -76,9 +79,17 @@ float pb_rand(uint pixel, uint s, uint dim) {
 }
 
 // Seed of a small per-evaluation stream (principled.glsl's Multiscatter GGX
-// walk) for one pixel sample and purpose.
+// walk) for one pixel sample and purpose; pixel is the random-number key
+// (pb_pixel_key).
 uint pb_walk_seed(uint pixel, uint s, uint purpose) {
   return pb_hash(frame.seed_lo ^ pb_hash(pixel ^ pb_hash(s * 0x9e3779b9u ^ pb_hash(purpose ^ 0x632be5abu))));
+}
+
+// The random-number key of pixel `pixel` of this image: its index in the
+// full frame (frame.key_*), so a crop draws the full frame's numbers.
+uint pb_pixel_key(uint pixel) {
+  if (frame.key_width == 0u) return pixel;
+  return (pixel / frame.width + frame.key_y0) * frame.key_width + pixel % frame.width + frame.key_x0;
 }
 
 // ---- textures: pb_texture_sample semantics (scene.c) ----------------------
@@ -129,7 +140,9 @@ struct pb_surface {
   vec3 ng;     // unit, facing the incoming ray
   vec3 ns;     // unit, same hemisphere as ng
   bool front;
-  vec2 uv;
+  vec2 uv;     // TEXCOORD_0
+  vec2 uv1;    // TEXCOORD_1 (0 when the scene has none)
+  vec4 color;  // COLOR_0 (white when the scene has none)
   uint mat;
 };
 
@@ -158,14 +171,49 @@ pb_surface pb_surface_from_hit(uint prim, float u, float v, vec3 ray_dir) {
     }
   }
   s.uv = vec2(0.0);
-  if (SC_TEXTURES) {
+  s.uv1 = vec2(0.0);
+  if (SC_TEXTURES || frame.tangent_base != 0u) { // textures, or a normal map alone
     vec2 t0 = vec2(uvs[2u * i0], uvs[2u * i0 + 1u]);
     vec2 t1 = vec2(uvs[2u * i1], uvs[2u * i1 + 1u]);
     vec2 t2 = vec2(uvs[2u * i2], uvs[2u * i2 + 1u]);
     s.uv = t0 * w + t1 * u + t2 * v;
+    uint b1 = frame.uv1_base;
+    if (b1 != 0u)
+      s.uv1 = vec2(uvs[b1 + 2u * i0], uvs[b1 + 2u * i0 + 1u]) * w + vec2(uvs[b1 + 2u * i1], uvs[b1 + 2u * i1 + 1u]) * u +
+              vec2(uvs[b1 + 2u * i2], uvs[b1 + 2u * i2 + 1u]) * v;
   }
+  s.color = vec4(1.0);
+  uint bc = frame.color_base;
+  if (bc != 0u)
+    s.color = vec4(uvs[bc + 4u * i0], uvs[bc + 4u * i0 + 1u], uvs[bc + 4u * i0 + 2u], uvs[bc + 4u * i0 + 3u]) * w +
+              vec4(uvs[bc + 4u * i1], uvs[bc + 4u * i1 + 1u], uvs[bc + 4u * i1 + 2u], uvs[bc + 4u * i1 + 3u]) * u +
+              vec4(uvs[bc + 4u * i2], uvs[bc + 4u * i2 + 1u], uvs[bc + 4u * i2 + 2u], uvs[bc + 4u * i2 + 3u]) * v;
   s.mat = tri_material[prim];
   return s;
+}
+
+// A material's texture at the surface: its uv set through its transform
+// (pb_texture_lookup, scene.c).
+vec4 pb_texture_lookup(uint index, pb_surface s) {
+  pb_gpu_texture t = textures[index];
+  vec3 uv = vec3(t.texcoord == 1u ? s.uv1 : s.uv, 1.0);
+  return pb_texture_sample(index, vec2(dot(t.xform_u.xyz, uv), dot(t.xform_v.xyz, uv)));
+}
+
+// The material's inputs at the surface, as pb_material_base_color /
+// _metal_rough (scene.c): base colour = factor x texture x COLOR_0 (RGBA,
+// clamped to [0, 1]); metallic, roughness = factors x texture B, G.
+vec4 pb_surface_base_color(pb_surface s) {
+  pb_gpu_material m = materials[s.mat];
+  vec4 t = vec4(1.0);
+  if (SC_TEXTURES && m.base_color_tex != PB_GPU_NO_TEXTURE) t = pb_texture_lookup(m.base_color_tex, s);
+  return clamp(m.base_color * t * s.color, 0.0, 1.0);
+}
+vec2 pb_surface_metal_rough(pb_surface s) {
+  pb_gpu_material m = materials[s.mat];
+  vec2 mr = vec2(m.metallic, m.roughness);
+  if (SC_TEXTURES && m.metallic_roughness_tex != PB_GPU_NO_TEXTURE) mr *= pb_texture_lookup(m.metallic_roughness_tex, s).bg;
+  return mr;
 }
 
 // Waechter & Binder, Ray Tracing Gems ch. 6 (the reference's pb_offset_ray).
@@ -195,22 +243,38 @@ vec3 pb_surface_tangent(uint prim, float u, float v) {
   return l > 1e-12 && !isinf(l) ? t / l : vec3(0.0);
 }
 
+// Beer-Lambert along a segment of length t in a medium of absorption
+// sigma [1/m] (KHR_materials_volume), and the medium after a refraction
+// (src/ref/ref_internal.h pb_medium_after: entering a front face takes the
+// material's, leaving a back face clears it; media are not nested). t may
+// be infinite (a ray that leaves the scene): 1 where sigma is 0, else 0.
+vec3 pb_medium_transmittance(vec3 sigma, float t) {
+  return mix(exp(-sigma * t), vec3(1.0), equal(sigma, vec3(0.0)));
+}
+vec3 pb_medium_after(vec3 sigma, pb_surface s, bool transmit) {
+  if (!transmit) return sigma;
+  return s.front ? materials[s.mat].attenuation : vec3(0.0);
+}
+
 #include "common/bsdf.glsl"
 
-// Emitted radiance toward the ray that hit s: the material's, from the front
-// only unless double-sided (Blender materials are: Cycles' emission leaves
-// both sides), a Principled BSDF's times its Alpha (the Transparent BSDF
-// Cycles mixes in takes the rest).
+// Emitted radiance toward the ray (pb_surface_emission, src/ref/bsdf.c):
+// the material's, from the front only unless double-sided (Blender
+// materials are: Cycles' emission leaves both sides), a Principled BSDF's
+// times its Alpha (the Transparent BSDF Cycles mixes in takes the rest). An
+// unlit surface's base colour counts on camera paths only; the passes that
+// call this for other paths (direct.comp's emitter samples) never meet one,
+// since the emitter table holds emissive materials only.
 vec3 pb_emission(pb_surface s) {
   if (!SC_EMISSIVE) return vec3(0.0);
   pb_gpu_material m = materials[s.mat];
   if (!s.front && (m.flags & PB_GPU_MAT_DOUBLE_SIDED) == 0u) return vec3(0.0);
+  if ((m.flags & PB_GPU_MAT_UNLIT) != 0u) return pb_surface_base_color(s).rgb;
   vec3 e = m.emissive;
-  if (SC_TEXTURES && m.emissive_tex != PB_GPU_NO_TEXTURE) e *= pb_texture_sample(m.emissive_tex, s.uv).rgb;
+  if (SC_TEXTURES && m.emissive_tex != PB_GPU_NO_TEXTURE) e *= pb_texture_lookup(m.emissive_tex, s).rgb;
   if (SC_BLENDER && m.model == PB_GPU_MODEL_PRINCIPLED) e *= pb_blender_alpha(s);
   return e;
 }
-
 // Normal mapping (glTF 2.0, material.normalTexture): in the tangent frame of
 // the interpolated vertex normal N, tangent T (Gram-Schmidt against N at the
 // hit) and bitangent B = cross(N, T) w (glTF TANGENT's handedness),
@@ -229,8 +293,6 @@ void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   if (m.normal_tex == PB_GPU_NO_TEXTURE) return;
   float w = 1.0 - u - v;
   uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
-  vec2 uv = vec2(uvs[2u * i0], uvs[2u * i0 + 1u]) * w + vec2(uvs[2u * i1], uvs[2u * i1 + 1u]) * u +
-            vec2(uvs[2u * i2], uvs[2u * i2 + 1u]) * v;
   vec3 p0 = pb_position(i0), p1 = pb_position(i1), p2 = pb_position(i2);
   vec3 n = normalize(cross(p1 - p0, p2 - p0)); // as stored (not facing the ray)
   if (SC_HAS_NORMALS) {
@@ -256,7 +318,7 @@ void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   } else {
     pb_basis(n, t, bb);
   }
-  vec3 c = pb_texture_sample(m.normal_tex, uv).rgb * 2.0 - 1.0;
+  vec3 c = pb_texture_lookup(m.normal_tex, s).rgb * 2.0 - 1.0;
   c.xy *= m.normal_scale;
   vec3 nm = t * c.x + bb * c.y + n * c.z;
   float ml = length(nm);

@@ -49,19 +49,11 @@ PB_STRUCT(pb_gpu_temporal_push) {
 } PB_END(pb_gpu_temporal_push)
 
 /* Motion vectors (src/render/motion.c, shaders/motion.comp): this frame's
- * camera and the previous frame's, for the pixel-centre ray and the
- * reprojection. Vectors in xyz (w unused). Binding 4 of the pass. */
+ * camera (its pixel-centre rays) and the previous frame's (the
+ * reprojection), both for the same image. Binding 4 of the pass. */
 PB_STRUCT(pb_gpu_motion_params) {
-  PB_VEC4(cam_pos);
-  PB_VEC4(cam_forward);
-  PB_VEC4(cam_right);
-  PB_VEC4(cam_up);
-  PB_VEC4(prev_pos);
-  PB_VEC4(prev_forward);
-  PB_VEC4(prev_right);
-  PB_VEC4(prev_up);
-  float tan_x, tan_y;           /* this camera: half-extents at distance 1 */
-  float prev_tan_x, prev_tan_y; /* the previous camera's */
+  pb_gpu_camera cam;
+  pb_gpu_camera prev;
   uint width;
   uint height;
   uint triangle_count;
@@ -69,7 +61,7 @@ PB_STRUCT(pb_gpu_motion_params) {
 } PB_END(pb_gpu_motion_params)
 
 #ifndef PB_GLSL
-_Static_assert(sizeof(pb_gpu_motion_params) == 160, "pb_gpu_motion_params size");
+_Static_assert(sizeof(pb_gpu_motion_params) == 176, "pb_gpu_motion_params size");
 _Static_assert(sizeof(pb_gpu_atrous_push) == 32, "pb_gpu_atrous_push size");
 _Static_assert(sizeof(pb_gpu_temporal_push) == 48, "pb_gpu_temporal_push size");
 #endif

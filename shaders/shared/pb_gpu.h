@@ -90,6 +90,7 @@ PB_STRUCT(pb_gpu_hit) {
  * into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
 PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
 PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
+PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
 /* model: pb_material_model's values. */
 PB_CONST(PB_GPU_MODEL_GLTF, 0u)
 PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
@@ -144,11 +145,17 @@ PB_STRUCT(pb_gpu_material) {
   float normal_strength;     /* Blender's Normal Map strength (normal_tex) */
   float in_value[16];        /* PB_GPU_IN_* inputs, Blender's socket values */
   uint in_tex[16];           /* their textures (see PB_GPU_INPUT_TEX_INDEX) */
+  PB_VEC3(attenuation);      /* KHR_materials_volume: sigma_a [1/m] of the
+                                medium inside (pb_material.attenuation) */
+  uint pad0;
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
  * byte), rows top to bottom, starting at texel `offset` of the texel buffer.
- * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. */
+ * flags: bit 0 sRGB, bit 1 nearest; wrap modes as pb_wrap. How the material
+ * reads it (pb_texture.texcoord, uv_xform): uv set `texcoord` (0 or 1),
+ * then u' = dot(xform_u.xyz, (u, v, 1)), v' = dot(xform_v.xyz, (u, v, 1))
+ * (the identity rows without KHR_texture_transform). */
 PB_CONST(PB_GPU_TEX_SRGB, 1u)
 PB_CONST(PB_GPU_TEX_NEAREST, 2u)
 PB_STRUCT(pb_gpu_texture) {
@@ -158,16 +165,30 @@ PB_STRUCT(pb_gpu_texture) {
   uint flags;
   uint wrap_s;
   uint wrap_t;
-  uint pad0;
+  uint texcoord;
   uint pad1;
+  PB_VEC4(xform_u);
+  PB_VEC4(xform_v);
 } PB_END(pb_gpu_texture)
 
-/* Delta light, radiometric (scene.h): radiance = color * intensity folded
- * into `power` [W/sr or W/m^2]. direction: unit, the way light travels.
- * Spot: cos_outer/cos_inner of the cone. */
+/* Light, radiometric (scene.h pb_light): color * intensity folded into
+ * `power` (point/spot: W/sr; directional: W/m^2; area: W/(m^2 sr) normal to
+ * it). direction: unit, the way light travels. Spot: cos_outer/cos_inner of
+ * KHR's smooth step, or with PB_GPU_LIGHT_CYCLES_SPOT Cycles 3.4's falloff
+ * from cos_outer and spot_blend. Soft lights (src/ref/soft_lights.c,
+ * shaders/common/lights.glsl): point/spot with radius > 0 (Cycles' disc
+ * facing the lit point); directional with radius = tan(angle / 2) > 0 (the
+ * sun's disc at unit distance; cos_half = cos(angle / 2)); area lights of
+ * full widths size_u, size_v along the unit axes axis_u, axis_v, with the
+ * spread profile's tan_spread (tan a; 0: no spread) and norm_spread N(a). */
 PB_CONST(PB_GPU_LIGHT_POINT, 0u)
 PB_CONST(PB_GPU_LIGHT_SPOT, 1u)
 PB_CONST(PB_GPU_LIGHT_DIRECTIONAL, 2u)
+PB_CONST(PB_GPU_LIGHT_AREA, 3u)
+PB_CONST(PB_GPU_LIGHT_ELLIPSE, 1u)     /* flags: an area light's shape is an ellipse */
+PB_CONST(PB_GPU_LIGHT_CYCLES_SPOT, 2u) /* Cycles 3.4's spot falloff */
+PB_CONST(PB_GPU_LIGHT_NO_SHADOW, 4u)   /* casts no shadow */
+PB_CONST(PB_GPU_LIGHT_NO_MIS, 8u)      /* not seen by BSDF-sampled rays */
 PB_STRUCT(pb_gpu_light) {
   PB_VEC3(position);
   uint type;
@@ -175,7 +196,42 @@ PB_STRUCT(pb_gpu_light) {
   float cos_outer;
   PB_VEC3(power);
   float cos_inner;
+  PB_VEC3(axis_u);
+  float radius;
+  PB_VEC3(axis_v);
+  float spot_blend;
+  float size_u;
+  float size_v;
+  float tan_spread;
+  float norm_spread;
+  uint flags;              /* PB_GPU_LIGHT_* flags */
+  float cos_half;          /* directional: cos(angle / 2) */
+  uint pad0;
+  uint pad1;
 } PB_END(pb_gpu_light)
+
+/* The world light (scene.h pb_world, scene/world.h), at the start of its own
+ * buffer, followed by float data[]: per map texel (top row first) a vec4
+ * (R, G, B radiance before `scale`, and the row's conditional CDF at this
+ * cell's left edge), then height + 1 floats of the marginal CDF over the
+ * rows. map_to: rows of the 3x3 taking a scene direction to the map's
+ * frame. flags: PB_GPU_WORLD_*. */
+PB_CONST(PB_GPU_WORLD_PRESENT, 1u)
+PB_CONST(PB_GPU_WORLD_MAP, 2u)         /* a map (else the constant colour) */
+PB_CONST(PB_GPU_WORLD_CAMERA, 4u)      /* camera rays see it (opaque film, visible) */
+PB_CONST(PB_GPU_WORLD_SAMPLED, 8u)     /* the map has a sampling table */
+PB_CONST(PB_GPU_WORLD_LIGHT, 0xffffffffu) /* pb_gpu_photon_light.light of the world */
+PB_STRUCT(pb_gpu_world) {
+  PB_VEC3(color);
+  uint flags;
+  PB_VEC4(map_to0);
+  PB_VEC4(map_to1);
+  PB_VEC4(map_to2);
+  uint width;
+  uint height;
+  float scale;
+  uint marg_offset;        /* float index of the marginal CDF in data[] */
+} PB_END(pb_gpu_world)
 
 /* Emissive triangle of the light-sampling table, 16 bytes, in scene order.
  * Picked by power (area x luminance of `emissive` x sides, the reference's
@@ -190,19 +246,41 @@ PB_STRUCT(pb_gpu_emitter) {
   float area;
 } PB_END(pb_gpu_emitter)
 
+/* A camera's rays for one image, 80 bytes (src/scene/camera.h builds it from
+ * a pb_camera; shaders/common/camera.glsl and pb_camera_ray trace it). Image
+ * position (px, py) in pixels, top row first, maps to the screen point
+ *   sx = x0 + px dx, sy = y0 + py dy  (dy < 0: rows run down);
+ * perspective: the ray leaves `position` along normalize(forward + sx right
+ * + sy up) (sx, sy at distance 1); orthographic: it leaves position + sx
+ * right + sy up (metres) along forward. Either starts at the near clip plane
+ * (depth clip_near along forward) and ends at the far one (clip_far, 0:
+ * none), as Cycles' camera rays do (kernel/camera/camera.h). A crop of a
+ * larger image keeps the larger image's window (pb_gpu_frame.key_*). */
+PB_STRUCT(pb_gpu_camera) {
+  PB_VEC3(position);
+  float x0;
+  PB_VEC3(forward);
+  float dx;
+  PB_VEC3(right);
+  float y0;
+  PB_VEC3(up);
+  float dy;
+  float clip_near;
+  float clip_far;
+  uint orthographic;
+  uint pad0;
+} PB_END(pb_gpu_camera)
+
 /* Per-frame constants (a storage buffer, read by every render pass).
- * Camera: pixel (x, y), top row first, looks along
- *   forward + sx right + sy up, sx = (2 px / width - 1) tan_x,
- *   sy = (1 - 2 py / height) tan_y, (px, py) the sample position in pixels. */
+ * A crop of a larger frame (render --crop): pixel (x, y) of this image is
+ * the frame's pixel (x + key_x0, y + key_y0): `cam` is the frame's window,
+ * traced at that position, and the pixel's random numbers are keyed by its
+ * index in the frame, (y + key_y0) key_width + x + key_x0, so a crop has
+ * exactly the full frame's samples there. key_width 0: no crop. */
 PB_STRUCT(pb_gpu_frame) {
-  PB_VEC3(cam_pos);
+  pb_gpu_camera cam;
   uint width;
-  PB_VEC3(cam_forward);
   uint height;
-  PB_VEC3(cam_right);
-  float tan_x;
-  PB_VEC3(cam_up);
-  float tan_y;
   uint spp;              /* samples per pixel of the whole frame */
   uint emitter_count;    /* entries of the emitter table (0: none) */
   uint light_count;
@@ -218,12 +296,20 @@ PB_STRUCT(pb_gpu_frame) {
                             vertex, pb_scene.tangents) start at this float
                             index of the normals buffer; 0: the scene has
                             no normal maps */
+  uint key_x0;
+  uint key_y0;
+  uint key_width;
+  uint uv1_base;         /* TEXCOORD_1 (float[2] per vertex, pb_scene.uvs1)
+                            from this float index of the uvs buffer; 0: none */
+  uint color_base;       /* COLOR_0 (float[4] per vertex, pb_scene.colors)
+                            from this float index of the uvs buffer; 0: none */
   float glossy_path_alpha2; /* Blender materials: a specular or clearcoat
                             closure whose alpha_x alpha_y (alpha = Blender
                             roughness^2) is above this is shaded where the
                             eye path stops, a smoother one followed by the
                             eye path (render.h glossy_path_roughness^4;
                             bench/README.md has the measurement) */
+  uint pad1;
   uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
@@ -259,9 +345,10 @@ PB_CONST(PB_GPU_LOBES_GLOSSY, 2u)
 PB_CONST(PB_GPU_LOBES_ALL, 3u)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
- * spp).
+ * spp), 80 bytes.
  * beauty.w: samples that hit geometry. depth: camera-space z summed over hit
- * samples (divide by beauty.w). */
+ * samples (divide by beauty.w). emission: what the first hit emits toward
+ * the camera (Blender's Emit pass; also in direct and beauty). */
 PB_STRUCT(pb_gpu_accum) {
   PB_VEC4(beauty);
   PB_VEC3(direct);       /* at most one scattering event (reference's split) */
@@ -270,6 +357,8 @@ PB_STRUCT(pb_gpu_accum) {
   float material;        /* material index of the first hit, + 1 (0: miss) */
   PB_VEC3(normal);
   float pad0;
+  PB_VEC3(emission);
+  float pad1;
 } PB_END(pb_gpu_accum)
 
 /* Push constants of the render passes: which sample of the frame this
@@ -326,10 +415,13 @@ PB_STRUCT(pb_gpu_photon_params) {
 } PB_END(pb_gpu_photon_params)
 
 /* One light's share of the photon budget: paths first .. first + count - 1
- * start at lights[light]. power: flux of each photon before the spot
- * falloff, W (point: 4 pi I / count; spot: 2 pi (1 - cos_outer) I / count;
- * directional: E pi R^2 / count). diff_scale: factor on the emission
- * differentials so that the global Delta applies (see photon_trace.comp). */
+ * start at lights[light] (or the world, light == PB_GPU_WORLD_LIGHT).
+ * power: flux of each photon before its direction's factor, W (point,
+ * sphere: 4 pi I / count; spot: 2 pi (1 - cos_outer) I / count, times the
+ * falloff; directional, soft sun: E pi R^2 / count; area: L A pi cos^2 a /
+ * count, times the spread profile; world: pi R^2 / count, times L / pdf of
+ * the direction). diff_scale: factor on the emission differentials so that
+ * the global Delta applies (see photon_trace.comp). */
 PB_STRUCT(pb_gpu_photon_light) {
   PB_VEC3(power);
   uint light;
@@ -356,7 +448,7 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 240)
+PB_LAYOUT(pb_gpu_material, 256)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
@@ -364,31 +456,44 @@ PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
 PB_OFFSET(pb_gpu_material, model, 84) PB_OFFSET(pb_gpu_material, subsurface_color, 96)
 PB_OFFSET(pb_gpu_material, normal_strength, 108) PB_OFFSET(pb_gpu_material, in_value, 112)
-PB_OFFSET(pb_gpu_material, in_tex, 176)
-PB_LAYOUT(pb_gpu_texture, 32)
+PB_OFFSET(pb_gpu_material, in_tex, 176) PB_OFFSET(pb_gpu_material, attenuation, 240)
+PB_LAYOUT(pb_gpu_texture, 64)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
-PB_LAYOUT(pb_gpu_light, 48)
+PB_OFFSET(pb_gpu_texture, texcoord, 24) PB_OFFSET(pb_gpu_texture, xform_u, 32)
+PB_OFFSET(pb_gpu_texture, xform_v, 48)
+PB_LAYOUT(pb_gpu_light, 112)
 PB_OFFSET(pb_gpu_light, type, 12) PB_OFFSET(pb_gpu_light, direction, 16)
 PB_OFFSET(pb_gpu_light, cos_outer, 28) PB_OFFSET(pb_gpu_light, power, 32)
-PB_OFFSET(pb_gpu_light, cos_inner, 44)
+PB_OFFSET(pb_gpu_light, cos_inner, 44) PB_OFFSET(pb_gpu_light, axis_u, 48)
+PB_OFFSET(pb_gpu_light, radius, 60) PB_OFFSET(pb_gpu_light, axis_v, 64)
+PB_OFFSET(pb_gpu_light, spot_blend, 76) PB_OFFSET(pb_gpu_light, size_u, 80)
+PB_OFFSET(pb_gpu_light, norm_spread, 92) PB_OFFSET(pb_gpu_light, flags, 96)
+PB_OFFSET(pb_gpu_light, cos_half, 100)
+PB_LAYOUT(pb_gpu_world, 80)
+PB_OFFSET(pb_gpu_world, flags, 12) PB_OFFSET(pb_gpu_world, map_to0, 16)
+PB_OFFSET(pb_gpu_world, map_to2, 48) PB_OFFSET(pb_gpu_world, width, 64)
+PB_OFFSET(pb_gpu_world, scale, 72) PB_OFFSET(pb_gpu_world, marg_offset, 76)
 PB_LAYOUT(pb_gpu_emitter, 16)
 PB_OFFSET(pb_gpu_emitter, cdf, 4) PB_OFFSET(pb_gpu_emitter, pick, 8) PB_OFFSET(pb_gpu_emitter, area, 12)
-PB_LAYOUT(pb_gpu_frame, 112)
-PB_OFFSET(pb_gpu_frame, width, 12) PB_OFFSET(pb_gpu_frame, cam_forward, 16)
-PB_OFFSET(pb_gpu_frame, height, 28) PB_OFFSET(pb_gpu_frame, cam_right, 32)
-PB_OFFSET(pb_gpu_frame, tan_x, 44) PB_OFFSET(pb_gpu_frame, cam_up, 48)
-PB_OFFSET(pb_gpu_frame, tan_y, 60) PB_OFFSET(pb_gpu_frame, spp, 64)
-PB_OFFSET(pb_gpu_frame, emitter_count, 68)
-PB_OFFSET(pb_gpu_frame, seed_lo, 80) PB_OFFSET(pb_gpu_frame, pixel_count, 92)
-PB_OFFSET(pb_gpu_frame, pixel_base, 96) PB_OFFSET(pb_gpu_frame, tangent_base, 100)
+PB_LAYOUT(pb_gpu_camera, 80)
+PB_OFFSET(pb_gpu_camera, x0, 12) PB_OFFSET(pb_gpu_camera, forward, 16) PB_OFFSET(pb_gpu_camera, dx, 28)
+PB_OFFSET(pb_gpu_camera, right, 32) PB_OFFSET(pb_gpu_camera, y0, 44) PB_OFFSET(pb_gpu_camera, up, 48)
+PB_OFFSET(pb_gpu_camera, dy, 60) PB_OFFSET(pb_gpu_camera, clip_near, 64) PB_OFFSET(pb_gpu_camera, orthographic, 72)
+PB_LAYOUT(pb_gpu_frame, 160)
+PB_OFFSET(pb_gpu_frame, width, 80) PB_OFFSET(pb_gpu_frame, spp, 88)
+PB_OFFSET(pb_gpu_frame, seed_lo, 104) PB_OFFSET(pb_gpu_frame, flags, 112)
+PB_OFFSET(pb_gpu_frame, pixel_base, 120) PB_OFFSET(pb_gpu_frame, tangent_base, 124)
+PB_OFFSET(pb_gpu_frame, key_x0, 128) PB_OFFSET(pb_gpu_frame, key_width, 136)
+PB_OFFSET(pb_gpu_frame, uv1_base, 140) PB_OFFSET(pb_gpu_frame, color_base, 144)
+PB_OFFSET(pb_gpu_frame, glossy_path_alpha2, 148)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)
 PB_OFFSET(pb_gpu_gbuffer, motion_x, 48) PB_OFFSET(pb_gpu_gbuffer, chain, 56)
-PB_LAYOUT(pb_gpu_accum, 64)
+PB_LAYOUT(pb_gpu_accum, 80)
 PB_OFFSET(pb_gpu_accum, direct, 16) PB_OFFSET(pb_gpu_accum, depth, 28)
 PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
-PB_OFFSET(pb_gpu_accum, normal, 48)
+PB_OFFSET(pb_gpu_accum, normal, 48) PB_OFFSET(pb_gpu_accum, emission, 64)
 PB_LAYOUT(pb_gpu_raycast_push, 16)
 PB_LAYOUT(pb_gpu_pass_push, 16)
 PB_LAYOUT(pb_gpu_photon_params, 80)

@@ -1,86 +1,140 @@
 /* The photon LBVH and the gather (seed 000 sections 5-6): structs shared by
- * src/render/lbvh.c, src/render/gather.c, shaders/lbvh_*.comp and
+ * src/render/lbvh.c, lbvh_sort.c, gather.c, shaders/lbvh_*.comp and
  * shaders/gather.comp. Included after pb_gpu.h and pb_photon.h.
  *
- * The tree is Karras' (2012) binary radix tree over the photons sorted by
- * 30-bit Morton code (ties broken by sorted index): N - 1 inner nodes, node 0
- * the root, the photons (in sorted order) its leaves. Every inner node covers
- * the sorted interval first..last. Leaf merge (section 5.3, reversed as in
- * 6.2): a node whose count is <= T_auto, or whose photons all share one
- * Morton code, is collapsed into a leaf. A child reference with
- * PB_LBVH_LEAF set is a leaf: the index of its first sorted photon; the leaf
- * runs to the photon whose flags carry PB_PHOTON_LEAF_END (section 6.3). */
+ * The tree is the binary radix tree (Karras 2012) over the photons sorted by
+ * 30-bit Morton code, ties broken by sorted index, built bottom-up in one
+ * pass (Apetrei 2014): inner node p is the split between sorted photons p
+ * and p + 1 (0 <= p <= count - 2). Leaf merge (seed 000 5.3, reversed as in
+ * 6.2): a subtree of at most T_auto photons, or whose photons all share one
+ * Morton code, is one leaf. A node stores its two children, each with its
+ * box, its reference and its photon count (seed 000 6.3 keeps the child
+ * boxes with the inner node): the reference is an inner node index, or
+ * PB_LBVH_LEAF | the first sorted photon of a leaf of `count` photons. When
+ * the whole map is one leaf, node count - 1 holds it as child 0 (child 1
+ * empty) and is the root. */
 #ifndef PB_LBVH_SHARED_H
 #define PB_LBVH_SHARED_H
 
 PB_CONST(PB_LBVH_LEAF, 0x80000000u)
 PB_CONST(PB_LBVH_NONE, 0xffffffffu)
-/* Traversal stack: Karras depth is at most 30 code bits + 32 index bits. */
+/* Traversal stack: one entry per level, and the tree is at most 30 code bits
+ * + 32 index bits deep. */
 PB_CONST(PB_LBVH_STACK, 64)
-/* Radix sort: 4 bits per pass, 8 passes over the 30-bit codes, tiles of
- * PB_GPU_WORKGROUP keys per workgroup. */
-PB_CONST(PB_LBVH_RADIX_BITS, 4)
-PB_CONST(PB_LBVH_RADIX, 16)
-PB_CONST(PB_LBVH_SORT_PASSES, 8)
-/* Boxes: nodes of at most this many photons (or count / 4096 where larger)
- * loop over their interval (lbvh_boxes), larger ones combine those
- * (lbvh_boxes_top). */
-PB_CONST(PB_LBVH_BOX_INTERVAL, 1024u)
+/* Photons per invocation of lbvh_bounds (a tile of 64 x 16). */
+PB_CONST(PB_LBVH_BOUNDS_PPT, 16)
+PB_CONST(PB_LBVH_BOUNDS_TILE, 1024)
 /* T_auto = clamp(round(footprint area sum / scene area), 1, PB_LBVH_MAX_LEAF) */
 PB_CONST(PB_LBVH_MAX_LEAF, 256)
-/* A fixed threshold (info.t_fixed) may go up to this (seed 000 Table 1's
+/* A fixed threshold (push.t_fixed) may go up to this (seed 000 Table 1's
  * sweep reaches 512). */
 PB_CONST(PB_LBVH_MAX_FIXED_LEAF, 4096)
+/* The Morton codes' bits (10 per axis): the radix sort's key width. */
+PB_CONST(PB_LBVH_MORTON_BITS, 30)
 
-/* Inner node, 48 bytes. lo/hi: the union of the footprint boxes (exact
- * AABBs of the ellipsoids) below it. left/right: child references (an inner
- * node index, or PB_LBVH_LEAF | first sorted photon). first/last: sorted
- * photon interval. flags: bit 0 collapsed (a leaf by the merge). */
-PB_STRUCT(pb_gpu_lbvh_node) {
+/* One child of an inner node, 32 bytes. lo/hi: the union of the exact AABBs
+ * of the footprint ellipsoids below it (an empty child: lo = +inf, hi =
+ * -inf, count 0). */
+PB_STRUCT(pb_gpu_lbvh_child) {
   PB_VEC3(lo);
-  uint left;
+  uint ref;              /* inner node index, or PB_LBVH_LEAF | first photon */
   PB_VEC3(hi);
-  uint right;
-  uint parent;           /* PB_LBVH_NONE at the root */
-  uint first;
-  uint last;
-  uint flags;
-} PB_END(pb_gpu_lbvh_node)
-PB_CONST(PB_LBVH_NODE_COLLAPSED, 1u)
+  uint count;            /* photons below (a leaf's size) */
+} PB_END(pb_gpu_lbvh_child)
 
-/* Build state and results, 96 bytes (one per map). The host writes count,
- * scene_area, tiles, root and the bound sentinels before each build. */
+/* Inner node, 64 bytes (one cache line of most GPUs and CPUs). */
+PB_STRUCT(pb_gpu_lbvh_node) {
+  pb_gpu_lbvh_child child[2];
+} PB_END(pb_gpu_lbvh_node)
+
+/* Build state and results, 128 bytes (one per map), written by lbvh_setup
+ * from the push constants at the start of every build: nothing is uploaded
+ * or read back between the passes. */
 PB_STRUCT(pb_gpu_lbvh_info) {
-  uint count;            /* photons in the map */
-  uint root;             /* reference of the root (PB_LBVH_NONE: empty) */
-  uint t_auto;           /* leaf-size threshold (written by lbvh_reduce) */
-  uint leaves;           /* leaves after the merge (atomic count) */
-  uint bmin[3];          /* position bounds as order-preserving uints */
-  uint tiles;            /* sort tiles: ceil(count / PB_GPU_WORKGROUP) */
+  uint count;            /* photons in the map (min of the stored count and the capacity) */
+  uint root;             /* the root node (PB_LBVH_NONE: empty map) */
+  uint t_auto;           /* leaf-size threshold in use (lbvh_bounds) */
+  uint leaves;           /* leaves after the merge (atomic count, lbvh_climb) */
+  uint bmin[3];          /* position bounds as order-preserving uints (atomics) */
+  uint tiles;            /* lbvh_bounds tiles: ceil(count / PB_LBVH_BOUNDS_TILE) */
   uint bmax[3];
-  uint area_tiles;       /* partial area sums written by lbvh_bounds */
-  PB_VEC3(lo);           /* position bounds as floats (lbvh_reduce) */
-  float area_sum;        /* sum of footprint ellipse areas, m^2 */
+  uint tiles_done;       /* lbvh_bounds workgroups finished (the last one reduces) */
+  PB_VEC3(lo);           /* position bounds as floats (the Morton codes' box) */
+  float area_sum;        /* sum of the scaled footprint ellipse areas, m^2 */
   PB_VEC3(hi);
-  float scene_area;      /* sum of the scene's triangle areas, m^2 */
+  float scene_area;      /* sum of the scene's triangle areas, m^2 (push) */
   uint stack_overflow;   /* gather: traversals cut short (should be 0) */
-  float footprint_scale; /* host: factor on every footprint's axes and normal
-                            extent for this build (progressive bandwidth;
-                            lbvh_bounds, lbvh_reorder) */
-  uint t_fixed;          /* host: leaf-size threshold to use instead of T_auto
-                            (benchmark sweeps); 0: T_auto */
-  uint t_computed;       /* T_auto as computed (lbvh_reduce), also when
-                            t_fixed overrides it */
+  float footprint_scale; /* factor on every footprint's axes and normal extent
+                            for this build (progressive bandwidth; push) */
+  uint t_fixed;          /* leaf-size threshold to use instead of T_auto
+                            (benchmark sweeps; push); 0: T_auto */
+  uint t_computed;       /* T_auto as computed, also when t_fixed overrides it */
+  uint photon_args[4];   /* VkDispatchIndirectCommand: one invocation per photon */
+  uint tile_args[4];     /* one workgroup per lbvh_bounds tile */
 } PB_END(pb_gpu_lbvh_info)
 
-/* Push constants of the LBVH passes. */
+/* Push constants of the LBVH passes (lbvh_setup reads the host's values,
+ * the others only `sorted`). */
+PB_CONST(PB_LBVH_COUNT_FROM_MAP, 1u) /* flags: the count is the map's pb_gpu_photon_counts.stored */
 PB_STRUCT(pb_gpu_lbvh_push) {
-  uint shift;            /* radix pass: first bit of the digit */
-  uint src;              /* radix pass: offset of the source keys/values;
-                            boxes passes: the interval bound B */
-  uint dst;              /* radix pass: offset of the destination */
-  uint count;            /* invocation bound of this dispatch */
+  uint capacity;         /* photons the buffers hold */
+  uint host_count;       /* the count without PB_LBVH_COUNT_FROM_MAP (maps made by the host) */
+  uint flags;
+  uint max_groups_x;     /* maxComputeWorkGroupCount[0] (grids fold into y) */
+  float scene_area;
+  float footprint_scale;
+  uint t_fixed;
+  uint sorted;           /* offset of the sorted keys/values in the sort's buffers */
 } PB_END(pb_gpu_lbvh_push)
+
+/* ---- GPU radix sort (src/render/lbvh_sort.c, shaders/lbvh_sort_*.comp) ----
+ * LSD radix sort of 32-bit keys with 32-bit values, 8-bit digits, one pass
+ * per digit, reduce-then-scan (Merrill & Grimshaw 2011, "High performance and
+ * scalable radix sorting", section 4): per pass an upsweep counts each tile's
+ * digits, a spine scans the counts digit-major, a downsweep ranks every key
+ * within its tile (stable) and scatters it (on CPU devices one invocation
+ * counts and ranks a whole tile in order, see lbvh_sort.c). No pass waits on another
+ * workgroup (no decoupled look-back, so no forward-progress assumption); the
+ * key count is read on the GPU and every pass is dispatched indirectly. */
+PB_CONST(PB_SORT_RADIX_BITS, 8)
+PB_CONST(PB_SORT_RADIX, 256)
+PB_CONST(PB_SORT_MAX_PASSES, 4)
+/* Keys per invocation of the up- and downsweep; a tile is the
+ * PB_GPU_WORKGROUP x PB_SORT_KPT keys of one workgroup. */
+PB_CONST(PB_SORT_KPT, 16)
+PB_CONST(PB_SORT_TILE, 1024)
+/* The serial variant's tile: one invocation's keys (4x fewer tiles, so 4x
+ * less histogram and spine per key, for a loop that stays far below
+ * llvmpipe's 65535 iterations per invocation). */
+PB_CONST(PB_SORT_SERIAL_TILE, 4096)
+/* The spine gives each workgroup whole digits and at least this many tile
+ * counts, so that small sorts run on one workgroup and large ones on 256. */
+PB_CONST(PB_SORT_SPINE_MIN, 4096)
+
+/* Sort state, written by lbvh_sort_setup for every sort. */
+PB_STRUCT(pb_gpu_sort_state) {
+  uint count;            /* keys to sort (min of the source word and the capacity) */
+  uint tiles;            /* ceil(count / tile), tile = push.tile */
+  uint spine_digits;     /* digits per spine workgroup (power of two, <= 256) */
+  uint pad0;
+  uint tile_args[4];     /* VkDispatchIndirectCommand of the up/downsweeps (x, y, z), pad:
+                            a workgroup per tile */
+  uint serial_args[4];   /* the serial variant's: an invocation per tile */
+  uint spine_args[4];    /* of the spine */
+  uint totals[PB_SORT_MAX_PASSES * PB_SORT_RADIX]; /* keys per digit and pass (atomics) */
+} PB_END(pb_gpu_sort_state)
+
+/* Push constants of the sort passes. */
+PB_STRUCT(pb_gpu_sort_push) {
+  uint shift;            /* first bit of this pass's digit */
+  uint src;              /* offset of the source keys/values (0 or capacity) */
+  uint dst;              /* offset of the destination */
+  uint pass;             /* pass index (totals row) */
+  uint count_word;       /* setup: index of the key count in the count buffer */
+  uint capacity;         /* setup: keys the buffers hold */
+  uint max_groups_x;     /* setup: maxComputeWorkGroupCount[0] (grids fold into y) */
+  uint tile;             /* setup: keys per tile (PB_SORT_TILE or PB_SORT_SERIAL_TILE) */
+} PB_END(pb_gpu_sort_push)
 
 /* Gather output per pixel of the band, sums over samples, 32 bytes.
  * indirect.w: photons that contributed (for k_PD); caustic.w: unused. */
@@ -115,12 +169,12 @@ PB_STRUCT(pb_gpu_gather_push) {
 
 #ifndef PB_GLSL
 #include <stddef.h>
-_Static_assert(sizeof(pb_gpu_lbvh_node) == 48, "pb_gpu_lbvh_node size");
-_Static_assert(offsetof(pb_gpu_lbvh_node, left) == 12, "pb_gpu_lbvh_node.left");
-_Static_assert(offsetof(pb_gpu_lbvh_node, hi) == 16, "pb_gpu_lbvh_node.hi");
-_Static_assert(offsetof(pb_gpu_lbvh_node, right) == 28, "pb_gpu_lbvh_node.right");
-_Static_assert(offsetof(pb_gpu_lbvh_node, flags) == 44, "pb_gpu_lbvh_node.flags");
-_Static_assert(sizeof(pb_gpu_lbvh_info) == 96, "pb_gpu_lbvh_info size");
+_Static_assert(sizeof(pb_gpu_lbvh_child) == 32, "pb_gpu_lbvh_child size");
+_Static_assert(offsetof(pb_gpu_lbvh_child, ref) == 12, "pb_gpu_lbvh_child.ref");
+_Static_assert(offsetof(pb_gpu_lbvh_child, hi) == 16, "pb_gpu_lbvh_child.hi");
+_Static_assert(offsetof(pb_gpu_lbvh_child, count) == 28, "pb_gpu_lbvh_child.count");
+_Static_assert(sizeof(pb_gpu_lbvh_node) == 64, "pb_gpu_lbvh_node size");
+_Static_assert(sizeof(pb_gpu_lbvh_info) == 128, "pb_gpu_lbvh_info size");
 _Static_assert(offsetof(pb_gpu_lbvh_info, bmin) == 16, "pb_gpu_lbvh_info.bmin");
 _Static_assert(offsetof(pb_gpu_lbvh_info, tiles) == 28, "pb_gpu_lbvh_info.tiles");
 _Static_assert(offsetof(pb_gpu_lbvh_info, bmax) == 32, "pb_gpu_lbvh_info.bmax");
@@ -129,7 +183,17 @@ _Static_assert(offsetof(pb_gpu_lbvh_info, area_sum) == 60, "pb_gpu_lbvh_info.are
 _Static_assert(offsetof(pb_gpu_lbvh_info, hi) == 64, "pb_gpu_lbvh_info.hi");
 _Static_assert(offsetof(pb_gpu_lbvh_info, stack_overflow) == 80, "pb_gpu_lbvh_info.stack_overflow");
 _Static_assert(offsetof(pb_gpu_lbvh_info, footprint_scale) == 84, "pb_gpu_lbvh_info.footprint_scale");
-_Static_assert(sizeof(pb_gpu_lbvh_push) == 16, "pb_gpu_lbvh_push size");
+_Static_assert(offsetof(pb_gpu_lbvh_info, photon_args) == 96, "pb_gpu_lbvh_info.photon_args");
+_Static_assert(offsetof(pb_gpu_lbvh_info, tile_args) == 112, "pb_gpu_lbvh_info.tile_args");
+_Static_assert(sizeof(pb_gpu_lbvh_push) == 32, "pb_gpu_lbvh_push size");
+_Static_assert(PB_LBVH_BOUNDS_TILE == PB_GPU_WORKGROUP * PB_LBVH_BOUNDS_PPT, "bounds tile");
+_Static_assert(sizeof(pb_gpu_sort_state) == 64 + 4 * PB_SORT_MAX_PASSES * PB_SORT_RADIX, "pb_gpu_sort_state size");
+_Static_assert(offsetof(pb_gpu_sort_state, tile_args) == 16, "pb_gpu_sort_state.tile_args");
+_Static_assert(offsetof(pb_gpu_sort_state, serial_args) == 32, "pb_gpu_sort_state.serial_args");
+_Static_assert(offsetof(pb_gpu_sort_state, spine_args) == 48, "pb_gpu_sort_state.spine_args");
+_Static_assert(offsetof(pb_gpu_sort_state, totals) == 64, "pb_gpu_sort_state.totals");
+_Static_assert(sizeof(pb_gpu_sort_push) == 32, "pb_gpu_sort_push size");
+_Static_assert(PB_SORT_TILE == PB_GPU_WORKGROUP * PB_SORT_KPT, "sort tile");
 _Static_assert(sizeof(pb_gpu_photon_accum) == 32, "pb_gpu_photon_accum size");
 _Static_assert(sizeof(pb_gpu_photon_nmap) == 48, "pb_gpu_photon_nmap size");
 _Static_assert(sizeof(pb_gpu_gather_push) == 16, "pb_gpu_gather_push size");

@@ -15,10 +15,9 @@
 /* flags: bit 0 caustic (only specular interactions between the light and
  * this diffuse hit); bits 8..15 the number of diffuse bounces before this hit
  * (1 = first stored bounce, since the first hit is direct light and is never
- * stored, seed 001 24.2.1); bit 31 reserved for the LBVH (end of leaf). */
+ * stored, seed 001 24.2.1). */
 PB_CONST(PB_PHOTON_CAUSTIC, 1u)
 PB_CONST(PB_PHOTON_BOUNCE_SHIFT, 8u)
-PB_CONST(PB_PHOTON_LEAF_END, 0x80000000u)
 
 /* A stored photon hit, 96 bytes.
  *  position  world-space hit point (metres)

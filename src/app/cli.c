@@ -75,6 +75,16 @@ static pb_result set_value(const pb_command *cmd, const pb_opt *o,
   return pb_fail(PB_ERR_INTERNAL, "bad option kind");
 }
 
+/* A word that reads as an option: "-x" or "--name", but not "-" alone or
+ * a negative number ("-1", "-0.5e3"). */
+static int looks_like_option(const char *a) {
+  if (a[0] != '-' || a[1] == 0) return 0;
+  char *end = NULL;
+  errno = 0;
+  (void)strtod(a, &end);
+  return !(end != a && *end == 0);
+}
+
 pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        const pb_opt *opts, size_t n, const char **pos,
                        size_t max_pos, size_t *pos_count, int *help) {
@@ -122,6 +132,12 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
     if (o->kind != PB_OPT_FLAG && !val) {
       if (i + 1 >= argc)
         return pb_fail(PB_ERR_USAGE, "%s: --%s needs a value", cmd->name, o->name);
+      /* `--png --width 96`: the next word is an option, not this one's
+       * value. "-" (stdout) and negative numbers are values; any other
+       * value that begins with '-' must be written --name=VALUE. */
+      if (looks_like_option(argv[i + 1]))
+        return pb_fail(PB_ERR_USAGE, "%s: --%s needs a value, got the option '%s' (write --%s=VALUE for a value that starts with '-')",
+                       cmd->name, o->name, argv[i + 1], o->name);
       val = argv[++i];
     }
     pb_result r = set_value(cmd, o, val);
@@ -183,12 +199,38 @@ pb_result pb_cli_load_scene(const char *path, const pb_core_opts *c,
   return PB_OK;
 }
 
+pb_result pb_cli_pose(pb_scene *s, const pb_pose_opts *p, double *t) {
+  if (t) *t = NAN;
+  if (isnan(p->frame)) return PB_OK;
+  if (!s->anim) {
+    pb_log_warn("%s: --frame %g: the scene has no animation; the file's pose is used", s->path, p->frame);
+    return PB_OK;
+  }
+  double time = p->frame / (p->fps > 0 ? p->fps : 24.0);
+  if (t) *t = time;
+  return pb_scene_set_time(s, time);
+}
+
 pb_result pb_cli_pick_camera(const pb_scene *s, const pb_core_opts *c,
                              int *camera, uint32_t *w, uint32_t *h) {
   *camera = pb_scene_find_camera(s, c->camera);
-  if (*camera < 0)
-    return pb_fail(PB_ERR_USAGE, "%s: no camera named '%s' (see 'photonbridge info')",
+  if (*camera == PB_CAMERA_AMBIGUOUS) {
+    char list[256];
+    size_t k = 0;
+    list[0] = 0;
+    for (uint32_t i = 0; i < s->camera_count && k < sizeof list - 16; ++i)
+      if (strcmp(s->cameras[i].name, c->camera) == 0)
+        k += (size_t)snprintf(list + k, sizeof list - k, "%s%u", k ? ", " : "", i);
+    return pb_fail(PB_ERR_USAGE, "%s: --camera: cameras %s are all named '%s': choose one by its number, e.g. --camera %lu (see 'photonbridge info')",
+                   s->path, list, c->camera, strtoul(list, NULL, 10));
+  }
+  if (*camera < 0) {
+    if (c->camera && c->camera[0] && !c->camera[strspn(c->camera, "0123456789")])
+      return pb_fail(PB_ERR_USAGE, "%s: --camera: no camera %s (the scene has %u, numbered from 0; see 'photonbridge info')",
+                     s->path, c->camera, s->camera_count);
+    return pb_fail(PB_ERR_USAGE, "%s: --camera: no camera named '%s' (see 'photonbridge info')",
                    s->path, c->camera);
+  }
   pb_camera_image_size(&s->cameras[*camera], c->width, c->height, w, h);
   return PB_OK;
 }

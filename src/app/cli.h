@@ -84,13 +84,33 @@ typedef struct pb_core_opts {
    NULL, 1, 16384},                                                            \
   {"height", 0, PB_OPT_U32, &(c)->height, "H",                                 \
    "image height (default from the camera's aspect ratio)", NULL, 1, 16384},  \
-  {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME",                           \
-   "camera to render (default: the first)", NULL, 0, 0},                       \
+  {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME|N",                         \
+   "camera to render, by name or by its number in 'info' (default: 0)", NULL, \
+   0, 0},                                                                      \
   {"seed", 0, PB_OPT_U64, &(c)->seed, "N", "random seed (default 0)", NULL,   \
    0, 0},                                                                      \
   PB_SCENE_OPTS(c)
 
 extern const char *const pb_light_units_names[];
+
+/* --frame N and --fps F of the single-image commands (reference,
+ * export-pov): the scene's animation (nodes, skins, morph weights) posed at
+ * t = N / F seconds, as `render --frames N:N` does. frame: NAN when not
+ * given (the file's own pose). */
+typedef struct pb_pose_opts {
+  double frame, fps;
+} pb_pose_opts;
+#define PB_POSE_OPTS(p)                                                        \
+  {"frame", 0, PB_OPT_FLOAT, &(p)->frame, "N",                                 \
+   "pose the scene's animation at frame N (t = N / fps; default: the file's "  \
+   "own pose)", NULL, 0, 0},                                                   \
+  {"fps", 0, PB_OPT_FLOAT, &(p)->fps, "F",                                     \
+   "--frame: frames per second (default 24)", NULL, 0.001, 1e6}
+
+/* Poses s per --frame / --fps (nothing without --frame; a warning when the
+ * scene has no animation). *t (may be NULL): the time posed at, NAN when
+ * not posed. */
+pb_result pb_cli_pose(pb_scene *s, const pb_pose_opts *p, double *t);
 
 /* Applies --quiet/--verbose and fills a load desc from the core options. */
 void pb_core_opts_apply(const pb_core_opts *c, pb_load_desc *desc);

@@ -143,7 +143,7 @@ int pb_cmd_compare(int argc, char **argv) {
     r = pb_fail(PB_ERR_NOMEM, "compare: out of memory for %ux%u images", ti.width, ti.height);
     goto done;
   }
-  r = pb_color_opts_open(&co, &color);
+  r = pb_color_opts_open_for(&co, PB_COLOR_METRICS, &color);
   if (r != PB_OK) goto done;
   pb_metrics_desc md = {display_view, color};
   r = pb_metrics_compute(t, rf, ti.width, ti.height, 3, &md, &m);

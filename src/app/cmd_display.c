@@ -46,12 +46,9 @@ int pb_cmd_display(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_color_opts co = {0};
   const char *out = NULL, *layer = NULL;
-  double exposure = 0;
   int list = 0;
   const pb_opt opts[] = {
       {"output", 'o', PB_OPT_STRING, &out, "OUT", "output PNG", NULL, 0, 0},
-      {"exposure", 0, PB_OPT_FLOAT, &exposure, "STOPS", "scale by 2^STOPS before the view (default 0)",
-       NULL, -32, 32},
       {"layer", 0, PB_OPT_STRING, &layer, "NAME", "EXR layer to show (default: the main R, G, B)",
        NULL, 0, 0},
       {"list", 0, PB_OPT_FLAG, &list, NULL, "list the config's displays, views and looks, then exit",
@@ -89,7 +86,12 @@ int pb_cmd_display(int argc, char **argv) {
     uint32_t nc = 0;
     r = gather(&img, pos[0], layer, &rgba, &nc);
     if (r == PB_OK)
-      r = pb_png_write_display(out, color, img.width, img.height, nc, rgba, (float)exposure);
+      r = pb_png_write_display(out, color, img.width, img.height, nc, rgba);
+    if (r == PB_OK) {
+      char view[768];
+      pb_color_describe(color, view, sizeof view);
+      printf("display: wrote %s through %s\n", out, view);
+    }
     free(rgba);
     pb_image_destroy(&img);
   }

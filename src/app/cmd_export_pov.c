@@ -2,6 +2,7 @@
  * SDL (units, camera and handedness per src/pov/pov.h). What POV-Ray cannot
  * show the same way is reported on stdout (and as comments in the file);
  * --strict makes it an error. */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -21,8 +22,10 @@ int pb_cmd_export_pov(int argc, char **argv) {
   int quality = 1; /* index into pb_pov_quality_names: medium */
   double fade = 0;
   int strict = 0;
+  pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
       PB_RENDER_OPTS(&c),
+      PB_POSE_OPTS(&pose),
       {"quality", 0, PB_OPT_CHOICE, &quality, "PRESET",
        "radiosity and photon settings: draft, medium (default), high, or direct (no radiosity, no photons)",
        pb_pov_quality_names, 0, 0},
@@ -52,9 +55,11 @@ int pb_cmd_export_pov(int argc, char **argv) {
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   int camera;
   uint32_t w, h;
-  r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
+  double t;
+  r = pb_cli_pose(&s, &pose, &t);
+  if (r == PB_OK) r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
   if (r == PB_OK) {
-    pb_pov_desc d = {w, h, camera, (pb_pov_quality)(quality + 1), (float)fade};
+    pb_pov_desc d = {w, h, camera, (pb_pov_quality)(quality + 1), (float)fade, t};
     pb_pov_report rep;
     r = pb_pov_export(&s, &d, c.out, &rep);
     if (r == PB_OK) {

@@ -6,11 +6,27 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "color/color.h"
 #include "core/json.h"
 #include "render/plan.h"
+#include "scene/camera.h"
 
-static const char *const light_type_names[] = {"point", "spot", "directional"};
+static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
+
+/* The view PNG previews of this scene go through by default (`render --png`,
+ * `display`, `validate`'s pictures): one line, or why there is none. */
+static void default_view(char *buf, size_t size) {
+  pb_color *c = NULL;
+  if (pb_color_open(NULL, &c) == PB_OK) {
+    pb_color_describe(c, buf, size);
+  } else {
+    snprintf(buf, size, "unavailable: %s", pb_error_message());
+    pb_error_clear();
+  }
+  pb_color_destroy(c);
+}
+static const char *const camera_fit_names[] = {"vertical", "horizontal", "larger"};
 
 static void print_text(const pb_scene *s) {
   printf("scene      %s\n", s->path);
@@ -24,29 +40,64 @@ static void print_text(const pb_scene *s) {
   printf("cameras    %u\n", s->camera_count);
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
-    printf("  %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), yfov %.2f deg, aspect %.4g%s\n", c->name,
-           c->position[0], c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2],
-           c->yfov * 180.0 / M_PI, c->aspect, c->synthesized ? " (default framing, not in the file)" : "");
+    uint32_t w, h;
+    pb_camera_image_size(c, 0, 0, &w, &h);
+    printf("  %-3u %-20s at (%.4g %.4g %.4g) looking (%.3f %.3f %.3f), ", i, c->name, c->position[0],
+           c->position[1], c->position[2], c->forward[0], c->forward[1], c->forward[2]);
+    if (c->orthographic) printf("orthographic %.4g m", c->ortho_size);
+    else printf("%s %.2f deg", c->fit == PB_CAMERA_FIT_VERTICAL ? "yfov" : "fov", c->yfov * 180.0 / M_PI);
+    if (c->fit != PB_CAMERA_FIT_VERTICAL) printf(" (%s side)", camera_fit_names[c->fit]);
+    if (c->shift[0] != 0 || c->shift[1] != 0) printf(", shift (%.4g %.4g)", c->shift[0], c->shift[1]);
+    printf(", aspect %.4g (%ux%u by default%s), clip %.4g..%.4g m%s\n", (double)w / h, w, h,
+           c->aspect > 0 ? "" : "; the file gives no aspect ratio", c->znear, c->zfar,
+           c->synthesized ? " (default framing, not in the file)" : "");
   }
-  printf("lights     %u  (units: %s; point/spot in W/sr, directional in W/m^2)\n", s->light_count,
-         pb_light_units_names[s->light_units]);
+  printf("lights     %u  (units: %s for KHR_lights_punctual, Blender's own for PHOTONBRIDGE_blender; point/spot "
+         "in W/sr, directional in W/m^2, area in W/(m^2 sr))\n",
+         s->light_count, pb_light_units_names[s->light_units]);
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
     printf("  %-20s %-11s ", l->name, light_type_names[l->type]);
-    if (l->type == PB_LIGHT_DIRECTIONAL)
-      printf("E = %.4g W/m^2 (file: %.4g lx) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)\n", l->intensity,
-             l->file_intensity, l->color[0], l->color[1], l->color[2], l->direction[0], l->direction[1], l->direction[2]);
-    else {
+    if (l->type == PB_LIGHT_DIRECTIONAL) {
+      printf("E = %.4g W/m^2 (file: %.4g %s) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)", l->intensity,
+             l->file_intensity, l->from_blender ? "W/m^2" : "lx", l->color[0], l->color[1], l->color[2],
+             l->direction[0], l->direction[1], l->direction[2]);
+      if (l->angle > 0) printf(", angle %.3g deg (soft)", l->angle * 180.0 / M_PI);
+    } else if (l->type == PB_LIGHT_AREA) {
+      printf("L = %.4g W/(m^2 sr) (file: %.4g W) x colour (%.3g %.3g %.3g), %s %.4g x %.4g m at (%.4g %.4g %.4g), "
+             "facing (%.3f %.3f %.3f), spread %.3g deg",
+             l->intensity, l->file_intensity, l->color[0], l->color[1], l->color[2],
+             l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle", l->size[0], l->size[1], l->position[0],
+             l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
+             (l->spread > 0 ? l->spread : M_PI) * 180.0 / M_PI);
+    } else {
       float power[3];
       pb_light_power(l, 0, power);
-      printf("I = %.4g W/sr (file: %.4g cd) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), power %.4g W", l->intensity,
-             l->file_intensity, l->color[0], l->color[1], l->color[2], l->position[0], l->position[1], l->position[2],
-             (power[0] + power[1] + power[2]) / 3);
+      printf("I = %.4g W/sr (file: %.4g %s) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), power %.4g W", l->intensity,
+             l->file_intensity, l->from_blender ? "W" : "cd", l->color[0], l->color[1], l->color[2], l->position[0],
+             l->position[1], l->position[2], (power[0] + power[1] + power[2]) / 3);
       if (l->type == PB_LIGHT_SPOT)
-        printf(", cone %.2f..%.2f deg", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI);
-      printf("\n");
+        printf(", cone %.2f..%.2f deg%s", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI,
+               l->spot_model == PB_SPOT_CYCLES ? " (Cycles falloff)" : "");
+      if (l->radius > 0) printf(", radius %.4g m (soft)", l->radius);
     }
+    if (l->no_shadow) printf(", casts no shadow");
+    if (l->no_mis) printf(", no MIS");
+    printf("\n");
   }
+  const pb_world *w = &s->world;
+  if (w->present) {
+    if (w->env)
+      printf("world      map '%s' %ux%u x %.4g, %.4g W/m^2 over the sphere%s\n", w->env_name, w->env_width,
+             w->env_height, w->env_scale, (w->integral[0] + w->integral[1] + w->integral[2]) / 3,
+             w->hidden_from_camera ? ", hidden from the camera" : "");
+    else
+      printf("world      L = (%.4g %.4g %.4g) W/(m^2 sr)%s\n", w->color[0], w->color[1], w->color[2],
+             w->hidden_from_camera ? ", hidden from the camera" : "");
+  } else {
+    printf("world      none (black)\n");
+  }
+  printf("film       %s\n", s->film_opaque ? "opaque (alpha 1)" : "transparent (alpha = coverage)");
   printf("materials  %u\n", s->material_count);
   for (uint32_t i = 0; i < s->material_count; ++i) {
     const pb_material *m = &s->materials[i];
@@ -55,6 +106,9 @@ static void print_text(const pb_scene *s) {
            m->roughness);
     if (m->transmission > 0) printf(" transmission %.3g ior %.3g", m->transmission, m->ior);
     if (pb_material_is_emissive(m)) printf(" emissive (%.3g %.3g %.3g)", m->emissive[0], m->emissive[1], m->emissive[2]);
+    if (m->unlit) printf(" unlit (its colour on camera paths, lights nothing)");
+    if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0)
+      printf(" absorbing medium (%.3g %.3g %.3g)/m", m->attenuation[0], m->attenuation[1], m->attenuation[2]);
     const pb_blender_material *b = &m->blender;
     if (b->model == PB_MODEL_PRINCIPLED)
       printf(" [Blender principled, %s: specular %.3g tint %.3g, sheen %.3g, clearcoat %.3g (roughness %.3g), "
@@ -69,13 +123,22 @@ static void print_text(const pb_scene *s) {
   printf("textures   %u\n", s->texture_count);
   for (uint32_t i = 0; i < s->texture_count; ++i) {
     const pb_texture *t = &s->textures[i];
-    printf("  %-20s %ux%u %s\n", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    printf("  %-20s %ux%u %s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    if (t->texcoord) printf(", TEXCOORD_%d", t->texcoord);
+    if (t->uv_transformed)
+      printf(", KHR_texture_transform u' = %.3g u %+.3g v %+.3g, v' = %.3g u %+.3g v %+.3g", t->uv_xform[0], t->uv_xform[1],
+             t->uv_xform[2], t->uv_xform[3], t->uv_xform[4], t->uv_xform[5]);
+    printf("\n");
   }
   printf("animations %u (%u channels)", s->animation_count, s->animation_channel_count);
   if (s->anim)
     printf(", %.4g to %.4g s (render --frames %d:%d at 24 fps)", s->anim_start, s->anim_end,
            (int)ceil(s->anim_start * 24.0 - 1e-6), (int)floor(s->anim_end * 24.0 + 1e-6));
   printf("\n");
+  if (s->skinned_vertex_count || s->morphed_vertex_count)
+    printf("deform     skinned vertices %u, morphed vertices %u; %u of them posed again per frame%s\n",
+           s->skinned_vertex_count, s->morphed_vertex_count, s->posed_vertex_count,
+           s->posed_vertex_count ? " (CPU, pb_scene_set_time)" : " (static: posed once when loaded)");
   printf("features  ");
   if (!s->features) printf(" none (diffuse only)");
   for (uint32_t b = 1; b; b <<= 1)
@@ -83,15 +146,21 @@ static void print_text(const pb_scene *s) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   printf("\npipeline   photon stages %s, caustic photons %s, photon refraction %s, specular eye paths %s, "
-         "emissive-triangle sampling %s, textures %s, normal maps %s, Blender materials %s, transparent "
-         "shadows %s (GPU passes compile only what is on)",
-         pl.photons ? "on" : "off (no point, spot or directional light)",
+         "emissive-triangle sampling %s, textures %s, normal maps %s, unlit %s, vertex colours %s, absorbing media %s, "
+         "soft lights %s, world light %s, Blender materials %s, transparent shadows %s (GPU passes compile only what "
+         "is on)",
+         pl.photons ? "on" : "off (no light but emissive triangles, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
-         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off",
+         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",
+         pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
+         pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off",
          pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
                               : "off",
          pl.alpha ? "on" : "off");
+  char view[768];
+  default_view(view, sizeof view);
+  printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
   printf("\nwarnings   %u\n", s->warning_count);
   for (uint32_t i = 0; i < s->warning_count; ++i) printf("  %s\n", s->warnings[i]);
 }
@@ -120,13 +189,36 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_json_begin_array(&j, "cameras");
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     const pb_camera *c = &s->cameras[i];
+    uint32_t w, h;
+    pb_camera_image_size(c, 0, 0, &w, &h);
     pb_json_begin_object(&j, NULL);
+    pb_json_int(&j, "index", i); /* what --camera N selects */
     pb_json_string(&j, "name", c->name);
     vec3(&j, "position", c->position);
     vec3(&j, "forward", c->forward);
     vec3(&j, "up", c->up);
+    pb_json_string(&j, "projection", c->orthographic ? "orthographic" : "perspective");
+    pb_json_string(&j, "fit", camera_fit_names[c->fit]);
     pb_json_number(&j, "yfov", c->yfov);
-    pb_json_number(&j, "aspect", c->aspect);
+    pb_json_number(&j, "ortho_size", c->ortho_size);
+    pb_json_begin_array(&j, "shift");
+    for (int k = 0; k < 2; ++k) pb_json_number(&j, NULL, c->shift[k]);
+    pb_json_end_array(&j);
+    pb_json_number(&j, "aspect", c->aspect); /* the file's aspect ratio (or the writer's), 0: none */
+    pb_json_number(&j, "default_aspect", (double)w / h); /* of the default image size (what render uses) */
+    pb_json_int(&j, "default_width", w);
+    pb_json_int(&j, "default_height", h);
+    pb_json_number(&j, "znear", c->znear);
+    pb_json_number(&j, "zfar", c->zfar);
+    /* The view window at the camera's own aspect (4:3 without one), however
+     * the file described it (scene/camera.h): width, height (at distance 1,
+     * or metres when orthographic) and the centre's offset. */
+    double a = c->aspect > 0 ? c->aspect : 4.0 / 3.0, win[4];
+    uint32_t wh = 100000, ww = (uint32_t)fmin(4e9, fmax(1.0, round(a * wh)));
+    pb_camera_window(c, ww, wh, &win[0], &win[1], &win[2], &win[3]);
+    pb_json_begin_array(&j, "window");
+    for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, win[k]);
+    pb_json_end_array(&j);
     pb_json_bool(&j, "synthesized", c->synthesized);
     pb_json_end_object(&j);
   }
@@ -138,18 +230,52 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_begin_object(&j, NULL);
     pb_json_string(&j, "name", l->name);
     pb_json_string(&j, "type", light_type_names[l->type]);
-    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "irradiance_w_m2" : "intensity_w_sr", l->intensity);
-    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "file_lux" : "file_candela", l->file_intensity);
+    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "irradiance_w_m2"
+                       : l->type == PB_LIGHT_AREA ? "radiance_w_m2_sr" : "intensity_w_sr",
+                   l->intensity);
+    pb_json_number(&j,
+                   l->from_blender ? (l->type == PB_LIGHT_DIRECTIONAL ? "file_w_m2" : "file_watts")
+                   : l->type == PB_LIGHT_DIRECTIONAL ? "file_lux" : "file_candela",
+                   l->file_intensity);
     vec3(&j, "color", l->color);
     vec3(&j, "position", l->position);
     vec3(&j, "direction", l->direction);
     if (l->type == PB_LIGHT_SPOT) {
       pb_json_number(&j, "inner_cone", l->inner_cone);
       pb_json_number(&j, "outer_cone", l->outer_cone);
+      pb_json_string(&j, "spot_falloff", l->spot_model == PB_SPOT_CYCLES ? "cycles" : "smoothstep");
     }
+    if (l->type == PB_LIGHT_POINT || l->type == PB_LIGHT_SPOT) pb_json_number(&j, "radius", l->radius);
+    if (l->type == PB_LIGHT_DIRECTIONAL) pb_json_number(&j, "angle", l->angle);
+    if (l->type == PB_LIGHT_AREA) {
+      pb_json_string(&j, "shape", l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle");
+      pb_json_number(&j, "size_u", l->size[0]);
+      pb_json_number(&j, "size_v", l->size[1]);
+      vec3(&j, "axis_u", l->axis_u);
+      vec3(&j, "axis_v", l->axis_v);
+      pb_json_number(&j, "spread", l->spread > 0 ? l->spread : M_PI);
+    }
+    pb_json_bool(&j, "cast_shadow", !l->no_shadow);
+    pb_json_bool(&j, "use_mis", !l->no_mis);
+    pb_json_bool(&j, "blender_units", l->from_blender);
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
+  pb_json_begin_object(&j, "world");
+  pb_json_bool(&j, "present", s->world.present);
+  if (s->world.present) {
+    vec3(&j, "color", s->world.color);
+    if (s->world.env) {
+      pb_json_string(&j, "map", s->world.env_name);
+      pb_json_int(&j, "map_width", s->world.env_width);
+      pb_json_int(&j, "map_height", s->world.env_height);
+      pb_json_number(&j, "map_scale", s->world.env_scale);
+    }
+    vec3(&j, "radiance_integral_w_m2", s->world.integral);
+    pb_json_bool(&j, "visible_to_camera", !s->world.hidden_from_camera);
+  }
+  pb_json_end_object(&j);
+  pb_json_bool(&j, "film_opaque", s->film_opaque);
   pb_json_begin_array(&j, "materials");
   for (uint32_t i = 0; i < s->material_count; ++i) {
     const pb_material *m = &s->materials[i];
@@ -171,6 +297,8 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_number(&j, "ior", m->ior);
     vec3(&j, "emissive", m->emissive);
     pb_json_bool(&j, "double_sided", m->double_sided);
+    pb_json_bool(&j, "unlit", m->unlit);
+    vec3(&j, "attenuation_per_m", m->attenuation);
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
@@ -181,6 +309,12 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_int(&j, "width", s->textures[i].width);
     pb_json_int(&j, "height", s->textures[i].height);
     pb_json_bool(&j, "srgb", s->textures[i].srgb);
+    pb_json_int(&j, "texcoord", s->textures[i].texcoord);
+    if (s->textures[i].uv_transformed) { /* KHR_texture_transform: u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5 */
+      pb_json_begin_array(&j, "uv_transform");
+      for (int k = 0; k < 6; ++k) pb_json_number(&j, NULL, s->textures[i].uv_xform[k]);
+      pb_json_end_array(&j);
+    }
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);
@@ -189,6 +323,11 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_number(&j, "animation_start_s", s->anim_start);
     pb_json_number(&j, "animation_end_s", s->anim_end);
   }
+  pb_json_begin_object(&j, "deform"); /* skins and morph targets, posed on the CPU */
+  pb_json_int(&j, "skinned_vertices", s->skinned_vertex_count);
+  pb_json_int(&j, "morphed_vertices", s->morphed_vertex_count);
+  pb_json_int(&j, "posed_per_frame", s->posed_vertex_count);
+  pb_json_end_object(&j);
   pb_json_begin_array(&j, "features");
   for (uint32_t b = 1; b; b <<= 1)
     if (s->features & b) pb_json_string(&j, NULL, pb_feature_name(b));
@@ -196,6 +335,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   pb_render_plan_json(&j, "pipeline", &pl); /* what the GPU passes compile in */
+  char view[768];
+  default_view(view, sizeof view);
+  pb_json_string(&j, "display_view", view);
   pb_json_begin_array(&j, "warnings");
   for (uint32_t i = 0; i < s->warning_count; ++i) pb_json_string(&j, NULL, s->warnings[i]);
   pb_json_end_array(&j);

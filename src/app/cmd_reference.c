@@ -30,7 +30,7 @@ static const char *const mode_names[] = {"auto", "pt", "sppm", NULL};
 
 typedef struct ref_opts {
   uint32_t spp, max_bounces, threads, photons;
-  double time_limit, photon_radius, photon_alpha, exposure;
+  double time_limit, photon_radius, photon_alpha;
   int mode, caustics, estimate_noise;
   const char *png;
 } ref_opts;
@@ -105,8 +105,10 @@ int pb_cmd_reference(int argc, char **argv) {
   pb_core_opts c = {0};
   pb_color_opts co = {0};
   ref_opts o = {.max_bounces = UINT32_MAX};
+  pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
       PB_RENDER_OPTS(&c),
+      PB_POSE_OPTS(&pose),
       {"spp", 0, PB_OPT_U32, &o.spp, "N",
        "samples per pixel (default 64; with only --time-limit: until the time is up)",
        NULL, 1, 1 << 24},
@@ -138,8 +140,6 @@ int pb_cmd_reference(int argc, char **argv) {
        "image's own noise (RMSE, relMSE, PSNR); rounds spp up to even", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE",
        "also write a PNG preview through the OCIO view", NULL, 0, 0},
-      {"exposure", 0, PB_OPT_FLOAT, &o.exposure, "EV", "PNG exposure (default 0)", NULL,
-       -30, 30},
       PB_COLOR_OPTS(&co),
   };
   const size_t nopts = sizeof opts / sizeof *opts;
@@ -172,16 +172,17 @@ int pb_cmd_reference(int argc, char **argv) {
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   pb_ref_result res;
   memset(&res, 0, sizeof res);
-  pb_color *color = NULL;
+  pb_color *color = NULL, *metric_color = NULL;
   int wrote_exr = 0, wrote_png = 0;
   int camera;
   uint32_t w, h;
-  r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
+  r = pb_cli_pose(&s, &pose, NULL);
+  if (r == PB_OK) r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
   if (r != PB_OK) goto done;
-  if (o.png || o.estimate_noise) {
-    r = pb_color_opts_open(&co, &color);
-    if (r != PB_OK) goto done;
-  }
+  if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
+  if (o.estimate_noise &&
+      (r = pb_color_opts_open_for(&co, PB_COLOR_METRICS, &metric_color)) != PB_OK)
+    goto done;
 
   pb_ref_desc d;
   memset(&d, 0, sizeof d);
@@ -206,9 +207,9 @@ int pb_cmd_reference(int argc, char **argv) {
   pb_progress_end(&prog);
   if (r != PB_OK) goto done;
 
-  if (res.half_a && color) {
+  if (res.half_a && metric_color) {
     /* The noise's display PSNR through the same view compare uses. */
-    pb_metrics_desc md = {display_view, color};
+    pb_metrics_desc md = {display_view, metric_color};
     pb_noise_estimate ne;
     r = pb_metrics_noise_from_halves(res.half_a, res.half_b, w, h, 3, &md, &ne);
     if (r != PB_OK) goto done;
@@ -250,7 +251,7 @@ int pb_cmd_reference(int argc, char **argv) {
   if (r != PB_OK) goto done;
   wrote_exr = 1;
   if (o.png) {
-    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty, (float)o.exposure);
+    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty);
     if (r != PB_OK) goto done;
     wrote_png = 1;
   }
@@ -279,6 +280,7 @@ done:
     if (wrote_png) unlink(o.png);
   }
   pb_color_destroy(color);
+  pb_color_destroy(metric_color);
   pb_ref_result_destroy(&res);
   pb_scene_destroy(&s);
   return pb_cli_exit(cmd, r);

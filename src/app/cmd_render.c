@@ -1,14 +1,17 @@
-/* photonbridge render SCENE -o OUT.exr: the GPU pipeline (Vulkan compute).
- * This issue's part: primary visibility, specular eye chains, direct light
- * from point/spot/directional lights and emissive triangles (next-event
- * estimation, emitters picked by power) with shadow rays, emission; AOVs into a
- * multi-layer EXR, an optional PNG preview and --json statistics with
- * per-pass milliseconds. Outputs are written only after the whole frame
- * rendered, each atomically, so a failure (no device, device lost) leaves
- * none half-written. */
+/* photonbridge render SCENE -o OUT.exr: the GPU pipeline (Vulkan compute):
+ * primary visibility, specular eye chains, direct light from point, spot and
+ * directional lights and emissive triangles with shadow rays, photon mapping
+ * for indirect light and caustics; AOVs into a multi-layer EXR
+ * (render_out.c; Blender's channel names with --blender-layer), an optional
+ * PNG and --json statistics with per-pass milliseconds. Outputs are written
+ * only after the whole frame rendered, each atomically, so a failure (no
+ * device, device lost) leaves none half-written; --preview writes the
+ * refining image after each iteration, also atomically. */
+#include <stdint.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -22,6 +25,7 @@
 #include "render/photon.h"
 #include "render/plan.h"
 #include "render/render.h"
+#include "app/render_out.h"
 #include "app/render_seq.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -47,7 +51,56 @@ typedef struct render_opts {
   int orbit, no_temporal, bvh_update;
   uint32_t reference_spp;
   const char *reference_cache;
+  /* Driving photonbridge from another program (the Blender add-on). */
+  const char *crop, *preview, *blender_layer, *blender_passes;
+  double time_limit, preview_interval;
+  int progress_lines;
 } render_opts;
+
+/* --crop X,Y,W,H: four non-negative integers, W and H positive. */
+static pb_result parse_crop(const char *text, uint32_t v[4]) {
+  const char *p = text;
+  for (int i = 0; i < 4; ++i) {
+    char *end;
+    if (*p < '0' || *p > '9') goto bad;
+    unsigned long long x = strtoull(p, &end, 10);
+    if (x > 65536 || end == p || (i < 3 ? *end != ',' : *end != 0)) goto bad;
+    v[i] = (uint32_t)x;
+    p = end + 1;
+  }
+  if (v[2] && v[3]) return PB_OK;
+bad:
+  return pb_fail(PB_ERR_USAGE, "render: --crop '%s' is not X,Y,W,H (pixels of the --width x --height frame, W and H "
+                 "positive)", text);
+}
+
+/* The progress callback of a single frame: a progress line, and the preview
+ * EXR (atomic) when the renderer passed the refining beauty. */
+typedef struct progress_ctx {
+  const render_opts *o;
+} progress_ctx;
+
+static pb_result on_progress(void *user, const pb_render_progress *p) {
+  const progress_ctx *pc = user;
+  const char *written = NULL;
+  if (p->beauty && pc->o->preview) {
+    pb_render_result pr;
+    memset(&pr, 0, sizeof pr);
+    pr.width = p->width, pr.height = p->height;
+    pr.beauty = (float *)p->beauty;
+    char spp_s[32];
+    snprintf(spp_s, sizeof spp_s, "%u", p->samples);
+    const char *an[] = {"photonbridge/renderer", "photonbridge/spp", "photonbridge/preview"};
+    const char *av[] = {"gpu", spp_s, "1"};
+    pb_result r = pb_render_write_exr(pc->o->preview, &pr, pc->o->blender_layer, pc->o->blender_passes, an, av, 3);
+    if (r != PB_OK) return r;
+    written = pc->o->preview;
+    /* A preview is a whole file: an interrupt keeps it (main.c's note). */
+    pb_tmp_set_interrupt_note("the last preview written is complete; the final image was not written");
+  }
+  pb_progress_line_iteration(p, written);
+  return PB_OK;
+}
 
 /* --bvh-update, in PB_BVH_UPDATE_* order. */
 static const char *const bvh_update_names[] = {"auto", "refit", "rebuild", NULL};
@@ -225,6 +278,27 @@ int pb_cmd_render(int argc, char **argv) {
        "enable Vulkan validation layers; any message is an error (also PB_VK_VALIDATION=1)", NULL, 0, 0},
       {"gpu-memory-limit", 0, PB_OPT_FLOAT, &gpu_memory_mb, "MB", "cap on GPU buffer memory in MiB; a render that "
        "needs more fails with exit 11 (also PB_GPU_MEMORY_LIMIT)", NULL, 0, 1e9},
+      {"crop", 0, PB_OPT_STRING, &o.crop, "X,Y,W,H",
+       "render only the W x H pixels at column X, row Y (top row 0) of the --width x --height frame, with the "
+       "frame's camera window and random numbers: the crop equals that part of the full render (Blender's border)",
+       NULL, 0, 0},
+      {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
+       "start no photon iteration after S seconds; the image averages the iterations done (of --iterations)", NULL,
+       0, 1e9},
+      {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
+       "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
+       "other passes 0)", NULL, 0, 0},
+      {"preview-interval", 0, PB_OPT_FLOAT, &o.preview_interval, "S",
+       "--preview: at most one preview per S seconds (default 0: every iteration)", NULL, 0, 1e6},
+      {"progress-lines", 0, PB_OPT_FLAG, &o.progress_lines, NULL,
+       "machine-readable progress on stderr: one 'photonbridge progress: {JSON}' line per stage, iteration, frame "
+       "and at the end (for the Blender add-on)", NULL, 0, 0},
+      {"blender-layer", 0, PB_OPT_STRING, &o.blender_layer, "NAME",
+       "name the EXR's channels as Blender's multilayer EXR: NAME.Combined.R..A, NAME.Depth.Z, NAME.Normal.X..Z, "
+       "NAME.Emit, NAME.Direct, NAME.Indirect, NAME.Caustic, NAME.Albedo (.R..B)", NULL, 0, 0},
+      {"blender-passes", 0, PB_OPT_STRING, &o.blender_passes, "LIST",
+       "--blender-layer: write only these passes (comma-separated; default all): the passes of Blender's render "
+       "result, so that it finds every channel it reads and nothing else", NULL, 0, 0},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -235,7 +309,8 @@ int pb_cmd_render(int argc, char **argv) {
   if (help) {
     pb_cli_print_help(stdout, cmd, opts, nopts,
                       "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1),\n"
-                      "indirect, caustic; geo_normal, photon_dir in scenes with normal maps.\n"
+                      "emission, indirect, caustic; geo_normal, photon_dir in scenes with normal maps\n"
+                      "(--blender-layer: Blender's names instead).\n"
                       "With photon mapping (default unless --direct-only; needs a point, spot or\n"
                       "directional light): also indirect and caustic layers, beauty = emission + direct\n"
                       "+ indirect + caustic.");
@@ -254,16 +329,30 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
+  uint32_t crop[4] = {0, 0, 0, 0};
+  if (o.crop && (r = parse_crop(o.crop, crop)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (o.frames && (o.crop || o.preview || o.time_limit > 0))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --crop, --preview and --time-limit render one frame; "
+                                    "not with --frames"));
+  if (o.blender_layer && (!o.blender_layer[0] || strchr(o.blender_layer, '.') || strlen(o.blender_layer) > 40))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-layer '%s': a view layer name of 1 to 40 "
+                                    "characters without '.'", o.blender_layer));
+  if (o.blender_passes && !o.blender_layer)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-passes needs --blender-layer"));
+  if ((r = pb_render_check_blender_passes(o.blender_passes)) != PB_OK) return pb_cli_exit(cmd, r);
+  pb_progress_lines_enable(o.progress_lines);
+  double t_start = pb_time_now();
   pb_scene s;
   /* Outputs that cannot be written fail now, not after the render
    * (sequences check their expanded names in render_seq.c). */
   if (!o.frames) {
-    const char *outs[] = {c.out, o.png, c.json};
+    const char *outs[] = {c.out, o.png, c.json, o.preview};
     for (size_t i = 0; i < sizeof outs / sizeof *outs; ++i)
       if ((r = pb_check_writable(outs[i])) != PB_OK) return pb_cli_exit(cmd, r);
   }
   r = pb_cli_load_scene(pos[0], &c, &s);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
+  pb_progress_line_stage("loaded", pb_time_now() - t_start);
   int camera;
   uint32_t w, h;
   pb_gpu *g = NULL;
@@ -274,6 +363,14 @@ int pb_cmd_render(int argc, char **argv) {
   pb_color *color = NULL;
   r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
   if (r != PB_OK) goto done;
+  uint32_t full_w = w, full_h = h;
+  if (o.crop) {
+    if ((uint64_t)crop[0] + crop[2] > full_w || (uint64_t)crop[1] + crop[3] > full_h) {
+      r = pb_fail(PB_ERR_USAGE, "render: --crop %s does not fit in the %ux%u frame", o.crop, full_w, full_h);
+      goto done;
+    }
+    w = crop[2], h = crop[3];
+  }
   /* The view is opened before any GPU work so that a misspelt view fails at
    * once. */
   if (o.png && (r = pb_color_opts_open(&co, &color)) != PB_OK) goto done;
@@ -284,6 +381,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
+  pb_progress_line_stage("uploaded", pb_time_now() - t_start);
   if (o.smoothing < 0 || o.r_max < 0 || !(o.smoothing < 1e6) || !(o.r_max < 1e9)) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
     goto done;
@@ -297,7 +395,11 @@ int pb_cmd_render(int argc, char **argv) {
                        .atrous_iterations = o.atrous,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
                        .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
-                                                : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f)};
+                                                : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
+                       .time_limit_s = o.time_limit, .preview_interval_s = o.preview ? o.preview_interval : -1.0};
+  progress_ctx pctx = {&o};
+  if (o.preview || o.progress_lines) rd.progress = on_progress, rd.progress_user = &pctx;
+  if (o.crop) rd.full_width = full_w, rd.full_height = full_h, rd.crop_x = crop[0], rd.crop_y = crop[1];
   if (o.frames) {
     static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
     double fps = o.fps > 0 ? o.fps : 24.0;
@@ -305,7 +407,8 @@ int pb_cmd_render(int argc, char **argv) {
                            .orbit = o.orbit,
                            .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
     pb_seq_opts so = {.first = first, .last = last, .fps = fps, .png = o.png, .reference_spp = o.reference_spp,
-                      .reference_cache = o.reference_cache};
+                      .reference_cache = o.reference_cache, .blender_layer = o.blender_layer,
+                      .blender_passes = o.blender_passes};
     r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
     goto done;
   }
@@ -313,22 +416,13 @@ int pb_cmd_render(int argc, char **argv) {
   if (r != PB_OK) goto done;
 
   /* Outputs, each atomic; a later failure removes the earlier ones. */
-  const pb_image_layer layers[] = {
-      {"", 4, res.beauty, NULL},      {"direct", 3, res.direct, NULL}, {"albedo", 3, res.albedo, NULL},
-      {"normal", 3, res.normal, NULL}, {"depth", 1, res.depth, NULL},  {"material", 1, res.material, NULL},
-      {"indirect", 3, res.indirect, NULL}, {"caustic", 3, res.caustic, NULL},
-      /* Scenes with normal maps: seed 001 eq. 20's inputs (render.h). */
-      {"geo_normal", 3, res.geo_normal, NULL}, {"photon_dir", 3, res.photon_dir, NULL},
-  };
   char spp_s[32];
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
   const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
-  pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? (res.geo_normal ? 10 : 8) : 6, .attr_names = an,
-                    .attr_values = av, .attr_count = 4};
-  r = pb_exr_write(c.out, &ed);
+  r = pb_render_write_exr(c.out, &res, o.blender_layer, o.blender_passes, an, av, 4);
   if (r == PB_OK && o.png) {
-    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty, 0.0f);
+    r = pb_png_write_display(o.png, color, w, h, 4, res.beauty);
     if (r != PB_OK) unlink(c.out);
   }
   if (r == PB_OK && c.json) {
@@ -338,6 +432,7 @@ int pb_cmd_render(int argc, char **argv) {
       if (o.png) unlink(o.png);
     }
   }
+  if (r == PB_OK) pb_progress_line_done(c.out, pb_time_now() - t_start);
   if (r == PB_OK && !c.quiet) {
     const pb_render_stats *st = &res.stats;
     if (st->timestamps)

@@ -12,6 +12,7 @@
  *           frame-to-frame change the renderer adds to the change the
  *           motion itself causes (issue 6). */
 #include "app/render_seq.h"
+#include "app/render_out.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -98,21 +99,23 @@ static uint64_t reference_key(const pb_scene *s, const pb_camera *cam, uint32_t 
     k = fnv(k, f, sizeof f);
     k = fnv(k, &l->type, sizeof l->type);
   }
-  float c[13] = {cam->position[0], cam->position[1], cam->position[2], cam->forward[0], cam->forward[1],
+  float c[19] = {cam->position[0], cam->position[1], cam->position[2], cam->forward[0], cam->forward[1],
                  cam->forward[2], cam->up[0], cam->up[1], cam->up[2], cam->right[0], cam->right[1], cam->right[2],
-                 cam->yfov};
+                 cam->yfov, cam->ortho_size, cam->shift[0], cam->shift[1], cam->znear, cam->zfar,
+                 (float)(cam->orthographic * 4 + (int)cam->fit)};
   k = fnv(k, c, sizeof c);
   uint64_t v[4] = {w, h, spp, seed};
   return fnv(k, v, sizeof v);
 }
 
 /* The reference beauty (RGBA) of the current pose: read from the cache or
- * rendered and stored there. *cached: whether it came from the cache. */
+ * rendered and stored there (at `path`, PATH_MAX bytes). *cached: whether
+ * it came from the cache. */
 static pb_result reference_frame(pb_scene *s, int camera, uint32_t w, uint32_t h, const pb_seq_opts *so,
-                                 uint64_t seed, const char *cache_dir, float *rgba, int *cached, double *ms) {
-  char path[PATH_MAX];
+                                 uint64_t seed, const char *cache_dir, float *rgba, int *cached, double *ms,
+                                 char *path) {
   uint64_t key = reference_key(s, &s->cameras[camera], w, h, so->reference_spp, seed);
-  if (snprintf(path, sizeof path, "%s/ref_%016" PRIx64 ".exr", cache_dir, key) >= (int)sizeof path)
+  if (snprintf(path, PATH_MAX, "%s/ref_%016" PRIx64 ".exr", cache_dir, key) >= PATH_MAX)
     return pb_fail(PB_ERR_USAGE, "render: reference cache path too long");
   *cached = 0;
   *ms = 0;
@@ -164,6 +167,7 @@ typedef struct frame_record {
   double psnr, relmse, flicker_result, flicker_reference; /* NAN when absent */
   int reference_cached;
   double reference_ms;
+  char reference_file[PATH_MAX]; /* the cached reference EXR of this frame */
 } frame_record;
 
 static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
@@ -178,6 +182,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   pb_json_number(j, "wall_ms", st->wall_ms);
   pb_json_begin_object(j, "passes_ms");
   pb_json_number(j, "pose", f->info.pose_ms);
+  pb_json_number(j, "pose_cpu", f->info.pose_cpu_ms);
   pb_json_number(j, "scene_update", f->info.scene_update_ms);
   if (st->timestamps) {
     pb_json_number(j, "gbuffer", st->gbuffer_ms);
@@ -208,6 +213,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
       pb_json_number(j, "change_reference", f->flicker_reference);
     }
     pb_json_bool(j, "cached", f->reference_cached);
+    pb_json_string(j, "file", f->reference_file);
     pb_json_number(j, "render_ms", f->reference_ms);
     pb_json_end_object(j);
   }
@@ -297,6 +303,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   }
   char *cache_dir = NULL;
   size_t pixels = (size_t)w * h;
+  double t_start = pb_time_now();
   float *ref = NULL, *ref_prev = NULL, *res_prev = NULL;
   frame_record *rec = calloc(count, sizeof *rec);
   pb_sequence *q = NULL;
@@ -338,7 +345,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     fr->stats = res.stats;
     if (so->reference_spp) {
       if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref, &fr->reference_cached,
-                               &fr->reference_ms)) != PB_OK)
+                               &fr->reference_ms, fr->reference_file)) != PB_OK)
         goto done;
       pb_metrics m;
       if ((r = pb_metrics_compute(res.beauty, ref, w, h, 4, NULL, &m)) != PB_OK) goto done;
@@ -352,11 +359,6 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     }
     memcpy(res_prev, res.beauty, pixels * 4 * sizeof *res_prev);
     /* The frame's files, each atomic. */
-    const pb_image_layer layers[] = {
-        {"", 4, res.beauty, NULL},       {"direct", 3, res.direct, NULL}, {"albedo", 3, res.albedo, NULL},
-        {"normal", 3, res.normal, NULL}, {"depth", 1, res.depth, NULL},   {"material", 1, res.material, NULL},
-        {"indirect", 3, res.indirect, NULL}, {"caustic", 3, res.caustic, NULL},
-    };
     char spp_s[32], time_s[32], frame_s[32];
     snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
     snprintf(time_s, sizeof time_s, "%.9g", t);
@@ -364,16 +366,15 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/frame",
                         "photonbridge/time"};
     const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, frame_s, time_s};
-    pb_exr_desc ed = {.width = w, .height = h, .layers = layers, .layer_count = res.indirect ? 8 : 6,
-                      .attr_names = an, .attr_values = av, .attr_count = 5};
     if ((r = pb_seq_frame_path(c->out, f, path, sizeof path)) != PB_OK) goto done;
-    if ((r = pb_exr_write(path, &ed)) != PB_OK) goto done;
+    if ((r = pb_render_write_exr(path, &res, so->blender_layer, so->blender_passes, an, av, 5)) != PB_OK) goto done;
     if (so->png) {
       if ((r = pb_seq_frame_path(so->png, f, png, sizeof png)) != PB_OK) goto done;
-      if ((r = pb_png_write_display(png, color, w, h, 4, res.beauty, 0.0f)) != PB_OK) goto done;
+      if ((r = pb_png_write_display(png, color, w, h, 4, res.beauty)) != PB_OK) goto done;
     }
     /* An interrupt from now on keeps the finished frames (each file whole). */
     pb_tmp_set_interrupt_note("the frames written before it are complete; the frame in progress was not written");
+    pb_progress_line_frame(f, (uint32_t)i, (uint32_t)count, path);
     if (!c->quiet) {
       const pb_render_stats *st = &res.stats;
       char metric[96] = "";
@@ -384,6 +385,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     pb_render_result_destroy(&res);
   }
   if (c->json) r = write_json(c->json, s, g, w, h, sd, so, rec, count);
+  if (r == PB_OK) pb_progress_line_done(c->out, pb_time_now() - t_start);
 done:
   pb_tmp_set_interrupt_note(NULL);
   pb_render_result_destroy(&res);

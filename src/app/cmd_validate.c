@@ -3,7 +3,10 @@
  * python3, passing this executable as --exe and every other argument as is.
  * The script is found through $PB_VALIDATION_DIR, else next to the
  * executable's folder (BUILD/../validation, the source tree's layout), else
- * ./validation. Exit status: the script's (0 ok, 1 too few renders, 2 usage);
+ * in the source tree the binary was built from (PB_SOURCE_DIR), else
+ * ./validation. --help works wherever the binary runs: without the script it
+ * prints the wrapper's usage and where it looked. Exit status: the script's
+ * (0 ok, 1 too few renders, 2 usage);
  * 3 when the script or python3 cannot be run. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
@@ -16,6 +19,7 @@
 #include <unistd.h>
 
 #include "app/commands.h"
+#include "core/version.h"
 
 static int exists(const char *p) { return access(p, R_OK) == 0; }
 
@@ -48,26 +52,39 @@ static int find_script(char *out, size_t n, char *exe, size_t exe_n) {
       if (exists(out)) return 1;
     }
   }
+  snprintf(out, n, "%s/validation/validate.py", PB_SOURCE_DIR);
+  if (exists(out)) return 1;
   snprintf(out, n, "validation/validate.py");
   return exists(out);
 }
 
+static const char usage[] =
+    "usage: photonbridge validate SCENE --out DIR [options]\n\n"
+    "Renders SCENE with the reference, the GPU renderer, POV-Ray and (when Blender is\n"
+    "installed) Cycles at the same resolution, shows every picture through the same\n"
+    "OCIO view, compares every pair with the shared metrics and writes DIR/index.html\n"
+    "and DIR/report.json.";
+
 int pb_cmd_validate(int argc, char **argv) {
   char script[PATH_MAX + 32], exe[PATH_MAX];
-  if (!find_script(script, sizeof script, exe, sizeof exe)) {
+  int help = 0;
+  for (int i = 1; i < argc; ++i)
+    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) help = 1;
+  int found = find_script(script, sizeof script, exe, sizeof exe);
+  if (help && !found) {
+    printf("%s\n\nIts options are those of validation/validate.py, which was not found (looked in\n"
+           "$PB_VALIDATION_DIR, ../validation next to this executable, %s/validation and\n"
+           "./validation): set PB_VALIDATION_DIR to the source tree's validation folder.\n",
+           usage, PB_SOURCE_DIR);
+    return 0;
+  }
+  if (!found) {
     fprintf(stderr, "photonbridge validate: error: validation/validate.py not found "
                     "(set PB_VALIDATION_DIR to the source tree's validation folder)\n");
     return 3;
   }
-  int help = 0;
-  for (int i = 1; i < argc; ++i)
-    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) help = 1;
   if (help) {
-    printf("usage: photonbridge validate SCENE --out DIR [options]\n\n"
-           "Renders SCENE with the reference, the GPU renderer, POV-Ray and (when Blender is\n"
-           "installed) Cycles at the same resolution, shows every picture through the same\n"
-           "OCIO view, compares every pair with the shared metrics and writes DIR/index.html\n"
-           "and DIR/report.json. Runs %s; its options:\n\n", script);
+    printf("%s Runs %s; its options:\n\n", usage, script);
     fflush(stdout);
   }
   char **av = calloc((size_t)argc + 5, sizeof *av);

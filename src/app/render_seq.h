@@ -16,6 +16,8 @@ typedef struct pb_seq_opts {
   const char *png;              /* pattern or NULL */
   uint32_t reference_spp;       /* 0: no per-frame reference and metrics */
   const char *reference_cache;  /* NULL: OUTDIR/reference_cache */
+  const char *blender_layer;    /* NULL, or Blender's EXR channel names (render_out.h) */
+  const char *blender_passes;   /* NULL (all), or the passes to write */
 } pb_seq_opts;
 
 /* Parses "A:B" (or "A" for one frame) into first/last. */

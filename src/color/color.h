@@ -2,12 +2,21 @@
  * OpenColorIO view (display / view / look), so that every renderer's preview
  * and every display-referred metric passes through the same pipeline.
  *
- * The OCIO config is, in order: pb_color_desc.config, else $OCIO, else the
- * built-in config (config/ocio/photonbridge.ocio, embedded in the binary):
- * scene-linear Rec.709, ACEScg, ACES2065-1; display "sRGB" with views
- * "Standard" (no tone mapping, clips at 1), "ACES 1.0 - SDR Video" and "Raw".
- * Blender's own config (Debian: /usr/share/blender/datafiles/colormanagement/
- * config.ocio) gives its "Filmic" view and contrast looks.
+ * The OCIO config is, in order: pb_color_desc.config, else $OCIO, else (for
+ * pictures) Blender's own config where Blender is installed (Debian:
+ * /usr/share/blender/datafiles/colormanagement/config.ocio; see
+ * pb_color_blender_config), else the built-in config (config/ocio/
+ * photonbridge.ocio, embedded in the binary): scene-linear Rec.709, ACEScg,
+ * ACES2065-1; display "sRGB" with views "Filmic" (Blender 3.4's Filmic, built
+ * from src/color/filmic_builtin.c: the default, as in Blender), "Standard" (no
+ * tone mapping, clips at 1), "ACES 1.0 - SDR Video" and "Raw". Blender's
+ * config adds its contrast looks.
+ *
+ * Pictures people look at (PNG previews, `display`, reports) default to the
+ * config's default view: Filmic, as Blender 3.4 shows every render. Metrics
+ * (PSNR and SSIM of `compare`) default to the built-in config's "Standard"
+ * view instead, so that a number means the same on every machine whether or
+ * not Blender is installed, and stays comparable with earlier measurements.
  *
  * Input pixels are in the config's `scene_linear` role (Rec.709 primaries in
  * ours and in Blender's). The C++ shim (ocio_shim.cpp) is the only code that
@@ -16,6 +25,7 @@
 #ifndef PB_COLOR_H
 #define PB_COLOR_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -25,11 +35,21 @@
 extern "C" {
 #endif
 
+typedef enum pb_color_purpose {
+  PB_COLOR_PICTURE = 0, /* config default: $OCIO, Blender's, built-in; view default: the config's */
+  PB_COLOR_METRICS = 1, /* config default: $OCIO, built-in; view default: "Standard" */
+} pb_color_purpose;
+
 typedef struct pb_color_desc {
-  const char *config;  /* OCIO config file; NULL or "": $OCIO, else built-in */
+  const char *config;  /* OCIO config file; NULL or "": see above; "built-in": the built-in one */
   const char *display; /* NULL or "": the config's default display */
-  const char *view;    /* NULL or "": the display's default view */
+  const char *view;    /* NULL or "": the display's default view (METRICS: "Standard") */
   const char *look;    /* NULL, "" or "None": the view's own looks */
+  /* As Blender's Colour Management panel: pixels are scaled by 2^exposure in
+   * scene-linear before the view, and display values raised to 1/gamma after
+   * it (Blender's OCIOImpl::createDisplayProcessor). 0 gamma means 1. */
+  double exposure, gamma;
+  pb_color_purpose purpose;
 } pb_color_desc;
 
 typedef struct pb_color pb_color;
@@ -55,11 +75,24 @@ pb_result pb_color_convert(const pb_color *c, const char *src, const char *dst,
                            uint32_t channels);
 
 /* What the processor uses: the config ("built-in" or its path), the display,
- * the view and the look ("" when none). */
+ * the view and the look ("" when none); pb_color_describe writes all of it,
+ * exposure and gamma included, as one line ("Blender config /usr/...: sRGB /
+ * Filmic, look None, exposure 0, gamma 1") into buf. */
 const char *pb_color_config_name(const pb_color *c);
 const char *pb_color_display(const pb_color *c);
 const char *pb_color_view(const pb_color *c);
 const char *pb_color_look(const pb_color *c);
+double pb_color_exposure(const pb_color *c);
+double pb_color_gamma(const pb_color *c);
+void pb_color_describe(const pb_color *c, char *buf, size_t size);
+
+/* Blender's OCIO config on this machine: $PB_BLENDER_OCIO when set (empty:
+ * none), else the first that exists of Debian's
+ * /usr/share/blender/datafiles/colormanagement/config.ocio, the versioned
+ * /usr/share/blender/X.Y/datafiles/..., and X.Y/datafiles/... beside the
+ * `blender` found on PATH (Blender's own tarballs). NULL when none. The
+ * string is static. */
+const char *pb_color_blender_config(void);
 
 /* The config's displays, each with its views, and its looks, one per line
  * ("display sRGB: Standard, Filmic, ..."), for --list. */
@@ -69,13 +102,13 @@ void pb_color_list(const pb_color *c, FILE *f);
 extern const char pb_color_builtin_config_text[];
 
 /* Writes an 8-bit PNG through the view: pixels (linear RGB(A), 3 or 4
- * channels) are scaled by 2^exposure, passed through pb_color_apply_display
- * and rounded to nearest; alpha is written linearly. With c == NULL it falls
- * back to pb_png_write_srgb (plain sRGB encode). Atomic like every writer.
- * Errors: those of pb_png_write_srgb and pb_color_apply_display. */
+ * channels) are passed through pb_color_apply_display (the view's exposure
+ * and gamma included) and rounded to nearest; alpha is written linearly.
+ * With c == NULL it falls back to pb_png_write_srgb (plain sRGB encode).
+ * Atomic like every writer. Errors: those of pb_png_write_srgb and
+ * pb_color_apply_display. */
 pb_result pb_png_write_display(const char *path, const pb_color *c, uint32_t width,
-                               uint32_t height, uint32_t channels,
-                               const float *pixels, float exposure);
+                               uint32_t height, uint32_t channels, const float *pixels);
 
 #ifdef __cplusplus
 }

@@ -11,31 +11,46 @@
 #include "color/color.h"
 
 typedef struct pb_color_opts {
-  const char *ocio_config; /* --ocio-config; NULL: $OCIO, else built-in */
+  const char *ocio_config; /* --ocio-config; NULL: $OCIO, else Blender's, else built-in */
   const char *display;     /* --display */
   const char *view;        /* --view */
   const char *look;        /* --look */
+  double exposure;         /* --exposure, stops */
+  double gamma;            /* --gamma; 0: 1 */
 } pb_color_opts;
 
 #define PB_COLOR_OPTS(c)                                                       \
   {"ocio-config", 0, PB_OPT_STRING, &(c)->ocio_config, "FILE",                 \
-   "OpenColorIO config for display images (default: $OCIO, else the built-in " \
-   "one; Blender's: /usr/share/blender/datafiles/colormanagement/config.ocio)",\
+   "OpenColorIO config for display images (default: $OCIO, else Blender's "    \
+   "own where installed, else the built-in one, which has Blender's Filmic; "  \
+   "'built-in' names it)",                                                     \
    NULL, 0, 0},                                                                \
   {"display", 0, PB_OPT_STRING, &(c)->display, "NAME",                         \
    "OCIO display for PNG images (default: the config's default, sRGB)", NULL,  \
    0, 0},                                                                      \
   {"view", 0, PB_OPT_STRING, &(c)->view, "NAME",                               \
-   "OCIO view (built-in config: Standard, 'ACES 1.0 - SDR Video', Raw; "       \
-   "Blender's: Standard, Filmic, ...)", NULL, 0, 0},                           \
+   "OCIO view (default: the config's, Filmic as in Blender; also Standard, "   \
+   "Raw, ...; --list of `display` shows them)", NULL, 0, 0},                   \
   {"look", 0, PB_OPT_STRING, &(c)->look, "NAME",                               \
    "OCIO look applied with the view (e.g. Blender's 'Medium High Contrast')",  \
-   NULL, 0, 0}
+   NULL, 0, 0},                                                                \
+  {"exposure", 0, PB_OPT_FLOAT, &(c)->exposure, "STOPS",                       \
+   "scale by 2^STOPS before the view, as Blender's Exposure (default 0)",      \
+   NULL, -64, 64},                                                             \
+  {"gamma", 0, PB_OPT_FLOAT, &(c)->gamma, "G",                                 \
+   "display values to the power 1/G after the view, as Blender's Gamma "       \
+   "(default 1)", NULL, 0.001, 1000}
 
-/* Opens the colour pipeline the options name. */
-static inline pb_result pb_color_opts_open(const pb_color_opts *o, pb_color **out) {
-  pb_color_desc d = {o->ocio_config, o->display, o->view, o->look};
+/* Opens the colour pipeline the options name, for pictures (defaults:
+ * Blender's config and view) or metrics (defaults: built-in, Standard). */
+static inline pb_result pb_color_opts_open_for(const pb_color_opts *o, pb_color_purpose purpose,
+                                               pb_color **out) {
+  pb_color_desc d = {o->ocio_config, o->display, o->view, o->look, o->exposure, o->gamma, purpose};
   return pb_color_open(&d, out);
+}
+
+static inline pb_result pb_color_opts_open(const pb_color_opts *o, pb_color **out) {
+  return pb_color_opts_open_for(o, PB_COLOR_PICTURE, out);
 }
 
 #endif

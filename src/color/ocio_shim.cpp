@@ -4,6 +4,11 @@
 // config; nothing C++ crosses color.h.
 #include <OpenColorIO/OpenColorIO.h>
 
+#include <dirent.h>
+#include <limits.h>
+#include <stdlib.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -11,17 +16,20 @@
 #include <new>
 #include <sstream>
 #include <string>
+#include <vector>
 
 extern "C" {
 #include "color/color.h"
+#include "color/filmic_builtin.h"
 #include "core/result.h"
 }
 
 namespace OCIO = OCIO_NAMESPACE;
 
 struct pb_color {
-  std::string config_name; // "built-in" or a path (with "$OCIO=" when from the environment)
+  std::string config_name; // "built-in" or a path ("$OCIO=" / "Blender's " before it when found so)
   std::string display, view, look;
+  double exposure = 0.0, gamma = 1.0;
   OCIO::ConstConfigRcPtr config;
   OCIO::ConstCPUProcessorRcPtr cpu;
 };
@@ -77,21 +85,103 @@ bool has_view(const OCIO::ConstConfigRcPtr &cfg, const char *d, const char *v) {
   return false;
 }
 
+// Blender 3.4's Filmic view for the built-in config, from the closed form in
+// src/color/filmic_builtin.h (config/ocio/bake_filmic.py derives it from
+// Blender's files): the same four steps as Blender's "Filmic sRGB" colour
+// space, with the 65^3 cube evaluated on its grid here and interpolated
+// tetrahedrally, as Blender's config does with the file.
+OCIO::ConstTransformRcPtr filmic_transform() {
+  const int n = PB_FILMIC_CUBE_SIZE;
+  const double lo = PB_FILMIC_LOG_MIN, span = PB_FILMIC_LOG_MAX - PB_FILMIC_LOG_MIN;
+  OCIO::Lut3DTransformRcPtr cube = OCIO::Lut3DTransform::Create(n);
+  cube->setInterpolation(OCIO::INTERP_TETRAHEDRAL);
+  double lin[PB_FILMIC_CUBE_SIZE];
+  for (int i = 0; i < n; ++i) lin[i] = std::exp2(lo + span * i / (n - 1));
+  auto encode = [&](double v) {
+    double x = (std::log2(v) - lo) / span;
+    return (float)(x > PB_FILMIC_CUBE_FLOOR ? x : PB_FILMIC_CUBE_FLOOR);
+  };
+  for (int r = 0; r < n; ++r)
+    for (int g = 0; g < n; ++g)
+      for (int b = 0; b < n; ++b) {
+        const int m = std::max(r, std::max(g, b));
+        const double t = pb_filmic_desat_t[m], top = lin[m];
+        cube->setValue(r, g, b, encode(lin[r] + t * (top - lin[r])),
+                       encode(lin[g] + t * (top - lin[g])), encode(lin[b] + t * (top - lin[b])));
+      }
+  OCIO::Lut1DTransformRcPtr curve = OCIO::Lut1DTransform::Create(PB_FILMIC_CURVE_SIZE, false);
+  curve->setInterpolation(OCIO::INTERP_LINEAR);
+  for (int i = 0; i < PB_FILMIC_CURVE_SIZE; ++i)
+    curve->setValue(i, pb_filmic_curve[i], pb_filmic_curve[i], pb_filmic_curve[i]);
+
+  OCIO::AllocationTransformRcPtr shaper = OCIO::AllocationTransform::Create();
+  shaper->setAllocation(OCIO::ALLOCATION_LG2);
+  const float shaper_vars[2] = {(float)PB_FILMIC_LOG_MIN, (float)PB_FILMIC_LOG_MAX};
+  shaper->setVars(2, shaper_vars);
+  OCIO::AllocationTransformRcPtr rescale = OCIO::AllocationTransform::Create();
+  rescale->setAllocation(OCIO::ALLOCATION_UNIFORM);
+  const float rescale_vars[2] = {0.0f, (float)PB_FILMIC_CURVE_MAX};
+  rescale->setVars(2, rescale_vars);
+
+  // The built-in config's reference is ACES2065-1: back to scene-linear
+  // Rec.709 first (the inverse of that colour space's to_scene_reference).
+  OCIO::BuiltinTransformRcPtr to_ap1 = OCIO::BuiltinTransform::Create();
+  to_ap1->setStyle("ACEScg_to_ACES2065-1");
+  to_ap1->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  OCIO::BuiltinTransformRcPtr to_rec709 = OCIO::BuiltinTransform::Create();
+  to_rec709->setStyle("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD");
+  OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
+  g->appendTransform(to_ap1);
+  g->appendTransform(to_rec709);
+  g->appendTransform(shaper);
+  g->appendTransform(cube);
+  g->appendTransform(rescale);
+  g->appendTransform(curve);
+  return g;
+}
+
+// The built-in config with its Filmic view added (OCIO's YAML cannot hold an
+// in-memory LUT, so the view is added here) and made the default.
+OCIO::ConstConfigRcPtr builtin_config() {
+  std::istringstream in(pb_color_builtin_config_text);
+  OCIO::ConfigRcPtr cfg = OCIO::Config::CreateFromStream(in)->createEditableCopy();
+  OCIO::ColorSpaceRcPtr cs = OCIO::ColorSpace::Create();
+  cs->setName("Filmic sRGB");
+  cs->setFamily("Display");
+  cs->setDescription("Blender 3.4's Filmic view on an sRGB display (base contrast, no look)");
+  cs->setTransform(filmic_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
+  cfg->addColorSpace(cs);
+  cfg->addDisplayView("sRGB", "Filmic", "Filmic sRGB", "");
+  cfg->setActiveViews("Filmic, Standard, ACES 1.0 - SDR Video, Raw");
+  return cfg;
+}
+
+bool readable(const std::string &path) {
+  FILE *f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  std::fclose(f);
+  return true;
+}
+
 pb_result load_config(const pb_color_desc *desc, pb_color *c) {
   const char *path = desc->config;
   const char *env = std::getenv("OCIO");
-  if (empty(path) && !empty(env)) {
+  if (!empty(path) && std::strcmp(path, "built-in") == 0) {
+    path = nullptr; // asked for by name
+    c->config_name = "built-in";
+  } else if (empty(path) && !empty(env)) {
     path = env;
     c->config_name = std::string("$OCIO=") + env;
   } else if (!empty(path)) {
     c->config_name = path;
+  } else if (desc->purpose == PB_COLOR_PICTURE && (path = pb_color_blender_config())) {
+    c->config_name = std::string("Blender's ") + path;
   } else {
     c->config_name = "built-in";
   }
   try {
     if (empty(path)) {
-      std::istringstream in(pb_color_builtin_config_text);
-      c->config = OCIO::Config::CreateFromStream(in);
+      c->config = builtin_config();
     } else {
       FILE *f = std::fopen(path, "rb");
       if (!f)
@@ -104,6 +194,8 @@ pb_result load_config(const pb_color_desc *desc, pb_color *c) {
   } catch (const OCIO::Exception &e) {
     return pb_fail(PB_ERR_NOT_AVAILABLE, "OCIO config %s: %s", c->config_name.c_str(),
                    one_line(e.what()).c_str());
+  } catch (const std::bad_alloc &) {
+    return pb_fail(PB_ERR_NOMEM, "OCIO config %s: out of memory", c->config_name.c_str());
   }
   return PB_OK;
 }
@@ -130,7 +222,13 @@ extern "C" pb_result pb_color_open(const pb_color_desc *desc, pb_color **out) {
       delete c;
       return r;
     }
-    const char *view = empty(desc->view) ? c->config->getDefaultView(display) : desc->view;
+    // Without --view: pictures get Blender's default view transform (Filmic
+    // for every new Blender 3.4 scene; Blender's config lists Standard first,
+    // so OCIO's own default would be Standard), metrics get Standard.
+    const char *view = desc->view;
+    const char *want = desc->purpose == PB_COLOR_METRICS ? "Standard" : "Filmic";
+    if (empty(view))
+      view = has_view(c->config, display, want) ? want : c->config->getDefaultView(display);
     if (!has_view(c->config, display, view)) {
       r = pb_fail(PB_ERR_USAGE, "OCIO config %s: display '%s' has no view '%s' (views: %s)", cfg,
                   display, view, join_views(c->config, display).c_str());
@@ -144,25 +242,48 @@ extern "C" pb_result pb_color_open(const pb_color_desc *desc, pb_color **out) {
       delete c;
       return r;
     }
+    if (!std::isfinite(desc->exposure) || std::fabs(desc->exposure) > 64.0 ||
+        !std::isfinite(desc->gamma) || desc->gamma < 0.0 || (desc->gamma > 0.0 && desc->gamma < 1e-3)) {
+      r = pb_fail(PB_ERR_USAGE, "OCIO config %s: exposure %g / gamma %g out of range "
+                  "(exposure within +-64 stops, gamma > 0.001)", cfg, desc->exposure, desc->gamma);
+      delete c;
+      return r;
+    }
     c->display = display;
     c->view = view;
     c->look = look;
+    c->exposure = desc->exposure;
+    c->gamma = desc->gamma > 0.0 ? desc->gamma : 1.0;
 
     OCIO::DisplayViewTransformRcPtr dvt = OCIO::DisplayViewTransform::Create();
     dvt->setSrc(OCIO::ROLE_SCENE_LINEAR);
     dvt->setDisplay(display);
     dvt->setView(view);
-    OCIO::ConstProcessorRcPtr proc;
+    // Blender's display processor (OCIOImpl::createDisplayProcessor):
+    // exposure as a scale in scene-linear, the look (replacing the view's own
+    // looks, as Blender's "Look" menu does), the view, then gamma as an
+    // exponent 1/gamma on the display values.
+    OCIO::LegacyViewingPipelineRcPtr vp = OCIO::LegacyViewingPipeline::Create();
+    vp->setDisplayViewTransform(dvt);
     if (*look) {
-      // The look replaces the view's own looks, as Blender's "Look" menu does.
-      OCIO::LegacyViewingPipelineRcPtr vp = OCIO::LegacyViewingPipeline::Create();
-      vp->setDisplayViewTransform(dvt);
       vp->setLooksOverrideEnabled(true);
       vp->setLooksOverride(look);
-      proc = vp->getProcessor(c->config, c->config->getCurrentContext());
-    } else {
-      proc = c->config->getProcessor(dvt);
     }
+    if (c->exposure != 0.0) {
+      const double k = std::exp2(c->exposure);
+      const double m[16] = {k, 0, 0, 0, 0, k, 0, 0, 0, 0, k, 0, 0, 0, 0, 1};
+      OCIO::MatrixTransformRcPtr scale = OCIO::MatrixTransform::Create();
+      scale->setMatrix(m);
+      vp->setLinearCC(scale);
+    }
+    if (c->gamma != 1.0) {
+      const double e = 1.0 / c->gamma;
+      const double v[4] = {e, e, e, 1.0};
+      OCIO::ExponentTransformRcPtr ex = OCIO::ExponentTransform::Create();
+      ex->setValue(v);
+      vp->setDisplayCC(ex);
+    }
+    OCIO::ConstProcessorRcPtr proc = vp->getProcessor(c->config, c->config->getCurrentContext());
     // Lossless: no fast pow/log approximations, so that the Standard view
     // matches the analytic sRGB encode to float precision.
     c->cpu = proc->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
@@ -233,6 +354,68 @@ extern "C" const char *pb_color_config_name(const pb_color *c) { return c->confi
 extern "C" const char *pb_color_display(const pb_color *c) { return c->display.c_str(); }
 extern "C" const char *pb_color_view(const pb_color *c) { return c->view.c_str(); }
 extern "C" const char *pb_color_look(const pb_color *c) { return c->look.c_str(); }
+extern "C" double pb_color_exposure(const pb_color *c) { return c->exposure; }
+extern "C" double pb_color_gamma(const pb_color *c) { return c->gamma; }
+
+extern "C" void pb_color_describe(const pb_color *c, char *buf, size_t size) {
+  std::snprintf(buf, size, "%s / %s, look %s, exposure %g, gamma %g (OCIO config %s)",
+                c->display.c_str(), c->view.c_str(), c->look.empty() ? "None" : c->look.c_str(),
+                c->exposure, c->gamma, c->config_name.c_str());
+}
+
+extern "C" const char *pb_color_blender_config(void) {
+  // Searched on every call (a few stat calls) so that tests can change
+  // $PB_BLENDER_OCIO; not thread-safe, like the rest of colour set-up.
+  static std::string found;
+  found.clear();
+  const char *env = std::getenv("PB_BLENDER_OCIO");
+  if (env) {
+    if (*env && readable(env)) found = env;
+    return found.empty() ? nullptr : found.c_str();
+  }
+  const std::string tail = "/datafiles/colormanagement/config.ocio";
+  std::vector<std::string> dirs = {"/usr/share/blender"};
+  // Blender's own tarballs keep X.Y/datafiles beside the executable.
+  if (const char *path = std::getenv("PATH")) {
+    std::string p = path;
+    for (size_t a = 0; a <= p.size();) {
+      size_t b = p.find(':', a);
+      if (b == std::string::npos) b = p.size();
+      std::string d = p.substr(a, b - a);
+      if (!d.empty() && readable(d + "/blender")) {
+        char real[PATH_MAX];
+        if (realpath((d + "/blender").c_str(), real)) {
+          std::string r = real;
+          dirs.push_back(r.substr(0, r.rfind('/')));
+        }
+      }
+      a = b + 1;
+    }
+  }
+  for (const std::string &d : dirs) {
+    if (readable(d + tail)) {
+      found = d + tail;
+      break;
+    }
+    // Versioned folders (X.Y/datafiles), newest first.
+    std::vector<std::string> versions;
+    if (DIR *dir = opendir(d.c_str())) {
+      while (struct dirent *e = readdir(dir))
+        if (e->d_name[0] >= '0' && e->d_name[0] <= '9') versions.push_back(e->d_name);
+      closedir(dir);
+    }
+    std::sort(versions.begin(), versions.end(), [](const std::string &x, const std::string &y) {
+      return std::strtod(x.c_str(), nullptr) > std::strtod(y.c_str(), nullptr);
+    });
+    for (const std::string &v : versions)
+      if (readable(d + "/" + v + tail)) {
+        found = d + "/" + v + tail;
+        break;
+      }
+    if (!found.empty()) break;
+  }
+  return found.empty() ? nullptr : found.c_str();
+}
 
 extern "C" void pb_color_list(const pb_color *c, FILE *f) {
   std::fprintf(f, "config %s\n", c->config_name.c_str());

@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "color/color.h"
 #include "core/fs.h"
@@ -38,16 +39,14 @@ static void write_cb(void *ctx, void *data, int size) {
 
 pb_result pb_png_write_display(const char *path, const pb_color *c, uint32_t width,
                                uint32_t height, uint32_t channels,
-                               const float *pixels, float exposure) {
+                               const float *pixels) {
   assert(path);
-  if (!c) return pb_png_write_srgb(path, width, height, channels, pixels, exposure);
+  if (!c) return pb_png_write_srgb(path, width, height, channels, pixels, 0.0f);
   if (width == 0 || height == 0)
     return pb_fail(PB_ERR_IMAGE, "%s: image size %ux%u is empty", path, width, height);
   if (channels != 3 && channels != 4)
     return pb_fail(PB_ERR_IMAGE, "%s: %u channels (a PNG preview takes 3 or 4)", path, channels);
   if (!pixels) return pb_fail(PB_ERR_IMAGE, "%s: no pixels", path);
-  if (!isfinite(exposure))
-    return pb_fail(PB_ERR_USAGE, "%s: exposure must be a finite number", path);
   if (width > PB_IMAGE_MAX_DIM || height > PB_IMAGE_MAX_DIM ||
       (uint64_t)width * height > PB_IMAGE_MAX_PIXELS)
     return pb_fail(PB_ERR_LIMIT, "%s: image size %ux%u exceeds the limit", path, width, height);
@@ -60,9 +59,7 @@ pb_result pb_png_write_display(const char *path, const pb_color *c, uint32_t wid
     free(bytes);
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
   }
-  const float scale = exp2f(exposure);
-  for (size_t i = 0; i < n; ++i)
-    tmp[i] = (channels == 4 && i % 4 == 3) ? pixels[i] : pixels[i] * scale;
+  memcpy(tmp, pixels, n * sizeof *tmp);
   pb_result r = pb_color_apply_display(c, tmp, width, height, channels);
   if (r == PB_OK)
     for (size_t i = 0; i < n; ++i) bytes[i] = to_byte(tmp[i]);

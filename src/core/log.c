@@ -36,6 +36,12 @@ double pb_time_now(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double pb_thread_cpu_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static void draw(pb_progress *p, int final) {
   double frac = p->total ? (double)p->done / (double)p->total : 1.0;
   if (frac > 1.0) frac = 1.0;

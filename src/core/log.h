@@ -36,5 +36,8 @@ void pb_progress_end(pb_progress *p);
 
 /* Monotonic seconds. */
 double pb_time_now(void);
+/* CPU seconds this thread has run: the cost of a CPU-bound step on a shared
+ * machine, where wall time also counts the other processes. */
+double pb_thread_cpu_now(void);
 
 #endif

@@ -51,7 +51,7 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
       .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
       .size = d->size,
       .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-               VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
       .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
   };
   pb_result r;

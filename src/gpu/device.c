@@ -259,12 +259,16 @@ static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d, unsigned mask) 
   d->device_id = p.deviceID;
   d->api_version = p.apiVersion;
   if (v12) {
+    d->driver_id = (uint32_t)drv.driverID;
     size_t k = strnlen(drv.driverName, sizeof drv.driverName);
     memcpy(d->driver, drv.driverName, k < sizeof d->driver ? k : sizeof d->driver - 1);
     d->driver[k < sizeof d->driver ? k : sizeof d->driver - 1] = 0;
   }
   d->max_storage_buffer_range = p.limits.maxStorageBufferRange;
   d->subgroup_size = p.apiVersion >= VK_API_VERSION_1_1 ? sg.subgroupSize : 0;
+  d->subgroup_ops = p.apiVersion >= VK_API_VERSION_1_1 && (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT)
+                        ? sg.supportedOperations
+                        : 0;
   VkPhysicalDeviceMemoryProperties mp;
   vkGetPhysicalDeviceMemoryProperties(pd, &mp);
   for (uint32_t i = 0; i < mp.memoryHeapCount; ++i)
@@ -482,6 +486,9 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   g->limits.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
   g->limits.max_workgroup_count_y = p.limits.maxComputeWorkGroupCount[1];
   g->limits.subgroup_size = info[idx].subgroup_size;
+  g->limits.subgroup_ops = info[idx].subgroup_ops;
+  g->limits.cpu = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  g->limits.driver_id = info[idx].driver_id;
   g->limits.timestamps = info[idx].timestamps;
   g->limits.timestamp_period_ns = p.limits.timestampPeriod;
   g->ts_mask = ts_bits >= 64 ? UINT64_MAX : ((1ull << ts_bits) - 1);
@@ -595,6 +602,13 @@ pb_result pb_gpu_begin(pb_gpu *g) {
   return PB_OK;
 }
 
+static void bind(pb_gpu *g, const pb_gpu_pipeline *p, const void *push) {
+  vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
+  vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0, NULL);
+  if (p->push_bytes && push)
+    vkCmdPushConstants(g->cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, p->push_bytes, push);
+}
+
 pb_result pb_gpu_dispatch(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
                           uint64_t invocations) {
   if (invocations == 0) return PB_OK;
@@ -608,11 +622,18 @@ pb_result pb_gpu_dispatch(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
   if (gy > g->limits.max_workgroup_count_y)
     return pb_fail(PB_ERR_LIMIT, "gpu: %s: %llu work items exceed the device's dispatch limits",
                    "dispatch", (unsigned long long)invocations);
-  vkCmdBindPipeline(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
-  vkCmdBindDescriptorSets(g->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0, NULL);
-  if (p->push_bytes && push)
-    vkCmdPushConstants(g->cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, p->push_bytes, push);
+  bind(g, p, push);
   vkCmdDispatch(g->cmd, (uint32_t)gx, (uint32_t)gy, 1);
+  return PB_OK;
+}
+
+pb_result pb_gpu_dispatch_indirect(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
+                                   const pb_gpu_buffer *args, uint64_t offset) {
+  if (!args || !args->buffer || offset % 4 || offset + 12 > args->size)
+    return pb_fail(PB_ERR_INTERNAL, "gpu: indirect dispatch arguments at %llu outside their buffer",
+                   (unsigned long long)offset);
+  bind(g, p, push);
+  vkCmdDispatchIndirect(g->cmd, args->buffer, offset);
   return PB_OK;
 }
 
@@ -621,11 +642,13 @@ void pb_gpu_barrier(pb_gpu *g) {
       .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
       .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
       .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT, /* pb_gpu_dispatch_indirect's counts */
   };
   vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb,
-                       0, NULL, 0, NULL);
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                       0, 1, &mb, 0, NULL, 0, NULL);
 }
 
 void pb_gpu_timestamp(pb_gpu *g, uint32_t slot) {

@@ -30,6 +30,8 @@ typedef struct pb_gpu_device_info {
   uint64_t max_storage_buffer_range; /* bytes */
   uint64_t device_local_bytes;
   uint32_t subgroup_size;      /* 0 if the device cannot say */
+  uint32_t subgroup_ops;       /* VkSubgroupFeatureFlags of the compute stage (0: none) */
+  uint32_t driver_id;          /* VkDriverId (Vulkan 1.2 drivers), 0 if unknown */
   int timestamps;              /* compute queue has timestamps */
   int usable;                  /* has everything the pipeline needs (missing[0] == 0) */
   int preferred;               /* the device that --device auto picks */
@@ -86,6 +88,13 @@ typedef struct pb_gpu_limits {
   uint64_t max_allocation;
   uint32_t max_workgroup_count_x, max_workgroup_count_y;
   uint32_t subgroup_size;
+  uint32_t subgroup_ops;       /* VkSubgroupFeatureFlags usable in compute shaders
+                                  (0 when the compute stage has none); kernels that
+                                  use them have a portable twin for devices without */
+  int cpu;                     /* a CPU implementation (lavapipe, SwiftShader): kernels
+                                  may pick variants for its cost model */
+  uint32_t driver_id;          /* VkDriverId, 0 if unknown (kernels may work around
+                                  a driver's known bugs) */
   int timestamps;
   double timestamp_period_ns;
 } pb_gpu_limits;
@@ -185,7 +194,14 @@ pb_result pb_gpu_begin(pb_gpu *g);
  * gid = x + y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP and skip gid >= count. */
 pb_result pb_gpu_dispatch(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
                           uint64_t invocations);
-/* Compute-to-compute (and transfer) memory barrier. */
+/* Dispatches the workgroup counts (VkDispatchIndirectCommand: x, y, z) that an
+ * earlier pass wrote at byte `offset` of `args`, so that a pass is sized on the
+ * GPU without the host reading anything back. Whoever writes the counts folds
+ * them into x <= maxComputeWorkGroupCount[0] and y, as pb_gpu_dispatch does;
+ * a barrier (pb_gpu_barrier) must separate the write from this call. */
+pb_result pb_gpu_dispatch_indirect(pb_gpu *g, const pb_gpu_pipeline *p, const void *push,
+                                   const pb_gpu_buffer *args, uint64_t offset);
+/* Compute-to-compute (and transfer, and compute-to-indirect-arguments) memory barrier. */
 void pb_gpu_barrier(pb_gpu *g);
 /* Writes timestamp slot `slot` after all previous work (ignored when the queue
  * has none). */

@@ -63,6 +63,10 @@ typedef struct pb_pov_desc {
   int camera;             /* index into scene->cameras */
   pb_pov_quality quality;
   float fade_distance;    /* metres; 0: 1e-3 x the scene's bounding diagonal */
+  double time;            /* seconds the caller posed an animated scene at
+                             (pb_scene_set_time), for the file's notes; NAN
+                             (or 0 in a zeroed desc of a static scene): the
+                             file's own pose */
 } pb_pov_desc;
 
 /* What the export approximated or left out, one line each

@@ -1,6 +1,7 @@
 /* pb_scene -> POV-Ray 3.7 SDL. The unit mappings and their derivations are in
  * pov.h; the tests render with POV-Ray and compare with the analytic values. */
 #include "pov/pov.h"
+#include "scene/camera.h"
 
 #include <assert.h>
 #include <errno.h>
@@ -163,13 +164,17 @@ typedef struct export_ctx {
   int photons;
 } export_ctx;
 
-static pb_result write_pigment(export_ctx *x, FILE *f, uint32_t mi, const pb_material *m, double filter) {
+/* The base colour: the factor times `tint` (a vertex's COLOR_0, or NULL) as
+ * a plain pigment, or the texture (times the factor) as an image map. */
+static pb_result write_pigment(export_ctx *x, FILE *f, uint32_t mi, const pb_material *m, double filter, const float *tint) {
   if (m->base_color_tex < 0 || (uint32_t)m->base_color_tex >= x->s->texture_count) {
+    double c[3];
+    for (int k = 0; k < 3; ++k) c[k] = m->base_color[k] * (tint ? tint[k] : 1.0f);
     fprintf(f, "    pigment { ");
     if (filter > 0)
-      fprintf(f, "rgbf <%.9g,%.9g,%.9g,%.9g>", m->base_color[0], m->base_color[1], m->base_color[2], filter);
+      fprintf(f, "rgbf <%.9g,%.9g,%.9g,%.9g>", c[0], c[1], c[2], filter);
     else
-      rgb(f, m->base_color[0], m->base_color[1], m->base_color[2]);
+      rgb(f, c[0], c[1], c[2]);
     fprintf(f, " }\n");
     return PB_OK;
   }
@@ -193,30 +198,46 @@ static pb_result write_pigment(export_ctx *x, FILE *f, uint32_t mi, const pb_mat
   return r;
 }
 
-static pb_result write_material(export_ctx *x, FILE *f, uint32_t mi) {
+static int refractive(const pb_material *m) {
+  pb_bsdf_kind kind = pb_material_kind(m);
+  return kind == PB_BSDF_GLASS || (kind == PB_BSDF_GLOSSY && m->transmission > 0.5f);
+}
+
+/* The material's texture block, with the base colour times `tint` (a
+ * vertex's COLOR_0 in a texture_list, or NULL); `notes`: add the material's
+ * export notes (once per material). Its interior is write_interior's. */
+static pb_result write_material(export_ctx *x, FILE *f, uint32_t mi, const float *tint, int notes) {
   const pb_material *m = &x->s->materials[mi];
   const pb_bsdf_kind kind = pb_material_kind(m);
   pb_result r = PB_OK;
   const int emissive = pb_material_is_emissive(m);
 
-  if (kind == PB_BSDF_GLASS || (kind == PB_BSDF_GLOSSY && m->transmission > 0.5f)) {
+  if (m->unlit) {
+    /* KHR_materials_unlit: the pigment (base colour) as emission, nothing
+     * reflected; the mesh is no_radiosity (write_mesh), so it lights
+     * nothing, as in the other renderers. */
     fprintf(f, "  texture {\n");
-    r = write_pigment(x, f, mi, m, m->transmission);
+    r = write_pigment(x, f, mi, m, 0, tint);
+    fprintf(f, "    finish { ambient 0 emission 1 diffuse 0 specular 0 phong 0 reflection 0 }\n  }\n");
+    return r;
+  }
+  if (refractive(m)) {
+    fprintf(f, "  texture {\n");
+    r = write_pigment(x, f, mi, m, m->transmission, tint);
     fprintf(f, "    finish { ambient 0 emission 0 diffuse 0 specular 0 phong 0\n"
                "             reflection { 0, 1 fresnel on } conserve_energy }\n  }\n");
-    fprintf(f, "  interior { ior %.9g }\n", m->ior > 0 ? m->ior : 1.5);
-    if (kind == PB_BSDF_GLOSSY && r == PB_OK)
+    if (notes && kind == PB_BSDF_GLOSSY && r == PB_OK)
       r = note(x->rep, 1, "material '%s': rough glass (roughness %.3g) written as smooth glass", m->name, m->roughness);
     return r;
   }
   fprintf(f, "  texture {\n");
-  r = write_pigment(x, f, mi, m, 0);
+  r = write_pigment(x, f, mi, m, 0, tint);
   if (r != PB_OK) return r;
   if (kind == PB_BSDF_MIRROR || (kind == PB_BSDF_GLOSSY && m->metallic > 0.5f)) {
     /* reflection metallic: the reflection is tinted by the pigment (F0 =
      * base colour), whitening towards grazing angles like Schlick's. */
     fprintf(f, "    finish { ambient 0 emission 0 diffuse 0 specular 0 phong 0 reflection { 1 metallic } }\n  }\n");
-    if (kind == PB_BSDF_GLOSSY)
+    if (notes && kind == PB_BSDF_GLOSSY)
       r = note(x->rep, 1, "material '%s': glossy metal (roughness %.3g) written as a mirror", m->name, m->roughness);
     return r;
   }
@@ -225,15 +246,17 @@ static pb_result write_material(export_ctx *x, FILE *f, uint32_t mi) {
   if (emissive) {
     /* POV-Ray multiplies emission by the pigment: divide it out. */
     for (int k = 0; k < 3; ++k) {
-      double p = m->base_color[k] > 1e-4f ? m->base_color[k] : 1e-4;
-      em[k] = m->emissive[k] / p;
+      double p = m->base_color[k] * (tint ? tint[k] : 1.0f);
+      em[k] = m->emissive[k] / (p > 1e-4 ? p : 1e-4);
     }
-    x->rep->emitter_count++;
-    r = note(x->rep, 1,
-             "material '%s': emissive (%.4g %.4g %.4g W/(m^2 sr)) shows its radiance but lights the scene "
-             "only through radiosity (POV-Ray has no mesh lights)%s",
-             m->name, m->emissive[0], m->emissive[1], m->emissive[2],
-             m->base_color_tex >= 0 ? "; emission is divided by the factor, not the texture" : "");
+    if (notes) {
+      x->rep->emitter_count++;
+      r = note(x->rep, 1,
+               "material '%s': emissive (%.4g %.4g %.4g W/(m^2 sr)) shows its radiance but lights the scene "
+               "only through radiosity (POV-Ray has no mesh lights)%s",
+               m->name, m->emissive[0], m->emissive[1], m->emissive[2],
+               m->base_color_tex >= 0 ? "; emission is divided by the factor, not the texture" : "");
+    }
     if (r != PB_OK) return r;
   }
   fprintf(f, "    finish { ambient 0 emission ");
@@ -250,16 +273,37 @@ static pb_result write_material(export_ctx *x, FILE *f, uint32_t mi) {
       fprintf(f, "\n             reflection { %.9g, 1 fresnel on } conserve_energy", F0);
     else
       fprintf(f, "\n             specular %.9g roughness %.9g", F0, fmax(1e-4, m->roughness * m->roughness));
-    r = note(x->rep, 1, "material '%s': dielectric specular layer (roughness %.3g) approximated by a %s", m->name,
-             m->roughness, m->roughness < 0.2f ? "Fresnel mirror" : "Blinn highlight");
+    if (notes)
+      r = note(x->rep, 1, "material '%s': dielectric specular layer (roughness %.3g) approximated by a %s", m->name,
+               m->roughness, m->roughness < 0.2f ? "Fresnel mirror" : "Blinn highlight");
   }
   fprintf(f, " }\n  }\n");
-  if (kind == PB_BSDF_GLOSSY && m->roughness < 0.2f) fprintf(f, "  interior { ior %.9g }\n", m->ior > 0 ? m->ior : 1.5);
   return r;
+}
+
+/* The interior: the index of refraction of glass and of a smooth specular
+ * layer, and KHR_materials_volume's absorption as a POV-Ray absorbing medium
+ * (media { absorption sigma_a }: transmittance exp(-sigma_a d) over a path
+ * d inside, Beer-Lambert exactly for a constant density). */
+static void write_interior(const pb_material *m, int closed, FILE *f) {
+  pb_bsdf_kind kind = pb_material_kind(m);
+  int ior = refractive(m) || (kind == PB_BSDF_GLOSSY && m->roughness < 0.2f && !m->unlit);
+  int media = closed && refractive(m) && (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0);
+  if (!ior) return;
+  fprintf(f, "  interior { ior %.9g", m->ior > 0 ? m->ior : 1.5);
+  if (media)
+    fprintf(f, "\n    media { absorption <%.9g,%.9g,%.9g> method 3 intervals 1 samples 1,1 }\n ", m->attenuation[0],
+            m->attenuation[1], m->attenuation[2]);
+  fprintf(f, " }\n");
+  /* POV-Ray blocks the media of an object that is not hollow. */
+  if (media) fprintf(f, "  hollow on\n");
 }
 
 static pb_result material_notes(export_ctx *x, const pb_material *m) {
   pb_result r = PB_OK;
+  if (x->s->colors && m->base_color_tex >= 0)
+    r = note(x->rep, 1, "material '%s': vertex colours (COLOR_0) ignored on a textured material (POV-Ray cannot multiply an image map by them)",
+             m->name);
   if (r == PB_OK && m->alpha_mode != PB_ALPHA_OPAQUE)
     r = note(x->rep, 1, "material '%s': alpha %s ignored (opaque)", m->name,
              m->alpha_mode == PB_ALPHA_MASK ? "mask" : "blend");
@@ -349,36 +393,54 @@ static pb_result write_mesh(export_ctx *x, FILE *f, uint32_t mi, uint32_t *remap
   }
   fprintf(f, " }\n");
   if (textured) {
+    /* The base colour texture's uv set through its KHR_texture_transform
+     * (pb_texture_uv); POV-Ray's image v runs bottom to top. */
+    const pb_texture *tx = &s->textures[m->base_color_tex];
     fprintf(f, "  uv_vectors { %u", nv);
     for (uint32_t i = 0; i < nv; ++i) {
+      float uv[2];
+      pb_texture_uv(tx, s->uvs[verts[i]], s->uvs1 ? s->uvs1[verts[i]] : NULL, uv);
       fputs(i % 4 ? ", " : ",\n    ", f);
-      fprintf(f, "<%.9g,%.9g>", s->uvs[verts[i]][0], 1.0f - s->uvs[verts[i]][1]);
+      fprintf(f, "<%.9g,%.9g>", uv[0], 1.0f - uv[1]);
     }
     fprintf(f, " }\n");
+  }
+  /* COLOR_0 on an untextured material: one texture per vertex, which
+   * POV-Ray interpolates across each face (three texture indices per face). */
+  const int tinted = s->colors && !textured;
+  if (tinted) {
+    fprintf(f, "  texture_list { %u,\n", nv);
+    for (uint32_t i = 0; i < nv && r == PB_OK; ++i) r = write_material(x, f, mi, s->colors[verts[i]], i == 0);
+    fprintf(f, "  }\n");
+    if (r != PB_OK) return r;
   }
   fprintf(f, "  face_indices { %u", nt);
   uint32_t i = 0;
   for (uint32_t t = 0; t < s->triangle_count; ++t) {
     if (s->triangle_material[t] != mi) continue;
     fputs(i++ % 6 ? ", " : ",\n    ", f);
-    fprintf(f, "<%u,%u,%u>", remap[s->triangles[t][0]], remap[s->triangles[t][1]], remap[s->triangles[t][2]]);
+    uint32_t a = remap[s->triangles[t][0]], b = remap[s->triangles[t][1]], c = remap[s->triangles[t][2]];
+    fprintf(f, "<%u,%u,%u>", a, b, c);
+    if (tinted) fprintf(f, ", %u, %u, %u", a, b, c);
   }
   fprintf(f, " }\n");
   for (uint32_t k = 0; k < nv; ++k) remap[verts[k]] = UINT32_MAX;
 
-  const int refractive = kind == PB_BSDF_GLASS || (kind == PB_BSDF_GLOSSY && m->transmission > 0.5f);
-  if (refractive) {
-    if (closed_surface(s, mi))
+  const int glass = refractive(m), closed = glass && closed_surface(s, mi);
+  if (glass) {
+    if (closed)
       fprintf(f, "  inside_vector <0,0,1>  // closed: solid, so refraction knows inside from outside\n");
     else
-      r = note(x->rep, 1, "material '%s': glass surface is not closed; POV-Ray refracts it as a thin open mesh", m->name);
+      r = note(x->rep, 1, "material '%s': glass surface is not closed; POV-Ray refracts it as a thin open mesh%s", m->name,
+               m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0 ? " without its absorbing medium" : "");
     if (r != PB_OK) return r;
   }
-  r = write_material(x, f, mi);
-  if (r != PB_OK) return r;
+  if (!tinted && (r = write_material(x, f, mi, NULL, 1)) != PB_OK) return r;
+  write_interior(m, closed, f);
+  if (m->unlit) fprintf(f, "  no_radiosity  // unlit: seen, lights nothing\n");
   if (x->photons) {
-    if (kind == PB_BSDF_MIRROR || refractive || (kind == PB_BSDF_GLOSSY && m->metallic > 0.5f))
-      fprintf(f, "  photons { target reflection on refraction %s collect off }\n", refractive ? "on" : "off");
+    if (kind == PB_BSDF_MIRROR || glass || (kind == PB_BSDF_GLOSSY && m->metallic > 0.5f))
+      fprintf(f, "  photons { target reflection on refraction %s collect off }\n", glass ? "on" : "off");
   }
   fprintf(f, "}\n");
   return PB_OK;
@@ -400,6 +462,24 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
       r = note(x->rep, 1, "light '%s': range %.4g m ignored (POV-Ray has no cut-off; the inverse square law holds)",
                l->name, l->range);
     if (r != PB_OK) return r;
+    /* Soft lights: POV-Ray's area_light is a grid of point lights, not
+     * Cycles' models (scene.h); the export keeps what it can say exactly. */
+    if (l->type == PB_LIGHT_AREA) {
+      if ((r = note(x->rep, 1, "light '%s': area light not exported (the POV-Ray export writes point, spot and "
+                                "directional lights)", l->name)) != PB_OK)
+        return r;
+      continue;
+    }
+    if (!pb_light_is_delta(l) &&
+        (r = note(x->rep, 1, "light '%s': exported as a hard %s light (its %s of %.4g is ignored)", l->name,
+                  l->type == PB_LIGHT_DIRECTIONAL ? "directional" : "point or spot",
+                  l->type == PB_LIGHT_DIRECTIONAL ? "angle" : "radius",
+                  l->type == PB_LIGHT_DIRECTIONAL ? l->angle : l->radius)) != PB_OK)
+      return r;
+    if (l->type == PB_LIGHT_SPOT && l->spot_model == PB_SPOT_CYCLES &&
+        (r = note(x->rep, 1, "light '%s': Cycles' spot falloff exported as a smooth step between %.4g and %.4g "
+                             "degrees", l->name, l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI)) != PB_OK)
+      return r;
     if (l->type == PB_LIGHT_DIRECTIONAL) {
       /* E [W/m^2] -> colour E/pi; placed beyond the scene along -direction. */
       double far = 2.0 * diag + 1.0, p[3];
@@ -435,13 +515,19 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
   return PB_OK;
 }
 
-static void write_camera(FILE *f, const pb_camera *c, double aspect) {
-  const double half = tan(0.5 * c->yfov);
-  const double dlen = 0.5 / half;
-  const double hfov = 2.0 * atan(aspect * half) * 180.0 / M_PI;
+/* The camera's window (scene/camera.h) as POV-Ray vectors: ray = direction
+ * + x right + y up, x, y in [-1/2, 1/2] (perspective), or from location + x
+ * right + y up along direction (orthographic), scaled so that |up| = 1.
+ * A lens shift puts the window's centre off the axis: direction is then not
+ * perpendicular to right and up (POV-Ray warns and renders the skewed
+ * window, which is the shifted lens). POV-Ray has no clip planes: znear and
+ * zfar are not written (a note says so when they would cut geometry). */
+static void write_camera(FILE *f, const pb_camera *c, uint32_t w, uint32_t h) {
+  double ww, wh, cx, cy;
+  pb_camera_window(c, w, h, &ww, &wh, &cx, &cy);
   /* Re-orthonormalise in double (the file's float basis is orthonormal to
    * ~1e-7): forward, up made perpendicular to it, right = forward x up. */
-  double fw[3], up[3], rt[3], d[3], u[3], r3[3];
+  double fw[3], up[3], rt[3], d[3], u[3], r3[3], loc[3];
   double n = 0, dot = 0;
   for (int k = 0; k < 3; ++k) n += (double)c->forward[k] * c->forward[k];
   for (int k = 0; k < 3; ++k) fw[k] = c->forward[k] / sqrt(n);
@@ -456,18 +542,33 @@ static void write_camera(FILE *f, const pb_camera *c, double aspect) {
   rt[1] = fw[2] * up[0] - fw[0] * up[2];
   rt[2] = fw[0] * up[1] - fw[1] * up[0];
   for (int k = 0; k < 3; ++k) {
-    d[k] = fw[k] * dlen;
     u[k] = up[k];
-    r3[k] = rt[k] * aspect;
+    r3[k] = rt[k] * ww / wh;
+    if (c->orthographic) {
+      d[k] = fw[k];
+      loc[k] = c->position[k] + rt[k] * cx + up[k] * cy;
+    } else {
+      d[k] = (fw[k] + rt[k] * cx + up[k] * cy) / wh;
+      loc[k] = c->position[k];
+    }
   }
   char name[PB_NAME_MAX];
   safe_name(name, sizeof name, c->name);
-  fprintf(f,
-          "\n// camera '%s': yfov %.9g deg, aspect %.9g (horizontal angle %.9g deg). Explicit vectors, mirrored\n"
-          "// like the geometry (so the picture is not): ray = direction + x right + y up, x, y in [-1/2, 1/2].\n"
-          "camera {\n  perspective\n  location ",
-          name, c->yfov * 180.0 / M_PI, aspect, hfov);
-  vec(f, c->position);
+  if (c->orthographic) {
+    fprintf(f,
+            "\n// camera '%s': orthographic, %.9g x %.9g m, shift (%.9g, %.9g). Explicit vectors, mirrored like the\n"
+            "// geometry (so the picture is not): ray from location + x right + y up along direction.\n"
+            "camera {\n  orthographic\n  location ",
+            name, ww, wh, c->shift[0], c->shift[1]);
+    for (int k = 0; k < 3; ++k) u[k] *= wh, r3[k] *= wh;
+  } else {
+    fprintf(f,
+            "\n// camera '%s': %.9g x %.9g deg, shift (%.9g, %.9g). Explicit vectors, mirrored like the geometry\n"
+            "// (so the picture is not): ray = direction + x right + y up, x, y in [-1/2, 1/2].\n"
+            "camera {\n  perspective\n  location ",
+            name, 2.0 * atan(0.5 * ww) * 180.0 / M_PI, 2.0 * atan(0.5 * wh) * 180.0 / M_PI, c->shift[0], c->shift[1]);
+  }
+  vecd(f, loc);
   fprintf(f, "\n  right ");
   vec17(f, r3);
   fprintf(f, "\n  up ");
@@ -552,11 +653,16 @@ pb_result pb_pov_export(const pb_scene *s, const pb_pov_desc *desc, const char *
           pb_pov_quality_names[(desc->quality == PB_POV_QUALITY_DEFAULT ? PB_POV_MEDIUM : desc->quality) - 1],
           photons ? ", photons on (specular paths)" : "");
   write_global(f, p, photons);
-  write_camera(f, cam, (double)w / h);
+  write_camera(f, cam, w, h);
   r = write_lights(&x, f, fade);
   for (uint32_t mi = 0; r == PB_OK && mi < s->material_count; ++mi) r = write_mesh(&x, f, mi, remap, verts);
-  if (r == PB_OK && s->animation_count)
-    r = note(rep, 1, "%u animation(s) ignored: the scene is exported at rest", s->animation_count);
+  if (r == PB_OK && s->anim && !isnan(desc->time))
+    fprintf(f, "\n// Posed at t = %.9g s of the scene's animation (nodes, skins, morph weights).\n", desc->time);
+  else if (r == PB_OK && s->anim)
+    r = note(rep, 1, "%u animation(s): the scene is exported in the file's own pose (export-pov --frame N poses it)",
+             s->animation_count);
+  if (r == PB_OK && s->world.present)
+    r = note(rep, 1, "world light not exported (the POV-Ray export has no sky or environment light)");
   if (r != PB_OK) {
     pb_atomic_abort(f, tmp);
     goto fail;

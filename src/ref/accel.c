@@ -218,6 +218,10 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
   } else {
     o->uv[0] = o->uv[1] = 0.0f;
   }
+  for (int k = 0; k < 2; ++k)
+    o->uv1[k] = s->uvs1 ? s->uvs1[tri[0]][k] * w + s->uvs1[tri[1]][k] * h->u + s->uvs1[tri[2]][k] * h->v : 0.0f;
+  for (int k = 0; k < 4; ++k)
+    o->color[k] = s->colors ? s->colors[tri[0]][k] * w + s->colors[tri[1]][k] * h->u + s->colors[tri[2]][k] * h->v : 1.0f;
   o->mat = &s->materials[s->triangle_material[h->prim]];
   o->tangent = v3_make(0.0f, 0.0f, 0.0f);
   if (s->tangents) {
@@ -245,10 +249,6 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) 
   if (!s->tangents || !s->uvs || m->normal_tex < 0 || (uint32_t)m->normal_tex >= s->texture_count) return;
   const uint32_t *tri = s->triangles[h->prim];
   float w = 1.0f - h->u - h->v;
-  float uv[2] = {0.0f, 0.0f};
-  if (s->uvs)
-    for (int k = 0; k < 2; ++k)
-      uv[k] = s->uvs[tri[0]][k] * w + s->uvs[tri[1]][k] * h->u + s->uvs[tri[2]][k] * h->v;
   v3 p0 = v3_load(s->positions[tri[0]]), p1 = v3_load(s->positions[tri[1]]),
      p2 = v3_load(s->positions[tri[2]]);
   v3 n = v3_norm(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0))); /* as stored */
@@ -272,7 +272,7 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) 
     v3_basis(n, &t, &b);
   }
   float c[4];
-  pb_texture_sample(&s->textures[m->normal_tex], uv[0], uv[1], c);
+  pb_texture_lookup(&s->textures[m->normal_tex], o->uv, o->uv1, c);
   float cx = (c[0] * 2.0f - 1.0f) * m->normal_scale, cy = (c[1] * 2.0f - 1.0f) * m->normal_scale;
   float cz = c[2] * 2.0f - 1.0f;
   v3 nm = v3_add(v3_add(v3_scale(t, cx), v3_scale(b, cy)), v3_scale(n, cz));

@@ -95,22 +95,11 @@ void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_rng *rng
     pb_blender_bsdf_setup(s, surf, wo, b);
     return;
   }
-  v3 base = v3_make(m->base_color[0], m->base_color[1], m->base_color[2]);
-  float metallic = m->metallic, rough = m->roughness;
-  if (m->base_color_tex >= 0 && (uint32_t)m->base_color_tex < s->texture_count) {
-    float t[4];
-    pb_texture_sample(&s->textures[m->base_color_tex], surf->uv[0], surf->uv[1], t);
-    base = v3_mul(base, v3_make(t[0], t[1], t[2]));
-  }
-  if (m->metallic_roughness_tex >= 0 &&
-      (uint32_t)m->metallic_roughness_tex < s->texture_count) {
-    float t[4];
-    pb_texture_sample(&s->textures[m->metallic_roughness_tex], surf->uv[0],
-                      surf->uv[1], t);
-    rough *= t[1];
-    metallic *= t[2];
-  }
-  b->base = v3_make(clamp01(base.x), clamp01(base.y), clamp01(base.z));
+  float bc[4], metallic, rough;
+  pb_material_base_color(s, m, surf->uv, surf->uv1, surf->color, bc);
+  pb_material_metal_rough(s, m, surf->uv, surf->uv1, &metallic, &rough);
+  /* An unlit surface reflects nothing (its colour is its emission). */
+  b->base = m->unlit ? v3_make(0, 0, 0) : v3_make(bc[0], bc[1], bc[2]);
   b->metallic = clamp01(metallic);
   b->roughness = clamp01(rough);
   b->alpha = b->roughness * b->roughness;
@@ -273,15 +262,13 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
   return 1;
 }
 
-v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf) {
+v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_path) {
   const pb_material *m = surf->mat;
   if (!surf->front && !m->double_sided) return v3_make(0, 0, 0);
-  if (!pb_material_is_emissive(m)) return v3_make(0, 0, 0);
-  v3 e = v3_make(m->emissive[0], m->emissive[1], m->emissive[2]);
-  if (m->emissive_tex >= 0 && (uint32_t)m->emissive_tex < s->texture_count) {
-    float t[4];
-    pb_texture_sample(&s->textures[m->emissive_tex], surf->uv[0], surf->uv[1], t);
-    e = v3_mul(e, v3_make(t[0], t[1], t[2]));
-  }
-  return m->blender.model == PB_MODEL_PRINCIPLED ? v3_scale(e, pb_blender_alpha(s, surf)) : e;
+  if (m->unlit ? !camera_path : !pb_material_is_emissive(m)) return v3_make(0, 0, 0);
+  float e[3];
+  pb_material_emission(s, m, surf->uv, surf->uv1, surf->color, e);
+  v3 le = v3_make(e[0], e[1], e[2]);
+  /* A Principled BSDF's emission is weighted by its Alpha (Cycles). */
+  return m->blender.model == PB_MODEL_PRINCIPLED ? v3_scale(le, pb_blender_alpha(s, surf)) : le;
 }

@@ -1,7 +1,8 @@
-/* Light sampling for the reference renderer. Semantics follow scene.h:
+/* Light sampling for the reference renderer (soft lights: soft_lights.c). Semantics follow scene.h:
  *  point: I = color * intensity [W/sr], irradiance I cos / d^2;
- *  spot:  the same, times smoothstep(cos outer, cos inner, cos angle to
- *         `direction`), smoothstep(t) = t^2 (3 - 2 t);
+ *  spot:  the same, times the spot's falloff (pb_spot_factor: KHR's
+ *         smoothstep(cos outer, cos inner, cos angle to `direction`),
+ *         smoothstep(t) = t^2 (3 - 2 t), or Cycles 3.4's);
  *  directional: E = color * intensity [W/m^2] normal to `direction` (the
  *         direction light travels), irradiance E cos;
  *  emissive triangles: area lights of radiance `emissive` [W/(m^2 sr)], from
@@ -13,73 +14,46 @@
 
 #include "ref/ref_internal.h"
 
-float pb_triangle_area(const pb_scene *s, uint32_t t) {
-  const uint32_t *tri = s->triangles[t];
-  v3 p0 = v3_load(s->positions[tri[0]]), p1 = v3_load(s->positions[tri[1]]),
-     p2 = v3_load(s->positions[tri[2]]);
-  return 0.5f * v3_len(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
-}
-
 void pb_ref_lights_destroy(pb_ref_lights *l) {
   if (!l) return;
   free(l->emitters);
   free(l->emitter_cdf);
   free(l->tri_pick_pdf);
+  pb_world_dist_destroy(&l->world_dist);
   memset(l, 0, sizeof *l);
 }
 
 pb_result pb_ref_lights_build(const pb_scene *s, pb_ref_lights *l) {
   memset(l, 0, sizeof *l);
-  l->delta_count = s->light_count;
+  for (uint32_t i = 0; i < s->light_count; ++i) {
+    if (pb_light_is_delta(&s->lights[i])) l->delta_count++;
+    else l->soft_count++;
+  }
   v3 bmin = v3_load(s->bounds_min), bmax = v3_load(s->bounds_max);
   l->center = v3_scale(v3_add(bmin, bmax), 0.5f);
   l->radius = fmaxf(0.5f * v3_len(v3_sub(bmax, bmin)), 1e-6f);
 
-  uint32_t n = 0;
-  for (uint32_t t = 0; t < s->triangle_count; ++t)
-    if (pb_material_is_emissive(&s->materials[s->triangle_material[t]])) n++;
-  if (n) {
-    l->emitters = malloc(n * sizeof *l->emitters);
-    l->emitter_cdf = malloc((n + 1) * sizeof *l->emitter_cdf);
+  pb_emitter_table et;
+  pb_result r = pb_emitter_table_build(s, &et);
+  if (r != PB_OK) return r;
+  if (et.count) {
     l->tri_pick_pdf = calloc(s->triangle_count, sizeof *l->tri_pick_pdf);
-    if (!l->emitters || !l->emitter_cdf || !l->tri_pick_pdf) {
+    if (!l->tri_pick_pdf) {
+      pb_emitter_table_destroy(&et);
+      return pb_fail(PB_ERR_NOMEM, "reference: out of memory for %u emitters", et.count);
+    }
+    for (uint32_t i = 0; i < et.count; ++i) l->tri_pick_pdf[et.prim[i]] = (float)(et.cdf[i + 1] - et.cdf[i]);
+    l->emitters = et.prim; /* the table's arrays are ours from here */
+    l->emitter_cdf = et.cdf;
+    l->emitter_count = et.count;
+    free(et.area);
+  }
+  if (s->world.present) {
+    if ((r = pb_world_dist_build(&s->world, &l->world_dist)) != PB_OK) {
       pb_ref_lights_destroy(l);
-      return pb_fail(PB_ERR_NOMEM, "reference: out of memory for %u emitters", n);
+      return r;
     }
-    double total = 0.0;
-    uint32_t k = 0;
-    for (uint32_t t = 0; t < s->triangle_count; ++t) {
-      const pb_material *m = &s->materials[s->triangle_material[t]];
-      if (!pb_material_is_emissive(m)) continue;
-      v3 e = v3_make(fmaxf(m->emissive[0], 0), fmaxf(m->emissive[1], 0),
-                     fmaxf(m->emissive[2], 0));
-      /* Power up to a constant: area x radiance x sides (pi dropped). Use
-       * the maximum channel so a saturated emitter never gets weight 0. */
-      double w = (double)pb_triangle_area(s, t) * fmax(v3_lum(e), 1e-3 * v3_max(e)) *
-                 (m->double_sided ? 2.0 : 1.0);
-      if (!(w > 0.0) || !isfinite(w)) continue;
-      l->emitters[k] = t;
-      l->emitter_cdf[k] = total;
-      total += w;
-      k++;
-    }
-    l->emitter_count = k;
-    if (k == 0 || !(total > 0.0)) {
-      free(l->emitters);
-      free(l->emitter_cdf);
-      free(l->tri_pick_pdf);
-      l->emitters = NULL;
-      l->emitter_cdf = NULL;
-      l->tri_pick_pdf = NULL;
-      l->emitter_count = 0;
-    } else {
-      for (uint32_t i = 0; i < k; ++i) {
-        double next = i + 1 < k ? l->emitter_cdf[i + 1] : total;
-        l->tri_pick_pdf[l->emitters[i]] = (float)((next - l->emitter_cdf[i]) / total);
-        l->emitter_cdf[i] /= total;
-      }
-      l->emitter_cdf[k] = 1.0;
-    }
+    l->world_nee = l->world_dist.width > 0;
   }
 
   /* Bounding sphere (of the box) of every triangle that may have a delta
@@ -108,8 +82,14 @@ static inline float smoothstep01(float t) {
   return t * t * (3.0f - 2.0f * t);
 }
 
-float pb_spot_falloff(const pb_light *l, float cos_angle) {
-  float co = cosf(l->outer_cone), ci = cosf(l->inner_cone);
+float pb_spot_factor(const pb_light *l, float cos_angle) {
+  float co = cosf(l->outer_cone);
+  if (l->spot_model == PB_SPOT_CYCLES) {
+    if (cos_angle <= co) return 0.0f;
+    float band = (1.0f - co) * l->spot_blend, t = cos_angle - co;
+    return band > 0.0f && t < band ? cos_angle * smoothstep01(t / band) : cos_angle;
+  }
+  float ci = cosf(l->inner_cone);
   if (ci - co <= 1e-7f) return cos_angle >= co ? 1.0f : 0.0f;
   return smoothstep01((cos_angle - co) / (ci - co));
 }
@@ -133,7 +113,7 @@ int pb_delta_light_at(const pb_light *l, v3 p, v3 *wi, float *dist, v3 *Li) {
   float k = 1.0f / d2;
   if (l->type == PB_LIGHT_SPOT) {
     v3 axis = v3_norm(v3_load(l->direction));
-    k *= pb_spot_falloff(l, -v3_dot(axis, *wi));
+    k *= pb_spot_factor(l, -v3_dot(axis, *wi));
   }
   *Li = v3_scale(c, k);
   return k > 0.0f && !v3_is_zero(c);

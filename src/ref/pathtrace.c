@@ -4,6 +4,13 @@
  * At every vertex with a smooth (non-delta) lobe:
  *  - every point, spot and directional light gets a shadow ray (they are
  *    delta lights: only next-event estimation can reach them);
+ *  - every soft light (sphere, area, soft sun; soft_lights.c) gets one light
+ *    sample, and the world one from its map (scene/world.h), each combined
+ *    with the BSDF-sampled continuation that reaches it by the power
+ *    heuristic (two strategies per light: Veach 1997, 9.2; a light with
+ *    no_mis is reached by its light sample alone, weight 1, as Cycles'
+ *    "Multiple Importance" off). A constant world has no light sample: the
+ *    BSDF-sampled ray that leaves the scene sees it with weight 1;
  *  - one emissive triangle, picked by power, gets a shadow ray, and the
  *    BSDF-sampled continuation that hits an emitter counts too; the two are
  *    combined with the power heuristic. After a delta lobe (or from the
@@ -14,7 +21,22 @@
  *    strategy above can sample. The partition is exact: a path ending at a
  *    delta light is counted by next-event estimation when the vertex before
  *    the light is smooth and by the photon map when it is a delta
- *    interaction, never by both.
+ *    interaction, never by both. The photons also leave every soft light and
+ *    the world (photons.c), so in SPPM mode a path that reaches one of those
+ *    through a delta chain after a smooth vertex is the photon map's; the
+ *    path tracer still counts it after a chain that started at the camera.
+ *  - lights never stop rays (Cycles' lights are not surfaces): a ray adds the
+ *    emission of every soft light it passes before its hit, and a ray that
+ *    leaves the scene the world's and the soft suns'. Camera rays see no
+ *    light (Cycles 3.4 shows lights only in reflections and refractions:
+ *    scene.h), and the world only with an opaque film (pb_scene.film_opaque)
+ *    when it is not hidden from the camera (mirrors still reflect it). A
+ *    camera ray ends at the far clip plane and then sees the world, as a
+ *    Cycles camera ray without a hit shades the background.
+ * Along segments inside an absorbing medium (KHR_materials_volume, entered
+ * by refraction) the throughput falls by the Beer-Lambert transmittance
+ * exp(-sigma_a t); lights met inside one by their own distance, the world
+ * beyond it entirely.
  * Bounce counting: a path of k scattering events between the emitter and the
  * eye has k bounces (direct lighting 1, an emitter seen directly 0); paths
  * over max_bounces are not counted. Russian roulette from the third bounce
@@ -53,6 +75,85 @@ static inline void add_contrib(pb_sample_out *o, v3 c, uint32_t bounces) {
   else o->indirect = v3_add(o->indirect, c);
 }
 
+/* What a path vertex needs to weigh the emission its next ray meets. */
+typedef struct path_state {
+  uint32_t k;       /* the ray leaves vertex k - 1 (k == 1: the camera) */
+  int prev_delta;   /* the last interaction was a delta lobe (or the camera) */
+  float prev_pdf;   /* solid-angle pdf of the last smooth BSDF sample */
+  int after_smooth; /* the path scattered off a smooth lobe before */
+} path_state;
+
+/* Emission the ray (o, d) meets before t_hit (INFINITY: it left the scene):
+ * soft lights on the way, then the world and the soft suns, each through
+ * the absorbing medium sigma the ray is in up to its distance. */
+static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const path_state *ps, v3 o, v3 d,
+                         float t_hit, v3 beta, v3 sigma, pb_sample_out *out) {
+  const pb_scene *s = ctx->scene;
+  int camera = ps->k == 1;
+  /* SPPM: the photons carry light -> delta chain -> smooth vertex. */
+  if (map && ps->after_smooth && ps->prev_delta) return;
+  for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count && !camera; ++i) {
+    const pb_light *l = &s->lights[i];
+    if (pb_light_is_delta(l) || l->no_mis) continue;
+    float t, pl;
+    v3 L;
+    if (!pb_soft_light_hit(l, o, d, t_hit, &t, &L, &pl)) continue;
+    float w = ps->prev_delta ? 1.0f : pb_mis_power(ps->prev_pdf, pl);
+    if (!v3_is_zero(sigma)) L = v3_mul(L, pb_medium_transmittance(sigma, t));
+    add_contrib(out, v3_scale(v3_mul(beta, L), w), ps->k - 1);
+  }
+  if (t_hit < INFINITY || !s->world.present) return;
+  if (camera && (!s->film_opaque || s->world.hidden_from_camera)) return;
+  float dir[3] = {d.x, d.y, d.z}, L[3];
+  pb_world_radiance(&s->world, dir, L);
+  float w = 1.0f;
+  if (!ps->prev_delta && ctx->lights.world_nee)
+    w = pb_mis_power(ps->prev_pdf, pb_world_pdf(&s->world, &ctx->lights.world_dist, dir));
+  v3 Lw = v3_load(L);
+  if (!v3_is_zero(sigma)) Lw = v3_mul(Lw, pb_medium_transmittance(sigma, INFINITY));
+  add_contrib(out, v3_scale(v3_mul(beta, Lw), w), ps->k - 1);
+}
+
+/* One light sample of every soft light and of the world's map at a smooth
+ * vertex, with shadow rays from o_front, or from o_back for a direction
+ * below the geometric normal (transmitting lobes). */
+static void soft_nee(const pb_ref_ctx *ctx, pb_rng *rng, const pb_bsdf *b, const pb_surface *surf, v3 wo,
+                     v3 o_front, v3 o_back, v3 beta, uint32_t k, pb_sample_out *out, uint64_t *rays) {
+  const pb_scene *s = ctx->scene;
+  for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count; ++i) {
+    const pb_light *l = &s->lights[i];
+    if (pb_light_is_delta(l)) continue;
+    float u1 = pb_rng_f(rng), u2 = pb_rng_f(rng);
+    pb_light_sample ls;
+    if (!pb_soft_light_sample(l, surf->p, u1, u2, &ls)) continue;
+    float pdf_b;
+    v3 f = pb_bsdf_eval(b, wo, ls.wi, &pdf_b);
+    if (v3_is_zero(f)) continue;
+    v3 vis = v3_make(1, 1, 1);
+    if (!l->no_shadow) {
+      float tmax = ls.dist < INFINITY ? ls.dist * (1.0f - PB_SHADOW_EPSILON) : INFINITY;
+      vis = shadow(ctx, v3_dot(ls.wi, surf->ng) >= 0.0f ? o_front : o_back, ls.wi, tmax, rays);
+      if (v3_is_zero(vis)) continue;
+    }
+    float w = l->no_mis ? 1.0f : pb_mis_power(ls.pdf, pdf_b);
+    float c = fabsf(v3_dot(ls.wi, b->n));
+    add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, ls.L), c * w / ls.pdf)), k);
+  }
+  if (!ctx->lights.world_nee) return;
+  float u1 = pb_rng_f(rng), u2 = pb_rng_f(rng), dir[3], pw;
+  if (!pb_world_sample(&s->world, &ctx->lights.world_dist, u1, u2, dir, &pw)) return;
+  v3 wi = v3_load(dir);
+  float pdf_b;
+  v3 f = pb_bsdf_eval(b, wo, wi, &pdf_b);
+  if (v3_is_zero(f)) return;
+  v3 vis = shadow(ctx, v3_dot(wi, surf->ng) >= 0.0f ? o_front : o_back, wi, INFINITY, rays);
+  if (v3_is_zero(vis)) return;
+  float L[3];
+  pb_world_radiance(&s->world, dir, L);
+  float c = fabsf(v3_dot(wi, b->n)) * pb_mis_power(pw, pdf_b) / pw;
+  add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, v3_load(L)), c)), k);
+}
+
 void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
                             uint32_t x, uint32_t y, uint32_t sample,
                             pb_sample_out *out) {
@@ -74,21 +175,28 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   jx -= floor(jx);
   jy -= floor(jy);
   float px = (float)x + (float)jx, py = (float)y + (float)jy;
-  float sx = (2.0f * px / (float)ctx->width - 1.0f) * ctx->tan_x;
-  float sy = (1.0f - 2.0f * py / (float)ctx->height) * ctx->tan_y;
+  float o3[3], d3[3], t0, tmax;
+  pb_camera_ray(&ctx->view, px, py, o3, d3, &t0, &tmax);
   v3 fwd = v3_load(cam->forward);
-  v3 dir = v3_norm(v3_add(v3_add(fwd, v3_scale(v3_load(cam->right), sx)),
-                          v3_scale(v3_load(cam->up), sy)));
-  v3 org = v3_load(cam->position);
+  v3 dir = v3_load(d3);
+  v3 org = v3_load(o3);
   v3 beta = v3_make(1, 1, 1);
+  v3 sigma = v3_make(0, 0, 0); /* absorption of the medium the path is in */
+  int camera_path = 1;    /* only delta interactions so far (unlit surfaces) */
   int prev_delta = 1;     /* the camera is a delta "vertex" for MIS */
   float prev_pdf = 0.0f;  /* solid-angle pdf of the last smooth sample */
+  int after_smooth = 0;
   uint64_t rays = 0;
 
   for (uint32_t k = 1;; ++k) {
     pb_ref_hit h;
     rays++;
-    if (!pb_ref_intersect(&ctx->accel, org, dir, INFINITY, &h)) break;
+    /* The camera segment ends at the far clip plane. */
+    int hit = pb_ref_intersect(&ctx->accel, org, dir, k == 1 ? tmax : INFINITY, &h);
+    path_state ps = {k, prev_delta, prev_pdf, after_smooth};
+    ray_emission(ctx, map, &ps, org, dir, hit ? h.t : INFINITY, beta, sigma, out);
+    if (!hit) break;
+    if (!v3_is_zero(sigma)) beta = v3_mul(beta, pb_medium_transmittance(sigma, h.t));
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
@@ -98,10 +206,10 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     if (k == 1) {
       out->hit = 1;
       out->normal = surf.ns;
-      out->depth = h.t * v3_dot(dir, fwd);
+      out->depth = (t0 + h.t) * v3_dot(dir, fwd);
     }
 
-    v3 le = pb_surface_emission(s, &surf);
+    v3 le = pb_surface_emission(s, &surf, camera_path);
     if (!v3_is_zero(le)) {
       float w = 1.0f;
       if (!prev_delta) {
@@ -126,12 +234,13 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
       for (uint32_t i = 0; i < s->light_count; ++i) {
         v3 wi, li;
         float dist;
-        if (!pb_delta_light_at(&s->lights[i], surf.p, &wi, &dist, &li)) continue;
+        if (!pb_light_is_delta(&s->lights[i]) || !pb_delta_light_at(&s->lights[i], surf.p, &wi, &dist, &li)) continue;
         float pdf;
         v3 f = pb_bsdf_eval(&b, wo, wi, &pdf);
         if (v3_is_zero(f)) continue;
-        v3 vis = shadow(ctx, v3_dot(wi, surf.ng) >= 0.0f ? o_front : o_back, wi,
-                        dist * (1.0f - PB_SHADOW_EPSILON), &rays);
+        v3 vis = v3_make(1, 1, 1);
+        if (s->lights[i].no_shadow) rays++;
+        else vis = shadow(ctx, v3_dot(wi, surf.ng) >= 0.0f ? o_front : o_back, wi, dist * (1.0f - PB_SHADOW_EPSILON), &rays);
         if (v3_is_zero(vis)) continue;
         float c = fabsf(v3_dot(wi, b.n));
         add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, li), c)), k);
@@ -154,7 +263,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
             float dl = sqrtf(d2);
             v3 wi = v3_scale(d, 1.0f / dl);
             pb_surface_from_hit(s, &eh, wi, &es);
-            v3 le2 = pb_surface_emission(s, &es);
+            v3 le2 = pb_surface_emission(s, &es, 0);
             float cos_l = v3_dot(es.ng, v3_neg(wi));
             float pdf_b;
             v3 f = v3_is_zero(le2) || cos_l <= 0.0f ? v3_make(0, 0, 0)
@@ -181,6 +290,9 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
         add_contrib(out, v3_mul(beta, pb_photon_gather(map, &b, surf.p, wo, k,
                                                        ctx->max_bounces)),
                     2);
+      /* After the emitter and photon terms: a scene without soft lights or
+       * a world map draws the same random numbers as before they existed. */
+      soft_nee(ctx, &rng, &b, &surf, wo, o_front, o_back, beta, k, out, &rays);
     }
 
     pb_bsdf_sample bs;
@@ -189,7 +301,10 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     beta = v3_mul(beta, bs.weight);
     if (v3_is_zero(beta)) break;
     prev_delta = bs.delta;
+    if (!bs.delta) after_smooth = 1; /* a smooth scattering: chains after it are the photons' */
     prev_pdf = bs.pdf;
+    camera_path &= bs.delta;
+    sigma = pb_medium_after(sigma, &surf, &bs);
     org = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);
     dir = bs.wi;
     if (k >= 3) {

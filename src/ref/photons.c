@@ -39,7 +39,18 @@
  * Photon emission is aimed at the bounding sphere of the triangles that may
  * have a delta lobe: a photon missing that sphere cannot start a specular
  * chain, so restricting emission to the sphere's cone (point/spot) or disc
- * (directional) and scaling the flux by its solid angle or area is exact. */
+ * (directional) and scaling the flux by its solid angle or area is exact.
+ * Every light but emissive triangles emits, and the world:
+ *  - point, spot, sphere lights: directions uniform in the cone from the
+ *    centre over the target grown by the light's radius (every ray from a
+ *    point within r of the centre that meets the target lies in it), from
+ *    the sphere's point facing the direction (pb_sphere_light_origin);
+ *  - directional lights and the soft sun: parallel rays over the target's
+ *    disc, the sun's direction drawn from its disc (radiance / density = E:
+ *    every photon carries E pi R^2 / n);
+ *  - area lights: pb_area_light_emit over their whole spread (not aimed);
+ *  - the world: a direction from its sampling table (scene/world.h), then
+ *    parallel over the target's disc: flux L(w) pi R^2 / (pdf(w) n). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,8 +63,10 @@ typedef struct photon_buf {
   uint32_t count, cap;
 } photon_buf;
 
+enum { EMIT_WORLD = 0xffffffffu }; /* emit_light.light of the world */
+
 typedef struct emit_light {
-  uint32_t light;
+  uint32_t light;                  /* index into the scene's lights, or EMIT_WORLD */
   double cdf;
   /* Emission domain: a cone around `axis` with cos_max (solid angle omega)
    * for point/spot, or a disc of radius `disc_r` for directional lights. */
@@ -111,38 +124,65 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
   const emit_light *e = &pc->emit[li];
   double p_light = (li + 1 < pc->emit_count ? pc->emit[li + 1].cdf : 1.0) - e->cdf;
   if (!(p_light > 0.0)) return;
-  const pb_light *l = &s->lights[e->light];
-  v3 col = v3_scale(v3_make(l->color[0], l->color[1], l->color[2]), l->intensity);
-
   v3 o, d, power;
   float u1 = pb_rng_f(&rng), u2 = pb_rng_f(&rng);
-  if (l->type == PB_LIGHT_DIRECTIONAL) {
-    d = v3_norm(v3_load(l->direction));
+  double per = 1.0 / (p_light * pc->paths);
+  if (e->light == EMIT_WORLD || s->lights[e->light].type == PB_LIGHT_DIRECTIONAL) {
+    v3 col;
+    int delta = e->light != EMIT_WORLD && pb_light_is_delta(&s->lights[e->light]);
+    if (e->light == EMIT_WORLD) {
+      float w[3], pw, L[3];
+      if (!pb_world_sample(&s->world, &ctx->lights.world_dist, u1, u2, w, &pw)) return;
+      pb_world_radiance(&s->world, w, L);
+      d = v3_neg(v3_load(w));
+      col = v3_scale(v3_load(L), 1.0f / pw);
+    } else {
+      const pb_light *l = &s->lights[e->light];
+      col = v3_scale(v3_load(l->color), l->intensity);
+      d = v3_norm(v3_load(l->direction));
+      if (!delta) {
+        pb_light_sample ls;
+        if (!pb_soft_light_sample(l, e->disc_center, u1, u2, &ls)) return;
+        d = v3_neg(ls.wi); /* radiance / density = E, the colour above */
+      }
+    }
     v3 t, b;
     v3_basis(d, &t, &b);
-    float r = e->disc_r * sqrtf(u1), phi = 2.0f * PB_PI_F * u2;
+    /* A delta light's disc point takes (u1, u2), as before soft lights; the
+     * others used them for the direction. */
+    float v1 = delta ? u1 : pb_rng_f(&rng), v2 = delta ? u2 : pb_rng_f(&rng);
+    float r = e->disc_r * sqrtf(v1), phi = 2.0f * PB_PI_F * v2;
     v3 q = v3_add(e->disc_center, v3_add(v3_scale(t, r * cosf(phi)), v3_scale(b, r * sinf(phi))));
     o = v3_madd(q, d, -e->back);
     /* E [W/m^2] through a disc of area pi r^2. */
-    power = v3_scale(col, (float)((double)PB_PI_F * e->disc_r * e->disc_r /
-                                  (p_light * pc->paths)));
+    power = v3_scale(col, (float)((double)PB_PI_F * e->disc_r * e->disc_r * per));
+  } else if (s->lights[e->light].type == PB_LIGHT_AREA) {
+    const pb_light *l = &s->lights[e->light];
+    float wt;
+    if (!pb_area_light_emit(l, u1, u2, pb_rng_f(&rng), pb_rng_f(&rng), &o, &d, &wt)) return;
+    power = v3_scale(v3_load(l->color), (float)((double)l->intensity * wt * per));
   } else {
-    o = v3_load(l->position);
+    const pb_light *l = &s->lights[e->light];
     d = sample_cone(e->axis, e->cos_max, u1, u2);
     float k = 1.0f;
     if (l->type == PB_LIGHT_SPOT)
-      k = pb_spot_falloff(l, v3_dot(v3_norm(v3_load(l->direction)), d));
+      k = pb_spot_factor(l, v3_dot(v3_norm(v3_load(l->direction)), d));
     if (k <= 0.0f) return;
+    o = v3_load(l->position);
+    if (l->radius > 0.0f) o = pb_sphere_light_origin(l, d, pb_rng_f(&rng), pb_rng_f(&rng));
     /* I(w) [W/sr] over a cone of solid angle omega sampled uniformly. */
-    power = v3_scale(col, (float)((double)k * e->omega / (p_light * pc->paths)));
+    v3 col = v3_scale(v3_load(l->color), l->intensity);
+    power = v3_scale(col, (float)((double)k * e->omega * per));
   }
   if (v3_is_zero(power) || !v3_finite(power)) return;
 
   uint32_t chain = 0;
+  v3 sigma = v3_make(0, 0, 0); /* absorbing medium the photon is in */
   for (;;) {
     pb_ref_hit h;
     (*rays)++;
     if (!pb_ref_intersect(&ctx->accel, o, d, INFINITY, &h)) return;
+    if (!v3_is_zero(sigma)) power = v3_mul(power, pb_medium_transmittance(sigma, h.t));
     pb_surface surf;
     pb_surface_from_hit(s, &h, d, &surf);
     v3 wo = v3_neg(d);
@@ -171,6 +211,7 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
     power = v3_mul(power, bs.weight);
     if (v3_is_zero(power) || !v3_finite(power)) return;
     chain++;
+    sigma = pb_medium_after(sigma, &surf, &bs);
     o = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);
     d = bs.wi;
   }
@@ -192,25 +233,33 @@ static uint32_t setup_emission(const pb_ref_ctx *ctx, emit_light *out) {
   uint32_t n = 0;
   double total = 0.0;
   if (!(L->spec_radius > 0.0f)) return 0;
-  for (uint32_t i = 0; i < s->light_count; ++i) {
-    const pb_light *l = &s->lights[i];
+  for (uint32_t i = 0; i <= s->light_count; ++i) {
+    int world = i == s->light_count;
+    if (world && !s->world.present) break;
+    const pb_light *l = world ? NULL : &s->lights[i];
     emit_light e;
     memset(&e, 0, sizeof e);
-    e.light = i;
-    double w = v3_lum(v3_make(fmaxf(l->color[0], 0), fmaxf(l->color[1], 0),
-                              fmaxf(l->color[2], 0))) *
-               (double)fmaxf(l->intensity, 0.0f);
-    if (l->type == PB_LIGHT_DIRECTIONAL) {
+    e.light = world ? EMIT_WORLD : i;
+    double w;
+    if (world) {
+      w = v3_lum(v3_load(s->world.integral)); /* integral of L over the sphere [W/m^2] */
+    } else {
+      w = v3_lum(v3_make(fmaxf(l->color[0], 0), fmaxf(l->color[1], 0), fmaxf(l->color[2], 0))) *
+          (double)fmaxf(l->intensity, 0.0f);
+    }
+    if (world || l->type == PB_LIGHT_DIRECTIONAL) {
       e.disc_r = L->spec_radius;
       e.disc_center = L->spec_center;
       /* Start outside the scene's bounding sphere. */
       e.back = v3_len(v3_sub(L->spec_center, L->center)) + L->radius + L->spec_radius;
       w *= M_PI * e.disc_r * e.disc_r;
+    } else if (l->type == PB_LIGHT_AREA) {
+      w *= M_PI * pb_light_area(l);
     } else {
       v3 to = v3_sub(L->spec_center, v3_load(l->position));
-      float dist = v3_len(to);
-      if (dist > L->spec_radius * 1.0001f) {
-        float sin_max = L->spec_radius / dist;
+      float dist = v3_len(to), reach = L->spec_radius + l->radius;
+      if (dist > reach * 1.0001f) {
+        float sin_max = reach / dist;
         e.axis = v3_scale(to, 1.0f / dist);
         e.cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin_max * sin_max));
       } else if (l->type == PB_LIGHT_SPOT) {
@@ -298,7 +347,7 @@ pb_result pb_photon_pass(pb_ref_ctx *ctx, uint32_t pass, uint32_t paths,
   memset(map, 0, sizeof *map);
   map->radius = radius;
   map->cell = 2.0f * radius;
-  emit_light *emit = malloc((ctx->scene->light_count + 1) * sizeof *emit);
+  emit_light *emit = malloc((ctx->scene->light_count + 2) * sizeof *emit); /* + the world */
   if (!emit) return pb_fail(PB_ERR_NOMEM, "reference: out of memory");
   pass_ctx pc;
   memset(&pc, 0, sizeof pc);

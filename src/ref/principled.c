@@ -475,7 +475,7 @@ static float input_value(const pb_scene *s, const pb_material *m, const pb_surfa
   const pb_input_texture *t = &b->input_tex[i];
   if (t->tex < 0 || (uint32_t)t->tex >= s->texture_count) return b->input[i];
   float c[4];
-  pb_texture_sample(&s->textures[t->tex], surf->uv[0], surf->uv[1], c);
+  pb_texture_lookup(&s->textures[t->tex], surf->uv, surf->uv1, c);
   return t->channel < 4 ? c[t->channel] : luma709(v3_make(c[0], c[1], c[2]));
 }
 
@@ -486,7 +486,7 @@ float pb_blender_alpha(const pb_scene *s, const pb_surface *surf) {
 static v3 color_value(const pb_scene *s, v3 constant, int32_t tex, const pb_surface *surf) {
   if (tex < 0 || (uint32_t)tex >= s->texture_count) return constant;
   float c[4];
-  pb_texture_sample(&s->textures[tex], surf->uv[0], surf->uv[1], c);
+  pb_texture_lookup(&s->textures[tex], surf->uv, surf->uv1, c);
   return v3_make(c[0], c[1], c[2]);
 }
 

@@ -43,7 +43,8 @@ const char *pb_ref_mode_name(pb_ref_mode m) {
 }
 
 pb_ref_mode pb_ref_auto_mode(const pb_scene *s) {
-  if (s->light_count == 0) return PB_REF_MODE_PT;
+  /* Photons leave every light but emissive triangles, and the world. */
+  if (s->light_count == 0 && !s->world.present) return PB_REF_MODE_PT;
   pb_ref_lights l;
   if (pb_ref_lights_build(s, &l) != PB_OK) {
     pb_error_clear();
@@ -306,9 +307,10 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   if (w == 0 || h == 0 || w > 65536 || h > 65536 || (uint64_t)w * h > (1ull << 28))
     return pb_fail(PB_ERR_USAGE, "reference: image size %ux%u is out of range", w, h);
   const pb_camera *c = &s->cameras[camera];
-  if (!(c->yfov > 0.0f && c->yfov < 3.1f))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: camera '%s': yfov %g is not in (0, pi)",
-                   name, c->name, (double)c->yfov);
+  if (c->orthographic ? !(c->ortho_size > 0.0f && isfinite(c->ortho_size)) : !(c->yfov > 0.0f && c->yfov < 3.1f))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: camera '%s': %s %g is out of range", name, c->name,
+                   c->orthographic ? "orthographic size" : "yfov",
+                   (double)(c->orthographic ? c->ortho_size : c->yfov));
   if (!(d->time_limit_s >= 0.0) || !isfinite(d->time_limit_s))
     return pb_fail(PB_ERR_USAGE, "reference: time limit %g is not a duration",
                    d->time_limit_s);
@@ -351,8 +353,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   if (ctx.threads > 1024) ctx.threads = 1024;
   ctx.seed = desc.seed;
   ctx.mode = desc.mode == PB_REF_MODE_AUTO ? pb_ref_auto_mode(scene) : desc.mode;
-  ctx.tan_y = tanf(0.5f * ctx.cam->yfov);
-  ctx.tan_x = ctx.tan_y * (float)width / (float)height;
+  pb_camera_view(ctx.cam, width, height, &ctx.view);
 
   size_t n = (size_t)width * height;
   accum acc;
@@ -394,7 +395,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   if (!(radius > 0.0f)) {
     float dist = v3_len(v3_sub(ctx.lights.center, v3_load(ctx.cam->position)));
     if (!(dist > ctx.lights.radius * 1e-3f)) dist = ctx.lights.radius;
-    radius = 2.0f * (2.0f * dist * ctx.tan_y / (float)height);
+    radius = 2.0f * pb_camera_pixel_size(&ctx.view, dist);
   }
   out->stats.photon_radius_first = radius;
 
@@ -490,7 +491,8 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
         hb[k] = to_float(nb ? (d + id - acc.half_a[k]) / nb : 0.0, &g);
       }
     }
-    out->beauty[4 * i + 3] = to_float(acc.hits[i] * inv, &g);
+    /* Alpha: coverage, or 1 with an opaque film (pb_scene.film_opaque). */
+    out->beauty[4 * i + 3] = scene->film_opaque ? 1.0f : to_float(acc.hits[i] * inv, &g);
     out->depth[i] = acc.hits[i] ? to_float(acc.depth[i] / acc.hits[i], &g) : 0.0f;
   }
   out->stats.guarded_samples += g;

@@ -18,7 +18,8 @@
  *    contribution is zero) and counted in stats.guarded_samples.
  *
  * Scene semantics (scene.h): lights as documented there (spot: smoothstep
- * between the cone cosines); emissive triangles are area lights emitting
+ * between the cone cosines, or Cycles 3.4's falloff; soft lights and the
+ * world as pb_light and pb_world say); emissive triangles are area lights emitting
  * from their front (counter-clockwise) side only, both sides when the
  * material is double-sided; every surface shades on both sides, a back face
  * with its normals flipped; transmission is a solid refracting dielectric
@@ -36,9 +37,10 @@
 #include "scene/scene.h"
 
 typedef enum pb_ref_mode {
-  /* SPPM when the scene has specular (delta) surfaces and a point, spot or
-   * directional light (the only case where path tracing misses paths),
-   * otherwise PT. */
+  /* SPPM when the scene has specular (delta) surfaces and a light other
+   * than emissive triangles, or a world (delta lights are where path tracing
+   * misses paths; small soft lights seen through glass are where it
+   * struggles), otherwise PT. */
   PB_REF_MODE_AUTO = 0,
   PB_REF_MODE_PT = 1,   /* path tracing only; caustics of delta lights are absent */
   PB_REF_MODE_SPPM = 2, /* path tracing + progressive caustic photon map */
@@ -104,7 +106,8 @@ typedef struct pb_ref_stats {
 /* Per-pixel buffers, width*height*channels floats, top row first. */
 typedef struct pb_ref_result {
   uint32_t width, height;
-  float *beauty;     /* RGBA: A = fraction of camera samples that hit geometry */
+  float *beauty;     /* RGBA: A = fraction of camera samples that hit geometry,
+                        or 1 with an opaque film (pb_scene.film_opaque) */
   float *direct;     /* RGB: paths with at most one scattering event (emitters
                         seen directly, and light scattered once to the eye) */
   float *indirect;   /* RGB: beauty - direct (two or more scattering events,

@@ -11,7 +11,10 @@
 
 #include "core/mix.h"
 #include "ref/ref.h"
+#include "scene/camera.h"
+#include "scene/emitters.h"
 #include "scene/scene.h"
+#include "scene/world.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -140,7 +143,8 @@ typedef struct pb_surface {
   v3 ns;      /* shading normal, unit, same hemisphere as ng */
   int front;  /* 1: the ray hit the counter-clockwise (front) side */
   uint32_t prim;
-  float uv[2];
+  float uv[2], uv1[2]; /* TEXCOORD_0 and _1 (0 when the scene has none) */
+  float color[4];      /* COLOR_0 (white when the scene has none) */
   v3 tangent; /* unit, along +u (the scene's tangents where it has them),
                  else 0: anisotropic lobes then turn around an arbitrary
                  frame */
@@ -265,21 +269,48 @@ float pb_bsdf_transparency(const pb_bsdf *b);
 float pb_blender_alpha(const pb_scene *s, const pb_surface *surf);
 
 /* Emitted radiance leaving surf toward wo (facing the surface's hit side):
- * material emissive x emissive texture, from the front side only unless the
- * material is double-sided. */
-v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf);
+ * material emissive x emissive texture (pb_material_emission), from the front
+ * side only unless the material is double-sided. An unlit surface's base
+ * colour is counted only on camera paths (camera_path: the eye, or a chain of
+ * delta interactions from it); it is no light to anything else. */
+v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_path);
+
+/* The medium a path is in after a sampled bounce (KHR_materials_volume,
+ * pb_material.attenuation): refracting into a front face enters the
+ * material's, refracting out of a back face leaves it for clear air (media
+ * are not nested); reflections stay where they are. */
+static inline v3 pb_medium_after(v3 sigma, const pb_surface *surf, const pb_bsdf_sample *bs) {
+  if (!bs->transmit) return sigma;
+  return surf->front ? v3_load(surf->mat->attenuation) : v3_make(0, 0, 0);
+}
+/* Beer-Lambert transmittance exp(-sigma t) over a segment of length t; t
+ * may be INFINITY (a ray that leaves the scene): 1 where sigma is 0, else 0. */
+static inline float pb_medium_transmittance1(float sigma, float t) { return sigma > 0 ? expf(-sigma * t) : 1.0f; }
+static inline v3 pb_medium_transmittance(v3 sigma, float t) {
+  return v3_make(pb_medium_transmittance1(sigma.x, t), pb_medium_transmittance1(sigma.y, t),
+                 pb_medium_transmittance1(sigma.z, t));
+}
 
 /* ---- lights ------------------------------------------------------------- */
 
 typedef struct pb_ref_lights {
-  /* Emissive triangles, sampled by power (area x luminance of the emissive
-   * factor x sides) with a cumulative table. */
+  /* Emissive triangles, sampled by power from the scene's table
+   * (scene/emitters.h). */
   uint32_t *emitters;     /* triangle indices */
   double *emitter_cdf;    /* emitter_count + 1 entries, cdf[last] = 1 */
   float *tri_pick_pdf;    /* per triangle: probability of picking it, or 0 */
   uint32_t emitter_count;
-  /* Delta lights (all point, spot and directional lights of the scene). */
+  /* Delta lights (point, spot and directional lights without size). */
   uint32_t delta_count;
+  /* Soft lights (sphere, area, soft sun): every one sampled at every smooth
+   * vertex, and hit by rays. */
+  uint32_t soft_count;
+  /* The world's sampling table (scene/world.h); world_nee: the world gets
+   * a light sample at smooth vertices (a map). A constant world is reached
+   * by BSDF sampling alone, as Cycles 3.4 does (scene/light.cpp disables a
+   * spatially constant background's MIS), which is its best strategy. */
+  pb_world_dist world_dist;
+  int world_nee;
   /* Scene bounding sphere, for directional lights. */
   v3 center;
   float radius;
@@ -297,8 +328,55 @@ void pb_ref_lights_destroy(pb_ref_lights *l);
  * reflected radiance is f |cos| Li. Returns 0 when it contributes nothing. */
 int pb_delta_light_at(const pb_light *l, v3 p, v3 *wi, float *dist, v3 *Li);
 
-/* Spot cone factor for the cosine of the angle to the spot's axis. */
-float pb_spot_falloff(const pb_light *l, float cos_angle);
+
+/* Cycles 3.4's spot falloff or KHR's smooth step (scene.h pb_spot_model)
+ * for the cosine of the angle between the spot's axis and the direction
+ * light leaves in. */
+float pb_spot_factor(const pb_light *l, float cos_angle);
+
+/* A light sample toward a soft light (soft_lights.c). */
+typedef struct pb_light_sample {
+  v3 wi;      /* unit, from the lit point toward the light */
+  float dist; /* to the sampled point (INFINITY for the sun) */
+  v3 L;       /* radiance arriving along -wi */
+  float pdf;  /* solid-angle density of wi */
+} pb_light_sample;
+
+/* Samples soft light l (pb_light_is_delta false) from point p with (u1, u2)
+ * in [0, 1)^2, with Cycles 3.4's strategies: sphere light: uniform on the
+ * disc facing p; area light: a rectangle by solid angle (Urena et al. 2013,
+ * "An Area-Preserving Parametrization for Spherical Rectangles", on the part
+ * of it that its spread lets reach p, as Cycles' light_spread_clamp_area_light;
+ * by area below 1e-3 sr, where the solid angle loses float precision), an
+ * ellipse by area; sun: uniform on its disc at unit distance. Returns 0 when
+ * the light cannot reach p. */
+int pb_soft_light_sample(const pb_light *l, v3 p, float u1, float u2, pb_light_sample *out);
+/* The ray (o, d), d unit, meets soft light l at distance t in (0, tmax)
+ * (the sun only when tmax is INFINITY, a ray that left the scene): its
+ * radiance toward o and the density pb_soft_light_sample gives that
+ * direction from o. Lights are one-sided where Cycles' are (area lights,
+ * spots' discs). */
+int pb_soft_light_hit(const pb_light *l, v3 o, v3 d, float tmax, float *t, v3 *L, float *pdf);
+
+/* Photon emission from soft lights (photons.c; the GPU's photon_trace.comp
+ * emits the same way):
+ * area light: origin o uniform on the shape, direction d cosine-weighted in
+ * the cone of half-angle pi/2 - a that the spread allows (sin^2 t = u3 cos^2
+ * a); the photon's flux is the light's radiance L times *weight = A pi cos^2
+ * a x the spread profile at t (radiance x cos / the two densities). 0 when
+ * the sample carries nothing. */
+int pb_area_light_emit(const pb_light *l, float u1, float u2, float u3, float u4, v3 *o, v3 *d, float *weight);
+/* Sphere light: the point of the sphere of radius r about the light whose
+ * projection along d is uniform on the disc of radius r (the hemisphere
+ * facing d, weighted by its cosine to d): a photon leaving in direction d
+ * starts there and carries I(d) / (its direction density), as from a point
+ * light. The sphere of radius r and radiance I / (pi r^2) emits I per
+ * steradian in every direction, the point light's flux; its irradiance at
+ * distance D is I / D^2 where Cycles 3.4's disc facing the lit point gives
+ * I / (D^2 + r^2), so photons differ from next-event estimation by at most
+ * r^2 / D^2 at the first hit (1 % at 10 radii), only in indirect light and
+ * caustics, where the sphere's blur is the disc's. */
+v3 pb_sphere_light_origin(const pb_light *l, v3 d, float u1, float u2);
 
 /* Picks an emissive triangle by power and a uniform point on it, as a hit
  * (prim and Embree barycentrics) for pb_surface_from_hit, with the pdf of
@@ -307,7 +385,6 @@ int pb_emitter_sample(const pb_scene *s, const pb_ref_lights *l, float u0,
                       float u1, float u2, pb_ref_hit *hit, float *pdf_area);
 /* pdf (area measure) of pb_emitter_sample returning a point on triangle t. */
 float pb_emitter_pdf_area(const pb_scene *s, const pb_ref_lights *l, uint32_t t);
-float pb_triangle_area(const pb_scene *s, uint32_t t);
 
 /* Power heuristic with beta = 2 (Veach 1997, ch. 9). */
 static inline float pb_mis_power(float a, float b) {
@@ -361,8 +438,8 @@ struct pb_ref_ctx {
   pb_ref_mode mode;
   pb_ref_accel accel;
   pb_ref_lights lights;
-  /* Camera: pixel (x, y) looks along forward + sx right + sy up. */
-  float tan_x, tan_y;
+  /* The camera's window for this image (scene/camera.h). */
+  pb_gpu_camera view;
 };
 
 /* Runs fn(ctx, item, thread) for item in [0, count) on ctx->threads threads

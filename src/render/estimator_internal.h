@@ -2,17 +2,14 @@
 #ifndef PB_RENDER_ESTIMATOR_INTERNAL_H
 #define PB_RENDER_ESTIMATOR_INTERNAL_H
 
+#include "render/lbvh_sort.h"
 #include "render/passes.h"
 #include "render/photon.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 
-enum {
-  PB_LBVH_PASS_BOUNDS = 0, PB_LBVH_PASS_REDUCE, PB_LBVH_PASS_MORTON, PB_LBVH_PASS_COUNT_DIGITS,
-  PB_LBVH_PASS_SCAN, PB_LBVH_PASS_SCATTER, PB_LBVH_PASS_REORDER, PB_LBVH_PASS_HIERARCHY,
-  PB_LBVH_PASS_BOXES, PB_LBVH_PASS_BOXES_TOP, PB_LBVH_PASS_FINALIZE, PB_LBVH_PASS_N
-};
-enum { PB_LBVH_BIND_COUNT = 10 };
+enum { PB_LBVH_PASS_SETUP = 0, PB_LBVH_PASS_BOUNDS, PB_LBVH_PASS_MORTON, PB_LBVH_PASS_CLIMB, PB_LBVH_PASS_N };
+enum { PB_LBVH_BIND_COUNT = 12 }; /* common/lbvh.glsl */
 /* Gather bindings: scene.glsl's 15, then these. */
 enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
        PB_GATHER_BIND_NMAP, PB_GATHER_BIND_COUNT };
@@ -31,9 +28,9 @@ struct pb_photon_estimator {
   uint32_t gather_blender;                     /* the module: 1 the PB_BLENDER build */
   int gather_ready;
   uint32_t capacity;             /* photons the buffers hold */
-  uint32_t count;                /* photons of the last build */
-  pb_gpu_buffer info, sorted, keys, vals, hist, nodes, leaf_parent, visit, partial;
-  pb_gpu_buffer dummy;           /* bound where a map is empty */
+  pb_radix_sort *sort;           /* Morton codes -> photon indices */
+  pb_gpu_buffer info, sorted, nodes, visit, partial;
+  pb_gpu_buffer dummy;           /* bound where a map has no photons or counts buffer */
   pb_photon_estimate_stats stats;
 };
 

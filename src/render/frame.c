@@ -15,6 +15,7 @@
 #include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
+#include "scene/camera.h"
 
 /* Samples recorded per submission: three timestamps each (gbuffer, direct,
  * gather), plus the start. */
@@ -76,6 +77,7 @@ void pb_render_result_destroy(pb_render_result *r) {
   free(r->normal);
   free(r->depth);
   free(r->material);
+  free(r->emission);
   free(r->indirect);
   free(r->caustic);
   free(r->geo_normal);
@@ -94,6 +96,12 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
     return pb_fail(PB_ERR_USAGE, "render: progressive alpha %g (in (0, 1))", d->alpha);
   if (!(d->glossy_path_roughness <= 1.0f))
     return pb_fail(PB_ERR_USAGE, "render: glossy path roughness %g (at most 1)", d->glossy_path_roughness);
+  if (d->full_width && ((uint64_t)d->crop_x + w > d->full_width || (uint64_t)d->crop_y + h > d->full_height ||
+                        d->full_width > 65536 || d->full_height > 65536))
+    return pb_fail(PB_ERR_USAGE, "render: crop %ux%u at (%u, %u) does not fit in the %ux%u frame", w, h, d->crop_x,
+                   d->crop_y, d->full_width, d->full_height);
+  if (!(d->time_limit_s >= 0) || !isfinite(d->time_limit_s))
+    return pb_fail(PB_ERR_USAGE, "render: time limit %g s is not a duration", d->time_limit_s);
   if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
     return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
                    PB_RENDER_MAX_SPECULAR_DEPTH);
@@ -134,7 +142,8 @@ static pb_result radius_histogram(pb_gpu *g, const pb_photon_tracer *t, const pb
  * guard itself (it should be 0; issue 9). */
 static uint64_t guard_nonfinite(pb_render_result *o, size_t n) {
   struct { float *p; size_t c; } aov[] = {{o->beauty, 4}, {o->direct, 3}, {o->albedo, 3}, {o->normal, 3},
-                                          {o->depth, 1},  {o->material, 1}, {o->indirect, 3}, {o->caustic, 3}};
+                                          {o->depth, 1},  {o->material, 1}, {o->indirect, 3}, {o->caustic, 3},
+                                          {o->emission, 3}};
   uint64_t bad = 0;
   for (size_t a = 0; a < sizeof aov / sizeof *aov; ++a) {
     if (!aov[a].p) continue;
@@ -142,6 +151,45 @@ static uint64_t guard_nonfinite(pb_render_result *o, size_t n) {
       if (!isfinite(aov[a].p[i])) aov[a].p[i] = 0.0f, ++bad;
   }
   return bad;
+}
+
+/* Progress and the time limit, after iteration `it` of band 0 finished
+ * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
+ * desc->progress, with the mean beauty so far when desc->preview_interval_s
+ * allows one (the whole image in one band, not the last iteration: its
+ * beauty is the result, and at most one per interval); lowers *iters_run to
+ * it + 1 once desc->time_limit_s has passed. */
+typedef struct preview_state {
+  float *beauty;
+  double last_s;
+} preview_state;
+
+static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_gpu_buffer *accum, pb_gpu_accum *host,
+                                preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
+                                uint32_t width, uint32_t height, uint32_t bands, double t0, uint32_t *iters_run) {
+  double now = pb_time_now();
+  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
+  if (!d->progress) return PB_OK;
+  pb_render_progress p = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
+                          .spp = (uint32_t)((uint64_t)*iters_run * spp / iters), .elapsed_s = now - t0,
+                          .width = width, .height = height};
+  size_t n = (size_t)width * height;
+  if (d->preview_interval_s >= 0 && bands == 1 && it + 1 < *iters_run && s_end > 0 &&
+      (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
+    if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
+      return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
+    pb_result r = pb_gpu_buffer_download(g, accum, 0, host, (uint64_t)n * sizeof *host);
+    if (r != PB_OK) return r;
+    float inv = 1.0f / (float)s_end;
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 4; ++k) {
+        float v = host[i].beauty[k] * inv;
+        pv->beauty[4 * i + k] = isfinite(v) ? v : 0.0f;
+      }
+    p.beauty = pv->beauty;
+    pv->last_s = now;
+  }
+  return d->progress(d->progress_user, &p);
 }
 
 pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
@@ -152,7 +200,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_result r = validate(s, camera, width, height, &desc);
   if (r != PB_OK) return r;
   uint32_t spp = desc.spp ? desc.spp : 1;
-  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0);
+  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0 || s->world.present);
   uint32_t iters = photons_on ? (desc.iterations ? desc.iterations : 1) : 1;
   if (photons_on && spp < iters) spp = iters;
   uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : 8;
@@ -160,10 +208,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   double wall0 = pb_time_now();
 
   /* Band: whole rows whose G-buffer and accumulators each fit one storage
-   * buffer (64 bytes per pixel of G-buffer, 32 of photon accumulators, 48
-   * of eq. 20's sums with normal maps).
+   * buffer (64 bytes per pixel of G-buffer, 80 of accumulators, 32 of photon
+   * accumulators, 48 of eq. 20's sums with normal maps).
    * Never truncated: a row that does not fit is refused. */
   uint64_t per_pixel = sizeof(pb_gpu_gbuffer);
+  if (per_pixel < sizeof(pb_gpu_accum)) per_pixel = sizeof(pb_gpu_accum);
   if (per_pixel < sizeof(pb_gpu_photon_accum)) per_pixel = sizeof(pb_gpu_photon_accum);
   if (per_pixel < sizeof(pb_gpu_photon_nmap)) per_pixel = sizeof(pb_gpu_photon_nmap);
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
@@ -193,6 +242,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
   pb_gpu_photon_accum *phost = NULL;
+  /* Iterations run (fewer than iters when the time limit stops the
+   * refinement in band 0; later bands run as many) and their samples. */
+  uint32_t iters_run = iters, spp_run = spp;
+  preview_state preview = {0};
   /* A context from the previous frame of a sequence: reused when it matches,
    * its contents owned by this call until the end (a failure destroys them). */
   pb_frame_context *ctx = desc.context;
@@ -218,13 +271,15 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   out->normal = calloc(3 * n, sizeof(float));
   out->depth = calloc(n, sizeof(float));
   out->material = calloc(n, sizeof(float));
+  out->emission = calloc(3 * n, sizeof(float));
   host = malloc((size_t)band_pixels * sizeof *host);
   if (photons_on) {
     out->indirect = calloc(3 * n, sizeof(float));
     out->caustic = calloc(3 * n, sizeof(float));
     phost = malloc((size_t)band_pixels * sizeof *phost);
   }
-  if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !host ||
+  if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material ||
+      !out->emission || !host ||
       (photons_on && (!out->indirect || !out->caustic || !phost))) {
     r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
     goto fail;
@@ -242,9 +297,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_pass_setup ps = {
       .bindings = {&frame_buf, &gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs, &gs->tri_material,
                    &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
-                   &gs->emitters},
-      .spec = {plan.vertex_normals ? 1u : 0u, plan.textures ? 1u : 0u, plan.eye_chains ? 1u : 0u,
-               plan.emitter_sampling ? 1u : 0u, 0u, 0u, plan.alpha ? 1u : 0u},
+                   &gs->emitters, &gs->world},
+      .spec = {[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u, [PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u,
+               [PB_SPEC_SPECULAR] = plan.eye_chains ? 1u : 0u,
+               [PB_SPEC_EMISSIVE] = plan.emitter_sampling || plan.unlit ? 1u : 0u,
+               [PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan.world ? 1u : 0u,
+               [PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
       .blender = plan.blender_materials ? 1u : 0u,
   };
@@ -281,14 +339,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   const pb_camera *cam = &s->cameras[camera];
   pb_gpu_frame fr;
   memset(&fr, 0, sizeof fr);
-  memcpy(fr.cam_pos, cam->position, sizeof fr.cam_pos);
-  memcpy(fr.cam_forward, cam->forward, sizeof fr.cam_forward);
-  memcpy(fr.cam_right, cam->right, sizeof fr.cam_right);
-  memcpy(fr.cam_up, cam->up, sizeof fr.cam_up);
+  if (desc.full_width) {
+    pb_camera_view(cam, desc.full_width, desc.full_height, &fr.cam);
+    fr.key_x0 = desc.crop_x, fr.key_y0 = desc.crop_y, fr.key_width = desc.full_width;
+  } else {
+    pb_camera_view(cam, width, height, &fr.cam);
+  }
   fr.width = width;
   fr.height = height;
-  fr.tan_y = tanf(0.5f * cam->yfov);
-  fr.tan_x = fr.tan_y * (float)width / (float)height;
   fr.spp = spp;
   fr.light_count = gs->light_count;
   fr.emitter_count = (gs->features & PB_FEATURE_EMISSIVE) ? gs->emitter_count : 0;
@@ -299,9 +357,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   float gr = desc.glossy_path_roughness == 0.0f ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : fmaxf(desc.glossy_path_roughness, 0.0f);
   fr.glossy_path_alpha2 = gr * gr * gr * gr; /* alpha = roughness^2 */
   fr.tangent_base = gs->tangent_base;
+  fr.uv1_base = gs->uv1_base;
+  fr.color_base = gs->color_base;
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
+
   for (uint32_t band = 0; band < bands; ++band) {
     uint32_t row0 = band * band_rows;
     uint32_t rows = height - row0 < band_rows ? height - row0 : band_rows;
@@ -312,7 +373,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if ((r = pb_gpu_buffer_fill_zero(g, &accum)) != PB_OK) goto fail;
     if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &paccum)) != PB_OK) goto fail;
     if (nmap_on && (r = pb_gpu_buffer_fill_zero(g, &pnmap)) != PB_OK) goto fail;
-    for (uint32_t it = 0; it < iters; ++it) {
+    for (uint32_t it = 0; it < iters_run; ++it) {
     uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
     if (photons_on && s_end > s_begin) {
       /* One photon map per iteration (seed, it): traced, LBVH built, gather
@@ -393,16 +454,22 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         gpu_ms += wall;
       }
     }
+    if (band == 0 && (r = iteration_done(g, &desc, &accum, host, &preview, it, iters, s_end, spp, width, height,
+                                         bands, wall0, &iters_run)) != PB_OK)
+      goto fail;
     }
+    spp_run = (uint32_t)((uint64_t)iters_run * spp / iters); /* all of spp without a time limit */
     if ((r = pb_gpu_buffer_download(g, &accum, 0, host, (uint64_t)pixels * sizeof *host)) != PB_OK) goto fail;
-    float inv = 1.0f / (float)spp;
+    float inv = 1.0f / (float)spp_run;
     for (uint32_t i = 0; i < pixels; ++i) {
       size_t p = (size_t)fr.pixel_base + i;
       const pb_gpu_accum *a = &host[i];
       for (int k = 0; k < 4; ++k) out->beauty[4 * p + k] = a->beauty[k] * inv;
+      if (s->film_opaque) out->beauty[4 * p + 3] = 1.0f; /* alpha: coverage, or 1 (pb_scene.film_opaque) */
       for (int k = 0; k < 3; ++k) {
         out->direct[3 * p + k] = a->direct[k] * inv;
         out->albedo[3 * p + k] = a->albedo[k] * inv;
+        out->emission[3 * p + k] = a->emission[k] * inv;
       }
       float nl = sqrtf(a->normal[0] * a->normal[0] + a->normal[1] * a->normal[1] + a->normal[2] * a->normal[2]);
       for (int k = 0; k < 3; ++k) out->normal[3 * p + k] = nl > 0 ? a->normal[k] / nl : 0.0f;
@@ -422,7 +489,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       if (nmap_on &&
           ((r = pb_gpu_buffer_download(g, &pnmap, 0, pnhost, (uint64_t)pixels * sizeof *pnhost)) != PB_OK ||
-           (r = pb_shading_correction_resolve(s, pnhost, pixels, fr.pixel_base, n, spp, out)) != PB_OK))
+           (r = pb_shading_correction_resolve(s, pnhost, pixels, fr.pixel_base, n, spp_run, out)) != PB_OK))
         goto fail;
     }
   }
@@ -438,7 +505,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if ((r = pb_filter_indirect(g, out, &fdesc)) != PB_OK) goto fail;
   }
   if (!desc.no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX); /* eq. 20 */
-  st->spp = spp;
+  st->spp = spp_run;
   st->timestamps = ts;
   st->gbuffer_ms = ts ? gbuf_ms : -1;
   st->direct_ms = ts ? direct_ms : -1;
@@ -447,8 +514,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   st->bvh_build_ms = gs->bvh.build_s * 1e3;
   st->bvh_nodes = gs->bvh.node_count;
   st->bvh_depth = gs->bvh.depth;
-  st->primary_rays = (uint64_t)n * spp;
-  st->shadow_rays_max = (uint64_t)n * spp * (gs->light_count + (fr.emitter_count ? 1u : 0u));
+  st->primary_rays = (uint64_t)n * spp_run;
+  st->shadow_rays_max = (uint64_t)n * spp_run * (gs->light_count + (fr.emitter_count ? 1u : 0u));
   if (photons_on) {
     pb_photon_estimate_stats es;
     if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
@@ -457,7 +524,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     st->gather_ms = ts ? gather_ms : -1;
     st->photons_stored = stored_sum;
     st->photons_caustic = caustic_sum;
-    st->iterations = iters;
+    st->iterations = iters_run;
     st->t_auto = es.t_auto;
     st->leaf_size = es.leaf_size;
     st->lbvh_sort_ms = sort_ms;
@@ -465,6 +532,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
   }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
+  free(preview.beauty);
   free(hist_host);
   free(host);
   free(phost);
@@ -489,6 +557,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_buffer_destroy(g, &accum);
   return PB_OK;
 fail:
+  free(preview.beauty);
   free(hist_host);
   free(host);
   free(phost);

@@ -12,7 +12,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
   pb_result r;
   uint32_t spec[PB_GATHER_SPEC_COUNT] = {0};
-  memcpy(spec, ps->spec, sizeof ps->spec);
+  memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's ids 0-3; no lights here */
   spec[PB_GATHER_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_blender != ps->blender))
     pb_gpu_pipeline_destroy(g, &e->gather);
@@ -32,7 +32,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
   }
   if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
   const pb_gpu_buffer *b[PB_GATHER_BIND_COUNT];
-  for (int i = 0; i < PB_BIND_COUNT; ++i) b[i] = ps->bindings[i];
+  for (int i = 0; i < PB_BIND_WORLD; ++i) b[i] = ps->bindings[i]; /* the scene's 15; not the world's */
   b[PB_GATHER_BIND_PHOTONS] = &e->sorted;
   b[PB_GATHER_BIND_NODES] = &e->nodes;
   b[PB_GATHER_BIND_INFO] = &e->info;

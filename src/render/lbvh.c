@@ -1,22 +1,16 @@
 /* The photon LBVH, built on the GPU for every photon map (seed 000 sections
- * 5-6; shaders/lbvh_*.comp, one kernel per step):
- *   bounds   position bounds (atomics) + footprint areas per workgroup
- *   reduce   area sum -> T_auto = clamp(round(sum / scene area), 1, 256)
- *   morton   30-bit codes within the bounds
- *   sort     LSD radix sort, 8 passes of 4 bits: count / scan / stable
- *            scatter; no subgroup operations (lavapipe runs subgroups of 8)
- *   reorder  photons copied into Morton order
- *   hierarchy  Karras (2012) radix tree, ties broken by sorted index
- *   boxes    per inner node of at most B photons, the union of its
- *            photons' exact ellipsoid AABBs (O(n log B); the atomic
- *            bottom-up climb lost visits on lavapipe)
- *   boxes_top  per larger node, the union of the boxes of the B-bounded
- *            nodes below it (about 2n/B nodes). B bounds every invocation's
- *            loop iterations: llvmpipe stops all loops of an invocation
- *            after 65535 iterations in all, which once cut the root's box
- *            to the first 65535 photons (the gather lost half the map).
- *   finalize leaf merge by T_auto (and of equal-code runs), leaf-end flags
- * All buffers come from the map's capacity, grown when a larger map comes. */
+ * 5-6), recorded as one stretch of dispatches with no host round trip: the
+ * map's photon count is read by the GPU (lbvh_setup) and every later pass is
+ * sized from it with an indirect dispatch.
+ *   setup    count, state, grids (one invocation)
+ *   bounds   position bounds + footprint areas per tile; the last tile's
+ *            workgroup sets T_auto and the Morton box
+ *   morton   30-bit codes and indices (the sort's keys and values)
+ *   sort     radix sort, 4 passes of 8 bits (lbvh_sort.c)
+ *   climb    photons copied into Morton order, hierarchy, boxes and leaf
+ *            merge by T_auto in one bottom-up pass (Apetrei 2014)
+ * 17 dispatches in all. Every buffer comes from the map's capacity (grown
+ * when a larger map comes), never from a count read back. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,16 +18,9 @@
 #include "core/log.h"
 #include "render/estimator_internal.h"
 #include "shaders/lbvh_bounds.spv.h"
-#include "shaders/lbvh_boxes.spv.h"
-#include "shaders/lbvh_boxes_top.spv.h"
-#include "shaders/lbvh_finalize.spv.h"
-#include "shaders/lbvh_hierarchy.spv.h"
+#include "shaders/lbvh_climb.spv.h"
 #include "shaders/lbvh_morton.spv.h"
-#include "shaders/lbvh_reduce.spv.h"
-#include "shaders/lbvh_reorder.spv.h"
-#include "shaders/lbvh_sort_count.spv.h"
-#include "shaders/lbvh_sort_scan.spv.h"
-#include "shaders/lbvh_sort_scatter.spv.h"
+#include "shaders/lbvh_setup.spv.h"
 
 static double scene_area(const pb_scene *s) {
   double a = 0.0;
@@ -70,28 +57,34 @@ pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_phot
     const uint32_t *spv;
     size_t bytes;
   } k[PB_LBVH_PASS_N] = {
+      {"lbvh.setup", pb_spv_lbvh_setup, sizeof pb_spv_lbvh_setup},
       {"lbvh.bounds", pb_spv_lbvh_bounds, sizeof pb_spv_lbvh_bounds},
-      {"lbvh.reduce", pb_spv_lbvh_reduce, sizeof pb_spv_lbvh_reduce},
       {"lbvh.morton", pb_spv_lbvh_morton, sizeof pb_spv_lbvh_morton},
-      {"lbvh.sort_count", pb_spv_lbvh_sort_count, sizeof pb_spv_lbvh_sort_count},
-      {"lbvh.sort_scan", pb_spv_lbvh_sort_scan, sizeof pb_spv_lbvh_sort_scan},
-      {"lbvh.sort_scatter", pb_spv_lbvh_sort_scatter, sizeof pb_spv_lbvh_sort_scatter},
-      {"lbvh.reorder", pb_spv_lbvh_reorder, sizeof pb_spv_lbvh_reorder},
-      {"lbvh.hierarchy", pb_spv_lbvh_hierarchy, sizeof pb_spv_lbvh_hierarchy},
-      {"lbvh.boxes", pb_spv_lbvh_boxes, sizeof pb_spv_lbvh_boxes},
-      {"lbvh.boxes_top", pb_spv_lbvh_boxes_top, sizeof pb_spv_lbvh_boxes_top},
-      {"lbvh.finalize", pb_spv_lbvh_finalize, sizeof pb_spv_lbvh_finalize},
+      {"lbvh.climb", pb_spv_lbvh_climb, sizeof pb_spv_lbvh_climb},
   };
   pb_result r = PB_OK;
+  /* lbvh_climb's fences (SC_FENCES) order a child's entry before its visit
+   * count and the sibling's read after it. On llvmpipe (Mesa 22.3) a
+   * memoryBarrierBuffer() inside the climb's divergent loop, or an atomic
+   * with acquire/release semantics, which NIR lowers to the same barrier,
+   * made lanes skip the rest of the shader (the root was never finished).
+   * There the fences are not needed: llvmpipe emits every atomic as an LLVM
+   * seq_cst read-modify-write (gallivm lp_bld_nir_soa.c, emit_atomic_mem),
+   * which no load or store crosses. */
+  uint32_t fences = pb_gpu_get_limits(g)->driver_id != VK_DRIVER_ID_MESA_LLVMPIPE;
   for (int i = 0; i < PB_LBVH_PASS_N && r == PB_OK; ++i) {
     pb_gpu_pipeline_desc pd = {.name = k[i].name, .spirv = k[i].spv, .spirv_bytes = k[i].bytes,
-                               .binding_count = PB_LBVH_BIND_COUNT, .push_bytes = sizeof(pb_gpu_lbvh_push)};
+                               .binding_count = PB_LBVH_BIND_COUNT, .push_bytes = sizeof(pb_gpu_lbvh_push),
+                               .spec = i == PB_LBVH_PASS_CLIMB ? &fences : NULL,
+                               .spec_count = i == PB_LBVH_PASS_CLIMB ? 1 : 0};
     r = pb_gpu_pipeline_create(g, &pd, &e->pass[i]);
   }
-  pb_gpu_buffer_desc id = {.name = "lbvh.info", .size = sizeof(pb_gpu_lbvh_info), .host_visible = 1};
+  pb_gpu_buffer_desc id = {.name = "lbvh.info", .size = sizeof(pb_gpu_lbvh_info), .readback = 1};
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &id, &e->info);
   pb_gpu_buffer_desc dd = {.name = "lbvh.dummy", .size = 256};
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &dd, &e->dummy);
+  pb_radix_sort_desc sd = {.key_bits = PB_LBVH_MORTON_BITS};
+  if (r == PB_OK) r = pb_radix_sort_create(g, &sd, &e->sort);
   if (r != PB_OK) {
     pb_photon_estimator_destroy(g, e);
     return r;
@@ -102,11 +95,7 @@ pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_phot
 
 static void free_buffers(pb_gpu *g, pb_photon_estimator *e) {
   pb_gpu_buffer_destroy(g, &e->sorted);
-  pb_gpu_buffer_destroy(g, &e->keys);
-  pb_gpu_buffer_destroy(g, &e->vals);
-  pb_gpu_buffer_destroy(g, &e->hist);
   pb_gpu_buffer_destroy(g, &e->nodes);
-  pb_gpu_buffer_destroy(g, &e->leaf_parent);
   pb_gpu_buffer_destroy(g, &e->visit);
   pb_gpu_buffer_destroy(g, &e->partial);
   e->capacity = 0;
@@ -121,122 +110,99 @@ void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e) {
   for (int i = 0; i < PB_LBVH_PASS_N; ++i) pb_gpu_pipeline_destroy(g, &e->pass[i]);
   pb_gpu_pipeline_destroy(g, &e->gather);
   free_buffers(g, e);
+  pb_radix_sort_destroy(g, e->sort);
   pb_gpu_buffer_destroy(g, &e->info);
   pb_gpu_buffer_destroy(g, &e->dummy);
   free(e);
 }
 
-static pb_result reserve(pb_gpu *g, pb_photon_estimator *e, uint32_t n) {
-  if (n <= e->capacity && e->capacity) return PB_OK;
+/* Buffers for `cap` photons: the sorted copies, the nodes (count - 1 inner
+ * nodes and the one-leaf root's slot), the climb's visit counters, the
+ * bounds tiles' area sums, the sort's keys and values. */
+static pb_result reserve(pb_gpu *g, pb_photon_estimator *e, uint32_t cap) {
+  if (cap == 0) cap = 1;
+  if (cap <= e->capacity) return PB_OK;
   free_buffers(g, e);
-  uint64_t cap = n ? n : 1;
-  uint64_t tiles = (cap + PB_GPU_WORKGROUP - 1) / PB_GPU_WORKGROUP;
+  uint64_t tiles = ((uint64_t)cap + PB_LBVH_BOUNDS_TILE - 1) / PB_LBVH_BOUNDS_TILE;
   struct {
     pb_gpu_buffer *b;
     const char *name;
     uint64_t size;
   } list[] = {
-      {&e->sorted, "lbvh.photons", cap * sizeof(pb_gpu_photon)},
-      {&e->keys, "lbvh.keys", 2 * cap * sizeof(uint32_t)},
-      {&e->vals, "lbvh.values", 2 * cap * sizeof(uint32_t)},
-      {&e->hist, "lbvh.histogram", PB_LBVH_RADIX * tiles * sizeof(uint32_t)},
-      {&e->nodes, "lbvh.nodes", cap * sizeof(pb_gpu_lbvh_node)},
-      {&e->leaf_parent, "lbvh.leaf_parent", cap * sizeof(uint32_t)},
-      {&e->visit, "lbvh.visit", cap * sizeof(uint32_t)},
+      {&e->sorted, "lbvh.photons", (uint64_t)cap * sizeof(pb_gpu_photon)},
+      {&e->nodes, "lbvh.nodes", (uint64_t)cap * sizeof(pb_gpu_lbvh_node)},
+      {&e->visit, "lbvh.visit", (uint64_t)cap * sizeof(uint32_t)},
       {&e->partial, "lbvh.area_partial", tiles * sizeof(float)},
   };
-  for (size_t i = 0; i < sizeof list / sizeof *list; ++i) {
+  pb_result r = PB_OK;
+  for (size_t i = 0; i < sizeof list / sizeof *list && r == PB_OK; ++i) {
     pb_gpu_buffer_desc d = {.name = list[i].name, .size = list[i].size};
-    pb_result r = pb_gpu_buffer_create(g, &d, list[i].b);
-    if (r != PB_OK) {
-      free_buffers(g, e);
-      return r;
-    }
+    r = pb_gpu_buffer_create(g, &d, list[i].b);
   }
-  e->capacity = (uint32_t)cap;
+  if (r == PB_OK) r = pb_radix_sort_reserve(g, e->sort, cap);
+  if (r == PB_OK) r = pb_radix_sort_bind(g, e->sort, &e->info, offsetof(pb_gpu_lbvh_info, count) / 4);
+  if (r != PB_OK) {
+    free_buffers(g, e);
+    return r;
+  }
+  e->capacity = cap;
   e->gather_ready = 0;
   return PB_OK;
 }
 
+/* Timestamp slots of a build: start, after bounds, after Morton, after the
+ * sort, end. */
+enum { TS_START = 0, TS_BOUNDS, TS_MORTON, TS_SORT, TS_END };
+
 pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
                                     double *gpu_ms) {
-  uint32_t n = map->stored < map->capacity ? map->stored : map->capacity;
-  if (!map->photons.buffer) n = 0;
-  pb_result r = reserve(g, e, n);
+  pb_result r = reserve(g, e, map->capacity);
   if (r != PB_OK) return r;
   double wall0 = pb_time_now();
-  uint32_t tiles = (n + PB_GPU_WORKGROUP - 1) / PB_GPU_WORKGROUP;
-  pb_gpu_lbvh_info info;
-  memset(&info, 0, sizeof info);
-  info.count = n;
-  info.root = n == 0 ? PB_LBVH_NONE : (n == 1 ? (PB_LBVH_LEAF | 0u) : 0u);
-  info.t_auto = 1;
-  info.leaves = n == 1 ? 1 : 0;
-  for (int k = 0; k < 3; ++k) info.bmin[k] = 0xffffffffu, info.bmax[k] = 0;
-  info.tiles = tiles;
-  info.area_tiles = tiles;
-  info.scene_area = e->scene_area;
-  info.footprint_scale = e->footprint_scale > 0.0f ? e->footprint_scale : 1.0f;
-  info.t_fixed = e->desc.leaf_size;
-  if ((r = pb_gpu_buffer_upload(g, &e->info, 0, &info, sizeof info)) != PB_OK) return r;
-  e->count = n;
-  const pb_gpu_buffer *b[PB_LBVH_BIND_COUNT] = {&e->info,  n ? &map->photons : &e->dummy,
-                                                &e->sorted, &e->keys, &e->vals, &e->hist, &e->nodes,
-                                                &e->leaf_parent, &e->visit, &e->partial};
+  int from_map = map->counts.buffer != VK_NULL_HANDLE;
+  pb_gpu_lbvh_push push = {
+      .capacity = map->photons.buffer ? map->capacity : 0,
+      .host_count = map->stored,
+      .flags = from_map ? PB_LBVH_COUNT_FROM_MAP : 0u,
+      .max_groups_x = pb_gpu_get_limits(g)->max_workgroup_count_x,
+      .scene_area = e->scene_area,
+      .footprint_scale = e->footprint_scale > 0.0f ? e->footprint_scale : 1.0f,
+      .t_fixed = e->desc.leaf_size,
+      .sorted = pb_radix_sort_result(e->sort),
+  };
+  const pb_gpu_buffer *in = map->photons.buffer ? &map->photons : &e->dummy;
+  const pb_gpu_buffer *b[PB_LBVH_BIND_COUNT] = {
+      &e->info,   in,          from_map ? &map->counts : &e->dummy, &e->sorted, pb_radix_sort_keys(e->sort),
+      pb_radix_sort_vals(e->sort), &e->nodes, &e->visit, &e->partial, in, &e->sorted, &e->nodes};
   for (int i = 0; i < PB_LBVH_PASS_N; ++i)
     if ((r = pb_gpu_pipeline_bind(g, &e->pass[i], b, PB_LBVH_BIND_COUNT)) != PB_OK) return r;
   e->gather_ready = 0;
-  if (n == 0) {
-    if (gpu_ms) *gpu_ms = 0.0;
-    e->stats.build_ms = 0.0;
-    e->stats.sort_ms = 0.0;
-    return PB_OK;
-  }
+  const uint64_t photon_args = offsetof(pb_gpu_lbvh_info, photon_args);
+  const uint64_t tile_args = offsetof(pb_gpu_lbvh_info, tile_args);
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
-  pb_gpu_timestamp(g, 0);
-  pb_gpu_lbvh_push push = {.count = n};
-  uint64_t tiled = (uint64_t)tiles * PB_GPU_WORKGROUP;
-#define DISPATCH(which, inv)                                                     \
-  do {                                                                          \
-    if (r == PB_OK) r = pb_gpu_dispatch(g, &e->pass[which], &push, (inv));       \
-    pb_gpu_barrier(g);                                                          \
-  } while (0)
-  DISPATCH(PB_LBVH_PASS_BOUNDS, tiled);
-  DISPATCH(PB_LBVH_PASS_REDUCE, PB_GPU_WORKGROUP);
-  DISPATCH(PB_LBVH_PASS_MORTON, n);
-  pb_gpu_timestamp(g, 2);
-  for (uint32_t p = 0; p < PB_LBVH_SORT_PASSES; ++p) {
-    push.shift = p * PB_LBVH_RADIX_BITS;
-    push.src = (p & 1u) ? e->capacity : 0u;
-    push.dst = (p & 1u) ? 0u : e->capacity;
-    DISPATCH(PB_LBVH_PASS_COUNT_DIGITS, tiled);
-    DISPATCH(PB_LBVH_PASS_SCAN, PB_GPU_WORKGROUP);
-    DISPATCH(PB_LBVH_PASS_SCATTER, tiled);
-  }
-  pb_gpu_timestamp(g, 3);
-  /* An even number of passes: the sorted keys and values are at offset 0. */
-  push.shift = push.src = push.dst = 0;
-  DISPATCH(PB_LBVH_PASS_REORDER, n);
-  if (n >= 2) {
-    push.count = n - 1;
-    DISPATCH(PB_LBVH_PASS_HIERARCHY, n - 1);
-    /* B: interval loops of at most B photons in lbvh_boxes, a traversal of
-     * about 4n/B nodes in lbvh_boxes_top (both << 65535, see above). */
-    push.src = n / 4096u > PB_LBVH_BOX_INTERVAL ? n / 4096u : PB_LBVH_BOX_INTERVAL;
-    DISPATCH(PB_LBVH_PASS_BOXES, n - 1);
-    DISPATCH(PB_LBVH_PASS_BOXES_TOP, n - 1);
-    push.src = 0;
-    DISPATCH(PB_LBVH_PASS_FINALIZE, n - 1);
-  }
-#undef DISPATCH
-  pb_gpu_timestamp(g, 1);
+  pb_gpu_timestamp(g, TS_START);
+  r = pb_gpu_dispatch(g, &e->pass[PB_LBVH_PASS_SETUP], &push, 1);
+  pb_gpu_barrier(g);
+  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_BOUNDS], &push, &e->info, tile_args);
+  pb_gpu_barrier(g);
+  pb_gpu_timestamp(g, TS_BOUNDS);
+  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_MORTON], &push, &e->info, photon_args);
+  pb_gpu_timestamp(g, TS_MORTON);
+  if (r == PB_OK) r = pb_radix_sort_record(g, e->sort); /* barriers before and after */
+  pb_gpu_timestamp(g, TS_SORT);
+  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_CLIMB], &push, &e->info, photon_args);
+  pb_gpu_barrier(g);
+  pb_gpu_timestamp(g, TS_END);
   pb_result rs = pb_gpu_submit(g);
   if (r == PB_OK) r = rs;
   if (r != PB_OK) return r;
-  double ms = pb_gpu_elapsed_ms(g, 0, 1);
+  double ms = pb_gpu_elapsed_ms(g, TS_START, TS_END);
   if (ms < 0) ms = (pb_time_now() - wall0) * 1e3;
   e->stats.build_ms = ms;
-  e->stats.sort_ms = pb_gpu_elapsed_ms(g, 2, 3);
+  e->stats.bounds_ms = pb_gpu_elapsed_ms(g, TS_START, TS_BOUNDS);
+  e->stats.morton_ms = pb_gpu_elapsed_ms(g, TS_BOUNDS, TS_MORTON);
+  e->stats.sort_ms = pb_gpu_elapsed_ms(g, TS_MORTON, TS_SORT);
+  e->stats.climb_ms = pb_gpu_elapsed_ms(g, TS_SORT, TS_END);
   if (gpu_ms) *gpu_ms = ms;
   return PB_OK;
 }
@@ -259,7 +225,9 @@ pb_result pb_photon_estimator_stats(pb_gpu *g, pb_photon_estimator *e, pb_photon
 void pb_photon_estimator_lbvh(const pb_photon_estimator *e, pb_photon_lbvh_view *out) {
   out->nodes = &e->nodes;
   out->photons = &e->sorted;
-  out->keys = &e->keys;
+  out->keys = pb_radix_sort_keys(e->sort);
+  out->order = pb_radix_sort_vals(e->sort);
+  out->sorted_offset = pb_radix_sort_result(e->sort);
   out->info = &e->info;
-  out->count = e->count;
+  out->count = e->stats.photons;
 }

@@ -5,45 +5,28 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene/camera.h"
 #include "shaders/motion.spv.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_filter.h"
 
 int pb_camera_project(const pb_camera *c, uint32_t width, uint32_t height, const float p[3], float *x, float *y,
                       float *depth) {
-  float d[3] = {p[0] - c->position[0], p[1] - c->position[1], p[2] - c->position[2]};
-  float z = d[0] * c->forward[0] + d[1] * c->forward[1] + d[2] * c->forward[2];
-  if (!(z > 0.0f)) return 0;
-  /* The inverse of gbuffer.comp's camera ray: sx = (2 x / W - 1) tan_x,
-   * sy = (1 - 2 y / H) tan_y, tan_x = tan_y W / H. */
-  float tan_y = tanf(0.5f * c->yfov), tan_x = tan_y * (float)width / (float)height;
-  float sx = (d[0] * c->right[0] + d[1] * c->right[1] + d[2] * c->right[2]) / z;
-  float sy = (d[0] * c->up[0] + d[1] * c->up[1] + d[2] * c->up[2]) / z;
-  *x = 0.5f * (sx / tan_x + 1.0f) * (float)width;
-  *y = 0.5f * (1.0f - sy / tan_y) * (float)height;
-  *depth = z;
-  return isfinite(*x) && isfinite(*y);
+  pb_gpu_camera v;
+  pb_camera_view(c, width, height, &v);
+  return pb_camera_view_project(&v, p, x, y, depth);
 }
 
 void pb_camera_primary_rays(const pb_camera *c, uint32_t width, uint32_t height, size_t first, uint32_t count,
                             pb_gpu_ray *rays) {
-  float tan_y = tanf(0.5f * c->yfov), tan_x = tan_y * (float)width / (float)height;
+  pb_gpu_camera v;
+  pb_camera_view(c, width, height, &v);
   for (uint32_t i = 0; i < count; ++i) {
     size_t pix = first + i;
-    float fx = (float)(pix % width) + 0.5f, fy = (float)(pix / width) + 0.5f;
-    float sx = (2.0f * fx / (float)width - 1.0f) * tan_x, sy = (1.0f - 2.0f * fy / (float)height) * tan_y;
-    float d[3], len = 0;
-    for (int k = 0; k < 3; ++k) {
-      d[k] = c->forward[k] + c->right[k] * sx + c->up[k] * sy;
-      len += d[k] * d[k];
-    }
-    len = sqrtf(len);
-    for (int k = 0; k < 3; ++k) {
-      rays[i].org[k] = c->position[k];
-      rays[i].dir[k] = d[k] / len;
-    }
+    float t0;
+    pb_camera_ray(&v, (float)(pix % width) + 0.5f, (float)(pix / width) + 0.5f, rays[i].org, rays[i].dir, &t0,
+                  &rays[i].tmax);
     rays[i].tmin = 0.0f;
-    rays[i].tmax = INFINITY;
   }
 }
 
@@ -84,10 +67,6 @@ pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint
   return PB_OK;
 }
 
-static void vec4_of(float dst[4], const float src[3]) {
-  dst[0] = src[0], dst[1] = src[1], dst[2] = src[2], dst[3] = 0.0f;
-}
-
 pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
                              const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam,
                              float *motion, double *gpu_ms) {
@@ -97,13 +76,8 @@ pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, co
                    m->vertex_count);
   pb_gpu_motion_params p;
   memset(&p, 0, sizeof p);
-  vec4_of(p.cam_pos, cam->position), vec4_of(p.cam_forward, cam->forward);
-  vec4_of(p.cam_right, cam->right), vec4_of(p.cam_up, cam->up);
-  vec4_of(p.prev_pos, prev_cam->position), vec4_of(p.prev_forward, prev_cam->forward);
-  vec4_of(p.prev_right, prev_cam->right), vec4_of(p.prev_up, prev_cam->up);
-  float aspect = (float)m->width / (float)m->height;
-  p.tan_y = tanf(0.5f * cam->yfov), p.tan_x = p.tan_y * aspect;
-  p.prev_tan_y = tanf(0.5f * prev_cam->yfov), p.prev_tan_x = p.prev_tan_y * aspect;
+  pb_camera_view(cam, m->width, m->height, &p.cam);
+  pb_camera_view(prev_cam, m->width, m->height, &p.prev);
   p.width = m->width, p.height = m->height, p.triangle_count = s->triangle_count;
   pb_result r = pb_gpu_buffer_upload(g, &m->params, 0, &p, sizeof p);
   /* Geometry that did not move: the scene's own positions are the previous ones. */

@@ -52,8 +52,9 @@ pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs
 
 /* The camera rays through the centres of pixels first .. first + count - 1
  * of a width x height image (row-major, top row first): gbuffer.comp's
- * camera ray at one sample per pixel, tmin 0, tmax infinite. Shared with
- * the ray benchmarks (bench/). */
+ * camera ray at one sample per pixel (pb_camera_ray: from the near clip
+ * plane, tmin 0, tmax to the far plane). Shared with the ray benchmarks
+ * (bench/). */
 void pb_camera_primary_rays(const pb_camera *c, uint32_t width, uint32_t height, size_t first, uint32_t count,
                             pb_gpu_ray *rays);
 

@@ -94,7 +94,11 @@ void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *ou
 /* The budget split (seed 001 24.2.1): photons[i] paths for light i, in
  * proportion to the luminance of pb_light_power (directional lights over the
  * disc of the scene's bounding radius), largest remainders, summing to
- * `total` when any light has power. first[i] is the light's first path. */
+ * `total` when any light has power. first[i] is the light's first path. A
+ * scene with a world has one slot more, the last (index light_count), of
+ * power pi R^2 x its radiance integrated over the sphere (the flux through
+ * the scene's bounding disc): the arrays hold pb_photon_slots(s) entries. */
+uint32_t pb_photon_slots(const pb_scene *s);
 void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons, uint32_t *first);
 
 /* Tests only: trace paths in triples whose members 1 and 2 step the
@@ -106,13 +110,13 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
 void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32_t flags);
 void pb_photon_map_destroy(pb_gpu *g, pb_photon_map *m);
 
-/* ---- estimator: photon LBVH + gather (lbvh.c, gather.c) ------------------
- * Per photon map (every iteration of every frame): bounds and footprint
- * areas -> T_auto -> Morton codes -> radix sort -> photons reordered ->
- * Karras hierarchy -> boxes bottom-up -> leaf merge by T_auto (seed 000
- * sections 5-6). Then, per sample, the gather pass reads the frame's
- * G-buffer and adds eq. 1 into per-pixel pb_gpu_photon_accum sums (and into
- * the beauty accumulator). */
+/* ---- estimator: photon LBVH + gather (lbvh.c, lbvh_sort.c, gather.c) -----
+ * Per photon map (every iteration of every frame), on the GPU from the map's
+ * own photon count: bounds and footprint areas -> T_auto -> Morton codes ->
+ * radix sort -> photons in Morton order, hierarchy, boxes and leaf merge by
+ * T_auto in one bottom-up pass (seed 000 sections 5-6). Then, per sample,
+ * the gather pass reads the frame's G-buffer and adds eq. 1 into per-pixel
+ * pb_gpu_photon_accum sums (and into the beauty accumulator). */
 
 struct pb_pass_setup;
 
@@ -135,8 +139,11 @@ typedef struct pb_photon_estimate_stats {
   float area_sum;             /* summed footprint ellipse areas, m^2 */
   float scene_area;           /* summed triangle areas, m^2 */
   double build_ms;            /* last build: GPU timestamps (wall without) */
-  double sort_ms;             /* of which the radix sort (all passes); -1
-                                 without timestamps */
+  double bounds_ms;           /* of which setup + bounds + T_auto, */
+  double morton_ms;           /* the Morton codes, */
+  double sort_ms;             /* the radix sort (all passes), */
+  double climb_ms;            /* the reorder + hierarchy + boxes + leaf merge;
+                                 each -1 without timestamps */
   uint32_t stack_overflow;    /* gather traversals cut short (expected 0) */
 } pb_photon_estimate_stats;
 
@@ -144,7 +151,11 @@ pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_phot
                                      pb_photon_estimator **out);
 /* A new pose of the same scene: the surface area T_auto divides by. */
 void pb_photon_estimator_update(pb_photon_estimator *e, const pb_scene *s);
-/* Builds the LBVH over map->stored photons (own submission, waits). */
+/* Builds the LBVH over the map's photons (own submission, waits): their
+ * number is read by the GPU from map->counts (pb_gpu_photon_counts.stored,
+ * at most map->capacity) where the map has that buffer (the tracer's maps),
+ * else it is map->stored (maps made by the host). Buffers follow
+ * map->capacity. */
 pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
                                     double *gpu_ms);
 /* Points the gather at the frame's pass buffers (scene.glsl's bindings and
@@ -168,12 +179,15 @@ void pb_photon_estimator_set_footprint_scale(pb_photon_estimator *e, float scale
 pb_result pb_photon_estimator_stats(pb_gpu *g, pb_photon_estimator *e, pb_photon_estimate_stats *out);
 void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e);
 
-/* Tests: the device buffers of the last build. nodes: pb_gpu_lbvh_node[count
- * - 1]; photons: pb_gpu_photon[count] in Morton order with leaf-end flags;
- * keys: the sorted 30-bit codes (first `count` uints); info:
- * pb_gpu_lbvh_info. */
+/* Tests: the device buffers of the last build. nodes: pb_gpu_lbvh_node[count]
+ * (inner node p at the split after sorted photon p, the one-leaf root at
+ * count - 1); photons: pb_gpu_photon[count] in Morton order; keys, order:
+ * the sorted 30-bit codes and the photons' indices in the map, uints from
+ * sorted_offset; info: pb_gpu_lbvh_info. count: photons of the last
+ * build, as of the last pb_photon_estimator_stats. */
 typedef struct pb_photon_lbvh_view {
-  const pb_gpu_buffer *nodes, *photons, *keys, *info;
+  const pb_gpu_buffer *nodes, *photons, *keys, *order, *info;
+  uint32_t sorted_offset;
   uint32_t count;
 } pb_photon_lbvh_view;
 void pb_photon_estimator_lbvh(const pb_photon_estimator *e, pb_photon_lbvh_view *out);

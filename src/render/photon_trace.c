@@ -23,9 +23,9 @@
 #include "shaders/photon_trace_blender.spv.h"
 #include "shared/pb_photon.h"
 
-enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_COUNT = 18 }; /* 16, 17: RSM lights, texels */
+enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_WORLD = 18, PB_PHOTON_BIND_COUNT = 19 }; /* 16, 17: RSM lights, texels */
 enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
-enum { PB_PHOTON_SPEC_TRANSMISSION = PB_SPEC_PASS_4, PB_PHOTON_SPEC_COUNT = PB_SPEC_COUNT };
+enum { PB_PHOTON_SPEC_TRANSMISSION = PB_SPEC_PASS_4, PB_PHOTON_SPEC_COUNT = PB_SPEC_COUNT }; /* scene.glsl's, with 4 ours */
 
 struct pb_photon_tracer {
   const pb_gpu_scene *gs;
@@ -60,23 +60,31 @@ static float scene_radius(const pb_scene *s, float center[3]) {
   return (r > 1e-6f && isfinite(r)) ? r : 1e-6f;
 }
 
+uint32_t pb_photon_slots(const pb_scene *s) { return s->light_count + (s->world.present ? 1u : 0u); }
+
+/* Power of slot i (a light, or the world as the last slot) for the split. */
+static double slot_power(const pb_scene *s, uint32_t i, float radius) {
+  float pw[3];
+  if (i < s->light_count) {
+    pb_light_power(&s->lights[i], radius, pw);
+  } else {
+    for (int c = 0; c < 3; ++c) pw[c] = (float)M_PI * radius * radius * s->world.integral[c];
+  }
+  double w = luminance(pw);
+  return isfinite(w) ? w : 0.0;
+}
+
 void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons, uint32_t *first) {
   float center[3];
   float radius = scene_radius(s, center);
+  uint32_t n = pb_photon_slots(s);
   double sum = 0.0;
-  for (uint32_t i = 0; i < s->light_count; ++i) {
-    float pw[3];
-    pb_light_power(&s->lights[i], radius, pw);
-    double w = luminance(pw);
-    sum += isfinite(w) ? w : 0.0;
-  }
+  for (uint32_t i = 0; i < n; ++i) sum += slot_power(s, i, radius);
   uint64_t given = 0;
-  double *rem = calloc(s->light_count ? s->light_count : 1, sizeof *rem);
-  for (uint32_t i = 0; i < s->light_count; ++i) {
-    float pw[3];
-    pb_light_power(&s->lights[i], radius, pw);
-    double w = luminance(pw);
-    if (!(sum > 0.0) || !isfinite(w)) w = 0.0;
+  double *rem = calloc(n ? n : 1, sizeof *rem);
+  for (uint32_t i = 0; i < n; ++i) {
+    double w = slot_power(s, i, radius);
+    if (!(sum > 0.0)) w = 0.0;
     double share = sum > 0.0 ? (double)total * w / sum : 0.0;
     photons[i] = (uint32_t)floor(share);
     if (rem) rem[i] = w > 0.0 ? share - floor(share) : -1.0;
@@ -85,7 +93,7 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
   /* Largest remainders get the rest (ties: lower index). */
   while (rem && sum > 0.0 && given < total) {
     uint32_t best = 0;
-    for (uint32_t i = 1; i < s->light_count; ++i)
+    for (uint32_t i = 1; i < n; ++i)
       if (rem[i] > rem[best]) best = i;
     if (rem[best] < 0.0) break;
     photons[best]++;
@@ -94,7 +102,7 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
   }
   free(rem);
   uint32_t f = 0;
-  for (uint32_t i = 0; i < s->light_count; ++i) {
+  for (uint32_t i = 0; i < n; ++i) {
     first[i] = f;
     f += photons[i];
   }
@@ -104,7 +112,7 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
  * split by light power, each light's photon power and differential scale,
  * the scene's centre and radius (directional lights emit from its disc;
  * the default r_max is 5 % of the radius). counts/firsts: scratch of
- * light_count entries. */
+ * pb_photon_slots entries. */
 static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *counts, uint32_t *firsts,
                          float center[3], float *radius_out) {
   const pb_photon_trace_desc *d = &t->desc;
@@ -113,28 +121,45 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
   pb_photon_split_budget(s, d->photons, counts, firsts);
   uint32_t total = 0;
   t->light_entries = 0;
-  for (uint32_t i = 0; i < s->light_count; ++i) {
+  uint32_t slots = pb_photon_slots(s);
+  for (uint32_t i = 0; i < slots; ++i) {
     if (!counts[i]) continue;
-    const pb_light *l = &s->lights[i];
+    int world = i == s->light_count;
+    const pb_light *l = world ? NULL : &s->lights[i];
     pb_gpu_photon_light *e = &t->lights[t->light_entries++];
-    e->light = i;
+    e->light = world ? PB_GPU_WORLD_LIGHT : i;
     e->first = total;
     e->count = counts[i];
     total += counts[i];
-    double omega, k;
-    if (l->type == PB_LIGHT_DIRECTIONAL) {
+    double omega, k, scale;
+    float col[3] = {1, 1, 1};
+    if (world || l->type == PB_LIGHT_DIRECTIONAL) {
+      /* Parallel rays over the bounding disc (a soft sun's and the world's
+       * directions vary per photon; the spacing is the disc's). */
       omega = M_PI * (double)radius * radius; /* disc area */
+      scale = omega;
       e->cos_max = 1.0f;
+    } else if (l->type == PB_LIGHT_AREA) {
+      /* pb_area_light_emit: flux L A pi cos^2 a x the spread profile; the
+       * directions fill a cone of half-angle pi/2 - a, whose solid angle
+       * stands in the differentials (as a point light's would). */
+      double ta = 0.0;
+      if (l->spread > 0.0f && l->spread < (float)M_PI) ta = tan(0.5 * (M_PI - fmax(l->spread, M_PI / 180.0)));
+      double c2 = 1.0 / (1.0 + ta * ta); /* cos^2 a */
+      scale = pb_light_area(l) * M_PI * c2;
+      omega = 2.0 * M_PI * (1.0 - sqrt(1.0 - c2)); /* 1 - cos(pi/2 - a) = 1 - sin a */
+      e->cos_max = 0.0f;
     } else if (l->type == PB_LIGHT_SPOT) {
       float co = cosf(fmaxf(l->outer_cone, 0.0f));
-      omega = 2.0 * M_PI * (1.0 - co);
+      omega = scale = 2.0 * M_PI * (1.0 - co);
       e->cos_max = co;
     } else {
-      omega = 4.0 * M_PI;
+      omega = scale = 4.0 * M_PI;
       e->cos_max = -1.0f;
     }
-    k = omega / counts[i];
-    for (int c = 0; c < 3; ++c) e->power[c] = (float)(l->color[c] * (double)l->intensity * k);
+    if (!world) memcpy(col, l->color, sizeof col);
+    k = scale / counts[i];
+    for (int c = 0; c < 3; ++c) e->power[c] = (float)(col[c] * (world ? 1.0 : (double)l->intensity) * k);
     e->diff_scale = (float)(sqrt(omega / counts[i]) / delta);
   }
   t->p.scene_center[0] = center[0];
@@ -153,8 +178,9 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
 }
 
 pb_result pb_photon_tracer_update(pb_gpu *g, pb_photon_tracer *t, const pb_scene *s) {
-  uint32_t *counts = calloc(s->light_count ? s->light_count : 1, sizeof *counts);
-  uint32_t *firsts = calloc(s->light_count ? s->light_count : 1, sizeof *firsts);
+  uint32_t slots = pb_photon_slots(s) ? pb_photon_slots(s) : 1;
+  uint32_t *counts = calloc(slots, sizeof *counts);
+  uint32_t *firsts = calloc(slots, sizeof *firsts);
   pb_result r = PB_OK;
   if (!counts || !firsts) {
     r = pb_fail(PB_ERR_NOMEM, "photons: out of memory");
@@ -217,9 +243,10 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   pb_photon_tracer *t = calloc(1, sizeof *t);
   if (!t) return pb_fail(PB_ERR_NOMEM, "photons: out of memory");
   pb_result r = PB_OK;
-  uint32_t *counts = calloc(s->light_count ? s->light_count : 1, sizeof *counts);
-  uint32_t *firsts = calloc(s->light_count ? s->light_count : 1, sizeof *firsts);
-  t->lights = calloc(s->light_count ? s->light_count : 1, sizeof *t->lights);
+  uint32_t slots = pb_photon_slots(s) ? pb_photon_slots(s) : 1;
+  uint32_t *counts = calloc(slots, sizeof *counts);
+  uint32_t *firsts = calloc(slots, sizeof *firsts);
+  t->lights = calloc(slots, sizeof *t->lights);
   if (!counts || !firsts || !t->lights) {
     r = pb_fail(PB_ERR_NOMEM, "photons: out of memory");
     goto fail;
@@ -243,7 +270,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
 
   pb_gpu_buffer_desc fd = {.name = "photons.frame", .size = sizeof(pb_gpu_frame), .host_visible = 1};
   if ((r = pb_gpu_buffer_create(g, &fd, &t->frame)) != PB_OK) goto fail;
-  uint32_t entries = s->light_count ? s->light_count : 1; /* room for every light: poses may change the split */
+  uint32_t entries = slots; /* room for every light and the world: poses may change the split */
   pb_gpu_buffer_desc pd = {.name = "photons.params",
                            .size = sizeof(pb_gpu_photon_params) + entries * sizeof(pb_gpu_photon_light),
                            .host_visible = 1};
@@ -254,8 +281,10 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u;
   t->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
   t->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
-  t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at delta lights only */
+  t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at lights and the world, not at emissive triangles */
   t->spec[PB_PHOTON_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
+  t->spec[PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u;
+  t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;
   t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
@@ -305,7 +334,8 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
       &gs->tri_material, &gs->materials, &gs->textures, &gs->texels,  &gs->lights,  &map->photons,
       &map->counts,     &gs->positions, &gs->emitters, &t->params,
       /* TRACE: never read, any buffer will do */
-      t->rsm ? pb_photon_rsm_lights(t->rsm) : &t->params, t->rsm ? pb_photon_rsm_texels(t->rsm) : &t->params};
+      t->rsm ? pb_photon_rsm_lights(t->rsm) : &t->params, t->rsm ? pb_photon_rsm_texels(t->rsm) : &t->params,
+      &gs->world};
   if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, PB_PHOTON_BIND_COUNT)) != PB_OK) return r;
   if (t->rsm && (r = pb_photon_rsm_bind(g, t->rsm, &t->frame)) != PB_OK) return r;
 
@@ -314,6 +344,8 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   fr.seed_lo = (uint32_t)seed;
   fr.seed_hi = (uint32_t)(seed >> 32);
   fr.light_count = gs->light_count;
+  fr.uv1_base = gs->uv1_base; /* base colours of photon bounces */
+  fr.color_base = gs->color_base;
   if ((r = pb_gpu_buffer_upload(g, &t->frame, 0, &fr, sizeof fr)) != PB_OK) return r;
   t->p.iteration = iteration;
   t->p.guarded = t->p.absorbed = t->p.escaped = 0;

@@ -10,9 +10,12 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   uint32_t f = s->features;
   out->eye_chains = (f & PB_FEATURE_SPECULAR) != 0;
   out->emitter_sampling = (f & PB_FEATURE_EMISSIVE) != 0;
+  out->unlit = (f & PB_FEATURE_UNLIT) != 0;
+  out->vertex_colors = s->colors != NULL;
+  out->media = (f & PB_FEATURE_VOLUME) != 0 && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->textures = (f & PB_FEATURE_TEXTURES) != 0;
   out->vertex_normals = s->normals != NULL;
-  out->photons = !direct_only && s->light_count > 0;
+  out->photons = !direct_only && (s->light_count > 0 || s->world.present);
   out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
   out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->normal_maps = (f & PB_FEATURE_NORMAL_MAPS) != 0 && s->tangents != NULL && s->uvs != NULL;
@@ -21,6 +24,9 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   /* Only the Blender models render Alpha (Cycles' transparency); glTF's
    * alpha modes are not rendered by either renderer. */
   out->alpha = (f & PB_FEATURE_ALPHA) != 0 && out->blender_materials;
+  out->soft_lights = (f & PB_FEATURE_SOFT_LIGHTS) != 0;
+  out->world = s->world.present;
+  out->world_map = s->world.present && s->world.env != NULL;
 }
 
 void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_plan *p) {
@@ -30,11 +36,17 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
   pb_json_bool(j, "photon_refraction", p->refraction);
   pb_json_bool(j, "specular_eye_paths", p->eye_chains);
   pb_json_bool(j, "emitter_sampling", p->emitter_sampling);
+  pb_json_bool(j, "unlit", p->unlit);
+  pb_json_bool(j, "vertex_colors", p->vertex_colors);
+  pb_json_bool(j, "absorbing_media", p->media);
   pb_json_bool(j, "textures", p->textures);
   pb_json_bool(j, "normal_maps", p->normal_maps);
   pb_json_bool(j, "blender_materials", p->blender_materials);
   pb_json_bool(j, "multiscatter_ggx", p->multi_ggx);
   pb_json_bool(j, "transparent_shadows", p->alpha);
   pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);
+  pb_json_bool(j, "soft_lights", p->soft_lights);
+  pb_json_bool(j, "world_light", p->world);
+  pb_json_bool(j, "world_map", p->world_map);
   pb_json_end_object(j);
 }

@@ -11,10 +11,15 @@
 typedef struct pb_render_plan {
   int eye_chains;        /* mirror/glass eye paths (SC_SPECULAR) */
   int emitter_sampling;  /* shadow rays to emissive triangles (SC_EMISSIVE) */
+  int unlit;             /* KHR_materials_unlit surfaces: their colour on
+                            camera paths (SC_EMISSIVE's emission code) */
+  int vertex_colors;     /* COLOR_0 uploaded (pb_gpu_frame.color_base) */
+  int media;             /* absorbing media on transmission paths */
   int textures;          /* texture fetches (SC_TEXTURES) */
   int vertex_normals;    /* interpolated shading normals (SC_HAS_NORMALS) */
-  int photons;           /* photon stages: the scene has point, spot or
-                            directional lights (and not --direct-only) */
+  int photons;           /* photon stages: the scene has a light other than
+                            emissive triangles, or a world (and not
+                            --direct-only) */
   int caustic_photons;   /* photons follow specular chains (photon_trace's
                             SC_SPECULAR) */
   int refraction;        /* photons refract (SC_TRANSMISSION) */
@@ -28,6 +33,14 @@ typedef struct pb_render_plan {
                             (tangents uploaded, pb_gpu_frame.tangent_base)
                             and, with photons, seed 001's eq. 20 correction
                             of the indirect light (shading_correction.h) */
+  int soft_lights;       /* sphere, area and soft-sun lights: sampled by
+                            area or solid angle in the direct pass, seen by
+                            camera rays and specular chains (SC_SOFT_LIGHTS) */
+  int world;             /* world light: background of camera rays and
+                            specular chains, BSDF-sampled (+ map-sampled)
+                            direct light, photons from it (SC_WORLD) */
+  int world_map;         /* its radiance is an environment map (importance
+                            sampled) rather than a constant */
 } pb_render_plan;
 
 /* direct_only: render --direct-only (no photon stages). */

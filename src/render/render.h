@@ -33,6 +33,9 @@ typedef struct pb_gpu_scene {
   pb_gpu_buffer tri_material; /* uint[triangle_count] */
   pb_gpu_buffer materials, textures, texels, lights;
   pb_gpu_buffer emitters;     /* pb_gpu_emitter[emitter_count] (or 1 dummy) */
+  pb_gpu_buffer world;        /* pb_gpu_world + its map and sampling table
+                                 (shared/pb_gpu.h); a header with flags 0
+                                 when the scene has no world */
   uint32_t light_count, material_count, texture_count;
   uint32_t emitter_count;     /* emissive triangles with power > 0 */
   uint32_t features;          /* PB_FEATURE_* of the scene */
@@ -40,6 +43,8 @@ typedef struct pb_gpu_scene {
   uint32_t tangent_base;      /* normal maps: float index of the tangents in
                                  `normals` (pb_gpu_frame.tangent_base); 0:
                                  none */
+  uint32_t uv1_base, color_base; /* float indices of TEXCOORD_1 and COLOR_0
+                                 in `uvs` (pb_gpu_frame); 0: none */
   double upload_s;
   /* For pb_gpu_scene_update: the shape of the scene it was made from, and
    * room for a rebuilt BVH (PB_BVH_WIDTH x triangles + 1 nodes, the most a
@@ -92,6 +97,21 @@ pb_result pb_raycast_run(pb_gpu *g, pb_raycast_pass *p, const pb_gpu_ray *rays, 
 
 /* ---- the frame ----------------------------------------------------------- */
 
+/* What pb_render_desc.progress hears after each finished photon iteration
+ * (band 0 of the image, the first rows when it needs several bands). */
+typedef struct pb_render_progress {
+  uint32_t iteration, iterations;  /* finished, planned (fewer once the
+                                      time limit stopped the refinement) */
+  uint32_t samples, spp;           /* samples per pixel done, planned */
+  double elapsed_s;                /* since pb_render_frame began */
+  uint32_t width, height;
+  const float *beauty;             /* NULL, or the mean beauty (RGBA,
+                                      width x height, top row first) of the
+                                      samples done: see preview_interval_s */
+} pb_render_progress;
+/* A non-PB_OK return stops the render with that result. */
+typedef pb_result (*pb_render_progress_fn)(void *user, const pb_render_progress *p);
+
 /* Zero means default for every field. */
 typedef struct pb_render_desc {
   uint32_t spp;                /* 0: 1 (pixel centres); >1 jittered/stratified */
@@ -136,6 +156,24 @@ typedef struct pb_render_desc {
                                   by earlier frames of a still view
                                   (sequence.h); the radius schedule goes on
                                   from there */
+  /* Progressive refinement (render --time-limit, --preview, --progress):
+   * progress is called after each iteration; with preview_interval_s >= 0
+   * it also gets the mean beauty so far, at most once per that many seconds
+   * (never for the last iteration; the image in one band only: the
+   * accumulators are read back for it). time_limit_s > 0: no iteration
+   * starts after that many seconds; the frame averages those run (stats.spp
+   * and stats.iterations say how many). */
+  pb_render_progress_fn progress;
+  void *progress_user;
+  double preview_interval_s;   /* < 0: no preview (progress only) */
+  double time_limit_s;
+  /* A crop of a larger frame (render --crop, Blender's border): the image
+   * is the width x height pixels at column crop_x, row crop_y (top row
+   * first) of a full_width x full_height frame, with that frame's camera
+   * window and random numbers, so it equals that part of the full render
+   * (up to the photon maps' own sampling, which does not depend on the
+   * image). full_width 0: the image is the whole frame. */
+  uint32_t full_width, full_height, crop_x, crop_y;
   const struct pb_photon_map *photon_map; /* tests: gather this map (every
                                   iteration) instead of tracing */
   struct pb_frame_context *context; /* sequences: keeps pipelines, per-pixel
@@ -203,6 +241,8 @@ typedef struct pb_render_result {
   float *normal;    /* XYZ shading normal at the first hit, facing the camera */
   float *depth;     /* camera-space z of the first hit, 0 on a miss */
   float *material;  /* material index of the first hit + 1, 0 on a miss */
+  float *emission;  /* RGB emitted by the first hit toward the camera
+                       (Blender's Emit pass; part of direct and beauty) */
   float *indirect;  /* RGB: photon gather, non-caustic photons (NULL when the
                        photon stages are off) */
   float *caustic;   /* RGB: photon gather, caustic photons (NULL when off);

@@ -5,13 +5,15 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "scene/emitters.h"
+#include "scene/world.h"
 #include "render/render.h"
 
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
   if (!gs) return;
   pb_gpu_buffer *b[] = {&gs->nodes, &gs->tris, &gs->indices, &gs->positions, &gs->normals, &gs->uvs,
                         &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights,
-                        &gs->emitters};
+                        &gs->emitters, &gs->world};
   for (size_t i = 0; i < sizeof b / sizeof *b; ++i) pb_gpu_buffer_destroy(g, b[i]);
   pb_bvh_destroy(&gs->bvh);
   memset(gs, 0, sizeof *gs);
@@ -48,78 +50,131 @@ static void convert_lights(const pb_scene *s, pb_gpu_light *lights) {
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
     pb_gpu_light *o = &lights[i];
+    memset(o, 0, sizeof *o);
     memcpy(o->position, l->position, sizeof o->position);
     float d[3] = {l->direction[0], l->direction[1], l->direction[2]};
     float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int k = 0; k < 3; ++k) {
       o->direction[k] = len > 0 ? d[k] / len : 0.0f;
       o->power[k] = l->color[k] * l->intensity;
+      o->axis_u[k] = l->axis_u[k];
+      o->axis_v[k] = l->axis_v[k];
     }
     o->type = l->type == PB_LIGHT_SPOT ? PB_GPU_LIGHT_SPOT
-              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL : PB_GPU_LIGHT_POINT;
+              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL
+              : l->type == PB_LIGHT_AREA ? PB_GPU_LIGHT_AREA : PB_GPU_LIGHT_POINT;
     o->cos_outer = cosf(l->outer_cone);
     o->cos_inner = cosf(l->inner_cone);
+    o->spot_blend = l->spot_blend;
+    if (l->spot_model == PB_SPOT_CYCLES) o->flags |= PB_GPU_LIGHT_CYCLES_SPOT;
+    if (l->no_shadow) o->flags |= PB_GPU_LIGHT_NO_SHADOW;
+    if (l->no_mis) o->flags |= PB_GPU_LIGHT_NO_MIS;
+    if (l->type == PB_LIGHT_DIRECTIONAL) {
+      /* The soft sun: its disc's radius at unit distance (0: a delta light). */
+      o->radius = l->angle > 0.0f ? tanf(0.5f * l->angle) : 0.0f;
+      o->cos_half = cosf(0.5f * l->angle);
+    } else if (l->type == PB_LIGHT_AREA) {
+      if (l->shape == PB_AREA_ELLIPSE) o->flags |= PB_GPU_LIGHT_ELLIPSE;
+      o->size_u = l->size[0];
+      o->size_v = l->size[1];
+      /* The spread profile (scene.h; src/ref/soft_lights.c spread_params). */
+      float sp = l->spread > 0.0f ? l->spread : (float)M_PI;
+      float a = 0.5f * ((float)M_PI - fmaxf(sp, (float)M_PI / 180.0f));
+      o->tan_spread = tanf(a);
+      o->norm_spread = 2.0f / (2.0f + (2.0f * a - (float)M_PI) * o->tan_spread);
+    } else {
+      o->radius = l->radius;
+    }
   }
 }
 
-/* The emitter table (pb_gpu_emitter): every triangle with an emissive
- * material and power > 0, weighted exactly as the reference weights them
- * (src/ref/lights.c pb_ref_lights_build: area x max(luminance, 1e-3 max
- * channel) of the clamped emission, x2 when double-sided), so both renderers
- * pick emitters with the same probabilities. The CDF is summed in double and
- * stored as float; `pick` is the difference of consecutive stored values, the
- * probability the shader's search actually realises. */
+/* The world's buffer: pb_gpu_world, then per texel (R, G, B, conditional
+ * CDF) and the marginal CDF (shared/pb_gpu.h), from the table both
+ * renderers sample (scene/world.h). Errors: PB_ERR_LIMIT when it exceeds
+ * the device's storage-buffer range (name the map: a smaller one fits),
+ * PB_ERR_NOMEM. */
+static pb_result make_world(pb_gpu *g, const pb_scene *s, pb_gpu_buffer *out) {
+  const pb_world *w = &s->world;
+  pb_gpu_world h;
+  memset(&h, 0, sizeof h);
+  pb_world_dist dist;
+  memset(&dist, 0, sizeof dist);
+  if (w->present) {
+    h.flags = PB_GPU_WORLD_PRESENT;
+    if (s->film_opaque && !w->hidden_from_camera) h.flags |= PB_GPU_WORLD_CAMERA;
+    memcpy(h.color, w->color, sizeof h.color);
+    float *rows[3] = {h.map_to0, h.map_to1, h.map_to2};
+    for (int r = 0; r < 3; ++r) memcpy(rows[r], w->env_to_map + 3 * r, 3 * sizeof(float));
+  }
+  uint64_t floats = 0;
+  if (w->present && w->env) {
+    pb_result r = pb_world_dist_build(w, &dist);
+    if (r != PB_OK) return r;
+    h.flags |= PB_GPU_WORLD_MAP | (dist.width ? PB_GPU_WORLD_SAMPLED : 0u);
+    h.width = w->env_width;
+    h.height = w->env_height;
+    h.scale = w->env_scale;
+    uint64_t texels = (uint64_t)w->env_width * w->env_height;
+    h.marg_offset = (uint32_t)(4 * texels);
+    floats = 4 * texels + w->env_height + 1;
+  }
+  uint64_t bytes = sizeof h + floats * sizeof(float);
+  const pb_gpu_limits *lim = pb_gpu_get_limits(g);
+  if (bytes > lim->max_storage_buffer_range || 4 * (uint64_t)h.width * h.height > UINT32_MAX) {
+    pb_world_dist_destroy(&dist);
+    return pb_fail(PB_ERR_LIMIT,
+                   "%s: the world map '%s' (%ux%u) needs %llu bytes on the GPU, over the device's "
+                   "maxStorageBufferRange of %llu bytes; use a smaller map",
+                   s->path ? s->path : "scene", w->env_name, w->env_width, w->env_height,
+                   (unsigned long long)bytes, (unsigned long long)lim->max_storage_buffer_range);
+  }
+  uint8_t *buf = calloc(1, bytes);
+  if (!buf) {
+    pb_world_dist_destroy(&dist);
+    return pb_fail(PB_ERR_NOMEM, "out of memory for the world's GPU buffer (%llu bytes)", (unsigned long long)bytes);
+  }
+  memcpy(buf, &h, sizeof h);
+  float *data = (float *)(buf + sizeof h);
+  if (floats) {
+    uint32_t W = w->env_width, H = w->env_height;
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        size_t i = (size_t)y * W + x;
+        memcpy(data + 4 * i, w->env + 3 * i, 3 * sizeof(float));
+        data[4 * i + 3] = dist.width ? dist.cond[(size_t)y * (W + 1) + x] : 0.0f;
+      }
+    for (uint32_t y = 0; y <= H; ++y) data[h.marg_offset + y] = dist.width ? dist.marg[y] : 0.0f;
+  }
+  pb_world_dist_destroy(&dist);
+  pb_result r = make(g, out, "scene.world", buf, bytes);
+  free(buf);
+  return r;
+}
+
+/* The emitter table (pb_gpu_emitter) from the scene's (scene/emitters.h),
+ * which the reference samples too. The CDF is stored as float; `pick` is the
+ * difference of consecutive stored values, the probability the shader's
+ * search actually realises. */
 static pb_result build_emitters(const pb_scene *s, pb_gpu_emitter **out, uint32_t *count) {
   *out = NULL;
   *count = 0;
-  uint32_t n = 0;
-  for (uint32_t t = 0; t < s->triangle_count; ++t)
-    if (pb_material_is_emissive(&s->materials[s->triangle_material[t]])) n++;
-  if (!n) return PB_OK;
-  pb_gpu_emitter *e = calloc(n, sizeof *e);
-  double *w = calloc(n, sizeof *w);
-  if (!e || !w) {
-    free(e);
-    free(w);
-    return pb_fail(PB_ERR_NOMEM, "out of memory for %u emitters", n);
+  pb_emitter_table t;
+  pb_result r = pb_emitter_table_build(s, &t);
+  if (r != PB_OK || !t.count) return r;
+  pb_gpu_emitter *e = calloc(t.count, sizeof *e);
+  if (!e) {
+    pb_emitter_table_destroy(&t);
+    return pb_fail(PB_ERR_NOMEM, "out of memory for %u emitters", t.count);
   }
-  double total = 0.0;
-  uint32_t k = 0;
-  for (uint32_t t = 0; t < s->triangle_count; ++t) {
-    const pb_material *m = &s->materials[s->triangle_material[t]];
-    if (!pb_material_is_emissive(m)) continue;
-    const uint32_t *tri = s->triangles[t];
-    const float *p0 = s->positions[tri[0]], *p1 = s->positions[tri[1]], *p2 = s->positions[tri[2]];
-    float a[3], b[3], c[3];
-    for (int i = 0; i < 3; ++i) {
-      a[i] = p1[i] - p0[i];
-      b[i] = p2[i] - p0[i];
-    }
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-    float area = 0.5f * sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    float r = fmaxf(m->emissive[0], 0), g = fmaxf(m->emissive[1], 0), bl = fmaxf(m->emissive[2], 0);
-    float lum = 0.2126f * r + 0.7152f * g + 0.0722f * bl, mx = fmaxf(r, fmaxf(g, bl));
-    double wt = (double)area * fmax(lum, 1e-3 * mx) * (m->double_sided ? 2.0 : 1.0);
-    if (!(wt > 0.0) || !isfinite(wt) || !(area > 0.0f)) continue;
-    e[k].prim = t;
-    e[k].area = area;
-    w[k] = total;
-    total += wt;
-    k++;
+  for (uint32_t i = 0; i < t.count; ++i) {
+    e[i].prim = t.prim[i];
+    e[i].area = t.area[i];
+    e[i].cdf = (float)t.cdf[i];
   }
-  if (k == 0 || !(total > 0.0) || !isfinite(total)) {
-    free(e);
-    free(w);
-    return PB_OK;
-  }
-  for (uint32_t i = 0; i < k; ++i) e[i].cdf = (float)(w[i] / total);
-  e[0].cdf = 0.0f;
-  for (uint32_t i = 0; i < k; ++i) e[i].pick = (i + 1 < k ? e[i + 1].cdf : 1.0f) - e[i].cdf;
-  free(w);
+  for (uint32_t i = 0; i < t.count; ++i) e[i].pick = (i + 1 < t.count ? e[i + 1].cdf : 1.0f) - e[i].cdf;
+  *count = t.count;
+  pb_emitter_table_destroy(&t);
   *out = e;
-  *count = k;
   return PB_OK;
 }
 
@@ -196,7 +251,27 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);
   }
   if (r != PB_OK) goto fail;
-  r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
+  if ((s->uvs1 || s->colors) && s->vertex_count && (uint64_t)s->vertex_count * 8 < UINT32_MAX) {
+    /* TEXCOORD_1 and COLOR_0 follow TEXCOORD_0 in the same buffer, from the
+     * float indices uv1_base and color_base (pb_gpu_frame), as the tangents
+     * follow the normals: the passes keep their bindings, and scenes
+     * without them pay nothing. */
+    uint64_t n0 = (uint64_t)s->vertex_count * 2, n1 = s->uvs1 ? n0 : 0, nc = s->colors ? (uint64_t)s->vertex_count * 4 : 0;
+    float *u = calloc(n0 + n1 + nc, sizeof *u);
+    if (!u) {
+      r = pb_fail(PB_ERR_NOMEM, "out of memory for the uvs and vertex colours");
+      goto fail;
+    }
+    if (s->uvs) memcpy(u, s->uvs, n0 * sizeof *u);
+    if (s->uvs1) memcpy(u + n0, s->uvs1, n1 * sizeof *u);
+    if (s->colors) memcpy(u + n0 + n1, s->colors, nc * sizeof *u);
+    r = make(g, &gs->uvs, "scene.uvs_colors", u, (n0 + n1 + nc) * sizeof *u);
+    free(u);
+    gs->uv1_base = s->uvs1 ? (uint32_t)n0 : 0;
+    gs->color_base = s->colors ? (uint32_t)(n0 + n1) : 0;
+  } else {
+    r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
+  }
   if (r != PB_OK) goto fail;
   r = make(g, &gs->tri_material, "scene.triangle_material", s->triangle_material, (uint64_t)s->triangle_count * 4);
   if (r != PB_OK) goto fail;
@@ -231,7 +306,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->transmission = m->transmission;
     o->ior = m->ior;
     o->specular = m->specular;
-    o->flags = m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0;
+    o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0);
+    memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
     o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;
     const pb_blender_material *b = &m->blender;
@@ -255,7 +331,11 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     uint64_t n = (uint64_t)t->width * t->height;
     texs[i] = (pb_gpu_texture){.offset = off, .width = t->width, .height = t->height,
                                .flags = (t->srgb ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0),
-                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t};
+                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t,
+                               .texcoord = t->texcoord == 1 && gs->uv1_base ? 1u : 0u,
+                               .xform_u = {1, 0, 0, 0}, .xform_v = {0, 1, 0, 0}};
+    if (t->uv_transformed)
+      for (int k = 0; k < 3; ++k) texs[i].xform_u[k] = t->uv_xform[k], texs[i].xform_v[k] = t->uv_xform[3 + k];
     for (uint64_t k = 0; k < n; ++k) {
       const uint8_t *p = t->rgba8 + 4 * k;
       texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
@@ -280,6 +360,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   r = make_cap(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters,
                (uint64_t)gs->emitter_capacity * sizeof *emitters);
   if (r != PB_OK) goto fail;
+  if ((r = make_world(g, s, &gs->world)) != PB_OK) goto fail;
   if (gs->emitter_count)
     pb_log_verbose("gpu: %u emissive triangles in the light-sampling table", gs->emitter_count);
   gs->light_count = s->light_count;

@@ -140,7 +140,9 @@ void pb_sequence_orbit_camera(const pb_scene *s, const pb_camera *start, double 
 
 static int camera_equal(const pb_camera *a, const pb_camera *b) {
   return !memcmp(a->position, b->position, sizeof a->position) && !memcmp(a->forward, b->forward, sizeof a->forward) &&
-         !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov;
+         !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov &&
+         a->orthographic == b->orthographic && a->fit == b->fit && a->ortho_size == b->ortho_size &&
+         !memcmp(a->shift, b->shift, sizeof a->shift) && a->znear == b->znear && a->zfar == b->zfar;
 }
 
 /* Progressive rendering of a still run: the temporal filters already keep
@@ -190,11 +192,12 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     memcpy(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights);
     q->prev_cam = s->cameras[q->camera];
   }
-  double t0 = pb_time_now();
+  double t0 = pb_time_now(), c0 = pb_thread_cpu_now();
   if (s->anim && (r = pb_scene_set_time(s, t)) != PB_OK) return r;
   if (q->desc.orbit)
     pb_sequence_orbit_camera(s, &q->start_cam, t, q->desc.orbit_period, &s->cameras[q->camera]);
   fi.pose_ms = (pb_time_now() - t0) * 1e3;
+  fi.pose_cpu_ms = (pb_thread_cpu_now() - c0) * 1e3;
   const pb_camera *cam = &s->cameras[q->camera];
   fi.camera = *cam;
   if (q->has_prev) {

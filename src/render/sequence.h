@@ -38,6 +38,7 @@ typedef struct pb_sequence_frame_info {
   int still;                   /* nothing moved since the previous frame */
   int geometry_moved, lights_moved, camera_moved;
   double pose_ms, scene_update_ms, motion_ms;
+  double pose_cpu_ms;          /* the pose's CPU time (skinning, morphing) */
   pb_camera camera;            /* the camera used */
 } pb_sequence_frame_info;
 

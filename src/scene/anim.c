@@ -8,6 +8,8 @@
 #include <string.h>
 
 #include "scene/anim.h"
+#include "scene/blender_lights.h"
+#include "scene/deform.h"
 #include "scene/scene.h"
 #include "scene/tangents.h"
 
@@ -30,6 +32,10 @@ void pb_scene_anim_destroy(struct pb_scene_anim *a) {
   free(a->light_dir);
   free(a->trs);
   free(a->world);
+  free(a->values);
+  pb_deform_destroy(a->deform);
+  free(a->deform);
+  free(a->tan_given);
   free(a);
 }
 
@@ -72,9 +78,9 @@ static void slerp(const double a_in[4], const double b_in[4], double u, double o
   normalize4(out);
 }
 
-/* The sampler's value at time t; outside its keys it holds the first or last
- * key's value (spec: clamp). */
-static void sample(const pb_anim_sampler *S, int path, double t, double out[4]) {
+/* The sampler's value at time t (S->comps values); outside its keys it holds
+ * the first or last key's value (spec: clamp). */
+static void sample(const pb_anim_sampler *S, int path, double t, double *out) {
   uint32_t n = S->key_count;
   int comps = S->comps;
   const float *T = S->times;
@@ -197,8 +203,15 @@ pb_result pb_scene_set_time(pb_scene *s, double t) {
   }
   for (uint32_t i = 0; i < a->channel_count; ++i) {
     const pb_anim_channel *ch = &a->channels[i];
-    double v[4];
-    sample(&a->samplers[ch->sampler], ch->path, t, v);
+    const pb_anim_sampler *S = &a->samplers[ch->sampler];
+    double *v = a->values;
+    sample(S, ch->path, t, v);
+    if (ch->path == PB_ANIM_WEIGHTS) { /* the node's morph weights (deform.h) */
+      pb_deform *d = a->deform;
+      if (d && d->node_weights[ch->node] != UINT32_MAX)
+        for (int k = 0; k < S->comps; ++k) d->weights[d->node_weights[ch->node] + (uint32_t)k] = (float)v[k];
+      continue;
+    }
     double *x = a->trs[ch->node] + (ch->path == PB_ANIM_TRANSLATION ? 0 : ch->path == PB_ANIM_ROTATION ? 3 : 7);
     memcpy(x, v, (ch->path == PB_ANIM_ROTATION ? 4 : 3) * sizeof *v);
   }
@@ -219,6 +232,13 @@ pb_result pb_scene_set_time(pb_scene *s, double t) {
   pb_result r;
   for (uint32_t i = 0; i < a->range_count; ++i)
     if ((r = pose_range(s, a, &a->ranges[i], t)) != PB_OK) return r;
+  if (a->deform) {
+    pb_skins_update(a->deform, a->world);
+    for (uint32_t i = 0; i < a->deform->range_count; ++i) {
+      const pb_deform_range *dr = &a->deform->ranges[i];
+      if (dr->dynamic && (r = pb_deform_pose(s, a->deform, dr, a->world, s->tangents, t)) != PB_OK) return r;
+    }
+  }
 
   for (uint32_t i = 0; i < s->camera_count; ++i) {
     int32_t n = a->camera_node[i];
@@ -261,19 +281,25 @@ pb_result pb_scene_set_time(pb_scene *s, double t) {
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations: at t = %g nodes[%d] moves its light out of float range", path, t, n);
     for (int k = 0; k < 3; ++k) l->position[k] = (float)pos[k];
     if (l->type == PB_LIGHT_POINT) continue; /* direction stays (0, 0, -1), as loaded */
-    if (normalize3(dir))
+    if (normalize3(dir)) {
       for (int k = 0; k < 3; ++k) l->direction[k] = (float)dir[k];
-    else
+      /* Area lights: the rectangle turns with its node (a degenerate pose
+       * keeps the last axes). */
+      if (l->type == PB_LIGHT_AREA) pb_area_light_axes(M, dir, l->axis_u, l->axis_v);
+    } else {
       memcpy(l->direction, a->light_dir[i], sizeof l->direction);
+    }
   }
   pb_scene_update_bounds(s);
   /* Normal maps: the tangent frames follow the posed vertices. They are
    * generated from the uvs (tangents.c) at every pose, also where the file
-   * gave TANGENT (its rest-pose values would need their node transforms,
-   * which only the loader holds); the rest pose keeps the file's. */
+   * gave TANGENT to a rigidly moving node (its rest-pose values would need
+   * their node transforms, which only the loader holds); the rest pose keeps
+   * the file's, and skinned or morphed vertices keep theirs, which the
+   * deformation posed above (tan_given). */
   if (s->tangents && s->uvs)
     return pb_tangents_generate((const float(*)[3])s->positions, (const float(*)[3])s->normals,
                                 (const float(*)[2])s->uvs, s->vertex_count, (const uint32_t(*)[3])s->triangles,
-                                s->triangle_count, NULL, s->tangents);
+                                s->triangle_count, a->tan_given, s->tangents);
   return PB_OK;
 }

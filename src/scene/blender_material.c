@@ -154,9 +154,76 @@ static const target principled_targets[] = {
     {"alpha", T_INPUT, PB_IN_ALPHA},
     {"subsurface", T_INPUT, PB_IN_SUBSURFACE},
     {NULL, T_NONE, 0}};
+/* The Diffuse BSDF's and Emission shader's Color input is `baseColor` and
+ * `emission` in `textures` (the contract; what the writer writes). */
 static const target diffuse_targets[] = {
-    {"color", T_COLOR, COLOR_BASE}, {"roughness", T_INPUT, PB_IN_ROUGHNESS}, {"normal", T_NORMAL, 0}, {NULL, T_NONE, 0}};
-static const target emission_targets[] = {{"color", T_COLOR, COLOR_EMISSION}, {NULL, T_NONE, 0}};
+    {"baseColor", T_COLOR, COLOR_BASE}, {"roughness", T_INPUT, PB_IN_ROUGHNESS}, {"normal", T_NORMAL, 0}, {NULL, T_NONE, 0}};
+static const target emission_targets[] = {{"emission", T_COLOR, COLOR_EMISSION}, {NULL, T_NONE, 0}};
+
+/* An optional integer member in [0, 2^31 - 1]; *out keeps its default when
+ * absent. */
+static pb_result opt_index(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key,
+                           int32_t *out) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[192];
+  member(path, sizeof path, prefix, key);
+  if (v->type != PB_GLTF_NUMBER || !v->is_integer || v->number < 0 || v->number > INT32_MAX)
+    return bad(R, path, "%s is not an integer from 0 to 2^31-1",
+               v->type == PB_GLTF_NUMBER ? "the number" : pb_gltf_value_type_name(v));
+  *out = (int32_t)v->number;
+  return PB_OK;
+}
+
+/* An optional array member of 2 finite numbers. */
+static pb_result opt_pair(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key,
+                          double out[2]) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[192], el[208];
+  member(path, sizeof path, prefix, key);
+  if (v->type != PB_GLTF_ARRAY || v->count != 2)
+    return bad(R, path, "%s, expected an array of 2 numbers", v->type == PB_GLTF_ARRAY ? "an array of another length"
+                                                                                    : pb_gltf_value_type_name(v));
+  for (int k = 0; k < 2; ++k) {
+    float x = 0;
+    snprintf(el, sizeof el, "%s[%d]", path, k);
+    pb_result r = number_in(R, el, &v->items[k], -FLT_MAX, FLT_MAX, &x);
+    if (r != PB_OK) return r;
+    out[k] = x;
+  }
+  return PB_OK;
+}
+
+/* A texture entry as the glTF textureInfo it is (the contract): index,
+ * texCoord and extensions.KHR_texture_transform, for the loader's texture
+ * path (load.c texture_ref: uv sets 0 and 1, the transform). */
+static pb_result texture_info(const reader *R, const char *path, const pb_gltf_value *e, const pb_gltf_value *iv,
+                              pb_gltf_texture_ref *ref) {
+  memset(ref, 0, sizeof *ref);
+  ref->index = (int32_t)iv->number;
+  ref->scale = 1.0;
+  ref->transform.scale[0] = ref->transform.scale[1] = 1.0;
+  ref->transform.texcoord = -1;
+  pb_result r = opt_index(R, e, path, "texCoord", &ref->texcoord);
+  if (r != PB_OK) return r;
+  const pb_gltf_value *ex = pb_gltf_value_get(e, "extensions");
+  char sub[192];
+  snprintf(sub, sizeof sub, "%s.extensions", path);
+  if (ex && ex->type != PB_GLTF_OBJECT) return bad(R, sub, "%s, expected an object", pb_gltf_value_type_name(ex));
+  const pb_gltf_value *x = pb_gltf_value_get(ex, "KHR_texture_transform");
+  if (!x) return PB_OK;
+  snprintf(sub, sizeof sub, "%s.extensions.KHR_texture_transform", path);
+  if (x->type != PB_GLTF_OBJECT) return bad(R, sub, "%s, expected an object", pb_gltf_value_type_name(x));
+  pb_gltf_texture_transform *t = &ref->transform;
+  t->present = 1;
+  float rot = 0;
+  if ((r = opt_pair(R, x, sub, "offset", t->offset)) != PB_OK) return r;
+  if ((r = opt_pair(R, x, sub, "scale", t->scale)) != PB_OK) return r;
+  if ((r = opt_number(R, x, sub, "rotation", -FLT_MAX, FLT_MAX, &rot)) != PB_OK) return r;
+  t->rotation = rot;
+  return opt_index(R, x, sub, "texCoord", &t->texcoord);
+}
 
 static pb_result read_texture(const reader *R, const char *name, const pb_gltf_value *e, const target *t,
                               pb_material *m) {
@@ -169,12 +236,9 @@ static pb_result read_texture(const reader *R, const char *name, const pb_gltf_v
   if (iv->type != PB_GLTF_NUMBER || !iv->is_integer || iv->number < 0 || iv->number > INT32_MAX)
     return bad(R, sub, "%s is not a texture index (an integer from 0 to 2^31-1)",
                iv->type == PB_GLTF_NUMBER ? "the number" : pb_gltf_value_type_name(iv));
-  float tc = 0;
-  pb_result r = opt_number(R, e, path, "texCoord", 0, INT32_MAX, &tc);
+  pb_gltf_texture_ref ref;
+  pb_result r = texture_info(R, path, e, iv, &ref);
   if (r != PB_OK) return r;
-  if (tc != 0 && (r = warn(R, "materials[%d]." EXT ".%s.texCoord: %g (only TEXCOORD_0 is read; using it)", R->index,
-                           path, tc)) != PB_OK)
-    return r;
   static const char *const channels[] = {"R", "G", "B", "A", "RGB"};
   int ch = CH_RGB;
   if ((r = opt_enum(R, e, path, "channel", channels, 5, &ch)) != PB_OK) return r;
@@ -188,7 +252,7 @@ static pb_result read_texture(const reader *R, const char *name, const pb_gltf_v
   int srgb = t->kind == T_COLOR && space == 0;
   int32_t tex = PB_NO_TEXTURE;
   snprintf(sub, sizeof sub, "materials[%d]." EXT ".%s", R->index, path);
-  if ((r = R->io->texture(R->io->user, (int32_t)iv->number, srgb, sub, &tex)) != PB_OK) return r;
+  if ((r = R->io->texture(R->io->user, &ref, srgb, sub, &tex)) != PB_OK) return r;
   pb_blender_material *b = &m->blender;
   switch (t->kind) {
   case T_COLOR:
@@ -360,6 +424,8 @@ void pb_blender_material_defaults(pb_material *m, pb_material_model model) {
   m->normal_scale = 1.0f;
   m->alpha_mode = PB_ALPHA_OPAQUE;
   m->double_sided = 1; /* Cycles' emission leaves both sides of a face */
+  m->unlit = 0;        /* glTF extensions of the plain form do not apply */
+  memset(m->attenuation, 0, sizeof m->attenuation);
   b->model = model;
   b->subsurface_color_tex = PB_NO_TEXTURE;
   b->normal_strength = 1.0f;

@@ -16,9 +16,11 @@
 typedef struct pb_blender_material_io {
   const char *path; /* the scene file, first on every message */
   void *user;
-  /* Resolves glTF textures[tex] to an index of pb_scene.textures, decoded
-   * as sRGB or linear texels; `where` names the JSON path for its errors. */
-  pb_result (*texture)(void *user, int32_t tex, int srgb, const char *where, int32_t *out);
+  /* Resolves a textureInfo (textures[ref->index], its uv set and
+   * KHR_texture_transform) to an index of pb_scene.textures, decoded as sRGB
+   * or linear texels, as glTF's own textures are; `where` names the JSON
+   * path for its errors. */
+  pb_result (*texture)(void *user, const pb_gltf_texture_ref *ref, int srgb, const char *where, int32_t *out);
   /* Adds a scene warning (one line, without the file name). */
   pb_result (*warn)(void *user, const char *line);
 } pb_blender_material_io;

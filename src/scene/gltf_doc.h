@@ -13,83 +13,12 @@
 
 #include "core/result.h"
 
-typedef struct pb_gltf_buffer {
-  const uint8_t *data; /* loaded bytes (GLB BIN chunk, data URI or file) */
-  uint64_t size;       /* bytes actually loaded */
-  uint64_t byte_length;/* as declared */
-  const char *uri;     /* "" for the GLB chunk */
-} pb_gltf_buffer;
-
-typedef struct pb_gltf_buffer_view {
-  int32_t buffer;
-  uint64_t byte_offset, byte_length;
-  uint32_t byte_stride; /* 0: tightly packed */
-} pb_gltf_buffer_view;
-
-typedef struct pb_gltf_accessor {
-  int32_t buffer_view;    /* -1: all zeros (or sparse) */
-  uint64_t byte_offset;
-  int32_t component_type; /* 5120..5126 */
-  int32_t components;     /* 1 (SCALAR) .. 16 (MAT4), 0 if type unknown */
-  uint64_t count;
-  int normalized;
-  int sparse;             /* sparse accessors are refused by the loader */
-  int has_min_max;
-  double min[3], max[3];  /* first three components */
-} pb_gltf_accessor;
-
-typedef struct pb_gltf_primitive {
-  int32_t mode;           /* 4 = TRIANGLES */
-  int32_t position, normal, texcoord0, indices, material;
-  int32_t tangent;        /* TANGENT accessor, -1: absent */
-  int has_targets;        /* morph targets (ignored with a warning) */
-} pb_gltf_primitive;
-
-typedef struct pb_gltf_mesh {
-  const char *name;
-  pb_gltf_primitive *primitives;
-  size_t primitive_count;
-} pb_gltf_mesh;
-
-typedef struct pb_gltf_node {
-  const char *name;
-  int32_t *children;
-  size_t child_count;
-  int32_t mesh, camera, light, skin;
-  int has_matrix;
-  double matrix[16];      /* column-major, as in glTF */
-  double translation[3], rotation[4] /* x y z w */, scale[3];
-} pb_gltf_node;
-
-typedef struct pb_gltf_scene {
-  const char *name;
-  int32_t *nodes;
-  size_t node_count;
-} pb_gltf_scene;
-
-typedef struct pb_gltf_camera {
-  const char *name;
-  int perspective;        /* 0: orthographic or unknown type */
-  const char *type;
-  double yfov, aspect_ratio, znear, zfar; /* aspect 0 / zfar 0: absent */
-} pb_gltf_camera;
-
-typedef struct pb_gltf_light {
-  const char *name;
-  const char *type;       /* "point", "spot", "directional" or other */
-  double color[3], intensity, range;
-  double inner_cone, outer_cone;
-} pb_gltf_light;
-
-typedef struct pb_gltf_texture_ref {
-  int32_t index;          /* textures[index], -1: none */
-  int32_t texcoord;
-  double scale;           /* normalTexture.scale */
-} pb_gltf_texture_ref;
-
-/* A JSON value of an extension the shim hands over whole: objects' members
- * in name order (as tinygltf keeps them). Numbers are doubles; is_integer:
- * the number was written as an integer. */
+/* A JSON value of an extension the loader reads itself (PHOTONBRIDGE_blender
+ * on the root, nodes and materials; blender_lights.c, blender_material.c), as
+ * parsed: objects keep their members in name order (tinygltf's; a repeated
+ * name keeps one value), numbers are doubles (tinygltf's integers converted;
+ * a literal too large for a double is refused by the shim, naming its JSON
+ * path); is_integer: the number was written as an integer. */
 typedef enum pb_gltf_value_type {
   PB_GLTF_NULL = 0, PB_GLTF_BOOL, PB_GLTF_NUMBER, PB_GLTF_STRING, PB_GLTF_ARRAY, PB_GLTF_OBJECT
 } pb_gltf_value_type;
@@ -110,6 +39,148 @@ const pb_gltf_value *pb_gltf_value_get(const pb_gltf_value *v, const char *key);
 /* "object", "array", ... for messages. */
 const char *pb_gltf_value_type_name(const pb_gltf_value *v);
 
+typedef struct pb_gltf_buffer {
+  const uint8_t *data; /* loaded bytes (GLB BIN chunk, data URI or file) */
+  uint64_t size;       /* bytes actually loaded */
+  uint64_t byte_length;/* as declared */
+  const char *uri;     /* "" for the GLB chunk */
+} pb_gltf_buffer;
+
+typedef struct pb_gltf_buffer_view {
+  int32_t buffer;
+  uint64_t byte_offset, byte_length;
+  uint32_t byte_stride; /* 0: tightly packed */
+} pb_gltf_buffer_view;
+
+/* accessor.sparse: `count` elements replaced; indices and values are
+ * packed in their bufferViews (offsets default 0, views -1 when absent). */
+typedef struct pb_gltf_sparse {
+  uint64_t count;
+  int32_t indices_view, indices_ct;
+  uint64_t indices_offset;
+  int32_t values_view;
+  uint64_t values_offset;
+} pb_gltf_sparse;
+
+typedef struct pb_gltf_accessor {
+  int32_t buffer_view;    /* -1: all zeros (then sparse values, if any) */
+  uint64_t byte_offset;
+  int32_t component_type; /* 5120..5126 */
+  int32_t components;     /* 1 (SCALAR) .. 16 (MAT4), 0 if type unknown */
+  uint64_t count;
+  int normalized;
+  int sparse;             /* 1: sparse_info applies */
+  pb_gltf_sparse sparse_info;
+  int has_min_max;
+  double min[3], max[3];  /* first three components */
+} pb_gltf_accessor;
+
+/* A morph target: displacement accessors, -1 when absent. */
+typedef struct pb_gltf_target {
+  int32_t position, normal, tangent;
+} pb_gltf_target;
+
+typedef struct pb_gltf_primitive {
+  int32_t mode;           /* 4 = TRIANGLES */
+  int32_t position, normal, texcoord0, indices, material;
+  int32_t tangent;        /* TANGENT accessor, -1: absent */
+  int32_t texcoord1;      /* TEXCOORD_1, -1: absent */
+  int32_t color0;         /* COLOR_0, -1: absent */
+  /* JOINTS_n and WEIGHTS_n for n = 0 .. count - 1 (count: one past the
+   * highest n present; a gap below it is -1). */
+  int32_t *joints, *weights;
+  size_t joint_set_count, weight_set_count;
+  pb_gltf_target *targets;
+  size_t target_count;
+  /* KHR_materials_variants: mappings of this primitive (the default,
+   * `material`, is what photonbridge shows). */
+  size_t variant_mapping_count;
+} pb_gltf_primitive;
+
+typedef struct pb_gltf_mesh {
+  const char *name;
+  pb_gltf_primitive *primitives;
+  size_t primitive_count;
+  const double *weights;  /* default morph weights, weight_count of them */
+  size_t weight_count;
+} pb_gltf_mesh;
+
+/* skins[i]: joints are node indices; inverse_bind_matrices an accessor of
+ * MAT4 (-1: identities); skeleton a node or -1. */
+typedef struct pb_gltf_skin {
+  const char *name;
+  int32_t inverse_bind_matrices, skeleton;
+  const int32_t *joints;
+  size_t joint_count;
+} pb_gltf_skin;
+
+typedef struct pb_gltf_node {
+  const char *name;
+  int32_t *children;
+  size_t child_count;
+  int32_t mesh, camera, light, skin;
+  int has_matrix;
+  double matrix[16];      /* column-major, as in glTF */
+  double translation[3], rotation[4] /* x y z w */, scale[3];
+  const double *weights;  /* morph weights of its mesh, overriding the
+                             mesh's; weight_count 0: not given */
+  size_t weight_count;
+  const pb_gltf_value *blender; /* extensions.PHOTONBRIDGE_blender, NULL if absent */
+} pb_gltf_node;
+
+typedef struct pb_gltf_scene {
+  const char *name;
+  int32_t *nodes;
+  size_t node_count;
+} pb_gltf_scene;
+
+/* cameras[i].extensions.PHOTONBRIDGE_blender
+ * (exporters/blender/PHOTONBRIDGE_blender.md), as written: strings NULL and
+ * numbers NAN where a member is absent. A member of the wrong JSON type is
+ * named by bad_member (bad_expect says what it should be: "a number", "a
+ * string"; bad_member "" when the extension itself is not an object); the
+ * loader reports it. */
+typedef struct pb_gltf_camera_blender {
+  int present;
+  const char *bad_member, *bad_expect;
+  const char *type, *sensor_fit;
+  double lens, sensor_width, sensor_height, ortho_scale, shift_x, shift_y, clip_start, clip_end, aspect;
+} pb_gltf_camera_blender;
+
+typedef struct pb_gltf_camera {
+  const char *name;
+  int perspective;        /* type "perspective" */
+  int orthographic;       /* type "orthographic" */
+  const char *type;
+  double yfov, aspect_ratio; /* perspective; aspect 0: absent */
+  double xmag, ymag;      /* orthographic */
+  double znear, zfar;     /* of the camera's type; zfar 0: absent */
+  pb_gltf_camera_blender blender;
+} pb_gltf_camera;
+
+typedef struct pb_gltf_light {
+  const char *name;
+  const char *type;       /* "point", "spot", "directional" or other */
+  double color[3], intensity, range;
+  double inner_cone, outer_cone;
+} pb_gltf_light;
+
+/* KHR_texture_transform on a textureInfo: uv' = T(offset) R(rotation)
+ * S(scale) uv, with the extension's texCoord (if given) replacing the
+ * textureInfo's. */
+typedef struct pb_gltf_texture_transform {
+  int present;
+  double offset[2], rotation, scale[2];
+  int32_t texcoord;       /* -1: not given */
+} pb_gltf_texture_transform;
+
+typedef struct pb_gltf_texture_ref {
+  int32_t index;          /* textures[index], -1: none */
+  int32_t texcoord;
+  double scale;           /* normalTexture.scale */
+  pb_gltf_texture_transform transform;
+} pb_gltf_texture_ref;
+
 typedef struct pb_gltf_material {
   const char *name;
   double base_color[4];
@@ -124,6 +195,11 @@ typedef struct pb_gltf_material {
   double specular, specular_color[3];
   double transmission;          /* KHR_materials_transmission */
   double ior;                   /* KHR_materials_ior, 1.5 if absent */
+  int unlit;                    /* KHR_materials_unlit present */
+  int has_volume;               /* KHR_materials_volume present */
+  double thickness;             /* its thicknessFactor (0 if absent: thin-walled) */
+  double attenuation_distance;  /* metres; 0 if absent (= infinite) */
+  double attenuation_color[3];  /* 1 if absent */
   const char *alpha_mode;
   double alpha_cutoff;
   int double_sided;
@@ -136,9 +212,13 @@ typedef struct pb_gltf_texture {
 
 typedef struct pb_gltf_image {
   const char *name;
-  const char *uri;        /* "" when from a bufferView */
+  const char *uri;        /* "" when from a bufferView or a data URI */
   const char *mime_type;
   int32_t buffer_view;
+  /* A data URI's decoded bytes (image/png or image/jpeg, base64 checked
+   * strictly by the shim); NULL otherwise. */
+  const uint8_t *data;
+  size_t data_size;
 } pb_gltf_image;
 
 typedef struct pb_gltf_sampler {
@@ -188,7 +268,11 @@ typedef struct pb_gltf_doc {
   pb_gltf_image *images; size_t image_count;
   pb_gltf_sampler *samplers; size_t sampler_count;
   pb_gltf_animation *animations; /* animation_count of them */
-  size_t animation_count, animation_channel_count, skin_count;
+  size_t animation_count, animation_channel_count;
+  pb_gltf_skin *skins; size_t skin_count;
+  /* KHR_materials_variants: the names of the file's variants. */
+  const char *const *variant_names; size_t variant_count;
+  const pb_gltf_value *blender; /* root extensions.PHOTONBRIDGE_blender, NULL if absent */
   void *impl;             /* the shim's own storage */
 } pb_gltf_doc;
 

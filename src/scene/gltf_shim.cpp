@@ -17,9 +17,10 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <set>
@@ -39,6 +40,11 @@ struct Impl {
   std::vector<pb_gltf_buffer_view> views;
   std::vector<pb_gltf_accessor> accessors;
   std::vector<std::vector<pb_gltf_primitive>> prims;
+  std::vector<std::vector<int32_t>> prim_joints, prim_weights;  // per primitive, in prims' order
+  std::vector<std::vector<pb_gltf_target>> prim_targets;
+  std::vector<pb_gltf_skin> skins;
+  std::vector<std::vector<int32_t>> skin_joints;
+  std::vector<const char *> variant_names;
   std::vector<pb_gltf_mesh> meshes;
   std::vector<std::vector<int32_t>> children;
   std::vector<pb_gltf_node> nodes;
@@ -55,13 +61,11 @@ struct Impl {
   std::vector<pb_gltf_animation> animations;
   std::vector<const char *> ext_used, ext_required;
   std::set<std::string> approved;  // files the URI check allowed
-  // Extensions handed over whole (pb_gltf_value): the roots, every array of
-  // elements or members, every member name and string. Deques, so that
-  // growing them keeps what earlier values point to.
-  std::deque<pb_gltf_value> value_roots;
-  std::deque<std::vector<pb_gltf_value>> value_items;
-  std::deque<std::vector<const char *>> value_keys;
-  std::deque<std::string> value_strings;
+  // Extension values (pb_gltf_value trees): every container's items in a
+  // vector of its own, kept here so the pointers stay valid.
+  std::vector<std::unique_ptr<std::vector<pb_gltf_value>>> value_items;
+  std::vector<std::unique_ptr<std::vector<const char *>>> value_keys;
+  std::vector<std::unique_ptr<pb_gltf_value>> value_roots;
 };
 
 struct FsCtx {
@@ -259,6 +263,74 @@ pb_result check_id_array(const char *path, const Json &o, const char *key, const
   return PB_OK;
 }
 
+// An optional number member.
+pb_result check_number(const char *path, const Json &o, const char *key, const std::string &where) {
+  auto it = o.is_object() ? o.find(key) : o.end();
+  if (it == o.end() || it->is_number()) return PB_OK;
+  return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not a number", path, member_path(where, key).c_str(), it->dump().c_str());
+}
+// An optional array of numbers, of `n` of them when n > 0.
+pb_result check_numbers(const char *path, const Json &o, const char *key, const std::string &where, size_t n = 0) {
+  auto it = o.is_object() ? o.find(key) : o.end();
+  if (it == o.end()) return PB_OK;
+  std::string w = member_path(where, key);
+  if (!it->is_array() || (n && it->size() != n))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: not an array of %s numbers", path, w.c_str(), n ? std::to_string(n).c_str() : "");
+  for (size_t i = 0; i < it->size(); ++i)
+    if (!(*it)[i].is_number())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s[%zu]: %s is not a number", path, w.c_str(), i, (*it)[i].dump().c_str());
+  return PB_OK;
+}
+// A material's textureInfo: index, texCoord, and KHR_texture_transform's
+// members (offset and scale two numbers, rotation a number, texCoord an
+// index), which tinygltf keeps as untyped values.
+pb_result check_texture_info(const char *path, const Json &t, const std::string &w) {
+  pb_result x = check_id(path, t, "index", w);
+  if (x == PB_OK) x = check_id(path, t, "texCoord", w);
+  auto ext = t.is_object() ? t.find("extensions") : t.end();
+  if (x != PB_OK || ext == t.end() || !ext->is_object() || !ext->contains("KHR_texture_transform")) return x;
+  const Json &tt = (*ext)["KHR_texture_transform"];
+  std::string tw = w + ".extensions.KHR_texture_transform";
+  if (!tt.is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: not an object", path, tw.c_str());
+  x = check_numbers(path, tt, "offset", tw, 2);
+  if (x == PB_OK) x = check_numbers(path, tt, "scale", tw, 2);
+  if (x == PB_OK) x = check_number(path, tt, "rotation", tw);
+  if (x == PB_OK) x = check_id(path, tt, "texCoord", tw);
+  return x;
+}
+
+// accessor.sparse: tinygltf reads its members as int (truncating) and
+// refuses missing ones with messages that name no JSON path.
+pb_result check_sparse(const char *path, const Json &o, const std::string &w) {
+  auto it = o.is_object() ? o.find("sparse") : o.end();
+  if (it == o.end()) return PB_OK;
+  std::string sw = w + ".sparse";
+  if (!it->is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: not an object", path, sw.c_str());
+  auto c = it->find("count");
+  if (c == it->end() || !c->is_number_unsigned() || c->get<unsigned long long>() < 1 || c->get<unsigned long long>() > INT32_MAX)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.count: %s is not an integer from 1 to 2^31-1", path, sw.c_str(),
+                   c == it->end() ? "missing, which" : c->dump().c_str());
+  for (const char *k : {"indices", "values"}) {
+    std::string kw = sw + "." + k;
+    auto p = it->find(k);
+    if (p == it->end() || !p->is_object())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: missing or not an object", path, kw.c_str());
+    if (p->find("bufferView") == p->end()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.bufferView: missing", path, kw.c_str());
+    pb_result x = check_id(path, *p, "bufferView", kw);
+    if (x == PB_OK) x = check_offset(path, *p, "byteOffset", kw);
+    if (x != PB_OK) return x;
+    auto off = p->find("byteOffset");
+    if (off != p->end() && off->get<unsigned long long>() > INT32_MAX)
+      return pb_fail(PB_ERR_LIMIT, "%s: %s.byteOffset: %s is over 2^31-1", path, kw.c_str(), off->dump().c_str());
+    if (std::string(k) == "indices") {
+      auto ct = p->find("componentType");
+      if (ct == p->end() || !ct->is_number_integer())
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.componentType: missing or not an integer", path, kw.c_str());
+    }
+  }
+  return PB_OK;
+}
+
 pb_result precheck_ids(const char *path, const Json &j) {
   pb_result r = check_id(path, j, "scene", "");
   auto each = [&](const char *key, const std::function<pb_result(const Json &, const std::string &)> &fn) {
@@ -272,6 +344,7 @@ pb_result precheck_ids(const char *path, const Json &j) {
     pb_result x = check_id_array(path, o, "children", w);
     for (const char *k : {"mesh", "camera", "skin"})
       if (x == PB_OK) x = check_id(path, o, k, w);
+    if (x == PB_OK) x = check_numbers(path, o, "weights", w);
     auto ext = o.is_object() ? o.find("extensions") : o.end();
     if (x == PB_OK && ext != o.end() && ext->is_object() && ext->contains("KHR_lights_punctual"))
       x = check_id(path, (*ext)["KHR_lights_punctual"], "light", w + ".extensions.KHR_lights_punctual");
@@ -289,12 +362,31 @@ pb_result precheck_ids(const char *path, const Json &j) {
       if (at != p.end() && at->is_object())
         for (auto a = at->begin(); a != at->end() && x == PB_OK; ++a)
           x = check_id(path, *at, a.key().c_str(), pw + ".attributes");
+      auto tg = p.is_object() ? p.find("targets") : p.end();
+      if (x == PB_OK && tg != p.end()) {
+        if (!tg->is_array()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.targets: not an array", path, pw.c_str());
+        for (size_t t = 0; t < tg->size() && x == PB_OK; ++t) {
+          std::string tw = pw + ".targets[" + std::to_string(t) + "]";
+          const Json &o2 = (*tg)[t];
+          if (!o2.is_object()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: not an object", path, tw.c_str());
+          for (auto a = o2.begin(); a != o2.end() && x == PB_OK; ++a) x = check_id(path, o2, a.key().c_str(), tw);
+        }
+      }
     }
+    if (x == PB_OK) x = check_numbers(path, o, "weights", w);
     return x;
+  });
+  each("skins", [&](const Json &o, const std::string &w) {
+    pb_result x = check_id(path, o, "inverseBindMatrices", w);
+    if (x == PB_OK) x = check_id(path, o, "skeleton", w);
+    if (x == PB_OK && (!o.is_object() || !o.contains("joints")))
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.joints: missing (a skin needs at least one joint)", path, w.c_str());
+    return x == PB_OK ? check_id_array(path, o, "joints", w) : x;
   });
   each("accessors", [&](const Json &o, const std::string &w) {
     pb_result x = check_id(path, o, "bufferView", w);
-    return x == PB_OK ? check_offset(path, o, "byteOffset", w) : x;
+    if (x == PB_OK) x = check_offset(path, o, "byteOffset", w);
+    return x == PB_OK ? check_sparse(path, o, w) : x;
   });
   each("bufferViews", [&](const Json &o, const std::string &w) {
     pb_result x = check_id(path, o, "buffer", w);
@@ -309,19 +401,13 @@ pb_result precheck_ids(const char *path, const Json &j) {
     pb_result x = PB_OK;
     auto pbr = o.is_object() ? o.find("pbrMetallicRoughness") : o.end();
     for (const char *t : {"baseColorTexture", "metallicRoughnessTexture"})
-      if (x == PB_OK && pbr != o.end() && pbr->is_object() && pbr->contains(t)) {
-        std::string tw = w + ".pbrMetallicRoughness." + t;
-        x = check_id(path, (*pbr)[t], "index", tw);
-        if (x == PB_OK) x = check_id(path, (*pbr)[t], "texCoord", tw);
-      }
+      if (x == PB_OK && pbr != o.end() && pbr->is_object() && pbr->contains(t))
+        x = check_texture_info(path, (*pbr)[t], w + ".pbrMetallicRoughness." + t);
     for (const char *t : {"normalTexture", "occlusionTexture", "emissiveTexture"})
-      if (x == PB_OK && o.is_object() && o.contains(t)) {
-        x = check_id(path, o[t], "index", w + "." + t);
-        if (x == PB_OK) x = check_id(path, o[t], "texCoord", w + "." + t);
-      }
+      if (x == PB_OK && o.is_object() && o.contains(t)) x = check_texture_info(path, o[t], w + "." + t);
+    auto ext = o.is_object() ? o.find("extensions") : o.end();
     // tinygltf keeps only objects as extensions: a PHOTONBRIDGE_blender of
     // another type would vanish instead of being refused.
-    auto ext = o.is_object() ? o.find("extensions") : o.end();
     if (x == PB_OK && ext != o.end() && ext->is_object()) {
       auto pb = ext->find("PHOTONBRIDGE_blender");
       if (pb != ext->end() && !pb->is_object())
@@ -329,9 +415,43 @@ pb_result precheck_ids(const char *path, const Json &j) {
                     w.c_str(), pb->is_string() ? "a string" : pb->is_array() ? "an array" : pb->is_number() ? "a number"
                                                                                                           : "not an object");
     }
+    if (x == PB_OK && ext != o.end() && ext->is_object() && ext->contains("KHR_materials_volume")) {
+      const Json &v = (*ext)["KHR_materials_volume"];
+      std::string vw = w + ".extensions.KHR_materials_volume";
+      for (const char *k : {"thicknessFactor", "attenuationDistance"})
+        if (x == PB_OK) x = check_number(path, v, k, vw);
+      if (x == PB_OK) x = check_numbers(path, v, "attenuationColor", vw, 3);
+    }
     return x;
   });
   return r;
+}
+
+// An image's data URI (embedded glTF from three.js and other writers; Blender
+// 3.4's "glTF Embedded" uses bufferViews instead) must be one tinygltf
+// decodes as an image (its IsDataURI: exactly
+// "data:image/png;base64," or "data:image/jpeg;base64,") with strict base64:
+// tinygltf's decoder skips bad characters instead of failing. The decoded
+// bytes are bounded by the file's own size limit (3 bytes per 4 characters);
+// the image's pixel size is checked by load.c from its header, as for files.
+pb_result check_image_data_uri(const char *path, size_t i, const std::string &u) {
+  if (u.rfind("data:", 0) != 0) return PB_OK;
+  size_t comma = u.find(',');
+  std::string head = u.substr(0, comma == std::string::npos ? u.size() : comma);
+  if (comma == std::string::npos || head.size() < 7 || head.compare(head.size() - 7, 7, ";base64") != 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu].uri: data URI is not base64", path, i);
+  std::string media = head.substr(5, head.size() - 12);
+  if (media != "image/png" && media != "image/jpeg") {
+    if (media.size() > 40) media = media.substr(0, 40) + "...";
+    for (char &c : media)
+      if ((unsigned char)c < 0x20 || (unsigned char)c > 0x7e) c = '?';
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%zu].uri: data URI of media type '%s' (only image/png and image/jpeg are supported)",
+                   path, i, media.c_str());
+  }
+  long long sz = b64_size(u.substr(comma + 1));
+  if (sz < 0) return pb_fail(PB_ERR_SCENE_PARSE, "%s: images[%zu].uri: malformed base64 data", path, i);
+  if (sz == 0) return pb_fail(PB_ERR_IMAGE, "%s: images[%zu].uri: data URI holds no image bytes", path, i);
+  return PB_OK;
 }
 
 // What tinygltf refuses itself with messages that name no JSON path (or
@@ -342,6 +462,17 @@ pb_result precheck_objects(const char *path, const Json &j, const std::vector<un
   pb_result ir = precheck_ids(path, j);
   if (ir != PB_OK) return ir;
   bool bad = false;
+  // tinygltf drops an extension that is not an object; ours must say so.
+  const Json *cams = array_member(j, "cameras", &bad);
+  for (size_t i = 0; cams && i < cams->size(); ++i) {
+    const Json &c = (*cams)[i];
+    auto ext = c.is_object() ? c.find("extensions") : c.end();
+    if (ext == c.end() || !ext->is_object()) continue;
+    auto pbx = ext->find("PHOTONBRIDGE_blender");
+    if (pbx != ext->end() && !pbx->is_object())
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%zu].extensions.PHOTONBRIDGE_blender: not an object", path, i);
+  }
+  bad = false;
   const Json *views = array_member(j, "bufferViews", &bad);
   if (bad) return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews: not an array", path);
   size_t n_views = views ? views->size() : 0;
@@ -433,11 +564,87 @@ pb_result precheck_objects(const char *path, const Json &j, const std::vector<un
     auto uri = im.find("uri");
     if (uri == im.end() || !uri->is_string())
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%zu]: neither uri nor bufferView", path, i);
-    if (uri->get<std::string>().rfind("data:", 0) == 0)
-      return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%zu].uri: embedded data URI images are not supported (export with separate or GLB images)",
-                     path, i);
+    pb_result r = check_image_data_uri(path, i, uri->get<std::string>());
+    if (r != PB_OK) return r;
   }
   return PB_OK;
+}
+
+// JSON has no NaN or Infinity, but Python's json module writes them (the
+// Blender add-on's writer is Python): when a file does not parse, find the
+// first such token (or a number literal beyond double range) outside strings
+// and name its JSON path, so that the error says which value is broken
+// ("nodes[2].extensions.PHOTONBRIDGE_blender.light.power: NaN"). Returns
+// false when there is none.
+struct JsonFrame {
+  bool object;
+  std::string key;
+  size_t index;
+};
+
+std::string frame_path(const std::vector<JsonFrame> &st) {
+  std::string p;
+  for (const JsonFrame &f : st) {
+    if (f.object) p += (p.empty() ? "" : ".") + f.key;
+    else p += "[" + std::to_string(f.index) + "]";
+  }
+  return p.empty() ? "(top level)" : p;
+}
+
+bool find_nonfinite(const std::string &t, std::string *path, std::string *token) {
+  std::vector<JsonFrame> st;
+  bool want_key = false;
+  for (size_t i = 0; i < t.size(); ++i) {
+    char c = t[i];
+    if (c == '"') {
+      size_t j = i + 1;
+      std::string s;
+      while (j < t.size() && t[j] != '"') {
+        if (t[j] == '\\' && j + 1 < t.size()) ++j;
+        s += t[j++];
+      }
+      if (!st.empty() && st.back().object && want_key) st.back().key = s;
+      i = j;
+    } else if (c == '{') {
+      st.push_back({true, "", 0});
+      want_key = true;
+    } else if (c == '[') {
+      st.push_back({false, "", 0});
+      want_key = false;
+    } else if (c == '}' || c == ']') {
+      if (!st.empty()) st.pop_back();
+      want_key = false;
+    } else if (c == ':') {
+      want_key = false;
+    } else if (c == ',') {
+      if (!st.empty() && !st.back().object) st.back().index++;
+      want_key = !st.empty() && st.back().object;
+    } else if (c == 'N' || c == 'I' || (c == '-' && i + 1 < t.size() && t[i + 1] == 'I')) {
+      size_t j = i + (c == '-');
+      for (const char *lit : {"NaN", "Infinity"}) {
+        size_t n = std::strlen(lit);
+        if (t.compare(j, n, lit) != 0) continue;
+        *token = t.substr(i, j - i + n);
+        *path = frame_path(st);
+        return true;
+      }
+    } else if (c == '-' || (c >= '0' && c <= '9')) {
+      // A literal beyond double range (1e999) is no JSON number either for
+      // the parser: name it too.
+      size_t j = i + 1;
+      while (j < t.size() && (std::isdigit((unsigned char)t[j]) || t[j] == '.' || t[j] == 'e' || t[j] == 'E' ||
+                              t[j] == '+' || t[j] == '-'))
+        ++j;
+      std::string num = t.substr(i, j - i);
+      if (std::isinf(std::strtod(num.c_str(), nullptr))) {
+        *token = num;
+        *path = frame_path(st);
+        return true;
+      }
+      i = j - 1;
+    }
+  }
+  return false;
 }
 
 // Checks what tinygltf would take on trust: required extensions and buffers.
@@ -446,8 +653,16 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
   pb_result dr = check_depth(path, text);
   if (dr != PB_OK) return dr;
   Json j = Json::parse(text, nullptr, false);
-  if (j.is_discarded())
+  if (j.is_discarded()) {
+    std::string where, token;
+    if (find_nonfinite(text, &where, &token)) {
+      bool literal = token[0] == 'N' || token.find("Infinity") != std::string::npos;
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: %s is not a finite number (%s)", path, where.c_str(),
+                     token.size() > 40 ? (token.substr(0, 40) + "...").c_str() : token.c_str(),
+                     literal ? "JSON has no NaN or Infinity" : "beyond the range of a double");
+    }
     return pb_fail(PB_ERR_SCENE_PARSE, "%s: not valid JSON", path);
+  }
   if (!j.is_object()) return pb_fail(PB_ERR_SCENE_PARSE, "%s: top level is not a JSON object", path);
   auto asset = j.find("asset");
   if (asset == j.end() || !asset->is_object())
@@ -463,7 +678,8 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
       "KHR_lights_punctual",  "KHR_materials_specular", "KHR_materials_transmission",
       "KHR_materials_ior",    "KHR_materials_emissive_strength", "KHR_texture_transform",
       "KHR_materials_volume", "KHR_materials_clearcoat", "KHR_materials_sheen",
-      "KHR_mesh_quantization"};
+      "KHR_materials_unlit",  "KHR_materials_variants", "KHR_mesh_quantization",
+      "PHOTONBRIDGE_blender"};
   auto req = j.find("extensionsRequired");
   if (req != j.end()) {
     if (!req->is_array()) return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensionsRequired: not an array", path);
@@ -473,10 +689,10 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
       std::string name = e.get<std::string>();
       bool ok = false;
       for (const char *s : supported) ok |= name == s;
-      // Quantized attributes and texture transforms are read-critical; we
-      // accept the names only where load.c handles the data (it refuses
-      // non-float positions), so list them as unsupported when required.
-      if (name == "KHR_texture_transform" || name == "KHR_mesh_quantization") ok = false;
+      // Quantized attributes are read-critical and load.c refuses integer
+      // positions, normals and tangents: a file that requires them cannot
+      // be drawn correctly.
+      if (name == "KHR_mesh_quantization") ok = false;
       if (!ok)
         return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: extensionsRequired[%zu]: '%s' is not supported (re-export without it%s)", path, i, name.c_str(),
                        name == "KHR_draco_mesh_compression" ? ", i.e. with Blender's 'Compression' off" : "");
@@ -552,20 +768,64 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
   return precheck_objects(path, j, declared_lengths);
 }
 
+// tinygltf's extension value -> pb_gltf_value (depth is bounded by
+// check_depth: at most MAX_JSON_DEPTH levels).
+void fill_value(Impl &m, const tinygltf::Value &v, pb_gltf_value *out) {
+  *out = pb_gltf_value{};
+  if (v.IsBool()) {
+    out->type = PB_GLTF_BOOL;
+    out->boolean = v.Get<bool>() ? 1 : 0;
+  } else if (v.IsNumber()) {
+    out->type = PB_GLTF_NUMBER;
+    out->is_integer = v.IsInt() ? 1 : 0;
+    out->number = v.GetNumberAsDouble();
+  } else if (v.IsString()) {
+    out->type = PB_GLTF_STRING;
+    out->string = v.Get<std::string>().c_str();
+  } else if (v.IsArray()) {
+    out->type = PB_GLTF_ARRAY;
+    const tinygltf::Value::Array &a = v.Get<tinygltf::Value::Array>();
+    m.value_items.emplace_back(new std::vector<pb_gltf_value>(a.size()));
+    std::vector<pb_gltf_value> &items = *m.value_items.back();
+    for (size_t i = 0; i < a.size(); ++i) fill_value(m, a[i], &items[i]);
+    out->count = a.size();
+    out->items = items.data();
+  } else if (v.IsObject()) {
+    out->type = PB_GLTF_OBJECT;
+    const tinygltf::Value::Object &o = v.Get<tinygltf::Value::Object>();
+    m.value_items.emplace_back(new std::vector<pb_gltf_value>(o.size()));
+    m.value_keys.emplace_back(new std::vector<const char *>());
+    std::vector<pb_gltf_value> &items = *m.value_items.back();
+    std::vector<const char *> &keys = *m.value_keys.back();
+    size_t i = 0;
+    for (auto &kv : o) {
+      keys.push_back(kv.first.c_str());
+      fill_value(m, kv.second, &items[i++]);
+    }
+    out->count = o.size();
+    out->items = items.data();
+    out->keys = keys.data();
+  }
+}
+
+const pb_gltf_value *extension_value(Impl &m, const tinygltf::ExtensionMap &ext, const char *name) {
+  auto it = ext.find(name);
+  if (it == ext.end()) return nullptr;
+  m.value_roots.emplace_back(new pb_gltf_value);
+  fill_value(m, it->second, m.value_roots.back().get());
+  return m.value_roots.back().get();
+}
+
 // load.c decodes images itself, with size limits; tinygltf only keeps the
-// reference (uri or bufferView).
-bool keep_image_reference(tinygltf::Image *, const int, std::string *, std::string *, int, int,
-                          const unsigned char *, int, void *) {
+// reference (uri or bufferView), and for a data URI the bytes it decoded
+// (check_image_data_uri approved the URI first).
+bool keep_image_reference(tinygltf::Image *image, const int, std::string *, std::string *, int, int,
+                          const unsigned char *bytes, int size, void *) {
+  if (image->bufferView < 0 && image->uri.empty() && bytes && size > 0) image->image.assign(bytes, bytes + size);
   return true;
 }
 
 const char *s(const std::string &x) { return x.c_str(); }
-
-void fill_tex(pb_gltf_texture_ref *t, int index, int texcoord, double scale) {
-  t->index = index;
-  t->texcoord = texcoord;
-  t->scale = scale;
-}
 
 double num_or(const tinygltf::Value &v, const char *key, double dflt) {
   if (!v.IsObject() || !v.Has(key)) return dflt;
@@ -573,59 +833,74 @@ double num_or(const tinygltf::Value &v, const char *key, double dflt) {
   return x.IsNumber() ? x.GetNumberAsDouble() : dflt;
 }
 
-// A tinygltf value as a pb_gltf_value whose arrays live in m. The JSON
-// nesting is bounded (check_depth), so the recursion is too.
-pb_gltf_value convert_value(Impl &m, const tinygltf::Value &v) {
-  pb_gltf_value x{};
-  switch (v.Type()) {
-  case tinygltf::BOOL_TYPE:
-    x.type = PB_GLTF_BOOL;
-    x.boolean = v.Get<bool>();
-    break;
-  case tinygltf::INT_TYPE:
-  case tinygltf::REAL_TYPE:
-    x.type = PB_GLTF_NUMBER;
-    x.is_integer = v.IsInt();
-    x.number = v.GetNumberAsDouble();
-    break;
-  case tinygltf::STRING_TYPE:
-    x.type = PB_GLTF_STRING;
-    m.value_strings.push_back(v.Get<std::string>());
-    x.string = m.value_strings.back().c_str();
-    break;
-  case tinygltf::ARRAY_TYPE: {
-    x.type = PB_GLTF_ARRAY;
-    m.value_items.emplace_back();
-    std::vector<pb_gltf_value> &items = m.value_items.back();
-    items.resize(v.ArrayLen());
-    for (size_t i = 0; i < items.size(); ++i) items[i] = convert_value(m, v.Get((int)i));
-    x.items = items.data();
-    x.count = items.size();
-    break;
+// cameras[i].extensions.PHOTONBRIDGE_blender, member by member (gltf_doc.h).
+void camera_blender(const tinygltf::Value &v, pb_gltf_camera_blender *x) {
+  x->present = 1;
+  x->type = x->sensor_fit = nullptr;
+  if (!v.IsObject()) {
+    x->bad_member = "";
+    x->bad_expect = "an object";
+    return;
   }
-  case tinygltf::OBJECT_TYPE: {
-    x.type = PB_GLTF_OBJECT;
-    std::vector<std::string> keys = v.Keys();
-    m.value_items.emplace_back();
-    std::vector<pb_gltf_value> &items = m.value_items.back();
-    m.value_keys.emplace_back();
-    std::vector<const char *> &names = m.value_keys.back();
-    items.resize(keys.size());
-    names.resize(keys.size());
-    for (size_t i = 0; i < keys.size(); ++i) {
-      m.value_strings.push_back(keys[i]);
-      names[i] = m.value_strings.back().c_str();
-      items[i] = convert_value(m, v.Get(keys[i]));
-    }
-    x.items = items.data();
-    x.keys = names.data();
-    x.count = items.size();
-    break;
+  auto str = [&](const char *key, const char **out) {
+    if (!v.Has(key)) return;
+    const tinygltf::Value &m = v.Get(key);
+    if (m.IsString()) *out = m.Get<std::string>().c_str();
+    else if (!x->bad_member) x->bad_member = key, x->bad_expect = "a string";
+  };
+  auto num = [&](const char *key, double *out) {
+    *out = NAN;
+    if (!v.Has(key)) return;
+    const tinygltf::Value &m = v.Get(key);
+    if (m.IsNumber()) *out = m.GetNumberAsDouble();
+    else if (!x->bad_member) x->bad_member = key, x->bad_expect = "a number";
+  };
+  str("type", &x->type);
+  str("sensorFit", &x->sensor_fit);
+  num("lens", &x->lens);
+  num("sensorWidth", &x->sensor_width);
+  num("sensorHeight", &x->sensor_height);
+  num("orthoScale", &x->ortho_scale);
+  num("shiftX", &x->shift_x);
+  num("shiftY", &x->shift_y);
+  num("clipStart", &x->clip_start);
+  num("clipEnd", &x->clip_end);
+  num("aspect", &x->aspect);
+}
+
+// Element k of an array member of numbers, or dflt.
+double num_at(const tinygltf::Value &v, const char *key, int k, double dflt) {
+  if (!v.IsObject() || !v.Has(key)) return dflt;
+  const tinygltf::Value &a = v.Get(key);
+  if (!a.IsArray() || (int)a.ArrayLen() <= k || !a.Get(k).IsNumber()) return dflt;
+  return a.Get(k).GetNumberAsDouble();
+}
+
+// KHR_texture_transform of a textureInfo (its members' types are checked by
+// precheck_materials).
+pb_gltf_texture_transform tex_transform(const tinygltf::ExtensionMap &ext) {
+  pb_gltf_texture_transform t{};
+  t.scale[0] = t.scale[1] = 1;
+  t.texcoord = -1;
+  auto it = ext.find("KHR_texture_transform");
+  if (it == ext.end()) return t;
+  const tinygltf::Value &v = it->second;
+  t.present = 1;
+  for (int k = 0; k < 2; ++k) {
+    t.offset[k] = num_at(v, "offset", k, 0);
+    t.scale[k] = num_at(v, "scale", k, 1);
   }
-  default:
-    x.type = PB_GLTF_NULL;
-  }
-  return x;
+  t.rotation = num_or(v, "rotation", 0);
+  double tc = num_or(v, "texCoord", -1);
+  t.texcoord = tc >= 0 && tc <= INT32_MAX ? (int32_t)tc : -1;
+  return t;
+}
+
+void fill_tex(pb_gltf_texture_ref *t, int index, int texcoord, double scale, const tinygltf::ExtensionMap &ext) {
+  t->index = index;
+  t->texcoord = texcoord;
+  t->scale = scale;
+  t->transform = tex_transform(ext);
 }
 
 void convert(Impl &m, pb_gltf_doc *doc) {
@@ -634,6 +909,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
   for (auto &e : g.extensionsUsed) m.ext_used.push_back(s(e));
   for (auto &e : g.extensionsRequired) m.ext_required.push_back(s(e));
   doc->default_scene = g.defaultScene;
+  doc->blender = extension_value(m, g.extensions, "PHOTONBRIDGE_blender");
 
   for (auto &b : g.buffers) {
     pb_gltf_buffer x{};
@@ -661,6 +937,16 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.count = a.count;
     x.normalized = a.normalized;
     x.sparse = a.sparse.isSparse;
+    x.sparse_info.indices_view = x.sparse_info.values_view = -1;
+    if (x.sparse) {
+      // precheck_ids has checked that these were integers in int range.
+      x.sparse_info.count = (uint64_t)a.sparse.count;
+      x.sparse_info.indices_view = a.sparse.indices.bufferView;
+      x.sparse_info.indices_offset = (uint64_t)a.sparse.indices.byteOffset;
+      x.sparse_info.indices_ct = a.sparse.indices.componentType;
+      x.sparse_info.values_view = a.sparse.values.bufferView;
+      x.sparse_info.values_offset = (uint64_t)a.sparse.values.byteOffset;
+    }
     if (a.minValues.size() >= 3 && a.maxValues.size() >= 3) {
       x.has_min_max = 1;
       for (int k = 0; k < 3; ++k) {
@@ -671,22 +957,56 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     m.accessors.push_back(x);
   }
   m.prims.resize(g.meshes.size());
+  size_t nprims = 0;
+  for (auto &mesh : g.meshes) nprims += mesh.primitives.size();
+  m.prim_joints.resize(nprims);
+  m.prim_weights.resize(nprims);
+  m.prim_targets.resize(nprims);
+  size_t pk = 0;  // primitive number over all meshes
   for (size_t i = 0; i < g.meshes.size(); ++i) {
     for (auto &p : g.meshes[i].primitives) {
       pb_gltf_primitive x{};
       x.mode = p.mode;
-      auto at = [&](const char *k) {
-        auto it = p.attributes.find(k);
-        return it == p.attributes.end() ? -1 : it->second;
+      auto find = [](const std::map<std::string, int> &a, const std::string &k) {
+        auto it = a.find(k);
+        return it == a.end() ? -1 : it->second;
       };
+      auto at = [&](const char *k) { return find(p.attributes, k); };
       x.position = at("POSITION");
       x.normal = at("NORMAL");
       x.texcoord0 = at("TEXCOORD_0");
+      x.texcoord1 = at("TEXCOORD_1");
+      x.color0 = at("COLOR_0");
       x.tangent = at("TANGENT");
       x.indices = p.indices;
       x.material = p.material;
-      x.has_targets = !p.targets.empty();
+      // JOINTS_n / WEIGHTS_n: up to one past the highest n present.
+      for (auto &a : p.attributes) {
+        for (int w = 0; w < 2; ++w) {
+          const char *pre = w ? "WEIGHTS_" : "JOINTS_";
+          size_t pl = strlen(pre);
+          if (a.first.compare(0, pl, pre) != 0 || a.first.size() == pl || a.first.size() > pl + 4 ||
+              a.first.find_first_not_of("0123456789", pl) != std::string::npos)
+            continue;
+          size_t n = (size_t)std::stoul(a.first.substr(pl));
+          std::vector<int32_t> &v = w ? m.prim_weights[pk] : m.prim_joints[pk];
+          if (v.size() <= n) v.resize(n + 1, -1);
+          v[n] = a.second;
+        }
+      }
+      for (auto &t : p.targets)
+        m.prim_targets[pk].push_back(pb_gltf_target{find(t, "POSITION"), find(t, "NORMAL"), find(t, "TANGENT")});
+      x.joints = m.prim_joints[pk].data();
+      x.joint_set_count = m.prim_joints[pk].size();
+      x.weights = m.prim_weights[pk].data();
+      x.weight_set_count = m.prim_weights[pk].size();
+      x.targets = m.prim_targets[pk].data();
+      x.target_count = m.prim_targets[pk].size();
+      auto ve = p.extensions.find("KHR_materials_variants");
+      if (ve != p.extensions.end() && ve->second.Has("mappings") && ve->second.Get("mappings").IsArray())
+        x.variant_mapping_count = ve->second.Get("mappings").ArrayLen();
       m.prims[i].push_back(x);
+      pk++;
     }
   }
   for (size_t i = 0; i < g.meshes.size(); ++i) {
@@ -694,7 +1014,29 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.name = s(g.meshes[i].name);
     x.primitives = m.prims[i].data();
     x.primitive_count = m.prims[i].size();
+    x.weights = g.meshes[i].weights.data();
+    x.weight_count = g.meshes[i].weights.size();
     m.meshes.push_back(x);
+  }
+  m.skin_joints.resize(g.skins.size());
+  for (size_t i = 0; i < g.skins.size(); ++i) {
+    const tinygltf::Skin &sk = g.skins[i];
+    for (int jn : sk.joints) m.skin_joints[i].push_back(jn);
+    pb_gltf_skin x{};
+    x.name = s(sk.name);
+    x.inverse_bind_matrices = sk.inverseBindMatrices;
+    x.skeleton = sk.skeleton;
+    x.joints = m.skin_joints[i].data();
+    x.joint_count = m.skin_joints[i].size();
+    m.skins.push_back(x);
+  }
+  auto rv = g.extensions.find("KHR_materials_variants");
+  if (rv != g.extensions.end() && rv->second.Has("variants") && rv->second.Get("variants").IsArray()) {
+    const tinygltf::Value &vs = rv->second.Get("variants");
+    for (size_t k = 0; k < vs.ArrayLen(); ++k) {
+      const tinygltf::Value &v = vs.Get((int)k);
+      m.variant_names.push_back(v.Has("name") && v.Get("name").IsString() ? v.Get("name").Get<std::string>().c_str() : "");
+    }
   }
   m.children.resize(g.nodes.size());
   for (size_t i = 0; i < g.nodes.size(); ++i) {
@@ -723,6 +1065,9 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     if (n.translation.size() == 3) for (size_t k = 0; k < 3; ++k) x.translation[k] = n.translation[k];
     if (n.rotation.size() == 4) for (size_t k = 0; k < 4; ++k) x.rotation[k] = n.rotation[k];
     if (n.scale.size() == 3) for (size_t k = 0; k < 3; ++k) x.scale[k] = n.scale[k];
+    x.weights = n.weights.data();
+    x.weight_count = n.weights.size();
+    x.blender = extension_value(m, n.extensions, "PHOTONBRIDGE_blender");
     m.nodes.push_back(x);
   }
   m.scene_nodes.resize(g.scenes.size());
@@ -739,10 +1084,15 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.name = s(c.name);
     x.type = s(c.type);
     x.perspective = c.type == "perspective";
+    x.orthographic = c.type == "orthographic";
     x.yfov = c.perspective.yfov;
     x.aspect_ratio = c.perspective.aspectRatio;
-    x.znear = c.perspective.znear;
-    x.zfar = c.perspective.zfar;
+    x.xmag = c.orthographic.xmag;
+    x.ymag = c.orthographic.ymag;
+    x.znear = x.orthographic ? c.orthographic.znear : c.perspective.znear;
+    x.zfar = x.orthographic ? c.orthographic.zfar : c.perspective.zfar;
+    auto e = c.extensions.find("PHOTONBRIDGE_blender");
+    if (e != c.extensions.end()) camera_blender(e->second, &x.blender);
     m.cameras.push_back(x);
   }
   for (auto &l : g.lights) {
@@ -762,12 +1112,15 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     auto &pbr = mt.pbrMetallicRoughness;
     x.name = s(mt.name);
     for (size_t k = 0; k < 4; ++k) x.base_color[k] = pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[k] : 1.0;
-    fill_tex(&x.base_color_tex, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1);
+    fill_tex(&x.base_color_tex, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1,
+             pbr.baseColorTexture.extensions);
     x.metallic = pbr.metallicFactor;
     x.roughness = pbr.roughnessFactor;
-    fill_tex(&x.metallic_roughness_tex, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, 1);
-    fill_tex(&x.normal_tex, mt.normalTexture.index, mt.normalTexture.texCoord, mt.normalTexture.scale);
-    fill_tex(&x.emissive_tex, mt.emissiveTexture.index, mt.emissiveTexture.texCoord, 1);
+    fill_tex(&x.metallic_roughness_tex, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, 1,
+             pbr.metallicRoughnessTexture.extensions);
+    fill_tex(&x.normal_tex, mt.normalTexture.index, mt.normalTexture.texCoord, mt.normalTexture.scale,
+             mt.normalTexture.extensions);
+    fill_tex(&x.emissive_tex, mt.emissiveTexture.index, mt.emissiveTexture.texCoord, 1, mt.emissiveTexture.extensions);
     for (size_t k = 0; k < 3; ++k) x.emissive[k] = mt.emissiveFactor.size() == 3 ? mt.emissiveFactor[k] : 0.0;
     x.emissive_strength = 1;
     x.specular = 1;
@@ -790,13 +1143,18 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     }
     if (auto *e = ext("KHR_materials_transmission")) x.transmission = num_or(*e, "transmissionFactor", 0);
     if (auto *e = ext("KHR_materials_ior")) x.ior = num_or(*e, "ior", 1.5);
+    x.unlit = ext("KHR_materials_unlit") != nullptr;
+    x.attenuation_color[0] = x.attenuation_color[1] = x.attenuation_color[2] = 1;
+    if (auto *e = ext("KHR_materials_volume")) {
+      x.has_volume = 1;
+      x.thickness = num_or(*e, "thicknessFactor", 0);
+      x.attenuation_distance = num_or(*e, "attenuationDistance", 0);
+      for (int k = 0; k < 3; ++k) x.attenuation_color[k] = num_at(*e, "attenuationColor", k, 1);
+    }
     x.alpha_mode = s(mt.alphaMode);
     x.alpha_cutoff = mt.alphaCutoff;
     x.double_sided = mt.doubleSided;
-    if (auto *e = ext("PHOTONBRIDGE_blender")) {
-      m.value_roots.push_back(convert_value(m, *e));
-      x.blender = &m.value_roots.back();
-    }
+    x.blender = extension_value(m, mt.extensions, "PHOTONBRIDGE_blender");
     m.materials.push_back(x);
   }
   for (auto &t : g.textures) m.textures.push_back(pb_gltf_texture{t.source, t.sampler});
@@ -806,6 +1164,10 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.uri = s(im.uri);
     x.mime_type = s(im.mimeType);
     x.buffer_view = im.bufferView;
+    if (!im.image.empty()) {
+      x.data = im.image.data();
+      x.data_size = im.image.size();
+    }
     m.images.push_back(x);
   }
   for (auto &sm : g.samplers) m.samplers.push_back(pb_gltf_sampler{sm.magFilter, sm.minFilter, sm.wrapS, sm.wrapT});
@@ -830,7 +1192,8 @@ void convert(Impl &m, pb_gltf_doc *doc) {
   doc->animations = m.animations.data();
   doc->animation_count = g.animations.size();
   doc->animation_channel_count = channels;
-  doc->skin_count = g.skins.size();
+  doc->variant_names = m.variant_names.data();
+  doc->variant_count = m.variant_names.size();
 
 #define PB_SET(field, count, vec) doc->field = m.vec.data(), doc->count = m.vec.size()
   PB_SET(buffers, buffer_count, buffers);
@@ -845,6 +1208,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
   PB_SET(textures, texture_count, textures);
   PB_SET(images, image_count, images);
   PB_SET(samplers, sampler_count, samplers);
+  PB_SET(skins, skin_count, skins);
 #undef PB_SET
   doc->extensions_used = m.ext_used.data();
   doc->extensions_used_count = m.ext_used.size();

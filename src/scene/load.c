@@ -10,25 +10,23 @@
 #include <string.h>
 
 #include "core/fs.h"
+#include "scene/camera.h"
+#include "image/decode.h"
 #include "scene/gltf_doc.h"
 #include "scene/tangents.h"
 #include "scene/scene.h"
 
+#include "scene/accessor.h"
 #include "scene/anim.h"
+#include "scene/blender_lights.h"
 #include "scene/blender_material.h"
-#include "scene/image_decode.h"
+#include "scene/deform.h"
 #include "scene/xform.h"
 
 enum {
   MODE_TRIANGLES = 4,
   MODE_TRIANGLE_STRIP = 5,
   MODE_TRIANGLE_FAN = 6,
-  CT_BYTE = 5120,
-  CT_UBYTE = 5121,
-  CT_SHORT = 5122,
-  CT_USHORT = 5123,
-  CT_UINT = 5125,
-  CT_FLOAT = 5126,
   MAX_NODE_DEPTH = 1024,
 };
 
@@ -42,7 +40,7 @@ typedef struct loader {
   pb_scene *s;
   uint32_t vertex_cap, triangle_cap, light_cap, camera_cap, texture_cap;
   int32_t default_material;   /* index in s->materials, -1 until needed */
-  int32_t *texture_map;       /* [gltf texture * 2 + srgb] -> s->textures */
+  int32_t *texture_src;       /* per s->textures: its glTF texture */
   uint8_t **image_cache;      /* decoded RGBA8 per gltf image */
   uint32_t *image_w, *image_h;
   uint8_t *node_state;        /* cycle detection: 0 new, 1 on stack, 2 done */
@@ -55,6 +53,14 @@ typedef struct loader {
   float (*tan)[4];
   uint8_t *tan_given;
   uint32_t tan_cap;
+  /* Skins and morph targets (deform.h): moved to the scene's anim when an
+   * instance moves, freed after the static pose otherwise. world: every
+   * node's world matrix in the file's own pose (with the precision origin),
+   * which the static pose of skinned instances needs before visit() has
+   * reached their joints. */
+  pb_deform deform;
+  mat4 *world;
+  int need_uv1;               /* some texture reads TEXCOORD_1 */
 } loader;
 
 /* ---- growth helpers ---------------------------------------------------- */
@@ -88,124 +94,6 @@ static pb_result warn(loader *L, const char *fmt, ...) {
 static void copy_name(char dst[PB_NAME_MAX], const char *a, const char *b) {
   const char *src = (a && a[0]) ? a : (b ? b : "");
   snprintf(dst, PB_NAME_MAX, "%s", src);
-}
-
-/* ---- accessors ----------------------------------------------------------- */
-
-static uint32_t component_size(int32_t ct) {
-  switch (ct) {
-  case CT_BYTE: case CT_UBYTE: return 1;
-  case CT_SHORT: case CT_USHORT: return 2;
-  case CT_UINT: case CT_FLOAT: return 4;
-  default: return 0;
-  }
-}
-
-/* A checked view of an accessor's elements. */
-typedef struct span {
-  const uint8_t *base; /* NULL: no bufferView, every element is zero */
-  uint64_t count;
-  uint32_t stride, elem;
-  int32_t ct;
-  int normalized;
-} span;
-
-/* Checks accessors[idx] (used at `where`) against the expected shape and its
- * bufferView and buffer, so that reading element i < count of it is in
- * bounds. `types` is a 0-terminated list of allowed component types. */
-static pb_result check_accessor(loader *L, int32_t idx, const char *where, int components,
-                                const int32_t *types, span *out) {
-  pb_gltf_doc *d = L->doc;
-  if (idx < 0 || (size_t)idx >= d->accessor_count)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d does not exist (%zu accessors)", L->path,
-                   where, idx, d->accessor_count);
-  const pb_gltf_accessor *a = &d->accessors[idx];
-  if (a->sparse)
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: accessors[%d]: sparse accessors are not supported", L->path, idx);
-  if (a->components != components)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: has %d components, %s needs %d", L->path, idx,
-                   a->components, where, components);
-  int ok = 0;
-  for (const int32_t *t = types; *t; ++t) ok |= *t == a->component_type;
-  if (!ok)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: componentType %d is not allowed for %s", L->path,
-                   idx, a->component_type, where);
-  uint32_t csize = component_size(a->component_type);
-  uint32_t elem = csize * (uint32_t)components;
-  memset(out, 0, sizeof *out);
-  out->count = a->count;
-  out->elem = elem;
-  out->stride = elem;
-  out->ct = a->component_type;
-  out->normalized = a->normalized;
-  if (a->count == 0)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count is 0", L->path, idx);
-  if (a->buffer_view == -1) {
-    /* All zeros, per the spec: no bytes in the file back the count. */
-    if (a->count > UINT32_MAX)
-      return pb_fail(PB_ERR_LIMIT, "%s: accessors[%d]: count %llu is over the limit", L->path, idx,
-                     (unsigned long long)a->count);
-    return PB_OK;
-  }
-  if (a->buffer_view < 0 || (size_t)a->buffer_view >= d->buffer_view_count)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].bufferView: %d does not exist (%zu bufferViews)",
-                   L->path, idx, a->buffer_view, d->buffer_view_count);
-  const pb_gltf_buffer_view *v = &d->buffer_views[a->buffer_view];
-  if (v->buffer < 0 || (size_t)v->buffer >= d->buffer_count)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].buffer: %d does not exist (%zu buffers)", L->path,
-                   a->buffer_view, v->buffer, d->buffer_count);
-  const pb_gltf_buffer *b = &d->buffers[v->buffer];
-  if (v->byte_offset > b->size || v->byte_length > b->size - v->byte_offset)
-    return pb_fail(PB_ERR_SCENE_INVALID,
-                   "%s: bufferViews[%d]: offset %llu + length %llu exceeds buffers[%d] (%llu bytes)", L->path,
-                   a->buffer_view, (unsigned long long)v->byte_offset, (unsigned long long)v->byte_length,
-                   v->buffer, (unsigned long long)b->size);
-  uint32_t stride = v->byte_stride ? v->byte_stride : elem;
-  if (v->byte_stride && (v->byte_stride < elem || v->byte_stride > 252 || v->byte_stride % 4))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: bufferViews[%d].byteStride: %u is invalid for accessors[%d] (element %u bytes)",
-                   L->path, a->buffer_view, v->byte_stride, idx, elem);
-  if (a->byte_offset % csize || (v->byte_offset + a->byte_offset) % csize)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d].byteOffset: %llu is not aligned to its %u-byte components",
-                   L->path, idx, (unsigned long long)a->byte_offset, csize);
-  /* Needed bytes: offset + stride * (count - 1) + elem, computed without
-   * overflow (count < 2^32 is checked first). */
-  if (a->count > UINT32_MAX || a->byte_offset > v->byte_length)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count %llu x stride %u exceeds bufferViews[%d] (%llu bytes)",
-                   L->path, idx, (unsigned long long)a->count, stride, a->buffer_view,
-                   (unsigned long long)v->byte_length);
-  uint64_t need = a->byte_offset + (uint64_t)stride * (a->count - 1) + elem;
-  if (need > v->byte_length)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: count %llu x stride %u exceeds bufferViews[%d] (%llu bytes)",
-                   L->path, idx, (unsigned long long)a->count, stride, a->buffer_view,
-                   (unsigned long long)v->byte_length);
-  out->base = b->data + v->byte_offset + a->byte_offset;
-  out->stride = stride;
-  return PB_OK;
-}
-
-/* Reads component c of element i as a float (normalized integers mapped per
- * the glTF spec). */
-static float read_f(const span *sp, uint64_t i, int c) {
-  if (!sp->base) return 0.0f;
-  const uint8_t *p = sp->base + i * sp->stride + (uint64_t)c * component_size(sp->ct);
-  switch (sp->ct) {
-  case CT_FLOAT: { float f; memcpy(&f, p, 4); return f; }
-  case CT_UBYTE: return sp->normalized ? (float)p[0] / 255.0f : (float)p[0];
-  case CT_BYTE: { int8_t x = (int8_t)p[0]; return sp->normalized ? fmaxf((float)x / 127.0f, -1.0f) : (float)x; }
-  case CT_USHORT: { uint16_t x; memcpy(&x, p, 2); return sp->normalized ? (float)x / 65535.0f : (float)x; }
-  case CT_SHORT: { int16_t x; memcpy(&x, p, 2); return sp->normalized ? fmaxf((float)x / 32767.0f, -1.0f) : (float)x; }
-  default: return 0.0f;
-  }
-}
-
-static uint32_t read_index(const span *sp, uint64_t i) {
-  if (!sp->base) return 0;
-  const uint8_t *p = sp->base + i * sp->stride;
-  switch (sp->ct) {
-  case CT_UBYTE: return p[0];
-  case CT_USHORT: { uint16_t x; memcpy(&x, p, 2); return x; }
-  default: { uint32_t x; memcpy(&x, p, 4); return x; }
-  }
 }
 
 /* ---- transforms: scene/xform.h ------------------------------------------ */
@@ -243,9 +131,9 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
                      (unsigned long long)v->byte_length, v->buffer, (unsigned long long)b->size);
     bytes = b->data + v->byte_offset;
     size = v->byte_length;
-  } else if (strncmp(im->uri, "data:", 5) == 0) {
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d].uri: embedded data URI images are not supported (export with separate or GLB images)",
-                   L->path, img);
+  } else if (im->data) {
+    bytes = im->data; /* a data URI, decoded and checked by the shim */
+    size = im->data_size;
   } else if (im->uri[0]) {
     char *real = NULL;
     char w[64];
@@ -262,34 +150,23 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
   } else {
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: images[%d]: neither uri nor bufferView", L->path, img);
   }
-  int ok = size >= 8 && size <= INT32_MAX &&
-           ((bytes[0] == 0x89 && memcmp(bytes + 1, "PNG", 3) == 0) || (bytes[0] == 0xFF && bytes[1] == 0xD8));
-  if (!ok) {
-    free(file);
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG or JPEG file", L->path, img, where);
-  }
-  uint32_t w = 0, h = 0;
-  uint8_t *px = NULL;
-  const char *why = NULL;
-  int rc = PB_DECODE_OK;
-  /* stb_image refuses a PNG over 2^30 decoded bytes as "corrupt": read the
-   * IHDR size first so that a huge declared size is reported as a limit. */
-  if (bytes[0] == 0x89 && size >= 24 && memcmp(bytes + 12, "IHDR", 4) == 0) {
-    w = (uint32_t)bytes[16] << 24 | (uint32_t)bytes[17] << 16 | (uint32_t)bytes[18] << 8 | bytes[19];
-    h = (uint32_t)bytes[20] << 24 | (uint32_t)bytes[21] << 16 | (uint32_t)bytes[22] << 8 | bytes[23];
-    if (w > L->desc->max_image_dim || h > L->desc->max_image_dim || (uint64_t)w * h > L->desc->max_image_pixels)
-      rc = PB_DECODE_TOO_LARGE;
-  }
-  if (rc == PB_DECODE_OK)
-    rc = pb_decode_image_rgba8(bytes, size, L->desc->max_image_dim, L->desc->max_image_pixels, &px, &w, &h, &why);
+  /* The declared size is checked from the header before any pixel memory
+   * is allocated (image/decode.h). */
+  const pb_decode_limits lim = {.max_dim = L->desc->max_image_dim, .max_pixels = L->desc->max_image_pixels};
+  pb_decoded dec;
+  pb_decode_status st = pb_decode_image_rgba8(bytes, size, &lim, &dec);
   free(file);
-  if (rc == PB_DECODE_TOO_LARGE)
+  if (st == PB_DECODE_UNKNOWN)
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG or JPEG file", L->path, img, where);
+  if (st == PB_DECODE_TOO_LARGE)
     return pb_fail(PB_ERR_LIMIT, "%s: images[%d]: %ux%u is over the image size limit (%u per side, %llu pixels)",
-                   L->path, img, w, h, L->desc->max_image_dim, (unsigned long long)L->desc->max_image_pixels);
-  if (rc != PB_DECODE_OK) return pb_fail(PB_ERR_IMAGE, "%s: images[%d]: cannot decode: %s", L->path, img, why);
-  L->image_cache[img] = px;
-  L->image_w[img] = w;
-  L->image_h[img] = h;
+                   L->path, img, dec.width, dec.height, L->desc->max_image_dim,
+                   (unsigned long long)L->desc->max_image_pixels);
+  if (st == PB_DECODE_NOMEM) return pb_fail(PB_ERR_NOMEM, "%s: images[%d]: out of memory decoding it", L->path, img);
+  if (st != PB_DECODE_OK) return pb_fail(PB_ERR_IMAGE, "%s: images[%d]: cannot decode: %s", L->path, img, dec.why);
+  L->image_cache[img] = dec.rgba;
+  L->image_w[img] = dec.width;
+  L->image_h[img] = dec.height;
   return PB_OK;
 }
 
@@ -303,18 +180,47 @@ static pb_result wrap_mode(loader *L, int32_t v, int32_t sampler, const char *fi
   }
 }
 
-/* Resolves a material's texture reference to an index in s->textures. */
-static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where, int32_t *out) {
+/* Resolves a material's texture reference to an index in s->textures: one
+ * pb_texture per glTF texture, colour space, uv set and KHR_texture_transform
+ * (scene.h), shared by every slot that reads it the same way. */
+static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb, const char *where, int32_t *out) {
   pb_gltf_doc *d = L->doc;
+  int32_t tex = ref->index;
   *out = PB_NO_TEXTURE;
   if (tex == -1) return PB_OK;
   if (tex < 0 || (size_t)tex >= d->texture_count)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.index: texture %d does not exist (%zu textures)", L->path, where,
                    tex, d->texture_count);
-  int32_t *slot = &L->texture_map[tex * 2 + srgb];
-  if (*slot >= 0) {
-    *out = *slot;
-    return PB_OK;
+  /* KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv, i.e.
+   * u' = cos sx u + sin sy v + ox, v' = -sin sx u + cos sy v + oy (the
+   * extension's matrices, rotation counter-clockwise in uv with v down);
+   * its texCoord replaces the textureInfo's. */
+  const pb_gltf_texture_transform *x = &ref->transform;
+  float m[6] = {0, 0, 0, 0, 0, 0};
+  int texcoord = x->present && x->texcoord >= 0 ? x->texcoord : ref->texcoord;
+  if (x->present) {
+    const double v[5] = {x->offset[0], x->offset[1], x->rotation, x->scale[0], x->scale[1]};
+    for (int k = 0; k < 5; ++k)
+      if (!isfinite(v[k]) || fabs(v[k]) > 1e30)
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.extensions.KHR_texture_transform: %s %g is not finite", L->path, where,
+                       k < 2 ? "offset" : k == 2 ? "rotation" : "scale", v[k]);
+    double c = cos(x->rotation), sn = sin(x->rotation);
+    m[0] = (float)(c * x->scale[0]), m[1] = (float)(sn * x->scale[1]), m[2] = (float)x->offset[0];
+    m[3] = (float)(-sn * x->scale[0]), m[4] = (float)(c * x->scale[1]), m[5] = (float)x->offset[1];
+  }
+  if (texcoord > 1) {
+    pb_result r = warn(L, "%s.texCoord: %d (only TEXCOORD_0 and TEXCOORD_1 are read; using TEXCOORD_0)", where, texcoord);
+    if (r != PB_OK) return r;
+    texcoord = 0;
+  }
+  pb_scene *s = L->s;
+  for (uint32_t i = 0; i < s->texture_count; ++i) {
+    const pb_texture *pt = &s->textures[i];
+    if (L->texture_src[i] == tex && pt->srgb == srgb && pt->texcoord == texcoord && pt->uv_transformed == x->present &&
+        !memcmp(pt->uv_xform, m, sizeof m)) {
+      *out = (int32_t)i;
+      return PB_OK;
+    }
   }
   const pb_gltf_texture *t = &d->textures[tex];
   if (t->source < 0 || (size_t)t->source >= d->image_count)
@@ -334,9 +240,15 @@ static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where
   }
   pb_result r = decode_image(L, t->source, where);
   if (r != PB_OK) return r;
-  pb_scene *s = L->s;
+  uint32_t cap = L->texture_cap;
   r = grow(L, (void **)&s->textures, &L->texture_cap, (uint64_t)s->texture_count + 1, sizeof *s->textures, "textures");
   if (r != PB_OK) return r;
+  if (cap != L->texture_cap) {
+    int32_t *q = realloc(L->texture_src, (size_t)L->texture_cap * sizeof *q);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for textures", L->path);
+    L->texture_src = q;
+  }
+  L->texture_src[s->texture_count] = tex;
   pb_texture *pt = &s->textures[s->texture_count];
   memset(pt, 0, sizeof *pt);
   size_t bytes = (size_t)L->image_w[t->source] * L->image_h[t->source] * 4;
@@ -349,9 +261,12 @@ static pb_result texture_ref(loader *L, int32_t tex, int srgb, const char *where
   pt->wrap_s = ws;
   pt->wrap_t = wt;
   pt->nearest = nearest;
+  pt->texcoord = texcoord;
+  pt->uv_transformed = x->present;
+  memcpy(pt->uv_xform, m, sizeof m);
+  if (texcoord == 1) L->need_uv1 = 1;
   copy_name(pt->name, d->images[t->source].name, d->images[t->source].uri);
-  *slot = (int32_t)s->texture_count++;
-  *out = *slot;
+  *out = (int32_t)s->texture_count++;
   return PB_OK;
 }
 
@@ -365,12 +280,52 @@ static pb_result check_factor(loader *L, int i, const char *field, double v, dou
   return PB_OK;
 }
 
-/* The PHOTONBRIDGE_blender material reader's way to textures and warnings
- * (blender_material.h). */
-static pb_result blender_texture(void *user, int32_t tex, int srgb, const char *where, int32_t *out) {
-  return texture_ref(user, tex, srgb, where, out);
+/* The PHOTONBRIDGE_blender material reader's way to textures (glTF
+ * textureInfos, through the same texture_ref as glTF's own: uv set and
+ * KHR_texture_transform included) and warnings (blender_material.h). */
+static pb_result blender_texture(void *user, const pb_gltf_texture_ref *ref, int srgb, const char *where, int32_t *out) {
+  return texture_ref(user, ref, srgb, where, out);
 }
 static pb_result blender_warn(void *user, const char *line) { return warn(user, "%s", line); }
+
+/* KHR_materials_unlit and KHR_materials_volume (scene.h, pb_material). */
+static pb_result material_extensions(loader *L, int i, const pb_gltf_material *g, pb_material *m) {
+  pb_result r = PB_OK;
+  if (g->unlit) {
+    /* The extension's shading is the base colour alone: every other lobe
+     * and the emission are ignored (KHR_materials_unlit, "Overview"). */
+    m->unlit = 1;
+    m->metallic = 0;
+    m->specular = 0;
+    m->transmission = 0;
+    memset(m->emissive, 0, sizeof m->emissive);
+  }
+  if (!g->has_volume) return PB_OK;
+  const char *vw = "extensions.KHR_materials_volume";
+  char w[96];
+  snprintf(w, sizeof w, "%s.thicknessFactor", vw);
+  if ((r = check_factor(L, i, w, g->thickness, 0, 1e30)) != PB_OK) return r;
+  if (g->attenuation_distance != 0 && !(g->attenuation_distance > 0 && isfinite(g->attenuation_distance)))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].%s.attenuationDistance: %g is not positive", L->path, i, vw,
+                   g->attenuation_distance);
+  for (int k = 0; k < 3 && r == PB_OK; ++k) {
+    snprintf(w, sizeof w, "%s.attenuationColor[%d]", vw, k);
+    r = check_factor(L, i, w, g->attenuation_color[k], 0, 1);
+  }
+  if (r != PB_OK) return r;
+  /* Thin-walled (thickness 0) and an absent distance (infinite) mean no
+   * absorption (KHR_materials_volume). A colour of 0 would absorb
+   * everything at once: it is held at 1e-6 (sigma_a d = 13.8 at d = the
+   * attenuation distance), so paths stay finite. */
+  if (g->thickness > 0 && g->attenuation_distance > 0)
+    for (int k = 0; k < 3; ++k)
+      m->attenuation[k] = (float)(-log(fmax(g->attenuation_color[k], 1e-6)) / g->attenuation_distance);
+  if (m->transmission <= 0 &&
+      (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0) &&
+      (r = warn(L, "materials[%d].%s: no transmission, so no light enters the volume", i, vw)) != PB_OK)
+    return r;
+  return PB_OK;
+}
 
 static pb_result convert_material(loader *L, int i, pb_material *m) {
   const pb_gltf_material *g = &L->doc->materials[i];
@@ -422,6 +377,7 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   else if (strcmp(g->alpha_mode, "BLEND") == 0) m->alpha_mode = PB_ALPHA_BLEND;
   else return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].alphaMode: '%s' is not OPAQUE, MASK or BLEND", L->path, i, g->alpha_mode);
 
+  if ((r = material_extensions(L, i, g, m)) != PB_OK) return r;
   const pb_gltf_texture_ref *refs[4] = {&g->base_color_tex, &g->metallic_roughness_tex, &g->emissive_tex, &g->normal_tex};
   static const char *const names[4] = {"pbrMetallicRoughness.baseColorTexture", "pbrMetallicRoughness.metallicRoughnessTexture",
                                        "emissiveTexture", "normalTexture"};
@@ -429,11 +385,7 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   int32_t *dst[4] = {&m->base_color_tex, &m->metallic_roughness_tex, &m->emissive_tex, &m->normal_tex};
   for (int k = 0; k < 4; ++k) {
     snprintf(w, sizeof w, "materials[%d].%s", i, names[k]);
-    if (refs[k]->index != -1 && refs[k]->texcoord != 0) {
-      r = warn(L, "%s.texCoord: %d (only TEXCOORD_0 is read; using it)", w, refs[k]->texcoord);
-      if (r != PB_OK) return r;
-    }
-    r = texture_ref(L, refs[k]->index, srgb[k], w, dst[k]);
+    r = texture_ref(L, refs[k], srgb[k], w, dst[k]);
     if (r != PB_OK) return r;
   }
   if (g->blender) {
@@ -443,20 +395,37 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
   return PB_OK;
 }
 
+/* Whether asset.generator names Blender's own glTF exporter. */
+static int from_blender(const pb_scene *s) { return strncmp(s->generator, "Khronos glTF Blender I/O", 24) == 0; }
+
+/* The material of primitives without one. glTF's default (3.9.1: white,
+ * metallic 1, roughness 1), or, in a file Blender wrote, what Cycles 3.4
+ * shows for an object without material: its default surface, a Diffuse
+ * BSDF of colour 0.8 (intern/cycles/scene/shader.cpp, add_default, used by
+ * the Blender sync for empty slots; measured here: a plane under a sun of
+ * pi W/m^2 gives 0.8000 with no material and with a Diffuse BSDF 0.8, 0.9036
+ * with a new Principled material). Its glTF form: baseColorFactor 0.8,
+ * metallicFactor 0, KHR_materials_specular specularFactor 0 (no specular
+ * layer: Lambertian). */
 static int32_t default_material(loader *L) {
-  /* glTF's default material: white, metallic 1, roughness 1. */
   if (L->default_material < 0) {
     pb_scene *s = L->s;
     pb_material *m = &s->materials[s->material_count];
     memset(m, 0, sizeof *m);
-    snprintf(m->name, PB_NAME_MAX, "(default)");
-    for (int k = 0; k < 4; ++k) m->base_color[k] = 1;
-    m->metallic = 1;
-    m->roughness = 1;
-    m->specular = 1;
-    m->specular_color[0] = m->specular_color[1] = m->specular_color[2] = 1;
     m->ior = 1.5f;
+    m->roughness = 1;
+    m->specular_color[0] = m->specular_color[1] = m->specular_color[2] = 1;
     m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+    m->base_color[3] = 1;
+    if (from_blender(s)) {
+      snprintf(m->name, PB_NAME_MAX, "(Blender default surface)");
+      m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.8f;
+    } else {
+      snprintf(m->name, PB_NAME_MAX, "(glTF default)");
+      m->base_color[0] = m->base_color[1] = m->base_color[2] = 1;
+      m->metallic = 1;
+      m->specular = 1;
+    }
     L->default_material = (int32_t)s->material_count++;
   }
   return L->default_material;
@@ -469,11 +438,20 @@ static int32_t default_material(loader *L) {
  * one animation each, and a file's animations are meant to be seen at once
  * (a player that picks one would freeze every other object). Channels apply
  * in file order, so where two animations drive the same node property the
- * later one wins (warned). Morph "weights" channels and channels on nodes
- * given by `matrix` (which glTF does not allow to animate) are ignored with a
- * warning. */
+ * later one wins (warned). "weights" channels drive the morph weights of
+ * their node's mesh (deform.h). Translation, rotation and scale channels on
+ * nodes given by `matrix` (which glTF does not allow to animate) are ignored
+ * with a warning. */
 
-static const char *const anim_paths[] = {"translation", "rotation", "scale"};
+static const char *const anim_paths[] = {"translation", "rotation", "scale", "weights"};
+
+/* Morph targets of the mesh nodes[node] draws (every primitive has as many:
+ * pb_morph_weights_load). */
+static size_t node_targets(const pb_gltf_doc *d, int32_t node) {
+  int32_t m = d->nodes[node].mesh;
+  if (m < 0 || (size_t)m >= d->mesh_count || !d->meshes[m].primitive_count) return 0;
+  return d->meshes[m].primitives[0].target_count;
+}
 
 static pb_result anim_reserve(loader *L, struct pb_scene_anim *a, uint64_t more) {
   uint64_t need = (uint64_t)a->local_count + more;
@@ -509,7 +487,7 @@ static pb_result anim_push_node(loader *L, int32_t **arr, uint32_t *cap, uint32_
 static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp) {
   pb_gltf_doc *d = L->doc;
   const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
-  static const int32_t float_only[] = {CT_FLOAT, 0};
+  static const int32_t float_only[] = {PB_CT_FLOAT, 0};
   char w[96];
   const char *ip = g->interpolation ? g->interpolation : "LINEAR";
   if (strcmp(ip, "LINEAR") == 0) *interp = PB_ANIM_LINEAR;
@@ -519,12 +497,12 @@ static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].samplers[%zu].interpolation: '%s' is not LINEAR, STEP or CUBICSPLINE",
                    L->path, ai, si, ip);
   snprintf(w, sizeof w, "animations[%zu].samplers[%zu].input", ai, si);
-  span in;
-  pb_result r = check_accessor(L, g->input, w, 1, float_only, &in);
+  pb_span in;
+  pb_result r = pb_accessor_check(L->path, L->doc, g->input, w, 1, float_only, &in);
   if (r != PB_OK) return r;
   float prev = 0;
   for (uint64_t k = 0; k < in.count; ++k) {
-    float v = read_f(&in, k, 0);
+    float v = pb_span_f(&in, k, 0);
     if (!isfinite(v)) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: time at key %llu is not finite", L->path, w, (unsigned long long)k);
     if (k > 0 && v < prev)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: times decrease at key %llu (%g after %g)", L->path, w, (unsigned long long)k,
@@ -544,30 +522,36 @@ static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp
  * pb_anim_sampler: output shape per path, count = keys (x3 for CUBICSPLINE),
  * every value finite. */
 static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t ai, size_t si, int interp, int path,
-                                      int *negative_scale) {
+                                      size_t weights, int *negative_scale) {
   pb_gltf_doc *d = L->doc;
   const pb_gltf_anim_sampler *g = &d->animations[ai].samplers[si];
-  static const int32_t float_only[] = {CT_FLOAT, 0};
-  static const int32_t rot_types[] = {CT_FLOAT, CT_BYTE, CT_UBYTE, CT_SHORT, CT_USHORT, 0};
-  int comps = path == PB_ANIM_ROTATION ? 4 : 3;
+  static const int32_t float_only[] = {PB_CT_FLOAT, 0};
+  static const int32_t norm_types[] = {PB_CT_FLOAT, PB_CT_BYTE, PB_CT_UBYTE, PB_CT_SHORT, PB_CT_USHORT, 0};
+  /* Weights: one SCALAR per target per key (glTF 2.0 5.6.2). */
+  int comps = path == PB_ANIM_ROTATION ? 4 : path == PB_ANIM_WEIGHTS ? (int)weights : 3;
   char wi[96], wo[128];
   snprintf(wi, sizeof wi, "animations[%zu].samplers[%zu].input", ai, si);
   snprintf(wo, sizeof wo, "animations[%zu].samplers[%zu].output (%s)", ai, si, anim_paths[path]);
-  span in, out;
-  pb_result r = check_accessor(L, g->input, wi, 1, float_only, &in);
-  if (r == PB_OK) r = check_accessor(L, g->output, wo, comps, path == PB_ANIM_ROTATION ? rot_types : float_only, &out);
+  pb_span in, out;
+  pb_result r = pb_accessor_check(L->path, L->doc, g->input, wi, 1, float_only, &in);
+  int normalizable = path == PB_ANIM_ROTATION || path == PB_ANIM_WEIGHTS;
+  if (r == PB_OK)
+    r = pb_accessor_check(L->path, L->doc, g->output, wo, path == PB_ANIM_WEIGHTS ? 1 : comps,
+                          normalizable ? norm_types : float_only, &out);
   if (r != PB_OK) return r;
-  if (out.ct != CT_FLOAT && !out.normalized)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer rotation keys must be normalized (%s)", L->path, g->output, wo);
-  uint64_t per = interp == PB_ANIM_CUBICSPLINE ? 3 : 1;
+  if (out.ct != PB_CT_FLOAT && !out.normalized)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer %s keys must be normalized (%s)", L->path, g->output,
+                   anim_paths[path], wo);
+  uint64_t per = (interp == PB_ANIM_CUBICSPLINE ? 3 : 1) * (path == PB_ANIM_WEIGHTS ? (uint64_t)comps : 1);
   if (out.count != in.count * per)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, %s with %llu keys needs %llu", L->path, wo,
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, %s with %llu keys%s needs %llu", L->path, wo,
                    g->output, (unsigned long long)out.count, interp == PB_ANIM_CUBICSPLINE ? "CUBICSPLINE" : "LINEAR/STEP",
-                   (unsigned long long)in.count, (unsigned long long)(in.count * per));
+                   (unsigned long long)in.count, path == PB_ANIM_WEIGHTS ? " for its node's morph targets" : "",
+                   (unsigned long long)(in.count * per));
   pb_anim_sampler *S = &a->samplers[a->sampler_count];
   memset(S, 0, sizeof *S);
   S->times = malloc((size_t)in.count * sizeof *S->times);
-  S->values = malloc((size_t)out.count * (size_t)comps * sizeof *S->values);
+  S->values = malloc((size_t)in.count * per * (size_t)(path == PB_ANIM_WEIGHTS ? 1 : comps) * sizeof *S->values);
   if (!S->times || !S->values) {
     free(S->times);
     free(S->values);
@@ -577,14 +561,16 @@ static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t
   S->key_count = (uint32_t)in.count;
   S->comps = comps;
   S->interp = interp;
-  for (uint64_t k = 0; k < in.count; ++k) S->times[k] = read_f(&in, k, 0);
+  for (uint64_t k = 0; k < in.count; ++k) S->times[k] = pb_span_f(&in, k, 0);
+  /* Weights arrive as scalars, `comps` per key (element): the same layout. */
+  int ec = path == PB_ANIM_WEIGHTS ? 1 : comps;
   for (uint64_t k = 0; k < out.count; ++k)
-    for (int c = 0; c < comps; ++c) {
-      float v = read_f(&out, k, c);
+    for (int c = 0; c < ec; ++c) {
+      float v = pb_span_f(&out, k, c);
       if (!isfinite(v))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: element %llu is not finite", L->path, wo, (unsigned long long)k);
       if (path == PB_ANIM_SCALE && (per == 1 || k % 3 == 1) && v < 0) *negative_scale = 1;
-      S->values[k * (uint64_t)comps + (uint64_t)c] = v;
+      S->values[k * (uint64_t)ec + (uint64_t)c] = v;
     }
   return PB_OK;
 }
@@ -599,7 +585,7 @@ static pb_result build_anim(loader *L) {
   if (!a) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
   L->anim = a; /* freed by pb_scene_load unless moved to the scene */
   /* Per node and path: which animation and channel drives it (1-based). */
-  size_t (*owner)[3][2] = calloc(d->node_count + 1, sizeof *owner);
+  size_t (*owner)[4][2] = calloc(d->node_count + 1, sizeof *owner);
   a->channels = calloc(nch + 1, sizeof *a->channels);
   a->samplers = calloc(nch + 1, sizeof *a->samplers);
   if (!owner || !a->channels || !a->samplers) {
@@ -621,9 +607,9 @@ static pb_result build_anim(loader *L) {
       }
       const char *ps = ch->path ? ch->path : "";
       int path = -1;
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < 4; ++k)
         if (strcmp(ps, anim_paths[k]) == 0) path = k;
-      if (path < 0 && strcmp(ps, "weights") != 0 && strcmp(ps, "pointer") != 0) {
+      if (path < 0 && strcmp(ps, "pointer") != 0) {
         r = pb_fail(PB_ERR_SCENE_INVALID, "%s: animations[%zu].channels[%zu].target.path: '%s' is not translation, rotation, scale or weights",
                     L->path, ai, ci, ps);
         break;
@@ -634,8 +620,7 @@ static pb_result build_anim(loader *L) {
         break;
       }
       if (path < 0) {
-        r = warn(L, "animations[%zu].channels[%zu]: '%s' channel ignored (morph targets and animation pointers are not animated)",
-                 ai, ci, ps);
+        r = warn(L, "animations[%zu].channels[%zu]: '%s' channel ignored (animation pointers are not animated)", ai, ci, ps);
         continue;
       }
       if (ch->target_node == -1) {
@@ -643,7 +628,12 @@ static pb_result build_anim(loader *L) {
         continue;
       }
       int32_t node = ch->target_node;
-      if (d->nodes[node].has_matrix) {
+      size_t targets = path == PB_ANIM_WEIGHTS ? node_targets(d, node) : 0;
+      if (path == PB_ANIM_WEIGHTS && !targets) {
+        r = warn(L, "animations[%zu].channels[%zu]: nodes[%d] draws no morph targets; 'weights' channel ignored", ai, ci, node);
+        continue;
+      }
+      if (path != PB_ANIM_WEIGHTS && d->nodes[node].has_matrix) {
         r = warn(L, "animations[%zu].channels[%zu]: nodes[%d] is given by a matrix, which glTF does not allow to animate; channel ignored",
                  ai, ci, node);
         continue;
@@ -661,7 +651,8 @@ static pb_result build_anim(loader *L) {
       own[0] = ai + 1;
       own[1] = ci + 1;
       uint32_t sidx = a->sampler_count;
-      if ((r = convert_anim_sampler(L, a, ai, (size_t)ch->sampler, interp[ch->sampler], path, &negative_scale)) != PB_OK) break;
+      if ((r = convert_anim_sampler(L, a, ai, (size_t)ch->sampler, interp[ch->sampler], path, targets, &negative_scale)) != PB_OK)
+        break;
       a->channels[a->channel_count++] = (pb_anim_channel){.sampler = sidx, .node = node, .path = path};
     }
     free(interp);
@@ -681,7 +672,11 @@ static pb_result build_anim(loader *L) {
   a->order = calloc(d->node_count + 1, sizeof *a->order);
   a->trs = calloc(d->node_count + 1, sizeof *a->trs);
   a->world = calloc(d->node_count + 1, sizeof *a->world);
-  if (!a->nodes || !a->order || !a->trs || !a->world) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  int comps = 4;
+  for (uint32_t i = 0; i < a->sampler_count; ++i)
+    if (a->samplers[i].comps > comps) comps = a->samplers[i].comps;
+  a->values = calloc((size_t)comps, sizeof *a->values);
+  if (!a->nodes || !a->order || !a->trs || !a->world || !a->values) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
   for (size_t i = 0; i < d->node_count; ++i) {
     const pb_gltf_node *n = &d->nodes[i];
     pb_anim_node *o = &a->nodes[i];
@@ -692,8 +687,25 @@ static pb_result build_anim(loader *L) {
     memcpy(o->r, n->rotation, sizeof o->r);
     memcpy(o->s, n->scale, sizeof o->s);
   }
-  /* A node with a channel is animated; visit() passes it down the tree. */
-  for (uint32_t i = 0; i < a->channel_count; ++i) a->nodes[a->channels[i].node].animated = 1;
+  /* A node with a translation, rotation or scale channel is animated, and
+   * so is every descendant: walk up from each node to the first one known
+   * (node_state as scratch: 0 unknown, 1 no, 2 yes; the graph is a forest,
+   * check_nodes). */
+  for (uint32_t i = 0; i < a->channel_count; ++i) {
+    pb_anim_node *o = &a->nodes[a->channels[i].node];
+    if (a->channels[i].path == PB_ANIM_WEIGHTS) o->weights_animated = 1;
+    else o->animated = 1;
+  }
+  uint8_t *st = L->node_state;
+  for (size_t i = 0; i < d->node_count; ++i) {
+    int32_t p = (int32_t)i;
+    while (p >= 0 && !st[p] && !a->nodes[p].animated) p = L->parent[p];
+    uint8_t v = p >= 0 && (a->nodes[p].animated || st[p] == 2) ? 2 : 1;
+    for (int32_t q = (int32_t)i; q >= 0 && q != p; q = L->parent[q]) st[q] = v;
+    if (p >= 0 && !st[p]) st[p] = v;
+  }
+  for (size_t i = 0; i < d->node_count; ++i) a->nodes[i].animated = st[i] == 2;
+  memset(st, 0, d->node_count); /* visit() starts from zero */
   return PB_OK;
 }
 
@@ -739,7 +751,7 @@ static pb_result anim_finish(loader *L, struct pb_scene_anim *a) {
  * edge), w reduced to its sign and flipped by a mirroring transform, since
  * the world normal keeps pointing out while cross(n, t) changes orientation.
  * A non-finite or collapsed tangent is left to pb_tangents_generate. */
-static pb_result store_tangent(loader *L, uint32_t dst, const span *tg, uint64_t src, const mat4 *M, int flip) {
+static pb_result store_tangent(loader *L, uint32_t dst, const pb_span *tg, uint64_t src, const mat4 *M, int flip) {
   if (dst >= L->tan_cap) {
     uint32_t old = L->tan_cap;
     pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, (uint64_t)dst + 1, sizeof *L->tan, "tangents");
@@ -749,8 +761,8 @@ static pb_result store_tangent(loader *L, uint32_t dst, const span *tg, uint64_t
     memset(q + old, 0, L->tan_cap - old);
     L->tan_given = q;
   }
-  double tl[3] = {read_f(tg, src, 0), read_f(tg, src, 1), read_f(tg, src, 2)}, tw[3];
-  float w = read_f(tg, src, 3);
+  double tl[3] = {pb_span_f(tg, src, 0), pb_span_f(tg, src, 1), pb_span_f(tg, src, 2)}, tw[3];
+  float w = pb_span_f(tg, src, 3);
   xform_dir(M, tl, tw);
   if (!isfinite(w) || !normalize3(tw)) return PB_OK;
   for (int k = 0; k < 3; ++k) L->tan[dst][k] = (float)tw[k];
@@ -793,20 +805,139 @@ static void mesh_bounds(loader *L, int32_t mesh, double bmin[3], double bmax[3])
       for (int k = 0; k < 3; ++k) bmin[k] = fmin(bmin[k], acc->min[k]), bmax[k] = fmax(bmax[k], acc->max[k]);
       continue;
     }
-    static const int32_t float_only[] = {CT_FLOAT, 0};
-    span sp;
-    if (check_accessor(L, a, "POSITION", 3, float_only, &sp) != PB_OK) {
+    static const int32_t float_only[] = {PB_CT_FLOAT, 0};
+    pb_span sp;
+    if (pb_accessor_check(L->path, L->doc, a, "POSITION", 3, float_only, &sp) != PB_OK) {
       pb_error_clear(); /* add_primitive reports it */
       continue;
     }
-    for (uint64_t i = 0; sp.base && i < sp.count; ++i)
+    for (uint64_t i = 0; pb_span_has_data(&sp) && i < sp.count; ++i)
       for (int k = 0; k < 3; ++k) {
-        double v = read_f(&sp, i, k);
+        double v = pb_span_f(&sp, i, k);
         if (isfinite(v)) bmin[k] = fmin(bmin[k], v), bmax[k] = fmax(bmax[k], v);
       }
   }
   for (int k = 0; k < 3; ++k)
     if (!(bmin[k] <= bmax[k])) bmin[k] = bmax[k] = 0.0;
+}
+
+/* Whether any texture of m (a Blender material's input textures included)
+ * reads uv set 1. */
+static int reads_uv1(const pb_scene *s, const pb_material *m) {
+  int32_t t[4 + 1 + PB_IN_COUNT] = {m->base_color_tex, m->metallic_roughness_tex, m->emissive_tex, m->normal_tex};
+  int n = 4;
+  if (m->blender.model != PB_MODEL_GLTF) { /* the zeroed struct holds no texture */
+    t[n++] = m->blender.subsurface_color_tex;
+    for (int in = 0; in < PB_IN_COUNT; ++in) t[n++] = m->blender.input_tex[in].tex;
+  }
+  for (int k = 0; k < n; ++k)
+    if (t[k] >= 0 && (uint32_t)t[k] < s->texture_count && s->textures[t[k]].texcoord == 1) return 1;
+  return 0;
+}
+
+/* A vertex attribute of meshes[mesh].primitives[pi] named `name`:
+ * `comps` components of the allowed types (integers normalized), with
+ * POSITION's count. */
+static pb_result check_attribute(loader *L, int32_t mesh, size_t pi, const char *name, int32_t acc, int comps,
+                                 const int32_t *types, uint64_t count, pb_span *out) {
+  char w[128];
+  snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.%s", mesh, pi, name);
+  pb_result r = pb_accessor_check(L->path, L->doc, acc, w, comps, types, out);
+  if (r != PB_OK) return r;
+  if (out->ct != PB_CT_FLOAT && !out->normalized)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer %s must be normalized", L->path, acc, name);
+  if (out->count != count)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w, acc,
+                   (unsigned long long)out->count, (unsigned long long)count);
+  return PB_OK;
+}
+
+/* What one primitive instance writes per vertex (add_primitive). */
+typedef struct prim_src {
+  pb_span pos, nrm, uv, uv1, col, tng;
+  int has_n, has_uv, has_uv1, has_col, use_t;
+  const mat4 *M;        /* vertices are written through it (identity for a
+                           deformed instance, which pb_deform_pose poses) */
+  double N[9];          /* its normal matrix */
+  int flip;
+  struct pb_scene_anim *an; /* rigid animation: local vertices kept */
+  uint32_t local, base;
+  uint32_t *src_of;     /* deformed: scene vertex - base -> source vertex */
+  int radial;           /* the material needs Cycles' default anisotropy
+                           tangent (pb_blender_needs_tangent) ... */
+  double bmin[3], bmax[3]; /* ... over the mesh's local bounds */
+} prim_src;
+
+/* Grows a per-vertex array of the scene that exists only once some
+ * primitive has the attribute: `*arr` NULL until then; the vertices before
+ * it get `fill`. */
+static pb_result vertex_attr(loader *L, void **arr, size_t comps, const float *fill, int present) {
+  pb_scene *s = L->s;
+  if (!*arr && !present) return PB_OK;
+  int fresh = !*arr;
+  float *q = realloc(*arr, (size_t)L->vertex_cap * comps * sizeof *q);
+  if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+  *arr = q;
+  if (fresh)
+    for (uint32_t v = 0; v < s->vertex_count; ++v) memcpy(q + (size_t)v * comps, fill, comps * sizeof *fill);
+  return PB_OK;
+}
+
+/* Scene vertex `dst` from source element `i`. World position and normal
+ * come from the caller (the flat path computes the face normal). */
+static pb_result emit_vertex(loader *L, prim_src *P, uint32_t dst, uint64_t i, const double pw[3], const double nw[3],
+                             const double pl[3], const double nl[3]) {
+  pb_scene *s = L->s;
+  static const float white[4] = {1, 1, 1, 1};
+  for (int c = 0; c < 3; ++c) s->positions[dst][c] = (float)pw[c], s->normals[dst][c] = (float)nw[c];
+  if (P->an)
+    for (int c = 0; c < 3; ++c)
+      P->an->local_pos[P->local + (dst - P->base)][c] = (float)pl[c], P->an->local_nrm[P->local + (dst - P->base)][c] = (float)nl[c];
+  float *U = s->uvs[dst];
+  U[0] = P->has_uv ? pb_span_f(&P->uv, i, 0) : 0.0f;
+  U[1] = P->has_uv ? pb_span_f(&P->uv, i, 1) : 0.0f;
+  if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
+  if (s->uvs1) {
+    float *U1 = s->uvs1[dst];
+    U1[0] = P->has_uv1 ? pb_span_f(&P->uv1, i, 0) : 0.0f;
+    U1[1] = P->has_uv1 ? pb_span_f(&P->uv1, i, 1) : 0.0f;
+    if (!isfinite(U1[0]) || !isfinite(U1[1])) U1[0] = U1[1] = 0;
+  }
+  if (s->colors) {
+    /* COLOR_0 (glTF 2.0 3.7.2.1): linear RGB or RGBA, alpha 1 for VEC3;
+     * clamped to [0, 1] (float colours may stray; a base colour is a
+     * reflectance). */
+    float *C = s->colors[dst];
+    memcpy(C, white, sizeof white);
+    if (P->has_col)
+      for (int c = 0; c < (P->col.elem / pb_component_size(P->col.ct) == 4 ? 4 : 3); ++c) {
+        float x = pb_span_f(&P->col, i, c);
+        C[c] = isfinite(x) ? (x < 0 ? 0 : x > 1 ? 1 : x) : 0;
+      }
+  }
+  if (P->src_of) P->src_of[dst - P->base] = (uint32_t)i;
+  if (P->use_t && !P->src_of) return store_tangent(L, dst, &P->tng, i, P->M, P->flip);
+  if (P->radial && !P->src_of) return store_radial_tangent(L, dst, pl, P->bmin, P->bmax, P->N);
+  return PB_OK;
+}
+
+/* A deformed instance's range (deform.c keeps it), posed once with the
+ * file's transforms and weights; the file's tangents go to the loader's
+ * TANGENT table (finish_tangents keeps them). */
+static pb_result deform_add(loader *L, int32_t node, const pb_deform_src *D, const prim_src *P, uint32_t tri_base) {
+  pb_scene *s = L->s;
+  pb_deform_range *R = NULL;
+  pb_result r = pb_deform_add_range(L->path, &L->deform, D, node, P->src_of, P->base, s->vertex_count - P->base, tri_base,
+                                    s->triangle_count - tri_base, !P->has_n, &R);
+  if (r != PB_OK || !R) return r;
+  if (R->tan) {
+    if ((r = grow(L, (void **)&L->tan, &L->tan_cap, s->vertex_count, sizeof *L->tan, "tangents")) != PB_OK) return r;
+    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
+    L->tan_given = q;
+    memset(q + P->base, 1, R->vertex_count);
+  }
+  return pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN);
 }
 
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
@@ -819,47 +950,44 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     const char *mn = p->mode >= 0 && p->mode <= 6 ? mode_names[p->mode] : "unknown";
     return warn(L, "meshes[%d].primitives[%zu]: mode %d (%s) skipped: only triangles are rendered", mesh, pi, p->mode, mn);
   }
-  if (p->has_targets && (r = warn(L, "meshes[%d].primitives[%zu]: morph targets ignored", mesh, pi)) != PB_OK) return r;
   if (p->position == -1)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: meshes[%d].primitives[%zu].attributes: no POSITION", L->path, mesh, pi);
-  static const int32_t float_only[] = {CT_FLOAT, 0};
-  static const int32_t uv_types[] = {CT_FLOAT, CT_UBYTE, CT_USHORT, 0};
-  static const int32_t index_types[] = {CT_UBYTE, CT_USHORT, CT_UINT, 0};
-  span pos, nrm, uv, idx;
+  static const int32_t float_only[] = {PB_CT_FLOAT, 0};
+  static const int32_t uv_types[] = {PB_CT_FLOAT, PB_CT_UBYTE, PB_CT_USHORT, 0};
+  static const int32_t index_types[] = {PB_CT_UBYTE, PB_CT_USHORT, PB_CT_UINT, 0};
+  prim_src P;
+  memset(&P, 0, sizeof P);
+  pb_span idx;
   snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.POSITION", mesh, pi);
-  if ((r = check_accessor(L, p->position, w, 3, float_only, &pos)) != PB_OK) return r;
-  int has_n = p->normal != -1, has_uv = p->texcoord0 != -1, indexed = p->indices != -1;
-  if (has_n) {
-    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.NORMAL", mesh, pi);
-    if ((r = check_accessor(L, p->normal, w, 3, float_only, &nrm)) != PB_OK) return r;
-    if (nrm.count != pos.count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
-                     p->normal, (unsigned long long)nrm.count, (unsigned long long)pos.count);
+  if ((r = pb_accessor_check(L->path, L->doc, p->position, w, 3, float_only, &P.pos)) != PB_OK) return r;
+  uint64_t count = P.pos.count;
+  int indexed = p->indices != -1;
+  P.has_n = p->normal != -1, P.has_uv = p->texcoord0 != -1;
+  if (P.has_n && (r = check_attribute(L, mesh, pi, "NORMAL", p->normal, 3, float_only, count, &P.nrm)) != PB_OK) return r;
+  if (P.has_uv && (r = check_attribute(L, mesh, pi, "TEXCOORD_0", p->texcoord0, 2, uv_types, count, &P.uv)) != PB_OK)
+    return r;
+  /* TEXCOORD_1: checked whenever present, kept only when a texture reads
+   * uv set 1. */
+  if (p->texcoord1 != -1) {
+    if ((r = check_attribute(L, mesh, pi, "TEXCOORD_1", p->texcoord1, 2, uv_types, count, &P.uv1)) != PB_OK) return r;
+    P.has_uv1 = L->need_uv1;
   }
-  if (has_uv) {
-    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TEXCOORD_0", mesh, pi);
-    if ((r = check_accessor(L, p->texcoord0, w, 2, uv_types, &uv)) != PB_OK) return r;
-    if (uv.ct != CT_FLOAT && !uv.normalized)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: integer TEXCOORD_0 must be normalized", L->path, p->texcoord0);
-    if (uv.count != pos.count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
-                     p->texcoord0, (unsigned long long)uv.count, (unsigned long long)pos.count);
+  /* COLOR_0 (glTF 2.0 3.7.2.1): VEC3 or VEC4, float or normalized UBYTE /
+   * USHORT. */
+  if (p->color0 != -1) {
+    int32_t ca = p->color0;
+    int comps = ca >= 0 && (size_t)ca < d->accessor_count && d->accessors[ca].components == 3 ? 3 : 4;
+    if ((r = check_attribute(L, mesh, pi, "COLOR_0", ca, comps, uv_types, count, &P.col)) != PB_OK) return r;
+    P.has_col = 1;
   }
   /* TANGENT (glTF 2.0 3.7.2.1: VEC4 float, w = +-1 the handedness): checked
    * whenever present, read only for a normal-mapped material. */
-  span tng = {0};
   int has_t = p->tangent != -1;
-  if (has_t) {
-    snprintf(w, sizeof w, "meshes[%d].primitives[%zu].attributes.TANGENT", mesh, pi);
-    if ((r = check_accessor(L, p->tangent, w, 4, float_only, &tng)) != PB_OK) return r;
-    if (tng.count != pos.count)
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: accessor %d has %llu elements, POSITION has %llu", L->path, w,
-                     p->tangent, (unsigned long long)tng.count, (unsigned long long)pos.count);
-  }
-  uint64_t nidx = pos.count;
+  if (has_t && (r = check_attribute(L, mesh, pi, "TANGENT", p->tangent, 4, float_only, count, &P.tng)) != PB_OK) return r;
+  uint64_t nidx = count;
   if (indexed) {
     snprintf(w, sizeof w, "meshes[%d].primitives[%zu].indices", mesh, pi);
-    if ((r = check_accessor(L, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
+    if ((r = pb_accessor_check(L->path, L->doc, p->indices, w, 1, index_types, &idx)) != PB_OK) return r;
     nidx = idx.count;
   }
   int32_t mat;
@@ -871,11 +999,27 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   } else {
     mat = default_material(L);
   }
-  int use_t = has_t && tng.base && mat >= 0 && (uint32_t)mat < s->material_count &&
-              s->materials[mat].normal_tex >= 0;
-  int radial = mat >= 0 && (uint32_t)mat < s->material_count && pb_blender_needs_tangent(&s->materials[mat]);
-  double bmin[3] = {0, 0, 0}, bmax[3] = {0, 0, 0};
-  if (radial) mesh_bounds(L, mesh, bmin, bmax);
+  P.use_t = has_t && pb_span_has_data(&P.tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
+            s->materials[mat].normal_tex >= 0;
+  P.radial = mat >= 0 && (uint32_t)mat < s->material_count && pb_blender_needs_tangent(&s->materials[mat]);
+  if (P.radial) mesh_bounds(L, mesh, P.bmin, P.bmax);
+  if (p->texcoord1 == -1 && reads_uv1(s, &s->materials[mat]) &&
+      (r = warn(L, "meshes[%d].primitives[%zu]: its material reads TEXCOORD_1, which the primitive lacks: (0, 0) is used",
+                mesh, pi)) != PB_OK)
+    return r;
+  if (p->variant_mapping_count &&
+      (r = warn(L, "meshes[%d].primitives[%zu]: KHR_materials_variants: %zu variant mapping(s); the default material is shown",
+                mesh, pi, p->variant_mapping_count)) != PB_OK)
+    return r;
+
+  /* Skin and morph targets (deform.h). */
+  int32_t skin = d->nodes[node].skin;
+  int skinned = skin >= 0 && (p->joint_set_count || p->weight_set_count);
+  if (skin >= 0 && !skinned &&
+      (r = warn(L, "nodes[%d]: skins[%d], but meshes[%d].primitives[%zu] has no JOINTS_0 / WEIGHTS_0: drawn with the node's transform",
+                node, skin, mesh, pi)) != PB_OK)
+    return r;
+  int deformed = skinned || p->target_count;
 
   /* Triangle list from the mode. Limits come before any per-element work:
    * an accessor without a bufferView costs the file nothing per element. */
@@ -885,7 +1029,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
                    pi, (unsigned long long)L->desc->max_triangles);
   /* Flat normals (the glTF rule when NORMAL is absent) need 3 vertices per
    * triangle; otherwise the accessor's vertices are shared. */
-  uint64_t nverts = has_n ? pos.count : ntri * 3;
+  uint64_t nverts = P.has_n ? count : ntri * 3;
   if ((uint64_t)s->vertex_count + nverts > 3 * L->desc->max_triangles)
     return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: %llu vertices is over the limit of %llu in the scene",
                    L->path, mesh, pi, (unsigned long long)nverts, (unsigned long long)(3 * L->desc->max_triangles));
@@ -894,68 +1038,88 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
    * positions or zero indices make every triangle degenerate. Within the
    * limits such a primitive is skipped before any per-element work or
    * allocation. */
-  if (!pos.base || (indexed && !idx.base))
+  if (!pb_span_has_data(&P.pos) || (indexed && !pb_span_has_data(&idx)))
     return warn(L, "meshes[%d].primitives[%zu]: %s has no bufferView (all zeros): primitive skipped", mesh, pi,
-                !pos.base ? "POSITION" : "indices");
+                !pb_span_has_data(&P.pos) ? "POSITION" : "indices");
 
   /* Vertex positions: all finite, checked once per accessor element. */
-  for (uint64_t i = 0; pos.base && i < pos.count; ++i)
+  for (uint64_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c)
-      if (!isfinite(read_f(&pos, i, c)))
+      if (!isfinite(pb_span_f(&P.pos, i, c)))
         return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: POSITION element %llu is not finite (%g)", L->path,
-                       p->position, (unsigned long long)i, (double)read_f(&pos, i, c));
+                       p->position, (unsigned long long)i, (double)pb_span_f(&P.pos, i, c));
   if (p->mode == MODE_TRIANGLES && nidx % 3 &&
       (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
                 (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
     return r;
-  if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK) return r;
+  pb_deform_src D;
+  memset(&D, 0, sizeof D);
+  if (deformed && (r = pb_deform_read(L->path, d, s, &L->deform, mesh, pi, skinned ? skin : -1, &P.pos,
+                                      P.has_n ? &P.nrm : NULL, P.use_t ? &P.tng : NULL, &D)) != PB_OK)
+    goto done;
+  if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK)
+    goto done;
   uint32_t vcap = L->vertex_cap;
   void *q1 = realloc(s->normals, (size_t)vcap * sizeof *s->normals);
   if (q1) s->normals = q1;
   void *q2 = q1 ? realloc(s->uvs, (size_t)vcap * sizeof *s->uvs) : NULL;
   if (q2) s->uvs = q2;
-  if (!q1 || !q2) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+  if (!q1 || !q2) {
+    r = pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
+    goto done;
+  }
+  static const float zero2[2] = {0, 0}, white[4] = {1, 1, 1, 1};
+  if ((r = vertex_attr(L, (void **)&s->uvs1, 2, zero2, P.has_uv1)) != PB_OK) goto done;
+  if ((r = vertex_attr(L, (void **)&s->colors, 4, white, P.has_col)) != PB_OK) goto done;
   uint32_t tcap = L->triangle_cap;
-  if ((r = grow(L, (void **)&s->triangles, &L->triangle_cap, (uint64_t)s->triangle_count + ntri, sizeof *s->triangles, "triangles")) != PB_OK) return r;
+  if ((r = grow(L, (void **)&s->triangles, &L->triangle_cap, (uint64_t)s->triangle_count + ntri, sizeof *s->triangles, "triangles")) != PB_OK)
+    goto done;
   if (L->triangle_cap != tcap) {
     void *q = realloc(s->triangle_material, (size_t)L->triangle_cap * sizeof *s->triangle_material);
-    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for triangles", L->path);
+    if (!q) {
+      r = pb_fail(PB_ERR_NOMEM, "%s: out of memory for triangles", L->path);
+      goto done;
+    }
     s->triangle_material = q;
   }
 
-  /* Under an animated node the local-space vertices are kept for posing. */
-  struct pb_scene_anim *an = L->anim && L->anim->nodes[node].animated ? L->anim : NULL;
-  uint32_t local = 0;
-  if (an) {
-    if ((r = anim_reserve(L, an, nverts)) != PB_OK) return r;
-    local = an->local_count;
+  /* Under an animated node the local-space vertices of a rigid instance are
+   * kept for posing (anim.h); a deformed one keeps its own (deform.h) and is
+   * written in mesh space here, then posed. */
+  mat4 I;
+  memset(&I, 0, sizeof I);
+  I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
+  P.M = deformed ? &I : M;
+  P.an = !deformed && L->anim && L->anim->nodes[node].animated ? L->anim : NULL;
+  if (P.an) {
+    if ((r = anim_reserve(L, P.an, nverts)) != PB_OK) goto done;
+    P.local = P.an->local_count;
   }
-  int flip = det3(M) < 0; /* a mirroring transform reverses the winding */
-  double N[9];
-  normal_matrix(M, N);
-  uint32_t base = s->vertex_count, tri_base = s->triangle_count;
+  if (deformed && !(P.src_of = malloc((size_t)(nverts ? nverts : 1) * sizeof *P.src_of))) {
+    r = pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    goto done;
+  }
+  /* A mirroring transform reverses the winding. */
+  P.flip = skinned ? pb_deform_src_mirrors(&L->deform, &D, node, &L->world[node]) : det3(M) < 0;
+  normal_matrix(P.M, P.N);
+  P.base = s->vertex_count;
+  uint32_t tri_base = s->triangle_count;
   uint64_t dropped = 0;
-  if (has_n) {
-    for (uint64_t i = 0; i < pos.count; ++i) {
-      double pl[3] = {read_f(&pos, i, 0), read_f(&pos, i, 1), read_f(&pos, i, 2)}, pw[3];
-      xform_point(M, pl, pw);
-      if (!fits_float3(pw))
-        return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %llu out of float range",
-                       L->path, node, p->position, (unsigned long long)i);
-      double nl[3] = {read_f(&nrm, i, 0), read_f(&nrm, i, 1), read_f(&nrm, i, 2)}, nw[3];
-      for (int rr = 0; rr < 3; ++rr) nw[rr] = N[rr] * nl[0] + N[3 + rr] * nl[1] + N[6 + rr] * nl[2];
+  if (P.has_n) {
+    for (uint64_t i = 0; i < count; ++i) {
+      double pl[3] = {pb_span_f(&P.pos, i, 0), pb_span_f(&P.pos, i, 1), pb_span_f(&P.pos, i, 2)}, pw[3];
+      xform_point(P.M, pl, pw);
+      if (!fits_float3(pw)) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %llu out of float range",
+                    L->path, node, p->position, (unsigned long long)i);
+        goto done;
+      }
+      double nl[3] = {pb_span_f(&P.nrm, i, 0), pb_span_f(&P.nrm, i, 1), pb_span_f(&P.nrm, i, 2)}, nw[3];
+      for (int rr = 0; rr < 3; ++rr) nw[rr] = P.N[rr] * nl[0] + P.N[3 + rr] * nl[1] + P.N[6 + rr] * nl[2];
       if (!normalize3(nw)) nw[0] = nw[1] = 0, nw[2] = 0; /* fixed below from the face */
-      float *P = s->positions[base + i], *Nn = s->normals[base + i], *U = s->uvs[base + i];
-      for (int c = 0; c < 3; ++c) P[c] = (float)pw[c], Nn[c] = (float)nw[c];
-      if (an)
-        for (int c = 0; c < 3; ++c) an->local_pos[local + i][c] = (float)pl[c], an->local_nrm[local + i][c] = (float)nl[c];
-      U[0] = has_uv ? read_f(&uv, i, 0) : 0.0f;
-      U[1] = has_uv ? read_f(&uv, i, 1) : 0.0f;
-      if (!isfinite(U[0]) || !isfinite(U[1])) U[0] = U[1] = 0;
-      if (use_t && (r = store_tangent(L, base + (uint32_t)i, &tng, i, M, flip)) != PB_OK) return r;
-      if (radial && (r = store_radial_tangent(L, base + (uint32_t)i, pl, bmin, bmax, N)) != PB_OK) return r;
+      if ((r = emit_vertex(L, &P, P.base + (uint32_t)i, i, pw, nw, pl, nl)) != PB_OK) goto done;
     }
-    s->vertex_count += (uint32_t)pos.count;
+    s->vertex_count += (uint32_t)count;
   }
   for (uint64_t t = 0; t < ntri; ++t) {
     uint64_t k[3];
@@ -964,48 +1128,45 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     else k[0] = t + 1, k[1] = t + 2, k[2] = 0;
     uint32_t v[3];
     for (int c = 0; c < 3; ++c) {
-      uint64_t vi = indexed ? read_index(&idx, k[c]) : k[c];
-      if (vi >= pos.count)
-        return pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
-                       L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)pos.count);
+      uint64_t vi = indexed ? pb_span_u(&idx, k[c], 0) : k[c];
+      if (vi >= count) {
+        r = pb_fail(PB_ERR_SCENE_INVALID, "%s: accessors[%d]: index %llu at element %llu is out of range (%llu vertices)",
+                    L->path, p->indices, (unsigned long long)vi, (unsigned long long)k[c], (unsigned long long)count);
+        goto done;
+      }
       v[c] = (uint32_t)vi;
     }
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
       dropped++;
       continue;
     }
-    if (flip) {
+    if (P.flip) {
       uint32_t tmp = v[1];
       v[1] = v[2];
       v[2] = tmp;
     }
     uint32_t out[3];
-    if (has_n) {
-      for (int c = 0; c < 3; ++c) out[c] = base + v[c];
+    if (P.has_n) {
+      for (int c = 0; c < 3; ++c) out[c] = P.base + v[c];
     } else {
-      double pw[3][3];
+      double pl[3][3], pw[3][3];
       for (int c = 0; c < 3; ++c) {
-        double pl[3] = {read_f(&pos, v[c], 0), read_f(&pos, v[c], 1), read_f(&pos, v[c], 2)};
-        xform_point(M, pl, pw[c]);
-        if (!fits_float3(pw[c]))
-          return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %u out of float range",
-                         L->path, node, p->position, v[c]);
+        for (int a = 0; a < 3; ++a) pl[c][a] = pb_span_f(&P.pos, v[c], a);
+        xform_point(P.M, pl[c], pw[c]);
+        if (!fits_float3(pw[c])) {
+          r = pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform takes accessors[%d] POSITION element %u out of float range",
+                      L->path, node, p->position, v[c]);
+          goto done;
+        }
       }
       double e1[3] = {pw[1][0] - pw[0][0], pw[1][1] - pw[0][1], pw[1][2] - pw[0][2]};
       double e2[3] = {pw[2][0] - pw[0][0], pw[2][1] - pw[0][1], pw[2][2] - pw[0][2]};
       double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       if (!normalize3(fn)) fn[0] = 0, fn[1] = 0, fn[2] = 1; /* zero area: any unit normal */
+      static const double none[3] = {0, 0, 0};
       for (int c = 0; c < 3; ++c) {
         uint32_t o = s->vertex_count++;
-        for (int a = 0; a < 3; ++a) s->positions[o][a] = (float)pw[c][a], s->normals[o][a] = (float)fn[a];
-        if (an)
-          for (int a = 0; a < 3; ++a)
-            an->local_pos[local + (o - base)][a] = read_f(&pos, v[c], a), an->local_nrm[local + (o - base)][a] = 0;
-        s->uvs[o][0] = has_uv ? read_f(&uv, v[c], 0) : 0.0f;
-        s->uvs[o][1] = has_uv ? read_f(&uv, v[c], 1) : 0.0f;
-        if (use_t && (r = store_tangent(L, o, &tng, v[c], M, flip)) != PB_OK) return r;
-        double pl[3] = {read_f(&pos, v[c], 0), read_f(&pos, v[c], 1), read_f(&pos, v[c], 2)};
-        if (radial && (r = store_radial_tangent(L, o, pl, bmin, bmax, N)) != PB_OK) return r;
+        if ((r = emit_vertex(L, &P, o, v[c], pw[c], fn, pl[c], none)) != PB_OK) goto done;
         out[c] = o;
       }
     }
@@ -1015,7 +1176,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   }
   /* Zero normals in the file (or collapsed by a degenerate transform): use the
    * face normal of a triangle that uses the vertex. */
-  if (has_n)
+  if (P.has_n)
     for (uint32_t t = tri_base; t < s->triangle_count; ++t)
       for (int c = 0; c < 3; ++c) {
         uint32_t vi = s->triangles[t][c];
@@ -1029,23 +1190,31 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
           for (int a2 = 0; a2 < 3; ++a2) Nn[a2] = (float)fn[a2];
         }
       }
-  if (an && s->vertex_count > base) {
+  struct pb_scene_anim *an = P.an;
+  if (an && s->vertex_count > P.base) {
     if (an->range_count == an->range_cap) {
       uint32_t c = an->range_cap ? 2 * an->range_cap : 16;
       void *q = realloc(an->ranges, (size_t)c * sizeof *an->ranges);
-      if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+      if (!q) {
+        r = pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+        goto done;
+      }
       an->ranges = q;
       an->range_cap = c;
     }
-    an->ranges[an->range_count++] = (pb_anim_range){.node = node, .first_vertex = base, .vertex_count = s->vertex_count - base,
+    an->ranges[an->range_count++] = (pb_anim_range){.node = node, .first_vertex = P.base, .vertex_count = s->vertex_count - P.base,
                                                     .first_tri = tri_base, .tri_count = s->triangle_count - tri_base,
-                                                    .local = local, .flat = !has_n};
-    an->local_count += s->vertex_count - base;
+                                                    .local = P.local, .flat = !P.has_n};
+    an->local_count += s->vertex_count - P.base;
   }
+  if (deformed && (r = deform_add(L, node, &D, &P, tri_base)) != PB_OK) goto done;
   if (dropped)
-    return warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
-                (unsigned long long)dropped);
-  return PB_OK;
+    r = warn(L, "meshes[%d].primitives[%zu]: %llu degenerate triangles (repeated index) dropped", mesh, pi,
+             (unsigned long long)dropped);
+done:
+  pb_deform_src_free(&D);
+  free(P.src_of);
+  return r;
 }
 
 /* ---- cameras and lights -------------------------------------------------- */
@@ -1057,18 +1226,12 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].camera: %d does not exist (%zu cameras)", L->path, node, ci,
                    d->camera_count);
   const pb_gltf_camera *c = &d->cameras[ci];
-  if (!c->perspective)
-    return warn(L, "cameras[%d]: type '%s' skipped: only perspective cameras are supported", ci, c->type);
-  if (!(c->yfov > 0 && c->yfov < M_PI))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.yfov: %g is not in (0, pi)", L->path, ci, c->yfov);
-  if (!(c->znear > 0) || !fits_float(c->znear))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.znear: %g is not positive", L->path, ci, c->znear);
-  if (c->zfar != 0 && !(c->zfar > c->znear && fits_float(c->zfar)))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.zfar: %g is not above znear (%g)", L->path, ci, c->zfar,
-                   c->znear);
-  if (c->aspect_ratio < 0 || !fits_float(c->aspect_ratio))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: cameras[%d].perspective.aspectRatio: %g is not positive", L->path, ci,
-                   c->aspect_ratio);
+  if (!c->perspective && !c->orthographic && !c->blender.present)
+    return warn(L, "cameras[%d]: type '%s' skipped: only perspective and orthographic cameras are supported", ci,
+                c->type);
+  pb_camera proj;
+  pb_result r = pb_camera_projection_from_gltf(L->path, ci, c, &proj);
+  if (r != PB_OK) return r;
   double o[3] = {0, 0, 0}, pos[3], f[3], u[3];
   double fz[3] = {0, 0, -1}, uy[3] = {0, 1, 0};
   xform_point(M, o, pos);
@@ -1085,20 +1248,16 @@ static pb_result add_camera(loader *L, int32_t node, const mat4 *M) {
   if (!normalize3(u))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: camera transform is degenerate", L->path, node);
   pb_scene *s = L->s;
-  pb_result r = grow(L, (void **)&s->cameras, &L->camera_cap, (uint64_t)s->camera_count + 1, sizeof *s->cameras, "cameras");
+  r = grow(L, (void **)&s->cameras, &L->camera_cap, (uint64_t)s->camera_count + 1, sizeof *s->cameras, "cameras");
   if (r != PB_OK) return r;
   pb_camera *cam = &s->cameras[s->camera_count++];
-  memset(cam, 0, sizeof *cam);
+  *cam = proj;
   copy_name(cam->name, d->nodes[node].name, c->name);
   if (!cam->name[0]) snprintf(cam->name, PB_NAME_MAX, "cameras[%d]", ci);
   for (int k = 0; k < 3; ++k) cam->position[k] = (float)pos[k], cam->forward[k] = (float)f[k], cam->up[k] = (float)u[k];
   cam->right[0] = (float)(f[1] * u[2] - f[2] * u[1]);
   cam->right[1] = (float)(f[2] * u[0] - f[0] * u[2]);
   cam->right[2] = (float)(f[0] * u[1] - f[1] * u[0]);
-  cam->yfov = (float)c->yfov;
-  cam->aspect = (float)c->aspect_ratio;
-  cam->znear = (float)c->znear;
-  cam->zfar = (float)c->zfar;
   return PB_OK;
 }
 
@@ -1127,10 +1286,20 @@ static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
                      L->path, li, k, g->color[k]);
   if (!fits_float(g->range) || g->range < 0)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].range: %g is not a non-negative float", L->path, li, g->range);
-  if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone < g->outer_cone && g->outer_cone <= M_PI / 2 + 1e-6))
+  if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone <= g->outer_cone && g->outer_cone > 0 &&
+                                 g->outer_cone <= M_PI / 2 + 1e-6))
     return pb_fail(PB_ERR_SCENE_INVALID,
                    "%s: extensions.KHR_lights_punctual.lights[%d].spot: need 0 <= innerConeAngle (%g) < outerConeAngle (%g) <= pi/2",
                    L->path, li, g->inner_cone, g->outer_cone);
+  /* Blender writes a spot of blend 0 as innerConeAngle = outerConeAngle
+   * (inner = outer (1 - blend)), which glTF's schema forbids (inner <
+   * outer) but which means what Cycles draws: a hard-edged cone. Every
+   * renderer's falloff is a step when the two are equal (pb_spot_falloff). */
+  pb_result wr;
+  if (type == PB_LIGHT_SPOT && g->inner_cone == g->outer_cone &&
+      (wr = warn(L, "extensions.KHR_lights_punctual.lights[%d].spot: innerConeAngle = outerConeAngle (%g, Blender's spot blend 0): a hard-edged spot",
+                 li, g->outer_cone)) != PB_OK)
+    return wr;
   double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
   xform_point(M, o, pos);
   xform_dir(M, fz, dir);
@@ -1218,17 +1387,17 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
   L->node_state[node] = 1;
   const pb_gltf_node *n = &d->nodes[node];
   struct pb_scene_anim *an = L->anim;
-  if (an) {
-    an->order[an->order_count++] = node;
-    int32_t p = an->nodes[node].parent;
-    if (p >= 0 && an->nodes[p].animated) an->nodes[node].animated = 1;
-  }
+  if (an) an->order[an->order_count++] = node;
   mat4 local = node_local(n);
   mat4 M = mat_mul(parent, &local);
   if (!finite_mat(&M))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: transform is not finite", L->path, node);
   pb_result r = PB_OK;
-  if (n->skin >= 0 && (r = warn(L, "nodes[%d]: skinning ignored (rendered in bind pose)", node)) != PB_OK) return r;
+  if (n->skin != -1 && (n->skin < 0 || (size_t)n->skin >= d->skin_count))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].skin: %d does not exist (%zu skins)", L->path, node, n->skin, d->skin_count);
+  if (n->skin >= 0 && n->mesh == -1 &&
+      (r = warn(L, "nodes[%d]: skin %d but no mesh; the skin is unused", node, n->skin)) != PB_OK)
+    return r;
   if (n->mesh != -1) {
     if (n->mesh < 0 || (size_t)n->mesh >= d->mesh_count)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d].mesh: %d does not exist (%zu meshes)", L->path, node, n->mesh,
@@ -1238,7 +1407,20 @@ static pb_result visit(loader *L, int32_t node, const mat4 *parent, int depth) {
   }
   uint32_t nc = L->s->camera_count, nl = L->s->light_count;
   if (n->camera != -1 && (r = add_camera(L, node, &M)) != PB_OK) return r;
-  if (n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
+  /* PHOTONBRIDGE_blender's light replaces the node's KHR_lights_punctual
+   * approximation of it (never both: no light counted twice). */
+  int blender_light = 0;
+  if (n->blender) {
+    pb_light bl;
+    if ((r = pb_blender_read_light(L->path, node, n->name, n->blender, &M, &bl, &blender_light)) != PB_OK) return r;
+    if (blender_light) {
+      if ((r = grow(L, (void **)&L->s->lights, &L->light_cap, (uint64_t)L->s->light_count + 1, sizeof *L->s->lights,
+                    "lights")) != PB_OK)
+        return r;
+      L->s->lights[L->s->light_count++] = bl;
+    }
+  }
+  if (!blender_light && n->light != -1 && (r = add_light(L, node, &M)) != PB_OK) return r;
   if (an && L->s->camera_count > nc && (r = anim_push_node(L, &an->camera_node, &an->camera_cap, nc, node)) != PB_OK) return r;
   if (an && L->s->light_count > nl && (r = anim_push_node(L, &an->light_node, &an->light_cap, nl, node)) != PB_OK) return r;
   for (size_t c = 0; c < n->child_count; ++c)
@@ -1274,6 +1456,14 @@ static void world_extent(loader *L, int32_t node, const mat4 *parent, int depth,
   if (!finite_mat(&M)) return;
   if (n->mesh >= 0 && (size_t)n->mesh < d->mesh_count) {
     const pb_gltf_mesh *m = &d->meshes[n->mesh];
+    /* A skinned mesh ignores its node's transform: its bind pose maps
+     * through the first joint (L->world holds the origin-free rest worlds
+     * here, load()). */
+    mat4 B = M;
+    if (n->skin >= 0 && (uint32_t)n->skin < L->deform.skin_count) {
+      const pb_skin *k = &L->deform.skins[n->skin];
+      B = mat_mul(&L->world[k->joints[0]], &k->ibm[0]);
+    }
     for (size_t pi = 0; pi < m->primitive_count; ++pi) {
       int32_t a = m->primitives[pi].position;
       double w[3];
@@ -1282,7 +1472,7 @@ static void world_extent(loader *L, int32_t node, const mat4 *parent, int depth,
         for (int c = 0; c < 8; ++c) {
           double p[3] = {(c & 1) ? ac->max[0] : ac->min[0], (c & 2) ? ac->max[1] : ac->min[1],
                          (c & 4) ? ac->max[2] : ac->min[2]};
-          xform_point(&M, p, w);
+          xform_point(&B, p, w);
           if (isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2])) extent_add(box, w);
         }
       } else {
@@ -1343,8 +1533,7 @@ static pb_result synthesize_camera(loader *L) {
   memset(c, 0, sizeof *c);
   snprintf(c->name, PB_NAME_MAX, "default");
   c->synthesized = 1;
-  c->yfov = yfov;
-  c->znear = 0.01f;
+  c->yfov = yfov; /* no clip planes: it frames the bounds whatever their size */
   for (int k = 0; k < 3; ++k) {
     c->forward[k] = (float)f[k];
     c->position[k] = (float)pos[k];
@@ -1358,6 +1547,88 @@ static pb_result synthesize_camera(loader *L) {
   c->right[1] = (float)(f[2] * u[0] - f[0] * u[2]);
   c->right[2] = (float)(f[0] * u[1] - f[1] * u[0]);
   s->camera_count = 1;
+  return PB_OK;
+}
+
+/* Every node's world matrix in the file's pose, parents first (iterative:
+ * a chain of nodes may be deeper than visit() allows, and the nodes outside
+ * the shown scene count too: joints may be among them). `root` is the
+ * roots' parent (the precision origin's translation). */
+static pb_result rest_worlds(loader *L, const mat4 *root) {
+  pb_gltf_doc *d = L->doc;
+  if (!L->world) L->world = malloc((d->node_count + 1) * sizeof *L->world);
+  int32_t *stack = malloc((d->node_count + 1) * sizeof *stack);
+  if (!L->world || !stack) {
+    free(stack);
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  }
+  for (size_t n = 0; n < d->node_count; ++n) {
+    if (L->parent[n] >= 0) continue;
+    size_t top = 0;
+    stack[top++] = (int32_t)n;
+    while (top) {
+      int32_t k = stack[--top];
+      mat4 local = node_local(&d->nodes[k]);
+      L->world[k] = mat_mul(L->parent[k] >= 0 ? &L->world[L->parent[k]] : root, &local);
+      /* A forest (check_nodes): each node is pushed once, so top stays
+       * below node_count. */
+      for (size_t c = 0; c < d->nodes[k].child_count; ++c) stack[top++] = d->nodes[k].children[c];
+    }
+  }
+  free(stack);
+  pb_skins_update(&L->deform, L->world);
+  return PB_OK;
+}
+
+/* After visit(): a scene with animation keeps the instances that move
+ * (dynamic: an animated joint or mesh node, or animated weights) with the nodes visit() did not reach appended to the pose order
+ * (joints outside the shown scene); everything else was posed once. */
+static pb_result deform_finish(loader *L) {
+  pb_scene *s = L->s;
+  pb_deform *df = &L->deform;
+  struct pb_scene_anim *an = L->anim;
+  s->skinned_vertex_count = df->skinned_vertices;
+  s->morphed_vertex_count = df->morphed_vertices;
+  uint32_t dynamic = 0;
+  for (uint32_t i = 0; an && i < df->range_count; ++i) {
+    pb_deform_range *R = &df->ranges[i];
+    /* The mesh node counts for a skinned instance too: its vertices
+     * without weight follow it (skin.c). */
+    int moves = an->nodes[R->node].animated;
+    if (R->target_count && an->nodes[R->node].weights_animated) moves = 1;
+    for (uint32_t j = 0; R->skin >= 0 && j < df->skins[R->skin].joint_count; ++j)
+      if (an->nodes[df->skins[R->skin].joints[j]].animated) moves = 1;
+    R->dynamic = moves;
+    dynamic += (uint32_t)moves;
+    s->posed_vertex_count += moves ? R->vertex_count : 0;
+  }
+  if (!dynamic) {
+    pb_deform_destroy(df);
+    return PB_OK;
+  }
+  /* The pose order: visit()'s, then every node it did not reach, parents
+   * first (node_state marks the visited ones). */
+  pb_gltf_doc *d = L->doc;
+  for (size_t n = 0; n < d->node_count; ++n) {
+    if (L->node_state[n] || L->parent[n] >= 0) continue;
+    size_t first = an->order_count;
+    an->order[an->order_count++] = (int32_t)n;
+    for (size_t k = first; k < an->order_count; ++k) {
+      const pb_gltf_node *g = &d->nodes[an->order[k]];
+      for (size_t c = 0; c < g->child_count; ++c) an->order[an->order_count++] = g->children[c];
+    }
+  }
+  an->deform = malloc(sizeof *an->deform);
+  if (!an->deform) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+  *an->deform = *df; /* the anim owns it from here */
+  memset(df, 0, sizeof *df);
+  for (uint32_t i = 0; i < an->deform->range_count; ++i) {
+    const pb_deform_range *R = &an->deform->ranges[i];
+    if (!R->tan) continue;
+    if (!an->tan_given && !(an->tan_given = calloc(s->vertex_count + 1, 1)))
+      return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
+    memset(an->tan_given + R->first_vertex, 1, R->vertex_count);
+  }
   return PB_OK;
 }
 
@@ -1392,26 +1663,31 @@ static pb_result load(loader *L) {
   /* Materials first (textures are decoded only when a material uses them),
    * with room for glTF's default material. */
   s->materials = calloc(d->material_count + 1, sizeof *s->materials);
-  L->texture_map = malloc((d->texture_count * 2 + 1) * sizeof *L->texture_map);
   L->image_cache = calloc(d->image_count + 1, sizeof *L->image_cache);
   L->image_w = calloc(d->image_count + 1, sizeof *L->image_w);
   L->image_h = calloc(d->image_count + 1, sizeof *L->image_h);
   L->node_state = calloc(d->node_count + 1, 1);
   L->parent = malloc((d->node_count + 1) * sizeof *L->parent);
-  if (!s->materials || !L->texture_map || !L->image_cache || !L->image_w || !L->image_h || !L->node_state || !L->parent)
+  if (!s->materials || !L->image_cache || !L->image_w || !L->image_h || !L->node_state || !L->parent)
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
-  for (size_t i = 0; i < d->texture_count * 2; ++i) L->texture_map[i] = -1;
   for (size_t i = 0; i < d->material_count; ++i) {
     if ((r = convert_material(L, (int)i, &s->materials[i])) != PB_OK) return r;
     s->material_count++;
   }
   if ((r = check_nodes(L)) != PB_OK) return r;
+  if ((r = pb_skins_load(L->path, d, &L->deform)) != PB_OK) return r;
+  if ((r = pb_morph_weights_load(L->path, d, &L->deform)) != PB_OK) return r;
   if ((r = build_anim(L)) != PB_OK) return r;
+  /* PHOTONBRIDGE_blender's root: film and world (blender_lights.c). */
+  if (d->blender && (r = pb_blender_read_root(L->path, d->blender, L->desc, s)) != PB_OK) return r;
 
   /* The scene to show: `scene`, else scenes[0], else every root node. */
   mat4 I;
   memset(&I, 0, sizeof I);
   I.m[0] = I.m[5] = I.m[10] = I.m[15] = 1;
+  /* The rest worlds without the precision origin first: the origin's
+   * estimate reads skinned meshes through their joints. */
+  if ((r = rest_worlds(L, &I)) != PB_OK) return r;
   if (d->default_scene != -1 && (d->default_scene < 0 || (size_t)d->default_scene >= d->scene_count))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: scene: %d does not exist (%zu scenes)", L->path, d->default_scene, d->scene_count);
   if (d->scene_count > 0) {
@@ -1419,6 +1695,7 @@ static pb_result load(loader *L) {
     const pb_gltf_scene *sc = &d->scenes[si];
     precision_origin(L, sc->nodes, sc->node_count, s->origin);
     I.m[12] = -s->origin[0], I.m[13] = -s->origin[1], I.m[14] = -s->origin[2];
+    if ((r = rest_worlds(L, &I)) != PB_OK) return r;
     for (size_t i = 0; i < sc->node_count; ++i) {
       int32_t n = sc->nodes[i];
       if (n < 0 || (size_t)n >= d->node_count)
@@ -1439,15 +1716,19 @@ static pb_result load(loader *L) {
     precision_origin(L, roots, nr, s->origin);
     free(roots);
     I.m[12] = -s->origin[0], I.m[13] = -s->origin[1], I.m[14] = -s->origin[2];
+    if ((r = rest_worlds(L, &I)) != PB_OK) return r;
     for (size_t n = 0; n < d->node_count; ++n)
       if (L->parent[n] < 0 && (r = visit(L, (int32_t)n, &I, 0)) != PB_OK) return r;
   }
+  if ((r = deform_finish(L)) != PB_OK) return r;
   s->animation_count = (uint32_t)d->animation_count;
   s->animation_channel_count = (uint32_t)d->animation_channel_count;
   for (size_t i = 0; i < d->extensions_used_count; ++i) {
     const char *e = d->extensions_used[i];
     static const char *const known[] = {"KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_transmission",
-                                        "KHR_materials_ior", "KHR_materials_emissive_strength", "PHOTONBRIDGE_blender"};
+                                        "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform",
+                                        "KHR_materials_unlit", "KHR_materials_volume", "KHR_materials_variants",
+                                        "PHOTONBRIDGE_blender"};
     int ok = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
     if (!ok && (r = warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
@@ -1466,8 +1747,8 @@ static pb_result load(loader *L) {
   }
   if (an && (r = anim_finish(L, an)) != PB_OK) return r;
   if (s->triangle_count == 0 && (r = warn(L, "meshes: no triangles to render")) != PB_OK) return r;
-  if (s->light_count == 0 && !(s->features & PB_FEATURE_EMISSIVE) &&
-      (r = warn(L, "lights: none, and no emissive material: the render will be black")) != PB_OK)
+  if (s->light_count == 0 && !(s->features & (PB_FEATURE_EMISSIVE | PB_FEATURE_UNLIT)) && !s->world.present &&
+      (r = warn(L, "lights: none, no world and no emissive material: the render will be black")) != PB_OK)
     return r;
   return PB_OK;
 }
@@ -1501,10 +1782,12 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   free(L.image_cache);
   free(L.image_w);
   free(L.image_h);
-  free(L.texture_map);
+  free(L.texture_src);
   free(L.node_state);
   free(L.parent);
   pb_scene_anim_destroy(L.anim);
+  pb_deform_destroy(&L.deform);
+  free(L.world);
   free(L.tan);
   free(L.tan_given);
   pb_gltf_doc_destroy(&doc);

@@ -61,6 +61,21 @@ int pb_material_is_emissive(const pb_material *m) {
   return m->emissive[0] > 0 || m->emissive[1] > 0 || m->emissive[2] > 0;
 }
 
+int pb_light_is_delta(const pb_light *l) {
+  switch (l->type) {
+  case PB_LIGHT_POINT:
+  case PB_LIGHT_SPOT: return !(l->radius > 0.0f);
+  case PB_LIGHT_DIRECTIONAL: return !(l->angle > 0.0f);
+  default: return 0;
+  }
+}
+
+float pb_light_area(const pb_light *l) {
+  if (l->type != PB_LIGHT_AREA) return 0.0f;
+  float a = l->size[0] * l->size[1];
+  return l->shape == PB_AREA_ELLIPSE ? 0.25f * (float)M_PI * a : a;
+}
+
 void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
   float k;
   switch (l->type) {
@@ -69,11 +84,18 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
     break;
   case PB_LIGHT_SPOT: {
     /* Solid angle of the cone, with the smooth-step band counted at half
-     * weight: 2 pi (1 - cos) at the mean of the two cone angles. */
-    float a = 0.5f * (l->inner_cone + l->outer_cone);
+     * weight: 2 pi (1 - cos) at the mean of the two cone angles. Cycles'
+     * falloff (its cos factor, its band inside the outer cone) is within the
+     * same estimate's error: the split only needs a rough power. */
+    float inner = l->spot_model == PB_SPOT_CYCLES ? l->outer_cone * (1.0f - l->spot_blend) : l->inner_cone;
+    float a = 0.5f * (inner + l->outer_cone);
     k = 2.0f * (float)M_PI * (1.0f - cosf(a)) * l->intensity;
     break;
   }
+  case PB_LIGHT_AREA:
+    /* pi A L: the Lambertian exitance; the spread profile keeps it. */
+    k = (float)M_PI * pb_light_area(l) * l->intensity;
+    break;
   default:
     k = (float)M_PI * scene_radius * scene_radius * l->intensity;
   }
@@ -83,7 +105,9 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
 static const char *const feature_names[] = {
     "specular paths", "transmission", "glossy", "textures",
     "emissive triangles", "animation", "alpha", "normal maps",
-    "Blender materials", "multiscatter GGX", "holdout", "anisotropy"};
+    "vertex colours", "skinning", "morph targets", "unlit", "absorbing media",
+    "soft lights", "world light", "Blender materials", "multiscatter GGX", "holdout",
+    "anisotropy"};
 
 const char *pb_material_model_name(pb_material_model m) {
   switch (m) {
@@ -174,18 +198,36 @@ void pb_scene_finalize(pb_scene *s) {
       f |= PB_FEATURE_TEXTURES;
     if (m->normal_tex >= 0) f |= PB_FEATURE_NORMAL_MAPS;
     if (pb_material_is_emissive(m)) f |= PB_FEATURE_EMISSIVE;
+    if (m->unlit) f |= PB_FEATURE_UNLIT;
+    if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0) f |= PB_FEATURE_VOLUME;
   }
   free(used);
   if (s->anim) f |= PB_FEATURE_ANIMATION;
+  if (s->colors) f |= PB_FEATURE_VERTEX_COLORS;
+  if (s->skinned_vertex_count) f |= PB_FEATURE_SKINNING;
+  if (s->morphed_vertex_count) f |= PB_FEATURE_MORPH_TARGETS;
+  for (uint32_t i = 0; i < s->light_count; ++i)
+    if (!pb_light_is_delta(&s->lights[i])) f |= PB_FEATURE_SOFT_LIGHTS;
+  if (s->world.present) f |= PB_FEATURE_WORLD;
   s->features = f;
 }
 
 int pb_scene_find_camera(const pb_scene *s, const char *name) {
-  if (s->camera_count == 0) return -1;
+  if (s->camera_count == 0) return PB_CAMERA_ABSENT;
   if (!name) return 0;
+  size_t digits = strspn(name, "0123456789");
+  if (name[0] && !name[digits]) {
+    if (digits > 9) return PB_CAMERA_ABSENT; /* beyond any uint32 camera count we hold */
+    unsigned long i = strtoul(name, NULL, 10);
+    return i < s->camera_count ? (int)i : PB_CAMERA_ABSENT;
+  }
+  int found = PB_CAMERA_ABSENT;
   for (uint32_t i = 0; i < s->camera_count; ++i)
-    if (strcmp(s->cameras[i].name, name) == 0) return (int)i;
-  return -1;
+    if (strcmp(s->cameras[i].name, name) == 0) {
+      if (found >= 0) return PB_CAMERA_AMBIGUOUS;
+      found = (int)i;
+    }
+  return found;
 }
 
 void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
@@ -265,12 +307,66 @@ void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]) {
              (c[k] * (1 - ax) + d[k] * ax) * ay;
 }
 
+void pb_texture_uv(const pb_texture *t, const float uv0[2], const float uv1[2], float out[2]) {
+  static const float zero[2] = {0, 0};
+  const float *uv = t->texcoord == 1 ? (uv1 ? uv1 : zero) : uv0;
+  if (!t->uv_transformed) {
+    out[0] = uv[0], out[1] = uv[1];
+    return;
+  }
+  const float *m = t->uv_xform;
+  out[0] = m[0] * uv[0] + m[1] * uv[1] + m[2];
+  out[1] = m[3] * uv[0] + m[4] * uv[1] + m[5];
+}
+
+void pb_texture_lookup(const pb_texture *t, const float uv0[2], const float uv1[2], float out[4]) {
+  float uv[2];
+  pb_texture_uv(t, uv0, uv1, uv);
+  pb_texture_sample(t, uv[0], uv[1], out);
+}
+
+static int has_tex(const pb_scene *s, int32_t t) { return t >= 0 && (uint32_t)t < s->texture_count; }
+static float clamp01f(float x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
+
+void pb_material_base_color(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                            const float color[4], float out[4]) {
+  float t[4] = {1, 1, 1, 1};
+  if (has_tex(s, m->base_color_tex)) pb_texture_lookup(&s->textures[m->base_color_tex], uv0, uv1, t);
+  for (int k = 0; k < 4; ++k) out[k] = clamp01f(m->base_color[k] * t[k] * (color ? color[k] : 1.0f));
+}
+
+void pb_material_metal_rough(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                             float *metallic, float *roughness) {
+  *metallic = m->metallic;
+  *roughness = m->roughness;
+  if (!has_tex(s, m->metallic_roughness_tex)) return;
+  float t[4];
+  pb_texture_lookup(&s->textures[m->metallic_roughness_tex], uv0, uv1, t);
+  *roughness *= t[1];
+  *metallic *= t[2];
+}
+
+void pb_material_emission(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                          const float color[4], float out[3]) {
+  if (m->unlit) {
+    float b[4];
+    pb_material_base_color(s, m, uv0, uv1, color, b);
+    memcpy(out, b, 3 * sizeof *out);
+    return;
+  }
+  float t[4] = {1, 1, 1, 1};
+  if (pb_material_is_emissive(m) && has_tex(s, m->emissive_tex)) pb_texture_lookup(&s->textures[m->emissive_tex], uv0, uv1, t);
+  for (int k = 0; k < 3; ++k) out[k] = m->emissive[k] * t[k];
+}
+
 void pb_scene_destroy(pb_scene *s) {
   if (!s) return;
   free(s->path);
   free(s->positions);
   free(s->normals);
   free(s->uvs);
+  free(s->uvs1);
+  free(s->colors);
   free(s->tangents);
   free(s->triangles);
   free(s->triangle_material);
@@ -279,6 +375,7 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->textures);
   free(s->lights);
   free(s->cameras);
+  free(s->world.env);
   for (uint32_t i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
   free(s->warnings);
   pb_scene_anim_destroy(s->anim);

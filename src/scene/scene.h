@@ -29,6 +29,13 @@ typedef struct pb_texture {
   int srgb;         /* 1: texels are sRGB-encoded (base colour, emissive) */
   pb_wrap wrap_s, wrap_t;
   int nearest;      /* 1: magFilter NEAREST; otherwise bilinear */
+  /* How the material reads it (glTF textureInfo): the uv set (0: uvs,
+   * 1: uvs1) and, when uv_transformed, KHR_texture_transform as the affine
+   * map u' = m[0] u + m[1] v + m[2],  v' = m[3] u + m[4] v + m[5] (0: the
+   * uvs as they are). A texture read two ways is two pb_textures. */
+  int texcoord;
+  int uv_transformed;
+  float uv_xform[6];
 } pb_texture;
 
 enum { PB_NO_TEXTURE = -1 };
@@ -121,6 +128,17 @@ typedef struct pb_material {
   float alpha_cutoff;
   int double_sided;
   pb_blender_material blender;  /* model PB_MODEL_GLTF (zeroed) without the extension */
+  /* KHR_materials_unlit: the surface shows its base colour (factor x
+   * texture x COLOR_0) as radiance [W/(m^2 sr)] to camera paths (the eye and
+   * its mirror/glass chains) and neither reflects nor emits light into the
+   * scene; the loader zeroes its other lobes and its emission. */
+  int unlit;
+  /* KHR_materials_volume: absorption coefficient sigma_a [1/m] per channel
+   * of the medium inside the (closed) surface, -ln(attenuationColor) /
+   * attenuationDistance (Beer-Lambert: transmittance exp(-sigma_a d) over a
+   * path length d inside); 0 when absent, thin-walled (thicknessFactor 0)
+   * or infinitely clear. Applies to paths that refract into it. */
+  float attenuation[3];
 } pb_material;
 
 /* What a material does to light, for renderers that branch on it. */
@@ -147,14 +165,58 @@ typedef enum pb_light_type {
   PB_LIGHT_POINT = 0,
   PB_LIGHT_SPOT = 1,
   PB_LIGHT_DIRECTIONAL = 2,
+  PB_LIGHT_AREA = 3,
 } pb_light_type;
 
-/* Radiometric light. Per channel c:
- *   point/spot: radiant intensity I_c = color_c * intensity [W/sr]
- *   directional: irradiance E_c = color_c * intensity [W/m^2] normal to it.
- * A spot scales I by smoothstep over the angle to `direction`, between
- * cos(outer_cone) and cos(inner_cone) (KHR_lights_punctual's recommended
- * falloff). `direction` is the unit direction light travels (the node's -Z). */
+/* How a spot's intensity falls off with the angle to its axis. */
+typedef enum pb_spot_model {
+  /* KHR_lights_punctual's recommendation: smoothstep from cos(outer_cone)
+   * to cos(inner_cone). */
+  PB_SPOT_SMOOTHSTEP = 0,
+  /* Cycles 3.4 (kernel/light/light.h spot_light_attenuation): with
+   * c = cos(angle), c0 = cos(outer_cone) (half of Blender's spot size) and
+   * band = (1 - c0) spot_blend: 0 for c <= c0, else c, times
+   * smoothstep((c - c0) / band) inside the band (3 t^2 - 2 t^3). The factor
+   * c is Cycles' own (measured: validation/VALIDATE.md). */
+  PB_SPOT_CYCLES = 1,
+} pb_spot_model;
+
+typedef enum pb_area_shape {
+  PB_AREA_RECTANGLE = 0, /* Blender's SQUARE and RECTANGLE */
+  PB_AREA_ELLIPSE = 1,   /* DISK and ELLIPSE */
+} pb_area_shape;
+
+/* Radiometric light. Per channel c, with C_c = color_c * intensity:
+ *   point/spot: radiant intensity I_c = C_c [W/sr]. With radius r > 0 it is
+ *     Cycles 3.4's soft light: a disc of radius r centred at `position`,
+ *     facing the lit point, of uniform radiance I_c / (pi r^2) (so far away
+ *     it is the point light; on its axis at distance d the irradiance is
+ *     I / (d^2 + r^2)). A spot multiplies by its falloff, evaluated for the
+ *     direction from the disc's point to the lit point.
+ *   directional: irradiance E_c = C_c [W/m^2] normal to it. With angle > 0,
+ *     Cycles 3.4's soft sun: a disc of radius R = tan(angle / 2) at unit
+ *     distance, uniform in area, so the radiance in a direction at angle t
+ *     from the axis is E / (pi R^2 cos^3 t) inside the cone of half-angle
+ *     angle / 2 (and the irradiance normal to the axis E 2 (sqrt(1 + R^2) -
+ *     1) / R^2, slightly under E).
+ *   area: a one-sided rectangle or ellipse of full widths size[0] along
+ *     axis_u and size[1] along axis_v, centred at `position`, emitting along
+ *     `direction` with radiance L_c = C_c [W/(m^2 sr)] normal to itself, times
+ *     the spread profile: with s = spread in (0, pi], a = (pi - max(s, 1
+ *     degree)) / 2, the radiance at angle t from the normal is
+ *     L max(0, 1 - tan(a) tan(t)) N(a), N(a) = 2 / (2 + (2 a - pi) tan(a)),
+ *     which keeps the emitted power pi A L for every spread (Cycles 3.4,
+ *     scene/light.cpp; s = pi is the Lambertian emitter). Blender's power P
+ *     [W] gives L = P / (4 A) (Cycles 3.4's eval_fac = 1/(4 A), measured:
+ *     src/scene/blender_lights.c), A the shape's area.
+ * A spot's falloff follows `spot_model`. `direction` is the unit direction
+ * light travels (the node's -Z). Soft lights (radius, angle > 0, area
+ * lights) are seen by rays: specular chains see their emission and
+ * BSDF-sampled rays hit them (combined with light sampling by multiple
+ * importance sampling), unless no_mis; they never occlude. As in Cycles 3.4
+ * (measured: a 3 m area light, a point light of radius 2 m and a 60 degree
+ * sun in front of the camera give 0, in a mirror their radiance), camera
+ * rays do not see them. */
 typedef struct pb_light {
   char name[PB_NAME_MAX];
   pb_light_type type;
@@ -162,23 +224,98 @@ typedef struct pb_light {
   float direction[3];
   float color[3];
   float intensity;
-  float inner_cone, outer_cone; /* radians, spot only */
+  float inner_cone, outer_cone; /* radians, spot only (PB_SPOT_CYCLES: outer only) */
   float range;                  /* 0: infinite */
-  float file_intensity;         /* as written in the file: cd or lx */
+  float file_intensity;         /* as written in the file: cd or lx (KHR), or
+                                   Blender's watts / W/m^2 (PHOTONBRIDGE_blender) */
+  pb_spot_model spot_model;
+  float spot_blend;             /* PB_SPOT_CYCLES: Blender's spot blend, [0, 1] */
+  float radius;                 /* point/spot: soft radius [m]; 0: a delta light */
+  float angle;                  /* directional: angular diameter [rad]; 0: delta */
+  pb_area_shape shape;          /* area lights */
+  float axis_u[3], axis_v[3];   /* area: unit, orthogonal to each other and to `direction` */
+  float size[2];                /* area: full widths along axis_u, axis_v [m] */
+  float spread;                 /* area: (0, pi] radians; 0 in a code-built
+                                   scene means pi */
+  int no_shadow;                /* Blender's "Cast Shadow" off: lights through geometry */
+  int no_mis;                   /* Blender's "Multiple Importance" off: only
+                                   light sampling (and camera rays) reach it */
+  int from_blender;             /* read from PHOTONBRIDGE_blender (Blender's
+                                   own units), not from KHR_lights_punctual */
 } pb_light;
+
+/* 1 when the light is a delta light (point/spot of radius 0, directional of
+ * angle 0): only next-event estimation or photons reach it. */
+int pb_light_is_delta(const pb_light *l);
+/* Area of an area light's shape [m^2] (0 for other types). */
+float pb_light_area(const pb_light *l);
 
 /* Total emitted power [W] of a light per channel, used to split photon
  * budgets; directional lights use the area of the scene's bounding disc. */
 void pb_light_power(const pb_light *l, float scene_radius, float power[3]);
 
-/* Perspective camera in world space. Looks along -Z of its node. */
+/* The world (Blender's World: a Background shader, optionally fed by an
+ * equirectangular Environment Texture), light arriving from infinitely far
+ * in every direction. Radiance [W/(m^2 sr)] arriving from direction w (unit,
+ * pointing away from the scene, scene axes):
+ *   no map: color;
+ *   map: env_scale x the map's bilinear texel (Cycles' "Linear" filter,
+ *     texel centres at (i + 1/2) / width, u periodic, v clamped) at
+ *     m = env_to_map w (Blender's Z-up axes after the Mapping node's
+ *     rotation): u = 1/2 - atan2(m_y, m_x) / (2 pi), v = acos(m_z) / pi
+ *     from the top row (Cycles 3.4 direction_to_equirectangular: the top
+ *     row is the zenith, the image centre looks along +X).
+ * `integral` is the radiance integrated over the sphere [W/m^2] (photon
+ * budgets). */
+typedef struct pb_world {
+  int present;               /* 0: black, no world light */
+  float color[3];
+  float *env;                /* RGB float, env_width x env_height, top row first;
+                                NULL: constant colour */
+  uint32_t env_width, env_height;
+  float env_scale;           /* Environment strength x Background strength */
+  float env_to_map[9];       /* row-major 3x3 */
+  char env_name[PB_NAME_MAX];
+  int hidden_from_camera;    /* Blender: World ray visibility "Camera" off */
+  float integral[3];
+} pb_world;
+
+/* Radiance of the world arriving from unit direction w. */
+void pb_world_radiance(const pb_world *w, const float dir[3], float out[3]);
+
+/* Which side of the picture a camera's field of view (or orthographic size)
+ * spans; the other side follows the image's aspect ratio. glTF's yfov and
+ * ymag are vertical; Blender's sensor fit is any of the three, AUTO being
+ * the larger side (BKE_camera_sensor_fit: width when width >= height). */
+typedef enum pb_camera_fit {
+  PB_CAMERA_FIT_VERTICAL = 0,
+  PB_CAMERA_FIT_HORIZONTAL = 1,
+  PB_CAMERA_FIT_AUTO = 2,
+} pb_camera_fit;
+
+/* Camera in world space, looking along -Z of its node. Zero-initialised
+ * extras (orthographic, fit, shift) give glTF's perspective camera. The
+ * rays of an image of it are pb_camera_view's (camera.c); every renderer
+ * goes through that one function. */
 typedef struct pb_camera {
   char name[PB_NAME_MAX];
   float position[3];
   float forward[3], up[3], right[3]; /* orthonormal, right-handed */
-  float yfov;                        /* radians, vertical */
+  int orthographic;                  /* 1: parallel rays along forward */
+  pb_camera_fit fit;                 /* the side yfov / ortho_size spans */
+  float yfov;                        /* perspective: radians, the full angle
+                                        across the fitted side (vertical for
+                                        glTF cameras); 0 when orthographic */
+  float ortho_size;                  /* orthographic: metres across the fitted
+                                        side (glTF 2 ymag, Blender's
+                                        ortho_scale) */
+  float shift[2];                    /* lens shift right and up, in units of
+                                        the fitted side's extent (Blender's
+                                        shift_x, shift_y) */
   float aspect;                      /* width/height; 0 if the file gives none */
-  float znear, zfar;                 /* zfar 0: infinite */
+  float znear, zfar;                 /* clip planes, metres along forward
+                                        (Cycles' clip_start / clip_end);
+                                        zfar 0: infinite */
   int synthesized;                   /* 1: made by the loader (file had none) */
 } pb_camera;
 
@@ -192,10 +329,17 @@ enum {
   PB_FEATURE_ANIMATION = 1u << 5,
   PB_FEATURE_ALPHA = 1u << 6,        /* alpha mask/blend materials */
   PB_FEATURE_NORMAL_MAPS = 1u << 7,
-  PB_FEATURE_BLENDER = 1u << 8,      /* PHOTONBRIDGE_blender materials (Principled, ...) */
-  PB_FEATURE_MULTI_GGX = 1u << 9,    /* a Principled BSDF with Multiscatter GGX */
-  PB_FEATURE_HOLDOUT = 1u << 10,     /* holdout materials */
-  PB_FEATURE_ANISOTROPY = 1u << 11,  /* an anisotropic Principled BSDF (needs tangents) */
+  PB_FEATURE_VERTEX_COLORS = 1u << 8,  /* COLOR_0 */
+  PB_FEATURE_SKINNING = 1u << 9,       /* skinned instances */
+  PB_FEATURE_MORPH_TARGETS = 1u << 10, /* morphed instances */
+  PB_FEATURE_UNLIT = 1u << 11,         /* KHR_materials_unlit surfaces */
+  PB_FEATURE_VOLUME = 1u << 12,        /* absorbing media (KHR_materials_volume) */
+  PB_FEATURE_SOFT_LIGHTS = 1u << 13,   /* area lights, radius > 0, sun angle > 0 */
+  PB_FEATURE_WORLD = 1u << 14,         /* world light (constant or map) */
+  PB_FEATURE_BLENDER = 1u << 15,       /* PHOTONBRIDGE_blender materials (Principled, ...) */
+  PB_FEATURE_MULTI_GGX = 1u << 16,     /* a Principled BSDF with Multiscatter GGX */
+  PB_FEATURE_HOLDOUT = 1u << 17,       /* holdout materials */
+  PB_FEATURE_ANISOTROPY = 1u << 18,    /* an anisotropic Principled BSDF (needs tangents) */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -217,6 +361,12 @@ typedef struct pb_scene {
   float (*positions)[3];
   float (*normals)[3];   /* unit length; generated when the file has none */
   float (*uvs)[2];       /* (0,0) when the file has none */
+  /* TEXCOORD_1, NULL unless a texture reads uv set 1 (pb_texture.texcoord);
+   * (0,0) where a primitive has none. */
+  float (*uvs1)[2];
+  /* COLOR_0, linear RGBA in [0,1], NULL unless a primitive has one; (1,1,1,1)
+   * on vertices without. Multiplies the base colour (glTF 2.0 3.9.2). */
+  float (*colors)[4];
   /* Normal-map tangent frames, world space (scenes/tangents.h): xyz unit,
    * orthogonal to the normal, along +u; w = +-1, bitangent = cross(normal,
    * xyz) * w (glTF TANGENT). From the file's TANGENT where a normal-mapped
@@ -239,19 +389,34 @@ typedef struct pb_scene {
   uint32_t light_count;
   pb_camera *cameras;
   uint32_t camera_count;
+  pb_world world;
+  /* What camera rays that leave the scene give. 0 (plain glTF, and Blender's
+   * Film > Transparent): no colour, alpha 0 (the beauty's A is the fraction of
+   * camera samples that met geometry; lights seen on the way add their
+   * emission, as Cycles' lights do not stop rays). 1 (Blender's opaque film):
+   * alpha 1 everywhere and the world's radiance, unless it is hidden from the
+   * camera. */
+  int film_opaque;
 
   uint32_t animation_count;  /* glTF animations in the file */
   uint32_t animation_channel_count;
-  /* Node animation (translation / rotation / scale channels), posed by
-   * pb_scene_set_time. Opaque; NULL when the file has no usable channel
-   * (none, or only morph "weights" and channels on `matrix` nodes, which
-   * are ignored with a warning). Every animation of the file plays at once on
+  /* Node animation (translation / rotation / scale channels) and morph
+   * weight channels, posed by pb_scene_set_time with the skins. Opaque; NULL
+   * when the file has no usable channel (none, or only channels on `matrix`
+   * nodes and weights of meshes without targets, which are ignored with a
+   * warning). Every animation of the file plays at once on
    * one timeline (Blender exports one action per object). anim_start,
    * anim_end: seconds, the union of the key times of the samplers those
    * channels use; 0, 0 without anim. After loading, the arrays hold the rest
    * pose (the nodes' own TRS), which need not be the pose at any time. */
   struct pb_scene_anim *anim;
   double anim_start, anim_end;
+
+  /* Skins and morph targets (glTF 2.0 3.7.3, 3.7.2.2), deformed on the CPU:
+   * scene vertices of skinned and of morphed instances, and how many of
+   * them pb_scene_set_time poses again (the rest were posed once, when
+   * loaded). */
+  uint32_t skinned_vertex_count, morphed_vertex_count, posed_vertex_count;
 
   float bounds_min[3], bounds_max[3];
   uint32_t features;   /* PB_FEATURE_* */
@@ -293,9 +458,10 @@ pb_result pb_scene_warn(pb_scene *s, const char *fmt, ...)
 
 /* Poses the scene at time t seconds, clamped to [anim_start, anim_end] (glTF
  * holds the first and last keys outside them): rewrites positions, normals
- * (inverse-transpose, unit length), cameras (position and frame), lights
- * (position, direction) and the bounds, all relative to pb_scene.origin as
- * the static load is. Topology, triangle order, materials, counts and
+ * (inverse-transpose, unit length), the skinned and morphed vertices that
+ * move (deform.h; their file tangents too), cameras (position and frame),
+ * lights (position, direction) and the bounds, all relative to
+ * pb_scene.origin as the static load is. Topology, triangle order, materials, counts and
  * features never change: triangle i is the same triangle at every time (for
  * motion vectors and BVH refits). A deterministic function of t (not of
  * earlier calls). PB_OK and nothing changed for scenes without anim.
@@ -310,7 +476,12 @@ pb_result pb_scene_set_time(pb_scene *s, double t);
  * scenes call it once the arrays are filled). */
 void pb_scene_finalize(pb_scene *s);
 
-/* Camera by name; NULL name picks the first. Returns -1 when absent. */
+/* Camera by name or index. NULL picks the first; a string of decimal digits
+ * is an index into cameras (the numbers `info` lists); anything else is a
+ * name. Returns the index; -1 when there is no such camera; -2 when several
+ * cameras share the name (glTF does not require unique names: select one by
+ * index). */
+enum { PB_CAMERA_ABSENT = -1, PB_CAMERA_AMBIGUOUS = -2 };
 int pb_scene_find_camera(const pb_scene *s, const char *name);
 
 /* Image size from a camera and optional overrides (0 = derive): width
@@ -321,6 +492,28 @@ void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
 /* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
  * RGBA out (sRGB decoded when the texture is sRGB). */
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
+
+/* A material's texture at a surface point with uv sets uv0 and uv1 (uv1 may
+ * be NULL: zero): the texture's uv set through its uv_xform, then
+ * pb_texture_sample. */
+void pb_texture_lookup(const pb_texture *t, const float uv0[2], const float uv1[2], float out[4]);
+/* Its uv transform alone (the POV-Ray export writes transformed uvs). */
+void pb_texture_uv(const pb_texture *t, const float uv0[2], const float uv1[2], float out[2]);
+
+/* A material's inputs at a surface point with uv sets uv0, uv1 (uv1 NULL:
+ * zero) and vertex colour `color` (NULL: white), the same in every renderer
+ * (shaders/common/scene.glsl mirrors them):
+ *   base colour (glTF 2.0 3.9.2): baseColorFactor x baseColorTexture x
+ *     COLOR_0, RGBA, each channel clamped to [0, 1];
+ *   metallic, roughness: the factors x the metallicRoughnessTexture's B, G;
+ *   emission: emissive x emissiveTexture, or for an unlit material the base
+ *     colour (scene.h, pb_material.unlit). */
+void pb_material_base_color(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                            const float color[4], float out[4]);
+void pb_material_metal_rough(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                             float *metallic, float *roughness);
+void pb_material_emission(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
+                          const float color[4], float out[3]);
 
 /* sRGB transfer, exact IEC 61966-2-1 piecewise form. */
 float pb_srgb_to_linear(float v);

@@ -17,7 +17,8 @@ the case. expected.tsv has one line per run of `photonbridge info`:
 PATH is relative to OUT_DIR; EXIT the exact exit status; for a failure EXPECT
 lists substrings, separated by '|', that the one-line error must contain (the
 JSON path first); for a success EXPECT is '-' or checks separated by '|' on
-`info --json -`: 'triangles=N' or 'warn=SUBSTRING'. ARGS are extra options,
+`info --json -`: 'triangles=N', 'warn=SUBSTRING' or 'has=SUBSTRING' (of the
+JSON output). ARGS are extra options,
 '-' for none.
 """
 import base64
@@ -29,14 +30,23 @@ import struct
 import sys
 import zlib
 
+DELETE = object()  # blender_cases: remove the member
+
 # Result codes (src/core/result.h).
 EXIT_OK, EXIT_IO, EXIT_PARSE, EXIT_INVALID, EXIT_UNSUPPORTED = 0, 3, 4, 5, 6
 EXIT_IMAGE, EXIT_LIMIT = 8, 10
 
 FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+
 
 # ---- byte builders ------------------------------------------------------------
+
+def read_bytes(path):
+    with open(path, "rb") as f:
+        return f.read()
+
 
 def png_chunk(kind, data):
     return (struct.pack(">I", len(data)) + kind + data +
@@ -50,6 +60,25 @@ def make_png(w, h, rgba_rows):
             png_chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0)) +
             png_chunk(b"IDAT", zlib.compress(raw, 9)) +
             png_chunk(b"IEND", b""))
+
+
+# A real 2x2 baseline JPEG of the same checker (Pillow 9.4, quality 90).
+JPEG_2X2 = bytes.fromhex(
+    "ffd8ffe000104a46494600010100000100010000ffdb0043000302020302020303030304030304050805050404050a07"
+    "0706080c0a0c0c0b0a0b0b0d0e12100d0e110e0b0b1016101113141515150c0f171816141812141514ffdb0043010304"
+    "0405040509050509140d0b0d141414141414141414141414141414141414141414141414141414141414141414141414"
+    "1414141414141414141414141414ffc00011080002000203012200021101031101ffc4001f0000010501010101010100"
+    "000000000000000102030405060708090a0bffc400b5100002010303020403050504040000017d010203000411051221"
+    "31410613516107227114328191a1082342b1c11552d1f02433627282090a161718191a25262728292a3435363738393a"
+    "434445464748494a535455565758595a636465666768696a737475767778797a838485868788898a9293949596979899"
+    "9aa2a3a4a5a6a7a8a9aab2b3b4b5b6b7b8b9bac2c3c4c5c6c7c8c9cad2d3d4d5d6d7d8d9dae1e2e3e4e5e6e7e8e9eaf1"
+    "f2f3f4f5f6f7f8f9faffc4001f0100030101010101010101010000000000000102030405060708090a0bffc400b51100"
+    "020102040403040705040400010277000102031104052131061241510761711322328108144291a1b1c109233352f015"
+    "6272d10a162434e125f11718191a262728292a35363738393a434445464748494a535455565758595a63646566676869"
+    "6a737475767778797a82838485868788898a92939495969798999aa2a3a4a5a6a7a8a9aab2b3b4b5b6b7b8b9bac2c3c4"
+    "c5c6c7c8c9cad2d3d4d5d6d7d8d9dae2e3e4e5e6e7e8e9eaf2f3f4f5f6f7f8f9faffda000c03010002110311003f00f9"
+    "f7e3d7c7af899e0ef8e7f11740d03e22f8b343d0b4af11ea363a7e99a6eb9736f6d676f15cc891431448e1638d115555"
+    "54000000000514515fd3780ff74a3fe18fe48f3f1bfef557fc4ff33fffd9")
 
 
 def tex_png():
@@ -66,6 +95,17 @@ def huge_png():
             png_chunk(b"IHDR", struct.pack(">IIBBBBB", 100000, 100000, 8, 2, 0, 0, 0)) +
             png_chunk(b"IDAT", zlib.compress(b"\x00" * 64)) +
             png_chunk(b"IEND", b""))
+
+
+def make_hdr(w, h, rgb=(0.5, 0.6, 0.8), header_res=None):
+    """A flat (uncompressed) Radiance RGBE image of one colour; header_res
+    replaces the resolution line."""
+    m = max(rgb)
+    e = (m and __import__("math").frexp(m)[1]) or 0
+    sc = 2.0 ** -e * 256.0 if m else 0.0
+    px = bytes((min(255, int(rgb[0] * sc)), min(255, int(rgb[1] * sc)), min(255, int(rgb[2] * sc)), e + 128 if m else 0))
+    res = header_res if header_res is not None else b"-Y %d +X %d" % (h, w)
+    return b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n" + res + b"\n" + px * (w * h)
 
 
 def pad4(b, fill=b"\x00"):
@@ -180,6 +220,83 @@ def base(index_type=USHORT, indices=INDICES, positions=POSITIONS, mode=None,
         "accessors": accessors,
     }
     return doc, blob
+
+
+def skinned(d, joints=(5, 6), ibm_count=2, ibm_type="MAT4", joints0=None, weights0=None, drop=None, joints_count=4,
+            weights_ubyte=False, normalized=True, node_skin=0):
+    """Skins the quad of nodes[1] (mesh 0) to two joints, nodes[5] at the
+    origin and its child nodes[6] at (0, 1, 0): the corners y = -1 follow
+    joint 0, y = 1 joint 1. Keyword arguments break one thing each."""
+    d["nodes"][0]["children"].append(5)
+    d["nodes"] += [{"name": "bone0", "children": [6]}, {"name": "bone1", "translation": [0, 1, 0]}]
+    j0 = joints0 or [(0, 0, 0, 0), (0, 0, 0, 0), (1, 0, 0, 0), (1, 0, 0, 0)]
+    w0 = weights0 or [(1, 0, 0, 0)] * 4
+    ibm = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1] + [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1]
+    jb = bytes(c for v in j0 for c in v)
+    wb = bytes(int(c * 255) for v in w0 for c in v) if weights_ubyte else b"".join(f32(*v) for v in w0)
+    jv, wv, iv = add_buffer(d, jb, wb, f32(*ibm))
+    na = len(d["accessors"])
+    wacc = {"bufferView": wv, "componentType": UBYTE if weights_ubyte else FLOAT, "count": 4, "type": "VEC4"}
+    if weights_ubyte and normalized:
+        wacc["normalized"] = True
+    d["accessors"] += [{"bufferView": jv, "componentType": UBYTE, "count": joints_count, "type": "VEC4"}, wacc,
+                       {"bufferView": iv, "componentType": FLOAT, "count": ibm_count, "type": ibm_type}]
+    attrs = d["meshes"][0]["primitives"][0]["attributes"]
+    attrs["JOINTS_0"], attrs["WEIGHTS_0"] = na, na + 1
+    if drop:
+        del attrs[drop]
+    skin = {"inverseBindMatrices": na + 2}
+    if joints is not None:
+        skin["joints"] = list(joints)
+    d["skins"] = [skin]
+    d["nodes"][1]["skin"] = node_skin
+
+
+def morphed(d, count=4, type="VEC3", nan=False, normal=None, second_primitive=False, mesh_weights=None,
+            node_weights=None, camera_weights=None, anim_values=None):
+    """One morph target on mesh 0's quad: corners 2 and 3 lifted by z = 1.
+    With anim_values, a LINEAR "weights" channel on nodes[1] with keys at 0,
+    1 and 2 s. Keyword arguments break one thing each."""
+    dz = [(0, 0, 0), (0, 0, 0), (0, 0, float("nan") if nan else 1), (0, 0, 1)]
+    data = b"".join(f32(*v[:2] if type == "VEC2" else v) for v in dz)
+    (tv,) = add_buffer(d, data)
+    na = len(d["accessors"])
+    d["accessors"].append({"bufferView": tv, "componentType": FLOAT, "count": count, "type": type})
+    t = {"POSITION": na}
+    if normal is not None:
+        t["NORMAL"] = normal
+    d["meshes"][0]["primitives"][0]["targets"] = [t]
+    if second_primitive:
+        d["meshes"][0]["primitives"].append(copy.deepcopy(d["meshes"][0]["primitives"][0]))
+        del d["meshes"][0]["primitives"][1]["targets"]
+    if mesh_weights is not None:
+        d["meshes"][0]["weights"] = mesh_weights
+    if node_weights is not None:
+        d["nodes"][1]["weights"] = node_weights
+    if camera_weights is not None:
+        d["nodes"][2]["weights"] = camera_weights
+    if anim_values is not None:
+        kv, vv = add_buffer(d, f32(0, 1, 2), f32(*anim_values))
+        na = len(d["accessors"])
+        d["accessors"] += [{"bufferView": kv, "componentType": FLOAT, "count": 3, "type": "SCALAR"},
+                           {"bufferView": vv, "componentType": FLOAT, "count": len(anim_values), "type": "SCALAR"}]
+        d["animations"] = [{"samplers": [{"input": na, "output": na + 1}],
+                            "channels": [{"sampler": 0, "target": {"node": 1, "path": "weights"}}]}]
+
+
+def add_buffer(d, *blobs):
+    """Appends a data-URI buffer holding `blobs` (each 4-byte aligned) and one
+    bufferView per blob; returns the views' indices."""
+    data, offsets = b"", []
+    for b in blobs:
+        offsets.append(len(data))
+        data += pad4(b)
+    d["buffers"].append({"byteLength": len(data),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()})
+    nb, first = len(d["buffers"]) - 1, len(d["bufferViews"])
+    for b, off in zip(blobs, offsets):
+        d["bufferViews"].append({"buffer": nb, "byteOffset": off, "byteLength": len(b)})
+    return list(range(first, first + len(blobs)))
 
 
 # ---- writing ----------------------------------------------------------------------
@@ -336,10 +453,55 @@ def broken_cases(C, png):
          setp(("accessors", 0, "componentType"), USHORT))
     case("indices_float", EXIT_INVALID, ["accessors[3]", "componentType 5126"],
          setp(("accessors", 3, "componentType"), FLOAT))
-    case("sparse_accessor", EXIT_UNSUPPORTED, ["accessors[0]", "sparse"],
-         setp(("accessors", 0, "sparse"), {
-             "count": 1, "indices": {"bufferView": 3, "componentType": USHORT},
-             "values": {"bufferView": 0}}))
+    # Sparse accessors (glTF 2.0 3.6.2.3): indices and values in a second,
+    # data-URI buffer; every rule of the spec's sparse object.
+    def sparse(indices, values, ict=USHORT, count=None, acc=0, edit=None):
+        def f(d):
+            ib = pad4(struct.pack("<%d%s" % (len(indices), INDEX_FORMAT[ict]), *indices))
+            vb = b"".join(f32(*v) for v in values)
+            views = add_buffer(d, ib, vb)
+            d["accessors"][acc]["sparse"] = {
+                "count": len(indices) if count is None else count,
+                "indices": {"bufferView": views[0], "componentType": ict},
+                "values": {"bufferView": views[1]}}
+            if edit:
+                edit(d["accessors"][acc]["sparse"], d)
+        return f
+    P2 = [(0, 0, 1), (0, 0, 2)]
+    case("sparse_count_zero", EXIT_INVALID, "accessors[0].sparse.count: 0 is not an integer from 1",
+         sparse([1, 2], P2, count=0))
+    case("sparse_count_over", EXIT_INVALID, "accessors[0].sparse.count: 5 is not in [1, 4]",
+         sparse([0, 1, 2, 3, 3], P2 * 3, count=5))
+    case("sparse_indices_not_increasing", EXIT_INVALID,
+         "accessors[0].sparse.indices: element 1 (1) does not increase on 2", sparse([2, 1], P2))
+    case("sparse_index_out_of_range", EXIT_INVALID,
+         "accessors[0].sparse.indices: index 4 at element 1 is out of range (count 4)", sparse([1, 4], P2))
+    case("sparse_indices_float", EXIT_INVALID, "accessors[0].sparse.indices.componentType: 5126",
+         sparse([1, 2], P2, edit=lambda sp, d: sp["indices"].update({"componentType": FLOAT})))
+    case("sparse_values_short", EXIT_INVALID,
+         "accessors[0].sparse.values: 2 elements of 12 bytes at offset 16 exceed bufferViews[",
+         sparse([1, 2], P2, edit=lambda sp, d: sp["values"].update({"byteOffset": 16})))
+    case("sparse_values_view_oob", EXIT_INVALID, "accessors[0].sparse.values.bufferView: 17 does not exist",
+         sparse([1, 2], P2, edit=lambda sp, d: sp["values"].update({"bufferView": 17})))
+    case("sparse_no_indices", EXIT_INVALID, "accessors[0].sparse.indices: missing",
+         sparse([1, 2], P2, edit=lambda sp, d: sp.pop("indices")))
+    case("sparse_indices_strided", EXIT_INVALID, "accessors[0].sparse.indices: bufferViews[",
+         sparse([1, 2], P2, edit=lambda sp, d: d["bufferViews"][sp["indices"]["bufferView"]].update({"byteStride": 4})))
+    case("sparse_not_object", EXIT_INVALID, "accessors[0].sparse: not an object", setp(("accessors", 0, "sparse"), 3))
+    # KHR_texture_transform's members and KHR_materials_volume's are typed.
+    tt = ("materials", 0, "pbrMetallicRoughness", "baseColorTexture", "extensions")
+    case("texture_transform_offset_bad", EXIT_INVALID,
+         "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.offset: not an array of 2 numbers",
+         setp(tt, {"KHR_texture_transform": {"offset": [1]}}))
+    case("texture_transform_texcoord_bad", EXIT_INVALID,
+         "baseColorTexture.extensions.KHR_texture_transform.texCoord: -1 is not an index",
+         setp(tt, {"KHR_texture_transform": {"texCoord": -1}}))
+    case("volume_distance_negative", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_volume.attenuationDistance: -2 is not positive",
+         setp(("materials", 1, "extensions"), {"KHR_materials_volume": {"thicknessFactor": 1, "attenuationDistance": -2}}))
+    case("volume_color_range", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_volume.attenuationColor[1]: 2 is outside [0, 1]",
+         setp(("materials", 1, "extensions"), {"KHR_materials_volume": {"attenuationColor": [1, 2, 1]}}))
     case("normal_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.NORMAL",
          setp(("accessors", 1, "count"), 3))
     case("texcoord_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.TEXCOORD_0",
@@ -454,12 +616,25 @@ def broken_cases(C, png):
     case("image_missing", EXIT_IO, "images[0].uri", setp(("images", 0, "uri"), "nothere.png"))
     case("image_uri_outside", EXIT_INVALID, ["images[0].uri", "leaves the scene's folder"],
          setp(("images", 0, "uri"), "../image_not_png/tex.png"))
-    case("image_data_uri", EXIT_UNSUPPORTED, "images[0].uri",
-         setp(("images", 0, "uri"), "data:image/png;base64," + base64.b64encode(png).decode()))
     case("image_bufferview_oob", EXIT_INVALID, "images[0].bufferView",
          setp(("images", 0), {"bufferView": 9, "mimeType": "image/png"}))
-    case("image_data_uri_empty", EXIT_UNSUPPORTED, "images[0].uri",
+    # Data-URI images ("glTF Embedded" files): the same decoder and limits as
+    # files, and the URI itself checked before tinygltf's lenient decoder.
+    b64 = base64.b64encode(png).decode()
+    case("image_data_uri_empty", EXIT_IMAGE, "images[0].uri: data URI holds no image bytes",
          setp(("images", 0, "uri"), "data:image/png;base64,"))
+    case("image_data_uri_bad_base64", EXIT_PARSE, "images[0].uri: malformed base64 data",
+         setp(("images", 0, "uri"), "data:image/png;base64," + b64[:8] + "!" + b64[9:]))
+    case("image_data_uri_wrong_mime", EXIT_UNSUPPORTED,
+         "images[0].uri: data URI of media type 'image/gif' (only image/png and image/jpeg are supported)",
+         setp(("images", 0, "uri"), "data:image/gif;base64," + b64))
+    case("image_data_uri_not_base64", EXIT_INVALID, "images[0].uri: data URI is not base64",
+         setp(("images", 0, "uri"), "data:image/png," + b64))
+    case("image_data_uri_oversize", EXIT_LIMIT,
+         "images[0]: 100000x100000 is over the image size limit (16384 per side, 67108864 pixels)",
+         setp(("images", 0, "uri"), "data:image/png;base64," + base64.b64encode(huge_png()).decode()))
+    case("image_data_uri_truncated", EXIT_IMAGE, "images[0]: cannot decode: PNG",
+         setp(("images", 0, "uri"), "data:image/png;base64," + base64.b64encode(png[:len(png) - 30]).decode()))
     case("image_no_source", EXIT_INVALID, "images[0]: neither uri nor bufferView",
          setp(("images", 0), {"name": "nothing"}))
 
@@ -506,6 +681,32 @@ def broken_cases(C, png):
          setp(("cameras", 0, "perspective", "yfov"), 4.0))
     case("camera_znear_zero", EXIT_INVALID, "cameras[0].perspective.znear",
          setp(("cameras", 0, "perspective", "znear"), 0))
+    ortho = {"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}
+    def ortho_with(key, value):
+        def f(d):
+            d["cameras"][0] = copy.deepcopy(ortho)
+            d["cameras"][0]["orthographic"][key] = value
+        return f
+    case("camera_ortho_ymag_zero", EXIT_INVALID, "cameras[0].orthographic.ymag", ortho_with("ymag", 0))
+    case("camera_ortho_zfar_below_znear", EXIT_INVALID, "cameras[0].orthographic.zfar", ortho_with("zfar", 0.05))
+    # The Blender render engine's camera extension (exporters/blender/PHOTONBRIDGE_blender.md).
+    def cam_ext(value):
+        def f(d):
+            d["cameras"][0].setdefault("extensions", {})["PHOTONBRIDGE_blender"] = value
+            d.setdefault("extensionsUsed", []).append("PHOTONBRIDGE_blender")
+        return f
+    case("camera_ext_not_object", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender: not an object",
+         cam_ext([1, 2]))
+    case("camera_ext_lens_string", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.lens: not a number",
+         cam_ext({"type": "PERSP", "lens": "50"}))
+    case("camera_ext_lens_negative", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.lens",
+         cam_ext({"type": "PERSP", "lens": -50}))
+    case("camera_ext_bad_fit", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.sensorFit",
+         cam_ext({"type": "PERSP", "sensorFit": "DIAGONAL"}))
+    case("camera_ext_clip_end_below_start", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.clipEnd",
+         cam_ext({"type": "PERSP", "clipStart": 2, "clipEnd": 1}))
+    case("camera_ext_panoramic", EXIT_UNSUPPORTED, "cameras[0].extensions.PHOTONBRIDGE_blender.type",
+         cam_ext({"type": "PANO"}))
     lights = ("extensions", "KHR_lights_punctual", "lights")
     case("light_oob", EXIT_INVALID, "nodes[3].extensions.KHR_lights_punctual.light",
          setp(("nodes", 3, "extensions", "KHR_lights_punctual", "light"), 5))
@@ -616,6 +817,12 @@ def broken_cases(C, png):
     C.glb(B, "glb_chunk_header_truncated", patch(good + b"\0\0\0\0", 8, "<I", len(good) + 4), EXIT_PARSE,
           ["GLB chunk 2", "truncated chunk header"])
     C.glb(B, "glb_no_chunks", b"glTF" + struct.pack("<II", 2, 12), EXIT_PARSE, "GLB")
+    # The fuzzing finding that made stb_image add an offset to a null pointer
+    # (an empty IDAT chunk with a wrong CRC, then garbage): the regression
+    # input of fuzz_gltf, byte for byte.
+    C.glb(B, "image_png_empty_idat", read_bytes(os.path.join(HERE, "..", "fuzz", "regressions", "gltf",
+                                                             "stb_png_idat_null.glb")),
+          EXIT_IMAGE, "images[0]: cannot decode: PNG data: invalid chunk checksum")
     short_doc = copy.deepcopy(gdoc)
     short_doc["buffers"][0]["byteLength"] = len(gbin) + 400
     C.glb(B, "glb_bin_short", make_glb(short_doc, gbin), EXIT_INVALID, "buffers[0]")
@@ -660,6 +867,210 @@ def broken_cases(C, png):
          anim([0, 1, 2], V3, 3, sampler=4))
     case("anim_interpolation_bogus", EXIT_INVALID, "animations[0].samplers[0].interpolation: 'SMOOTH'",
          anim([0, 1, 2], V3, 3, interp="SMOOTH"))
+
+    # -- skins (glTF 2.0 3.7.3; src/scene/skin.c): the quad of nodes[1]
+    # skinned to joints nodes[5] and nodes[6] (a child of 5).
+    def bad_skin(**kw):
+        def f(d):
+            skinned(d, **kw)
+        return f
+    case("skin_joint_node_oob", EXIT_INVALID, "skins[0].joints[1]: node 99 does not exist",
+         bad_skin(joints=[5, 99]))
+    case("skin_joint_twice", EXIT_INVALID, "skins[0].joints[1]: node 5 is already a joint of this skin",
+         bad_skin(joints=[5, 5]))
+    case("skin_joints_empty", EXIT_INVALID, "skins[0].joints: empty", bad_skin(joints=[]))
+    case("skin_joints_missing", EXIT_INVALID, "skins[0].joints: missing", bad_skin(joints=None))
+    case("skin_ibm_short", EXIT_INVALID, ["skins[0].inverseBindMatrices", "has 1 matrices, the skin has 2 joints"],
+         bad_skin(ibm_count=1))
+    case("skin_ibm_vec4", EXIT_INVALID, ["has 4 components", "skins[0].inverseBindMatrices needs 16"],
+         bad_skin(ibm_type="VEC4"))
+    case("skin_joint_index_oob", EXIT_INVALID,
+         ["meshes[0].primitives[0].attributes.JOINTS_0", "element 2 names joint 7, the skin has 2"],
+         bad_skin(joints0=[(0, 0, 0, 0), (1, 0, 0, 0), (7, 0, 0, 0), (1, 0, 0, 0)]))
+    case("skin_weight_negative", EXIT_INVALID,
+         ["meshes[0].primitives[0].attributes.WEIGHTS_0", "element 1 has weight -0.5"],
+         bad_skin(weights0=[(1, 0, 0, 0), (-0.5, 1.5, 0, 0), (1, 0, 0, 0), (0, 1, 0, 0)]))
+    case("skin_weights_without_joints", EXIT_INVALID,
+         "meshes[0].primitives[0].attributes: WEIGHTS_0 without JOINTS_0", bad_skin(drop="JOINTS_0"))
+    case("skin_joints_count_mismatch", EXIT_INVALID,
+         ["meshes[0].primitives[0].attributes.JOINTS_0", "has 3 elements, POSITION has 4"], bad_skin(joints_count=3))
+    case("skin_weights_not_normalized", EXIT_INVALID, "integer WEIGHTS_0 must be normalized",
+         bad_skin(weights_ubyte=True, normalized=False))
+    case("skin_oob", EXIT_INVALID, "nodes[1].skin: 4 does not exist (1 skins)", bad_skin(node_skin=4))
+
+    # -- morph targets (glTF 2.0 3.7.2.2; src/scene/morph.c): one target on
+    # the quad of mesh 0 (corners 2 and 3 lifted).
+    def bad_morph(**kw):
+        def f(d):
+            morphed(d, **kw)
+        return f
+    case("morph_target_count_mismatch", EXIT_INVALID,
+         ["meshes[0].primitives[0].targets[0].POSITION", "has 3 elements, POSITION has 4"], bad_morph(count=3))
+    case("morph_target_vec2", EXIT_INVALID, ["has 2 components", "meshes[0].primitives[0].targets[0].POSITION needs 3"],
+         bad_morph(type="VEC2"))
+    case("morph_target_nan", EXIT_INVALID, ["element 2 is not finite", "targets[0].POSITION"], bad_morph(nan=True))
+    case("morph_target_attribute_oob", EXIT_INVALID, "meshes[0].primitives[0].targets[0].NORMAL: accessor 99 does not exist",
+         bad_morph(normal=99))
+    case("morph_targets_differ", EXIT_INVALID,
+         "meshes[0].primitives[1].targets: 0 targets, primitives[0] has 1 (every primitive of a mesh needs the same)",
+         bad_morph(second_primitive=True))
+    case("morph_mesh_weights_length", EXIT_INVALID, "meshes[0].weights: 2 weights for 1 morph targets",
+         bad_morph(mesh_weights=[0.5, 0.5]))
+    case("morph_node_weights_length", EXIT_INVALID, "nodes[1].weights: 3 weights for the 1 morph targets of meshes[0]",
+         bad_morph(node_weights=[0, 0, 1]))
+    case("morph_node_weights_no_mesh", EXIT_INVALID, "nodes[2].weights: the node has no mesh to morph",
+         bad_morph(camera_weights=[1]))
+    case("morph_weights_not_numbers", EXIT_INVALID, 'meshes[0].weights[0]: "half" is not a number',
+         bad_morph(mesh_weights=["half"]))
+    case("morph_weights_anim_count", EXIT_INVALID,
+         ["animations[0].samplers[0].output (weights)", "3 keys for its node's morph targets needs 3"],
+         bad_morph(anim_values=[0, 1]))
+
+
+def blender_doc():
+    """The base scene with the PHOTONBRIDGE_blender extension: a world with an
+    environment map (sky.hdr), an opaque film, the lamp as a soft point light
+    (replacing its KHR light), and an area light on a node of its own."""
+    doc, blob = base()
+    doc["extensionsUsed"].append("PHOTONBRIDGE_blender")
+    doc["extensions"]["PHOTONBRIDGE_blender"] = {
+        "version": 1, "blender": "3.4.1", "render": {"filmTransparent": False},
+        "world": {"color": [0.05, 0.05, 0.05], "strength": 1.0,
+                  "environment": {"uri": "sky.hdr", "projection": "EQUIRECTANGULAR",
+                                  "rotation": [0.0, 0.0, 1.0], "strength": 2.0}}}
+    doc["nodes"][3]["extensions"]["PHOTONBRIDGE_blender"] = {
+        "light": {"type": "POINT", "power": 100.0, "radius": 0.1, "color": [1.0, 0.9, 0.8]}}
+    doc["nodes"].append({"name": "softbox", "translation": [0, 2, 0], "rotation": [-0.70710678, 0, 0, 0.70710678],
+                         "extensions": {"PHOTONBRIDGE_blender": {"light": {
+                             "type": "AREA", "power": 200.0, "shape": "RECTANGLE", "size": 1.0, "sizeY": 0.5,
+                             "spread": 1.2}}}})
+    doc["nodes"][0]["children"].append(len(doc["nodes"]) - 1)
+    return doc, blob
+
+
+def blender_cases(C, png):
+    """PHOTONBRIDGE_blender's lights and world: what loads, and every bad value
+    named by its JSON path (exporters/blender/PHOTONBRIDGE_blender.md)."""
+    doc0, bin0 = blender_doc()
+    hdr = make_hdr(8, 4)
+    X = "PHOTONBRIDGE_blender"
+    W = ("extensions", X, "world")
+    L = ("nodes", 3, "extensions", X, "light")
+    A = ("nodes", 5, "extensions", X, "light")
+
+    def write(group, name, d, code, expect, sky=hdr):
+        rel = C.gltf(group, name, d, bin0, png, code=code, expect=expect)
+        if sky is not None:
+            C.raw(os.path.dirname(rel) + "/sky.hdr", sky)
+
+    def case(name, code, expect, path=None, value=None, sky=hdr, edit=None):
+        d = copy.deepcopy(doc0)
+        if path is not None:
+            o = d
+            for k in path[:-1]:
+                o = o[k]
+            if value is DELETE:
+                del o[path[-1]]
+            else:
+                o[path[-1]] = value
+        if edit:
+            edit(d)
+        write("broken" if code else "valid", name, d, code, expect, sky)
+
+    # Valid: two lights (the KHR lamp replaced, never counted twice), the map.
+    case("blender_lights_world", EXIT_OK, ["triangles=%d" % BASE_TRIANGLES, 'has="type": "area"',
+                                           'has="map": "sky.hdr"', 'has="radius": 0.1', 'has="film_opaque": true',
+                                           'has="blender_units": true'])
+    case("blender_film_transparent", EXIT_OK, ['has="film_opaque": false'], W[:-1] + ("render", "filmTransparent"),
+         True)
+    d = copy.deepcopy(doc0)
+    d["extensions"][X]["world"]["environment"]["uri"] = "sky.png"
+    rel = C.gltf("valid", "blender_world_png", d, bin0, png, code=EXIT_OK, expect=['has="map_width": 4'])
+    C.raw(os.path.dirname(rel) + "/sky.png", make_png(4, 2, [[200, 180, 160, 255] * 4, [40, 40, 40, 255] * 4]))
+    # A JPEG map (the writer copies a .jpg Environment Texture as it is): the
+    # same 4 x 2 picture, written by Pillow 9.4 (quality 95, no chroma
+    # subsampling, optimised Huffman tables); it decodes to (201, 180, 161)
+    # over (39, 39, 39).
+    d["extensions"][X]["world"]["environment"]["uri"] = "sky.jpg"
+    rel = C.gltf("valid", "blender_world_jpg", d, bin0, png, code=EXIT_OK, expect=['has="map_width": 4'])
+    C.raw(os.path.dirname(rel) + "/sky.jpg", base64.b64decode(
+        "/9j/4AAQSkZJRgABAQAAAQABAAD/2wBDAAIBAQEBAQIBAQECAgICAgQDAgICAgUEBAMEBgUGBgYFBgYGBwkIBgcJBwYGCAsICQoKCgoK"
+        "BggLDAsKDAkKCgr/2wBDAQICAgICAgUDAwUKBwYHCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoKCgoK"
+        "Cgr/wAARCAACAAQDAREAAhEBAxEB/8QAFAABAAAAAAAAAAAAAAAAAAAACf/EABsQAAAHAQAAAAAAAAAAAAAAAAAFBwgYWJbT/8QAFAEB"
+        "AAAAAAAAAAAAAAAAAAAAA//EABkRAAEFAAAAAAAAAAAAAAAAAAEABBRSkf/aAAwDAQACEQMRAD8AOeZDvLUqRuTDsAjNqDAmkOLnSv/Z"))
+    # Broken: the version, the world and its map, each light value.
+    case("blender_version_2", EXIT_UNSUPPORTED, "extensions.PHOTONBRIDGE_blender.version: 2",
+         ("extensions", X, "version"), 2)
+    case("blender_version_missing", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.version: missing",
+         ("extensions", X, "version"), DELETE)
+    case("blender_world_hdr_missing", EXIT_IO, ["world.environment.uri", "nothere.hdr"],
+         W + ("environment", "uri"), "nothere.hdr")
+    case("blender_world_hdr_truncated", EXIT_IMAGE, ["world.environment.uri", "sky.hdr", "scanline"],
+         sky=hdr[:len(hdr) - 20])
+    case("blender_world_hdr_zero_width", EXIT_IMAGE, ["world.environment.uri", "0 x 4 pixels"],
+         sky=make_hdr(0, 4, header_res=b"-Y 4 +X 0"))
+    case("blender_world_hdr_not_hdr", EXIT_IMAGE, ["world.environment.uri", "not a Radiance HDR"], sky=b"P6 4 4 255\n")
+    case("blender_world_hdr_huge", EXIT_LIMIT, ["world.environment.uri", "exceeds the limit"],
+         sky=make_hdr(1, 1, header_res=b"-Y 100000 +X 100000"))
+    case("blender_world_hdr_outside", EXIT_INVALID, ["world.environment.uri", "leaves the scene's folder"],
+         W + ("environment", "uri"), "../../outside.bin")
+    d = copy.deepcopy(doc0)
+    d["extensions"][X]["world"]["environment"]["uri"] = "sky.tga"
+    rel = C.gltf("broken", "blender_world_map_tga", d, bin0, png, code=EXIT_UNSUPPORTED,
+                 expect=["world.environment.uri", "'sky.tga': not a .hdr, .exr, .png or .jpg file"])
+    C.raw(os.path.dirname(rel) + "/sky.tga", b"\0\0\2" + b"\0" * 15)
+    case("blender_world_projection", EXIT_UNSUPPORTED, "world.environment.projection: 'MIRROR_BALL'",
+         W + ("environment", "projection"), "MIRROR_BALL")
+    case("blender_world_strength_negative", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world.strength: -1",
+         W + ("strength",), -1.0)
+    case("blender_world_color_string", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world.color: not an array",
+         W + ("color",), "grey")
+    case("blender_world_rotation_short", EXIT_INVALID, "world.environment.rotation: not an array of 3",
+         W + ("environment", "rotation"), [0.0, 1.0])
+    case("blender_world_not_object", EXIT_INVALID, "extensions.PHOTONBRIDGE_blender.world: not an object", W, [1])
+    case("blender_light_type", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.type: 'HEMI'",
+         L + ("type",), "HEMI")
+    case("blender_light_type_missing", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.type: missing",
+         L + ("type",), DELETE)
+    case("blender_light_power_negative", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.power: -5",
+         L + ("power",), -5.0)
+    case("blender_light_power_overflow", EXIT_INVALID,
+         "nodes[3].extensions.PHOTONBRIDGE_blender.light.power", L + ("power",), 1e300)
+    case("blender_light_color_negative", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.color[1]",
+         L + ("color",), [1.0, -0.5, 1.0])
+    case("blender_light_radius_bool", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.radius: not a number",
+         L + ("radius",), True)
+    case("blender_area_zero_size", EXIT_INVALID, ["nodes[5].extensions.PHOTONBRIDGE_blender.light", "zero area"],
+         A + ("size",), 0.0)
+    case("blender_area_shape", EXIT_INVALID, "nodes[5].extensions.PHOTONBRIDGE_blender.light.shape: 'STAR'",
+         A + ("shape",), "STAR")
+    case("blender_area_spread_zero", EXIT_INVALID, "nodes[5].extensions.PHOTONBRIDGE_blender.light.spread: 0",
+         A + ("spread",), 0.0)
+    case("blender_spot_blend", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.spotBlend: 2",
+         L + ("spotBlend",), 2.0)
+    case("blender_sun_angle_pi", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.angle",
+         L, {"type": "SUN", "angle": 3.5})
+    case("blender_light_not_object", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light: not an object",
+         L, "POINT")
+    case("blender_light_cast_shadow_string", EXIT_INVALID,
+         "nodes[3].extensions.PHOTONBRIDGE_blender.light.castShadow: not true or false", L + ("castShadow",), "yes")
+    # Python's json writes NaN and Infinity, which JSON does not have, and a
+    # literal beyond double range is no number either: the error still names
+    # the value's path.
+    for name, token in (("blender_light_power_nan", "NaN"), ("blender_world_strength_infinity", "-Infinity"),
+                        ("blender_light_power_1e999", "1e999")):
+        d = copy.deepcopy(doc0)
+        key = "power" if "power" in name else "strength"
+        (d["nodes"][3]["extensions"][X]["light"] if key == "power" else d["extensions"][X]["world"])[key] = 12345.678
+        rel = C.gltf("broken", name, d, bin0, png, code=EXIT_INVALID,
+                     expect=[("nodes[3].extensions.PHOTONBRIDGE_blender.light.power" if key == "power" else
+                              "extensions.PHOTONBRIDGE_blender.world.strength") + ": " + token, "not a finite number"])
+        p = C.path(rel)
+        with open(p, "rb") as f:
+            text = f.read()
+        with open(p, "wb") as f:
+            f.write(text.replace(b"12345.678", token.encode()))
+        C.raw(os.path.dirname(rel) + "/sky.hdr", hdr)
 
 
 def valid_cases(C, png):
@@ -713,8 +1124,7 @@ def valid_cases(C, png):
     d = copy.deepcopy(doc0)
     d["cameras"][0] = {"type": "orthographic",
                        "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}
-    C.gltf(V, "orthographic_camera", d, bin0, png, code=EXIT_OK,
-           expect=["triangles=%d" % BASE_TRIANGLES, "warn=cameras[0]: type 'orthographic' skipped"])
+    C.gltf(V, "orthographic_camera", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
     d = copy.deepcopy(doc0)
     del d["scene"]
     del d["scenes"]
@@ -745,15 +1155,93 @@ def valid_cases(C, png):
     d["materials"][1]["extensions"] = {"PHOTONBRIDGE_blender": {"model": "diffuse", "diffuse": {"roughness": 0.5}}}
     C.gltf(V, "blender_materials", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=the Blender writer says: Mix Shader"])
+    # Images as data URIs, PNG and JPEG (the loader decodes them like files).
+    d = copy.deepcopy(doc0)
+    d["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(png).decode()
+    C.gltf(V, "image_data_uri_png", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    d = copy.deepcopy(doc0)
+    d["images"][0]["uri"] = "data:image/jpeg;base64," + base64.b64encode(JPEG_2X2).decode()
+    C.gltf(V, "image_data_uri_jpeg", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
     d = copy.deepcopy(doc0)
     d["extensionsUsed"].append("KHR_draco_mesh_compression")
     C.gltf(V, "draco_used_not_required", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=KHR_draco_mesh_compression"])
+    # Three camera nodes that share the name "Camera" (glTF does not require
+    # unique names): `--camera Camera` is refused, `--camera 2` picks the
+    # third (tests/cli.cmake).
+    d = copy.deepcopy(doc0)
+    d["nodes"][2]["name"] = "Camera"
+    for z in (7, 9):
+        d["nodes"].append({"name": "Camera", "camera": 0, "translation": [0, 0, z]})
+        d["nodes"][0]["children"].append(len(d["nodes"]) - 1)
+    C.gltf(V, "duplicate_camera_names", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # A sparse POSITION (one vertex moved) and a sparse accessor without a
+    # bufferView (zeros, then the sparse values) as TEXCOORD_0.
+    d = copy.deepcopy(doc0)
+    iv, vv = add_buffer(d, struct.pack("<HH", 2, 0), f32(1, 1, 0.5))
+    d["accessors"][0]["sparse"] = {"count": 1, "indices": {"bufferView": iv, "componentType": USHORT},
+                                   "values": {"bufferView": vv}}
+    d["accessors"][0]["max"] = [1, 1, 0.5]
+    iv, vv = add_buffer(d, bytes([3, 0, 0, 0]), f32(0.5, 0.5))
+    d["accessors"].append({"componentType": FLOAT, "count": 4, "type": "VEC2", "sparse": {
+        "count": 1, "indices": {"bufferView": iv, "componentType": UBYTE}, "values": {"bufferView": vv}}})
+    d["meshes"][1]["primitives"][0]["attributes"]["TEXCOORD_0"] = len(d["accessors"]) - 1
+    C.gltf(V, "sparse_accessors", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # Blender's spot of blend 0: innerConeAngle = outerConeAngle, a hard edge.
+    d = copy.deepcopy(doc0)
+    d["nodes"][3]["extensions"]["KHR_lights_punctual"]["light"] = 1
+    d["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["innerConeAngle"] = 0.6
+    C.gltf(V, "spot_blend_zero", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=lights[1].spot: innerConeAngle = outerConeAngle (0.6, Blender's spot blend 0): a hard-edged spot"])
+    # Blender marks KHR_texture_transform required whenever a Mapping node
+    # feeds a texture: it loads (texCoord 1 from the extension, without a
+    # TEXCOORD_1 in the primitive: warned, read as (0, 0)).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"].append("KHR_texture_transform")
+    d["extensionsRequired"] = ["KHR_texture_transform"]
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"offset": [0.5, 0], "rotation": 0.3, "scale": [2, 2], "texCoord": 1}}
+    C.gltf(V, "texture_transform_required", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=meshes[0].primitives[0]: its material reads TEXCOORD_1, which the primitive lacks"])
+    # KHR_materials_unlit and KHR_materials_variants (the default material
+    # shown, warned).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"] += ["KHR_materials_unlit", "KHR_materials_variants"]
+    d["materials"][1]["extensions"] = {"KHR_materials_unlit": {}}
+    d["extensions"]["KHR_materials_variants"] = {"variants": [{"name": "red"}, {"name": "blue"}]}
+    d["meshes"][1]["primitives"][0]["extensions"] = {"KHR_materials_variants": {"mappings": [
+        {"material": 0, "variants": [1]}]}}
+    C.gltf(V, "unlit_and_variants", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=meshes[1].primitives[0]: KHR_materials_variants: 1 variant mapping(s); the default material is shown"])
+    # Skins and morph targets that load: the plain ones, an animated weights
+    # channel, and the repairs (warned).
+    d = copy.deepcopy(doc0)
+    skinned(d)
+    C.gltf(V, "skin", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    d = copy.deepcopy(doc0)
+    skinned(d, weights0=[(0.5, 0, 0, 0), (1, 0, 0, 0), (0, 0.5, 0, 0), (0, 1, 0, 0)])
+    C.gltf(V, "skin_weights_unnormalized", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=skin weights of 2 of 4 vertices do not sum to 1 (worst 0.5); rescaled to 1"])
+    d = copy.deepcopy(doc0)
+    skinned(d, weights0=[(0, 0, 0, 0), (1, 0, 0, 0), (0, 1, 0, 0), (0, 1, 0, 0)])
+    C.gltf(V, "skin_weights_zero", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, "warn=1 of 4 vertices have no skin weight; they follow their mesh node"])
+    d = copy.deepcopy(doc0)
+    skinned(d, drop="WEIGHTS_0")
+    del d["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"]
+    C.gltf(V, "skin_without_joints", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, "warn=nodes[1]: skins[0], but meshes[0].primitives[0] has no JOINTS_0"])
+    d = copy.deepcopy(doc0)
+    morphed(d, mesh_weights=[0.5], anim_values=[0, 1, 0])
+    C.gltf(V, "morph_animated", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
-    root = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else here
+    root = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else HERE
     for sub in ("broken", "valid"):
         shutil.rmtree(os.path.join(root, sub), ignore_errors=True)
     C = Corpus(root)
@@ -762,6 +1250,7 @@ def main():
     C.raw("outside.bin", bin0)  # reached by broken/uri_outside through ../../
     broken_cases(C, png)
     valid_cases(C, png)
+    blender_cases(C, png)
     with open(os.path.join(root, "expected.tsv"), "w", newline="\n") as f:
         f.write("# path\texit\texpect\targs  (written by make_corpus.py; see its docstring)\n")
         for line in C.lines:

@@ -83,6 +83,9 @@ while IFS=$'\t' read -r path code expect args || [ -n "$path" ]; do
             got=$(grep -oE '"triangles": *[0-9]+' "$tmp/out" | grep -oE '[0-9]+$')
             [ "$got" = "${c#triangles=}" ] || { why="triangles $got, expected ${c#triangles=}"; break; }
             ;;
+          has=*)
+            grep -qF -- "${c#has=}" "$tmp/out" || { why="info --json lacks '${c#has=}'"; break; }
+            ;;
           warn=*)
             # Warnings are JSON strings; compare with the same escaping.
             want=$(printf '%s' "${c#warn=}" | sed 's/\\/\\\\/g; s/"/\\"/g')

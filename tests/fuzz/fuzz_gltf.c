@@ -1,8 +1,8 @@
 /* libFuzzer target: the glTF/GLB loader (pb_scene_load) on arbitrary bytes.
  *
- * The loader reads a path, so each input is written to a per-process folder
- * ($TMPDIR or /tmp, pb_fuzz_gltf.XXXXXX) as in.glb when it starts with the GLB
- * magic "glTF" and as in.gltf otherwise; the loader itself decides by the
+ * The loader reads a path, so each input is written to the target's folder
+ * (fuzz_util.h) as in.glb when it starts with the GLB magic "glTF" and as
+ * in.gltf otherwise; the loader itself decides by the
  * magic, so the name only keeps crash files easy to reproduce with
  * `photonbridge info`. The folder also holds base.bin and tex.png from the
  * corpus (tests/corpus/valid/base), so that inputs referencing them reach
@@ -23,9 +23,6 @@
  *
  * PB_FUZZ_VERBOSE=1 prints each input's result and message (reproducing:
  * PB_FUZZ_VERBOSE=1 build-fuzz/fuzz_gltf FILE). */
-#include <dirent.h>
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -36,89 +33,37 @@
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/result.h"
+#include "fuzz_util.h"
 #include "scene/scene.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static char dir[512], path_gltf[600], path_glb[600];
-static int verbose; /* PB_FUZZ_VERBOSE=1: print each input's result */
+static const char *path_gltf, *path_glb;
 
-#define FAIL(...)                                   \
-  do {                                              \
-    fprintf(stderr, "fuzz_gltf: contract: ");       \
-    fprintf(stderr, __VA_ARGS__);                   \
-    fprintf(stderr, "\n");                          \
-    abort();                                        \
-  } while (0)
-
-static void cleanup(void) {
-  unlink(path_gltf);
-  unlink(path_glb);
-  char p[600];
-  snprintf(p, sizeof p, "%s/base.bin", dir);
-  unlink(p);
-  snprintf(p, sizeof p, "%s/tex.png", dir);
-  unlink(p);
-  rmdir(dir);
-}
-
-static void write_all(const char *path, const uint8_t *data, size_t size) {
-  int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-  if (fd < 0) {
-    fprintf(stderr, "fuzz_gltf: cannot create %s: %s\n", path, strerror(errno));
-    abort();
-  }
-  while (size) {
-    ssize_t k = write(fd, data, size);
-    if (k <= 0) {
-      fprintf(stderr, "fuzz_gltf: cannot write %s: %s\n", path, strerror(errno));
-      abort();
-    }
-    data += k;
-    size -= (size_t)k;
-  }
-  close(fd);
-}
+#define FAIL pb_fuzz_fail
 
 static void copy_aux(const char *name) {
-  char src[600], dst[600];
+  char src[600];
   snprintf(src, sizeof src, "%s/%s", PB_FUZZ_AUX_DIR, name);
-  snprintf(dst, sizeof dst, "%s/%s", dir, name);
   uint8_t *d = NULL;
   size_t n = 0;
   if (pb_read_file(src, 1 << 20, &d, &n) != PB_OK) {
     pb_error_clear();
     return; /* the target still works without it */
   }
-  write_all(dst, d, n);
+  pb_fuzz_write(pb_fuzz_path(name), d, n);
   free(d);
 }
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc, (void)argv;
-  const char *tmp = getenv("TMPDIR");
-  snprintf(dir, sizeof dir, "%s/pb_fuzz_gltf.XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
-  if (!mkdtemp(dir)) {
-    fprintf(stderr, "fuzz_gltf: cannot create a folder in %s: %s\n", tmp ? tmp : "/tmp", strerror(errno));
-    abort();
-  }
-  snprintf(path_gltf, sizeof path_gltf, "%s/in.gltf", dir);
-  snprintf(path_glb, sizeof path_glb, "%s/in.glb", dir);
+  pb_fuzz_init("gltf");
+  path_gltf = pb_fuzz_path("in.gltf");
+  path_glb = pb_fuzz_path("in.glb");
   copy_aux("base.bin");
   copy_aux("tex.png");
-  atexit(cleanup);
-  pb_log_set_level(PB_LOG_QUIET);
-  const char *v = getenv("PB_FUZZ_VERBOSE");
-  verbose = v && v[0] == '1';
   return 0;
-}
-
-static int all_zero(const void *p, size_t n) {
-  const uint8_t *b = p;
-  for (size_t i = 0; i < n; ++i)
-    if (b[i]) return 0;
-  return 1;
 }
 
 static void check_failure(const char *path, pb_result r, const pb_scene *s) {
@@ -134,7 +79,7 @@ static void check_failure(const char *path, pb_result r, const pb_scene *s) {
   if (!msg || !msg[0]) FAIL("failure %d without a message", (int)r);
   if (strchr(msg, '\n') || strchr(msg, '\r')) FAIL("message is not one line: %s", msg);
   if (!strstr(msg, path)) FAIL("message does not name the file: %s", msg);
-  if (!all_zero(s, sizeof *s)) FAIL("failure %d left a non-empty scene (%s)", (int)r, msg);
+  if (!pb_fuzz_all_zero(s, sizeof *s)) FAIL("failure %d left a non-empty scene (%s)", (int)r, msg);
 }
 
 static void check_tex(const pb_scene *s, int32_t t, const char *what, uint32_t m) {
@@ -155,14 +100,25 @@ static void check_success(const pb_scene *s) {
   for (uint32_t v = 0; v < s->vertex_count; ++v)
     for (int c = 0; c < 3; ++c)
       if (!isfinite(s->positions[v][c])) FAIL("vertex %u: position is not finite", v);
+  /* COLOR_0 in [0, 1], TEXCOORD_1 finite (scene.h). */
+  for (uint32_t v = 0; s->colors && v < s->vertex_count; ++v)
+    for (int c = 0; c < 4; ++c)
+      if (!(s->colors[v][c] >= 0 && s->colors[v][c] <= 1)) FAIL("vertex %u: colour %g is not in [0, 1]", v, s->colors[v][c]);
+  for (uint32_t v = 0; s->uvs1 && v < s->vertex_count; ++v)
+    if (!isfinite(s->uvs1[v][0]) || !isfinite(s->uvs1[v][1])) FAIL("vertex %u: TEXCOORD_1 is not finite", v);
   for (uint32_t c = 0; c < s->camera_count; ++c) {
     const pb_camera *k = &s->cameras[c];
     for (int i = 0; i < 3; ++i)
       if (!isfinite(k->position[i]) || !isfinite(k->forward[i]) || !isfinite(k->up[i]) || !isfinite(k->right[i]))
         FAIL("cameras[%u]: position or frame is not finite", c);
-    if (!(k->yfov > 0) || !isfinite(k->yfov) || !(k->znear > 0) || !isfinite(k->znear) || !isfinite(k->zfar) ||
+    /* scene/camera.h: perspective yfov in (0, pi) or a positive orthographic
+     * size; clip planes 0 <= znear < zfar (zfar 0: none); finite shift. */
+    int proj_ok = k->orthographic ? k->ortho_size > 0 && isfinite(k->ortho_size) : k->yfov > 0 && k->yfov < 3.1416f;
+    if (!proj_ok || !(k->znear >= 0) || !isfinite(k->znear) || !isfinite(k->zfar) ||
+        (k->zfar != 0 && !(k->zfar > k->znear)) || !isfinite(k->shift[0]) || !isfinite(k->shift[1]) ||
         !isfinite(k->aspect) || k->aspect < 0)
-      FAIL("cameras[%u]: yfov %g znear %g zfar %g aspect %g", c, k->yfov, k->znear, k->zfar, k->aspect);
+      FAIL("cameras[%u]: yfov %g ortho %g znear %g zfar %g aspect %g", c, k->yfov, k->ortho_size, k->znear, k->zfar,
+           k->aspect);
   }
   for (uint32_t l = 0; l < s->light_count; ++l) {
     const pb_light *g = &s->lights[l];
@@ -223,7 +179,7 @@ static void check_success(const pb_scene *s) {
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   const char *path = size >= 4 && memcmp(data, "glTF", 4) == 0 ? path_glb : path_gltf;
-  write_all(path, data, size);
+  pb_fuzz_write(path, data, size);
   /* Limits below the defaults keep every run inside libFuzzer's 2 GB
    * allocation limit (the defaults allow a 64 M triangle scene); the code
    * paths are the same. */
@@ -232,11 +188,27 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   pb_scene s;
   pb_error_clear();
   pb_result r = pb_scene_load(path, &desc, &s);
-  if (verbose) fprintf(stderr, "fuzz_gltf: %s: result %d: %s\n", path, (int)r, r ? pb_error_message() : "ok");
+  if (pb_fuzz_verbose()) fprintf(stderr, "fuzz_gltf: %s: result %d: %s\n", path, (int)r, r ? pb_error_message() : "ok");
   if (r != PB_OK) {
     check_failure(path, r, &s);
   } else {
     check_success(&s);
+    /* Poses (node animation, skins, morph weights) at the start, the middle
+     * and the end: PB_OK with the same contract, or a one-line
+     * PB_ERR_SCENE_INVALID naming the file (a pose out of float range). */
+    for (int k = 0; s.anim && k < 3; ++k) {
+      pb_error_clear();
+      double t = s.anim_start + 0.5 * k * (s.anim_end - s.anim_start);
+      pb_result pr = pb_scene_set_time(&s, t);
+      if (pr == PB_OK) {
+        check_success(&s);
+        continue;
+      }
+      const char *msg = pb_error_message();
+      if (pr != PB_ERR_SCENE_INVALID || !strstr(msg, path) || strchr(msg, '\n'))
+        FAIL("pb_scene_set_time(%g) returned %d: %s", t, (int)pr, msg);
+      break;
+    }
     pb_scene_destroy(&s);
   }
   pb_error_clear();

@@ -17,8 +17,20 @@ the broken-file corpus (tests/corpus/{broken,valid}/*/) it writes:
     to base.bin / tex.png, the file with its URIs renamed to those, so the
     broken JSON meets real buffer data.
 
-Seeds over --max-bytes (default 262144) are left out (sun_atrium's 2.8 MB
-buffer would slow every mutation). A conversion that does not apply (the
+and, for the features the loader reads or will read:
+
+  - feature_NAME.gltf and .packed.glb: feature_seeds.py's code-made files
+    (skins, morph targets, sparse accessors, texture transforms, every
+    material extension, animation channels, data-URI images, the
+    PHOTONBRIDGE_blender extension, ...);
+  - every file in tests/fuzz/seeds/gltf/ (Blender's own exporter:
+    blender_seeds.py);
+  - NAME.optional.gltf: any of these whose extensionsRequired the loader
+    refuses at once, with that list removed, so mutations reach the data.
+
+Seeds over --max-bytes (default 65536, fuzz_gltf's -max_len in run.sh) are
+left out: sun_atrium's 2.8 MB buffer would slow every mutation, and libFuzzer
+cuts longer inputs to -max_len anyway. A conversion that does not apply (the
 JSON is the broken part, a URI is missing) is skipped: the raw file is kept.
 The output is a pure function of the input files."""
 import base64
@@ -26,6 +38,8 @@ import json
 import os
 import struct
 import sys
+
+import feature_seeds
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BASE_DIR = os.path.join(ROOT, "tests", "corpus", "valid", "base")
@@ -150,7 +164,7 @@ def rebase(text, folder):
 
 def main():
     args = sys.argv[1:]
-    max_bytes = 262144
+    max_bytes = 65536
     if "--max-bytes" in args:
         i = args.index("--max-bytes")
         max_bytes = int(args[i + 1])
@@ -200,6 +214,26 @@ def main():
                     rb = rebase(raw, folder)
                     if rb is not None:
                         emit(stem + ".base.gltf", rb)
+    def emit_doc(stem, doc, optional_only=False):
+        if not optional_only:
+            emit(stem + ".gltf", (json.dumps(doc, separators=(",", ":")) + "\n").encode())
+        if "extensionsRequired" in doc:
+            opt = dict(doc)
+            del opt["extensionsRequired"]
+            emit(stem + ".optional.gltf", (json.dumps(opt, separators=(",", ":")) + "\n").encode())
+
+    for name, doc in feature_seeds.all_docs():
+        emit_doc("feature_" + name, doc)
+        packed = pack(doc, ROOT)
+        if packed is not None:
+            emit("feature_%s.packed.glb" % name, make_glb(packed[0], packed[1] or None))
+    blender_dir = os.path.join(ROOT, "tests", "fuzz", "seeds", "gltf")
+    for f in sorted(os.listdir(blender_dir)) if os.path.isdir(blender_dir) else []:
+        raw = read(os.path.join(blender_dir, f))
+        emit(f, raw)
+        doc, _ = parse(os.path.join(blender_dir, f))
+        if doc is not None:
+            emit_doc(os.path.splitext(f)[0], doc, optional_only=True)
     print("make_seeds: %d seeds in %s (%d over %d bytes left out)" % (written, out, skipped, max_bytes))
 
 

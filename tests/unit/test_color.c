@@ -14,7 +14,7 @@
 #include "core/fs.h"
 #include "image/image.h"
 #include "pbtest.h"
-#include "scene/image_decode.h"
+#include "image/decode.h"
 #include "scene/scene.h"
 
 #define BLENDER_CONFIG "/usr/share/blender/datafiles/colormanagement/config.ocio"
@@ -25,9 +25,11 @@ static float clamp01(float v) { return v > 0 ? (v < 1 ? v : 1) : 0; }
  * from -0.1 to 4 (values above 1 clip), grey and coloured. */
 static void test_standard_view(void) {
   pb_color *c = NULL;
-  pb_color_desc d = {0};
+  pb_color_desc d = {.purpose = PB_COLOR_METRICS}; /* metrics: built-in Standard, always */
   unsetenv("OCIO");
+  setenv("PB_BLENDER_OCIO", BLENDER_CONFIG, 1);
   CHECK_EQ_INT(pb_color_open(&d, &c), PB_OK);
+  setenv("PB_BLENDER_OCIO", "", 1);
   if (!c) return;
   CHECK(strcmp(pb_color_config_name(c), "built-in") == 0);
   CHECK(strcmp(pb_color_display(c), "sRGB") == 0);
@@ -119,10 +121,19 @@ static void test_errors(void) {
   CHECK(strstr(pb_error_message(), "built-in") && strstr(pb_error_message(), "no display 'Nope'") &&
         strstr(pb_error_message(), "sRGB"));
   pb_error_clear();
-  pb_color_desc v = {.view = "Filmic"};
+  pb_color_desc v = {.view = "False Color"};
   CHECK_EQ_INT(pb_color_open(&v, &c), PB_ERR_USAGE);
   printf("error: %s\n", pb_error_message());
-  CHECK(strstr(pb_error_message(), "no view 'Filmic'") && strstr(pb_error_message(), "Standard"));
+  CHECK(strstr(pb_error_message(), "no view 'False Color'") && strstr(pb_error_message(), "Filmic") &&
+        strstr(pb_error_message(), "Standard"));
+  pb_error_clear();
+  pb_color_desc ex = {.exposure = NAN};
+  CHECK_EQ_INT(pb_color_open(&ex, &c), PB_ERR_USAGE);
+  CHECK(strstr(pb_error_message(), "exposure") != NULL);
+  pb_error_clear();
+  pb_color_desc ga = {.gamma = -1};
+  CHECK_EQ_INT(pb_color_open(&ga, &c), PB_ERR_USAGE);
+  CHECK(strstr(pb_error_message(), "gamma") != NULL);
   pb_error_clear();
   pb_color_desc l = {.look = "Punchy"};
   CHECK_EQ_INT(pb_color_open(&l, &c), PB_ERR_USAGE);
@@ -173,20 +184,22 @@ static void test_embedded_matches_file(void) {
 
 static void test_png(void) {
   pb_color *c = NULL;
-  CHECK_EQ_INT(pb_color_open(NULL, &c), PB_OK);
+  pb_color_desc sd = {.view = "Standard"};
+  CHECK_EQ_INT(pb_color_open(&sd, &c), PB_OK);
   enum { W = 256 };
   static float px[W * 3];
   for (int i = 0; i < W; ++i) px[i * 3] = px[i * 3 + 1] = px[i * 3 + 2] = (float)i / (W - 1);
   char path[64];
   snprintf(path, sizeof path, "/tmp/pb_color_test_%d.png", (int)getpid());
-  CHECK_EQ_INT(pb_png_write_display(path, c, W, 1, 3, px, 0.0f), PB_OK);
+  CHECK_EQ_INT(pb_png_write_display(path, c, W, 1, 3, px), PB_OK);
   uint8_t *bytes = NULL;
   size_t size = 0;
   CHECK_EQ_INT(pb_read_file(path, 1 << 20, &bytes, &size), PB_OK);
-  uint8_t *rgba = NULL;
-  uint32_t w = 0, h = 0;
-  const char *why = NULL;
-  if (bytes) CHECK_EQ_INT(pb_decode_image_rgba8(bytes, size, 4096, 1 << 20, &rgba, &w, &h, &why), PB_DECODE_OK);
+  pb_decoded dec = {0};
+  const pb_decode_limits lim = {.max_dim = 4096, .max_pixels = 1 << 20};
+  if (bytes) CHECK_EQ_INT(pb_decode_image_rgba8(bytes, size, &lim, &dec), PB_DECODE_OK);
+  uint8_t *rgba = dec.rgba;
+  uint32_t w = dec.width;
   if (rgba) {
     CHECK_EQ_INT(w, W);
     int worst = 0;
@@ -199,11 +212,131 @@ static void test_png(void) {
   free(rgba);
   free(bytes);
   /* The fallback without OCIO is pb_png_write_srgb, same bytes. */
-  CHECK_EQ_INT(pb_png_write_display(path, NULL, W, 1, 3, px, 0.0f), PB_OK);
-  CHECK_EQ_INT(pb_png_write_display(path, c, W, 1, 2, px, 0.0f), PB_ERR_IMAGE);
+  CHECK_EQ_INT(pb_png_write_display(path, NULL, W, 1, 3, px), PB_OK);
+  CHECK_EQ_INT(pb_png_write_display(path, c, W, 1, 2, px), PB_ERR_IMAGE);
   pb_error_clear();
   remove(path);
   pb_color_destroy(c);
+}
+
+/* Defaults: pictures through the config's default view (Filmic, as in
+ * Blender), metrics through the built-in Standard view; Blender's config is
+ * preferred for pictures where it is installed. */
+static void test_defaults(void) {
+  pb_color *c = NULL;
+  setenv("PB_BLENDER_OCIO", "", 1);
+  CHECK_EQ_INT(pb_color_open(NULL, &c), PB_OK);
+  if (c) {
+    CHECK(strcmp(pb_color_config_name(c), "built-in") == 0);
+    CHECK(strcmp(pb_color_view(c), "Filmic") == 0);
+    float px[3] = {0.18f, 0.18f, 0.18f};
+    CHECK_EQ_INT(pb_color_apply_display(c, px, 1, 1, 3), PB_OK);
+    printf("built-in Filmic: 0.18 -> %.4f\n", px[0]);
+    CHECK(px[0] > 0.4f && px[0] < 0.6f);
+    char line[512];
+    pb_color_describe(c, line, sizeof line);
+    printf("describe: %s\n", line);
+    CHECK(strstr(line, "sRGB / Filmic, look None, exposure 0, gamma 1 (OCIO config built-in)") != NULL);
+  }
+  pb_color_destroy(c);
+  pb_color_desc m = {.purpose = PB_COLOR_METRICS};
+  CHECK_EQ_INT(pb_color_open(&m, &c), PB_OK);
+  if (c) CHECK(strcmp(pb_color_view(c), "Standard") == 0);
+  pb_color_destroy(c);
+  if (access(BLENDER_CONFIG, R_OK) == 0) {
+    unsetenv("PB_BLENDER_OCIO");
+    CHECK(pb_color_blender_config() && strcmp(pb_color_blender_config(), BLENDER_CONFIG) == 0);
+    CHECK_EQ_INT(pb_color_open(NULL, &c), PB_OK);
+    if (c) {
+      CHECK(strstr(pb_color_config_name(c), "Blender's") && strstr(pb_color_config_name(c), BLENDER_CONFIG));
+      CHECK(strcmp(pb_color_view(c), "Filmic") == 0);
+    }
+    pb_color_destroy(c);
+    /* Metrics never follow Blender's config. */
+    CHECK_EQ_INT(pb_color_open(&m, &c), PB_OK);
+    if (c) CHECK(strcmp(pb_color_config_name(c), "built-in") == 0);
+    pb_color_destroy(c);
+  }
+  setenv("PB_BLENDER_OCIO", "/nonexistent/config.ocio", 1);
+  CHECK(pb_color_blender_config() == NULL);
+  setenv("PB_BLENDER_OCIO", "", 1);
+}
+
+/* Exposure scales scene-linear by 2^EV before the view; gamma raises the
+ * display value to 1/gamma after it (Blender's display processor). */
+static void test_exposure_gamma(void) {
+  pb_color *base = NULL, *ev = NULL, *gm = NULL;
+  pb_color_desc b = {.view = "Standard"}, e = {.view = "Standard", .exposure = 1.5},
+                g = {.view = "Standard", .gamma = 2.2};
+  CHECK_EQ_INT(pb_color_open(&b, &base), PB_OK);
+  CHECK_EQ_INT(pb_color_open(&e, &ev), PB_OK);
+  CHECK_EQ_INT(pb_color_open(&g, &gm), PB_OK);
+  if (base && ev && gm) {
+    CHECK_NEAR(pb_color_exposure(ev), 1.5, 0);
+    CHECK_NEAR(pb_color_gamma(gm), 2.2, 0);
+    CHECK_NEAR(pb_color_gamma(base), 1.0, 0);
+    double worst_e = 0, worst_g = 0;
+    for (int i = 0; i < 64; ++i) {
+      float v = 0.003f * (float)i;
+      float a[3] = {v * exp2f(1.5f), v, v * 0.5f * exp2f(1.5f)}, x[3] = {v, v / exp2f(1.5f), v * 0.5f};
+      float p[3] = {v, v, v}, q[3] = {v, v, v};
+      pb_color_apply_display(base, a, 1, 1, 3);
+      pb_color_apply_display(ev, x, 1, 1, 3);
+      pb_color_apply_display(base, p, 1, 1, 3);
+      pb_color_apply_display(gm, q, 1, 1, 3);
+      for (int k = 0; k < 3; ++k) worst_e = fmax(worst_e, fabs(a[k] - x[k]));
+      worst_g = fmax(worst_g, fabs(powf(p[0], 1.0f / 2.2f) - q[0]));
+    }
+    printf("exposure 1.5 vs scaled input: %.3g; gamma 2.2 vs pow(1/2.2): %.3g\n", worst_e, worst_g);
+    CHECK(worst_e < 1e-5);
+    CHECK(worst_g < 1e-4);
+  }
+  pb_color_destroy(base);
+  pb_color_destroy(ev);
+  pb_color_destroy(gm);
+}
+
+/* The built-in Filmic against Blender's config's Filmic on 200k scene-linear
+ * colours over 24 stops (grey, saturated, zeros): the same four steps, so
+ * they agree far inside one 8-bit step. Needs Blender's config files only. */
+static void test_builtin_filmic_vs_blender_config(void) {
+  if (access(BLENDER_CONFIG, R_OK) != 0) {
+    printf("skip: %s not installed\n", BLENDER_CONFIG);
+    return;
+  }
+  pb_color *mine = NULL, *theirs = NULL;
+  pb_color_desc a = {.view = "Filmic"}, b = {.config = BLENDER_CONFIG, .view = "Filmic"};
+  setenv("PB_BLENDER_OCIO", "", 1);
+  CHECK_EQ_INT(pb_color_open(&a, &mine), PB_OK);
+  CHECK_EQ_INT(pb_color_open(&b, &theirs), PB_OK);
+  if (mine && theirs) {
+    CHECK(strcmp(pb_color_config_name(mine), "built-in") == 0);
+    enum { N = 200000 };
+    float *p = malloc(sizeof(float) * N * 3), *q = malloc(sizeof(float) * N * 3);
+    uint64_t st = 12345;
+    for (int i = 0; i < N * 3 && p && q; ++i) {
+      st = st * 6364136223846793005ull + 1442695040888963407ull;
+      float u = (float)(st >> 40) / (float)(1 << 24);
+      float stops = -14.0f + 24.0f * u;
+      p[i] = ((st >> 20) & 15) == 0 ? 0.0f : 0.18f * exp2f(stops);
+      if ((i / 3) % 3 == 0 && i % 3) p[i] = p[i - i % 3]; /* a third grey */
+      q[i] = p[i];
+    }
+    if (p && q) {
+      CHECK_EQ_INT(pb_color_apply_display(mine, p, N, 1, 3), PB_OK);
+      CHECK_EQ_INT(pb_color_apply_display(theirs, q, N, 1, 3), PB_OK);
+      double mx = 0;
+      for (int i = 0; i < N * 3; ++i) mx = fmax(mx, fabs(p[i] - q[i]) * 255.0);
+      printf("built-in Filmic vs Blender's config: max %.4f 8-bit steps over %d colours\n", mx, N);
+      CHECK(mx < 0.05);
+    } else {
+      CHECK(0);
+    }
+    free(p);
+    free(q);
+  }
+  pb_color_destroy(mine);
+  pb_color_destroy(theirs);
 }
 
 /* Blender's config, when installed: Filmic loads through the shim and maps
@@ -251,19 +384,23 @@ static int read_png(const char *path, uint8_t **rgba, uint32_t *w, uint32_t *h) 
   uint8_t *bytes = NULL;
   size_t size = 0;
   if (pb_read_file(path, 1 << 24, &bytes, &size) != PB_OK) return 0;
-  const char *why = NULL;
-  int ok = pb_decode_image_rgba8(bytes, size, 4096, 1 << 22, rgba, w, h, &why) == PB_DECODE_OK;
+  pb_decoded dec;
+  const pb_decode_limits lim = {.max_dim = 4096, .max_pixels = 1 << 22};
+  int ok = pb_decode_image_rgba8(bytes, size, &lim, &dec) == PB_DECODE_OK;
   free(bytes);
+  *rgba = dec.rgba;
+  *w = dec.width;
+  *h = dec.height;
   return ok;
 }
 
 /* max and mean |ours - Blender's| in 8-bit steps for one view/look. */
-static void compare_with_blender(const float *lin, const char *png, const char *look, double *max_d,
-                                 double *mean_d) {
+static void compare_with_blender(const char *config, const float *lin, const char *png, const char *look,
+                                 double *max_d, double *mean_d) {
   *max_d = 1e9;
   *mean_d = 1e9;
   pb_color *c = NULL;
-  pb_color_desc d = {.config = BLENDER_CONFIG, .display = "sRGB", .view = "Filmic", .look = look};
+  pb_color_desc d = {.config = config, .display = "sRGB", .view = "Filmic", .look = look};
   CHECK_EQ_INT(pb_color_open(&d, &c), PB_OK);
   uint8_t *rgba = NULL;
   uint32_t w = 0, h = 0;
@@ -349,12 +486,17 @@ static int test_against_blender(void) {
     if (system(cmd) != 0) fprintf(stderr, "(no Blender log)\n");
   }
   double mx, mean;
-  compare_with_blender(lin, png, NULL, &mx, &mean);
+  compare_with_blender(BLENDER_CONFIG, lin, png, NULL, &mx, &mean);
   printf("Filmic (Blender's config through our shim) vs Blender 3.4 save_render: max %.2f, mean %.3f (8-bit steps)\n",
          mx, mean);
   CHECK(mx <= 1.0); /* one 8-bit step: float vs Blender's rounding */
   CHECK(mean <= 0.35);
-  compare_with_blender(lin, png_look, "Medium High Contrast", &mx, &mean);
+  compare_with_blender(NULL, lin, png, NULL, &mx, &mean);
+  printf("built-in Filmic (no Blender files) vs Blender 3.4 save_render: max %.2f, mean %.3f (8-bit steps)\n",
+         mx, mean);
+  CHECK(mx <= 1.0);
+  CHECK(mean <= 0.35);
+  compare_with_blender(BLENDER_CONFIG, lin, png_look, "Medium High Contrast", &mx, &mean);
   printf("Filmic + 'Medium High Contrast' look vs Blender: max %.2f, mean %.3f (8-bit steps)\n", mx, mean);
   CHECK(mx <= 1.0);
   CHECK(mean <= 0.35);
@@ -377,12 +519,18 @@ static int test_against_blender(void) {
 }
 
 int main(int argc, char **argv) {
+  /* The unit tests name their configs; Blender's is found only where a test
+   * asks for it. */
+  setenv("PB_BLENDER_OCIO", "", 1);
   if (argc > 1 && strcmp(argv[1], "--blender") == 0) return test_against_blender();
   test_standard_view();
   test_aces_view();
   test_errors();
   test_embedded_matches_file();
   test_png();
+  test_defaults();
+  test_exposure_gamma();
+  test_builtin_filmic_vs_blender_config();
   test_blender_config();
   return pbt_done();
 }

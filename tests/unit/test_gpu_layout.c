@@ -30,22 +30,34 @@ static const member members[] = {
     M(pb_gpu_material, flags), M(pb_gpu_material, normal_tex), M(pb_gpu_material, normal_scale),
     M(pb_gpu_material, model), M(pb_gpu_material, distribution), M(pb_gpu_material, subsurface_color_tex),
     M(pb_gpu_material, subsurface_color), M(pb_gpu_material, normal_strength), M(pb_gpu_material, in_value),
-    M(pb_gpu_material, in_tex),
+    M(pb_gpu_material, in_tex), M(pb_gpu_material, attenuation), M(pb_gpu_material, pad0),
     M(pb_gpu_texture, offset), M(pb_gpu_texture, width), M(pb_gpu_texture, height), M(pb_gpu_texture, flags),
-    M(pb_gpu_texture, wrap_s), M(pb_gpu_texture, wrap_t), M(pb_gpu_texture, pad0), M(pb_gpu_texture, pad1),
+    M(pb_gpu_texture, wrap_s), M(pb_gpu_texture, wrap_t), M(pb_gpu_texture, texcoord), M(pb_gpu_texture, pad1),
+    M(pb_gpu_texture, xform_u), M(pb_gpu_texture, xform_v),
     M(pb_gpu_light, position), M(pb_gpu_light, type), M(pb_gpu_light, direction), M(pb_gpu_light, cos_outer),
-    M(pb_gpu_light, power), M(pb_gpu_light, cos_inner),
-    M(pb_gpu_frame, cam_pos), M(pb_gpu_frame, width), M(pb_gpu_frame, cam_forward), M(pb_gpu_frame, height),
-    M(pb_gpu_frame, cam_right), M(pb_gpu_frame, tan_x), M(pb_gpu_frame, cam_up), M(pb_gpu_frame, tan_y),
-    M(pb_gpu_frame, spp), M(pb_gpu_frame, emitter_count), M(pb_gpu_frame, light_count),
+    M(pb_gpu_light, power), M(pb_gpu_light, cos_inner), M(pb_gpu_light, axis_u), M(pb_gpu_light, radius),
+    M(pb_gpu_light, axis_v), M(pb_gpu_light, spot_blend), M(pb_gpu_light, size_u), M(pb_gpu_light, size_v),
+    M(pb_gpu_light, tan_spread), M(pb_gpu_light, norm_spread), M(pb_gpu_light, flags), M(pb_gpu_light, cos_half),
+    M(pb_gpu_light, pad0), M(pb_gpu_light, pad1),
+    M(pb_gpu_world, color), M(pb_gpu_world, flags), M(pb_gpu_world, map_to0), M(pb_gpu_world, map_to1),
+    M(pb_gpu_world, map_to2), M(pb_gpu_world, width), M(pb_gpu_world, height), M(pb_gpu_world, scale),
+    M(pb_gpu_world, marg_offset),
+    M(pb_gpu_camera, position), M(pb_gpu_camera, x0), M(pb_gpu_camera, forward), M(pb_gpu_camera, dx),
+    M(pb_gpu_camera, right), M(pb_gpu_camera, y0), M(pb_gpu_camera, up), M(pb_gpu_camera, dy),
+    M(pb_gpu_camera, clip_near), M(pb_gpu_camera, clip_far), M(pb_gpu_camera, orthographic),
+    M(pb_gpu_camera, pad0),
+    M(pb_gpu_frame, cam), M(pb_gpu_frame, width), M(pb_gpu_frame, height), M(pb_gpu_frame, spp), M(pb_gpu_frame, emitter_count), M(pb_gpu_frame, light_count),
     M(pb_gpu_frame, max_specular_depth), M(pb_gpu_frame, seed_lo), M(pb_gpu_frame, seed_hi),
     M(pb_gpu_frame, flags), M(pb_gpu_frame, pixel_count), M(pb_gpu_frame, pixel_base), M(pb_gpu_frame, tangent_base),
-    M(pb_gpu_frame, glossy_path_alpha2), M(pb_gpu_frame, pad2),
+    M(pb_gpu_frame, key_x0), M(pb_gpu_frame, key_y0), M(pb_gpu_frame, key_width),
+    M(pb_gpu_frame, uv1_base), M(pb_gpu_frame, color_base), M(pb_gpu_frame, glossy_path_alpha2), M(pb_gpu_frame, pad1),
+    M(pb_gpu_frame, pad2),
     M(pb_gpu_gbuffer, position), M(pb_gpu_gbuffer, prim), M(pb_gpu_gbuffer, wo), M(pb_gpu_gbuffer, u),
     M(pb_gpu_gbuffer, throughput), M(pb_gpu_gbuffer, v), M(pb_gpu_gbuffer, motion_x),
     M(pb_gpu_gbuffer, motion_y), M(pb_gpu_gbuffer, chain), M(pb_gpu_gbuffer, lobes),
     M(pb_gpu_accum, beauty), M(pb_gpu_accum, direct), M(pb_gpu_accum, depth), M(pb_gpu_accum, albedo),
-    M(pb_gpu_accum, material), M(pb_gpu_accum, normal), M(pb_gpu_accum, pad0),
+    M(pb_gpu_accum, material), M(pb_gpu_accum, normal), M(pb_gpu_accum, pad0), M(pb_gpu_accum, emission),
+    M(pb_gpu_accum, pad1),
     M(pb_gpu_raycast_push, ray_count), M(pb_gpu_raycast_push, any_hit), M(pb_gpu_raycast_push, pad0),
     M(pb_gpu_raycast_push, pad1),
     M(pb_gpu_pass_push, sample_index), M(pb_gpu_pass_push, pad0), M(pb_gpu_pass_push, pad1),
@@ -59,7 +71,7 @@ static const struct {
 } sizes[] = {S(pb_gpu_bvh_node), S(pb_gpu_tri),     S(pb_gpu_ray),   S(pb_gpu_hit),
              S(pb_gpu_material), S(pb_gpu_texture), S(pb_gpu_light), S(pb_gpu_frame),
              S(pb_gpu_gbuffer),  S(pb_gpu_accum),   S(pb_gpu_raycast_push), S(pb_gpu_pass_push),
-             S(pb_gpu_emitter)};
+             S(pb_gpu_emitter),  S(pb_gpu_world), S(pb_gpu_camera)};
 
 /* ---- a minimal SPIR-V reader ---------------------------------------------- */
 
@@ -140,7 +152,7 @@ int main(void) {
   if (pb_gpu_create(&gd, &g) == PB_OK) {
     pb_gpu_pipeline p;
     pb_gpu_pipeline_desc pd = {.name = "layout_probe", .spirv = pb_spv_layout_probe,
-                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 13};
+                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 15};
     CHECK_EQ_INT(pb_gpu_pipeline_create(g, &pd, &p), PB_OK);
     pb_gpu_pipeline_destroy(g, &p);
     pb_gpu_pipeline_destroy(g, &p); /* destroy twice: handles were reset */

@@ -1,8 +1,7 @@
 /* The benchmark's fixed leaf-size threshold (pb_photon_estimate_desc.leaf_size,
  * `render --leaf-size`, seed 000 Table 1's sweep) against T_auto on the same
- * photons: with a fixed threshold L every leaf (read back from the sorted
- * photons' leaf-end flags) holds at most L photons unless all its photons
- * share one Morton code, the leaf count falls as L grows, every photon is in
+ * photons: with a fixed threshold L every leaf (read back from the nodes)
+ * holds at most L photons unless all its photons share one Morton code, the leaf count falls as L grows, every photon is in
  * exactly one leaf, the reported T_auto stays the automatic value (what
  * T_auto would have been) while leaf_size reports L; the radix sort's time is
  * part of the build's. Also the radius histogram of `render --json` is
@@ -13,6 +12,7 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
+#include "lbvh_walk.h"
 #include "render/photon.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -39,31 +39,22 @@ static void build(pb_gpu *g, const pb_scene *s, const pb_photon_map *map, uint32
   CHECK_EQ_INT(pb_photon_estimator_build(g, e, map, &ms), PB_OK);
   pb_photon_estimate_stats st;
   CHECK_EQ_INT(pb_photon_estimator_stats(g, e, &st), PB_OK);
-  pb_photon_lbvh_view v;
-  pb_photon_estimator_lbvh(e, &v);
-  uint32_t n = v.count;
-  pb_gpu_photon *sp = calloc(n, sizeof *sp);
-  uint32_t *keys = calloc(n, sizeof *keys);
-  CHECK_EQ_INT(pb_gpu_buffer_download(g, v.photons, 0, sp, (uint64_t)n * sizeof *sp), PB_OK);
-  CHECK_EQ_INT(pb_gpu_buffer_download(g, v.keys, 0, keys, (uint64_t)n * sizeof *keys), PB_OK);
-  /* Leaves are consecutive runs of sorted photons ending at a leaf-end flag. */
-  uint32_t first = 0;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (!(sp[i].flags & PB_PHOTON_LEAF_END)) continue;
-    uint32_t size = i - first + 1;
-    out->leaves++;
-    out->covered += size;
-    if (size > out->max_leaf) out->max_leaf = size;
-    if (leaf && size > leaf && keys[first] != keys[i]) out->over_without_tie++;
-    first = i + 1;
-  }
+  lbvh_host h;
+  CHECK(lbvh_download(g, e, &h));
+  lbvh_walk w;
+  lbvh_walk_tree(&h, &w);
+  out->leaves = w.leaves;
+  out->max_leaf = w.max_leaf;
+  out->covered = h.n - w.not_once;
+  out->over_without_tie = w.big_leaf;
+  CHECK_EQ_INT(w.not_once, 0);
+  CHECK_EQ_INT(w.unmerged, 0);
+  lbvh_free(&h);
   out->t_auto = st.t_auto;
   out->leaf_size = st.leaf_size;
   out->build_ms = st.build_ms;
   out->sort_ms = st.sort_ms;
   CHECK_EQ_INT(st.leaves, out->leaves);
-  free(sp);
-  free(keys);
   pb_photon_estimator_destroy(g, e);
 }
 

@@ -22,6 +22,7 @@ static void setup(pb_material *m, v3 wo, pb_bsdf *b) {
   surf.ng = surf.ns = v3_make(0, 0, 1);
   surf.front = 1;
   surf.mat = m;
+  surf.color[0] = surf.color[1] = surf.color[2] = surf.color[3] = 1; /* no COLOR_0 */
   pb_bsdf_setup(&scene, &surf, wo, NULL, b);
 }
 
@@ -153,6 +154,7 @@ static void test_glass(void) {
   surf.ng = surf.ns = v3_make(0, 0, 1);
   surf.front = 0; /* inside */
   surf.mat = &g;
+  surf.color[0] = surf.color[1] = surf.color[2] = surf.color[3] = 1;
   v3 wo3 = dir_from_theta(60); /* asin(1/1.5) = 41.8 degrees */
   pb_bsdf_setup(&scene, &surf, wo3, NULL, &b);
   int tir = 0;

@@ -189,7 +189,7 @@ static void test_materials(void) {
     CHECK_NEAR(s.materials[2].ior, 1.33, 1e-6);
     CHECK_NEAR(s.materials[3].emissive[0], 10, 1e-5);
     CHECK_NEAR(s.materials[3].emissive[1], 5, 1e-5);
-    CHECK(strcmp(s.materials[4].name, "(default)") == 0);
+    CHECK(strcmp(s.materials[4].name, "(glTF default)") == 0);
     CHECK_NEAR(s.materials[4].metallic, 1, 0);
     CHECK_EQ_INT(s.triangle_material[0], 4);
   }

@@ -1,0 +1,36 @@
+"""photonbridge for Blender: a render engine (F12, `blender -b -E
+PHOTONBRIDGE`) that hands the evaluated scene to `photonbridge render` as
+glTF plus the PHOTONBRIDGE_blender extension, and File > Export >
+photonbridge glTF with the same writer. See the README's "Blender render
+engine" section."""
+
+bl_info = {
+    "name": "photonbridge",
+    "author": "photonbridge",
+    "version": (1, 0, 0),
+    "blender": (3, 4, 0),
+    "location": "Render Properties > Render Engine; File > Export > photonbridge glTF",
+    "description": "GPU photon-mapping render engine (photonbridge CLI)",
+    "category": "Render",
+}
+
+if "bpy" in locals():  # re-enabling the add-on reloads its modules
+    import importlib
+    for _m in (settings, prefs, writer, engine, ui, export_op):  # noqa: F821
+        importlib.reload(_m)
+
+import bpy  # noqa: E402
+
+from . import settings, prefs, writer, engine, ui, export_op  # noqa: E402
+
+_modules = (settings, prefs, engine, ui, export_op)
+
+
+def register():
+    for m in _modules:
+        m.register()
+
+
+def unregister():
+    for m in reversed(_modules):
+        m.unregister()

@@ -1,0 +1,191 @@
+"""Images for the glTF writer: every image a material or the world uses
+becomes a file next to the .gltf (glTF URIs must stay inside the scene's
+folder for photonbridge), written once per image and colour use.
+
+- PNG and JPEG files on disk are copied byte for byte; packed PNG and JPEG
+  data is written out as it is (Blender's own bytes, no re-encoding);
+- anything else (other formats, generated or edited images, packed EXR) is
+  read through Image.pixels with numpy and encoded here as an 8-bit PNG,
+  sRGB-encoded where the glTF slot wants colour (base colour, emission) and
+  the image holds linear floats, so nothing depends on Blender's image save
+  operators (which change the image datablock, unsafe during a render);
+- environment maps (.hdr, .exr) are copied or written as they are; a
+  generated or non-HDR world image is written as PNG.
+
+No bpy.context and no operators: safe in RenderEngine.update()."""
+import os
+import shutil
+import struct
+import zlib
+
+import numpy as np
+
+import bpy
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+JPEG_MAGIC = b"\xff\xd8\xff"
+
+
+def png_encode(rgba8):
+    """An RGBA or RGB uint8 array (rows top to bottom) as PNG bytes."""
+    h, w, c = rgba8.shape
+    color_type = {3: 2, 4: 6}[c]
+    raw = np.empty((h, 1 + w * c), np.uint8)
+    raw[:, 0] = 0  # filter: none (zlib does the work)
+    raw[:, 1:] = rgba8.reshape(h, w * c)
+
+    def chunk(tag, data):
+        body = tag + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
+
+    return (PNG_MAGIC + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, color_type, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)) + chunk(b"IEND", b""))
+
+
+def linear_to_srgb(x):
+    """IEC 61966-2-1, as photonbridge decodes it (src/scene/scene.c)."""
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+
+
+def image_pixels(image):
+    """(h, w, 4) float32, rows top to bottom (Blender stores them bottom up)."""
+    w, h = image.size
+    px = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(px)
+    return px.reshape(h, w, 4)[::-1]
+
+
+def file_kind(data):
+    if data.startswith(PNG_MAGIC):
+        return "png"
+    if data.startswith(JPEG_MAGIC):
+        return "jpg"
+    return None
+
+
+class ImageWriter:
+    """Writes images into `folder` and hands back their URIs (file names)."""
+
+    def __init__(self, folder, warn):
+        self.folder = folder
+        self.warn = warn
+        self.done = {}      # (image name, mode) -> uri
+        self.names = set()
+
+    def _unique(self, stem, ext):
+        stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem) or "image"
+        name, i = stem + ext, 1
+        while name in self.names:
+            name, i = "%s_%d%s" % (stem, i, ext), i + 1
+        self.names.add(name)
+        return name
+
+    def _source_bytes(self, image):
+        """The image's own PNG/JPEG bytes (packed or on disk), or None."""
+        if image.packed_file is not None:
+            data = bytes(image.packed_file.data)
+            return data if file_kind(data) else None
+        if image.source != 'FILE' or image.is_dirty:
+            return None
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        try:
+            with open(path, "rb") as f:
+                head = f.read(8)
+        except OSError:
+            return None
+        return path if file_kind(head) else None
+
+    def texture_image(self, image, color):
+        """URI of `image` as a glTF texture image. color: the slot is a colour
+        one (base colour, emission: sRGB in glTF)."""
+        key = (image.name, "color" if color else "data")
+        if key in self.done:
+            return self.done[key]
+        src = self._source_bytes(image)
+        # PNG/JPEG bytes are usable as they are unless a float (linear) image
+        # would need encoding; byte images keep their own encoding.
+        if src is not None:
+            if isinstance(src, str):
+                with open(src, "rb") as f:
+                    ext = "." + file_kind(f.read(8))
+                uri = self._unique(os.path.splitext(os.path.basename(src))[0], ext)
+                shutil.copyfile(src, os.path.join(self.folder, uri))
+            else:
+                uri = self._unique(image.name, "." + file_kind(src))
+                with open(os.path.join(self.folder, uri), "wb") as f:
+                    f.write(src)
+        else:
+            if image.size[0] == 0 or image.size[1] == 0:
+                self.warn("image '%s': no pixels (missing file?); the texture is left out" % image.name)
+                self.done[key] = None
+                return None
+            px = image_pixels(image)
+            rgb = px[..., :3]
+            if color and (image.is_float or image.colorspace_settings.name in ("Linear", "Non-Color", "Raw")):
+                rgb = linear_to_srgb(rgb)
+            out = np.concatenate([np.clip(rgb, 0, 1), np.clip(px[..., 3:4], 0, 1)], axis=2)
+            rgba8 = np.round(out * 255.0).astype(np.uint8)
+            uri = self._unique(image.name, ".png")
+            with open(os.path.join(self.folder, uri), "wb") as f:
+                f.write(png_encode(rgba8))
+        self.done[key] = uri
+        return uri
+
+    def composed_image(self, name, channels):
+        """A new PNG from single channels: channels maps an output channel
+        index (0 R .. 3 A) to (image, source channel index) or a constant in
+        [0, 1]. All images must have one size. Returns its URI."""
+        size = None
+        for v in channels.values():
+            if not isinstance(v, (int, float)):
+                size = tuple(v[0].size)
+        if size is None or 0 in size:
+            return None
+        w, h = size
+        out = np.ones((h, w, 4), np.float32)
+        cache = {}
+        for k, v in channels.items():
+            if isinstance(v, (int, float)):
+                out[..., k] = v
+                continue
+            image, c = v
+            if tuple(image.size) != size:
+                self.warn("image '%s': %dx%d, not the %dx%d of the other channels it is packed with; left out"
+                          % (image.name, image.size[0], image.size[1], w, h))
+                return None
+            if image.name not in cache:
+                cache[image.name] = image_pixels(image)
+            out[..., k] = cache[image.name][..., c]
+        uri = self._unique(name, ".png")
+        with open(os.path.join(self.folder, uri), "wb") as f:
+            f.write(png_encode(np.round(np.clip(out, 0, 1) * 255.0).astype(np.uint8)))
+        return uri
+
+    def environment_image(self, image):
+        """URI of a world environment map (.hdr/.exr kept as they are)."""
+        key = (image.name, "environment")
+        if key in self.done:
+            return self.done[key]
+        uri = None
+        if image.packed_file is not None:
+            data = bytes(image.packed_file.data)
+            ext = {"png": ".png", "jpg": ".png"}.get(file_kind(data) or "", None)
+            if data.startswith(b"#?RADIANCE") or data.startswith(b"#?RGBE"):
+                ext = ".hdr"
+            elif data.startswith(b"\x76\x2f\x31\x01"):
+                ext = ".exr"
+            if ext in (".hdr", ".exr") or file_kind(data) == "png":
+                uri = self._unique(image.name, ext)
+                with open(os.path.join(self.folder, uri), "wb") as f:
+                    f.write(data)
+        elif image.source == 'FILE' and not image.is_dirty:
+            path = bpy.path.abspath(image.filepath, library=image.library)
+            ext = os.path.splitext(path)[1].lower()
+            if ext in (".hdr", ".exr", ".png") and os.path.isfile(path):
+                uri = self._unique(os.path.splitext(os.path.basename(path))[0], ext)
+                shutil.copyfile(path, os.path.join(self.folder, uri))
+        if uri is None:
+            uri = self.texture_image(image, color=False)
+        self.done[key] = uri
+        return uri

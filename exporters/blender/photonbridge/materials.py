@@ -1,0 +1,452 @@
+"""Blender materials to glTF materials plus their PHOTONBRIDGE_blender
+extension (exporters/blender/PHOTONBRIDGE_blender.md).
+
+The surface shader reached from the active Material Output is read as it is:
+a Principled BSDF (every input of Blender 3.4's Principled v1), a Diffuse
+BSDF, an Emission shader or a Holdout. Image Texture nodes linked to an input
+(directly, through Separate RGB/Color for one channel, or through a Normal
+Map node) become glTF textures. Whatever else the tree holds is a warning
+naming the material and the node, and the input keeps its own value: a
+material is never refused.
+
+The plain glTF approximation follows Blender 3.4's own exporter
+(io_scene_gltf2/blender/exp/gltf2_blender_gather_materials*.py, read on this
+machine) so that other viewers and photonbridge before the extension see
+the same material Blender's exporter would write:
+- baseColorFactor: Base Color (clamped to [0, 1]) and Alpha, white where a
+  texture drives it; metallic/roughness factors, 1 where textured;
+- KHR_materials_specular only when Specular != 0.5 or Specular Tint != 0,
+  specularColorFactor = (1 - T) 0.08 S tint / F0(ior) + T tint with
+  tint = (1 - St) + St base / luminance(base) (the exporter's conversion;
+  [0, 0, 0] at Specular 0);
+- KHR_materials_transmission when Transmission > 0; KHR_materials_ior when
+  IOR != 1.5 and a specular or transmission extension is written;
+- emissiveFactor = Emission x Strength, split into a unit factor and
+  KHR_materials_emissive_strength when above 1;
+- doubleSided unless backface culling; alphaMode MASK for CLIP, BLEND for
+  BLEND/HASHED.
+A Diffuse BSDF is written as a dielectric with Specular 0 (Blender's
+exporter, which reads only Principled nodes, writes such a material as
+white metal), an Emission shader as black with its emission."""
+
+GLTF_IOR = 1.5
+BLENDER_SPECULAR = 0.5
+
+# Principled BSDF inputs (Blender 3.4 socket names) -> extension members.
+PRINCIPLED_INPUTS = [
+    ("Base Color", "baseColor"), ("Subsurface", "subsurface"), ("Subsurface Radius", "subsurfaceRadius"),
+    ("Subsurface Color", "subsurfaceColor"), ("Metallic", "metallic"), ("Specular", "specular"),
+    ("Specular Tint", "specularTint"), ("Roughness", "roughness"), ("Anisotropic", "anisotropic"),
+    ("Anisotropic Rotation", "anisotropicRotation"), ("Sheen", "sheen"), ("Sheen Tint", "sheenTint"),
+    ("Clearcoat", "clearcoat"), ("Clearcoat Roughness", "clearcoatRoughness"), ("IOR", "ior"),
+    ("Transmission", "transmission"), ("Transmission Roughness", "transmissionRoughness"),
+    ("Emission", "emission"), ("Emission Strength", "emissionStrength"), ("Alpha", "alpha"),
+]
+COLOR_INPUTS = {"baseColor", "subsurfaceColor", "emission"}
+
+# glTF sampler constants.
+NEAREST, LINEAR, LINEAR_MIPMAP_LINEAR = 9728, 9729, 9987
+REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
+
+
+def _value(socket):
+    v = socket.default_value
+    try:
+        return [float(x) for x in v]
+    except TypeError:
+        return float(v)
+
+
+def _source(socket):
+    """The output socket feeding `socket`, through reroutes (None when
+    unlinked or muted)."""
+    if not socket.is_linked:
+        return None
+    link = socket.links[0]
+    while True:
+        if link.is_muted:
+            return None
+        node = link.from_node
+        if node.type == 'REROUTE':
+            if not node.inputs[0].is_linked:
+                return None
+            link = node.inputs[0].links[0]
+            continue
+        return link.from_socket
+
+
+def active_output(tree):
+    """The active Material/World Output for Cycles (or ALL)."""
+    outputs = [n for n in tree.nodes if n.type in ('OUTPUT_MATERIAL', 'OUTPUT_WORLD')]
+    for n in outputs:
+        if n.is_active_output and getattr(n, "target", 'ALL') in ('ALL', 'CYCLES'):
+            return n
+    for n in outputs:
+        if getattr(n, "target", 'ALL') in ('ALL', 'CYCLES'):
+            return n
+    return outputs[0] if outputs else None
+
+
+def luminance(c):
+    return 0.3 * c[0] + 0.6 * c[1] + 0.1 * c[2]
+
+
+class MaterialWriter:
+    """Adds materials (and their textures) to a glTF document under
+    construction: doc.add_texture(uri, sampler) -> texture index."""
+
+    def __init__(self, doc, images, warn):
+        self.doc = doc
+        self.images = images
+        self.warn = warn
+        self.cache = {}
+        self.uses_normal_map = set()  # glTF material indices needing TANGENT
+
+    # ---- textures ----------------------------------------------------------------
+
+    def _sampler(self, node):
+        f = NEAREST if node.interpolation == 'Closest' else LINEAR
+        wrap = {'REPEAT': REPEAT, 'EXTEND': CLAMP, 'MIRROR': MIRROR}.get(node.extension, REPEAT)
+        if node.extension == 'CLIP':
+            self._warn_node(node, "extension Clip is written as clamp to edge")
+            wrap = CLAMP
+        return {"magFilter": f, "minFilter": LINEAR_MIPMAP_LINEAR if f == LINEAR else NEAREST,
+                "wrapS": wrap, "wrapT": wrap}
+
+    def _warn_node(self, node, what):
+        self.warn_material("node '%s' (%s): %s" % (node.name, node.bl_label, what))
+
+    def warn_material(self, text):
+        """A warning about the material being written: in Blender's report
+        (naming the material) and in the extension's "warnings"."""
+        self._mat_warnings.append(text)
+        self.warn("material '%s': %s" % (self.mat_name, text))
+
+    def _image_node(self, node):
+        """A usable Image Texture node, or None (with a warning)."""
+        if node.image is None:
+            self._warn_node(node, "no image; the input keeps its value")
+            return None
+        if node.projection != 'FLAT':
+            self._warn_node(node, "projection %s is written as flat" % node.projection)
+        vec = _source(node.inputs["Vector"])
+        if vec is not None and vec.node.type not in ('UVMAP', 'TEX_COORD'):
+            self._warn_node(vec.node, "texture coordinates are not translated; the UV map is used")
+        elif vec is not None and vec.node.type == 'TEX_COORD' and vec.name != 'UV':
+            self._warn_node(vec.node, "texture coordinate '%s' is not translated; the UV map is used" % vec.name)
+        return node
+
+    def _texture_link(self, socket, name):
+        """What drives a scalar or colour input: None (its value), or
+        (image node, channel) with channel 'RGB', 'R', 'G', 'B' or 'A'."""
+        src = _source(socket)
+        if src is None:
+            return None
+        node = src.node
+        if node.type == 'TEX_IMAGE':
+            node = self._image_node(node)
+            return (node, "A" if src.name == "Alpha" else "RGB") if node else None
+        if node.type in ('SEPRGB', 'SEPARATE_COLOR'):
+            mode = getattr(node, "mode", 'RGB')
+            inner = _source(node.inputs[0])
+            if mode == 'RGB' and inner is not None and inner.node.type == 'TEX_IMAGE' and inner.name == "Color":
+                img = self._image_node(inner.node)
+                chan = {"R": "R", "Red": "R", "G": "G", "Green": "G", "B": "B", "Blue": "B"}.get(src.name)
+                return (img, chan) if img and chan else None
+        self._warn_node(node, "drives %s and is not translated; its value %s is written"
+                        % (name, _fmt(_value(socket))))
+        return None
+
+    def _texture_entry(self, link, color):
+        """The extension's texture entry (and glTF texture index) for a link."""
+        node, channel = link
+        image = node.image
+        uri = self.images.texture_image(image, color=color and channel == "RGB")
+        if uri is None:
+            return None, None
+        index = self.doc.add_texture(uri, self._sampler(node))
+        entry = {"index": index, "texCoord": 0, "channel": channel}
+        if color and image.colorspace_settings.name in ("Non-Color", "Raw", "Linear"):
+            entry["colorSpace"] = "Non-Color"
+        return entry, index
+
+    # ---- materials -----------------------------------------------------------------
+
+    def material(self, mat, holdout=False):
+        """glTF material index of Blender material `mat` (None: a default
+        grey), as a holdout when the object is one."""
+        key = (mat.name if mat else None, holdout)
+        if key in self.cache:
+            return self.cache[key]
+        self.mat_name = mat.name if mat else "(none)"
+        self._mat_warnings = []
+        gm, ext = self._translate(mat, holdout)
+        if self._mat_warnings:
+            ext["warnings"] = self._mat_warnings
+        gm["name"] = mat.name if mat else "default"
+        if mat is not None:
+            ext["blendMethod"] = mat.blend_method
+            ext["alphaThreshold"] = mat.alpha_threshold
+            ext["backfaceCulling"] = mat.use_backface_culling
+            if not mat.use_backface_culling:
+                gm["doubleSided"] = True
+            if mat.blend_method == 'CLIP':
+                gm["alphaMode"] = "MASK"
+                gm["alphaCutoff"] = mat.alpha_threshold
+            elif mat.blend_method in ('BLEND', 'HASHED'):
+                gm["alphaMode"] = "BLEND"
+        gm.setdefault("extensions", {})["PHOTONBRIDGE_blender"] = ext
+        index = self.doc.add_material(gm)
+        if "normal" in ext.get("textures", {}):
+            self.uses_normal_map.add(index)
+        self.cache[key] = index
+        return index
+
+    def _translate(self, mat, holdout):
+        if holdout:
+            return self._plain_black(), {"model": "holdout"}
+        if mat is None:
+            return self._principled_defaults()
+        if not mat.use_nodes or mat.node_tree is None:
+            p = {"baseColor": list(mat.diffuse_color), "metallic": mat.metallic, "roughness": mat.roughness,
+                 "specular": mat.specular_intensity, "specularTint": 0.0, "ior": 1.45, "transmission": 0.0,
+                 "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": mat.diffuse_color[3]}
+            return self._principled_plain(p, {}), {"model": "principled", "principled": p}
+        out = active_output(mat.node_tree)
+        shader = _source(out.inputs["Surface"]) if out else None
+        node = shader.node if shader else None
+        while node is not None and node.type in ('MIX_SHADER', 'ADD_SHADER'):
+            first = node.inputs[1] if node.type == 'MIX_SHADER' else node.inputs[0]
+            self._warn_node(node, "only its first shader input is written")
+            nxt = _source(first)
+            node = nxt.node if nxt else None
+        if node is None:
+            self.warn_material("nothing is connected to the Material Output's Surface; written as black")
+            gm, ext = self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
+        elif node.type == 'BSDF_PRINCIPLED':
+            gm, ext = self._principled(node)
+        elif node.type == 'BSDF_DIFFUSE':
+            gm, ext = self._diffuse(node)
+        elif node.type == 'EMISSION':
+            gm, ext = self._emission(node)
+        elif node.type == 'HOLDOUT':
+            gm, ext = self._plain_black(), {"model": "holdout"}
+        elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
+            gm, ext = self._like_principled(node)
+        else:
+            self._warn_node(node, "shader not translated; written as a grey Principled BSDF")
+            gm, ext = self._principled_defaults()
+        return gm, ext
+
+    def _plain_black(self):
+        return {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0,
+                                         "roughnessFactor": 1.0},
+                "extensions": {"KHR_materials_specular": {"specularColorFactor": [0.0, 0.0, 0.0]}}}
+
+    def _principled_defaults(self):
+        p = {"baseColor": [0.8, 0.8, 0.8, 1.0], "metallic": 0.0, "roughness": 0.5, "specular": BLENDER_SPECULAR,
+             "specularTint": 0.0, "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1],
+             "emissionStrength": 1.0, "alpha": 1.0}
+        return self._principled_plain(p, {}), {"model": "principled", "principled": dict(p)}
+
+    def _principled(self, node):
+        p, links = {}, {}
+        for sock_name, member in PRINCIPLED_INPUTS:
+            sock = node.inputs.get(sock_name)
+            if sock is None:
+                continue
+            p[member] = _value(sock)
+            link = self._texture_link(sock, sock_name)
+            if link is not None:
+                links[member] = link
+        p["distribution"] = node.distribution
+        p["subsurfaceMethod"] = node.subsurface_method
+        normal = node.inputs.get("Normal")
+        normal_link = self._normal_link(normal) if normal is not None else None
+        for other in ("Clearcoat Normal", "Tangent"):
+            s = node.inputs.get(other)
+            if s is not None and _source(s) is not None:
+                self._warn_node(_source(s).node, "drives %s and is not translated" % other)
+        textures, tex_index = {}, {}
+        for member, link in links.items():
+            entry, index = self._texture_entry(link, member in COLOR_INPUTS)
+            if entry is not None:
+                textures[member] = entry
+                tex_index[member] = (index, link)
+        if normal_link is not None:
+            img_node, strength = normal_link
+            entry, index = self._texture_entry((img_node, "RGB"), False)
+            if entry is not None:
+                entry.pop("channel", None)
+                entry["strength"] = strength
+                textures["normal"] = entry
+                tex_index["normal"] = (index, normal_link)
+        ext = {"model": "principled", "principled": p}
+        if textures:
+            ext["textures"] = textures
+        return self._principled_plain(p, tex_index), ext
+
+    def _normal_link(self, socket):
+        src = _source(socket)
+        if src is None:
+            return None
+        node = src.node
+        if node.type == 'NORMAL_MAP':
+            if node.space != 'TANGENT':
+                self._warn_node(node, "space %s is not translated (tangent space only)" % node.space)
+                return None
+            col = _source(node.inputs["Color"])
+            if col is not None and col.node.type == 'TEX_IMAGE':
+                img = self._image_node(col.node)
+                if img:
+                    strength = node.inputs["Strength"]
+                    if _source(strength) is not None:
+                        self._warn_node(node, "a linked Strength is not translated")
+                    return img, float(strength.default_value)
+            elif col is not None:
+                self._warn_node(col.node, "drives the Normal Map's Color and is not translated")
+            return None
+        self._warn_node(node, "drives Normal and is not translated (Normal Map nodes only)")
+        return None
+
+    def _principled_plain(self, p, tex):
+        """The glTF of Principled values p and textures tex (member -> (index,
+        link)), per Blender 3.4's exporter."""
+        pbr = {}
+        base = [max(0.0, min(1.0, c)) for c in p["baseColor"][:3]]
+        alpha = p.get("alpha", 1.0)
+        if "baseColor" in tex and tex["baseColor"][1][1] == "RGB":
+            pbr["baseColorTexture"] = {"index": tex["baseColor"][0]}
+            base = [1.0, 1.0, 1.0]
+        if "alpha" in tex:
+            alpha = 1.0
+        pbr["baseColorFactor"] = base + [alpha]
+        pbr["metallicFactor"] = float(p["metallic"])
+        pbr["roughnessFactor"] = float(p["roughness"])
+        mr = {k: tex[k][1] for k in ("metallic", "roughness") if k in tex}
+        if mr:
+            uri = self._metallic_roughness(mr)
+            if uri is not None:
+                pbr["metallicRoughnessTexture"] = {"index": self.doc.add_texture(uri, self._sampler(
+                    next(iter(mr.values()))[0]))}
+                for k in mr:
+                    pbr[k + "Factor"] = 1.0
+        gm = {"pbrMetallicRoughness": pbr}
+        exts = {}
+        if "normal" in tex:
+            gm["normalTexture"] = {"index": tex["normal"][0], "scale": tex["normal"][1][1]}
+        strength = float(p.get("emissionStrength", 1.0))
+        emissive = [c * strength for c in p["emission"][:3]]
+        if "emission" in tex:
+            gm["emissiveTexture"] = {"index": tex["emission"][0]}
+            emissive = [strength] * 3
+        if any(c > 1.0 for c in emissive):
+            m = max(emissive)
+            exts["KHR_materials_emissive_strength"] = {"emissiveStrength": m}
+            emissive = [c / m for c in emissive]
+        if any(c != 0.0 for c in emissive):
+            gm["emissiveFactor"] = emissive
+        transmission = float(p.get("transmission", 0.0))
+        if "transmission" in tex:
+            exts["KHR_materials_transmission"] = {"transmissionFactor": 1.0}
+            self.warn_material("Transmission texture: only the factor is written in plain glTF")
+        elif transmission > 0.0:
+            exts["KHR_materials_transmission"] = {"transmissionFactor": transmission}
+        spec, tint, ior = float(p["specular"]), float(p["specularTint"]), float(p["ior"])
+        if not any(k in tex for k in ("specular", "specularTint", "transmission")) and \
+                (spec != BLENDER_SPECULAR or tint != 0.0):
+            f0 = ((ior - 1.0) / (ior + 1.0)) ** 2
+            if f0 == 0.0:
+                color = [1.0, 1.0, 1.0]
+            else:
+                lum = luminance(p["baseColor"])
+                tint_rgb = [(1.0 - tint) + (c / lum if lum else c) * tint for c in p["baseColor"][:3]]
+                color = [(1.0 - transmission) * (1.0 / f0) * 0.08 * spec * t + transmission * t for t in tint_rgb]
+            exts["KHR_materials_specular"] = {"specularColorFactor": color}
+        if ior != GLTF_IOR and ("KHR_materials_transmission" in exts or "KHR_materials_specular" in exts):
+            exts["KHR_materials_ior"] = {"ior": ior}
+        if exts:
+            gm["extensions"] = exts
+        return gm
+
+    def _metallic_roughness(self, mr):
+        """The glTF metallicRoughness image (G roughness, B metallic) of the
+        linked channels: the image itself when it already is one, else a
+        composed PNG."""
+        chan = {"R": 0, "G": 1, "B": 2, "A": 3, "RGB": 0}
+        nodes = {k: v[0] for k, v in mr.items()}
+        if len({n.image.name for n in nodes.values()}) == 1:
+            r = mr.get("roughness")
+            m = mr.get("metallic")
+            if (r is None or r[1] == "G") and (m is None or m[1] == "B"):
+                return self.images.texture_image(next(iter(nodes.values())).image, color=False)
+        channels = {0: 1.0, 3: 1.0, 1: 1.0, 2: 1.0}
+        if "roughness" in mr:
+            channels[1] = (mr["roughness"][0].image, chan[mr["roughness"][1]])
+        if "metallic" in mr:
+            channels[2] = (mr["metallic"][0].image, chan[mr["metallic"][1]])
+        return self.images.composed_image(self.mat_name + "_metallicRoughness", channels)
+
+    def _diffuse(self, node):
+        color = _value(node.inputs["Color"])
+        rough = _value(node.inputs["Roughness"])
+        link = self._texture_link(node.inputs["Color"], "Color")
+        ext = {"model": "diffuse", "diffuse": {"color": color, "roughness": rough}}
+        tex = {}
+        if link is not None:
+            entry, index = self._texture_entry(link, True)
+            if entry is not None:
+                ext["textures"] = {"baseColor": entry}
+                tex["baseColor"] = (index, link)
+        normal = self._normal_link(node.inputs["Normal"])
+        if normal is not None:
+            entry, index = self._texture_entry((normal[0], "RGB"), False)
+            if entry is not None:
+                entry.pop("channel", None)
+                entry["strength"] = normal[1]
+                ext.setdefault("textures", {})["normal"] = entry
+                tex["normal"] = (index, normal)
+        p = {"baseColor": color, "metallic": 0.0, "roughness": 1.0, "specular": 0.0, "specularTint": 0.0,
+             "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": 1.0}
+        return self._principled_plain(p, tex), ext
+
+    def _emission(self, node):
+        color = _value(node.inputs["Color"])
+        strength = _value(node.inputs["Strength"])
+        ext = {"model": "emission", "emission": {"color": color, "strength": strength}}
+        tex = {}
+        link = self._texture_link(node.inputs["Color"], "Color")
+        if link is not None:
+            entry, index = self._texture_entry(link, True)
+            if entry is not None:
+                ext["textures"] = {"emission": entry}
+                tex["emission"] = (index, link)
+        p = {"baseColor": [0.0, 0.0, 0.0, 1.0], "metallic": 0.0, "roughness": 1.0, "specular": 0.0,
+             "specularTint": 0.0, "ior": 1.45, "transmission": 0.0, "emission": color,
+             "emissionStrength": strength, "alpha": 1.0}
+        return self._principled_plain(p, tex), ext
+
+    def _like_principled(self, node):
+        """Glass, Glossy and Refraction BSDFs as the Principled inputs that
+        mean the same in Cycles 3.4 (a warning says so)."""
+        color = _value(node.inputs["Color"])
+        rough = _value(node.inputs["Roughness"])
+        p = {"baseColor": color, "metallic": 0.0, "specular": BLENDER_SPECULAR, "specularTint": 0.0,
+             "roughness": rough, "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1],
+             "emissionStrength": 1.0, "alpha": 1.0}
+        if node.type == 'BSDF_GLOSSY':
+            p["metallic"] = 1.0
+            what = "written as a Principled BSDF with Metallic 1"
+        else:
+            p["transmission"] = 1.0
+            p["ior"] = _value(node.inputs["IOR"])
+            what = "written as a Principled BSDF with Transmission 1"
+        self._warn_node(node, what)
+        p["distribution"] = 'GGX' if node.distribution in ('GGX', 'SHARP') else 'MULTI_GGX'
+        return self._principled_plain(p, {}), {"model": "principled", "principled": p}
+
+
+def _fmt(v):
+    if isinstance(v, list):
+        return "(" + ", ".join("%.3g" % x for x in v) + ")"
+    return "%.3g" % v

@@ -1,0 +1,11 @@
+#version 450
+// Radix sort, stable ranking within each tile and the scatter.
+// Portable: workgroup barriers and shared atomics only (lbvh_sort_downsweep_sg.comp ranks with subgroup ballots).
+// The kernels are in common/lbvh_sort.glsl.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_lbvh.h"
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+#include "common/lbvh_sort.glsl"
+
+void main() { pb_sort_downsweep(); }

@@ -1,0 +1,10 @@
+#version 450
+// Radix sort, the digit-major exclusive scan of the tiles' digit counts, plus the keys of lower digits (the pass's totals).
+// The kernels are in common/lbvh_sort.glsl.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_lbvh.h"
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+#include "common/lbvh_sort.glsl"
+
+void main() { pb_sort_spine(); }

@@ -1,0 +1,53 @@
+/* What `photonbridge render` writes, shared by a single frame (cmd_render.c)
+ * and a sequence (cmd_render_seq.c): the multilayer EXR of a frame's AOVs,
+ * in photonbridge's channel names or Blender's, the refining previews, and
+ * the machine-readable progress lines the Blender add-on reads. */
+#ifndef PB_APP_RENDER_OUT_H
+#define PB_APP_RENDER_OUT_H
+
+#include <stdint.h>
+
+#include "core/result.h"
+#include "render/render.h"
+
+/* The EXR of a frame. blender_layer NULL: photonbridge's names (RGBA
+ * beauty, direct.R, ..., depth.Z; see `render --help`). Otherwise Blender's
+ * multilayer EXR names, LAYER.PASS.CHANNEL, so that RenderLayer.
+ * load_from_file and Blender's compositor find them: Combined.RGBA (the
+ * beauty, scene-linear), Depth.Z (camera depth, 1e10 where nothing is hit,
+ * as Cycles writes it), Normal.XYZ, Emit.RGB, and photonbridge's own AOVs as
+ * the passes Direct, Indirect, Caustic, Albedo (RGB; Indirect and Caustic 0
+ * when the photon stages were off, so the set of channels is always the
+ * same; blender_passes, when not NULL, restricts them to that list). `res`
+ * may have only the beauty (a preview): the other passes are
+ * then written as 0. attr_*: extra header attributes. */
+pb_result pb_render_write_exr(const char *path, const pb_render_result *res, const char *blender_layer,
+                              const char *blender_passes, const char *const *attr_names,
+                              const char *const *attr_values, uint32_t attr_count);
+
+/* Checks a --blender-passes list: comma-separated names of the passes
+ * above (Combined, Depth, Normal, Emit, Direct, Indirect, Caustic,
+ * Albedo). NULL passes (all of them). PB_ERR_USAGE naming the first
+ * unknown one. The writer then writes exactly those, so that every
+ * channel of the file has a pass in Blender's render result (Blender warns
+ * about the others). */
+pb_result pb_render_check_blender_passes(const char *list);
+
+/* One progress line on stderr for programs that drive photonbridge (the
+ * Blender add-on): "photonbridge progress: " and a one-line JSON object
+ * whose "event" says what happened:
+ *   {"event": "stage", "stage": "loaded" | "uploaded", "elapsed_s": t}
+ *   {"event": "iteration", "iteration": k, "iterations": K, "samples": s,
+ *    "spp": S, "elapsed_s": t, "preview": PATH | null}
+ *   {"event": "frame", "frame": f, "index": i, "frames": n, "output": PATH}
+ *   {"event": "done", "output": PATH, "elapsed_s": t}
+ * Strings are JSON-escaped. Nothing is printed unless enabled (render
+ * --progress-lines). */
+void pb_progress_lines_enable(int on);
+int pb_progress_lines_enabled(void);
+void pb_progress_line_stage(const char *stage, double elapsed_s);
+void pb_progress_line_iteration(const pb_render_progress *p, const char *preview);
+void pb_progress_line_frame(int32_t frame, uint32_t index, uint32_t frames, const char *output);
+void pb_progress_line_done(const char *output, double elapsed_s);
+
+#endif

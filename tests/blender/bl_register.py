@@ -1,0 +1,47 @@
+"""Blender side: the add-on registers and unregisters cleanly (run with
+--factory-startup --python-exit-code 1)."""
+import addon_utils
+import bpy
+
+failures = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def engine_registered():
+    # A class stays among __subclasses__ after unregistering; is_registered says.
+    return any(c.bl_idname == "PHOTONBRIDGE" and c.is_registered for c in bpy.types.RenderEngine.__subclasses__())
+
+
+check(not engine_registered(), "no engine before enabling")
+for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second register
+    mod = addon_utils.enable("photonbridge", default_set=True, handle_error=None)
+    check(mod is not None, "round %d: enabled" % round_)
+    check(engine_registered(), "round %d: RenderEngine PHOTONBRIDGE registered" % round_)
+    check(hasattr(bpy.types.Scene, "photonbridge"), "round %d: Scene.photonbridge settings" % round_)
+    check(hasattr(bpy.ops.export_scene, "photonbridge_gltf"), "round %d: File > Export operator" % round_)
+    check(hasattr(bpy.types, "PHOTONBRIDGE_PT_render"), "round %d: the photonbridge panel" % round_)
+    for p in ("RENDER_PT_color_management", "RENDER_PT_format", "RENDER_PT_output", "DATA_PT_lens",
+              "DATA_PT_camera", "DATA_PT_EEVEE_light", "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface"):
+        check("PHOTONBRIDGE" in getattr(bpy.types, p).COMPAT_ENGINES, "round %d: %s shows for the engine" % (round_, p))
+    bpy.context.scene.render.engine = "PHOTONBRIDGE"
+    check(bpy.context.scene.render.engine == "PHOTONBRIDGE", "round %d: the scene can select it" % round_)
+    e = [c for c in bpy.types.RenderEngine.__subclasses__() if c.bl_idname == "PHOTONBRIDGE"][0]
+    check(e.bl_use_preview is False and e.bl_use_shading_nodes_custom is False and e.bl_use_eevee_viewport is True
+          and e.bl_use_postprocess is True, "round %d: engine flags" % round_)
+    check(not hasattr(e, "view_update") or e.view_update is bpy.types.RenderEngine.view_update
+          if hasattr(bpy.types.RenderEngine, "view_update") else not hasattr(e, "view_update"),
+          "round %d: no viewport callbacks" % round_)
+    bpy.context.scene.render.engine = "CYCLES"
+    addon_utils.disable("photonbridge", default_set=True, handle_error=None)
+    check(not engine_registered(), "round %d: engine gone after disabling" % round_)
+    check(not hasattr(bpy.types.Scene, "photonbridge"), "round %d: settings gone" % round_)
+    check(not hasattr(bpy.types, "PHOTONBRIDGE_PT_render"), "round %d: panel gone" % round_)
+    check("PHOTONBRIDGE" not in bpy.types.RENDER_PT_format.COMPAT_ENGINES, "round %d: panels restored" % round_)
+print("%d failed" % len(failures))
+if failures:
+    raise SystemExit(1)

@@ -1,0 +1,155 @@
+"""Blender side: small scenes for the add-on's tests, saved as .blend into
+the folder after '--':
+  moving.blend       a floor, a point light and a box that moves +X by 0.5 m
+                     per frame over frames 1-3 (LINEAR keys)
+  unsupported.blend  a lit box whose material takes its Base Color from a
+                     Noise Texture (not translated: a warning)
+  nolights.blend     a box and a camera, no light
+  empty_mesh.blend   a camera, a light and only a mesh without faces
+  nocamera.blend     a box and a light, no camera
+  instances.blend    a floor and a collection with one box, instanced three
+                     times (collection instances) and once more through
+                     geometry nodes' Instance on Points on a 4-vertex mesh
+64 x 48 pixels at 100 %."""
+import os
+import sys
+
+import bpy
+
+out = sys.argv[sys.argv.index("--") + 1]
+os.makedirs(out, exist_ok=True)
+
+
+def reset():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y, sc.render.resolution_percentage = 64, 48, 100
+    sc.frame_start, sc.frame_end = 1, 3
+    return sc
+
+
+def mesh(name, verts, faces, mat=None):
+    me = bpy.data.meshes.new(name)
+    me.from_pydata(verts, [], faces)
+    me.update()
+    ob = bpy.data.objects.new(name, me)
+    if mat:
+        ob.data.materials.append(mat)
+    bpy.context.scene.collection.objects.link(ob)
+    return ob
+
+
+def box(name, c, h, mat=None):
+    x, y, z = c
+    v = [(x + sx * h, y + sy * h, z + sz * h) for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+    f = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    return mesh(name, v, f, mat)
+
+
+def material(name, rgb):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    b = m.node_tree.nodes["Principled BSDF"]
+    b.inputs["Base Color"].default_value = (*rgb, 1)
+    b.inputs["Specular"].default_value = 0.0
+    b.inputs["Roughness"].default_value = 1.0
+    return m
+
+
+def floor():
+    return mesh("Floor", [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)], [(0, 1, 2, 3)], material("Grey", (0.6, 0.6, 0.6)))
+
+
+def light():
+    ld = bpy.data.lights.new("Lamp", 'POINT')
+    ld.energy = 300.0
+    ob = bpy.data.objects.new("Lamp", ld)
+    ob.location = (0, 0, 3)
+    bpy.context.scene.collection.objects.link(ob)
+
+
+def camera():
+    cd = bpy.data.cameras.new("Cam")
+    ob = bpy.data.objects.new("Cam", cd)
+    ob.location = (0, -6, 3)
+    ob.rotation_euler = (1.1, 0, 0)
+    bpy.context.scene.collection.objects.link(ob)
+    bpy.context.scene.camera = ob
+
+
+def save(name):
+    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, name), check_existing=False)
+
+
+reset()
+floor()
+light()
+camera()
+b = box("Mover", (-0.5, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+for f, x in ((1, -0.5), (3, 0.5)):
+    b.location = (x, 0, 0.5)
+    b.keyframe_insert("location", frame=f)
+for fc in b.animation_data.action.fcurves:
+    for k in fc.keyframe_points:
+        k.interpolation = 'LINEAR'
+save("moving.blend")
+
+reset()
+floor()
+light()
+camera()
+m = material("Noisy", (0.8, 0.8, 0.8))
+noise = m.node_tree.nodes.new("ShaderNodeTexNoise")
+noise.name = "Noise Texture"
+m.node_tree.links.new(noise.outputs["Color"], m.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+box("Box", (0, 0, 0.5), 0.5, m)
+save("unsupported.blend")
+
+reset()
+floor()
+camera()
+box("Box", (0, 0, 0.5), 0.5)
+save("nolights.blend")
+
+reset()
+light()
+camera()
+mesh("Edges", [(0, 0, 0), (1, 0, 0), (1, 1, 0)], [])
+save("empty_mesh.blend")
+
+reset()
+floor()
+light()
+box("Box", (0, 0, 0.5), 0.5)
+save("nocamera.blend")
+reset()
+floor()
+light()
+camera()
+col = bpy.data.collections.new("Crates")
+bpy.context.scene.collection.children.link(col)
+crate = box("Crate", (0, 0, 0.25), 0.25, material("Wood", (0.5, 0.3, 0.1)))
+bpy.context.scene.collection.objects.unlink(crate)
+col.objects.link(crate)
+bpy.context.view_layer.layer_collection.children["Crates"].exclude = True
+for i, x in enumerate((-2.0, 0.0, 2.0)):
+    e = bpy.data.objects.new("CrateInstance%d" % i, None)
+    e.instance_type = 'COLLECTION'
+    e.instance_collection = col
+    e.location = (x, 1.0, 0.0)
+    bpy.context.scene.collection.objects.link(e)
+pts = mesh("Points", [(-1.5, -1.5, 0), (1.5, -1.5, 0), (-1.5, -2.5, 0), (1.5, -2.5, 0)], [])
+gn = pts.modifiers.new("Scatter", 'NODES')
+tree = bpy.data.node_groups.new("Scatter", 'GeometryNodeTree')
+tree.inputs.new('NodeSocketGeometry', "Geometry")
+tree.outputs.new('NodeSocketGeometry', "Geometry")
+gin, gout = tree.nodes.new("NodeGroupInput"), tree.nodes.new("NodeGroupOutput")
+inst = tree.nodes.new("GeometryNodeInstanceOnPoints")
+info = tree.nodes.new("GeometryNodeObjectInfo")
+info.inputs[0].default_value = crate
+tree.links.new(gin.outputs[0], inst.inputs["Points"])
+tree.links.new(info.outputs["Geometry"], inst.inputs["Instance"])
+tree.links.new(inst.outputs[0], gout.inputs[0])
+gn.node_group = tree
+save("instances.blend")
+print("bl_scenes: saved into", out)
