@@ -604,6 +604,13 @@ def broken_cases(C, png):
          blender({"model": "principled", "textures": {"roughness": {"channel": "G"}}}))
     case("blender_texture_channel_bogus", EXIT_INVALID, X + ".textures.roughness.channel: 'X' is not R, G, B, A or RGB",
          blender({"model": "principled", "textures": {"roughness": {"index": 0, "channel": "X"}}}))
+    case("blender_texture_transform_offset", EXIT_INVALID,
+         X + ".textures.roughness.extensions.KHR_texture_transform.offset: a string, expected an array of 2 numbers",
+         blender({"model": "principled", "textures": {"roughness": {
+             "index": 0, "extensions": {"KHR_texture_transform": {"offset": "0 0"}}}}}))
+    case("blender_texture_texcoord_negative", EXIT_INVALID,
+         X + ".textures.baseColor.texCoord: the number is not an integer from 0 to 2^31-1",
+         blender({"model": "principled", "textures": {"baseColor": {"index": 0, "texCoord": -1}}}))
     case("blender_warnings_not_strings", EXIT_INVALID, X + ".warnings[0]: a number, expected a string",
          blender({"model": "principled", "warnings": [1]}))
     case("texture_sampler_oob", EXIT_INVALID, "textures[0].sampler", setp(("textures", 0, "sampler"), 3))
@@ -1155,6 +1162,18 @@ def valid_cases(C, png):
     d["materials"][1]["extensions"] = {"PHOTONBRIDGE_blender": {"model": "diffuse", "diffuse": {"roughness": 0.5}}}
     C.gltf(V, "blender_materials", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=the Blender writer says: Mix Shader"])
+    # A Blender texture link is a glTF textureInfo: its uv set and
+    # KHR_texture_transform go the glTF textures' way (a second pb_texture
+    # for the transformed read of the same image).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"] += ["PHOTONBRIDGE_blender", "KHR_texture_transform"]
+    d["materials"][0]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "principled",
+        "textures": {"roughness": {"index": 0, "texCoord": 1, "channel": "G", "extensions": {
+            "KHR_texture_transform": {"offset": [0.5, 0.0], "scale": [2.0, 2.0]}}}}}}
+    C.gltf(V, "blender_texture_transform", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, 'has="texcoord": 1', 'has="uv_transform"',
+                   "warn=its material reads TEXCOORD_1, which the primitive lacks"])
     # Images as data URIs, PNG and JPEG (the loader decodes them like files).
     d = copy.deepcopy(doc0)
     d["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(png).decode()
