@@ -34,3 +34,15 @@ add_test(NAME cli_render_glossy_path_roughness_over
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_render_glossy_path_roughness_over PROPERTIES
                      PASS_REGULAR_EXPRESSION "glossy-path-roughness: 1.5 is outside \\[0, 1\\].*exit=2")
+# The render engine's writer on every Principled test scene, rebuilt in
+# Blender: the same material extension as the committed glTF whose Cycles
+# render principled_lobes compares with, loaded as the same Blender model
+# (tests/blender/principled_writer.py).
+add_test(NAME principled_writer
+         COMMAND sh -c "command -v blender >/dev/null || { echo 'skip: no blender'; exit 77; }
+                        PATH=$(echo \"$PATH\" | tr : '\\n' | grep -v pyenv | paste -sd:) blender -b --factory-startup \
+                          --python-exit-code 1 -P tests/blender/principled_writer.py -- \"$0\" \"$1\""
+                 ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled_writer
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "19 passed, 0 failed")
