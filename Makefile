@@ -117,6 +117,13 @@ bench-lights: install-deps $(BUILD)/Makefile
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
+# Blender's Principled BSDF against Cycles on the studio scenes, and what the
+# Blender materials and Multiscatter GGX cost (bench/principled_studio.py;
+# results in bench/results/DEVICE/principled/).
+.PHONY: bench-principled
+bench-principled: install-deps $(BUILD)/Makefile
+	cmake --build $(BUILD) -j $(JOBS) --target photonbridge exr_probe
+	$(BENCH_PYTHON) bench/principled_studio.py --exe $(BUILD)/photonbridge --probe $(BUILD)/tests/exr_probe $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 # The Blender add-on's hand-off and first picture against Cycles
 # (bench/blender_handoff.py; bench/results/lavapipe/blender/HANDOFF.md).
 .PHONY: bench-blender

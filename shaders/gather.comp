@@ -10,7 +10,8 @@
 // Epanechnikov kernel 2 (1 - q) (unit integral over the unit disc divided
 // by pi, so K / A_i integrates to 1 over the ellipse) or the constant 1.
 // f is the reference's smooth BSDF (Lambert + GGX layer, pb_bsdf_eval) with
-// the material and textures at x. Caustic photons go into their own sum;
+// the material and textures at x; for a Blender material the closures the
+// G-buffer pass left to the photon map (gbuffer.lobes). Caustic photons go into their own sum;
 // both are multiplied by the specular chain's throughput and added to the
 // beauty (unless PB_GATHER_NO_BEAUTY).
 #extension GL_GOOGLE_include_directive : require
@@ -44,7 +45,12 @@ void main() {
   pb_gpu_gbuffer g = gbuffer[gid];
   if (g.prim == PB_GPU_MISS || info.root == PB_LBVH_NONE) return;
   pb_surface surf = pb_surface_from_hit(g.prim, g.u, g.v, -g.wo);
-  pb_bsdf b = pb_bsdf_setup(surf, g.wo);
+  pb_bsdf b = pb_bsdf_setup_t(surf, g.wo, pb_surface_tangent(g.prim, g.u, g.v));
+  if (SC_BLENDER && g.lobes != 0u) { // a Blender material: the closures left to the photon map
+    b.mask = g.lobes;
+    pb_blender_split(b, frame.glossy_path_alpha2);
+  }
+  uint rng = pb_walk_seed(pb_pixel_key(frame.pixel_base + gid), gp.sample_index, 2u);
   vec3 x = surf.p;
   bool box_kernel = (gp.flags & PB_GATHER_CONSTANT_KERNEL) != 0u;
   vec3 ind = vec3(0.0), cau = vec3(0.0);
@@ -76,7 +82,7 @@ void main() {
           if (q + c * c <= 1.0) {
             float area = PB_PI * sqrt(det);
             float k = (box_kernel ? 1.0 : 2.0 * (1.0 - q)) / area;
-            vec3 f = pb_bsdf_eval(b, g.wo, p.wi);
+            vec3 f = pb_bsdf_eval(b, g.wo, p.wi, rng);
             vec3 contrib = k * f * p.power;
             if (!any(isnan(contrib)) && !any(isinf(contrib))) {
               if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) {

@@ -9,14 +9,18 @@
 // throughput falls by Beer-Lambert inside absorbing media.
 // First-hit AOVs (albedo, normal, depth, material, coverage) are summed into
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
-// the reference's lobe probabilities, so the estimate stays unbiased.
+// the reference's lobe probabilities, so the estimate stays unbiased. Blender
+// materials (the PB_BLENDER build) also continue through their smoother
+// glossy closures, lit here by the delta lights (see the branch below).
 // Lights do not stop rays (src/ref/pathtrace.c ray_emission): every segment
-// after a delta interaction adds the soft lights it passes before its hit
-// (but those with PB_GPU_LIGHT_NO_MIS), and a ray that leaves the scene the
-// world and the soft suns' discs; the camera ray sees no light (Cycles 3.4,
-// scene.h) and the world only when PB_GPU_WORLD_CAMERA says so (opaque film,
-// visible). These paths start at the camera, so the reference counts them
-// by path tracing too, with weight 1.
+// after a delta (or followed glossy) interaction adds the soft lights it
+// passes before its hit (but those with PB_GPU_LIGHT_NO_MIS), and a ray that
+// leaves the scene the world and the soft suns' discs; the camera ray sees
+// no light (Cycles 3.4, scene.h) and the world only when PB_GPU_WORLD_CAMERA
+// says so (opaque film, visible). These paths start at the camera, so the
+// reference counts them by path tracing too, with weight 1 (a followed
+// glossy closure is lit here by the delta lights alone, so what its
+// continuation meets is counted once).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
@@ -26,6 +30,7 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 #include "common/scene.glsl"
 #include "common/lights.glsl"
 #include "common/camera.glsl"
+#include "common/direct_light.glsl"
 
 // Emission met by the segment (org, dir) before t_hit (inf: it left the
 // scene), `chain` delta interactions after the camera, inside the absorbing
@@ -84,7 +89,7 @@ void main() {
   g.motion_x = 0.0;
   g.motion_y = 0.0;
   g.chain = 0u;
-  g.pad0 = 0u;
+  g.lobes = 0u;
 
   for (uint chain = 0u;; ++chain) {
     float t, u, v;
@@ -102,7 +107,10 @@ void main() {
     pb_surface surf = pb_surface_from_hit(prim, u, v, dir);
     pb_apply_normal_map(surf, prim, u, v); // n_s for shading and the normal AOV
     vec3 wo = -dir;
-    pb_bsdf b = pb_bsdf_setup(surf, wo);
+    pb_bsdf b = pb_bsdf_setup_t(surf, wo, pb_surface_tangent(prim, u, v));
+    bool blender = SC_BLENDER && b.model != PB_GPU_MODEL_GLTF;
+    // Holdout: the camera sees a hole (no coverage, nothing behind).
+    if (blender && chain == 0u && b.model == PB_GPU_MODEL_HOLDOUT) break;
     if (chain == 0u) {
       acc.beauty.w += 1.0;
       acc.normal += surf.ns;
@@ -119,6 +127,61 @@ void main() {
       if (chain == 0u) acc.emission += le;
     }
     if (direct_only && chain >= 1u) break;
+
+    if (blender) {
+      // A Blender material: stop here with probability sw_D / sw (the share
+      // of the sample weights of the closures that stop: the diffuse ones
+      // and the layers rougher than frame.glossy_path_alpha2, lit by the
+      // direct pass and shaded by the photon map), else light the other
+      // glossy closures here and follow one glossy, delta or transparent
+      // closure (Cycles' eye path through glossy lobes). Each branch
+      // divides by its probability, so the sum is the whole BSDF. Emitters
+      // are reached through the followed closures by this continuation only
+      // and through the stopping ones by the direct pass's light sample
+      // only: no path is counted twice. At the depth limit everything is
+      // left to the direct pass and the photon map.
+      pb_blender_split(b, frame.glossy_path_alpha2);
+      float sw_d = 0.0, sw_g = 0.0;
+      for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
+        if (pb_lobe_in(b.cl[i], PB_GPU_LOBES_DIFFUSE)) sw_d += b.cl[i].sample_weight;
+        else sw_g += b.cl[i].sample_weight;
+      }
+      if (!(sw_d + sw_g > 0.0)) break;
+      float uc = pb_rand(key, s, 2u + 4u * chain);
+      float p_d = sw_d / (sw_d + sw_g);
+      if (chain >= frame.max_specular_depth || !(sw_g > 0.0) || uc < p_d) {
+        bool all_lobes = chain >= frame.max_specular_depth || !(sw_g > 0.0);
+        g.lobes = all_lobes ? PB_GPU_LOBES_ALL : PB_GPU_LOBES_DIFFUSE;
+        if (all_lobes && !pb_bsdf_has_smooth(b)) break;
+        g.prim = prim;
+        g.position = surf.p;
+        g.wo = wo;
+        g.u = u;
+        g.v = v;
+        g.throughput = all_lobes ? beta : beta / p_d;
+        g.chain = chain;
+        if (direct_only && chain > 0u) g.prim = PB_GPU_MISS;
+        break;
+      }
+      float p_g = 1.0 - p_d;
+      vec3 beta_g = beta / p_g;
+      b.mask = PB_GPU_LOBES_GLOSSY;
+      uint rng = pb_walk_seed(key, s, 16u + chain);
+      vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
+      acc.beauty.rgb += dl;
+      if (chain == 0u) acc.direct += dl;
+      vec3 wi, wgt;
+      float pdf;
+      bool delta, transmit;
+      float u1 = pb_rand(key, s, 4u + 4u * chain), u2 = pb_rand(key, s, 5u + 4u * chain);
+      if (!pb_blender_sample(b, wo, (uc - p_d) / p_g, u1, u2, false, rng, wi, wgt, pdf, delta, transmit)) break;
+      beta = beta_g * wgt;
+      if (all(equal(beta, vec3(0.0))) || any(isnan(beta)) || any(isinf(beta))) break;
+      sigma = pb_medium_after(sigma, surf, transmit);
+      org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
+      dir = wi;
+      continue;
+    }
 
     float cos_o = dot(pb_to_local(b, wo), vec3(0.0, 0.0, 1.0));
     if (cos_o <= 0.0) break;

@@ -393,7 +393,7 @@ void pb_trace_path(uint gid) {
     pb_surface surf = pb_surface_from_hit(prim, u, v, d);
     pb_diff_transfer(dPu, dPv, dDu, dDv, d, t, surf.ng);
     vec3 wo = -d;
-    pb_bsdf b = pb_bsdf_setup(surf, wo);
+    pb_bsdf b = pb_bsdf_setup_t(surf, wo, pb_surface_tangent(prim, u, v));
     if ((depth >= 1u || (params.flags & PB_PHOTON_PARAM_STORE_FIRST) != 0u) && pb_bsdf_has_smooth(b)) {
       pb_store(surf.p, surf.ng, wo, power, dPu, dPv, caustic, depth, gid);
       if (++stored >= params.max_bounces) return;
@@ -408,13 +408,44 @@ void pb_trace_path(uint gid) {
     float p_smooth = l.x + (b.delta_spec ? 0.0 : l.y);
     vec3 w, wi;
     bool transmit = false;
-    if (uc < p_smooth) {
+    if (SC_BLENDER && b.model != PB_GPU_MODEL_GLTF) {
+      // A Blender material: its whole BSDF sampled (principled.glsl), the
+      // adjoint of refraction for importance. Differentials: delta
+      // reflections and refractions transfer as specular ones, a
+      // transparent pass leaves them, any other lobe re-emits them as the
+      // diffuse branch below does.
+      uint rng = pb_walk_seed(path, params.iteration, 0x70000000u + depth);
+      float pdf;
+      bool delta;
+      if (!pb_blender_sample(b, wo, uc, s1, s2, true, rng, wi, w, pdf, delta, transmit)) return;
+      bool straight = dot(wi, d) > 0.99999;
+      if (delta && straight) {
+        // transparency: nothing bends
+      } else if (delta && !transmit) {
+        pb_diff_reflect(dDu, dDv, d, b.n, pb_diff_dn(prim, u, v, b.n, dPu), pb_diff_dn(prim, u, v, b.n, dPv));
+      } else if (delta) {
+        float ior_m = max(materials[surf.mat].in_value[PB_GPU_IN_IOR], 1e-5);
+        float eta = surf.front ? 1.0 / ior_m : ior_m;
+        pb_diff_refract(dDu, dDv, d, b.n, pb_diff_dn(prim, u, v, b.n, dPu), pb_diff_dn(prim, u, v, b.n, dPv), eta,
+                        cos_o, abs(dot(wi, b.n)));
+      } else {
+        float c = clamp(dot(wi, b.n), -1.0, 1.0), sn = sqrt(max(0.0, 1.0 - c * c));
+        float phi = atan(dot(wi, b.b), dot(wi, b.t));
+        vec3 nu, nv;
+        pb_diff_emission_dirs(b.t, b.b, b.n, abs(c), sn, phi, nu, nv);
+        pb_diff_reemit(dPu, dPv, nu, nv);
+        dDu = nu;
+        dDv = nv;
+        caustic = false;
+      }
+    } else if (uc < p_smooth) {
       float c = sqrt(max(0.0, 1.0 - s1)), sn = sqrt(s1), phi = 2.0 * PB_PI * s2;
       if (stencil_now) pb_stencil_step(member, h, c, sn, phi);
       vec3 lw = vec3(sn * cos(phi), sn * sin(phi), c);
       wi = b.t * lw.x + b.b * lw.y + b.n * lw.z;
       if (!(lw.z > 0.0) || dot(wi, b.ng) <= 0.0) return;
-      w = pb_bsdf_eval(b, wo, wi) * (PB_PI / p_smooth);
+      uint no_rng = 0u; // glTF materials evaluate deterministically
+      w = pb_bsdf_eval(b, wo, wi, no_rng) * (PB_PI / p_smooth);
       vec3 nu, nv;
       pb_diff_emission_dirs(b.t, b.b, b.n, c, sn, phi, nu, nv);
       pb_diff_reemit(dPu, dPv, nu, nv);

@@ -33,4 +33,32 @@ foreach(src ${PB_SHADER_SOURCES})
     VERBATIM)
   list(APPEND PB_SHADER_OUTPUTS ${hdr})
 endforeach()
+
+# The passes that shade surfaces are built twice: as above, without the
+# Blender materials (their code is not in the module: glTF scenes compile
+# exactly what they did before), and with -DPB_BLENDER=1 as NAME_blender
+# (pb_spv_NAME_blender), which the passes load for scenes with Blender
+# materials (plan.h blender_materials).
+set(PB_SHADER_BLENDER_VARIANTS gbuffer direct gather photon_trace photon_rsm)
+foreach(name ${PB_SHADER_BLENDER_VARIANTS})
+  set(src ${CMAKE_SOURCE_DIR}/shaders/${name}.comp)
+  set(spv ${PB_SHADER_OUT}/${name}_blender.spv)
+  set(hdr ${PB_SHADER_OUT}/${name}_blender.spv.h)
+  add_custom_command(
+    OUTPUT ${spv}
+    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1 -DPB_BLENDER=1
+            -I ${CMAKE_SOURCE_DIR}/shaders -MD -MF ${spv}.d -o ${spv} ${src}
+    DEPENDS ${src} ${PB_SHADER_HEADERS}
+    DEPFILE ${spv}.d
+    COMMENT "glslc ${name}.comp (Blender materials)"
+    VERBATIM)
+  add_custom_command(
+    OUTPUT ${hdr}
+    COMMAND ${CMAKE_COMMAND} -DIN=${spv} -DOUT=${hdr} -DNAME=${name}_blender
+            -P ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    COMMENT "embed ${name}_blender.spv"
+    VERBATIM)
+  list(APPEND PB_SHADER_OUTPUTS ${hdr})
+endforeach()
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

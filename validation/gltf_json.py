@@ -59,7 +59,11 @@ def facts(doc):
         if not isinstance(m, dict):
             continue
         w = "materials[%d]" % i
-        if m.get("alphaMode") in ("MASK", "BLEND"):
+        # A PHOTONBRIDGE_blender material is rendered from the extension
+        # (Blender's shader, its Alpha as Cycles does): what photonbridge
+        # skips of the plain glTF form does not apply to it.
+        blender = "PHOTONBRIDGE_blender" in (m.get("extensions") or {})
+        if m.get("alphaMode") in ("MASK", "BLEND") and not blender:
             f["alpha"].append("%s (%s)" % (w, m["alphaMode"]))
         for k, t in _texture_infos(m):
             if k == "occlusionTexture":
@@ -69,11 +73,11 @@ def facts(doc):
                 f["texture_transform"].append("%s.%s" % (w, k))
             if t.get("texCoord", 0) != 0:
                 f["texcoord1"].append("%s.%s" % (w, k))
-            if k.startswith("extensions."):
+            if k.startswith("extensions.") and not blender:
                 f["extension_textures"].append("%s.%s" % (w, k))
         tr = (m.get("extensions") or {}).get("KHR_materials_transmission") or {}
         pbr = m.get("pbrMetallicRoughness") or {}
-        if tr.get("transmissionFactor", 0) > 0 and (pbr.get("roughnessFactor", 1.0) >= 0.02 or
+        if not blender and tr.get("transmissionFactor", 0) > 0 and (pbr.get("roughnessFactor", 1.0) >= 0.02 or
                                                     "metallicRoughnessTexture" in pbr):
             f["rough_transmission"].append(w)
     for i, me in enumerate(doc.get("meshes") or []):

@@ -229,7 +229,7 @@ def renderer_notes(name, r, info, facts):
                      % st.get("quality"))
     elif name == "cycles":
         notes.insert(0, "material model: %s" % st.get("materials"))
-        if "Principled" in (st.get("materials") or ""):
+        if "Principled" in (st.get("materials") or "") and not any(m.get("model") == "principled" for m in mats):
             notes.insert(1, "Blender's Principled BSDF is not glTF's model: Disney diffuse with retro-reflection, "
                             "and a GGX layer whose Fresnel rises to 1 at grazing angles even at Specular 0 "
                             "(cornell_box renders 16.7 % brighter than with Diffuse BSDFs)")

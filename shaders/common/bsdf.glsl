@@ -5,6 +5,39 @@
 #ifndef PB_BSDF_GLSL
 #define PB_BSDF_GLSL
 
+// A closure of a Blender material (src/ref/ref_internal.h pb_closure).
+const uint PB_CL_DIFFUSE = 0u;
+const uint PB_CL_OREN_NAYAR = 1u;
+const uint PB_CL_SHEEN = 2u;
+const uint PB_CL_GGX = 3u;
+const uint PB_CL_MULTI_GGX = 4u;
+const uint PB_CL_GGX_REFRACT = 5u;
+const uint PB_CL_CLEARCOAT = 6u;
+const uint PB_CL_TRANSPARENT = 7u;
+// Every closure has its own slot (no dynamic indexing: loops over the slots
+// unroll into registers): diffuse or Oren-Nayar, sheen, specular, glass
+// reflection, glass refraction, clearcoat, transparent.
+const uint PB_SLOT_DIFFUSE = 0u;
+const uint PB_SLOT_SHEEN = 1u;
+const uint PB_SLOT_SPECULAR = 2u;
+const uint PB_SLOT_GLASS_REFL = 3u;
+const uint PB_SLOT_GLASS_REFR = 4u;
+const uint PB_SLOT_CLEARCOAT = 5u;
+const uint PB_SLOT_TRANSPARENT = 6u;
+const uint PB_CLOSURE_MAX = 7u;
+struct pb_closure {
+  bool on;
+  uint type;
+  vec3 weight;
+  float sample_weight;
+  vec3 n, x, y;
+  float ax, ay, ior, f0;
+  vec3 cspec0, color;
+  float rough, on_a, on_b, clearcoat;
+  bool singular;
+  bool stops; // a glossy closure shaded where the eye path stops (pb_blender_split)
+};
+
 struct pb_bsdf {
   vec3 base;
   float metallic, roughness, alpha, transmission, ior;
@@ -14,6 +47,13 @@ struct pb_bsdf {
   vec3 n, t, b;  // shading frame, n facing wo
   vec3 ng;       // facing wo
   bool entering;
+  // Blender materials (SC_BLENDER, model != PB_GPU_MODEL_GLTF): closures,
+  // which of them eval uses (PB_GPU_LOBES_*), the AOV albedo.
+  uint model;
+  uint mask;
+  float sw_sum;
+  vec3 albedo;
+  pb_closure cl[PB_CLOSURE_MAX];
 };
 
 float pb_schlick1(float f0, float c) {
@@ -37,9 +77,27 @@ void pb_basis(vec3 n, out vec3 t, out vec3 b) {
   b = vec3(c, s + n.y * n.y * a, -n.y);
 }
 
-pb_bsdf pb_bsdf_setup(pb_surface surf, vec3 wo) {
+#include "common/principled.glsl"
+
+// tangent: along +u where the scene has tangents (anisotropy), else 0.
+pb_bsdf pb_bsdf_setup_t(pb_surface surf, vec3 wo, vec3 tangent) {
   pb_gpu_material m = materials[surf.mat];
   pb_bsdf b;
+  b.model = PB_GPU_MODEL_GLTF;
+  b.mask = PB_GPU_LOBES_ALL;
+  b.sw_sum = 0.0;
+  if (SC_BLENDER && m.model != PB_GPU_MODEL_GLTF) {
+    b.ng = surf.ng;
+    b.n = surf.ns;
+    pb_basis(b.n, b.t, b.b);
+    b.entering = surf.front;
+    b.metallic = b.roughness = b.alpha = b.transmission = b.spec = 0.0;
+    b.ior = 1.5;
+    b.f0_diel = vec3(0.0);
+    b.delta_spec = false;
+    pb_blender_setup(surf, wo, tangent, b);
+    return b;
+  }
   vec2 mr = pb_surface_metal_rough(surf);
   float metallic = mr.x, rough = mr.y;
   // An unlit surface reflects nothing (its colour is its emission).
@@ -60,13 +118,16 @@ pb_bsdf pb_bsdf_setup(pb_surface surf, vec3 wo) {
   b.entering = surf.front;
   return b;
 }
+pb_bsdf pb_bsdf_setup(pb_surface surf, vec3 wo) { return pb_bsdf_setup_t(surf, wo, vec3(0.0)); }
 
 vec3 pb_bsdf_albedo(pb_bsdf b) {
+  if (SC_BLENDER && b.model != PB_GPU_MODEL_GLTF) return b.albedo;
   float g = (1.0 - b.metallic) * b.transmission;
   return b.base * (1.0 - g) + vec3(g);
 }
 
 bool pb_bsdf_has_smooth(pb_bsdf b) {
+  if (SC_BLENDER && b.model != PB_GPU_MODEL_GLTF) return pb_blender_has_smooth(b);
   bool diffuse = (1.0 - b.metallic) * (1.0 - b.transmission) > 0.0 && any(notEqual(b.base, vec3(0.0)));
   return diffuse || !b.delta_spec;
 }
@@ -103,8 +164,16 @@ float pb_smith_lambda(float a2, float cos_w) {
   return 0.5 * (sqrt(1.0 + a2 * tan2) - 1.0);
 }
 
-// Non-delta f(wo, wi), cosine not included (pb_bsdf_eval).
-vec3 pb_bsdf_eval(pb_bsdf b, vec3 wo, vec3 wi) {
+// Non-delta f(wo, wi), cosine not included (pb_bsdf_eval). rng: the stream
+// of a stochastic evaluation (Blender's Multiscatter GGX); untouched
+// otherwise. Blender materials: the closures of b.mask, f cos divided by
+// |wi . n| (principled.c pb_blender_bsdf_eval).
+vec3 pb_bsdf_eval(pb_bsdf b, vec3 wo, vec3 wi, inout uint rng) {
+  if (SC_BLENDER && b.model != PB_GPU_MODEL_GLTF) {
+    float pdf, cn = abs(dot(wi, b.n));
+    vec3 f = pb_blender_eval_cos(b, wo, wi, rng, pdf);
+    return cn > 1e-7 ? f / cn : vec3(0.0);
+  }
   if (dot(wi, b.ng) <= 0.0) return vec3(0.0);
   vec3 lo = pb_to_local(b, wo), li = pb_to_local(b, wi);
   if (lo.z <= 0.0 || li.z <= 0.0) return vec3(0.0);

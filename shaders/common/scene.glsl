@@ -41,6 +41,15 @@ layout(constant_id = 3) const bool SC_EMISSIVE = true;  // emissive triangles or
 // light, for the passes that include common/lights.glsl.
 layout(constant_id = 6) const bool SC_SOFT_LIGHTS = true;
 layout(constant_id = 7) const bool SC_WORLD = true;
+// Blender materials (principled.glsl) exist only in the PB_BLENDER build of
+// a pass (shaders.cmake); the other build has them compiled out entirely.
+#ifdef PB_BLENDER
+const bool SC_BLENDER = true;
+layout(constant_id = 8) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
+#else
+const bool SC_BLENDER = false;
+const bool SC_ALPHA = false;
+#endif
 
 #include "common/bvh.glsl"
 
@@ -67,6 +76,13 @@ uint pb_hash(uint x) { // lowbias32 (Wellons)
 float pb_rand(uint pixel, uint s, uint dim) {
   uint h = pb_hash(frame.seed_lo ^ pb_hash(pixel ^ pb_hash(s * 0x9e3779b9u ^ pb_hash(dim ^ frame.seed_hi))));
   return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// Seed of a small per-evaluation stream (principled.glsl's Multiscatter GGX
+// walk) for one pixel sample and purpose; pixel is the random-number key
+// (pb_pixel_key).
+uint pb_walk_seed(uint pixel, uint s, uint purpose) {
+  return pb_hash(frame.seed_lo ^ pb_hash(pixel ^ pb_hash(s * 0x9e3779b9u ^ pb_hash(purpose ^ 0x632be5abu))));
 }
 
 // The random-number key of pixel `pixel` of this image: its index in the
@@ -212,18 +228,19 @@ vec3 pb_offset_ray(vec3 p, vec3 n) {
               abs(p.z) < origin ? p.z + float_scale * n.z : pi.z);
 }
 
-// Emitted radiance toward the ray (pb_surface_emission, src/ref/bsdf.c). An
-// unlit surface's base colour counts on camera paths only; the passes that
-// call this for other paths (direct.comp's emitter samples) never meet one,
-// since the emitter table holds emissive materials only.
-vec3 pb_emission(pb_surface s) {
-  if (!SC_EMISSIVE) return vec3(0.0);
-  pb_gpu_material m = materials[s.mat];
-  if (!s.front && (m.flags & PB_GPU_MAT_DOUBLE_SIDED) == 0u) return vec3(0.0);
-  if ((m.flags & PB_GPU_MAT_UNLIT) != 0u) return pb_surface_base_color(s).rgb;
-  vec3 e = m.emissive;
-  if (SC_TEXTURES && m.emissive_tex != PB_GPU_NO_TEXTURE) e *= pb_texture_lookup(m.emissive_tex, s).rgb;
-  return e;
+// Tangent at a hit for anisotropic lobes: the interpolated vertex tangent
+// of normal-mapped scenes (pb_scene.tangents), else 0 (principled.glsl then
+// takes an arbitrary frame, as the reference does).
+vec3 pb_surface_tangent(uint prim, float u, float v) {
+  if (frame.tangent_base == 0u) return vec3(0.0);
+  float w = 1.0 - u - v;
+  uint tb = frame.tangent_base;
+  uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
+  vec3 t = vec3(normals[tb + 4u * i0], normals[tb + 4u * i0 + 1u], normals[tb + 4u * i0 + 2u]) * w +
+           vec3(normals[tb + 4u * i1], normals[tb + 4u * i1 + 1u], normals[tb + 4u * i1 + 2u]) * u +
+           vec3(normals[tb + 4u * i2], normals[tb + 4u * i2 + 1u], normals[tb + 4u * i2 + 2u]) * v;
+  float l = length(t);
+  return l > 1e-12 && !isinf(l) ? t / l : vec3(0.0);
 }
 
 // Beer-Lambert along a segment of length t in a medium of absorption
@@ -241,6 +258,23 @@ vec3 pb_medium_after(vec3 sigma, pb_surface s, bool transmit) {
 
 #include "common/bsdf.glsl"
 
+// Emitted radiance toward the ray (pb_surface_emission, src/ref/bsdf.c):
+// the material's, from the front only unless double-sided (Blender
+// materials are: Cycles' emission leaves both sides), a Principled BSDF's
+// times its Alpha (the Transparent BSDF Cycles mixes in takes the rest). An
+// unlit surface's base colour counts on camera paths only; the passes that
+// call this for other paths (direct.comp's emitter samples) never meet one,
+// since the emitter table holds emissive materials only.
+vec3 pb_emission(pb_surface s) {
+  if (!SC_EMISSIVE) return vec3(0.0);
+  pb_gpu_material m = materials[s.mat];
+  if (!s.front && (m.flags & PB_GPU_MAT_DOUBLE_SIDED) == 0u) return vec3(0.0);
+  if ((m.flags & PB_GPU_MAT_UNLIT) != 0u) return pb_surface_base_color(s).rgb;
+  vec3 e = m.emissive;
+  if (SC_TEXTURES && m.emissive_tex != PB_GPU_NO_TEXTURE) e *= pb_texture_lookup(m.emissive_tex, s).rgb;
+  if (SC_BLENDER && m.model == PB_GPU_MODEL_PRINCIPLED) e *= pb_blender_alpha(s);
+  return e;
+}
 // Normal mapping (glTF 2.0, material.normalTexture): in the tangent frame of
 // the interpolated vertex normal N, tangent T (Gram-Schmidt against N at the
 // hit) and bitangent B = cross(N, T) w (glTF TANGENT's handedness),
@@ -290,6 +324,14 @@ void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   float ml = length(nm);
   if (!(ml > 1e-12) || isinf(ml)) return;
   nm /= ml;
+  // Blender's Normal Map node strength (the reference's pb_apply_normal_map).
+  float st = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF ? m.normal_strength : 1.0;
+  if (st != 1.0) {
+    vec3 bl = n + (nm - n) * max(st, 0.0);
+    float bll = length(bl);
+    if (!(bll > 1e-12) || isinf(bll)) return;
+    nm = bl / bll;
+  }
   s.ns = dot(n, s.ng) < 0.0 ? -nm : nm;
 }
 

@@ -84,11 +84,43 @@ PB_STRUCT(pb_gpu_hit) {
   float v;
 } PB_END(pb_gpu_hit)
 
-/* Material: the reference's model (src/ref/bsdf.c) with glTF factors.
- * Textures are indices into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
+/* Material: the reference's model (src/ref/bsdf.c) with glTF factors, or
+ * a Blender shader (model != PB_GPU_MODEL_GLTF; src/ref/principled.c,
+ * shaders/common/principled.glsl) with its inputs. Textures are indices
+ * into the pb_gpu_texture table or PB_GPU_NO_TEXTURE. */
 PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
 PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
 PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
+/* model: pb_material_model's values. */
+PB_CONST(PB_GPU_MODEL_GLTF, 0u)
+PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
+PB_CONST(PB_GPU_MODEL_DIFFUSE, 2u)
+PB_CONST(PB_GPU_MODEL_EMISSION, 3u)
+PB_CONST(PB_GPU_MODEL_HOLDOUT, 4u)
+PB_CONST(PB_GPU_DISTRIBUTION_GGX, 0u)
+PB_CONST(PB_GPU_DISTRIBUTION_MULTI_GGX, 1u)
+/* in_value / in_tex slots: pb_blender_input's values. */
+PB_CONST(PB_GPU_IN_METALLIC, 0u)
+PB_CONST(PB_GPU_IN_SPECULAR, 1u)
+PB_CONST(PB_GPU_IN_SPECULAR_TINT, 2u)
+PB_CONST(PB_GPU_IN_ROUGHNESS, 3u)
+PB_CONST(PB_GPU_IN_ANISOTROPIC, 4u)
+PB_CONST(PB_GPU_IN_ANISOTROPIC_ROTATION, 5u)
+PB_CONST(PB_GPU_IN_SHEEN, 6u)
+PB_CONST(PB_GPU_IN_SHEEN_TINT, 7u)
+PB_CONST(PB_GPU_IN_CLEARCOAT, 8u)
+PB_CONST(PB_GPU_IN_CLEARCOAT_ROUGHNESS, 9u)
+PB_CONST(PB_GPU_IN_IOR, 10u)
+PB_CONST(PB_GPU_IN_TRANSMISSION, 11u)
+PB_CONST(PB_GPU_IN_TRANSMISSION_ROUGHNESS, 12u)
+PB_CONST(PB_GPU_IN_ALPHA, 13u)
+PB_CONST(PB_GPU_IN_SUBSURFACE, 14u)
+PB_CONST(PB_GPU_IN_SLOTS, 16u)
+/* in_tex: texture index in the low 28 bits, the channel above (0..3 R, G,
+ * B, A; 4 the Rec.709 luminance of RGB, Cycles' colour-to-float), or
+ * PB_GPU_NO_TEXTURE. */
+PB_CONST(PB_GPU_INPUT_TEX_INDEX, 0x0fffffffu)
+PB_CONST(PB_GPU_INPUT_TEX_CHANNEL_SHIFT, 28u)
 PB_STRUCT(pb_gpu_material) {
   PB_VEC4(base_color);       /* linear RGBA */
   PB_VEC3(emissive);         /* W/(m^2 sr) */
@@ -106,12 +138,16 @@ PB_STRUCT(pb_gpu_material) {
                                 PB_GPU_NO_TEXTURE; only set for scenes with
                                 tangents (pb_gpu_frame.tangent_base) */
   float normal_scale;        /* normalTexture.scale */
-  uint pad0;
-  uint pad1;
-  uint pad2;
+  uint model;                /* PB_GPU_MODEL_*; the rest is for model != GLTF */
+  uint distribution;         /* PB_GPU_DISTRIBUTION_* */
+  uint subsurface_color_tex;
+  PB_VEC3(subsurface_color); /* linear */
+  float normal_strength;     /* Blender's Normal Map strength (normal_tex) */
+  float in_value[16];        /* PB_GPU_IN_* inputs, Blender's socket values */
+  uint in_tex[16];           /* their textures (see PB_GPU_INPUT_TEX_INDEX) */
   PB_VEC3(attenuation);      /* KHR_materials_volume: sigma_a [1/m] of the
                                 medium inside (pb_material.attenuation) */
-  uint pad3;
+  uint pad0;
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
@@ -267,7 +303,12 @@ PB_STRUCT(pb_gpu_frame) {
                             from this float index of the uvs buffer; 0: none */
   uint color_base;       /* COLOR_0 (float[4] per vertex, pb_scene.colors)
                             from this float index of the uvs buffer; 0: none */
-  uint pad0;
+  float glossy_path_alpha2; /* Blender materials: a specular or clearcoat
+                            closure whose alpha_x alpha_y (alpha = Blender
+                            roughness^2) is above this is shaded where the
+                            eye path stops, a smoother one followed by the
+                            eye path (render.h glossy_path_roughness^4;
+                            bench/README.md has the measurement) */
   uint pad1;
   uint pad2;
 } PB_END(pb_gpu_frame)
@@ -288,9 +329,20 @@ PB_STRUCT(pb_gpu_gbuffer) {
   float v;
   float motion_x;        /* reserved: motion vector, pixels */
   float motion_y;
-  uint chain;            /* delta interactions before this vertex */
-  uint pad0;
+  uint chain;            /* delta (and, for Blender materials, glossy)
+                            interactions before this vertex */
+  uint lobes;            /* which closures of a Blender material the direct
+                            light and the gather evaluate here
+                            (PB_GPU_LOBES_*); 0 for glTF materials */
 } PB_END(pb_gpu_gbuffer)
+/* A Blender material's closures: DIFFUSE, those shaded where the eye path
+ * stops, by direct light and the photon map (diffuse, sheen, Oren-Nayar, and
+ * the specular and clearcoat layers above pb_gpu_frame.glossy_path_alpha2);
+ * GLOSSY, those the eye path follows (the smoother layers, glass, delta
+ * lobes; gbuffer.comp). */
+PB_CONST(PB_GPU_LOBES_DIFFUSE, 1u)
+PB_CONST(PB_GPU_LOBES_GLOSSY, 2u)
+PB_CONST(PB_GPU_LOBES_ALL, 3u)
 
 /* Per-pixel accumulators of the band (sums over samples; the host divides by
  * spp), 80 bytes.
@@ -396,13 +448,15 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 112)
+PB_LAYOUT(pb_gpu_material, 256)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
 PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
-PB_OFFSET(pb_gpu_material, attenuation, 96)
+PB_OFFSET(pb_gpu_material, model, 84) PB_OFFSET(pb_gpu_material, subsurface_color, 96)
+PB_OFFSET(pb_gpu_material, normal_strength, 108) PB_OFFSET(pb_gpu_material, in_value, 112)
+PB_OFFSET(pb_gpu_material, in_tex, 176) PB_OFFSET(pb_gpu_material, attenuation, 240)
 PB_LAYOUT(pb_gpu_texture, 64)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
 PB_OFFSET(pb_gpu_texture, texcoord, 24) PB_OFFSET(pb_gpu_texture, xform_u, 32)
@@ -431,6 +485,7 @@ PB_OFFSET(pb_gpu_frame, seed_lo, 104) PB_OFFSET(pb_gpu_frame, flags, 112)
 PB_OFFSET(pb_gpu_frame, pixel_base, 120) PB_OFFSET(pb_gpu_frame, tangent_base, 124)
 PB_OFFSET(pb_gpu_frame, key_x0, 128) PB_OFFSET(pb_gpu_frame, key_width, 136)
 PB_OFFSET(pb_gpu_frame, uv1_base, 140) PB_OFFSET(pb_gpu_frame, color_base, 144)
+PB_OFFSET(pb_gpu_frame, glossy_path_alpha2, 148)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)

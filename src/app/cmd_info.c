@@ -113,6 +113,15 @@ static void print_text(const pb_scene *s) {
     if (m->unlit) printf(" unlit (its colour on camera paths, lights nothing)");
     if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0)
       printf(" absorbing medium (%.3g %.3g %.3g)/m", m->attenuation[0], m->attenuation[1], m->attenuation[2]);
+    const pb_blender_material *b = &m->blender;
+    if (b->model == PB_MODEL_PRINCIPLED)
+      printf(" [Blender principled, %s: specular %.3g tint %.3g, sheen %.3g, clearcoat %.3g (roughness %.3g), "
+             "anisotropic %.3g, alpha %.3g%s]", b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX",
+             b->input[PB_IN_SPECULAR], b->input[PB_IN_SPECULAR_TINT], b->input[PB_IN_SHEEN], b->input[PB_IN_CLEARCOAT],
+             b->input[PB_IN_CLEARCOAT_ROUGHNESS], b->input[PB_IN_ANISOTROPIC], b->input[PB_IN_ALPHA],
+             b->input[PB_IN_SUBSURFACE] > 0 ? ", subsurface as diffuse" : "");
+    else if (b->model != PB_MODEL_GLTF)
+      printf(" [Blender %s]", pb_material_model_name(b->model));
     printf("\n");
   }
   printf("textures   %u\n", s->texture_count);
@@ -142,13 +151,17 @@ static void print_text(const pb_scene *s) {
   pb_render_plan_of(s, 0, &pl);
   printf("\npipeline   photon stages %s, caustic photons %s, photon refraction %s, specular eye paths %s, "
          "emissive-triangle sampling %s, textures %s, normal maps %s, unlit %s, vertex colours %s, absorbing media %s, "
-         "soft lights %s, world light %s (GPU passes compile only what is on)",
+         "soft lights %s, world light %s, Blender materials %s, transparent shadows %s (GPU passes compile only what "
+         "is on)",
          pl.photons ? "on" : "off (no light but emissive triangles, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
          pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",
          pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
-         pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off");
+         pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off",
+         pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
+                              : "off",
+         pl.alpha ? "on" : "off");
   char view[768];
   default_view(s, view, sizeof view);
   printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
@@ -273,6 +286,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_begin_object(&j, NULL);
     pb_json_string(&j, "name", m->name);
     pb_json_string(&j, "kind", bsdf_names[pb_material_kind(m)]);
+    pb_json_string(&j, "model", pb_material_model_name(m->blender.model));
+    if (m->blender.model == PB_MODEL_PRINCIPLED)
+      pb_json_string(&j, "distribution", m->blender.distribution == PB_DISTRIBUTION_MULTI_GGX ? "MULTI_GGX" : "GGX");
     pb_json_begin_array(&j, "base_color");
     for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, m->base_color[k]);
     pb_json_end_array(&j);

@@ -8,6 +8,8 @@
  * device, device lost) leaves none half-written; --preview writes the
  * refining image after each iteration, also atomically. */
 #include <stdint.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,7 +43,7 @@ typedef struct render_opts {
   int first_bounce; /* index into first_bounce_names */
   uint32_t atrous;
   double atrous_gamma;
-  double smoothing, r_max, alpha;
+  double smoothing, r_max, alpha, glossy_path_roughness;
   const char *png;
   /* Sequences (issue 6; render_seq.h). */
   const char *frames;
@@ -121,6 +123,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "height", res->height);
   pb_json_int(&j, "spp", st->spp);
   pb_json_bool(&j, "direct_only", o->direct_only);
+  pb_json_number(&j, "glossy_path_roughness",
+                 isnan(o->glossy_path_roughness) ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : o->glossy_path_roughness);
   pb_json_int(&j, "max_specular_depth", o->max_spec ? o->max_spec : 8);
   pb_json_bool(&j, "timestamps", st->timestamps);
   pb_json_begin_object(&j, "passes_ms");
@@ -197,6 +201,7 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
+                   .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
@@ -207,6 +212,10 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 1, 1 << 20},
       {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
        "mirror/glass interactions followed along an eye path (default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
+      {"glossy-path-roughness", 0, PB_OPT_FLOAT, &o.glossy_path_roughness, "R",
+       "Blender materials: specular and clearcoat layers of Roughness above R are shaded where the eye path stops "
+       "(direct light and the photon map), smoother ones are followed by the eye path; 0: every layer shaded at "
+       "the first hit, 1: every one followed (default " PB_RENDER_GLOSSY_PATH_ROUGHNESS_STR ")", NULL, 0, 1},
       {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
        "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0},
       {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26},
@@ -385,6 +394,8 @@ int pb_cmd_render(int argc, char **argv) {
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .atrous_iterations = o.atrous,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
+                       .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
+                                                : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
                        .time_limit_s = o.time_limit, .preview_interval_s = o.preview ? o.preview_interval : -1.0};
   progress_ctx pctx = {&o};
   if (o.preview || o.progress_lines) rd.progress = on_progress, rd.progress_user = &pctx;

@@ -223,6 +223,13 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
   for (int k = 0; k < 4; ++k)
     o->color[k] = s->colors ? s->colors[tri[0]][k] * w + s->colors[tri[1]][k] * h->u + s->colors[tri[2]][k] * h->v : 1.0f;
   o->mat = &s->materials[s->triangle_material[h->prim]];
+  o->tangent = v3_make(0.0f, 0.0f, 0.0f);
+  if (s->tangents) {
+    v3 t = v3_add(v3_add(v3_scale(v3_load(s->tangents[tri[0]]), w), v3_scale(v3_load(s->tangents[tri[1]]), h->u)),
+                  v3_scale(v3_load(s->tangents[tri[2]]), h->v));
+    float l = v3_len(t);
+    if (l > 1e-12f && isfinite(l)) o->tangent = v3_scale(t, 1.0f / l);
+  }
   pb_apply_normal_map(s, h, o);
 }
 
@@ -272,5 +279,14 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) 
   float ml = v3_len(nm);
   if (!(ml > 1e-12f) || !isfinite(ml)) return;
   nm = v3_scale(nm, 1.0f / ml);
+  /* Blender's Normal Map node: strength s blends from the interpolated
+   * normal, normalize(n + (nm - n) s) (svm_node_normal_map). */
+  float st = m->blender.model != PB_MODEL_GLTF ? m->blender.normal_strength : 1.0f;
+  if (st != 1.0f) {
+    v3 bl = v3_add(n, v3_scale(v3_sub(nm, n), fmaxf(st, 0.0f)));
+    float bl_len = v3_len(bl);
+    if (!(bl_len > 1e-12f) || !isfinite(bl_len)) return;
+    nm = v3_scale(bl, 1.0f / bl_len);
+  }
   o->ns = v3_dot(n, o->ng) < 0.0f ? v3_neg(nm) : nm;
 }

@@ -87,9 +87,14 @@ static void lobe_weights(pb_bsdf *b, float cos_o) {
   b->pg = wg / sum;
 }
 
-void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
+void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_rng *rng, pb_bsdf *b) {
   const pb_material *m = surf->mat;
   memset(b, 0, sizeof *b);
+  b->rng = rng;
+  if (m->blender.model != PB_MODEL_GLTF) {
+    pb_blender_bsdf_setup(s, surf, wo, b);
+    return;
+  }
   float bc[4], metallic, rough;
   pb_material_base_color(s, m, surf->uv, surf->uv1, surf->color, bc);
   pb_material_metal_rough(s, m, surf->uv, surf->uv1, &metallic, &rough);
@@ -117,12 +122,14 @@ void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b)
 }
 
 int pb_bsdf_has_smooth(const pb_bsdf *b) {
+  if (b->model != PB_MODEL_GLTF) return pb_blender_bsdf_has_smooth(b);
   int diffuse = (1.0f - b->metallic) * (1.0f - b->transmission) > 0.0f &&
                 !v3_is_zero(b->base);
   return diffuse || !b->delta_spec;
 }
 
 v3 pb_bsdf_albedo(const pb_bsdf *b) {
+  if (b->model != PB_MODEL_GLTF) return b->albedo;
   float g = (1.0f - b->metallic) * b->transmission;
   return v3_add(v3_scale(b->base, 1.0f - g), v3_make(g, g, g));
 }
@@ -155,6 +162,7 @@ static v3 eval_local(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
 }
 
 v3 pb_bsdf_eval(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
+  if (b->model != PB_MODEL_GLTF) return pb_blender_bsdf_eval(b, wo, wi, pdf);
   /* Smooth lobes only reflect: both directions on the geometric side of wo
    * (which ng faces) as well as the shading side, else light would leak
    * through the surface where shading and geometric normals disagree. */
@@ -187,6 +195,7 @@ static inline v3 reflect_local(v3 w, v3 h) {
 
 int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
                        pb_transport mode, pb_bsdf_sample *out) {
+  if (b->model != PB_MODEL_GLTF) return pb_blender_bsdf_sample(b, wo, u0, u1, u2, mode, out);
   memset(out, 0, sizeof *out);
   v3 lo = to_local(b, wo);
   if (lo.z <= 0.0f) return 0;
@@ -259,5 +268,7 @@ v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_pat
   if (m->unlit ? !camera_path : !pb_material_is_emissive(m)) return v3_make(0, 0, 0);
   float e[3];
   pb_material_emission(s, m, surf->uv, surf->uv1, surf->color, e);
-  return v3_make(e[0], e[1], e[2]);
+  v3 le = v3_make(e[0], e[1], e[2]);
+  /* A Principled BSDF's emission is weighted by its Alpha (Cycles). */
+  return m->blender.model == PB_MODEL_PRINCIPLED ? v3_scale(le, pb_blender_alpha(s, surf)) : le;
 }

@@ -14,17 +14,6 @@
 
 #include "ref/ref_internal.h"
 
-/* Could this material have a delta lobe somewhere (a roughness texture can
- * only lower the roughness factor)? Used to aim photons, so it must never
- * say no where pb_bsdf_setup would produce a delta lobe. */
-static int material_may_be_delta(const pb_material *m) {
-  if (m->transmission > 0.0f) return 1;
-  int smooth = m->roughness < PB_SPECULAR_ROUGHNESS || m->metallic_roughness_tex >= 0;
-  float spec = m->specular * fmaxf(m->specular_color[0],
-                                   fmaxf(m->specular_color[1], m->specular_color[2]));
-  return smooth && (m->metallic > 0.0f || spec > 0.0f);
-}
-
 void pb_ref_lights_destroy(pb_ref_lights *l) {
   if (!l) return;
   free(l->emitters);
@@ -72,7 +61,7 @@ pb_result pb_ref_lights_build(const pb_scene *s, pb_ref_lights *l) {
   v3 smin = v3_make(INFINITY, INFINITY, INFINITY), smax = v3_scale(smin, -1.0f);
   int any = 0;
   for (uint32_t t = 0; t < s->triangle_count; ++t) {
-    if (!material_may_be_delta(&s->materials[s->triangle_material[t]])) continue;
+    if (!pb_material_may_be_singular(&s->materials[s->triangle_material[t]])) continue;
     any = 1;
     for (int v = 0; v < 3; ++v) {
       v3 p = v3_load(s->positions[s->triangles[t][v]]);

@@ -45,6 +45,31 @@
 
 #include "ref/ref_internal.h"
 
+/* Fraction of light reaching o + tmax d from o: 0 or 1, or through
+ * surfaces with Alpha < 1 (Cycles' transparent shadows) the product of
+ * their transparencies. */
+static v3 shadow(const pb_ref_ctx *ctx, v3 o, v3 d, float tmax, uint64_t *rays) {
+  const pb_scene *s = ctx->scene;
+  if (!(s->features & PB_FEATURE_ALPHA) || !(s->features & PB_FEATURE_BLENDER)) {
+    (*rays)++;
+    return pb_ref_occluded(&ctx->accel, o, d, tmax) ? v3_make(0, 0, 0) : v3_make(1, 1, 1);
+  }
+  v3 T = v3_make(1, 1, 1);
+  for (int n = 0; n < 64 && tmax > 0.0f; ++n) {
+    pb_ref_hit h;
+    (*rays)++;
+    if (!pb_ref_intersect(&ctx->accel, o, d, tmax, &h)) return T;
+    pb_surface surf;
+    pb_surface_from_hit(s, &h, d, &surf);
+    float t = surf.mat->blender.model == PB_MODEL_PRINCIPLED ? 1.0f - pb_blender_alpha(s, &surf) : 0.0f;
+    if (!(t > 0.0f)) return v3_make(0, 0, 0);
+    T = v3_scale(T, t);
+    o = pb_offset_ray(surf.p, v3_neg(surf.ng));
+    tmax -= h.t;
+  }
+  return v3_make(0, 0, 0);
+}
+
 static inline void add_contrib(pb_sample_out *o, v3 c, uint32_t bounces) {
   if (bounces <= 1) o->direct = v3_add(o->direct, c);
   else o->indirect = v3_add(o->indirect, c);
@@ -90,9 +115,10 @@ static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const 
 }
 
 /* One light sample of every soft light and of the world's map at a smooth
- * vertex, with shadow rays from o_shadow. */
+ * vertex, with shadow rays from o_front, or from o_back for a direction
+ * below the geometric normal (transmitting lobes). */
 static void soft_nee(const pb_ref_ctx *ctx, pb_rng *rng, const pb_bsdf *b, const pb_surface *surf, v3 wo,
-                     v3 o_shadow, v3 beta, uint32_t k, pb_sample_out *out, uint64_t *rays) {
+                     v3 o_front, v3 o_back, v3 beta, uint32_t k, pb_sample_out *out, uint64_t *rays) {
   const pb_scene *s = ctx->scene;
   for (uint32_t i = 0; i < s->light_count && ctx->lights.soft_count; ++i) {
     const pb_light *l = &s->lights[i];
@@ -103,14 +129,15 @@ static void soft_nee(const pb_ref_ctx *ctx, pb_rng *rng, const pb_bsdf *b, const
     float pdf_b;
     v3 f = pb_bsdf_eval(b, wo, ls.wi, &pdf_b);
     if (v3_is_zero(f)) continue;
+    v3 vis = v3_make(1, 1, 1);
     if (!l->no_shadow) {
-      (*rays)++;
       float tmax = ls.dist < INFINITY ? ls.dist * (1.0f - PB_SHADOW_EPSILON) : INFINITY;
-      if (pb_ref_occluded(&ctx->accel, o_shadow, ls.wi, tmax)) continue;
+      vis = shadow(ctx, v3_dot(ls.wi, surf->ng) >= 0.0f ? o_front : o_back, ls.wi, tmax, rays);
+      if (v3_is_zero(vis)) continue;
     }
     float w = l->no_mis ? 1.0f : pb_mis_power(ls.pdf, pdf_b);
     float c = fabsf(v3_dot(ls.wi, b->n));
-    add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, ls.L), c * w / ls.pdf)), k);
+    add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, ls.L), c * w / ls.pdf)), k);
   }
   if (!ctx->lights.world_nee) return;
   float u1 = pb_rng_f(rng), u2 = pb_rng_f(rng), dir[3], pw;
@@ -119,12 +146,12 @@ static void soft_nee(const pb_ref_ctx *ctx, pb_rng *rng, const pb_bsdf *b, const
   float pdf_b;
   v3 f = pb_bsdf_eval(b, wo, wi, &pdf_b);
   if (v3_is_zero(f)) return;
-  (*rays)++;
-  if (pb_ref_occluded(&ctx->accel, o_shadow, wi, INFINITY)) return;
+  v3 vis = shadow(ctx, v3_dot(wi, surf->ng) >= 0.0f ? o_front : o_back, wi, INFINITY, rays);
+  if (v3_is_zero(vis)) return;
   float L[3];
   pb_world_radiance(&s->world, dir, L);
   float c = fabsf(v3_dot(wi, b->n)) * pb_mis_power(pw, pdf_b) / pw;
-  add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, v3_load(L)), c)), k);
+  add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, v3_load(L)), c)), k);
 }
 
 void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
@@ -173,6 +200,9 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     pb_surface surf;
     pb_surface_from_hit(s, &h, dir, &surf);
     v3 wo = v3_neg(dir);
+    /* Holdout: the camera sees a hole (no coverage, black); any other ray
+     * a black absorber (no closures: nothing below reflects). */
+    if (k == 1 && surf.mat->blender.model == PB_MODEL_HOLDOUT) break;
     if (k == 1) {
       out->hit = 1;
       out->normal = surf.ns;
@@ -193,11 +223,14 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     if (k > ctx->max_bounces) break;
 
     pb_bsdf b;
-    pb_bsdf_setup(s, &surf, wo, &b);
+    pb_bsdf_setup(s, &surf, wo, &rng, &b);
     if (k == 1) out->albedo = pb_bsdf_albedo(&b);
 
     if (pb_bsdf_has_smooth(&b)) {
-      v3 o_shadow = pb_offset_ray(surf.p, surf.ng);
+      /* Shadow rays leave on the side their light lies on: transmitting
+       * lobes (a Principled glass) see lights through the surface. */
+      v3 o_front = pb_offset_ray(surf.p, surf.ng), o_back = o_front;
+      if (b.model != PB_MODEL_GLTF) o_back = pb_offset_ray(surf.p, v3_neg(surf.ng));
       for (uint32_t i = 0; i < s->light_count; ++i) {
         v3 wi, li;
         float dist;
@@ -205,12 +238,12 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
         float pdf;
         v3 f = pb_bsdf_eval(&b, wo, wi, &pdf);
         if (v3_is_zero(f)) continue;
-        rays++;
-        if (!s->lights[i].no_shadow &&
-            pb_ref_occluded(&ctx->accel, o_shadow, wi, dist * (1.0f - PB_SHADOW_EPSILON)))
-          continue;
+        v3 vis = v3_make(1, 1, 1);
+        if (s->lights[i].no_shadow) rays++;
+        else vis = shadow(ctx, v3_dot(wi, surf.ng) >= 0.0f ? o_front : o_back, wi, dist * (1.0f - PB_SHADOW_EPSILON), &rays);
+        if (v3_is_zero(vis)) continue;
         float c = fabsf(v3_dot(wi, b.n));
-        add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, li), c)), k);
+        add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, li), c)), k);
       }
       if (ctx->lights.emitter_count) {
         float u0 = pb_rng_f(&rng), u1 = pb_rng_f(&rng), u2 = pb_rng_f(&rng);
@@ -240,14 +273,14 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
               /* Both ends moved off their surfaces (Waechter & Binder), so
                * the segment between them touches neither. */
               v3 tgt = pb_offset_ray(es.p, es.ng);
+              v3 o_shadow = v3_dot(wi, surf.ng) >= 0.0f ? o_front : o_back;
               v3 seg = v3_sub(tgt, o_shadow);
               float sl = v3_len(seg);
-              rays++;
-              if (sl > 0.0f &&
-                  !pb_ref_occluded(&ctx->accel, o_shadow, v3_scale(seg, 1.0f / sl), sl)) {
+              v3 vis = sl > 0.0f ? shadow(ctx, o_shadow, v3_scale(seg, 1.0f / sl), sl, &rays) : v3_make(0, 0, 0);
+              if (!v3_is_zero(vis)) {
                 float w = pb_mis_power(pl, pdf_b);
                 float c = fabsf(v3_dot(wi, b.n));
-                add_contrib(out, v3_mul(beta, v3_scale(v3_mul(f, le2), c * w / pl)), k);
+                add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, le2), c * w / pl)), k);
               }
             }
           }
@@ -259,7 +292,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
                     2);
       /* After the emitter and photon terms: a scene without soft lights or
        * a world map draws the same random numbers as before they existed. */
-      soft_nee(ctx, &rng, &b, &surf, wo, o_shadow, beta, k, out, &rays);
+      soft_nee(ctx, &rng, &b, &surf, wo, o_front, o_back, beta, k, out, &rays);
     }
 
     pb_bsdf_sample bs;

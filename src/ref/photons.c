@@ -187,7 +187,7 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
     pb_surface_from_hit(s, &h, d, &surf);
     v3 wo = v3_neg(d);
     pb_bsdf b;
-    pb_bsdf_setup(s, &surf, wo, &b);
+    pb_bsdf_setup(s, &surf, wo, &rng, &b);
     if (chain >= 1 && pb_bsdf_has_smooth(&b)) {
       pb_photon ph;
       memcpy(ph.p, &surf.p, sizeof ph.p);

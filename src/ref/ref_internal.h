@@ -145,6 +145,9 @@ typedef struct pb_surface {
   uint32_t prim;
   float uv[2], uv1[2]; /* TEXCOORD_0 and _1 (0 when the scene has none) */
   float color[4];      /* COLOR_0 (white when the scene has none) */
+  v3 tangent; /* unit, along +u (the scene's tangents where it has them),
+                 else 0: anisotropic lobes then turn around an arbitrary
+                 frame */
   const pb_material *mat;
 } pb_surface;
 
@@ -168,6 +171,37 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *out
  * m = metallic, T = transmission. The diffuse weight uses the Fresnel of the
  * outgoing direction only, so D is not exactly reciprocal: a simple
  * energy-plausible mix (reflectance <= 1), as the design asks. */
+/* One closure of a Blender material (principled.c), as Cycles 3.4 builds
+ * them (svm/closure.h): a BSDF lobe with its colour weight and its share of
+ * lobe sampling. */
+typedef enum pb_closure_type {
+  PB_CL_DIFFUSE = 0,   /* Principled diffuse (Burley, retro-reflection) */
+  PB_CL_OREN_NAYAR,    /* Diffuse BSDF: Oren-Nayar (Lambert at sigma 0) */
+  PB_CL_SHEEN,         /* Principled sheen */
+  PB_CL_GGX,           /* GGX reflection, Principled v1 Fresnel (specular, glass reflection) */
+  PB_CL_MULTI_GGX,     /* Multiscatter GGX reflection, Principled v1 Fresnel */
+  PB_CL_GGX_REFRACT,   /* GGX refraction (glass) */
+  PB_CL_CLEARCOAT,     /* GTR1 clearcoat */
+  PB_CL_TRANSPARENT,   /* alpha < 1: straight through */
+} pb_closure_type;
+
+enum { PB_CLOSURE_MAX = 8 };
+
+typedef struct pb_closure {
+  pb_closure_type type;
+  v3 weight;           /* colour weight (Cycles' closure weight) */
+  float sample_weight; /* lobe choice: probability sample_weight / sum */
+  v3 n, x, y;          /* lobe frame; x along the anisotropy tangent */
+  float ax, ay;        /* microfacet alphas */
+  float ior;           /* microfacet Fresnel / refraction index, seen from wo */
+  float f0;            /* dielectric Fresnel at normal incidence for ior */
+  v3 cspec0, color;    /* Principled v1 Fresnel colours */
+  float rough;         /* diffuse: retro-reflection roughness */
+  float on_a, on_b;    /* Oren-Nayar A, B (1/pi, 0 for Lambert) */
+  float clearcoat;     /* clearcoat: Clearcoat input (F scaled by 0.25 of it) */
+  int singular;        /* a delta lobe: not evaluated, sampled by reflection/refraction */
+} pb_closure;
+
 typedef struct pb_bsdf {
   v3 base;
   float metallic, roughness, alpha, transmission, ior;
@@ -180,11 +214,23 @@ typedef struct pb_bsdf {
   /* Lobe choice probabilities for setup's wo, and the diffuse weight
    * (1-m)(1-T)(1 - max F_s(n.wo)). */
   float pd, ps, pg, kd;
+  /* Blender materials (model != PB_MODEL_GLTF): the closures above replace
+   * everything from `base` to `kd`. rng: the stream a stochastic evaluation
+   * (Multiscatter GGX's random walk) draws from; its expectation is the
+   * BSDF, so estimators stay unbiased. */
+  pb_material_model model;
+  pb_closure cl[PB_CLOSURE_MAX];
+  int ncl;
+  float sw_sum;     /* sum of the closures' sample weights */
+  v3 albedo;        /* for the AOV */
+  pb_rng *rng;
 } pb_bsdf;
 
 /* Prepares the material at surf for outgoing direction wo; eval and sample
- * must then be called with that same wo. */
-void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b);
+ * must then be called with that same wo. rng: the random stream of the path
+ * (Multiscatter GGX evaluates stochastically; may be NULL for materials
+ * without it). */
+void pb_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_rng *rng, pb_bsdf *b);
 /* Non-delta part f(wo, wi) (cosine not included) and the pdf of sampling wi
  * with pb_bsdf_sample's lobe mixture. wi, wo point away from the surface. */
 v3 pb_bsdf_eval(const pb_bsdf *b, v3 wo, v3 wi, float *pdf);
@@ -208,6 +254,19 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
                        pb_transport mode, pb_bsdf_sample *out);
 /* Albedo for the AOV: base colour, glass as white. */
 v3 pb_bsdf_albedo(const pb_bsdf *b);
+
+/* The Blender materials' BSDF (principled.c), behind pb_bsdf_setup / _eval /
+ * _sample_dir / _has_smooth / _albedo for model != PB_MODEL_GLTF. */
+void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b);
+v3 pb_blender_bsdf_eval(const pb_bsdf *b, v3 wo, v3 wi, float *pdf);
+int pb_blender_bsdf_sample(const pb_bsdf *b, v3 wo, float u0, float u1, float u2, pb_transport mode,
+                           pb_bsdf_sample *out);
+int pb_blender_bsdf_has_smooth(const pb_bsdf *b);
+/* Fraction of light the material lets through straight (Alpha < 1,
+ * Cycles' Transparent BSDF): 1 - alpha; 0 for opaque materials. */
+float pb_bsdf_transparency(const pb_bsdf *b);
+/* A Principled BSDF's Alpha at surf (its emission is scaled by it too). */
+float pb_blender_alpha(const pb_scene *s, const pb_surface *surf);
 
 /* Emitted radiance leaving surf toward wo (facing the surface's hit side):
  * material emissive x emissive texture (pb_material_emission), from the front

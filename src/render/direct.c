@@ -2,12 +2,13 @@
  * spot and directional light at each G-buffer surface. */
 #include "render/passes.h"
 #include "shaders/direct.spv.h"
+#include "shaders/direct_blender.spv.h"
 
 pb_result pb_pass_direct_create(pb_gpu *g, const pb_pass_setup *s, pb_gpu_pipeline *out) {
   pb_gpu_pipeline_desc d = {
       .name = "pass.direct",
-      .spirv = pb_spv_direct,
-      .spirv_bytes = sizeof pb_spv_direct,
+      .spirv = s->blender ? pb_spv_direct_blender : pb_spv_direct,
+      .spirv_bytes = s->blender ? sizeof pb_spv_direct_blender : sizeof pb_spv_direct,
       .binding_count = PB_BIND_COUNT,
       .push_bytes = sizeof(pb_gpu_pass_push),
       .spec = s->spec,

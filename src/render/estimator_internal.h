@@ -14,9 +14,9 @@ enum { PB_LBVH_BIND_COUNT = 12 }; /* common/lbvh.glsl */
 enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
        PB_GATHER_BIND_NMAP, PB_GATHER_BIND_COUNT };
 
-/* The gather's specialization constants: scene.glsl's (constant_id 0-3),
- * one unused id (4, photon_trace's SC_TRANSMISSION), SC_NORMAL_MAPS (5). */
-enum { PB_GATHER_SPEC_NORMAL_MAPS = 5, PB_GATHER_SPEC_COUNT = 6 };
+/* The gather's specialization constants: scene.glsl's (passes.h), with its
+ * own SC_NORMAL_MAPS in id 5 (4 is photon_trace's SC_TRANSMISSION, unused). */
+enum { PB_GATHER_SPEC_NORMAL_MAPS = PB_SPEC_PASS_5, PB_GATHER_SPEC_COUNT = PB_SPEC_COUNT };
 
 struct pb_photon_estimator {
   pb_photon_estimate_desc desc;
@@ -25,6 +25,7 @@ struct pb_photon_estimator {
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;
   uint32_t gather_spec[PB_GATHER_SPEC_COUNT]; /* scene.glsl's, then SC_NORMAL_MAPS */
+  uint32_t gather_blender;                     /* the module: 1 the PB_BLENDER build */
   int gather_ready;
   uint32_t capacity;             /* photons the buffers hold */
   pb_radix_sort *sort;           /* Morton codes -> photon indices */

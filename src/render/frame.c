@@ -94,6 +94,8 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   if (d->spp > (1u << 20)) return pb_fail(PB_ERR_USAGE, "render: %u samples per pixel (at most 2^20)", d->spp);
   if (d->alpha < 0.0f || !(d->alpha < 1.0f))
     return pb_fail(PB_ERR_USAGE, "render: progressive alpha %g (in (0, 1))", d->alpha);
+  if (!(d->glossy_path_roughness <= 1.0f))
+    return pb_fail(PB_ERR_USAGE, "render: glossy path roughness %g (at most 1)", d->glossy_path_roughness);
   if (d->full_width && ((uint64_t)d->crop_x + w > d->full_width || (uint64_t)d->crop_y + h > d->full_height ||
                         d->full_width > 65536 || d->full_height > 65536))
     return pb_fail(PB_ERR_USAGE, "render: crop %ux%u at (%u, %u) does not fit in the %ux%u frame", w, h, d->crop_x,
@@ -299,8 +301,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       .spec = {[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u, [PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u,
                [PB_SPEC_SPECULAR] = plan.eye_chains ? 1u : 0u,
                [PB_SPEC_EMISSIVE] = plan.emitter_sampling || plan.unlit ? 1u : 0u,
-               [PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan.world ? 1u : 0u},
+               [PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan.world ? 1u : 0u,
+               [PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
+      .blender = plan.blender_materials ? 1u : 0u,
   };
   if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
     goto fail;
@@ -312,7 +316,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     pb_gpu_buffer_desc pd = {.name = "frame.photon_accum",
                              .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
     if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
-    if (gs->tangent_base) { /* the gather's eq. 20 sums (its SC_NORMAL_MAPS) */
+    if (plan.normal_maps) { /* the gather's eq. 20 sums (its SC_NORMAL_MAPS) */
       pb_gpu_buffer_desc nd = {.name = "frame.photon_nmap",
                                .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_nmap), .host_visible = 1,
                                .readback = 1};
@@ -350,6 +354,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.seed_lo = (uint32_t)desc.seed;
   fr.seed_hi = (uint32_t)(desc.seed >> 32);
   fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u);
+  float gr = desc.glossy_path_roughness == 0.0f ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : fmaxf(desc.glossy_path_roughness, 0.0f);
+  fr.glossy_path_alpha2 = gr * gr * gr * gr; /* alpha = roughness^2 */
   fr.tangent_base = gs->tangent_base;
   fr.uv1_base = gs->uv1_base;
   fr.color_base = gs->color_base;

@@ -6,6 +6,7 @@
 
 #include "render/estimator_internal.h"
 #include "shaders/gather.spv.h"
+#include "shaders/gather_blender.spv.h"
 
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
@@ -13,13 +14,13 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
   uint32_t spec[PB_GATHER_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's ids 0-3; no lights here */
   spec[PB_GATHER_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
-  if (e->gather.pipeline && memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0)
+  if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_blender != ps->blender))
     pb_gpu_pipeline_destroy(g, &e->gather);
   if (!e->gather.pipeline) {
     pb_gpu_pipeline_desc d = {
         .name = "pass.gather",
-        .spirv = pb_spv_gather,
-        .spirv_bytes = sizeof pb_spv_gather,
+        .spirv = ps->blender ? pb_spv_gather_blender : pb_spv_gather,
+        .spirv_bytes = ps->blender ? sizeof pb_spv_gather_blender : sizeof pb_spv_gather,
         .binding_count = PB_GATHER_BIND_COUNT,
         .push_bytes = sizeof(pb_gpu_gather_push),
         .spec = spec,
@@ -27,6 +28,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
     };
     if ((r = pb_gpu_pipeline_create(g, &d, &e->gather)) != PB_OK) return r;
     memcpy(e->gather_spec, spec, sizeof e->gather_spec);
+    e->gather_blender = ps->blender;
   }
   if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
   const pb_gpu_buffer *b[PB_GATHER_BIND_COUNT];

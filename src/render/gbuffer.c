@@ -2,12 +2,13 @@
  * chains, emission along them and the first-hit AOVs. */
 #include "render/passes.h"
 #include "shaders/gbuffer.spv.h"
+#include "shaders/gbuffer_blender.spv.h"
 
 pb_result pb_pass_gbuffer_create(pb_gpu *g, const pb_pass_setup *s, pb_gpu_pipeline *out) {
   pb_gpu_pipeline_desc d = {
       .name = "pass.gbuffer",
-      .spirv = pb_spv_gbuffer,
-      .spirv_bytes = sizeof pb_spv_gbuffer,
+      .spirv = s->blender ? pb_spv_gbuffer_blender : pb_spv_gbuffer,
+      .spirv_bytes = s->blender ? sizeof pb_spv_gbuffer_blender : sizeof pb_spv_gbuffer,
       .binding_count = PB_BIND_COUNT,
       .push_bytes = sizeof(pb_gpu_pass_push),
       .spec = s->spec,

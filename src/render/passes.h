@@ -17,8 +17,8 @@ enum {
 /* Specialization constants, constant_id order of scene.glsl; ids 4 and 5
  * are the photon tracer's and the gather's own (0 here). */
 enum {
-  PB_SPEC_HAS_NORMALS = 0, PB_SPEC_TEXTURES, PB_SPEC_SPECULAR, PB_SPEC_EMISSIVE,
-  PB_SPEC_SOFT_LIGHTS = 6, PB_SPEC_WORLD = 7, PB_SPEC_COUNT
+  PB_SPEC_HAS_NORMALS = 0, PB_SPEC_TEXTURES, PB_SPEC_SPECULAR, PB_SPEC_EMISSIVE, PB_SPEC_PASS_4, PB_SPEC_PASS_5,
+  PB_SPEC_SOFT_LIGHTS = 6, PB_SPEC_WORLD = 7, PB_SPEC_ALPHA = 8, PB_SPEC_COUNT
 };
 
 typedef struct pb_pass_setup {
@@ -26,6 +26,7 @@ typedef struct pb_pass_setup {
   uint32_t spec[PB_SPEC_COUNT];
   uint32_t normal_maps; /* the gather's SC_NORMAL_MAPS (constant_id 5): eq. 20's
                            extra sums, compiled out for scenes without */
+  uint32_t blender;     /* 1: the passes' PB_BLENDER builds (Blender materials) */
 } pb_pass_setup;
 
 /* gbuffer.c: primary visibility + specular eye chains + emission + AOVs. */

@@ -13,6 +13,7 @@
 #include "render/photon_rsm.h"
 #include "render/plan.h"
 #include "shaders/photon_rsm.spv.h"
+#include "shaders/photon_rsm_blender.spv.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_rsm.h"
 
@@ -85,10 +86,11 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   r->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
   r->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
   r->spec[PB_SPEC_EMISSIVE] = 0u;
+  r->spec[PB_SPEC_ALPHA] = 0u; /* the maps only trace first hits */
   pb_gpu_pipeline_desc pd = {
       .name = "pass.photon_rsm",
-      .spirv = pb_spv_photon_rsm,
-      .spirv_bytes = sizeof pb_spv_photon_rsm,
+      .spirv = plan.blender_materials ? pb_spv_photon_rsm_blender : pb_spv_photon_rsm,
+      .spirv_bytes = plan.blender_materials ? sizeof pb_spv_photon_rsm_blender : sizeof pb_spv_photon_rsm,
       .binding_count = PB_RSM_BIND_COUNT,
       .push_bytes = sizeof(pb_gpu_rsm_push),
       .spec = r->spec,

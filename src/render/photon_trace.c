@@ -20,11 +20,12 @@
 #include "render/photon_rsm.h"
 #include "render/plan.h"
 #include "shaders/photon_trace.spv.h"
+#include "shaders/photon_trace_blender.spv.h"
 #include "shared/pb_photon.h"
 
 enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_WORLD = 18, PB_PHOTON_BIND_COUNT = 19 }; /* 16, 17: RSM lights, texels */
 enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
-enum { PB_PHOTON_SPEC_TRANSMISSION = 4, PB_PHOTON_SPEC_COUNT = PB_SPEC_COUNT }; /* scene.glsl's, with 4 ours */
+enum { PB_PHOTON_SPEC_TRANSMISSION = PB_SPEC_PASS_4, PB_PHOTON_SPEC_COUNT = PB_SPEC_COUNT }; /* scene.glsl's, with 4 ours */
 
 struct pb_photon_tracer {
   const pb_gpu_scene *gs;
@@ -284,10 +285,11 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_PHOTON_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
   t->spec[PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u;
   t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;
+  t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
-      .spirv = pb_spv_photon_trace,
-      .spirv_bytes = sizeof pb_spv_photon_trace,
+      .spirv = plan.blender_materials ? pb_spv_photon_trace_blender : pb_spv_photon_trace,
+      .spirv_bytes = plan.blender_materials ? sizeof pb_spv_photon_trace_blender : sizeof pb_spv_photon_trace,
       .binding_count = PB_PHOTON_BIND_COUNT,
       .push_bytes = 0,
       .spec = t->spec,

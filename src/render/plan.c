@@ -19,6 +19,11 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
   out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->normal_maps = (f & PB_FEATURE_NORMAL_MAPS) != 0 && s->tangents != NULL && s->uvs != NULL;
+  out->blender_materials = (f & PB_FEATURE_BLENDER) != 0;
+  out->multi_ggx = (f & PB_FEATURE_MULTI_GGX) != 0;
+  /* Only the Blender models render Alpha (Cycles' transparency); glTF's
+   * alpha modes are not rendered by either renderer. */
+  out->alpha = (f & PB_FEATURE_ALPHA) != 0 && out->blender_materials;
   out->soft_lights = (f & PB_FEATURE_SOFT_LIGHTS) != 0;
   out->world = s->world.present;
   out->world_map = s->world.present && s->world.env != NULL;
@@ -36,6 +41,9 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
   pb_json_bool(j, "absorbing_media", p->media);
   pb_json_bool(j, "textures", p->textures);
   pb_json_bool(j, "normal_maps", p->normal_maps);
+  pb_json_bool(j, "blender_materials", p->blender_materials);
+  pb_json_bool(j, "multiscatter_ggx", p->multi_ggx);
+  pb_json_bool(j, "transparent_shadows", p->alpha);
   pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);
   pb_json_bool(j, "soft_lights", p->soft_lights);
   pb_json_bool(j, "world_light", p->world);

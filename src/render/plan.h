@@ -23,6 +23,12 @@ typedef struct pb_render_plan {
   int caustic_photons;   /* photons follow specular chains (photon_trace's
                             SC_SPECULAR) */
   int refraction;        /* photons refract (SC_TRANSMISSION) */
+  int blender_materials; /* Blender materials (PHOTONBRIDGE_blender: Principled
+                            BSDF, ...; SC_BLENDER): their closures, glossy eye
+                            paths through them */
+  int multi_ggx;         /* of them, Multiscatter GGX's random walk (info only:
+                            compiled with SC_BLENDER) */
+  int alpha;             /* transparent shadows through Alpha < 1 (SC_ALPHA) */
   int normal_maps;       /* normal-mapped shading normals in the eye passes
                             (tangents uploaded, pb_gpu_frame.tangent_base)
                             and, with photons, seed 001's eq. 20 correction

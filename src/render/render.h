@@ -116,6 +116,12 @@ typedef pb_result (*pb_render_progress_fn)(void *user, const pb_render_progress 
 typedef struct pb_render_desc {
   uint32_t spp;                /* 0: 1 (pixel centres); >1 jittered/stratified */
   uint32_t max_specular_depth; /* delta interactions along an eye path; 0: 8 */
+  float glossy_path_roughness; /* Blender materials: a specular or clearcoat
+                                  layer of Roughness above this is shaded
+                                  where the eye path stops (direct light and
+                                  the photon map), a smoother one followed by
+                                  the eye path; 1: every one followed; < 0:
+                                  none; 0: PB_RENDER_GLOSSY_PATH_ROUGHNESS */
   int direct_only;             /* 1: only paths with at most one scattering
                                   event (the reference's direct AOV) */
   uint64_t seed;
@@ -182,6 +188,11 @@ typedef struct pb_render_desc {
 } pb_render_desc;
 
 enum { PB_RENDER_MAX_SPECULAR_DEPTH = 64 };
+/* Where following a glossy layer with the eye path and shading it from the
+ * photon map cross over in error at equal cost (bench/README.md, "Blender
+ * materials": the studio at Roughness 0.1 to 0.5). */
+#define PB_RENDER_GLOSSY_PATH_ROUGHNESS 0.15f
+#define PB_RENDER_GLOSSY_PATH_ROUGHNESS_STR "0.15"
 /* Footprint radius histogram: PB_RENDER_RADIUS_BINS - 1 bins of width
  * r_max / (PB_RENDER_RADIUS_BINS - 1) below the clamp, then the footprints
  * at the clamp r_max (seed 000 Table 3). */

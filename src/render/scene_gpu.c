@@ -178,6 +178,17 @@ static pb_result build_emitters(const pb_scene *s, pb_gpu_emitter **out, uint32_
   return PB_OK;
 }
 
+/* The GPU's material slots are pb_scene's. */
+#define PB_SAME(a, b) ((int)(a) == (int)(b))
+_Static_assert(PB_SAME(PB_GPU_MODEL_PRINCIPLED, PB_MODEL_PRINCIPLED) && PB_SAME(PB_GPU_MODEL_DIFFUSE, PB_MODEL_DIFFUSE) &&
+                   PB_SAME(PB_GPU_MODEL_EMISSION, PB_MODEL_EMISSION) && PB_SAME(PB_GPU_MODEL_HOLDOUT, PB_MODEL_HOLDOUT),
+               "pb_gpu_material.model");
+_Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_ROUGHNESS, PB_IN_ROUGHNESS) &&
+                   PB_SAME(PB_GPU_IN_IOR, PB_IN_IOR) && PB_SAME(PB_GPU_IN_ALPHA, PB_IN_ALPHA) &&
+                   PB_SAME(PB_GPU_IN_SUBSURFACE, PB_IN_SUBSURFACE) && (int)PB_IN_COUNT <= (int)PB_GPU_IN_SLOTS,
+               "pb_gpu_material.in_value");
+#undef PB_SAME
+
 static uint32_t tex_index(int32_t t, uint32_t count) {
   return t >= 0 && (uint32_t)t < count ? (uint32_t)t : PB_GPU_NO_TEXTURE;
 }
@@ -219,7 +230,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   r = make(g, &gs->positions, "scene.positions", s->positions, (uint64_t)s->vertex_count * 12);
   if (r != PB_OK) goto fail;
   gs->has_normals = s->normals != NULL;
-  if (s->tangents && s->uvs && (s->features & PB_FEATURE_NORMAL_MAPS) && s->vertex_count &&
+  if (s->tangents && s->uvs && (s->features & (PB_FEATURE_NORMAL_MAPS | PB_FEATURE_ANISOTROPY)) && s->vertex_count &&
       (uint64_t)s->vertex_count * 7 < UINT32_MAX) {
     /* Normal maps: the tangents (float[4] per vertex) follow the normals in
      * the same buffer, from float index tangent_base (pb_gpu_frame), so the
@@ -299,6 +310,20 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
     o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;
+    const pb_blender_material *b = &m->blender;
+    o->model = (uint32_t)b->model;
+    o->distribution = b->distribution == PB_DISTRIBUTION_MULTI_GGX ? PB_GPU_DISTRIBUTION_MULTI_GGX
+                                                                   : PB_GPU_DISTRIBUTION_GGX;
+    o->subsurface_color_tex = tex_index(b->subsurface_color_tex, s->texture_count);
+    memcpy(o->subsurface_color, b->subsurface_color, sizeof o->subsurface_color);
+    o->normal_strength = b->normal_strength;
+    for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
+      o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
+      uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+      o->in_tex[k] = t == PB_GPU_NO_TEXTURE || t > PB_GPU_INPUT_TEX_INDEX
+                         ? PB_GPU_NO_TEXTURE
+                         : t | (b->input_tex[k].channel << PB_GPU_INPUT_TEX_CHANNEL_SHIFT);
+    }
   }
   uint32_t off = 0;
   for (uint32_t i = 0; i < s->texture_count; ++i) {

@@ -68,7 +68,7 @@ static pb_result type_error(const rd *r, const char *key, const char *want) {
  * `range` says the allowed range in words for the error. */
 static pb_result number(const rd *r, const pb_gltf_value *o, const char *key, double dflt, double lo, int lo_open,
                         double hi, int hi_open, const char *range, double *out) {
-  const pb_gltf_value *v = pb_gltf_member(o, key);
+  const pb_gltf_value *v = pb_gltf_value_get(o, key);
   *out = dflt;
   if (!v) return PB_OK;
   if (v->type != PB_GLTF_NUMBER) return type_error(r, key, "a number");
@@ -82,7 +82,7 @@ static pb_result number(const rd *r, const pb_gltf_value *o, const char *key, do
 }
 
 static pb_result boolean(const rd *r, const pb_gltf_value *o, const char *key, int dflt, int *out) {
-  const pb_gltf_value *v = pb_gltf_member(o, key);
+  const pb_gltf_value *v = pb_gltf_value_get(o, key);
   *out = dflt;
   if (!v) return PB_OK;
   if (v->type != PB_GLTF_BOOL) return type_error(r, key, "true or false");
@@ -92,7 +92,7 @@ static pb_result boolean(const rd *r, const pb_gltf_value *o, const char *key, i
 
 /* An optional string, NULL when absent. */
 static pb_result string(const rd *r, const pb_gltf_value *o, const char *key, const char **out) {
-  const pb_gltf_value *v = pb_gltf_member(o, key);
+  const pb_gltf_value *v = pb_gltf_value_get(o, key);
   *out = NULL;
   if (!v) return PB_OK;
   if (v->type != PB_GLTF_STRING) return type_error(r, key, "a string");
@@ -103,7 +103,7 @@ static pb_result string(const rd *r, const pb_gltf_value *o, const char *key, co
 /* An optional array of n finite numbers (>= 0 when non_negative). */
 static pb_result vector(const rd *r, const pb_gltf_value *o, const char *key, int n, int non_negative,
                         const double *dflt, double *out) {
-  const pb_gltf_value *v = pb_gltf_member(o, key);
+  const pb_gltf_value *v = pb_gltf_value_get(o, key);
   for (int k = 0; k < n; ++k) out[k] = dflt[k];
   if (!v) return PB_OK;
   if (v->type != PB_GLTF_ARRAY || v->count < (size_t)n) {
@@ -125,7 +125,7 @@ static pb_result vector(const rd *r, const pb_gltf_value *o, const char *key, in
 
 /* An optional member that must be an object. */
 static pb_result object(const rd *r, const pb_gltf_value *o, const char *key, const pb_gltf_value **out) {
-  const pb_gltf_value *v = pb_gltf_member(o, key);
+  const pb_gltf_value *v = pb_gltf_value_get(o, key);
   *out = NULL;
   if (!v) return PB_OK;
   if (v->type != PB_GLTF_OBJECT) return type_error(r, key, "an object");
@@ -456,9 +456,9 @@ pb_result pb_blender_read_root(const char *path, const pb_gltf_value *root, cons
   rd r = {path, "extensions"};
   if (root->type != PB_GLTF_OBJECT) return type_error(&r, "PHOTONBRIDGE_blender", "an object");
   r.where = "extensions.PHOTONBRIDGE_blender";
-  const pb_gltf_value *v = pb_gltf_member(root, "version");
+  const pb_gltf_value *v = pb_gltf_value_get(root, "version");
   if (!v) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.version: missing", path, r.where);
-  if (v->type != PB_GLTF_NUMBER || !v->integer) return type_error(&r, "version", "an integer");
+  if (v->type != PB_GLTF_NUMBER || !v->is_integer) return type_error(&r, "version", "an integer");
   if (v->number != 1)
     return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: %s.version: %g (this photonbridge reads version 1)", path, r.where,
                    v->number);

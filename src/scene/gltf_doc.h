@@ -13,40 +13,31 @@
 
 #include "core/result.h"
 
-/* A JSON value of an extension the loader reads itself (PHOTONBRIDGE_blender),
- * as parsed: objects keep their members sorted by name (a repeated name keeps
- * one value), numbers are doubles (tinygltf's integers converted; a literal
- * too large for a double is +-inf, which the reader refuses by name). */
+/* A JSON value of an extension the loader reads itself (PHOTONBRIDGE_blender
+ * on the root, nodes and materials; blender_lights.c, blender_material.c), as
+ * parsed: objects keep their members in name order (tinygltf's; a repeated
+ * name keeps one value), numbers are doubles (tinygltf's integers converted;
+ * a literal too large for a double is refused by the shim, naming its JSON
+ * path); is_integer: the number was written as an integer. */
 typedef enum pb_gltf_value_type {
-  PB_GLTF_NULL = 0,
-  PB_GLTF_BOOL,
-  PB_GLTF_NUMBER,
-  PB_GLTF_STRING,
-  PB_GLTF_ARRAY,
-  PB_GLTF_OBJECT,
+  PB_GLTF_NULL = 0, PB_GLTF_BOOL, PB_GLTF_NUMBER, PB_GLTF_STRING, PB_GLTF_ARRAY, PB_GLTF_OBJECT
 } pb_gltf_value_type;
 
 typedef struct pb_gltf_value {
   pb_gltf_value_type type;
   int boolean;
-  int integer;                        /* a number written without fraction or exponent */
+  int is_integer;
   double number;
-  const char *string;
-  size_t count;                       /* array items or object members */
-  const struct pb_gltf_value *items;  /* array items, or object member values */
-  const char *const *keys;            /* object member names (NULL for arrays) */
+  const char *string;                 /* STRING */
+  const struct pb_gltf_value *items;  /* ARRAY: the elements; OBJECT: the members' values */
+  const char *const *keys;            /* OBJECT: the members' names */
+  size_t count;
 } pb_gltf_value;
 
-/* Member `key` of an object value, or NULL (also when v is no object). */
-static inline const pb_gltf_value *pb_gltf_member(const pb_gltf_value *v, const char *key) {
-  if (!v || v->type != PB_GLTF_OBJECT) return NULL;
-  for (size_t i = 0; i < v->count; ++i) {
-    const char *a = v->keys[i], *b = key;
-    while (*a && *a == *b) ++a, ++b;
-    if (*a == *b) return &v->items[i];
-  }
-  return NULL;
-}
+/* Member `key` of an object, NULL when absent (or v is not an object). */
+const pb_gltf_value *pb_gltf_value_get(const pb_gltf_value *v, const char *key);
+/* "object", "array", ... for messages. */
+const char *pb_gltf_value_type_name(const pb_gltf_value *v);
 
 typedef struct pb_gltf_buffer {
   const uint8_t *data; /* loaded bytes (GLB BIN chunk, data URI or file) */
@@ -212,6 +203,7 @@ typedef struct pb_gltf_material {
   const char *alpha_mode;
   double alpha_cutoff;
   int double_sided;
+  const pb_gltf_value *blender; /* extensions.PHOTONBRIDGE_blender, NULL if absent */
 } pb_gltf_material;
 
 typedef struct pb_gltf_texture {

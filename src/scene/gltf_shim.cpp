@@ -406,6 +406,15 @@ pb_result precheck_ids(const char *path, const Json &j) {
     for (const char *t : {"normalTexture", "occlusionTexture", "emissiveTexture"})
       if (x == PB_OK && o.is_object() && o.contains(t)) x = check_texture_info(path, o[t], w + "." + t);
     auto ext = o.is_object() ? o.find("extensions") : o.end();
+    // tinygltf keeps only objects as extensions: a PHOTONBRIDGE_blender of
+    // another type would vanish instead of being refused.
+    if (x == PB_OK && ext != o.end() && ext->is_object()) {
+      auto pb = ext->find("PHOTONBRIDGE_blender");
+      if (pb != ext->end() && !pb->is_object())
+        x = pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.extensions.PHOTONBRIDGE_blender: %s, expected an object", path,
+                    w.c_str(), pb->is_string() ? "a string" : pb->is_array() ? "an array" : pb->is_number() ? "a number"
+                                                                                                          : "not an object");
+    }
     if (x == PB_OK && ext != o.end() && ext->is_object() && ext->contains("KHR_materials_volume")) {
       const Json &v = (*ext)["KHR_materials_volume"];
       std::string vw = w + ".extensions.KHR_materials_volume";
@@ -768,7 +777,7 @@ void fill_value(Impl &m, const tinygltf::Value &v, pb_gltf_value *out) {
     out->boolean = v.Get<bool>() ? 1 : 0;
   } else if (v.IsNumber()) {
     out->type = PB_GLTF_NUMBER;
-    out->integer = v.IsInt() ? 1 : 0;
+    out->is_integer = v.IsInt() ? 1 : 0;
     out->number = v.GetNumberAsDouble();
   } else if (v.IsString()) {
     out->type = PB_GLTF_STRING;
@@ -1145,6 +1154,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.alpha_mode = s(mt.alphaMode);
     x.alpha_cutoff = mt.alphaCutoff;
     x.double_sided = mt.doubleSided;
+    x.blender = extension_value(m, mt.extensions, "PHOTONBRIDGE_blender");
     m.materials.push_back(x);
   }
   for (auto &t : g.textures) m.textures.push_back(pb_gltf_texture{t.source, t.sampler});
@@ -1264,6 +1274,18 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
   }
   doc->impl = impl.release();
   return PB_OK;
+}
+
+extern "C" const pb_gltf_value *pb_gltf_value_get(const pb_gltf_value *v, const char *key) {
+  if (!v || v->type != PB_GLTF_OBJECT) return nullptr;
+  for (size_t i = 0; i < v->count; ++i)
+    if (std::strcmp(v->keys[i], key) == 0) return &v->items[i];
+  return nullptr;
+}
+
+extern "C" const char *pb_gltf_value_type_name(const pb_gltf_value *v) {
+  static const char *const names[] = {"null", "a boolean", "a number", "a string", "an array", "an object"};
+  return v && (unsigned)v->type < sizeof names / sizeof *names ? names[v->type] : "absent";
 }
 
 extern "C" void pb_gltf_doc_destroy(pb_gltf_doc *doc) {

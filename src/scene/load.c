@@ -19,6 +19,7 @@
 #include "scene/accessor.h"
 #include "scene/anim.h"
 #include "scene/blender_lights.h"
+#include "scene/blender_material.h"
 #include "scene/deform.h"
 #include "scene/xform.h"
 
@@ -279,6 +280,14 @@ static pb_result check_factor(loader *L, int i, const char *field, double v, dou
   return PB_OK;
 }
 
+/* The PHOTONBRIDGE_blender material reader's way to textures (glTF
+ * textureInfos, through the same texture_ref as glTF's own: uv set and
+ * KHR_texture_transform included) and warnings (blender_material.h). */
+static pb_result blender_texture(void *user, const pb_gltf_texture_ref *ref, int srgb, const char *where, int32_t *out) {
+  return texture_ref(user, ref, srgb, where, out);
+}
+static pb_result blender_warn(void *user, const char *line) { return warn(user, "%s", line); }
+
 /* KHR_materials_unlit and KHR_materials_volume (scene.h, pb_material). */
 static pb_result material_extensions(loader *L, int i, const pb_gltf_material *g, pb_material *m) {
   pb_result r = PB_OK;
@@ -378,6 +387,10 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
     snprintf(w, sizeof w, "materials[%d].%s", i, names[k]);
     r = texture_ref(L, refs[k], srgb[k], w, dst[k]);
     if (r != PB_OK) return r;
+  }
+  if (g->blender) {
+    pb_blender_material_io io = {L->path, L, blender_texture, blender_warn};
+    return pb_blender_material_read(&io, i, g->blender, m);
   }
   return PB_OK;
 }
@@ -758,10 +771,66 @@ static pb_result store_tangent(loader *L, uint32_t dst, const pb_span *tg, uint6
   return PB_OK;
 }
 
-/* Whether any texture of m reads uv set 1. */
+/* Cycles' default anisotropy tangent for vertex dst (local position pl) of
+ * an anisotropic Blender material (pb_blender_radial_tangent), kept like a
+ * file TANGENT. */
+static pb_result store_radial_tangent(loader *L, uint32_t dst, const double pl[3], const double bmin[3],
+                                      const double bmax[3], const double N[9]) {
+  if (dst >= L->tan_cap) {
+    uint32_t old = L->tan_cap;
+    pb_result r = grow(L, (void **)&L->tan, &L->tan_cap, (uint64_t)dst + 1, sizeof *L->tan, "tangents");
+    if (r != PB_OK) return r;
+    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
+    memset(q + old, 0, L->tan_cap - old);
+    L->tan_given = q;
+  }
+  if (!pb_blender_radial_tangent(pl, bmin, bmax, N, L->tan[dst])) return PB_OK;
+  L->tan[dst][3] = 1.0f;
+  L->tan_given[dst] = 1;
+  return PB_OK;
+}
+
+/* The local bounds of every POSITION of glTF mesh `mesh` (Blender's texture
+ * space of the mesh); from the accessors' min/max, the data where those are
+ * missing. */
+static void mesh_bounds(loader *L, int32_t mesh, double bmin[3], double bmax[3]) {
+  const pb_gltf_mesh *me = &L->doc->meshes[mesh];
+  for (int k = 0; k < 3; ++k) bmin[k] = INFINITY, bmax[k] = -INFINITY;
+  for (size_t pi = 0; pi < me->primitive_count; ++pi) {
+    int32_t a = me->primitives[pi].position;
+    if (a < 0 || (size_t)a >= L->doc->accessor_count) continue;
+    const pb_gltf_accessor *acc = &L->doc->accessors[a];
+    if (acc->has_min_max) {
+      for (int k = 0; k < 3; ++k) bmin[k] = fmin(bmin[k], acc->min[k]), bmax[k] = fmax(bmax[k], acc->max[k]);
+      continue;
+    }
+    static const int32_t float_only[] = {PB_CT_FLOAT, 0};
+    pb_span sp;
+    if (pb_accessor_check(L->path, L->doc, a, "POSITION", 3, float_only, &sp) != PB_OK) {
+      pb_error_clear(); /* add_primitive reports it */
+      continue;
+    }
+    for (uint64_t i = 0; pb_span_has_data(&sp) && i < sp.count; ++i)
+      for (int k = 0; k < 3; ++k) {
+        double v = pb_span_f(&sp, i, k);
+        if (isfinite(v)) bmin[k] = fmin(bmin[k], v), bmax[k] = fmax(bmax[k], v);
+      }
+  }
+  for (int k = 0; k < 3; ++k)
+    if (!(bmin[k] <= bmax[k])) bmin[k] = bmax[k] = 0.0;
+}
+
+/* Whether any texture of m (a Blender material's input textures included)
+ * reads uv set 1. */
 static int reads_uv1(const pb_scene *s, const pb_material *m) {
-  const int32_t t[4] = {m->base_color_tex, m->metallic_roughness_tex, m->emissive_tex, m->normal_tex};
-  for (int k = 0; k < 4; ++k)
+  int32_t t[4 + 1 + PB_IN_COUNT] = {m->base_color_tex, m->metallic_roughness_tex, m->emissive_tex, m->normal_tex};
+  int n = 4;
+  if (m->blender.model != PB_MODEL_GLTF) { /* the zeroed struct holds no texture */
+    t[n++] = m->blender.subsurface_color_tex;
+    for (int in = 0; in < PB_IN_COUNT; ++in) t[n++] = m->blender.input_tex[in].tex;
+  }
+  for (int k = 0; k < n; ++k)
     if (t[k] >= 0 && (uint32_t)t[k] < s->texture_count && s->textures[t[k]].texcoord == 1) return 1;
   return 0;
 }
@@ -794,6 +863,9 @@ typedef struct prim_src {
   struct pb_scene_anim *an; /* rigid animation: local vertices kept */
   uint32_t local, base;
   uint32_t *src_of;     /* deformed: scene vertex - base -> source vertex */
+  int radial;           /* the material needs Cycles' default anisotropy
+                           tangent (pb_blender_needs_tangent) ... */
+  double bmin[3], bmax[3]; /* ... over the mesh's local bounds */
 } prim_src;
 
 /* Grows a per-vertex array of the scene that exists only once some
@@ -845,6 +917,7 @@ static pb_result emit_vertex(loader *L, prim_src *P, uint32_t dst, uint64_t i, c
   }
   if (P->src_of) P->src_of[dst - P->base] = (uint32_t)i;
   if (P->use_t && !P->src_of) return store_tangent(L, dst, &P->tng, i, P->M, P->flip);
+  if (P->radial && !P->src_of) return store_radial_tangent(L, dst, pl, P->bmin, P->bmax, P->N);
   return PB_OK;
 }
 
@@ -928,6 +1001,8 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   }
   P.use_t = has_t && pb_span_has_data(&P.tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
             s->materials[mat].normal_tex >= 0;
+  P.radial = mat >= 0 && (uint32_t)mat < s->material_count && pb_blender_needs_tangent(&s->materials[mat]);
+  if (P.radial) mesh_bounds(L, mesh, P.bmin, P.bmax);
   if (p->texcoord1 == -1 && reads_uv1(s, &s->materials[mat]) &&
       (r = warn(L, "meshes[%d].primitives[%zu]: its material reads TEXCOORD_1, which the primitive lacks: (0, 0) is used",
                 mesh, pi)) != PB_OK)
@@ -1562,7 +1637,7 @@ static pb_result deform_finish(loader *L) {
  * every other vertex gets one from its uvs (tangents.c). */
 static pb_result finish_tangents(loader *L) {
   pb_scene *s = L->s;
-  if (!(s->features & PB_FEATURE_NORMAL_MAPS) || s->vertex_count == 0) return PB_OK;
+  if (!(s->features & (PB_FEATURE_NORMAL_MAPS | PB_FEATURE_ANISOTROPY)) || s->vertex_count == 0) return PB_OK;
   s->tangents = calloc(s->vertex_count, sizeof *s->tangents);
   uint8_t *given = calloc(s->vertex_count, 1);
   if (!s->tangents || !given) {

@@ -9,7 +9,44 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Blender models: could an input take value v somewhere (its constant, or
+ * anything in [0, 1] where a texture feeds it)? */
+static float blender_max(const pb_blender_material *b, pb_blender_input i) {
+  return b->input_tex[i].tex >= 0 ? fmaxf(b->input[i], 1.0f) : b->input[i];
+}
+static float blender_min(const pb_blender_material *b, pb_blender_input i) {
+  return b->input_tex[i].tex >= 0 ? fminf(b->input[i], 0.0f) : b->input[i];
+}
+
+int pb_material_may_be_singular(const pb_material *m) {
+  const pb_blender_material *b = &m->blender;
+  if (b->model == PB_MODEL_GLTF) {
+    if (m->transmission > 0.0f) return 1;
+    int smooth = m->roughness < PB_SPECULAR_ROUGHNESS || m->metallic_roughness_tex >= 0;
+    float spec = m->specular * fmaxf(m->specular_color[0], fmaxf(m->specular_color[1], m->specular_color[2]));
+    return smooth && (m->metallic > 0.0f || spec > 0.0f);
+  }
+  if (b->model != PB_MODEL_PRINCIPLED) return 0;
+  /* Cycles' singular test alpha_x alpha_y <= 1e-7 with alpha = r^2 (the
+   * anisotropic stretch keeps the product): r <= 1e-7^(1/4). */
+  const float r_singular = 0.0178f;
+  int rough_low = blender_min(b, PB_IN_ROUGHNESS) <= r_singular;
+  int layer = blender_max(b, PB_IN_SPECULAR) > 0.0f || blender_max(b, PB_IN_METALLIC) > 0.0f ||
+              blender_max(b, PB_IN_TRANSMISSION) > 0.0f;
+  int coat = blender_max(b, PB_IN_CLEARCOAT) > 0.0f && blender_min(b, PB_IN_CLEARCOAT_ROUGHNESS) <= r_singular;
+  return (rough_low && layer) || coat;
+}
+
 pb_bsdf_kind pb_material_kind(const pb_material *m) {
+  const pb_blender_material *b = &m->blender;
+  if (b->model == PB_MODEL_PRINCIPLED) {
+    int singular = pb_material_may_be_singular(m);
+    float metal = b->input[PB_IN_METALLIC], glass = b->input[PB_IN_TRANSMISSION] * (1.0f - metal);
+    if (glass > 0.5f) return singular ? PB_BSDF_GLASS : PB_BSDF_GLOSSY;
+    if (metal > 0.5f) return singular ? PB_BSDF_MIRROR : PB_BSDF_GLOSSY;
+    return b->input[PB_IN_SPECULAR] > 0.0f || b->input[PB_IN_CLEARCOAT] > 0.0f ? PB_BSDF_GLOSSY : PB_BSDF_DIFFUSE;
+  }
+  if (b->model != PB_MODEL_GLTF) return PB_BSDF_DIFFUSE;
   if (m->transmission > 0.5f)
     return m->roughness < PB_SPECULAR_ROUGHNESS ? PB_BSDF_GLASS : PB_BSDF_GLOSSY;
   if (m->metallic > 0.5f)
@@ -69,7 +106,18 @@ static const char *const feature_names[] = {
     "specular paths", "transmission", "glossy", "textures",
     "emissive triangles", "animation", "alpha", "normal maps",
     "vertex colours", "skinning", "morph targets", "unlit", "absorbing media",
-    "soft lights", "world light"};
+    "soft lights", "world light", "Blender materials", "multiscatter GGX", "holdout",
+    "anisotropy"};
+
+const char *pb_material_model_name(pb_material_model m) {
+  switch (m) {
+  case PB_MODEL_PRINCIPLED: return "principled";
+  case PB_MODEL_DIFFUSE: return "diffuse";
+  case PB_MODEL_EMISSION: return "emission";
+  case PB_MODEL_HOLDOUT: return "holdout";
+  default: return "gltf";
+  }
+}
 
 const char *pb_feature_name(uint32_t bit) {
   for (unsigned i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
@@ -119,16 +167,37 @@ void pb_scene_finalize(pb_scene *s) {
   for (uint32_t i = 0; i < s->material_count; ++i) {
     if (used && !used[i]) continue;
     const pb_material *m = &s->materials[i];
+    const pb_blender_material *b = &m->blender;
     pb_bsdf_kind k = pb_material_kind(m);
-    if (k == PB_BSDF_MIRROR || k == PB_BSDF_GLASS) f |= PB_FEATURE_SPECULAR;
-    if (m->transmission > 0) f |= PB_FEATURE_TRANSMISSION;
-    if (k == PB_BSDF_GLOSSY) f |= PB_FEATURE_GLOSSY;
+    if (b->model == PB_MODEL_GLTF) {
+      if (k == PB_BSDF_MIRROR || k == PB_BSDF_GLASS) f |= PB_FEATURE_SPECULAR;
+      if (m->transmission > 0) f |= PB_FEATURE_TRANSMISSION;
+      if (k == PB_BSDF_GLOSSY) f |= PB_FEATURE_GLOSSY;
+      if (m->alpha_mode != PB_ALPHA_OPAQUE) f |= PB_FEATURE_ALPHA;
+    } else {
+      f |= PB_FEATURE_BLENDER;
+      if (b->model == PB_MODEL_HOLDOUT) f |= PB_FEATURE_HOLDOUT;
+    }
+    if (b->model == PB_MODEL_PRINCIPLED) {
+      if (pb_material_may_be_singular(m)) f |= PB_FEATURE_SPECULAR;
+      if (blender_max(b, PB_IN_TRANSMISSION) > 0.0f && blender_min(b, PB_IN_METALLIC) < 1.0f)
+        f |= PB_FEATURE_TRANSMISSION;
+      if (k == PB_BSDF_GLOSSY || blender_max(b, PB_IN_SPECULAR) > 0.0f || blender_max(b, PB_IN_METALLIC) > 0.0f ||
+          blender_max(b, PB_IN_CLEARCOAT) > 0.0f)
+        f |= PB_FEATURE_GLOSSY;
+      if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) f |= PB_FEATURE_MULTI_GGX;
+      if (blender_max(b, PB_IN_ANISOTROPIC) > 0.0f) f |= PB_FEATURE_ANISOTROPY;
+      if (blender_min(b, PB_IN_ALPHA) < 1.0f) f |= PB_FEATURE_ALPHA;
+      for (int in = 0; in < PB_IN_COUNT; ++in)
+        if (b->input_tex[in].tex >= 0) f |= PB_FEATURE_TEXTURES;
+      if (b->subsurface_color_tex >= 0) f |= PB_FEATURE_TEXTURES;
+    }
+    if (b->model == PB_MODEL_DIFFUSE && b->input_tex[PB_IN_ROUGHNESS].tex >= 0) f |= PB_FEATURE_TEXTURES;
     if (m->base_color_tex >= 0 || m->emissive_tex >= 0 ||
         m->metallic_roughness_tex >= 0)
       f |= PB_FEATURE_TEXTURES;
     if (m->normal_tex >= 0) f |= PB_FEATURE_NORMAL_MAPS;
     if (pb_material_is_emissive(m)) f |= PB_FEATURE_EMISSIVE;
-    if (m->alpha_mode != PB_ALPHA_OPAQUE) f |= PB_FEATURE_ALPHA;
     if (m->unlit) f |= PB_FEATURE_UNLIT;
     if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0) f |= PB_FEATURE_VOLUME;
   }

@@ -46,8 +46,64 @@ typedef enum pb_alpha_mode {
   PB_ALPHA_BLEND = 2,
 } pb_alpha_mode;
 
+/* Which surface shader a material is. PB_MODEL_GLTF is glTF's
+ * metallic-roughness (below); the others come from the PHOTONBRIDGE_blender
+ * extension (exporters/blender/PHOTONBRIDGE_blender.md, read by
+ * blender_material.c) and are rendered as Cycles 3.4 renders Blender's
+ * shader of that name. */
+typedef enum pb_material_model {
+  PB_MODEL_GLTF = 0,
+  PB_MODEL_PRINCIPLED = 1, /* Principled BSDF (v1, Blender 3.4) */
+  PB_MODEL_DIFFUSE = 2,    /* Diffuse BSDF: Lambert, Oren-Nayar for roughness > 0 */
+  PB_MODEL_EMISSION = 3,   /* Emission shader alone: emits, reflects nothing */
+  PB_MODEL_HOLDOUT = 4,    /* Holdout: black, absorbs; no coverage for camera rays */
+} pb_material_model;
+
+/* The Principled BSDF's scalar inputs (and the Diffuse BSDF's roughness), in
+ * the order of pb_blender_material.input; Blender's socket values, as
+ * written in the file (the renderers clamp as Cycles does). */
+typedef enum pb_blender_input {
+  PB_IN_METALLIC = 0, PB_IN_SPECULAR, PB_IN_SPECULAR_TINT, PB_IN_ROUGHNESS,
+  PB_IN_ANISOTROPIC, PB_IN_ANISOTROPIC_ROTATION, PB_IN_SHEEN, PB_IN_SHEEN_TINT,
+  PB_IN_CLEARCOAT, PB_IN_CLEARCOAT_ROUGHNESS, PB_IN_IOR, PB_IN_TRANSMISSION,
+  PB_IN_TRANSMISSION_ROUGHNESS, PB_IN_ALPHA, PB_IN_SUBSURFACE, PB_IN_COUNT
+} pb_blender_input;
+
+typedef enum pb_distribution {
+  PB_DISTRIBUTION_GGX = 0,       /* single-scatter GGX (Blender 3.4's default) */
+  PB_DISTRIBUTION_MULTI_GGX = 1, /* Multiscatter GGX (Heitz et al. 2016) */
+} pb_distribution;
+
+/* A texture feeding one scalar input: texels of pb_scene.textures[tex],
+ * channel 0..3 = R, G, B, A. The texture replaces the input's constant. */
+typedef struct pb_input_texture {
+  int32_t tex;      /* PB_NO_TEXTURE: none */
+  uint32_t channel;
+} pb_input_texture;
+
+/* What the Blender models need beyond pb_material's common fields. For them
+ * base_color (+ base_color_tex: the Base Color, or the Diffuse BSDF's
+ * Color), emissive (+ emissive_tex: Emission x Emission Strength, or the
+ * Emission shader's Color x Strength) and normal_tex are the Blender values;
+ * metallic, roughness, transmission and ior hold the same numbers for
+ * consumers that only know glTF's model (info, POV-Ray export), while the
+ * renderers read `input`. */
+typedef struct pb_blender_material {
+  pb_material_model model;
+  pb_distribution distribution;
+  float input[PB_IN_COUNT];
+  pb_input_texture input_tex[PB_IN_COUNT];
+  float subsurface_color[3];     /* linear RGB */
+  int32_t subsurface_color_tex;  /* sRGB texels unless Non-Color */
+  float normal_strength;         /* Normal Map node strength (normal_tex) */
+} pb_blender_material;
+
 /* glTF metallic-roughness with the extensions Blender writes. Each texture is
- * an index into pb_scene.textures or PB_NO_TEXTURE; factors multiply. */
+ * an index into pb_scene.textures or PB_NO_TEXTURE; factors multiply. A
+ * material with the PHOTONBRIDGE_blender extension has blender.model !=
+ * PB_MODEL_GLTF (see pb_blender_material for which fields then mean what;
+ * its textures replace constants instead of multiplying them, and it emits
+ * from both sides, as Cycles' emission does: double_sided is set). */
 typedef struct pb_material {
   char name[PB_NAME_MAX];
   float base_color[4];          /* linear RGBA */
@@ -71,6 +127,7 @@ typedef struct pb_material {
   pb_alpha_mode alpha_mode;
   float alpha_cutoff;
   int double_sided;
+  pb_blender_material blender;  /* model PB_MODEL_GLTF (zeroed) without the extension */
   /* KHR_materials_unlit: the surface shows its base colour (factor x
    * texture x COLOR_0) as radiance [W/(m^2 sr)] to camera paths (the eye and
    * its mirror/glass chains) and neither reflects nor emits light into the
@@ -95,8 +152,14 @@ typedef enum pb_bsdf_kind {
 /* Roughness under which a surface is treated as perfectly specular. */
 #define PB_SPECULAR_ROUGHNESS 0.02f
 
+/* The closest glTF kind; for the Blender models, from their inputs. */
 pb_bsdf_kind pb_material_kind(const pb_material *m);
 int pb_material_is_emissive(const pb_material *m);
+/* Could the material have a singular (delta) lobe somewhere? Never 0 where
+ * a renderer's BSDF can make one (textures counted as reaching any value):
+ * it aims photons and switches on specular paths. */
+int pb_material_may_be_singular(const pb_material *m);
+const char *pb_material_model_name(pb_material_model m);
 
 typedef enum pb_light_type {
   PB_LIGHT_POINT = 0,
@@ -273,6 +336,10 @@ enum {
   PB_FEATURE_VOLUME = 1u << 12,        /* absorbing media (KHR_materials_volume) */
   PB_FEATURE_SOFT_LIGHTS = 1u << 13,   /* area lights, radius > 0, sun angle > 0 */
   PB_FEATURE_WORLD = 1u << 14,         /* world light (constant or map) */
+  PB_FEATURE_BLENDER = 1u << 15,       /* PHOTONBRIDGE_blender materials (Principled, ...) */
+  PB_FEATURE_MULTI_GGX = 1u << 16,     /* a Principled BSDF with Multiscatter GGX */
+  PB_FEATURE_HOLDOUT = 1u << 17,       /* holdout materials */
+  PB_FEATURE_ANISOTROPY = 1u << 18,    /* an anisotropic Principled BSDF (needs tangents) */
 };
 const char *pb_feature_name(uint32_t bit);
 
@@ -313,8 +380,11 @@ typedef struct pb_scene {
   /* Normal-map tangent frames, world space (scenes/tangents.h): xyz unit,
    * orthogonal to the normal, along +u; w = +-1, bitangent = cross(normal,
    * xyz) * w (glTF TANGENT). From the file's TANGENT where a normal-mapped
-   * primitive has one, generated from the uvs otherwise. NULL unless the
-   * scene has PB_FEATURE_NORMAL_MAPS. */
+   * primitive has one, generated from the uvs otherwise; on the vertices of
+   * an anisotropic Blender Principled BSDF without a normal map, Cycles'
+   * default tangent instead (blender_material.h pb_blender_radial_tangent).
+   * NULL unless the scene has PB_FEATURE_NORMAL_MAPS or
+   * PB_FEATURE_ANISOTROPY. */
   float (*tangents)[4];
   uint32_t vertex_count;
   uint32_t (*triangles)[3];   /* counter-clockwise seen from the front */

@@ -196,6 +196,22 @@ def compare_info(name, a, b):
     check(same, "%s: the camera's position, frame, view window and clip range" % name)
 
 
+def strip_extension(src, dst):
+    """src without PHOTONBRIDGE_blender (but on cameras), written to dst
+    beside it (its .bin and images resolve the same)."""
+    with open(src) as f:
+        doc = json.load(f)
+    doc.get("extensions", {}).pop("PHOTONBRIDGE_blender", None)
+    for key in ("nodes", "materials"):
+        for o in doc.get(key, []):
+            o.get("extensions", {}).pop("PHOTONBRIDGE_blender", None)
+    if not any("PHOTONBRIDGE_blender" in c.get("extensions", {}) for c in doc.get("cameras", [])):
+        doc["extensionsUsed"] = [e for e in doc.get("extensionsUsed", []) if e != "PHOTONBRIDGE_blender"]
+    with open(dst, "w") as f:
+        json.dump(doc, f)
+    return dst
+
+
 def part_writer():
     d = fresh("writer")
     for name in SAMPLES:
@@ -206,6 +222,18 @@ def part_writer():
         check(p.returncode == 0 and os.path.isfile(theirs), "%s: Blender's exporter wrote %s" % (name, theirs))
         if not (ok and os.path.isfile(theirs)):
             continue
+        # The extension replaces the plain glTF form of what it describes
+        # (Blender's materials as Cycles renders them, Blender's light units
+        # and world), so photonbridge renders the add-on's file like Cycles,
+        # not like Blender's exporter's: what must match that exporter is the
+        # plain form other viewers see, i.e. the file without the extension
+        # (the camera's kept: the same view either way). The full file must
+        # load with every material and light from the extension.
+        full = info(ours)
+        check(all(m["model"] != "gltf" for m in full["materials"]) and full["materials"],
+              "%s: every material read from the extension (%s)" % (
+                  name, ", ".join(sorted({m["model"] for m in full["materials"]}))))
+        ours = strip_extension(ours, os.path.join(d, name, "addon_plain.gltf"))
         compare_info(name, info(ours), info(theirs))
         if name not in STATIC:
             continue

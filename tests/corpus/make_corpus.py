@@ -562,6 +562,57 @@ def broken_cases(C, png):
     case("texture_oob", EXIT_INVALID, "materials[0].pbrMetallicRoughness.baseColorTexture.index",
          setp(("materials", 0, "pbrMetallicRoughness", "baseColorTexture", "index"), 7))
     case("texture_source_oob", EXIT_INVALID, "textures[0].source", setp(("textures", 0, "source"), 5))
+
+    # -- the PHOTONBRIDGE_blender material extension (exporters/blender/PHOTONBRIDGE_blender.md)
+    X = "materials[0].extensions.PHOTONBRIDGE_blender"
+
+    def blender(ext):
+        def f(d):
+            d["materials"][0].setdefault("extensions", {})["PHOTONBRIDGE_blender"] = ext
+            d["extensionsUsed"].append("PHOTONBRIDGE_blender")
+        return f
+
+    def principled(**inputs):
+        return blender({"model": "principled", "principled": inputs})
+
+    case("blender_not_object", EXIT_INVALID, X + ": a string, expected an object", blender("principled"))
+    case("blender_model_missing", EXIT_INVALID, X + ".model: missing", blender({"principled": {}}))
+    case("blender_model_bogus", EXIT_INVALID, X + ".model: 'toon' is not principled, diffuse, emission or holdout",
+         blender({"model": "toon"}))
+    case("blender_roughness_range", EXIT_INVALID, X + ".principled.roughness: 1.5 is outside [0, 1]",
+         principled(roughness=1.5))
+    case("blender_roughness_string", EXIT_INVALID, X + ".principled.roughness: a string, expected a number",
+         principled(roughness="0.5"))
+    case("blender_base_color_short", EXIT_INVALID, X + ".principled.baseColor: 2 elements, expected 3 or 4",
+         principled(baseColor=[0.5, 0.5]))
+    case("blender_base_color_negative", EXIT_INVALID, X + ".principled.baseColor[1]: -0.1 is outside",
+         principled(baseColor=[0.5, -0.1, 0.5, 1.0]))
+    case("blender_ior_negative", EXIT_INVALID, X + ".principled.ior: -1 is outside", principled(ior=-1))
+    case("blender_emission_strength_negative", EXIT_INVALID, X + ".principled.emissionStrength: -2 is outside",
+         principled(emissionStrength=-2))
+    case("blender_distribution_bogus", EXIT_INVALID, X + ".principled.distribution: 'BECKMANN' is not GGX or MULTI_GGX",
+         principled(distribution="BECKMANN"))
+    case("blender_diffuse_roughness_range", EXIT_INVALID, X + ".diffuse.roughness: -1 is outside [0, 1]",
+         blender({"model": "diffuse", "diffuse": {"roughness": -1}}))
+    case("blender_emission_color_type", EXIT_INVALID, X + ".emission.color: an object, expected an array",
+         blender({"model": "emission", "emission": {"color": {"r": 1}}}))
+    case("blender_texture_oob", EXIT_INVALID, X + ".textures.baseColor.index: texture 7 does not exist",
+         blender({"model": "principled", "textures": {"baseColor": {"index": 7}}}))
+    case("blender_texture_index_float", EXIT_INVALID, X + ".textures.roughness.index: the number is not a texture index",
+         blender({"model": "principled", "textures": {"roughness": {"index": 0.5}}}))
+    case("blender_texture_index_missing", EXIT_INVALID, X + ".textures.roughness.index: missing",
+         blender({"model": "principled", "textures": {"roughness": {"channel": "G"}}}))
+    case("blender_texture_channel_bogus", EXIT_INVALID, X + ".textures.roughness.channel: 'X' is not R, G, B, A or RGB",
+         blender({"model": "principled", "textures": {"roughness": {"index": 0, "channel": "X"}}}))
+    case("blender_texture_transform_offset", EXIT_INVALID,
+         X + ".textures.roughness.extensions.KHR_texture_transform.offset: a string, expected an array of 2 numbers",
+         blender({"model": "principled", "textures": {"roughness": {
+             "index": 0, "extensions": {"KHR_texture_transform": {"offset": "0 0"}}}}}))
+    case("blender_texture_texcoord_negative", EXIT_INVALID,
+         X + ".textures.baseColor.texCoord: the number is not an integer from 0 to 2^31-1",
+         blender({"model": "principled", "textures": {"baseColor": {"index": 0, "texCoord": -1}}}))
+    case("blender_warnings_not_strings", EXIT_INVALID, X + ".warnings[0]: a number, expected a string",
+         blender({"model": "principled", "warnings": [1]}))
     case("texture_sampler_oob", EXIT_INVALID, "textures[0].sampler", setp(("textures", 0, "sampler"), 3))
     case("sampler_wrap_bogus", EXIT_INVALID, "samplers[0].wrapS", setp(("samplers", 0, "wrapS"), 12345))
     case("image_not_png", EXIT_UNSUPPORTED, ["images[0]", "not a PNG or JPEG"],
@@ -1116,6 +1167,29 @@ def valid_cases(C, png):
     d["meshes"][1]["primitives"].append({"attributes": {"POSITION": len(d["accessors"]) - 1}})
     C.gltf(V, "position_without_bufferview", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=POSITION has no bufferView (all zeros): primitive skipped"])
+    # The material extension: defaults only, a texture link, unknown members
+    # (ignored), and the writer's warnings (passed on).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"].append("PHOTONBRIDGE_blender")
+    d["materials"][0]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "principled", "futureMember": {"x": 1},
+        "textures": {"baseColor": {"index": 0, "texCoord": 0}, "roughness": {"index": 0, "channel": "G"}},
+        "warnings": ["Mix Shader: only its first input is written"]}}
+    d["materials"][1]["extensions"] = {"PHOTONBRIDGE_blender": {"model": "diffuse", "diffuse": {"roughness": 0.5}}}
+    C.gltf(V, "blender_materials", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, "warn=the Blender writer says: Mix Shader"])
+    # A Blender texture link is a glTF textureInfo: its uv set and
+    # KHR_texture_transform go the glTF textures' way (a second pb_texture
+    # for the transformed read of the same image).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"] += ["PHOTONBRIDGE_blender", "KHR_texture_transform"]
+    d["materials"][0]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "principled",
+        "textures": {"roughness": {"index": 0, "texCoord": 1, "channel": "G", "extensions": {
+            "KHR_texture_transform": {"offset": [0.5, 0.0], "scale": [2.0, 2.0]}}}}}}
+    C.gltf(V, "blender_texture_transform", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, 'has="texcoord": 1', 'has="uv_transform"',
+                   "warn=its material reads TEXCOORD_1, which the primitive lacks"])
     # Images as data URIs, PNG and JPEG (the loader decodes them like files).
     d = copy.deepcopy(doc0)
     d["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(png).decode()

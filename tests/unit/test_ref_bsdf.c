@@ -23,7 +23,7 @@ static void setup(pb_material *m, v3 wo, pb_bsdf *b) {
   surf.front = 1;
   surf.mat = m;
   surf.color[0] = surf.color[1] = surf.color[2] = surf.color[3] = 1; /* no COLOR_0 */
-  pb_bsdf_setup(&scene, &surf, wo, b);
+  pb_bsdf_setup(&scene, &surf, wo, NULL, b);
 }
 
 static v3 dir_from_theta(float theta_deg) {
@@ -156,7 +156,7 @@ static void test_glass(void) {
   surf.mat = &g;
   surf.color[0] = surf.color[1] = surf.color[2] = surf.color[3] = 1;
   v3 wo3 = dir_from_theta(60); /* asin(1/1.5) = 41.8 degrees */
-  pb_bsdf_setup(&scene, &surf, wo3, &b);
+  pb_bsdf_setup(&scene, &surf, wo3, NULL, &b);
   int tir = 0;
   for (int i = 0; i < 100; ++i) {
     pb_bsdf_sample s;

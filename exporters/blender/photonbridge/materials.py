@@ -160,6 +160,11 @@ class MaterialWriter:
     def _texture_entry(self, link, color):
         """The extension's texture entry (and glTF texture index) for a link."""
         node, channel = link
+        if color and channel != "RGB":
+            # The contract's colour inputs take a texture's RGB only (the
+            # loader refuses a channel there): the socket keeps its value.
+            self._warn_node(node, "its %s output drives a colour input and is not translated" % channel)
+            return None, None
         image = node.image
         uri = self.images.texture_image(image, color=color and channel == "RGB")
         if uri is None:

@@ -1,0 +1,693 @@
+// The Blender materials on the GPU: the same functions as the reference's
+// src/ref/principled.c (read that file's header for what Cycles 3.4 does
+// and where we sample differently), in the same order and with the same
+// names. Included by bsdf.glsl after the pb_closure / pb_bsdf structs; all of
+// it is behind SC_BLENDER (scene.glsl), so glTF scenes compile it out.
+#ifndef PB_PRINCIPLED_GLSL
+#define PB_PRINCIPLED_GLSL
+
+const float PB_CUTOFF = 1e-5;           // CLOSURE_WEIGHT_CUTOFF
+const float PB_SINGULAR_ALPHA2 = 1e-7;  // alpha_x alpha_y at or below: a delta lobe
+
+// A small per-evaluation random stream (PCG, O'Neill 2014) for the
+// Multiscatter GGX walk; seeded from pb_rand's hash by the caller.
+float pb_walk_rand(inout uint st) {
+  st = st * 747796405u + 2891336453u;
+  uint w = ((st >> ((st >> 28u) + 4u)) ^ st) * 277803737u;
+  w = (w >> 22u) ^ w;
+  return float(w >> 8) * (1.0 / 16777216.0);
+}
+
+float pb_avg3(vec3 c) { return (c.x + c.y + c.z) * (1.0 / 3.0); }
+float pb_luma709(vec3 c) { return dot(c, vec3(0.2126729, 0.7151522, 0.0721750)); }
+float pb_schlick_w(float u) {
+  float m = clamp(1.0 - u, 0.0, 1.0), m2 = m * m;
+  return m2 * m2 * m;
+}
+
+float pb_fresnel_diel(float cos_i, float eta) {
+  float c = abs(cos_i);
+  float g = eta * eta - 1.0 + c * c;
+  if (g <= 0.0) return 1.0;
+  g = sqrt(g);
+  float a = (g - c) / (g + c);
+  float b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+  return 0.5 * a * a * (1.0 + b * b);
+}
+
+vec3 pb_fresnel_v1(vec3 l, vec3 h, float ior, float f0, vec3 cspec0) {
+  float t = (pb_fresnel_diel(dot(l, h), ior) - f0) / (1.0 - f0);
+  return cspec0 * (1.0 - t) + vec3(t);
+}
+
+// Cycles' ensure_valid_reflection; see principled.c. Written with one
+// exit: glslc 2023.2's optimizer (spirv-opt's block merging) crashes on the
+// early-return form once it is inlined into the eye-path loops.
+vec3 pb_valid_reflection_normal(vec3 ng, vec3 i, vec3 n) {
+  vec3 r = n * (2.0 * dot(n, i)) - i;
+  float t = min(0.9 * dot(ng, i), 0.01);
+  vec3 res = n;
+  if (dot(ng, r) < t) {
+    vec3 x = normalize(n - ng * dot(n, ng));
+    float ix = dot(i, x), iz = dot(i, ng);
+    float a = ix * ix + iz * iz;
+    float b = sqrt(max(0.0, ix * ix * (a - t * t)));
+    float c = iz * t + a;
+    float z1 = 0.5 / a * (b + c), z2 = 0.5 / a * (c - b);
+    bool ok1 = z1 > 1e-5 && z1 <= 1.0 + 1e-5, ok2 = z2 > 1e-5 && z2 <= 1.0 + 1e-5;
+    float n1x = sqrt(max(0.0, 1.0 - z1)), n1z = sqrt(max(0.0, z1));
+    float n2x = sqrt(max(0.0, 1.0 - z2)), n2z = sqrt(max(0.0, z2));
+    float r1 = 2.0 * (n1x * ix + n1z * iz) * n1z - iz, r2 = 2.0 * (n2x * ix + n2z * iz) * n2z - iz;
+    bool v1 = r1 >= 1e-5, v2 = r2 >= 1e-5;
+    float both = (v1 && v2) ? (r1 < r2 ? z1 : z2) : (r1 > r2 ? z1 : z2);
+    float nz2 = ok1 && ok2 ? both : (ok1 ? z1 : z2);
+    res = ok1 || ok2 ? x * sqrt(max(0.0, 1.0 - nz2)) + ng * sqrt(max(0.0, nz2)) : ng;
+  }
+  return res;
+}
+
+float pb_bump_shadowing(vec3 ns, vec3 n, vec3 wi) {
+  float cn = dot(n, wi);
+  vec3 g = cn < 0.0 ? -ns : ns;
+  float den = cn * dot(g, n);
+  float x = den != 0.0 ? dot(g, wi) / den : 0.0;
+  if (x >= 1.0) return 1.0;
+  if (x < 0.0) return 0.0;
+  float x2 = x * x;
+  return -x2 * x + x2 + x;
+}
+
+void pb_lobe_frame(inout pb_closure c, vec3 n, vec3 t) {
+  c.n = n;
+  vec3 y = cross(n, t);
+  float l = length(y);
+  if (l > 1e-6 && !isinf(l) && !isnan(l)) {
+    c.y = y / l;
+    c.x = cross(c.y, n);
+  } else {
+    pb_basis(n, c.x, c.y);
+  }
+}
+vec3 pb_to_lobe(pb_closure c, vec3 w) { return vec3(dot(w, c.x), dot(w, c.y), dot(w, c.n)); }
+vec3 pb_from_lobe(pb_closure c, vec3 l) { return c.x * l.x + c.y * l.y + c.n * l.z; }
+
+// ---- GGX --------------------------------------------------------------------
+
+float pb_ggx_d_aniso(vec3 m, float ax, float ay) {
+  if (m.z <= 0.0) return 0.0;
+  float sx = m.x / ax, sy = m.y / ay;
+  float k = sx * sx + sy * sy + m.z * m.z;
+  return 1.0 / (PB_PI * ax * ay * k * k);
+}
+float pb_ggx_g1(vec3 w, float ax, float ay) {
+  float c2 = w.z * w.z;
+  if (c2 <= 0.0) return 0.0;
+  float s2 = w.x * w.x + w.y * w.y;
+  float a2 = s2 > 0.0 ? (w.x * w.x * ax * ax + w.y * w.y * ay * ay) / s2 : ax * ay;
+  return 2.0 / (1.0 + sqrt(max(0.0, 1.0 + a2 * (1.0 - c2) / c2)));
+}
+float pb_gtr1_d(float c, float a) {
+  if (a >= 1.0) return PB_INV_PI;
+  float a2 = a * a;
+  return (a2 - 1.0) / (PB_PI * log(a2) * (1.0 + (a2 - 1.0) * c * c));
+}
+vec3 pb_ggx_vndf(vec3 v, float ax, float ay, float u1, float u2) {
+  vec3 vh = normalize(vec3(ax * v.x, ay * v.y, v.z));
+  float lensq = vh.x * vh.x + vh.y * vh.y;
+  vec3 t1 = lensq > 0.0 ? vec3(-vh.y, vh.x, 0.0) * inversesqrt(lensq) : vec3(1.0, 0.0, 0.0);
+  vec3 t2 = cross(vh, t1);
+  float r = sqrt(u1), phi = 2.0 * PB_PI * u2;
+  float p1 = r * cos(phi), p2 = r * sin(phi);
+  float s = 0.5 * (1.0 + vh.z);
+  p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
+  vec3 nh = t1 * p1 + t2 * p2 + vh * sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2));
+  return normalize(vec3(ax * nh.x, ay * nh.y, max(1e-7, nh.z)));
+}
+vec3 pb_cosine_dir(float u1, float u2) {
+  float r = sqrt(u1), phi = 2.0 * PB_PI * u2;
+  return vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u1)));
+}
+
+// ---- Multiscatter GGX random walk (principled.c multi_ggx_eval) -------------
+
+float pb_mf_lambda(vec3 w, float ax, float ay) {
+  if (w.z > 0.9999) return 0.0;
+  if (w.z < -0.9999) return -0.9999;
+  float inv = 1.0 / max(w.z * w.z, 1e-7);
+  float wx = w.x * ax, wy = w.y * ay;
+  float v = sqrt(1.0 + (wx * wx + wy * wy) * inv);
+  if (w.z <= 0.0) v = -v;
+  return 0.5 * (v - 1.0);
+}
+float pb_mf_c1(float h) { return clamp(0.5 * (h + 1.0), 0.0, 1.0); }
+float pb_mf_inv_c1(float c) { return 2.0 * clamp(c, 0.0, 1.0) - 1.0; }
+float pb_mf_g1(vec3 w, float c1, float lambda) {
+  if (w.z > 0.9999) return 1.0;
+  if (w.z < 1e-5) return 0.0;
+  return pow(c1, lambda);
+}
+bool pb_mf_next_height(vec3 w, inout float h, inout float c1, inout float g1, float lambda, float u) {
+  if (w.z > 0.9999) return false;
+  if (w.z < -0.9999) {
+    c1 *= u;
+    h = pb_mf_inv_c1(c1);
+    g1 = pb_mf_g1(w, c1, lambda);
+  } else if (abs(w.z) >= 1e-4) {
+    if (u > 1.0 - g1) return false;
+    c1 = lambda >= 0.0 ? 1.0 : c1 * pow(1.0 - u, -1.0 / lambda);
+    h = pb_mf_inv_c1(c1);
+    g1 = pb_mf_g1(w, c1, lambda);
+  }
+  return true;
+}
+vec3 pb_walk_vndf(vec3 v, float ax, float ay, float u1, float u2) {
+  vec3 s = normalize(vec3(ax * v.x, ay * v.y, v.z));
+  float sx, sy;
+  if (s.z > 0.9999 || abs(s.z) < 1e-6) {
+    float r = sqrt(u1 / max(1.0 - u1, 1e-7)), phi = 2.0 * PB_PI * u2;
+    sx = r * cos(phi);
+    sy = r * sin(phi);
+  } else {
+    float sin_t = sqrt(max(0.0, 1.0 - s.z * s.z)), tan_t = sin_t / s.z;
+    float proj = 0.5 * (s.z + 1.0);
+    if (proj < 1e-4) return vec3(0.0, 0.0, 1.0);
+    float a = 2.0 * u1 * proj / s.z - 1.0;
+    float q = a * a - 1.0;
+    if (abs(q) < 1e-7) return vec3(0.0, 0.0, 1.0);
+    q = 1.0 / q;
+    float d = sqrt(max(0.0, tan_t * tan_t * q * q - (a * a - tan_t * tan_t) * q));
+    float x2 = tan_t * q + d;
+    sx = (a < 0.0 || x2 > 1.0 / tan_t) ? tan_t * q - d : x2;
+    float sgn = u2 >= 0.5 ? 1.0 : -1.0, w = 2.0 * abs(u2 - 0.5);
+    float z = (w * (w * (w * 0.27385 - 0.73369) + 0.46341)) / (w * (w * (w * 0.093073 + 0.309420) - 1.0) + 0.597999);
+    sy = sgn * z * sqrt(1.0 + sx * sx);
+  }
+  float pl = sqrt(s.x * s.x + s.y * s.y);
+  float cp = pl > 0.0 ? s.x / pl : 1.0, sp = pl > 0.0 ? s.y / pl : 0.0;
+  float mx = ax * (cp * sx - sp * sy), my = ay * (sp * sx + cp * sy);
+  return normalize(vec3(-mx, -my, 1.0));
+}
+float pb_mf_d(vec3 m, float ax, float ay) {
+  if (ax == ay) {
+    float z2 = m.z * m.z, a2 = ax * ax;
+    float k = (1.0 - z2) + a2 * z2;
+    return a2 / max(PB_PI * k * k, 1e-7);
+  }
+  float sx = -m.x / ax, sy = -m.y / ay;
+  float k = m.z * m.z + sx * sx + sy * sy;
+  return 1.0 / max(PB_PI * k * k * ax * ay, 1e-7);
+}
+float pb_mf_phase(vec3 w, float lambda, vec3 wo, float ax, float ay) {
+  if (w.z > 0.9999) return 0.0;
+  vec3 h = normalize(wo - w);
+  if (h.z < 0.0) return 0.0;
+  float area = w.z < -0.9999 ? 1.0 : lambda * w.z;
+  float wh = -dot(w, h);
+  if (wh < 0.0) return 0.0;
+  return max(0.0, wh) * 0.25 / max(area * wh, 1e-7) * pb_mf_d(h, ax, ay);
+}
+vec3 pb_multi_ggx_eval(pb_closure c, vec3 wo, vec3 wi, inout uint rng) {
+  vec3 a = wo, b = wi;
+  bool swapped = false;
+  if (b.z < a.z) {
+    a = wi;
+    b = wo;
+    swapped = true;
+  }
+  if (a.z < 1e-5 || b.z < 1e-5) return vec3(0.0);
+  float ax = c.ax, ay = c.ay;
+  float lambda_r = pb_mf_lambda(-a, ax, ay);
+  float shadow_lambda = pb_mf_lambda(b, ax, ay);
+  vec3 h = normalize(a + b);
+  float g2 = 1.0 / (1.0 - (lambda_r + 1.0) + shadow_lambda);
+  float single = g2 * 0.25 / a.z * pb_mf_d(h, ax, ay);
+  vec3 thr = pb_fresnel_v1(a, h, c.ior, c.f0, c.cspec0);
+  vec3 eval = thr * single;
+  vec3 wr = -a;
+  float hr = 1.0, c1 = 1.0, g1 = 0.0;
+  for (int order = 0; order < 10; ++order) {
+    float uh = pb_walk_rand(rng);
+    if (!pb_mf_next_height(wr, hr, c1, g1, lambda_r, uh)) break;
+    float uy = pb_walk_rand(rng), ux = pb_walk_rand(rng);
+    vec3 up = -wr;
+    vec3 m = pb_walk_vndf(up, ax, ay, ux, uy);
+    if (order > 0) {
+      float ph = pb_mf_phase(wr, lambda_r, b, ax, ay) * pb_mf_g1(b, pb_mf_c1(hr), shadow_lambda);
+      eval += thr * thr * ph;
+    }
+    if (order + 1 < 10) {
+      if (order > 0) thr *= pb_fresnel_v1(up, m, c.ior, c.f0, c.cspec0);
+      wr = m * (2.0 * dot(up, m)) - up;
+      lambda_r = pb_mf_lambda(wr, ax, ay);
+      c1 = pb_mf_c1(hr);
+      g1 = pb_mf_g1(wr, c1, lambda_r);
+    }
+  }
+  if (swapped) eval *= abs(a.z / b.z);
+  return eval;
+}
+float pb_multi_ggx_albedo(float r) {
+  float a = 0.806495 * exp(-1.98712 * r * r) + 0.199531;
+  a -= ((((((1.76741 * r - 8.43891) * r + 15.784) * r - 14.398) * r + 6.45221) * r - 1.19722) * r + 0.027803) * r +
+       0.00568739;
+  return clamp(a, 0.0, 1.0);
+}
+float pb_multi_ggx_pdf(pb_closure c, vec3 wo, vec3 wi) {
+  float d = pb_mf_d(normalize(wo + wi), c.ax, c.ay);
+  float lambda = pb_mf_lambda(wo, c.ax, c.ay);
+  float single = 0.25 * d / max((1.0 + lambda) * wo.z, 1e-7);
+  float a = pb_multi_ggx_albedo(c.ax == c.ay ? c.ax : sqrt(c.ax * c.ay));
+  return a * single + (1.0 - a) * max(wi.z, 0.0) * PB_INV_PI;
+}
+
+// ---- one closure ------------------------------------------------------------
+// One function per lobe family, so that the per-slot evaluation below
+// inlines each only where its slot can hold it (the slot loops unroll).
+
+vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, vec3 wo, vec3 wi, out float pdf) {
+  pdf = 0.0;
+  vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
+  if (li.z <= 0.0 || (c.type == PB_CL_SHEEN && lo.z < 0.0)) return vec3(0.0);
+  float v;
+  if (c.type == PB_CL_DIFFUSE) {
+    float fo = pb_schlick_w(lo.z), fi = pb_schlick_w(li.z);
+    float rr = c.rough * (dot(wi, wo) + 1.0);
+    v = PB_INV_PI * li.z * ((1.0 - 0.5 * fo) * (1.0 - 0.5 * fi) + rr * (fi + fo + fi * fo * (rr - 1.0)));
+  } else if (c.type == PB_CL_SHEEN) {
+    v = pb_schlick_w(dot(wi, normalize(wi + wo))) * li.z;
+  } else {
+    float nv = max(lo.z, 0.0), t = dot(wi, wo) - li.z * nv;
+    if (t > 0.0) t /= max(li.z, nv) + 1.17549435e-38;
+    v = li.z * (c.on_a + c.on_b * t);
+  }
+  pdf = li.z * PB_INV_PI;
+  if (dot(c.n, ns) < 1.0 - 1e-6) v *= pb_bump_shadowing(ns, c.n, wi);
+  return vec3(v);
+}
+
+// GGX reflection or the GTR1 clearcoat.
+vec3 pb_eval_reflect(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
+  pdf = 0.0;
+  vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
+  if (dot(ng, wi) < 0.0 || lo.z <= 0.0 || li.z <= 0.0) return vec3(0.0);
+  vec3 m = normalize(lo + li);
+  bool coat = c.type == PB_CL_CLEARCOAT;
+  float d = coat ? pb_gtr1_d(m.z, c.ax) : pb_ggx_d_aniso(m, c.ax, c.ay);
+  float ag = coat ? 0.25 : c.ax, bg = coat ? 0.25 : c.ay;
+  float g1o = pb_ggx_g1(lo, ag, bg), g1i = pb_ggx_g1(li, ag, bg);
+  vec3 f = pb_fresnel_v1(li, m, c.ior, c.f0, c.cspec0) * (coat ? 0.25 * c.clearcoat : 1.0);
+  float cmn = d * 0.25 / lo.z;
+  float wm = dot(lo, m);
+  pdf = coat ? (wm > 0.0 ? d * m.z * 0.25 / wm : 0.0) : g1o * cmn;
+  return f * (g1o * g1i * cmn);
+}
+
+vec3 pb_eval_multi(pb_closure c, vec3 ng, vec3 wo, vec3 wi, inout uint rng, out float pdf) {
+  pdf = 0.0;
+  vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
+  if (dot(ng, wi) < 0.0 || lo.z <= 0.0 || li.z <= 0.0) return vec3(0.0);
+  float p = pb_multi_ggx_pdf(c, lo, li);
+  if (!(p > 0.0)) return vec3(0.0);
+  pdf = p;
+  return pb_multi_ggx_eval(c, lo, li, rng);
+}
+
+vec3 pb_eval_refract(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
+  pdf = 0.0;
+  vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
+  if (dot(ng, wi) >= 0.0 || lo.z <= 0.0 || li.z >= 0.0) return vec3(0.0);
+  float eta = c.ior;
+  vec3 ht = -(li * eta + lo);
+  float ht2 = dot(ht, ht);
+  if (!(ht2 > 0.0)) return vec3(0.0);
+  vec3 m = ht * inversesqrt(ht2);
+  if (m.z < 0.0) m = -m;
+  float d = pb_ggx_d_aniso(m, c.ax, c.ay);
+  float g1o = pb_ggx_g1(lo, c.ax, c.ay), g1i = pb_ggx_g1(-li, c.ax, c.ay);
+  float cmn = d * eta * eta / (lo.z * ht2);
+  float hh = abs(dot(m, lo) * dot(m, li));
+  pdf = g1o * hh * cmn;
+  return vec3(g1o * g1i * hh * cmn);
+}
+
+// ---- setup ------------------------------------------------------------------
+
+float pb_input_value(pb_gpu_material m, uint i, pb_surface s) {
+  uint t = m.in_tex[i];
+  if (!SC_TEXTURES || t == PB_GPU_NO_TEXTURE) return m.in_value[i];
+  vec4 c = pb_texture_lookup(t & PB_GPU_INPUT_TEX_INDEX, s);
+  uint ch = t >> PB_GPU_INPUT_TEX_CHANNEL_SHIFT;
+  return ch == 0u ? c.r : (ch == 1u ? c.g : (ch == 2u ? c.b : (ch == 3u ? c.a : pb_luma709(c.rgb))));
+}
+// Every input at uv, in one loop (one texture fetch in the code instead of
+// one per input: the shader stays small).
+void pb_inputs(pb_gpu_material m, pb_surface s, out float v[PB_GPU_IN_SLOTS]) {
+  for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) v[i] = pb_input_value(m, i, s);
+}
+
+float pb_blender_alpha(pb_surface s) {
+  return clamp(pb_input_value(materials[s.mat], PB_GPU_IN_ALPHA, s), 0.0, 1.0);
+}
+
+// Fills slot `slot` with a closure of `type` and colour weight `weight`,
+// switched on when the weight averages at least the cutoff (bsdf_alloc).
+void pb_add_closure(inout pb_bsdf b, uint slot, uint type, vec3 weight) {
+  weight = max(weight, vec3(0.0));
+  float sw = abs(pb_avg3(weight));
+  pb_closure c;
+  c.on = sw >= PB_CUTOFF;
+  c.type = type;
+  c.weight = weight;
+  c.sample_weight = c.on ? sw : 0.0;
+  c.n = vec3(0.0, 0.0, 1.0);
+  c.x = vec3(1.0, 0.0, 0.0);
+  c.y = vec3(0.0, 1.0, 0.0);
+  c.ax = c.ay = 1.0;
+  c.ior = 1.0;
+  c.f0 = 0.0;
+  c.cspec0 = c.color = vec3(0.0);
+  c.rough = c.on_a = c.on_b = c.clearcoat = 0.0;
+  c.singular = c.stops = false;
+  b.cl[slot] = c;
+}
+
+void pb_microfacet(inout pb_closure c, vec3 n, vec3 t, float ax, float ay, float ior, vec3 cspec0, vec3 wo) {
+  pb_lobe_frame(c, n, t);
+  c.ax = ax;
+  c.ay = ay;
+  c.ior = ior;
+  c.f0 = pb_fresnel_diel(1.0, ior);
+  c.cspec0 = clamp(cspec0, 0.0, 1.0);
+  c.singular = ax * ay <= PB_SINGULAR_ALPHA2;
+  if (c.type == PB_CL_GGX || c.type == PB_CL_MULTI_GGX || c.type == PB_CL_CLEARCOAT) {
+    vec3 fc = pb_fresnel_v1(wo, n, ior, c.f0, c.cspec0);
+    if (c.type == PB_CL_CLEARCOAT) fc *= 0.25 * c.clearcoat;
+    c.sample_weight *= pb_avg3(fc);
+  }
+}
+
+void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
+  pb_gpu_material m = materials[surf.mat];
+  b.model = m.model;
+  b.sw_sum = 0.0;
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) pb_add_closure(b, i, PB_CL_TRANSPARENT, vec3(0.0));
+  vec3 base = m.base_color.rgb;
+  if (SC_TEXTURES && m.base_color_tex != PB_GPU_NO_TEXTURE) base = pb_texture_lookup(m.base_color_tex, surf).rgb;
+  base = max(base, vec3(0.0));
+  b.base = clamp(base, 0.0, 1.0);
+  b.albedo = b.base;
+  if (m.model == PB_GPU_MODEL_EMISSION || m.model == PB_GPU_MODEL_HOLDOUT) {
+    b.albedo = vec3(0.0);
+    return;
+  }
+  vec3 n = pb_valid_reflection_normal(surf.ng, wo, surf.ns);
+  if (m.model == PB_GPU_MODEL_DIFFUSE) {
+    pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_OREN_NAYAR, base);
+    pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], n, tangent);
+    float sigma = clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0);
+    if (sigma == 0.0) {
+      b.cl[PB_SLOT_DIFFUSE].on_a = PB_INV_PI;
+    } else {
+      float div = 1.0 / (PB_PI + ((3.0 * PB_PI - 4.0) / 6.0) * sigma);
+      b.cl[PB_SLOT_DIFFUSE].on_a = div;
+      b.cl[PB_SLOT_DIFFUSE].on_b = sigma * div;
+    }
+  } else {
+    float in_v[PB_GPU_IN_SLOTS];
+    pb_inputs(m, surf, in_v);
+    float metallic = in_v[PB_GPU_IN_METALLIC];
+    float roughness = in_v[PB_GPU_IN_ROUGHNESS];
+    float specular = in_v[PB_GPU_IN_SPECULAR];
+    float spec_tint = in_v[PB_GPU_IN_SPECULAR_TINT];
+    float transmission = in_v[PB_GPU_IN_TRANSMISSION];
+    float alpha = clamp(in_v[PB_GPU_IN_ALPHA], 0.0, 1.0);
+    float eta = max(in_v[PB_GPU_IN_IOR], 1e-5);
+    float ior = surf.front ? eta : 1.0 / eta;
+    float fresnel = pb_fresnel_diel(dot(n, wo), ior);
+    float diffuse_w = (1.0 - clamp(metallic, 0.0, 1.0)) * (1.0 - clamp(transmission, 0.0, 1.0));
+    float glass_w = clamp(transmission, 0.0, 1.0) * (1.0 - clamp(metallic, 0.0, 1.0));
+    float spec_w = 1.0 - glass_w;
+    float w = alpha;
+    pb_add_closure(b, PB_SLOT_TRANSPARENT, PB_CL_TRANSPARENT, vec3(1.0 - alpha));
+    float rot = in_v[PB_GPU_IN_ANISOTROPIC_ROTATION];
+    if (rot != 0.0) {
+      float th = rot * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
+      tangent = tangent * cs + cross(n, tangent) * sn + n * (dot(n, tangent) * (1.0 - cs));
+    }
+    float ss = clamp(in_v[PB_GPU_IN_SUBSURFACE], 0.0, 1.0);
+    vec3 ssc = m.subsurface_color;
+    if (SC_TEXTURES && m.subsurface_color_tex != PB_GPU_NO_TEXTURE)
+      ssc = pb_texture_lookup(m.subsurface_color_tex, surf).rgb;
+    vec3 mixed = ssc * ss + base * (1.0 - ss);
+    if (abs(pb_avg3(mixed)) > PB_CUTOFF && diffuse_w > PB_CUTOFF) {
+      pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_DIFFUSE, mixed * (w * diffuse_w));
+      pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], n, tangent);
+      b.cl[PB_SLOT_DIFFUSE].rough = roughness;
+    }
+    float sheen = in_v[PB_GPU_IN_SHEEN];
+    if (diffuse_w > PB_CUTOFF && sheen > PB_CUTOFF) {
+      float lum = pb_luma709(base);
+      vec3 tint = lum > 0.0 ? base / lum : vec3(1.0);
+      float st = in_v[PB_GPU_IN_SHEEN_TINT];
+      vec3 col = vec3(1.0 - st) + tint * st;
+      pb_add_closure(b, PB_SLOT_SHEEN, PB_CL_SHEEN, col * (w * sheen * diffuse_w));
+      pb_lobe_frame(b.cl[PB_SLOT_SHEEN], n, tangent);
+      float cn = dot(n, wo);
+      b.cl[PB_SLOT_SHEEN].sample_weight *= cn < 0.0 ? 0.0 : pb_schlick_w(cn) * cn;
+    }
+    if (spec_w > PB_CUTOFF && (specular > PB_CUTOFF || metallic > PB_CUTOFF)) {
+      bool multi = m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX && roughness > 0.075;
+      pb_add_closure(b, PB_SLOT_SPECULAR, multi ? PB_CL_MULTI_GGX : PB_CL_GGX, vec3(w * spec_w));
+      float spec_ior = 2.0 / (1.0 - sqrt(max(0.0, 0.08 * specular))) - 1.0;
+      float aspect = sqrt(max(0.0, 1.0 - in_v[PB_GPU_IN_ANISOTROPIC] * 0.9));
+      float r2 = roughness * roughness;
+      float ax = r2 / aspect, ay = r2 * aspect;
+      ax = multi ? clamp(ax, 1e-4, 1.0) : clamp(ax, 0.0, 1.0);
+      ay = multi ? clamp(ay, 1e-4, 1.0) : clamp(ay, 0.0, 1.0);
+      float lum = 0.3 * base.x + 0.6 * base.y + 0.1 * base.z;
+      vec3 tint = lum > 0.0 ? base / lum : vec3(1.0);
+      vec3 tcol = vec3(1.0 - spec_tint) + tint * spec_tint;
+      vec3 cspec0 = tcol * (specular * 0.08 * (1.0 - metallic)) + base * metallic;
+      b.cl[PB_SLOT_SPECULAR].color = clamp(base, 0.0, 1.0);
+      pb_microfacet(b.cl[PB_SLOT_SPECULAR], n, tangent, ax, ay, spec_ior, cspec0, wo);
+    }
+    if (glass_w > PB_CUTOFF) {
+      vec3 cspec0 = base * spec_tint + vec3(1.0 - spec_tint);
+      pb_add_closure(b, PB_SLOT_GLASS_REFL, PB_CL_GGX, vec3(w * glass_w * fresnel));
+      float a = clamp(roughness * roughness, 0.0, 1.0);
+      b.cl[PB_SLOT_GLASS_REFL].color = base;
+      pb_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, n, a, a, ior, cspec0, wo);
+      float tr = m.distribution == PB_GPU_DISTRIBUTION_GGX
+                     ? 1.0 - (1.0 - roughness) * (1.0 - in_v[PB_GPU_IN_TRANSMISSION_ROUGHNESS])
+                     : roughness;
+      pb_add_closure(b, PB_SLOT_GLASS_REFR, PB_CL_GGX_REFRACT, base * (w * glass_w * max(1e-4, 1.0 - fresnel)));
+      float at = clamp(tr * tr, 0.0, 1.0);
+      pb_microfacet(b.cl[PB_SLOT_GLASS_REFR], n, n, at, at, ior, vec3(0.0), wo);
+      b.cl[PB_SLOT_GLASS_REFR].singular = at * at <= PB_SINGULAR_ALPHA2 || abs(ior - 1.0) < 1e-4;
+    }
+    float coat = in_v[PB_GPU_IN_CLEARCOAT];
+    if (coat > PB_CUTOFF) {
+      pb_add_closure(b, PB_SLOT_CLEARCOAT, PB_CL_CLEARCOAT, vec3(w));
+      vec3 cn = pb_valid_reflection_normal(surf.ng, wo, surf.ns);
+      b.cl[PB_SLOT_CLEARCOAT].clearcoat = coat;
+      float ccr = in_v[PB_GPU_IN_CLEARCOAT_ROUGHNESS];
+      float a = clamp(ccr * ccr, 0.0, 1.0);
+      pb_microfacet(b.cl[PB_SLOT_CLEARCOAT], cn, cn, a, a, 1.5, vec3(0.04), wo);
+    }
+    b.albedo = clamp(base, 0.0, 1.0) * alpha;
+  }
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
+}
+
+// Marks the specular and clearcoat layers of b whose alpha_x alpha_y is above
+// alpha2 (pb_gpu_frame.glossy_path_alpha2) as shaded where the eye
+// path stops, with the diffuse closures (PB_GPU_LOBES_DIFFUSE): direct light
+// and the photon map, whose photons are stored on every non-delta surface,
+// weighted by these closures' BSDF. The smoother ones, the glass pair and
+// the delta lobes stay with the eye path (PB_GPU_LOBES_GLOSSY). Either way
+// each closure is counted once (gbuffer.comp); only the variance and the
+// photon map's blur differ, and the threshold is where the two cross
+// (bench/README.md, "Blender materials"). Every pass that reads a lobe
+// mask other than ALL calls this with the same alpha2 before it does.
+bool pb_layer_stops(pb_closure c, float alpha2) { return c.on && !c.singular && c.ax * c.ay > alpha2; }
+void pb_blender_split(inout pb_bsdf b, float alpha2) {
+  b.cl[PB_SLOT_SPECULAR].stops = pb_layer_stops(b.cl[PB_SLOT_SPECULAR], alpha2);
+  b.cl[PB_SLOT_CLEARCOAT].stops = pb_layer_stops(b.cl[PB_SLOT_CLEARCOAT], alpha2);
+}
+
+// Which closures a lobe mask keeps (PB_GPU_LOBES_*): the diffuse-like ones
+// and the layers pb_blender_split let stop, which the photon map shades; the
+// other glossy and the delta ones, which eye paths follow.
+bool pb_lobe_in(pb_closure c, uint mask) {
+  bool diffuse = c.type <= PB_CL_SHEEN || c.stops;
+  return c.on && c.type != PB_CL_TRANSPARENT &&
+         ((diffuse && (mask & PB_GPU_LOBES_DIFFUSE) != 0u) || (!diffuse && (mask & PB_GPU_LOBES_GLOSSY) != 0u));
+}
+// Closures a mask samples: its own, and the transparent pass with the glossy
+// ones (both are followed by eye paths).
+bool pb_lobe_sampled(pb_closure c, uint mask) {
+  bool transparent = c.on && c.type == PB_CL_TRANSPARENT && (mask & PB_GPU_LOBES_GLOSSY) != 0u;
+  return pb_lobe_in(c, mask) || transparent;
+}
+
+// Adds closure c's f cos (e) and pdf (pc) to the sums when it is in the
+// mask and not a delta lobe.
+void pb_accumulate(pb_closure c, uint mask, vec3 e, float pc, inout vec3 f, inout float p) {
+  if (pb_lobe_in(c, mask) && !c.singular && pc != 0.0) {
+    f += e * c.weight;
+    p += pc * c.sample_weight;
+  }
+}
+
+// f cos over the closures of b.mask, and the mixture pdf over all of them
+// (principled.c eval_all), slot by slot.
+vec3 pb_blender_eval_cos(pb_bsdf b, vec3 wo, vec3 wi, inout uint rng, out float pdf) {
+  vec3 f = vec3(0.0);
+  float p = 0.0, pc;
+  vec3 e;
+  if (pb_lobe_in(b.cl[PB_SLOT_DIFFUSE], b.mask)) {
+    e = pb_eval_diffuse_like(b.cl[PB_SLOT_DIFFUSE], b.n, wo, wi, pc);
+    pb_accumulate(b.cl[PB_SLOT_DIFFUSE], b.mask, e, pc, f, p);
+  }
+  if (pb_lobe_in(b.cl[PB_SLOT_SHEEN], b.mask)) {
+    e = pb_eval_diffuse_like(b.cl[PB_SLOT_SHEEN], b.n, wo, wi, pc);
+    pb_accumulate(b.cl[PB_SLOT_SHEEN], b.mask, e, pc, f, p);
+  }
+  pb_closure c = b.cl[PB_SLOT_SPECULAR];
+  if (pb_lobe_in(c, b.mask) && !c.singular) {
+    e = c.type == PB_CL_MULTI_GGX ? pb_eval_multi(c, b.ng, wo, wi, rng, pc) : pb_eval_reflect(c, b.ng, wo, wi, pc);
+    pb_accumulate(c, b.mask, e, pc, f, p);
+  }
+  c = b.cl[PB_SLOT_GLASS_REFL];
+  if (pb_lobe_in(c, b.mask) && !c.singular) {
+    e = pb_eval_reflect(c, b.ng, wo, wi, pc);
+    pb_accumulate(c, b.mask, e, pc, f, p);
+  }
+  c = b.cl[PB_SLOT_GLASS_REFR];
+  if (pb_lobe_in(c, b.mask) && !c.singular) {
+    e = pb_eval_refract(c, b.ng, wo, wi, pc);
+    pb_accumulate(c, b.mask, e, pc, f, p);
+  }
+  c = b.cl[PB_SLOT_CLEARCOAT];
+  if (pb_lobe_in(c, b.mask) && !c.singular) {
+    e = pb_eval_reflect(c, b.ng, wo, wi, pc);
+    pb_accumulate(c, b.mask, e, pc, f, p);
+  }
+  pdf = b.sw_sum > 0.0 ? p / b.sw_sum : 0.0;
+  return f;
+}
+
+bool pb_blender_has_smooth(pb_bsdf b) {
+  bool any = false;
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i)
+    any = any || (b.cl[i].on && !b.cl[i].singular && b.cl[i].type != PB_CL_TRANSPARENT);
+  return any;
+}
+
+bool pb_refract_dir(vec3 wo, vec3 m, float ior, out vec3 wi) {
+  wi = vec3(0.0);
+  float c = dot(wo, m);
+  if (c <= 0.0) return false;
+  float inv = 1.0 / ior;
+  float k = 1.0 - inv * inv * (1.0 - c * c);
+  if (k <= 0.0) return false;
+  wi = m * (c * inv - sqrt(k)) - wo * inv;
+  return true;
+}
+
+// Samples one closure of b.mask by sample weight (the mask's share of the
+// weights is pb_lobe_share). Returns false when absorbed. weight: f cos /
+// pdf over the mask's closures (delta: the lobe's weight / its choice
+// probability); pdf 0 for a delta lobe. importance: photons (the adjoint of
+// refraction, see principled.c).
+bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool importance, inout uint rng,
+                       out vec3 wi, out vec3 weight, out float pdf, out bool delta, out bool transmit) {
+  wi = weight = vec3(0.0);
+  pdf = 0.0;
+  delta = transmit = false;
+  float sum = 0.0;
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i)
+    if (pb_lobe_sampled(b.cl[i], b.mask)) sum += b.cl[i].sample_weight;
+  if (!(sum > 0.0)) return false;
+  // The closure whose interval of the sample weights holds u0 sum (the
+  // last sampled one when rounding leaves u0 past them all); x: where in it.
+  float x = u0 * sum;
+  pb_closure c = b.cl[0];
+  bool chosen = false;
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
+    if (chosen || !pb_lobe_sampled(b.cl[i], b.mask)) continue;
+    c = b.cl[i];
+    if (x < c.sample_weight) chosen = true;
+    else x -= c.sample_weight;
+  }
+  if (!chosen) x = c.sample_weight;
+  float pick = c.sample_weight / sum;
+  float ur = c.sample_weight > 0.0 ? clamp(x / c.sample_weight, 0.0, 1.0) : 0.0;
+  if (!(pick > 0.0)) return false;
+  vec3 lo = pb_to_lobe(c, wo);
+  if (c.type == PB_CL_TRANSPARENT) {
+    wi = -wo;
+    weight = c.weight / pick;
+    delta = transmit = true;
+    return true;
+  }
+  if (lo.z <= 0.0) return false;
+  vec3 li;
+  if (c.singular) {
+    delta = true;
+    if (c.type == PB_CL_GGX_REFRACT) {
+      if (!pb_refract_dir(lo, vec3(0.0, 0.0, 1.0), c.ior, li)) return false;
+      wi = normalize(pb_from_lobe(c, li));
+      if (dot(wi, b.ng) >= 0.0) return false;
+      weight = c.weight / pick;
+      transmit = true;
+    } else {
+      li = vec3(-lo.x, -lo.y, lo.z);
+      wi = pb_from_lobe(c, li);
+      if (dot(wi, b.ng) <= 0.0) return false;
+      vec3 f = pb_fresnel_v1(li, vec3(0.0, 0.0, 1.0), c.ior, c.f0, c.cspec0);
+      if (c.type == PB_CL_CLEARCOAT) f *= 0.25 * c.clearcoat;
+      weight = c.weight * f / pick;
+    }
+    return true;
+  }
+  if (c.type <= PB_CL_SHEEN) {
+    li = pb_cosine_dir(u1, u2);
+  } else if (c.type == PB_CL_GGX) {
+    vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
+    li = m * (2.0 * dot(lo, m)) - lo;
+  } else if (c.type == PB_CL_CLEARCOAT) {
+    float a2 = c.ax * c.ax;
+    float ct2 = a2 < 1.0 ? (1.0 - pow(a2, 1.0 - u1)) / (1.0 - a2) : 1.0 - u1;
+    float ct = sqrt(clamp(ct2, 0.0, 1.0)), st = sqrt(clamp(1.0 - ct2, 0.0, 1.0)), phi = 2.0 * PB_PI * u2;
+    vec3 m = vec3(st * cos(phi), st * sin(phi), ct);
+    li = m * (2.0 * dot(lo, m)) - lo;
+  } else if (c.type == PB_CL_MULTI_GGX) {
+    float a = pb_multi_ggx_albedo(c.ax == c.ay ? c.ax : sqrt(c.ax * c.ay));
+    if (ur < a) {
+      vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
+      li = m * (2.0 * dot(lo, m)) - lo;
+    } else {
+      li = pb_cosine_dir(u1, u2);
+    }
+  } else {
+    vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
+    if (!pb_refract_dir(lo, m, c.ior, li)) return false;
+  }
+  wi = normalize(pb_from_lobe(c, li));
+  transmit = c.type == PB_CL_GGX_REFRACT;
+  float side = dot(wi, b.ng);
+  if (transmit ? side >= 0.0 : side <= 0.0) return false;
+  // The mixture over the mask's closures: their f cos over their share of
+  // the sample weights (the pdf of choosing within the mask).
+  float p;
+  vec3 f = pb_blender_eval_cos(b, wo, wi, rng, p);
+  p *= b.sw_sum / sum;
+  if (!(p > 0.0)) return false;
+  if (transmit && importance) f /= c.ior * c.ior;
+  pdf = p;
+  weight = f / p;
+  return true;
+}
+
+#endif

@@ -1,0 +1,804 @@
+/* The Blender materials of the reference renderer: Blender 3.4's Principled
+ * BSDF, Diffuse BSDF, Emission and Holdout shaders as Cycles 3.4 evaluates
+ * them. Read from Blender 3.4.1's own kernel source (installed with Debian's
+ * Blender under scripts/addons/cycles/source/kernel): svm/closure.h turns the
+ * Principled node's inputs into closures and weights, closure/
+ * bsdf_principled_diffuse.h, bsdf_principled_sheen.h, bsdf_microfacet.h,
+ * bsdf_microfacet_multi{,_impl}.h, bsdf_oren_nayar.h, bsdf_diffuse.h and
+ * bsdf_util.h define the lobes, integrator/surface_shader.h combines them.
+ * This file is our own code for the same functions; the GPU's copy is
+ * shaders/common/principled.glsl (same names, same order).
+ *
+ * Closures of a Principled BSDF (diffuse_w = (1 - metallic)(1 - transmission),
+ * glass_w = transmission (1 - metallic), spec_w = 1 - glass_w; each
+ * closure exists when its colour weight averages >= 1e-5, Cycles'
+ * CLOSURE_WEIGHT_CUTOFF):
+ *   diffuse    base x diffuse_w: Burley's diffuse with retro-reflection,
+ *              f cos = cos_i / pi ((1 - F_o/2)(1 - F_i/2) + R (F_o + F_i +
+ *              F_o F_i (R - 1))), F = (1 - cos)^5, R = roughness (1 + wi.wo);
+ *              subsurface is rendered as this lobe with the subsurface-mixed
+ *              colour (what Cycles does after a diffuse bounce);
+ *   sheen      sheen x tint colour x diffuse_w: f cos = (1 - wi.h)^5 cos_i
+ *              (no 1/pi: Cycles' formula as written);
+ *   specular   spec_w: GGX (or Multiscatter GGX for roughness > 0.075) with
+ *              alpha = r^2 stretched by sqrt(1 - 0.9 anisotropic), index
+ *              2 / (1 - sqrt(0.08 specular)) - 1 (so F0 = 0.08 specular), and
+ *              the Principled v1 Fresnel  F = cspec0 (1 - t) + t,
+ *              t = (F_diel(wi.h) - F0) / (1 - F0), cspec0 = 0.08 specular x
+ *              tint colour (1 - metallic) + base metallic;
+ *   glass      glass_w: GGX reflection x F_diel(n.wo) with Fresnel colour
+ *              base x specular tint + (1 - specular tint), and GGX
+ *              refraction x base x (1 - F_diel(n.wo)); roughness r (the
+ *              refraction 1 - (1 - r)(1 - transmission roughness) with the GGX
+ *              distribution);
+ *   clearcoat  GTR1 distribution of alpha = clearcoat roughness^2, Smith G
+ *              of alpha 0.25, exact dielectric Fresnel (index 1.5),
+ *              times 0.25 clearcoat;
+ *   transparent 1 - alpha, everything else x alpha (Cycles mixes a
+ *              Transparent BSDF in for Alpha < 1).
+ * Separable Smith G1 G1 throughout (Cycles 3.4's GGX), and every lobe's
+ * normal lifted by ensure_valid_reflection (bsdf_util.h) so that the
+ * mirror direction of wo stays above the geometric surface.
+ *
+ * The combination is Cycles' one-sample MIS over closures: f cos = sum of
+ * weight_c f_c cos, pdf = sum sw_c pdf_c / sum sw (sw: sample weights; the
+ * delta lobes are in the sum of weights but not of pdfs), a lobe sampled
+ * with probability sw_c / sum sw.
+ *
+ * Where we sample differently from Cycles (evaluation is Cycles'; only
+ * variance changes, and the pdfs below are the exact densities of our
+ * sampling, so MIS in pathtrace.c stays unbiased):
+ *  - GGX lobes: the exact visible-normal sampling of Heitz 2018 (Cycles:
+ *    Heitz & d'Eon 2014's slope sampling, same density);
+ *  - clearcoat: the GTR1 distribution itself, cos^2 theta_h =
+ *    (1 - a^(2(1-u))) / (1 - a^2) (Burley 2012, appendix B). Cycles samples
+ *    GGX visible normals of the clearcoat alpha and divides by the GTR1
+ *    pdf, so its BSDF-sampled clearcoat differs from its evaluated one;
+ *    direct light (evaluation) is the same here and there;
+ *  - Multiscatter GGX: with probability A (Cycles' fitted single-scatter
+ *    albedo mf_ggx_albedo) a GGX visible normal, else a cosine direction:
+ *    exactly Cycles' approximate pdf mf_ggx_pdf, which is here the true
+ *    density. Cycles walks the microsurface instead (mf_sample), whose
+ *    throughput is not its mf_eval's: in mf_eval the multiple-scattering
+ *    orders are weighted by the Fresnel product twice (eval += throughput *
+ *    phase, phase already times throughput). We evaluate exactly as mf_eval
+ *    does, so lights match Cycles; bounced light off coloured rough metal
+ *    differs from Cycles' by that second Fresnel product of its >= 2-bounce
+ *    part (nothing for white or dielectric layers at low F0);
+ *  - Oren-Nayar: cosine-weighted (Cycles: uniform hemisphere).
+ * Multiscatter GGX glass (transmission with roughness > 0.05 and the
+ * Multiscatter distribution) is rendered with the single-scatter GGX glass
+ * pair (the loader says so in a warning). Anisotropy turns around the
+ * surface's tangent (pb_surface.tangent). */
+#include <float.h>
+#include <string.h>
+
+#include "ref/ref_internal.h"
+
+#define CUTOFF 1e-5f               /* CLOSURE_WEIGHT_CUTOFF */
+#define SINGULAR_ALPHA2 1e-7f      /* alpha_x alpha_y at or below: a delta lobe */
+
+static inline float clampf(float x, float lo, float hi) { return x < lo ? lo : (x > hi ? hi : x); }
+static inline float sat(float x) { return clampf(x, 0.0f, 1.0f); }
+static inline float sqr(float x) { return x * x; }
+static inline float avg3(v3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+static inline v3 v3_sat(v3 c) { return v3_make(sat(c.x), sat(c.y), sat(c.z)); }
+static inline v3 v3_splat(float x) { return v3_make(x, x, x); }
+
+/* Rec.709 luminance of scene-linear RGB (Cycles' rgb_to_y for Blender's
+ * default scene-linear space). */
+static inline float luma709(v3 c) { return 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z; }
+
+/* (1 - u)^5, u clamped: Schlick's weight. */
+static inline float schlick_w(float u) {
+  float m = sat(1.0f - u), m2 = m * m;
+  return m2 * m2 * m;
+}
+
+/* Unpolarised reflectance of a dielectric of relative index eta at |cos i|
+ * (Cycles' fresnel_dielectric_cos: 1 under total internal reflection). */
+static float fresnel_diel(float cos_i, float eta) {
+  float c = fabsf(cos_i);
+  float g = eta * eta - 1.0f + c * c;
+  if (g <= 0.0f) return 1.0f;
+  g = sqrtf(g);
+  float a = (g - c) / (g + c);
+  float b = (c * (g + c) - 1.0f) / (c * (g - c) + 1.0f);
+  return 0.5f * a * a * (1.0f + b * b);
+}
+
+/* Principled v1 Fresnel colour: cspec0 blended to white by the dielectric
+ * Fresnel renormalised to 0 at normal incidence (interpolate_fresnel_color). */
+static v3 fresnel_v1(v3 l, v3 h, float ior, float f0, v3 cspec0) {
+  float t = (fresnel_diel(v3_dot(l, h), ior) - f0) / (1.0f - f0);
+  return v3_add(v3_scale(cspec0, 1.0f - t), v3_splat(t));
+}
+
+/* A shading normal whose mirror image of i lies above the geometric surface
+ * by at least min(0.9 ng.i, 0.01) (Cycles' ensure_valid_reflection, written
+ * from its derivation): n is turned towards ng in the plane of n and ng, to
+ * the new normal n' = (sqrt(1 - z^2), z) in the (x, ng) frame, x the part of
+ * n orthogonal to ng, where z solves 2 (n'.i) z - i.z = t, i.e.
+ * z^2 = (c +- b) / (2 a) with a = ix^2 + iz^2, b = sqrt(ix^2 (a - t^2)),
+ * c = iz t + a. Of the two roots in (0, 1] the one giving the shallower
+ * valid reflection is kept; ng when neither is. */
+static v3 valid_reflection_normal(v3 ng, v3 i, v3 n) {
+  v3 r = v3_sub(v3_scale(n, 2.0f * v3_dot(n, i)), i);
+  float t = fminf(0.9f * v3_dot(ng, i), 0.01f);
+  if (v3_dot(ng, r) >= t) return n;
+  v3 x = v3_norm(v3_sub(n, v3_scale(ng, v3_dot(n, ng))));
+  float ix = v3_dot(i, x), iz = v3_dot(i, ng);
+  float a = ix * ix + iz * iz;
+  float b = sqrtf(fmaxf(0.0f, ix * ix * (a - t * t)));
+  float c = iz * t + a;
+  float z1 = 0.5f / a * (b + c), z2 = 0.5f / a * (c - b);
+  int ok1 = z1 > 1e-5f && z1 <= 1.0f + 1e-5f, ok2 = z2 > 1e-5f && z2 <= 1.0f + 1e-5f;
+  float nz2;
+  if (ok1 && ok2) {
+    float n1x = sqrtf(fmaxf(0.0f, 1.0f - z1)), n1z = sqrtf(fmaxf(0.0f, z1));
+    float n2x = sqrtf(fmaxf(0.0f, 1.0f - z2)), n2z = sqrtf(fmaxf(0.0f, z2));
+    float r1 = 2.0f * (n1x * ix + n1z * iz) * n1z - iz, r2 = 2.0f * (n2x * ix + n2z * iz) * n2z - iz;
+    int v1 = r1 >= 1e-5f, v2 = r2 >= 1e-5f;
+    if (v1 && v2) nz2 = r1 < r2 ? z1 : z2;
+    else nz2 = r1 > r2 ? z1 : z2;
+  } else if (ok1 || ok2) {
+    nz2 = ok1 ? z1 : z2;
+  } else {
+    return ng;
+  }
+  return v3_add(v3_scale(x, sqrtf(fmaxf(0.0f, 1.0f - nz2))), v3_scale(ng, sqrtf(fmaxf(0.0f, nz2))));
+}
+
+/* Cycles' "bump shadowing" for diffuse lobes whose normal differs from the
+ * shading normal (Chiang et al. 2019, "Taming the Shadow Terminator"). */
+static float bump_shadowing(v3 ns, v3 n, v3 wi) {
+  float cn = v3_dot(n, wi);
+  v3 g = cn < 0.0f ? v3_neg(ns) : ns;
+  float den = cn * v3_dot(g, n);
+  float x = den != 0.0f ? v3_dot(g, wi) / den : 0.0f;
+  if (x >= 1.0f) return 1.0f;
+  if (x < 0.0f) return 0.0f;
+  float x2 = x * x;
+  return -x2 * x + x2 + x;
+}
+
+/* Frame (x, y, n) of a lobe: around the tangent t when it is usable. */
+static void lobe_frame(pb_closure *c, v3 n, v3 t) {
+  c->n = n;
+  v3 y = v3_cross(n, t);
+  float l = v3_len(y);
+  if (l > 1e-6f && isfinite(l)) {
+    c->y = v3_scale(y, 1.0f / l);
+    c->x = v3_cross(c->y, n);
+  } else {
+    v3_basis(n, &c->x, &c->y);
+  }
+}
+static inline v3 to_lobe(const pb_closure *c, v3 w) { return v3_make(v3_dot(w, c->x), v3_dot(w, c->y), v3_dot(w, c->n)); }
+static inline v3 from_lobe(const pb_closure *c, v3 l) {
+  return v3_add(v3_add(v3_scale(c->x, l.x), v3_scale(c->y, l.y)), v3_scale(c->n, l.z));
+}
+
+/* ---- microfacet distribution (GGX) ------------------------------------- */
+
+/* D of GGX for a lobe-space half vector, anisotropic alphas. */
+static float ggx_d(v3 m, float ax, float ay) {
+  if (m.z <= 0.0f) return 0.0f;
+  float sx = m.x / ax, sy = m.y / ay;
+  float k = sx * sx + sy * sy + m.z * m.z;
+  return 1.0f / (PB_PI_F * ax * ay * k * k);
+}
+/* Smith G1 of GGX for lobe-space w (projected roughness for anisotropy). */
+static float ggx_g1(v3 w, float ax, float ay) {
+  float c2 = w.z * w.z;
+  if (c2 <= 0.0f) return 0.0f;
+  float s2 = w.x * w.x + w.y * w.y;
+  float a2 = s2 > 0.0f ? (w.x * w.x * ax * ax + w.y * w.y * ay * ay) / s2 : ax * ay;
+  return 2.0f / (1.0f + sqrtf(fmaxf(0.0f, 1.0f + a2 * (1.0f - c2) / c2)));
+}
+/* Burley's GTR1 (clearcoat), cos of the half vector, alpha = a. */
+static float gtr1_d(float c, float a) {
+  if (a >= 1.0f) return PB_INV_PI_F;
+  float a2 = a * a;
+  return (a2 - 1.0f) / (PB_PI_F * logf(a2) * (1.0f + (a2 - 1.0f) * c * c));
+}
+
+/* Visible normal of GGX for lobe-space v (v.z > 0): Heitz 2018, listing 1. */
+static v3 ggx_vndf(v3 v, float ax, float ay, float u1, float u2) {
+  v3 vh = v3_norm(v3_make(ax * v.x, ay * v.y, v.z));
+  float lensq = vh.x * vh.x + vh.y * vh.y;
+  v3 t1 = lensq > 0.0f ? v3_scale(v3_make(-vh.y, vh.x, 0.0f), 1.0f / sqrtf(lensq)) : v3_make(1.0f, 0.0f, 0.0f);
+  v3 t2 = v3_cross(vh, t1);
+  float r = sqrtf(u1), phi = 2.0f * PB_PI_F * u2;
+  float p1 = r * cosf(phi), p2 = r * sinf(phi);
+  float s = 0.5f * (1.0f + vh.z);
+  p2 = (1.0f - s) * sqrtf(fmaxf(0.0f, 1.0f - p1 * p1)) + s * p2;
+  v3 nh = v3_add(v3_add(v3_scale(t1, p1), v3_scale(t2, p2)),
+                 v3_scale(vh, sqrtf(fmaxf(0.0f, 1.0f - p1 * p1 - p2 * p2))));
+  return v3_norm(v3_make(ax * nh.x, ay * nh.y, fmaxf(1e-7f, nh.z)));
+}
+
+static v3 cosine_dir(float u1, float u2) {
+  float r = sqrtf(u1), phi = 2.0f * PB_PI_F * u2;
+  return v3_make(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
+}
+
+/* ---- Multiscatter GGX: the random walk of Heitz et al. 2016 ------------
+ * ("Multiple-Scattering Microfacet BSDFs with the Smith Model"), as Cycles
+ * 3.4 evaluates it (bsdf_microfacet_multi{,_impl}.h): the single-scattering
+ * term analytically (height-correlated G2 of the uncorrelated Smith heights,
+ * G2 = 1 / (1 + Lambda(wi) + Lambda(wo))), then up to 9 further bounces on
+ * the microsurface, each adding the phase function towards wo times the
+ * masking G1 of wo from that height. Directions are lobe space; "down"
+ * directions (into the surface) have z < 0. */
+
+static float mf_lambda(v3 w, float ax, float ay) {
+  if (w.z > 0.9999f) return 0.0f;
+  if (w.z < -0.9999f) return -0.9999f;
+  float inv = 1.0f / fmaxf(w.z * w.z, 1e-7f);
+  float wx = w.x * ax, wy = w.y * ay;
+  float v = sqrtf(1.0f + (wx * wx + wy * wy) * inv);
+  if (w.z <= 0.0f) v = -v;
+  return 0.5f * (v - 1.0f);
+}
+static inline float mf_c1(float h) { return sat(0.5f * (h + 1.0f)); }
+static inline float mf_inv_c1(float c) { return 2.0f * sat(c) - 1.0f; }
+static float mf_g1(v3 w, float c1, float lambda) {
+  if (w.z > 0.9999f) return 1.0f;
+  if (w.z < 1e-5f) return 0.0f;
+  return powf(c1, lambda);
+}
+/* Next height along w from the current one (c1 = C1(h)); 0: the ray
+ * leaves the surface. */
+static int mf_next_height(v3 w, float *h, float *c1, float *g1, float lambda, float u) {
+  if (w.z > 0.9999f) return 0;
+  if (w.z < -0.9999f) {
+    *c1 *= u;
+    *h = mf_inv_c1(*c1);
+    *g1 = mf_g1(w, *c1, lambda);
+  } else if (fabsf(w.z) >= 1e-4f) {
+    if (u > 1.0f - *g1) return 0;
+    *c1 = lambda >= 0.0f ? 1.0f : *c1 * powf(1.0f - u, -1.0f / lambda);
+    *h = mf_inv_c1(*c1);
+    *g1 = mf_g1(w, *c1, lambda);
+  }
+  return 1;
+}
+/* A visible normal of GGX seen from any direction v (also from below, as
+ * the walk needs): Heitz & d'Eon 2014 ("Importance Sampling Microfacet-Based
+ * BSDFs using the Distribution of Visible Normals"): stretch v to alpha 1,
+ * draw the slope of the visible-normal distribution there (x by inverting
+ * its CDF in closed form, y through the supplemental material's rational
+ * fit of the inverse CDF), rotate to v's azimuth, unstretch. */
+static v3 walk_vndf(v3 v, float ax, float ay, float u1, float u2) {
+  v3 s = v3_norm(v3_make(ax * v.x, ay * v.y, v.z));
+  float sx, sy;
+  if (s.z > 0.9999f || fabsf(s.z) < 1e-6f) {
+    float r = sqrtf(u1 / fmaxf(1.0f - u1, 1e-7f)), phi = 2.0f * PB_PI_F * u2;
+    sx = r * cosf(phi);
+    sy = r * sinf(phi);
+  } else {
+    float sin_t = sqrtf(fmaxf(0.0f, 1.0f - s.z * s.z)), tan_t = sin_t / s.z;
+    float proj = 0.5f * (s.z + 1.0f); /* the stretched G1 is s.z / proj */
+    if (proj < 1e-4f) return v3_make(0.0f, 0.0f, 1.0f);
+    float a = 2.0f * u1 * proj / s.z - 1.0f;
+    float q = a * a - 1.0f;
+    if (fabsf(q) < 1e-7f) return v3_make(0.0f, 0.0f, 1.0f);
+    q = 1.0f / q;
+    float d = sqrtf(fmaxf(0.0f, tan_t * tan_t * q * q - (a * a - tan_t * tan_t) * q));
+    float x2 = tan_t * q + d;
+    sx = (a < 0.0f || x2 > 1.0f / tan_t) ? tan_t * q - d : x2;
+    float sign = u2 >= 0.5f ? 1.0f : -1.0f, w = 2.0f * fabsf(u2 - 0.5f);
+    float z = (w * (w * (w * 0.27385f - 0.73369f) + 0.46341f)) /
+              (w * (w * (w * 0.093073f + 0.309420f) - 1.0f) + 0.597999f);
+    sy = sign * z * sqrtf(1.0f + sx * sx);
+  }
+  float pl = sqrtf(s.x * s.x + s.y * s.y);
+  float cp = pl > 0.0f ? s.x / pl : 1.0f, sp = pl > 0.0f ? s.y / pl : 0.0f;
+  float mx = ax * (cp * sx - sp * sy), my = ay * (sp * sx + cp * sy);
+  return v3_norm(v3_make(-mx, -my, 1.0f));
+}
+
+/* GGX D as Cycles' random walk writes it (guarded denominators). */
+static float mf_d(v3 m, float ax, float ay) {
+  if (ax == ay) {
+    float z2 = m.z * m.z, a2 = ax * ax;
+    float k = (1.0f - z2) + a2 * z2;
+    return a2 / fmaxf(PB_PI_F * k * k, 1e-7f);
+  }
+  float sx = -m.x / ax, sy = -m.y / ay;
+  float k = m.z * m.z + sx * sx + sy * sy;
+  return 1.0f / fmaxf(PB_PI_F * k * k * ax * ay, 1e-7f);
+}
+/* Reflection phase function from travel direction w (downwards) to wo. */
+static float mf_phase(v3 w, float lambda, v3 wo, float ax, float ay) {
+  if (w.z > 0.9999f) return 0.0f;
+  v3 h = v3_norm(v3_sub(wo, w));
+  if (h.z < 0.0f) return 0.0f;
+  float area = w.z < -0.9999f ? 1.0f : lambda * w.z;
+  float wh = -v3_dot(w, h);
+  if (wh < 0.0f) return 0.0f;
+  return fmaxf(0.0f, wh) * 0.25f / fmaxf(area * wh, 1e-7f) * mf_d(h, ax, ay);
+}
+
+/* f cos of the Multiscatter GGX reflection lobe c, lobe-space wo (view),
+ * wi (light), one random walk. */
+static v3 multi_ggx_eval(const pb_closure *c, v3 wo, v3 wi, pb_rng *rng) {
+  /* Walk from the shallower direction (less noise), as Cycles does; the
+   * BSDF is reciprocal, the cosine is swapped back at the end. */
+  v3 a = wo, b = wi;
+  int swapped = 0;
+  if (b.z < a.z) {
+    a = wi;
+    b = wo;
+    swapped = 1;
+  }
+  if (a.z < 1e-5f || b.z < 1e-5f) return v3_splat(0.0f);
+  float ax = c->ax, ay = c->ay;
+  float lambda_r = mf_lambda(v3_neg(a), ax, ay);
+  float shadow_lambda = mf_lambda(b, ax, ay);
+  v3 h = v3_norm(v3_add(a, b));
+  float g2 = 1.0f / (1.0f - (lambda_r + 1.0f) + shadow_lambda);
+  float single = g2 * 0.25f / a.z * mf_d(h, ax, ay);
+  v3 thr = fresnel_v1(a, h, c->ior, c->f0, c->cspec0);
+  v3 eval = v3_scale(thr, single);
+  v3 wr = v3_neg(a);
+  float hr = 1.0f, c1 = 1.0f, g1 = 0.0f;
+  for (int order = 0; order < 10; ++order) {
+    float uh = rng ? pb_rng_f(rng) : 0.5f;
+    if (!mf_next_height(wr, &hr, &c1, &g1, lambda_r, uh)) break;
+    float uy = rng ? pb_rng_f(rng) : 0.5f, ux = rng ? pb_rng_f(rng) : 0.5f;
+    v3 up = v3_neg(wr);
+    v3 m = walk_vndf(up, ax, ay, ux, uy);
+    if (order > 0) {
+      /* Cycles' mf_eval: phase x throughput, added x throughput again. */
+      float ph = mf_phase(wr, lambda_r, b, ax, ay) * mf_g1(b, mf_c1(hr), shadow_lambda);
+      eval = v3_add(eval, v3_scale(v3_mul(thr, thr), ph));
+    }
+    if (order + 1 < 10) {
+      if (order > 0) thr = v3_mul(thr, fresnel_v1(up, m, c->ior, c->f0, c->cspec0));
+      wr = v3_sub(v3_scale(m, 2.0f * v3_dot(up, m)), up);
+      lambda_r = mf_lambda(wr, ax, ay);
+      c1 = mf_c1(hr);
+      g1 = mf_g1(wr, c1, lambda_r);
+    }
+  }
+  if (swapped) eval = v3_scale(eval, fabsf(a.z / b.z));
+  return eval;
+}
+
+/* Cycles' fitted single-scatter albedo of GGX (mf_ggx_albedo), the share
+ * of visible-normal sampling in our Multiscatter GGX sampling. */
+static float multi_ggx_albedo(float r) {
+  float a = 0.806495f * expf(-1.98712f * r * r) + 0.199531f;
+  a -= ((((((1.76741f * r - 8.43891f) * r + 15.784f) * r - 14.398f) * r + 6.45221f) * r - 1.19722f) * r +
+        0.027803f) * r + 0.00568739f;
+  return sat(a);
+}
+/* Density of that sampling (Cycles' mf_ggx_pdf / mf_ggx_aniso_pdf). */
+static float multi_ggx_pdf(const pb_closure *c, v3 wo, v3 wi) {
+  float d = mf_d(v3_norm(v3_add(wo, wi)), c->ax, c->ay);
+  float lambda = mf_lambda(wo, c->ax, c->ay);
+  float single = 0.25f * d / fmaxf((1.0f + lambda) * wo.z, 1e-7f);
+  float a = multi_ggx_albedo(c->ax == c->ay ? c->ax : sqrtf(c->ax * c->ay));
+  return a * single + (1.0f - a) * fmaxf(wi.z, 0.0f) * PB_INV_PI_F;
+}
+
+/* ---- one closure --------------------------------------------------------- */
+
+/* f cos of closure c for world wo (view) and wi (light), and its pdf under
+ * our sampling of c; ng: geometric normal facing wo; ns: shading normal. */
+static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *rng, float *pdf) {
+  *pdf = 0.0f;
+  v3 zero = v3_splat(0.0f);
+  if (c->singular || c->type == PB_CL_TRANSPARENT) return zero;
+  float cos_gi = v3_dot(ng, wi);
+  v3 lo = to_lobe(c, wo), li = to_lobe(c, wi);
+  switch (c->type) {
+  case PB_CL_DIFFUSE:
+  case PB_CL_SHEEN:
+  case PB_CL_OREN_NAYAR: {
+    if (li.z <= 0.0f) return zero;
+    float v;
+    if (c->type == PB_CL_DIFFUSE) {
+      float fo = schlick_w(lo.z), fi = schlick_w(li.z);
+      float rr = c->rough * (v3_dot(wi, wo) + 1.0f);
+      v = PB_INV_PI_F * li.z * ((1.0f - 0.5f * fo) * (1.0f - 0.5f * fi) + rr * (fi + fo + fi * fo * (rr - 1.0f)));
+    } else if (c->type == PB_CL_SHEEN) {
+      if (lo.z < 0.0f) return zero;
+      v = schlick_w(v3_dot(wi, v3_norm(v3_add(wi, wo)))) * li.z;
+    } else {
+      float nv = fmaxf(lo.z, 0.0f), t = v3_dot(wi, wo) - li.z * nv;
+      if (t > 0.0f) t /= fmaxf(li.z, nv) + FLT_MIN;
+      v = li.z * (c->on_a + c->on_b * t);
+    }
+    *pdf = li.z * PB_INV_PI_F;
+    /* Diffuse lobes on a lifted normal: Cycles' bump shadowing term. */
+    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) v *= bump_shadowing(ns, c->n, wi);
+    return v3_splat(v);
+  }
+  case PB_CL_GGX:
+  case PB_CL_CLEARCOAT: {
+    if (cos_gi < 0.0f || lo.z <= 0.0f || li.z <= 0.0f) return zero;
+    v3 m = v3_norm(v3_add(lo, li));
+    float d, g1o, g1i;
+    if (c->type == PB_CL_CLEARCOAT) {
+      d = gtr1_d(m.z, c->ax);
+      g1o = ggx_g1(lo, 0.25f, 0.25f);
+      g1i = ggx_g1(li, 0.25f, 0.25f);
+    } else {
+      d = ggx_d(m, c->ax, c->ay);
+      g1o = ggx_g1(lo, c->ax, c->ay);
+      g1i = ggx_g1(li, c->ax, c->ay);
+    }
+    v3 f = fresnel_v1(li, m, c->ior, c->f0, c->cspec0);
+    if (c->type == PB_CL_CLEARCOAT) f = v3_scale(f, 0.25f * c->clearcoat);
+    float common = d * 0.25f / lo.z;
+    float wm = v3_dot(lo, m);
+    /* Our sampling: GGX visible normals (Cycles' pdf), GTR1 for the coat. */
+    *pdf = c->type == PB_CL_CLEARCOAT ? (wm > 0.0f ? d * m.z * 0.25f / wm : 0.0f) : g1o * common;
+    return v3_scale(f, g1o * g1i * common);
+  }
+  case PB_CL_MULTI_GGX: {
+    if (cos_gi < 0.0f || lo.z <= 0.0f || li.z <= 0.0f) return zero;
+    *pdf = multi_ggx_pdf(c, lo, li);
+    if (!(*pdf > 0.0f)) {
+      *pdf = 0.0f;
+      return zero;
+    }
+    return multi_ggx_eval(c, lo, li, rng);
+  }
+  case PB_CL_GGX_REFRACT: {
+    if (cos_gi >= 0.0f || lo.z <= 0.0f || li.z >= 0.0f) return zero;
+    float eta = c->ior;
+    v3 ht = v3_neg(v3_add(v3_scale(li, eta), lo));
+    float ht2 = v3_dot(ht, ht);
+    if (!(ht2 > 0.0f)) return zero;
+    v3 m = v3_scale(ht, 1.0f / sqrtf(ht2));
+    if (m.z < 0.0f) m = v3_neg(m);
+    float d = ggx_d(m, c->ax, c->ay);
+    float g1o = ggx_g1(lo, c->ax, c->ay), g1i = ggx_g1(v3_neg(li), c->ax, c->ay);
+    float common = d * eta * eta / (lo.z * ht2);
+    float hh = fabsf(v3_dot(m, lo) * v3_dot(m, li));
+    *pdf = g1o * hh * common;
+    return v3_splat(g1o * g1i * hh * common);
+  }
+  default:
+    return zero;
+  }
+}
+
+/* ---- setup ---------------------------------------------------------------- */
+
+static float input_value(const pb_scene *s, const pb_material *m, const pb_surface *surf, pb_blender_input i) {
+  const pb_blender_material *b = &m->blender;
+  const pb_input_texture *t = &b->input_tex[i];
+  if (t->tex < 0 || (uint32_t)t->tex >= s->texture_count) return b->input[i];
+  float c[4];
+  pb_texture_lookup(&s->textures[t->tex], surf->uv, surf->uv1, c);
+  return t->channel < 4 ? c[t->channel] : luma709(v3_make(c[0], c[1], c[2]));
+}
+
+float pb_blender_alpha(const pb_scene *s, const pb_surface *surf) {
+  return sat(input_value(s, surf->mat, surf, PB_IN_ALPHA));
+}
+
+static v3 color_value(const pb_scene *s, v3 constant, int32_t tex, const pb_surface *surf) {
+  if (tex < 0 || (uint32_t)tex >= s->texture_count) return constant;
+  float c[4];
+  pb_texture_lookup(&s->textures[tex], surf->uv, surf->uv1, c);
+  return v3_make(c[0], c[1], c[2]);
+}
+
+static pb_closure *add_closure(pb_bsdf *b, pb_closure_type type, v3 weight) {
+  weight = v3_make(fmaxf(weight.x, 0.0f), fmaxf(weight.y, 0.0f), fmaxf(weight.z, 0.0f));
+  float sw = fabsf(avg3(weight));
+  if (!(sw >= CUTOFF) || b->ncl >= PB_CLOSURE_MAX) return NULL;
+  pb_closure *c = &b->cl[b->ncl++];
+  memset(c, 0, sizeof *c);
+  c->type = type;
+  c->weight = weight;
+  c->sample_weight = sw;
+  return c;
+}
+
+/* A GGX-family lobe's alphas and Fresnel; sample weight x the average
+ * Fresnel colour at the normal (bsdf_microfacet_fresnel_color). */
+static void microfacet(pb_closure *c, v3 n, v3 t, float ax, float ay, float ior, v3 cspec0, v3 wo) {
+  lobe_frame(c, n, t);
+  c->ax = ax;
+  c->ay = ay;
+  c->ior = ior;
+  c->f0 = fresnel_diel(1.0f, ior);
+  c->cspec0 = v3_sat(cspec0);
+  c->singular = ax * ay <= SINGULAR_ALPHA2;
+  if (c->type == PB_CL_GGX || c->type == PB_CL_MULTI_GGX || c->type == PB_CL_CLEARCOAT) {
+    v3 fc = fresnel_v1(wo, n, ior, c->f0, c->cspec0);
+    if (c->type == PB_CL_CLEARCOAT) fc = v3_scale(fc, 0.25f * c->clearcoat);
+    c->sample_weight *= avg3(fc);
+  }
+}
+
+void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
+  const pb_material *m = surf->mat;
+  const pb_blender_material *bm = &m->blender;
+  b->model = bm->model;
+  b->ng = surf->ng;
+  b->n = surf->ns;
+  v3_basis(b->n, &b->t, &b->b);
+  b->entering = surf->front;
+  v3 base = color_value(s, v3_load(m->base_color), m->base_color_tex, surf);
+  base = v3_make(fmaxf(base.x, 0.0f), fmaxf(base.y, 0.0f), fmaxf(base.z, 0.0f));
+  b->albedo = v3_sat(base);
+  if (bm->model == PB_MODEL_EMISSION || bm->model == PB_MODEL_HOLDOUT) {
+    b->albedo = v3_splat(0.0f);
+    return;
+  }
+  /* Every closure's normal, as Cycles' svm_node_closure_bsdf lifts it. */
+  v3 n = valid_reflection_normal(surf->ng, wo, surf->ns);
+  v3 tangent = surf->tangent;
+  if (bm->model == PB_MODEL_DIFFUSE) {
+    pb_closure *c = add_closure(b, PB_CL_OREN_NAYAR, base);
+    if (c) {
+      lobe_frame(c, n, tangent);
+      float sigma = sat(input_value(s, m, surf, PB_IN_ROUGHNESS));
+      if (sigma == 0.0f) {
+        c->on_a = PB_INV_PI_F; /* bsdf_diffuse: Lambert */
+      } else {
+        float div = 1.0f / (PB_PI_F + ((3.0f * PB_PI_F - 4.0f) / 6.0f) * sigma);
+        c->on_a = div;
+        c->on_b = sigma * div;
+      }
+    }
+  } else {
+    float in[PB_IN_COUNT];
+    for (int i = 0; i < PB_IN_COUNT; ++i) in[i] = input_value(s, m, surf, (pb_blender_input)i);
+    float metallic = in[PB_IN_METALLIC], roughness = in[PB_IN_ROUGHNESS], specular = in[PB_IN_SPECULAR];
+    float spec_tint = in[PB_IN_SPECULAR_TINT], transmission = in[PB_IN_TRANSMISSION];
+    float alpha = sat(in[PB_IN_ALPHA]);
+    float eta = fmaxf(in[PB_IN_IOR], 1e-5f);
+    float ior = surf->front ? eta : 1.0f / eta;
+    float fresnel = fresnel_diel(v3_dot(n, wo), ior);
+    float diffuse_w = (1.0f - sat(metallic)) * (1.0f - sat(transmission));
+    float glass_w = sat(transmission) * (1.0f - sat(metallic));
+    float spec_w = 1.0f - glass_w;
+    /* Alpha < 1: a Transparent BSDF of weight 1 - alpha mixed in, the rest
+     * scaled by alpha (the Mix Shader Cycles' PrincipledBsdfNode::expand
+     * adds). */
+    float w = alpha;
+    if (alpha < 1.0f) add_closure(b, PB_CL_TRANSPARENT, v3_splat(1.0f - alpha));
+    if (bm->input_tex[PB_IN_ANISOTROPIC_ROTATION].tex >= 0 || in[PB_IN_ANISOTROPIC_ROTATION] != 0.0f) {
+      /* Rodrigues' rotation of the tangent about n by 2 pi rotation. */
+      float th = in[PB_IN_ANISOTROPIC_ROTATION] * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
+      tangent = v3_add(v3_add(v3_scale(tangent, cs), v3_scale(v3_cross(n, tangent), sn)),
+                       v3_scale(n, v3_dot(n, tangent) * (1.0f - cs)));
+    }
+    /* Diffuse: subsurface rendered as diffuse with the mixed colour. */
+    float ss = sat(in[PB_IN_SUBSURFACE]);
+    v3 ssc = color_value(s, v3_load(bm->subsurface_color), bm->subsurface_color_tex, surf);
+    v3 mixed = v3_add(v3_scale(ssc, ss), v3_scale(base, 1.0f - ss));
+    if (fabsf(avg3(mixed)) > CUTOFF && diffuse_w > CUTOFF) {
+      pb_closure *c = add_closure(b, PB_CL_DIFFUSE, v3_scale(mixed, w * diffuse_w));
+      if (c) {
+        lobe_frame(c, n, tangent);
+        c->rough = roughness;
+      }
+    }
+    if (diffuse_w > CUTOFF && in[PB_IN_SHEEN] > CUTOFF) {
+      float lum = luma709(base);
+      v3 tint = lum > 0.0f ? v3_scale(base, 1.0f / lum) : v3_splat(1.0f);
+      float st = in[PB_IN_SHEEN_TINT];
+      v3 col = v3_add(v3_splat(1.0f - st), v3_scale(tint, st));
+      pb_closure *c = add_closure(b, PB_CL_SHEEN, v3_scale(col, w * in[PB_IN_SHEEN] * diffuse_w));
+      if (c) {
+        lobe_frame(c, n, tangent);
+        float cn = v3_dot(n, wo);
+        c->sample_weight *= cn < 0.0f ? 0.0f : schlick_w(cn) * cn;
+      }
+    }
+    if (spec_w > CUTOFF && (specular > CUTOFF || metallic > CUTOFF)) {
+      int multi = bm->distribution == PB_DISTRIBUTION_MULTI_GGX && roughness > 0.075f;
+      pb_closure *c = add_closure(b, multi ? PB_CL_MULTI_GGX : PB_CL_GGX, v3_splat(w * spec_w));
+      if (c) {
+        float spec_ior = 2.0f / (1.0f - sqrtf(fmaxf(0.0f, 0.08f * specular))) - 1.0f;
+        float aspect = sqrtf(fmaxf(0.0f, 1.0f - in[PB_IN_ANISOTROPIC] * 0.9f));
+        float r2 = roughness * roughness;
+        float ax = r2 / aspect, ay = r2 * aspect;
+        if (multi) {
+          ax = clampf(ax, 1e-4f, 1.0f);
+          ay = clampf(ay, 1e-4f, 1.0f);
+        } else {
+          ax = sat(ax);
+          ay = sat(ay);
+        }
+        float lum = 0.3f * base.x + 0.6f * base.y + 0.1f * base.z;
+        v3 tint = lum > 0.0f ? v3_scale(base, 1.0f / lum) : v3_splat(1.0f);
+        v3 tcol = v3_add(v3_splat(1.0f - spec_tint), v3_scale(tint, spec_tint));
+        v3 cspec0 = v3_add(v3_scale(tcol, specular * 0.08f * (1.0f - metallic)), v3_scale(base, metallic));
+        c->color = v3_sat(base);
+        microfacet(c, n, tangent, ax, ay, spec_ior, cspec0, wo);
+      }
+    }
+    if (glass_w > CUTOFF) {
+      v3 cspec0 = v3_add(v3_scale(base, spec_tint), v3_splat(1.0f - spec_tint));
+      float rr = roughness;
+      pb_closure *c = add_closure(b, PB_CL_GGX, v3_splat(w * glass_w * fresnel));
+      if (c) {
+        float a = sat(rr * rr);
+        c->color = base;
+        microfacet(c, n, n, a, a, ior, cspec0, wo);
+      }
+      float tr = bm->distribution == PB_DISTRIBUTION_GGX
+                     ? 1.0f - (1.0f - rr) * (1.0f - in[PB_IN_TRANSMISSION_ROUGHNESS])
+                     : rr;
+      c = add_closure(b, PB_CL_GGX_REFRACT, v3_scale(base, w * glass_w * fmaxf(1e-4f, 1.0f - fresnel)));
+      if (c) {
+        float a = sat(tr * tr);
+        microfacet(c, n, n, a, a, ior, v3_splat(0.0f), wo);
+        c->singular = a * a <= SINGULAR_ALPHA2 || fabsf(ior - 1.0f) < 1e-4f;
+      }
+    }
+    if (in[PB_IN_CLEARCOAT] > CUTOFF) {
+      pb_closure *c = add_closure(b, PB_CL_CLEARCOAT, v3_splat(w));
+      if (c) {
+        v3 cn = valid_reflection_normal(surf->ng, wo, surf->ns);
+        c->clearcoat = in[PB_IN_CLEARCOAT];
+        float a = sat(sqr(in[PB_IN_CLEARCOAT_ROUGHNESS]));
+        microfacet(c, cn, cn, a, a, 1.5f, v3_splat(0.04f), wo);
+      }
+    }
+    b->albedo = v3_scale(v3_sat(base), alpha);
+  }
+  b->sw_sum = 0.0f;
+  for (int i = 0; i < b->ncl; ++i) b->sw_sum += b->cl[i].sample_weight;
+}
+
+/* ---- the whole BSDF ------------------------------------------------------- */
+
+/* f cos summed over the non-delta closures, and the mixture pdf. */
+static v3 eval_all(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
+  v3 f = v3_splat(0.0f);
+  float p = 0.0f;
+  for (int i = 0; i < b->ncl; ++i) {
+    const pb_closure *c = &b->cl[i];
+    float pc;
+    v3 e = closure_eval(c, b->ng, b->n, wo, wi, b->rng, &pc);
+    if (pc != 0.0f) {
+      f = v3_add(f, v3_mul(e, c->weight));
+      p += pc * c->sample_weight;
+    }
+  }
+  *pdf = b->sw_sum > 0.0f ? p / b->sw_sum : 0.0f;
+  return f;
+}
+
+v3 pb_blender_bsdf_eval(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
+  /* pb_bsdf_eval's contract is f without the cosine, which its callers
+   * multiply by |wi . n| (n the shading normal): divided out here, since the
+   * closures bring their own (lifted normals, Cycles' forms). */
+  float cn = fabsf(v3_dot(wi, b->n));
+  v3 f = eval_all(b, wo, wi, pdf);
+  if (!(cn > 1e-7f)) return v3_splat(0.0f);
+  return v3_scale(f, 1.0f / cn);
+}
+
+int pb_blender_bsdf_has_smooth(const pb_bsdf *b) {
+  for (int i = 0; i < b->ncl; ++i)
+    if (!b->cl[i].singular && b->cl[i].type != PB_CL_TRANSPARENT) return 1;
+  return 0;
+}
+
+float pb_bsdf_transparency(const pb_bsdf *b) {
+  if (b->model == PB_MODEL_GLTF) return 0.0f;
+  for (int i = 0; i < b->ncl; ++i)
+    if (b->cl[i].type == PB_CL_TRANSPARENT) return b->cl[i].weight.x;
+  return 0.0f;
+}
+
+/* Refraction of wo (lobe space, above) through microfacet m with relative
+ * index ior (n_wi / n_wo); 0 under total internal reflection. */
+static int refract_dir(v3 wo, v3 m, float ior, v3 *wi) {
+  float c = v3_dot(wo, m);
+  if (c <= 0.0f) return 0;
+  float inv = 1.0f / ior;
+  float k = 1.0f - inv * inv * (1.0f - c * c);
+  if (k <= 0.0f) return 0;
+  *wi = v3_sub(v3_scale(m, c * inv - sqrtf(k)), v3_scale(wo, inv));
+  return 1;
+}
+
+int pb_blender_bsdf_sample(const pb_bsdf *b, v3 wo, float u0, float u1, float u2, pb_transport mode,
+                           pb_bsdf_sample *out) {
+  memset(out, 0, sizeof *out);
+  if (!(b->sw_sum > 0.0f)) return 0;
+  /* Pick a closure by sample weight; u0's remainder inside its interval
+   * drives the choices within the lobe. */
+  float x = u0 * b->sw_sum;
+  int k = 0;
+  while (k + 1 < b->ncl && x >= b->cl[k].sample_weight) x -= b->cl[k++].sample_weight;
+  const pb_closure *c = &b->cl[k];
+  float pick = c->sample_weight / b->sw_sum;
+  float ur = c->sample_weight > 0.0f ? sat(x / c->sample_weight) : 0.0f;
+  if (!(pick > 0.0f)) return 0;
+  v3 lo = to_lobe(c, wo);
+  if (c->type == PB_CL_TRANSPARENT) {
+    out->wi = v3_neg(wo);
+    out->weight = v3_scale(c->weight, 1.0f / pick);
+    out->delta = 1;
+    out->transmit = 1;
+    return 1;
+  }
+  if (lo.z <= 0.0f) return 0;
+  v3 li;
+  if (c->singular) {
+    if (c->type == PB_CL_GGX_REFRACT) {
+      if (!refract_dir(lo, v3_make(0.0f, 0.0f, 1.0f), c->ior, &li)) return 0;
+      out->wi = v3_norm(from_lobe(c, li));
+      if (v3_dot(out->wi, b->ng) >= 0.0f) return 0;
+      out->weight = v3_scale(c->weight, 1.0f / pick);
+      out->transmit = 1;
+    } else {
+      li = v3_make(-lo.x, -lo.y, lo.z);
+      out->wi = from_lobe(c, li);
+      if (v3_dot(out->wi, b->ng) <= 0.0f) return 0;
+      v3 f = fresnel_v1(li, v3_make(0.0f, 0.0f, 1.0f), c->ior, c->f0, c->cspec0);
+      if (c->type == PB_CL_CLEARCOAT) f = v3_scale(f, 0.25f * c->clearcoat);
+      out->weight = v3_scale(v3_mul(c->weight, f), 1.0f / pick);
+    }
+    out->delta = 1;
+    return 1;
+  }
+  switch (c->type) {
+  case PB_CL_DIFFUSE:
+  case PB_CL_SHEEN:
+  case PB_CL_OREN_NAYAR:
+    li = cosine_dir(u1, u2);
+    break;
+  case PB_CL_GGX: {
+    v3 m = ggx_vndf(lo, c->ax, c->ay, u1, u2);
+    li = v3_sub(v3_scale(m, 2.0f * v3_dot(lo, m)), lo);
+    break;
+  }
+  case PB_CL_CLEARCOAT: {
+    float a2 = c->ax * c->ax;
+    float ct2 = a2 < 1.0f ? (1.0f - powf(a2, 1.0f - u1)) / (1.0f - a2) : 1.0f - u1;
+    float ct = sqrtf(sat(ct2)), st = sqrtf(sat(1.0f - ct2)), phi = 2.0f * PB_PI_F * u2;
+    v3 m = v3_make(st * cosf(phi), st * sinf(phi), ct);
+    li = v3_sub(v3_scale(m, 2.0f * v3_dot(lo, m)), lo);
+    break;
+  }
+  case PB_CL_MULTI_GGX: {
+    float a = multi_ggx_albedo(c->ax == c->ay ? c->ax : sqrtf(c->ax * c->ay));
+    if (ur < a) {
+      v3 m = ggx_vndf(lo, c->ax, c->ay, u1, u2);
+      li = v3_sub(v3_scale(m, 2.0f * v3_dot(lo, m)), lo);
+    } else {
+      li = cosine_dir(u1, u2);
+    }
+    break;
+  }
+  case PB_CL_GGX_REFRACT: {
+    v3 m = ggx_vndf(lo, c->ax, c->ay, u1, u2);
+    if (!refract_dir(lo, m, c->ior, &li)) return 0;
+    break;
+  }
+  default:
+    return 0;
+  }
+  v3 wi = v3_norm(from_lobe(c, li));
+  int transmit = c->type == PB_CL_GGX_REFRACT;
+  float side = v3_dot(wi, b->ng);
+  if (transmit ? side >= 0.0f : side <= 0.0f) return 0;
+  float pdf;
+  v3 f = eval_all(b, wo, wi, &pdf);
+  if (!(pdf > 0.0f)) return 0;
+  /* Photons carry the adjoint of Cycles' refraction, which has the light
+   * side's index squared in it (bsdf_microfacet_ggx_eval_transmit's m_eta^2):
+   * seen from the photon, light and view swap, so 1 / ior^2. */
+  if (transmit && mode == PB_IMPORTANCE) f = v3_scale(f, 1.0f / (c->ior * c->ior));
+  out->wi = wi;
+  out->pdf = pdf;
+  out->weight = v3_scale(f, 1.0f / pdf);
+  out->transmit = transmit;
+  return 1;
+}

@@ -1,0 +1,527 @@
+/* materials[i].extensions.PHOTONBRIDGE_blender -> pb_material (see
+ * blender_material.h and exporters/blender/PHOTONBRIDGE_blender.md).
+ *
+ * Defaults are Blender 3.4's, measured on this machine's Blender 3.4.1 (a new
+ * material's Principled BSDF and fresh Diffuse/Emission nodes): Base Color
+ * 0.8, Metallic 0, Specular 0.5, Specular Tint 0, Roughness 0.5,
+ * Anisotropic 0, Sheen 0, Sheen Tint 0.5, Clearcoat 0, Clearcoat Roughness
+ * 0.03, IOR 1.45, Transmission 0, Transmission Roughness 0, Emission black,
+ * Emission Strength 1, Alpha 1, Subsurface 0, distribution GGX (not
+ * Multiscatter GGX: bpy reports 'GGX' for both), Diffuse BSDF colour 0.8 and
+ * roughness 0, Emission colour 1 and strength 1.
+ *
+ * Ranges are the sockets' hard ranges as bpy reports them (the 0..1 factors;
+ * colours >= 0), except where Blender's range would let light be negative
+ * (Emission Strength, an IOR below 0): those are refused. */
+#include "scene/blender_material.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#define EXT "extensions.PHOTONBRIDGE_blender"
+
+typedef struct reader {
+  const pb_blender_material_io *io;
+  int index;
+} reader;
+
+static pb_result bad(const reader *R, const char *member, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static pb_result bad(const reader *R, const char *member, const char *fmt, ...) {
+  char why[256];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(why, sizeof why, fmt, ap);
+  va_end(ap);
+  return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ".%s: %s", R->io->path, R->index, member, why);
+}
+
+static pb_result warn(const reader *R, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static pb_result warn(const reader *R, const char *fmt, ...) {
+  char line[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  return R->io->warn(R->io->user, line);
+}
+
+/* Joins "prefix.key" into buf for messages. */
+static const char *member(char *buf, size_t n, const char *prefix, const char *key) {
+  snprintf(buf, n, "%s%s%s", prefix ? prefix : "", prefix && prefix[0] ? "." : "", key);
+  return buf;
+}
+
+static pb_result number_in(const reader *R, const char *path, const pb_gltf_value *v, double lo, double hi,
+                           float *out) {
+  if (v->type != PB_GLTF_NUMBER) return bad(R, path, "%s, expected a number", pb_gltf_value_type_name(v));
+  double x = v->number;
+  if (isnan(x)) return bad(R, path, "NaN");
+  if (!isfinite(x) || fabs(x) > FLT_MAX) return bad(R, path, "%g is not a finite float", x);
+  if (x < lo || x > hi) return bad(R, path, "%g is outside [%g, %g]", x, lo, hi);
+  *out = (float)x;
+  return PB_OK;
+}
+
+/* Optional number member: *out keeps its default when absent. */
+static pb_result opt_number(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key, double lo,
+                            double hi, float *out) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[128];
+  return number_in(R, member(path, sizeof path, prefix, key), v, lo, hi, out);
+}
+
+/* Optional colour: an array of 3 (RGB) or 4 (RGBA; alpha ignored, as Cycles
+ * ignores a colour socket's alpha) numbers, each >= 0. */
+static pb_result opt_color(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key,
+                           float out[3]) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[128], el[160];
+  member(path, sizeof path, prefix, key);
+  if (v->type != PB_GLTF_ARRAY) return bad(R, path, "%s, expected an array of 3 or 4 numbers", pb_gltf_value_type_name(v));
+  if (v->count != 3 && v->count != 4) return bad(R, path, "%zu elements, expected 3 or 4", v->count);
+  for (size_t k = 0; k < v->count; ++k) {
+    float x = 0;
+    snprintf(el, sizeof el, "%s[%zu]", path, k);
+    pb_result r = number_in(R, el, &v->items[k], 0.0, FLT_MAX, &x);
+    if (r != PB_OK) return r;
+    if (k < 3) out[k] = x;
+  }
+  return PB_OK;
+}
+
+/* Optional string member that must be one of names[0..n): *out its index. */
+static pb_result opt_enum(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key,
+                          const char *const *names, int n, int *out) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[128], list[256] = "";
+  member(path, sizeof path, prefix, key);
+  for (int i = 0; i < n; ++i) {
+    if (v->type == PB_GLTF_STRING && strcmp(v->string, names[i]) == 0) {
+      *out = i;
+      return PB_OK;
+    }
+    size_t l = strlen(list);
+    snprintf(list + l, sizeof list - l, "%s%s", i ? (i + 1 == n ? " or " : ", ") : "", names[i]);
+  }
+  if (v->type != PB_GLTF_STRING) return bad(R, path, "%s, expected a string (%s)", pb_gltf_value_type_name(v), list);
+  return bad(R, path, "'%s' is not %s", v->string, list);
+}
+
+static pb_result opt_object(const reader *R, const pb_gltf_value *obj, const char *key, const pb_gltf_value **out) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  *out = v;
+  if (v && v->type != PB_GLTF_OBJECT) return bad(R, key, "%s, expected an object", pb_gltf_value_type_name(v));
+  return PB_OK;
+}
+
+/* ---- texture links ------------------------------------------------------- */
+
+enum { CH_R = 0, CH_G, CH_B, CH_A, CH_RGB };
+/* Where a texture entry goes. */
+typedef enum target_kind { T_NONE = 0, T_COLOR, T_INPUT, T_NORMAL } target_kind;
+typedef struct target {
+  const char *name;
+  target_kind kind;
+  int input;      /* T_INPUT: pb_blender_input; T_COLOR: which colour */
+} target;
+enum { COLOR_BASE = 0, COLOR_SUBSURFACE, COLOR_EMISSION };
+
+static const target principled_targets[] = {
+    {"baseColor", T_COLOR, COLOR_BASE},
+    {"subsurfaceColor", T_COLOR, COLOR_SUBSURFACE},
+    {"emission", T_COLOR, COLOR_EMISSION},
+    {"normal", T_NORMAL, 0},
+    {"metallic", T_INPUT, PB_IN_METALLIC},
+    {"specular", T_INPUT, PB_IN_SPECULAR},
+    {"specularTint", T_INPUT, PB_IN_SPECULAR_TINT},
+    {"roughness", T_INPUT, PB_IN_ROUGHNESS},
+    {"anisotropic", T_INPUT, PB_IN_ANISOTROPIC},
+    {"anisotropicRotation", T_INPUT, PB_IN_ANISOTROPIC_ROTATION},
+    {"sheen", T_INPUT, PB_IN_SHEEN},
+    {"sheenTint", T_INPUT, PB_IN_SHEEN_TINT},
+    {"clearcoat", T_INPUT, PB_IN_CLEARCOAT},
+    {"clearcoatRoughness", T_INPUT, PB_IN_CLEARCOAT_ROUGHNESS},
+    {"ior", T_INPUT, PB_IN_IOR},
+    {"transmission", T_INPUT, PB_IN_TRANSMISSION},
+    {"transmissionRoughness", T_INPUT, PB_IN_TRANSMISSION_ROUGHNESS},
+    {"alpha", T_INPUT, PB_IN_ALPHA},
+    {"subsurface", T_INPUT, PB_IN_SUBSURFACE},
+    {NULL, T_NONE, 0}};
+/* The Diffuse BSDF's and Emission shader's Color input is `baseColor` and
+ * `emission` in `textures` (the contract; what the writer writes). */
+static const target diffuse_targets[] = {
+    {"baseColor", T_COLOR, COLOR_BASE}, {"roughness", T_INPUT, PB_IN_ROUGHNESS}, {"normal", T_NORMAL, 0}, {NULL, T_NONE, 0}};
+static const target emission_targets[] = {{"emission", T_COLOR, COLOR_EMISSION}, {NULL, T_NONE, 0}};
+
+/* An optional integer member in [0, 2^31 - 1]; *out keeps its default when
+ * absent. */
+static pb_result opt_index(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key,
+                           int32_t *out) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[192];
+  member(path, sizeof path, prefix, key);
+  if (v->type != PB_GLTF_NUMBER || !v->is_integer || v->number < 0 || v->number > INT32_MAX)
+    return bad(R, path, "%s is not an integer from 0 to 2^31-1",
+               v->type == PB_GLTF_NUMBER ? "the number" : pb_gltf_value_type_name(v));
+  *out = (int32_t)v->number;
+  return PB_OK;
+}
+
+/* An optional array member of 2 finite numbers. */
+static pb_result opt_pair(const reader *R, const pb_gltf_value *obj, const char *prefix, const char *key,
+                          double out[2]) {
+  const pb_gltf_value *v = pb_gltf_value_get(obj, key);
+  if (!v) return PB_OK;
+  char path[192], el[208];
+  member(path, sizeof path, prefix, key);
+  if (v->type != PB_GLTF_ARRAY || v->count != 2)
+    return bad(R, path, "%s, expected an array of 2 numbers", v->type == PB_GLTF_ARRAY ? "an array of another length"
+                                                                                    : pb_gltf_value_type_name(v));
+  for (int k = 0; k < 2; ++k) {
+    float x = 0;
+    snprintf(el, sizeof el, "%s[%d]", path, k);
+    pb_result r = number_in(R, el, &v->items[k], -FLT_MAX, FLT_MAX, &x);
+    if (r != PB_OK) return r;
+    out[k] = x;
+  }
+  return PB_OK;
+}
+
+/* A texture entry as the glTF textureInfo it is (the contract): index,
+ * texCoord and extensions.KHR_texture_transform, for the loader's texture
+ * path (load.c texture_ref: uv sets 0 and 1, the transform). */
+static pb_result texture_info(const reader *R, const char *path, const pb_gltf_value *e, const pb_gltf_value *iv,
+                              pb_gltf_texture_ref *ref) {
+  memset(ref, 0, sizeof *ref);
+  ref->index = (int32_t)iv->number;
+  ref->scale = 1.0;
+  ref->transform.scale[0] = ref->transform.scale[1] = 1.0;
+  ref->transform.texcoord = -1;
+  pb_result r = opt_index(R, e, path, "texCoord", &ref->texcoord);
+  if (r != PB_OK) return r;
+  const pb_gltf_value *ex = pb_gltf_value_get(e, "extensions");
+  char sub[192];
+  snprintf(sub, sizeof sub, "%s.extensions", path);
+  if (ex && ex->type != PB_GLTF_OBJECT) return bad(R, sub, "%s, expected an object", pb_gltf_value_type_name(ex));
+  const pb_gltf_value *x = pb_gltf_value_get(ex, "KHR_texture_transform");
+  if (!x) return PB_OK;
+  snprintf(sub, sizeof sub, "%s.extensions.KHR_texture_transform", path);
+  if (x->type != PB_GLTF_OBJECT) return bad(R, sub, "%s, expected an object", pb_gltf_value_type_name(x));
+  pb_gltf_texture_transform *t = &ref->transform;
+  t->present = 1;
+  float rot = 0;
+  if ((r = opt_pair(R, x, sub, "offset", t->offset)) != PB_OK) return r;
+  if ((r = opt_pair(R, x, sub, "scale", t->scale)) != PB_OK) return r;
+  if ((r = opt_number(R, x, sub, "rotation", -FLT_MAX, FLT_MAX, &rot)) != PB_OK) return r;
+  t->rotation = rot;
+  return opt_index(R, x, sub, "texCoord", &t->texcoord);
+}
+
+static pb_result read_texture(const reader *R, const char *name, const pb_gltf_value *e, const target *t,
+                              pb_material *m) {
+  char path[128], sub[256];
+  snprintf(path, sizeof path, "textures.%s", name);
+  if (e->type != PB_GLTF_OBJECT) return bad(R, path, "%s, expected an object (a glTF textureInfo)", pb_gltf_value_type_name(e));
+  const pb_gltf_value *iv = pb_gltf_value_get(e, "index");
+  snprintf(sub, sizeof sub, "%s.index", path);
+  if (!iv) return bad(R, sub, "missing (required)");
+  if (iv->type != PB_GLTF_NUMBER || !iv->is_integer || iv->number < 0 || iv->number > INT32_MAX)
+    return bad(R, sub, "%s is not a texture index (an integer from 0 to 2^31-1)",
+               iv->type == PB_GLTF_NUMBER ? "the number" : pb_gltf_value_type_name(iv));
+  pb_gltf_texture_ref ref;
+  pb_result r = texture_info(R, path, e, iv, &ref);
+  if (r != PB_OK) return r;
+  static const char *const channels[] = {"R", "G", "B", "A", "RGB"};
+  int ch = CH_RGB;
+  if ((r = opt_enum(R, e, path, "channel", channels, 5, &ch)) != PB_OK) return r;
+  /* Colour sockets: sRGB texels unless the image is data (Non-Color;
+   * Linear and Raw images hold linear values too). */
+  static const char *const spaces[] = {"sRGB", "Non-Color", "Linear", "Raw"};
+  int space = 0;
+  if ((r = opt_enum(R, e, path, "colorSpace", spaces, 4, &space)) != PB_OK) return r;
+  float strength = 1.0f;
+  if ((r = opt_number(R, e, path, "strength", 0.0, FLT_MAX, &strength)) != PB_OK) return r;
+  int srgb = t->kind == T_COLOR && space == 0;
+  int32_t tex = PB_NO_TEXTURE;
+  snprintf(sub, sizeof sub, "materials[%d]." EXT ".%s", R->index, path);
+  if ((r = R->io->texture(R->io->user, &ref, srgb, sub, &tex)) != PB_OK) return r;
+  pb_blender_material *b = &m->blender;
+  switch (t->kind) {
+  case T_COLOR:
+    if (ch != CH_RGB)
+      return bad(R, path, "channel %s on a colour input (only RGB)", channels[ch]);
+    if (t->input == COLOR_BASE) m->base_color_tex = tex;
+    else if (t->input == COLOR_SUBSURFACE) b->subsurface_color_tex = tex;
+    else m->emissive_tex = tex;
+    break;
+  case T_NORMAL:
+    m->normal_tex = tex;
+    b->normal_strength = strength;
+    break;
+  case T_INPUT:
+    b->input_tex[t->input].tex = tex;
+    /* A colour output on a float socket: Cycles' colour-to-float is the
+     * luminance (svm_node_convert, linear_rgb_to_gray). */
+    b->input_tex[t->input].channel = (uint32_t)ch;
+    break;
+  default:
+    break;
+  }
+  return PB_OK;
+}
+
+static pb_result read_textures(const reader *R, const pb_gltf_value *ext, const target *targets, pb_material *m) {
+  const pb_gltf_value *tx;
+  pb_result r = opt_object(R, ext, "textures", &tx);
+  if (r != PB_OK || !tx) return r;
+  for (size_t i = 0; i < tx->count; ++i) {
+    const target *t = targets;
+    while (t->name && strcmp(t->name, tx->keys[i]) != 0) t++;
+    if (!t->name) {
+      r = warn(R, "materials[%d]." EXT ".textures.%s: not an input this model reads a texture for; its constant is used",
+               R->index, tx->keys[i]);
+    } else {
+      r = read_texture(R, tx->keys[i], &tx->items[i], t, m);
+    }
+    if (r != PB_OK) return r;
+  }
+  return PB_OK;
+}
+
+/* ---- models -------------------------------------------------------------- */
+
+typedef struct input_spec {
+  const char *name;
+  int input;
+  float dflt, lo, hi;
+} input_spec;
+
+static const input_spec principled_inputs[] = {
+    {"metallic", PB_IN_METALLIC, 0.0f, 0.0f, 1.0f},
+    {"specular", PB_IN_SPECULAR, 0.5f, 0.0f, 1.0f},
+    {"specularTint", PB_IN_SPECULAR_TINT, 0.0f, 0.0f, 1.0f},
+    {"roughness", PB_IN_ROUGHNESS, 0.5f, 0.0f, 1.0f},
+    {"anisotropic", PB_IN_ANISOTROPIC, 0.0f, 0.0f, 1.0f},
+    {"anisotropicRotation", PB_IN_ANISOTROPIC_ROTATION, 0.0f, 0.0f, 1.0f},
+    {"sheen", PB_IN_SHEEN, 0.0f, 0.0f, 1.0f},
+    {"sheenTint", PB_IN_SHEEN_TINT, 0.5f, 0.0f, 1.0f},
+    {"clearcoat", PB_IN_CLEARCOAT, 0.0f, 0.0f, 1.0f},
+    {"clearcoatRoughness", PB_IN_CLEARCOAT_ROUGHNESS, 0.03f, 0.0f, 1.0f},
+    {"ior", PB_IN_IOR, 1.45f, 0.0f, FLT_MAX},
+    {"transmission", PB_IN_TRANSMISSION, 0.0f, 0.0f, 1.0f},
+    {"transmissionRoughness", PB_IN_TRANSMISSION_ROUGHNESS, 0.0f, 0.0f, 1.0f},
+    {"alpha", PB_IN_ALPHA, 1.0f, 0.0f, 1.0f},
+    {"subsurface", PB_IN_SUBSURFACE, 0.0f, 0.0f, 1.0f},
+};
+
+static pb_result read_principled(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  pb_blender_material *b = &m->blender;
+  const pb_gltf_value *p;
+  pb_result r = opt_object(R, ext, "principled", &p);
+  if (r != PB_OK) return r;
+  float base[3] = {0.8f, 0.8f, 0.8f}, ss[3] = {0.8f, 0.8f, 0.8f}, em[3] = {0.0f, 0.0f, 0.0f}, strength = 1.0f;
+  float radius[3] = {1.0f, 0.2f, 0.1f};
+  int dist = 0, ssm = 0;
+  static const char *const dists[] = {"GGX", "MULTI_GGX"};
+  static const char *const ss_methods[] = {"RANDOM_WALK", "RANDOM_WALK_FIXED_RADIUS", "BURLEY"};
+  if (p) {
+    for (size_t i = 0; i < sizeof principled_inputs / sizeof *principled_inputs && r == PB_OK; ++i) {
+      const input_spec *in = &principled_inputs[i];
+      r = opt_number(R, p, "principled", in->name, in->lo, in->hi, &b->input[in->input]);
+    }
+    if (r == PB_OK) r = opt_color(R, p, "principled", "baseColor", base);
+    if (r == PB_OK) r = opt_color(R, p, "principled", "subsurfaceColor", ss);
+    if (r == PB_OK) r = opt_color(R, p, "principled", "emission", em);
+    if (r == PB_OK) r = opt_number(R, p, "principled", "emissionStrength", 0.0, FLT_MAX, &strength);
+    for (int k = 0; k < 3 && r == PB_OK; ++k) {
+      const pb_gltf_value *rv = pb_gltf_value_get(p, "subsurfaceRadius");
+      if (!rv) break;
+      if (rv->type != PB_GLTF_ARRAY || rv->count != 3) {
+        r = bad(R, "principled.subsurfaceRadius", "expected an array of 3 numbers");
+        break;
+      }
+      char el[64];
+      snprintf(el, sizeof el, "principled.subsurfaceRadius[%d]", k);
+      r = number_in(R, el, &rv->items[k], -FLT_MAX, FLT_MAX, &radius[k]);
+    }
+    if (r == PB_OK) r = opt_enum(R, p, "principled", "distribution", dists, 2, &dist);
+    if (r == PB_OK) r = opt_enum(R, p, "principled", "subsurfaceMethod", ss_methods, 3, &ssm);
+    if (r != PB_OK) return r;
+  }
+  b->distribution = dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
+  memcpy(b->subsurface_color, ss, sizeof ss);
+  for (int k = 0; k < 3; ++k) {
+    m->base_color[k] = base[k];
+    m->emissive[k] = em[k] * strength;
+  }
+  if ((r = read_textures(R, ext, principled_targets, m)) != PB_OK) return r;
+  /* A texture replaces its socket's constant, so the colour factor of an
+   * emission texture is the strength alone. */
+  if (m->emissive_tex >= 0) m->emissive[0] = m->emissive[1] = m->emissive[2] = strength;
+  m->base_color[3] = b->input[PB_IN_ALPHA];
+  m->metallic = b->input[PB_IN_METALLIC];
+  m->roughness = b->input[PB_IN_ROUGHNESS];
+  m->transmission = b->input[PB_IN_TRANSMISSION];
+  m->ior = b->input[PB_IN_IOR] >= 1.0f ? b->input[PB_IN_IOR] : 1.0f;
+  if (b->distribution == PB_DISTRIBUTION_MULTI_GGX &&
+      (b->input[PB_IN_TRANSMISSION] > 0.0f || b->input_tex[PB_IN_TRANSMISSION].tex >= 0) &&
+      (b->input[PB_IN_ROUGHNESS] > 0.05f || b->input_tex[PB_IN_ROUGHNESS].tex >= 0) &&
+      (r = warn(R, "materials[%d]." EXT ".principled.distribution: MULTI_GGX glass (roughness above 0.05) is rendered "
+                   "with the single-scatter GGX glass closures", R->index)) != PB_OK)
+    return r;
+  if ((b->input[PB_IN_SUBSURFACE] > 0.0f || b->input_tex[PB_IN_SUBSURFACE].tex >= 0) &&
+      (r = warn(R, "materials[%d]." EXT ".principled.subsurface: %g: approximated as diffuse with the subsurface-mixed "
+                   "colour (no subsurface scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
+    return r;
+  return PB_OK;
+}
+
+static pb_result read_diffuse(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  const pb_gltf_value *d;
+  pb_result r = opt_object(R, ext, "diffuse", &d);
+  if (r != PB_OK) return r;
+  float color[3] = {0.8f, 0.8f, 0.8f};
+  m->blender.input[PB_IN_ROUGHNESS] = 0.0f;
+  if (d && ((r = opt_color(R, d, "diffuse", "color", color)) != PB_OK ||
+            (r = opt_number(R, d, "diffuse", "roughness", 0.0, 1.0, &m->blender.input[PB_IN_ROUGHNESS])) != PB_OK))
+    return r;
+  for (int k = 0; k < 3; ++k) m->base_color[k] = color[k];
+  m->roughness = m->blender.input[PB_IN_ROUGHNESS];
+  return read_textures(R, ext, diffuse_targets, m);
+}
+
+static pb_result read_emission(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  const pb_gltf_value *e;
+  pb_result r = opt_object(R, ext, "emission", &e);
+  if (r != PB_OK) return r;
+  float color[3] = {1.0f, 1.0f, 1.0f}, strength = 1.0f;
+  if (e && ((r = opt_color(R, e, "emission", "color", color)) != PB_OK ||
+            (r = opt_number(R, e, "emission", "strength", 0.0, FLT_MAX, &strength)) != PB_OK))
+    return r;
+  for (int k = 0; k < 3; ++k) m->emissive[k] = color[k] * strength;
+  if ((r = read_textures(R, ext, emission_targets, m)) != PB_OK) return r;
+  if (m->emissive_tex >= 0) m->emissive[0] = m->emissive[1] = m->emissive[2] = strength;
+  return PB_OK;
+}
+
+void pb_blender_material_defaults(pb_material *m, pb_material_model model) {
+  /* The extension replaces the plain glTF form: start from nothing. */
+  pb_blender_material *b = &m->blender;
+  memset(b, 0, sizeof *b);
+  for (int k = 0; k < 4; ++k) m->base_color[k] = k == 3 ? 1.0f : 0.0f;
+  for (int k = 0; k < 3; ++k) m->emissive[k] = 0.0f;
+  m->metallic = m->roughness = m->transmission = 0.0f;
+  m->ior = 1.5f;
+  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
+  m->normal_scale = 1.0f;
+  m->alpha_mode = PB_ALPHA_OPAQUE;
+  m->double_sided = 1; /* Cycles' emission leaves both sides of a face */
+  m->unlit = 0;        /* glTF extensions of the plain form do not apply */
+  memset(m->attenuation, 0, sizeof m->attenuation);
+  b->model = model;
+  b->subsurface_color_tex = PB_NO_TEXTURE;
+  b->normal_strength = 1.0f;
+  for (int i = 0; i < PB_IN_COUNT; ++i) b->input_tex[i].tex = PB_NO_TEXTURE;
+  switch (model) {
+  case PB_MODEL_PRINCIPLED:
+    for (size_t i = 0; i < sizeof principled_inputs / sizeof *principled_inputs; ++i)
+      b->input[principled_inputs[i].input] = principled_inputs[i].dflt;
+    for (int k = 0; k < 3; ++k) m->base_color[k] = b->subsurface_color[k] = 0.8f;
+    m->roughness = b->input[PB_IN_ROUGHNESS];
+    m->ior = b->input[PB_IN_IOR];
+    break;
+  case PB_MODEL_DIFFUSE:
+    for (int k = 0; k < 3; ++k) m->base_color[k] = 0.8f;
+    break;
+  case PB_MODEL_EMISSION:
+    for (int k = 0; k < 3; ++k) m->emissive[k] = 1.0f;
+    break;
+  default:
+    break;
+  }
+}
+
+pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, const pb_gltf_value *ext,
+                                   pb_material *m) {
+  reader R = {io, index};
+  if (ext->type != PB_GLTF_OBJECT)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ": %s, expected an object", io->path, index,
+                   pb_gltf_value_type_name(ext));
+  static const char *const models[] = {"principled", "diffuse", "emission", "holdout"};
+  int model = -1;
+  pb_result r = opt_enum(&R, ext, "", "model", models, 4, &model);
+  if (r != PB_OK) return r;
+  if (model < 0) return bad(&R, "model", "missing (required: principled, diffuse, emission or holdout)");
+
+  pb_blender_material *b = &m->blender;
+  pb_blender_material_defaults(m, (pb_material_model)(PB_MODEL_PRINCIPLED + model));
+  switch (b->model) {
+  case PB_MODEL_PRINCIPLED: r = read_principled(&R, ext, m); break;
+  case PB_MODEL_DIFFUSE: r = read_diffuse(&R, ext, m); break;
+  case PB_MODEL_EMISSION: r = read_emission(&R, ext, m); break;
+  default: break; /* holdout: nothing to read */
+  }
+  if (r != PB_OK) return r;
+
+  /* Viewport settings Cycles does not use (EEVEE's blend mode, clip
+   * threshold, backface culling): checked, not used. Cycles renders Alpha
+   * as fractional transparency whatever the blend mode. */
+  static const char *const blends[] = {"OPAQUE", "CLIP", "HASHED", "BLEND"};
+  int blend = 0;
+  float threshold = 0.5f;
+  if ((r = opt_enum(&R, ext, "", "blendMethod", blends, 4, &blend)) != PB_OK) return r;
+  if ((r = opt_number(&R, ext, "", "alphaThreshold", 0.0, 1.0, &threshold)) != PB_OK) return r;
+  const pb_gltf_value *cull = pb_gltf_value_get(ext, "backfaceCulling");
+  if (cull && cull->type != PB_GLTF_BOOL)
+    return bad(&R, "backfaceCulling", "%s, expected true or false", pb_gltf_value_type_name(cull));
+  const pb_gltf_value *w = pb_gltf_value_get(ext, "warnings");
+  if (w) {
+    if (w->type != PB_GLTF_ARRAY) return bad(&R, "warnings", "%s, expected an array of strings", pb_gltf_value_type_name(w));
+    for (size_t i = 0; i < w->count; ++i) {
+      if (w->items[i].type != PB_GLTF_STRING) {
+        char path[64];
+        snprintf(path, sizeof path, "warnings[%zu]", i);
+        return bad(&R, path, "%s, expected a string", pb_gltf_value_type_name(&w->items[i]));
+      }
+      if ((r = warn(&R, "materials[%d] (%s): the Blender writer says: %s", index, m->name, w->items[i].string)) != PB_OK)
+        return r;
+    }
+  }
+  return PB_OK;
+}
+
+int pb_blender_needs_tangent(const pb_material *m) {
+  const pb_blender_material *b = &m->blender;
+  return b->model == PB_MODEL_PRINCIPLED && m->normal_tex < 0 &&
+         (b->input[PB_IN_ANISOTROPIC] > 0.0f || b->input_tex[PB_IN_ANISOTROPIC].tex >= 0);
+}
+
+int pb_blender_radial_tangent(const double pl[3], const double bmin[3], const double bmax[3], const double N[9],
+                              float out[3]) {
+  /* Blender's texture space: a zero extent counts as 1 (so the division
+   * stays finite; BKE_mesh_texspace_calc). glTF x is Blender's x, glTF z is
+   * Blender's -y: (g.x - 1/2, g.y - 1/2) = ((x - cx) / sx, -(z - cz) / sz),
+   * and Blender's (-(g.y - 1/2), g.x - 1/2, 0) is glTF's
+   * ((z - cz) / sz, 0, -(x - cx) / sx). */
+  double sx = bmax[0] - bmin[0], sz = bmax[2] - bmin[2];
+  if (!(sx > 0.0)) sx = 1.0;
+  if (!(sz > 0.0)) sz = 1.0;
+  double t[3] = {(pl[2] - 0.5 * (bmin[2] + bmax[2])) / sz, 0.0, -(pl[0] - 0.5 * (bmin[0] + bmax[0])) / sx};
+  double w[3], l = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    w[r] = N[r] * t[0] + N[3 + r] * t[1] + N[6 + r] * t[2];
+    l += w[r] * w[r];
+  }
+  l = sqrt(l);
+  if (!(l > 1e-12) || !isfinite(l)) return 0;
+  for (int r = 0; r < 3; ++r) out[r] = (float)(w[r] / l);
+  return 1;
+}

@@ -1,0 +1,48 @@
+# The Blender materials against Cycles 3.4 (tests/principled_lobes.py): each
+# Principled lobe alone, a rough glass and the white furnace, rendered by the
+# reference and by the GPU pipeline and compared with the committed Cycles
+# renders of tests/data/principled (exporters/blender/make_principled_tests.py):
+# mean within 1 %, PSNR >= 35 dB.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME principled_lobes_ref
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/principled_ref --renderer ref
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(principled_lobes_ref PROPERTIES TIMEOUT 600 LABELS principled
+                       PASS_REGULAR_EXPRESSION " 0 failed")
+  add_test(NAME principled_lobes_gpu
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/principled_gpu --renderer gpu
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(principled_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       TIMEOUT 1200 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
+endif()
+# The studio benchmark's driver end to end in its smoke mode (one tiny point
+# per renderer and scene: every option it passes exists, every output it
+# reads is written).
+if(Python3_Interpreter_FOUND)
+  add_test(NAME bench_principled_smoke
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/bench/principled_studio.py --smoke --exe ${PB_EXE}
+                   --probe $<TARGET_FILE:exr_probe> --out ${CMAKE_CURRENT_BINARY_DIR}/bench_principled_smoke
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(bench_principled_smoke PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                       LABELS "gpu;no-sanitize;bench;principled" PASS_REGULAR_EXPRESSION "principled_studio: 8 points")
+endif()
+add_test(NAME cli_render_glossy_path_roughness_over
+         COMMAND sh -c "\"$0\" render tests/data/principled/studio/studio.gltf -o x.exr --glossy-path-roughness 1.5; echo \"exit=$?\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_glossy_path_roughness_over PROPERTIES
+                     PASS_REGULAR_EXPRESSION "glossy-path-roughness: 1.5 is outside \\[0, 1\\].*exit=2")
+# The render engine's writer on every Principled test scene, rebuilt in
+# Blender: the same material extension as the committed glTF whose Cycles
+# render principled_lobes compares with, loaded as the same Blender model
+# (tests/blender/principled_writer.py).
+add_test(NAME principled_writer
+         COMMAND sh -c "command -v blender >/dev/null || { echo 'skip: no blender'; exit 77; }
+                        PATH=$(echo \"$PATH\" | tr : '\\n' | grep -v pyenv | paste -sd:) blender -b --factory-startup \
+                          --python-exit-code 1 -P tests/blender/principled_writer.py -- \"$0\" \"$1\""
+                 ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled_writer
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "19 passed, 0 failed")

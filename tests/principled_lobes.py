@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Each Principled lobe alone, Blender's Diffuse BSDF, the rough glass, the
+white furnace and the studio (tests/data/principled, made by
+exporters/blender/make_principled_tests.py) rendered by photonbridge and
+compared with the committed Cycles 3.4 render of the same .blend scene:
+
+  mean   |mean(photonbridge) / mean(Cycles) - 1| <= 1 %  (all pixels, RGB)
+  PSNR   >= 35 dB on the display image (photonbridge compare, built-in sRGB
+         view); on the studio (full global illumination) the issue's goals:
+         the reference >= 38 dB, the GPU >= 30 dB
+
+usage: principled_lobes.py PHOTONBRIDGE EXR_PROBE WORKDIR --renderer ref|gpu
+           [--only NAME] [--spp N] [--table FILE.md]
+Exit 77 for --renderer gpu when no Vulkan device is present. Cycles' own
+noise per scene is in tests/data/principled/cycles.json (every scene is far
+below these thresholds: 46-139 dB, the studio 62-63 dB)."""
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "data", "principled")
+MEAN_TOL = 0.01
+PSNR_MIN = 35.0
+STUDIO = ("studio", "studio_multi")
+PSNR_MIN_STUDIO = {"ref": 38.0, "gpu": 30.0}
+
+# Samples per pixel for each renderer. Few photons: a convex sphere in a
+# black world gets no indirect light (the furnace's and the glass's
+# emitters are reached by the GPU's light samples and eye paths).
+SPP = {"ref": 64, "gpu": 64}
+# More samples where the noise needs them: the rough glass refracts an
+# emitter; the GPU lights diffuse lobes from emitters by light sampling
+# alone (the furnace: a uniform world); the sheen is a thin rim whose mean
+# is its few silhouette pixels' anti-aliasing.
+SPP_SCENE = {"ref": {"glass": 512, "studio": 256, "studio_multi": 256},
+             "gpu": {"glass": 512, "furnace": 256, "sheen": 256, "studio": 16, "studio_multi": 16}}
+# The GPU's photon options: 2^14 paths, one map, except on the studio, whose
+# indirect light is the photon map's: the Blender render engine's defaults
+# (2^18 paths x 16 progressive maps at 16 spp; measured 41.0 / 40.5 dB, mean
+# -0.30 / -0.63 %, 17 s of CPU on lavapipe; fewer photons leave the mean
+# up to 0.9 % low on studio_multi: bench/README.md).
+ENGINE = ["--photons", "262144", "--iterations", "16", "--progressive"]
+GPU_OPTS = {"studio": ENGINE, "studio_multi": ENGINE}
+# The GPU renders these again with every glossy layer followed by the eye
+# path (--glossy-path-roughness 1; by default layers rougher than 0.15 are
+# shaded where the eye path stops, from direct light and the photon map):
+# both ways must match Cycles.
+FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "metal_aniso", "clearcoat", "studio"]
+
+
+def probe(exe, path):
+    p = subprocess.run([exe, path], capture_output=True, text=True)
+    if p.returncode:
+        raise RuntimeError("exr_probe %s: %s" % (path, p.stderr.strip()))
+    ch = json.loads(p.stdout)["channels"]
+    return [ch["R"], ch["G"], ch["B"]]
+
+
+def mean(img):
+    return sum(sum(c) for c in img) / sum(len(c) for c in img)
+
+
+def main(argv):
+    exe, probe_exe, work = argv[0], argv[1], argv[2]
+    rest = argv[3:]
+    renderer, only, spp, table = "ref", [], None, None
+    while rest:
+        a = rest.pop(0)
+        if a == "--renderer":
+            renderer = rest.pop(0)
+        elif a == "--only":
+            only.append(rest.pop(0))
+        elif a == "--spp":
+            spp = int(rest.pop(0))
+        elif a == "--table":
+            table = rest.pop(0)
+    spp_all = spp
+    if renderer == "gpu":
+        if subprocess.run([exe, "info", "--devices"], capture_output=True).returncode:
+            print("skip: no Vulkan device")
+            return 77
+    with open(os.path.join(DATA, "cycles.json")) as f:
+        cyc = json.load(f)
+    os.makedirs(work, exist_ok=True)
+    names = [n for n in sorted(cyc) if not only or n in only]
+    # (label, scene, extra render options)
+    cases = [(n, n, []) for n in names]
+    if renderer == "gpu":
+        cases += [(n + "@R1", n, ["--glossy-path-roughness", "1"]) for n in names if n in FOLLOWED]
+    failed = 0
+    rows = []
+    for label, name, extra in cases:
+        scene = os.path.join(DATA, name, name + ".gltf")
+        ref = os.path.join(DATA, name, "cycles.exr")
+        out = os.path.join(work, "%s_%s.exr" % (label, renderer))
+        w = str(cyc[name]["width"])
+        spp = spp_all or SPP_SCENE[renderer].get(name, SPP[renderer])
+        if renderer == "ref":
+            cmd = [exe, "reference", scene, "-o", out, "--width", w, "--spp", str(spp), "-q"]
+            if name in STUDIO:
+                cmd += ["--max-bounces", "64"]  # as Cycles' render (the lobes' paths end sooner)
+        else:
+            cmd = [exe, "render", scene, "-o", out, "--width", w, "--spp", str(spp), "-q"]
+            cmd += GPU_OPTS.get(name, ["--photons", "16384"]) + extra
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode:
+            print("FAIL %s: %s exited %d: %s" % (label, renderer, p.returncode, p.stderr.strip()))
+            failed += 1
+            continue
+        js = os.path.join(work, "%s_%s.json" % (label, renderer))
+        p = subprocess.run([exe, "compare", out, ref, "--json", js, "-q"], capture_output=True, text=True)
+        if p.returncode:
+            print("FAIL %s: compare exited %d: %s" % (label, p.returncode, p.stderr.strip()))
+            failed += 1
+            continue
+        psnr = json.load(open(js))["psnr_db"]
+        psnr = 200.0 if psnr is None else psnr
+        ma, mb = mean(probe(probe_exe, out)), mean(probe(probe_exe, ref))
+        dm = ma / mb - 1.0 if mb > 0 else 0.0
+        ok = abs(dm) <= MEAN_TOL and psnr >= (PSNR_MIN_STUDIO[renderer] if name in STUDIO else PSNR_MIN)
+        failed += not ok
+        rows.append((label, psnr, dm, cyc[name]["noise_psnr_db"]))
+        print("%s %-22s %s %3d spp: PSNR %6.2f dB, mean %+.3f %% (photonbridge %.5f, Cycles %.5f; Cycles' noise %.1f dB)" % (
+            "ok  " if ok else "FAIL", label, renderer, spp, psnr, 100 * dm, ma, mb, cyc[name]["noise_psnr_db"]))
+    if table:
+        with open(table, "w") as f:
+            f.write("| scene | PSNR | mean | Cycles' noise |\n|---|---:|---:|---:|\n")
+            for name, psnr, dm, noise in rows:
+                f.write("| %s | %.2f dB | %+.3f %% | %.1f dB |\n" % (name, psnr, 100 * dm, noise))
+    print("%d passed, %d failed" % (len(cases) - failed, failed))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
