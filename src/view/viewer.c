@@ -481,7 +481,9 @@ static pb_result one_frame(viewer *v, double dt) {
   pb_scene *s = v->s;
   pb_result r;
   double t0 = pb_time_now();
-  pb_view_controller_tick(&v->ctl, dt);
+  /* A frame slower than 4 fps flies as if it took 0.25 s, so that a held
+   * key on a slow device moves in steps one can steer. */
+  pb_view_controller_tick(&v->ctl, dt < 0.25 ? dt : 0.25);
   if (v->ctl.moves != v->moves_seen) { /* the user took the camera */
     v->moves_seen = v->ctl.moves;
     v->follow = 0;
