@@ -3,7 +3,8 @@
 
   still      after N still frames the window's screenshot is `photonbridge
              display` of `render --frames 0:N-1` (the same camera, settings
-             and seed; the last frame of that still run), every channel within
+             and seed; the last frame of that still run), also after + + (one
+             stop of exposure, display --exposure 1), every channel within
              one 8-bit step (the photon store's slot order follows the
              device's scheduling, so the sums may differ in the last float
              bits); validation layers on (zero messages, or the exit code is
@@ -90,23 +91,33 @@ def validation_env():
 
 
 def part_still():
+    # Frames 0-3 still; the screenshot event at frame 3 (before it renders)
+    # shows frame 2; two presses of + at frame 3 raise the exposure by one
+    # stop, so the final screenshot is frame 3 at +1 EV: both are compared
+    # with display's PNGs of those frames' EXRs (--exposure 1 for the second).
     n = 4
-    shot = os.path.join(OUT, "view.png")
-    run(["view", SCENE] + SETTINGS + ["--exit-after", str(n), "--screenshot", shot, "-q"], env=validation_env())
+    early, shot = os.path.join(OUT, "view_2.png"), os.path.join(OUT, "view_3_ev1.png")
+    script = os.path.join(OUT, "still.txt")
+    with open(script, "w") as f:
+        f.write("3 screenshot %s\n3 key plus\n3 key plus\n" % early)
+    run(["view", SCENE] + SETTINGS + ["--exit-after", str(n), "--script", script, "--screenshot", shot, "-q"],
+        env=validation_env())
     run(["render", SCENE] + SETTINGS + ["--frames", "0:%d" % (n - 1), "-o", os.path.join(OUT, "f_#.exr"), "-q"],
         env=validation_env(), xvfb=False)
-    ref = os.path.join(OUT, "display.png")
-    run(["display", os.path.join(OUT, "f_%d.exr" % (n - 1)), "-o", ref], xvfb=False)
-    a, b = png(shot), png(ref)
-    if a.shape != b.shape:
-        fail("screenshot %s, display %s" % (a.shape, b.shape))
-    d = np.abs(a - b)
-    print("view_check still: %d frames, 64 px: max difference %d, mean %.4f (8-bit steps), mean level %.1f"
-          % (n, d.max(), d.mean(), a.mean()))
-    if d.max() > 1:
-        fail("the screenshot differs from display's PNG by up to %d steps (at most 1)" % d.max())
-    if a.mean() < 20:
-        fail("the picture is black (mean level %.1f)" % a.mean())
+    for frame, view_png, ev in ((n - 2, early, 0), (n - 1, shot, 1)):
+        ref = os.path.join(OUT, "display_%d.png" % frame)
+        run(["display", os.path.join(OUT, "f_%d.exr" % frame), "-o", ref, "--exposure", str(ev)], xvfb=False)
+        a, b = png(view_png), png(ref)
+        if a.shape != b.shape:
+            fail("screenshot %s, display %s" % (a.shape, b.shape))
+        d = np.abs(a - b)
+        print("view_check still: frame %d (%d still frames), 64 px, exposure %+d: max difference %d, mean %.4f "
+              "(8-bit steps), mean level %.1f" % (frame, frame + 1, ev, d.max(), d.mean(), a.mean()))
+        if d.max() > 1:
+            fail("the screenshot of frame %d differs from display's PNG by up to %d steps (at most 1)"
+                 % (frame, d.max()))
+        if a.mean() < 20:
+            fail("the picture is black (mean level %.1f)" % a.mean())
 
 
 def part_input():

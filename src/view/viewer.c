@@ -604,6 +604,13 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   double last = pb_time_now();
   while (!glfwWindowShouldClose(v.win)) {
     glfwPollEvents();
+    if (glfwGetWindowAttrib(v.win, GLFW_ICONIFIED) && !d->script && !d->exit_after) {
+      /* Minimised: nothing is shown, so nothing is rendered until restored
+       * (scripted runs go on: their frames are counted). */
+      glfwWaitEventsTimeout(0.25);
+      last = pb_time_now();
+      continue;
+    }
     if ((r = run_script(&v)) != PB_OK || (r = v.error) != PB_OK) goto done;
     double now = pb_time_now(), dt = now - last;
     last = now;
