@@ -101,7 +101,6 @@ int pb_cmd_view(int argc, char **argv) {
   if (alpha < 0 || !(alpha < 1))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "view: --alpha %g must lie in (0, 1)", alpha));
 #ifndef PB_HAVE_GLFW
-  (void)co, (void)spp, (void)max_spec, (void)photons, (void)iterations, (void)bounces, (void)device;
   return pb_cli_exit(cmd, pb_fail(PB_ERR_NOT_AVAILABLE, "view: this photonbridge was built without GLFW (install "
                                   "libglfw3-dev and rebuild); render to a file with 'photonbridge render'"));
 #else
