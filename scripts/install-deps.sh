@@ -10,7 +10,8 @@ set -euo pipefail
 # Validation peers: POV-Ray 3.7, Blender 3.4 (headless exporter, Cycles) with
 # numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets,
 # Pillow for their image seeds (tests/fuzz/make_image_seeds.py);
-# valgrind for the memory checks of the CPU paths.
+# valgrind for the memory checks of the CPU paths. GLFW 3, Xvfb and xauth
+# (xvfb-run) for `photonbridge view` and its tests.
 PKGS=(
   build-essential cmake pkg-config python3
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
@@ -18,10 +19,10 @@ PKGS=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev libspng-dev libjpeg62-turbo-dev
   povray blender python3-numpy
   clang libclang-rt-14-dev python3-pil valgrind
+  libglfw3-dev xvfb xauth
 )
-# Optional extras: skipped quietly when the archive lacks them. xvfb: the
-# Blender window screenshot of the README (exporters/blender/screenshot.sh).
-OPTIONAL=(python3-matplotlib chromium xvfb)
+# Optional extras: skipped quietly when the archive lacks them.
+OPTIONAL=(python3-matplotlib chromium)
 
 # The Khronos glTF-Validator (npm gltf-validator) for the Blender add-on's
 # tests, into tools/node_modules (ignored by git). npm comes from Debian's

@@ -15,5 +15,6 @@ int pb_cmd_export_pov(int argc, char **argv);
 int pb_cmd_reference(int argc, char **argv);
 int pb_cmd_compare(int argc, char **argv);
 int pb_cmd_validate(int argc, char **argv);
+int pb_cmd_view(int argc, char **argv);
 
 #endif

@@ -190,7 +190,6 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   if (q->has_prev) {
     memcpy(q->prev_positions, s->positions, (size_t)s->vertex_count * sizeof *q->prev_positions);
     memcpy(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights);
-    q->prev_cam = s->cameras[q->camera];
   }
   double t0 = pb_time_now(), c0 = pb_thread_cpu_now();
   if (s->anim && (r = pb_scene_set_time(s, t)) != PB_OK) return r;
@@ -250,6 +249,10 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     pb_shading_correction_apply(out, (size_t)q->width * q->height, PB_SHADING_CORRECTION_S_MAX);
   accumulate(q, out, fi.still && q->has_prev);
   q->has_prev = 1;
+  /* The camera this frame used, kept here rather than read from the scene
+   * at the next call: a caller may set the camera itself between frames
+   * (photonbridge view), which is a move like any other. */
+  q->prev_cam = *cam;
   if (info) *info = fi;
   return PB_OK;
 fail:

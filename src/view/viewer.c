@@ -1,0 +1,649 @@
+/* The interactive viewer's loop (viewer.h). */
+#include "view/viewer.h"
+
+#include <GLFW/glfw3.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "app/render_out.h"
+#include "core/fs.h"
+#include "core/json.h"
+#include "core/log.h"
+#include "image/image.h"
+#include "metrics/metrics.h"
+#include "view/controller.h"
+#include "view/present.h"
+
+/* stb_image_write's implementation lives in src/image/png.c; this is only
+ * its declarations (as src/color/png_display.c). */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-prototypes"
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include <stb_image_write.h>
+#pragma GCC diagnostic pop
+
+/* The AOVs the window can show, in Tab / F1.. order. */
+enum { AOV_BEAUTY, AOV_DIRECT, AOV_INDIRECT, AOV_CAUSTIC, AOV_EMISSION, AOV_ALBEDO, AOV_NORMAL, AOV_DEPTH, AOV_COUNT };
+static const char *const aov_names[AOV_COUNT] = {"beauty",   "direct", "indirect", "caustic",
+                                                 "emission", "albedo", "normal",   "depth"};
+
+/* A --script event: at frame `frame` (0 = before the first frame). */
+enum { EV_CURSOR, EV_PRESS, EV_RELEASE, EV_SCROLL, EV_KEY, EV_KEYDOWN, EV_KEYUP, EV_RESIZE, EV_SCREENSHOT };
+typedef struct script_event {
+  uint32_t frame;
+  int kind;
+  double a, b;
+  int key; /* GLFW key or mouse button */
+  char path[256];
+} script_event;
+
+/* Per-frame statistics for --json. */
+typedef struct frame_stat {
+  double wall_ms, render_ms, present_ms, psnr, t;
+  int still;
+  uint32_t run_frames; /* frames refined by the current still run */
+} frame_stat;
+
+static uint32_t validation_messages;
+uint32_t pb_view_validation_total(void) { return validation_messages; }
+
+typedef struct viewer {
+  pb_gpu *g;
+  pb_scene *s;
+  pb_gpu_scene *gs;
+  const pb_view_desc *d;
+  GLFWwindow *win;
+  pb_present *pres;
+  pb_sequence *seq;
+  pb_view_controller ctl;
+  int follow;            /* 1: the scene camera `camera` as the file (and its animation) has it */
+  pb_camera file_cam;    /* the bound slot's own camera, restored when following */
+  int selected;          /* the glTF camera chosen with 1-9 / [ ] */
+  unsigned moves_seen;
+  int playing;
+  double t, t_posed;     /* animation time now, and the pose the scene holds */
+  int aov;
+  double exposure;
+  pb_color *color, *metric;
+  float *ref_display;    /* the reference through the metrics view, RGB */
+  float *tmp;            /* RGBA floats of the shown AOV */
+  uint8_t *rgba;         /* the bytes shown */
+  pb_render_result res;
+  uint32_t frame, run_frames;
+  int save;              /* P / F12 pressed */
+  uint32_t saves;
+  const char *note;      /* a one-off remark for the title */
+  pb_result error;       /* set by a handler (colour view failing) */
+  script_event *events;
+  size_t event_count, event_next;
+  frame_stat *stats;
+  size_t stat_cap;
+} viewer;
+
+/* ---- input: the GLFW callbacks and the script call these ---------------- */
+
+static void select_camera(viewer *v, int k) {
+  if (k < 0 || (uint32_t)k >= v->s->camera_count) return;
+  v->selected = k;
+  v->follow = k == v->d->camera;
+  /* The bound slot holds the view's camera; every other slot is the file's
+   * (posed at the current time when animated). */
+  const pb_camera *c = v->follow ? &v->file_cam : &v->s->cameras[k];
+  pb_view_controller_reset(&v->ctl, c, v->s->bounds_min, v->s->bounds_max);
+  v->moves_seen = v->ctl.moves;
+}
+
+static void set_exposure(viewer *v, double ev) {
+  pb_color_desc cd = v->d->color;
+  cd.exposure = ev;
+  pb_color *c = NULL;
+  pb_result r = pb_color_open(&cd, &c);
+  if (r != PB_OK) {
+    v->error = r;
+    return;
+  }
+  pb_color_destroy(v->color);
+  v->color = c;
+  v->exposure = ev;
+}
+
+static void on_key_event(viewer *v, int key, int action, int mods) {
+  (void)mods;
+  int down = action != GLFW_RELEASE;
+  static const struct { int key; unsigned bit; } fly[] = {
+      {GLFW_KEY_W, PB_VIEW_FLY_FORWARD}, {GLFW_KEY_S, PB_VIEW_FLY_BACK}, {GLFW_KEY_A, PB_VIEW_FLY_LEFT},
+      {GLFW_KEY_D, PB_VIEW_FLY_RIGHT},   {GLFW_KEY_E, PB_VIEW_FLY_UP},   {GLFW_KEY_Q, PB_VIEW_FLY_DOWN}};
+  for (size_t i = 0; i < sizeof fly / sizeof fly[0]; ++i)
+    if (key == fly[i].key) {
+      pb_view_controller_fly_key(&v->ctl, fly[i].bit, down);
+      return;
+    }
+  if (key == GLFW_KEY_LEFT_SHIFT || key == GLFW_KEY_RIGHT_SHIFT) {
+    pb_view_controller_shift(&v->ctl, down);
+    return;
+  }
+  if (action != GLFW_PRESS) return;
+  int n = (int)v->s->camera_count;
+  if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) select_camera(v, key - GLFW_KEY_1);
+  else if (key == GLFW_KEY_LEFT_BRACKET) select_camera(v, (v->selected + n - 1) % n);
+  else if (key == GLFW_KEY_RIGHT_BRACKET) select_camera(v, (v->selected + 1) % n);
+  else if (key == GLFW_KEY_HOME) select_camera(v, v->selected);
+  else if (key == GLFW_KEY_SPACE) {
+    if (v->s->anim) v->playing = !v->playing;
+    else v->note = "no animation";
+  } else if (key == GLFW_KEY_TAB) v->aov = (v->aov + 1) % AOV_COUNT;
+  else if (key >= GLFW_KEY_F1 && key < GLFW_KEY_F1 + AOV_COUNT) v->aov = key - GLFW_KEY_F1;
+  else if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) set_exposure(v, v->exposure + 0.5);
+  else if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) set_exposure(v, v->exposure - 0.5);
+  else if (key == GLFW_KEY_0) set_exposure(v, v->d->color.exposure);
+  else if (key == GLFW_KEY_P || key == GLFW_KEY_F12) v->save = 1;
+  else if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(v->win, GLFW_TRUE);
+}
+
+static int view_button(int glfw_button) {
+  if (glfw_button == GLFW_MOUSE_BUTTON_LEFT) return PB_VIEW_BUTTON_LEFT;
+  if (glfw_button == GLFW_MOUSE_BUTTON_MIDDLE) return PB_VIEW_BUTTON_MIDDLE;
+  if (glfw_button == GLFW_MOUSE_BUTTON_RIGHT) return PB_VIEW_BUTTON_RIGHT;
+  return -1;
+}
+
+static void on_cursor_event(viewer *v, double x, double y) {
+  int ww = 0, wh = 0;
+  glfwGetWindowSize(v->win, &ww, &wh);
+  pb_view_controller_cursor(&v->ctl, x, y, wh > 0 ? wh : 1);
+}
+
+static void cb_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
+  (void)scancode;
+  on_key_event(glfwGetWindowUserPointer(w), key, action, mods);
+}
+static void cb_button(GLFWwindow *w, int button, int action, int mods) {
+  (void)mods;
+  viewer *v = glfwGetWindowUserPointer(w);
+  pb_view_controller_button(&v->ctl, view_button(button), action == GLFW_PRESS);
+}
+static void cb_cursor(GLFWwindow *w, double x, double y) { on_cursor_event(glfwGetWindowUserPointer(w), x, y); }
+static void cb_scroll(GLFWwindow *w, double dx, double dy) {
+  (void)dx;
+  viewer *v = glfwGetWindowUserPointer(w);
+  pb_view_controller_scroll(&v->ctl, dy);
+}
+
+/* ---- the script ------------------------------------------------------------ */
+
+static int key_by_name(const char *n) {
+  static const struct { const char *name; int key; } named[] = {
+      {"space", GLFW_KEY_SPACE}, {"home", GLFW_KEY_HOME}, {"tab", GLFW_KEY_TAB}, {"escape", GLFW_KEY_ESCAPE},
+      {"plus", GLFW_KEY_EQUAL},  {"minus", GLFW_KEY_MINUS}, {"[", GLFW_KEY_LEFT_BRACKET},
+      {"]", GLFW_KEY_RIGHT_BRACKET}, {"shift", GLFW_KEY_LEFT_SHIFT}, {"f12", GLFW_KEY_F12}};
+  for (size_t i = 0; i < sizeof named / sizeof named[0]; ++i)
+    if (strcmp(n, named[i].name) == 0) return named[i].key;
+  if ((n[0] == 'f' || n[0] == 'F') && n[1] >= '1' && n[1] <= '8' && !n[2]) return GLFW_KEY_F1 + (n[1] - '1');
+  if (n[0] && !n[1]) {
+    if (n[0] >= 'a' && n[0] <= 'z') return GLFW_KEY_A + (n[0] - 'a');
+    if (n[0] >= 'A' && n[0] <= 'Z') return GLFW_KEY_A + (n[0] - 'A');
+    if (n[0] >= '0' && n[0] <= '9') return GLFW_KEY_0 + (n[0] - '0');
+  }
+  return -1;
+}
+
+static int button_by_name(const char *n) {
+  if (strcmp(n, "left") == 0) return GLFW_MOUSE_BUTTON_LEFT;
+  if (strcmp(n, "middle") == 0) return GLFW_MOUSE_BUTTON_MIDDLE;
+  if (strcmp(n, "right") == 0) return GLFW_MOUSE_BUTTON_RIGHT;
+  return -1;
+}
+
+/* One event a line: FRAME ACTION ARGS, '#' starts a comment. FRAME: the
+ * event happens before that frame renders (0: before the first). Actions:
+ * cursor X Y | press BUTTON | release BUTTON (left, middle, right) |
+ * scroll DY | key NAME (press and release) | keydown NAME | keyup NAME |
+ * resize W H (the window, through the window system) | screenshot FILE.
+ * Frames must not decrease. */
+static pb_result load_script(viewer *v, const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) return pb_fail(PB_ERR_IO, "%s: cannot open the script", path);
+  char line[512];
+  size_t cap = 0;
+  uint32_t last = 0;
+  pb_result r = PB_OK;
+  for (unsigned ln = 1; fgets(line, sizeof line, f); ++ln) {
+    char *hash = strchr(line, '#');
+    if (hash) *hash = 0;
+    char act[32], a1[256] = "", a2[64] = "";
+    unsigned long fr;
+    int n = sscanf(line, "%lu %31s %255s %63s", &fr, act, a1, a2);
+    if (n <= 0) continue;
+    script_event e;
+    memset(&e, 0, sizeof e);
+    e.frame = (uint32_t)fr;
+    char *end1 = NULL, *end2 = NULL;
+    double x = strtod(a1, &end1), y = strtod(a2, &end2);
+    int ok = n >= 2 && fr <= 10000000 && fr >= last;
+    if (ok && strcmp(act, "cursor") == 0) e.kind = EV_CURSOR, e.a = x, e.b = y, ok = n == 4 && !*end1 && !*end2;
+    else if (ok && (strcmp(act, "press") == 0 || strcmp(act, "release") == 0))
+      e.kind = act[0] == 'p' ? EV_PRESS : EV_RELEASE, e.key = button_by_name(a1), ok = n == 3 && e.key >= 0;
+    else if (ok && strcmp(act, "scroll") == 0) e.kind = EV_SCROLL, e.a = x, ok = n == 3 && !*end1;
+    else if (ok && (strcmp(act, "key") == 0 || strcmp(act, "keydown") == 0 || strcmp(act, "keyup") == 0))
+      e.kind = act[3] == 0 ? EV_KEY : (act[3] == 'd' ? EV_KEYDOWN : EV_KEYUP), e.key = key_by_name(a1),
+      ok = n == 3 && e.key >= 0;
+    else if (ok && strcmp(act, "resize") == 0)
+      e.kind = EV_RESIZE, e.a = x, e.b = y, ok = n == 4 && !*end1 && !*end2 && x >= 1 && y >= 1 && x <= 16384 && y <= 16384;
+    else if (ok && strcmp(act, "screenshot") == 0)
+      e.kind = EV_SCREENSHOT, ok = n == 3 && snprintf(e.path, sizeof e.path, "%s", a1) < (int)sizeof e.path;
+    else ok = 0;
+    if (!ok) {
+      r = pb_fail(PB_ERR_USAGE, "%s: line %u: expected 'FRAME ACTION ARGS' (frames not decreasing; cursor X Y, press|release "
+                  "left|middle|right, scroll DY, key|keydown|keyup NAME, resize W H, screenshot FILE)", path, ln);
+      break;
+    }
+    last = e.frame;
+    if (v->event_count == cap) {
+      size_t nc = cap ? 2 * cap : 64;
+      script_event *ne = realloc(v->events, nc * sizeof *ne);
+      if (!ne) {
+        r = pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+        break;
+      }
+      v->events = ne, cap = nc;
+    }
+    v->events[v->event_count++] = e;
+  }
+  fclose(f);
+  return r;
+}
+
+static pb_result write_screenshot(const viewer *v, const char *path);
+
+/* The events due before frame v->frame, through the handlers the GLFW
+ * callbacks call (a key is a press then a release). */
+static pb_result run_script(viewer *v) {
+  while (v->event_next < v->event_count && v->events[v->event_next].frame <= v->frame) {
+    const script_event *e = &v->events[v->event_next++];
+    switch (e->kind) {
+      case EV_CURSOR: on_cursor_event(v, e->a, e->b); break;
+      case EV_PRESS: pb_view_controller_button(&v->ctl, view_button(e->key), 1); break;
+      case EV_RELEASE: pb_view_controller_button(&v->ctl, view_button(e->key), 0); break;
+      case EV_SCROLL: pb_view_controller_scroll(&v->ctl, e->a); break;
+      case EV_KEY: on_key_event(v, e->key, GLFW_PRESS, 0), on_key_event(v, e->key, GLFW_RELEASE, 0); break;
+      case EV_KEYDOWN: on_key_event(v, e->key, GLFW_PRESS, 0); break;
+      case EV_KEYUP: on_key_event(v, e->key, GLFW_RELEASE, 0); break;
+      case EV_RESIZE:
+        glfwSetWindowSize(v->win, (int)e->a, (int)e->b);
+        glfwPollEvents();
+        break;
+      case EV_SCREENSHOT: {
+        pb_result r = v->frame ? write_screenshot(v, e->path) : pb_fail(PB_ERR_USAGE, "view: --script: a screenshot "
+                                                                       "at frame 0 has nothing to show");
+        if (r != PB_OK) return r;
+        break;
+      }
+    }
+  }
+  return PB_OK;
+}
+
+/* ---- pictures --------------------------------------------------------------- */
+
+/* The shown AOV as RGBA floats into v->tmp, display-encoded into v->rgba:
+ * colour AOVs through the OCIO view (exposure included), normal as
+ * 0.5 + 0.5 n and depth as 1 - z / z_max (near bright), both raw data. */
+static pb_result make_picture(viewer *v) {
+  const pb_render_result *res = &v->res;
+  size_t n = (size_t)res->width * res->height;
+  const float *src = NULL;
+  int ch = 3;
+  switch (v->aov) {
+    case AOV_BEAUTY: src = res->beauty, ch = 4; break;
+    case AOV_DIRECT: src = res->direct; break;
+    case AOV_INDIRECT: src = res->indirect; break;
+    case AOV_CAUSTIC: src = res->caustic; break;
+    case AOV_EMISSION: src = res->emission; break;
+    case AOV_ALBEDO: src = res->albedo; break;
+    case AOV_NORMAL: src = res->normal; break;
+    case AOV_DEPTH: src = res->depth, ch = 1; break;
+  }
+  if (!src) v->note = "this AOV is empty here (no photon stages)";
+  float zmax = 0;
+  if (v->aov == AOV_DEPTH)
+    for (size_t i = 0; i < n; ++i) zmax = src[i] > zmax ? src[i] : zmax;
+  for (size_t i = 0; i < n; ++i) {
+    float *o = v->tmp + 4 * i;
+    if (!src) {
+      o[0] = o[1] = o[2] = 0;
+    } else if (ch == 1) {
+      o[0] = o[1] = o[2] = src[i] > 0 && zmax > 0 ? 1.0f - src[i] / zmax : 0.0f;
+    } else {
+      for (int k = 0; k < 3; ++k) o[k] = src[(size_t)ch * i + k];
+      if (v->aov == AOV_NORMAL)
+        for (int k = 0; k < 3; ++k) o[k] = 0.5f + 0.5f * o[k];
+    }
+    o[3] = 1.0f;
+  }
+  int data = v->aov == AOV_NORMAL || v->aov == AOV_DEPTH;
+  if (!data) {
+    pb_result r = pb_color_apply_display(v->color, v->tmp, res->width, res->height, 4);
+    if (r != PB_OK) return r;
+  }
+  /* The rounding pb_png_write_display uses, so that the window's bytes are
+   * display's PNG. */
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 4; ++k) {
+      float x = k == 3 ? 1.0f : v->tmp[4 * i + k];
+      v->rgba[4 * i + k] = !(x > 0.0f) ? 0 : x >= 1.0f ? 255 : (uint8_t)(x * 255.0f + 0.5f);
+    }
+  return PB_OK;
+}
+
+typedef struct sink {
+  FILE *f;
+  int failed;
+} sink;
+static void sink_write(void *ctx, void *data, int size) {
+  sink *s = ctx;
+  if (size > 0 && fwrite(data, 1, (size_t)size, s->f) != (size_t)size) s->failed = 1;
+}
+
+/* The bytes shown (RGB, the frame's size), atomically. */
+static pb_result write_screenshot(const viewer *v, const char *path) {
+  size_t n = (size_t)v->res.width * v->res.height;
+  uint8_t *rgb = malloc(3 * n);
+  if (!rgb) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = v->rgba[4 * i + k];
+  FILE *f = NULL;
+  char *tmp = NULL;
+  pb_result r = pb_atomic_open(path, &f, &tmp);
+  if (r != PB_OK) {
+    free(rgb);
+    return r;
+  }
+  sink s = {f, 0};
+  int ok = stbi_write_png_to_func(sink_write, &s, (int)v->res.width, (int)v->res.height, 3, rgb,
+                                  (int)(3 * v->res.width));
+  free(rgb);
+  if (!ok || s.failed) {
+    pb_atomic_abort(f, tmp);
+    return pb_fail(ok ? PB_ERR_IO : PB_ERR_NOMEM, "%s: %s", path, ok ? "write failed" : "PNG encoding ran out of memory");
+  }
+  return pb_atomic_commit(path, f, tmp);
+}
+
+/* P / F12: every AOV of the current image as an EXR (scene-linear, as
+ * `render` writes it) and the shown picture as a PNG. */
+static pb_result save_current(viewer *v) {
+  char exr[1200], png[1200];
+  snprintf(exr, sizeof exr, "%s_%04u.exr", v->d->save_prefix, v->saves);
+  snprintf(png, sizeof png, "%s_%04u.png", v->d->save_prefix, v->saves);
+  char frames_s[32];
+  snprintf(frames_s, sizeof frames_s, "%u", v->run_frames);
+  const char *an[] = {"photonbridge/renderer", "photonbridge/view_frames"};
+  const char *av[] = {"gpu view", frames_s};
+  pb_result r = pb_render_write_exr(exr, &v->res, NULL, NULL, an, av, 2);
+  if (r == PB_OK && (r = write_screenshot(v, png)) != PB_OK) unlink(exr);
+  if (r != PB_OK) return r;
+  pb_log_info("view: wrote %s and %s (%u frames refined)", exr, png, v->run_frames);
+  v->saves++;
+  return PB_OK;
+}
+
+static pb_result load_reference(viewer *v) {
+  pb_image img;
+  pb_result r = pb_exr_read(v->d->reference, NULL, &img);
+  if (r != PB_OK) return r;
+  int idx[3] = {pb_image_find_channel(&img, "R"), pb_image_find_channel(&img, "G"), pb_image_find_channel(&img, "B")};
+  if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0) r = pb_fail(PB_ERR_IMAGE, "%s: no R, G, B channels", v->d->reference);
+  else if (img.width != v->d->width || img.height != v->d->height)
+    r = pb_fail(PB_ERR_IMAGE_MISMATCH, "%s: %ux%u, but the view renders %ux%u (--width/--height)", v->d->reference,
+                img.width, img.height, v->d->width, v->d->height);
+  size_t n = (size_t)img.width * img.height;
+  if (r == PB_OK && !(v->ref_display = malloc(3 * n * sizeof(float)))) r = pb_fail(PB_ERR_NOMEM, "view: out of memory");
+  if (r == PB_OK) {
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) v->ref_display[3 * i + k] = img.pixels[i * img.channel_count + (uint32_t)idx[k]];
+    r = pb_color_apply_display(v->metric, v->ref_display, img.width, img.height, 3);
+  }
+  pb_image_destroy(&img);
+  return r;
+}
+
+/* PSNR of the beauty against --reference, as `compare` computes it (its
+ * default metrics view, display MSE over R, G, B). */
+static pb_result frame_psnr(viewer *v, double *psnr) {
+  size_t n = (size_t)v->res.width * v->res.height;
+  float *t = malloc(3 * n * sizeof *t);
+  if (!t) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      float x = v->res.beauty[4 * i + k];
+      t[3 * i + k] = isfinite(x) ? x : 0.0f;
+    }
+  pb_result r = pb_color_apply_display(v->metric, t, v->res.width, v->res.height, 3);
+  double se = 0;
+  for (size_t i = 0; r == PB_OK && i < 3 * n; ++i) se += (double)(t[i] - v->ref_display[i]) * (t[i] - v->ref_display[i]);
+  free(t);
+  *psnr = pb_metrics_psnr_from_mse(se / (double)(3 * n));
+  return r;
+}
+
+static void set_title(viewer *v, double fps, const frame_stat *fs) {
+  const pb_render_stats *st = &v->res.stats;
+  char title[512], psnr[48] = "", tm[48] = "";
+  if (v->ref_display) snprintf(psnr, sizeof psnr, " | PSNR %.2f dB", fs->psnr);
+  if (v->s->anim) snprintf(tm, sizeof tm, " | t %.2f s%s", v->t, v->playing ? " >" : " ||");
+  snprintf(title, sizeof title, "photonbridge view: %s | %.1f fps | %.0f ms/pass | %llu photons stored | %u %s%s%s | %s | EV %+.1f%s%s",
+           v->s->cameras[v->selected].name[0] ? v->s->cameras[v->selected].name : "camera", fps, fs->render_ms,
+           (unsigned long long)st->photons_stored, v->run_frames, v->run_frames == 1 ? "pass" : "passes", psnr, tm,
+           aov_names[v->aov], v->exposure, v->note ? " | " : "", v->note ? v->note : "");
+  glfwSetWindowTitle(v->win, title);
+}
+
+static pb_result write_stats(const viewer *v, const char *path) {
+  pb_json j;
+  char *tmp;
+  pb_result r = pb_json_open(&j, path, &tmp);
+  if (r != PB_OK) return r;
+  pb_json_begin_object(&j, NULL);
+  pb_json_string(&j, "renderer", "gpu view");
+  pb_json_string(&j, "scene", v->s->path);
+  pb_json_string(&j, "device", pb_gpu_device_name(v->g));
+  pb_json_int(&j, "width", v->d->width);
+  pb_json_int(&j, "height", v->d->height);
+  pb_json_int(&j, "photons_per_frame", v->res.stats.photons_emitted);
+  pb_json_int(&j, "photons_stored", (int64_t)v->res.stats.photons_stored);
+  pb_json_int(&j, "swapchain_recreations", pb_present_recreations(v->pres));
+  pb_json_begin_array(&j, "frames");
+  for (uint32_t i = 0; i < v->frame; ++i) {
+    const frame_stat *f = &v->stats[i];
+    pb_json_begin_object(&j, NULL);
+    pb_json_number(&j, "wall_ms", f->wall_ms);
+    pb_json_number(&j, "render_ms", f->render_ms);
+    pb_json_number(&j, "present_ms", f->present_ms);
+    pb_json_bool(&j, "still", f->still);
+    pb_json_int(&j, "run_frames", f->run_frames);
+    pb_json_number(&j, "t", f->t);
+    if (v->ref_display && isfinite(f->psnr)) pb_json_number(&j, "psnr", f->psnr);
+    pb_json_end_object(&j);
+  }
+  pb_json_end_array(&j);
+  pb_json_end_object(&j);
+  return pb_json_close(&j, path, tmp);
+}
+
+/* ---- the loop --------------------------------------------------------------- */
+
+static pb_result one_frame(viewer *v, double dt) {
+  pb_scene *s = v->s;
+  pb_result r;
+  double t0 = pb_time_now();
+  /* A frame slower than 4 fps flies as if it took 0.25 s, so that a held
+   * key on a slow device moves in steps one can steer. */
+  pb_view_controller_tick(&v->ctl, dt < 0.25 ? dt : 0.25);
+  if (v->ctl.moves != v->moves_seen) { /* the user took the camera */
+    v->moves_seen = v->ctl.moves;
+    v->follow = 0;
+  }
+  if (v->playing) {
+    v->t += dt;
+    if (v->t > s->anim_end) v->t = s->anim_start + fmod(v->t - s->anim_start, fmax(s->anim_end - s->anim_start, 1e-6));
+  }
+  pb_camera want = v->follow ? v->file_cam : v->ctl.cam;
+  s->cameras[v->d->camera] = want;
+  /* Nothing to pose when the time has not changed since the last pose: the
+   * scene holds it already, and a second pose would put an animated scene
+   * camera back over the view's. */
+  struct pb_scene_anim *anim = s->anim;
+  int hide = anim && v->frame > 0 && v->t == v->t_posed;
+  if (hide) s->anim = NULL;
+  pb_sequence_frame_info fi;
+  pb_render_result_destroy(&v->res);
+  r = pb_sequence_frame(v->g, v->seq, v->frame, v->t, &v->res, &fi);
+  s->anim = anim;
+  if (r != PB_OK) return r;
+  v->t_posed = v->t;
+  double t1 = pb_time_now();
+  if (!v->follow && memcmp(fi.camera.position, want.position, sizeof want.position)) {
+    /* The animation moved the bound camera over the user's: stop playing,
+     * so that the next frame shows the user's camera (see hide above). */
+    v->playing = 0;
+    v->note = "paused: the scene camera is animated";
+  }
+  if (v->follow) pb_view_controller_reset(&v->ctl, &fi.camera, s->bounds_min, s->bounds_max);
+  v->run_frames = fi.still && v->frame > 0 ? v->run_frames + 1 : 1;
+  if ((r = make_picture(v)) != PB_OK) return r;
+  if ((r = pb_present_frame(v->pres, v->rgba, v->res.width, v->res.height)) != PB_OK) return r;
+  double t2 = pb_time_now();
+  if (v->frame == v->stat_cap) {
+    size_t nc = v->stat_cap ? 2 * v->stat_cap : 256;
+    frame_stat *ns = realloc(v->stats, nc * sizeof *ns);
+    if (!ns) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
+    v->stats = ns, v->stat_cap = nc;
+  }
+  frame_stat *fs = &v->stats[v->frame];
+  memset(fs, 0, sizeof *fs);
+  fs->render_ms = (t1 - t0) * 1e3, fs->present_ms = (t2 - t1) * 1e3, fs->wall_ms = dt * 1e3;
+  fs->still = fi.still && v->frame > 0, fs->run_frames = v->run_frames, fs->t = v->t, fs->psnr = NAN;
+  if (v->ref_display && (r = frame_psnr(v, &fs->psnr)) != PB_OK) return r;
+  v->frame++;
+  set_title(v, dt > 0 ? 1.0 / dt : 0.0, fs);
+  v->note = NULL;
+  if (v->save) {
+    v->save = 0;
+    if ((r = save_current(v)) != PB_OK) return r;
+  }
+  return PB_OK;
+}
+
+pb_result pb_view_check_display(void) {
+  const char *disp = getenv("DISPLAY"), *way = getenv("WAYLAND_DISPLAY");
+  if ((!disp || !disp[0]) && (!way || !way[0]))
+    return pb_fail(PB_ERR_NOT_AVAILABLE, "view: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); render to "
+                   "a file with 'photonbridge render', or run under 'xvfb-run -a'");
+  return PB_OK;
+}
+
+static void on_glfw_error(int code, const char *text) { pb_log_verbose("view: GLFW error %d: %s", code, text); }
+
+pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_desc *d) {
+  viewer v;
+  memset(&v, 0, sizeof v);
+  v.g = g, v.s = s, v.gs = gs, v.d = d;
+  v.selected = d->camera, v.follow = 1, v.file_cam = s->cameras[d->camera];
+  v.exposure = d->color.exposure;
+  v.t = v.t_posed = s->anim ? s->anim_start : 0.0;
+  pb_result r = PB_OK;
+  const char *disp = getenv("DISPLAY"), *way = getenv("WAYLAND_DISPLAY");
+  int glfw_on = 0;
+  if ((r = pb_view_check_display()) != PB_OK) goto done;
+  glfwSetErrorCallback(on_glfw_error);
+  if (!glfwInit()) {
+    r = pb_fail(PB_ERR_NOT_AVAILABLE, "view: cannot open the display '%s' (glfwInit failed); render to a file with "
+                "'photonbridge render'", disp && disp[0] ? disp : way);
+    goto done;
+  }
+  glfw_on = 1;
+  if (!glfwVulkanSupported()) {
+    r = pb_fail(PB_ERR_NOT_AVAILABLE, "view: GLFW finds no Vulkan loader with window-system surfaces; render to a "
+                "file with 'photonbridge render'");
+    goto done;
+  }
+  size_t n = (size_t)d->width * d->height;
+  v.tmp = malloc(4 * n * sizeof *v.tmp);
+  v.rgba = malloc(4 * n);
+  if (!v.tmp || !v.rgba) {
+    r = pb_fail(PB_ERR_NOMEM, "view: out of memory for %ux%u pixels", d->width, d->height);
+    goto done;
+  }
+  if ((r = pb_color_open(&d->color, &v.color)) != PB_OK) goto done;
+  if (d->reference) {
+    pb_color_desc md = {.purpose = PB_COLOR_METRICS};
+    if ((r = pb_color_open(&md, &v.metric)) != PB_OK || (r = load_reference(&v)) != PB_OK) goto done;
+  }
+  if (d->script && (r = load_script(&v, d->script)) != PB_OK) goto done;
+  glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+  glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+  v.win = glfwCreateWindow((int)d->width, (int)d->height, "photonbridge view", NULL, NULL);
+  if (!v.win) {
+    r = pb_fail(PB_ERR_NOT_AVAILABLE, "view: the display refused a window; render to a file with 'photonbridge render'");
+    goto done;
+  }
+  glfwSetWindowUserPointer(v.win, &v);
+  glfwSetKeyCallback(v.win, cb_key);
+  glfwSetMouseButtonCallback(v.win, cb_button);
+  glfwSetCursorPosCallback(v.win, cb_cursor);
+  glfwSetScrollCallback(v.win, cb_scroll);
+  pb_present_desc pd = {.window = v.win, .device_name = pb_gpu_device_name(g), .validation = d->validation};
+  if ((r = pb_present_create(&pd, &v.pres)) != PB_OK) goto done;
+  if ((r = pb_sequence_create(g, s, gs, d->camera, d->width, d->height, &d->seq, &v.seq)) != PB_OK) goto done;
+  pb_view_controller_reset(&v.ctl, &v.file_cam, s->bounds_min, s->bounds_max);
+  double last = pb_time_now();
+  while (!glfwWindowShouldClose(v.win)) {
+    glfwPollEvents();
+    if (glfwGetWindowAttrib(v.win, GLFW_ICONIFIED) && !d->script && !d->exit_after) {
+      /* Minimised: nothing is shown, so nothing is rendered until restored
+       * (scripted runs go on: their frames are counted). */
+      glfwWaitEventsTimeout(0.25);
+      last = pb_time_now();
+      continue;
+    }
+    if ((r = run_script(&v)) != PB_OK || (r = v.error) != PB_OK) goto done;
+    double now = pb_time_now(), dt = now - last;
+    last = now;
+    if ((r = one_frame(&v, v.frame ? dt : 0.0)) != PB_OK) goto done;
+    if (d->exit_after && v.frame >= d->exit_after) break;
+  }
+  if ((r = run_script(&v)) != PB_OK) goto done; /* events at the last frame (a final screenshot) */
+  if (d->screenshot && v.frame && (r = write_screenshot(&v, d->screenshot)) != PB_OK) goto done;
+  if (d->json && (r = write_stats(&v, d->json)) != PB_OK) goto done;
+  if (!d->quiet && v.frame) {
+    double still = 0, moving = 0;
+    uint32_t ns = 0, nm = 0;
+    for (uint32_t i = 1; i < v.frame; ++i) {
+      if (v.stats[i].still) still += v.stats[i].wall_ms, ns++;
+      else moving += v.stats[i].wall_ms, nm++;
+    }
+    pb_log_info("view: %u frames of %ux%u on %s: %.1f fps still (%u frames), %.1f fps moving (%u)", v.frame,
+                d->width, d->height, pb_gpu_device_name(g), ns ? 1e3 * ns / still : 0.0, ns,
+                nm ? 1e3 * nm / moving : 0.0, nm);
+  }
+done:
+  validation_messages += pb_present_validation_messages(v.pres);
+  pb_sequence_destroy(g, v.seq);
+  pb_present_destroy(v.pres);
+  if (v.win) glfwDestroyWindow(v.win);
+  if (glfw_on) glfwTerminate();
+  pb_render_result_destroy(&v.res);
+  pb_color_destroy(v.color);
+  pb_color_destroy(v.metric);
+  free(v.ref_display);
+  free(v.tmp);
+  free(v.rgba);
+  free(v.events);
+  free(v.stats);
+  return r;
+}

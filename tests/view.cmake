@@ -1,0 +1,10 @@
+# photonbridge view under Xvfb (tests/view_check.py), one test per part so
+# that ctest -j runs them side by side. X11, GLFW and the driver's window
+# system code are not ASan-instrumented: no-sanitize keeps them out of the
+# ASan pass (the viewer's own code is the CPU part the other parts test).
+foreach(part still input resize nodisplay errors)
+  add_test(NAME view_${part}
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/view_check.py ${PB_EXE} ${PB_ROOT}
+                   ${CMAKE_CURRENT_BINARY_DIR}/view_${part} ${part})
+  set_tests_properties(view_${part} PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;view;no-sanitize" TIMEOUT 600)
+endforeach()

@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""photonbridge view under Xvfb (issue 17, item 4's viewer tests), one part a run:
+
+  still      after N still frames the window's screenshot is `photonbridge
+             display` of `render --frames 0:N-1` (the same camera, settings
+             and seed; the last frame of that still run), also after + + (one
+             stop of exposure, display --exposure 1), every channel within
+             one 8-bit step (the photon store's slot order follows the
+             device's scheduling, so the sums may differ in the last float
+             bits); validation layers on (zero messages, or the exit code is
+             14)
+  input      synthetic input through --script (the handlers the GLFW callbacks
+             call): a left drag orbits, the wheel dollies, W flies, F7 shows
+             the normal AOV; each changes the picture, a move restarts the
+             still run, and the view refines again afterwards
+  resize     the window resized twice mid-run: the swapchain is recreated and
+             the run goes on (exit 0)
+  nodisplay  no DISPLAY / WAYLAND_DISPLAY: one line saying so and naming
+             `photonbridge render`, exit 15 (PB_ERR_NOT_AVAILABLE)
+  errors     a bad --script line: exit 2 naming the file and the line
+
+Exit 77 (skip) where xvfb-run is missing or the binary was built without
+GLFW; CI's install script installs both, so there they run.
+usage: view_check.py PHOTONBRIDGE ROOT OUTDIR PART
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+try:
+    import numpy as np
+    from PIL import Image
+except ImportError:  # pyenv's python without Debian's packages
+    if sys.executable != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    print("view_check: needs numpy and Pillow (python3-numpy, python3-pil)")
+    sys.exit(77)
+
+EXE, ROOT, OUT, PART = sys.argv[1:5]
+SCENE = os.path.join(ROOT, "samples/cornell_box/cornell_box.gltf")
+# Small and quick: 64 px, 2^15 photon paths a frame (the still part's two
+# renders take a few seconds each on lavapipe).
+SETTINGS = ["--width", "64", "--photons", "32768", "--seed", "7"]
+os.makedirs(OUT, exist_ok=True)
+
+
+def fail(msg):
+    print("view_check %s: FAIL: %s" % (PART, msg))
+    sys.exit(1)
+
+
+def run(args, env=None, xvfb=True, expect=0):
+    cmd = ([shutil.which("xvfb-run"), "-a", "-s", "-screen 0 1024x768x24"] if xvfb else []) + [EXE] + args
+    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+    if expect is not None and p.returncode != expect:
+        fail("%s: exit %d, expected %d\nstdout: %s\nstderr: %s" % (" ".join(args), p.returncode, expect, p.stdout,
+                                                                  p.stderr))
+    return p
+
+
+def png(path):
+    return np.asarray(Image.open(path).convert("RGB")).astype(np.int32)
+
+
+def env_without_display():
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    env.pop("WAYLAND_DISPLAY", None)
+    return env
+
+
+def check_available():
+    p = run(["view", SCENE], env=env_without_display(), xvfb=False, expect=None)
+    if "built without GLFW" in p.stderr:
+        print("view_check: SKIP: photonbridge was built without GLFW (libglfw3-dev)")
+        sys.exit(77)
+    if PART != "nodisplay" and not shutil.which("xvfb-run"):
+        print("view_check: SKIP: xvfb-run is not installed (apt-get install xvfb xauth)")
+        sys.exit(77)
+
+
+def validation_env():
+    env = dict(os.environ)
+    layer = any(os.path.exists(os.path.join(d, "VkLayer_khronos_validation.json"))
+                for d in ("/usr/share/vulkan/explicit_layer.d", "/etc/vulkan/explicit_layer.d"))
+    if layer:
+        env["PB_VK_VALIDATION"] = "1"
+    return env
+
+
+def part_still():
+    # Frames 0-3 still; the screenshot event at frame 3 (before it renders)
+    # shows frame 2; two presses of + at frame 3 raise the exposure by one
+    # stop, so the final screenshot is frame 3 at +1 EV: both are compared
+    # with display's PNGs of those frames' EXRs (--exposure 1 for the second).
+    n = 4
+    early, shot = os.path.join(OUT, "view_2.png"), os.path.join(OUT, "view_3_ev1.png")
+    script = os.path.join(OUT, "still.txt")
+    with open(script, "w") as f:
+        f.write("3 screenshot %s\n3 key plus\n3 key plus\n" % early)
+    run(["view", SCENE] + SETTINGS + ["--exit-after", str(n), "--script", script, "--screenshot", shot, "-q"],
+        env=validation_env())
+    run(["render", SCENE] + SETTINGS + ["--frames", "0:%d" % (n - 1), "-o", os.path.join(OUT, "f_#.exr"), "-q"],
+        env=validation_env(), xvfb=False)
+    for frame, view_png, ev in ((n - 2, early, 0), (n - 1, shot, 1)):
+        ref = os.path.join(OUT, "display_%d.png" % frame)
+        run(["display", os.path.join(OUT, "f_%d.exr" % frame), "-o", ref, "--exposure", str(ev)], xvfb=False)
+        a, b = png(view_png), png(ref)
+        if a.shape != b.shape:
+            fail("screenshot %s, display %s" % (a.shape, b.shape))
+        d = np.abs(a - b)
+        print("view_check still: frame %d (%d still frames), 64 px, exposure %+d: max difference %d, mean %.4f "
+              "(8-bit steps), mean level %.1f" % (frame, frame + 1, ev, d.max(), d.mean(), a.mean()))
+        if d.max() > 1:
+            fail("the screenshot of frame %d differs from display's PNG by up to %d steps (at most 1)"
+                 % (frame, d.max()))
+        if a.mean() < 20:
+            fail("the picture is black (mean level %.1f)" % a.mean())
+
+
+def part_input():
+    script = os.path.join(OUT, "input.txt")
+    shots = {k: os.path.join(OUT, k + ".png") for k in ("before", "orbit", "dolly", "fly", "normal")}
+    with open(script, "w") as f:
+        f.write("# frame action args\n"
+                "2 screenshot %(before)s\n"
+                "2 cursor 20 30\n2 press left\n2 cursor 23 30\n2 cursor 26 31\n2 release left\n"
+                "4 screenshot %(orbit)s\n"
+                "4 scroll 3\n"
+                "5 screenshot %(dolly)s\n"
+                "5 keydown w\n7 keyup w\n"
+                "8 screenshot %(fly)s\n"
+                "8 key F7\n"
+                "9 screenshot %(normal)s\n" % shots)
+    stats = os.path.join(OUT, "input.json")
+    run(["view", SCENE] + SETTINGS + ["--exit-after", "9", "--script", script, "--json", stats, "-q"],
+        env=validation_env())
+    frames = json.load(open(stats))["frames"]
+    still = [f["still"] for f in frames]
+    print("view_check input: still per frame", still, "run lengths", [f["run_frames"] for f in frames])
+    # Frames 0, 1 still run; 2 moved (orbit), 3 still; 4 moved (dolly); 5, 6
+    # move (flying), 7 still again, 8 still (an AOV is only a display change).
+    if still[2] or not still[3] or still[4] or still[5] or not still[7] or not still[8]:
+        fail("frames moved/still as %s; expected the orbit at 2, the dolly at 4, the flight at 5-6" % still)
+    if frames[8]["run_frames"] < 2:
+        fail("the view did not refine after the flight")
+    pics = {k: png(v) for k, v in shots.items()}
+    for a, b in (("before", "orbit"), ("orbit", "dolly"), ("dolly", "fly"), ("fly", "normal")):
+        d = np.abs(pics[a] - pics[b]).mean()
+        print("view_check input: %s -> %s: mean change %.2f steps" % (a, b, d))
+        if d < 3:
+            fail("%s did not change the picture (mean %.2f steps)" % (b, d))
+
+
+def part_resize():
+    script = os.path.join(OUT, "resize.txt")
+    with open(script, "w") as f:
+        f.write("1 resize 200 120\n3 resize 48 300\n4 resize 640 480\n")
+    stats = os.path.join(OUT, "resize.json")
+    shot = os.path.join(OUT, "resize.png")
+    run(["view", SCENE] + SETTINGS + ["--exit-after", "6", "--script", script, "--json", stats, "--screenshot", shot,
+                                      "-q"], env=validation_env())
+    j = json.load(open(stats))
+    print("view_check resize: %d frames, %d swapchain recreations" % (len(j["frames"]), j["swapchain_recreations"]))
+    if len(j["frames"]) != 6 or j["swapchain_recreations"] < 2:
+        fail("expected 6 frames and at least 2 swapchain recreations: %s" % j)
+    if png(shot).shape != (64, 64, 3):
+        fail("the screenshot is not the 64 px frame")
+
+
+def part_nodisplay():
+    p = run(["view", SCENE] + SETTINGS, env=env_without_display(), xvfb=False, expect=15)
+    lines = p.stderr.strip().splitlines()
+    print("view_check nodisplay:", lines)
+    if len(lines) != 1 or "no display" not in lines[0] or "photonbridge render" not in lines[0]:
+        fail("expected one line naming the missing display and 'photonbridge render': %r" % p.stderr)
+
+
+def part_errors():
+    script = os.path.join(OUT, "bad.txt")
+    with open(script, "w") as f:
+        f.write("1 cursor 3 4\n2 jump 5\n")
+    p = run(["view", SCENE] + SETTINGS + ["--script", script], expect=2)
+    if "bad.txt: line 2" not in p.stderr:
+        fail("the error does not name the file and line: %r" % p.stderr)
+    print("view_check errors:", p.stderr.strip())
+
+
+check_available()
+{"still": part_still, "input": part_input, "resize": part_resize, "nodisplay": part_nodisplay,
+ "errors": part_errors}[PART]()
+print("view_check %s: ok" % PART)
