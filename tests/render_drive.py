@@ -18,43 +18,16 @@ usage: render_drive.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR [PART...]
 Exit 77 when no Vulkan device is present."""
 import json
 import os
-import shutil
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pylib"))
+from pbcheck import Checker  # noqa: E402
 
 EXE, PROBE, ROOT, WORK = sys.argv[1:5]
 PARTS = sys.argv[5:] or ["errors", "crop", "blender", "progress"]
 SCENE = os.path.join(ROOT, "samples", "cornell_box", "cornell_box.gltf")
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def run(args, expect_rc=0):
-    p = subprocess.run([EXE] + args, capture_output=True, text=True)
-    if p.returncode != expect_rc:
-        print(" ".join(args))
-        print(p.stdout[-3000:])
-        print(p.stderr[-3000:])
-    return p
-
-
-def fresh(sub):
-    d = os.path.join(WORK, sub)
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
-    return d
-
-
-def exr(path):
-    p = subprocess.run([PROBE, path], capture_output=True, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(p.stderr)
-    return json.loads(p.stdout)
+T = Checker(EXE, WORK, PROBE)
+check, run, fresh, exr = T.check, T.run, T.fresh, T.exr
 
 
 # Two renders of one scene and seed agree to float rounding, not bit for bit:
@@ -177,14 +150,12 @@ def part_progress():
 
 
 def main():
-    p = subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True)
-    if p.returncode != 0:
+    if not T.has_device():
         print("skip: no Vulkan device")
         return 77
     for part in PARTS:
         globals()["part_" + part]()
-    print("%d passed, %d failed" % (0, len(failures)) if failures else "all checks passed")
-    return 1 if failures else 0
+    return T.finish()
 
 
 if __name__ == "__main__":

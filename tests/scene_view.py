@@ -20,23 +20,20 @@ import filecmp
 import json
 import os
 import shutil
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pylib"))
+from pbcheck import Checker  # noqa: E402
 
 EXE, ROOT, WORK = sys.argv[1:4]
 SRC = os.path.join(ROOT, "tests", "corpus", "valid", "blender_color_management")
 SMALL = ["--width", "32", "--height", "24", "-q"]
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what)
-    if not cond:
-        failures.append(what)
+T = Checker(EXE, WORK)
+check = T.check
 
 
 def run(args):
-    return subprocess.run([EXE] + args, capture_output=True, text=True)
+    return T.run(args, expect_rc=None)
 
 
 def scene(sub, view=None):
@@ -99,5 +96,4 @@ line = [l for l in p.stdout.splitlines() if l.startswith("display")]
 check(p.returncode == 0 and line and "/ Standard, look None, exposure 1.5" in line[0],
       "info: %s" % (line[0] if line else "(no display line)"))
 
-print("%d failed" % len(failures))
-sys.exit(1 if failures else 0)
+sys.exit(T.finish())

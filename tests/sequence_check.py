@@ -26,39 +26,20 @@ usage: sequence_check.py PHOTONBRIDGE ROOT WORKDIR [PART...]
 Exit 77 when no Vulkan device is present."""
 import json
 import os
-import shutil
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pylib"))
+from pbcheck import Checker  # noqa: E402
+
 EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
 PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "materials", "deform"]
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def run(args, expect_rc=0):
-    p = subprocess.run([EXE] + args, capture_output=True, text=True)
-    if p.returncode != expect_rc:
-        print(" ".join(args))
-        print(p.stdout[-3000:])
-        print(p.stderr[-3000:])
-    return p
+T = Checker(EXE, WORK)
+check, run, fresh = T.check, T.run, T.fresh
 
 
 def sample(name):
     return os.path.join(ROOT, "samples", name, name + ".gltf")
-
-
-def fresh(sub):
-    d = os.path.join(WORK, sub)
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
-    return d
 
 
 def exr_attrs(path):
@@ -203,5 +184,4 @@ if "deform" in PARTS:
     # 12-19 of their bending: the motion vectors follow the deformed vertices.
     filtered_vs_raw("deform", os.path.join(ROOT, "tests", "data", "deform", "deform.gltf"), 48, 256, 3, "12:19")
 
-print("%d failure(s)" % len(failures))
-sys.exit(1 if failures else 0)
+sys.exit(T.finish())
