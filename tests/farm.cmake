@@ -22,3 +22,8 @@ else()
   set_tests_properties(farm_flamenco PROPERTIES SKIP_REGULAR_EXPRESSION "skip: node")
 endif()
 set_tests_properties(farm_flamenco PROPERTIES TIMEOUT 60)
+
+add_test(NAME farm_slurm
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/farm/slurm_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                 ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/farm_slurm)
+set_tests_properties(farm_slurm PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 300 RUN_SERIAL TRUE)

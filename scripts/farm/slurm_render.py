@@ -1,0 +1,357 @@
+#!/usr/bin/env python3
+"""A shot on a Slurm cluster as a job array (issue 23; README "Render farms").
+
+  slurm_render.py submit SCENE --frames A:B -o OUT/f_####.exr --state DIR
+                  [--chunk N] [--warmup W] [--photonbridge EXE]
+                  [--sbatch ARG]... [--wait] [-- RENDER OPTIONS...]
+  slurm_render.py resubmit --state DIR [--sbatch ARG]... [--wait]
+  slurm_render.py status --state DIR
+
+submit cuts A..B into chunks of N frames (default 8), one array task per
+chunk, each running `photonbridge render SCENE --frames a:b --warmup W -o
+OUT ...` (the W frames before a rebuild the temporal history and are not
+written; the photon seeds follow the frame number, so the chunks' frames are
+those of one run of the shot up to history older than W frames). A second
+job, dependent on the whole array (afterany), checks every frame and writes
+DIR/summary.json. --wait blocks until that check ends and exits with its
+status. resubmit submits only the chunks the last check found failed (and a
+new check); status prints the summary.
+
+Everything lives in the state folder DIR, which must be on storage that the
+submitting host and every node share (as OUT):
+  plan.json              the shot: scene, frames, chunks, command line
+  submissions.jsonl      one line per submission: job ids, array indices
+  logs/chunk_I.log       each task's output (Slurm's -o, one per chunk;
+                         a resubmission appends)
+  logs/check_J.log       the check job's output
+  status/chunk_I.json    a task's exit status: photonbridge's exit code and
+                         its meaning (src/core/result.h), or the signal
+  summary.json           the check: per chunk ok/failed, its exit status,
+                         the frames missing; complete true/false
+Every file is written atomically (a temporary then a rename); photonbridge
+writes each frame so too, so a killed task leaves whole frames only (the
+check removes and reports a killed writer's PATH.tmp.PID).
+
+Exit status: 0 done (or submitted, without --wait); 1 frames failed (the
+summary says which chunks); 2 bad command line; 3 sbatch or squeue failed."""
+import argparse
+import glob
+import json
+import os
+import shlex
+import signal
+import subprocess
+import sys
+import time
+
+# src/core/result.h's table: photonbridge's exit codes.
+EXIT_MEANING = {
+    0: "ok", 1: "failed", 2: "bad command line", 3: "file could not be read or written",
+    4: "scene file is not valid glTF", 5: "scene file breaks a glTF rule", 6: "scene uses an unsupported feature",
+    7: "scene has nothing to render", 8: "image file is malformed", 9: "images do not match in size or channels",
+    10: "input exceeds a size limit", 11: "out of memory", 12: "no usable Vulkan device", 13: "Vulkan call failed",
+    14: "Vulkan device lost", 15: "component not built or not installed", 70: "internal error",
+    130: "interrupted",
+}
+EXR_MAGIC = b"\x76\x2f\x31\x01"
+SELF = os.path.abspath(__file__)
+
+
+def die(code, msg):
+    print("slurm_render: " + msg, file=sys.stderr)
+    sys.exit(code)
+
+
+def write_atomic(path, text):
+    tmp = "%s.tmp.%d" % (path, os.getpid())
+    with open(tmp, "w") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def write_json(path, obj):
+    write_atomic(path, json.dumps(obj, indent=1) + "\n")
+
+
+def load_plan(state):
+    p = os.path.join(state, "plan.json")
+    try:
+        with open(p) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        die(2, "%s: no readable plan (%s); run 'submit' first" % (p, e))
+
+
+def frame_path(pattern, frame):
+    """The output name of a frame: the run of '#' replaced by the frame
+    number, zero-padded (as photonbridge's pb_seq_frame_path)."""
+    i = pattern.find("#")
+    if i < 0:
+        return pattern
+    n = len(pattern[i:]) - len(pattern[i:].lstrip("#"))
+    return pattern[:i] + ("%0*d" % (n, frame)) + pattern[i + n:]
+
+
+def parse_frames(text):
+    try:
+        a, _, b = text.partition(":")
+        first, last = int(a), int(b or a)
+    except ValueError:
+        die(2, "--frames '%s': expected A:B, two frame numbers" % text)
+    if last < first:
+        die(2, "--frames '%s': A > B" % text)
+    return first, last
+
+
+def exit_meaning(rc):
+    if rc is None:
+        return "no exit status: the task was killed or never ran"
+    if rc < 0:
+        try:
+            return "killed by signal %s" % signal.Signals(-rc).name
+        except ValueError:
+            return "killed by signal %d" % -rc
+    return EXIT_MEANING.get(rc, "exit code %d" % rc)
+
+
+# ---- submitting ---------------------------------------------------------------
+
+def sbatch(args, env=None):
+    cmd = ["sbatch", "--parsable"] + args
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    except OSError as e:
+        die(3, "sbatch: %s" % e)
+    if p.returncode != 0:
+        die(3, "sbatch failed (exit %d): %s" % (p.returncode, p.stderr.strip()))
+    return p.stdout.strip().split(";")[0]
+
+
+def submit_chunks(plan, state, indices, extra):
+    """One array job over `indices`, then the check job after it."""
+    logs = os.path.join(state, "logs")
+    name = plan["name"]
+    py = shlex.quote(sys.executable or "python3")
+    array = ",".join(str(i) for i in indices)
+    job = sbatch(["--job-name", "pb-" + name, "--array", array, "--open-mode=append",
+                  "--output", os.path.join(logs, "chunk_%a.log"), "--chdir", state] + extra +
+                 ["--wrap", "exec %s %s task %s" % (py, shlex.quote(SELF), shlex.quote(state))])
+    check = sbatch(["--job-name", "pb-" + name + "-check", "--dependency", "afterany:" + job,
+                    "--output", os.path.join(logs, "check_%j.log"), "--chdir", state] + extra +
+                   ["--wrap", "exec %s %s check %s" % (py, shlex.quote(SELF), shlex.quote(state))])
+    rec = {"time": time.time(), "array_job": job, "indices": list(indices), "check_job": check}
+    with open(os.path.join(state, "submissions.jsonl"), "a") as f:
+        f.write(json.dumps(rec) + "\n")
+    print("slurm_render: submitted %s (chunks %s) and check %s" % (job, array, check))
+    return rec
+
+
+def wait_job(job, poll=1.0):
+    while True:
+        p = subprocess.run(["squeue", "-h", "-j", job, "-o", "%i"], capture_output=True, text=True)
+        if p.returncode != 0 and "Invalid job id" not in p.stderr:
+            die(3, "squeue failed (exit %d): %s" % (p.returncode, p.stderr.strip()))
+        if p.returncode != 0 or not p.stdout.strip():
+            return
+        time.sleep(poll)
+
+
+def finish(state, rec, wait):
+    if not wait:
+        return 0
+    wait_job(rec["check_job"])
+    return print_summary(state)
+
+
+def cmd_submit(a, extra_render):
+    first, last = parse_frames(a.frames)
+    if a.chunk < 1:
+        die(2, "--chunk %d: at least 1" % a.chunk)
+    if a.warmup < 0:
+        die(2, "--warmup %d: not negative" % a.warmup)
+    if last > first and "#" not in a.output:
+        die(2, "-o %s: a shot needs '#' in the name for the frame number" % a.output)
+    state = os.path.abspath(a.state)
+    for sub in ("", "logs", "status"):
+        os.makedirs(os.path.join(state, sub), exist_ok=True)
+    if os.path.exists(os.path.join(state, "plan.json")):
+        die(2, "%s: already holds a shot (plan.json); use 'resubmit' or another --state" % state)
+    os.makedirs(os.path.dirname(os.path.abspath(a.output)), exist_ok=True)
+    chunks = [[f, min(f + a.chunk - 1, last)] for f in range(first, last + 1, a.chunk)]
+    plan = {
+        "name": os.path.splitext(os.path.basename(a.scene))[0],
+        "scene": os.path.abspath(a.scene),
+        "frames": [first, last],
+        "chunk": a.chunk,
+        "warmup": a.warmup,
+        "output": os.path.abspath(a.output),
+        "photonbridge": a.photonbridge,
+        "render_args": extra_render,
+        "chunks": chunks,
+    }
+    write_json(os.path.join(state, "plan.json"), plan)
+    rec = submit_chunks(plan, state, range(len(chunks)), a.sbatch or [])
+    return finish(state, rec, a.wait)
+
+
+def cmd_resubmit(a):
+    state = os.path.abspath(a.state)
+    plan = load_plan(state)
+    summary = check_shot(state, plan)  # what is on disk now
+    failed = summary["failed_chunks"]
+    if not failed:
+        print("slurm_render: every chunk of %s is complete; nothing to resubmit" % state)
+        return 0
+    rec = submit_chunks(plan, state, failed, a.sbatch or [])
+    return finish(state, rec, a.wait)
+
+
+# ---- on the nodes ---------------------------------------------------------------
+
+def render_command(plan, chunk):
+    a, b = chunk
+    return ([plan["photonbridge"], "render", plan["scene"], "--frames=%d:%d" % (a, b),
+             "--warmup", str(plan["warmup"]), "-o", plan["output"]] + list(plan["render_args"]))
+
+
+def cmd_task(state):
+    plan = load_plan(state)
+    try:
+        i = int(os.environ["SLURM_ARRAY_TASK_ID"])
+        chunk = plan["chunks"][i]
+    except (KeyError, ValueError, IndexError):
+        die(2, "task: SLURM_ARRAY_TASK_ID missing or outside the plan's %d chunks" % len(plan["chunks"]))
+    status = os.path.join(state, "status", "chunk_%d.json" % i)
+    try:  # a resubmitted chunk starts without its old status
+        os.unlink(status)
+    except FileNotFoundError:
+        pass
+    cmd = render_command(plan, chunk)
+    print("slurm_render: chunk %d, frames %d-%d, job %s on %s: %s" %
+          (i, chunk[0], chunk[1], os.environ.get("SLURM_JOB_ID", "?"), os.uname().nodename,
+           " ".join(shlex.quote(c) for c in cmd)), flush=True)
+    t0 = time.time()
+    child = subprocess.Popen(cmd)
+
+    def forward(sig, _frame):  # scancel: pass SIGTERM on, photonbridge stops cleanly
+        child.send_signal(sig)
+    signal.signal(signal.SIGTERM, forward)
+    signal.signal(signal.SIGINT, forward)
+    rc = child.wait()
+    rec = {"chunk": i, "frames": chunk, "exit": rc, "meaning": exit_meaning(rc),
+           "job": os.environ.get("SLURM_JOB_ID"), "array_job": os.environ.get("SLURM_ARRAY_JOB_ID"),
+           "node": os.uname().nodename, "seconds": round(time.time() - t0, 3)}
+    write_json(status, rec)
+    print("slurm_render: chunk %d: exit %d (%s) after %.1f s" % (i, rc, rec["meaning"], rec["seconds"]), flush=True)
+    sys.exit(rc if rc >= 0 else 128 - rc)
+
+
+def frame_ok(path):
+    try:
+        with open(path, "rb") as f:
+            return f.read(4) == EXR_MAGIC
+    except OSError:
+        return False
+
+
+def check_shot(state, plan):
+    chunks, failed, stale = [], [], []
+    for i, (a, b) in enumerate(plan["chunks"]):
+        st = None
+        try:
+            with open(os.path.join(state, "status", "chunk_%d.json" % i)) as f:
+                st = json.load(f)
+        except (OSError, ValueError):
+            pass
+        missing = []
+        for fr in range(a, b + 1):
+            p = frame_path(plan["output"], fr)
+            for t in glob.glob(glob.escape(p) + ".tmp.*"):  # a killed writer's temporary
+                stale.append(t)
+                try:
+                    os.unlink(t)
+                except OSError:
+                    pass
+            if not frame_ok(p):
+                missing.append(fr)
+        rc = st["exit"] if st else None
+        ok = rc == 0 and not missing
+        chunks.append({"chunk": i, "frames": [a, b], "ok": ok, "exit": rc, "meaning": exit_meaning(rc),
+                       "missing_frames": missing, "log": os.path.join(state, "logs", "chunk_%d.log" % i)})
+        if not ok:
+            failed.append(i)
+    n = plan["frames"][1] - plan["frames"][0] + 1
+    return {"scene": plan["scene"], "output": plan["output"], "frames": n,
+            "frames_ok": n - sum(len(c["missing_frames"]) for c in chunks),
+            "complete": not failed, "failed_chunks": failed, "removed_temporaries": stale, "chunks": chunks}
+
+
+def cmd_check(state):
+    plan = load_plan(state)
+    s = check_shot(state, plan)
+    s["check_job"] = os.environ.get("SLURM_JOB_ID")
+    write_json(os.path.join(state, "summary.json"), s)
+    for c in s["chunks"]:
+        if not c["ok"]:
+            print("slurm_render: chunk %d (frames %d-%d) failed: %s; %d frame(s) missing; log %s" %
+                  (c["chunk"], c["frames"][0], c["frames"][1], c["meaning"], len(c["missing_frames"]), c["log"]))
+    print("slurm_render: %d of %d frames written%s" %
+          (s["frames_ok"], s["frames"], "" if s["complete"] else "; resubmit: slurm_render.py resubmit --state " + state))
+    sys.exit(0 if s["complete"] else 1)
+
+
+def print_summary(state):
+    p = os.path.join(state, "summary.json")
+    try:
+        with open(p) as f:
+            s = json.load(f)
+    except (OSError, ValueError) as e:
+        die(1, "%s: no summary (%s): the check job did not run; see %s/logs" % (p, e, state))
+    for c in s["chunks"]:
+        if not c["ok"]:
+            print("chunk %d (frames %d-%d): %s, %d frame(s) missing (%s)" %
+                  (c["chunk"], c["frames"][0], c["frames"][1], c["meaning"], len(c["missing_frames"]), c["log"]))
+    print("%s: %d of %d frames; %s" % (state, s["frames_ok"], s["frames"],
+                                       "complete" if s["complete"] else "chunks %s failed" % s["failed_chunks"]))
+    return 0 if s["complete"] else 1
+
+
+def main(argv):
+    if len(argv) >= 2 and argv[0] in ("task", "check"):
+        return cmd_task(os.path.abspath(argv[1])) if argv[0] == "task" else cmd_check(os.path.abspath(argv[1]))
+    extra_render = []
+    if "--" in argv:
+        k = argv.index("--")
+        argv, extra_render = argv[:k], argv[k + 1:]
+    ap = argparse.ArgumentParser(prog="slurm_render.py", description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    s = sub.add_parser("submit", help="submit a shot")
+    s.add_argument("scene")
+    s.add_argument("--frames", required=True, help="A:B")
+    s.add_argument("-o", "--output", required=True, help="output pattern, a run of '#' for the frame number")
+    s.add_argument("--state", required=True, help="state folder on shared storage")
+    s.add_argument("--chunk", type=int, default=8, help="frames per array task (default 8)")
+    s.add_argument("--warmup", type=int, default=8, help="warm-up frames per task (default 8)")
+    s.add_argument("--photonbridge", default="photonbridge", help="the executable on the nodes")
+    s.add_argument("--sbatch", action="append", help="an extra sbatch option (repeatable), e.g. --sbatch=--gres=gpu:1")
+    s.add_argument("--wait", action="store_true", help="wait for the check; exit 1 when frames failed")
+    r = sub.add_parser("resubmit", help="submit the chunks the last check found failed")
+    r.add_argument("--state", required=True)
+    r.add_argument("--sbatch", action="append")
+    r.add_argument("--wait", action="store_true")
+    t = sub.add_parser("status", help="print the last check's summary")
+    t.add_argument("--state", required=True)
+    a = ap.parse_args(argv)
+    if a.cmd == "submit":
+        return cmd_submit(a, extra_render)
+    if extra_render:
+        die(2, "'--' and render options only with submit")
+    if a.cmd == "resubmit":
+        return cmd_resubmit(a)
+    return print_summary(os.path.abspath(a.state))
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
