@@ -17,7 +17,7 @@
 // photon seeds follow the frame number, so a frame comes out as it would in
 // one run of the whole shot up to the history older than the warm-up
 // (README "Render farms" measures how many frames make the boundary
-// invisible).
+// invisible: 32 frames, the default).
 
 const JOB_TYPE = {
     label: "photonbridge Render",
@@ -29,9 +29,9 @@ const JOB_TYPE = {
           description: "Scene on shared storage: a .gltf/.glb from the photonbridge Blender exporter" },
         { key: "frames", type: "string", required: true, eval: "f'{C.scene.frame_start}-{C.scene.frame_end}'",
           description: "Frames to render. Examples: '47', '1-30', '3, 5-10, 47-327'" },
-        { key: "chunk_size", type: "int32", default: 8, propargs: { min: 1 }, visible: "submission",
+        { key: "chunk_size", type: "int32", default: 32, propargs: { min: 1 }, visible: "submission",
           description: "Frames per task" },
-        { key: "warmup", type: "int32", default: 8, propargs: { min: 0, max: 10000 }, visible: "submission",
+        { key: "warmup", type: "int32", default: 32, propargs: { min: 0, max: 10000 }, visible: "submission",
           description: "Frames rendered before each run (not written) to rebuild the temporal history" },
         { key: "fps", type: "float", eval: "C.scene.render.fps / C.scene.render.fps_base", visible: "submission",
           description: "Frames per second: frame f is the scene at time f/fps" },
@@ -52,8 +52,8 @@ function compileJob(job) {
     if (!s.scene) throw "photonbridge-render: the scene setting is empty";
     if (output.indexOf("#") < 0)
         throw `photonbridge-render: render_output_path '${output}' needs a run of '#' for the frame number`;
-    const chunkSize = s.chunk_size === undefined ? 8 : s.chunk_size;
-    const warmup = s.warmup === undefined ? 8 : s.warmup;
+    const chunkSize = s.chunk_size === undefined ? 32 : s.chunk_size;
+    const warmup = s.warmup === undefined ? 32 : s.warmup;
     if (!(chunkSize >= 1)) throw `photonbridge-render: chunk_size ${chunkSize} must be at least 1`;
     if (!(warmup >= 0)) throw `photonbridge-render: warmup ${warmup} must not be negative`;
 

@@ -7,11 +7,12 @@
   slurm_render.py resubmit --state DIR [--sbatch ARG]... [--wait]
   slurm_render.py status --state DIR
 
-submit cuts A..B into chunks of N frames (default 8), one array task per
+submit cuts A..B into chunks of N frames (default 32), one array task per
 chunk, each running `photonbridge render SCENE --frames a:b --warmup W -o
 OUT ...` (the W frames before a rebuild the temporal history and are not
-written; the photon seeds follow the frame number, so the chunks' frames are
-those of one run of the shot up to history older than W frames). A second
+written; default 32; the photon seeds follow the frame number, so the
+chunks' frames are those of one run of the shot up to history older than W
+frames: README "Render farms" measures 32 to make a boundary invisible). A second
 job, dependent on the whole array (afterany), checks every frame and writes
 DIR/summary.json. --wait blocks until that check ends and exits with its
 status. resubmit submits only the chunks the last check found failed (and a
@@ -51,7 +52,7 @@ EXIT_MEANING = {
     7: "scene has nothing to render", 8: "image file is malformed", 9: "images do not match in size or channels",
     10: "input exceeds a size limit", 11: "out of memory", 12: "no usable Vulkan device", 13: "Vulkan call failed",
     14: "Vulkan device lost", 15: "component not built or not installed", 70: "internal error",
-    130: "interrupted",
+    130: "interrupted (SIGINT)", 143: "interrupted (SIGTERM, e.g. scancel)",
 }
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 SELF = os.path.abspath(__file__)
@@ -332,8 +333,8 @@ def main(argv):
     s.add_argument("--frames", required=True, help="A:B")
     s.add_argument("-o", "--output", required=True, help="output pattern, a run of '#' for the frame number")
     s.add_argument("--state", required=True, help="state folder on shared storage")
-    s.add_argument("--chunk", type=int, default=8, help="frames per array task (default 8)")
-    s.add_argument("--warmup", type=int, default=8, help="warm-up frames per task (default 8)")
+    s.add_argument("--chunk", type=int, default=32, help="frames per array task (default 32)")
+    s.add_argument("--warmup", type=int, default=32, help="warm-up frames per task (default 32)")
     s.add_argument("--photonbridge", default="photonbridge", help="the executable on the nodes")
     s.add_argument("--sbatch", action="append", help="an extra sbatch option (repeatable), e.g. --sbatch=--gres=gpu:1")
     s.add_argument("--wait", action="store_true", help="wait for the check; exit 1 when frames failed")
