@@ -27,3 +27,8 @@ add_test(NAME farm_slurm
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/farm/slurm_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                  ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/farm_slurm)
 set_tests_properties(farm_slurm PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 300 RUN_SERIAL TRUE)
+add_test(NAME farm_slurm_validate
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/farm/slurm_validate_check.py ${PB_EXE} ${PB_ROOT}
+                 ${CMAKE_CURRENT_BINARY_DIR}/farm_slurm_validate)
+set_tests_properties(farm_slurm_validate PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 300
+                     RUN_SERIAL TRUE)

@@ -6,6 +6,8 @@
                   [--sbatch ARG]... [--wait] [-- RENDER OPTIONS...]
   slurm_render.py resubmit --state DIR [--sbatch ARG]... [--wait]
   slurm_render.py status --state DIR
+  slurm_render.py validate SCENE... --state DIR [--photonbridge EXE]
+                  [--sbatch ARG]... [--wait] [-- VALIDATE OPTIONS...]
 
 submit cuts A..B into chunks of N frames (default 32), one array task per
 chunk, each running `photonbridge render SCENE --frames a:b --warmup W -o
@@ -17,6 +19,13 @@ job, dependent on the whole array (afterany), checks every frame and writes
 DIR/summary.json. --wait blocks until that check ends and exits with its
 status. resubmit submits only the chunks the last check found failed (and a
 new check); status prints the summary.
+
+validate runs `photonbridge validate SCENE --out DIR/validate/NAME ...` as
+one array task per scene (every renderer of a scene in its task: the report
+compares them), each into a staging folder renamed into place when it
+succeeds, then a report job writing DIR/summary.json and DIR/index.html (a
+link and each pair's PSNR/relMSE per scene; "failed_chunks" there lists the
+failed scenes' task indices); resubmit and status as above.
 
 Everything lives in the state folder DIR, which must be on storage that the
 submitting host and every node share (as OUT):
@@ -37,9 +46,11 @@ Exit status: 0 done (or submitted, without --wait); 1 frames failed (the
 summary says which chunks); 2 bad command line; 3 sbatch or squeue failed."""
 import argparse
 import glob
+import html
 import json
 import os
 import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -130,6 +141,10 @@ def sbatch(args, env=None):
     return p.stdout.strip().split(";")[0]
 
 
+def log_prefix(plan):
+    return "scene" if plan.get("kind") == "validate" else "chunk"
+
+
 def submit_chunks(plan, state, indices, extra):
     """One array job over `indices`, then the check job after it."""
     logs = os.path.join(state, "logs")
@@ -137,7 +152,7 @@ def submit_chunks(plan, state, indices, extra):
     py = shlex.quote(sys.executable or "python3")
     array = ",".join(str(i) for i in indices)
     job = sbatch(["--job-name", "pb-" + name, "--array", array, "--open-mode=append",
-                  "--output", os.path.join(logs, "chunk_%a.log"), "--chdir", state] + extra +
+                  "--output", os.path.join(logs, log_prefix(plan) + "_%a.log"), "--chdir", state] + extra +
                  ["--wrap", "exec %s %s task %s" % (py, shlex.quote(SELF), shlex.quote(state))])
     check = sbatch(["--job-name", "pb-" + name + "-check", "--dependency", "afterany:" + job,
                     "--output", os.path.join(logs, "check_%j.log"), "--chdir", state] + extra +
@@ -145,7 +160,7 @@ def submit_chunks(plan, state, indices, extra):
     rec = {"time": time.time(), "array_job": job, "indices": list(indices), "check_job": check}
     with open(os.path.join(state, "submissions.jsonl"), "a") as f:
         f.write(json.dumps(rec) + "\n")
-    print("slurm_render: submitted %s (chunks %s) and check %s" % (job, array, check))
+    print("slurm_render: submitted %s (%ss %s) and check %s" % (job, log_prefix(plan), array, check))
     return rec
 
 
@@ -197,13 +212,35 @@ def cmd_submit(a, extra_render):
     return finish(state, rec, a.wait)
 
 
+def cmd_validate(a, extra):
+    state = os.path.abspath(a.state)
+    for sub in ("", "logs", "status", "validate"):
+        os.makedirs(os.path.join(state, sub), exist_ok=True)
+    if os.path.exists(os.path.join(state, "plan.json")):
+        die(2, "%s: already holds a plan (plan.json); use 'resubmit' or another --state" % state)
+    scenes, names = [], []
+    for sc in a.scenes:
+        # A file, or a sample's name (photonbridge validate resolves those).
+        scenes.append(os.path.abspath(sc) if os.path.exists(sc) else sc)
+        base = os.path.splitext(os.path.basename(sc))[0] or "scene"
+        name, k = base, 2
+        while name in names:
+            name, k = "%s_%d" % (base, k), k + 1
+        names.append(name)
+    plan = {"kind": "validate", "name": "validate", "scenes": scenes, "names": names,
+            "photonbridge": a.photonbridge, "validate_args": extra, "out": os.path.join(state, "validate")}
+    write_json(os.path.join(state, "plan.json"), plan)
+    rec = submit_chunks(plan, state, range(len(scenes)), a.sbatch or [])
+    return finish(state, rec, a.wait)
+
+
 def cmd_resubmit(a):
     state = os.path.abspath(a.state)
     plan = load_plan(state)
-    summary = check_shot(state, plan)  # what is on disk now
+    summary = (check_validate if plan.get("kind") == "validate" else check_shot)(state, plan)  # on disk now
     failed = summary["failed_chunks"]
     if not failed:
-        print("slurm_render: every chunk of %s is complete; nothing to resubmit" % state)
+        print("slurm_render: every task of %s is complete; nothing to resubmit" % state)
         return 0
     rec = submit_chunks(plan, state, failed, a.sbatch or [])
     return finish(state, rec, a.wait)
@@ -217,8 +254,59 @@ def render_command(plan, chunk):
              "--warmup", str(plan["warmup"]), "-o", plan["output"]] + list(plan["render_args"]))
 
 
+def run_child(cmd):
+    """Runs cmd, passing scancel's SIGTERM on (photonbridge stops cleanly);
+    its exit status (negative: the signal)."""
+    child = subprocess.Popen(cmd)
+
+    def forward(sig, _frame):
+        child.send_signal(sig)
+    signal.signal(signal.SIGTERM, forward)
+    signal.signal(signal.SIGINT, forward)
+    return child.wait()
+
+
+def task_validate(state, plan, i):
+    scene, name = plan["scenes"][i], plan["names"][i]
+    status = os.path.join(state, "status", "scene_%d.json" % i)
+    try:
+        os.unlink(status)
+    except FileNotFoundError:
+        pass
+    final = os.path.join(plan["out"], name)
+    stage = os.path.join(plan["out"], ".%s.tmp.%d" % (name, os.getpid()))
+    cmd = [plan["photonbridge"], "validate", scene, "--out", stage] + list(plan["validate_args"])
+    print("slurm_render: scene %d (%s), job %s on %s: %s" %
+          (i, name, os.environ.get("SLURM_JOB_ID", "?"), os.uname().nodename,
+           " ".join(shlex.quote(c) for c in cmd)), flush=True)
+    t0 = time.time()
+    rc = run_child(cmd)
+    if rc == 0:  # the whole report into place at once
+        old = final + ".old.%d" % os.getpid()
+        if os.path.exists(final):
+            os.rename(final, old)
+        os.rename(stage, final)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        shutil.rmtree(stage, ignore_errors=True)
+    rec = {"task": i, "scene": scene, "name": name, "exit": rc, "meaning": exit_meaning(rc),
+           "job": os.environ.get("SLURM_JOB_ID"), "node": os.uname().nodename,
+           "seconds": round(time.time() - t0, 3)}
+    write_json(status, rec)
+    print("slurm_render: scene %d (%s): exit %d (%s) after %.1f s" % (i, name, rc, rec["meaning"], rec["seconds"]),
+          flush=True)
+    sys.exit(rc if rc >= 0 else 128 - rc)
+
+
 def cmd_task(state):
     plan = load_plan(state)
+    if plan.get("kind") == "validate":
+        try:
+            i = int(os.environ["SLURM_ARRAY_TASK_ID"])
+            plan["scenes"][i]
+        except (KeyError, ValueError, IndexError):
+            die(2, "task: SLURM_ARRAY_TASK_ID missing or outside the plan's %d scenes" % len(plan["scenes"]))
+        return task_validate(state, plan, i)
     try:
         i = int(os.environ["SLURM_ARRAY_TASK_ID"])
         chunk = plan["chunks"][i]
@@ -234,13 +322,7 @@ def cmd_task(state):
           (i, chunk[0], chunk[1], os.environ.get("SLURM_JOB_ID", "?"), os.uname().nodename,
            " ".join(shlex.quote(c) for c in cmd)), flush=True)
     t0 = time.time()
-    child = subprocess.Popen(cmd)
-
-    def forward(sig, _frame):  # scancel: pass SIGTERM on, photonbridge stops cleanly
-        child.send_signal(sig)
-    signal.signal(signal.SIGTERM, forward)
-    signal.signal(signal.SIGINT, forward)
-    rc = child.wait()
+    rc = run_child(cmd)
     rec = {"chunk": i, "frames": chunk, "exit": rc, "meaning": exit_meaning(rc),
            "job": os.environ.get("SLURM_JOB_ID"), "array_job": os.environ.get("SLURM_ARRAY_JOB_ID"),
            "node": os.uname().nodename, "seconds": round(time.time() - t0, 3)}
@@ -289,8 +371,71 @@ def check_shot(state, plan):
             "complete": not failed, "failed_chunks": failed, "removed_temporaries": stale, "chunks": chunks}
 
 
+def check_validate(state, plan):
+    scenes, failed, stale = [], [], []
+    for t in glob.glob(os.path.join(glob.escape(plan["out"]), ".*.tmp.*")):  # a killed task's staging folder
+        stale.append(t)
+        shutil.rmtree(t, ignore_errors=True)
+    for i, (scene, name) in enumerate(zip(plan["scenes"], plan["names"])):
+        st = None
+        try:
+            with open(os.path.join(state, "status", "scene_%d.json" % i)) as f:
+                st = json.load(f)
+        except (OSError, ValueError):
+            pass
+        rc = st["exit"] if st else None
+        report, pairs = os.path.join(plan["out"], name, "report.json"), []
+        try:
+            with open(report) as f:
+                rep = json.load(f)
+            pairs = [{"test": p.get("test"), "reference": p.get("reference"), "psnr_db": p.get("psnr_db"),
+                      "relmse": p.get("relmse"), "ssim": p.get("ssim")} for p in rep.get("pairs", [])]
+            renders = [{"name": r.get("name"), "status": r.get("status")} for r in rep.get("renders", [])]
+        except (OSError, ValueError):
+            report, renders = None, []
+        ok = rc == 0 and report is not None
+        scenes.append({"task": i, "scene": scene, "name": name, "ok": ok, "exit": rc, "meaning": exit_meaning(rc),
+                       "report": report, "page": os.path.join(plan["out"], name, "index.html") if report else None,
+                       "renders": renders, "pairs": pairs,
+                       "log": os.path.join(state, "logs", "scene_%d.log" % i)})
+        if not ok:
+            failed.append(i)
+    return {"kind": "validate", "scenes": scenes, "complete": not failed, "failed_chunks": failed,
+            "removed_temporaries": stale}
+
+
+def validate_index(state, s):
+    """DIR/index.html: every scene's report page and its pairs' metrics."""
+    def esc(x):
+        return html.escape(str(x))
+    rows = []
+    for c in s["scenes"]:
+        link = ('<a href="%s">%s</a>' % (esc(os.path.relpath(c["page"], state)), esc(c["name"])) if c["page"]
+                else esc(c["name"]))
+        pairs = "<br>".join("%s vs %s: %.2f dB, relMSE %.4g" % (esc(p["test"]), esc(p["reference"]),
+                                                                  p["psnr_db"] or 0, p["relmse"] or 0)
+                            for p in c["pairs"]) or "-"
+        rows.append("<tr><td>%s</td><td>%s</td><td>%s</td></tr>" %
+                    (link, "ok" if c["ok"] else "failed: " + esc(c["meaning"]), pairs))
+    return ("<!doctype html><meta charset=utf-8><title>photonbridge validate on Slurm</title>"
+            "<h1>photonbridge validate: %d of %d scenes</h1><table border=1 cellpadding=4>"
+            "<tr><th>scene</th><th>status</th><th>pairs</th></tr>%s</table>\n" %
+            (len(s["scenes"]) - len(s["failed_chunks"]), len(s["scenes"]), "".join(rows)))
+
+
 def cmd_check(state):
     plan = load_plan(state)
+    if plan.get("kind") == "validate":
+        s = check_validate(state, plan)
+        s["check_job"] = os.environ.get("SLURM_JOB_ID")
+        write_json(os.path.join(state, "summary.json"), s)
+        write_atomic(os.path.join(state, "index.html"), validate_index(state, s))
+        for c in s["scenes"]:
+            if not c["ok"]:
+                print("slurm_render: scene %d (%s) failed: %s; log %s" % (c["task"], c["name"], c["meaning"], c["log"]))
+        print("slurm_render: %d of %d scenes validated; %s/index.html" %
+              (len(s["scenes"]) - len(s["failed_chunks"]), len(s["scenes"]), state))
+        sys.exit(0 if s["complete"] else 1)
     s = check_shot(state, plan)
     s["check_job"] = os.environ.get("SLURM_JOB_ID")
     write_json(os.path.join(state, "summary.json"), s)
@@ -310,6 +455,14 @@ def print_summary(state):
             s = json.load(f)
     except (OSError, ValueError) as e:
         die(1, "%s: no summary (%s): the check job did not run; see %s/logs" % (p, e, state))
+    if s.get("kind") == "validate":
+        for c in s["scenes"]:
+            print("scene %d (%s): %s%s" % (c["task"], c["name"], "ok" if c["ok"] else "failed: " + c["meaning"],
+                                           "".join("; %s vs %s %.2f dB" % (q["test"], q["reference"], q["psnr_db"] or 0)
+                                                   for q in c["pairs"])))
+        print("%s: %d of %d scenes; %s" % (state, len(s["scenes"]) - len(s["failed_chunks"]), len(s["scenes"]),
+                                           "complete" if s["complete"] else "tasks %s failed" % s["failed_chunks"]))
+        return 0 if s["complete"] else 1
     for c in s["chunks"]:
         if not c["ok"]:
             print("chunk %d (frames %d-%d): %s, %d frame(s) missing (%s)" %
@@ -344,9 +497,17 @@ def main(argv):
     r.add_argument("--wait", action="store_true")
     t = sub.add_parser("status", help="print the last check's summary")
     t.add_argument("--state", required=True)
+    v = sub.add_parser("validate", help="submit photonbridge validate, one task per scene")
+    v.add_argument("scenes", nargs="+", metavar="SCENE")
+    v.add_argument("--state", required=True)
+    v.add_argument("--photonbridge", default="photonbridge")
+    v.add_argument("--sbatch", action="append")
+    v.add_argument("--wait", action="store_true")
     a = ap.parse_args(argv)
     if a.cmd == "submit":
         return cmd_submit(a, extra_render)
+    if a.cmd == "validate":
+        return cmd_validate(a, extra_render)
     if extra_render:
         die(2, "'--' and render options only with submit")
     if a.cmd == "resubmit":
