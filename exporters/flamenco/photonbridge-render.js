@@ -57,9 +57,11 @@ function compileJob(job) {
     if (!(chunkSize >= 1)) throw `photonbridge-render: chunk_size ${chunkSize} must be at least 1`;
     if (!(warmup >= 0)) throw `photonbridge-render: warmup ${warmup} must not be negative`;
 
+    let runs = 0;
     for (const chunk of frameChunker(String(s.frames), chunkSize)) {
         const task = author.Task(`render-${chunk}`, "misc");
         for (const run of contiguousRuns(chunk)) {
+            runs++;
             task.addCommand(author.Command("exec", {
                 exe: s.photonbridge || "photonbridge",
                 args: renderArgs(s, output, run, warmup),
@@ -67,6 +69,10 @@ function compileJob(job) {
         }
         job.addTask(task);
     }
+    // frameCount() where the manager has it (newer Flamenco 3 releases).
+    if (typeof frameCount === "function")
+        print(`photonbridge-render: ${frameCount(String(s.frames))} frames in ${runs} runs, ` +
+              `${runs * warmup} warm-up frames rendered besides`);
 }
 
 // The photonbridge command line of one contiguous run [first, last].

@@ -2,7 +2,7 @@
 // in node against a stub of the manager's globals (issue 23): author.Task,
 // author.Command, frameChunker (as Flamenco's js_globals.go chunks: sorted,
 // deduplicated frames, chunks of chunk_size frames written as merged runs,
-// two-frame runs as "a,b"), print. Checks the tasks and their exec commands
+// two-frame runs as "a,b"), frameCount, print. Checks the tasks and their exec commands
 // for several frame ranges and chunk sizes, non-contiguous chunks included,
 // and the errors for bad settings.
 //
@@ -59,10 +59,12 @@ function frameChunker(range, size) {
   return chunks;
 }
 
+let printed = [];
 function compile(settings) {
   const tasks = [];
+  printed = [];
   const ctx = {
-    print: () => {},
+    print: (...a) => printed.push(a.join(" ")),
     frameChunker,
     frameCount: (r) => explode(String(r)).length,
     author: {
@@ -112,6 +114,10 @@ for (const [what, settings, expected] of CASES) {
   })]);
   check(JSON.stringify(got) === JSON.stringify(expected),
         `${what}: tasks ${JSON.stringify(got)}`);
+  const runs = expected.reduce((n, t) => n + t[1].length, 0);
+  const frames = expected.reduce((n, t) => n + t[1].reduce((m, r) => m + r[1] - r[0] + 1, 0), 0);
+  check(printed.some((l) => l.indexOf(`${frames} frames in ${runs} runs, ${runs * settings.warmup} warm-up`) >= 0),
+        `${what}: the log line counts ${frames} frames, ${runs} runs (${printed.join(" | ")})`);
   const warm = String(settings.warmup);
   check(r.tasks.every((t) => t.type === "misc" && t.commands.every((c) =>
           c.name === "exec" && c.parameters.exe === BASE.photonbridge &&
