@@ -2,7 +2,7 @@
 """A shot on a Slurm cluster as a job array (issue 23; README "Render farms").
 
   slurm_render.py submit SCENE --frames A:B -o OUT/f_####.exr --state DIR
-                  [--chunk N] [--warmup W] [--photonbridge EXE]
+                  [--chunk N] [--warmup W] [--photonbridge EXE] [--python PY]
                   [--sbatch ARG]... [--wait] [-- RENDER OPTIONS...]
   slurm_render.py resubmit --state DIR [--sbatch ARG]... [--wait]
   slurm_render.py status --state DIR
@@ -63,7 +63,7 @@ EXIT_MEANING = {
     7: "scene has nothing to render", 8: "image file is malformed", 9: "images do not match in size or channels",
     10: "input exceeds a size limit", 11: "out of memory", 12: "no usable Vulkan device", 13: "Vulkan call failed",
     14: "Vulkan device lost", 15: "component not built or not installed", 70: "internal error",
-    130: "interrupted (SIGINT)", 143: "interrupted (SIGTERM, e.g. scancel)",
+    127: "photonbridge not found on the node (--photonbridge)", 130: "interrupted (SIGINT)", 143: "interrupted (SIGTERM, e.g. scancel)",
 }
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 SELF = os.path.abspath(__file__)
@@ -149,7 +149,7 @@ def submit_chunks(plan, state, indices, extra):
     """One array job over `indices`, then the check job after it."""
     logs = os.path.join(state, "logs")
     name = plan["name"]
-    py = shlex.quote(sys.executable or "python3")
+    py = shlex.quote(plan.get("python") or "python3")
     array = ",".join(str(i) for i in indices)
     job = sbatch(["--job-name", "pb-" + name, "--array", array, "--open-mode=append",
                   "--output", os.path.join(logs, log_prefix(plan) + "_%a.log"), "--chdir", state] + extra +
@@ -204,6 +204,7 @@ def cmd_submit(a, extra_render):
         "warmup": a.warmup,
         "output": os.path.abspath(a.output),
         "photonbridge": a.photonbridge,
+        "python": a.python,
         "render_args": extra_render,
         "chunks": chunks,
     }
@@ -228,7 +229,7 @@ def cmd_validate(a, extra):
             name, k = "%s_%d" % (base, k), k + 1
         names.append(name)
     plan = {"kind": "validate", "name": "validate", "scenes": scenes, "names": names,
-            "photonbridge": a.photonbridge, "validate_args": extra, "out": os.path.join(state, "validate")}
+            "photonbridge": a.photonbridge, "python": a.python, "validate_args": extra, "out": os.path.join(state, "validate")}
     write_json(os.path.join(state, "plan.json"), plan)
     rec = submit_chunks(plan, state, range(len(scenes)), a.sbatch or [])
     return finish(state, rec, a.wait)
@@ -257,7 +258,11 @@ def render_command(plan, chunk):
 def run_child(cmd):
     """Runs cmd, passing scancel's SIGTERM on (photonbridge stops cleanly);
     its exit status (negative: the signal)."""
-    child = subprocess.Popen(cmd)
+    try:
+        child = subprocess.Popen(cmd)
+    except OSError as e:
+        print("slurm_render: %s: %s" % (cmd[0], e.strerror), flush=True)
+        return 127
 
     def forward(sig, _frame):
         child.send_signal(sig)
@@ -489,6 +494,7 @@ def main(argv):
     s.add_argument("--chunk", type=int, default=32, help="frames per array task (default 32)")
     s.add_argument("--warmup", type=int, default=32, help="warm-up frames per task (default 32)")
     s.add_argument("--photonbridge", default="photonbridge", help="the executable on the nodes")
+    s.add_argument("--python", default="python3", help="Python 3 on the nodes, to run this script's tasks")
     s.add_argument("--sbatch", action="append", help="an extra sbatch option (repeatable), e.g. --sbatch=--gres=gpu:1")
     s.add_argument("--wait", action="store_true", help="wait for the check; exit 1 when frames failed")
     r = sub.add_parser("resubmit", help="submit the chunks the last check found failed")
@@ -501,6 +507,7 @@ def main(argv):
     v.add_argument("scenes", nargs="+", metavar="SCENE")
     v.add_argument("--state", required=True)
     v.add_argument("--photonbridge", default="photonbridge")
+    v.add_argument("--python", default="python3")
     v.add_argument("--sbatch", action="append")
     v.add_argument("--wait", action="store_true")
     a = ap.parse_args(argv)
