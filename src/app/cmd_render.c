@@ -412,9 +412,9 @@ int pb_cmd_render(int argc, char **argv) {
     pb_sequence_desc sd = {.render = rd, .temporal = !o.no_temporal, .bvh_update = bvh_modes[o.bvh_update],
                            .orbit = o.orbit,
                            .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
-    pb_seq_opts so = {.first = first, .last = last, .warmup = o.warmup, .fps = fps, .png = o.png, .reference_spp = o.reference_spp,
-                      .reference_cache = o.reference_cache, .blender_layer = o.blender_layer,
-                      .blender_passes = o.blender_passes};
+    pb_seq_opts so = {.first = first, .last = last, .warmup = o.warmup, .fps = fps, .png = o.png,
+                      .reference_spp = o.reference_spp, .reference_cache = o.reference_cache,
+                      .blender_layer = o.blender_layer, .blender_passes = o.blender_passes};
     r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
     goto done;
   }
