@@ -11,7 +11,11 @@ set -euo pipefail
 # numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets,
 # Pillow for their image seeds (tests/fuzz/make_image_seeds.py);
 # valgrind for the memory checks of the CPU paths. GLFW 3, Xvfb and xauth
-# (xvfb-run) for `photonbridge view` and its tests.
+# (xvfb-run) for `photonbridge view` and its tests. Render farms (issue 23):
+# node for the Flamenco job type's test, slurm-wlm and munge (and iproute2's
+# ip, for the private loopback) for the one-node Slurm cluster of
+# tests/farm/slurm_check.py; the packages' services are not needed (the
+# test starts its own daemons in the foreground).
 PKGS=(
   build-essential cmake pkg-config python3
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
@@ -20,6 +24,7 @@ PKGS=(
   povray blender python3-numpy
   clang libclang-rt-14-dev python3-pil valgrind
   libglfw3-dev xvfb xauth
+  nodejs slurm-wlm munge iproute2
 )
 # Optional extras: skipped quietly when the archive lacks them.
 OPTIONAL=(python3-matplotlib chromium)

@@ -49,7 +49,7 @@ typedef struct render_opts {
   const char *frames;
   double fps, orbit_seconds;
   int orbit, no_temporal, bvh_update;
-  uint32_t reference_spp;
+  uint32_t reference_spp, warmup;
   const char *reference_cache;
   /* Driving photonbridge from another program (the Blender add-on). */
   const char *crop, *preview, *blender_layer, *blender_passes;
@@ -253,6 +253,9 @@ int pb_cmd_render(int argc, char **argv) {
        "render frames A to B (inclusive) of the scene's animation at time frame/fps; -o and --png then need a "
        "run of '#' for the frame number (out/frame_####.exr)", NULL, 0, 0},
       {"fps", 0, PB_OPT_FLOAT, &o.fps, "F", "--frames: frames per second (default 24)", NULL, 0, 0},
+      {"warmup", 0, PB_OPT_U32, &o.warmup, "N",
+       "--frames: first render the N frames before A (not written) to build the temporal history, so that a "
+       "chunk of a shot continues as one run of the shot would (default 0)", NULL, 0, 10000},
       {"orbit", 0, PB_OPT_FLAG, &o.orbit, NULL,
        "--frames: move the camera on a circle around the scene's centre, one turn over the frames (or "
        "--orbit-seconds), looking at the centre", NULL, 0, 0},
@@ -323,9 +326,12 @@ int pb_cmd_render(int argc, char **argv) {
   int32_t first = 0, last = 0;
   if (o.frames && (r = pb_seq_parse_frames(o.frames, &first, &last)) != PB_OK) return pb_cli_exit(cmd, r);
   if (!o.frames && (o.orbit || o.fps != 0 || o.no_temporal || o.reference_spp || o.reference_cache ||
-                    o.orbit_seconds != 0))
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal and --reference-* need "
-                                    "--frames A:B"));
+                    o.orbit_seconds != 0 || o.warmup))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup and "
+                                    "--reference-* need --frames A:B"));
+  if (o.frames && (int64_t)first - o.warmup < -1000000)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --warmup %u: frame %lld before the first "
+                                    "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
@@ -406,9 +412,9 @@ int pb_cmd_render(int argc, char **argv) {
     pb_sequence_desc sd = {.render = rd, .temporal = !o.no_temporal, .bvh_update = bvh_modes[o.bvh_update],
                            .orbit = o.orbit,
                            .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
-    pb_seq_opts so = {.first = first, .last = last, .fps = fps, .png = o.png, .reference_spp = o.reference_spp,
-                      .reference_cache = o.reference_cache, .blender_layer = o.blender_layer,
-                      .blender_passes = o.blender_passes};
+    pb_seq_opts so = {.first = first, .last = last, .warmup = o.warmup, .fps = fps, .png = o.png,
+                      .reference_spp = o.reference_spp, .reference_cache = o.reference_cache,
+                      .blender_layer = o.blender_layer, .blender_passes = o.blender_passes};
     r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
     goto done;
   }

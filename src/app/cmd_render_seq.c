@@ -1,6 +1,8 @@
 /* render --frames A:B (render_seq.h): frames rendered by render/sequence.h,
  * each written as its own EXR (atomically, so a failure leaves only whole
- * frames behind), with optional per-frame references and metrics:
+ * frames behind), after --warmup N unwritten frames before A that build the
+ * temporal history (issue 23: a chunk of a shot on a farm), with optional
+ * per-frame references and metrics:
  *
  *  error    per frame, the result against the reference renderer's render
  *           of the same pose (src/ref, cached on disk by content: the posed
@@ -235,6 +237,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_number(&j, "fps", so->fps);
   pb_json_int(&j, "first_frame", so->first);
   pb_json_int(&j, "last_frame", so->last);
+  pb_json_int(&j, "warmup_frames", so->warmup);
   pb_json_begin_object(&j, "filters");
   pb_json_bool(&j, "temporal", sd->temporal);
   pb_json_int(&j, "atrous_iterations", sd->render.atrous_iterations);
@@ -335,13 +338,39 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     goto done;
   }
   if ((r = pb_sequence_create(g, s, gs, camera, w, h, sd, &q)) != PB_OK) goto done;
+  /* Warm-up (issue 23): the frames first-warmup .. first-1 render as they
+   * would in a run of the whole shot (the photon seeds follow the frame
+   * number, not the position in this run) and fill the temporal history;
+   * none is written. The last one's reference gives the first written
+   * frame its flicker. */
+  for (uint32_t k = 0; k < so->warmup; ++k) {
+    int32_t f = so->first - (int32_t)so->warmup + (int32_t)k;
+    double t = (double)f / so->fps;
+    pb_sequence_frame_info info;
+    if ((r = pb_sequence_frame(g, q, (uint32_t)f, t, &res, &info)) != PB_OK) goto done;
+    if (k + 1 == so->warmup) {
+      memcpy(res_prev, res.beauty, pixels * 4 * sizeof *res_prev);
+      if (so->reference_spp) {
+        int cached;
+        double ms;
+        char file[PATH_MAX];
+        if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref_prev, &cached, &ms, file)) != PB_OK)
+          goto done;
+      }
+    }
+    if (!c->quiet)
+      pb_log_info("render: warm-up frame %" PRId32 " (t %.3f s): %.0f ms, not written", f, t, res.stats.wall_ms);
+    pb_render_result_destroy(&res);
+  }
   for (size_t i = 0; i < count; ++i) {
     int32_t f = so->first + (int32_t)i;
     frame_record *fr = &rec[i];
     fr->frame = f;
     fr->psnr = fr->relmse = fr->flicker_result = fr->flicker_reference = NAN;
     double t = (double)f / so->fps;
-    if ((r = pb_sequence_frame(g, q, (uint32_t)i, t, &res, &fr->info)) != PB_OK) goto done;
+    /* The seed index is the frame number (wrapping for negative frames), so
+     * that frame f has the same photons whichever run renders it. */
+    if ((r = pb_sequence_frame(g, q, (uint32_t)f, t, &res, &fr->info)) != PB_OK) goto done;
     fr->stats = res.stats;
     if (so->reference_spp) {
       if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref, &fr->reference_cached,
@@ -351,7 +380,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
       if ((r = pb_metrics_compute(res.beauty, ref, w, h, 4, NULL, &m)) != PB_OK) goto done;
       fr->psnr = m.psnr;
       fr->relmse = m.relmse;
-      if (i > 0) {
+      if (i > 0 || so->warmup > 0) {
         fr->flicker_result = mean_abs_change(res.beauty, res_prev, pixels);
         fr->flicker_reference = mean_abs_change(ref, ref_prev, pixels);
       }
