@@ -128,3 +128,11 @@ add_test(NAME validate_blend
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(validate_blend PROPERTIES LABELS "blender;no-sanitize" SKIP_RETURN_CODE 77
                      TIMEOUT 600 PASS_REGULAR_EXPRESSION "1 passed, 0 failed")
+# validate split by renderer (--render-only, --report-from; tests/validate_split.py).
+if(Python3_Interpreter_FOUND)
+  add_test(NAME validate_split
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/validate_split.py ${PB_EXE}
+                   ${CMAKE_CURRENT_BINARY_DIR}/validate_split
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(validate_split PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 300)
+endif()

@@ -5,7 +5,8 @@
         [--width 128] [--spp 16] [--ref-spp 64] [--pov-quality medium] \
         [--cycles-spp 64] [--cycles-source auto|sample|gltf] [--cycles-materials model|principled] \
         [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
-        [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L]
+        [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L] \
+        [--renderers LIST] [--render-only | --report-from DIR[,DIR...]]
 
 `photonbridge validate` runs this script. SCENE is a glTF/GLB file, a .blend,
 or the name of a sample (samples/NAME/NAME.gltf). A .blend is handed over by
@@ -40,6 +41,12 @@ Every pair's row also lists what its two renderers model differently on this
 scene (renderer_notes: a feature one side lacks, a material model, bounce
 limits; from photonbridge info, the glTF's JSON and each renderer's own
 report), so that a modelling difference is not read as an error.
+Split by renderer (a farm's one task per scene and renderer, issue 23):
+`--renderers R --render-only` runs only R and writes its record as
+DIR/render_R.json beside its image and logs; `--report-from DIR1,DIR2,...`
+renders nothing, copies those folders into --out and compares and reports
+as one process would (a renderer no folder has is listed as not rendered).
+
 A renderer that is missing or fails is listed with the reason and left out of
 the comparisons; the exit status is 0 when the reference and at least one
 other renderer produced an image, 1 otherwise, 2 on usage errors.
@@ -64,6 +71,7 @@ import gltf_json
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 ORDER = ["reference", "cycles", "povray", "photonbridge"]
+RUN_ORDER = ["reference", "photonbridge", "povray", "cycles"]  # --renderers, in the order they run
 LABEL = {"reference": "photonbridge reference (CPU)", "photonbridge": "photonbridge render (GPU)",
          "povray": "POV-Ray 3.7", "cycles": "Blender Cycles"}
 
@@ -336,7 +344,29 @@ def main(argv):
     ap.add_argument("--frames", help="A:B: a sequence (photonbridge render --frames with per-frame references) "
                                      "instead of one picture")
     ap.add_argument("--seq-ref-spp", type=int, default=64, help="per-frame reference spp of --frames")
+    ap.add_argument("--renderers", default=",".join(RUN_ORDER),
+                    help="comma list of the renderers to run (default all: %s); the others are listed as "
+                         "skipped" % ",".join(RUN_ORDER))
+    ap.add_argument("--render-only", action="store_true",
+                    help="run the renderers and write each one's record as DIR/render_NAME.json, no comparison "
+                         "or report (one task per scene and renderer on a farm; then --report-from)")
+    ap.add_argument("--report-from", metavar="DIR[,DIR...]",
+                    help="render nothing: gather what --render-only runs wrote into these folders (their records, "
+                         "images and logs, copied into --out), then compare and write the report")
     a = ap.parse_args(argv)
+    want = [n.strip() for n in a.renderers.split(",") if n.strip()]
+    bad = [n for n in want if n not in RUN_ORDER]
+    if bad or not want:
+        print("validate: --renderers %s: each one of %s" % (a.renderers, ",".join(RUN_ORDER)), file=sys.stderr)
+        return 2
+    if a.render_only and a.report_from:
+        print("validate: --render-only and --report-from exclude each other", file=sys.stderr)
+        return 2
+    gather = [os.path.abspath(d) for d in a.report_from.split(",") if d] if a.report_from else []
+    for d in gather:
+        if not os.path.isdir(d):
+            print("validate: --report-from %s: no such folder" % d, file=sys.stderr)
+            return 2
 
     scene, sample = resolve_scene(a.scene)
     if not scene:
@@ -365,11 +395,20 @@ def main(argv):
     if a.direct_only:
         a.pov_quality = "direct"
 
+    # --report-from: the folders of --render-only runs (one per renderer on a
+    # farm) copied into OUT; each renderer's file names are its own, and the
+    # hand-off of a .blend is the same in each (one writer, one file).
+    for d in gather:
+        shutil.copytree(d, out, dirs_exist_ok=True)
+
     # A .blend: photonbridge (reference, GPU, POV-Ray) renders what the
     # Blender render engine hands over (its glTF and the PHOTONBRIDGE_blender
     # extension); Cycles renders the .blend itself.
     handoff = None
-    if blend:
+    if blend and gather and read_json(os.path.join(out, "handoff", "handoff.json")):
+        handoff = read_json(os.path.join(out, "handoff", "handoff.json"))
+        scene = os.path.join(out, "handoff", os.path.splitext(os.path.basename(blend))[0] + ".gltf")
+    elif blend:
         progress("the render engine's hand-off of the .blend")
         gltf, handoff = blend_handoff(blend, out)
         if gltf is None:
@@ -389,27 +428,42 @@ def main(argv):
         renders[name] = r
         print("validate: %-12s %s%s" % (name, status, (": " + reason) if reason else ""))
 
+    # --report-from: the renderers' records as their runs wrote them.
+    if gather:
+        for n in RUN_ORDER:
+            rec = read_json(os.path.join(out, "render_%s.json" % n))
+            if rec and rec.get("name") == n:
+                renders[n] = rec
+                print("validate: %-12s %s (from --report-from)" % (n, rec.get("status")))
+            else:
+                record(n, "skipped", "not rendered: no render_%s.json in the --report-from folders" % n)
+    skip = (lambda n: True) if gather else (lambda n: n not in want)
+    for n in RUN_ORDER:
+        if skip(n) and not gather:
+            record(n, "skipped", "--renderers %s" % a.renderers)
+
     # Reference (CPU).
-    progress("reference")
-    exr = os.path.join(out, "reference.exr")
-    cmd = [exe, "reference", scene, "-o", exr, "--width", str(a.width), "--spp", str(a.ref_spp),
-           "--estimate-noise", "--json", os.path.join(out, "reference.json"), "-q"]
-    if a.threads:
-        cmd += ["--threads", str(a.threads)]
-    if a.direct_only:
-        cmd += ["--max-bounces", "1"]
-    cmd += shlex.split(a.ref_args)
-    rc, o, dt = run(cmd, os.path.join(out, "reference.log"))
-    st = read_json(os.path.join(out, "reference.json")) or {}
-    if rc == 0 and os.path.isfile(exr):
-        record("reference", "ok", exr="reference.exr", wall_s=round(dt, 3), render_s=st.get("time_s"),
-               width=st.get("width"), height=st.get("height"), camera=st.get("camera"),
-               settings={"spp": st.get("spp"), "mode": st.get("mode"), "max_bounces": st.get("max_bounces"),
-                         "seed": st.get("seed"), "threads": st.get("threads"),
-                         "photon_paths": st.get("photon_paths")},
-               noise=st.get("noise"), command=cmd)
-    else:
-        record("reference", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
+    if not skip("reference"):
+        progress("reference")
+        exr = os.path.join(out, "reference.exr")
+        cmd = [exe, "reference", scene, "-o", exr, "--width", str(a.width), "--spp", str(a.ref_spp),
+               "--estimate-noise", "--json", os.path.join(out, "reference.json"), "-q"]
+        if a.threads:
+            cmd += ["--threads", str(a.threads)]
+        if a.direct_only:
+            cmd += ["--max-bounces", "1"]
+        cmd += shlex.split(a.ref_args)
+        rc, o, dt = run(cmd, os.path.join(out, "reference.log"))
+        st = read_json(os.path.join(out, "reference.json")) or {}
+        if rc == 0 and os.path.isfile(exr):
+            record("reference", "ok", exr="reference.exr", wall_s=round(dt, 3), render_s=st.get("time_s"),
+                   width=st.get("width"), height=st.get("height"), camera=st.get("camera"),
+                   settings={"spp": st.get("spp"), "mode": st.get("mode"), "max_bounces": st.get("max_bounces"),
+                             "seed": st.get("seed"), "threads": st.get("threads"),
+                             "photon_paths": st.get("photon_paths")},
+                   noise=st.get("noise"), command=cmd)
+        else:
+            record("reference", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
 
     # What the loader made of the scene (cameras, lights, units, warnings):
     # the Cycles scene takes photonbridge's camera, and the report's notes.
@@ -418,14 +472,25 @@ def main(argv):
                    os.path.join(out, "info.log"))
     info = read_json(info_path) if rc == 0 else None
     info_error = o.strip().splitlines()[-1] if o.strip() else "exit %d" % rc
-    ref_r = renders["reference"]
+    # Cycles follows the reference's image size, camera and path length; a run
+    # without the reference (--renderers) takes them as the reference would:
+    # from the loader and from --ref-args.
+    ref_r = renders.get("reference") if renders.get("reference", {}).get("status") == "ok" else {}
     size = (ref_r.get("width"), ref_r.get("height")) if ref_r.get("width") else image_size(info, a.width)
+    ref_opts = shlex.split(a.ref_args)
+    for k, v in zip(ref_opts, ref_opts[1:]):
+        if k == "--max-bounces" and not ref_r.get("settings"):
+            ref_r = dict(ref_r, settings={"max_bounces": int(v) if v.isdigit() else None})
+        if k == "--camera" and not ref_r.get("camera"):
+            ref_r = dict(ref_r, camera=v)
 
     # photonbridge render (GPU).
-    progress("photonbridge render")
-    if a.no_gpu:
+    if skip("photonbridge"):
+        pass
+    elif a.no_gpu:
         record("photonbridge", "skipped", "--no-gpu")
     else:
+        progress("photonbridge render")
         exr = os.path.join(out, "photonbridge.exr")
         cmd = [exe, "render", scene, "-o", exr, "--width", str(a.width), "--spp", str(a.spp),
                "--json", os.path.join(out, "photonbridge.json"), "-q"]
@@ -446,12 +511,14 @@ def main(argv):
             record("photonbridge", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
 
     # POV-Ray.
-    progress("POV-Ray")
-    if a.no_povray:
+    if skip("povray"):
+        pass
+    elif a.no_povray:
         record("povray", "skipped", "--no-povray")
     elif not shutil.which("povray"):
         record("povray", "unavailable", "povray not installed")
     else:
+        progress("POV-Ray")
         pdir = os.path.join(out, "povray")
         os.makedirs(pdir, exist_ok=True)
         pov = os.path.join(pdir, "scene.pov")
@@ -481,9 +548,10 @@ def main(argv):
                        command=cmd1 + [";"] + cmd2)
 
     # Cycles.
-    progress("Cycles")
     src = cycles_source(a, scene, sample, blend)
-    if a.no_cycles:
+    if skip("cycles"):
+        pass
+    elif a.no_cycles:
         record("cycles", "skipped", "--no-cycles")
     elif not shutil.which(os.environ.get("BLENDER", "blender")):
         record("cycles", "unavailable", "blender not installed")
@@ -493,6 +561,7 @@ def main(argv):
     elif not info:
         record("cycles", "failed", "photonbridge info could not read the scene: %s" % info_error)
     else:
+        progress("Cycles")
         exr = os.path.join(out, "cycles.exr")
         ref_st = ref_r.get("settings") or {}
         # The reference's path-length limit: max_bounces scattering events
@@ -518,6 +587,14 @@ def main(argv):
         else:
             reason = st.get("error") or "exit %d: %s" % (rc, o.strip()[-300:])
             record("cycles", "failed", reason, command=cmd)
+
+    # --render-only: each renderer's record for a later --report-from run.
+    if a.render_only:
+        for n in want:
+            write_atomic(os.path.join(out, "render_%s.json" % n), json.dumps(renders[n], indent=1))
+        failed = [n for n in want if renders[n]["status"] == "failed"]
+        print("validate: rendered %s%s" % (",".join(want), "; failed: " + ",".join(failed) if failed else ""))
+        return 1 if failed else 0
 
     ok = [n for n in ORDER if renders.get(n, {}).get("status") == "ok"]
 

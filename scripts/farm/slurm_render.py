@@ -6,7 +6,7 @@
                   [--sbatch ARG]... [--wait] [-- RENDER OPTIONS...]
   slurm_render.py resubmit --state DIR [--sbatch ARG]... [--wait]
   slurm_render.py status --state DIR
-  slurm_render.py validate SCENE... --state DIR [--photonbridge EXE]
+  slurm_render.py validate SCENE... --state DIR [--renderers LIST] [--photonbridge EXE]
                   [--sbatch ARG]... [--wait] [-- VALIDATE OPTIONS...]
 
 submit cuts A..B into chunks of N frames (default 32), one array task per
@@ -20,12 +20,16 @@ DIR/summary.json. --wait blocks until that check ends and exits with its
 status. resubmit submits only the chunks the last check found failed (and a
 new check); status prints the summary.
 
-validate runs `photonbridge validate SCENE --out DIR/validate/NAME ...` as
-one array task per scene (every renderer of a scene in its task: the report
-compares them), each into a staging folder renamed into place when it
-succeeds, then a report job writing DIR/summary.json and DIR/index.html (a
-link and each pair's PSNR/relMSE per scene; "failed_chunks" there lists the
-failed scenes' task indices); resubmit and status as above.
+validate runs one array task per scene and renderer (--renderers, default
+reference,photonbridge,povray,cycles; task i is scene i // R, renderer i % R):
+`photonbridge validate SCENE --renderers R --render-only ...` into a staging
+folder, renamed to DIR/validate/.stage/NAME/R once the renderer's record is
+written (a killed task leaves only its temporary, which the check removes).
+The dependent check job then writes each scene's report from its renderers'
+folders (`validate SCENE --report-from ...`, renamed into DIR/validate/NAME),
+DIR/summary.json and DIR/index.html (a link and each pair's PSNR/relMSE per
+scene; "failed_chunks" there lists the failed tasks' indices, so resubmit
+renders only the failed scene-renderer pairs again); status as above.
 
 Everything lives in the state folder DIR, which must be on storage that the
 submitting host and every node share (as OUT):
@@ -55,6 +59,9 @@ import signal
 import subprocess
 import sys
 import time
+
+# validate's renderers (validation/validate.py --renderers).
+RENDERERS = ["reference", "photonbridge", "povray", "cycles"]
 
 # src/core/result.h's table: photonbridge's exit codes.
 EXIT_MEANING = {
@@ -142,7 +149,7 @@ def sbatch(args, env=None):
 
 
 def log_prefix(plan):
-    return "scene" if plan.get("kind") == "validate" else "chunk"
+    return "task" if plan.get("kind") == "validate" else "chunk"
 
 
 def submit_chunks(plan, state, indices, extra):
@@ -228,10 +235,14 @@ def cmd_validate(a, extra):
         while name in names:
             name, k = "%s_%d" % (base, k), k + 1
         names.append(name)
-    plan = {"kind": "validate", "name": "validate", "scenes": scenes, "names": names,
-            "photonbridge": a.photonbridge, "python": a.python, "validate_args": extra, "out": os.path.join(state, "validate")}
+    renderers = [r.strip() for r in a.renderers.split(",") if r.strip()]
+    if not renderers or any(r not in RENDERERS for r in renderers) or len(set(renderers)) != len(renderers):
+        die(2, "--renderers %s: a list of distinct names from %s" % (a.renderers, ",".join(RENDERERS)))
+    plan = {"kind": "validate", "name": "validate", "scenes": scenes, "names": names, "renderers": renderers,
+            "photonbridge": a.photonbridge, "python": a.python, "validate_args": extra,
+            "out": os.path.join(state, "validate")}
     write_json(os.path.join(state, "plan.json"), plan)
-    rec = submit_chunks(plan, state, range(len(scenes)), a.sbatch or [])
+    rec = submit_chunks(plan, state, range(len(scenes) * len(renderers)), a.sbatch or [])
     return finish(state, rec, a.wait)
 
 
@@ -271,46 +282,66 @@ def run_child(cmd):
     return child.wait()
 
 
+def replace_dir(stage, final):
+    """stage renamed to final, an old final removed after (one rename is
+    what readers can see)."""
+    old = final + ".old.%d" % os.getpid()
+    if os.path.exists(final):
+        os.rename(final, old)
+    os.rename(stage, final)
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def task_of(plan, i):
+    """Task i of a validate plan: (scene index, renderer)."""
+    rs = plan["renderers"]
+    return i // len(rs), rs[i % len(rs)]
+
+
 def task_validate(state, plan, i):
-    scene, name = plan["scenes"][i], plan["names"][i]
-    status = os.path.join(state, "status", "scene_%d.json" % i)
+    si, renderer = task_of(plan, i)
+    scene, name = plan["scenes"][si], plan["names"][si]
+    status = os.path.join(state, "status", "task_%d.json" % i)
     try:
         os.unlink(status)
     except FileNotFoundError:
         pass
-    final = os.path.join(plan["out"], name)
-    stage = os.path.join(plan["out"], ".%s.tmp.%d" % (name, os.getpid()))
-    cmd = [plan["photonbridge"], "validate", scene, "--out", stage] + list(plan["validate_args"])
-    print("slurm_render: scene %d (%s), job %s on %s: %s" %
-          (i, name, os.environ.get("SLURM_JOB_ID", "?"), os.uname().nodename,
+    sdir = os.path.join(plan["out"], ".stage", name)
+    os.makedirs(sdir, exist_ok=True)
+    final = os.path.join(sdir, renderer)
+    stage = os.path.join(sdir, ".%s.tmp.%d" % (renderer, os.getpid()))
+    cmd = ([plan["photonbridge"], "validate", scene, "--out", stage, "--renderers", renderer, "--render-only"] +
+           list(plan["validate_args"]))
+    print("slurm_render: task %d (%s, %s), job %s on %s: %s" %
+          (i, name, renderer, os.environ.get("SLURM_JOB_ID", "?"), os.uname().nodename,
            " ".join(shlex.quote(c) for c in cmd)), flush=True)
     t0 = time.time()
     rc = run_child(cmd)
-    if rc == 0:  # the whole report into place at once
-        old = final + ".old.%d" % os.getpid()
-        if os.path.exists(final):
-            os.rename(final, old)
-        os.rename(stage, final)
-        shutil.rmtree(old, ignore_errors=True)
+    # The renderer's record (also a failure's, with its reason, for the
+    # report) goes into place as a whole; without one there is nothing to keep.
+    if os.path.isfile(os.path.join(stage, "render_%s.json" % renderer)):
+        replace_dir(stage, final)
     else:
         shutil.rmtree(stage, ignore_errors=True)
-    rec = {"task": i, "scene": scene, "name": name, "exit": rc, "meaning": exit_meaning(rc),
+    rec = {"task": i, "scene": scene, "name": name, "renderer": renderer, "exit": rc, "meaning": exit_meaning(rc),
            "job": os.environ.get("SLURM_JOB_ID"), "node": os.uname().nodename,
            "seconds": round(time.time() - t0, 3)}
     write_json(status, rec)
-    print("slurm_render: scene %d (%s): exit %d (%s) after %.1f s" % (i, name, rc, rec["meaning"], rec["seconds"]),
-          flush=True)
+    print("slurm_render: task %d (%s, %s): exit %d (%s) after %.1f s" %
+          (i, name, renderer, rc, rec["meaning"], rec["seconds"]), flush=True)
     sys.exit(rc if rc >= 0 else 128 - rc)
 
 
 def cmd_task(state):
     plan = load_plan(state)
     if plan.get("kind") == "validate":
+        n = len(plan["scenes"]) * len(plan["renderers"])
         try:
             i = int(os.environ["SLURM_ARRAY_TASK_ID"])
-            plan["scenes"][i]
-        except (KeyError, ValueError, IndexError):
-            die(2, "task: SLURM_ARRAY_TASK_ID missing or outside the plan's %d scenes" % len(plan["scenes"]))
+        except (KeyError, ValueError):
+            i = -1
+        if not 0 <= i < n:
+            die(2, "task: SLURM_ARRAY_TASK_ID missing or outside the plan's %d tasks" % n)
         return task_validate(state, plan, i)
     try:
         i = int(os.environ["SLURM_ARRAY_TASK_ID"])
@@ -376,20 +407,51 @@ def check_shot(state, plan):
             "complete": not failed, "failed_chunks": failed, "removed_temporaries": stale, "chunks": chunks}
 
 
-def check_validate(state, plan):
+def check_validate(state, plan, write_reports=False):
+    """Each scene's tasks' statuses; with write_reports (the check job), its
+    report from the renderers' folders, `validate --report-from`, staged and
+    renamed into DIR/validate/NAME."""
     scenes, failed, stale = [], [], []
-    for t in glob.glob(os.path.join(glob.escape(plan["out"]), ".*.tmp.*")):  # a killed task's staging folder
+    out = plan["out"]
+    for t in (glob.glob(os.path.join(glob.escape(out), ".*.tmp.*")) +  # a killed writer's staging folder
+              glob.glob(os.path.join(glob.escape(out), ".stage", "*", ".*.tmp.*"))):
         stale.append(t)
         shutil.rmtree(t, ignore_errors=True)
-    for i, (scene, name) in enumerate(zip(plan["scenes"], plan["names"])):
-        st = None
-        try:
-            with open(os.path.join(state, "status", "scene_%d.json" % i)) as f:
-                st = json.load(f)
-        except (OSError, ValueError):
-            pass
-        rc = st["exit"] if st else None
-        report, pairs = os.path.join(plan["out"], name, "report.json"), []
+    nr = len(plan["renderers"])
+    for si, (scene, name) in enumerate(zip(plan["scenes"], plan["names"])):
+        tasks, rc = [], None
+        for ri, renderer in enumerate(plan["renderers"]):
+            i = si * nr + ri
+            st = None
+            try:
+                with open(os.path.join(state, "status", "task_%d.json" % i)) as f:
+                    st = json.load(f)
+            except (OSError, ValueError):
+                pass
+            trc = st["exit"] if st else None
+            tasks.append({"task": i, "renderer": renderer, "exit": trc, "meaning": exit_meaning(trc),
+                          "log": os.path.join(state, "logs", "task_%d.log" % i)})
+            if trc != 0:
+                failed.append(i)
+                rc = trc if rc in (None, 0) else rc
+        dirs = [os.path.join(out, ".stage", name, r) for r in plan["renderers"]]
+        dirs = [d for d in dirs if os.path.isdir(d)]
+        report_rc = None
+        if write_reports and dirs:
+            stage = os.path.join(out, ".%s.tmp.%d" % (name, os.getpid()))
+            cmd = ([plan["photonbridge"], "validate", scene, "--out", stage, "--report-from", ",".join(dirs)] +
+                   list(plan["validate_args"]))
+            print("slurm_render: report of %s: %s" % (name, " ".join(shlex.quote(c) for c in cmd)), flush=True)
+            report_rc = run_child(cmd)
+            if os.path.isfile(os.path.join(stage, "report.json")):
+                replace_dir(stage, os.path.join(out, name))
+            else:
+                shutil.rmtree(stage, ignore_errors=True)
+        if rc in (None, 0) and report_rc not in (None, 0):
+            rc = report_rc
+        elif rc is None and all(t["exit"] == 0 for t in tasks):
+            rc = 0
+        report, pairs = os.path.join(out, name, "report.json"), []
         try:
             with open(report) as f:
                 rep = json.load(f)
@@ -399,13 +461,10 @@ def check_validate(state, plan):
         except (OSError, ValueError):
             report, renders = None, []
         ok = rc == 0 and report is not None
-        scenes.append({"task": i, "scene": scene, "name": name, "ok": ok, "exit": rc, "meaning": exit_meaning(rc),
-                       "report": report, "page": os.path.join(plan["out"], name, "index.html") if report else None,
-                       "renders": renders, "pairs": pairs,
-                       "log": os.path.join(state, "logs", "scene_%d.log" % i)})
-        if not ok:
-            failed.append(i)
-    return {"kind": "validate", "scenes": scenes, "complete": not failed, "failed_chunks": failed,
+        scenes.append({"scene": scene, "name": name, "ok": ok, "exit": rc, "meaning": exit_meaning(rc),
+                       "report": report, "page": os.path.join(out, name, "index.html") if report else None,
+                       "renders": renders, "pairs": pairs, "tasks": tasks})
+    return {"kind": "validate", "scenes": scenes, "complete": all(c["ok"] for c in scenes), "failed_chunks": failed,
             "removed_temporaries": stale}
 
 
@@ -425,21 +484,23 @@ def validate_index(state, s):
     return ("<!doctype html><meta charset=utf-8><title>photonbridge validate on Slurm</title>"
             "<h1>photonbridge validate: %d of %d scenes</h1><table border=1 cellpadding=4>"
             "<tr><th>scene</th><th>status</th><th>pairs</th></tr>%s</table>\n" %
-            (len(s["scenes"]) - len(s["failed_chunks"]), len(s["scenes"]), "".join(rows)))
+            (sum(1 for c in s["scenes"] if c["ok"]), len(s["scenes"]), "".join(rows)))
 
 
 def cmd_check(state):
     plan = load_plan(state)
     if plan.get("kind") == "validate":
-        s = check_validate(state, plan)
+        s = check_validate(state, plan, write_reports=True)
         s["check_job"] = os.environ.get("SLURM_JOB_ID")
         write_json(os.path.join(state, "summary.json"), s)
         write_atomic(os.path.join(state, "index.html"), validate_index(state, s))
         for c in s["scenes"]:
-            if not c["ok"]:
-                print("slurm_render: scene %d (%s) failed: %s; log %s" % (c["task"], c["name"], c["meaning"], c["log"]))
+            for t in c["tasks"]:
+                if t["exit"] != 0:
+                    print("slurm_render: task %d (%s, %s) failed: %s; log %s" %
+                          (t["task"], c["name"], t["renderer"], t["meaning"], t["log"]))
         print("slurm_render: %d of %d scenes validated; %s/index.html" %
-              (len(s["scenes"]) - len(s["failed_chunks"]), len(s["scenes"]), state))
+              (sum(1 for c in s["scenes"] if c["ok"]), len(s["scenes"]), state))
         sys.exit(0 if s["complete"] else 1)
     s = check_shot(state, plan)
     s["check_job"] = os.environ.get("SLURM_JOB_ID")
@@ -462,10 +523,10 @@ def print_summary(state):
         die(1, "%s: no summary (%s): the check job did not run; see %s/logs" % (p, e, state))
     if s.get("kind") == "validate":
         for c in s["scenes"]:
-            print("scene %d (%s): %s%s" % (c["task"], c["name"], "ok" if c["ok"] else "failed: " + c["meaning"],
+            print("scene %s: %s%s" % (c["name"], "ok" if c["ok"] else "failed: " + c["meaning"],
                                            "".join("; %s vs %s %.2f dB" % (q["test"], q["reference"], q["psnr_db"] or 0)
                                                    for q in c["pairs"])))
-        print("%s: %d of %d scenes; %s" % (state, len(s["scenes"]) - len(s["failed_chunks"]), len(s["scenes"]),
+        print("%s: %d of %d scenes; %s" % (state, sum(1 for c in s["scenes"] if c["ok"]), len(s["scenes"]),
                                            "complete" if s["complete"] else "tasks %s failed" % s["failed_chunks"]))
         return 0 if s["complete"] else 1
     for c in s["chunks"]:
@@ -503,8 +564,10 @@ def main(argv):
     r.add_argument("--wait", action="store_true")
     t = sub.add_parser("status", help="print the last check's summary")
     t.add_argument("--state", required=True)
-    v = sub.add_parser("validate", help="submit photonbridge validate, one task per scene")
+    v = sub.add_parser("validate", help="submit photonbridge validate, one task per scene and renderer")
     v.add_argument("scenes", nargs="+", metavar="SCENE")
+    v.add_argument("--renderers", default=",".join(RENDERERS),
+                   help="the renderers, one task each per scene (default %s)" % ",".join(RENDERERS))
     v.add_argument("--state", required=True)
     v.add_argument("--photonbridge", default="photonbridge")
     v.add_argument("--python", default="python3")
