@@ -21,6 +21,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pylib"))
+import pbcheck  # noqa: E402
 from pbcheck import Checker  # noqa: E402
 
 EXE, PROBE, ROOT, WORK = sys.argv[1:5]
@@ -30,13 +31,13 @@ T = Checker(EXE, WORK, PROBE)
 check, run, fresh, exr = T.check, T.run, T.fresh, T.exr
 
 
-# Two renders of one scene and seed agree to float rounding, not bit for bit:
-# photon_trace.comp stores each photon at the slot an atomic counter hands
-# out, so on a device running workgroups in parallel (lavapipe on several
-# threads, any GPU) the store's order, the order of Morton-code ties after
-# the stable sort and so the order of the gather's sums follow the
-# scheduling. A channel mix-up or a missing pass differs by far more.
-ROUNDING = 1e-5
+# Two renders of one scene and seed agree to float rounding, not bit for bit
+# (pbcheck.ROUNDING says why): on a device running workgroups in parallel
+# (lavapipe on several threads, any GPU) the photon store's order, the order
+# of Morton-code ties after the stable sort and so the order of the gather's
+# sums follow the scheduling. A channel mix-up or a missing pass differs by
+# far more.
+ROUNDING = pbcheck.ROUNDING
 
 
 def worst_rel(a, b):
