@@ -335,10 +335,12 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
     goto done;
   }
   int root = parse_value(r, 0);
-  if (root < 0) goto done;
-  skip_ws(r);
-  if (r->p != r->end) {
-    rfail(r, "text after the JSON value");
+  if (root >= 0) skip_ws(r);
+  if (root >= 0 && r->p != r->end) rfail(r, "text after the JSON value"), root = -1;
+  if (root < 0) {
+    char m[600];
+    snprintf(m, sizeof m, "malformed JSON at byte %zu: %s", (size_t)(r->p - line) + 1, err);
+    snprintf(err, err_cap, "%s", m);
     goto done;
   }
   const jv *obj = &r->v[root];

@@ -11,8 +11,9 @@ its size ("resolution", divided by the scene's viewport Pixel Size) when they
 changed, turns streaming on, and draws the newest frame (a float RGBA file
 in /dev/shm, scene-linear) as a texture inside bind_display_space_shader /
 unbind_display_space_shader, so Blender's view transform, look, exposure
-and gamma apply as they do to Cycles' viewport. While passes are still
-coming it tags a redraw. Errors become the viewport's status line and one
+and gamma apply as they do to Cycles' viewport. A timer (bpy.app.timers)
+tags a redraw whenever serve's output has lines waiting, so the picture
+refines pass after pass without a busy redraw loop. Errors become the viewport's status line and one
 report; nothing here blocks or raises into Blender. The serve process ends
 with the engine (free(), __del__), when its stdin closes, and at exit."""
 import atexit
@@ -34,6 +35,7 @@ from . import cli, settings, writer
 # Still passes the viewport refines before it rests (Cycles' viewport
 # samples play the same part); PHOTONBRIDGE_VIEWPORT_PASSES overrides it.
 DEFAULT_PASSES = 1024
+POLL_S = 0.1  # how often the redraw timer looks for serve's lines
 HEADER = struct.Struct("<8sIIIIQ")  # protocol.h: "PBFRAME1", w, h, channels, 0, frame
 
 # id types whose edits change the picture (a camera-only move of the view
@@ -168,7 +170,7 @@ class Viewport:
         self.sent_size = None
         self.sent_settings = None
         self.streaming = False
-        self.awaiting = False
+        self.engine = None       # for the redraw timer
         self.texture = None
         self.texture_frame = None
         self.status = ""
@@ -192,7 +194,6 @@ class Viewport:
             if any(depsgraph.id_type_updated(t) for t in EDIT_TYPES if _has_type(t)):
                 self._write(depsgraph)
                 self.session.send({"cmd": "reload"})
-                self.awaiting = True
             self._send_settings(scene)
         except Exception as e:  # never raise into Blender: the viewport says what went wrong
             self._fail(engine, "photonbridge viewport: %s: %s" % (type(e).__name__, e))
@@ -213,6 +214,8 @@ class Viewport:
         self.session = Session(argv)
         self.sent_size = (w, h)
         self.sent_settings = self._settings(scene)
+        self.engine = engine
+        bpy.app.timers.register(_redraw_timer(self), first_interval=POLL_S)
 
     def _settings(self, scene):
         s = scene.photonbridge
@@ -225,7 +228,7 @@ class Viewport:
         st = self._settings(scene)
         if st != self.sent_settings:
             self.session.send(dict(cmd="settings", **st))
-            self.sent_settings, self.awaiting = st, True
+            self.sent_settings = st
 
     @staticmethod
     def _size(context, scene):
@@ -248,12 +251,12 @@ class Viewport:
             size = self._size(context, scene)
             if size != self.sent_size:
                 s.send({"cmd": "resolution", "width": size[0], "height": size[1]})
-                self.sent_size, self.awaiting = size, True
+                self.sent_size = size
             r3d = context.region_data
             cam = ([v for row in r3d.view_matrix for v in row], [v for row in r3d.window_matrix for v in row])
             if cam != self.sent_camera:
                 s.send({"cmd": "camera", "view": cam[0], "projection": cam[1], "axes": "blender"})
-                self.sent_camera, self.awaiting = cam, True
+                self.sent_camera = cam
             if not self.streaming:
                 s.send({"cmd": "stream", "on": True, "max_passes": max_passes()})
                 self.streaming = True
@@ -285,11 +288,6 @@ class Viewport:
                 ms = self.texture_frame.get("render_ms", 0) if self.texture_frame else 0
                 engine.update_stats("", "photonbridge: pass %d%s, %.0f ms" % (passes, "/%d" % limit if limit else "",
                                                                             ms))
-            if self.texture_frame and self.texture_frame.get("passes") == 1:
-                self.awaiting = False  # the run restarted for what was sent
-            # Redraw (and so poll) while frames are still to come.
-            if s.alive() and (self.awaiting or self.texture_frame is None or not limit or passes < limit):
-                engine.tag_redraw()
         except Exception as e:
             self._fail(engine, "photonbridge viewport: %s: %s" % (type(e).__name__, e))
 
@@ -306,6 +304,7 @@ class Viewport:
                 pass
 
     def stop(self):
+        self.engine = None
         if self.session is not None:
             self.session.stop()
             self.session = None
@@ -314,6 +313,28 @@ class Viewport:
         if self.folder:
             shutil.rmtree(self.folder, ignore_errors=True)
             self.folder = None
+
+
+def _redraw_timer(vp):
+    """A timer that tags the viewport for a redraw when serve's output has
+    lines waiting (a new frame), so that view_draw, which takes them, runs
+    only when there is something to draw: no busy redraw loop on Blender's
+    thread while the GPU renders."""
+    ref = weakref.ref(vp)
+
+    def tick():
+        v = ref()
+        if v is None or v.session is None or v.engine is None:
+            return None
+        if not v.session.q.empty() or not v.session.alive():
+            try:
+                v.engine.tag_redraw()
+            except ReferenceError:  # the engine was freed under us
+                return None
+            if not v.session.alive():
+                return None
+        return POLL_S
+    return tick
 
 
 def _has_type(t):

@@ -1,0 +1,152 @@
+"""Blender side of the viewport test (tests/blender/viewport_check.py runs
+Blender with its window, under xvfb-run): the add-on enabled, the factory
+scene (cube, light, camera) with a floor, the photonbridge engine with small
+settings, the view transform Standard without dither; the 3D view set to a
+fixed user view in RENDERED shading, overlays and gizmos off. A timer
+(bpy.app.timers) waits until the engine has drawn the frame of the last
+still pass (PHOTONBRIDGE_VIEWPORT_PASSES), takes a screenshot of the window
+and writes, into OUT: viewport.png (the window), view.json (the region's
+place in the window, its view and window matrices, the size photonbridge
+rendered, the pass and the status line) and view.gltf (the scene through
+the add-on's writer with a camera made from the view's matrices, for the CLI
+render the test compares with). Then Blender quits. Any failure: OUT/error.txt.
+
+usage: blender --factory-startup --python bl_viewport.py -- OUT PASSES"""
+import json
+import math
+import os
+import sys
+import time
+import traceback
+
+import addon_utils
+import bpy
+
+OUT, PASSES = sys.argv[sys.argv.index("--") + 1:][:2]
+PASSES = int(PASSES)
+T0 = time.time()
+TIMEOUT = 400.0
+state = {"phase": "wait", "shot_at": None}
+
+
+def finish(error=None):
+    if error:
+        with open(os.path.join(OUT, "error.txt"), "w") as f:
+            f.write(error + "\n")
+        print("bl_viewport: " + error, flush=True)
+    # Leave RENDERED shading first: the engine is freed and its serve ends.
+    try:
+        view3d()[1].shading.type = 'SOLID'
+    except Exception:
+        pass
+    bpy.app.timers.register(lambda: bpy.ops.wm.quit_blender() and None, first_interval=0.5)
+
+
+def view3d():
+    win = bpy.context.window_manager.windows[0]
+    for area in win.screen.areas:
+        if area.type == 'VIEW_3D':
+            region = next(r for r in area.regions if r.type == 'WINDOW')
+            return win, area.spaces.active, area, region
+    raise RuntimeError("no 3D view in the factory layout")
+
+
+def setup():
+    mod = addon_utils.enable("photonbridge", default_set=True, handle_error=None)
+    if mod is None:
+        raise RuntimeError("the photonbridge add-on did not enable")
+    sc = bpy.context.scene
+    bpy.ops.mesh.primitive_plane_add(size=12, location=(0, 0, -1))
+    sc.render.engine = "PHOTONBRIDGE"
+    s = sc.photonbridge
+    s.photons, s.iterations, s.spp, s.seed, s.progressive = 16384, 1, 1, 5, False
+    sc.view_settings.view_transform = 'Standard'
+    sc.view_settings.look = 'None'
+    sc.view_settings.exposure, sc.view_settings.gamma = 0.0, 1.0
+    sc.render.dither_intensity = 0.0
+    win, space, area, region = view3d()
+    # About 96 px across: the viewport's Pixel Size divides the region.
+    div = max(1, min(8, region.width // 96))
+    sc.render.preview_pixel_size = str(min((1, 2, 4, 8), key=lambda d: abs(d - div)))
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    space.show_region_toolbar = False
+    space.show_region_ui = False
+    space.show_region_header = False       # the header overlaps the region's top rows
+    space.show_region_tool_header = False
+    r3d = space.region_3d
+    r3d.view_perspective = 'PERSP'
+    r3d.view_location = (0, 0, 0)
+    from mathutils import Euler
+    r3d.view_rotation = Euler((math.radians(62), 0, math.radians(38)), 'XYZ').to_quaternion()
+    r3d.view_distance = 11.0
+    space.shading.type = 'RENDERED'
+
+
+def tick():
+    try:
+        if time.time() - T0 > TIMEOUT:
+            finish("timed out after %.0f s waiting for the viewport (last drawn: %r)" % (TIMEOUT, drawn()))
+            return None
+        win, space, area, region = view3d()
+        for a in win.screen.areas:
+            a.tag_redraw()
+        d = drawn()
+        if state["phase"] == "wait":
+            if d.get("passes") == PASSES:
+                state["phase"], state["shot_at"] = "settle", time.time()
+            return 0.5
+        if state["phase"] == "settle":  # one more redraw of that frame, then the screenshot
+            if time.time() - state["shot_at"] < 1.0:
+                return 0.25
+            shot(win, space, area, region, d)
+            finish()
+            return None
+    except Exception:
+        finish("exception: " + traceback.format_exc())
+        return None
+    return 0.5
+
+
+def drawn():
+    mod = sys.modules.get("photonbridge.viewport")
+    return dict(mod.last_drawn) if mod else {}
+
+
+def shot(win, space, area, region, d):
+    path = os.path.join(OUT, "viewport.png")
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.screen.screenshot(filepath=path)
+    r3d = space.region_3d
+    V = [list(row) for row in r3d.view_matrix]
+    P = [list(row) for row in r3d.window_matrix]
+    info = {"region": [region.x, region.y, region.width, region.height], "window": [win.width, win.height],
+            "view": V, "projection": P, "drawn": d, "pixel_size": bpy.context.scene.render.preview_pixel_size,
+            "seconds": time.time() - T0}
+    # A camera at the view, its vertical angle and clip planes from the
+    # projection (a user view has no lens shift: checked by the test).
+    sc = bpy.context.scene
+    cam_data = bpy.data.cameras.new("ViewCam")
+    cam_data.sensor_fit = 'VERTICAL'
+    cam_data.angle_y = 2.0 * math.atan(1.0 / P[1][1])
+    n = P[2][3] / (P[2][2] - 1.0)
+    f = P[2][3] / (P[2][2] + 1.0)
+    cam_data.clip_start, cam_data.clip_end = n, f
+    cam = bpy.data.objects.new("ViewCam", cam_data)
+    sc.collection.objects.link(cam)
+    cam.matrix_world = r3d.view_matrix.inverted()
+    dg = bpy.context.evaluated_depsgraph_get()
+    dg.update()
+    from photonbridge import settings, writer
+    info["cli_args"] = settings.cli_args(sc.photonbridge, sequence=True)
+    writer.write_gltf(dg, os.path.join(OUT, "view.gltf"), camera=cam.evaluated_get(dg))
+    with open(os.path.join(OUT, "view.json"), "w") as fh:
+        json.dump(info, fh, indent=1)
+    print("bl_viewport: screenshot after pass %s (%.1f s)" % (d.get("passes"), info["seconds"]), flush=True)
+
+
+try:
+    setup()
+    bpy.app.timers.register(tick, first_interval=1.0)
+except Exception:
+    finish("setup: " + traceback.format_exc())
