@@ -2,14 +2,17 @@
 Blender with its window, under xvfb-run): the add-on enabled, the factory
 scene (cube, light, camera) with a floor, the photonbridge engine with small
 settings, the view transform Standard without dither; the 3D view set to a
-fixed user view in RENDERED shading, overlays and gizmos off. A timer
-(bpy.app.timers) waits until the engine has drawn the frame of the last
-still pass (PHOTONBRIDGE_VIEWPORT_PASSES), takes a screenshot of the window
-and writes, into OUT: viewport.png (the window), view.json (the region's
-place in the window, its view and window matrices, the size photonbridge
-rendered, the pass and the status line) and view.gltf (the scene through
-the add-on's writer with a camera made from the view's matrices, for the CLI
-render the test compares with). Then Blender quits. Any failure: OUT/error.txt.
+fixed user view in RENDERED shading, overlays, gizmos and the header off. A
+timer (bpy.app.timers) waits until the engine has drawn the frame of the
+last still pass (PHOTONBRIDGE_VIEWPORT_PASSES) and nothing more comes, then
+takes a screenshot of the window (viewport.png) and writes view.gltf (the
+scene through the add-on's writer with a camera made from the view's
+matrices, for the CLI render the test compares with); then orbits the view
+and waits for its last pass again (orbit.png), then moves the cube and waits
+for the reloaded scene's last pass (edit.png). view.json: the region's place
+in the window, the first view's matrices, the size photonbridge rendered,
+and for each screenshot what was drawn (frame, passes, the serve pid, the
+reloads sent). Then Blender quits. Any failure: OUT/error.txt.
 
 usage: blender --factory-startup --python bl_viewport.py -- OUT PASSES"""
 import json
@@ -26,7 +29,7 @@ OUT, PASSES = sys.argv[sys.argv.index("--") + 1:][:2]
 PASSES = int(PASSES)
 T0 = time.time()
 TIMEOUT = 400.0
-state = {"phase": "wait", "shot_at": None}
+state = {"phase": "wait", "shot_at": 0.0, "since": time.time()}
 
 
 def finish(error=None):
@@ -86,22 +89,49 @@ def setup():
 def tick():
     try:
         if time.time() - T0 > TIMEOUT:
-            finish("timed out after %.0f s waiting for the viewport (last drawn: %r)" % (TIMEOUT, drawn()))
+            finish("timed out after %.0f s in phase %s (last drawn: %r)" % (TIMEOUT, state["phase"], drawn()))
             return None
         win, space, area, region = view3d()
         for a in win.screen.areas:
             a.tag_redraw()
         d = drawn()
-        if state["phase"] == "wait":
-            if d.get("passes") == PASSES:
-                state["phase"], state["shot_at"] = "settle", time.time()
-            return 0.5
-        if state["phase"] == "settle":  # one more redraw of that frame, then the screenshot
-            if time.time() - state["shot_at"] < 1.0:
-                return 0.25
-            shot(win, space, area, region, d)
-            finish()
-            return None
+        ph = state["phase"]
+        now = time.time()
+        key = (d.get("frame"), d.get("passes"), d.get("reloads"))
+        if key != state.get("key"):
+            state["key"], state["since"] = key, now
+        quiet = d.get("passes") == PASSES and now - state["since"] > 2.0
+        if ph == "wait":  # the first view's last still pass
+            if quiet:
+                shot(win, space, area, region, d, "viewport.png", first=True)
+                state["phase"] = "settle"  # the view camera's object makes the engine reload
+            return 0.25
+        if ph == "settle":
+            if quiet and now - state["shot_at"] > 3.0:
+                state["orbit_from"] = dict(d)
+                r3d = space.region_3d
+                from mathutils import Euler
+                r3d.view_rotation = Euler((math.radians(70), 0, math.radians(-25)), 'XYZ').to_quaternion()
+                state["phase"] = "orbit"
+            return 0.25
+        if ph == "orbit":  # a new camera: refined again, without a reload
+            f0 = state["orbit_from"]
+            if quiet and d.get("frame", -1) > f0.get("frame", -1):
+                shot(win, space, area, region, d, "orbit.png")
+                state["edit_from"] = dict(d)
+                bpy.data.objects["Cube"].location.x += 1.5
+                state["phase"] = "edit"
+            return 0.25
+        if ph == "edit":  # an object moved: the scene reloaded and refined again
+            f0 = state["edit_from"]
+            if quiet and d.get("reloads", 0) > f0.get("reloads", 0) and d.get("frame", -1) > f0.get("frame", -1):
+                shot(win, space, area, region, d, "edit.png")
+                state["info"]["orbit_from"] = state["orbit_from"]
+                with open(os.path.join(OUT, "view.json"), "w") as fh:
+                    json.dump(state["info"], fh, indent=1)
+                finish()
+                return None
+            return 0.25
     except Exception:
         finish("exception: " + traceback.format_exc())
         return None
@@ -113,16 +143,24 @@ def drawn():
     return dict(mod.last_drawn) if mod else {}
 
 
-def shot(win, space, area, region, d):
-    path = os.path.join(OUT, "viewport.png")
+def shot(win, space, area, region, d, name, first=False):
+    path = os.path.join(OUT, name)
     with bpy.context.temp_override(window=win, area=area, region=region):
         bpy.ops.screen.screenshot(filepath=path)
+    state["shot_at"] = time.time()
+    print("bl_viewport: %s after pass %s, frame %s, %s reloads (%.1f s)"
+          % (name, d.get("passes"), d.get("frame"), d.get("reloads"), time.time() - T0), flush=True)
+    info = state.setdefault("info", {"shots": {}})
+    info["shots"][name] = {"drawn": d, "region": [region.x, region.y, region.width, region.height],
+                           "seconds": time.time() - T0}
+    if not first:
+        return
     r3d = space.region_3d
     V = [list(row) for row in r3d.view_matrix]
     P = [list(row) for row in r3d.window_matrix]
-    info = {"region": [region.x, region.y, region.width, region.height], "window": [win.width, win.height],
-            "view": V, "projection": P, "drawn": d, "pixel_size": bpy.context.scene.render.preview_pixel_size,
-            "seconds": time.time() - T0}
+    info.update({"region": [region.x, region.y, region.width, region.height], "window": [win.width, win.height],
+                 "view": V, "projection": P, "drawn": d, "pixel_size": bpy.context.scene.render.preview_pixel_size,
+                 "seconds": time.time() - T0})
     # A camera at the view, its vertical angle and clip planes from the
     # projection (a user view has no lens shift: checked by the test).
     sc = bpy.context.scene
@@ -140,9 +178,6 @@ def shot(win, space, area, region, d):
     from photonbridge import settings, writer
     info["cli_args"] = settings.cli_args(sc.photonbridge, sequence=True)
     writer.write_gltf(dg, os.path.join(OUT, "view.gltf"), camera=cam.evaluated_get(dg))
-    with open(os.path.join(OUT, "view.json"), "w") as fh:
-        json.dump(info, fh, indent=1)
-    print("bl_viewport: screenshot after pass %s (%.1f s)" % (d.get("passes"), info["seconds"]), flush=True)
 
 
 try:

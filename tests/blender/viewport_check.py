@@ -11,8 +11,10 @@ camera made from the view's matrices (same settings and seed; its last
 frame, through `display --view Standard`, the view transform the scene
 uses, stretched and box-filtered back as the viewport's was): the picture is
 not blank, and their mean difference is within the noise (at most 0.6 x the
-difference between two seeds of the CLI render, and at most 2 8-bit steps);
-no serve process outlives Blender.
+difference between two seeds of the CLI render, and at most 2 8-bit steps).
+Then the view orbits: the picture changes and refines again in the same
+serve process without a reload; the cube moves: one reload, the picture
+changes. No serve process outlives Blender.
 
 Exit 77 (skip) with one line where Blender, xvfb-run or a Vulkan device is
 missing.
@@ -125,11 +127,15 @@ def main():
     if abs(P[0][2]) > 1e-6 or abs(P[1][2]) > 1e-6:
         fail("the user view has a lens shift (%g, %g): the CLI camera has none" % (P[0][2], P[1][2]))
     rx, ry, rw, rh = info["region"]
-    shot = Image.open(os.path.join(out, "viewport.png")).convert("RGB")
-    top = shot.height - (ry + rh)
-    crop = shot.crop((rx, top, rx + rw, top + rh)).resize((w, h), Image.BOX)
-    crop.save(os.path.join(out, "viewport_region.png"))
-    a = np.asarray(crop).astype(np.float64)
+
+    def region_of(name):
+        shot = Image.open(os.path.join(out, name)).convert("RGB")
+        top = shot.height - (ry + rh)
+        crop = shot.crop((rx, top, rx + rw, top + rh)).resize((w, h), Image.BOX)
+        crop.save(os.path.join(out, name.replace(".png", "_region.png")))
+        return np.asarray(crop).astype(np.float64)
+
+    a = region_of("viewport.png")
     print("viewport_check: Blender drew pass %d of a %dx%d frame over a %dx%d region (Pixel Size %s), %.0f s "
           "after start" % (d["passes"], w, h, rw, rh, info["pixel_size"], info["seconds"]))
     if d["passes"] != PASSES:
@@ -170,6 +176,27 @@ def main():
     if diff > 2.0 or diff > 0.6 * noise:
         fail("the viewport differs from the CLI render of its view by %.2f steps on average (seeds differ by %.2f)"
              % (diff, noise))
+    # Orbiting refines the new view without a reload; moving the cube
+    # reloads the scene in the same serve process.
+    shots = info["shots"]
+    o, m = shots["orbit.png"]["drawn"], shots["edit.png"]["drawn"]
+    first = shots["viewport.png"]["drawn"]
+    ao, am = region_of("orbit.png"), region_of("edit.png")
+    o0 = info["orbit_from"]
+    print("viewport_check: orbit: pass %d, reloads %d -> %d, picture changed by %.1f steps; cube moved: pass %d, "
+          "reloads %d -> %d, picture changed by %.1f steps; one serve process (pid %s)"
+          % (o["passes"], o0["reloads"], o["reloads"], np.abs(ao - a).mean(), m["passes"], o["reloads"],
+             m["reloads"], np.abs(am - ao).mean(), first["pid"]))
+    if o["reloads"] != o0["reloads"]:
+        fail("orbiting reloaded the scene (%d reloads)" % (o["reloads"] - o0["reloads"]))
+    if o["pid"] != first["pid"] or m["pid"] != first["pid"]:
+        fail("serve was restarted (pids %s, %s, %s)" % (first["pid"], o["pid"], m["pid"]))
+    if o["passes"] != PASSES or m["passes"] != PASSES:
+        fail("the orbit and edit screenshots are of passes %d and %d" % (o["passes"], m["passes"]))
+    if m["reloads"] != o["reloads"] + 1:
+        fail("moving the cube sent %d reloads" % (m["reloads"] - o["reloads"]))
+    if np.abs(ao - a).mean() < 3 or np.abs(am - ao).mean() < 1:
+        fail("the orbit or the edit did not change the picture")
     print("viewport_check: OK")
 
 

@@ -44,8 +44,8 @@ EDIT_TYPES = ('OBJECT', 'MESH', 'MATERIAL', 'LIGHT', 'WORLD', 'NODETREE', 'IMAGE
               'META', 'FONT', 'CURVES', 'POINTCLOUD', 'VOLUME', 'TEXTURE')
 
 _sessions = weakref.WeakSet()
-# The last frame view_draw drew: {"frame", "passes", "width", "height"}
-# (tests read it).
+# The last frame view_draw drew: serve's frame line with "width", "height",
+# the serve process's "pid" and the "reloads" sent so far (tests read it).
 last_drawn = {}
 
 
@@ -171,6 +171,7 @@ class Viewport:
         self.sent_settings = None
         self.streaming = False
         self.engine = None       # for the redraw timer
+        self.reloads = 0         # scene edits sent since the start
         self.texture = None
         self.texture_frame = None
         self.status = ""
@@ -194,6 +195,7 @@ class Viewport:
             if any(depsgraph.id_type_updated(t) for t in EDIT_TYPES if _has_type(t)):
                 self._write(depsgraph)
                 self.session.send({"cmd": "reload"})
+                self.reloads += 1
             self._send_settings(scene)
         except Exception as e:  # never raise into Blender: the viewport says what went wrong
             self._fail(engine, "photonbridge viewport: %s: %s" % (type(e).__name__, e))
@@ -277,7 +279,7 @@ class Viewport:
                 engine.unbind_display_space_shader()
                 gpu.state.blend_set('NONE')
                 last_drawn.clear()
-                last_drawn.update(self.texture_frame)
+                last_drawn.update(self.texture_frame, pid=s.proc.pid, reloads=self.reloads)
             passes = self.texture_frame["passes"] if self.texture_frame else 0
             limit = max_passes()
             if s.error:
