@@ -553,6 +553,13 @@ int pb_serve_camera_from_matrices(const double V[16], const double P[16], int bl
     c.shift[0] = (float)((-P[3] / P[0]) * P[5] / 2.0);
     c.shift[1] = (float)(-P[7] / 2.0);
     double n = (P[11] + 1.0) / P[10], f = (P[11] - 1.0) / P[10];
+    if (n < 0 && f > n) {
+      /* A clip range reaching behind the view's position (Blender's
+       * orthographic views clip at -clip_end / 2): the same rays start on
+       * a plane moved back by -n. */
+      for (int k = 0; k < 3; ++k) c.position[k] -= (float)(-n) * c.forward[k];
+      f -= n, n = 0;
+    }
     c.znear = n > 0 ? (float)n : 0.0f;
     c.zfar = f > n && f > 0 ? (float)f : 0.0f;
   } else if (P[14] == -1.0 && P[15] == 0.0) {

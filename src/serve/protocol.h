@@ -107,8 +107,9 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
 /* The camera a "camera" request describes, for an image of width x
  * height: position and frame from the view matrix (orthonormalised),
  * perspective (yfov across the vertical side, lens shift, clip planes) or
- * orthographic (projection[15] == 1: size across the vertical side) from
- * the projection. Returns 0, or -1 with err (a singular or non-finite
+ * orthographic (projection[15] == 1: size across the vertical side; a
+ * clip range that starts behind the view, as Blender's orthographic views
+ * have, moves the camera back to its near plane) from the projection. Returns 0, or -1 with err (a singular or non-finite
  * matrix, a projection that is neither). */
 int pb_serve_camera_from_matrices(const double view[16], const double projection[16], int blender_axes,
                                   pb_camera *out, char *err, size_t err_cap);

@@ -186,6 +186,14 @@ static void test_camera(void) {
   CHECK_NEAR(c.shift[0], ox / h, 1e-6);
   CHECK_NEAR(c.znear, 1, 1e-5);
   CHECK_NEAR(c.zfar, 50, 1e-4);
+  /* Orthographic with the clip range behind the view (Blender: -50..50):
+   * the camera moves back 50 m along its axis, clipping 0..100. */
+  P[10] = -2 / 100.0, P[11] = 0;
+  view_of(pos, fwd, up, V);
+  CHECK(pb_serve_camera_from_matrices(V, P, 0, &c, err, sizeof err) == 0);
+  CHECK_NEAR(c.position[2], pos[2] + 50, 1e-4);
+  CHECK_NEAR(c.znear, 0, 0);
+  CHECK_NEAR(c.zfar, 100, 1e-4);
   /* Bad matrices. */
   P[15] = 0.5;
   CHECK(pb_serve_camera_from_matrices(V, P, 0, &c, err, sizeof err) == -1 && strstr(err, "projection"));

@@ -17,7 +17,11 @@ Animation as One Sequence" setting, the first frame of an animation render
 writes the whole frame range as one glTF with animation (sampled at every
 frame, anim.py) and starts one `photonbridge render --frames` (temporal
 filtering across frames); each frame Blender asks for is then loaded from
-that sequence as soon as its EXR exists."""
+that sequence as soon as its EXR exists.
+
+Viewport (RENDERED shading): view_update and view_draw hand over to
+viewport.py, which keeps one `photonbridge serve` per engine and draws its
+refining frames; free() (and __del__) end it."""
 import atexit
 import os
 import shutil
