@@ -9,7 +9,9 @@ takes a screenshot of the window (viewport.png) and writes view.gltf (the
 scene through the add-on's writer with a camera made from the view's
 matrices, for the CLI render the test compares with); then orbits the view
 and waits for its last pass again (orbit.png), then moves the cube and waits
-for the reloaded scene's last pass (edit.png). view.json: the region's place
+for the reloaded scene's last pass (edit.png); then sets the view back to
+Solid shading and, 3 s later, writes whether the serve process still runs
+(after_solid.json). view.json: the region's place
 in the window, the first view's matrices, the size photonbridge rendered,
 and for each screenshot what was drawn (frame, passes, the serve pid, the
 reloads sent). Then Blender quits. Any failure: OUT/error.txt.
@@ -37,12 +39,28 @@ def finish(error=None):
         with open(os.path.join(OUT, "error.txt"), "w") as f:
             f.write(error + "\n")
         print("bl_viewport: " + error, flush=True)
-    # Leave RENDERED shading first: the engine is freed and its serve ends.
+    # Leave RENDERED shading first: Blender frees the engine, and its serve
+    # ends with it (checked 3 s later, while Blender still runs).
+    pid = drawn().get("pid")
     try:
         view3d()[1].shading.type = 'SOLID'
     except Exception:
         pass
-    bpy.app.timers.register(lambda: bpy.ops.wm.quit_blender() and None, first_interval=0.5)
+    t_solid = time.time()
+
+    def check_and_quit():
+        alive = False
+        if pid:
+            try:
+                with open("/proc/%d/stat" % pid) as f:
+                    alive = f.read().split(")")[-1].split()[0] != "Z"
+            except OSError:
+                alive = False
+        with open(os.path.join(OUT, "after_solid.json"), "w") as f:
+            json.dump({"pid": pid, "alive": alive, "seconds": time.time() - t_solid}, f)
+        bpy.ops.wm.quit_blender()
+        return None
+    bpy.app.timers.register(check_and_quit, first_interval=3.0)
 
 
 def view3d():

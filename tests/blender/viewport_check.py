@@ -14,7 +14,8 @@ not blank, and their mean difference is within the noise (at most 0.6 x the
 difference between two seeds of the CLI render, and at most 2 8-bit steps).
 Then the view orbits: the picture changes and refines again in the same
 serve process without a reload; the cube moves: one reload, the picture
-changes. No serve process outlives Blender.
+changes. Leaving Rendered shading ends the serve process (the engine's
+free()) while Blender runs; none outlives Blender.
 
 Exit 77 (skip) with one line where Blender, xvfb-run or a Vulkan device is
 missing.
@@ -116,6 +117,12 @@ def main():
             fail("Blender side: %s\n%s" % (f.read().strip(), log[-3000:]))
     if not os.path.exists(os.path.join(out, "view.json")):
         fail("Blender wrote no result (exit %d)\n%s" % (p.returncode, log[-3000:]))
+    with open(os.path.join(out, "after_solid.json")) as f:
+        solid = json.load(f)
+    if solid["alive"]:
+        fail("serve (pid %s) still ran %.1f s after the view left Rendered shading" % (solid["pid"], solid["seconds"]))
+    print("viewport_check: the view left Rendered shading: serve (pid %s) had ended %.1f s later, Blender still "
+          "running" % (solid["pid"], solid["seconds"]))
     left = set(serve_pids()) - before
     if left:
         fail("serve processes outlived Blender: %s" % sorted(left))

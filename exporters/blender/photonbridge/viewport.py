@@ -170,7 +170,6 @@ class Viewport:
         self.sent_size = None
         self.sent_settings = None
         self.streaming = False
-        self.engine = None       # for the redraw timer
         self.reloads = 0         # scene edits sent since the start
         self.texture = None
         self.texture_frame = None
@@ -216,7 +215,6 @@ class Viewport:
         self.session = Session(argv)
         self.sent_size = (w, h)
         self.sent_settings = self._settings(scene)
-        self.engine = engine
         bpy.app.timers.register(_redraw_timer(self), first_interval=POLL_S)
 
     def _settings(self, scene):
@@ -306,7 +304,6 @@ class Viewport:
                 pass
 
     def stop(self):
-        self.engine = None
         if self.session is not None:
             self.session.stop()
             self.session = None
@@ -318,24 +315,25 @@ class Viewport:
 
 
 def _redraw_timer(vp):
-    """A timer that tags the viewport for a redraw when serve's output has
+    """A timer that tags the 3D views for a redraw when serve's output has
     lines waiting (a new frame), so that view_draw, which takes them, runs
     only when there is something to draw: no busy redraw loop on Blender's
-    thread while the GPU renders."""
+    thread while the GPU renders. It holds no reference to the engine (a
+    cycle would keep the engine's Python object, and so serve, alive after
+    Blender frees the engine) and ends with the session."""
     ref = weakref.ref(vp)
 
     def tick():
         v = ref()
-        if v is None or v.session is None or v.engine is None:
+        if v is None or v.session is None:
             return None
-        if not v.session.q.empty() or not v.session.alive():
-            try:
-                v.engine.tag_redraw()
-            except ReferenceError:  # the engine was freed under us
-                return None
-            if not v.session.alive():
-                return None
-        return POLL_S
+        alive = v.session.alive()
+        if not v.session.q.empty() or not alive:
+            for win in bpy.context.window_manager.windows:
+                for area in win.screen.areas:
+                    if area.type == 'VIEW_3D':
+                        area.tag_redraw()
+        return POLL_S if alive else None
     return tick
 
 
