@@ -15,7 +15,9 @@ difference between two seeds of the CLI render, and at most 2 8-bit steps).
 Then the view orbits: the picture changes and refines again in the same
 serve process without a reload; the cube moves: one reload, the picture
 changes. Leaving Rendered shading ends the serve process (the engine's
-free()) while Blender runs; none outlives Blender.
+free()) while Blender runs; none outlives Blender. A serve that dies at once
+(a stand-in binary printing one error line, exit 3): the viewport's status
+and Blender's report carry its line and exit code, and Blender goes on.
 
 Exit 77 (skip) with one line where Blender, xvfb-run or a Vulkan device is
 missing.
@@ -204,6 +206,25 @@ def main():
         fail("moving the cube sent %d reloads" % (m["reloads"] - o["reloads"]))
     if np.abs(ao - a).mean() < 3 or np.abs(am - ao).mean() < 1:
         fail("the orbit or the edit did not change the picture")
+    # A serve that dies at once (a stand-in binary: one error line, exit 3):
+    # the viewport's status and Blender's report carry that line, and Blender
+    # goes on and quits normally.
+    broken = os.path.join(WORK, "broken_photonbridge")
+    with open(broken, "w") as f:
+        f.write("#!/bin/sh\necho 'photonbridge serve: error: test: the GPU caught fire' >&2\nexit 3\n")
+    os.chmod(broken, 0o755)
+    out2 = os.path.join(WORK, "broken")
+    os.makedirs(out2)
+    e2 = dict(e, PHOTONBRIDGE_BIN=broken)
+    argv2 = argv[:-2] + [out2, "0"]
+    p = subprocess.run(argv2, capture_output=True, text=True, env=e2, timeout=300)
+    with open(os.path.join(out2, "broken.json")) as f:
+        b2 = json.load(f)
+    print("viewport_check: a serve that dies at once: the viewport says %r (Blender exit %d)"
+          % (b2["error"], p.returncode))
+    if p.returncode != 0 or not b2["error"] or "the GPU caught fire" not in b2["error"] or "exit 3" not in b2["error"]:
+        fail("the dead serve's error did not reach the viewport: %r, Blender exit %d\n%s"
+             % (b2, p.returncode, (p.stdout + p.stderr)[-2000:]))
     print("viewport_check: OK")
 
 

@@ -44,6 +44,8 @@ EDIT_TYPES = ('OBJECT', 'MESH', 'MATERIAL', 'LIGHT', 'WORLD', 'NODETREE', 'IMAGE
               'META', 'FONT', 'CURVES', 'POINTCLOUD', 'VOLUME', 'TEXTURE')
 
 _sessions = weakref.WeakSet()
+# The last error the viewport showed (tests read it).
+last_error = {}
 # The last frame view_draw drew: serve's frame line with "width", "height",
 # the serve process's "pid" and the "reloads" sent so far (tests read it).
 last_drawn = {}
@@ -269,6 +271,7 @@ class Viewport:
                     self.texture_frame = dict(s.frame, width=w, height=h, file_frame=frame)
             if s.error and s.error != self.reported:
                 self.reported = s.error
+                last_error["message"] = s.error
                 engine.report({'ERROR'}, s.error)
             if self.texture is not None:
                 gpu.state.blend_set('ALPHA_PREMULT')
@@ -295,6 +298,7 @@ class Viewport:
 
     def _fail(self, engine, message):
         self.failed = message
+        last_error["message"] = message
         if message != self.reported:
             self.reported = message
             try:
