@@ -75,6 +75,20 @@ static void put_utf8(reader *r, unsigned cp) {
     o[3] = (char)(0x80 | (cp & 63)), r->strpos += 4;
 }
 
+/* The length of the well-formed UTF-8 sequence at p (at most n bytes
+ * there), 0 when it is not one (RFC 3629: no overlongs, no surrogates,
+ * nothing above U+10FFFF). */
+static size_t utf8_len(const unsigned char *p, size_t n) {
+  if (p[0] < 0x80) return 1;
+  size_t len = p[0] >= 0xF0 ? 4 : p[0] >= 0xE0 ? 3 : p[0] >= 0xC2 ? 2 : 0;
+  if (!len || len > n || p[0] > 0xF4) return 0;
+  for (size_t i = 1; i < len; ++i)
+    if ((p[i] & 0xC0) != 0x80) return 0;
+  if (len == 3 && ((p[0] == 0xE0 && p[1] < 0xA0) || (p[0] == 0xED && p[1] >= 0xA0))) return 0;
+  if (len == 4 && ((p[0] == 0xF0 && p[1] < 0x90) || (p[0] == 0xF4 && p[1] >= 0x90))) return 0;
+  return len;
+}
+
 /* A string at r->p (the opening quote); decoded into strbuf. An escape
  * never decodes to more bytes than it takes in the line (\uXXXX: 6 in, at
  * most 3 out; a surrogate pair: 12 in, 4 out), so strbuf of the line's
@@ -90,6 +104,13 @@ static int parse_string(reader *r, const char **out) {
       break;
     }
     if (c < 0x20) return rfail(r, "control character in a string");
+    if (c >= 0x80) {
+      size_t n = utf8_len((const unsigned char *)r->p, (size_t)(r->end - r->p));
+      if (!n) return rfail(r, "a string is not UTF-8");
+      memcpy(r->strbuf + r->strpos, r->p, n);
+      r->strpos += n, r->p += n;
+      continue;
+    }
     if (c != '\\') {
       r->strbuf[r->strpos++] = (char)c;
       r->p++;
@@ -233,7 +254,8 @@ static int parse_value(reader *r, int depth) {
     if ((i = new_value(r, JV_NULL)) < 0) return -1;
     r->p += 4;
   } else {
-    return rfail(r, "unexpected character '%c'", c);
+    if (c > 0x20 && c < 0x7f) return rfail(r, "unexpected character '%c'", c);
+    return rfail(r, "unexpected byte 0x%02x", (unsigned)(unsigned char)c);
   }
   if (i >= 0) r->v[i].text = start, r->v[i].text_len = (size_t)(r->p - start);
   return i;
@@ -608,9 +630,20 @@ size_t pb_serve_json_string(char *buf, size_t cap, const char *s) {
     if (c == '"' || c == '\\') {
       PUT('\\');
       PUT((char)c);
-    } else if (c < 0x20) {
+    } else if (c < 0x20 || c == 0x7f) {
       if (o + 7 >= cap) return 0;
       o += (size_t)snprintf(buf + o, cap - o, "\\u%04x", c);
+    } else if (c >= 0x80) {
+      /* Replies are UTF-8: a byte that is not (a path from the file
+       * system, say) becomes U+FFFD. */
+      size_t n = utf8_len(p, strlen((const char *)p));
+      if (!n) {
+        if (o + 7 >= cap) return 0;
+        memcpy(buf + o, "\\ufffd", 6), o += 6;
+      } else {
+        if (o + n + 1 >= cap) return 0;
+        memcpy(buf + o, p, n), o += n, p += n - 1;
+      }
     } else {
       PUT((char)c);
     }

@@ -71,6 +71,9 @@ static void test_errors(void) {
   CHECK(fails_with("{\"cmd\":\"x\",\"t\":01}", "expected ','")); /* a leading zero ends the number */
   CHECK(fails_with("{\"cmd\":\"time\",\"t\":-}", "bad number"));
   CHECK(fails_with("{\"cmd\":\"frame\",\"s\":\"\\ud800\"}", "surrogate"));
+  CHECK(fails_with("{\"cmd\":\"fr\xc3\"}", "not UTF-8"));
+  CHECK(fails_with("{\"cmd\":\"\xed\xa0\x80\"}", "not UTF-8")); /* an encoded surrogate */
+  CHECK(fails_with("{\"cmd\":\xff}", "unexpected byte 0xff"));
   CHECK(fails_with("{\"t\":1}", "no \"cmd\""));
   CHECK(fails_with("{\"cmd\":\"teleport\"}", "unknown command \"teleport\""));
   CHECK(strcmp(cmd, "teleport") == 0); /* the error reply names it */
@@ -226,6 +229,8 @@ static void test_replies(void) {
   CHECK(strncmp(buf, "{\"event\":\"frame\",\"ok\":true,", 27) == 0); /* a streamed frame answers no request */
   CHECK(strchr(buf, '\n') == buf + strlen(buf) - 1);
   CHECK(pb_serve_format_ok(buf, 10, "camera", "") == 0); /* too small: nothing, never a cut line */
+  pb_serve_json_string(buf, sizeof buf, "caf\xc3\xa9 \xff\x7f");
+  CHECK(strcmp(buf, "\"caf\xc3\xa9 \\ufffd\\u007f\"") == 0); /* replies stay UTF-8 */
 }
 
 int main(void) {
