@@ -9,7 +9,8 @@ takes a screenshot of the window (viewport.png) and writes view.gltf (the
 scene through the add-on's writer with a camera made from the view's
 matrices, for the CLI render the test compares with); then orbits the view
 and waits for its last pass again (orbit.png), then moves the cube and waits
-for the reloaded scene's last pass (edit.png); then sets the view back to
+for the reloaded scene's last pass (edit.png), then makes the cube's
+material red and waits again (material.png); then sets the view back to
 Solid shading and, 3 s later, writes whether the serve process still runs
 (after_solid.json). view.json: the region's place
 in the window, the first view's matrices, the size photonbridge rendered,
@@ -143,6 +144,15 @@ def tick():
             f0 = state["edit_from"]
             if quiet and d.get("reloads", 0) > f0.get("reloads", 0) and d.get("frame", -1) > f0.get("frame", -1):
                 shot(win, space, area, region, d, "edit.png")
+                state["material_from"] = dict(d)
+                mat = bpy.data.objects["Cube"].active_material
+                mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.8, 0.05, 0.05, 1)
+                state["phase"] = "material"
+            return 0.25
+        if ph == "material":  # a material edit: reloaded, the cube red
+            f0 = state["material_from"]
+            if quiet and d.get("reloads", 0) > f0.get("reloads", 0) and d.get("frame", -1) > f0.get("frame", -1):
+                shot(win, space, area, region, d, "material.png")
                 state["info"]["orbit_from"] = state["orbit_from"]
                 with open(os.path.join(OUT, "view.json"), "w") as fh:
                     json.dump(state["info"], fh, indent=1)

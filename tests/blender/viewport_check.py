@@ -14,7 +14,7 @@ not blank, and their mean difference is within the noise (at most 0.6 x the
 difference between two seeds of the CLI render, and at most 2 8-bit steps).
 Then the view orbits: the picture changes and refines again in the same
 serve process without a reload; the cube moves: one reload, the picture
-changes. Leaving Rendered shading ends the serve process (the engine's
+changes; the cube's material turns red: one reload, the picture reddens. Leaving Rendered shading ends the serve process (the engine's
 free()) while Blender runs; none outlives Blender. A serve that dies at once
 (a stand-in binary printing one error line, exit 3): the viewport's status
 and Blender's report carry its line and exit code, and Blender goes on.
@@ -206,6 +206,14 @@ def main():
         fail("moving the cube sent %d reloads" % (m["reloads"] - o["reloads"]))
     if np.abs(ao - a).mean() < 3 or np.abs(am - ao).mean() < 1:
         fail("the orbit or the edit did not change the picture")
+    mt = shots["material.png"]["drawn"]
+    ar = region_of("material.png")
+    red = lambda img: (img[..., 0] - img[..., 1]).mean()  # noqa: E731
+    print("viewport_check: the cube's material made red: pass %d, reloads %d -> %d, red minus green %.2f -> %.2f "
+          "steps" % (mt["passes"], m["reloads"], mt["reloads"], red(am), red(ar)))
+    if mt["pid"] != first["pid"] or mt["reloads"] != m["reloads"] + 1 or not red(ar) > red(am) + 1:
+        fail("the material edit: pid %s, %d reloads, red minus green %.2f -> %.2f"
+             % (mt["pid"], mt["reloads"] - m["reloads"], red(am), red(ar)))
     # A serve that dies at once (a stand-in binary: one error line, exit 3):
     # the viewport's status and Blender's report carry that line, and Blender
     # goes on and quits normally.

@@ -38,10 +38,6 @@ DEFAULT_PASSES = 1024
 POLL_S = 0.1  # how often the redraw timer looks for serve's lines
 HEADER = struct.Struct("<8sIIIIQ")  # protocol.h: "PBFRAME1", w, h, channels, 0, frame
 
-# id types whose edits change the picture (a camera-only move of the view
-# never reaches view_update; selection alone is no edit).
-EDIT_TYPES = ('OBJECT', 'MESH', 'MATERIAL', 'LIGHT', 'WORLD', 'NODETREE', 'IMAGE', 'COLLECTION', 'CURVE',
-              'META', 'FONT', 'CURVES', 'POINTCLOUD', 'VOLUME', 'TEXTURE')
 
 _sessions = weakref.WeakSet()
 # The last error the viewport showed (tests read it).
@@ -62,8 +58,11 @@ def read_frame(path):
     """(width, height, frame number, float32 RGBA bytes bottom row first)
     of a frame file, or None when it is not one."""
     import numpy as np
-    with open(path, "rb") as f:
-        data = f.read()
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError:  # serve ended and removed it: the next poll says why
+        return None
     if len(data) < HEADER.size:
         return None
     magic, w, h, ch, _, frame = HEADER.unpack_from(data)
@@ -193,7 +192,7 @@ class Viewport:
                 self.failed = None
                 self._start(engine, context, depsgraph)
                 return
-            if any(depsgraph.id_type_updated(t) for t in EDIT_TYPES if _has_type(t)):
+            if scene_edited(depsgraph):
                 self._write(depsgraph)
                 self.session.send({"cmd": "reload"})
                 self.reloads += 1
@@ -339,6 +338,23 @@ def _redraw_timer(vp):
                         area.tag_redraw()
         return POLL_S if alive else None
     return tick
+
+
+def scene_edited(depsgraph):
+    """An edit that changes the picture (a move of the view never reaches
+    view_update): an object, mesh, material, light, world, node tree,
+    image, curve, metaball or texture whose
+    geometry, transform or shading changed, or a collection changed (an
+    object added, removed, hidden). Selecting, or a change of the scene's
+    own settings (sent as "settings"), is none."""
+    if _has_type('COLLECTION') and depsgraph.id_type_updated('COLLECTION'):
+        return True
+    types = tuple(getattr(bpy.types, n) for n in ("Object", "Mesh", "Material", "Light", "World", "NodeTree",
+                                                  "Image", "Curve", "MetaBall", "Texture") if hasattr(bpy.types, n))
+    for u in depsgraph.updates:
+        if isinstance(u.id, types) and (u.is_updated_geometry or u.is_updated_transform or u.is_updated_shading):
+            return True
+    return False
 
 
 def _has_type(t):
