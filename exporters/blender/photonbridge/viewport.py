@@ -25,7 +25,6 @@ import struct
 import subprocess
 import tempfile
 import threading
-import time
 import weakref
 
 import bpy
