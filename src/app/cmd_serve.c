@@ -64,6 +64,9 @@ int pb_cmd_serve(int argc, char **argv) {
   if (npos != 1)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: expected SCENE (see 'photonbridge serve --help')"));
   if ((r = pb_live_opts_check("serve", &lo)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (c.json)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: --json is not taken here (stdout carries the protocol; "
+                                    "each frame's reply has its statistics)"));
   pb_gpu *g = NULL;
   pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {

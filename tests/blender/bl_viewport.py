@@ -202,8 +202,8 @@ def shot(win, space, area, region, d, name, first=False):
     cam.matrix_world = r3d.view_matrix.inverted()
     dg = bpy.context.evaluated_depsgraph_get()
     dg.update()
-    from photonbridge import settings, writer
-    info["cli_args"] = settings.cli_args(sc.photonbridge, sequence=True)
+    from photonbridge import viewport, writer
+    info["cli_args"] = viewport.serve_args(sc)  # the frame options the viewport's serve runs with
     writer.write_gltf(dg, os.path.join(OUT, "view.gltf"), camera=cam.evaluated_get(dg))
 
 

@@ -84,8 +84,10 @@ class Session:
         self.ready = False
         self.frame = None      # the newest frame line
         self.error = None      # the newest error (a reply with ok false, or the process's last line)
-        for target, stream in ((self._read_out, self.proc.stdout), (self._read_err, self.proc.stderr)):
-            threading.Thread(target=target, args=(stream,), daemon=True).start()
+        self.threads = [threading.Thread(target=t, args=(st,), daemon=True)
+                        for t, st in ((self._read_out, self.proc.stdout), (self._read_err, self.proc.stderr))]
+        for t in self.threads:
+            t.start()
         _sessions.add(self)
 
     def _read_out(self, stream):
@@ -132,6 +134,8 @@ class Session:
             elif m.get("reply") == "frame" or m.get("event") == "frame":
                 self.frame, new = m, True
         if not self.alive() and not self.error:
+            for t in self.threads:  # its last lines may still be in the pipes
+                t.join(1.0)
             last = [s for s in self.stderr if ": error: " in s] or self.stderr[-1:]
             self.error = (last[-1] if last else "photonbridge serve ended") + " (exit %s)" % self.proc.returncode
         return new
@@ -210,8 +214,7 @@ class Viewport:
         for w in report.warnings:
             engine.report({'WARNING'}, "photonbridge: " + w)
         w, h = self._size(context, scene)
-        argv = [exe, "serve", self.path, "--width", str(w), "--height", str(h)] + \
-            settings.cli_args(scene.photonbridge, sequence=True)
+        argv = [exe, "serve", self.path, "--width", str(w), "--height", str(h)] + serve_args(scene)
         self.session = Session(argv)
         self.sent_size = (w, h)
         self.sent_settings = self._settings(scene)
@@ -337,6 +340,16 @@ def _redraw_timer(vp):
                         area.tag_redraw()
         return POLL_S if alive else None
     return tick
+
+
+def serve_args(scene):
+    """serve's frame options from the photonbridge panel: render's (as a
+    sequence: no time limit) with the filter passes always given, so that
+    the panel's 0 is off here too (a sequence's own default is 4)."""
+    args = settings.cli_args(scene.photonbridge, sequence=True)
+    if "--atrous-iterations" not in args:
+        args += ["--atrous-iterations", str(scene.photonbridge.filter_passes)]
+    return args
 
 
 def scene_edited(depsgraph):
