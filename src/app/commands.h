@@ -16,5 +16,6 @@ int pb_cmd_reference(int argc, char **argv);
 int pb_cmd_compare(int argc, char **argv);
 int pb_cmd_validate(int argc, char **argv);
 int pb_cmd_view(int argc, char **argv);
+int pb_cmd_serve(int argc, char **argv);
 
 #endif

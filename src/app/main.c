@@ -30,6 +30,7 @@ const pb_command pb_commands[] = {
     {"compare", "TEST.exr REFERENCE.exr [options]", "RMSE, relMSE, PSNR, SSIM of an image against a reference; heat map PNG, --json.", pb_cmd_compare},
     {"validate", "SCENE --out DIR [options]", "Reference, GPU, POV-Ray and Cycles renders compared pairwise: DIR/index.html, DIR/report.json.", pb_cmd_validate},
     {"view", "SCENE [options]", "Interactive window (GLFW + Vulkan swapchain): progressive refinement, orbit/pan/dolly/fly, cameras, playback, AOVs.", pb_cmd_view},
+    {"serve", "SCENE [options]", "Persistent session: JSON-line requests (camera, size, time, settings, reload) on stdin or a UNIX socket, refined frames through /dev/shm (Blender's viewport).", pb_cmd_serve},
 };
 const size_t pb_command_count = sizeof pb_commands / sizeof pb_commands[0];
 

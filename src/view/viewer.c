@@ -16,6 +16,7 @@
 #include "metrics/metrics.h"
 #include "view/controller.h"
 #include "view/present.h"
+#include "view/session.h"
 
 /* stb_image_write's implementation lives in src/image/png.c; this is only
  * its declarations (as src/color/png_display.c). */
@@ -59,22 +60,21 @@ typedef struct viewer {
   const pb_view_desc *d;
   GLFWwindow *win;
   pb_present *pres;
-  pb_sequence *seq;
+  pb_view_session ses;   /* the frame loop (session.h), shared with `serve` */
   pb_view_controller ctl;
   int follow;            /* 1: the scene camera `camera` as the file (and its animation) has it */
   pb_camera file_cam;    /* the bound slot's own camera, restored when following */
   int selected;          /* the glTF camera chosen with 1-9 / [ ] */
   unsigned moves_seen;
   int playing;
-  double t, t_posed;     /* animation time now, and the pose the scene holds */
+  double t;              /* animation time now */
   int aov;
   double exposure;
   pb_color *color, *metric;
   float *ref_display;    /* the reference through the metrics view, RGB */
   float *tmp;            /* RGBA floats of the shown AOV */
   uint8_t *rgba;         /* the bytes shown */
-  pb_render_result res;
-  uint32_t frame, run_frames;
+  uint32_t frame;
   int save;              /* P / F12 pressed */
   uint32_t saves;
   const char *note;      /* a one-off remark for the title */
@@ -294,7 +294,7 @@ static pb_result run_script(viewer *v) {
  * colour AOVs through the OCIO view (exposure included), normal as
  * 0.5 + 0.5 n and depth as 1 - z / z_max (near bright), both raw data. */
 static pb_result make_picture(viewer *v) {
-  const pb_render_result *res = &v->res;
+  const pb_render_result *res = &v->ses.res;
   size_t n = (size_t)res->width * res->height;
   const float *src = NULL;
   int ch = 3;
@@ -351,7 +351,7 @@ static void sink_write(void *ctx, void *data, int size) {
 
 /* The bytes shown (RGB, the frame's size), atomically. */
 static pb_result write_screenshot(const viewer *v, const char *path) {
-  size_t n = (size_t)v->res.width * v->res.height;
+  size_t n = (size_t)v->ses.res.width * v->ses.res.height;
   uint8_t *rgb = malloc(3 * n);
   if (!rgb) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
   for (size_t i = 0; i < n; ++i)
@@ -364,8 +364,8 @@ static pb_result write_screenshot(const viewer *v, const char *path) {
     return r;
   }
   sink s = {f, 0};
-  int ok = stbi_write_png_to_func(sink_write, &s, (int)v->res.width, (int)v->res.height, 3, rgb,
-                                  (int)(3 * v->res.width));
+  int ok = stbi_write_png_to_func(sink_write, &s, (int)v->ses.res.width, (int)v->ses.res.height, 3, rgb,
+                                  (int)(3 * v->ses.res.width));
   free(rgb);
   if (!ok || s.failed) {
     pb_atomic_abort(f, tmp);
@@ -381,13 +381,13 @@ static pb_result save_current(viewer *v) {
   snprintf(exr, sizeof exr, "%s_%04u.exr", v->d->save_prefix, v->saves);
   snprintf(png, sizeof png, "%s_%04u.png", v->d->save_prefix, v->saves);
   char frames_s[32];
-  snprintf(frames_s, sizeof frames_s, "%u", v->run_frames);
+  snprintf(frames_s, sizeof frames_s, "%u", v->ses.run_frames);
   const char *an[] = {"photonbridge/renderer", "photonbridge/view_frames"};
   const char *av[] = {"gpu view", frames_s};
-  pb_result r = pb_render_write_exr(exr, &v->res, NULL, NULL, an, av, 2);
+  pb_result r = pb_render_write_exr(exr, &v->ses.res, NULL, NULL, an, av, 2);
   if (r == PB_OK && (r = write_screenshot(v, png)) != PB_OK) unlink(exr);
   if (r != PB_OK) return r;
-  pb_log_info("view: wrote %s and %s (%u frames refined)", exr, png, v->run_frames);
+  pb_log_info("view: wrote %s and %s (%u frames refined)", exr, png, v->ses.run_frames);
   v->saves++;
   return PB_OK;
 }
@@ -415,15 +415,15 @@ static pb_result load_reference(viewer *v) {
 /* PSNR of the beauty against --reference, as `compare` computes it (its
  * default metrics view, display MSE over R, G, B). */
 static pb_result frame_psnr(viewer *v, double *psnr) {
-  size_t n = (size_t)v->res.width * v->res.height;
+  size_t n = (size_t)v->ses.res.width * v->ses.res.height;
   float *t = malloc(3 * n * sizeof *t);
   if (!t) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
   for (size_t i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
-      float x = v->res.beauty[4 * i + k];
+      float x = v->ses.res.beauty[4 * i + k];
       t[3 * i + k] = isfinite(x) ? x : 0.0f;
     }
-  pb_result r = pb_color_apply_display(v->metric, t, v->res.width, v->res.height, 3);
+  pb_result r = pb_color_apply_display(v->metric, t, v->ses.res.width, v->ses.res.height, 3);
   double se = 0;
   for (size_t i = 0; r == PB_OK && i < 3 * n; ++i) se += (double)(t[i] - v->ref_display[i]) * (t[i] - v->ref_display[i]);
   free(t);
@@ -432,13 +432,13 @@ static pb_result frame_psnr(viewer *v, double *psnr) {
 }
 
 static void set_title(viewer *v, double fps, const frame_stat *fs) {
-  const pb_render_stats *st = &v->res.stats;
+  const pb_render_stats *st = &v->ses.res.stats;
   char title[512], psnr[48] = "", tm[48] = "";
   if (v->ref_display) snprintf(psnr, sizeof psnr, " | PSNR %.2f dB", fs->psnr);
   if (v->s->anim) snprintf(tm, sizeof tm, " | t %.2f s%s", v->t, v->playing ? " >" : " ||");
   snprintf(title, sizeof title, "photonbridge view: %s | %.1f fps | %.0f ms/pass | %llu photons stored | %u %s%s%s | %s | EV %+.1f%s%s",
            v->s->cameras[v->selected].name[0] ? v->s->cameras[v->selected].name : "camera", fps, fs->render_ms,
-           (unsigned long long)st->photons_stored, v->run_frames, v->run_frames == 1 ? "pass" : "passes", psnr, tm,
+           (unsigned long long)st->photons_stored, v->ses.run_frames, v->ses.run_frames == 1 ? "pass" : "passes", psnr, tm,
            aov_names[v->aov], v->exposure, v->note ? " | " : "", v->note ? v->note : "");
   glfwSetWindowTitle(v->win, title);
 }
@@ -454,8 +454,8 @@ static pb_result write_stats(const viewer *v, const char *path) {
   pb_json_string(&j, "device", pb_gpu_device_name(v->g));
   pb_json_int(&j, "width", v->d->width);
   pb_json_int(&j, "height", v->d->height);
-  pb_json_int(&j, "photons_per_frame", v->res.stats.photons_emitted);
-  pb_json_int(&j, "photons_stored", (int64_t)v->res.stats.photons_stored);
+  pb_json_int(&j, "photons_per_frame", v->ses.res.stats.photons_emitted);
+  pb_json_int(&j, "photons_stored", (int64_t)v->ses.res.stats.photons_stored);
   pb_json_int(&j, "swapchain_recreations", pb_present_recreations(v->pres));
   pb_json_begin_array(&j, "frames");
   for (uint32_t i = 0; i < v->frame; ++i) {
@@ -493,30 +493,19 @@ static pb_result one_frame(viewer *v, double dt) {
     if (v->t > s->anim_end) v->t = s->anim_start + fmod(v->t - s->anim_start, fmax(s->anim_end - s->anim_start, 1e-6));
   }
   pb_camera want = v->follow ? v->file_cam : v->ctl.cam;
-  s->cameras[v->d->camera] = want;
-  /* Nothing to pose when the time has not changed since the last pose: the
-   * scene holds it already, and a second pose would put an animated scene
-   * camera back over the view's. */
-  struct pb_scene_anim *anim = s->anim;
-  int hide = anim && v->frame > 0 && v->t == v->t_posed;
-  if (hide) s->anim = NULL;
-  pb_sequence_frame_info fi;
-  pb_render_result_destroy(&v->res);
-  r = pb_sequence_frame(v->g, v->seq, v->frame, v->t, &v->res, &fi);
-  s->anim = anim;
-  if (r != PB_OK) return r;
-  v->t_posed = v->t;
+  if ((r = pb_view_session_frame(&v->ses, &want, v->t)) != PB_OK) return r;
+  const pb_sequence_frame_info fi = v->ses.info;
   double t1 = pb_time_now();
   if (!v->follow && memcmp(fi.camera.position, want.position, sizeof want.position)) {
     /* The animation moved the bound camera over the user's: stop playing,
-     * so that the next frame shows the user's camera (see hide above). */
+     * so that the next frame shows the user's camera (the session does not
+     * pose the scene again while the time stays). */
     v->playing = 0;
     v->note = "paused: the scene camera is animated";
   }
   if (v->follow) pb_view_controller_reset(&v->ctl, &fi.camera, s->bounds_min, s->bounds_max);
-  v->run_frames = fi.still && v->frame > 0 ? v->run_frames + 1 : 1;
   if ((r = make_picture(v)) != PB_OK) return r;
-  if ((r = pb_present_frame(v->pres, v->rgba, v->res.width, v->res.height)) != PB_OK) return r;
+  if ((r = pb_present_frame(v->pres, v->rgba, v->ses.res.width, v->ses.res.height)) != PB_OK) return r;
   double t2 = pb_time_now();
   if (v->frame == v->stat_cap) {
     size_t nc = v->stat_cap ? 2 * v->stat_cap : 256;
@@ -527,7 +516,7 @@ static pb_result one_frame(viewer *v, double dt) {
   frame_stat *fs = &v->stats[v->frame];
   memset(fs, 0, sizeof *fs);
   fs->render_ms = (t1 - t0) * 1e3, fs->present_ms = (t2 - t1) * 1e3, fs->wall_ms = dt * 1e3;
-  fs->still = fi.still && v->frame > 0, fs->run_frames = v->run_frames, fs->t = v->t, fs->psnr = NAN;
+  fs->still = fi.still && v->frame > 0, fs->run_frames = v->ses.run_frames, fs->t = v->t, fs->psnr = NAN;
   if (v->ref_display && (r = frame_psnr(v, &fs->psnr)) != PB_OK) return r;
   v->frame++;
   set_title(v, dt > 0 ? 1.0 / dt : 0.0, fs);
@@ -555,7 +544,7 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   v.g = g, v.s = s, v.gs = gs, v.d = d;
   v.selected = d->camera, v.follow = 1, v.file_cam = s->cameras[d->camera];
   v.exposure = d->color.exposure;
-  v.t = v.t_posed = s->anim ? s->anim_start : 0.0;
+  v.t = s->anim ? s->anim_start : 0.0;
   pb_result r = PB_OK;
   const char *disp = getenv("DISPLAY"), *way = getenv("WAYLAND_DISPLAY");
   int glfw_on = 0;
@@ -599,7 +588,7 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   glfwSetScrollCallback(v.win, cb_scroll);
   pb_present_desc pd = {.window = v.win, .device_name = pb_gpu_device_name(g), .validation = d->validation};
   if ((r = pb_present_create(&pd, &v.pres)) != PB_OK) goto done;
-  if ((r = pb_sequence_create(g, s, gs, d->camera, d->width, d->height, &d->seq, &v.seq)) != PB_OK) goto done;
+  if ((r = pb_view_session_create(&v.ses, g, s, gs, d->camera, d->width, d->height, &d->seq)) != PB_OK) goto done;
   pb_view_controller_reset(&v.ctl, &v.file_cam, s->bounds_min, s->bounds_max);
   double last = pb_time_now();
   while (!glfwWindowShouldClose(v.win)) {
@@ -633,11 +622,10 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   }
 done:
   validation_messages += pb_present_validation_messages(v.pres);
-  pb_sequence_destroy(g, v.seq);
+  pb_view_session_destroy(&v.ses);
   pb_present_destroy(v.pres);
   if (v.win) glfwDestroyWindow(v.win);
   if (glfw_on) glfwTerminate();
-  pb_render_result_destroy(&v.res);
   pb_color_destroy(v.color);
   pb_color_destroy(v.metric);
   free(v.ref_display);

@@ -33,9 +33,8 @@ for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second r
     e = [c for c in bpy.types.RenderEngine.__subclasses__() if c.bl_idname == "PHOTONBRIDGE"][0]
     check(e.bl_use_preview is False and e.bl_use_shading_nodes_custom is False and e.bl_use_eevee_viewport is True
           and e.bl_use_postprocess is True, "round %d: engine flags" % round_)
-    check(not hasattr(e, "view_update") or e.view_update is bpy.types.RenderEngine.view_update
-          if hasattr(bpy.types.RenderEngine, "view_update") else not hasattr(e, "view_update"),
-          "round %d: no viewport callbacks" % round_)
+    check("view_update" in e.__dict__ and "view_draw" in e.__dict__,
+          "round %d: viewport callbacks (view_update, view_draw: viewport.py)" % round_)
     bpy.context.scene.render.engine = "CYCLES"
     addon_utils.disable("photonbridge", default_set=True, handle_error=None)
     check(not engine_registered(), "round %d: engine gone after disabling" % round_)

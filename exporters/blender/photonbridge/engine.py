@@ -17,7 +17,11 @@ Animation as One Sequence" setting, the first frame of an animation render
 writes the whole frame range as one glTF with animation (sampled at every
 frame, anim.py) and starts one `photonbridge render --frames` (temporal
 filtering across frames); each frame Blender asks for is then loaded from
-that sequence as soon as its EXR exists."""
+that sequence as soon as its EXR exists.
+
+Viewport (RENDERED shading): view_update and view_draw hand over to
+viewport.py, which keeps one `photonbridge serve` per engine and draws its
+refining frames; free() (and __del__) end it."""
 import atexit
 import os
 import shutil
@@ -26,7 +30,7 @@ import time
 
 import bpy
 
-from . import anim, cli, settings, writer
+from . import anim, cli, settings, viewport, writer
 
 # Passes photonbridge adds (besides Combined, and Depth, which Blender adds
 # itself when the view layer has its Z pass): (name, channels, chan_id, type)
@@ -75,12 +79,34 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         self.handoff = None      # this frame's folder, glTF path, writer report
         self.handoff_error = None
         self.exe = None
+        self.viewport = None     # viewport.Viewport, made by the first view_update
+
+    def free(self):
+        """The engine goes (Blender frees it when the viewport leaves
+        RENDERED shading, the area closes or the file changes): its serve
+        process and folder go with it."""
+        vp = getattr(self, "viewport", None)
+        if vp is not None:
+            vp.stop()
+            self.viewport = None
 
     def __del__(self):
+        self.free()
         # The hand-off folder goes with the frame (a sequence keeps its own).
         h = getattr(self, "handoff", None)
         if h and not h.get("sequence"):
             shutil.rmtree(h["folder"], ignore_errors=True)
+
+    # ---- the viewport (viewport.py: `photonbridge serve`) ---------------------------
+
+    def view_update(self, context, depsgraph):
+        if self.viewport is None:
+            self.viewport = viewport.Viewport()
+        self.viewport.update(self, context, depsgraph)
+
+    def view_draw(self, context, depsgraph):
+        if self.viewport is not None:
+            self.viewport.draw(self, context, depsgraph)
 
     # ---- the hand-off (UI locked) -------------------------------------------------
 
@@ -320,9 +346,11 @@ def register():
     for c in classes:
         bpy.utils.register_class(c)
     atexit.register(stop_sequences)
+    viewport.register()
 
 
 def unregister():
+    viewport.unregister()
     atexit.unregister(stop_sequences)
     stop_sequences()
     for c in reversed(classes):

@@ -1,0 +1,82 @@
+/* photonbridge serve SCENE: the persistent session (src/serve/serve.h; the
+ * protocol in src/serve/protocol.h). This file parses the options, opens
+ * the GPU and hands over. */
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "app/live_opts.h"
+#include "gpu/gpu.h"
+#include "serve/serve.h"
+
+static const pb_command *self(void) {
+  for (size_t i = 0; i < pb_command_count; ++i)
+    if (pb_commands[i].run == pb_cmd_serve) return &pb_commands[i];
+  return NULL;
+}
+
+static const char *const format_names[] = {"rgba32f", "exr", NULL};
+
+int pb_cmd_serve(int argc, char **argv) {
+  const pb_command *cmd = self();
+  pb_core_opts c = {0};
+  pb_live_opts lo = PB_LIVE_OPTS_INIT;
+  const char *socket_path = NULL, *frame_dir = NULL;
+  int format = 0;
+  const pb_opt opts[] = {
+      {"width", 0, PB_OPT_U32, &c.width, "W", "image width until a resolution request (default 640, or from "
+       "--height and the camera's aspect)", NULL, 1, 16384},
+      {"height", 0, PB_OPT_U32, &c.height, "H", "image height (default from the camera's aspect ratio)", NULL, 1,
+       16384},
+      {"camera", 0, PB_OPT_STRING, &c.camera, "NAME|N", "the scene camera until a camera request (default: 0)", NULL,
+       0, 0},
+      {"seed", 0, PB_OPT_U64, &c.seed, "N", "random seed (default 0; frame i after a (re)start uses it mixed with "
+       "i, as render --frames)", NULL, 0, 0},
+      PB_SCENE_OPTS(&c),
+      PB_LIVE_OPTS(&lo),
+      {"socket", 0, PB_OPT_STRING, &socket_path, "PATH", "requests and replies on a UNIX socket at PATH (one "
+       "client; the session ends when it disconnects) instead of stdin/stdout", NULL, 0, 0},
+      {"frame-dir", 0, PB_OPT_STRING, &frame_dir, "DIR", "where frames are written (default /dev/shm, else "
+       "$TMPDIR or /tmp)", NULL, 0, 0},
+      {"format", 0, PB_OPT_CHOICE, &format, "FMT", "frame files: rgba32f (default: a 32-byte header and float RGBA, "
+       "top row first) or exr (every AOV, as render writes them)", format_names, 0, 0},
+  };
+  const size_t nopts = sizeof opts / sizeof *opts;
+  const char *pos[1];
+  size_t npos;
+  int help;
+  pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
+  if (r != PB_OK) return pb_cli_exit(cmd, r);
+  if (help) {
+    pb_cli_print_help(stdout, cmd, opts, nopts,
+                      "One JSON object a line each way (README, \"photonbridge serve\"; src/serve/protocol.h):\n"
+                      "  {\"cmd\":\"camera\",\"view\":[16],\"projection\":[16],\"axes\":\"blender\"}  "
+                      "{\"cmd\":\"resolution\",\"width\":W,\"height\":H}\n"
+                      "  {\"cmd\":\"time\",\"t\":S}  {\"cmd\":\"settings\",\"photons\":N,...}  {\"cmd\":\"frame\"}\n"
+                      "  {\"cmd\":\"stream\",\"on\":true,\"max_passes\":N}  {\"cmd\":\"reload\",\"scene\":PATH}  "
+                      "{\"cmd\":\"quit\"}\n"
+                      "Each request gets one reply line; a frame names its file, number, size and passes.\n"
+                      "EOF on stdin (or the socket) ends the session.");
+    return 0;
+  }
+  if (npos != 1)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: expected SCENE (see 'photonbridge serve --help')"));
+  if ((r = pb_live_opts_check("serve", &lo)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (c.json)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: --json is not taken here (stdout carries the protocol; "
+                                    "each frame's reply has its statistics)"));
+  pb_gpu *g = NULL;
+  pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
+  if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {
+    pb_serve_desc d = {.scene = pos[0], .core = &c, .seq = pb_live_sequence_desc(&lo, c.seed),
+                       .socket_path = socket_path, .frame_dir = frame_dir, .format = format};
+    r = pb_serve_run(g, &d);
+    if (r == PB_OK && pb_gpu_validation_total())
+      r = pb_fail(PB_ERR_VULKAN, "serve: Vulkan validation reported %u message(s) (printed above)",
+                  pb_gpu_validation_total());
+  }
+  pb_gpu_destroy(g);
+  return pb_cli_exit(cmd, r);
+}

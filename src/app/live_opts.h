@@ -1,0 +1,61 @@
+/* The frame settings `view` and `serve` share (one pb_sequence_desc, as
+ * `render --frames` builds it): the option rows, their checks and the
+ * descriptor. */
+#ifndef PB_APP_LIVE_OPTS_H
+#define PB_APP_LIVE_OPTS_H
+
+#include <stdint.h>
+
+#include "app/cli.h"
+#include "render/photon.h"
+#include "render/sequence.h"
+
+typedef struct pb_live_opts {
+  uint32_t spp, max_spec, photons, iterations, bounces, atrous, device;
+  int direct_only, progressive, no_temporal, validation, first_bounce;
+  double smoothing, r_max, alpha, atrous_gamma;
+} pb_live_opts;
+
+extern const char *const pb_live_first_bounce_names[];
+
+/* Defaults: 4 A-Trous passes (as render --frames), no device chosen. */
+#define PB_LIVE_OPTS_INIT {.atrous = 4, .device = UINT32_MAX, .atrous_gamma = -1}
+
+#define PB_LIVE_OPTS(o)                                                                                            \
+  {"spp", 0, PB_OPT_U32, &(o)->spp, "N", "samples per pixel per frame (default 1)", NULL, 1, 1 << 20},             \
+  {"max-specular-depth", 0, PB_OPT_U32, &(o)->max_spec, "N", "mirror/glass interactions along an eye path "       \
+   "(default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},                                                           \
+  {"direct-only", 0, PB_OPT_FLAG, &(o)->direct_only, NULL, "only paths with at most one scattering event", NULL,   \
+   0, 0},                                                                                                          \
+  {"photons", 0, PB_OPT_U32, &(o)->photons, "N", "photon paths per map (default 2^18)", NULL, 1, 1u << 26},        \
+  {"iterations", 0, PB_OPT_U32, &(o)->iterations, "K", "photon maps per frame (default 1)", NULL, 1, 1 << 16},     \
+  {"photon-bounces", 0, PB_OPT_U32, &(o)->bounces, "N", "diffuse bounces stored per photon path (default 7)",      \
+   NULL, 1, 64},                                                                                                   \
+  {"smoothing", 0, PB_OPT_FLOAT, &(o)->smoothing, "S", "footprint smoothing factor (default "                      \
+   PB_PHOTON_SMOOTHING_DEFAULT_STR ")", NULL, 0, 1e6},                                                             \
+  {"r-max", 0, PB_OPT_FLOAT, &(o)->r_max, "M", "footprint radius clamp in metres (default 5% of the scene "        \
+   "radius)", NULL, 0, 1e9},                                                                                       \
+  {"progressive", 0, PB_OPT_FLAG, &(o)->progressive, NULL, "footprints shrink from still frame to still frame "   \
+   "(probabilistic SPPM), so a still view converges to the unbiased answer", NULL, 0, 0},                          \
+  {"alpha", 0, PB_OPT_FLOAT, &(o)->alpha, "A", "--progressive: radius^2 fraction kept per map, in (0, 1) "        \
+   "(default 2/3)", NULL, 0, 0},                                                                                   \
+  {"first-bounce", 0, PB_OPT_CHOICE, &(o)->first_bounce, "MODE", "traced (default) or rsm",                        \
+   pb_live_first_bounce_names, 0, 0},                                                                              \
+  {"atrous-iterations", 0, PB_OPT_U32, &(o)->atrous, "N", "A-Trous passes on the indirect light (default 4, as "   \
+   "render --frames)", NULL, 0, 12},                                                                               \
+  {"atrous-clip", 0, PB_OPT_FLOAT, &(o)->atrous_gamma, "G", "A-Trous detail kept within G standard deviations "    \
+   "(default 0.25)", NULL, 0, 100},                                                                                \
+  {"no-temporal", 0, PB_OPT_FLAG, &(o)->no_temporal, NULL, "no temporal filter while moving (on by default)",      \
+   NULL, 0, 0},                                                                                                    \
+  {"device", 0, PB_OPT_U32, &(o)->device, "N", "Vulkan device for rendering (see 'photonbridge info --devices')",  \
+   NULL, 0, 0},                                                                                                    \
+  {"validation", 0, PB_OPT_FLAG, &(o)->validation, NULL, "Vulkan validation layers; any message is an error "      \
+   "(also PB_VK_VALIDATION=1)", NULL, 0, 0}
+
+/* PB_ERR_USAGE naming the command (--alpha out of range). */
+pb_result pb_live_opts_check(const char *command, const pb_live_opts *o);
+
+/* Every frame's settings from the options and --seed. */
+pb_sequence_desc pb_live_sequence_desc(const pb_live_opts *o, uint64_t seed);
+
+#endif

@@ -1,0 +1,439 @@
+/* `photonbridge serve`'s session (serve.h): the request loop around the
+ * live session of view/session.h. */
+#include "serve/serve.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include "app/render_out.h"
+#include "core/fs.h"
+#include "core/log.h"
+#include "serve/protocol.h"
+#include "view/session.h"
+
+typedef struct server {
+  pb_gpu *g;
+  const pb_serve_desc *d;
+  int in_fd, out_fd, listen_fd, client_gone;
+  char *in;                    /* bytes read and not yet a whole line */
+  size_t in_len, in_cap;
+  int in_skip;                 /* discarding the rest of an over-long line */
+  unsigned long line_no;
+  /* the scene */
+  char path[PB_SERVE_MAX_PATH];
+  pb_scene s;
+  pb_gpu_scene gs;
+  int loaded;
+  pb_camera *file_cams;        /* the file's cameras as loaded ("index") */
+  uint32_t file_cam_count;
+  /* the live session */
+  pb_view_session ses;
+  int ses_ok;
+  pb_sequence_desc desc;
+  uint32_t width, height;
+  int size_set;                /* a "resolution" request chose the size */
+  pb_camera cam;
+  int cam_set;
+  double t;
+  int streaming, pending;      /* pending: something changed since the last frame */
+  uint32_t max_passes;
+  uint64_t served;             /* frames handed over */
+  char frame_path[PATH_MAX];
+  char *reply;                 /* a reply line */
+  int quit;
+} server;
+
+enum { REPLY_CAP = 2 * PB_SERVE_MAX_PATH + 4096 };
+
+/* ---- output ---------------------------------------------------------------- */
+
+static void send_line(server *v, const char *buf, size_t len) {
+  if (v->client_gone || !len) return;
+  size_t o = 0;
+  while (o < len) {
+    ssize_t n = write(v->out_fd, buf + o, len - o);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      /* EPIPE (SIGPIPE is ignored) or any other failure: nobody reads. */
+      pb_log_verbose("serve: the client is gone (%s); ending", n < 0 ? strerror(errno) : "short write");
+      v->client_gone = 1, v->quit = 1;
+      return;
+    }
+    o += (size_t)n;
+  }
+}
+
+static void reply_ok(server *v, pb_serve_cmd cmd, const char *id) {
+  send_line(v, v->reply, pb_serve_format_ok(v->reply, REPLY_CAP, pb_serve_cmd_name(cmd), id));
+}
+
+static void reply_error(server *v, const char *cmd, const char *id, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static void reply_error(server *v, const char *cmd, const char *id, const char *fmt, ...) {
+  char msg[1400];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  send_line(v, v->reply, pb_serve_format_error(v->reply, REPLY_CAP, cmd, id, msg));
+}
+
+/* ---- the scene and the session ------------------------------------------------ */
+
+static void drop_scene(server *v, pb_scene *s, pb_gpu_scene *gs) {
+  pb_gpu_scene_destroy(v->g, gs);
+  pb_scene_destroy(s);
+  memset(gs, 0, sizeof *gs);
+  memset(s, 0, sizeof *s);
+}
+
+/* Loads `path` as the command line says (--camera, --width/--height, the
+ * scene options), builds its GPU scene and (re)starts the session on it;
+ * the old scene is dropped only when the new one loaded. */
+static pb_result load(server *v, const char *path) {
+  pb_scene s;
+  pb_gpu_scene gs;
+  memset(&s, 0, sizeof s);
+  memset(&gs, 0, sizeof gs);
+  pb_result r = pb_cli_load_scene(path, v->d->core, &s);
+  if (r != PB_OK) return r;
+  int camera;
+  uint32_t w, h;
+  pb_camera *cams = NULL;
+  if ((r = pb_cli_pick_camera(&s, v->d->core, &camera, &w, &h)) != PB_OK ||
+      (r = pb_gpu_scene_create(v->g, &s, &gs)) != PB_OK)
+    goto fail;
+  if (!(cams = malloc(s.camera_count * sizeof *cams))) {
+    r = pb_fail(PB_ERR_NOMEM, "serve: out of memory");
+    goto fail;
+  }
+  memcpy(cams, s.cameras, s.camera_count * sizeof *cams);
+  if (!v->size_set) v->width = w, v->height = h;
+  pb_scene old = v->s;
+  pb_gpu_scene old_gs = v->gs;
+  int had = v->loaded;
+  v->s = s, v->gs = gs, v->loaded = 1;
+  free(v->file_cams);
+  v->file_cams = cams, v->file_cam_count = s.camera_count;
+  v->ses.camera = camera;
+  if (!had) r = pb_view_session_create(&v->ses, v->g, &v->s, &v->gs, camera, v->width, v->height, &v->desc);
+  else r = pb_view_session_reset(&v->ses, &v->s, &v->gs, v->width, v->height, &v->desc);
+  v->ses_ok = r == PB_OK;
+  if (had) drop_scene(v, &old, &old_gs);
+  snprintf(v->path, sizeof v->path, "%s", path);
+  v->pending = 1;
+  return r;
+fail:
+  free(cams);
+  drop_scene(v, &s, &gs);
+  return r;
+}
+
+static pb_result restart(server *v) {
+  pb_result r = pb_view_session_reset(&v->ses, &v->s, &v->gs, v->width, v->height, &v->desc);
+  v->ses_ok = r == PB_OK;
+  v->pending = 1;
+  return r;
+}
+
+/* ---- frames ---------------------------------------------------------------- */
+
+static pb_result write_rgba32f(const char *path, const pb_render_result *res, uint64_t frame) {
+  FILE *f;
+  char *tmp;
+  pb_result r = pb_atomic_open(path, &f, &tmp);
+  if (r != PB_OK) return r;
+  unsigned char head[32];
+  memset(head, 0, sizeof head);
+  memcpy(head, "PBFRAME1", 8);
+  uint32_t u[4] = {res->width, res->height, 4, 0};
+  for (int i = 0; i < 4; ++i)
+    for (int b = 0; b < 4; ++b) head[8 + 4 * i + b] = (unsigned char)(u[i] >> (8 * b));
+  for (int b = 0; b < 8; ++b) head[24 + b] = (unsigned char)(frame >> (8 * b));
+  /* The pixels: little-endian float32 on every host photonbridge builds on. */
+  fwrite(head, 1, sizeof head, f);
+  fwrite(res->beauty, sizeof(float), (size_t)res->width * res->height * 4, f);
+  return pb_atomic_commit(path, f, tmp);
+}
+
+static void render_frame(server *v, int requested, const char *id) {
+  if (!v->ses_ok) {
+    reply_error(v, "frame", requested ? id : "", "no session to render (the last reload or reset failed: fix the "
+                "scene and reload)");
+    v->streaming = 0;
+    return;
+  }
+  double t0 = pb_time_now();
+  pb_result r = pb_view_session_frame(&v->ses, v->cam_set ? &v->cam : NULL, v->t);
+  double ms = (pb_time_now() - t0) * 1e3;
+  if (r == PB_OK)
+    r = v->d->format == PB_SERVE_FORMAT_EXR ? pb_render_write_exr(v->frame_path, &v->ses.res, NULL, NULL, NULL, NULL, 0)
+                                            : write_rgba32f(v->frame_path, &v->ses.res, v->served);
+  if (r != PB_OK) {
+    reply_error(v, "frame", requested ? id : "", "%s", pb_error_message());
+    v->streaming = 0;
+    if (r == PB_ERR_DEVICE_LOST) v->quit = 1;
+    return;
+  }
+  v->pending = 0;
+  pb_serve_frame_reply f = {.requested = requested,
+                            .frame = v->served++,
+                            .path = v->frame_path,
+                            .format = v->d->format == PB_SERVE_FORMAT_EXR ? "exr" : "rgba32f",
+                            .width = v->ses.res.width,
+                            .height = v->ses.res.height,
+                            .passes = v->ses.run_frames,
+                            .still = v->ses.info.still && v->ses.frame > 1,
+                            .render_ms = ms,
+                            .photons_stored = v->ses.res.stats.photons_stored};
+  send_line(v, v->reply, pb_serve_format_frame(v->reply, REPLY_CAP, id, &f));
+}
+
+/* ---- requests -------------------------------------------------------------- */
+
+static void apply_settings(pb_sequence_desc *d, const pb_serve_settings *s) {
+  pb_render_desc *rd = &d->render;
+  if (s->set & PB_SERVE_SET_SPP) rd->spp = s->spp;
+  if (s->set & PB_SERVE_SET_PHOTONS) rd->photons = s->photons;
+  if (s->set & PB_SERVE_SET_ITERATIONS) rd->iterations = s->iterations;
+  if (s->set & PB_SERVE_SET_PHOTON_BOUNCES) rd->photon_bounces = s->photon_bounces;
+  if (s->set & PB_SERVE_SET_MAX_SPECULAR) rd->max_specular_depth = s->max_specular_depth;
+  if (s->set & PB_SERVE_SET_ATROUS) rd->atrous_iterations = s->atrous_iterations;
+  if (s->set & PB_SERVE_SET_SEED) rd->seed = s->seed;
+  if (s->set & PB_SERVE_SET_PROGRESSIVE) rd->progressive = s->progressive;
+  if (s->set & PB_SERVE_SET_TEMPORAL) d->temporal = s->temporal;
+}
+
+static void handle_line(server *v, const char *line, size_t len) {
+  v->line_no++;
+  while (len && (line[len - 1] == '\r' || line[len - 1] == ' ' || line[len - 1] == '\t')) len--;
+  size_t i = 0;
+  while (i < len && (line[i] == ' ' || line[i] == '\t')) i++;
+  if (i == len) return; /* blank lines are no requests */
+  pb_serve_request *q = malloc(sizeof *q);
+  if (!q) {
+    reply_error(v, NULL, "", "line %lu: out of memory", v->line_no);
+    return;
+  }
+  char cmd[80], err[600];
+  if (pb_serve_parse(line, len, q, cmd, sizeof cmd, err, sizeof err)) {
+    reply_error(v, cmd, q->id, "line %lu: %s", v->line_no, err);
+    free(q);
+    return;
+  }
+  const char *name = pb_serve_cmd_name(q->cmd);
+  pb_result r = PB_OK;
+  switch (q->cmd) {
+    case PB_SERVE_CAMERA: {
+      pb_camera c;
+      if (q->camera_index >= 0) {
+        if ((uint32_t)q->camera_index >= v->file_cam_count) {
+          reply_error(v, name, q->id, "line %lu: camera index %d, but the scene has %u camera%s", v->line_no,
+                      q->camera_index, v->file_cam_count, v->file_cam_count == 1 ? "" : "s");
+          break;
+        }
+        c = v->file_cams[q->camera_index];
+      } else if (pb_serve_camera_from_matrices(q->view, q->projection, q->blender_axes, &c, err, sizeof err)) {
+        reply_error(v, name, q->id, "line %lu: %s", v->line_no, err);
+        break;
+      }
+      /* The same camera again (a client that sends it with every redraw)
+       * keeps refining. */
+      if (!v->cam_set || memcmp(&c, &v->cam, sizeof c) != 0) v->pending = 1;
+      v->cam = c, v->cam_set = 1;
+      reply_ok(v, q->cmd, q->id);
+      break;
+    }
+    case PB_SERVE_RESOLUTION:
+      v->size_set = 1;
+      if (q->width != v->width || q->height != v->height || !v->ses_ok) {
+        v->width = q->width, v->height = q->height;
+        r = restart(v);
+      }
+      if (r != PB_OK) reply_error(v, name, q->id, "line %lu: %s", v->line_no, pb_error_message());
+      else reply_ok(v, q->cmd, q->id);
+      break;
+    case PB_SERVE_TIME:
+      if (q->t != v->t) v->pending = 1;
+      v->t = q->t;
+      reply_ok(v, q->cmd, q->id);
+      break;
+    case PB_SERVE_SETTINGS: {
+      pb_sequence_desc nd = v->desc;
+      apply_settings(&nd, &q->settings);
+      if (memcmp(&nd, &v->desc, sizeof nd) != 0 || !v->ses_ok) {
+        v->desc = nd;
+        r = restart(v);
+      }
+      if (r != PB_OK) reply_error(v, name, q->id, "line %lu: %s", v->line_no, pb_error_message());
+      else reply_ok(v, q->cmd, q->id);
+      break;
+    }
+    case PB_SERVE_FRAME: render_frame(v, 1, q->id); break;
+    case PB_SERVE_STREAM:
+      v->streaming = q->stream_on, v->max_passes = q->max_passes;
+      reply_ok(v, q->cmd, q->id);
+      break;
+    case PB_SERVE_RELOAD: {
+      char path[PB_SERVE_MAX_PATH];
+      snprintf(path, sizeof path, "%s", q->scene[0] ? q->scene : v->path);
+      if ((r = load(v, path)) != PB_OK)
+        reply_error(v, name, q->id, "line %lu: %s%s", v->line_no, pb_error_message(),
+                    v->ses_ok ? " (the previous scene stays)" : "");
+      else reply_ok(v, q->cmd, q->id);
+      break;
+    }
+    case PB_SERVE_QUIT:
+      reply_ok(v, q->cmd, q->id);
+      v->quit = 1;
+      break;
+    case PB_SERVE_CMD_COUNT: break;
+  }
+  free(q);
+}
+
+/* Reads what is there; handles every whole line. 0 at EOF. */
+static int read_input(server *v) {
+  if (v->in_cap - v->in_len < 65536) {
+    size_t nc = v->in_cap ? 2 * v->in_cap : 131072;
+    char *ni = realloc(v->in, nc);
+    if (!ni) {
+      pb_fail(PB_ERR_NOMEM, "serve: out of memory for the input");
+      return 0;
+    }
+    v->in = ni, v->in_cap = nc;
+  }
+  ssize_t n = read(v->in_fd, v->in + v->in_len, v->in_cap - v->in_len);
+  if (n < 0 && (errno == EINTR || errno == EAGAIN)) return 1;
+  int eof = n <= 0;
+  if (n > 0) v->in_len += (size_t)n;
+  size_t start = 0;
+  for (size_t i = 0; i < v->in_len && !v->quit; ++i) {
+    if (v->in[i] != '\n') continue;
+    if (v->in_skip) v->in_skip = 0, v->line_no++;
+    else handle_line(v, v->in + start, i - start);
+    start = i + 1;
+  }
+  memmove(v->in, v->in + start, v->in_len - start);
+  v->in_len -= start;
+  if (v->in_len > PB_SERVE_MAX_LINE) {
+    /* A line without its end past the limit: one error, then its rest is
+     * dropped up to the next newline. */
+    if (!v->in_skip) reply_error(v, NULL, "", "line %lu: longer than %d bytes", v->line_no + 1, PB_SERVE_MAX_LINE);
+    v->in_skip = 1, v->in_len = 0;
+  }
+  if (eof && v->in_len && !v->in_skip && !v->quit) { /* a last line without its newline */
+    handle_line(v, v->in, v->in_len);
+    v->in_len = 0;
+  }
+  return !eof;
+}
+
+/* ---- the loop -------------------------------------------------------------- */
+
+static const char *frame_dir(const pb_serve_desc *d) {
+  if (d->frame_dir) return d->frame_dir;
+  struct stat st;
+  if (stat("/dev/shm", &st) == 0 && S_ISDIR(st.st_mode) && access("/dev/shm", W_OK) == 0) return "/dev/shm";
+  const char *t = getenv("TMPDIR");
+  return t && t[0] ? t : "/tmp";
+}
+
+static pb_result open_socket(server *v, const char *path) {
+  struct sockaddr_un a;
+  memset(&a, 0, sizeof a);
+  a.sun_family = AF_UNIX;
+  if (strlen(path) >= sizeof a.sun_path)
+    return pb_fail(PB_ERR_USAGE, "serve: --socket %s: longer than %zu bytes", path, sizeof a.sun_path - 1);
+  snprintf(a.sun_path, sizeof a.sun_path, "%s", path);
+  struct stat st;
+  if (lstat(path, &st) == 0) {
+    if (!S_ISSOCK(st.st_mode)) return pb_fail(PB_ERR_IO, "serve: --socket %s: exists and is not a socket", path);
+    unlink(path); /* a stale socket of a session that died */
+  }
+  int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return pb_fail(PB_ERR_IO, "serve: socket: %s", strerror(errno));
+  if (bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || listen(fd, 1) != 0) {
+    int e = errno;
+    close(fd);
+    return pb_fail(PB_ERR_IO, "serve: --socket %s: %s", path, strerror(e));
+  }
+  pb_tmp_register(path);
+  v->listen_fd = fd;
+  pb_log_info("serve: listening on %s", path);
+  int c;
+  do c = accept(fd, NULL, NULL);
+  while (c < 0 && errno == EINTR);
+  if (c < 0) return pb_fail(PB_ERR_IO, "serve: --socket %s: accept: %s", path, strerror(errno));
+  v->in_fd = v->out_fd = c;
+  return PB_OK;
+}
+
+pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
+  server v;
+  memset(&v, 0, sizeof v);
+  v.g = g, v.d = d, v.desc = d->seq, v.in_fd = STDIN_FILENO, v.out_fd = STDOUT_FILENO, v.listen_fd = -1;
+  signal(SIGPIPE, SIG_IGN); /* a dead client is a failed write, not a signal */
+  pb_result r = PB_OK;
+  if (!(v.reply = malloc(REPLY_CAP))) return pb_fail(PB_ERR_NOMEM, "serve: out of memory");
+  snprintf(v.frame_path, sizeof v.frame_path, "%s/photonbridge-serve-%ld.%s", frame_dir(d), (long)getpid(),
+           d->format == PB_SERVE_FORMAT_EXR ? "exr" : "rgba32f");
+  pb_tmp_register(v.frame_path); /* SIGINT / SIGTERM remove it (main.c) */
+  if (d->socket_path && (r = open_socket(&v, d->socket_path)) != PB_OK) goto done;
+  if ((r = load(&v, d->scene)) != PB_OK) {
+    reply_error(&v, NULL, "", "%s", pb_error_message());
+    goto done;
+  }
+  {
+    char scene[2 * PB_SERVE_MAX_PATH], dev[600];
+    pb_serve_json_string(scene, sizeof scene, v.path);
+    pb_serve_json_string(dev, sizeof dev, pb_gpu_device_name(g));
+    int n = snprintf(v.reply, REPLY_CAP, "{\"event\":\"ready\",\"ok\":true,\"protocol\":1,\"scene\":%s,\"width\":%u,"
+                     "\"height\":%u,\"cameras\":%u,\"device\":%s,\"frame_path\":", scene, v.width, v.height,
+                     v.file_cam_count, dev);
+    size_t m = pb_serve_json_string(v.reply + n, REPLY_CAP - (size_t)n - 4, v.frame_path);
+    memcpy(v.reply + n + m, "}\n", 3);
+    send_line(&v, v.reply, (size_t)n + m + 2);
+  }
+  while (!v.quit) {
+    int want = v.streaming && v.ses_ok && (v.pending || !v.max_passes || v.ses.run_frames < v.max_passes);
+    struct pollfd p = {.fd = v.in_fd, .events = POLLIN};
+    int n = poll(&p, 1, want ? 0 : -1);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      r = pb_fail(PB_ERR_IO, "serve: poll: %s", strerror(errno));
+      break;
+    }
+    if (n > 0) {
+      if (!read_input(&v)) break; /* EOF: the client closed its end or died */
+    } else if (want) {
+      render_frame(&v, 0, "");
+    }
+  }
+  if (v.quit && !v.client_gone) pb_log_verbose("serve: quit after %lu request lines", v.line_no);
+done:
+  unlink(v.frame_path);
+  pb_tmp_unregister(v.frame_path);
+  if (v.listen_fd >= 0) {
+    close(v.listen_fd);
+    if (v.in_fd != STDIN_FILENO) close(v.in_fd);
+    unlink(d->socket_path);
+    pb_tmp_unregister(d->socket_path);
+  }
+  if (v.loaded) pb_view_session_destroy(&v.ses);
+  drop_scene(&v, &v.s, &v.gs);
+  free(v.file_cams);
+  free(v.in);
+  free(v.reply);
+  return r;
+}

@@ -1,0 +1,38 @@
+/* `photonbridge serve`: a persistent session (issue 17 item 3). The scene
+ * is loaded once; requests (protocol.h) change the camera, the size, the
+ * time, the settings or the scene, and frames are rendered by the live
+ * session (view/session.h, the loop `view` runs) and handed over as files
+ * in /dev/shm, each written atomically, the reply naming it.
+ *
+ * The session ends, removing its files, on "quit", on EOF of its input
+ * (the client closed the pipe or died), when a reply cannot be written
+ * (the client is gone: EPIPE), and on SIGINT / SIGTERM (main.c's handler
+ * removes the registered files). */
+#ifndef PB_SERVE_SERVE_H
+#define PB_SERVE_SERVE_H
+
+#include <stdint.h>
+
+#include "app/cli.h"
+#include "core/result.h"
+#include "gpu/gpu.h"
+#include "render/sequence.h"
+
+enum { PB_SERVE_FORMAT_RGBA32F, PB_SERVE_FORMAT_EXR };
+
+typedef struct pb_serve_desc {
+  const char *scene;            /* the file loaded first */
+  const pb_core_opts *core;     /* --width/--height/--camera/scene options, for every (re)load */
+  pb_sequence_desc seq;         /* the frame settings; "settings" requests change them */
+  const char *socket_path;      /* NULL: requests on stdin, replies on stdout */
+  const char *frame_dir;        /* NULL: /dev/shm, else $TMPDIR or /tmp */
+  int format;                   /* PB_SERVE_FORMAT_* */
+} pb_serve_desc;
+
+/* Runs the session until it ends. The scene failing to load at the start
+ * is the error returned (one line on stderr, and an "event":"error" line
+ * to the client); later failures (a reload, a bad request, a frame) are
+ * error replies and the session goes on. */
+pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d);
+
+#endif
