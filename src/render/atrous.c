@@ -8,7 +8,7 @@
 #include "shared/pb_gpu.h"
 #include "shared/pb_filter.h"
 
-enum { PB_ATROUS_BIND_COUNT = 5, PB_ATROUS_MAX_ITERATIONS = 12 };
+enum { PB_ATROUS_MAX_ITERATIONS = 12 }; /* bindings: PB_ATROUS_BIND_* (pb_contract.h), b[] in that order */
 
 pb_result pb_atrous_filter(pb_gpu *g, uint32_t width, uint32_t height, const float *normal, const float *depth,
                            const float *albedo, float *indirect, const pb_atrous_desc *desc_in, double *gpu_ms) {
