@@ -239,6 +239,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_photon_map map;
   memset(&map, 0, sizeof map);
   double trace_ms = 0, lbvh_ms = 0, sort_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
+  double photon_gpu_ms = 0; /* tracing and LBVH builds of every band (timing.frame_gpu_ms) */
   pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
   pb_gpu_photon_accum *phost = NULL;
@@ -383,6 +384,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       if (!m) {
         if ((r = pb_photon_tracer_run(g, tracer, desc.seed, it, &map, &ms)) != PB_OK) goto fail;
         if (band == 0) trace_ms += ms > 0 ? ms : 0;
+        photon_gpu_ms += ms > 0 ? ms : 0;
         m = &map;
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted;
@@ -411,6 +413,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       pb_photon_estimator_set_footprint_scale(est, kscale);
       if ((r = pb_photon_estimator_build(g, est, m, &ms)) != PB_OK) goto fail;
+      photon_gpu_ms += ms > 0 ? ms : 0;
       if (band == 0) {
         pb_photon_estimate_stats es;
         lbvh_ms += ms;
@@ -532,6 +535,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
   }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
+  st->frame_wall_ms = st->wall_ms;
+  st->frame_gpu_ms = ts ? gpu_ms + photon_gpu_ms + st->filter_ms + st->temporal_ms : -1;
   free(preview.beauty);
   free(hist_host);
   free(host);
