@@ -115,6 +115,14 @@
 #define PB_RAYCAST_BIND_HITS 3
 #define PB_RAYCAST_BIND_COUNT 4
 
+/* ---- resolve.comp (shared/pb_resolve.h) ---------------------------------- */
+#define PB_RESOLVE_BIND_ACCUM 0         /* pb_gpu_accum[] */
+#define PB_RESOLVE_BIND_PHOTON_ACCUM 1  /* pb_gpu_photon_accum[] (photons on) */
+#define PB_RESOLVE_BIND_NMAP 2          /* pb_gpu_photon_nmap[] (normal maps) */
+#define PB_RESOLVE_BIND_OUT 3           /* float planes */
+#define PB_RESOLVE_BIND_GUARD 4         /* uint: non-finite values replaced */
+#define PB_RESOLVE_BIND_COUNT 5
+
 /* ---- specialization constants (constant_id) ------------------------------- */
 /* The scene's (common/scene.glsl), set by the passes from the render plan
  * (plan.h); 4 and 5 belong to one kernel each. */

@@ -36,6 +36,7 @@
 #include "shaders/photon_trace.spv.h"
 #include "shaders/photon_trace_blender.spv.h"
 #include "shaders/raycast.spv.h"
+#include "shaders/resolve.spv.h"
 #include "shaders/temporal.spv.h"
 
 typedef struct entry {
@@ -113,6 +114,12 @@ static const entry motion_bind[] = {{"Nodes", PB_MOTION_BIND_NODES},
                                     END};
 static const entry raycast_bind[] = {{"Nodes", PB_RAYCAST_BIND_NODES}, {"Tris", PB_RAYCAST_BIND_TRIS},
                                      {"Rays", PB_RAYCAST_BIND_RAYS},   {"Hits", PB_RAYCAST_BIND_HITS}, END};
+static const entry resolve_bind[] = {{"Accum", PB_RESOLVE_BIND_ACCUM},
+                                     {"PhotonAccum", PB_RESOLVE_BIND_PHOTON_ACCUM},
+                                     {"PhotonNmap", PB_RESOLVE_BIND_NMAP},
+                                     {"Planes", PB_RESOLVE_BIND_OUT},
+                                     {"Guard", PB_RESOLVE_BIND_GUARD},
+                                     END};
 static const entry no_spec[] = {END};
 
 typedef struct module {
@@ -150,6 +157,7 @@ static const module modules[] = {
     MOD(temporal, temporal_bind, no_spec, PB_TEMPORAL_BIND_COUNT),
     MOD(motion, motion_bind, no_spec, PB_MOTION_BIND_COUNT),
     MOD(raycast, raycast_bind, no_spec, PB_RAYCAST_BIND_COUNT),
+    MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };
