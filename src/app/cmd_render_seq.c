@@ -208,6 +208,12 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
     pb_json_number(j, "mean_history", st->temporal_mean_history);
     pb_json_end_object(j);
   }
+  if (st->iterations) {
+    pb_json_begin_object(j, "photons");
+    pb_json_int(j, "emitted", (int64_t)st->photons_emitted);
+    pb_json_int(j, "stored", (int64_t)st->photons_stored);
+    pb_json_end_object(j);
+  }
   (void)pixels;
   if (!isnan(f->psnr)) {
     pb_json_begin_object(j, "reference");

@@ -7,6 +7,7 @@
 
 #include "core/log.h"
 #include "core/mix.h"
+#include "render/atrous.h"
 #include "render/filters.h"
 #include "render/motion.h"
 #include "render/plan.h"
@@ -33,6 +34,7 @@ struct pb_sequence {
   uint32_t acc_frames;
   pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
   pb_motion_pass *motion_pass; /* made by the first moving frame */
+  pb_atrous_pass *atrous_pass; /* made by the first frame the A-Trous filters */
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
@@ -41,6 +43,7 @@ void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   pb_temporal_destroy(g, q->temporal_caustic);
   pb_frame_context_destroy(g, q->frame_ctx);
   pb_motion_pass_destroy(g, q->motion_pass);
+  pb_atrous_pass_destroy(g, q->atrous_pass);
   free(q->prev_positions);
   free(q->prev_lights);
   free(q->motion);
@@ -241,6 +244,10 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
                        .temporal_caustic = q->temporal_caustic,
                        .motion = moving ? q->motion : NULL,
                        .still = !moving};
+  if (fd.atrous_iterations && out->indirect && !q->atrous_pass &&
+      (r = pb_atrous_pass_create(g, q->width, q->height, &q->atrous_pass)) != PB_OK)
+    goto fail;
+  fd.atrous = q->atrous_pass;
   double filters0 = out->stats.filter_ms + out->stats.temporal_ms;
   if ((r = pb_filter_indirect(g, out, &fd)) != PB_OK) goto fail;
   /* Eq. 20 (normal maps) on the filtered indirect, with this frame's mean
