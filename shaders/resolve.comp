@@ -24,6 +24,7 @@ layout(std430, set = 0, binding = PB_RESOLVE_BIND_PHOTON_ACCUM) readonly buffer 
 layout(std430, set = 0, binding = PB_RESOLVE_BIND_NMAP) readonly buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; };
 layout(std430, set = 0, binding = PB_RESOLVE_BIND_OUT) writeonly buffer Planes { float planes[]; };
 layout(std430, set = 0, binding = PB_RESOLVE_BIND_GUARD) buffer Guard { uint guard_count; };
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_OUT_PHOTONS) writeonly buffer PhotonPlanes { float pplanes[]; };
 layout(push_constant) uniform ResolvePush { pb_gpu_resolve_push rp; };
 
 uint g_bad = 0u;
@@ -36,7 +37,12 @@ float guarded(float v) {
   return v;
 }
 
-void put(uint plane, uint ch, uint i, uint c, float v) { planes[plane * rp.pixels + i * ch + c] = v; }
+void put(uint plane, uint ch, uint i, uint c, float v) {
+  if (plane < PB_RESOLVE_BASE_CHANNELS)
+    planes[plane * rp.pixels + i * ch + c] = v;
+  else
+    pplanes[(plane - PB_RESOLVE_BASE_CHANNELS) * rp.pixels + i * ch + c] = v;
+}
 
 vec3 unit3(vec3 v) { // shading_correction.c unit(): 0 unless the length is finite and > 0
   float l = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);

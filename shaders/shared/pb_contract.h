@@ -121,7 +121,8 @@
 #define PB_RESOLVE_BIND_NMAP 2          /* pb_gpu_photon_nmap[] (normal maps) */
 #define PB_RESOLVE_BIND_OUT 3           /* float planes */
 #define PB_RESOLVE_BIND_GUARD 4         /* uint: non-finite values replaced */
-#define PB_RESOLVE_BIND_COUNT 5
+#define PB_RESOLVE_BIND_OUT_PHOTONS 5   /* float planes of the photon AOVs */
+#define PB_RESOLVE_BIND_COUNT 6
 
 /* ---- specialization constants (constant_id) ------------------------------- */
 /* The scene's (common/scene.glsl), set by the passes from the render plan

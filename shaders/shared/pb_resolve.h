@@ -4,6 +4,9 @@
  * `pixels` pixels starts at float PB_RESOLVE_P * pixels and holds its
  * channels pixel after pixel (the layout of pb_render_result's arrays), so
  * that the readback (src/render/readback.c) copies each plane as it is.
+ * Planes from PB_RESOLVE_BASE_CHANNELS on (the photon AOVs) lie in a second
+ * buffer, at P - PB_RESOLVE_BASE_CHANNELS: neither needs more than 72 bytes
+ * per pixel, so the band (frame.c) stays as wide as the accumulators allow.
  * Non-finite values are replaced by 0 and counted with an atomic (the
  * issue 9 guard, formerly on the host). Shared by C and GLSL. */
 #ifndef PB_RESOLVE_SHARED_H

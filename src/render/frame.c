@@ -186,7 +186,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   double wall0 = pb_time_now();
 
   /* Band: whole rows whose per-pixel targets each fit one storage buffer
-   * (the largest: the resolved AOVs, 144 bytes per pixel with normal maps).
+   * (the largest: the accumulators, 80 bytes per pixel; targets.h).
    * Never truncated: a row that does not fit is refused. */
   uint64_t per_pixel = pb_frame_targets_max_pixel_bytes();
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;

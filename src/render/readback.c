@@ -86,23 +86,33 @@ static pb_result host_resolve(pb_gpu *g, const pb_frame_targets *t, uint32_t pix
 pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
                            float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
                            double *hit_sum) {
-  void *scratch = NULL;
-  const void *view;
-  uint64_t bytes = (uint64_t)pixels * t->channels * sizeof(float);
+  /* base[0]: planes 0 .. PB_RESOLVE_BASE_CHANNELS - 1, base[1]: the photon
+   * planes from PB_RESOLVE_BASE_CHANNELS on (two buffers, shared/pb_resolve.h). */
+  void *scratch = NULL, *scratch2 = NULL;
+  const void *view = NULL, *view2 = NULL;
   const char *env = getenv("PB_RESOLVE_ON_HOST");
   pb_result r;
   if (env && env[0] == '1') {
-    if (!(scratch = malloc(bytes))) return pb_fail(PB_ERR_NOMEM, "render: out of memory");
+    if (!(scratch = malloc((uint64_t)pixels * t->channels * sizeof(float))))
+      return pb_fail(PB_ERR_NOMEM, "render: out of memory");
     view = scratch;
+    view2 = (const float *)scratch + (size_t)PB_RESOLVE_BASE_CHANNELS * pixels;
     r = host_resolve(g, t, pixels, inv_spp, opaque, scratch);
   } else {
-    r = host_view(g, &t->planes, bytes, &scratch, &view);
+    r = host_view(g, &t->planes, (uint64_t)pixels * PB_RESOLVE_BASE_CHANNELS * sizeof(float), &scratch, &view);
+    if (r == PB_OK && t->photons)
+      r = host_view(g, &t->pplanes, (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float),
+                    &scratch2, &view2);
   }
   if (r != PB_OK) {
     free(scratch);
+    free(scratch2);
     return r;
   }
-  const float *pl = view;
+  const float *base[2] = {view, view2};
+#define PLANE(p) \
+  ((uint32_t)(p) < (uint32_t)PB_RESOLVE_BASE_CHANNELS ? base[0] + (size_t)(p) * pixels                      \
+                                                   : base[1] + ((size_t)(p) - PB_RESOLVE_BASE_CHANNELS) * pixels)
   struct { float *dst; uint32_t plane, ch; } aov[] = {
       {out->beauty, PB_RESOLVE_BEAUTY, 4},     {out->direct, PB_RESOLVE_DIRECT, 3},
       {out->albedo, PB_RESOLVE_ALBEDO, 3},     {out->normal, PB_RESOLVE_NORMAL, 3},
@@ -111,10 +121,10 @@ pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels
       {t->photons ? out->caustic : NULL, PB_RESOLVE_CAUSTIC, 3}};
   for (size_t a = 0; a < sizeof aov / sizeof *aov; ++a)
     if (aov[a].dst)
-      memcpy(aov[a].dst + pixel_base * aov[a].ch, pl + (size_t)aov[a].plane * pixels,
+      memcpy(aov[a].dst + pixel_base * aov[a].ch, PLANE(aov[a].plane),
              (size_t)pixels * aov[a].ch * sizeof(float));
   if (t->photons) {
-    const float *kp = pl + (size_t)PB_RESOLVE_KPD * pixels;
+    const float *kp = PLANE(PB_RESOLVE_KPD);
     for (uint32_t i = 0; i < pixels; ++i) *k_sum += kp[2 * i], *hit_sum += kp[2 * i + 1];
   }
   if (t->nmap && nmap_aovs) {
@@ -124,15 +134,17 @@ pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels
       out->shading_normal = calloc(4 * n, sizeof(float));
       if (!out->geo_normal || !out->photon_dir || !out->shading_normal) {
         free(scratch);
+        free(scratch2);
         return pb_fail(PB_ERR_NOMEM, "render: out of memory for the shading-correction AOVs");
       }
     }
-    memcpy(out->geo_normal + 3 * pixel_base, pl + (size_t)PB_RESOLVE_GEO_NORMAL * pixels, (size_t)pixels * 3 * sizeof(float));
-    memcpy(out->photon_dir + 3 * pixel_base, pl + (size_t)PB_RESOLVE_PHOTON_DIR * pixels, (size_t)pixels * 3 * sizeof(float));
-    memcpy(out->shading_normal + 4 * pixel_base, pl + (size_t)PB_RESOLVE_SHADING_NORMAL * pixels,
-           (size_t)pixels * 4 * sizeof(float));
+    memcpy(out->geo_normal + 3 * pixel_base, PLANE(PB_RESOLVE_GEO_NORMAL), (size_t)pixels * 3 * sizeof(float));
+    memcpy(out->photon_dir + 3 * pixel_base, PLANE(PB_RESOLVE_PHOTON_DIR), (size_t)pixels * 3 * sizeof(float));
+    memcpy(out->shading_normal + 4 * pixel_base, PLANE(PB_RESOLVE_SHADING_NORMAL), (size_t)pixels * 4 * sizeof(float));
   }
+#undef PLANE
   free(scratch);
+  free(scratch2);
   return PB_OK;
 }
 

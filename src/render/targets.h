@@ -7,7 +7,8 @@
  *   paccum  pb_gpu_photon_accum per pixel (photon stages on)
  *   pnmap   pb_gpu_photon_nmap per pixel (scenes with normal maps)
  *   planes  the resolved AOVs (shared/pb_resolve.h): what the readback
- *           (readback.h) brings to the host, host-visible
+ *           (readback.h) brings to the host, host-visible; pplanes those
+ *           of the photon stages
  *   guard   the resolve's count of non-finite values replaced
  * Sizes never exceed the device's storage-buffer range: frame.c picks the
  * band so that the largest per-pixel target fits. */
@@ -20,7 +21,7 @@ typedef struct pb_frame_targets {
   uint32_t band_pixels;
   int photons, nmap;
   uint32_t channels; /* floats per pixel in planes (PB_RESOLVE_*_CHANNELS) */
-  pb_gpu_buffer frame, gbuf, accum, paccum, pnmap, planes, guard;
+  pb_gpu_buffer frame, gbuf, accum, paccum, pnmap, planes, pplanes, guard;
 } pb_frame_targets;
 
 /* Bytes per pixel of the largest target (the band's limit). */

@@ -119,6 +119,7 @@ static const entry resolve_bind[] = {{"Accum", PB_RESOLVE_BIND_ACCUM},
                                      {"PhotonNmap", PB_RESOLVE_BIND_NMAP},
                                      {"Planes", PB_RESOLVE_BIND_OUT},
                                      {"Guard", PB_RESOLVE_BIND_GUARD},
+                                     {"PhotonPlanes", PB_RESOLVE_BIND_OUT_PHOTONS},
                                      END};
 static const entry no_spec[] = {END};
 

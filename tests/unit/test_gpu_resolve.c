@@ -3,7 +3,8 @@
  * coverage, the opaque alpha, eq. 20's unit vectors and clamped fraction, and
  * the guard: every non-finite value of a guarded AOV becomes 0 and is counted
  * once by the atomic (a NaN normal sum gives a 0 normal, not a count, as the
- * host resolve did); the planes equal the host reference (PB_RESOLVE_ON_HOST).
+ * host resolve did); the planes equal the host reference (PB_RESOLVE_ON_HOST);
+ * the planes add nothing to the band's per-pixel limit.
  * Validation layers on. */
 #include <math.h>
 #include <stdlib.h>
@@ -45,6 +46,9 @@ static void resolve(pb_gpu *g, const pb_frame_targets *t, const pb_gpu_pipeline 
 }
 
 int main(void) {
+  /* The resolved planes never narrow the band: the accumulators stay the
+   * widest per-pixel target (frame.c sizes bands by it). */
+  CHECK_EQ_INT(pb_frame_targets_max_pixel_bytes(), sizeof(pb_gpu_accum));
   PBT_GPU_OPEN(g);
   pb_frame_targets t;
   pb_gpu_pipeline p = {0};
