@@ -24,11 +24,11 @@
 #include "shared/pb_filter.h"
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
-layout(std430, set = 0, binding = 0) buffer S { vec4 s[]; };
-layout(std430, set = 0, binding = 1) buffer Detail { vec4 detail[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Geo { vec4 geo[]; };
-layout(std430, set = 0, binding = 3) buffer Indirect { vec4 indirect[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Albedo { vec4 albedo[]; };
+layout(std430, set = 0, binding = PB_ATROUS_BIND_S) buffer S { vec4 s[]; };
+layout(std430, set = 0, binding = PB_ATROUS_BIND_DETAIL) buffer Detail { vec4 detail[]; };
+layout(std430, set = 0, binding = PB_ATROUS_BIND_GEO) readonly buffer Geo { vec4 geo[]; };
+layout(std430, set = 0, binding = PB_ATROUS_BIND_INDIRECT) buffer Indirect { vec4 indirect[]; };
+layout(std430, set = 0, binding = PB_ATROUS_BIND_ALBEDO) readonly buffer Albedo { vec4 albedo[]; };
 layout(push_constant) uniform Push { pb_gpu_atrous_push push; };
 
 const float PB_ALBEDO_MIN = 1e-3;

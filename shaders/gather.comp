@@ -25,18 +25,18 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 #include "common/scene.glsl"
 #include "common/photon_map.glsl"
 
-layout(std430, set = 0, binding = 11) readonly buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
-layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
+layout(std430, set = 0, binding = PB_BIND_GBUFFER) readonly buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
+layout(std430, set = 0, binding = PB_BIND_ACCUM) buffer Accum { pb_gpu_accum accum[]; };
 // The sorted photons (pb_gpu_photon) and the nodes (pb_gpu_lbvh_node) as
 // uvec4, read through common/lbvh_traverse.glsl.
-layout(std430, set = 0, binding = 15) readonly buffer Photons { uvec4 photons4[]; };
-layout(std430, set = 0, binding = 16) readonly buffer Nodes2 { uvec4 lnodes4[]; };
-layout(std430, set = 0, binding = 17) buffer InfoBuf { pb_gpu_lbvh_info info; };
-layout(std430, set = 0, binding = 18) buffer PhotonAccum { pb_gpu_photon_accum paccum[]; };
-layout(std430, set = 0, binding = 19) buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; }; // normal maps only
+layout(std430, set = 0, binding = PB_GATHER_BIND_PHOTONS) readonly buffer Photons { uvec4 photons4[]; };
+layout(std430, set = 0, binding = PB_GATHER_BIND_NODES) readonly buffer Nodes2 { uvec4 lnodes4[]; };
+layout(std430, set = 0, binding = PB_GATHER_BIND_INFO) buffer InfoBuf { pb_gpu_lbvh_info info; };
+layout(std430, set = 0, binding = PB_GATHER_BIND_ACCUM) buffer PhotonAccum { pb_gpu_photon_accum paccum[]; };
+layout(std430, set = 0, binding = PB_GATHER_BIND_NMAP) buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; }; // normal maps only
 layout(push_constant) uniform GatherPush { pb_gpu_gather_push gp; };
 // Scenes with normal maps (eq. 20's sums below); compiled out for the rest.
-layout(constant_id = 5) const bool SC_NORMAL_MAPS = true;
+layout(constant_id = PB_SPEC_NORMAL_MAPS) const bool SC_NORMAL_MAPS = true;
 #include "common/lbvh_traverse.glsl"
 
 void main() {

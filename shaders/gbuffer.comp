@@ -26,7 +26,7 @@
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
-#define PB_WORLD_BINDING 15
+#define PB_WORLD_BINDING PB_BIND_WORLD
 #include "common/scene.glsl"
 #include "common/lights.glsl"
 #include "common/camera.glsl"

@@ -24,7 +24,7 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 // The fences around the visit count (lbvh.c turns them off on llvmpipe, see
 // there).
-layout(constant_id = 0) const bool SC_FENCES = true;
+layout(constant_id = PB_SPEC_FENCES) const bool SC_FENCES = true;
 
 // Common prefix length of the sorted (code, index) keys i and i + 1.
 int pb_delta(uint i) {

@@ -39,8 +39,8 @@
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 #define PB_SCENE_OWN_PASS_IO 1
-layout(std430, set = 0, binding = 11) buffer RsmLights { pb_gpu_rsm_light rlights[]; };
-layout(std430, set = 0, binding = 12) buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
+layout(std430, set = 0, binding = PB_RSM_BIND_LIGHTS) buffer RsmLights { pb_gpu_rsm_light rlights[]; };
+layout(std430, set = 0, binding = PB_RSM_BIND_TEXELS) buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
 layout(push_constant) uniform Push { pb_gpu_rsm_push push; };
 
 #include "common/scene.glsl"

@@ -68,23 +68,23 @@
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 #define PB_SCENE_OWN_PASS_IO 1
-layout(std430, set = 0, binding = 11) buffer Photons { pb_gpu_photon photons[]; };
-layout(std430, set = 0, binding = 12) buffer Counts { pb_gpu_photon_counts counts; };
-layout(std430, set = 0, binding = 15) buffer Params {
+layout(std430, set = 0, binding = PB_PHOTON_BIND_PHOTONS) buffer Photons { pb_gpu_photon photons[]; };
+layout(std430, set = 0, binding = PB_PHOTON_BIND_COUNTS) buffer Counts { pb_gpu_photon_counts counts; };
+layout(std430, set = 0, binding = PB_PHOTON_BIND_PARAMS) buffer Params {
   pb_gpu_photon_params params;
   pb_gpu_photon_light plights[];
 };
 // Reflective shadow maps (PB_PHOTON_PARAM_RSM; shaders/photon_rsm.comp).
-layout(std430, set = 0, binding = 16) readonly buffer RsmLights { pb_gpu_rsm_light rlights[]; };
-layout(std430, set = 0, binding = 17) readonly buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
+layout(std430, set = 0, binding = PB_PHOTON_BIND_RSM_LIGHTS) readonly buffer RsmLights { pb_gpu_rsm_light rlights[]; };
+layout(std430, set = 0, binding = PB_PHOTON_BIND_RSM_TEXELS) readonly buffer RsmTexels { pb_gpu_rsm_texel rtexels[]; };
 
-#define PB_WORLD_BINDING 18
+#define PB_WORLD_BINDING PB_PHOTON_BIND_WORLD
 #include "common/scene.glsl"
 #include "common/lights.glsl"
 
 // Transmission (glass) code only for scenes that have it (SC_SPECULAR, from
 // scene.glsl, compiles out mirror and glass altogether).
-layout(constant_id = 4) const bool SC_TRANSMISSION = true;
+layout(constant_id = PB_SPEC_TRANSMISSION) const bool SC_TRANSMISSION = true;
 
 #include "common/photon_diff.glsl"
 #include "common/rsm_texel.glsl"

@@ -6,10 +6,10 @@
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
-layout(std430, set = 0, binding = 0) readonly buffer Nodes { vec4 bvh_nodes4[]; }; // pb_gpu_bvh_node[], 2 each
-layout(std430, set = 0, binding = 1) readonly buffer Tris { vec4 bvh_tris4[]; };   // pb_gpu_tri[], 3 each
-layout(std430, set = 0, binding = 2) readonly buffer Rays { pb_gpu_ray rays[]; };
-layout(std430, set = 0, binding = 3) writeonly buffer Hits { pb_gpu_hit hits[]; };
+layout(std430, set = 0, binding = PB_RAYCAST_BIND_NODES) readonly buffer Nodes { vec4 bvh_nodes4[]; }; // pb_gpu_bvh_node[], 2 each
+layout(std430, set = 0, binding = PB_RAYCAST_BIND_TRIS) readonly buffer Tris { vec4 bvh_tris4[]; };   // pb_gpu_tri[], 3 each
+layout(std430, set = 0, binding = PB_RAYCAST_BIND_RAYS) readonly buffer Rays { pb_gpu_ray rays[]; };
+layout(std430, set = 0, binding = PB_RAYCAST_BIND_HITS) writeonly buffer Hits { pb_gpu_hit hits[]; };
 layout(push_constant) uniform Push { pb_gpu_raycast_push pc; };
 
 #include "common/bvh.glsl"

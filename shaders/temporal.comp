@@ -36,13 +36,13 @@
 #include "shared/pb_filter.h"
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
-layout(std430, set = 0, binding = 0) readonly buffer HistIn { vec4 hist_in[]; };
-layout(std430, set = 0, binding = 1) readonly buffer GeoPrev { vec4 geo_prev[]; };
-layout(std430, set = 0, binding = 2) readonly buffer GeoCur { vec4 geo[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Indirect { vec4 indirect[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Albedo { vec4 albedo[]; };
-layout(std430, set = 0, binding = 5) readonly buffer Motion { vec4 motion[]; };
-layout(std430, set = 0, binding = 6) writeonly buffer HistOut { vec4 hist_out[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_HIST_IN) readonly buffer HistIn { vec4 hist_in[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_GEO_PREV) readonly buffer GeoPrev { vec4 geo_prev[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_GEO) readonly buffer GeoCur { vec4 geo[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_INDIRECT) readonly buffer Indirect { vec4 indirect[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_ALBEDO) readonly buffer Albedo { vec4 albedo[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_MOTION) readonly buffer Motion { vec4 motion[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_HIST_OUT) writeonly buffer HistOut { vec4 hist_out[]; };
 layout(push_constant) uniform Push { pb_gpu_temporal_push push; };
 
 const float PB_ALBEDO_MIN = 1e-3;

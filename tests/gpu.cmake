@@ -33,7 +33,7 @@ endif()
 # The photon LBVH and gather tests open a device like the others: validation
 # layers fatal, skip without a device, and (lavapipe's unnameable leak, above)
 # kept out of the LeakSanitizer run.
-foreach(t test_gpu_lbvh test_gpu_lbvh_sort test_gpu_gather test_gpu_faults test_gpu_atrous test_gpu_temporal test_gpu_anim test_gpu_frame_context
+foreach(t test_gpu_lbvh test_gpu_lbvh_sort test_gpu_gather test_gpu_resolve test_gpu_faults test_gpu_atrous test_gpu_temporal test_gpu_anim test_gpu_frame_context
         test_gpu_normal_map test_gpu_camera test_gpu_gltf_ext test_gpu_deform test_gpu_soft_lights)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77

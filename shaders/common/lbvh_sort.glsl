@@ -20,13 +20,13 @@
 #ifndef PB_LBVH_SORT_GLSL
 #define PB_LBVH_SORT_GLSL
 
-layout(std430, set = 0, binding = 0) buffer SortState { pb_gpu_sort_state st; };
-layout(std430, set = 0, binding = 1) buffer SortKeys { uint keys[]; };   // 2 x capacity (ping-pong)
-layout(std430, set = 0, binding = 2) buffer SortVals { uint vals[]; };   // 2 x capacity
-layout(std430, set = 0, binding = 3) buffer SortHist { uint hist[]; };   // PB_SORT_RADIX x tiles, digit-major
-layout(std430, set = 0, binding = 4) readonly buffer SortCount { uint count_src[]; };
-layout(std430, set = 0, binding = 5) readonly buffer SortKeys4 { uvec4 keys4[]; }; // binding 1 again
-layout(std430, set = 0, binding = 6) readonly buffer SortVals4 { uvec4 vals4[]; }; // binding 2 again
+layout(std430, set = 0, binding = PB_SORT_BIND_STATE) buffer SortState { pb_gpu_sort_state st; };
+layout(std430, set = 0, binding = PB_SORT_BIND_KEYS) buffer SortKeys { uint keys[]; };   // 2 x capacity (ping-pong)
+layout(std430, set = 0, binding = PB_SORT_BIND_VALS) buffer SortVals { uint vals[]; };   // 2 x capacity
+layout(std430, set = 0, binding = PB_SORT_BIND_HIST) buffer SortHist { uint hist[]; };   // PB_SORT_RADIX x tiles, digit-major
+layout(std430, set = 0, binding = PB_SORT_BIND_COUNT_SRC) readonly buffer SortCount { uint count_src[]; };
+layout(std430, set = 0, binding = PB_SORT_BIND_KEYS4) readonly buffer SortKeys4 { uvec4 keys4[]; }; // binding 1 again
+layout(std430, set = 0, binding = PB_SORT_BIND_VALS4) readonly buffer SortVals4 { uvec4 vals4[]; }; // binding 2 again
 layout(push_constant) uniform SortPush { pb_gpu_sort_push pc; };
 
 const uint PB_SORT_WG = PB_GPU_WORKGROUP;

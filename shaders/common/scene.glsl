@@ -6,46 +6,46 @@
 #ifndef PB_SCENE_GLSL
 #define PB_SCENE_GLSL
 
-layout(std430, set = 0, binding = 0) readonly buffer FrameBuf { pb_gpu_frame frame; };
-layout(std430, set = 0, binding = 1) readonly buffer Nodes { vec4 bvh_nodes4[]; };   // pb_gpu_bvh_node[], 2 each
-layout(std430, set = 0, binding = 2) readonly buffer Tris { vec4 bvh_tris4[]; };     // pb_gpu_tri[], 3 each
-layout(std430, set = 0, binding = 3) readonly buffer Indices { uint indices[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Normals { float normals[]; };
-layout(std430, set = 0, binding = 5) readonly buffer Uvs { float uvs[]; };
-layout(std430, set = 0, binding = 6) readonly buffer TriMat { uint tri_material[]; };
-layout(std430, set = 0, binding = 7) readonly buffer Materials { pb_gpu_material materials[]; };
-layout(std430, set = 0, binding = 8) readonly buffer Textures { pb_gpu_texture textures[]; };
-layout(std430, set = 0, binding = 9) readonly buffer Texels { uint texels[]; };
-layout(std430, set = 0, binding = 10) readonly buffer Lights { pb_gpu_light lights[]; };
+layout(std430, set = 0, binding = PB_BIND_FRAME) readonly buffer FrameBuf { pb_gpu_frame frame; };
+layout(std430, set = 0, binding = PB_BIND_NODES) readonly buffer Nodes { vec4 bvh_nodes4[]; };   // pb_gpu_bvh_node[], 2 each
+layout(std430, set = 0, binding = PB_BIND_TRIS) readonly buffer Tris { vec4 bvh_tris4[]; };     // pb_gpu_tri[], 3 each
+layout(std430, set = 0, binding = PB_BIND_INDICES) readonly buffer Indices { uint indices[]; };
+layout(std430, set = 0, binding = PB_BIND_NORMALS) readonly buffer Normals { float normals[]; };
+layout(std430, set = 0, binding = PB_BIND_UVS) readonly buffer Uvs { float uvs[]; };
+layout(std430, set = 0, binding = PB_BIND_TRI_MATERIAL) readonly buffer TriMat { uint tri_material[]; };
+layout(std430, set = 0, binding = PB_BIND_MATERIALS) readonly buffer Materials { pb_gpu_material materials[]; };
+layout(std430, set = 0, binding = PB_BIND_TEXTURES) readonly buffer Textures { pb_gpu_texture textures[]; };
+layout(std430, set = 0, binding = PB_BIND_TEXELS) readonly buffer Texels { uint texels[]; };
+layout(std430, set = 0, binding = PB_BIND_LIGHTS) readonly buffer Lights { pb_gpu_light lights[]; };
 // Bindings 11, 12 and the push constants belong to the render passes; a pass
 // with other buffers there (the photon tracer) defines PB_SCENE_OWN_PASS_IO
 // and declares its own.
 #ifndef PB_SCENE_OWN_PASS_IO
-layout(std430, set = 0, binding = 11) buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
-layout(std430, set = 0, binding = 12) buffer Accum { pb_gpu_accum accum[]; };
+layout(std430, set = 0, binding = PB_BIND_GBUFFER) buffer GBuf { pb_gpu_gbuffer gbuffer[]; };
+layout(std430, set = 0, binding = PB_BIND_ACCUM) buffer Accum { pb_gpu_accum accum[]; };
 #endif
-layout(std430, set = 0, binding = 13) readonly buffer Positions { float positions[]; };
-layout(std430, set = 0, binding = 14) readonly buffer Emitters { pb_gpu_emitter emitters[]; };
+layout(std430, set = 0, binding = PB_BIND_POSITIONS) readonly buffer Positions { float positions[]; };
+layout(std430, set = 0, binding = PB_BIND_EMITTERS) readonly buffer Emitters { pb_gpu_emitter emitters[]; };
 #ifndef PB_SCENE_OWN_PASS_IO
 layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
 #endif
 
 // Specialization constants (src/render/frame.c sets them from the scene's
 // features): code for a feature the scene lacks is compiled out.
-layout(constant_id = 0) const bool SC_HAS_NORMALS = true;
-layout(constant_id = 1) const bool SC_TEXTURES = true;
-layout(constant_id = 2) const bool SC_SPECULAR = true;   // delta lobes: eye chains
-layout(constant_id = 3) const bool SC_EMISSIVE = true;  // emissive triangles or unlit surfaces
+layout(constant_id = PB_SPEC_HAS_NORMALS) const bool SC_HAS_NORMALS = true;
+layout(constant_id = PB_SPEC_TEXTURES) const bool SC_TEXTURES = true;
+layout(constant_id = PB_SPEC_SPECULAR) const bool SC_SPECULAR = true;   // delta lobes: eye chains
+layout(constant_id = PB_SPEC_EMISSIVE) const bool SC_EMISSIVE = true;  // emissive triangles or unlit surfaces
 // Ids 4 and 5 belong to the photon tracer (SC_TRANSMISSION) and the gather
 // (SC_NORMAL_MAPS). Soft lights (sphere, area, soft sun) and the world
 // light, for the passes that include common/lights.glsl.
-layout(constant_id = 6) const bool SC_SOFT_LIGHTS = true;
-layout(constant_id = 7) const bool SC_WORLD = true;
+layout(constant_id = PB_SPEC_SOFT_LIGHTS) const bool SC_SOFT_LIGHTS = true;
+layout(constant_id = PB_SPEC_WORLD) const bool SC_WORLD = true;
 // Blender materials (principled.glsl) exist only in the PB_BLENDER build of
 // a pass (shaders.cmake); the other build has them compiled out entirely.
 #ifdef PB_BLENDER
 const bool SC_BLENDER = true;
-layout(constant_id = 8) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
+layout(constant_id = PB_SPEC_ALPHA) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
 #else
 const bool SC_BLENDER = false;
 const bool SC_ALPHA = false;

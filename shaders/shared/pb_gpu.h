@@ -26,6 +26,9 @@
 typedef uint32_t uint;
 #endif
 
+/* Descriptor bindings and specialization-constant ids of every kernel. */
+#include "shared/pb_contract.h"
+
 /* Compute workgroup size of every kernel (1-D). No kernel assumes anything
  * about the subgroup size (lavapipe runs 8, NVIDIA 32, AMD 64). */
 PB_CONST(PB_GPU_WORKGROUP, 64)

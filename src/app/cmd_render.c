@@ -190,6 +190,13 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "photon_divisions", (int64_t)st->photon_guarded);
   pb_json_end_object(&j);
   pb_json_number(&j, "wall_ms", st->wall_ms);
+  /* The frame's wall and GPU time (timestamps; null without): the host's
+   * share is (wall - gpu) / wall (bench/README.md, issue 17). */
+  pb_json_begin_object(&j, "timing");
+  pb_json_number(&j, "frame_wall_ms", st->frame_wall_ms);
+  if (st->frame_gpu_ms >= 0) pb_json_number(&j, "frame_gpu_ms", st->frame_gpu_ms);
+  else pb_json_null(&j, "frame_gpu_ms");
+  pb_json_end_object(&j);
   pb_json_int(&j, "primary_rays", (int64_t)st->primary_rays);
   pb_json_int(&j, "bvh_nodes", st->bvh_nodes);
   pb_json_int(&j, "bvh_depth", st->bvh_depth);

@@ -182,6 +182,11 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   pb_json_bool(j, "lights_moved", f->info.lights_moved);
   pb_json_bool(j, "camera_moved", f->info.camera_moved);
   pb_json_number(j, "wall_ms", st->wall_ms);
+  pb_json_begin_object(j, "timing"); /* the whole frame (pb_render_stats.frame_*_ms) */
+  pb_json_number(j, "frame_wall_ms", st->frame_wall_ms);
+  if (st->frame_gpu_ms >= 0) pb_json_number(j, "frame_gpu_ms", st->frame_gpu_ms);
+  else pb_json_null(j, "frame_gpu_ms");
+  pb_json_end_object(j);
   pb_json_begin_object(j, "passes_ms");
   pb_json_number(j, "pose", f->info.pose_ms);
   pb_json_number(j, "pose_cpu", f->info.pose_cpu_ms);
@@ -203,6 +208,12 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
     pb_json_begin_object(j, "temporal");
     pb_json_number(j, "reset_fraction", (double)st->temporal_reset_pixels / (double)st->temporal_surface_pixels);
     pb_json_number(j, "mean_history", st->temporal_mean_history);
+    pb_json_end_object(j);
+  }
+  if (st->iterations) {
+    pb_json_begin_object(j, "photons");
+    pb_json_int(j, "emitted", (int64_t)st->photons_emitted);
+    pb_json_int(j, "stored", (int64_t)st->photons_stored);
     pb_json_end_object(j);
   }
   (void)pixels;

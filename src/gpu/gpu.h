@@ -18,6 +18,7 @@
 #include <vulkan/vulkan.h>
 
 #include "core/result.h"
+#include "shared/pb_contract.h"
 
 /* What `photonbridge info --devices` lists, one per physical device, in the
  * order --device N counts. */
@@ -45,7 +46,8 @@ typedef struct pb_gpu_device_info {
  *   compute          a queue family with compute
  *   workgroup-64     compute workgroups of PB_GPU_WORKGROUP (64) invocations
  *   storage-buffers  PB_GPU_REQUIRED_STORAGE_BUFFERS storage buffers per stage
- *                    and per set (the gather binds 19: the scene's 15 + 4)
+ *                    and per set: the most any kernel binds (the gather's 20,
+ *                    PB_GATHER_BIND_COUNT of shaders/shared/pb_contract.h)
  * Optional: timestamps (per-pass GPU times; without them the times are null).
  * Nothing else is required: no subgroup operations, no 64-bit integers or
  * float atomics (shared-memory and 32-bit buffer atomics are core).
@@ -55,7 +57,12 @@ typedef struct pb_gpu_device_info {
  * those features as absent on every device, so that the "device lacks a
  * feature" paths can be tested on any machine. An unknown name is a usage
  * error (PB_ERR_USAGE). */
-enum { PB_GPU_REQUIRED_STORAGE_BUFFERS = 19 };
+enum { PB_GPU_REQUIRED_STORAGE_BUFFERS = PB_GATHER_BIND_COUNT };
+_Static_assert(PB_BIND_COUNT <= PB_GPU_REQUIRED_STORAGE_BUFFERS && PB_PHOTON_BIND_COUNT <= PB_GPU_REQUIRED_STORAGE_BUFFERS &&
+                   PB_RSM_BIND_COUNT <= PB_GPU_REQUIRED_STORAGE_BUFFERS && PB_LBVH_BIND_COUNT <= PB_GPU_REQUIRED_STORAGE_BUFFERS &&
+                   PB_SORT_BIND_COUNT <= PB_GPU_REQUIRED_STORAGE_BUFFERS &&
+                   PB_RESOLVE_BIND_COUNT <= PB_GPU_REQUIRED_STORAGE_BUFFERS,
+               "a kernel binds more storage buffers than devices are required to have");
 
 /* Lists the Vulkan devices. *out is malloc'd (free()). Errors:
  * PB_ERR_NO_DEVICE (no loader, no driver, no device) with the fix in the

@@ -40,8 +40,18 @@ typedef struct pb_atrous_desc {
 
 /* Filters `indirect` (RGB, width x height, top row first) in place, guided
  * by the shading `normal` (XYZ), camera `depth` (0: no surface) and
- * `albedo` (RGB) of the same pixels. gpu_ms (may be NULL): the passes' time. */
+ * `albedo` (RGB) of the same pixels. gpu_ms (may be NULL): the passes' time.
+ * Makes and frees a pass (below) for the one call. */
 pb_result pb_atrous_filter(pb_gpu *g, uint32_t width, uint32_t height, const float *normal, const float *depth,
                            const float *albedo, float *indirect, const pb_atrous_desc *desc, double *gpu_ms);
+
+/* The filter's pipeline and buffers for one image size, made once and
+ * reused (sequences: one per sequence, so no frame compiles the pipeline or
+ * allocates); pb_atrous_pass_run filters as pb_atrous_filter does. */
+typedef struct pb_atrous_pass pb_atrous_pass;
+pb_result pb_atrous_pass_create(pb_gpu *g, uint32_t width, uint32_t height, pb_atrous_pass **out);
+void pb_atrous_pass_destroy(pb_gpu *g, pb_atrous_pass *a);
+pb_result pb_atrous_pass_run(pb_gpu *g, pb_atrous_pass *a, const float *normal, const float *depth,
+                             const float *albedo, float *indirect, const pb_atrous_desc *desc, double *gpu_ms);
 
 #endif

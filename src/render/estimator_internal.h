@@ -9,14 +9,9 @@
 #include "shared/pb_photon.h"
 
 enum { PB_LBVH_PASS_SETUP = 0, PB_LBVH_PASS_BOUNDS, PB_LBVH_PASS_MORTON, PB_LBVH_PASS_CLIMB, PB_LBVH_PASS_N };
-enum { PB_LBVH_BIND_COUNT = 12 }; /* common/lbvh.glsl */
-/* Gather bindings: scene.glsl's 15, then these. */
-enum { PB_GATHER_BIND_PHOTONS = 15, PB_GATHER_BIND_NODES, PB_GATHER_BIND_INFO, PB_GATHER_BIND_ACCUM,
-       PB_GATHER_BIND_NMAP, PB_GATHER_BIND_COUNT };
-
-/* The gather's specialization constants: scene.glsl's (passes.h), with its
- * own SC_NORMAL_MAPS in id 5 (4 is photon_trace's SC_TRANSMISSION, unused). */
-enum { PB_GATHER_SPEC_NORMAL_MAPS = PB_SPEC_PASS_5, PB_GATHER_SPEC_COUNT = PB_SPEC_COUNT };
+/* Bindings (PB_LBVH_BIND_*, PB_GATHER_BIND_*) and specialization constants
+ * (the scene's PB_SPEC_* with the gather's PB_SPEC_NORMAL_MAPS): the shader
+ * contract, shaders/shared/pb_contract.h. */
 
 struct pb_photon_estimator {
   pb_photon_estimate_desc desc;
@@ -24,7 +19,7 @@ struct pb_photon_estimator {
   float scene_area;
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;
-  uint32_t gather_spec[PB_GATHER_SPEC_COUNT]; /* scene.glsl's, then SC_NORMAL_MAPS */
+  uint32_t gather_spec[PB_SPEC_COUNT]; /* scene.glsl's, then SC_NORMAL_MAPS */
   uint32_t gather_blender;                     /* the module: 1 the PB_BLENDER build */
   int gather_ready;
   uint32_t capacity;             /* photons the buffers hold */

@@ -64,7 +64,8 @@ pb_result pb_filter_indirect(pb_gpu *g, pb_render_result *res, const pb_filter_d
   if (r == PB_OK && d->atrous_iterations) {
     pb_atrous_desc fd = {.iterations = d->atrous_iterations, .gamma = d->atrous_gamma, .history = hist};
     double ms = 0;
-    r = pb_atrous_filter(g, res->width, res->height, fn, res->depth, res->albedo, res->indirect, &fd, &ms);
+    r = d->atrous ? pb_atrous_pass_run(g, d->atrous, fn, res->depth, res->albedo, res->indirect, &fd, &ms)
+                  : pb_atrous_filter(g, res->width, res->height, fn, res->depth, res->albedo, res->indirect, &fd, &ms);
     st->filter_ms += ms;
   }
   if (r == PB_OK) {

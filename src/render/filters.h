@@ -24,6 +24,9 @@ typedef struct pb_filter_desc {
   const float *motion;        /* motion.h vectors (NULL with still) */
   int still;                  /* camera and scene unchanged since the
                                  previous frame */
+  struct pb_atrous_pass *atrous; /* the A-Trous pass of this image size, kept
+                                 by the caller (sequences); NULL: made for
+                                 the call */
 } pb_filter_desc;
 
 /* Filters res->indirect in place and updates res->beauty; adds the

@@ -1,7 +1,8 @@
 /* One frame of the GPU renderer: orders the passes (see render.h), renders
- * the image in bands of rows when its per-pixel buffers would exceed the
- * device's maxStorageBufferRange, times each pass with timestamps, and
- * resolves the accumulators into AOVs. */
+ * the image in bands of rows when its per-pixel targets (targets.h) would
+ * exceed the device's maxStorageBufferRange, times each pass with
+ * timestamps, resolves the accumulators into AOVs on the GPU (resolve.h)
+ * and brings them to the host through the readback (readback.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,9 @@
 #include "render/passes.h"
 #include "render/photon.h"
 #include "render/plan.h"
+#include "render/readback.h"
+#include "render/resolve.h"
+#include "render/targets.h"
 #include "render/filters.h"
 #include "render/shading_correction.h"
 #include "shared/pb_lbvh.h"
@@ -36,8 +40,8 @@ typedef struct ctx_key {
 struct pb_frame_context {
   int valid;
   ctx_key key;
-  pb_gpu_buffer frame_buf, gbuf, accum, paccum, pnmap;
-  pb_gpu_pipeline gp, dp;
+  pb_frame_targets tg;
+  pb_gpu_pipeline gp, dp, rp;
   pb_photon_tracer *tracer;
   pb_photon_estimator *est;
   pb_photon_map map;
@@ -50,16 +54,13 @@ pb_result pb_frame_context_create(pb_frame_context **out) {
 
 static void context_clear(pb_gpu *g, pb_frame_context *c) {
   if (!c->valid) return;
-  pb_gpu_buffer_destroy(g, &c->paccum);
-  pb_gpu_buffer_destroy(g, &c->pnmap);
   pb_photon_map_destroy(g, &c->map);
   pb_photon_estimator_destroy(g, c->est);
   pb_photon_tracer_destroy(g, c->tracer);
   pb_gpu_pipeline_destroy(g, &c->gp);
   pb_gpu_pipeline_destroy(g, &c->dp);
-  pb_gpu_buffer_destroy(g, &c->frame_buf);
-  pb_gpu_buffer_destroy(g, &c->gbuf);
-  pb_gpu_buffer_destroy(g, &c->accum);
+  pb_gpu_pipeline_destroy(g, &c->rp);
+  pb_frame_targets_destroy(g, &c->tg);
   memset(c, 0, sizeof *c);
 }
 
@@ -137,22 +138,6 @@ static pb_result radius_histogram(pb_gpu *g, const pb_photon_tracer *t, const pb
   return PB_OK;
 }
 
-/* Replaces NaN/Inf in every AOV of n pixels by 0 and counts them: nothing
- * non-finite leaves the renderer, and the count says whether a pass failed to
- * guard itself (it should be 0; issue 9). */
-static uint64_t guard_nonfinite(pb_render_result *o, size_t n) {
-  struct { float *p; size_t c; } aov[] = {{o->beauty, 4}, {o->direct, 3}, {o->albedo, 3}, {o->normal, 3},
-                                          {o->depth, 1},  {o->material, 1}, {o->indirect, 3}, {o->caustic, 3},
-                                          {o->emission, 3}};
-  uint64_t bad = 0;
-  for (size_t a = 0; a < sizeof aov / sizeof *aov; ++a) {
-    if (!aov[a].p) continue;
-    for (size_t i = 0; i < n * aov[a].c; ++i)
-      if (!isfinite(aov[a].p[i])) aov[a].p[i] = 0.0f, ++bad;
-  }
-  return bad;
-}
-
 /* Progress and the time limit, after iteration `it` of band 0 finished
  * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
  * desc->progress, with the mean beauty so far when desc->preview_interval_s
@@ -164,8 +149,7 @@ typedef struct preview_state {
   double last_s;
 } preview_state;
 
-static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_gpu_buffer *accum, pb_gpu_accum *host,
-                                preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
+static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_frame_targets *tg, preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
                                 uint32_t width, uint32_t height, uint32_t bands, double t0, uint32_t *iters_run) {
   double now = pb_time_now();
   if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
@@ -178,14 +162,8 @@ static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_gpu
       (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
     if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
       return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
-    pb_result r = pb_gpu_buffer_download(g, accum, 0, host, (uint64_t)n * sizeof *host);
+    pb_result r = pb_readback_preview(g, tg, n, s_end, pv->beauty);
     if (r != PB_OK) return r;
-    float inv = 1.0f / (float)s_end;
-    for (size_t i = 0; i < n; ++i)
-      for (int k = 0; k < 4; ++k) {
-        float v = host[i].beauty[k] * inv;
-        pv->beauty[4 * i + k] = isfinite(v) ? v : 0.0f;
-      }
     p.beauty = pv->beauty;
     pv->last_s = now;
   }
@@ -207,14 +185,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
   double wall0 = pb_time_now();
 
-  /* Band: whole rows whose G-buffer and accumulators each fit one storage
-   * buffer (64 bytes per pixel of G-buffer, 80 of accumulators, 32 of photon
-   * accumulators, 48 of eq. 20's sums with normal maps).
+  /* Band: whole rows whose per-pixel targets each fit one storage buffer
+   * (the largest: the accumulators, 80 bytes per pixel; targets.h).
    * Never truncated: a row that does not fit is refused. */
-  uint64_t per_pixel = sizeof(pb_gpu_gbuffer);
-  if (per_pixel < sizeof(pb_gpu_accum)) per_pixel = sizeof(pb_gpu_accum);
-  if (per_pixel < sizeof(pb_gpu_photon_accum)) per_pixel = sizeof(pb_gpu_photon_accum);
-  if (per_pixel < sizeof(pb_gpu_photon_nmap)) per_pixel = sizeof(pb_gpu_photon_nmap);
+  uint64_t per_pixel = pb_frame_targets_max_pixel_bytes();
   uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
   if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
   if (max_pixels < width)
@@ -228,20 +202,18 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   uint32_t bands = (height + band_rows - 1) / band_rows;
 
   size_t n = (size_t)width * height;
-  pb_gpu_buffer frame_buf = {0}, gbuf = {0}, accum = {0};
-  pb_gpu_pipeline gp = {0}, dp = {0};
-  pb_gpu_accum *host = NULL;
-  pb_gpu_buffer paccum = {0}, pnmap = {0}; /* pnmap: scenes with normal maps */
-  pb_gpu_photon_nmap *pnhost = NULL;
+  pb_frame_targets tg;
+  memset(&tg, 0, sizeof tg);
+  pb_gpu_pipeline gp = {0}, dp = {0}, rp = {0};
   int nmap_on = 0;
   pb_photon_tracer *tracer = NULL;
   pb_photon_estimator *est = NULL;
   pb_photon_map map;
   memset(&map, 0, sizeof map);
   double trace_ms = 0, lbvh_ms = 0, sort_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
+  double photon_gpu_ms = 0; /* tracing and LBVH builds of every band (timing.frame_gpu_ms) */
   pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
-  pb_gpu_photon_accum *phost = NULL;
   /* Iterations run (fewer than iters when the time limit stops the
    * refinement in band 0; later bands run as many) and their samples. */
   uint32_t iters_run = iters, spp_run = spp;
@@ -260,8 +232,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
   if (reuse) {
-    frame_buf = ctx->frame_buf, gbuf = ctx->gbuf, accum = ctx->accum, paccum = ctx->paccum, pnmap = ctx->pnmap;
-    gp = ctx->gp, dp = ctx->dp;
+    tg = ctx->tg;
+    gp = ctx->gp, dp = ctx->dp, rp = ctx->rp;
     tracer = ctx->tracer, est = ctx->est, map = ctx->map;
     memset(ctx, 0, sizeof *ctx);
   }
@@ -272,32 +244,27 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   out->depth = calloc(n, sizeof(float));
   out->material = calloc(n, sizeof(float));
   out->emission = calloc(3 * n, sizeof(float));
-  host = malloc((size_t)band_pixels * sizeof *host);
   if (photons_on) {
     out->indirect = calloc(3 * n, sizeof(float));
     out->caustic = calloc(3 * n, sizeof(float));
-    phost = malloc((size_t)band_pixels * sizeof *phost);
   }
   if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material ||
-      !out->emission || !host ||
-      (photons_on && (!out->indirect || !out->caustic || !phost))) {
+      !out->emission || (photons_on && (!out->indirect || !out->caustic))) {
     r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
     goto fail;
   }
-  pb_gpu_buffer_desc fd = {.name = "frame.constants", .size = sizeof(pb_gpu_frame)};
-  pb_gpu_buffer_desc gd = {.name = "frame.gbuffer", .size = (uint64_t)band_pixels * sizeof(pb_gpu_gbuffer)};
-  pb_gpu_buffer_desc ad = {.name = "frame.accum", .size = (uint64_t)band_pixels * sizeof(pb_gpu_accum),
-                           .host_visible = 1};
-  if (!reuse && ((r = pb_gpu_buffer_create(g, &fd, &frame_buf)) != PB_OK ||
-                 (r = pb_gpu_buffer_create(g, &gd, &gbuf)) != PB_OK || (r = pb_gpu_buffer_create(g, &ad, &accum)) != PB_OK))
-    goto fail;
-
   pb_render_plan plan;
   pb_render_plan_of(s, desc.direct_only, &plan);
+  if (!reuse && ((r = pb_frame_targets_create(g, band_pixels, photons_on, plan.normal_maps, &tg)) != PB_OK ||
+                 (r = pb_resolve_create(g, &tg, &rp)) != PB_OK))
+    goto fail;
   pb_pass_setup ps = {
-      .bindings = {&frame_buf, &gs->nodes, &gs->tris, &gs->indices, &gs->normals, &gs->uvs, &gs->tri_material,
-                   &gs->materials, &gs->textures, &gs->texels, &gs->lights, &gbuf, &accum, &gs->positions,
-                   &gs->emitters, &gs->world},
+      .bindings = {[PB_BIND_FRAME] = &tg.frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
+                   [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
+                   [PB_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_BIND_MATERIALS] = &gs->materials,
+                   [PB_BIND_TEXTURES] = &gs->textures, [PB_BIND_TEXELS] = &gs->texels, [PB_BIND_LIGHTS] = &gs->lights,
+                   [PB_BIND_GBUFFER] = &tg.gbuf, [PB_BIND_ACCUM] = &tg.accum, [PB_BIND_POSITIONS] = &gs->positions,
+                   [PB_BIND_EMITTERS] = &gs->emitters, [PB_BIND_WORLD] = &gs->world},
       .spec = {[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u, [PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u,
                [PB_SPEC_SPECULAR] = plan.eye_chains ? 1u : 0u,
                [PB_SPEC_EMISSIVE] = plan.emitter_sampling || plan.unlit ? 1u : 0u,
@@ -313,15 +280,6 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if (tracer && (r = pb_photon_tracer_update(g, tracer, s)) != PB_OK) goto fail;
     pb_photon_estimator_update(est, s);
   } else if (photons_on) {
-    pb_gpu_buffer_desc pd = {.name = "frame.photon_accum",
-                             .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_accum), .host_visible = 1};
-    if ((r = pb_gpu_buffer_create(g, &pd, &paccum)) != PB_OK) goto fail;
-    if (plan.normal_maps) { /* the gather's eq. 20 sums (its SC_NORMAL_MAPS) */
-      pb_gpu_buffer_desc nd = {.name = "frame.photon_nmap",
-                               .size = (uint64_t)band_pixels * sizeof(pb_gpu_photon_nmap), .host_visible = 1,
-                               .readback = 1};
-      if ((r = pb_gpu_buffer_create(g, &nd, &pnmap)) != PB_OK) goto fail;
-    }
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
                                  .first_bounce = desc.first_bounce};
@@ -331,11 +289,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
   }
 
-  nmap_on = photons_on && pnmap.size > 0;
-  if (nmap_on && !(pnhost = malloc((size_t)band_pixels * sizeof *pnhost))) {
-    r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
-    goto fail;
-  }
+  nmap_on = tg.nmap;
+  /* The shading-correction AOVs leave the GPU where eq. 20 can use them. */
+  int nmap_aovs = nmap_on && (s->features & PB_FEATURE_NORMAL_MAPS) && s->tangents && s->uvs;
   const pb_camera *cam = &s->cameras[camera];
   pb_gpu_frame fr;
   memset(&fr, 0, sizeof fr);
@@ -362,6 +318,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
+  if ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK) goto fail;
 
   for (uint32_t band = 0; band < bands; ++band) {
     uint32_t row0 = band * band_rows;
@@ -369,10 +326,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     uint32_t pixels = rows * width;
     fr.pixel_base = row0 * width;
     fr.pixel_count = pixels;
-    if ((r = pb_gpu_buffer_upload(g, &frame_buf, 0, &fr, sizeof fr)) != PB_OK) goto fail;
-    if ((r = pb_gpu_buffer_fill_zero(g, &accum)) != PB_OK) goto fail;
-    if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &paccum)) != PB_OK) goto fail;
-    if (nmap_on && (r = pb_gpu_buffer_fill_zero(g, &pnmap)) != PB_OK) goto fail;
+    if ((r = pb_gpu_buffer_upload(g, &tg.frame, 0, &fr, sizeof fr)) != PB_OK) goto fail;
+    if ((r = pb_gpu_buffer_fill_zero(g, &tg.accum)) != PB_OK) goto fail;
+    if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &tg.paccum)) != PB_OK) goto fail;
+    if (nmap_on && (r = pb_gpu_buffer_fill_zero(g, &tg.pnmap)) != PB_OK) goto fail;
     for (uint32_t it = 0; it < iters_run; ++it) {
     uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
     if (photons_on && s_end > s_begin) {
@@ -383,6 +340,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       if (!m) {
         if ((r = pb_photon_tracer_run(g, tracer, desc.seed, it, &map, &ms)) != PB_OK) goto fail;
         if (band == 0) trace_ms += ms > 0 ? ms : 0;
+        photon_gpu_ms += ms > 0 ? ms : 0;
         m = &map;
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted;
@@ -411,13 +369,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       pb_photon_estimator_set_footprint_scale(est, kscale);
       if ((r = pb_photon_estimator_build(g, est, m, &ms)) != PB_OK) goto fail;
+      photon_gpu_ms += ms > 0 ? ms : 0;
       if (band == 0) {
         pb_photon_estimate_stats es;
         lbvh_ms += ms;
         if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
         sort_ms = sort_ms >= 0 && es.sort_ms >= 0 ? sort_ms + es.sort_ms : -1;
       }
-      if ((r = pb_photon_estimator_bind(g, est, &ps, &paccum, nmap_on ? &pnmap : NULL)) != PB_OK) goto fail;
+      if ((r = pb_photon_estimator_bind(g, est, &ps, &tg.paccum, nmap_on ? &tg.pnmap : NULL)) != PB_OK) goto fail;
     }
     for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
       uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
@@ -454,49 +413,32 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         gpu_ms += wall;
       }
     }
-    if (band == 0 && (r = iteration_done(g, &desc, &accum, host, &preview, it, iters, s_end, spp, width, height,
+    if (band == 0 && (r = iteration_done(g, &desc, &tg, &preview, it, iters, s_end, spp, width, height,
                                          bands, wall0, &iters_run)) != PB_OK)
       goto fail;
     }
     spp_run = (uint32_t)((uint64_t)iters_run * spp / iters); /* all of spp without a time limit */
-    if ((r = pb_gpu_buffer_download(g, &accum, 0, host, (uint64_t)pixels * sizeof *host)) != PB_OK) goto fail;
-    float inv = 1.0f / (float)spp_run;
-    for (uint32_t i = 0; i < pixels; ++i) {
-      size_t p = (size_t)fr.pixel_base + i;
-      const pb_gpu_accum *a = &host[i];
-      for (int k = 0; k < 4; ++k) out->beauty[4 * p + k] = a->beauty[k] * inv;
-      if (s->film_opaque) out->beauty[4 * p + 3] = 1.0f; /* alpha: coverage, or 1 (pb_scene.film_opaque) */
-      for (int k = 0; k < 3; ++k) {
-        out->direct[3 * p + k] = a->direct[k] * inv;
-        out->albedo[3 * p + k] = a->albedo[k] * inv;
-        out->emission[3 * p + k] = a->emission[k] * inv;
-      }
-      float nl = sqrtf(a->normal[0] * a->normal[0] + a->normal[1] * a->normal[1] + a->normal[2] * a->normal[2]);
-      for (int k = 0; k < 3; ++k) out->normal[3 * p + k] = nl > 0 ? a->normal[k] / nl : 0.0f;
-      out->depth[p] = a->beauty[3] > 0 ? a->depth / a->beauty[3] : 0.0f;
-      out->material[p] = a->material;
+    /* The resolve (resolve.h) on the GPU, then the band's AOVs to the host:
+     * the readback (readback.h) is where pixels leave the GPU. */
+    if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
+    pb_gpu_timestamp(g, 0);
+    float inv_spp = 1.0f / (float)spp_run;
+    r = pb_resolve_record(g, &rp, &tg, pixels, inv_spp, s->film_opaque);
+    pb_gpu_timestamp(g, 1);
+    pb_result rs = pb_gpu_submit(g);
+    if (r == PB_OK) r = rs;
+    if (r != PB_OK) goto fail;
+    if (ts) {
+      double ms = pb_gpu_elapsed_ms(g, 0, 1);
+      gpu_ms += ms > 0 ? ms : 0;
     }
-    if (photons_on) {
-      if ((r = pb_gpu_buffer_download(g, &paccum, 0, phost, (uint64_t)pixels * sizeof *phost)) != PB_OK) goto fail;
-      for (uint32_t i = 0; i < pixels; ++i) {
-        size_t p = (size_t)fr.pixel_base + i;
-        for (int k = 0; k < 3; ++k) {
-          out->indirect[3 * p + k] = phost[i].indirect[k] * inv;
-          out->caustic[3 * p + k] = phost[i].caustic[k] * inv;
-        }
-        k_sum += phost[i].indirect[3];
-        hit_sum += host[i].beauty[3];
-      }
-      if (nmap_on &&
-          ((r = pb_gpu_buffer_download(g, &pnmap, 0, pnhost, (uint64_t)pixels * sizeof *pnhost)) != PB_OK ||
-           (r = pb_shading_correction_resolve(s, pnhost, pixels, fr.pixel_base, n, spp_run, out)) != PB_OK))
-        goto fail;
-    }
+    if ((r = pb_readback_band(g, &tg, pixels, fr.pixel_base, n, inv_spp, s->film_opaque, nmap_aovs, out, &k_sum,
+                              &hit_sum)) != PB_OK) goto fail;
   }
   out->width = width;
   out->height = height;
   pb_render_stats *st = &out->stats;
-  st->nonfinite_values = guard_nonfinite(out, n);
+  if ((r = pb_readback_guard(g, &tg, &st->nonfinite_values)) != PB_OK) goto fail;
   if (photons_on && desc.atrous_iterations) {
     /* The spatial filter (atrous.h) on the indirect AOV (a single frame: no
      * temporal history; sequences filter in sequence.c). With normal maps
@@ -532,46 +474,36 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
   }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
+  st->frame_wall_ms = st->wall_ms;
+  st->frame_gpu_ms = ts ? gpu_ms + photon_gpu_ms + st->filter_ms + st->temporal_ms : -1;
   free(preview.beauty);
   free(hist_host);
-  free(host);
-  free(phost);
-  free(pnhost);
   if (ctx) { /* kept for the next frame */
-    ctx->frame_buf = frame_buf, ctx->gbuf = gbuf, ctx->accum = accum, ctx->paccum = paccum, ctx->pnmap = pnmap;
-    ctx->gp = gp, ctx->dp = dp;
+    ctx->tg = tg;
+    ctx->gp = gp, ctx->dp = dp, ctx->rp = rp;
     ctx->tracer = tracer, ctx->est = est, ctx->map = map;
     ctx->key = key;
     ctx->valid = 1;
     return PB_OK;
   }
-  pb_gpu_buffer_destroy(g, &paccum);
-  pb_gpu_buffer_destroy(g, &pnmap);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
   pb_photon_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
-  pb_gpu_buffer_destroy(g, &frame_buf);
-  pb_gpu_buffer_destroy(g, &gbuf);
-  pb_gpu_buffer_destroy(g, &accum);
+  pb_gpu_pipeline_destroy(g, &rp);
+  pb_frame_targets_destroy(g, &tg);
   return PB_OK;
 fail:
   free(preview.beauty);
   free(hist_host);
-  free(host);
-  free(phost);
-  free(pnhost);
-  pb_gpu_buffer_destroy(g, &paccum);
-  pb_gpu_buffer_destroy(g, &pnmap);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
   pb_photon_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
-  pb_gpu_buffer_destroy(g, &frame_buf);
-  pb_gpu_buffer_destroy(g, &gbuf);
-  pb_gpu_buffer_destroy(g, &accum);
+  pb_gpu_pipeline_destroy(g, &rp);
+  pb_frame_targets_destroy(g, &tg);
   pb_render_result_destroy(out);
   return r;
 }

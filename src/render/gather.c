@@ -11,9 +11,9 @@
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
   pb_result r;
-  uint32_t spec[PB_GATHER_SPEC_COUNT] = {0};
+  uint32_t spec[PB_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's ids 0-3; no lights here */
-  spec[PB_GATHER_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
+  spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_blender != ps->blender))
     pb_gpu_pipeline_destroy(g, &e->gather);
   if (!e->gather.pipeline) {
@@ -24,7 +24,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
         .binding_count = PB_GATHER_BIND_COUNT,
         .push_bytes = sizeof(pb_gpu_gather_push),
         .spec = spec,
-        .spec_count = PB_GATHER_SPEC_COUNT,
+        .spec_count = PB_SPEC_COUNT,
     };
     if ((r = pb_gpu_pipeline_create(g, &d, &e->gather)) != PB_OK) return r;
     memcpy(e->gather_spec, spec, sizeof e->gather_spec);

@@ -75,8 +75,8 @@ pb_result pb_photon_estimator_create(pb_gpu *g, const pb_scene *s, const pb_phot
   for (int i = 0; i < PB_LBVH_PASS_N && r == PB_OK; ++i) {
     pb_gpu_pipeline_desc pd = {.name = k[i].name, .spirv = k[i].spv, .spirv_bytes = k[i].bytes,
                                .binding_count = PB_LBVH_BIND_COUNT, .push_bytes = sizeof(pb_gpu_lbvh_push),
-                               .spec = i == PB_LBVH_PASS_CLIMB ? &fences : NULL,
-                               .spec_count = i == PB_LBVH_PASS_CLIMB ? 1 : 0};
+                               .spec = i == PB_LBVH_PASS_CLIMB ? &fences : NULL, /* PB_SPEC_FENCES */
+                               .spec_count = i == PB_LBVH_PASS_CLIMB ? PB_SPEC_FENCES_COUNT : 0};
     r = pb_gpu_pipeline_create(g, &pd, &e->pass[i]);
   }
   pb_gpu_buffer_desc id = {.name = "lbvh.info", .size = sizeof(pb_gpu_lbvh_info), .readback = 1};
@@ -172,8 +172,11 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   };
   const pb_gpu_buffer *in = map->photons.buffer ? &map->photons : &e->dummy;
   const pb_gpu_buffer *b[PB_LBVH_BIND_COUNT] = {
-      &e->info,   in,          from_map ? &map->counts : &e->dummy, &e->sorted, pb_radix_sort_keys(e->sort),
-      pb_radix_sort_vals(e->sort), &e->nodes, &e->visit, &e->partial, in, &e->sorted, &e->nodes};
+      [PB_LBVH_BIND_INFO] = &e->info, [PB_LBVH_BIND_PHOTONS_IN] = in,
+      [PB_LBVH_BIND_MAP_COUNTS] = from_map ? &map->counts : &e->dummy, [PB_LBVH_BIND_SORTED] = &e->sorted,
+      [PB_LBVH_BIND_KEYS] = pb_radix_sort_keys(e->sort), [PB_LBVH_BIND_VALS] = pb_radix_sort_vals(e->sort),
+      [PB_LBVH_BIND_NODES] = &e->nodes, [PB_LBVH_BIND_VISIT] = &e->visit, [PB_LBVH_BIND_PARTIAL] = &e->partial,
+      [PB_LBVH_BIND_PHOTONS_IN4] = in, [PB_LBVH_BIND_SORTED4] = &e->sorted, [PB_LBVH_BIND_NODES4] = &e->nodes};
   for (int i = 0; i < PB_LBVH_PASS_N; ++i)
     if ((r = pb_gpu_pipeline_bind(g, &e->pass[i], b, PB_LBVH_BIND_COUNT)) != PB_OK) return r;
   e->gather_ready = 0;

@@ -14,7 +14,7 @@
 #include "shaders/lbvh_sort_upsweep_serial.spv.h"
 
 enum { SETUP = 0, UPSWEEP, SPINE, DOWNSWEEP, KERNELS };
-enum { BIND_COUNT = 7 }; /* state, keys, values, histogram, count, keys and values again as uvec4 */
+/* Bindings: PB_SORT_BIND_* (shaders/shared/pb_contract.h). */
 
 struct pb_radix_sort {
   pb_radix_sort_desc desc;
@@ -95,7 +95,7 @@ pb_result pb_radix_sort_create(pb_gpu *g, const pb_radix_sort_desc *desc, pb_rad
     pb_gpu_pipeline_desc pd = {.name = k[p][i].name,
                                .spirv = k[p][i].spv,
                                .spirv_bytes = k[p][i].bytes,
-                               .binding_count = BIND_COUNT,
+                               .binding_count = PB_SORT_BIND_COUNT,
                                .push_bytes = sizeof(pb_gpu_sort_push)};
     r = pb_gpu_pipeline_create(g, &pd, &s->k[i]);
   }
@@ -155,9 +155,12 @@ uint32_t pb_radix_sort_result(const pb_radix_sort *s) { return (s->passes & 1u) 
 pb_result pb_radix_sort_bind(pb_gpu *g, pb_radix_sort *s, const pb_gpu_buffer *count, uint32_t count_word) {
   if (!count || (uint64_t)count_word * 4 + 4 > count->size)
     return pb_fail(PB_ERR_INTERNAL, "radix sort: count word %u outside its buffer", count_word);
-  const pb_gpu_buffer *b[BIND_COUNT] = {&s->state, &s->keys, &s->vals, &s->hist, count, &s->keys, &s->vals};
+  const pb_gpu_buffer *b[PB_SORT_BIND_COUNT] = {
+      [PB_SORT_BIND_STATE] = &s->state, [PB_SORT_BIND_KEYS] = &s->keys,     [PB_SORT_BIND_VALS] = &s->vals,
+      [PB_SORT_BIND_HIST] = &s->hist,   [PB_SORT_BIND_COUNT_SRC] = count,   [PB_SORT_BIND_KEYS4] = &s->keys,
+      [PB_SORT_BIND_VALS4] = &s->vals};
   for (int i = 0; i < KERNELS; ++i) {
-    pb_result r = pb_gpu_pipeline_bind(g, &s->k[i], b, BIND_COUNT);
+    pb_result r = pb_gpu_pipeline_bind(g, &s->k[i], b, PB_SORT_BIND_COUNT);
     if (r != PB_OK) return r;
   }
   s->count = count;

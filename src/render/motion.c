@@ -56,7 +56,7 @@ pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint
   pb_gpu_buffer_desc md = {.name = "motion.vectors", .size = (uint64_t)width * height * 4 * sizeof(float),
                            .host_visible = 1, .readback = 1};
   pb_gpu_pipeline_desc pl = {.name = "pass.motion", .spirv = pb_spv_motion, .spirv_bytes = sizeof pb_spv_motion,
-                             .binding_count = 6};
+                             .binding_count = PB_MOTION_BIND_COUNT};
   pb_result r;
   if ((r = pb_gpu_buffer_create(g, &pd, &m->params)) != PB_OK || (r = pb_gpu_buffer_create(g, &vd, &m->prev)) != PB_OK ||
       (r = pb_gpu_buffer_create(g, &md, &m->motion)) != PB_OK || (r = pb_gpu_pipeline_create(g, &pl, &m->pipe)) != PB_OK) {
@@ -87,8 +87,11 @@ pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, co
     prev = &m->prev;
   }
   if (r != PB_OK) return r;
-  const pb_gpu_buffer *b[6] = {&gs->nodes, &gs->tris, &gs->indices, prev, &m->params, &m->motion};
-  if ((r = pb_gpu_pipeline_bind(g, &m->pipe, b, 6)) != PB_OK) return r;
+  const pb_gpu_buffer *b[PB_MOTION_BIND_COUNT] = {
+      [PB_MOTION_BIND_NODES] = &gs->nodes,   [PB_MOTION_BIND_TRIS] = &gs->tris,
+      [PB_MOTION_BIND_INDICES] = &gs->indices, [PB_MOTION_BIND_PREV_POSITIONS] = prev,
+      [PB_MOTION_BIND_PARAMS] = &m->params,  [PB_MOTION_BIND_MOTION] = &m->motion};
+  if ((r = pb_gpu_pipeline_bind(g, &m->pipe, b, PB_MOTION_BIND_COUNT)) != PB_OK) return r;
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
   pb_gpu_timestamp(g, 0);
   r = pb_gpu_dispatch(g, &m->pipe, NULL, (uint64_t)m->width * m->height);

@@ -17,7 +17,6 @@
 #include "shared/pb_gpu.h"
 #include "shared/pb_rsm.h"
 
-enum { PB_RSM_BIND_COUNT = 15 };
 
 struct pb_photon_rsm {
   const pb_gpu_scene *gs;
@@ -109,9 +108,12 @@ fail:
 pb_result pb_photon_rsm_bind(pb_gpu *g, pb_photon_rsm *r, const pb_gpu_buffer *frame) {
   const pb_gpu_scene *gs = r->gs;
   const pb_gpu_buffer *b[PB_RSM_BIND_COUNT] = {
-      frame,       &gs->nodes,     &gs->tris,     &gs->indices, &gs->normals, &gs->uvs,    &gs->tri_material,
-      &gs->materials, &gs->textures, &gs->texels, &gs->lights, &r->lights,   &r->texels,  &gs->positions,
-      &gs->emitters};
+      [PB_BIND_FRAME] = frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
+      [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
+      [PB_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_BIND_MATERIALS] = &gs->materials,
+      [PB_BIND_TEXTURES] = &gs->textures, [PB_BIND_TEXELS] = &gs->texels, [PB_BIND_LIGHTS] = &gs->lights,
+      [PB_RSM_BIND_LIGHTS] = &r->lights, [PB_RSM_BIND_TEXELS] = &r->texels, [PB_BIND_POSITIONS] = &gs->positions,
+      [PB_BIND_EMITTERS] = &gs->emitters};
   return pb_gpu_pipeline_bind(g, &r->pipe, b, PB_RSM_BIND_COUNT);
 }
 

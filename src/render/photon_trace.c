@@ -23,9 +23,7 @@
 #include "shaders/photon_trace_blender.spv.h"
 #include "shared/pb_photon.h"
 
-enum { PB_PHOTON_BIND_PARAMS = 15, PB_PHOTON_BIND_WORLD = 18, PB_PHOTON_BIND_COUNT = 19 }; /* 16, 17: RSM lights, texels */
 enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
-enum { PB_PHOTON_SPEC_TRANSMISSION = PB_SPEC_PASS_4, PB_PHOTON_SPEC_COUNT = PB_SPEC_COUNT }; /* scene.glsl's, with 4 ours */
 
 struct pb_photon_tracer {
   const pb_gpu_scene *gs;
@@ -34,7 +32,7 @@ struct pb_photon_tracer {
   pb_gpu_photon_params p;
   pb_gpu_photon_light *lights;
   uint32_t light_entries;
-  uint32_t spec[PB_PHOTON_SPEC_COUNT];
+  uint32_t spec[PB_SPEC_COUNT]; /* the scene's, with PB_SPEC_TRANSMISSION */
   uint64_t seed;
   pb_photon_trace_stats stats;
   pb_photon_rsm *rsm;           /* PB_FIRST_BOUNCE_RSM, else NULL */
@@ -282,7 +280,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
   t->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
   t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at lights and the world, not at emissive triangles */
-  t->spec[PB_PHOTON_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
+  t->spec[PB_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
   t->spec[PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u;
   t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;
   t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
@@ -293,7 +291,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
       .binding_count = PB_PHOTON_BIND_COUNT,
       .push_bytes = 0,
       .spec = t->spec,
-      .spec_count = PB_PHOTON_SPEC_COUNT,
+      .spec_count = PB_SPEC_COUNT,
   };
   if ((r = pb_gpu_pipeline_create(g, &pdsc, &t->pipe)) != PB_OK) goto fail;
   free(counts);
@@ -330,12 +328,16 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   }
   const pb_gpu_scene *gs = t->gs;
   const pb_gpu_buffer *b[PB_PHOTON_BIND_COUNT] = {
-      &t->frame,        &gs->nodes,     &gs->tris,     &gs->indices, &gs->normals, &gs->uvs,
-      &gs->tri_material, &gs->materials, &gs->textures, &gs->texels,  &gs->lights,  &map->photons,
-      &map->counts,     &gs->positions, &gs->emitters, &t->params,
+      [PB_BIND_FRAME] = &t->frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
+      [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
+      [PB_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_BIND_MATERIALS] = &gs->materials,
+      [PB_BIND_TEXTURES] = &gs->textures, [PB_BIND_TEXELS] = &gs->texels, [PB_BIND_LIGHTS] = &gs->lights,
+      [PB_PHOTON_BIND_PHOTONS] = &map->photons, [PB_PHOTON_BIND_COUNTS] = &map->counts,
+      [PB_BIND_POSITIONS] = &gs->positions, [PB_BIND_EMITTERS] = &gs->emitters, [PB_PHOTON_BIND_PARAMS] = &t->params,
       /* TRACE: never read, any buffer will do */
-      t->rsm ? pb_photon_rsm_lights(t->rsm) : &t->params, t->rsm ? pb_photon_rsm_texels(t->rsm) : &t->params,
-      &gs->world};
+      [PB_PHOTON_BIND_RSM_LIGHTS] = t->rsm ? pb_photon_rsm_lights(t->rsm) : &t->params,
+      [PB_PHOTON_BIND_RSM_TEXELS] = t->rsm ? pb_photon_rsm_texels(t->rsm) : &t->params,
+      [PB_PHOTON_BIND_WORLD] = &gs->world};
   if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, PB_PHOTON_BIND_COUNT)) != PB_OK) return r;
   if (t->rsm && (r = pb_photon_rsm_bind(g, t->rsm, &t->frame)) != PB_OK) return r;
 

@@ -21,7 +21,7 @@ pb_result pb_raycast_create(pb_gpu *g, const pb_gpu_scene *gs, uint32_t capacity
       .name = "raycast",
       .spirv = pb_spv_raycast,
       .spirv_bytes = sizeof pb_spv_raycast,
-      .binding_count = 4,
+      .binding_count = PB_RAYCAST_BIND_COUNT,
       .push_bytes = sizeof(pb_gpu_raycast_push),
   };
   pb_result r = pb_gpu_pipeline_create(g, &pd, &p->pipe);
@@ -33,8 +33,9 @@ pb_result pb_raycast_create(pb_gpu *g, const pb_gpu_scene *gs, uint32_t capacity
                            .host_visible = 1};
   r = pb_gpu_buffer_create(g, &hd, &p->hits);
   if (r != PB_OK) goto fail;
-  const pb_gpu_buffer *b[4] = {&gs->nodes, &gs->tris, &p->rays, &p->hits};
-  r = pb_gpu_pipeline_bind(g, &p->pipe, b, 4);
+  const pb_gpu_buffer *b[PB_RAYCAST_BIND_COUNT] = {[PB_RAYCAST_BIND_NODES] = &gs->nodes, [PB_RAYCAST_BIND_TRIS] = &gs->tris,
+                                                [PB_RAYCAST_BIND_RAYS] = &p->rays, [PB_RAYCAST_BIND_HITS] = &p->hits};
+  r = pb_gpu_pipeline_bind(g, &p->pipe, b, PB_RAYCAST_BIND_COUNT);
   if (r != PB_OK) goto fail;
   p->capacity = capacity;
   return PB_OK;

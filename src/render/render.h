@@ -230,6 +230,14 @@ typedef struct pb_render_stats {
   uint64_t radius_hist[PB_RENDER_RADIUS_BINS];
   float radius_r_max, scene_radius;
   int radius_histogram;
+  /* The frame as a whole (issue 17; --json "timing"): frame_wall_ms from
+   * the call's start to its return (a sequence frame: pb_sequence_frame's,
+   * pose, scene update, motion vectors and filters included); frame_gpu_ms
+   * the GPU time of every pass recorded for it (G-buffer, direct, photon
+   * tracing, LBVH builds, gathers, motion vectors, temporal filter, A-Trous),
+   * summed from timestamp queries; -1 without timestamps. Their difference
+   * is the host's share: what the GPU-resident frame removes. */
+  double frame_wall_ms, frame_gpu_ms;
 } pb_render_stats;
 
 /* Per-pixel float buffers, width*height*channels, top row first. */

@@ -7,6 +7,7 @@
 
 #include "core/log.h"
 #include "core/mix.h"
+#include "render/atrous.h"
 #include "render/filters.h"
 #include "render/motion.h"
 #include "render/plan.h"
@@ -33,6 +34,7 @@ struct pb_sequence {
   uint32_t acc_frames;
   pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
   pb_motion_pass *motion_pass; /* made by the first moving frame */
+  pb_atrous_pass *atrous_pass; /* made by the first frame the A-Trous filters */
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
@@ -41,6 +43,7 @@ void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   pb_temporal_destroy(g, q->temporal_caustic);
   pb_frame_context_destroy(g, q->frame_ctx);
   pb_motion_pass_destroy(g, q->motion_pass);
+  pb_atrous_pass_destroy(g, q->atrous_pass);
   free(q->prev_positions);
   free(q->prev_lights);
   free(q->motion);
@@ -191,7 +194,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     memcpy(q->prev_positions, s->positions, (size_t)s->vertex_count * sizeof *q->prev_positions);
     memcpy(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights);
   }
-  double t0 = pb_time_now(), c0 = pb_thread_cpu_now();
+  double t0 = pb_time_now(), c0 = pb_thread_cpu_now(), frame_t0 = t0, motion_gpu_ms = 0;
   if (s->anim && (r = pb_scene_set_time(s, t)) != PB_OK) return r;
   if (q->desc.orbit)
     pb_sequence_orbit_camera(s, &q->start_cam, t, q->desc.orbit_period, &s->cameras[q->camera]);
@@ -231,7 +234,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     if (r == PB_OK)
       r = pb_motion_pass_run(g, q->motion_pass, s, q->gs,
                              fi.geometry_moved ? (const float(*)[3])q->prev_positions : NULL, cam, &q->prev_cam,
-                             q->motion, NULL);
+                             q->motion, &motion_gpu_ms);
     fi.motion_ms = (pb_time_now() - t0) * 1e3;
     if (r != PB_OK) goto fail;
   }
@@ -241,6 +244,11 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
                        .temporal_caustic = q->temporal_caustic,
                        .motion = moving ? q->motion : NULL,
                        .still = !moving};
+  if (fd.atrous_iterations && out->indirect && !q->atrous_pass &&
+      (r = pb_atrous_pass_create(g, q->width, q->height, &q->atrous_pass)) != PB_OK)
+    goto fail;
+  fd.atrous = q->atrous_pass;
+  double filters0 = out->stats.filter_ms + out->stats.temporal_ms;
   if ((r = pb_filter_indirect(g, out, &fd)) != PB_OK) goto fail;
   /* Eq. 20 (normal maps) on the filtered indirect, with this frame's mean
    * photon direction (the chapter filters that direction too; here it is
@@ -249,6 +257,9 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     pb_shading_correction_apply(out, (size_t)q->width * q->height, PB_SHADING_CORRECTION_S_MAX);
   accumulate(q, out, fi.still && q->has_prev);
   q->has_prev = 1;
+  out->stats.frame_wall_ms = (pb_time_now() - frame_t0) * 1e3;
+  if (out->stats.frame_gpu_ms >= 0)
+    out->stats.frame_gpu_ms += motion_gpu_ms + out->stats.filter_ms + out->stats.temporal_ms - filters0;
   /* The camera this frame used, kept here rather than read from the scene
    * at the next call: a caller may set the camera itself between frames
    * (photonbridge view), which is a move like any other. */

@@ -18,33 +18,6 @@ float pb_shading_correction_factor(const float wi[3], const float ns[3], const f
   return fminf(f, s_max);
 }
 
-static void unit(const float *in, float *out) {
-  float l = sqrtf(in[0] * in[0] + in[1] * in[1] + in[2] * in[2]);
-  for (int k = 0; k < 3; ++k) out[k] = l > 0.0f && isfinite(l) ? in[k] / l : 0.0f;
-}
-
-pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_nmap *pa, uint32_t pixels,
-                                        size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out) {
-  if (!pa || !(s->features & PB_FEATURE_NORMAL_MAPS) || !s->tangents || !s->uvs) return PB_OK;
-  if (!out->geo_normal) {
-    out->geo_normal = calloc(3 * n, sizeof(float));
-    out->photon_dir = calloc(3 * n, sizeof(float));
-    out->shading_normal = calloc(4 * n, sizeof(float));
-    if (!out->geo_normal || !out->photon_dir || !out->shading_normal)
-      return pb_fail(PB_ERR_NOMEM, "render: out of memory for the shading-correction AOVs");
-  }
-  float inv = spp ? 1.0f / (float)spp : 0.0f;
-  for (uint32_t i = 0; i < pixels; ++i) {
-    size_t p = pixel_base + i;
-    unit(pa[i].geo, out->geo_normal + 3 * p);
-    unit(pa[i].dir, out->photon_dir + 3 * p);
-    unit(pa[i].ns, out->shading_normal + 4 * p);
-    float frac = pa[i].ns[3] * inv;
-    out->shading_normal[4 * p + 3] = isfinite(frac) ? fminf(fmaxf(frac, 0.0f), 1.0f) : 0.0f;
-  }
-  return PB_OK;
-}
-
 size_t pb_shading_correction_apply(pb_render_result *out, size_t n, float s_max) {
   if (!out->indirect || !out->photon_dir || !out->geo_normal || !out->shading_normal) return 0;
   size_t changed = 0;

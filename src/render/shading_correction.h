@@ -5,8 +5,9 @@
  *   L = E_final f_BRDF min((w_i . w_ns) / (w_i . w_ng + eps), s_max),
  * with w_i the power-weighted mean incoming photon direction, filtered as its
  * own target. Here the gather (shaders/gather.comp) sums w_i, w_ng and w_ns
- * per pixel into pb_gpu_photon_nmap; this step resolves them into AOVs and
- * applies eq. 20 to the resolved indirect AOV on the host, after the A-Trous
+ * per pixel into pb_gpu_photon_nmap, the resolve pass (shaders/resolve.comp)
+ * turns them into AOVs, and this step applies eq. 20 to the resolved
+ * indirect AOV on the host, after the A-Trous
  * filter when that is on (the filter also runs on resolved AOVs, atrous.h),
  * so the filtered E f is what gets rescaled. Only scenes with
  * PB_FEATURE_NORMAL_MAPS. */
@@ -35,12 +36,8 @@
  * shading normal (w_i . n_s <= 0) gives 0, as the BSDF's own guard does. */
 float pb_shading_correction_factor(const float wi[3], const float ns[3], const float ng[3], float s_max);
 
-/* Resolves one band's accumulators (pixels of the band from pixel_base; n
- * pixels in the image, spp samples) into out->geo_normal, photon_dir and
- * shading_normal, allocating them on the first call. Does nothing unless the
- * scene has PB_FEATURE_NORMAL_MAPS. */
-pb_result pb_shading_correction_resolve(const pb_scene *s, const pb_gpu_photon_nmap *pa, uint32_t pixels,
-                                        size_t pixel_base, size_t n, uint32_t spp, pb_render_result *out);
+/* The AOVs eq. 20 reads (out->geo_normal, photon_dir, shading_normal) are
+ * resolved on the GPU with the others (shaders/resolve.comp, readback.h). */
 
 /* Eq. 20 on out->indirect (n pixels): each pixel's indirect is scaled by
  * 1 + frac (factor - 1), frac the fraction of its samples on a normal-mapped

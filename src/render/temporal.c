@@ -9,7 +9,7 @@
 #include "shared/pb_gpu.h"
 #include "shared/pb_filter.h"
 
-enum { BIND_COUNT = 7 };
+/* Bindings: PB_TEMPORAL_BIND_* (shaders/shared/pb_contract.h). */
 /* The demodulation floor of temporal.comp and atrous.comp. */
 static const float PB_ALBEDO_MIN = 1e-3f;
 
@@ -72,7 +72,7 @@ pb_result pb_temporal_create(pb_gpu *g, uint32_t width, uint32_t height, const p
     if ((r = pb_gpu_buffer_create(g, &bd, bufs[i])) != PB_OK) goto fail;
   }
   pb_gpu_pipeline_desc pd = {.name = "pass.temporal", .spirv = pb_spv_temporal, .spirv_bytes = sizeof pb_spv_temporal,
-                             .binding_count = BIND_COUNT, .push_bytes = sizeof(pb_gpu_temporal_push)};
+                             .binding_count = PB_TEMPORAL_BIND_COUNT, .push_bytes = sizeof(pb_gpu_temporal_push)};
   if ((r = pb_gpu_pipeline_create(g, &pd, &t->pipe)) != PB_OK) goto fail;
   *out = t;
   return PB_OK;
@@ -121,9 +121,12 @@ pb_result pb_temporal_apply(pb_gpu *g, pb_temporal *t, const float *normal, cons
     r = pb_gpu_buffer_upload(g, &t->motion, 0, t->host, bytes);
   }
   if (r != PB_OK) return r;
-  const pb_gpu_buffer *bind[BIND_COUNT] = {&t->hist[prev], &t->geo[prev], &t->geo[cur], &t->indirect,
-                                           &t->albedo,     &t->motion,   &t->hist[cur]};
-  if ((r = pb_gpu_pipeline_bind(g, &t->pipe, bind, BIND_COUNT)) != PB_OK) return r;
+  const pb_gpu_buffer *bind[PB_TEMPORAL_BIND_COUNT] = {
+      [PB_TEMPORAL_BIND_HIST_IN] = &t->hist[prev], [PB_TEMPORAL_BIND_GEO_PREV] = &t->geo[prev],
+      [PB_TEMPORAL_BIND_GEO] = &t->geo[cur],       [PB_TEMPORAL_BIND_INDIRECT] = &t->indirect,
+      [PB_TEMPORAL_BIND_ALBEDO] = &t->albedo,      [PB_TEMPORAL_BIND_MOTION] = &t->motion,
+      [PB_TEMPORAL_BIND_HIST_OUT] = &t->hist[cur]};
+  if ((r = pb_gpu_pipeline_bind(g, &t->pipe, bind, PB_TEMPORAL_BIND_COUNT)) != PB_OK) return r;
   pb_gpu_temporal_push p = {.width = t->width, .height = t->height, .has_history = (uint32_t)t->has_history,
                             .still = still ? 1u : 0u, .alpha = t->desc.alpha, .sigma_z = t->desc.sigma_z,
                             .sigma_n = t->desc.sigma_n, .max_history = t->desc.max_history,

@@ -1,0 +1,95 @@
+#version 450
+// The resolve pass (issue 17): one invocation per pixel of a band turns the
+// sums over samples (pb_gpu_accum from the G-buffer and direct passes,
+// pb_gpu_photon_accum and pb_gpu_photon_nmap from the gather) into the AOVs
+// of pb_render_result, in the planes of shared/pb_resolve.h, on the GPU:
+// means (sum x inv_spp, the host's float), the mean normal normalised, depth
+// over coverage, the material index as written, and for eq. 20 (seed 001
+// 24.4.3) the unit mean geometric normal, photon direction and shading
+// normal with the normal-mapped fraction of samples. Every value of the
+// guarded AOVs (beauty, direct, albedo, normal, depth, material, emission,
+// indirect, caustic) that is not finite is written as 0 and counted
+// (atomicAdd on guard.count; issue 9: a correct render has none).
+// The arithmetic is the former host resolve's (frame.c, shading_correction.c
+// pb_shading_correction_resolve), operation for operation.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/pb_gpu.h"
+#include "shared/pb_lbvh.h"
+#include "shared/pb_resolve.h"
+
+layout(local_size_x = PB_GPU_WORKGROUP) in;
+
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_ACCUM) readonly buffer Accum { pb_gpu_accum accum[]; };
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_PHOTON_ACCUM) readonly buffer PhotonAccum { pb_gpu_photon_accum paccum[]; };
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_NMAP) readonly buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; };
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_OUT) writeonly buffer Planes { float planes[]; };
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_GUARD) buffer Guard { uint guard_count; };
+layout(std430, set = 0, binding = PB_RESOLVE_BIND_OUT_PHOTONS) writeonly buffer PhotonPlanes { float pplanes[]; };
+layout(push_constant) uniform ResolvePush { pb_gpu_resolve_push rp; };
+
+uint g_bad = 0u;
+
+float guarded(float v) {
+  if (isnan(v) || isinf(v)) {
+    g_bad += 1u;
+    return 0.0;
+  }
+  return v;
+}
+
+void put(uint plane, uint ch, uint i, uint c, float v) {
+  if (plane < PB_RESOLVE_BASE_CHANNELS)
+    planes[plane * rp.pixels + i * ch + c] = v;
+  else
+    pplanes[(plane - PB_RESOLVE_BASE_CHANNELS) * rp.pixels + i * ch + c] = v;
+}
+
+vec3 unit3(vec3 v) { // shading_correction.c unit(): 0 unless the length is finite and > 0
+  float l = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  bool ok = l > 0.0 && !isinf(l) && !isnan(l);
+  return ok ? v / l : vec3(0.0);
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP;
+  if (i >= rp.pixels) return;
+  pb_gpu_accum a = accum[i];
+  float inv = rp.inv_spp;
+  for (uint k = 0u; k < 4u; ++k) {
+    float v = a.beauty[k] * inv;
+    if (k == 3u && (rp.flags & PB_RESOLVE_OPAQUE) != 0u) v = 1.0;
+    put(PB_RESOLVE_BEAUTY, 4u, i, k, guarded(v));
+  }
+  for (uint k = 0u; k < 3u; ++k) {
+    put(PB_RESOLVE_DIRECT, 3u, i, k, guarded(a.direct[k] * inv));
+    put(PB_RESOLVE_ALBEDO, 3u, i, k, guarded(a.albedo[k] * inv));
+    put(PB_RESOLVE_EMISSION, 3u, i, k, guarded(a.emission[k] * inv));
+  }
+  vec3 n = a.normal;
+  float nl = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  for (uint k = 0u; k < 3u; ++k) put(PB_RESOLVE_NORMAL, 3u, i, k, guarded(nl > 0.0 ? n[k] / nl : 0.0));
+  put(PB_RESOLVE_DEPTH, 1u, i, 0u, guarded(a.beauty[3] > 0.0 ? a.depth / a.beauty[3] : 0.0));
+  put(PB_RESOLVE_MATERIAL, 1u, i, 0u, guarded(a.material));
+  if ((rp.flags & PB_RESOLVE_PHOTONS) != 0u) {
+    pb_gpu_photon_accum p = paccum[i];
+    for (uint k = 0u; k < 3u; ++k) {
+      put(PB_RESOLVE_INDIRECT, 3u, i, k, guarded(p.indirect[k] * inv));
+      put(PB_RESOLVE_CAUSTIC, 3u, i, k, guarded(p.caustic[k] * inv));
+    }
+    put(PB_RESOLVE_KPD, 2u, i, 0u, p.indirect.w); // raw sums: stats only
+    put(PB_RESOLVE_KPD, 2u, i, 1u, a.beauty[3]);
+    if ((rp.flags & PB_RESOLVE_NMAP) != 0u) {
+      pb_gpu_photon_nmap m = pnmap[i];
+      vec3 gn = unit3(m.geo.xyz), pd = unit3(m.dir.xyz), ns = unit3(m.ns.xyz);
+      float frac = m.ns.w * inv;
+      frac = (isnan(frac) || isinf(frac)) ? 0.0 : min(max(frac, 0.0), 1.0);
+      for (uint k = 0u; k < 3u; ++k) {
+        put(PB_RESOLVE_GEO_NORMAL, 3u, i, k, gn[k]);
+        put(PB_RESOLVE_PHOTON_DIR, 3u, i, k, pd[k]);
+        put(PB_RESOLVE_SHADING_NORMAL, 4u, i, k, ns[k]);
+      }
+      put(PB_RESOLVE_SHADING_NORMAL, 4u, i, 3u, frac);
+    }
+  }
+  if (g_bad != 0u) atomicAdd(guard_count, g_bad);
+}

@@ -1,0 +1,144 @@
+/* The shader contract, written once: the descriptor binding of every storage
+ * buffer of every kernel (set 0) and the specialization-constant ids, as
+ * plain #defines that C and GLSL (#include "shared/pb_contract.h") both
+ * read. A kernel declares `layout(binding = PB_..._BIND_...)`, the host
+ * fills its binding array with the same names; tests/unit/test_gpu_contract.c
+ * reads the Binding and SpecId decorations of every embedded SPIR-V module
+ * and checks them against these values (as test_gpu_layout checks the
+ * struct layouts of pb_gpu.h).
+ *
+ * A pipeline's bindings are 0 .. COUNT-1 (pb_gpu_pipeline_desc.binding_count
+ * = the kernel's PB_..._BIND_COUNT); a binding a kernel does not declare is
+ * still bound (any buffer will do). Numbers never change meaning: a kernel
+ * that needs a new buffer takes a new number. */
+#ifndef PB_CONTRACT_H
+#define PB_CONTRACT_H
+
+/* ---- the scene passes (common/scene.glsl): gbuffer.comp, direct.comp; the
+ * photon tracer, the RSM pass and the gather share 0-10, 13, 14 ---------- */
+#define PB_BIND_FRAME 0         /* pb_gpu_frame */
+#define PB_BIND_NODES 1         /* BVH nodes */
+#define PB_BIND_TRIS 2          /* BVH triangles */
+#define PB_BIND_INDICES 3
+#define PB_BIND_NORMALS 4
+#define PB_BIND_UVS 5
+#define PB_BIND_TRI_MATERIAL 6
+#define PB_BIND_MATERIALS 7
+#define PB_BIND_TEXTURES 8
+#define PB_BIND_TEXELS 9
+#define PB_BIND_LIGHTS 10
+#define PB_BIND_GBUFFER 11      /* pb_gpu_gbuffer[] (the passes' own I/O) */
+#define PB_BIND_ACCUM 12        /* pb_gpu_accum[] */
+#define PB_BIND_POSITIONS 13
+#define PB_BIND_EMITTERS 14
+#define PB_BIND_WORLD 15        /* pb_gpu_world + data (common/lights.glsl) */
+#define PB_BIND_COUNT 16
+
+/* ---- gather.comp: the scene's 0-14 (11, 12 as above), then ---------------- */
+#define PB_GATHER_BIND_PHOTONS 15 /* sorted photons, as uvec4 */
+#define PB_GATHER_BIND_NODES 16   /* LBVH nodes, as uvec4 */
+#define PB_GATHER_BIND_INFO 17    /* pb_gpu_lbvh_info */
+#define PB_GATHER_BIND_ACCUM 18   /* pb_gpu_photon_accum[] */
+#define PB_GATHER_BIND_NMAP 19    /* pb_gpu_photon_nmap[] (normal maps only) */
+#define PB_GATHER_BIND_COUNT 20
+
+/* ---- photon_trace.comp: the scene's 0-10, 13, 14, then -------------------- */
+#define PB_PHOTON_BIND_PHOTONS 11    /* pb_gpu_photon[] */
+#define PB_PHOTON_BIND_COUNTS 12     /* pb_gpu_photon_counts */
+#define PB_PHOTON_BIND_PARAMS 15     /* pb_gpu_photon_params + lights */
+#define PB_PHOTON_BIND_RSM_LIGHTS 16 /* pb_gpu_rsm_light[] */
+#define PB_PHOTON_BIND_RSM_TEXELS 17 /* pb_gpu_rsm_texel[] */
+#define PB_PHOTON_BIND_WORLD 18
+#define PB_PHOTON_BIND_COUNT 19
+
+/* ---- photon_rsm.comp: the scene's 0-10, 13, 14, then ---------------------- */
+#define PB_RSM_BIND_LIGHTS 11
+#define PB_RSM_BIND_TEXELS 12
+#define PB_RSM_BIND_COUNT 15
+
+/* ---- the LBVH build (common/lbvh.glsl: lbvh_setup, _bounds, _morton, _climb) */
+#define PB_LBVH_BIND_INFO 0
+#define PB_LBVH_BIND_PHOTONS_IN 1
+#define PB_LBVH_BIND_MAP_COUNTS 2
+#define PB_LBVH_BIND_SORTED 3
+#define PB_LBVH_BIND_KEYS 4
+#define PB_LBVH_BIND_VALS 5
+#define PB_LBVH_BIND_NODES 6
+#define PB_LBVH_BIND_VISIT 7
+#define PB_LBVH_BIND_PARTIAL 8
+#define PB_LBVH_BIND_PHOTONS_IN4 9  /* binding 1 again, as uvec4 */
+#define PB_LBVH_BIND_SORTED4 10     /* binding 3 again, as uvec4 */
+#define PB_LBVH_BIND_NODES4 11      /* binding 6 again, as uvec4 */
+#define PB_LBVH_BIND_COUNT 12
+
+/* ---- the radix sort (common/lbvh_sort.glsl: lbvh_sort_*) ------------------ */
+#define PB_SORT_BIND_STATE 0
+#define PB_SORT_BIND_KEYS 1
+#define PB_SORT_BIND_VALS 2
+#define PB_SORT_BIND_HIST 3
+#define PB_SORT_BIND_COUNT_SRC 4
+#define PB_SORT_BIND_KEYS4 5        /* binding 1 again, as uvec4 */
+#define PB_SORT_BIND_VALS4 6        /* binding 2 again, as uvec4 */
+#define PB_SORT_BIND_COUNT 7
+
+/* ---- atrous.comp ----------------------------------------------------------- */
+#define PB_ATROUS_BIND_S 0
+#define PB_ATROUS_BIND_DETAIL 1
+#define PB_ATROUS_BIND_GEO 2
+#define PB_ATROUS_BIND_INDIRECT 3
+#define PB_ATROUS_BIND_ALBEDO 4
+#define PB_ATROUS_BIND_COUNT 5
+
+/* ---- temporal.comp --------------------------------------------------------- */
+#define PB_TEMPORAL_BIND_HIST_IN 0
+#define PB_TEMPORAL_BIND_GEO_PREV 1
+#define PB_TEMPORAL_BIND_GEO 2
+#define PB_TEMPORAL_BIND_INDIRECT 3
+#define PB_TEMPORAL_BIND_ALBEDO 4
+#define PB_TEMPORAL_BIND_MOTION 5
+#define PB_TEMPORAL_BIND_HIST_OUT 6
+#define PB_TEMPORAL_BIND_COUNT 7
+
+/* ---- motion.comp ----------------------------------------------------------- */
+#define PB_MOTION_BIND_NODES 0
+#define PB_MOTION_BIND_TRIS 1
+#define PB_MOTION_BIND_INDICES 2
+#define PB_MOTION_BIND_PREV_POSITIONS 3
+#define PB_MOTION_BIND_PARAMS 4
+#define PB_MOTION_BIND_MOTION 5
+#define PB_MOTION_BIND_COUNT 6
+
+/* ---- raycast.comp ---------------------------------------------------------- */
+#define PB_RAYCAST_BIND_NODES 0
+#define PB_RAYCAST_BIND_TRIS 1
+#define PB_RAYCAST_BIND_RAYS 2
+#define PB_RAYCAST_BIND_HITS 3
+#define PB_RAYCAST_BIND_COUNT 4
+
+/* ---- resolve.comp (shared/pb_resolve.h) ---------------------------------- */
+#define PB_RESOLVE_BIND_ACCUM 0         /* pb_gpu_accum[] */
+#define PB_RESOLVE_BIND_PHOTON_ACCUM 1  /* pb_gpu_photon_accum[] (photons on) */
+#define PB_RESOLVE_BIND_NMAP 2          /* pb_gpu_photon_nmap[] (normal maps) */
+#define PB_RESOLVE_BIND_OUT 3           /* float planes */
+#define PB_RESOLVE_BIND_GUARD 4         /* uint: non-finite values replaced */
+#define PB_RESOLVE_BIND_OUT_PHOTONS 5   /* float planes of the photon AOVs */
+#define PB_RESOLVE_BIND_COUNT 6
+
+/* ---- specialization constants (constant_id) ------------------------------- */
+/* The scene's (common/scene.glsl), set by the passes from the render plan
+ * (plan.h); 4 and 5 belong to one kernel each. */
+#define PB_SPEC_HAS_NORMALS 0
+#define PB_SPEC_TEXTURES 1
+#define PB_SPEC_SPECULAR 2        /* delta lobes: eye chains */
+#define PB_SPEC_EMISSIVE 3        /* emissive triangles or unlit surfaces */
+#define PB_SPEC_TRANSMISSION 4    /* photon_trace.comp only */
+#define PB_SPEC_NORMAL_MAPS 5     /* gather.comp only (eq. 20's sums) */
+#define PB_SPEC_SOFT_LIGHTS 6
+#define PB_SPEC_WORLD 7
+#define PB_SPEC_ALPHA 8           /* PB_BLENDER builds only */
+#define PB_SPEC_COUNT 9
+/* lbvh_climb.comp's own. */
+#define PB_SPEC_FENCES 0
+#define PB_SPEC_FENCES_COUNT 1
+
+#endif

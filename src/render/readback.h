@@ -1,0 +1,33 @@
+/* The readback (issue 17): the one place a frame's pixels come to the host.
+ * Everything else stays in the targets (targets.h) on the GPU; what the
+ * host needs (the AOVs of pb_render_result, for EXR and PNG output and the
+ * tests; the progress preview; the guard count) is copied here, from
+ * host-visible targets (a memcpy where the memory is cached, as on a CPU
+ * device; otherwise one staged copy of the whole range). */
+#ifndef PB_RENDER_READBACK_H
+#define PB_RENDER_READBACK_H
+
+#include <stddef.h>
+
+#include "gpu/gpu.h"
+#include "render/render.h"
+#include "render/targets.h"
+
+/* The resolved band (pixels at pixel_base of an image of n pixels) into
+ * out's arrays (allocated by the caller: beauty .. emission, and indirect,
+ * caustic with photons); with nmap_aovs also geo_normal, photon_dir and
+ * shading_normal (allocated here on first use). k_sum, hit_sum (photons):
+ * the band's raw sums for k_PD, added. inv_spp and opaque: the resolve's
+ * (pb_resolve_record), for the host reference: with PB_RESOLVE_ON_HOST=1 in
+ * the environment (a test hook) the planes are computed here, from the
+ * accumulators, by the host resolve the pass replaced. */
+pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
+                           float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
+                           double *hit_sum);
+/* Non-finite values the resolve replaced since the guard was zeroed. */
+pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count);
+/* The mean beauty (RGBA) of the first n pixels' accumulators over `samples`
+ * samples, non-finite values as 0 (render --preview). */
+pb_result pb_readback_preview(pb_gpu *g, const pb_frame_targets *t, size_t n, uint32_t samples, float *beauty);
+
+#endif

@@ -1,0 +1,32 @@
+/* The per-pixel targets of a frame (issue 17): every buffer a band of
+ * pixels needs on the GPU, created once per band size and feature set and
+ * kept by the frame context (render.h) for the frames of a sequence:
+ *   frame   pb_gpu_frame, the passes' constants
+ *   gbuf    pb_gpu_gbuffer per pixel (gbuffer.comp -> direct.comp, gather.comp)
+ *   accum   pb_gpu_accum per pixel: sums over samples
+ *   paccum  pb_gpu_photon_accum per pixel (photon stages on)
+ *   pnmap   pb_gpu_photon_nmap per pixel (scenes with normal maps)
+ *   planes  the resolved AOVs (shared/pb_resolve.h): what the readback
+ *           (readback.h) brings to the host, host-visible; pplanes those
+ *           of the photon stages
+ *   guard   the resolve's count of non-finite values replaced
+ * Sizes never exceed the device's storage-buffer range: frame.c picks the
+ * band so that the largest per-pixel target fits. */
+#ifndef PB_RENDER_TARGETS_H
+#define PB_RENDER_TARGETS_H
+
+#include "gpu/gpu.h"
+
+typedef struct pb_frame_targets {
+  uint32_t band_pixels;
+  int photons, nmap;
+  uint32_t channels; /* floats per pixel in planes (PB_RESOLVE_*_CHANNELS) */
+  pb_gpu_buffer frame, gbuf, accum, paccum, pnmap, planes, pplanes, guard;
+} pb_frame_targets;
+
+/* Bytes per pixel of the largest target (the band's limit). */
+uint64_t pb_frame_targets_max_pixel_bytes(void);
+pb_result pb_frame_targets_create(pb_gpu *g, uint32_t band_pixels, int photons, int nmap, pb_frame_targets *out);
+void pb_frame_targets_destroy(pb_gpu *g, pb_frame_targets *t);
+
+#endif

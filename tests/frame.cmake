@@ -1,0 +1,11 @@
+# The GPU-resident frame (issue 17): the resolve pass and readback give the
+# same pixels as the host resolve, for every sample scene and a sequence
+# (tests/frame_same_pixels.py); with -DPB_BASELINE_EXE=/path/to/photonbridge
+# (a build of an earlier commit) also the same pixels as that binary.
+set(PB_BASELINE_EXE "" CACHE FILEPATH "photonbridge binary of an earlier commit for frame_same_pixels_*")
+foreach(part samples extra)
+  add_test(NAME frame_same_pixels_${part}
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/frame_same_pixels.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/frame_same_pixels_${part} "${PB_BASELINE_EXE}" ${part})
+  set_tests_properties(frame_same_pixels_${part} PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
+endforeach()
