@@ -5,4 +5,5 @@
 add_test(NAME blender_viewport
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/blender/viewport_check.py ${PB_EXE} ${PB_ROOT}
                  ${CMAKE_CURRENT_BINARY_DIR}/blender_viewport)
-set_tests_properties(blender_viewport PROPERTIES SKIP_RETURN_CODE 77 LABELS "blender;gpu;no-sanitize" TIMEOUT 900)
+set_tests_properties(blender_viewport PROPERTIES SKIP_RETURN_CODE 77 LABELS "blender;gpu;no-sanitize" TIMEOUT 900
+                     RESOURCE_LOCK xvfb)  # one X server starting at a time (tests/view.cmake)
