@@ -86,7 +86,7 @@ W, H = 96, 72
 BOUNCES = 64
 # Cycles samples where a scene needs more than --samples: the caustic is
 # reached only by paths that hit the spot's sphere through the glass.
-SAMPLES = {"glass_ball": 4096}
+SAMPLES = {"glass_ball": 8192}
 SCENES = {}
 
 
@@ -252,6 +252,8 @@ def main(argv):
         blend = os.path.join(d, name + ".blend")
         if bpy.data.images:
             bpy.ops.file.pack_all()
+        if os.path.exists(blend):  # no NAME.blend1 backup beside it
+            os.remove(blend)
         bpy.ops.wm.save_as_mainfile(filepath=blend, compress=True, check_existing=False)
         print("blend_samples: %s written" % blend)
         handoff(blend, d)
