@@ -8,11 +8,13 @@ scenes of bench/scenes/lights (exporters/blender/light_scenes.py --bench):
   world_only   the same props on an open floor, lit by a uniform world
                (0.8, 0.9, 1.0) alone.
 
-Diffuse BSDFs in Cycles and diffuse glTF materials (until photonbridge has
-Blender's Principled BSDF), 128 x 96, Cycles' box filter. The Cycles render
-(4096 spp) is the reference; cycles.json holds its own noise (a second
-seed). Swept: the photonbridge reference over spp, the GPU pipeline over
-photon maps and spp (its own defaults first, the Blender render engine's
+Principled materials (Blender's default Principled BSDF on the floor, a
+rough metal sphere, a glossy plastic box, a default prism: the
+PHOTONBRIDGE_blender extension, rendered as they are by Cycles), 128 x 96,
+Cycles' box filter. The Cycles render (cycles.json: 2048 spp) is the
+reference; cycles.json holds its own noise (a second seed).
+Swept: the photonbridge reference over spp, the GPU pipeline over photon
+maps and spp (its own defaults first, the Blender render engine's
 last); each point a separate process,
 timed spawn to exit; PSNR and SSIM on the display image, mean difference on
 scene-linear RGB (tests/lights_cycles.py's measures). Then what the lights

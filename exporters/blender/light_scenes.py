@@ -25,10 +25,15 @@ node gets the transform Blender's own conversion gives (Z up to Y up: the
 rotation q_C of -90 degrees about X, times the object's, so that the node's
 -Z is the light's), which the KHR light on the node shares.
 
-Materials are Principled BSDFs of Specular 0 and Roughness 1 in the file (a
-diffuse glTF material) and Diffuse BSDFs of the same colour in the Cycles
-render (Blender 3.4's Principled BSDF at Specular 0 is not Lambertian:
-shared/BLENDER.md), so that the comparison is one of lights.
+Materials of the one-light scenes are Principled BSDFs of Specular 0 and
+Roughness 1 in the file (a diffuse glTF material) and Diffuse BSDFs of the
+same colour in the Cycles render (Blender 3.4's Principled BSDF at Specular
+0 is not Lambertian: shared/BLENDER.md), so that the comparison is one of
+lights. The benchmark's two scenes carry Principled materials as artists
+leave them (Blender's defaults, a glossy plastic, a rough metal), written
+with the PHOTONBRIDGE_blender material extension
+(make_principled_tests.material_extension) and rendered as they are by
+Cycles.
 """
 import argparse
 import importlib.util
@@ -213,11 +218,25 @@ def world_hdri(width, outdir=None):
     nt.nodes["Background"].inputs[1].default_value = 0.8
 
 
+def principled(name, base, roughness=0.5, metallic=0.0):
+    """Blender's default Principled BSDF (Specular 0.5, GGX) but for these."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    p = mat.node_tree.nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (*base, 1.0)
+    p.inputs["Roughness"].default_value = roughness
+    p.inputs["Metallic"].default_value = metallic
+    mat.diffuse_color = (*base, 1.0)
+    return mat
+
+
 def objects():
-    """The benchmark scenes' props: a sphere, a box and a cylinder-like
-    prism of different colours on the floor."""
-    m = [S.diffuse("Sphere", (0.7, 0.7, 0.7)), S.diffuse("Box", (0.75, 0.3, 0.2)),
-         S.diffuse("Prism", (0.2, 0.45, 0.7))]
+    """The benchmark scenes' props on the floor, Principled: a rough
+    metal sphere (Metallic 1, Roughness 0.4), a red glossy plastic box
+    (Roughness 0.3) and a blue cylinder-like prism (Blender's defaults but
+    the colour)."""
+    m = [principled("Sphere", (0.7, 0.7, 0.7), roughness=0.4, metallic=1.0),
+         principled("Box", (0.75, 0.3, 0.2), roughness=0.3), principled("Prism", (0.2, 0.45, 0.7))]
     b = S.MeshBuilder()
     S.uv_sphere(b, (-0.6, 0.1, 0.4), 0.4, 32, 16, mat=0)
     S.mesh_object("Sphere", b, [m[0]])
@@ -231,9 +250,10 @@ def objects():
 
 def studio_stage(width):
     """A studio: a floor that curves up into a back wall (a cove of radius
-    0.8 m), albedo 0.8, the props, a camera 128 x 96."""
+    0.8 m), Blender's default Principled (Base 0.8, Specular 0.5, Roughness
+    0.5), the props, a camera 128 x 96."""
     S.reset_scene(width, width * 3 // 4)
-    wall = S.diffuse("Cove", (0.8, 0.8, 0.8))
+    wall = principled("Cove", (0.8, 0.8, 0.8))
     b = S.MeshBuilder()
     r, y0, n = 0.8, 1.2, 12
     b.quad((-4, -3, 0), (4, -3, 0), (4, y0, 0), (-4, y0, 0), (0, 0, 1))
@@ -273,7 +293,7 @@ def world_only(width):
     S.reset_scene(width, width * 3 // 4)
     b = S.MeshBuilder()
     b.quad((-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0), (0, 0, 1))
-    S.mesh_object("Floor", b, [S.diffuse("Floor", (0.8, 0.8, 0.8))])
+    S.mesh_object("Floor", b, [principled("Floor", (0.8, 0.8, 0.8))])
     objects()
     S.add_camera((0.4, -4.2, 1.8), (0.0, 0.4, 0.45), 40.0)
     w = bpy.data.worlds.new("World")
@@ -334,9 +354,13 @@ def world_ext(outdir):
     return e
 
 
-def add_extension(path, outdir):
+def add_extension(path, outdir, materials=False):
     with open(path) as f:
         doc = json.load(f)
+    if materials:  # the benchmark's Principled materials, as the render engine's writer has them
+        PT = load_module("pb_make_principled_tests", os.path.join(HERE, "make_principled_tests.py"))
+        for m in doc.get("materials", []):
+            m.setdefault("extensions", {})["PHOTONBRIDGE_blender"] = PT.material_extension(bpy.data.materials[m["name"]])
     nodes = doc.setdefault("nodes", [])
     by_name = {n.get("name"): i for i, n in enumerate(nodes)}
     roots = doc["scenes"][doc.get("scene", 0)]["nodes"]
@@ -385,11 +409,13 @@ def read_exr(path):
     return px
 
 
-def cycles(outdir, samples, threads, keep_second=False):
-    diffuse_for_cycles()
+def cycles(outdir, samples, threads, keep_second=False, as_diffuse=True):
+    if as_diffuse:  # the one-light scenes; the benchmark's are Principled in Cycles too
+        diffuse_for_cycles()
     sc = bpy.context.scene
     info = {"samples": samples, "blender": bpy.app.version_string, "max_bounces": 7, "pixel_filter": "box 1 px",
-            "note": "Cycles max_bounces 7 = photonbridge's 8 scattering events"}
+            "note": "Cycles max_bounces 7 = photonbridge's 8 scattering events",
+            "materials": "Diffuse BSDFs of the Principled colours" if as_diffuse else "the scene's Principled BSDFs"}
     paths = []
     for seed in (1, 2):
         p = os.path.join(outdir, "cycles.exr" if seed == 1 else "cycles_seed2.exr")
@@ -446,10 +472,10 @@ def main(argv):
             fn(width)
         path = os.path.join(outdir, name + ".gltf")
         S.gltf_export(path)
-        add_extension(path, outdir)
+        add_extension(path, outdir, materials=args.bench)
         print("light_scenes: %s written" % path)
         if not args.no_render:
-            info = cycles(outdir, args.samples, args.threads, keep_second=args.bench)
+            info = cycles(outdir, args.samples, args.threads, keep_second=args.bench, as_diffuse=not args.bench)
             print("light_scenes: %s: Cycles %d spp, %s s, noise RMSE %.4g (relMSE %.3g)" % (
                 name, args.samples, info["render_s"], info["noise_rmse"], info["noise_relmse"]))
     bpy.ops.wm.read_factory_settings(use_empty=True)
