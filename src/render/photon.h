@@ -26,7 +26,7 @@ typedef struct pb_photon_map {
   pb_gpu_buffer counts;       /* pb_gpu_photon_counts */
   uint32_t capacity;
   /* Host copies of the counters, read back after the trace. */
-  uint32_t stored, caustic, emitted, overflow;
+  uint32_t stored, caustic, emitted, overflow, clamped;
 } pb_photon_map;
 
 /* Default s of a frame (render.h: smoothing 0). Footprint radius
@@ -39,6 +39,12 @@ typedef struct pb_photon_map {
  * where r_max = 5 % of the scene radius does not clamp first). */
 #define PB_PHOTON_SMOOTHING_DEFAULT 2.5f
 #define PB_PHOTON_SMOOTHING_DEFAULT_STR "2.5"
+/* Default s_caustic: caustic photons' footprints compressed like the
+ * diffuse ones with s = 5 (seed 000's caustic factor). A positive
+ * smoothing_caustic in the desc switches them to the paper's uncompressed
+ * differential footprint s_caustic Delta dP (photon_trace.comp pb_store,
+ * PB_PHOTON_PARAM_CAUSTIC_RAW; issue 18 item 2, opt-in until measured). */
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 5.0f
 
 /* How a path's first hit is found (seed 001 24.2.1). */
 typedef enum pb_photon_first_bounce {
@@ -51,16 +57,32 @@ typedef enum pb_photon_first_bounce {
 /* Zero means default for every field. */
 typedef struct pb_photon_trace_desc {
   uint32_t photons;           /* paths emitted per iteration; 0: 2^18 */
-  uint32_t max_bounces;       /* stored diffuse bounces per path; 0: 7 */
+  uint32_t max_bounces;       /* stored bounces per path; 0: unbounded, paths
+                                 end by Russian roulette
+                                 (PB_PHOTON_BOUNCE_CAP only a safety net) */
   float smoothing;            /* s for diffuse photons (dimensionless, see
                                  pb_store in photon_trace.comp); 0:
                                  PB_PHOTON_SMOOTHING_DEFAULT */
-  float smoothing_caustic;    /* s for caustic photons; 0: 5 (seed 000) */
+  float smoothing_caustic;    /* > 0: caustic footprints uncompressed, this
+                                 times Delta dP; 0: compressed with
+                                 PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
   float r_max;                /* footprint radius clamp, metres; 0: 5 % of the
                                  scene's bounding radius */
   uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
   uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
 } pb_photon_trace_desc;
+
+/* Path length (issue 18 item 8). The default stores every bounce until
+ * Russian roulette ends the path: survival p = min(1, max_c(Phi_c w_c) /
+ * max_c(Phi_c)) (seed 001 eq. 1), capped at 0.95 from the 8th interaction
+ * on (where the old default of 7 stored bounces truncated), so a path
+ * reaches the cap of 255 stored bounces (the 8 bits of
+ * PB_PHOTON_BOUNCE_SHIFT) with probability below 0.95^248 ~ 3e-6 even on
+ * white walls, and the light beyond it, rho^255 of a closed room of albedo
+ * rho, is nil. Memory: a path stores about rho / (1 - rho) records, so the
+ * buffer holds PB_PHOTON_RECORDS_PER_PATH per path (enough up to rho 0.92
+ * everywhere), or the device's limit; an overflow is PB_ERR_LIMIT. */
+enum { PB_PHOTON_BOUNCE_CAP = 255, PB_PHOTON_RECORDS_PER_PATH = 12 };
 
 typedef struct pb_photon_tracer pb_photon_tracer;
 
