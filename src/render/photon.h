@@ -45,6 +45,20 @@ typedef struct pb_photon_map {
  * differential footprint s_caustic Delta dP (photon_trace.comp pb_store,
  * PB_PHOTON_PARAM_CAUSTIC_RAW; issue 18 item 2, opt-in until measured). */
 #define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 5.0f
+/* Default r_max (issue 18 item 3): PB_PHOTON_R_MAX_FACTOR r_ref, with
+ * r_ref = Delta R the photon spacing on the scene's bounding sphere (R its
+ * radius, Delta = 2 sqrt(pi / N)). Every footprint is a multiple of Delta
+ * (diffuse: r' = s Delta R^(3/4) |dP|^(1/4); caustic, uncompressed:
+ * s_c Delta |dP|), so with r_max ~ Delta the clamped share does not depend
+ * on the budget N and r_max shrinks as N^(-1/2) with the photons. The old
+ * default, 5 % of R, is 0.05 / Delta r_ref: 2.6 r_ref at 2^15 paths, where it
+ * clamped 96-100 % of the footprints of every sample (the kernel was a fixed
+ * disc), 7.2 r_ref at 2^18. Measured (test_gpu_photon_clamp, one map of 2^15
+ * paths, r_max 10 R): the 99th percentile of r' / r_ref is 10.4
+ * (cornell_box), 14.7 (cornell_caustics), 11.3 (ring), 13.9 (spot_room),
+ * 11.2 (sun_atrium); 99.5th 11.9-18.2. 18 clamps at most 1 % on every
+ * sample, with a margin for the scene-dependent tail. */
+#define PB_PHOTON_R_MAX_FACTOR 18.0f
 
 /* How a path's first hit is found (seed 001 24.2.1). */
 typedef enum pb_photon_first_bounce {
@@ -66,8 +80,8 @@ typedef struct pb_photon_trace_desc {
   float smoothing_caustic;    /* > 0: caustic footprints uncompressed, this
                                  times Delta dP; 0: compressed with
                                  PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
-  float r_max;                /* footprint radius clamp, metres; 0: 5 % of the
-                                 scene's bounding radius */
+  float r_max;                /* footprint radius clamp, metres; 0:
+                                 PB_PHOTON_R_MAX_FACTOR Delta R */
   uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
   uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
 } pb_photon_trace_desc;

@@ -111,7 +111,7 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
 /* The parts of a tracer that follow the scene's pose: the photon budget
  * split by light power, each light's photon power and differential scale,
  * the scene's centre and radius (directional lights emit from its disc;
- * the default r_max is 5 % of the radius). counts/firsts: scratch of
+ * the default r_max is PB_PHOTON_R_MAX_FACTOR Delta R, photon.h). counts/firsts: scratch of
  * pb_photon_slots entries. */
 static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *counts, uint32_t *firsts,
                          float center[3], float *radius_out) {
@@ -169,7 +169,7 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
   t->p.photons = total; /* == d->photons when any light has power */
   t->p.light_count = t->light_entries;
   t->p.delta = delta;
-  t->p.r_max = d->r_max > 0.0f ? d->r_max : 0.05f * radius;
+  t->p.r_max = d->r_max > 0.0f ? d->r_max : PB_PHOTON_R_MAX_FACTOR * delta * radius; /* photon.h */
   t->stats.photons = total;
   t->stats.delta = delta;
   t->stats.r_max = t->p.r_max;
