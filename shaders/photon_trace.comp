@@ -115,14 +115,12 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
     // the caustic's focus: where specular paths converge dP shrinks and so
     // does the kernel. Raw footprints (s_c = 1) overlap pi of their
     // neighbours (area pi (Delta |dP|)^2 against a spacing (Delta |dP|)^2),
-    // s_c photons per axis more: k_PD ~ pi s_c^2 on a caustic. Opt-in
-    // (render --smoothing-caustic S, PB_PHOTON_PARAM_CAUSTIC_RAW) until the
-    // default is measured on every caustic sample: on ring (64 px, 16 spp,
-    // 8 maps) s_c = 0.5 gives 23.4 dB at 2^16 paths and 25.9 dB at 2^18
-    // against the compressed default's 24.3 and 25.7 (bench/README.md,
-    // "Caustic footprints"); ring is bound by its 0.3 % of stored paths.
-    // Without the flag caustic photons are compressed like diffuse ones,
-    // with s_caustic.
+    // s_c photons per axis more: k_PD ~ pi s_c^2 on a caustic. The host
+    // always sets PB_PHOTON_PARAM_CAUSTIC_RAW; s_c defaults to 0.5, the
+    // best of the sweep on ring (src/render/photon.h, bench/README.md
+    // "Caustic footprints"); the paper's 5 was for its own units, and the
+    // compressed branch below (the old behaviour) stays for the flag's
+    // absence only.
     a = params.smoothing_caustic * a;
     b = params.smoothing_caustic * b;
   } else if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u) {

@@ -236,8 +236,8 @@ int pb_cmd_render(int argc, char **argv) {
       {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s, dimensionless (default " PB_PHOTON_SMOOTHING_DEFAULT_STR ")",
        NULL, 0, 0},
       {"smoothing-caustic", 0, PB_OPT_FLOAT, &o.smoothing_caustic, "S",
-       "caustic photons keep their differential footprint, uncompressed, times S (seed 000 4.3; default: "
-       "compressed like the diffuse ones with s = 5)", NULL, 0, 0},
+       "caustic photons keep their differential footprint, uncompressed, times S (seed 000 4.3; default "
+       PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0},
       {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 18 photon spacings on the scene's bounding sphere, 18 Delta R: it shrinks as the photons grow)",
        NULL, 0, 0},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,

@@ -39,12 +39,19 @@ typedef struct pb_photon_map {
  * where r_max = 5 % of the scene radius does not clamp first). */
 #define PB_PHOTON_SMOOTHING_DEFAULT 2.5f
 #define PB_PHOTON_SMOOTHING_DEFAULT_STR "2.5"
-/* Default s_caustic: caustic photons' footprints compressed like the
- * diffuse ones with s = 5 (seed 000's caustic factor). A positive
- * smoothing_caustic in the desc switches them to the paper's uncompressed
- * differential footprint s_caustic Delta dP (photon_trace.comp pb_store,
- * PB_PHOTON_PARAM_CAUSTIC_RAW; issue 18 item 2, opt-in until measured). */
-#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 5.0f
+/* Default s_caustic (issue 18 item 2): caustic photons keep their
+ * differential footprint, uncompressed, times s_caustic (seed 000 4.3
+ * compresses only the diffusely reflected ones; photon_trace.comp pb_store,
+ * PB_PHOTON_PARAM_CAUSTIC_RAW). The old footprint (compressed like the
+ * diffuse ones with s = 5, twice the diffuse s where the paper's caustic
+ * factor is 1/12 to 1/2 of it) was only sharp while the old r_max clamped
+ * it. Measured (bench/README.md, "Caustic footprints"; r_max 18 Delta R):
+ * ring 64 px, 8 maps of 2^16 paths: 23.4 dB at 0.5, 22.3 at 1, 19.5 at 2,
+ * 19.1 at 5, 21.6 compressed; 2^18: 25.9 dB at 0.5, 25.5 at 1, 24.8
+ * compressed; cornell_caustics 48 px: 33.8-33.9 dB for all (its caustic is
+ * not footprint-bound). 0.5: the best on ring at both budgets. */
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 0.5f
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR "0.5"
 /* Default r_max (issue 18 item 3): PB_PHOTON_R_MAX_FACTOR r_ref, with
  * r_ref = Delta R the photon spacing on the scene's bounding sphere (R its
  * radius, Delta = 2 sqrt(pi / N)). Every footprint is a multiple of Delta
@@ -54,10 +61,11 @@ typedef struct pb_photon_map {
  * default, 5 % of R, is 0.05 / Delta r_ref: 2.6 r_ref at 2^15 paths, where it
  * clamped 96-100 % of the footprints of every sample (the kernel was a fixed
  * disc), 7.2 r_ref at 2^18. Measured (test_gpu_photon_clamp, one map of 2^15
- * paths, r_max 10 R): the 99th percentile of r' / r_ref is 10.4
- * (cornell_box), 14.7 (cornell_caustics), 11.3 (ring), 13.9 (spot_room),
- * 11.2 (sun_atrium); 99.5th 11.9-18.2. 18 clamps at most 1 % on every
- * sample, with a margin for the scene-dependent tail. */
+ * paths, r_max 10 R, the default s and s_caustic): the 99th percentile of
+ * r' / r_ref is 10.4 (cornell_box), 14.7 (cornell_caustics), 12.8 (ring),
+ * 13.9 (spot_room), 11.2 (sun_atrium); 99.5th 11.9-18.5. 18 clamps at most
+ * 1 % on every sample (0.07-0.55 % at 2^15 and 2^17 paths), with a margin
+ * for the scene-dependent tail. */
 #define PB_PHOTON_R_MAX_FACTOR 18.0f
 
 /* How a path's first hit is found (seed 001 24.2.1). */
@@ -77,8 +85,8 @@ typedef struct pb_photon_trace_desc {
   float smoothing;            /* s for diffuse photons (dimensionless, see
                                  pb_store in photon_trace.comp); 0:
                                  PB_PHOTON_SMOOTHING_DEFAULT */
-  float smoothing_caustic;    /* > 0: caustic footprints uncompressed, this
-                                 times Delta dP; 0: compressed with
+  float smoothing_caustic;    /* caustic footprints: this times Delta dP,
+                                 uncompressed; 0:
                                  PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
   float r_max;                /* footprint radius clamp, metres; 0:
                                  PB_PHOTON_R_MAX_FACTOR Delta R */

@@ -216,7 +216,6 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
    * 3, 29.7 dB with 7). bench/README.md, "Path length", has the cost. */
   if (!d.max_bounces) d.max_bounces = PB_PHOTON_BOUNCE_CAP;
   if (d.smoothing == 0.0f) d.smoothing = PB_PHOTON_SMOOTHING_DEFAULT;
-  int caustic_raw = d.smoothing_caustic > 0.0f; /* the uncompressed caustic footprint (photon.h) */
   if (d.smoothing_caustic == 0.0f) d.smoothing_caustic = PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT;
   if (d.max_bounces > 255)
     return pb_fail(PB_ERR_USAGE, "photons: max_bounces %u (at most 255)", d.max_bounces);
@@ -264,7 +263,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->p.capacity = (uint32_t)capacity;
   t->p.smoothing = d.smoothing;
   t->p.smoothing_caustic = d.smoothing_caustic;
-  if (caustic_raw) t->p.flags |= PB_PHOTON_PARAM_CAUSTIC_RAW;
+  t->p.flags |= PB_PHOTON_PARAM_CAUSTIC_RAW; /* caustic footprints uncompressed (photon.h) */
   if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,

@@ -139,10 +139,10 @@ typedef struct pb_render_desc {
   float smoothing;             /* footprint factor s (dimensionless); 0:
                                   PB_PHOTON_SMOOTHING_DEFAULT (photon.h) */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
-  float smoothing_caustic;     /* > 0: caustic photons keep their
-                                  differential footprint, times this
-                                  (uncompressed, issue 18); 0: compressed
-                                  with PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
+  float smoothing_caustic;     /* caustic photons keep their differential
+                                  footprint, times this (uncompressed,
+                                  issue 18); 0:
+                                  PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
