@@ -11,7 +11,16 @@
 // by pi, so K / A_i integrates to 1 over the ellipse) or the constant 1.
 // f is the reference's smooth BSDF (Lambert + GGX layer, pb_bsdf_eval) with
 // the material and textures at x; for a Blender material the closures the
-// G-buffer pass left to the photon map (gbuffer.lobes). Caustic photons go into their own sum;
+// G-buffer pass left to the photon map (gbuffer.lobes), times the adjoint
+// shading-normal weight |wi_i . n_s| / |wi_i . n_g,i| (Veach 1997 5.3; the
+// reference's pb_photon_gather, src/ref/photons.c): the photon density on a
+// face carries the geometric cosine |wi . n_g,i| of the face the photon hit
+// (its stored normal), while the BSDF's cosine is the shading one at x, so
+// each photon's cosine is swapped; photons with wi . n_g,i < 1e-4 (grazing or from below the
+// face, where the ratio diverges) count nothing, as in the reference. On
+// flat-shaded faces n_s = n_g and the weight is 1. Scenes with normal maps
+// leave it to eq. 20 (shading_correction.c, from n_g to the mapped normal,
+// which includes the interpolation), so it is not applied twice. Caustic photons go into their own sum;
 // both are multiplied by the specular chain's throughput and added to the
 // beauty (unless PB_GATHER_NO_BEAUTY).
 #extension GL_GOOGLE_include_directive : require
@@ -83,6 +92,15 @@ void main() {
             float area = PB_PI * sqrt(det);
             float k = (box_kernel ? 1.0 : 2.0 * (1.0 - q)) / area;
             vec3 f = pb_bsdf_eval(b, g.wo, p.wi, rng);
+            if (SC_HAS_NORMALS && !nmap) {
+              // The photon's own face: its density carries |wi . n_g| of the
+              // face it hit (p.normal), which differs from this point's n_g
+              // where a footprint reaches across an edge of a coarse mesh
+              // (measured: with surf.ng here, +14 % on the smooth sphere of
+              // test_gpu_smooth_shading, with p.normal within noise).
+              float cg = dot(p.wi, p.normal);
+              f *= cg >= 1e-4 ? abs(dot(p.wi, surf.ns)) / cg : 0.0;
+            }
             vec3 contrib = k * f * p.power;
             if (!any(isnan(contrib)) && !any(isinf(contrib))) {
               if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) {

@@ -177,6 +177,11 @@ void main() {
       if (!pb_blender_sample(b, wo, (uc - p_d) / p_g, u1, u2, false, rng, wi, wgt, pdf, delta, transmit)) break;
       beta = beta_g * wgt;
       if (all(equal(beta, vec3(0.0))) || any(isnan(beta)) || any(isinf(beta))) break;
+      if (chain >= 7u) { // Russian roulette as below (long chains)
+        float q = min(0.95, max(beta.r, max(beta.g, beta.b)));
+        if (!(pb_rand(key, s, 0x52520000u + chain) < q)) break;
+        beta /= q;
+      }
       sigma = pb_medium_after(sigma, surf, transmit);
       org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
       dir = wi;
@@ -240,6 +245,16 @@ void main() {
       }
     }
     if (all(equal(beta, vec3(0.0)))) break;
+    // Russian roulette on long delta chains (issue 18 item 8): from the 8th
+    // interaction on (the old default depth) the chain survives with
+    // q = min(0.95, max_c beta_c) and beta / q (unbiased: E = q beta / q),
+    // so max_specular_depth (64 by default) is a safety net, not the end of
+    // a mirror corridor or of light trapped in glass.
+    if (chain >= 7u) {
+      float q = min(0.95, max(beta.r, max(beta.g, beta.b)));
+      if (!(pb_rand(key, s, 0x52520000u + chain) < q)) break;
+      beta /= q;
+    }
     sigma = pb_medium_after(sigma, surf, transmit);
     org = pb_offset_ray(surf.p, transmit ? -surf.ng : surf.ng);
     dir = wi;

@@ -53,10 +53,13 @@
 // texel's world footprint as Delta dP at the first hit.
 //
 // Footprint stored at a hit: a = Delta dPu, b = Delta dPv (in the tangent
-// plane after the transfer), then the -3/4 compression and smoothing factor
-// of seed 000 4.3, a <- s Delta dPu |dPu|^(-3/4) (s_caustic for caustic
-// photons), clamped so the semi-major is at most r_max (both axes scaled
-// together). radius: the true semi-major of the skewed ellipse;
+// plane after the transfer), then for diffusely reflected photons the -3/4
+// compression and smoothing factor of seed 000 4.3, a <- s Delta dPu
+// |dPu|^(-3/4) (scale-free, see pb_store), for caustic photons only their
+// own factor, a <- s_caustic Delta dPu (PB_PHOTON_PARAM_CAUSTIC_RAW, always
+// set by the host); clamped so the semi-major is at most r_max (both axes
+// scaled together; counts.clamped counts them). radius: the true semi-major
+// of the skewed ellipse;
 // normal_extent: its semi-minor length (a flat ellipsoid as thin as the
 // footprint is narrow, so a query on another surface only cuts it where the
 // two surfaces are within the footprint's smaller extent).
@@ -101,7 +104,28 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
               uint path) {
   float delta = params.delta;
   vec3 a = delta * dPu, b = delta * dPv;
-  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u) {
+  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
+      (params.flags & PB_PHOTON_PARAM_CAUSTIC_RAW) != 0u) {
+    // Caustic photons (issue 18 item 2): seed 000 4.3 rescales "the
+    // footprints of all diffusely reflected photons"; a photon that has
+    // undergone only specular interactions keeps its differential
+    // footprint, times its own smoothing factor (the paper uses 5,
+    // "ensuring very sharp caustics", against its diffuse s of 10-60):
+    // a = s_c Delta dPu, b = s_c Delta dPv. Without
+    // the compression s_c is dimensionless already (the footprint is a
+    // length, Delta dP, scaling with the scene), and the footprint follows
+    // the caustic's focus: where specular paths converge dP shrinks and so
+    // does the kernel. Raw footprints (s_c = 1) overlap pi of their
+    // neighbours (area pi (Delta |dP|)^2 against a spacing (Delta |dP|)^2),
+    // s_c photons per axis more: k_PD ~ pi s_c^2 on a caustic. The host
+    // always sets PB_PHOTON_PARAM_CAUSTIC_RAW; s_c defaults to 0.5, the
+    // best of the sweep on ring (src/render/photon.h, bench/README.md
+    // "Caustic footprints": 5 blurs ring's cardioid, 19.1 against 23.4 dB);
+    // the compressed branch below (the old behaviour) stays for the flag's
+    // absence only.
+    a = params.smoothing_caustic * a;
+    b = params.smoothing_caustic * b;
+  } else if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u) {
     float s = caustic ? params.smoothing_caustic : params.smoothing;
     // Scale-free -3/4 compression (seed 000 section 4.3). The paper's
     // r' = s Delta |dP|^(1/4) = s Delta^(3/4) r^(1/4), r = Delta |dP| the raw
@@ -135,11 +159,13 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
     b = r * bt;
     ax = vec2(r);
   }
+  bool clamped = false;
   if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && ax.x > params.r_max) {
     float k = params.r_max / ax.x;
     a *= k;
     b *= k;
     ax *= k;
+    clamped = true;
   }
   if (!pb_finite3(p) || !pb_finite3(power) || !pb_finite3(a) || !pb_finite3(b) || !pb_finite3(wi) ||
       !pb_finite3(n) || isnan(ax.x) || isnan(ax.y)) {
@@ -155,6 +181,7 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
     return;
   }
   if (caustic) atomicAdd(counts.caustic, 1u);
+  if (clamped) atomicAdd(counts.clamped, 1u);
   pb_gpu_photon ph;
   ph.position = p;
   ph.flags = (caustic ? PB_PHOTON_CAUSTIC : 0u) | (min(bounce, 255u) << PB_PHOTON_BOUNCE_SHIFT);
@@ -169,6 +196,20 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
   ph.axis_v = b;
   ph.pad1 = 0.0;
   photons[idx] = ph;
+}
+
+// Adjoint shading-normal correction of a photon's smooth scattering (Veach
+// 1997, eq. 5.19; issue 18 item 4): the BSDF sampled and weighted with the
+// shading normal n_s carries flux as radiance would; importance (photons)
+// needs f* = f |wo.n_s| |wi.n_g| / (|wo.n_g| |wi.n_s|), wo the direction the
+// photon came from, wi the one it leaves in. Without it a smooth-shaded face
+// sends its reflected flux by cos(wi, n_s) instead of cos(wi, n_g) (the
+// projected area of the real face): measured, a floor whose normals lean
+// 30 degrees toward a wall over-lit that wall and came back +17 % too bright
+// (test_gpu_smooth_shading). 1 on flat faces; denominators guarded at 1e-4.
+float pb_adjoint_shading(vec3 wo, vec3 wi, vec3 ns, vec3 ng) {
+  float den = max(abs(dot(wo, ng)), 1e-4) * max(abs(dot(wi, ns)), 1e-4);
+  return abs(dot(wo, ns)) * abs(dot(wi, ng)) / den;
 }
 
 // Steps (cos theta, phi) by h in the eq.-8-scaled parameters (tests'
@@ -437,6 +478,7 @@ void pb_trace_path(uint gid) {
         dDu = nu;
         dDv = nv;
         caustic = false;
+        w *= pb_adjoint_shading(wo, wi, b.n, surf.ng);
       }
     } else if (uc < p_smooth) {
       float c = sqrt(max(0.0, 1.0 - s1)), sn = sqrt(s1), phi = 2.0 * PB_PI * s2;
@@ -445,7 +487,7 @@ void pb_trace_path(uint gid) {
       wi = b.t * lw.x + b.b * lw.y + b.n * lw.z;
       if (!(lw.z > 0.0) || dot(wi, b.ng) <= 0.0) return;
       uint no_rng = 0u; // glTF materials evaluate deterministically
-      w = pb_bsdf_eval(b, wo, wi, no_rng) * (PB_PI / p_smooth);
+      w = pb_bsdf_eval(b, wo, wi, no_rng) * (PB_PI / p_smooth) * pb_adjoint_shading(wo, wi, b.n, surf.ng);
       vec3 nu, nv;
       pb_diff_emission_dirs(b.t, b.b, b.n, c, sn, phi, nu, nv);
       pb_diff_reemit(dPu, dPv, nu, nv);
@@ -479,10 +521,16 @@ void pb_trace_path(uint gid) {
     } else {
       return;
     }
-    // Russian roulette on the max power ratio (seed 001 eq. 1).
+    // Russian roulette on the max power ratio (seed 001 eq. 1). From the
+    // 8th interaction on (depth 7: where the old default of 7 stored
+    // bounces truncated) survival is capped at 0.95, so every path ends
+    // geometrically even on white walls or between mirrors and the bounce
+    // cap (params.max_bounces, 255 by default; src/render/photon.h) is a
+    // safety net, not a truncation: E[Phi'] = p Phi w / p = Phi w stays
+    // unbiased. Shorter paths draw as before.
     float pmax = pb_max3(power);
     float q = pb_max3(power * w) / pmax;
-    float p = min(1.0, q);
+    float p = min(depth >= 7u ? 0.95 : 1.0, q);
     if (!(p > 0.0) || ur >= p) {
       atomicAdd(params.absorbed, 1u);
       return;

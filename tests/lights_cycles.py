@@ -59,11 +59,12 @@ def main(argv):
         out = os.path.join(work, "%s_%s.exr" % (name, kind))
         js = os.path.join(work, "%s_%s.json" % (name, kind))
         if kind == "ref":
+            # Cycles rendered these with Max Bounces 7: 8 scattering events.
             cmd = [exe, "reference", gltf, "-o", out, "--width", "48", "--spp", "1024", "--estimate-noise",
-                   "--json", js, "-q"]
+                   "--max-bounces", "8", "--json", js, "-q"]
         else:
             cmd = [exe, "render", gltf, "-o", out, "--width", "48", "--spp", "64", "--iterations", "8",
-                   "--photons", "65536", "--json", js, "-q"]
+                   "--photons", "65536", "--max-bounces", "8", "--json", js, "-q"]
         rc, _, err = run(cmd)
         if rc == 12 and kind == "gpu":
             print("SKIP: %s" % err.strip())

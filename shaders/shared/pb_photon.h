@@ -7,7 +7,7 @@
  * footprint, a skewed ellipsoid whose two in-surface semi-axes come from the
  * photon's positional differentials times the global spacing Delta
  * (eq. 8-9), rescaled after tracing by |dP|^(-3/4) and the smoothing factor s
- * (s_caustic for caustic photons), clamped to r_max; its third axis is the
+ * (caustic photons: uncompressed, times s_caustic), clamped to r_max; its third axis is the
  * surface normal, of half-length `normal_extent`. */
 #ifndef PB_PHOTON_SHARED_H
 #define PB_PHOTON_SHARED_H
@@ -46,12 +46,14 @@ PB_STRUCT(pb_gpu_photon) {
   float pad1;
 } PB_END(pb_gpu_photon)
 
-/* Counters written by the tracer (atomics), 16 bytes. */
+/* Counters written by the tracer (atomics), 32 bytes. */
 PB_STRUCT(pb_gpu_photon_counts) {
   uint stored;          /* photons written (<= capacity) */
   uint caustic;         /* of which caustic */
   uint emitted;         /* photon paths started */
   uint overflow;        /* hits dropped because the buffer was full */
+  uint clamped;         /* of the stored, footprints shrunk to r_max */
+  uint pad0, pad1, pad2;
 } PB_END(pb_gpu_photon_counts)
 
 #ifndef PB_GLSL
@@ -66,7 +68,7 @@ _Static_assert(offsetof(pb_gpu_photon, normal) == 48, "pb_gpu_photon.normal");
 _Static_assert(offsetof(pb_gpu_photon, path) == 60, "pb_gpu_photon.path");
 _Static_assert(offsetof(pb_gpu_photon, axis_u) == 64, "pb_gpu_photon.axis_u");
 _Static_assert(offsetof(pb_gpu_photon, axis_v) == 80, "pb_gpu_photon.axis_v");
-_Static_assert(sizeof(pb_gpu_photon_counts) == 16, "pb_gpu_photon_counts size");
+_Static_assert(sizeof(pb_gpu_photon_counts) == 32, "pb_gpu_photon_counts size");
 #endif
 
 #endif

@@ -64,7 +64,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const char *cam
   pb_json_int(&j, "spp", st->spp);
   pb_json_int(&j, "seed", (int64_t)seed);
   pb_json_int(&j, "max_bounces", d->max_bounces == PB_REF_BOUNCES_ZERO ? 0
-                                 : d->max_bounces ? d->max_bounces : 8);
+                                 : d->max_bounces ? d->max_bounces : PB_REF_BOUNCE_CAP);
   pb_json_number(&j, "time_limit_s", o->time_limit);
   pb_json_int(&j, "threads", st->threads);
   pb_json_number(&j, "time_s", st->time_s);
@@ -116,7 +116,8 @@ int pb_cmd_reference(int argc, char **argv) {
        "stop after the first whole pass (1 spp each) ending past S seconds; "
        "the spp reached is reported", NULL, 0, 1e9},
       {"max-bounces", 0, PB_OPT_U32, &o.max_bounces, "N",
-       "scattering events per path, direct light = 1 (default 8; 0: emitters only)",
+       "scattering events per path, direct light = 1 (default: unbounded, paths end by Russian "
+       "roulette, with a safety cap of 1024; Blender's Max Bounces B is B + 1; 0: emitters only)",
        NULL, 0, 4096},
       {"threads", 0, PB_OPT_U32, &o.threads, "N",
        "worker threads (default: every core; the image does not depend on it)", NULL,
@@ -226,7 +227,7 @@ int pb_cmd_reference(int argc, char **argv) {
   snprintf(spp_s, sizeof spp_s, "%u", st->spp);
   snprintf(seed_s, sizeof seed_s, "%llu", (unsigned long long)c.seed);
   snprintf(bounce_s, sizeof bounce_s, "%u",
-           d.max_bounces == PB_REF_BOUNCES_ZERO ? 0u : d.max_bounces ? d.max_bounces : 8u);
+           d.max_bounces == PB_REF_BOUNCES_ZERO ? 0u : d.max_bounces ? d.max_bounces : (unsigned)PB_REF_BOUNCE_CAP);
   if (st->noise_rmse >= 0)
     snprintf(noise_s, sizeof noise_s, "%.6g", st->noise_rmse);
   else

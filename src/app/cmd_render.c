@@ -38,12 +38,12 @@ static const pb_command *self(void) {
 }
 
 typedef struct render_opts {
-  uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size;
+  uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size, max_bounces;
   int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
   int first_bounce; /* index into first_bounce_names */
   uint32_t atrous;
   double atrous_gamma;
-  double smoothing, r_max, alpha, glossy_path_roughness;
+  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic;
   const char *png;
   /* Sequences (issue 6; render_seq.h). */
   const char *frames;
@@ -125,7 +125,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_bool(&j, "direct_only", o->direct_only);
   pb_json_number(&j, "glossy_path_roughness",
                  isnan(o->glossy_path_roughness) ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : o->glossy_path_roughness);
-  pb_json_int(&j, "max_specular_depth", o->max_spec ? o->max_spec : 8);
+  pb_json_int(&j, "max_specular_depth", o->max_spec ? o->max_spec : PB_RENDER_MAX_SPECULAR_DEPTH);
+  pb_json_int(&j, "max_bounces", o->max_bounces); /* 0: unbounded (Russian roulette) */
   pb_json_bool(&j, "timestamps", st->timestamps);
   pb_json_begin_object(&j, "passes_ms");
   pb_json_number(&j, "bvh_build", st->bvh_build_ms);
@@ -152,6 +153,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_int(&j, "emitted", (int64_t)st->photons_emitted);
     pb_json_int(&j, "stored", (int64_t)st->photons_stored);
     pb_json_int(&j, "caustic", (int64_t)st->photons_caustic);
+    pb_json_int(&j, "clamped", (int64_t)st->photons_clamped); /* footprints at r_max */
+    pb_json_number(&j, "clamped_share", st->photons_stored ? (double)st->photons_clamped / st->photons_stored : 0.0);
     pb_json_int(&j, "t_auto", st->t_auto);
     pb_json_int(&j, "leaf_size", st->leaf_size);
     pb_json_int(&j, "lbvh_leaves", st->lbvh_leaves);
@@ -218,7 +221,8 @@ int pb_cmd_render(int argc, char **argv) {
       {"spp", 0, PB_OPT_U32, &o.spp, "N", "samples per pixel (default 1: pixel centres; more: stratified jitter)",
        NULL, 1, 1 << 20},
       {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
-       "mirror/glass interactions followed along an eye path (default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
+       "mirror/glass interactions followed along an eye path (default: Russian roulette from the 9th, cap 64)",
+       NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
       {"glossy-path-roughness", 0, PB_OPT_FLOAT, &o.glossy_path_roughness, "R",
        "Blender materials: specular and clearcoat layers of Roughness above R are shaded where the eye path stops "
        "(direct light and the photon map), smoother ones are followed by the eye path; 0: every layer shaded at "
@@ -230,11 +234,18 @@ int pb_cmd_render(int argc, char **argv) {
        "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K; default 1)", NULL, 1,
        1 << 16},
       {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
-       "diffuse bounces stored per photon path (default 7: with the unstored direct hit, the reference's 8 "
-       "scattering events)", NULL, 1, 64},
+       "bounces stored per photon path (default: unbounded, paths end by Russian roulette, cap 255)", NULL, 1,
+       255},
+      {"max-bounces", 0, PB_OPT_U32, &o.max_bounces, "N",
+       "scattering events per path, direct light = 1, as the reference's --max-bounces (Blender's Max Bounces "
+       "B is B + 1): photon paths store N - 1 bounces, eye paths follow N - 1 mirror/glass interactions, 1 is "
+       "--direct-only (default: unbounded)", NULL, 1, 1024},
       {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s, dimensionless (default " PB_PHOTON_SMOOTHING_DEFAULT_STR ")",
        NULL, 0, 0},
-      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 5% of the scene radius)",
+      {"smoothing-caustic", 0, PB_OPT_FLOAT, &o.smoothing_caustic, "S",
+       "caustic photons keep their differential footprint, uncompressed, times S (seed 000 4.3; default "
+       PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0},
+      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 18 photon spacings on the scene's bounding sphere, 18 Delta R: it shrinks as the photons grow)",
        NULL, 0, 0},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
        "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
@@ -342,6 +353,17 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
+  /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
+   * A photon stored at its k-th bounce ends a path of k + 1 events at the
+   * eye's first smooth vertex, so photons store at most N - 1; the eye's
+   * mirror/glass chain before that vertex is limited to N - 1 as well (a
+   * path through both may exceed N: the GPU does not count them together). */
+  if (o.max_bounces == 1) o.direct_only = 1;
+  if (o.max_bounces >= 2) {
+    uint32_t n = o.max_bounces - 1;
+    if (!o.photon_bounces) o.photon_bounces = n < PB_PHOTON_BOUNCE_CAP ? n : PB_PHOTON_BOUNCE_CAP;
+    if (!o.max_spec) o.max_spec = n < PB_RENDER_MAX_SPECULAR_DEPTH ? n : PB_RENDER_MAX_SPECULAR_DEPTH;
+  }
   uint32_t crop[4] = {0, 0, 0, 0};
   if (o.crop && (r = parse_crop(o.crop, crop)) != PB_OK) return pb_cli_exit(cmd, r);
   if (o.frames && (o.crop || o.preview || o.time_limit > 0))
@@ -395,12 +417,13 @@ int pb_cmd_render(int argc, char **argv) {
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
   pb_progress_line_stage("uploaded", pb_time_now() - t_start);
-  if (o.smoothing < 0 || o.r_max < 0 || !(o.smoothing < 1e6) || !(o.r_max < 1e9)) {
-    r = pb_fail(PB_ERR_USAGE, "render: --smoothing and --r-max must be positive");
+  if (o.smoothing < 0 || o.r_max < 0 || o.smoothing_caustic < 0 || !(o.smoothing < 1e6) || !(o.r_max < 1e9) ||
+      !(o.smoothing_caustic < 1e6)) {
+    r = pb_fail(PB_ERR_USAGE, "render: --smoothing, --smoothing-caustic and --r-max must be positive");
     goto done;
   }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
-                       .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing,
+                       .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel, .no_shading_correction = o.no_shading_correction,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
                        .radius_histogram = o.radius_histogram,

@@ -24,17 +24,17 @@ extern const char *const pb_live_first_bounce_names[];
 #define PB_LIVE_OPTS(o)                                                                                            \
   {"spp", 0, PB_OPT_U32, &(o)->spp, "N", "samples per pixel per frame (default 1)", NULL, 1, 1 << 20},             \
   {"max-specular-depth", 0, PB_OPT_U32, &(o)->max_spec, "N", "mirror/glass interactions along an eye path "       \
-   "(default 8)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},                                                           \
+   "(default: Russian roulette from the 9th, cap 64)", NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},                                                           \
   {"direct-only", 0, PB_OPT_FLAG, &(o)->direct_only, NULL, "only paths with at most one scattering event", NULL,   \
    0, 0},                                                                                                          \
   {"photons", 0, PB_OPT_U32, &(o)->photons, "N", "photon paths per map (default 2^18)", NULL, 1, 1u << 26},        \
   {"iterations", 0, PB_OPT_U32, &(o)->iterations, "K", "photon maps per frame (default 1)", NULL, 1, 1 << 16},     \
-  {"photon-bounces", 0, PB_OPT_U32, &(o)->bounces, "N", "diffuse bounces stored per photon path (default 7)",      \
-   NULL, 1, 64},                                                                                                   \
+  {"photon-bounces", 0, PB_OPT_U32, &(o)->bounces, "N", "bounces stored per photon path (default: unbounded, " \
+   "Russian roulette, cap 255)", NULL, 1, 255},                                                                                                   \
   {"smoothing", 0, PB_OPT_FLOAT, &(o)->smoothing, "S", "footprint smoothing factor (default "                      \
    PB_PHOTON_SMOOTHING_DEFAULT_STR ")", NULL, 0, 1e6},                                                             \
-  {"r-max", 0, PB_OPT_FLOAT, &(o)->r_max, "M", "footprint radius clamp in metres (default 5% of the scene "        \
-   "radius)", NULL, 0, 1e9},                                                                                       \
+  {"r-max", 0, PB_OPT_FLOAT, &(o)->r_max, "M", "footprint radius clamp in metres (default 18 photon "  \
+   "spacings on the scene's bounding sphere: it shrinks as the photons grow)", NULL, 0, 1e9},                                                                                       \
   {"progressive", 0, PB_OPT_FLAG, &(o)->progressive, NULL, "footprints shrink from still frame to still frame "   \
    "(probabilistic SPPM), so a still view converges to the unbiased answer", NULL, 0, 0},                          \
   {"alpha", 0, PB_OPT_FLOAT, &(o)->alpha, "A", "--progressive: radius^2 fraction kept per map, in (0, 1) "        \

@@ -210,6 +210,17 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
     if (!bs.delta) return; /* no longer a pure specular chain */
     power = v3_mul(power, bs.weight);
     if (v3_is_zero(power) || !v3_finite(power)) return;
+    /* Russian roulette on long delta chains (a photon caught between
+     * mirrors or inside glass by total internal reflection): from the 8th
+     * delta event, where the old default truncated, survival
+     * q = min(0.95, max_c w_c) and power / q (unbiased: E = q power / q), so
+     * the default PB_REF_BOUNCE_CAP is never what ends a chain. Shorter
+     * chains draw the same random numbers as before. */
+    if (chain >= 7) {
+      float q = fminf(0.95f, v3_max(bs.weight));
+      if (!(pb_rng_f(&rng) < q)) return;
+      power = v3_scale(power, 1.0f / q);
+    }
     chain++;
     sigma = pb_medium_after(sigma, &surf, &bs);
     o = pb_offset_ray(surf.p, bs.transmit ? v3_neg(surf.ng) : surf.ng);

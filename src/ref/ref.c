@@ -338,7 +338,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   uint32_t spp = desc.spp ? desc.spp : (desc.time_limit_s > 0 ? (1u << 24) : 64u);
   if (desc.estimate_noise && (spp & 1u)) spp = spp == UINT32_MAX ? spp - 1 : spp + 1;
   uint32_t max_bounces = desc.max_bounces == PB_REF_BOUNCES_ZERO ? 0
-                         : desc.max_bounces ? desc.max_bounces : 8u;
+                         : desc.max_bounces ? desc.max_bounces : (uint32_t)PB_REF_BOUNCE_CAP;
   if (max_bounces > MAX_BOUNCES_CAP) max_bounces = MAX_BOUNCES_CAP;
   float alpha = desc.photon_alpha > 0.0f ? desc.photon_alpha : 2.0f / 3.0f;
 

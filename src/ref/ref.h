@@ -51,7 +51,9 @@ typedef struct pb_ref_desc {
   uint32_t spp;          /* samples per pixel; 0: 64, or 2^24 (unbounded) when
                             time_limit_s > 0 */
   uint32_t max_bounces;  /* scattering events on a path between light and eye
-                            (direct lighting is 1); 0: 8. Use
+                            (direct lighting is 1); 0: unbounded, paths end
+                            by Russian roulette alone (PB_REF_BOUNCE_CAP is
+                            only a safety net, see pathtrace.c). Use
                             PB_REF_BOUNCES_ZERO to render only emitters seen
                             directly. */
   uint64_t seed;
@@ -75,6 +77,13 @@ typedef struct pb_ref_desc {
 } pb_ref_desc;
 
 enum { PB_REF_BOUNCES_ZERO = UINT32_MAX };
+/* The default path length: a safety cap that Russian roulette makes
+ * unreachable in practice (pathtrace.c: survival at most 0.95 per event from
+ * the third, so a path reaches 1024 events with probability below
+ * 0.95^1021 ~ 2e-23; the light of longer paths in a closed room of albedo
+ * rho is rho^1024 of the total). Explicit --max-bounces values (Blender's
+ * bounce limits) still truncate. */
+enum { PB_REF_BOUNCE_CAP = 1024 };
 
 typedef struct pb_ref_stats {
   uint32_t spp;               /* samples per pixel actually rendered */

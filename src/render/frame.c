@@ -33,7 +33,7 @@ typedef struct ctx_key {
   const pb_gpu_scene *gs;
   const void *photon_map;
   uint32_t width, height, photons, bounces, first_bounce, leaf_size;
-  float smoothing, r_max;
+  float smoothing, r_max, smoothing_caustic;
   int constant_kernel, direct_only, photons_on;
 } ctx_key;
 
@@ -181,7 +181,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0 || s->world.present);
   uint32_t iters = photons_on ? (desc.iterations ? desc.iterations : 1) : 1;
   if (photons_on && spp < iters) spp = iters;
-  uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : 8;
+  uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : PB_RENDER_MAX_SPECULAR_DEPTH; /* RR from 8: gbuffer.comp */
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
   double wall0 = pb_time_now();
 
@@ -227,7 +227,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.photon_map = desc.photon_map;
   key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
   key.first_bounce = desc.first_bounce, key.leaf_size = desc.leaf_size;
-  key.smoothing = desc.smoothing, key.r_max = desc.r_max;
+  key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
   key.constant_kernel = desc.constant_kernel, key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
@@ -282,7 +282,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   } else if (photons_on) {
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
-                                 .first_bounce = desc.first_bounce};
+                                 .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce};
       if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
     }
     pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size};
@@ -343,7 +343,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         photon_gpu_ms += ms > 0 ? ms : 0;
         m = &map;
       }
-      if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted;
+      if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
+                     out->stats.photons_clamped += m->clamped;
       if (band == 0 && !desc.photon_map) {
         pb_photon_trace_stats pts;
         pb_photon_tracer_stats(tracer, &pts);

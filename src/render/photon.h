@@ -26,7 +26,7 @@ typedef struct pb_photon_map {
   pb_gpu_buffer counts;       /* pb_gpu_photon_counts */
   uint32_t capacity;
   /* Host copies of the counters, read back after the trace. */
-  uint32_t stored, caustic, emitted, overflow;
+  uint32_t stored, caustic, emitted, overflow, clamped;
 } pb_photon_map;
 
 /* Default s of a frame (render.h: smoothing 0). Footprint radius
@@ -39,6 +39,34 @@ typedef struct pb_photon_map {
  * where r_max = 5 % of the scene radius does not clamp first). */
 #define PB_PHOTON_SMOOTHING_DEFAULT 2.5f
 #define PB_PHOTON_SMOOTHING_DEFAULT_STR "2.5"
+/* Default s_caustic (issue 18 item 2): caustic photons keep their
+ * differential footprint, uncompressed, times s_caustic (seed 000 4.3
+ * compresses only the diffusely reflected ones; photon_trace.comp pb_store,
+ * PB_PHOTON_PARAM_CAUSTIC_RAW). The old footprint (compressed like the
+ * diffuse ones with s = 5, twice the diffuse s where the paper's caustic
+ * factor is 1/12 to 1/2 of it) was only sharp while the old r_max clamped
+ * it. Measured (bench/README.md, "Caustic footprints"; r_max 18 Delta R):
+ * ring 64 px, 8 maps of 2^16 paths: 23.4 dB at 0.5, 22.3 at 1, 19.5 at 2,
+ * 19.1 at 5, 21.6 compressed; 2^18: 25.9 dB at 0.5, 25.5 at 1, 24.8
+ * compressed; cornell_caustics 48 px: 33.8-33.9 dB for all (its caustic is
+ * not footprint-bound). 0.5: the best on ring at both budgets. */
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 0.5f
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR "0.5"
+/* Default r_max (issue 18 item 3): PB_PHOTON_R_MAX_FACTOR r_ref, with
+ * r_ref = Delta R the photon spacing on the scene's bounding sphere (R its
+ * radius, Delta = 2 sqrt(pi / N)). Every footprint is a multiple of Delta
+ * (diffuse: r' = s Delta R^(3/4) |dP|^(1/4); caustic, uncompressed:
+ * s_c Delta |dP|), so with r_max ~ Delta the clamped share does not depend
+ * on the budget N and r_max shrinks as N^(-1/2) with the photons. The old
+ * default, 5 % of R, is 0.05 / Delta r_ref: 2.6 r_ref at 2^15 paths, where it
+ * clamped 96-100 % of the footprints of every sample (the kernel was a fixed
+ * disc), 7.2 r_ref at 2^18. Measured (test_gpu_photon_clamp, one map of 2^15
+ * paths, r_max 10 R, the default s and s_caustic): the 99th percentile of
+ * r' / r_ref is 10.4 (cornell_box), 14.7 (cornell_caustics), 12.8 (ring),
+ * 13.9 (spot_room), 11.2 (sun_atrium); 99.5th 11.9-18.5. 18 clamps at most
+ * 1 % on every sample (0.07-0.55 % at 2^15 and 2^17 paths), with a margin
+ * for the scene-dependent tail. */
+#define PB_PHOTON_R_MAX_FACTOR 18.0f
 
 /* How a path's first hit is found (seed 001 24.2.1). */
 typedef enum pb_photon_first_bounce {
@@ -51,16 +79,32 @@ typedef enum pb_photon_first_bounce {
 /* Zero means default for every field. */
 typedef struct pb_photon_trace_desc {
   uint32_t photons;           /* paths emitted per iteration; 0: 2^18 */
-  uint32_t max_bounces;       /* stored diffuse bounces per path; 0: 7 */
+  uint32_t max_bounces;       /* stored bounces per path; 0: unbounded, paths
+                                 end by Russian roulette
+                                 (PB_PHOTON_BOUNCE_CAP only a safety net) */
   float smoothing;            /* s for diffuse photons (dimensionless, see
                                  pb_store in photon_trace.comp); 0:
                                  PB_PHOTON_SMOOTHING_DEFAULT */
-  float smoothing_caustic;    /* s for caustic photons; 0: 5 (seed 000) */
-  float r_max;                /* footprint radius clamp, metres; 0: 5 % of the
-                                 scene's bounding radius */
+  float smoothing_caustic;    /* caustic footprints: this times Delta dP,
+                                 uncompressed; 0:
+                                 PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
+  float r_max;                /* footprint radius clamp, metres; 0:
+                                 PB_PHOTON_R_MAX_FACTOR Delta R */
   uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
   uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
 } pb_photon_trace_desc;
+
+/* Path length (issue 18 item 8). The default stores every bounce until
+ * Russian roulette ends the path: survival p = min(1, max_c(Phi_c w_c) /
+ * max_c(Phi_c)) (seed 001 eq. 1), capped at 0.95 from the 8th interaction
+ * on (where the old default of 7 stored bounces truncated), so a path
+ * reaches the cap of 255 stored bounces (the 8 bits of
+ * PB_PHOTON_BOUNCE_SHIFT) with probability below 0.95^248 ~ 3e-6 even on
+ * white walls, and the light beyond it, rho^255 of a closed room of albedo
+ * rho, is nil. Memory: a path stores about rho / (1 - rho) records, so the
+ * buffer holds PB_PHOTON_RECORDS_PER_PATH per path (enough up to rho 0.92
+ * everywhere), or the device's limit; an overflow is PB_ERR_LIMIT. */
+enum { PB_PHOTON_BOUNCE_CAP = 255, PB_PHOTON_RECORDS_PER_PATH = 12 };
 
 typedef struct pb_photon_tracer pb_photon_tracer;
 

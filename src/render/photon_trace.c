@@ -5,10 +5,10 @@
  * the transport and the derivation of the global spacing Delta.
  *
  * Buffers come from the budget: the photon buffer holds photons *
- * max_bounces records (every path stores at most max_bounces), or as many as
- * one storage buffer of the device holds when that is less (lavapipe: 128
- * MiB, 1.4 M records; a path stores about rho / (1 - rho) records, far fewer
- * than max_bounces); a map that still does not fit (its overflow, counted by
+ * min(max_bounces, PB_PHOTON_RECORDS_PER_PATH) records (photon.h), or as
+ * many as one storage buffer of the device holds when that is less
+ * (lavapipe: 128 MiB, 1.4 M records; a path stores about rho / (1 - rho)
+ * records, far fewer than max_bounces); a map that still does not fit (its overflow, counted by
  * the kernel) is PB_ERR_LIMIT, never silently dropped photons. A budget
  * whose paths cannot get one record each is refused up front. */
 #include <math.h>
@@ -109,7 +109,7 @@ void pb_photon_split_budget(const pb_scene *s, uint32_t total, uint32_t *photons
 /* The parts of a tracer that follow the scene's pose: the photon budget
  * split by light power, each light's photon power and differential scale,
  * the scene's centre and radius (directional lights emit from its disc;
- * the default r_max is 5 % of the radius). counts/firsts: scratch of
+ * the default r_max is PB_PHOTON_R_MAX_FACTOR Delta R, photon.h). counts/firsts: scratch of
  * pb_photon_slots entries. */
 static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *counts, uint32_t *firsts,
                          float center[3], float *radius_out) {
@@ -167,7 +167,7 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
   t->p.photons = total; /* == d->photons when any light has power */
   t->p.light_count = t->light_entries;
   t->p.delta = delta;
-  t->p.r_max = d->r_max > 0.0f ? d->r_max : 0.05f * radius;
+  t->p.r_max = d->r_max > 0.0f ? d->r_max : PB_PHOTON_R_MAX_FACTOR * delta * radius; /* photon.h */
   t->stats.photons = total;
   t->stats.delta = delta;
   t->stats.r_max = t->p.r_max;
@@ -206,13 +206,15 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   *out = NULL;
   pb_photon_trace_desc d = desc ? *desc : (pb_photon_trace_desc){0};
   if (!d.photons) d.photons = 1u << 18;
-  /* 7 stored bounces after the unstored direct hit: the reference's default
-   * of 8 scattering events. 3 truncated the indirect light (cornell_box
-   * 128 px, 8 maps of 2^16: 26.8 dB against the reference with 3, 29.7 dB
-   * with 7, for 11 % more time). */
-  if (!d.max_bounces) d.max_bounces = 7;
+  /* Unbounded by default (photon.h, PB_PHOTON_BOUNCE_CAP): Russian roulette
+   * ends the paths, as in the reference. 7 stored bounces (the old default,
+   * 8 scattering events with the unstored direct hit) lost rho^8 of a closed
+   * room's indirect light (10 % at albedo 0.75); 3 truncated more
+   * (cornell_box 128 px, 8 maps of 2^16: 26.8 dB against the reference with
+   * 3, 29.7 dB with 7). bench/README.md, "Path length", has the cost. */
+  if (!d.max_bounces) d.max_bounces = PB_PHOTON_BOUNCE_CAP;
   if (d.smoothing == 0.0f) d.smoothing = PB_PHOTON_SMOOTHING_DEFAULT;
-  if (d.smoothing_caustic == 0.0f) d.smoothing_caustic = 5.0f;
+  if (d.smoothing_caustic == 0.0f) d.smoothing_caustic = PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT;
   if (d.max_bounces > 255)
     return pb_fail(PB_ERR_USAGE, "photons: max_bounces %u (at most 255)", d.max_bounces);
   if (!(d.smoothing > 0.0f) || !(d.smoothing_caustic > 0.0f) || !isfinite(d.smoothing) ||
@@ -226,7 +228,8 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
     return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
   /* 3-D dispatch fold limit: gid is a uint. */
   if (d.photons > 0x7fffffffu) return pb_fail(PB_ERR_LIMIT, "photons: %u paths (at most 2^31 - 1)", d.photons);
-  uint64_t capacity = (uint64_t)d.photons * d.max_bounces;
+  uint64_t capacity = (uint64_t)d.photons *
+                      (d.max_bounces < PB_PHOTON_RECORDS_PER_PATH ? d.max_bounces : PB_PHOTON_RECORDS_PER_PATH);
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
   uint64_t device_max = lim->max_storage_buffer_range / sizeof(pb_gpu_photon);
   if (device_max > 0xffffffffu) device_max = 0xffffffffu;
@@ -258,6 +261,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->p.capacity = (uint32_t)capacity;
   t->p.smoothing = d.smoothing;
   t->p.smoothing_caustic = d.smoothing_caustic;
+  t->p.flags |= PB_PHOTON_PARAM_CAUSTIC_RAW; /* caustic footprints uncompressed (photon.h) */
   if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,
@@ -380,6 +384,7 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   map->caustic = c.caustic;
   map->emitted = c.emitted;
   map->overflow = c.overflow;
+  map->clamped = c.clamped;
   pb_gpu_photon_params pp;
   if ((r = pb_gpu_buffer_download(g, &t->params, 0, &pp, sizeof pp)) != PB_OK) return r;
   t->stats.guarded = pp.guarded;
@@ -404,7 +409,7 @@ void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32
   t->p.stencil_h = h > 0.0f ? h : 0.0f;
   t->p.stencil_depth = depth;
   t->p.flags = (flags & (PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST)) |
-               (t->p.flags & PB_PHOTON_PARAM_RSM);
+               (t->p.flags & (PB_PHOTON_PARAM_RSM | PB_PHOTON_PARAM_CAUSTIC_RAW));
 }
 
 void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t) {

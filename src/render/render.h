@@ -115,7 +115,10 @@ typedef pb_result (*pb_render_progress_fn)(void *user, const pb_render_progress 
 /* Zero means default for every field. */
 typedef struct pb_render_desc {
   uint32_t spp;                /* 0: 1 (pixel centres); >1 jittered/stratified */
-  uint32_t max_specular_depth; /* delta interactions along an eye path; 0: 8 */
+  uint32_t max_specular_depth; /* delta interactions along an eye path; 0:
+                                  PB_RENDER_MAX_SPECULAR_DEPTH, a safety cap:
+                                  Russian roulette ends longer chains
+                                  (gbuffer.comp) */
   float glossy_path_roughness; /* Blender materials: a specular or clearcoat
                                   layer of Roughness above this is shaded
                                   where the eye path stops (direct light and
@@ -131,10 +134,15 @@ typedef struct pb_render_desc {
   uint32_t iterations;         /* independent photon maps (seeds) averaged;
                                   sample s gathers from map s * K / spp, spp
                                   is raised to K; 0: 1 */
-  uint32_t photon_bounces;     /* stored diffuse bounces per path; 0: 7 */
+  uint32_t photon_bounces;     /* stored bounces per path; 0: unbounded
+                                  (Russian roulette, photon.h) */
   float smoothing;             /* footprint factor s (dimensionless); 0:
                                   PB_PHOTON_SMOOTHING_DEFAULT (photon.h) */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
+  float smoothing_caustic;     /* caustic photons keep their differential
+                                  footprint, times this (uncompressed,
+                                  issue 18); 0:
+                                  PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
@@ -214,6 +222,8 @@ typedef struct pb_render_stats {
   uint64_t temporal_reset_pixels;             /* surface; of those, without */
   double temporal_mean_history;               /* history; mean history length */
   uint64_t photons_emitted, photons_stored, photons_caustic;
+  uint64_t photons_clamped;                   /* of the stored, footprints
+                                                 at r_max (issue 18 item 3) */
   uint32_t iterations, t_auto, lbvh_leaves;
   double k_pd;
   /* Guards (issue 9): NaN/Inf values met in the resolved AOVs and replaced

@@ -27,12 +27,16 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
         items=[("traced", "Traced", "Traced from the light"),
                ("rsm", "Shadow Maps", "Sampled from reflective shadow maps by reflected power")],
         default="traced")
+    blender_bounces: BoolProperty(
+        name="Blender's Bounces", description="Limit paths to Light Paths > Max Bounces, as Cycles does "
+        "(--max-bounces, Max Bounces + 1 scattering events); off: unbounded, paths end by Russian roulette",
+        default=True)
     photon_bounces: IntProperty(
-        name="Bounces", description="Diffuse bounces stored per photon path (--photon-bounces)",
-        default=7, min=1, max=64)
+        name="Bounces", description="Bounces stored per photon path; 0: from Max Bounces, or unbounded "
+        "(--photon-bounces)", default=0, min=0, max=255)
     specular_depth: IntProperty(
-        name="Mirror Depth", description="Mirror and glass interactions followed from the camera "
-        "(--max-specular-depth)", default=8, min=1, max=64)
+        name="Mirror Depth", description="Mirror and glass interactions followed from the camera; 0: from Max "
+        "Bounces, or Russian roulette (--max-specular-depth)", default=0, min=0, max=64)
     filter_passes: IntProperty(
         name="Filter Passes", description="Edge-avoiding A-Trous passes over the indirect light; 0: off "
         "(--atrous-iterations)", default=0, min=0, max=12)
@@ -56,8 +60,16 @@ def cli_args(s, sequence=False):
     crop, files and progress options are the engine's). sequence: for
     --frames, which renders every frame fully (no time limit)."""
     args = ["--photons", str(s.photons), "--iterations", str(s.iterations), "--spp", str(max(s.spp, 1)),
-            "--first-bounce", s.first_bounce, "--photon-bounces", str(s.photon_bounces),
-            "--max-specular-depth", str(s.specular_depth), "--seed", str(s.seed)]
+            "--first-bounce", s.first_bounce, "--seed", str(s.seed)]
+    if s.blender_bounces:
+        # Cycles counts the direct light's bounce as 0: Max Bounces B is B + 1
+        # scattering events, photonbridge's --max-bounces.
+        cycles = getattr(s.id_data, "cycles", None)
+        args += ["--max-bounces", str(int(getattr(cycles, "max_bounces", 12)) + 1)]
+    if s.photon_bounces:
+        args += ["--photon-bounces", str(s.photon_bounces)]
+    if s.specular_depth:
+        args += ["--max-specular-depth", str(s.specular_depth)]
     if s.time_limit > 0 and not sequence:
         args += ["--time-limit", "%g" % s.time_limit]
     if s.progressive:

@@ -48,6 +48,7 @@ class PHOTONBRIDGE_PT_render(bpy.types.Panel):
         col.prop(s, "iterations")
         col.prop(s, "progressive")
         col.prop(s, "first_bounce")
+        col.prop(s, "blender_bounces")
         col.prop(s, "photon_bounces")
         col = layout.column()
         col.prop(s, "spp")
