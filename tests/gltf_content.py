@@ -30,6 +30,7 @@ accessor order and index component type, accessor min/max).
 asset.version 2.x, every buffer it references exists with at least the
 declared byteLength, every accessor lies inside its buffer, every image file
 exists, and the file has at least one camera, one KHR_lights_punctual light
+(or a PHOTONBRIDGE_blender light or world)
 and one mesh.  A .glb is read too (its BIN chunk is buffer 0).
 
 --animated (the samples_animated test): see check_animated.
@@ -460,10 +461,13 @@ def check(path):
                     if v is not None and not 0 <= v < len(g.list("accessors")):
                         problems.append("mesh %r: %s refers to accessor %r" % (m.get("name"), k, v))
         lights = d.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])
+        # The render engine's hand-off (samples/blender/*/handoff) may be lit
+        # by its extension alone: Blender's area lights and world.
+        pb = d.get("extensions", {}).get("PHOTONBRIDGE_blender", {})
         if not g.list("cameras"):
             problems.append("no camera")
-        if not lights:
-            problems.append("no KHR_lights_punctual light")
+        if not lights and not pb.get("lights") and not pb.get("world"):
+            problems.append("no KHR_lights_punctual light (nor a PHOTONBRIDGE_blender light or world)")
         if not g.list("meshes"):
             problems.append("no mesh")
     except (GltfError, OSError, KeyError, ValueError) as e:
