@@ -9,7 +9,7 @@
             less excess flicker than no filter, and its mean per-frame error
             (relMSE) is no worse;
   still     cornell_box with a still camera converges: the error against the
-            reference falls frame after frame (16 frames: >= 3 dB);
+            reference falls frame after frame (16 frames: >= 2 dB);
   orbit     --orbit moves the camera around a scene without animation;
   caustics  cornell_caustics_moving_sphere (48 px, 8 frames): the filters (the
             caustics' own clamped temporal filter included) cut the excess
@@ -125,8 +125,13 @@ if "still" in PARTS:
         ps = [f["reference"]["psnr_db"] for f in fr]
         print("still: PSNR per frame " + " ".join("%.2f" % x for x in ps))
         check(all(f["still"] for f in fr[1:]), "still: frames after the first are still")
-        check(all(b >= a - 0.3 for a, b in zip(ps, ps[1:])), "still: the error never grows by more than noise")
-        check(ps[-1] >= ps[0] + 3.0, "still: 16 frames gain >= 3 dB over the first (%.2f -> %.2f)" % (ps[0], ps[-1]))
+        # Since r_max follows the photon density (issue 18 item 3) the first
+        # frame is less noisy (24.3 dB, was 23.4 at the old 5 % clamp) and the
+        # run ends at the same bias-limited 26.7-26.9 dB, so 16 frames gain
+        # about 2.4 dB (3.3 at the old clamp); frames alternate by up to
+        # 0.31 dB with the jitter pattern.
+        check(all(b >= a - 0.4 for a, b in zip(ps, ps[1:])), "still: the error never grows by more than noise")
+        check(ps[-1] >= ps[0] + 2.0, "still: 16 frames gain >= 2 dB over the first (%.2f -> %.2f)" % (ps[0], ps[-1]))
         check(fr[-1]["temporal"]["mean_history"] > 15.5, "still: history length 16 after 16 frames (%.2f)" %
               fr[-1]["temporal"]["mean_history"])
 

@@ -29,6 +29,7 @@
 #include "core/fs.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "core/version.h"
 #include "image/image.h"
 #include "metrics/metrics.h"
 #include "ref/ref.h"
@@ -79,13 +80,19 @@ static uint64_t fnv(uint64_t h, const void *data, size_t n) {
   return h;
 }
 
-/* Content key of a reference render: the scene file (path, size, time), the
- * posed geometry, lights and camera, and the reference's settings. Fields
- * are hashed one by one (no struct padding). */
+/* Content key of a reference render: the reference renderer's version (the
+ * program's version and git description, and its path-length rule: a cache
+ * written before issue 18 held 8-event references), the scene file (path,
+ * size, time), the posed geometry, lights and camera, and the reference's
+ * settings. Fields are hashed one by one (no struct padding). */
 static uint64_t reference_key(const pb_scene *s, const pb_camera *cam, uint32_t w, uint32_t h, uint32_t spp,
                               uint64_t seed) {
   uint64_t k = 0xcbf29ce484222325ull;
-  k = fnv(k, "pbref1", 6);
+  k = fnv(k, "pbref2", 6);
+  k = fnv(k, PB_VERSION, strlen(PB_VERSION));
+  k = fnv(k, PB_GIT_DESCRIBE, strlen(PB_GIT_DESCRIBE));
+  const uint32_t cap = PB_REF_BOUNCE_CAP;
+  k = fnv(k, &cap, sizeof cap);
   k = fnv(k, s->path, strlen(s->path));
   struct stat st;
   if (stat(s->path, &st) == 0) {

@@ -10,10 +10,20 @@ pb_result pb_live_opts_check(const char *command, const pb_live_opts *o) {
 }
 
 pb_sequence_desc pb_live_sequence_desc(const pb_live_opts *o, uint64_t seed) {
+  /* --max-bounces N as cmd_render.c maps it: photon paths store N - 1
+   * bounces, eye chains follow N - 1 mirror/glass interactions, 1 is direct
+   * light only; explicit --photon-bounces / --max-specular-depth win. */
+  uint32_t bounces = o->bounces, max_spec = o->max_spec;
+  int direct_only = o->direct_only || o->max_bounces == 1;
+  if (o->max_bounces >= 2) {
+    uint32_t n = o->max_bounces - 1;
+    if (!bounces) bounces = n < PB_PHOTON_BOUNCE_CAP ? n : PB_PHOTON_BOUNCE_CAP;
+    if (!max_spec) max_spec = n < PB_RENDER_MAX_SPECULAR_DEPTH ? n : PB_RENDER_MAX_SPECULAR_DEPTH;
+  }
   pb_sequence_desc d = {
-      .render = {.spp = o->spp, .max_specular_depth = o->max_spec, .direct_only = o->direct_only, .seed = seed,
-                 .photons = o->photons, .iterations = o->iterations, .photon_bounces = o->bounces,
-                 .smoothing = (float)o->smoothing, .r_max = (float)o->r_max, .progressive = o->progressive,
+      .render = {.spp = o->spp, .max_specular_depth = max_spec, .direct_only = direct_only, .seed = seed,
+                 .photons = o->photons, .iterations = o->iterations, .photon_bounces = bounces,
+                 .smoothing = (float)o->smoothing, .smoothing_caustic = (float)o->smoothing_caustic, .r_max = (float)o->r_max, .progressive = o->progressive,
                  .alpha = (float)o->alpha, .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o->first_bounce),
                  .atrous_iterations = o->atrous,
                  /* as cmd_render.c maps --atrous-clip */

@@ -11,9 +11,9 @@
 #include "render/sequence.h"
 
 typedef struct pb_live_opts {
-  uint32_t spp, max_spec, photons, iterations, bounces, atrous, device;
+  uint32_t spp, max_spec, photons, iterations, bounces, atrous, device, max_bounces;
   int direct_only, progressive, no_temporal, validation, first_bounce;
-  double smoothing, r_max, alpha, atrous_gamma;
+  double smoothing, smoothing_caustic, r_max, alpha, atrous_gamma;
 } pb_live_opts;
 
 extern const char *const pb_live_first_bounce_names[];
@@ -31,8 +31,12 @@ extern const char *const pb_live_first_bounce_names[];
   {"iterations", 0, PB_OPT_U32, &(o)->iterations, "K", "photon maps per frame (default 1)", NULL, 1, 1 << 16},     \
   {"photon-bounces", 0, PB_OPT_U32, &(o)->bounces, "N", "bounces stored per photon path (default: unbounded, " \
    "Russian roulette, cap 255)", NULL, 1, 255},                                                                                                   \
+  {"max-bounces", 0, PB_OPT_U32, &(o)->max_bounces, "N", "scattering events per path, as render --max-bounces "  \
+   "(Blender's Max Bounces B is B + 1; default: unbounded, Russian roulette)", NULL, 1, 1024},                     \
   {"smoothing", 0, PB_OPT_FLOAT, &(o)->smoothing, "S", "footprint smoothing factor (default "                      \
    PB_PHOTON_SMOOTHING_DEFAULT_STR ")", NULL, 0, 1e6},                                                             \
+  {"smoothing-caustic", 0, PB_OPT_FLOAT, &(o)->smoothing_caustic, "S", "caustic photons' footprint factor, as "   \
+   "render's (default " PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 1e6},                                \
   {"r-max", 0, PB_OPT_FLOAT, &(o)->r_max, "M", "footprint radius clamp in metres (default 18 photon "  \
    "spacings on the scene's bounding sphere: it shrinks as the photons grow)", NULL, 0, 1e9},                                                                                       \
   {"progressive", 0, PB_OPT_FLAG, &(o)->progressive, NULL, "footprints shrink from still frame to still frame "   \

@@ -322,10 +322,17 @@ def part_f12():
     subprocess.run([EXE, "render", gltf, "-o", cli_out, "--width", str(w), "--height", str(h), "--blender-layer",
                     "ViewLayer", "-q"] + QUICK_CLI, check=False)
     cli = exr(cli_out)
-    same = all(f12["channels"]["ViewLayer.Combined." + c] == cli["channels"]["ViewLayer.Combined." + c]
-               for c in "RGBA")
-    check(ok and same, "F12's Combined equals `photonbridge render` of the written file, pixel for pixel (%dx%d)"
-          % (w, h))
+    # Equal to float rounding (1e-5 of each channel's peak), not bit for
+    # bit: the photon store's order follows the device's scheduling
+    # (tests/pylib/pbcheck.py, ROUNDING); a different setting or pass differs
+    # by far more.
+    rel = 0.0
+    for c in "RGBA":
+        a, b = f12["channels"]["ViewLayer.Combined." + c], cli["channels"]["ViewLayer.Combined." + c]
+        peak = max(max((abs(v) for v in a), default=0.0), 1e-6)
+        rel = max(rel, max((abs(x - y) for x, y in zip(a, b)), default=0.0) / peak if len(a) == len(b) else 1e9)
+    check(ok and rel <= 1e-5, "F12's Combined equals `photonbridge render` of the written file to float rounding "
+          "(%dx%d, largest difference %.3g of the peak)" % (w, h, rel))
     chans = set(f12["channels"])
     want = {"ViewLayer.Combined." + c for c in "RGBA"} | {"ViewLayer.Depth.Z"} | \
         {"ViewLayer.Normal." + c for c in "XYZ"} | \
@@ -349,10 +356,12 @@ def part_f12():
         worst = 0.0
         for c in "RGB":
             full, part = f12["channels"]["ViewLayer.Combined." + c], b["channels"]["ViewLayer.Combined." + c]
+            peak = max(max((abs(v) for v in full), default=0.0), 1e-6)
             for y in range(b["height"]):
                 for x in range(b["width"]):
-                    worst = max(worst, abs(full[(y + top) * w + x + x0] - part[y * b["width"] + x]))
-        check(worst == 0.0, "the border render equals the full render there (largest difference %g)" % worst)
+                    worst = max(worst, abs(full[(y + top) * w + x + x0] - part[y * b["width"] + x]) / peak)
+        check(worst <= 1e-5, "the border render equals the full render there to float rounding (largest "
+              "difference %.3g of the peak)" % worst)
 
 
 def child_pids(pid):
