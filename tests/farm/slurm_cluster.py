@@ -15,6 +15,7 @@ import os
 import signal
 import socket
 import subprocess
+import sys
 import time
 
 NODE_ADDR = "127.0.0.2"
@@ -191,3 +192,25 @@ PartitionName=pb Nodes=pbnode Default=YES MaxTime=INFINITE State=UP
     def __exit__(self, *exc):
         self.stop()
         return False
+
+
+def enter_netns(script, device_ok):
+    """The farm tests' prologue outside the namespace: exit 77 with one line
+    where the cluster cannot run (slurm-wlm/munge missing, not root, no
+    `unshare -n`, no Vulkan device), else run `script` again inside a
+    private network namespace (PB_FARM_NETNS=1) and exit with its status."""
+    def skip(msg):
+        print("skip: " + msg)
+        sys.exit(77)
+    missing = tools_missing()
+    if missing:
+        skip("slurm-wlm/munge not installed (%s); scripts/install-deps.sh installs them" % " ".join(missing))
+    if os.geteuid() != 0:
+        skip("the one-node Slurm cluster needs root (its daemons run as root)")
+    if subprocess.run(["unshare", "-n", "true"], capture_output=True).returncode != 0:
+        skip("network namespaces not permitted here (unshare -n failed)")
+    if not device_ok:
+        skip("no Vulkan device")
+    env = dict(os.environ, PB_FARM_NETNS="1")
+    sys.exit(subprocess.run(["unshare", "-n", sys.executable, os.path.abspath(script)] + sys.argv[1:],
+                            env=env).returncode)

@@ -33,26 +33,6 @@ FARM = os.path.join(ROOT, "scripts", "farm", "slurm_render.py")
 VALIDATE = ["--width", "24", "--spp", "1", "--ref-spp", "4", "--threads", "1", "--no-povray", "--no-cycles"]
 
 
-def skip(msg):
-    print("skip: " + msg)
-    sys.exit(77)
-
-
-def outside():
-    missing = slurm_cluster.tools_missing()
-    if missing:
-        skip("slurm-wlm/munge not installed (%s); scripts/install-deps.sh installs them" % " ".join(missing))
-    if os.geteuid() != 0:
-        skip("the one-node Slurm cluster needs root (its daemons run as root)")
-    if subprocess.run(["unshare", "-n", "true"], capture_output=True).returncode != 0:
-        skip("network namespaces not permitted here (unshare -n failed)")
-    if not has_device(EXE):
-        skip("no Vulkan device")
-    env = dict(os.environ, PB_FARM_NETNS="1")
-    sys.exit(subprocess.run(["unshare", "-n", sys.executable, os.path.abspath(__file__)] + sys.argv[1:],
-                            env=env).returncode)
-
-
 def inside():
     slurm_cluster.setup_loopback()
     fresh(WORK)
@@ -108,7 +88,7 @@ def inside():
 
 
 if os.environ.get("PB_FARM_NETNS") != "1":
-    outside()
+    slurm_cluster.enter_netns(__file__, has_device(EXE))
 inside()
 if failures:
     print("%d check(s) failed" % len(failures))
