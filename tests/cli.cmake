@@ -25,6 +25,11 @@ pb_cli_test(cli_info_missing_file info does-not-exist.gltf EXIT 3
             REGEX "does-not-exist.gltf: cannot open.*exit=3")
 pb_cli_test(cli_info_bad_units info --light-units kilowatts x.gltf EXIT 2 REGEX "unknown value 'kilowatts'.*exit=2")
 pb_cli_test(cli_help_unknown help frobnicate EXIT 2 REGEX "unknown subcommand.*exit=2")
+# The command's name once: a message made inside serve ("serve: --socket ...")
+# is not prefixed twice ("photonbridge serve: error: serve: ...").
+pb_cli_test(cli_error_names_command_once serve --socket ${PB_ROOT}/README.md samples/cornell_box/cornell_box.gltf EXIT 3
+            REGEX "photonbridge serve: error: --socket [^\n]*README.md: exists and is not a socket.*exit=3"
+            FAIL_REGEX "error: serve:")
 
 # Every subcommand answers --help with its usage and exit 0, and `help X`
 # says the same. The list comes from `photonbridge help` itself, so a new

@@ -175,8 +175,12 @@ void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
 int pb_cli_exit(const pb_command *cmd, pb_result r) {
   if (r != PB_OK) {
     const char *m = pb_error_message();
-    fprintf(stderr, "photonbridge %s: error: %s\n", cmd ? cmd->name : "",
-            m[0] ? m : pb_result_message(r));
+    const char *name = cmd ? cmd->name : "";
+    size_t nl = strlen(name);
+    /* Messages made inside a command often start with its own name
+     * ("serve: --socket ..."); the prefix already says it once. */
+    if (nl && strncmp(m, name, nl) == 0 && m[nl] == ':' && m[nl + 1] == ' ') m += nl + 2;
+    fprintf(stderr, "photonbridge %s: error: %s\n", name, m[0] ? m : pb_result_message(r));
   }
   return pb_result_exit_code(r);
 }

@@ -74,6 +74,10 @@ class ImageWriter:
         self.names = set()
 
     def _unique(self, stem, ext):
+        # Blender names a loaded image after its file ("sky.hdr"): the
+        # extension is not repeated ("sky.hdr.hdr").
+        if ext and stem.lower().endswith(ext.lower()) and len(stem) > len(ext):
+            stem = stem[:-len(ext)]
         stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem) or "image"
         name, i = stem + ext, 1
         while name in self.names:
