@@ -22,7 +22,7 @@ struct pb_image_maps {
   float radius;                         /* its bounding radius */
   float cand[PB_IMAGE_MAPS_MAX_CANDIDATES][3];
   uint32_t ncand;
-  uint32_t sel[PB_IMAGE_MAPS_MAX];      /* the centres: indices into cand */
+  uint32_t sel[PB_IMAGE_MAPS_MAX + 1];  /* the centres: indices into cand (k + 1 during a swap step) */
   uint32_t nsel;
   pb_gpu_image_texel *host_cand;        /* ncand x per_cand texels */
   float *area;                          /* eq. 1 area of every candidate texel (0: no surface, back face or
