@@ -114,7 +114,7 @@ def main():
               indent=1)
     with open(os.path.join(a.out, "TRACER_IMAGES.md"), "w") as f:
         f.write("# --tracer images against --tracer bvh\n\n%s, %d CPUs, %s\n\n" % (meta["date"], meta["cpus"], dev))
-        f.write("%d px, %d photons x %d maps, reference %d spp\n\n" % (a.width, a.photons, a.iterations, a.ref_spp))
+        f.write("%d px, %d photon paths x %d photon maps (iterations), reference %d spp\n\n" % (a.width, a.photons, a.iterations, a.ref_spp))
         f.write("| scene | tracer | k | trace ms | wall s | stored | miss rate | maps ms | select ms | PSNR dB | relMSE |\n")
         f.write("|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
