@@ -92,6 +92,61 @@ layout(constant_id = PB_SPEC_TRANSMISSION) const bool SC_TRANSMISSION = true;
 #include "common/photon_diff.glsl"
 #include "common/rsm_texel.glsl"
 
+// The ray query of a photon segment. The BVH build: the closest hit in the
+// scene BVH. The images build (-DPB_IMAGE_TRACER, photon_trace_images,
+// seed 003): the nearest hit the environment maps accept
+// (common/image_maps.glsl), the hit being the accepted texel's surface point
+// (its triangle, the point's barycentrics on it: the map's position, normal
+// and material, as the paper reads them) at t = its distance along the ray;
+// a ray no map confirms (type B only) is lost like an escape, and counted.
+#ifdef PB_IMAGE_TRACER
+#include "shared/pb_image_maps.h"
+layout(std430, set = 0, binding = PB_PHOTON_BIND_IMAGE_MAPS) readonly buffer ImageMaps {
+  pb_gpu_image_maps_info im_info;
+  pb_gpu_image_map im_maps[];
+};
+layout(std430, set = 0, binding = PB_PHOTON_BIND_IMAGE_TEXELS) readonly buffer ImageTexels {
+  pb_gpu_image_texel im_texels[];
+};
+layout(std430, set = 0, binding = PB_PHOTON_BIND_IMAGE_COUNTS) buffer ImageCounts { pb_gpu_image_counts im_counts; };
+#include "common/image_maps.glsl"
+
+uint pb_photon_trace(vec3 o, vec3 d, out float t, out float u, out float v) {
+  uint tex, nb, nc;
+  u = v = 0.0;
+  uint ty = pb_image_intersect(o, d, t, tex, nb, nc);
+  atomicAdd(im_counts.segments, 1u);
+  if (nb > 0u) atomicAdd(im_counts.type_b, nb);
+  if (nc > 0u) atomicAdd(im_counts.type_c, nc);
+  if (ty != PB_IMAGE_TYPE_D) {
+    if (ty == PB_IMAGE_TYPE_B) atomicAdd(im_counts.misses, 1u);
+    else atomicAdd(im_counts.escapes, 1u);
+    return PB_GPU_MISS;
+  }
+  atomicAdd(im_counts.hits, 1u);
+  pb_gpu_image_texel tx = im_texels[tex];
+  uint prim = tx.prim;
+  // Barycentrics of the texel's point on its triangle (it lies on it: the
+  // map's ray hit it), clamped against rounding.
+  uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
+  vec3 p0 = pb_position(i0), e1 = pb_position(i1) - p0, e2 = pb_position(i2) - p0;
+  vec3 ng = cross(e1, e2);
+  float g = dot(ng, ng);
+  vec3 dp = tx.position - p0;
+  float b1 = g > 0.0 ? dot(cross(dp, e2), ng) / g : 0.0, b2 = g > 0.0 ? dot(cross(e1, dp), ng) / g : 0.0;
+  b1 = clamp(b1, 0.0, 1.0);
+  b2 = clamp(b2, 0.0, 1.0 - b1);
+  u = b1;
+  v = b2;
+  t = max(t, 0.0);
+  return prim;
+}
+#else
+uint pb_photon_trace(vec3 o, vec3 d, out float t, out float u, out float v) {
+  return pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+}
+#endif
+
 float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim); }
 // Sequence dimensions: 0, 1 emission (RSM: 0 the stratum jitter), 2 + 4 k ..
 // the k-th bounce; the RSM's per-iteration rotation lies far above any
@@ -297,7 +352,7 @@ bool pb_rsm_emit(uint li, uint j, uint n, uint path, out vec3 o, out vec3 d, out
   float measure;
   pb_rsm_texel_point(rl, lo, vec2(su, sv), params.scene_center, params.scene_radius, o, d, dens, measure);
   power = dens * (measure / np);
-  prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+  prim = pb_photon_trace(o, d, t, u, v);
   if (prim == PB_GPU_MISS || !(pb_max3(power) > 0.0)) return false;
   float k = sqrt(tx.area / np) / params.delta;
   vec3 tt, bb;
@@ -417,7 +472,7 @@ void pb_trace_path(uint gid) {
       u = first_u;
       v = first_v;
     } else {
-      prim = pb_trace(o, d, 0.0, PB_INF, false, t, u, v);
+      prim = pb_photon_trace(o, d, t, u, v);
     }
     if (prim == PB_GPU_MISS) {
       atomicAdd(params.escaped, 1u);

@@ -61,4 +61,32 @@ foreach(name ${PB_SHADER_BLENDER_VARIANTS})
     VERBATIM)
   list(APPEND PB_SHADER_OUTPUTS ${hdr})
 endforeach()
+# The image-space photon tracer (seed 003; src/render/tracer_images.c):
+# photon_trace.comp with -DPB_IMAGE_TRACER=1, whose segments are searched in
+# the environment maps (common/image_maps.glsl) instead of the BVH, as
+# photon_trace_images and photon_trace_images_blender.
+foreach(variant "photon_trace_images;-DPB_IMAGE_TRACER=1"
+                "photon_trace_images_blender;-DPB_IMAGE_TRACER=1;-DPB_BLENDER=1")
+  list(GET variant 0 name)
+  list(SUBLIST variant 1 -1 defs)
+  set(src ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp)
+  set(spv ${PB_SHADER_OUT}/${name}.spv)
+  set(hdr ${PB_SHADER_OUT}/${name}.spv.h)
+  add_custom_command(
+    OUTPUT ${spv}
+    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1 ${defs}
+            -I ${CMAKE_SOURCE_DIR}/shaders -MD -MF ${spv}.d -o ${spv} ${src}
+    DEPENDS ${src} ${PB_SHADER_HEADERS}
+    DEPFILE ${spv}.d
+    COMMENT "glslc ${name}"
+    VERBATIM)
+  add_custom_command(
+    OUTPUT ${hdr}
+    COMMAND ${CMAKE_COMMAND} -DIN=${spv} -DOUT=${hdr} -DNAME=${name}
+            -P ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    COMMENT "embed ${name}.spv"
+    VERBATIM)
+  list(APPEND PB_SHADER_OUTPUTS ${hdr})
+endforeach()
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

@@ -113,3 +113,12 @@ add_test(NAME cli_camera_by_number
 # default 640x480 image), not the file's missing one.
 pb_cli_test(cli_info_default_camera_aspect info tests/corpus/valid/no_camera/no_camera.gltf EXIT 0
             REGEX "0   default .*aspect 1.333 \\(640x480 by default. the file gives no aspect ratio\\).*exit=0")
+
+# The image-space photon tracer's map count (render --image-maps 1..15): a
+# one-line error and exit 2 outside it, before any GPU work.
+pb_cli_test(cli_render_image_maps_zero render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
+            --tracer images --image-maps 0 EXIT 2 REGEX "--image-maps: 0 is outside \\[1, 15\\].*exit=2")
+pb_cli_test(cli_render_image_maps_99 render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
+            --tracer images --image-maps 99 EXIT 2 REGEX "--image-maps: 99 is outside \\[1, 15\\].*exit=2")
+pb_cli_test(cli_render_tracer_unknown render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
+            --tracer kdtree EXIT 2 REGEX "--tracer: unknown value 'kdtree'.*exit=2")

@@ -35,7 +35,7 @@ endif()
 # kept out of the LeakSanitizer run.
 foreach(t test_gpu_lbvh test_gpu_lbvh_sort test_gpu_gather test_gpu_resolve test_gpu_faults test_gpu_atrous test_gpu_temporal test_gpu_anim test_gpu_frame_context
         test_gpu_normal_map test_gpu_camera test_gpu_gltf_ext test_gpu_deform test_gpu_soft_lights test_gpu_path_length test_gpu_smooth_shading
-        test_gpu_photon_clamp)
+        test_gpu_photon_clamp test_gpu_image_tracer)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                          LABELS "gpu;no-sanitize" TIMEOUT 900)
@@ -77,3 +77,21 @@ function(pb_validation_everywhere)
   endforeach()
 endfunction()
 cmake_language(DEFER CALL pb_validation_everywhere)
+
+# render --tracer images on a still sample and on an animated one (--frames,
+# the maps follow the moving sphere): exit 0 under validation, the JSON names
+# the tracer and counts its misses.
+add_test(NAME gpu_cli_render_tracer_images
+         COMMAND sh -c "\"$0\" info --devices >/dev/null 2>&1 || { echo 'skip: no Vulkan device'; exit 77; };
+                        d=$(mktemp -d);
+                        \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/a.exr --json $d/a.json --width 24 --photons 8192 --tracer images --image-maps 4 --image-map-resolution 32 2>$d/err; rc1=$?;
+                        \"$0\" render samples/cornell_caustics_moving_sphere/cornell_caustics_moving_sphere.gltf --frames 0:1 -o $d/f_#.exr --json $d/b.json --width 24 --photons 8192 --tracer images --image-maps 4 --image-map-resolution 32 2>>$d/err; rc2=$?;
+                        cat $d/err; n=$(grep -c 'Vulkan validation' $d/err);
+                        t=$(grep -c '\"tracer\": \"images\"' $d/a.json $d/b.json | grep -c ':[1-9]'); m=$(grep -c 'image_miss_rate' $d/a.json);
+                        rm -rf $d; echo \"exit=$rc1,$rc2 validation_messages=$n tracer_named=$t misses=$m\";
+                        [ $rc1 -eq 0 ] && [ $rc2 -eq 0 ] && [ $n -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(gpu_cli_render_tracer_images PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                     LABELS "gpu;no-sanitize" TIMEOUT 600
+                     PASS_REGULAR_EXPRESSION "exit=0,0 validation_messages=0 tracer_named=2 misses=1")

@@ -51,6 +51,27 @@
 #define PB_PHOTON_BIND_WORLD 18
 #define PB_PHOTON_BIND_COUNT 19
 
+/* ---- photon_trace_images (photon_trace.comp built with -DPB_IMAGE_TRACER:
+ * the image-space tracer of seed 003): photon_trace.comp's 0-18, then ---- */
+#define PB_PHOTON_BIND_IMAGE_MAPS 19   /* pb_gpu_image_maps_info + pb_gpu_image_map[] */
+#define PB_PHOTON_BIND_IMAGE_TEXELS 20 /* pb_gpu_image_texel[] */
+#define PB_PHOTON_BIND_IMAGE_COUNTS 21 /* pb_gpu_image_counts */
+#define PB_PHOTON_IMAGES_BIND_COUNT 22
+
+/* ---- image_maps.comp (renders the maps) and image_maps_query.comp (rays
+ * against the maps: tests, benchmark); shared/pb_image_maps.h ------------- */
+#define PB_IMAGE_BIND_NODES 0       /* BVH nodes (image_maps.comp) */
+#define PB_IMAGE_BIND_TRIS 1        /* BVH triangles (image_maps.comp) */
+#define PB_IMAGE_BIND_INDICES 2
+#define PB_IMAGE_BIND_POSITIONS 3
+#define PB_IMAGE_BIND_TRI_MATERIAL 4
+#define PB_IMAGE_BIND_MAPS 5        /* pb_gpu_image_maps_info + pb_gpu_image_map[] */
+#define PB_IMAGE_BIND_TEXELS 6      /* pb_gpu_image_texel[] */
+#define PB_IMAGE_BIND_RAYS 7        /* query: pb_gpu_ray[] */
+#define PB_IMAGE_BIND_HITS 8        /* query: pb_gpu_hit[] (u: the outcome) */
+#define PB_IMAGE_BIND_COUNTS 9      /* query: pb_gpu_image_counts */
+#define PB_IMAGE_BIND_COUNT 10
+
 /* ---- photon_rsm.comp: the scene's 0-10, 13, 14, then ---------------------- */
 #define PB_RSM_BIND_LIGHTS 11
 #define PB_RSM_BIND_TEXELS 12

@@ -30,6 +30,7 @@
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
+#include "render/tracer.h"
 
 static const pb_command *self(void) {
   for (size_t i = 0; i < pb_command_count; ++i)
@@ -41,6 +42,8 @@ typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size, max_bounces;
   int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
   int first_bounce; /* index into first_bounce_names */
+  int tracer;       /* index into pb_tracer_names */
+  uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
   double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic;
@@ -161,6 +164,16 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
     pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
+    /* The photon tracer (render/tracer.h) and its named statistics; the
+     * images tracer's miss rate: segments no map confirmed, over all. */
+    pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->tracer]);
+    double segments = -1, misses = -1;
+    for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
+      pb_json_number(&j, st->tracer_stats[i].name, st->tracer_stats[i].value);
+      if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
+      if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
+    }
+    if (segments > 0 && misses >= 0) pb_json_number(&j, "image_miss_rate", misses / segments);
     pb_json_int(&j, "atrous_iterations", o->atrous);
     if (st->lbvh_sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", st->lbvh_sort_ms);
     else pb_json_null(&j, "lbvh_sort_ms");
@@ -261,6 +274,15 @@ int pb_cmd_render(int argc, char **argv) {
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
        "how photons find their first hit: traced from the light, or rsm: sampled from reflective shadow maps by "
        "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
+      {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
+       "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
+       "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
+       pb_tracer_names, 0, 0},
+      {"image-maps", 0, PB_OPT_U32, &o.image_maps, "K",
+       "--tracer images: environment maps, their centres chosen by coverage from 40 candidates (default 8)",
+       NULL, 1, PB_IMAGE_MAPS_MAX},
+      {"image-map-resolution", 0, PB_OPT_U32, &o.image_map_resolution, "N",
+       "--tracer images: texels per cube-face side (default 128)", NULL, 8, 1024},
       {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
        "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
        "default 0: off for one frame, 4 for --frames)", NULL, 0, 12},
@@ -428,6 +450,8 @@ int pb_cmd_render(int argc, char **argv) {
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
+                       .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
+                       .image_map_resolution = o.image_map_resolution,
                        .atrous_iterations = o.atrous,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
                        .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f

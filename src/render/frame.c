@@ -10,6 +10,7 @@
 #include "core/log.h"
 #include "render/passes.h"
 #include "render/photon.h"
+#include "render/tracer.h"
 #include "render/plan.h"
 #include "render/readback.h"
 #include "render/resolve.h"
@@ -32,7 +33,7 @@ enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 typedef struct ctx_key {
   const pb_gpu_scene *gs;
   const void *photon_map;
-  uint32_t width, height, photons, bounces, first_bounce, leaf_size;
+  uint32_t width, height, photons, bounces, first_bounce, leaf_size, tracer, image_maps, image_map_resolution;
   float smoothing, r_max, smoothing_caustic;
   int constant_kernel, direct_only, photons_on;
 } ctx_key;
@@ -42,7 +43,7 @@ struct pb_frame_context {
   ctx_key key;
   pb_frame_targets tg;
   pb_gpu_pipeline gp, dp, rp;
-  pb_photon_tracer *tracer;
+  pb_tracer *tracer;
   pb_photon_estimator *est;
   pb_photon_map map;
 };
@@ -56,7 +57,7 @@ static void context_clear(pb_gpu *g, pb_frame_context *c) {
   if (!c->valid) return;
   pb_photon_map_destroy(g, &c->map);
   pb_photon_estimator_destroy(g, c->est);
-  pb_photon_tracer_destroy(g, c->tracer);
+  pb_tracer_destroy(g, c->tracer);
   pb_gpu_pipeline_destroy(g, &c->gp);
   pb_gpu_pipeline_destroy(g, &c->dp);
   pb_gpu_pipeline_destroy(g, &c->rp);
@@ -107,6 +108,24 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
     return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
                    PB_RENDER_MAX_SPECULAR_DEPTH);
   return PB_OK;
+}
+
+/* Adds the tracer's statistics of one photon map to the frame's (summed
+ * ones added, the others replaced). */
+static void tracer_stats_add(const pb_tracer *t, pb_render_stats *st) {
+  pb_tracer_stat now[PB_TRACER_MAX_STATS];
+  uint32_t n = pb_tracer_stats(t, now, PB_TRACER_MAX_STATS);
+  st->tracer = pb_tracer_name(t);
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t j = 0;
+    while (j < st->tracer_stat_count && strcmp(st->tracer_stats[j].name, now[i].name)) ++j;
+    if (j == st->tracer_stat_count) {
+      st->tracer_stats[j] = now[i];
+      st->tracer_stat_count++;
+    } else {
+      st->tracer_stats[j].value = now[i].summed ? st->tracer_stats[j].value + now[i].value : now[i].value;
+    }
+  }
 }
 
 /* Bins the footprint radii of one traced map into stats->radius_hist (seed
@@ -206,7 +225,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   memset(&tg, 0, sizeof tg);
   pb_gpu_pipeline gp = {0}, dp = {0}, rp = {0};
   int nmap_on = 0;
-  pb_photon_tracer *tracer = NULL;
+  pb_tracer *tracer = NULL;
   pb_photon_estimator *est = NULL;
   pb_photon_map map;
   memset(&map, 0, sizeof map);
@@ -227,6 +246,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.photon_map = desc.photon_map;
   key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
   key.first_bounce = desc.first_bounce, key.leaf_size = desc.leaf_size;
+  key.tracer = desc.tracer, key.image_maps = desc.image_maps, key.image_map_resolution = desc.image_map_resolution;
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
   key.constant_kernel = desc.constant_kernel, key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
@@ -277,13 +297,15 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     goto fail;
   if (reuse) {
     /* The scene may have moved since the context was made. */
-    if (tracer && (r = pb_photon_tracer_update(g, tracer, s)) != PB_OK) goto fail;
+    if (tracer && (r = pb_tracer_update(g, tracer, s)) != PB_OK) goto fail;
     pb_photon_estimator_update(est, s);
   } else if (photons_on) {
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
                                  .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce};
-      if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
+      pb_tracer_desc trd = {.kind = desc.tracer, .photon = td,
+                            .images = {.count = desc.image_maps, .resolution = desc.image_map_resolution}};
+      if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;
     }
     pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size};
     if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
@@ -338,7 +360,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       const pb_photon_map *m = desc.photon_map;
       double ms = 0;
       if (!m) {
-        if ((r = pb_photon_tracer_run(g, tracer, desc.seed, it, &map, &ms)) != PB_OK) goto fail;
+        if ((r = pb_tracer_trace(g, tracer, desc.seed, it, &map, &ms)) != PB_OK) goto fail;
         if (band == 0) trace_ms += ms > 0 ? ms : 0;
         photon_gpu_ms += ms > 0 ? ms : 0;
         m = &map;
@@ -347,11 +369,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                      out->stats.photons_clamped += m->clamped;
       if (band == 0 && !desc.photon_map) {
         pb_photon_trace_stats pts;
-        pb_photon_tracer_stats(tracer, &pts);
+        pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
         out->stats.photon_guarded += pts.guarded;
+        tracer_stats_add(tracer, &out->stats);
       }
       if (band == 0 && desc.radius_histogram && !desc.photon_map &&
-          (r = radius_histogram(g, tracer, m, &hist_host, &out->stats)) != PB_OK)
+          (r = radius_histogram(g, pb_tracer_photon(tracer), m, &hist_host, &out->stats)) != PB_OK)
         goto fail;
       /* Progressive mode: Hachisuka & Jensen's SPPM radius reduction in
        * Knaus & Zwicker's probabilistic form (2011): iteration i = 1, 2, ...
@@ -489,7 +512,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   }
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
-  pb_photon_tracer_destroy(g, tracer);
+  pb_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
   pb_gpu_pipeline_destroy(g, &rp);
@@ -500,7 +523,7 @@ fail:
   free(hist_host);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
-  pb_photon_tracer_destroy(g, tracer);
+  pb_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
   pb_gpu_pipeline_destroy(g, &rp);

@@ -120,6 +120,15 @@ pb_result pb_photon_tracer_update(pb_gpu *g, pb_photon_tracer *t, const pb_scene
 pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
                                pb_photon_map *map, double *gpu_ms);
 void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t);
+/* The image-space tracer (render/tracer.h, seed 003): from now on the
+ * tracer's segments are searched in `maps` (image_maps.h; kept alive and
+ * up to date by the caller) instead of the scene BVH, with the same
+ * emission, scattering and records. image_counts: the search's counters of
+ * the last run (zero without maps). */
+struct pb_image_maps;
+struct pb_gpu_image_counts;
+pb_result pb_photon_tracer_use_image_maps(pb_gpu *g, pb_photon_tracer *t, const struct pb_image_maps *maps);
+void pb_photon_tracer_image_counts(const pb_photon_tracer *t, struct pb_gpu_image_counts *out);
 
 /* Statistics of the last pb_photon_tracer_run (photon_trace.c). */
 typedef struct pb_photon_trace_stats {

@@ -21,6 +21,9 @@
 #include "render/plan.h"
 #include "shaders/photon_trace.spv.h"
 #include "shaders/photon_trace_blender.spv.h"
+#include "shaders/photon_trace_images.spv.h"
+#include "shaders/photon_trace_images_blender.spv.h"
+#include "render/image_maps.h"
 #include "shared/pb_photon.h"
 
 enum { PB_PHOTON_MAX_SPECULAR = 8 }; /* delta interactions per path beyond the stored bounces */
@@ -41,6 +44,12 @@ struct pb_photon_tracer {
                                    frame) renders them once and every
                                    iteration warps new points through them */
   pb_photon_trace_desc desc;    /* with defaults filled in */
+  int blender;                  /* the scene has Blender materials */
+  /* The image-space tracer (pb_photon_tracer_use_image_maps): its maps, the
+   * kernel's counters and their values after the last run. */
+  const pb_image_maps *images;
+  pb_gpu_buffer image_counts;
+  pb_gpu_image_counts image_last;
 };
 
 static float luminance(const float c[3]) {
@@ -297,6 +306,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
       .spec = t->spec,
       .spec_count = PB_SPEC_COUNT,
   };
+  t->blender = plan.blender_materials ? 1 : 0;
   if ((r = pb_gpu_pipeline_create(g, &pdsc, &t->pipe)) != PB_OK) goto fail;
   free(counts);
   free(firsts);
@@ -331,7 +341,7 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
                    map->capacity, t->p.capacity);
   }
   const pb_gpu_scene *gs = t->gs;
-  const pb_gpu_buffer *b[PB_PHOTON_BIND_COUNT] = {
+  const pb_gpu_buffer *b[PB_PHOTON_IMAGES_BIND_COUNT] = {
       [PB_BIND_FRAME] = &t->frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
       [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
       [PB_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_BIND_MATERIALS] = &gs->materials,
@@ -341,8 +351,13 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
       /* TRACE: never read, any buffer will do */
       [PB_PHOTON_BIND_RSM_LIGHTS] = t->rsm ? pb_photon_rsm_lights(t->rsm) : &t->params,
       [PB_PHOTON_BIND_RSM_TEXELS] = t->rsm ? pb_photon_rsm_texels(t->rsm) : &t->params,
-      [PB_PHOTON_BIND_WORLD] = &gs->world};
-  if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, PB_PHOTON_BIND_COUNT)) != PB_OK) return r;
+      [PB_PHOTON_BIND_WORLD] = &gs->world,
+      [PB_PHOTON_BIND_IMAGE_MAPS] = t->images ? pb_image_maps_buffer(t->images) : &t->params,
+      [PB_PHOTON_BIND_IMAGE_TEXELS] = t->images ? pb_image_maps_texels(t->images) : &t->params,
+      [PB_PHOTON_BIND_IMAGE_COUNTS] = t->images ? &t->image_counts : &t->params};
+  uint32_t nb = t->images ? PB_PHOTON_IMAGES_BIND_COUNT : PB_PHOTON_BIND_COUNT;
+  if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, nb)) != PB_OK) return r;
+  if (t->images && (r = pb_gpu_buffer_fill_zero(g, &t->image_counts)) != PB_OK) return r;
   if (t->rsm && (r = pb_photon_rsm_bind(g, t->rsm, &t->frame)) != PB_OK) return r;
 
   pb_gpu_frame fr;
@@ -390,6 +405,9 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
   t->stats.guarded = pp.guarded;
   t->stats.absorbed = pp.absorbed;
   t->stats.escaped = pp.escaped;
+  if (t->images &&
+      (r = pb_gpu_buffer_download(g, &t->image_counts, 0, &t->image_last, sizeof t->image_last)) != PB_OK)
+    return r;
   if (c.stored > map->capacity)
     return pb_fail(PB_ERR_INTERNAL, "photons: %u stored in a map of %u", c.stored, map->capacity);
   if (c.overflow)
@@ -412,8 +430,39 @@ void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32
                (t->p.flags & (PB_PHOTON_PARAM_RSM | PB_PHOTON_PARAM_CAUSTIC_RAW));
 }
 
+pb_result pb_photon_tracer_use_image_maps(pb_gpu *g, pb_photon_tracer *t, const pb_image_maps *maps) {
+  pb_gpu_pipeline_desc pdsc = {
+      .name = "pass.photon_trace_images",
+      .spirv = t->blender ? pb_spv_photon_trace_images_blender : pb_spv_photon_trace_images,
+      .spirv_bytes = t->blender ? sizeof pb_spv_photon_trace_images_blender : sizeof pb_spv_photon_trace_images,
+      .binding_count = PB_PHOTON_IMAGES_BIND_COUNT,
+      .spec = t->spec,
+      .spec_count = PB_SPEC_COUNT,
+  };
+  pb_gpu_pipeline pipe;
+  pb_result r = pb_gpu_pipeline_create(g, &pdsc, &pipe);
+  if (r != PB_OK) return r;
+  if (!t->image_counts.buffer) {
+    pb_gpu_buffer_desc cd = {.name = "photons.image_counts", .size = sizeof(pb_gpu_image_counts), .readback = 1};
+    if ((r = pb_gpu_buffer_create(g, &cd, &t->image_counts)) != PB_OK) {
+      pb_gpu_pipeline_destroy(g, &pipe);
+      return r;
+    }
+  }
+  pb_gpu_pipeline_destroy(g, &t->pipe);
+  t->pipe = pipe;
+  t->images = maps;
+  return PB_OK;
+}
+
+void pb_photon_tracer_image_counts(const pb_photon_tracer *t, pb_gpu_image_counts *out) {
+  memset(out, 0, sizeof *out);
+  if (t && t->images) *out = t->image_last;
+}
+
 void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t) {
   if (!t) return;
+  pb_gpu_buffer_destroy(g, &t->image_counts);
   pb_photon_rsm_destroy(g, t->rsm);
   pb_gpu_pipeline_destroy(g, &t->pipe);
   pb_gpu_buffer_destroy(g, &t->params);

@@ -97,6 +97,15 @@ pb_result pb_raycast_run(pb_gpu *g, pb_raycast_pass *p, const pb_gpu_ray *rays, 
 
 /* ---- the frame ----------------------------------------------------------- */
 
+/* A named statistic of the photon tracer (tracer.h). summed: a count of one
+ * photon map, added over the frame's maps; otherwise the last value. */
+typedef struct pb_tracer_stat {
+  const char *name;
+  double value;
+  int summed;
+} pb_tracer_stat;
+enum { PB_TRACER_MAX_STATS = 24 };
+
 /* What pb_render_desc.progress hears after each finished photon iteration
  * (band 0 of the image, the first rows when it needs several bands). */
 typedef struct pb_render_progress {
@@ -146,6 +155,9 @@ typedef struct pb_render_desc {
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
+  uint32_t tracer;             /* pb_tracer_kind (tracer.h); 0: the BVH */
+  uint32_t image_maps;         /* tracer images: k maps; 0: 8 */
+  uint32_t image_map_resolution; /* tracer images: texels per face side; 0: 128 */
   uint32_t atrous_iterations;  /* spatial filter of the indirect AOV
                                   (atrous.h, seed 001 24.4.2); 0: off */
   float atrous_gamma;          /* its detail clipping in standard
@@ -248,6 +260,11 @@ typedef struct pb_render_stats {
    * summed from timestamp queries; -1 without timestamps. Their difference
    * is the host's share: what the GPU-resident frame removes. */
   double frame_wall_ms, frame_gpu_ms;
+  /* The photon tracer that ran (tracer.h: "bvh", "images"; NULL when the
+   * photon stages are off) and its named statistics over the frame. */
+  const char *tracer;
+  uint32_t tracer_stat_count;
+  pb_tracer_stat tracer_stats[PB_TRACER_MAX_STATS];
 } pb_render_stats;
 
 /* Per-pixel float buffers, width*height*channels, top row first. */

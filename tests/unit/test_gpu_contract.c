@@ -35,6 +35,10 @@
 #include "shaders/photon_rsm_blender.spv.h"
 #include "shaders/photon_trace.spv.h"
 #include "shaders/photon_trace_blender.spv.h"
+#include "shaders/photon_trace_images.spv.h"
+#include "shaders/photon_trace_images_blender.spv.h"
+#include "shaders/image_maps.spv.h"
+#include "shaders/image_maps_query.spv.h"
 #include "shaders/raycast.spv.h"
 #include "shaders/resolve.spv.h"
 #include "shaders/temporal.spv.h"
@@ -121,6 +125,22 @@ static const entry resolve_bind[] = {{"Accum", PB_RESOLVE_BIND_ACCUM},
                                      {"Guard", PB_RESOLVE_BIND_GUARD},
                                      {"PhotonPlanes", PB_RESOLVE_BIND_OUT_PHOTONS},
                                      END};
+static const entry trace_images_bind[] = {SCENE_COMMON,
+                                          {"Photons", PB_PHOTON_BIND_PHOTONS},
+                                          {"Counts", PB_PHOTON_BIND_COUNTS},
+                                          {"Params", PB_PHOTON_BIND_PARAMS},
+                                          {"RsmLights", PB_PHOTON_BIND_RSM_LIGHTS},
+                                          {"RsmTexels", PB_PHOTON_BIND_RSM_TEXELS},
+                                          {"WorldBuf", PB_PHOTON_BIND_WORLD},
+                                          {"ImageMaps", PB_PHOTON_BIND_IMAGE_MAPS},
+                                          {"ImageTexels", PB_PHOTON_BIND_IMAGE_TEXELS},
+                                          {"ImageCounts", PB_PHOTON_BIND_IMAGE_COUNTS},
+                                          END};
+static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", PB_IMAGE_BIND_TRIS},
+                                   {"Indices", PB_IMAGE_BIND_INDICES}, {"Positions", PB_IMAGE_BIND_POSITIONS},
+                                   {"TriMat", PB_IMAGE_BIND_TRI_MATERIAL}, {"Maps", PB_IMAGE_BIND_MAPS},
+                                   {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
+                                   {"Hits", PB_IMAGE_BIND_HITS},       {"Counts", PB_IMAGE_BIND_COUNTS}, END};
 static const entry no_spec[] = {END};
 
 typedef struct module {
@@ -141,6 +161,10 @@ static const module modules[] = {
     MOD(gather_blender, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
     MOD(photon_trace, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_blender, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
+    MOD(photon_trace_images, trace_images_bind, trace_spec, PB_PHOTON_IMAGES_BIND_COUNT),
+    MOD(photon_trace_images_blender, trace_images_bind, trace_spec, PB_PHOTON_IMAGES_BIND_COUNT),
+    MOD(image_maps, image_bind, no_spec, PB_IMAGE_BIND_COUNT),
+    MOD(image_maps_query, image_bind, no_spec, PB_IMAGE_BIND_COUNT),
     MOD(photon_rsm, rsm_bind, scene_spec, PB_RSM_BIND_COUNT),
     MOD(photon_rsm_blender, rsm_bind, scene_spec, PB_RSM_BIND_COUNT),
     MOD(lbvh_setup, lbvh_bind, no_spec, PB_LBVH_BIND_COUNT),

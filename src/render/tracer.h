@@ -1,0 +1,63 @@
+/* The photon tracer, one interface over its implementations (ARCHITECTURE.md:
+ * "photon tracer behind one interface too"):
+ *
+ *   bvh     photon_trace.c as it is: every segment traced in the scene BVH
+ *           (exact closest hits; seeds 000, 001);
+ *   images  seed 003 (Yao et al. 2010): the same emission, scattering,
+ *           differentials and records, every segment searched in k cube
+ *           environment maps of the scene (image_maps.h) instead; the maps
+ *           follow the scene's pose (rendered again per update, a swap of
+ *           their centres every few updates).
+ *
+ * Both write pb_gpu_photon records into a pb_photon_map, so every density
+ * estimator works with either. Statistics are named (pb_tracer_stat) so that
+ * `render --json` and `info` report whatever a tracer counts. */
+#ifndef PB_RENDER_TRACER_H
+#define PB_RENDER_TRACER_H
+
+#include <stdint.h>
+
+#include "core/result.h"
+#include "gpu/gpu.h"
+#include "render/image_maps.h"
+#include "render/photon.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+typedef enum pb_tracer_kind {
+  PB_TRACER_BVH = 0,
+  PB_TRACER_IMAGES = 1,
+} pb_tracer_kind;
+
+/* Zero means default for every field. */
+typedef struct pb_tracer_desc {
+  uint32_t kind;                 /* pb_tracer_kind; 0: BVH */
+  pb_photon_trace_desc photon;   /* emission, scattering, footprints (both) */
+  pb_image_maps_desc images;     /* PB_TRACER_IMAGES only */
+} pb_tracer_desc;
+
+typedef struct pb_tracer pb_tracer;
+
+pb_result pb_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const pb_tracer_desc *desc,
+                           pb_tracer **out);
+/* A new pose of the same scene (gs already updated). */
+pb_result pb_tracer_update(pb_gpu *g, pb_tracer *t, const pb_scene *s);
+/* One photon map for (seed, iteration) into `map` (pb_photon_tracer_run). */
+pb_result pb_tracer_trace(pb_gpu *g, pb_tracer *t, uint64_t seed, uint32_t iteration, pb_photon_map *map,
+                          double *gpu_ms);
+/* "bvh" or "images". */
+const char *pb_tracer_name(const pb_tracer *t);
+/* The named statistics of the last trace (and of the maps): up to max
+ * entries written, their number returned. */
+uint32_t pb_tracer_stats(const pb_tracer *t, pb_tracer_stat *out, uint32_t max);
+/* The photon tracer inside (footprint statistics, debugging). */
+pb_photon_tracer *pb_tracer_photon(const pb_tracer *t);
+/* The maps of an images tracer (NULL for bvh). */
+pb_image_maps *pb_tracer_image_maps(const pb_tracer *t);
+void pb_tracer_destroy(pb_gpu *g, pb_tracer *t);
+
+/* The names of pb_tracer_kind, in order, NULL-terminated (the CLI's
+ * --tracer choices). */
+extern const char *const pb_tracer_names[];
+
+#endif
