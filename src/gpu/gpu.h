@@ -159,6 +159,21 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset,
 pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset,
                                  void *data, uint64_t size);
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b);
+/* Bytes moved by pb_gpu_buffer_upload and pb_gpu_buffer_download since the
+ * context was made (mapped copies included: they are host <-> device
+ * traffic on a discrete GPU). A frame's share is the difference of two
+ * readings (render.h pb_render_stats.upload_bytes, --json "transfers"). */
+typedef struct pb_gpu_transfers {
+  uint64_t upload_bytes, download_bytes;
+  uint64_t readback_bytes;     /* pb_gpu_buffer_read_back's, not in download_bytes */
+  uint32_t uploads, downloads; /* calls */
+} pb_gpu_transfers;
+pb_gpu_transfers pb_gpu_transfers_get(const pb_gpu *g);
+/* pb_gpu_buffer_download for the readback module (render/readback.h), the
+ * one place a frame's pixels come to the host: counted apart. */
+pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *data, uint64_t size);
+/* Counts `size` bytes the readback read through a buffer's cached mapping. */
+void pb_gpu_note_read_back(pb_gpu *g, uint64_t size);
 
 /* ---- pipelines ---------------------------------------------------------- */
 
