@@ -439,8 +439,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       goto fail;
     }
     spp_run = (uint32_t)((uint64_t)iters_run * spp / iters); /* all of spp without a time limit */
-    /* The resolve (resolve.h) on the GPU, then the band's AOVs to the host:
-     * the readback (readback.h) is where pixels leave the GPU. */
+    /* The resolve (resolve.h), the filter chain and eq. 20 on the GPU in one
+     * submission, then the band's AOVs to the host: the readback
+     * (readback.h) is where pixels leave the GPU. Timestamps: 0 start, 1
+     * resolved, the chain's from 1 (filters.c), the last after eq. 20. */
     if (chain_gpu && (r = pb_filter_chain_bind(g, fc, &tg, nmap_aovs)) != PB_OK) goto fail;
     if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
     pb_gpu_timestamp(g, 0);
