@@ -11,7 +11,8 @@ down), and stay under one float per pixel of the smaller image; the
 readback must grow with it. The host path (PB_RESOLVE_ON_HOST=1, the
 former per-pass round trips, kept as the reference) must show the round
 trip the counters exist to catch, and the GPU's temporal statistics
-(workgroup sums, atomics) must match the host's to 1e-3.
+(workgroup sums, atomics) must match the host's to 1e-3. Last, the host's
+share of a warm 128 px sequence frame stays under 10 %.
 
 usage: frame_transfers.py PHOTONBRIDGE ROOT WORKDIR. Exit 77 without a Vulkan device."""
 import json
@@ -103,6 +104,19 @@ for label, args in CASES:
             check(tg and th and abs(tg["mean_history"] - th["mean_history"]) <= 1e-3 and
                   abs(tg["reset_fraction"] - th["reset_fraction"]) <= 1e-9,
                   "orbit frame %d: temporal statistics on the GPU %s, host %s" % (i, tg, th))
+# The host's share of a warm sequence frame on this device (issue 17: at
+# most 10 % on lavapipe at 256 px; here 128 px, which has less GPU work to
+# hide the host's behind, so the bound is the stricter test): the moving
+# light of cornell_box_moving_light, temporal filter, motion vectors and 4
+# A-Trous passes every frame, median over frames 1-5.
+seq = run("share", [scene("samples", "cornell_box_moving_light", "cornell_box_moving_light.gltf"), "--frames", "0:5",
+                    "--photons", "16384", "--seed", "0"], 128, 128)
+warm = [(f["timing"]["frame_wall_ms"] - f["timing"]["frame_gpu_ms"]) / f["timing"]["frame_wall_ms"]
+        for f in seq[1:] if f["timing"].get("frame_gpu_ms") is not None]
+if warm:
+    share = sorted(warm)[len(warm) // 2]
+    check(share <= 0.10, "host share of a warm 128 px sequence frame %.1f %% (<= 10 %%; frames %s)" %
+          (100 * share, ["%.1f %%" % (100 * w) for w in warm]))
 if failures:
     print("%d failed" % len(failures))
     sys.exit(1)

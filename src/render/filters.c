@@ -93,7 +93,7 @@ struct pb_filter_chain {
   pb_filter_chain_desc desc;
   pb_temporal *temporal, *temporal_caustic;
   pb_atrous_pass *atrous;
-  pb_motion_pass *motion;        /* made by the first moving frame */
+  pb_motion_pass *motion;        /* with a temporal filter */
   pb_gpu_pipeline io;            /* filter_io.comp */
   /* vec4 per pixel: geometry (ping-pong for the temporal filters: [cur] is
    * this frame's), albedo, indirect and caustics before (in) and after the
@@ -156,6 +156,9 @@ pb_result pb_filter_chain_create(pb_gpu *g, uint32_t width, uint32_t height, con
     if ((r = pb_temporal_create(g, width, height, &cd, &c->temporal_caustic)) != PB_OK) goto fail;
   }
   if (d->atrous_iterations && (r = pb_atrous_pass_create(g, width, height, &c->atrous)) != PB_OK) goto fail;
+  /* Made now, not by the first moving frame: a live view's first move must
+   * not wait for a pipeline compilation. */
+  if (d->temporal && (r = pb_motion_pass_create(g, width, height, d->vertex_count, &c->motion)) != PB_OK) goto fail;
   pb_gpu_pipeline_desc pd = {.name = "pass.filter_io", .spirv = pb_spv_filter_io, .spirv_bytes = sizeof pb_spv_filter_io,
                              .binding_count = PB_FILTER_IO_BIND_COUNT, .push_bytes = sizeof(pb_gpu_filter_io_push)};
   if ((r = pb_gpu_pipeline_create(g, &pd, &c->io)) != PB_OK) goto fail;
