@@ -1,11 +1,16 @@
 #!/usr/bin/env python3
 """The host's share of a frame (issue 17): renders a sequence with --json and
 prints, per frame, timing.frame_wall_ms, timing.frame_gpu_ms (timestamp
-queries) and (wall - gpu) / wall, then the median over the warm frames (all
-but the first, which also compiles the pipelines).
+queries) and (wall - gpu) / wall, and the frame's host <-> device bytes
+(--json "transfers": uploads and downloads outside the readback, and the
+readback), then the median over the warm frames (all but the first, which
+also compiles the pipelines). FRAMES 1: a single frame (`render` without
+--frames; its one frame is also the cold one).
 
 usage: bench/frame_timing.py PHOTONBRIDGE SCENE [SIZE [FRAMES [EXTRA...]]]
-e.g.   bench/frame_timing.py build/photonbridge samples/cornell_box_moving_light/cornell_box_moving_light.gltf 256 6"""
+SIZE: N (N x N) or WxH.
+e.g.   bench/frame_timing.py build/photonbridge samples/cornell_box_moving_light/cornell_box_moving_light.gltf 256 6
+       bench/frame_timing.py build/photonbridge samples/cornell_box/cornell_box.gltf 1920x1080 4 --photons 1048576"""
 import json
 import os
 import statistics
@@ -14,18 +19,22 @@ import sys
 import tempfile
 
 exe, scene = sys.argv[1:3]
-size = int(sys.argv[3]) if len(sys.argv) > 3 else 256
+size = sys.argv[3] if len(sys.argv) > 3 else "256"
+width, height = (int(v) for v in size.split("x")) if "x" in size else (int(size), int(size))
 frames = int(sys.argv[4]) if len(sys.argv) > 4 else 6
 extra = sys.argv[5:]
 with tempfile.TemporaryDirectory() as d:
     js = os.path.join(d, "seq.json")
-    cmd = [exe, "render", scene, "--frames", "0:%d" % (frames - 1), "--width", str(size), "--height", str(size),
-           "-o", os.path.join(d, "f_#.exr"), "--json", js, "-q"] + extra
+    seq = ["--frames", "0:%d" % (frames - 1)] if frames > 1 else []
+    cmd = [exe, "render", scene] + seq + ["--width", str(width), "--height", str(height),
+           "-o", os.path.join(d, "f_#.exr" if seq else "f.exr"), "--json", js, "-q"] + extra
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.exit(p.stderr)
     j = json.load(open(js))
-print("device %s, %s, %dx%d, %s" % (j["device"], os.path.basename(scene), j["width"], j["height"], " ".join(extra)))
+if not seq:  # one frame: its record is the document itself
+    j["frames"] = [dict(j, frame=0)]
+print("device %s, %s, %dx%d, %s" % (j["device"], os.path.basename(scene), width, height, " ".join(extra)))
 shares = []
 for f in j["frames"]:
     t = f["timing"]
@@ -34,10 +43,21 @@ for f in j["frames"]:
     share = (w - g) / w if g is not None else None
     if f is not j["frames"][0] and share is not None:
         shares.append(share)
-    print("frame %d: wall %.1f ms, gpu %s ms, host %s ms, host share %s, photons emitted %s stored %s" %
+    if not ph and "photons" in f and isinstance(f["photons"], dict):
+        ph = f["photons"]
+    tr = f.get("transfers", {})
+    print("frame %d: wall %.1f ms, gpu %s ms, host %s ms, host share %s, photons emitted %s stored %s, "
+          "up %s B, down %s B, readback %s B" %
           (f["frame"], w, "%.1f" % g if g is not None else "-", "%.1f" % (w - g) if g is not None else "-",
            "%.1f %%" % (100 * share) if share is not None else "-",
-           ph.get("emitted", "-"), ph.get("stored", "-")))
+           ph.get("emitted", "-"), ph.get("stored", "-"), tr.get("upload_bytes", "-"),
+           tr.get("download_bytes", "-"), tr.get("readback_bytes", "-")))
+if len(j["frames"]) == 1:
+    t = j["frames"][0]["timing"]
+    if t["frame_gpu_ms"] is not None:
+        print("single frame: host share %.1f %%, host %.1f ms" %
+              (100 * (t["frame_wall_ms"] - t["frame_gpu_ms"]) / t["frame_wall_ms"],
+               t["frame_wall_ms"] - t["frame_gpu_ms"]))
 if shares:
     hosts = [f["timing"]["frame_wall_ms"] - f["timing"]["frame_gpu_ms"] for f in j["frames"][1:]]
     print("median of the warm frames: host share %.1f %%, host %.1f ms" %

@@ -110,8 +110,9 @@ void main() {
   vec3 next = wsum > 0.0 ? sum / wsum : sp;
   vec3 mean = next, var = wsum > 0.0 ? max(sum2 / wsum - mean * mean, vec3(0.0)) : vec3(0.0);
   // Clip bound gamma sqrt(L) sigma_i, L the temporal history length carried
-  // in the albedo's w (1 for a single frame; atrous.h).
-  vec3 b = push.gamma * sqrt(max(albedo[gid].w, 1.0)) * sqrt(var);
+  // in the indirect input's w (1 for a single frame; atrous.h; the temporal
+  // filter's result writes it there).
+  vec3 b = push.gamma * sqrt(max(indirect[gid].w, 1.0)) * sqrt(var);
   s[dst + gid] = vec4(next, 0.0);
   detail[gid].rgb += clamp(sp - next, -b, b);
 }

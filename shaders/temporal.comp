@@ -31,6 +31,10 @@
 // The history written for the next frame is E~_i itself, before the
 // spatial filter: feeding the A-Trous output back would compound its blur
 // frame after frame, and a still view would converge to the blurred image.
+// The frame's result (binding 7) is E~_i times the albedo, demodulated as
+// above (the radiance the A-Trous and the compose read, on the GPU), with L
+// in w; each workgroup adds its counts and its sum of L to the statistics
+// (binding 8, pb_gpu_temporal_stats), so no history leaves the GPU.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_filter.h"
@@ -43,6 +47,8 @@ layout(std430, set = 0, binding = PB_TEMPORAL_BIND_INDIRECT) readonly buffer Ind
 layout(std430, set = 0, binding = PB_TEMPORAL_BIND_ALBEDO) readonly buffer Albedo { vec4 albedo[]; };
 layout(std430, set = 0, binding = PB_TEMPORAL_BIND_MOTION) readonly buffer Motion { vec4 motion[]; };
 layout(std430, set = 0, binding = PB_TEMPORAL_BIND_HIST_OUT) writeonly buffer HistOut { vec4 hist_out[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_RESULT) writeonly buffer Result { vec4 result[]; };
+layout(std430, set = 0, binding = PB_TEMPORAL_BIND_STATS) buffer Stats { pb_gpu_temporal_stats stats; };
 layout(push_constant) uniform Push { pb_gpu_temporal_push push; };
 
 const float PB_ALBEDO_MIN = 1e-3;
@@ -63,16 +69,15 @@ float pb_grad(float z, float z0, float z1) {
   return abs(g) < 1e29 ? g : 0.0;
 }
 
-void main() {
-  uint gid = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP;
-  uint n = push.width * push.height;
-  if (gid >= n) return;
+// Filters pixel gid; returns its new history length L, or -1 without a surface.
+float pb_filter_pixel(uint gid) {
   vec4 gp = geo[gid];
   vec3 a = pb_demod(albedo[gid].rgb);
   vec3 e = indirect[gid].rgb / a;
   if (!(gp.w > 0.0)) {  // no surface: nothing to filter, no history
     hist_out[gid] = vec4(e, 0.0);
-    return;
+    result[gid] = vec4(indirect[gid].rgb, 0.0);
+    return -1.0;
   }
   vec3 hist = vec3(0.0);
   float len = 0.0, w = 0.0;
@@ -152,4 +157,39 @@ void main() {
   vec3 filtered = max((1.0 - alpha) * e + alpha * hist, vec3(0.0));  // eq. 12
   float len_new = 1.0 / (1.0 - alpha);
   hist_out[gid] = vec4(filtered, len_new);
+  result[gid] = vec4(filtered * a, len_new);
+  return len_new;
+}
+
+shared uint s_surface[PB_GPU_WORKGROUP];
+shared uint s_reset[PB_GPU_WORKGROUP];
+shared float s_len[PB_GPU_WORKGROUP];
+
+void main() {
+  uint gid = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * PB_GPU_WORKGROUP;
+  uint n = push.width * push.height;
+  float len = gid < n ? pb_filter_pixel(gid) : -1.0;
+  // The statistics: a tree sum over the workgroup, one atomic per word.
+  uint lid = gl_LocalInvocationIndex;
+  s_surface[lid] = len >= 0.0 ? 1u : 0u;
+  s_reset[lid] = len >= 0.0 && len < 1.0001 ? 1u : 0u;
+  s_len[lid] = max(len, 0.0);
+  barrier();
+  for (uint k = PB_GPU_WORKGROUP / 2u; k > 0u; k >>= 1u) {
+    if (lid < k) {
+      s_surface[lid] += s_surface[lid + k];
+      s_reset[lid] += s_reset[lid + k];
+      s_len[lid] += s_len[lid + k];
+    }
+    barrier();
+  }
+  if (lid == 0u && s_surface[0] > 0u) {
+    atomicAdd(stats.surface, s_surface[0]);
+    atomicAdd(stats.reset, s_reset[0]);
+    // At most 64 x 4097 x 256 < 2^32 per workgroup; the carry into len_hi
+    // is exact: the old low word plus q wrapped past 2^32.
+    uint q = uint(s_len[0] * float(PB_TEMPORAL_LEN_SCALE) + 0.5);
+    uint old = atomicAdd(stats.len_lo, q);
+    if (old > 0xffffffffu - q) atomicAdd(stats.len_hi, 1u);
+  }
 }

@@ -9,3 +9,9 @@ foreach(part samples extra)
                    ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/frame_same_pixels_${part} "${PB_BASELINE_EXE}" ${part})
   set_tests_properties(frame_same_pixels_${part} PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
 endforeach()
+# No host round trip inside the filter chain: per-frame transfers in --json
+# (tests/frame_transfers.py).
+add_test(NAME frame_transfers
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/frame_transfers.py ${PB_EXE} ${PB_ROOT}
+                 ${CMAKE_CURRENT_BINARY_DIR}/frame_transfers)
+set_tests_properties(frame_transfers PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)

@@ -14,7 +14,9 @@
              the normal AOV; each changes the picture, a move restarts the
              still run, and the view refines again afterwards
   resize     the window resized twice mid-run: the swapchain is recreated and
-             the run goes on (exit 0)
+             the run goes on (exit 0), presenting through the render device
+             (one VkDevice: lavapipe's one queue family computes, blits and
+             presents; --json present_shared_device)
   nodisplay  no DISPLAY / WAYLAND_DISPLAY: one line saying so and naming
              `photonbridge render`, exit 15 (PB_ERR_NOT_AVAILABLE)
   errors     a bad --script line: exit 2 naming the file and the line
@@ -166,6 +168,16 @@ def part_resize():
     print("view_check resize: %d frames, %d swapchain recreations" % (len(j["frames"]), j["swapchain_recreations"]))
     if len(j["frames"]) != 6 or j["swapchain_recreations"] < 2:
         fail("expected 6 frames and at least 2 swapchain recreations: %s" % j)
+    if j.get("present_shared_device") is not True:
+        fail("the window does not present through the render device: %s" % j.get("present_shared_device"))
+    # The fallback (PB_PRESENT_OWN_DEVICE=1: as where the render device's
+    # queue family cannot present): a second VkDevice, its reason logged.
+    env = validation_env()
+    env["PB_PRESENT_OWN_DEVICE"] = "1"
+    p = run(["view", SCENE] + SETTINGS + ["--exit-after", "2", "--json", stats], env=env)
+    j = json.load(open(stats))
+    if j.get("present_shared_device") is not False or "second Vulkan device" not in (p.stderr or ""):
+        fail("the fallback presenter: shared %s, stderr %r" % (j.get("present_shared_device"), (p.stderr or "")[-300:]))
     if png(shot).shape != (64, 64, 3):
         fail("the screenshot is not the 64 px frame")
 

@@ -118,7 +118,27 @@
 #define PB_TEMPORAL_BIND_ALBEDO 4
 #define PB_TEMPORAL_BIND_MOTION 5
 #define PB_TEMPORAL_BIND_HIST_OUT 6
-#define PB_TEMPORAL_BIND_COUNT 7
+#define PB_TEMPORAL_BIND_RESULT 7   /* vec4: filtered radiance (remodulated), history length L */
+#define PB_TEMPORAL_BIND_STATS 8    /* pb_gpu_temporal_stats (atomics) */
+#define PB_TEMPORAL_BIND_COUNT 9
+
+/* ---- filter_io.comp (src/render/filters.c): the filters' inputs packed from
+ * the resolved planes, their outputs composed back into them ---------------- */
+#define PB_FILTER_IO_BIND_PLANES 0        /* the resolve's float planes */
+#define PB_FILTER_IO_BIND_PHOTON_PLANES 1 /* the resolve's photon planes */
+#define PB_FILTER_IO_BIND_GEO 2           /* vec4: edge-stopping normal, depth */
+#define PB_FILTER_IO_BIND_ALBEDO 3        /* vec4: albedo (demodulation) */
+#define PB_FILTER_IO_BIND_INDIRECT_IN 4   /* vec4: indirect to filter, w = L (1) */
+#define PB_FILTER_IO_BIND_INDIRECT 5      /* vec4: the filtered indirect */
+#define PB_FILTER_IO_BIND_CAUSTIC_IN 6    /* vec4: caustics to filter */
+#define PB_FILTER_IO_BIND_CAUSTIC 7       /* vec4: the filtered caustics */
+#define PB_FILTER_IO_BIND_GUARD 8         /* uint: non-finite values replaced */
+#define PB_FILTER_IO_BIND_COUNT 9
+
+/* ---- shading_correction.comp (eq. 20 on the resolved planes) --------------- */
+#define PB_SHADING_BIND_PLANES 0
+#define PB_SHADING_BIND_PHOTON_PLANES 1
+#define PB_SHADING_BIND_COUNT 2
 
 /* ---- motion.comp ----------------------------------------------------------- */
 #define PB_MOTION_BIND_NODES 0

@@ -3,7 +3,8 @@
  * Buffers, vec4 per pixel, top row first: 0 irradiance (s_i, two halves of
  * width x height for the ping-pong), 1 the clipped detail sum, 2 geometry
  * (shading normal xyz, camera depth; depth 0: no surface), 3 the indirect
- * radiance (input, and the filtered result), 4 the albedo (demodulation). */
+ * radiance (input, w: the history length L of the A-Trous's clipping; and
+ * the filtered result), 4 the albedo (demodulation). */
 #ifndef PB_FILTER_SHARED_H
 #define PB_FILTER_SHARED_H
 
@@ -30,8 +31,10 @@ PB_STRUCT(pb_gpu_atrous_push) {
  * (demodulation, as the A-Trous), 5 the motion (dx, dy: where this pixel's
  * surface point was in the previous frame, in pixels, previous minus
  * current; z: its camera depth in the previous frame; w: 1 valid, 0 none),
- * 6 the new history (filtered irradiance, length): this frame's result
- * (times the albedo on the host) and the next frame's history. */
+ * 6 the new history (filtered irradiance, length): the next frame's
+ * history, 7 this frame's result: the filtered irradiance times the albedo
+ * (w: L) on pixels with a surface, the input radiance (w: 0) elsewhere;
+ * 8 the statistics below. */
 PB_STRUCT(pb_gpu_temporal_push) {
   uint width;
   uint height;
@@ -47,6 +50,44 @@ PB_STRUCT(pb_gpu_temporal_push) {
   uint pad1;
   uint pad2;
 } PB_END(pb_gpu_temporal_push)
+
+/* What temporal.comp counts over a frame (atomics, zeroed per frame):
+ * pixels with a surface, of those with no usable history (L < 1.0001), and
+ * the sum of their history lengths L in fixed point, PB_TEMPORAL_LEN_SCALE
+ * units, as a 64-bit count in two words (each workgroup adds its sum,
+ * rounded: at most 0.5 / PB_TEMPORAL_LEN_SCALE of error per 64 pixels). */
+PB_CONST(PB_TEMPORAL_LEN_SCALE, 256u)
+PB_STRUCT(pb_gpu_temporal_stats) {
+  uint surface;
+  uint reset;
+  uint len_lo;
+  uint len_hi;
+} PB_END(pb_gpu_temporal_stats)
+
+/* filter_io.comp (src/render/filters.c): PACK copies the resolved planes
+ * into the filters' vec4 buffers (geometry, albedo, indirect with L = 1,
+ * caustics); COMPOSE writes the filtered indirect and caustics back into
+ * their planes, non-finite values as 0 (counted in the resolve's guard),
+ * and moves the beauty by the same change: beauty += filtered - raw. */
+PB_CONST(PB_FILTER_IO_PACK, 0u)
+PB_CONST(PB_FILTER_IO_COMPOSE, 1u)
+PB_CONST(PB_FILTER_IO_GEO_NORMAL, 1u) /* flags: edge-stop on the geometric normal plane */
+PB_CONST(PB_FILTER_IO_INDIRECT, 2u)   /* flags: compose the filtered indirect */
+PB_CONST(PB_FILTER_IO_CAUSTIC, 4u)    /* flags: compose the filtered caustics */
+PB_STRUCT(pb_gpu_filter_io_push) {
+  uint pixels;
+  uint mode;
+  uint flags;
+  uint pad0;
+} PB_END(pb_gpu_filter_io_push)
+
+/* shading_correction.comp: eq. 20 (src/render/shading_correction.h). */
+PB_STRUCT(pb_gpu_shading_push) {
+  uint pixels;
+  float s_max;
+  uint pad0;
+  uint pad1;
+} PB_END(pb_gpu_shading_push)
 
 /* Motion vectors (src/render/motion.c, shaders/motion.comp): this frame's
  * camera (its pixel-centre rays) and the previous frame's (the
@@ -64,6 +105,9 @@ PB_STRUCT(pb_gpu_motion_params) {
 _Static_assert(sizeof(pb_gpu_motion_params) == 176, "pb_gpu_motion_params size");
 _Static_assert(sizeof(pb_gpu_atrous_push) == 32, "pb_gpu_atrous_push size");
 _Static_assert(sizeof(pb_gpu_temporal_push) == 48, "pb_gpu_temporal_push size");
+_Static_assert(sizeof(pb_gpu_temporal_stats) == 16, "pb_gpu_temporal_stats size");
+_Static_assert(sizeof(pb_gpu_filter_io_push) == 16, "pb_gpu_filter_io_push size");
+_Static_assert(sizeof(pb_gpu_shading_push) == 16, "pb_gpu_shading_push size");
 #endif
 
 #endif

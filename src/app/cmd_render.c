@@ -213,6 +213,13 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   if (st->frame_gpu_ms >= 0) pb_json_number(&j, "frame_gpu_ms", st->frame_gpu_ms);
   else pb_json_null(&j, "frame_gpu_ms");
   pb_json_end_object(&j);
+  /* Host <-> device bytes of the frame (pb_render_stats): the readback's,
+   * and what else went up or down (constants, scene data, photon counts). */
+  pb_json_begin_object(&j, "transfers");
+  pb_json_int(&j, "upload_bytes", (int64_t)st->upload_bytes);
+  pb_json_int(&j, "download_bytes", (int64_t)st->download_bytes);
+  pb_json_int(&j, "readback_bytes", (int64_t)st->readback_bytes);
+  pb_json_end_object(&j);
   pb_json_int(&j, "primary_rays", (int64_t)st->primary_rays);
   pb_json_int(&j, "bvh_nodes", st->bvh_nodes);
   pb_json_int(&j, "bvh_depth", st->bvh_depth);

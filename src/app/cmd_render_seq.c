@@ -194,6 +194,13 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   if (st->frame_gpu_ms >= 0) pb_json_number(j, "frame_gpu_ms", st->frame_gpu_ms);
   else pb_json_null(j, "frame_gpu_ms");
   pb_json_end_object(j);
+  /* Host <-> device bytes of the frame (pb_render_stats): the readback's,
+   * and what else went up or down (constants, scene data, photon counts). */
+  pb_json_begin_object(j, "transfers");
+  pb_json_int(j, "upload_bytes", (int64_t)st->upload_bytes);
+  pb_json_int(j, "download_bytes", (int64_t)st->download_bytes);
+  pb_json_int(j, "readback_bytes", (int64_t)st->readback_bytes);
+  pb_json_end_object(j);
   pb_json_begin_object(j, "passes_ms");
   pb_json_number(j, "pose", f->info.pose_ms);
   pb_json_number(j, "pose_cpu", f->info.pose_cpu_ms);

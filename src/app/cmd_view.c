@@ -86,6 +86,7 @@ int pb_cmd_view(int argc, char **argv) {
   uint32_t w, h;
   if ((r = pb_cli_pick_camera(&s, &c, &camera, &w, &h)) != PB_OK) goto done;
   pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
+  pb_view_gpu_desc(&gd); /* the window presents through the render device (view/present.h) */
   if ((r = pb_gpu_create(&gd, &g)) != PB_OK) goto done;
   if ((r = pb_gpu_scene_create(g, &s, &gs)) != PB_OK) goto done;
   pb_view_desc vd = {

@@ -150,6 +150,7 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset, con
                                uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
+  g->transfers.upload_bytes += size, g->transfers.uploads++;
   if (b->mapped) {
     memcpy((char *)b->mapped + offset, data, size);
     return PB_OK;
@@ -161,11 +162,24 @@ pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t off
                                  uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
+  g->transfers.download_bytes += size, g->transfers.downloads++;
   if (b->mapped && b->cached) {
     memcpy(data, (const char *)b->mapped + offset, size);
     return PB_OK;
   }
   return staged(g, b, offset, data, size, 0); /* GPU copy into cached memory, then read */
+}
+
+pb_gpu_transfers pb_gpu_transfers_get(const pb_gpu *g) { return g->transfers; }
+
+void pb_gpu_note_read_back(pb_gpu *g, uint64_t size) { g->transfers.readback_bytes += size; }
+
+pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *data, uint64_t size) {
+  pb_gpu_transfers keep = g->transfers;
+  pb_result r = pb_gpu_buffer_download(g, b, offset, data, size);
+  g->transfers = keep;
+  if (r == PB_OK) g->transfers.readback_bytes += size;
+  return r;
 }
 
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {

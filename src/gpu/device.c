@@ -86,15 +86,18 @@ static const char *const no_driver_advice =
 
 /* Creates an instance; with validation, the layer and a messenger whose
  * callback counts messages into g (g may be NULL when listing). */
-static pb_result create_instance(int validation, pb_gpu *g, VkInstance *out,
-                                 VkDebugUtilsMessengerEXT *messenger) {
+static pb_result create_instance(int validation, pb_gpu *g, const char *const *extra, uint32_t extra_count,
+                                 VkInstance *out, VkDebugUtilsMessengerEXT *messenger) {
   *out = VK_NULL_HANDLE;
   if (messenger) *messenger = VK_NULL_HANDLE;
   uint32_t version = 0;
   if (vkEnumerateInstanceVersion(&version) != VK_SUCCESS || version < VK_API_VERSION_1_1)
     return pb_fail(PB_ERR_NO_DEVICE, "Vulkan 1.1 loader not found: %s", no_driver_advice);
   const char *layers[1] = {"VK_LAYER_KHRONOS_validation"};
-  const char *exts[1] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  const char *exts[17] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  uint32_t ext_count = validation ? 1u : 0u;
+  if (extra_count > 16) return pb_fail(PB_ERR_USAGE, "gpu: %u instance extensions (at most 16)", extra_count);
+  for (uint32_t i = 0; i < extra_count; ++i) exts[ext_count++] = extra[i];
   if (validation && !has_layer(layers[0]))
     return pb_fail(PB_ERR_NOT_AVAILABLE,
                    "validation requested (PB_VK_VALIDATION) but VK_LAYER_KHRONOS_validation "
@@ -121,7 +124,7 @@ static pb_result create_instance(int validation, pb_gpu *g, VkInstance *out,
       .pApplicationInfo = &app,
       .enabledLayerCount = validation ? 1u : 0u,
       .ppEnabledLayerNames = layers,
-      .enabledExtensionCount = validation ? 1u : 0u,
+      .enabledExtensionCount = ext_count,
       .ppEnabledExtensionNames = exts,
   };
   VkResult vr = vkCreateInstance(&ci, NULL, out);
@@ -351,7 +354,7 @@ pb_result pb_gpu_list_devices(pb_gpu_device_info **out, uint32_t *count) {
   unsigned mask;
   pb_result r = masked_features(&mask);
   if (r != PB_OK) return r;
-  r = create_instance(0, NULL, &inst, NULL);
+  r = create_instance(0, NULL, NULL, 0, &inst, NULL);
   if (r != PB_OK) return r;
   VkPhysicalDevice *pd = NULL;
   uint32_t n = 0;
@@ -437,7 +440,8 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   if (r != PB_OK) goto fail;
   r = memory_limit_from(&desc, &g->memory_limit);
   if (r != PB_OK) goto fail;
-  r = create_instance(g->validation, g, &g->instance, &g->messenger);
+  r = create_instance(g->validation, g, desc.instance_extensions, desc.instance_extension_count, &g->instance,
+                      &g->messenger);
   if (r != PB_OK) goto fail;
   r = enumerate(g->instance, &pd, &n);
   if (r != PB_OK) goto fail;
@@ -481,6 +485,38 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   vkGetPhysicalDeviceProperties2(g->phys, &p2);
   uint32_t ts_bits = 0;
   g->family = compute_family(g->phys, &ts_bits);
+  int swapchain = 0;
+  if (desc.can_present) { /* a family that computes, blits and presents, and the extension */
+    uint32_t ne = 0;
+    VkExtensionProperties *ep = NULL;
+    if (vkEnumerateDeviceExtensionProperties(g->phys, NULL, &ne, NULL) == VK_SUCCESS && ne &&
+        (ep = calloc(ne, sizeof *ep)) && vkEnumerateDeviceExtensionProperties(g->phys, NULL, &ne, ep) == VK_SUCCESS)
+      for (uint32_t i = 0; i < ne; ++i)
+        if (strcmp(ep[i].extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0) swapchain = 1;
+    free(ep);
+    uint32_t nq = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(g->phys, &nq, NULL);
+    VkQueueFamilyProperties q[32];
+    if (nq > 32) nq = 32;
+    vkGetPhysicalDeviceQueueFamilyProperties(g->phys, &nq, q);
+    uint32_t fam = UINT32_MAX;
+    for (uint32_t i = 0; i < nq && fam == UINT32_MAX; ++i) {
+      VkQueueFlags need = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
+      if ((q[i].queueFlags & need) == need && q[i].queueCount &&
+          desc.can_present(desc.present_user, g->instance, g->phys, i))
+        fam = i;
+    }
+    if (!swapchain) {
+      g->present_reason = "the render device has no VK_KHR_swapchain";
+    } else if (fam == UINT32_MAX) {
+      g->present_reason = "no queue family of the render device computes, blits and presents to this window";
+      swapchain = 0;
+    } else {
+      g->family = fam;
+      ts_bits = q[fam].timestampValidBits;
+      g->can_present = 1;
+    }
+  }
   g->limits.max_storage_buffer_range = p.limits.maxStorageBufferRange;
   g->limits.max_allocation = m3.maxMemoryAllocationSize ? m3.maxMemoryAllocationSize : UINT64_MAX;
   g->limits.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
@@ -489,7 +525,7 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   g->limits.subgroup_ops = info[idx].subgroup_ops;
   g->limits.cpu = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
   g->limits.driver_id = info[idx].driver_id;
-  g->limits.timestamps = info[idx].timestamps;
+  g->limits.timestamps = info[idx].timestamps && ts_bits > 0; /* the queue family chosen */
   g->limits.timestamp_period_ns = p.limits.timestampPeriod;
   g->ts_mask = ts_bits >= 64 ? UINT64_MAX : ((1ull << ts_bits) - 1);
 
@@ -500,10 +536,13 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
       .queueCount = 1,
       .pQueuePriorities = &prio,
   };
+  const char *dext = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
   VkDeviceCreateInfo dci = {
       .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
       .queueCreateInfoCount = 1,
       .pQueueCreateInfos = &qci,
+      .enabledExtensionCount = g->can_present ? 1u : 0u,
+      .ppEnabledExtensionNames = &dext,
   };
   VkResult vr = vkCreateDevice(g->phys, &dci, NULL, &g->device);
   if (vr != VK_SUCCESS) {
@@ -694,4 +733,14 @@ double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t a, uint32_t b) {
     return -1.0;
   uint64_t d = (tb - ta) & g->ts_mask;
   return (double)d * g->limits.timestamp_period_ns * 1e-6;
+}
+
+void pb_gpu_vk_handles(const pb_gpu *g, pb_gpu_vk *out) {
+  out->instance = g->instance;
+  out->phys = g->phys;
+  out->device = g->device;
+  out->queue = g->queue;
+  out->family = g->family;
+  out->can_present = g->can_present;
+  out->present_reason = g->can_present ? NULL : g->present_reason ? g->present_reason : "the renderer was made without a window";
 }

@@ -80,6 +80,17 @@ typedef struct pb_gpu_desc {
                               environment's PB_GPU_MEMORY_LIMIT (MiB), else none.
                               A buffer that would pass it fails with
                               PB_ERR_NOMEM naming the buffer, size and cap. */
+  /* Presentation (photonbridge view): instance extensions to enable as well
+   * (the window system's surface ones), and a test of whether a queue
+   * family of a physical device can present to the window. With them the
+   * device's queue is one of a family with compute, graphics (the
+   * presenter's blit) and presentation, and VK_KHR_swapchain is enabled,
+   * when the chosen device has such a family and the extension; otherwise
+   * the compute family as without (pb_gpu_vk.present_reason says why). */
+  const char *const *instance_extensions;
+  uint32_t instance_extension_count;
+  int (*can_present)(void *user, VkInstance instance, VkPhysicalDevice phys, uint32_t family);
+  void *present_user;
 } pb_gpu_desc;
 
 typedef struct pb_gpu pb_gpu;
@@ -88,6 +99,20 @@ typedef struct pb_gpu pb_gpu;
  * GPU, then integrated, virtual, and last a CPU implementation (lavapipe). */
 pb_result pb_gpu_create(const pb_gpu_desc *desc, pb_gpu **out);
 void pb_gpu_destroy(pb_gpu *g);
+
+/* The Vulkan objects behind g, for a presenter sharing the render device
+ * (view/present.h): one VkDevice, one queue, used from one thread. */
+typedef struct pb_gpu_vk {
+  VkInstance instance;
+  VkPhysicalDevice phys;
+  VkDevice device;
+  VkQueue queue;
+  uint32_t family;
+  int can_present;            /* the family presents, has graphics, and
+                                 VK_KHR_swapchain is enabled */
+  const char *present_reason; /* why not (static text), else NULL */
+} pb_gpu_vk;
+void pb_gpu_vk_handles(const pb_gpu *g, pb_gpu_vk *out);
 
 /* Properties the renderer checks. */
 typedef struct pb_gpu_limits {
@@ -159,6 +184,21 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset,
 pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset,
                                  void *data, uint64_t size);
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b);
+/* Bytes moved by pb_gpu_buffer_upload and pb_gpu_buffer_download since the
+ * context was made (mapped copies included: they are host <-> device
+ * traffic on a discrete GPU). A frame's share is the difference of two
+ * readings (render.h pb_render_stats.upload_bytes, --json "transfers"). */
+typedef struct pb_gpu_transfers {
+  uint64_t upload_bytes, download_bytes;
+  uint64_t readback_bytes;     /* pb_gpu_buffer_read_back's, not in download_bytes */
+  uint32_t uploads, downloads; /* calls */
+} pb_gpu_transfers;
+pb_gpu_transfers pb_gpu_transfers_get(const pb_gpu *g);
+/* pb_gpu_buffer_download for the readback module (render/readback.h), the
+ * one place a frame's pixels come to the host: counted apart. */
+pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *data, uint64_t size);
+/* Counts `size` bytes the readback read through a buffer's cached mapping. */
+void pb_gpu_note_read_back(pb_gpu *g, uint64_t size);
 
 /* ---- pipelines ---------------------------------------------------------- */
 

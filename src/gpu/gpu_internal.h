@@ -27,6 +27,9 @@ struct pb_gpu {
   char validation_first[512];
   PFN_vkSetDebugUtilsObjectNameEXT set_name;
   uint64_t memory_limit, memory_live, memory_peak; /* bytes; limit 0: none */
+  pb_gpu_transfers transfers; /* pb_gpu_buffer_upload / _download totals */
+  int can_present;            /* pb_gpu_vk */
+  const char *present_reason;
 };
 
 #endif

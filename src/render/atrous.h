@@ -54,4 +54,13 @@ void pb_atrous_pass_destroy(pb_gpu *g, pb_atrous_pass *a);
 pb_result pb_atrous_pass_run(pb_gpu *g, pb_atrous_pass *a, const float *normal, const float *depth,
                              const float *albedo, float *indirect, const pb_atrous_desc *desc, double *gpu_ms);
 
+/* The device-side filter, recorded into a frame's command buffer (the
+ * filter chain, filters.h): geo (vec4: edge-stopping normal, depth),
+ * albedo (vec4) and indirect (vec4: radiance, w = the history length L,
+ * desc->history is not read; filtered in place) are the frame's buffers of
+ * width x height. Bind before pb_gpu_begin, record inside. */
+pb_result pb_atrous_pass_bind(pb_gpu *g, pb_atrous_pass *a, const pb_gpu_buffer *geo, const pb_gpu_buffer *albedo,
+                              const pb_gpu_buffer *indirect);
+pb_result pb_atrous_pass_record(pb_gpu *g, pb_atrous_pass *a, const pb_atrous_desc *desc);
+
 #endif

@@ -1,8 +1,10 @@
 /* One frame of the GPU renderer: orders the passes (see render.h), renders
  * the image in bands of rows when its per-pixel targets (targets.h) would
  * exceed the device's maxStorageBufferRange, times each pass with
- * timestamps, resolves the accumulators into AOVs on the GPU (resolve.h)
- * and brings them to the host through the readback (readback.h). */
+ * timestamps, resolves the accumulators into AOVs on the GPU (resolve.h),
+ * filters the indirect light there (the filter chain, filters.h; eq. 20,
+ * shading_correction.h) in the resolve's command buffer, and brings the
+ * AOVs to the host through the readback (readback.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,7 +44,7 @@ struct pb_frame_context {
   int valid;
   ctx_key key;
   pb_frame_targets tg;
-  pb_gpu_pipeline gp, dp, rp;
+  pb_gpu_pipeline gp, dp, rp, scp;
   pb_tracer *tracer;
   pb_photon_estimator *est;
   pb_photon_map map;
@@ -61,6 +63,7 @@ static void context_clear(pb_gpu *g, pb_frame_context *c) {
   pb_gpu_pipeline_destroy(g, &c->gp);
   pb_gpu_pipeline_destroy(g, &c->dp);
   pb_gpu_pipeline_destroy(g, &c->rp);
+  pb_gpu_pipeline_destroy(g, &c->scp);
   pb_frame_targets_destroy(g, &c->tg);
   memset(c, 0, sizeof *c);
 }
@@ -203,6 +206,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : PB_RENDER_MAX_SPECULAR_DEPTH; /* RR from 8: gbuffer.comp */
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
   double wall0 = pb_time_now();
+  pb_gpu_transfers tr0 = pb_gpu_transfers_get(g);
 
   /* Band: whole rows whose per-pixel targets each fit one storage buffer
    * (the largest: the accumulators, 80 bytes per pixel; targets.h).
@@ -223,7 +227,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   size_t n = (size_t)width * height;
   pb_frame_targets tg;
   memset(&tg, 0, sizeof tg);
-  pb_gpu_pipeline gp = {0}, dp = {0}, rp = {0};
+  pb_gpu_pipeline gp = {0}, dp = {0}, rp = {0}, scp = {0};
+  /* The filters of the indirect light: the sequence's chain, or one made
+   * for this call's A-Trous (filters.h). */
+  pb_filter_chain *fc = desc.filters, *own_fc = NULL;
   int nmap_on = 0;
   pb_tracer *tracer = NULL;
   pb_photon_estimator *est = NULL;
@@ -253,7 +260,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   if (ctx && !reuse) context_clear(g, ctx);
   if (reuse) {
     tg = ctx->tg;
-    gp = ctx->gp, dp = ctx->dp, rp = ctx->rp;
+    gp = ctx->gp, dp = ctx->dp, rp = ctx->rp, scp = ctx->scp;
     tracer = ctx->tracer, est = ctx->est, map = ctx->map;
     memset(ctx, 0, sizeof *ctx);
   }
@@ -276,8 +283,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_render_plan plan;
   pb_render_plan_of(s, desc.direct_only, &plan);
   if (!reuse && ((r = pb_frame_targets_create(g, band_pixels, photons_on, plan.normal_maps, &tg)) != PB_OK ||
-                 (r = pb_resolve_create(g, &tg, &rp)) != PB_OK))
+                 (r = pb_resolve_create(g, &tg, &rp)) != PB_OK ||
+                 (tg.nmap && (r = pb_shading_correction_create(g, &tg, &scp)) != PB_OK)))
     goto fail;
+  if (!fc && photons_on && desc.atrous_iterations) {
+    pb_filter_chain_desc cd = {.atrous_iterations = desc.atrous_iterations, .atrous_gamma = desc.atrous_gamma};
+    if ((r = pb_filter_chain_create(g, width, height, &cd, &own_fc)) != PB_OK) goto fail;
+    fc = own_fc;
+  }
   pb_pass_setup ps = {
       .bindings = {[PB_BIND_FRAME] = &tg.frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
                    [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
@@ -340,6 +353,13 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
+  /* After the resolve, on the GPU: the filter chain and eq. 20, for an image
+   * in one band (the filters read neighbours). Several bands, and the host
+   * resolve of the tests (PB_RESOLVE_ON_HOST=1, readback.h), filter the
+   * read-back AOVs on the host instead: the former path, the reference. */
+  const char *host_env = getenv("PB_RESOLVE_ON_HOST");
+  int post_gpu = photons_on && bands == 1 && !(host_env && host_env[0] == '1');
+  int chain_gpu = post_gpu && fc, sc_on = !desc.no_shading_correction && nmap_aovs;
   if ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK) goto fail;
 
   for (uint32_t band = 0; band < bands; ++band) {
@@ -442,20 +462,33 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       goto fail;
     }
     spp_run = (uint32_t)((uint64_t)iters_run * spp / iters); /* all of spp without a time limit */
-    /* The resolve (resolve.h) on the GPU, then the band's AOVs to the host:
-     * the readback (readback.h) is where pixels leave the GPU. */
+    /* The resolve (resolve.h), the filter chain and eq. 20 on the GPU in one
+     * submission, then the band's AOVs to the host: the readback
+     * (readback.h) is where pixels leave the GPU. Timestamps: 0 start, 1
+     * resolved, the chain's from 1 (filters.c), the last after eq. 20. */
+    if (chain_gpu && (r = pb_filter_chain_bind(g, fc, &tg, nmap_aovs)) != PB_OK) goto fail;
     if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
     pb_gpu_timestamp(g, 0);
     float inv_spp = 1.0f / (float)spp_run;
     r = pb_resolve_record(g, &rp, &tg, pixels, inv_spp, s->film_opaque);
+    pb_gpu_barrier(g);
     pb_gpu_timestamp(g, 1);
+    uint32_t slot = 1, sc_slot;
+    if (chain_gpu && r == PB_OK) r = pb_filter_chain_record(g, fc, pixels, &slot);
+    sc_slot = slot;
+    if (post_gpu && sc_on && r == PB_OK) { /* eq. 20 on the filtered indirect */
+      r = pb_shading_correction_record(g, &scp, pixels, PB_SHADING_CORRECTION_S_MAX);
+      pb_gpu_barrier(g);
+    }
+    pb_gpu_timestamp(g, ++slot);
     pb_result rs = pb_gpu_submit(g);
     if (r == PB_OK) r = rs;
     if (r != PB_OK) goto fail;
-    if (ts) {
-      double ms = pb_gpu_elapsed_ms(g, 0, 1);
-      gpu_ms += ms > 0 ? ms : 0;
+    if (ts) { /* the resolve and eq. 20; the chain's passes in their own stats */
+      double ms = pb_gpu_elapsed_ms(g, 0, 1), ms2 = pb_gpu_elapsed_ms(g, sc_slot, slot);
+      gpu_ms += (ms > 0 ? ms : 0) + (ms2 > 0 ? ms2 : 0);
     }
+    if (chain_gpu && (r = pb_filter_chain_finish(g, fc, ts, &out->stats)) != PB_OK) goto fail;
     if ((r = pb_readback_band(g, &tg, pixels, fr.pixel_base, n, inv_spp, s->film_opaque, nmap_aovs, out, &k_sum,
                               &hit_sum)) != PB_OK) goto fail;
   }
@@ -463,14 +496,13 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   out->height = height;
   pb_render_stats *st = &out->stats;
   if ((r = pb_readback_guard(g, &tg, &st->nonfinite_values)) != PB_OK) goto fail;
-  if (photons_on && desc.atrous_iterations) {
-    /* The spatial filter (atrous.h) on the indirect AOV (a single frame: no
-     * temporal history; sequences filter in sequence.c). With normal maps
-     * its edge-stopping uses the geometric normal (filters.c). */
-    pb_filter_desc fdesc = {.atrous_iterations = desc.atrous_iterations, .atrous_gamma = desc.atrous_gamma};
-    if ((r = pb_filter_indirect(g, out, &fdesc)) != PB_OK) goto fail;
+  if (!post_gpu) {
+    /* The host path (several bands, the host reference): the same filters
+     * on the read-back AOVs, then eq. 20. With normal maps the filters'
+     * edge-stopping uses the geometric normal (filters.c). */
+    if (fc && photons_on && (r = pb_filter_chain_host(g, fc, out)) != PB_OK) goto fail;
+    if (!desc.no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX);
   }
-  if (!desc.no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX); /* eq. 20 */
   st->spp = spp_run;
   st->timestamps = ts;
   st->gbuffer_ms = ts ? gbuf_ms : -1;
@@ -499,12 +531,17 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
   st->frame_wall_ms = st->wall_ms;
-  st->frame_gpu_ms = ts ? gpu_ms + photon_gpu_ms + st->filter_ms + st->temporal_ms : -1;
+  st->frame_gpu_ms = ts ? gpu_ms + photon_gpu_ms + st->filter_ms + st->temporal_ms + st->motion_ms : -1;
+  pb_gpu_transfers tr1 = pb_gpu_transfers_get(g);
+  st->upload_bytes = tr1.upload_bytes - tr0.upload_bytes;
+  st->download_bytes = tr1.download_bytes - tr0.download_bytes;
+  st->readback_bytes = tr1.readback_bytes - tr0.readback_bytes;
   free(preview.beauty);
   free(hist_host);
+  pb_filter_chain_destroy(g, own_fc);
   if (ctx) { /* kept for the next frame */
     ctx->tg = tg;
-    ctx->gp = gp, ctx->dp = dp, ctx->rp = rp;
+    ctx->gp = gp, ctx->dp = dp, ctx->rp = rp, ctx->scp = scp;
     ctx->tracer = tracer, ctx->est = est, ctx->map = map;
     ctx->key = key;
     ctx->valid = 1;
@@ -516,11 +553,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
   pb_gpu_pipeline_destroy(g, &rp);
+  pb_gpu_pipeline_destroy(g, &scp);
   pb_frame_targets_destroy(g, &tg);
   return PB_OK;
 fail:
   free(preview.beauty);
   free(hist_host);
+  pb_filter_chain_destroy(g, own_fc);
+  pb_gpu_pipeline_destroy(g, &scp);
   pb_photon_map_destroy(g, &map);
   pb_photon_estimator_destroy(g, est);
   pb_tracer_destroy(g, tracer);

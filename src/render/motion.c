@@ -67,10 +67,8 @@ pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint
   return PB_OK;
 }
 
-pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
-                             const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam,
-                             float *motion, double *gpu_ms) {
-  if (gpu_ms) *gpu_ms = 0;
+pb_result pb_motion_pass_prepare(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
+                                 const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam) {
   if (s->vertex_count != m->vertex_count)
     return pb_fail(PB_ERR_USAGE, "motion vectors: scene of %u vertices, pass made for %u", s->vertex_count,
                    m->vertex_count);
@@ -91,10 +89,24 @@ pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, co
       [PB_MOTION_BIND_NODES] = &gs->nodes,   [PB_MOTION_BIND_TRIS] = &gs->tris,
       [PB_MOTION_BIND_INDICES] = &gs->indices, [PB_MOTION_BIND_PREV_POSITIONS] = prev,
       [PB_MOTION_BIND_PARAMS] = &m->params,  [PB_MOTION_BIND_MOTION] = &m->motion};
-  if ((r = pb_gpu_pipeline_bind(g, &m->pipe, b, PB_MOTION_BIND_COUNT)) != PB_OK) return r;
+  return pb_gpu_pipeline_bind(g, &m->pipe, b, PB_MOTION_BIND_COUNT);
+}
+
+pb_result pb_motion_pass_record(pb_gpu *g, pb_motion_pass *m) {
+  return pb_gpu_dispatch(g, &m->pipe, NULL, (uint64_t)m->width * m->height);
+}
+
+const pb_gpu_buffer *pb_motion_pass_output(const pb_motion_pass *m) { return &m->motion; }
+
+pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
+                             const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam,
+                             float *motion, double *gpu_ms) {
+  if (gpu_ms) *gpu_ms = 0;
+  pb_result r = pb_motion_pass_prepare(g, m, s, gs, prev_positions, cam, prev_cam);
+  if (r != PB_OK) return r;
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
   pb_gpu_timestamp(g, 0);
-  r = pb_gpu_dispatch(g, &m->pipe, NULL, (uint64_t)m->width * m->height);
+  r = pb_motion_pass_record(g, m);
   pb_gpu_barrier(g);
   pb_gpu_timestamp(g, 1);
   pb_result rs = pb_gpu_submit(g);

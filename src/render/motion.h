@@ -45,6 +45,15 @@ pb_result pb_motion_pass_run(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, co
                              const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam,
                              float *motion, double *gpu_ms);
 
+/* The device-side pass of a frame (the filter chain, filters.h): prepare
+ * (the parameters and previous positions to the GPU: scene data, not
+ * pixels; and the bindings) before pb_gpu_begin, record inside; the
+ * vectors then lie in pb_motion_pass_output, never on the host. */
+pb_result pb_motion_pass_prepare(pb_gpu *g, pb_motion_pass *m, const pb_scene *s, const pb_gpu_scene *gs,
+                                 const float (*prev_positions)[3], const pb_camera *cam, const pb_camera *prev_cam);
+pb_result pb_motion_pass_record(pb_gpu *g, pb_motion_pass *m);
+const pb_gpu_buffer *pb_motion_pass_output(const pb_motion_pass *m);
+
 /* One-shot: create, run, destroy (tests). */
 pb_result pb_motion_vectors(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const float (*prev_positions)[3],
                             const pb_camera *cam, const pb_camera *prev_cam, uint32_t width, uint32_t height,

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "shared/pb_filter.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_resolve.h"
 
@@ -13,13 +14,14 @@
 static pb_result host_view(pb_gpu *g, const pb_gpu_buffer *b, uint64_t bytes, void **scratch, const void **view) {
   if (b->mapped && b->cached) {
     *view = b->mapped;
+    pb_gpu_note_read_back(g, bytes);
     return PB_OK;
   }
   void *p = malloc(bytes ? bytes : 1);
   if (!p) return pb_fail(PB_ERR_NOMEM, "render: out of memory reading back %llu bytes", (unsigned long long)bytes);
   *scratch = p;
   *view = p;
-  return pb_gpu_buffer_download(g, b, 0, p, bytes);
+  return pb_gpu_buffer_read_back(g, b, 0, p, bytes);
 }
 
 /* The former host resolve (frame.c and shading_correction.c before the
@@ -150,7 +152,7 @@ pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels
 
 pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count) {
   uint32_t c = 0;
-  pb_result r = pb_gpu_buffer_download(g, &t->guard, 0, &c, sizeof c);
+  pb_result r = pb_gpu_buffer_read_back(g, &t->guard, 0, &c, sizeof c);
   *count = c;
   return r;
 }
@@ -169,5 +171,12 @@ pb_result pb_readback_preview(pb_gpu *g, const pb_frame_targets *t, size_t n, ui
       }
   }
   free(scratch);
+  return r;
+}
+
+pb_result pb_readback_temporal_stats(pb_gpu *g, const pb_gpu_buffer *b, pb_temporal_stats *stats) {
+  pb_gpu_temporal_stats s;
+  pb_result r = pb_gpu_buffer_read_back(g, b, 0, &s, sizeof s);
+  if (r == PB_OK) pb_temporal_stats_of(&s, stats);
   return r;
 }

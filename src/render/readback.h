@@ -3,7 +3,9 @@
  * host needs (the AOVs of pb_render_result, for EXR and PNG output and the
  * tests; the progress preview; the guard count) is copied here, from
  * host-visible targets (a memcpy where the memory is cached, as on a CPU
- * device; otherwise one staged copy of the whole range). */
+ * device; otherwise one staged copy of the whole range), all of it counted
+ * as read back (pb_gpu_transfers.readback_bytes), apart from the transfers
+ * a frame should not make. */
 #ifndef PB_RENDER_READBACK_H
 #define PB_RENDER_READBACK_H
 
@@ -12,6 +14,7 @@
 #include "gpu/gpu.h"
 #include "render/render.h"
 #include "render/targets.h"
+#include "render/temporal.h"
 
 /* The resolved band (pixels at pixel_base of an image of n pixels) into
  * out's arrays (allocated by the caller: beauty .. emission, and indirect,
@@ -26,6 +29,9 @@ pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels
                            double *hit_sum);
 /* Non-finite values the resolve replaced since the guard was zeroed. */
 pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count);
+/* The temporal filter's counts of one frame (pb_gpu_temporal_stats in b,
+ * 16 bytes), as stats (gpu_ms left alone). */
+pb_result pb_readback_temporal_stats(pb_gpu *g, const pb_gpu_buffer *b, pb_temporal_stats *stats);
 /* The mean beauty (RGBA) of the first n pixels' accumulators over `samples`
  * samples, non-finite values as 0 (render --preview). */
 pb_result pb_readback_preview(pb_gpu *g, const pb_frame_targets *t, size_t n, uint32_t samples, float *beauty);

@@ -199,6 +199,11 @@ typedef struct pb_render_desc {
   struct pb_frame_context *context; /* sequences: keeps pipelines, per-pixel
                                   buffers, the photon tracer and estimator
                                   for the next frame (pb_frame_context_*) */
+  struct pb_filter_chain *filters; /* sequences: the temporal and spatial
+                                  filters of the indirect light (filters.h),
+                                  recorded after the resolve on the GPU;
+                                  NULL: atrous_iterations alone (a chain made
+                                  for the call) */
   /* Benchmark (bench/run_bench.py): */
   uint32_t leaf_size;          /* fixed LBVH leaf-size threshold instead of
                                   T_auto (seed 000 Table 1); 0: T_auto */
@@ -230,6 +235,7 @@ typedef struct pb_render_stats {
   double photon_trace_ms, lbvh_ms, gather_ms;
   double filter_ms;                           /* A-Trous passes (0 when off) */
   double temporal_ms;                         /* temporal filter (0 when off) */
+  double motion_ms;                           /* motion vectors (0 when none) */
   uint64_t temporal_surface_pixels;           /* temporal filter: pixels with a */
   uint64_t temporal_reset_pixels;             /* surface; of those, without */
   double temporal_mean_history;               /* history; mean history length */
@@ -265,6 +271,13 @@ typedef struct pb_render_stats {
   const char *tracer;
   uint32_t tracer_stat_count;
   pb_tracer_stat tracer_stats[PB_TRACER_MAX_STATS];
+  /* Host <-> device traffic of the frame (--json "transfers"):
+   * pb_gpu_buffer_upload and _download bytes outside the readback, and
+   * what the readback (readback.h) brought to the host. The GPU-resident
+   * frame moves no pixels but the readback's: uploads are constants and
+   * scene data, other downloads the photon counts (tests/sequence.cmake
+   * sequence_transfers). */
+  uint64_t upload_bytes, download_bytes, readback_bytes;
 } pb_render_stats;
 
 /* Per-pixel float buffers, width*height*channels, top row first. */

@@ -7,11 +7,8 @@
 
 #include "core/log.h"
 #include "core/mix.h"
-#include "render/atrous.h"
 #include "render/filters.h"
-#include "render/motion.h"
 #include "render/plan.h"
-#include "render/shading_correction.h"
 
 struct pb_sequence {
   pb_scene *s;
@@ -19,13 +16,15 @@ struct pb_sequence {
   int camera;
   uint32_t width, height;
   pb_sequence_desc desc;
-  pb_temporal *temporal;
-  pb_temporal *temporal_caustic; /* scenes with caustic photons */
+  /* The temporal filters (indirect; caustics in scenes with caustic
+   * photons), motion vectors and A-Trous, run by each frame on the GPU
+   * (filters.h); NULL with neither filter. */
+  pb_filter_chain *chain;
+  int caustic_filtered;
   float (*prev_positions)[3];
   pb_light *prev_lights;
   pb_camera prev_cam, start_cam;
   int has_prev;
-  float *motion;
   uint32_t still_iterations; /* photon maps averaged by the still run so far */
   /* Still runs: running means of what the temporal filter does not see
    * (beauty minus indirect: emission, direct light, caustics; and the
@@ -33,20 +32,14 @@ struct pb_sequence {
   float *acc_rest, *acc_direct, *acc_caustic;
   uint32_t acc_frames;
   pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
-  pb_motion_pass *motion_pass; /* made by the first moving frame */
-  pb_atrous_pass *atrous_pass; /* made by the first frame the A-Trous filters */
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   if (!q) return;
-  pb_temporal_destroy(g, q->temporal);
-  pb_temporal_destroy(g, q->temporal_caustic);
+  pb_filter_chain_destroy(g, q->chain);
   pb_frame_context_destroy(g, q->frame_ctx);
-  pb_motion_pass_destroy(g, q->motion_pass);
-  pb_atrous_pass_destroy(g, q->atrous_pass);
   free(q->prev_positions);
   free(q->prev_lights);
-  free(q->motion);
   free(q->acc_rest);
   free(q->acc_direct);
   free(q->acc_caustic);
@@ -70,20 +63,22 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   size_t n = (size_t)width * height;
   q->prev_positions = malloc((size_t)(s->vertex_count ? s->vertex_count : 1) * sizeof *q->prev_positions);
   q->prev_lights = malloc((size_t)(s->light_count ? s->light_count : 1) * sizeof *q->prev_lights);
-  q->motion = malloc(n * PB_MOTION_CHANNELS * sizeof *q->motion);
   q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
   q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
   q->acc_caustic = malloc(n * 3 * sizeof *q->acc_caustic);
   pb_result r = PB_OK;
-  if (!q->prev_positions || !q->prev_lights || !q->motion || !q->acc_rest || !q->acc_direct || !q->acc_caustic) {
+  if (!q->prev_positions || !q->prev_lights || !q->acc_rest || !q->acc_direct || !q->acc_caustic) {
     r = pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", width, height);
     goto fail;
   }
   if ((r = pb_frame_context_create(&q->frame_ctx)) != PB_OK) goto fail;
-  if (desc->temporal && (r = pb_temporal_create(g, width, height, &desc->temporal_desc, &q->temporal)) != PB_OK)
-    goto fail;
   pb_render_plan plan;
   pb_render_plan_of(s, desc->render.direct_only, &plan);
+  pb_filter_chain_desc cd = {.atrous_iterations = desc->render.atrous_iterations,
+                             .atrous_gamma = desc->render.atrous_gamma,
+                             .temporal = desc->temporal,
+                             .temporal_desc = desc->temporal_desc,
+                             .vertex_count = s->vertex_count};
   if (desc->temporal && plan.caustic_photons) {
     /* Caustics move over still surfaces (a moving glass object, a moving
      * light): no motion vector says so, so their history is also clamped
@@ -93,10 +88,12 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
      * 0.0569, excess flicker 0.0510): gamma 0.5 26.51 dB / 0.0571 / 0.0280,
      * 1: 26.43 / 0.0591 / 0.0249, 2.5: 26.40 / 0.0640 / 0.0229, no clamp:
      * 26.40 / 0.0812 / 0.0228 (the caustic lags behind the sphere). */
-    pb_temporal_desc cd = desc->temporal_desc;
-    cd.clamp_gamma = 0.5f;
-    if ((r = pb_temporal_create(g, width, height, &cd, &q->temporal_caustic)) != PB_OK) goto fail;
+    cd.temporal_caustic = 1;
+    cd.caustic_clamp_gamma = 0.5f;
+    q->caustic_filtered = 1;
   }
+  if ((cd.temporal || cd.atrous_iterations) && (r = pb_filter_chain_create(g, width, height, &cd, &q->chain)) != PB_OK)
+    goto fail;
   *out = q;
   return PB_OK;
 fail:
@@ -157,7 +154,7 @@ static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
   size_t n = (size_t)q->width * q->height;
   if (!still) q->acc_frames = 0;
   float k = (float)q->acc_frames, inv = 1.0f / (k + 1.0f);
-  const float *filtered[2] = {out->indirect, q->temporal_caustic ? out->caustic : NULL};
+  const float *filtered[2] = {out->indirect, q->caustic_filtered ? out->caustic : NULL};
   for (size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 4; ++c) {
       float kept = 0.0f; /* the temporally filtered parts */
@@ -171,7 +168,7 @@ static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
     for (int c = 0; c < 3; ++c) {
       float d = out->direct[3 * i + c];
       out->direct[3 * i + c] = q->acc_direct[3 * i + c] = q->acc_frames ? (q->acc_direct[3 * i + c] * k + d) * inv : d;
-      if (out->caustic && !q->temporal_caustic) {
+      if (out->caustic && !q->caustic_filtered) {
         float e = out->caustic[3 * i + c];
         out->caustic[3 * i + c] = q->acc_caustic[3 * i + c] =
             q->acc_frames ? (q->acc_caustic[3 * i + c] * k + e) * inv : e;
@@ -194,7 +191,8 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     memcpy(q->prev_positions, s->positions, (size_t)s->vertex_count * sizeof *q->prev_positions);
     memcpy(q->prev_lights, s->lights, (size_t)s->light_count * sizeof *q->prev_lights);
   }
-  double t0 = pb_time_now(), c0 = pb_thread_cpu_now(), frame_t0 = t0, motion_gpu_ms = 0;
+  double t0 = pb_time_now(), c0 = pb_thread_cpu_now(), frame_t0 = t0;
+  pb_gpu_transfers tr0 = pb_gpu_transfers_get(g);
   if (s->anim && (r = pb_scene_set_time(s, t)) != PB_OK) return r;
   if (q->desc.orbit)
     pb_sequence_orbit_camera(s, &q->start_cam, t, q->desc.orbit_period, &s->cameras[q->camera]);
@@ -215,58 +213,40 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   }
   pb_render_desc rd = q->desc.render;
   rd.seed = pb_mix64(q->desc.render.seed + 0x9e3779b97f4a7c15ull * index); /* frame i's own photons */
-  rd.atrous_iterations = 0;     /* after the temporal filter, below */
-  rd.no_shading_correction = 1; /* eq. 20 after the filters, below */
+  rd.atrous_iterations = 0;     /* the chain's (q->chain), after the temporal filter */
   rd.context = q->frame_ctx;
+  rd.filters = q->chain;        /* recorded after the resolve, on the GPU; then
+                                   eq. 20 on the filtered indirect, with this
+                                   frame's mean photon direction (the chapter
+                                   filters that direction too; here it is the
+                                   frame's own) */
   uint32_t iters = rd.iterations ? rd.iterations : 1;
   if (!fi.still || !q->has_prev) q->still_iterations = 0;
   rd.iteration_base = rd.progressive ? q->still_iterations : 0;
   /* Still frames after the first sample new positions in the pixel, so the
    * run's mean is the box-filtered pixel (progressive anti-aliasing). */
   if (fi.still && q->has_prev) rd.jitter = 1;
+  if (q->chain) {
+    pb_filter_frame ff = {.moving = q->has_prev && !fi.still, .s = s, .gs = q->gs,
+                          .prev_positions = fi.geometry_moved ? (const float(*)[3])q->prev_positions : NULL,
+                          .cam = *cam, .prev_cam = q->prev_cam};
+    pb_filter_chain_set_frame(q->chain, &ff);
+  }
   if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, out)) != PB_OK) return r;
   q->still_iterations += iters;
-  int moving = q->has_prev && !fi.still;
-  if (moving && out->indirect && (q->temporal)) {
-    t0 = pb_time_now();
-    if (!q->motion_pass)
-      r = pb_motion_pass_create(g, q->width, q->height, s->vertex_count, &q->motion_pass);
-    if (r == PB_OK)
-      r = pb_motion_pass_run(g, q->motion_pass, s, q->gs,
-                             fi.geometry_moved ? (const float(*)[3])q->prev_positions : NULL, cam, &q->prev_cam,
-                             q->motion, &motion_gpu_ms);
-    fi.motion_ms = (pb_time_now() - t0) * 1e3;
-    if (r != PB_OK) goto fail;
-  }
-  pb_filter_desc fd = {.atrous_iterations = q->desc.render.atrous_iterations,
-                       .atrous_gamma = q->desc.render.atrous_gamma,
-                       .temporal = q->temporal,
-                       .temporal_caustic = q->temporal_caustic,
-                       .motion = moving ? q->motion : NULL,
-                       .still = !moving};
-  if (fd.atrous_iterations && out->indirect && !q->atrous_pass &&
-      (r = pb_atrous_pass_create(g, q->width, q->height, &q->atrous_pass)) != PB_OK)
-    goto fail;
-  fd.atrous = q->atrous_pass;
-  double filters0 = out->stats.filter_ms + out->stats.temporal_ms;
-  if ((r = pb_filter_indirect(g, out, &fd)) != PB_OK) goto fail;
-  /* Eq. 20 (normal maps) on the filtered indirect, with this frame's mean
-   * photon direction (the chapter filters that direction too; here it is
-   * the frame's own). */
-  if (!q->desc.render.no_shading_correction)
-    pb_shading_correction_apply(out, (size_t)q->width * q->height, PB_SHADING_CORRECTION_S_MAX);
+  fi.motion_ms = out->stats.motion_ms;
   accumulate(q, out, fi.still && q->has_prev);
   q->has_prev = 1;
   out->stats.frame_wall_ms = (pb_time_now() - frame_t0) * 1e3;
-  if (out->stats.frame_gpu_ms >= 0)
-    out->stats.frame_gpu_ms += motion_gpu_ms + out->stats.filter_ms + out->stats.temporal_ms - filters0;
+  /* The frame's transfers, the scene update's included. */
+  pb_gpu_transfers tr1 = pb_gpu_transfers_get(g);
+  out->stats.upload_bytes = tr1.upload_bytes - tr0.upload_bytes;
+  out->stats.download_bytes = tr1.download_bytes - tr0.download_bytes;
+  out->stats.readback_bytes = tr1.readback_bytes - tr0.readback_bytes;
   /* The camera this frame used, kept here rather than read from the scene
    * at the next call: a caller may set the camera itself between frames
    * (photonbridge view), which is a move like any other. */
   q->prev_cam = *cam;
   if (info) *info = fi;
   return PB_OK;
-fail:
-  pb_render_result_destroy(out);
-  return r;
 }

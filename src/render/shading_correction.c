@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "shaders/shading_correction.spv.h"
+#include "shared/pb_filter.h"
+
 static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 float pb_shading_correction_factor(const float wi[3], const float ns[3], const float ng[3], float s_max) {
@@ -36,4 +39,21 @@ size_t pb_shading_correction_apply(pb_render_result *out, size_t n, float s_max)
     changed++;
   }
   return changed;
+}
+
+pb_result pb_shading_correction_create(pb_gpu *g, const pb_frame_targets *t, pb_gpu_pipeline *out) {
+  pb_gpu_pipeline_desc d = {.name = "pass.shading_correction", .spirv = pb_spv_shading_correction,
+                            .spirv_bytes = sizeof pb_spv_shading_correction, .binding_count = PB_SHADING_BIND_COUNT,
+                            .push_bytes = sizeof(pb_gpu_shading_push)};
+  pb_result r = pb_gpu_pipeline_create(g, &d, out);
+  if (r != PB_OK) return r;
+  const pb_gpu_buffer *b[PB_SHADING_BIND_COUNT] = {[PB_SHADING_BIND_PLANES] = &t->planes,
+                                                   [PB_SHADING_BIND_PHOTON_PLANES] = &t->pplanes};
+  if ((r = pb_gpu_pipeline_bind(g, out, b, PB_SHADING_BIND_COUNT)) != PB_OK) pb_gpu_pipeline_destroy(g, out);
+  return r;
+}
+
+pb_result pb_shading_correction_record(pb_gpu *g, const pb_gpu_pipeline *p, uint32_t pixels, float s_max) {
+  pb_gpu_shading_push push = {.pixels = pixels, .s_max = s_max};
+  return pb_gpu_dispatch(g, p, &push, pixels);
 }

@@ -7,9 +7,11 @@
  * own target. Here the gather (shaders/gather.comp) sums w_i, w_ng and w_ns
  * per pixel into pb_gpu_photon_nmap, the resolve pass (shaders/resolve.comp)
  * turns them into AOVs, and this step applies eq. 20 to the resolved
- * indirect AOV on the host, after the A-Trous
- * filter when that is on (the filter also runs on resolved AOVs, atrous.h),
- * so the filtered E f is what gets rescaled. Only scenes with
+ * indirect plane on the GPU (shaders/shading_correction.comp, recorded
+ * after the filters, filters.h, in the frame's command buffer), so the
+ * filtered E f is what gets rescaled. pb_shading_correction_apply is the
+ * same step on host arrays: the reference (PB_RESOLVE_ON_HOST=1) and
+ * images rendered in several bands. Only scenes with
  * PB_FEATURE_NORMAL_MAPS. */
 #ifndef PB_RENDER_SHADING_CORRECTION_H
 #define PB_RENDER_SHADING_CORRECTION_H
@@ -17,7 +19,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "gpu/gpu.h"
 #include "render/render.h"
+#include "render/targets.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_lbvh.h"
 
@@ -44,5 +48,10 @@ float pb_shading_correction_factor(const float wi[3], const float ns[3], const f
  * material; the beauty takes the same change. No-op without the AOVs.
  * Returns the number of pixels changed. */
 size_t pb_shading_correction_apply(pb_render_result *out, size_t n, float s_max);
+
+/* The pass on the GPU: a pipeline bound to t's planes (targets with normal
+ * maps: t->nmap), and its dispatch over the band's pixels. */
+pb_result pb_shading_correction_create(pb_gpu *g, const pb_frame_targets *t, pb_gpu_pipeline *out);
+pb_result pb_shading_correction_record(pb_gpu *g, const pb_gpu_pipeline *p, uint32_t pixels, float s_max);
 
 #endif

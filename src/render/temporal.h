@@ -8,9 +8,12 @@
  * progressive rendering. Like the A-Trous (atrous.h) it reads only
  * per-pixel buffers: a post-process of any density estimator.
  *
- * It keeps its history (irradiance, history length, the previous frame's
- * depth and normals) in device buffers between frames; one object per
- * image size and sequence. */
+ * It keeps its history (irradiance, history length) in device buffers
+ * between frames; one object per image size and sequence. A frame records
+ * the pass into its own command buffer (pb_temporal_bind, then
+ * pb_temporal_record: the inputs are device buffers the frame's filter
+ * chain fills, filters.h); pb_temporal_apply does the same for host
+ * arrays (tests, benchmarks). */
 #ifndef PB_RENDER_TEMPORAL_H
 #define PB_RENDER_TEMPORAL_H
 
@@ -59,5 +62,21 @@ void pb_temporal_reset(pb_temporal *t);
 pb_result pb_temporal_apply(pb_gpu *g, pb_temporal *t, const float *normal, const float *depth,
                             const float *albedo, const float *motion, int still, float *indirect, float *history,
                             pb_temporal_stats *stats);
+
+/* The device-side pass. Buffers of width x height vec4 (pb_filter.h's
+ * temporal layout): geo and geo_prev this and the previous frame's
+ * geometry (the caller keeps the ping-pong), albedo, the radiance to filter
+ * `in`, motion (any buffer when still: not read), `result` (the filtered
+ * radiance with L in w, on return of the submission) and `stats`
+ * (pb_gpu_temporal_stats, zeroed by the caller). Bind before pb_gpu_begin
+ * (it rewrites the pass's descriptor set), record inside; the record flips
+ * the history, so call each once per frame. */
+pb_result pb_temporal_bind(pb_gpu *g, pb_temporal *t, const pb_gpu_buffer *geo, const pb_gpu_buffer *geo_prev,
+                           const pb_gpu_buffer *albedo, const pb_gpu_buffer *in, const pb_gpu_buffer *motion,
+                           const pb_gpu_buffer *result, const pb_gpu_buffer *stats);
+pb_result pb_temporal_record(pb_gpu *g, pb_temporal *t, int still);
+/* stats as pb_temporal_apply's from a pb_gpu_temporal_stats read back
+ * (readback.h); gpu_ms stays the caller's. */
+void pb_temporal_stats_of(const void *gpu_stats, pb_temporal_stats *stats);
 
 #endif

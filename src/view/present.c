@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "gpu/gpu.h"
 
 struct pb_present {
   GLFWwindow *window;
@@ -38,6 +39,7 @@ struct pb_present {
   VkDeviceMemory frame_mem;
   int frame_fresh; /* the frame image has never been written (layout UNDEFINED) */
   uint32_t validation_messages, recreations;
+  int borrowed; /* instance and device are the renderer's (pb_gpu_vk) */
 };
 
 static pb_result vk_fail(VkResult vr, const char *what) {
@@ -248,6 +250,32 @@ pb_result pb_present_create(const pb_present_desc *d, pb_present **out) {
   pb_present *p = calloc(1, sizeof *p);
   if (!p) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
   p->window = d->window;
+  const char *why = d->shared ? d->shared->present_reason : "no render device was given";
+  const char *own = getenv("PB_PRESENT_OWN_DEVICE"); /* test hook: the fallback */
+  if (own && own[0] == '1') why = "PB_PRESENT_OWN_DEVICE=1";
+  else if (d->shared && d->shared->can_present) {
+    /* The render device: its instance has the surface extensions. */
+    const pb_gpu_vk *vk = d->shared;
+    VK(glfwCreateWindowSurface(vk->instance, p->window, NULL, &p->surface), "glfwCreateWindowSurface");
+    VkBool32 can = VK_FALSE;
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(vk->phys, VK_FORMAT_R8G8B8A8_UNORM, &fp);
+    if (vkGetPhysicalDeviceSurfaceSupportKHR(vk->phys, vk->family, p->surface, &can) != VK_SUCCESS || !can) {
+      why = "the render device's queue family cannot present to this window's surface";
+    } else if (!(fp.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT)) {
+      why = "R8G8B8A8_UNORM images cannot be blitted on the render device";
+    } else {
+      p->borrowed = 1;
+      p->instance = vk->instance, p->phys = vk->phys, p->device = vk->device;
+      p->queue = vk->queue, p->queue_family = vk->family;
+    }
+    if (!p->borrowed) {
+      vkDestroySurfaceKHR(vk->instance, p->surface, NULL);
+      p->surface = VK_NULL_HANDLE;
+    }
+  }
+  if (!p->borrowed) {
+  pb_log_info("view: presenting through a second Vulkan device: %s", why);
   uint32_t next = 0;
   const char **glfw_ext = glfwGetRequiredInstanceExtensions(&next);
   if (!glfw_ext) {
@@ -340,8 +368,9 @@ pb_result pb_present_create(const pb_present_desc *d, pb_present **out) {
                            .pQueueCreateInfos = &qi, .enabledExtensionCount = 1, .ppEnabledExtensionNames = &dext};
   VK(vkCreateDevice(p->phys, &di, NULL, &p->device), "vkCreateDevice (presenter)");
   vkGetDeviceQueue(p->device, best_family, 0, &p->queue);
+  } /* own device */
   VkCommandPoolCreateInfo pi = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
-                                .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, .queueFamilyIndex = best_family};
+                                .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, .queueFamilyIndex = p->queue_family};
   VK(vkCreateCommandPool(p->device, &pi, NULL, &p->pool), "vkCreateCommandPool");
   VkCommandBufferAllocateInfo cai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, .commandPool = p->pool,
                                      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY, .commandBufferCount = 1};
@@ -369,7 +398,7 @@ void pb_present_destroy(pb_present *p) {
     destroy_images(p);
     if (p->fence) vkDestroyFence(p->device, p->fence, NULL);
     if (p->pool) vkDestroyCommandPool(p->device, p->pool, NULL);
-    vkDestroyDevice(p->device, NULL);
+    if (!p->borrowed) vkDestroyDevice(p->device, NULL);
   }
   if (p->surface) vkDestroySurfaceKHR(p->instance, p->surface, NULL);
   if (p->messenger) {
@@ -377,7 +406,7 @@ void pb_present_destroy(pb_present *p) {
         (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(p->instance, "vkDestroyDebugUtilsMessengerEXT");
     if (rm) rm(p->instance, p->messenger, NULL);
   }
-  if (p->instance) vkDestroyInstance(p->instance, NULL);
+  if (p->instance && !p->borrowed) vkDestroyInstance(p->instance, NULL);
   free(p);
 }
 
@@ -468,3 +497,5 @@ fail:
 
 uint32_t pb_present_validation_messages(const pb_present *p) { return p ? p->validation_messages : 0; }
 uint32_t pb_present_recreations(const pb_present *p) { return p ? p->recreations : 0; }
+
+int pb_present_shared(const pb_present *p) { return p->borrowed; }

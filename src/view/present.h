@@ -1,11 +1,12 @@
 /* The viewer's window surface: a Vulkan swapchain on a GLFW window showing
- * an 8-bit image the host made (the frame API hands its pixels to the host
- * today: render.h's pb_render_result). The presenter owns its own instance
- * and device (on the physical device named like the renderer's, else the
- * first that can present), because pb_gpu is the headless compute runtime
- * and is being reworked by the GPU-resident frame (issue 17 item 1); once
- * frames stay on the GPU, the presenter should share that device and blit
- * from the frame's target instead of uploading.
+ * an 8-bit image the host made (the display-referred picture through the
+ * OCIO view, made from the readback's AOVs). The presenter uses the render
+ * device (pb_gpu_vk: one VkDevice, its queue, from the viewer's one thread)
+ * when the renderer was made for the window (pb_view_gpu_desc: the surface
+ * extensions, a family that computes, blits and presents, VK_KHR_swapchain)
+ * and its queue family can present to this surface; otherwise it makes its
+ * own instance and device (on the physical device named like the
+ * renderer's, else the first that can present) and logs why.
  *
  * Each present: the image is copied into a staging buffer, then into an
  * R8G8B8A8_UNORM image of the frame's size, which is blitted (linear
@@ -28,7 +29,9 @@ typedef struct pb_present pb_present;
 typedef struct pb_present_desc {
   GLFWwindow *window;
   const char *device_name; /* preferred physical device (pb_gpu_device_name), or NULL */
-  int validation;          /* 1: VK_LAYER_KHRONOS_validation, every message counted */
+  int validation;          /* 1: VK_LAYER_KHRONOS_validation, every message counted
+                              (own device only: a shared one reports through pb_gpu) */
+  const struct pb_gpu_vk *shared; /* the render device, or NULL */
 } pb_present_desc;
 
 pb_result pb_present_create(const pb_present_desc *d, pb_present **out);
@@ -41,5 +44,7 @@ pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, u
  * recreations so far (tests). */
 uint32_t pb_present_validation_messages(const pb_present *p);
 uint32_t pb_present_recreations(const pb_present *p);
+/* 1: presenting through the render device (pb_present_desc.shared). */
+int pb_present_shared(const pb_present *p);
 
 #endif

@@ -457,6 +457,7 @@ static pb_result write_stats(const viewer *v, const char *path) {
   pb_json_int(&j, "photons_per_frame", v->ses.res.stats.photons_emitted);
   pb_json_int(&j, "photons_stored", (int64_t)v->ses.res.stats.photons_stored);
   pb_json_int(&j, "swapchain_recreations", pb_present_recreations(v->pres));
+  pb_json_bool(&j, "present_shared_device", pb_present_shared(v->pres));
   pb_json_begin_array(&j, "frames");
   for (uint32_t i = 0; i < v->frame; ++i) {
     const frame_stat *f = &v->stats[i];
@@ -538,6 +539,23 @@ pb_result pb_view_check_display(void) {
 
 static void on_glfw_error(int code, const char *text) { pb_log_verbose("view: GLFW error %d: %s", code, text); }
 
+static int glfw_can_present(void *user, VkInstance instance, VkPhysicalDevice phys, uint32_t family) {
+  (void)user;
+  return glfwGetPhysicalDevicePresentationSupport(instance, phys, family) == GLFW_TRUE;
+}
+
+void pb_view_gpu_desc(pb_gpu_desc *gd) {
+  if (pb_view_check_display() != PB_OK) return;
+  glfwSetErrorCallback(on_glfw_error);
+  if (!glfwInit() || !glfwVulkanSupported()) return; /* pb_view_run reports it */
+  uint32_t n = 0;
+  const char **ext = glfwGetRequiredInstanceExtensions(&n); /* valid until glfwTerminate */
+  if (!ext || !n) return;
+  gd->instance_extensions = ext;
+  gd->instance_extension_count = n;
+  gd->can_present = glfw_can_present;
+}
+
 pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_desc *d) {
   viewer v;
   memset(&v, 0, sizeof v);
@@ -586,7 +604,10 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   glfwSetMouseButtonCallback(v.win, cb_button);
   glfwSetCursorPosCallback(v.win, cb_cursor);
   glfwSetScrollCallback(v.win, cb_scroll);
-  pb_present_desc pd = {.window = v.win, .device_name = pb_gpu_device_name(g), .validation = d->validation};
+  pb_gpu_vk vk;
+  pb_gpu_vk_handles(g, &vk);
+  pb_present_desc pd = {.window = v.win, .device_name = pb_gpu_device_name(g), .validation = d->validation,
+                        .shared = &vk};
   if ((r = pb_present_create(&pd, &v.pres)) != PB_OK) goto done;
   if ((r = pb_view_session_create(&v.ses, g, s, gs, d->camera, d->width, d->height, &d->seq)) != PB_OK) goto done;
   pb_view_controller_reset(&v.ctl, &v.file_cam, s->bounds_min, s->bounds_max);

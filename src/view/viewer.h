@@ -57,6 +57,12 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
  * names no display (DISPLAY, WAYLAND_DISPLAY): checked before the scene
  * loads; pb_view_run checks it again, and that GLFW can open it. */
 pb_result pb_view_check_display(void);
+/* Fills gd's presentation fields (gpu.h) so that the render device can also
+ * present to the viewer's window (the presenter then shares it,
+ * present.h): GLFW's instance extensions and its presentation test. Leaves
+ * gd alone when GLFW cannot start here (pb_view_run then says why). */
+struct pb_gpu_desc;
+void pb_view_gpu_desc(struct pb_gpu_desc *gd);
 
 /* Validation messages the presenter's Vulkan instance reported in this
  * process (the renderer's are pb_gpu_validation_total's). */

@@ -42,6 +42,8 @@
 #include "shaders/raycast.spv.h"
 #include "shaders/resolve.spv.h"
 #include "shaders/temporal.spv.h"
+#include "shaders/filter_io.spv.h"
+#include "shaders/shading_correction.spv.h"
 
 typedef struct entry {
   const char *name; /* block type name (bindings) or constant name (SpecId) */
@@ -108,7 +110,20 @@ static const entry atrous_bind[] = {{"S", PB_ATROUS_BIND_S},           {"Detail"
 static const entry temporal_bind[] = {{"HistIn", PB_TEMPORAL_BIND_HIST_IN},     {"GeoPrev", PB_TEMPORAL_BIND_GEO_PREV},
                                       {"GeoCur", PB_TEMPORAL_BIND_GEO},         {"Indirect", PB_TEMPORAL_BIND_INDIRECT},
                                       {"Albedo", PB_TEMPORAL_BIND_ALBEDO},      {"Motion", PB_TEMPORAL_BIND_MOTION},
-                                      {"HistOut", PB_TEMPORAL_BIND_HIST_OUT}, END};
+                                      {"HistOut", PB_TEMPORAL_BIND_HIST_OUT},   {"Result", PB_TEMPORAL_BIND_RESULT},
+                                      {"Stats", PB_TEMPORAL_BIND_STATS}, END};
+static const entry filter_io_bind[] = {{"Planes", PB_FILTER_IO_BIND_PLANES},
+                                       {"PhotonPlanes", PB_FILTER_IO_BIND_PHOTON_PLANES},
+                                       {"Geo", PB_FILTER_IO_BIND_GEO},
+                                       {"Albedo", PB_FILTER_IO_BIND_ALBEDO},
+                                       {"IndirectIn", PB_FILTER_IO_BIND_INDIRECT_IN},
+                                       {"Indirect", PB_FILTER_IO_BIND_INDIRECT},
+                                       {"CausticIn", PB_FILTER_IO_BIND_CAUSTIC_IN},
+                                       {"Caustic", PB_FILTER_IO_BIND_CAUSTIC},
+                                       {"Guard", PB_FILTER_IO_BIND_GUARD},
+                                       END};
+static const entry shading_bind[] = {{"Planes", PB_SHADING_BIND_PLANES},
+                                     {"PhotonPlanes", PB_SHADING_BIND_PHOTON_PLANES}, END};
 static const entry motion_bind[] = {{"Nodes", PB_MOTION_BIND_NODES},
                                     {"Tris", PB_MOTION_BIND_TRIS},
                                     {"Indices", PB_MOTION_BIND_INDICES},
@@ -183,6 +198,8 @@ static const module modules[] = {
     MOD(motion, motion_bind, no_spec, PB_MOTION_BIND_COUNT),
     MOD(raycast, raycast_bind, no_spec, PB_RAYCAST_BIND_COUNT),
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
+    MOD(filter_io, filter_io_bind, no_spec, PB_FILTER_IO_BIND_COUNT),
+    MOD(shading_correction, shading_bind, no_spec, PB_SHADING_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };
