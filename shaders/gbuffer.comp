@@ -35,8 +35,11 @@ layout(local_size_x = PB_GPU_WORKGROUP) in;
 // Emission met by the segment (org, dir) before t_hit (inf: it left the
 // scene), `chain` delta interactions after the camera, inside the absorbing
 // medium sigma (each light attenuated to its own distance; the world beyond
-// a medium of sigma > 0 is absorbed entirely).
-vec3 pb_segment_emission(vec3 org, vec3 dir, float t_hit, uint chain, vec3 sigma) {
+// a medium of sigma > 0 is absorbed entirely). prev_pdf: the density the
+// segment's direction was drawn with at a followed glossy closure, whose
+// vertex also sampled the lights (pb_lights_mis): each light's share by the
+// power heuristic; 0 after the camera or a delta closure (weight 1).
+vec3 pb_segment_emission(vec3 org, vec3 dir, float t_hit, uint chain, vec3 sigma, float prev_pdf) {
   vec3 e = vec3(0.0);
   if (SC_SOFT_LIGHTS && chain > 0u)
     for (uint i = 0u; i < frame.light_count; ++i) {
@@ -44,10 +47,14 @@ vec3 pb_segment_emission(vec3 org, vec3 dir, float t_hit, uint chain, vec3 sigma
       if (!pb_light_is_soft(l) || (l.flags & PB_GPU_LIGHT_NO_MIS) != 0u) continue;
       float t, pdf;
       vec3 L;
-      if (pb_soft_light_hit(l, org, dir, t_hit, t, L, pdf)) e += L * pb_medium_transmittance(sigma, t);
+      if (pb_soft_light_hit(l, org, dir, t_hit, t, L, pdf))
+        e += L * (pb_medium_transmittance(sigma, t) * (prev_pdf > 0.0 ? pb_mis_power(prev_pdf, pdf) : 1.0));
     }
-  if (SC_WORLD && isinf(t_hit) && (chain > 0u || (world.flags & PB_GPU_WORLD_CAMERA) != 0u))
-    e += pb_world_radiance(dir) * pb_medium_transmittance(sigma, t_hit);
+  if (SC_WORLD && isinf(t_hit) && (chain > 0u || (world.flags & PB_GPU_WORLD_CAMERA) != 0u)) {
+    float w = prev_pdf > 0.0 && (world.flags & PB_GPU_WORLD_SAMPLED) != 0u ? pb_mis_power(prev_pdf, pb_world_pdf(dir))
+                                                                           : 1.0;
+    e += pb_world_radiance(dir) * (pb_medium_transmittance(sigma, t_hit) * w);
+  }
   return e;
 }
 
@@ -77,6 +84,7 @@ void main() {
   vec3 beta = vec3(1.0);
   vec3 sigma = vec3(0.0); // absorbing medium the chain is in (KHR_materials_volume)
   bool direct_only = (frame.flags & PB_GPU_FRAME_DIRECT_ONLY) != 0u;
+  float prev_pdf = 0.0; // pb_segment_emission's
 
   pb_gpu_accum acc = accum[gid];
   pb_gpu_gbuffer g;
@@ -98,7 +106,7 @@ void main() {
     // (a camera ray without a hit shades the background).
     uint prim = pb_trace(org, dir, 0.0, chain == 0u ? tmax : uintBitsToFloat(0x7f800000u), false, t, u, v);
     if (SC_SOFT_LIGHTS || SC_WORLD) {
-      vec3 le = beta * pb_segment_emission(org, dir, prim == PB_GPU_MISS ? PB_INF : t, chain, sigma);
+      vec3 le = beta * pb_segment_emission(org, dir, prim == PB_GPU_MISS ? PB_INF : t, chain, sigma, prev_pdf);
       acc.beauty.rgb += le;
       if (chain <= 1u) acc.direct += le;
     }
@@ -167,7 +175,9 @@ void main() {
       vec3 beta_g = beta / p_g;
       b.mask = PB_GPU_LOBES_GLOSSY;
       uint rng = pb_walk_seed(key, s, 16u + chain);
-      vec3 dl = beta_g * pb_delta_lights(surf, b, wo, rng);
+      vec3 dl = pb_delta_lights(surf, b, wo, rng);
+      if (SC_SOFT_LIGHTS || SC_WORLD) dl += pb_lights_mis(surf, b, wo, key, s, 0x50000000u + (chain << 12u), rng);
+      dl *= beta_g;
       acc.beauty.rgb += dl;
       if (chain == 0u) acc.direct += dl;
       vec3 wi, wgt;
@@ -176,6 +186,7 @@ void main() {
       float u1 = pb_rand(key, s, 4u + 4u * chain), u2 = pb_rand(key, s, 5u + 4u * chain);
       if (!pb_blender_sample(b, wo, (uc - p_d) / p_g, u1, u2, false, rng, wi, wgt, pdf, delta, transmit)) break;
       beta = beta_g * wgt;
+      prev_pdf = delta ? 0.0 : pdf;
       if (all(equal(beta, vec3(0.0))) || any(isnan(beta)) || any(isinf(beta))) break;
       if (chain >= 7u) { // Russian roulette as below (long chains)
         float q = min(0.95, max(beta.r, max(beta.g, beta.b)));
@@ -212,6 +223,7 @@ void main() {
       break;
     }
     // Follow a delta lobe: mirror (F / P) or smooth dielectric.
+    prev_pdf = 0.0;
     float choose_delta = p_delta / p_sum;
     vec3 nl = vec3(0.0, 0.0, 1.0);
     vec3 lo = pb_to_local(b, wo);
