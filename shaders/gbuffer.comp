@@ -11,16 +11,20 @@
 // accum. Mixed materials (smooth and delta lobes) pick one stochastically by
 // the reference's lobe probabilities, so the estimate stays unbiased. Blender
 // materials (the PB_BLENDER build) also continue through their smoother
-// glossy closures, lit here by the delta lights (see the branch below).
+// glossy closures, lit here by the delta lights and by one sample of each
+// soft light and of the world's map (see the branch below).
 // Lights do not stop rays (src/ref/pathtrace.c ray_emission): every segment
 // after a delta (or followed glossy) interaction adds the soft lights it
 // passes before its hit (but those with PB_GPU_LIGHT_NO_MIS), and a ray that
 // leaves the scene the world and the soft suns' discs; the camera ray sees
 // no light (Cycles 3.4, scene.h) and the world only when PB_GPU_WORLD_CAMERA
 // says so (opaque film, visible). These paths start at the camera, so the
-// reference counts them by path tracing too, with weight 1 (a followed
-// glossy closure is lit here by the delta lights alone, so what its
-// continuation meets is counted once).
+// reference counts them by path tracing too, with weight 1 after the camera
+// or a delta interaction; after a followed glossy closure, whose vertex
+// also sampled the soft lights and the world's map (pb_lights_mis), with
+// the power heuristic's complementary weight, as the reference's
+// ray_emission (emitters and the delta lights are each counted by one
+// strategy only, so what the continuation meets is counted once).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 
@@ -146,7 +150,10 @@ void main() {
       // divides by its probability, so the sum is the whole BSDF. Emitters
       // are reached through the followed closures by this continuation only
       // and through the stopping ones by the direct pass's light sample
-      // only: no path is counted twice. At the depth limit everything is
+      // only; the soft lights and the world through the followed closures
+      // by a light sample here and by the continuation, MIS-weighted (Veach
+      // 1997 9.2: without the light sample a rough copper reflecting a 3 x
+      // 3-texel sun found it by its BSDF alone): no path is counted twice. At the depth limit everything is
       // left to the direct pass and the photon map.
       pb_blender_split(b, frame.glossy_path_alpha2);
       float sw_d = 0.0, sw_g = 0.0;
