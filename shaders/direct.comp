@@ -9,10 +9,12 @@
 //    both moved off their surfaces (the reference's segment).
 //  - soft lights (SC_SOFT_LIGHTS): one light sample each (common/lights.glsl,
 //    the reference's strategies), a shadow ray unless the light casts none;
-//  - the world (SC_WORLD): a cosine-weighted direction over the smooth lobes
-//    and, for a map, a direction from its table, combined by the power
-//    heuristic (a constant world: the cosine direction alone, weight 1),
-//    each with a shadow ray to infinity.
+//  - the world (SC_WORLD): a direction drawn from the BSDF (a Blender
+//    material's closures; a cosine-weighted one for glTF's lobes) and, for a
+//    map, PB_WORLD_MAP_SAMPLES directions from its table, combined by the
+//    power heuristic (a constant world: the BSDF direction alone, weight 1),
+//    each with a shadow ray to infinity; the map and soft-light samples are
+//    stratified over the pixel's samples (pb_ld2).
 // Added to beauty, and to the direct AOV when the surface is the first hit
 // (one scattering event).
 //
@@ -35,10 +37,12 @@
 // delta chains, where the reference's weight is 1 too). Blender materials
 // split the same way by closure: the G-buffer pass follows their smoother
 // glossy closures and counts the emitters those reach (their BSDF sampling
-// alone), this pass lights only the closures it was left (gbuffer.lobes:
-// those that stop, pb_blender_split, or all at the end of the eye path), so
-// each path is counted once; direct.comp and the G-buffer's glossy vertices
-// share common/direct_light.glsl.
+// alone, and the soft lights and the world by a light sample there,
+// MIS-weighted against that continuation: pb_lights_mis), this pass lights
+// only the closures it was left (gbuffer.lobes: those that stop,
+// pb_blender_split, or all at the end of the eye path), so each path is
+// counted once; direct.comp and the G-buffer's glossy vertices share
+// common/direct_light.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 

@@ -26,7 +26,10 @@ import subprocess
 import sys
 
 
-GPU_PSNR_DB = {"default": 30.0, "area_rectangle_spread": 28.0}
+# world_hdri: 47.5 dB measured with the BSDF-sampled world strategy and the
+# stratified map samples of the direct pass (38.5 dB before them), so a
+# return to the old sampling fails.
+GPU_PSNR_DB = {"default": 30.0, "area_rectangle_spread": 28.0, "world_hdri": 44.0}
 
 
 def run(cmd):

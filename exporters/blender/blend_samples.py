@@ -13,7 +13,7 @@ Scenes (96 x 72 pixels, metres, Blender Z up):
                  Specular 0.5, Roughness 0.5), a copper sphere (Metallic 1,
                  Roughness 0.3), a red glossy plastic sphere (Roughness 0.2)
                  and a blue plastic box (Roughness 0.45, Multiscatter GGX),
-                 lit by a rectangular area light (1.2 x 0.8 m, 80 W) and a
+                 lit by a soft sun (2.5 W/m^2, angle 8 degrees) and a
                  soft point light (radius 0.25 m, 120 W, warm);
   hdri           the props on an open floor lit by the World alone: an
                  Environment Texture (sky.hdr, 128 x 64 Radiance RGBE made
@@ -160,9 +160,11 @@ def metal_plastic(outdir):
     props()
     S.add_camera((0.4, -4.2, 1.8), (0.0, 0.4, 0.45), 40.0)
     world((0.0, 0.0, 0.0), 0.0)
-    o = L.light("Key", 'AREA', (-1.8, -1.6, 2.4), 80.0, target=(0.0, 0.3, 0.4))
-    o.data.shape = 'RECTANGLE'
-    o.data.size, o.data.size_y = 1.2, 0.8
+    # The key: a soft sun from the area light's old place (its irradiance
+    # there, 80 W / (pi 10.7 m^2) = 2.4 W/m^2, so the exposure stays), 8
+    # degrees wide (its penumbra about 0.14 rad x the occluder's height).
+    o = L.light("Key", 'SUN', (-1.8, -1.6, 2.4), 2.5, target=(0.0, 0.3, 0.4))
+    o.data.angle = math.radians(8.0)
     o = L.light("Fill", 'POINT', (1.8, -1.2, 1.6), 120.0, color=(1.0, 0.85, 0.7))
     o.data.shadow_soft_size = 0.25
 
