@@ -27,6 +27,7 @@ struct pb_photon_estimator {
   pb_gpu_buffer info, sorted, nodes, visit, partial;
   pb_gpu_buffer dummy;           /* bound where a map has no photons or counts buffer */
   pb_photon_estimate_stats stats;
+  pb_gpu_lbvh_push push;         /* of the build prepared last */
 };
 
 #endif

@@ -131,6 +131,22 @@ static void tracer_stats_add(const pb_tracer *t, pb_render_stats *st) {
   }
 }
 
+/* Progressive mode: Hachisuka & Jensen's SPPM radius reduction in Knaus &
+ * Zwicker's probabilistic form (2011): iteration i = 1, 2, ... uses an
+ * independent map with every footprint scaled by k_i,
+ *   r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1),
+ *   k_i^2 = prod_{j=1}^{i-1} (j + alpha) / (j + 1)  (k_1 = 1),
+ * and the frame averages the K estimates (each with its own radius), so
+ * variance ~ 1 / (K r_K^2) -> 0 and bias ~ r_K^2 -> 0 together (r_K^2 ~
+ * K^(alpha - 1)). Without it k_i = 1 (a plain average, whose bias stays).
+ * The estimator applies k_i (lbvh_climb) to iteration `it`'s map. */
+static float footprint_scale(const pb_render_desc *d, uint32_t it) {
+  if (!d->progressive) return 1.0f;
+  double k2 = 1.0, alpha = d->alpha > 0.0f ? d->alpha : 2.0 / 3.0;
+  for (uint32_t j = 1; j <= d->iteration_base + it; ++j) k2 *= (j + alpha) / (j + 1.0);
+  return (float)sqrt(k2);
+}
+
 /* Bins the footprint radii of one traced map into stats->radius_hist (seed
  * 000 Table 3); *buf is a host copy grown as needed (freed by the caller). */
 static pb_result radius_histogram(pb_gpu *g, const pb_photon_tracer *t, const pb_photon_map *m,
@@ -378,11 +394,28 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       /* One photon map per iteration (seed, it): traced, LBVH built, gather
        * bound to this band's buffers. Bands retrace the same maps. */
       const pb_photon_map *m = desc.photon_map;
-      double ms = 0;
+      double ms = 0, build_ms = 0;
+      pb_photon_estimator_set_footprint_scale(est, footprint_scale(&desc, it));
       if (!m) {
-        if ((r = pb_tracer_trace(g, tracer, desc.seed, it, &map, &ms)) != PB_OK) goto fail;
-        if (band == 0) trace_ms += ms > 0 ? ms : 0;
-        photon_gpu_ms += ms > 0 ? ms : 0;
+        /* The trace and the LBVH build in one submission, no host round
+         * trip between them: the build reads the stored count from the
+         * map's counts on the GPU and sizes its passes from it (lbvh.c);
+         * the counts come back once, after both. */
+        if ((r = pb_tracer_prepare(g, tracer, desc.seed, it, &map)) != PB_OK) goto fail;
+        if ((r = pb_photon_estimator_prepare(g, est, &map)) != PB_OK) goto fail;
+        if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
+        double w0 = pb_time_now();
+        r = pb_tracer_record(g, tracer, 0);
+        if (r == PB_OK) r = pb_photon_estimator_record_build(g, est, 2); /* slots 2..6 */
+        pb_result rs = pb_gpu_submit(g);
+        if (r == PB_OK) r = rs;
+        if (r != PB_OK) goto fail;
+        double wall_ms = (pb_time_now() - w0) * 1e3;
+        if ((r = pb_tracer_finish(g, tracer, &map, 0, &ms)) != PB_OK) goto fail;
+        pb_photon_estimator_build_done(g, est, 2, &build_ms);
+        if (ms < 0 || build_ms < 0) ms = wall_ms, build_ms = 0; /* no timestamps: all of it to the trace */
+        if (band == 0) trace_ms += ms;
+        photon_gpu_ms += ms;
         m = &map;
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
@@ -396,27 +429,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       if (band == 0 && desc.radius_histogram && !desc.photon_map &&
           (r = radius_histogram(g, pb_tracer_photon(tracer), m, &hist_host, &out->stats)) != PB_OK)
         goto fail;
-      /* Progressive mode: Hachisuka & Jensen's SPPM radius reduction in
-       * Knaus & Zwicker's probabilistic form (2011): iteration i = 1, 2, ...
-       * uses an independent map with every footprint scaled by k_i,
-       *   r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1),
-       *   k_i^2 = prod_{j=1}^{i-1} (j + alpha) / (j + 1)  (k_1 = 1),
-       * and the frame averages the K estimates (each with its own radius), so
-       * variance ~ 1 / (K r_K^2) -> 0 and bias ~ r_K^2 -> 0 together
-       * (r_K^2 ~ K^(alpha - 1)). Without it k_i = 1 (a plain average, whose
-       * bias stays). The estimator applies k_i (lbvh_reorder). */
-      float kscale = 1.0f;
-      if (desc.progressive) {
-        double k2 = 1.0, alpha = desc.alpha > 0.0f ? desc.alpha : 2.0 / 3.0;
-        for (uint32_t j = 1; j <= desc.iteration_base + it; ++j) k2 *= (j + alpha) / (j + 1.0);
-        kscale = (float)sqrt(k2);
-      }
-      pb_photon_estimator_set_footprint_scale(est, kscale);
-      if ((r = pb_photon_estimator_build(g, est, m, &ms)) != PB_OK) goto fail;
-      photon_gpu_ms += ms > 0 ? ms : 0;
+      if (desc.photon_map && (r = pb_photon_estimator_build(g, est, m, &build_ms)) != PB_OK) goto fail;
+      photon_gpu_ms += build_ms > 0 ? build_ms : 0;
       if (band == 0) {
         pb_photon_estimate_stats es;
-        lbvh_ms += ms;
+        lbvh_ms += build_ms;
         if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
         sort_ms = sort_ms >= 0 && es.sort_ms >= 0 ? sort_ms + es.sort_ms : -1;
       }

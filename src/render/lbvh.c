@@ -10,7 +10,8 @@
  *   climb    photons copied into Morton order, hierarchy, boxes and leaf
  *            merge by T_auto in one bottom-up pass (Apetrei 2014)
  * 17 dispatches in all. Every buffer comes from the map's capacity (grown
- * when a larger map comes), never from a count read back. */
+ * when a larger map comes), never from a count read back; frame.c records
+ * the build in the tracer's submission, behind its dispatch. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -150,15 +151,13 @@ static pb_result reserve(pb_gpu *g, pb_photon_estimator *e, uint32_t cap) {
   return PB_OK;
 }
 
-/* Timestamp slots of a build: start, after bounds, after Morton, after the
- * sort, end. */
+/* Timestamp slots of a build, after ts_slot: start, after bounds, after
+ * Morton, after the sort, end. */
 enum { TS_START = 0, TS_BOUNDS, TS_MORTON, TS_SORT, TS_END };
 
-pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
-                                    double *gpu_ms) {
+pb_result pb_photon_estimator_prepare(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map) {
   pb_result r = reserve(g, e, map->capacity);
   if (r != PB_OK) return r;
-  double wall0 = pb_time_now();
   int from_map = map->counts.buffer != VK_NULL_HANDLE;
   pb_gpu_lbvh_push push = {
       .capacity = map->photons.buffer ? map->capacity : 0,
@@ -170,6 +169,7 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
       .t_fixed = e->desc.leaf_size,
       .sorted = pb_radix_sort_result(e->sort),
   };
+  e->push = push;
   const pb_gpu_buffer *in = map->photons.buffer ? &map->photons : &e->dummy;
   const pb_gpu_buffer *b[PB_LBVH_BIND_COUNT] = {
       [PB_LBVH_BIND_INFO] = &e->info, [PB_LBVH_BIND_PHOTONS_IN] = in,
@@ -180,33 +180,55 @@ pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_
   for (int i = 0; i < PB_LBVH_PASS_N; ++i)
     if ((r = pb_gpu_pipeline_bind(g, &e->pass[i], b, PB_LBVH_BIND_COUNT)) != PB_OK) return r;
   e->gather_ready = 0;
+  return PB_OK;
+}
+
+pb_result pb_photon_estimator_record_build(pb_gpu *g, pb_photon_estimator *e, uint32_t ts) {
+  const pb_gpu_lbvh_push *push = &e->push;
   const uint64_t photon_args = offsetof(pb_gpu_lbvh_info, photon_args);
   const uint64_t tile_args = offsetof(pb_gpu_lbvh_info, tile_args);
-  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
-  pb_gpu_timestamp(g, TS_START);
-  r = pb_gpu_dispatch(g, &e->pass[PB_LBVH_PASS_SETUP], &push, 1);
+  pb_gpu_barrier(g); /* the map's photons and counts, written by the tracer */
+  pb_gpu_timestamp(g, ts + TS_START);
+  pb_result r = pb_gpu_dispatch(g, &e->pass[PB_LBVH_PASS_SETUP], push, 1);
   pb_gpu_barrier(g);
-  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_BOUNDS], &push, &e->info, tile_args);
+  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_BOUNDS], push, &e->info, tile_args);
   pb_gpu_barrier(g);
-  pb_gpu_timestamp(g, TS_BOUNDS);
-  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_MORTON], &push, &e->info, photon_args);
-  pb_gpu_timestamp(g, TS_MORTON);
+  pb_gpu_timestamp(g, ts + TS_BOUNDS);
+  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_MORTON], push, &e->info, photon_args);
+  pb_gpu_timestamp(g, ts + TS_MORTON);
   if (r == PB_OK) r = pb_radix_sort_record(g, e->sort); /* barriers before and after */
-  pb_gpu_timestamp(g, TS_SORT);
-  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_CLIMB], &push, &e->info, photon_args);
+  pb_gpu_timestamp(g, ts + TS_SORT);
+  if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &e->pass[PB_LBVH_PASS_CLIMB], push, &e->info, photon_args);
   pb_gpu_barrier(g);
-  pb_gpu_timestamp(g, TS_END);
+  pb_gpu_timestamp(g, ts + TS_END);
+  return r;
+}
+
+void pb_photon_estimator_build_done(pb_gpu *g, pb_photon_estimator *e, uint32_t ts, double *gpu_ms) {
+  double ms = pb_gpu_elapsed_ms(g, ts + TS_START, ts + TS_END);
+  e->stats.build_ms = ms;
+  e->stats.bounds_ms = pb_gpu_elapsed_ms(g, ts + TS_START, ts + TS_BOUNDS);
+  e->stats.morton_ms = pb_gpu_elapsed_ms(g, ts + TS_BOUNDS, ts + TS_MORTON);
+  e->stats.sort_ms = pb_gpu_elapsed_ms(g, ts + TS_MORTON, ts + TS_SORT);
+  e->stats.climb_ms = pb_gpu_elapsed_ms(g, ts + TS_SORT, ts + TS_END);
+  if (gpu_ms) *gpu_ms = ms;
+}
+
+pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
+                                    double *gpu_ms) {
+  pb_result r = pb_photon_estimator_prepare(g, e, map);
+  if (r != PB_OK) return r;
+  double wall0 = pb_time_now();
+  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+  r = pb_photon_estimator_record_build(g, e, 0);
   pb_result rs = pb_gpu_submit(g);
   if (r == PB_OK) r = rs;
   if (r != PB_OK) return r;
-  double ms = pb_gpu_elapsed_ms(g, TS_START, TS_END);
-  if (ms < 0) ms = (pb_time_now() - wall0) * 1e3;
-  e->stats.build_ms = ms;
-  e->stats.bounds_ms = pb_gpu_elapsed_ms(g, TS_START, TS_BOUNDS);
-  e->stats.morton_ms = pb_gpu_elapsed_ms(g, TS_BOUNDS, TS_MORTON);
-  e->stats.sort_ms = pb_gpu_elapsed_ms(g, TS_MORTON, TS_SORT);
-  e->stats.climb_ms = pb_gpu_elapsed_ms(g, TS_SORT, TS_END);
-  if (gpu_ms) *gpu_ms = ms;
+  pb_photon_estimator_build_done(g, e, 0, gpu_ms);
+  if (e->stats.build_ms < 0) {
+    e->stats.build_ms = (pb_time_now() - wall0) * 1e3;
+    if (gpu_ms) *gpu_ms = e->stats.build_ms;
+  }
   return PB_OK;
 }
 

@@ -119,6 +119,19 @@ pb_result pb_photon_tracer_update(pb_gpu *g, pb_photon_tracer *t, const pb_scene
  * first call, reused after). gpu_ms gets per-pass times (may be NULL). */
 pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
                                pb_photon_map *map, double *gpu_ms);
+/* pb_photon_tracer_run in three steps, so that the trace and the LBVH build
+ * go in one submission with no host round trip between them (the build reads
+ * the stored count from map->counts on the GPU): prepare (creates the map on
+ * the first call, uploads this iteration's parameters; no command buffer
+ * open), record (into the open command buffer; timestamp slots ts_slot and
+ * ts_slot + 1), and after the submission finish (reads the counts back into
+ * map->stored etc., the per-pass time from the same slots, and fails with
+ * PB_ERR_LIMIT where the map overflowed). */
+pb_result pb_photon_tracer_prepare(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
+                                   pb_photon_map *map);
+pb_result pb_photon_tracer_record(pb_gpu *g, pb_photon_tracer *t, uint32_t ts_slot);
+pb_result pb_photon_tracer_finish(pb_gpu *g, pb_photon_tracer *t, pb_photon_map *map, uint32_t ts_slot,
+                                  double *gpu_ms);
 void pb_photon_tracer_destroy(pb_gpu *g, pb_photon_tracer *t);
 /* The image-space tracer (render/tracer.h, seed 003): from now on the
  * tracer's segments are searched in `maps` (image_maps.h; kept alive and
@@ -211,6 +224,14 @@ void pb_photon_estimator_update(pb_photon_estimator *e, const pb_scene *s);
  * map->capacity. */
 pb_result pb_photon_estimator_build(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map,
                                     double *gpu_ms);
+/* pb_photon_estimator_build in three steps (behind pb_photon_tracer_record
+ * in the same submission, after a barrier): prepare (buffers for
+ * map->capacity, descriptors; no command buffer open), record (timestamp
+ * slots ts_slot .. ts_slot + 4), and after the submission done (the build's
+ * GPU times from those slots). */
+pb_result pb_photon_estimator_prepare(pb_gpu *g, pb_photon_estimator *e, const pb_photon_map *map);
+pb_result pb_photon_estimator_record_build(pb_gpu *g, pb_photon_estimator *e, uint32_t ts_slot);
+void pb_photon_estimator_build_done(pb_gpu *g, pb_photon_estimator *e, uint32_t ts_slot, double *gpu_ms);
 /* Points the gather at the frame's pass buffers (scene.glsl's bindings and
  * specialization constants), at `photon_accum` (pb_gpu_photon_accum per
  * pixel of the band) and, in scenes with normal maps, `photon_nmap`

@@ -331,8 +331,8 @@ static pb_result map_create(pb_gpu *g, const pb_photon_tracer *t, pb_photon_map 
   return r;
 }
 
-pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
-                               pb_photon_map *map, double *gpu_ms) {
+pb_result pb_photon_tracer_prepare(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
+                                   pb_photon_map *map) {
   pb_result r;
   if (!map->photons.buffer) {
     if ((r = map_create(g, t, map)) != PB_OK) return r;
@@ -376,23 +376,35 @@ pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, ui
                                 (uint64_t)t->light_entries * sizeof *t->lights)) != PB_OK)
     return r;
   pb_gpu_photon_counts zero = {0};
-  if ((r = pb_gpu_buffer_upload(g, &map->counts, 0, &zero, sizeof zero)) != PB_OK) return r;
+  return pb_gpu_buffer_upload(g, &map->counts, 0, &zero, sizeof zero);
+}
 
-  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
-  pb_gpu_timestamp(g, 0);
-  if (t->rsm && !t->rsm_ready && (r = pb_photon_rsm_record(g, t->rsm)) != PB_OK) {
-    (void)pb_gpu_submit(g);
-    return r;
-  }
-  if ((r = pb_gpu_dispatch(g, &t->pipe, NULL, t->p.photons)) != PB_OK) {
-    (void)pb_gpu_submit(g); /* end the recording; the dispatch error is the one to report */
-    return r;
-  }
-  pb_gpu_timestamp(g, 1);
-  if ((r = pb_gpu_submit(g)) != PB_OK) return r;
+pb_result pb_photon_tracer_record(pb_gpu *g, pb_photon_tracer *t, uint32_t ts_slot) {
+  pb_result r;
+  pb_gpu_timestamp(g, ts_slot);
+  if (t->rsm && !t->rsm_ready && (r = pb_photon_rsm_record(g, t->rsm)) != PB_OK) return r;
+  if ((r = pb_gpu_dispatch(g, &t->pipe, NULL, t->p.photons)) != PB_OK) return r;
+  pb_gpu_timestamp(g, ts_slot + 1);
   if (t->rsm) t->rsm_ready = 1;
-  if (gpu_ms) *gpu_ms = pb_gpu_elapsed_ms(g, 0, 1);
+  return PB_OK;
+}
 
+pb_result pb_photon_tracer_run(pb_gpu *g, pb_photon_tracer *t, uint64_t seed, uint32_t iteration,
+                               pb_photon_map *map, double *gpu_ms) {
+  pb_result r = pb_photon_tracer_prepare(g, t, seed, iteration, map);
+  if (r != PB_OK) return r;
+  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+  r = pb_photon_tracer_record(g, t, 0);
+  pb_result rs = pb_gpu_submit(g); /* ends the recording; a recording error is the one to report */
+  if (r == PB_OK) r = rs;
+  if (r != PB_OK) return r;
+  return pb_photon_tracer_finish(g, t, map, 0, gpu_ms);
+}
+
+pb_result pb_photon_tracer_finish(pb_gpu *g, pb_photon_tracer *t, pb_photon_map *map, uint32_t ts_slot,
+                                  double *gpu_ms) {
+  pb_result r;
+  if (gpu_ms) *gpu_ms = pb_gpu_elapsed_ms(g, ts_slot, ts_slot + 1);
   pb_gpu_photon_counts c;
   if ((r = pb_gpu_buffer_download(g, &map->counts, 0, &c, sizeof c)) != PB_OK) return r;
   map->stored = c.stored;

@@ -57,6 +57,16 @@ pb_result pb_tracer_trace(pb_gpu *g, pb_tracer *t, uint64_t seed, uint32_t itera
   return pb_photon_tracer_run(g, t->photon, seed, iteration, map, gpu_ms);
 }
 
+pb_result pb_tracer_prepare(pb_gpu *g, pb_tracer *t, uint64_t seed, uint32_t iteration, pb_photon_map *map) {
+  return pb_photon_tracer_prepare(g, t->photon, seed, iteration, map);
+}
+pb_result pb_tracer_record(pb_gpu *g, pb_tracer *t, uint32_t ts_slot) {
+  return pb_photon_tracer_record(g, t->photon, ts_slot);
+}
+pb_result pb_tracer_finish(pb_gpu *g, pb_tracer *t, pb_photon_map *map, uint32_t ts_slot, double *gpu_ms) {
+  return pb_photon_tracer_finish(g, t->photon, map, ts_slot, gpu_ms);
+}
+
 const char *pb_tracer_name(const pb_tracer *t) { return t ? t->ops->name : "none"; }
 
 uint32_t pb_tracer_stats(const pb_tracer *t, pb_tracer_stat *out, uint32_t max) {

@@ -45,6 +45,13 @@ pb_result pb_tracer_update(pb_gpu *g, pb_tracer *t, const pb_scene *s);
 /* One photon map for (seed, iteration) into `map` (pb_photon_tracer_run). */
 pb_result pb_tracer_trace(pb_gpu *g, pb_tracer *t, uint64_t seed, uint32_t iteration, pb_photon_map *map,
                           double *gpu_ms);
+/* The same in three steps, so the frame can record the trace and the LBVH
+ * build into one submission (frame.c): prepare (bindings, constants, zeroed
+ * counts), record (into the open command buffer, timestamps ts_slot and
+ * ts_slot + 1), finish (after the submit: the counts and statistics). */
+pb_result pb_tracer_prepare(pb_gpu *g, pb_tracer *t, uint64_t seed, uint32_t iteration, pb_photon_map *map);
+pb_result pb_tracer_record(pb_gpu *g, pb_tracer *t, uint32_t ts_slot);
+pb_result pb_tracer_finish(pb_gpu *g, pb_tracer *t, pb_photon_map *map, uint32_t ts_slot, double *gpu_ms);
 /* "bvh" or "images". */
 const char *pb_tracer_name(const pb_tracer *t);
 /* The named statistics of the last trace (and of the maps): up to max
