@@ -163,7 +163,8 @@ PB_CONST(PB_GATHER_NO_BEAUTY, 2u)       /* do not add into accum.beauty */
 PB_STRUCT(pb_gpu_gather_push) {
   uint sample_index;
   uint flags;            /* PB_GATHER_* */
-  uint pad0;
+  float edge_reach;      /* largest footprint radius, m: the kernel's edge
+                            renormalisation looks this far (gather.comp); 0: off */
   uint pad1;
 } PB_END(pb_gpu_gather_push)
 

@@ -34,7 +34,7 @@ typedef struct ctx_key {
   const void *photon_map;
   uint32_t width, height, photons, bounces, first_bounce, leaf_size;
   float smoothing, r_max, smoothing_caustic;
-  int constant_kernel, direct_only, photons_on;
+  int constant_kernel, no_edge_correction, direct_only, photons_on;
 } ctx_key;
 
 struct pb_frame_context {
@@ -228,7 +228,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
   key.first_bounce = desc.first_bounce, key.leaf_size = desc.leaf_size;
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
-  key.constant_kernel = desc.constant_kernel, key.direct_only = desc.direct_only, key.photons_on = photons_on;
+  key.constant_kernel = desc.constant_kernel, key.no_edge_correction = desc.no_edge_correction;
+  key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
   if (reuse) {
@@ -285,7 +286,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                                  .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce};
       if ((r = pb_photon_tracer_create(g, s, gs, &td, &tracer)) != PB_OK) goto fail;
     }
-    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size};
+    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size,
+                                  .no_edge_correction = desc.no_edge_correction};
     if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
   }
 
@@ -345,10 +347,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
                      out->stats.photons_clamped += m->clamped;
-      if (band == 0 && !desc.photon_map) {
+      if (!desc.photon_map) {
         pb_photon_trace_stats pts;
         pb_photon_tracer_stats(tracer, &pts);
-        out->stats.photon_guarded += pts.guarded;
+        if (band == 0) out->stats.photon_guarded += pts.guarded;
+        pb_photon_estimator_set_edge_reach(est, pts.r_max);
       }
       if (band == 0 && desc.radius_histogram && !desc.photon_map &&
           (r = radius_histogram(g, tracer, m, &hist_host, &out->stats)) != PB_OK)
