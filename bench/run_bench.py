@@ -90,7 +90,7 @@ CONFIGS = {
         # took 62 s at 48 px and 156 s at 64 px (loaded machine): draft only.
         "povray": {"default": ["draft", "medium"], "cornell_caustics": ["draft"]},
         "cycles": [16, 256],
-        "leaf_scenes": ["cornell_box", "cornell_caustics"],
+        "leaf_scenes": ["cornell_box", "cornell_caustics", "ring", "spot_room"],
         "leaf_sizes": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512],
         "leaf_setup": {"width": 96, "photons": 1 << 17, "iterations": 2, "spp": 2, "repeat": 2},
         "lbvh_counts": [1e4, 3e4, 1e5, 3e5, 1e6, 1.39e6, 3e6, 1e7],
