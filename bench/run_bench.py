@@ -841,7 +841,7 @@ def markdown(res, rel):
     hs = [h for h in it["histograms"] if h.get("histogram")]
     if hs:
         L.append("k_PD (photons per gather) and footprint radii (Table 3), %s. Radii in bins of r_max / 20; the "
-                 "last column counts footprints at the clamp r_max (5 %% of the scene radius by default):\n"
+                 "last column counts footprints at the clamp r_max (18 Delta R by default: Delta = 2 sqrt(pi / paths), R the scene radius):\n"
                  % hs[0]["settings"])
         L.append("| scene | k_PD | T_auto | stored | r_max m | " + " | ".join(
             "<%d%%" % (5 * (i + 1)) for i in range(20)) + " | at r_max |")
