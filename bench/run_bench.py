@@ -90,7 +90,7 @@ CONFIGS = {
         # took 62 s at 48 px and 156 s at 64 px (loaded machine): draft only.
         "povray": {"default": ["draft", "medium"], "cornell_caustics": ["draft"]},
         "cycles": [16, 256],
-        "leaf_scenes": ["cornell_box", "cornell_caustics"],
+        "leaf_scenes": ["cornell_box", "cornell_caustics", "ring", "spot_room"],
         "leaf_sizes": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512],
         "leaf_setup": {"width": 96, "photons": 1 << 17, "iterations": 2, "spp": 2, "repeat": 2},
         "lbvh_counts": [1e4, 3e4, 1e5, 3e5, 1e6, 1.39e6, 3e6, 1e7],
@@ -731,6 +731,29 @@ def fmt_t(r):
     return "%s%.2f s" % ("&le; " if r["bound"] == "<=" else "", r["time_s"])
 
 
+def point_photons(p):
+    """'emitted / stored, k_PD' of a photonbridge point (emitted: paths per
+    map x maps), '-' for the other renderers."""
+    if p.get("renderer") != "photonbridge":
+        return "-"
+    pr = p.get("params") or {}
+    em = pr.get("photons", 0) * pr.get("iterations", 0)
+    st, kpd = p.get("photons_stored"), p.get("k_pd")
+    return "%s / %s, %s" % ("{:,}".format(em) if em else "-", "{:,}".format(st) if isinstance(st, int) else "-",
+                            "%.1f" % kpd if isinstance(kpd, (int, float)) else "-")
+
+
+def pb_point_photons(cv, row):
+    """The photons of the photonbridge point that first reached the row's
+    PSNR on the curve behind its best time."""
+    pb = row["renderers"].get("photonbridge")
+    if not pb:
+        return "-"
+    pts = sorted(cv.get((row["scene"], "photonbridge", pb["config"]), []), key=lambda p: p["wall_s"])
+    at = next((p for p in pts if p.get("psnr_db") is not None and p["psnr_db"] >= row["psnr_db"]), None)
+    return point_photons(at) if at else "-"
+
+
 def markdown(res, rel):
     """The report; rel: the results folder relative to the Markdown file."""
     L = []
@@ -755,27 +778,30 @@ def markdown(res, rel):
              "&le;: already reached at the first point). Ratio = photonbridge / best peer, within this run "
              "(< 1: photonbridge faster; &le;/&ge;: a bound, because one side reached the level at its cheapest point; "
              "~: both did).\n")
-    L.append("| scene | ref. noise | dB | photonbridge | reference (CPU) | POV-Ray | Cycles | photonbridge / best peer |")
-    L.append("|---|---|---|---|---|---|---|---|")
+    L.append("| scene | ref. noise | dB | photonbridge | its point: photons emitted / stored, k_PD | reference (CPU) "
+             "| POV-Ray | Cycles | photonbridge / best peer |")
+    L.append("|---|---|---|---|---|---|---|---|---|")
+    cv = curves(res["points"])
     for row in res["summary"]:
         rr = row["renderers"]
         noise = ((res["references"].get(row["scene"]) or {}).get("noise") or {}).get("psnr_db")
-        L.append("| %s | %s | %g | %s | %s | %s | %s | %s |" % (
+        L.append("| %s | %s | %g | %s | %s | %s | %s | %s | %s |" % (
             row["scene"], "%.1f dB" % noise if noise else "-", row["psnr_db"],
-            fmt_t(rr.get("photonbridge")), fmt_t(rr.get("reference")), fmt_t(rr.get("povray")),
-            fmt_t(rr.get("cycles")),
+            fmt_t(rr.get("photonbridge")), pb_point_photons(cv, row), fmt_t(rr.get("reference")),
+            fmt_t(rr.get("povray")), fmt_t(rr.get("cycles")),
             "**%s%.2f** (vs %s)" % ({"=": "", "<=": "&le; ", ">=": "&ge; ", "?": "~"}[row["ratio_bound"]],
                                    row["ratio"], row["best_peer"]) if row.get("ratio") else "-"))
     L.append("\nThe configuration behind each best time is in results.json (`summary`). A PSNR near the "
              "converged reference's own noise PSNR (column 2) is limited by the reference, not by the "
              "renderer.\n")
     L.append("## Best PSNR reached and its cost\n")
-    L.append("| scene | renderer | configuration | best PSNR dB | SSIM | at s | peak RSS MiB | GPU buffers MiB |")
-    L.append("|---|---|---|---|---|---|---|---|")
+    L.append("| scene | renderer | configuration | best PSNR dB | SSIM | at s | photons emitted / stored, k_PD "
+             "| peak RSS MiB | GPU buffers MiB |")
+    L.append("|---|---|---|---|---|---|---|---|---|")
     for (sc, rn, cf), pts in sorted(curves(res["points"]).items()):
         b = max(pts, key=lambda p: p["psnr_db"])
-        L.append("| %s | %s | %s | %.2f | %.3f | %.2f | %s | %s |" % (
-            sc, rn, cf, b["psnr_db"], b["ssim"], b["wall_s"], b["maxrss_mb"],
+        L.append("| %s | %s | %s | %.2f | %.3f | %.2f | %s | %s | %s |" % (
+            sc, rn, cf, b["psnr_db"], b["ssim"], b["wall_s"], point_photons(b), b["maxrss_mb"],
             b["gpu_buffers_peak_mb"] if b.get("gpu_buffers_peak_mb") is not None else "-"))
     for s in res["scenes"]:
         if "error_vs_time_%s.svg" % s in res["plots"]:
@@ -797,8 +823,10 @@ def markdown(res, rel):
             L.append("\n![passes](%s/passes.svg)\n" % rel)
     for x in it["leaf_sweep"]:
         s = x["setup"]
-        L.append("Leaf-size sweep (Table 1), %s, %d px, %d photons/map, %d maps, %d spp; gather + LBVH build GPU ms "
-                 "(best of %d):\n" % (x["scene"], s["width"], s["photons"], s["iterations"], s["spp"], s["repeat"]))
+        kp = next((r.get("k_pd") for r in x["rows"] if r.get("k_pd") is not None), None)
+        L.append("Leaf-size sweep (Table 1), %s, %d px, %d photons/map, %d maps, %d spp (k_PD %s); gather + LBVH "
+                 "build GPU ms (best of %d):\n" % (x["scene"], s["width"], s["photons"], s["iterations"], s["spp"],
+                                                   "%.1f" % kp if kp is not None else "-", s["repeat"]))
         L.append("| leaf size | " + " | ".join(str(r["leaf_size"]) for r in x["rows"]) + " |")
         L.append("|---|" + "---|" * len(x["rows"]))
         L.append("| ms | " + " | ".join("%.1f" % r["query_ms"] if "query_ms" in r else "failed" for r in x["rows"])
@@ -813,7 +841,7 @@ def markdown(res, rel):
     hs = [h for h in it["histograms"] if h.get("histogram")]
     if hs:
         L.append("k_PD (photons per gather) and footprint radii (Table 3), %s. Radii in bins of r_max / 20; the "
-                 "last column counts footprints at the clamp r_max (5 %% of the scene radius by default):\n"
+                 "last column counts footprints at the clamp r_max (18 Delta R by default: Delta = 2 sqrt(pi / paths), R the scene radius):\n"
                  % hs[0]["settings"])
         L.append("| scene | k_PD | T_auto | stored | r_max m | " + " | ".join(
             "<%d%%" % (5 * (i + 1)) for i in range(20)) + " | at r_max |")

@@ -48,6 +48,48 @@ layout(push_constant) uniform GatherPush { pb_gpu_gather_push gp; };
 layout(constant_id = PB_SPEC_NORMAL_MAPS) const bool SC_NORMAL_MAPS = true;
 #include "common/lbvh_traverse.glsl"
 
+// Kernel renormalisation at the edges of a face (corners, creases; a
+// boundary correction of kernel density estimation). A footprint that
+// reaches past the line where this face meets a wall puts part of its
+// kernel where there is no face, and the wall's photons never count here
+// (the same-side test), so within one footprint radius of the edge the
+// estimate falls, to half of the true density at the edge itself for a
+// uniform one. Each photon's weight is divided by the share m_i of its
+// kernel, centred at x, that lies on this side of every edge found: for an
+// edge at distance d along the in-plane unit direction e, the kernel's
+// support along e is h_i = sqrt((e . u_i)^2 + (e . v_i)^2) (the ellipse
+// x + a u_i + b v_i, a^2 + b^2 <= 1, maps the line to one at t = d / h_i
+// from the unit disc's centre), and the mass beyond it is
+//   Epanechnikov (2 / pi)(1 - r^2): M(t) = 1/2 - (t (5 - 2 t^2) sqrt(1 - t^2)
+//                                     + 3 asin t) / (3 pi),
+//   constant 1 / pi:                 M(t) = (acos t - t sqrt(1 - t^2)) / pi,
+// (integrals of the kernel over the disc's segment x > t; M(0) = 1/2). With
+// several edges m_i = prod (1 - M_j): exact for one straight edge, and for
+// two perpendicular ones at the corner point itself (1/4); bounded below by
+// 1/4. For a uniform density the renormalised estimate is then exact up to a
+// straight edge (sum over the photons of K(x - x_i) / m_i(x), the kernel
+// symmetric in x and x_i). The edges are found by PB_EDGE_RAYS rays in the
+// tangent plane, just above it, to sqrt(2) times the largest footprint
+// radius (r_max; any straight edge within r_max is then hit by the nearest
+// of four rays 90 degrees apart); each hit face whose normal is more than 60
+// degrees from this face's (its photons fail the same-side and ellipsoid
+// tests here) gives one edge, its in-plane distance from the hit point and
+// the face's plane, so the rays need not meet it at right angles. Not
+// corrected: a face that ends without a wall (an open edge: the light is
+// then really lost off the face), walls shorter than the ray's height
+// (1e-3 r_max), and creases of less than 60 degrees, whose neighbours'
+// photons reach across within their ellipsoids.
+#define PB_EDGE_RAYS 4
+#define PB_EDGE_MIN_SHARE 0.25
+
+float pb_kernel_mass_beyond(float t, bool box_kernel) {
+  if (t >= 1.0) return 0.0;
+  t = max(t, 0.0);
+  float s = sqrt(max(1.0 - t * t, 0.0));
+  return box_kernel ? (acos(t) - t * s) / PB_PI
+                    : 0.5 - (t * (5.0 - 2.0 * t * t) * s + 3.0 * asin(t)) / (3.0 * PB_PI);
+}
+
 void main() {
   uint gid = pb_gid();
   if (gid >= frame.pixel_count) return;
@@ -71,6 +113,47 @@ void main() {
   bool nmap = SC_NORMAL_MAPS && frame.tangent_base != 0u;
   vec4 dir = vec4(0.0);
   uint hits = 0u;
+  // The edges of this face within reach (above): in-plane unit direction
+  // towards each and its distance.
+  vec3 edge_dir[PB_EDGE_RAYS];
+  float edge_dist[PB_EDGE_RAYS];
+  uint edges = 0u;
+  float reach = gp.edge_reach;
+  if (reach > 0.0) {
+    vec3 n = surf.ng, an = abs(n);
+    // A frame from the world axis least aligned with n (axis-aligned rooms
+    // get rays at right angles to their walls).
+    vec3 a = an.x <= an.y && an.x <= an.z ? vec3(1, 0, 0) : (an.y <= an.z ? vec3(0, 1, 0) : vec3(0, 0, 1));
+    vec3 t = normalize(cross(n, a)), bt = cross(n, t);
+    vec3 o = x + n * (1e-3 * reach);
+    for (int k = 0; k < PB_EDGE_RAYS; ++k) {
+      float ang = float(k) * (2.0 * PB_PI / float(PB_EDGE_RAYS));
+      vec3 e = cos(ang) * t + sin(ang) * bt;
+      float th, uh, vh;
+      uint prim = pb_trace(o, e, 0.0, 1.4143 * reach, false, th, uh, vh);
+      if (prim == PB_GPU_MISS) continue;
+      pb_surface ws = pb_surface_from_hit(prim, uh, vh, e); // ws.ng faces x
+      float cn = dot(ws.ng, n);
+      if (cn > 0.5) continue;
+      vec3 ew = -(ws.ng - n * cn);
+      float le = length(ew);
+      if (!(le > 1e-4)) continue;
+      ew /= le;
+      float d = th * dot(e, ws.ng) / dot(ew, ws.ng);
+      if (!(d >= 0.0) || isinf(d)) continue;
+      bool merged = false;
+      for (uint j = 0u; j < edges; ++j)
+        if (dot(edge_dir[j], ew) > 0.99) {
+          edge_dist[j] = min(edge_dist[j], d);
+          merged = true;
+        }
+      if (!merged) {
+        edge_dir[edges] = ew;
+        edge_dist[edges] = d;
+        edges++;
+      }
+    }
+  }
   pb_lbvh_begin();
   uint first, count;
   while (pb_lbvh_next_leaf(x, first, count)) {
@@ -91,6 +174,15 @@ void main() {
           if (q + c * c <= 1.0) {
             float area = PB_PI * sqrt(det);
             float k = (box_kernel ? 1.0 : 2.0 * (1.0 - q)) / area;
+            if (edges > 0u) {
+              float share = 1.0;
+              for (uint j = 0u; j < edges; ++j) {
+                float hu = dot(edge_dir[j], p.axis_u), hv = dot(edge_dir[j], p.axis_v);
+                float h = sqrt(hu * hu + hv * hv);
+                if (h > 0.0) share *= 1.0 - pb_kernel_mass_beyond(edge_dist[j] / h, box_kernel);
+              }
+              k /= max(share, PB_EDGE_MIN_SHARE);
+            }
             vec3 f = pb_bsdf_eval(b, g.wo, p.wi, rng);
             if (SC_HAS_NORMALS && !nmap) {
               // The photon's own face: its density carries |wi . n_g| of the

@@ -5,16 +5,55 @@
 // scaled footprint areas per tile. The last workgroup to finish (an atomic
 // count; it waits on no one, so no forward-progress assumption) adds the
 // tiles' sums in tile order (the same float sum whatever the finishing
-// order), sets T_auto (seed 000 section 5.3: proportional to the ratio of
-// the summed footprint areas to the scene's surface area, i.e. the expected
-// number of footprints over a surface point; factor 1) and converts the
-// bounds to floats.
+// order), sets T_auto (pb_t_auto below, from seed 000 section 5.3's ratio
+// of the summed footprint areas to the scene's surface area and the
+// traversal's cost) and converts the bounds to floats.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 #include "common/lbvh.glsl"
+
+// T_auto from the gather's traversal cost (seed 000 5.3: "proportional to
+// the ratio" k of the summed footprint areas to the scene's surface area,
+// the expected number of footprints over a surface point). Model: photons
+// spread over the surfaces with density rho, footprints of radius r, so
+// k = rho pi r^2. A node holding S photons covers their region, of area
+// S / rho, widened by r on every side: of the N / S such nodes,
+// (1 + 2 r sqrt(rho / S))^2 = (1 + 2 sqrt(k / (pi S)))^2 contain a query
+// point. A query then tests the photons of the leaves that contain it,
+// P = S_leaf (1 + 2 sqrt(k / (pi S_leaf)))^2, and opens the inner nodes that
+// contain it, V = sum over the levels S = 2 S_leaf, 4 S_leaf, ... < N of
+// min(N / S, (1 + 2 sqrt(k / (pi S)))^2); cost = c_node V + c_photon P.
+// A threshold T gives leaves of T / (2 ln 2) photons on average (a leaf
+// is a subtree of at most T whose parent has more: its size spread evenly
+// in log2 between T / 2 and T; measured 0.68 T on cornell_box, 0.72 T
+// derived). c_node / c_photon = 1: opening a node reads 4 uvec4 and tests
+// two boxes, a photon 6 uvec4 and its ellipsoid (llvmpipe's cost follows the
+// loads, common/lbvh_traverse.glsl); a least-squares fit of this model to
+// the leaf sweeps of cornell_box and cornell_caustics together (20 points,
+// bench/README.md) gives 0.98. T_auto is the T in [1, PB_LBVH_MAX_LEAF]
+// of least modelled cost: about k^(1/3), not k (k 55 gives 7, k 400 gives
+// 12), the order of the paper's T_auto (5-56 against k_PD 175-480).
+#define PB_T_AUTO_NODE_COST 1.0
+uint pb_t_auto(float k, uint n) {
+  float kp = max(k, 0.0) / 3.14159265358979, nf = max(float(n), 1.0);
+  float best = uintBitsToFloat(0x7f800000u);
+  uint bt = 1u;
+  for (uint t = 1u; t <= PB_LBVH_MAX_LEAF; ++t) {
+    float sl = max(float(t) * 0.72134752, 1.0); // T / (2 ln 2)
+    float sq = sqrt(sl) + 2.0 * sqrt(kp);
+    float cost = sq * sq, v = 0.0;
+    for (float sz = 2.0 * sl; sz < nf; sz *= 2.0) {
+      float c = 1.0 + 2.0 * sqrt(kp / sz);
+      v += min(nf / sz, c * c);
+    }
+    cost += PB_T_AUTO_NODE_COST * v;
+    if (cost < best) best = cost, bt = t;
+  }
+  return bt;
+}
 
 shared vec3 s_lo[PB_GPU_WORKGROUP], s_hi[PB_GPU_WORKGROUP];
 shared float s_area[PB_GPU_WORKGROUP];
@@ -73,7 +112,7 @@ void main() {
   info.area_sum = sum;
   float ratio = info.scene_area > 0.0 ? sum / info.scene_area : 1.0;
   if (isnan(ratio)) ratio = 1.0;
-  uint t = uint(clamp(round(ratio), 1.0, float(PB_LBVH_MAX_LEAF)));
+  uint t = pb_t_auto(ratio, n);
   info.t_computed = t;
   // A fixed threshold from the host (benchmark leaf-size sweeps) wins.
   info.t_auto = info.t_fixed != 0u ? info.t_fixed : t;

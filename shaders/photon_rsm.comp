@@ -25,6 +25,22 @@
 // (photons are jittered over the whole texel, common/rsm_texel.glsl); 5 % of
 // that flux for a texel whose centre misses or sees a back face while a
 // corner sees a front face; 0 for the rest.
+// Not unbiased for geometry thinner than a texel seen against nothing: a
+// texel is weighted from its five points (centre, corners), so one whose
+// five rays all miss (or see back faces) is never sampled, while a wire, a
+// thin slat or the rim of an object may cross it between the points; the
+// light of that part is lost. Everything else is unbiased: a texel with any
+// weight is sampled over its whole area, and a thin object in front of
+// other geometry sits in texels whose rays hit that geometry. For a feature
+// of width w against empty space, in texels of width W (at the feature's
+// distance: 2 d / res for a point light's face centre, 2 R / res for a
+// directional light; res 64), the share of its direct light lost is about
+// 1 - min(1, 2 w / W) for a long one (the points are W / 2 apart across
+// it). Measured (bench/scenes/thin_slats.py: 24 slats 1.5 m from a point
+// light, W = 4.7 cm; 48 px, 4 maps of 2^17): with 1 cm slats the floor's
+// indirect light is 0.00019 against 0.00044 traced (-57 %, predicted -57 %);
+// with 20 cm slats 0.01129 both. The traced first bounce (the default) has
+// no such loss.
 //
 // PB_RSM_MODE_PYRAMID, dispatched once per level l = 1 .. log2(res), one
 // invocation per node: the sum of its 2 x 2 children at level l - 1 (the
@@ -122,7 +138,8 @@ void pb_rsm_render(uint gid) {
   }
   // A texel whose centre misses (or sees a back face) while a corner sees a
   // lit front face: the smallest weight, so that the part of it that sees
-  // the scene still gets photons (unbiased at silhouettes).
+  // the scene still gets photons (silhouettes at least a texel wide; thinner
+  // features seen against nothing can fall between the points, see above).
   if (!centre_front && corner_front) tx.weight = 0.05 * lf;
   if (!(tx.weight > 0.0) || isinf(tx.weight)) tx.weight = 0.0;
   rtexels[gid] = tx;

@@ -24,7 +24,8 @@ PB_CONST(PB_LBVH_STACK, 64)
 /* Photons per invocation of lbvh_bounds (a tile of 64 x 16). */
 PB_CONST(PB_LBVH_BOUNDS_PPT, 16)
 PB_CONST(PB_LBVH_BOUNDS_TILE, 1024)
-/* T_auto = clamp(round(footprint area sum / scene area), 1, PB_LBVH_MAX_LEAF) */
+/* T_auto: the leaf-size threshold of least modelled traversal cost for
+ * k = footprint area sum / scene area, in [1, PB_LBVH_MAX_LEAF] (lbvh_bounds.comp) */
 PB_CONST(PB_LBVH_MAX_LEAF, 256)
 /* A fixed threshold (push.t_fixed) may go up to this (seed 000 Table 1's
  * sweep reaches 512). */
@@ -163,7 +164,8 @@ PB_CONST(PB_GATHER_NO_BEAUTY, 2u)       /* do not add into accum.beauty */
 PB_STRUCT(pb_gpu_gather_push) {
   uint sample_index;
   uint flags;            /* PB_GATHER_* */
-  uint pad0;
+  float edge_reach;      /* largest footprint radius, m: the kernel's edge
+                            renormalisation looks this far (gather.comp); 0: off */
   uint pad1;
 } PB_END(pb_gpu_gather_push)
 

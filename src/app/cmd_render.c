@@ -41,6 +41,7 @@ static const pb_command *self(void) {
 typedef struct render_opts {
   uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size, max_bounces;
   int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
+  int no_edge_correction;
   int first_bounce; /* index into first_bounce_names */
   int tracer;       /* index into pb_tracer_names */
   uint32_t image_maps, image_map_resolution;
@@ -319,6 +320,8 @@ int pb_cmd_render(int argc, char **argv) {
        "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
        "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
+      {"no-edge-correction", 0, PB_OPT_FLAG, &o.no_edge_correction, NULL,
+       "no kernel renormalisation at the edges of faces (corners; ablation)", NULL, 0, 0},
       {"no-shading-correction", 0, PB_OPT_FLAG, &o.no_shading_correction, NULL,
        "scenes with normal maps: leave the indirect light without seed 001's eq. 20 correction (24.4.3)", NULL, 0, 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
@@ -454,6 +457,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
                        .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel, .no_shading_correction = o.no_shading_correction,
+                       .no_edge_correction = o.no_edge_correction,
                        .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),

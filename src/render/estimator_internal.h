@@ -16,6 +16,7 @@ enum { PB_LBVH_PASS_SETUP = 0, PB_LBVH_PASS_BOUNDS, PB_LBVH_PASS_MORTON, PB_LBVH
 struct pb_photon_estimator {
   pb_photon_estimate_desc desc;
   float footprint_scale; /* of the next build; 0: 1 */
+  float edge_reach;      /* the gather's edge renormalisation reach, m; 0: off */
   float scene_area;
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;

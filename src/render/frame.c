@@ -37,7 +37,7 @@ typedef struct ctx_key {
   const void *photon_map;
   uint32_t width, height, photons, bounces, first_bounce, leaf_size, tracer, image_maps, image_map_resolution;
   float smoothing, r_max, smoothing_caustic;
-  int constant_kernel, direct_only, photons_on;
+  int constant_kernel, no_edge_correction, direct_only, photons_on;
 } ctx_key;
 
 struct pb_frame_context {
@@ -271,7 +271,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.first_bounce = desc.first_bounce, key.leaf_size = desc.leaf_size;
   key.tracer = desc.tracer, key.image_maps = desc.image_maps, key.image_map_resolution = desc.image_map_resolution;
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
-  key.constant_kernel = desc.constant_kernel, key.direct_only = desc.direct_only, key.photons_on = photons_on;
+  key.constant_kernel = desc.constant_kernel, key.no_edge_correction = desc.no_edge_correction;
+  key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
   if (reuse) {
@@ -336,7 +337,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                             .images = {.count = desc.image_maps, .resolution = desc.image_map_resolution}};
       if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;
     }
-    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size};
+    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size,
+                                  .no_edge_correction = desc.no_edge_correction};
     if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
   }
 
@@ -420,11 +422,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
                      out->stats.photons_clamped += m->clamped;
-      if (band == 0 && !desc.photon_map) {
+      if (!desc.photon_map) {
         pb_photon_trace_stats pts;
         pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
-        out->stats.photon_guarded += pts.guarded;
-        tracer_stats_add(tracer, &out->stats);
+        if (band == 0) {
+          out->stats.photon_guarded += pts.guarded;
+          tracer_stats_add(tracer, &out->stats);
+        }
+        pb_photon_estimator_set_edge_reach(est, pts.r_max);
       }
       if (band == 0 && desc.radius_histogram && !desc.photon_map &&
           (r = radius_histogram(g, pb_tracer_photon(tracer), m, &hist_host, &out->stats)) != PB_OK)

@@ -2,6 +2,7 @@
  * G-buffer surface, by traversal of the photon LBVH (lbvh.c). Bound to the
  * frame's scene buffers plus the sorted photons, the nodes, the build info
  * and the per-pixel photon accumulators. */
+#include <math.h>
 #include <string.h>
 
 #include "render/estimator_internal.h"
@@ -44,10 +45,15 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
   return PB_OK;
 }
 
+void pb_photon_estimator_set_edge_reach(pb_photon_estimator *e, float r_max) {
+  e->edge_reach = r_max > 0.0f && isfinite(r_max) ? r_max : 0.0f;
+}
+
 pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
                                      uint32_t pixels, uint32_t flags) {
   if (!e->gather_ready) return pb_fail(PB_ERR_INTERNAL, "gather: recorded before pb_photon_estimator_bind");
   pb_gpu_gather_push push = {.sample_index = sample_index,
-                             .flags = flags | (e->desc.constant_kernel ? PB_GATHER_CONSTANT_KERNEL : 0u)};
+                             .flags = flags | (e->desc.constant_kernel ? PB_GATHER_CONSTANT_KERNEL : 0u),
+                             .edge_reach = e->desc.no_edge_correction ? 0.0f : e->edge_reach};
   return pb_gpu_dispatch(g, &e->gather, &push, pixels);
 }

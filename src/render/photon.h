@@ -189,6 +189,8 @@ struct pb_pass_setup;
 /* Zero means default for every field. */
 typedef struct pb_photon_estimate_desc {
   int constant_kernel;        /* 1: constant kernel; 0: Epanechnikov */
+  int no_edge_correction;     /* 1: no kernel renormalisation at the edges of
+                                 faces (gather.comp; tests, ablation) */
   uint32_t leaf_size;         /* fixed leaf-size threshold instead of T_auto
                                  (1..PB_LBVH_MAX_FIXED_LEAF; benchmark sweeps
                                  as in seed 000 Table 1); 0: T_auto */
@@ -243,6 +245,11 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
  * open command buffer; flags: PB_GATHER_* (shaders/shared/pb_lbvh.h). */
 pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
                                      uint32_t pixels, uint32_t flags);
+/* The largest footprint radius of the maps gathered next (the tracer's
+ * r_max, m): how far the gather looks for the edges of a face to
+ * renormalise its kernel (gather.comp); 0 (the default): no renormalisation,
+ * as for maps made by the host, whose radii the estimator does not know. */
+void pb_photon_estimator_set_edge_reach(pb_photon_estimator *e, float r_max);
 /* Bandwidth of the next builds: every footprint's axes, radius and normal
  * extent are multiplied by `scale` (0 or non-finite: 1) when the LBVH is
  * built (lbvh_reorder, lbvh_bounds), so the boxes, T_auto and the gather's

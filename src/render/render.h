@@ -153,6 +153,8 @@ typedef struct pb_render_desc {
                                   issue 18); 0:
                                   PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
   int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
+  int no_edge_correction;      /* 1: no kernel renormalisation at the edges
+                                  of faces (gather.comp; tests, ablation) */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
   uint32_t tracer;             /* pb_tracer_kind (tracer.h); 0: the BVH */

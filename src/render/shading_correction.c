@@ -16,7 +16,11 @@ float pb_shading_correction_factor(const float wi[3], const float ns[3], const f
   if (!(l > 0.0f) || !isfinite(l)) return 1.0f;
   float cs = dot3(wi, ns) / l, cg = dot3(wi, ng) / l;
   if (!isfinite(cs) || !isfinite(cg)) return 1.0f;
-  /* Eq. 20: min((w_i . w_ns) / (w_i . w_ng + eps), s_max). */
+  /* Eq. 20 as min((w_i . w_ns) / (w_i . w_ng + eps), s_max) (derived in
+   * shading_correction.h; not the garbled text's literal (w_i . w_ns)
+   * min(1 / (w_i . w_ng + eps), s_max), which is never closer to the
+   * unclamped ratio and measured further from the reference,
+   * test_gpu_normal_map). */
   float f = fmaxf(cs, 0.0f) / (fmaxf(cg, 0.0f) + PB_SHADING_CORRECTION_EPS);
   return fminf(f, s_max);
 }

@@ -15,6 +15,22 @@
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
 
+/* lbvh_bounds.comp's T_auto (pb_t_auto: the threshold of least modelled
+ * traversal cost) for k footprints over a point and n photons, in double. */
+static inline uint32_t lbvh_t_auto_model(double k, uint32_t n) {
+  double kp = (k > 0 ? k : 0) / M_PI, nf = n > 0 ? n : 1, best = INFINITY;
+  uint32_t bt = 1;
+  for (uint32_t t = 1; t <= PB_LBVH_MAX_LEAF; ++t) {
+    double sl = fmax(t * 0.72134752, 1.0), sq = sqrt(sl) + 2.0 * sqrt(kp), cost = sq * sq;
+    for (double sz = 2.0 * sl; sz < nf; sz *= 2.0) {
+      double c = 1.0 + 2.0 * sqrt(kp / sz);
+      cost += fmin(nf / sz, c * c);
+    }
+    if (cost < best) best = cost, bt = t;
+  }
+  return bt;
+}
+
 /* The last build, on the host. */
 typedef struct lbvh_host {
   uint32_t n;

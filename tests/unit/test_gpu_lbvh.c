@@ -109,7 +109,7 @@ static void check_case(pb_gpu *g, pb_photon_estimator *e, uint32_t n, int mode, 
   CHECK(lbvh_download(g, e, &h));
   CHECK_EQ_INT(h.n, n);
   CHECK_EQ_INT(st.photons, n);
-  /* T_auto from the footprint areas. */
+  /* T_auto from the footprint areas (the cost model's optimum). */
   double area = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const float *u = ph[i].axis_u, *w = ph[i].axis_v;
@@ -117,7 +117,7 @@ static void check_case(pb_gpu *g, pb_photon_estimator *e, uint32_t n, int mode, 
     area += M_PI * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
   }
   double ratio = area / 100.0;
-  uint32_t t_want = ratio < 1 ? 1 : (ratio > 256 ? 256 : (uint32_t)floor(ratio + 0.5));
+  uint32_t t_want = lbvh_t_auto_model(ratio, n);
   CHECK_NEAR(h.info.area_sum, area, 1e-3 * area + 1e-9);
   if (n) {
     CHECK((int)h.info.t_auto >= (int)t_want - 1 && h.info.t_auto <= t_want + 1); /* float sum rounding */

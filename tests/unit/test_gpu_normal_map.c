@@ -24,6 +24,7 @@
 #include "gpu_test.h"
 #include "ref/ref.h"
 #include "render/render.h"
+#include "render/shading_correction.h"
 #include "scene/tangents.h"
 
 #define TILT (30.0 * M_PI / 180.0)
@@ -295,6 +296,41 @@ static void eq20(pb_gpu *g) {
            mean3(rr.indirect, n), mean3(on.indirect, n), mean3(off.indirect, n), e_on, e_off, e_on / e_off);
     CHECK(e_on < 0.7 * e_off);
     CHECK(off.geo_normal != NULL);
+    /* Eq. 20's two readings on the same uncorrected frame, against the
+     * reference: (a) the code's min((w.n_s) / (w.n_g + eps), s_max) and (b)
+     * the literal (w.n_s) min(1 / (w.n_g + eps), s_max) (shading_correction.h
+     * derives (a)). They differ only where w.n_g < 1 / s_max: none of this
+     * scene's pixels at the default s_max = 4 (measured), so the two are also
+     * compared at s_max = 1.5, where the floor's mean photon direction
+     * (w.n_g about 0.64) makes them differ. */
+    for (int si = 0; si < 2 && off.geo_normal && off.photon_dir && off.shading_normal; ++si) {
+      float smax = si == 0 ? PB_SHADING_CORRECTION_S_MAX : 1.5f;
+      float *fa = malloc(3 * n * sizeof *fa), *fb = malloc(3 * n * sizeof *fb);
+      size_t differ = 0;
+      for (size_t p = 0; p < n; ++p) {
+        const float *w = off.photon_dir + 3 * p, *ns = off.shading_normal + 4 * p, *ng = off.geo_normal + 3 * p;
+        float l = sqrtf(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]), frac = ns[3];
+        float fa_p = pb_shading_correction_factor(w, ns, ng, smax), fb_p = 1.0f;
+        if (l > 0) {
+          float cs = (w[0] * ns[0] + w[1] * ns[1] + w[2] * ns[2]) / l, cg = (w[0] * ng[0] + w[1] * ng[1] + w[2] * ng[2]) / l;
+          fb_p = fmaxf(cs, 0.0f) * fminf(1.0f / (fmaxf(cg, 0.0f) + PB_SHADING_CORRECTION_EPS), smax);
+        }
+        if (!(frac > 0)) fa_p = fb_p = 1.0f;
+        if (fabsf(fa_p - fb_p) > 1e-4f) differ++;
+        for (int c = 0; c < 3; ++c) {
+          fa[3 * p + c] = off.indirect[3 * p + c] * (1.0f + frac * (fa_p - 1.0f));
+          fb[3 * p + c] = off.indirect[3 * p + c] * (1.0f + frac * (fb_p - 1.0f));
+        }
+      }
+      double ea = rmse3(fa, rr.indirect, n), eb = rmse3(fb, rr.indirect, n);
+      printf("eq. 20 readings at s_max %.1f: %zu of %zu pixels differ; mean (a) min(cs / cg, s_max) %.5f, "
+             "(b) cs min(1 / cg, s_max) %.5f, reference %.5f; RMSE (a) %.5f, (b) %.5f\n",
+             smax, differ, n, mean3(fa, n), mean3(fb, n), mean3(rr.indirect, n), ea, eb);
+      if (si == 1) CHECK(differ > n / 2);
+      CHECK(ea <= eb);
+      free(fa);
+      free(fb);
+    }
     /* The beauty follows the corrected indirect. */
     double db = 0;
     for (size_t i = 0; i < n; ++i)

@@ -9,8 +9,10 @@
  * Embree reference (path tracing, 256 spp, 1024 events), within 5 %:
  *  - a floor whose vertex normals all lean 30 degrees toward a lit wall
  *    (light -> wall -> floor arrives where |w.n_s| >> |w.n_g|). Measured on
- *    lavapipe: -3.9 %; without either weight -23.9 %, with the gather's
- *    alone +16.6 % (the tilted floor then sends too much to the wall);
+ *    lavapipe: -3.9 % (-2.5 % since the gather renormalises its kernel at
+ *    the floor's edge with the wall); without either weight -23.9 %, with
+ *    the gather's alone +16.6 % (the tilted floor then sends too much to the
+ *    wall);
  *  - a coarse sphere (80 faces, normals up to 19 degrees off) in a closed
  *    room: +3.1 % (+2.1 % without the weights; its flat-shaded twin +1.6 %:
  *    the gather's own bias on a curved surface, not the shading normals).
