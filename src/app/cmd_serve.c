@@ -67,6 +67,7 @@ int pb_cmd_serve(int argc, char **argv) {
   if (c.json)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: --json is not taken here (stdout carries the protocol; "
                                     "each frame's reply has its statistics)"));
+  if (socket_path && (r = pb_serve_socket_check(socket_path)) != PB_OK) return pb_cli_exit(cmd, r);
   pb_gpu *g = NULL;
   pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {

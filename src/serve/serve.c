@@ -349,18 +349,25 @@ static const char *frame_dir(const pb_serve_desc *d) {
   return t && t[0] ? t : "/tmp";
 }
 
+pb_result pb_serve_socket_check(const char *path) {
+  struct sockaddr_un a;
+  if (strlen(path) >= sizeof a.sun_path)
+    return pb_fail(PB_ERR_USAGE, "serve: --socket %s: longer than %zu bytes", path, sizeof a.sun_path - 1);
+  struct stat st;
+  if (lstat(path, &st) == 0 && !S_ISSOCK(st.st_mode))
+    return pb_fail(PB_ERR_IO, "serve: --socket %s: exists and is not a socket", path);
+  return PB_OK;
+}
+
 static pb_result open_socket(server *v, const char *path) {
   struct sockaddr_un a;
   memset(&a, 0, sizeof a);
   a.sun_family = AF_UNIX;
-  if (strlen(path) >= sizeof a.sun_path)
-    return pb_fail(PB_ERR_USAGE, "serve: --socket %s: longer than %zu bytes", path, sizeof a.sun_path - 1);
+  pb_result r = pb_serve_socket_check(path);
+  if (r != PB_OK) return r;
   snprintf(a.sun_path, sizeof a.sun_path, "%s", path);
   struct stat st;
-  if (lstat(path, &st) == 0) {
-    if (!S_ISSOCK(st.st_mode)) return pb_fail(PB_ERR_IO, "serve: --socket %s: exists and is not a socket", path);
-    unlink(path); /* a stale socket of a session that died */
-  }
+  if (lstat(path, &st) == 0) unlink(path); /* a stale socket of a session that died */
   int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
   if (fd < 0) return pb_fail(PB_ERR_IO, "serve: socket: %s", strerror(errno));
   if (bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || listen(fd, 1) != 0) {

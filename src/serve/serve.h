@@ -34,5 +34,8 @@ typedef struct pb_serve_desc {
  * to the client); later failures (a reload, a bad request, a frame) are
  * error replies and the session goes on. */
 pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d);
+/* --socket PATH usable (not too long; absent, or a stale socket): checked
+ * before a Vulkan device is opened, so a wrong path fails at once. */
+pb_result pb_serve_socket_check(const char *path);
 
 #endif
