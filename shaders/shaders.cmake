@@ -12,69 +12,15 @@ file(GLOB PB_SHADER_HEADERS CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/shared
 set(PB_SHADER_OUT ${CMAKE_BINARY_DIR}/generated/shaders)
 file(MAKE_DIRECTORY ${PB_SHADER_OUT})
 set(PB_SHADER_OUTPUTS "")
-foreach(src ${PB_SHADER_SOURCES})
-  get_filename_component(name ${src} NAME_WE)
-  set(spv ${PB_SHADER_OUT}/${name}.spv)
-  set(hdr ${PB_SHADER_OUT}/${name}.spv.h)
-  add_custom_command(
-    OUTPUT ${spv}
-    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1
-            -I ${CMAKE_SOURCE_DIR}/shaders -MD -MF ${spv}.d -o ${spv} ${src}
-    DEPENDS ${src} ${PB_SHADER_HEADERS}
-    DEPFILE ${spv}.d
-    COMMENT "glslc ${name}.comp"
-    VERBATIM)
-  add_custom_command(
-    OUTPUT ${hdr}
-    COMMAND ${CMAKE_COMMAND} -DIN=${spv} -DOUT=${hdr} -DNAME=${name}
-            -P ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
-    DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
-    COMMENT "embed ${name}.spv"
-    VERBATIM)
-  list(APPEND PB_SHADER_OUTPUTS ${hdr})
-endforeach()
 
-# The passes that shade surfaces are built twice: as above, without the
-# Blender materials (their code is not in the module: glTF scenes compile
-# exactly what they did before), and with -DPB_BLENDER=1 as NAME_blender
-# (pb_spv_NAME_blender), which the passes load for scenes with Blender
-# materials (plan.h blender_materials).
-set(PB_SHADER_BLENDER_VARIANTS gbuffer direct gather photon_trace photon_rsm)
-foreach(name ${PB_SHADER_BLENDER_VARIANTS})
-  set(src ${CMAKE_SOURCE_DIR}/shaders/${name}.comp)
-  set(spv ${PB_SHADER_OUT}/${name}_blender.spv)
-  set(hdr ${PB_SHADER_OUT}/${name}_blender.spv.h)
-  add_custom_command(
-    OUTPUT ${spv}
-    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1 -DPB_BLENDER=1
-            -I ${CMAKE_SOURCE_DIR}/shaders -MD -MF ${spv}.d -o ${spv} ${src}
-    DEPENDS ${src} ${PB_SHADER_HEADERS}
-    DEPFILE ${spv}.d
-    COMMENT "glslc ${name}.comp (Blender materials)"
-    VERBATIM)
-  add_custom_command(
-    OUTPUT ${hdr}
-    COMMAND ${CMAKE_COMMAND} -DIN=${spv} -DOUT=${hdr} -DNAME=${name}_blender
-            -P ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
-    DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
-    COMMENT "embed ${name}_blender.spv"
-    VERBATIM)
-  list(APPEND PB_SHADER_OUTPUTS ${hdr})
-endforeach()
-# The image-space photon tracer (seed 003; src/render/tracer_images.c):
-# photon_trace.comp with -DPB_IMAGE_TRACER=1, whose segments are searched in
-# the environment maps (common/image_maps.glsl) instead of the BVH, as
-# photon_trace_images and photon_trace_images_blender.
-foreach(variant "photon_trace_images;-DPB_IMAGE_TRACER=1"
-                "photon_trace_images_blender;-DPB_IMAGE_TRACER=1;-DPB_BLENDER=1")
-  list(GET variant 0 name)
-  list(SUBLIST variant 1 -1 defs)
-  set(src ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp)
+# One module: SRC compiled with the defines that follow (glslc, depfile) into
+# NAME.spv and embedded as pb_spv_NAME in NAME.spv.h.
+function(pb_shader name src)
   set(spv ${PB_SHADER_OUT}/${name}.spv)
   set(hdr ${PB_SHADER_OUT}/${name}.spv.h)
   add_custom_command(
     OUTPUT ${spv}
-    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1 ${defs}
+    COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -DPB_GLSL=1 ${ARGN}
             -I ${CMAKE_SOURCE_DIR}/shaders -MD -MF ${spv}.d -o ${spv} ${src}
     DEPENDS ${src} ${PB_SHADER_HEADERS}
     DEPFILE ${spv}.d
@@ -87,6 +33,28 @@ foreach(variant "photon_trace_images;-DPB_IMAGE_TRACER=1"
     DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
     COMMENT "embed ${name}.spv"
     VERBATIM)
-  list(APPEND PB_SHADER_OUTPUTS ${hdr})
+  set(PB_SHADER_OUTPUTS ${PB_SHADER_OUTPUTS} ${hdr} PARENT_SCOPE)
+endfunction()
+
+foreach(src ${PB_SHADER_SOURCES})
+  get_filename_component(name ${src} NAME_WE)
+  pb_shader(${name} ${src})
 endforeach()
+
+# The passes that shade surfaces are built twice: as above, without the
+# Blender materials (their code is not in the module: glTF scenes compile
+# exactly what they did before), and with -DPB_BLENDER=1 as NAME_blender
+# (pb_spv_NAME_blender), which the passes load for scenes with Blender
+# materials (plan.h blender_materials).
+set(PB_SHADER_BLENDER_VARIANTS gbuffer direct gather photon_trace photon_rsm)
+foreach(name ${PB_SHADER_BLENDER_VARIANTS})
+  pb_shader(${name}_blender ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -DPB_BLENDER=1)
+endforeach()
+# The image-space photon tracer (seed 003; src/render/tracer_images.c):
+# photon_trace.comp with -DPB_IMAGE_TRACER=1, whose segments are searched in
+# the environment maps (common/image_maps.glsl) instead of the BVH, as
+# photon_trace_images and photon_trace_images_blender.
+pb_shader(photon_trace_images ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp -DPB_IMAGE_TRACER=1)
+pb_shader(photon_trace_images_blender ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp -DPB_IMAGE_TRACER=1
+          -DPB_BLENDER=1)
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})
