@@ -218,8 +218,10 @@ typedef struct pb_render_desc {
    * the ring (before the context's second pb_render_frame after this one:
    * the ring has two slots). Frames with several bands or the host path
    * (PB_RESOLVE_ON_HOST=1) are rendered synchronously as without (pending
-   * 0). The pixels are the synchronous path's, bit for bit: the same
-   * commands, only the wait moves. */
+   * 0). The same commands as the synchronous path (and the ring's copy after
+   * the last pass), only the wait moves: the same pixels, up to the photon
+   * store's slot order that any two runs may differ in (bit-identical on
+   * lavapipe in tests/frame_same_pixels.py in_flight). */
   int in_flight;
   /* Benchmark (bench/run_bench.py): */
   uint32_t leaf_size;          /* fixed LBVH leaf-size threshold instead of
