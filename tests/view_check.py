@@ -20,6 +20,8 @@
   nodisplay  no DISPLAY / WAYLAND_DISPLAY: one line saying so and naming
              `photonbridge render`, exit 15 (PB_ERR_NOT_AVAILABLE)
   errors     a bad --script line: exit 2 naming the file and the line
+  in_flight  the still part with --frames-in-flight 2 (frames in flight: the
+             window one frame behind the renderer): the same screenshots
 
 Exit 77 (skip) where xvfb-run is missing or the binary was built without
 GLFW; CI's install script installs both, so there they run.
@@ -92,7 +94,7 @@ def validation_env():
     return env
 
 
-def part_still():
+def part_still(extra=(), tag="still"):
     # Frames 0-3 still; the screenshot event at frame 3 (before it renders)
     # shows frame 2; two presses of + at frame 3 raise the exposure by one
     # stop, so the final screenshot is frame 3 at +1 EV: both are compared
@@ -100,10 +102,14 @@ def part_still():
     n = 4
     early, shot = os.path.join(OUT, "view_2.png"), os.path.join(OUT, "view_3_ev1.png")
     script = os.path.join(OUT, "still.txt")
+    stats = os.path.join(OUT, "view.json")
     with open(script, "w") as f:
         f.write("3 screenshot %s\n3 key plus\n3 key plus\n" % early)
-    run(["view", SCENE] + SETTINGS + ["--exit-after", str(n), "--script", script, "--screenshot", shot, "-q"],
-        env=validation_env())
+    run(["view", SCENE] + SETTINGS + list(extra) + ["--exit-after", str(n), "--script", script, "--screenshot", shot,
+                                                    "--json", stats, "-q"], env=validation_env())
+    shown = len(json.load(open(stats))["frames"])
+    if shown != n:
+        fail("%d frames shown, expected %d" % (shown, n))
     run(["render", SCENE] + SETTINGS + ["--frames", "0:%d" % (n - 1), "-o", os.path.join(OUT, "f_#.exr"), "-q"],
         env=validation_env(), xvfb=False)
     for frame, view_png, ev in ((n - 2, early, 0), (n - 1, shot, 1)):
@@ -113,13 +119,21 @@ def part_still():
         if a.shape != b.shape:
             fail("screenshot %s, display %s" % (a.shape, b.shape))
         d = np.abs(a - b)
-        print("view_check still: frame %d (%d still frames), 64 px, exposure %+d: max difference %d, mean %.4f "
-              "(8-bit steps), mean level %.1f" % (frame, frame + 1, ev, d.max(), d.mean(), a.mean()))
+        print("view_check %s: frame %d (%d still frames), 64 px, exposure %+d: max difference %d, mean %.4f "
+              "(8-bit steps), mean level %.1f" % (tag, frame, frame + 1, ev, d.max(), d.mean(), a.mean()))
         if d.max() > 1:
             fail("the screenshot of frame %d differs from display's PNG by up to %d steps (at most 1)"
                  % (frame, d.max()))
         if a.mean() < 20:
             fail("the picture is black (mean level %.1f)" % a.mean())
+
+
+def part_in_flight():
+    # The still part with --frames-in-flight 2: the window shows frame k - 1
+    # while frame k renders (its last GPU pass running as the host makes the
+    # picture and presents), --exit-after and --script count shown frames, so
+    # the same screenshots are the same frames of `render --frames`.
+    part_still(["--frames-in-flight", "2"], "in_flight")
 
 
 def part_input():
@@ -202,5 +216,5 @@ def part_errors():
 
 check_available()
 {"still": part_still, "input": part_input, "resize": part_resize, "nodisplay": part_nodisplay,
- "errors": part_errors}[PART]()
+ "errors": part_errors, "in_flight": part_in_flight}[PART]()
 print("view_check %s: ok" % PART)

@@ -53,7 +53,7 @@ typedef struct render_opts {
   const char *frames;
   double fps, orbit_seconds;
   int orbit, no_temporal, bvh_update;
-  uint32_t reference_spp, warmup;
+  uint32_t reference_spp, warmup, frames_in_flight;
   const char *reference_cache;
   /* Driving photonbridge from another program (the Blender add-on). */
   const char *crop, *preview, *blender_layer, *blender_passes;
@@ -313,6 +313,9 @@ int pb_cmd_render(int argc, char **argv) {
       {"bvh-update", 0, PB_OPT_CHOICE, &o.bvh_update, "MODE",
        "--frames: how moving geometry updates the scene BVH: auto, refit or rebuild (default auto)",
        bvh_update_names, 0, 0},
+      {"frames-in-flight", 0, PB_OPT_U32, &o.frames_in_flight, "N",
+       "--frames: 2 (default): the GPU finishes a frame while the previous one is written and the next posed; "
+       "1: one frame at a time (the same pixels either way; --reference-spp renders one at a time)", NULL, 1, 2},
       {"reference-spp", 0, PB_OPT_U32, &o.reference_spp, "N",
        "--frames: render each frame with the reference renderer too (N samples per pixel, cached) and report "
        "per-frame error and flicker in --json", NULL, 1, 1 << 20},
@@ -376,9 +379,9 @@ int pb_cmd_render(int argc, char **argv) {
   int32_t first = 0, last = 0;
   if (o.frames && (r = pb_seq_parse_frames(o.frames, &first, &last)) != PB_OK) return pb_cli_exit(cmd, r);
   if (!o.frames && (o.orbit || o.fps != 0 || o.no_temporal || o.reference_spp || o.reference_cache ||
-                    o.orbit_seconds != 0 || o.warmup))
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup and "
-                                    "--reference-* need --frames A:B"));
+                    o.orbit_seconds != 0 || o.warmup || o.frames_in_flight))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup, "
+                                    "--frames-in-flight and --reference-* need --frames A:B"));
   if (o.frames && (int64_t)first - o.warmup < -1000000)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --warmup %u: frame %lld before the first "
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
@@ -476,7 +479,10 @@ int pb_cmd_render(int argc, char **argv) {
     double fps = o.fps > 0 ? o.fps : 24.0;
     pb_sequence_desc sd = {.render = rd, .temporal = !o.no_temporal, .bvh_update = bvh_modes[o.bvh_update],
                            .orbit = o.orbit,
-                           .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
+                           .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps,
+                           /* The reference renderer poses from the scene, which holds the next
+                            * frame's pose while a frame is in flight: one at a time then. */
+                           .frames_in_flight = o.reference_spp ? 1 : (o.frames_in_flight ? o.frames_in_flight : 2)};
     pb_seq_opts so = {.first = first, .last = last, .warmup = o.warmup, .fps = fps, .png = o.png,
                       .reference_spp = o.reference_spp, .reference_cache = o.reference_cache,
                       .blender_layer = o.blender_layer, .blender_passes = o.blender_passes};

@@ -22,7 +22,18 @@ typedef struct pb_frame_targets {
   int photons, nmap;
   uint32_t channels; /* floats per pixel in planes (PB_RESOLVE_*_CHANNELS) */
   pb_gpu_buffer frame, gbuf, accum, paccum, pnmap, planes, pplanes, guard;
+  /* Frames in flight (render.h pb_render_desc.in_flight): the readback's
+   * staging ring, PB_READBACK_RING copies of planes and pplanes in
+   * host-cached memory, made on first use (pb_frame_targets_ring). A frame's
+   * last submission copies its planes into slot i; the host reads slot i
+   * while the next frame's submission writes the planes and slot i + 1. */
+  pb_gpu_buffer ring[2][2]; /* [slot][0: planes, 1: pplanes] */
+  int ring_made;
 } pb_frame_targets;
+
+enum { PB_READBACK_RING = 2 };
+
+pb_result pb_frame_targets_ring(pb_gpu *g, pb_frame_targets *t);
 
 /* Bytes per pixel of the largest target (the band's limit). */
 uint64_t pb_frame_targets_max_pixel_bytes(void);

@@ -496,15 +496,23 @@ static pb_result one_frame(viewer *v, double dt) {
   pb_camera want = v->follow ? v->file_cam : v->ctl.cam;
   if ((r = pb_view_session_frame(&v->ses, &want, v->t)) != PB_OK) return r;
   const pb_sequence_frame_info fi = v->ses.info;
-  double t1 = pb_time_now();
-  if (!v->follow && memcmp(fi.camera.position, want.position, sizeof want.position)) {
+  /* The camera of the frame just rendered (the scene's slot): with frames
+   * in flight the frame that came out (fi) is the one before. */
+  const pb_camera rendered = s->cameras[v->ses.camera];
+  if (!v->follow && memcmp(rendered.position, want.position, sizeof want.position)) {
     /* The animation moved the bound camera over the user's: stop playing,
      * so that the next frame shows the user's camera (the session does not
      * pose the scene again while the time stays). */
     v->playing = 0;
     v->note = "paused: the scene camera is animated";
   }
-  if (v->follow) pb_view_controller_reset(&v->ctl, &fi.camera, s->bounds_min, s->bounds_max);
+  if (v->follow) pb_view_controller_reset(&v->ctl, &rendered, s->bounds_min, s->bounds_max);
+  /* Frames in flight (--frames-in-flight 2): the first call renders and
+   * shows nothing; from then on each call shows the frame before the one
+   * it rendered, so the window runs one frame behind the input and
+   * v->frame counts the frames shown. */
+  if (!fi.ready) return PB_OK;
+  double t1 = pb_time_now();
   if ((r = make_picture(v)) != PB_OK) return r;
   if ((r = pb_present_frame(v->pres, v->rgba, v->ses.res.width, v->ses.res.height)) != PB_OK) return r;
   double t2 = pb_time_now();
