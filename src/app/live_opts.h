@@ -43,7 +43,7 @@ extern const char *const pb_live_first_bounce_names[];
    "(probabilistic SPPM), so a still view converges to the unbiased answer", NULL, 0, 0},                          \
   {"alpha", 0, PB_OPT_FLOAT, &(o)->alpha, "A", "--progressive: radius^2 fraction kept per map, in (0, 1) "        \
    "(default 2/3)", NULL, 0, 0},                                                                                   \
-  {"first-bounce", 0, PB_OPT_CHOICE, &(o)->first_bounce, "MODE", "traced (default) or rsm",                        \
+  {"first-bounce", 0, PB_OPT_CHOICE, &(o)->first_bounce, "MODE", "traced (default), rsm or auto",                        \
    pb_live_first_bounce_names, 0, 0},                                                                              \
   {"atrous-iterations", 0, PB_OPT_U32, &(o)->atrous, "N", "A-Trous passes on the indirect light (default 4, as "   \
    "render --frames)", NULL, 0, 12},                                                                               \
