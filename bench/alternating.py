@@ -168,7 +168,7 @@ def model_vp(t, k, n):
     return v, p
 
 
-def run_leaf(b, scenes, repeat):
+def run_leaf(b, scenes, repeat, partial=None):
     s_cfg = b.cfg["leaf_setup"]
     sizes = [0] + list(b.cfg["leaf_sizes"])
     out = []
@@ -220,6 +220,9 @@ def run_leaf(b, scenes, repeat):
             e.update(t_auto=t_auto, best_leaf=bm["leaf_size"], best_ms=bm["median_ms"], auto_ms=auto[0]["median_ms"],
                      auto_fraction=bm["median_ms"] / auto[0]["median_ms"])
         out.append(e)
+        if partial:  # what is done so far, should the run be stopped
+            with open(partial, "w") as f:
+                json.dump({"sweeps": out}, f, indent=1)
     fit = fit_costs(out)
     return {"sweeps": out, "fit": fit}
 
@@ -316,7 +319,8 @@ def main(argv):
     default = cfg["scenes"] if a.mode == "ratio" else cfg["leaf_scenes"]
     scenes = a.scenes.split(",") if a.scenes else default
     t0, load0 = time.time(), rb.loadavg()
-    res = run_ratio(b, scenes, a.repeat) if a.mode == "ratio" else run_leaf(b, scenes, a.repeat)
+    res = (run_ratio(b, scenes, a.repeat) if a.mode == "ratio" else
+           run_leaf(b, scenes, a.repeat, partial=a.out + ".partial"))
     res.update(mode=a.mode, repeat=a.repeat, scenes=scenes, width=b.width, device=dev,
                version=b.version, machine=rb.machine_info(), started=time.strftime("%Y-%m-%d %H:%M UTC",
                                                                                     time.gmtime(t0)),
