@@ -173,8 +173,8 @@ def run_leaf(b, scenes, repeat, partial=None):
     sizes = [0] + list(b.cfg["leaf_sizes"])
     out = []
     for s in scenes:
-        rows = {leaf: {"leaf_size": leaf or "auto", "query_ms": [], "gather_ms": [], "lbvh_ms": [], "load_1m": []}
-                for leaf in sizes}
+        rows = {leaf: {"leaf_size": leaf or "auto", "query_ms": [], "gather_ms": [], "lbvh_ms": [], "load_1m": [],
+                       "cpu_s": []} for leaf in sizes}
         for rep in range(repeat):
             k = rep % len(sizes)
             seq = sizes[k:] + sizes[:k]
@@ -205,10 +205,13 @@ def run_leaf(b, scenes, repeat, partial=None):
                 row["lbvh_ms"].append(lb)
                 row["query_ms"].append(g + lb)
                 row["load_1m"].append(load)
-                b.log("leaf %-5s %-16s round %d: %.1f ms (load %.1f)" % (leaf or "auto", s, rep, g + lb, load or -1))
+                row["cpu_s"].append(r.get("cpu_s"))
+                b.log("leaf %-5s %-16s round %d: %.1f ms, process %.2f s CPU (load %.1f)" % (
+                    leaf or "auto", s, rep, g + lb, r.get("cpu_s") or -1, load or -1))
         rl = [rows[x] for x in sizes]
         for r in rl:
             r["median_ms"] = med(r["query_ms"])
+            r["median_cpu_s"] = med([x for x in r["cpu_s"] if x is not None])
         ok = [r for r in rl if r["median_ms"]]
         auto = [r for r in ok if r["leaf_size"] == "auto"]
         man = [r for r in ok if r["leaf_size"] != "auto"]
@@ -219,6 +222,14 @@ def run_leaf(b, scenes, repeat, partial=None):
             # T_auto's own threshold among the fixed ones, when it was swept.
             e.update(t_auto=t_auto, best_leaf=bm["leaf_size"], best_ms=bm["median_ms"], auto_ms=auto[0]["median_ms"],
                      auto_fraction=bm["median_ms"] / auto[0]["median_ms"])
+            # The same from the process CPU time (everything but the gather
+            # and the build is the same at every threshold, so the
+            # differences are theirs; the fraction is of the whole process).
+            mc = [r for r in man if r.get("median_cpu_s")]
+            if mc and auto[0].get("median_cpu_s"):
+                bc = min(mc, key=lambda r: r["median_cpu_s"])
+                e.update(best_leaf_cpu=bc["leaf_size"], best_cpu_s=bc["median_cpu_s"],
+                         auto_cpu_s=auto[0]["median_cpu_s"])
         out.append(e)
         if partial:  # what is done so far, should the run be stopped
             with open(partial, "w") as f:
@@ -278,10 +289,15 @@ def leaf_markdown(res):
                                               for r in e["rows"]) + " |")
         L.append("| min-max | " + " | ".join("%.0f-%.0f" % (min(r["query_ms"]), max(r["query_ms"]))
                                             if r["query_ms"] else "-" for r in e["rows"]) + " |")
+        L.append("| process CPU s | " + " | ".join("%.2f" % r["median_cpu_s"] if r.get("median_cpu_s") else "-"
+                                                  for r in e["rows"]) + " |")
         if "auto_fraction" in e:
             L.append("")
             L.append("T_auto = %d; best fixed threshold %s (%.1f ms); T_auto reaches %.0f %% of its speed." % (
                 e["t_auto"], e["best_leaf"], e["best_ms"], 100 * e["auto_fraction"]))
+            if "best_cpu_s" in e:
+                L.append("Process CPU: best fixed %s (%.2f s), T_auto %.2f s." % (e["best_leaf_cpu"], e["best_cpu_s"],
+                                                                                 e["auto_cpu_s"]))
         L.append("")
     f = res.get("fit")
     if f:
@@ -299,6 +315,7 @@ def main(argv):
     ap.add_argument("--device", type=int)
     ap.add_argument("--cache", default=os.path.join(HERE, "cache"))
     ap.add_argument("--out")
+    ap.add_argument("--leaf-sizes", help="comma-separated fixed thresholds (default run_bench's full list)")
     a = ap.parse_args(argv)
     cfg = rb.CONFIGS["full"]
     if not os.access(a.exe, os.X_OK):
@@ -312,6 +329,8 @@ def main(argv):
     if not a.out:
         a.out = os.path.join(HERE, "results", rb.slug(dev["name"]), "alternating", a.mode + ".json")
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
+    if a.leaf_sizes:
+        cfg = dict(cfg, leaf_sizes=[int(x) for x in a.leaf_sizes.split(",")])
     b = rb.Bench(args_ns(a), cfg)
     b.version = rb.subprocess.run([b.exe, "--version"], stdout=rb.subprocess.PIPE,
                                   universal_newlines=True).stdout.strip()
