@@ -202,8 +202,12 @@ def run_point(cmd, log, timeout, env=None):
         f.write("\nexit=%d wall_s=%.3f maxrss_kb=%s\n" % (rc, wall, maxrss))
     with open(log) as f:
         out = f.read()
+    # CPU seconds of the child and the descendants it waited for (wait4's
+    # rusage): on a shared machine a better measure than wall time of work
+    # done on the CPU, lavapipe's included (bench/alternating.py).
+    cpu = ru.ru_utime + ru.ru_stime
     return {"rc": rc, "wall_s": round(wall, 4), "maxrss_mb": round(maxrss / 1024.0, 1) if maxrss else None,
-            "out": out}
+            "cpu_s": round(cpu, 4), "out": out}
 
 
 def read_json(path):

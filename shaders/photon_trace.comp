@@ -392,6 +392,16 @@ void pb_trace_path(uint gid) {
   vec3 o, d, dPu = vec3(0.0), dPv = vec3(0.0), dDu = vec3(0.0), dDv = vec3(0.0);
   bool stencil_here = h > 0.0 && params.stencil_depth == 0u;
   bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u && !soft;
+  // --first-bounce auto: the map only for a light whose map covers less than
+  // PB_RSM_AUTO_COVERAGE of its flux (photon_rsm.comp pb_rsm_total): there
+  // a traced first bounce loses more than half of its photons to rays that
+  // miss the scene and the map puts more than twice the photons on every
+  // lit surface (1 / c: 20x on ring); where the map covers more (closed
+  // rooms: c = 1) the gain is under 2x and the map's loss of geometry
+  // thinner than a texel (photon_rsm.comp) is not worth it, so the light is
+  // traced as by default. Both are unbiased per light; lights may differ.
+  if (rsm && (params.flags & PB_PHOTON_PARAM_RSM_AUTO) != 0u && !(rlights[li].coverage < PB_RSM_AUTO_COVERAGE))
+    rsm = false;
   uint first_prim = PB_GPU_MISS;
   float first_t = 0.0, first_u = 0.0, first_v = 0.0;
   if (rsm) {

@@ -393,6 +393,9 @@ PB_CONST(PB_PHOTON_PARAM_CAUSTIC_RAW, 8u)   /* caustic footprints uncompressed,
                                                s_caustic Delta dP (issue 18) */
 PB_CONST(PB_PHOTON_PARAM_RSM, 4u)           /* first hits from the reflective
                                                shadow maps (shared/pb_rsm.h) */
+PB_CONST(PB_PHOTON_PARAM_RSM_AUTO, 16u)     /* with RSM: per light, the map only
+                                               where its coverage is below
+                                               PB_RSM_AUTO_COVERAGE, else traced */
 PB_STRUCT(pb_gpu_photon_params) {
   PB_VEC3(scene_center);  /* centre of the scene's bounding sphere */
   float scene_radius;     /* its radius (directional lights' disc) */

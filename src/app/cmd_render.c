@@ -110,7 +110,7 @@ static pb_result on_progress(void *user, const pb_render_progress *p) {
 static const char *const bvh_update_names[] = {"auto", "refit", "rebuild", NULL};
 
 /* --first-bounce, in pb_photon_first_bounce order from PB_FIRST_BOUNCE_TRACE. */
-static const char *const first_bounce_names[] = {"traced", "rsm", NULL};
+static const char *const first_bounce_names[] = {"traced", "rsm", "auto", NULL};
 
 static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g, const pb_render_result *res,
                             const render_opts *o) {
@@ -232,6 +232,7 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
+                   .first_bounce = 2 /* auto */,
                    .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
@@ -280,8 +281,9 @@ int pb_cmd_render(int argc, char **argv) {
        "benchmark: bin every map's footprint radii into --json photons.radius_histogram (reads each map back; "
        "slows the render)", NULL, 0, 0},
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
-       "how photons find their first hit: traced from the light, or rsm: sampled from reflective shadow maps by "
-       "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
+       "how photons find their first hit: traced from the light, rsm: sampled from reflective shadow maps by "
+       "reflected power (seed 001 24.2.1), or auto: rsm for the lights whose map covers under half of their flux "
+       "(open scenes, where most traced photons miss), traced for the others (default auto)", first_bounce_names, 0, 0},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",

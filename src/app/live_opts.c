@@ -1,7 +1,7 @@
 /* The frame settings `view` and `serve` share (live_opts.h). */
 #include "app/live_opts.h"
 
-const char *const pb_live_first_bounce_names[] = {"traced", "rsm", NULL};
+const char *const pb_live_first_bounce_names[] = {"traced", "rsm", "auto", NULL};
 
 pb_result pb_live_opts_check(const char *command, const pb_live_opts *o) {
   if (o->alpha < 0 || !(o->alpha < 1))

@@ -72,8 +72,12 @@ typedef struct pb_photon_map {
 typedef enum pb_photon_first_bounce {
   PB_FIRST_BOUNCE_DEFAULT = 0, /* PB_FIRST_BOUNCE_TRACE */
   PB_FIRST_BOUNCE_TRACE,       /* emission traced from the light */
-  PB_FIRST_BOUNCE_RSM          /* texels of a reflective shadow map, sampled
+  PB_FIRST_BOUNCE_RSM,         /* texels of a reflective shadow map, sampled
                                   by reflected power (photon_rsm.c) */
+  PB_FIRST_BOUNCE_AUTO         /* per light: the map where it covers less
+                                  than PB_RSM_AUTO_COVERAGE of the light's
+                                  flux (open scenes: most traced photons
+                                  would miss), else traced */
 } pb_photon_first_bounce;
 
 /* Zero means default for every field. */
@@ -154,6 +158,9 @@ typedef struct pb_photon_trace_stats {
   float delta;         /* global spacing Delta = 2 sqrt(pi / photons) */
   float r_max;         /* footprint radius clamp in use, metres */
   float scene_radius;  /* the scene's bounding radius R, metres */
+  uint32_t rsm_lights; /* lights whose photons started from their RSM */
+  float rsm_coverage;  /* smallest coverage of a light's RSM (share of its
+                          flux on the scene; 1 without maps) */
 } pb_photon_trace_stats;
 void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *out);
 

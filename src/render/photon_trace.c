@@ -230,8 +230,8 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
       !isfinite(d.smoothing_caustic))
     return pb_fail(PB_ERR_USAGE, "photons: smoothing factors must be positive (%g, %g)", d.smoothing,
                    d.smoothing_caustic);
-  if (d.first_bounce > PB_FIRST_BOUNCE_RSM)
-    return pb_fail(PB_ERR_USAGE, "photons: first_bounce %u (TRACE or RSM)", d.first_bounce);
+  if (d.first_bounce > PB_FIRST_BOUNCE_AUTO)
+    return pb_fail(PB_ERR_USAGE, "photons: first_bounce %u (TRACE, RSM or AUTO)", d.first_bounce);
   if (!d.rsm_resolution) d.rsm_resolution = 64;
   if (d.r_max < 0.0f || !isfinite(d.r_max))
     return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
@@ -271,12 +271,13 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->p.smoothing = d.smoothing;
   t->p.smoothing_caustic = d.smoothing_caustic;
   t->p.flags |= PB_PHOTON_PARAM_CAUSTIC_RAW; /* caustic footprints uncompressed (photon.h) */
-  if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
+  if (d.first_bounce == PB_FIRST_BOUNCE_RSM || d.first_bounce == PB_FIRST_BOUNCE_AUTO) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,
                                   &t->rsm)) != PB_OK)
       goto fail;
     t->p.flags |= PB_PHOTON_PARAM_RSM;
+    if (d.first_bounce == PB_FIRST_BOUNCE_AUTO) t->p.flags |= PB_PHOTON_PARAM_RSM_AUTO;
   }
 
   pb_gpu_buffer_desc fd = {.name = "photons.frame", .size = sizeof(pb_gpu_frame), .host_visible = 1};
@@ -417,6 +418,11 @@ pb_result pb_photon_tracer_finish(pb_gpu *g, pb_photon_tracer *t, pb_photon_map 
   t->stats.guarded = pp.guarded;
   t->stats.absorbed = pp.absorbed;
   t->stats.escaped = pp.escaped;
+  t->stats.rsm_lights = 0;
+  t->stats.rsm_coverage = 1.0f;
+  if (t->rsm && (r = pb_photon_rsm_coverage(g, t->rsm, (t->p.flags & PB_PHOTON_PARAM_RSM_AUTO) != 0,
+                                            &t->stats.rsm_lights, &t->stats.rsm_coverage)) != PB_OK)
+    return r;
   if (t->images &&
       (r = pb_gpu_buffer_download(g, &t->image_counts, 0, &t->image_last, sizeof t->image_last)) != PB_OK)
     return r;
@@ -439,7 +445,7 @@ void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32
   t->p.stencil_h = h > 0.0f ? h : 0.0f;
   t->p.stencil_depth = depth;
   t->p.flags = (flags & (PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST)) |
-               (t->p.flags & (PB_PHOTON_PARAM_RSM | PB_PHOTON_PARAM_CAUSTIC_RAW));
+               (t->p.flags & (PB_PHOTON_PARAM_RSM | PB_PHOTON_PARAM_RSM_AUTO | PB_PHOTON_PARAM_CAUSTIC_RAW));
 }
 
 pb_result pb_photon_tracer_use_image_maps(pb_gpu *g, pb_photon_tracer *t, const pb_image_maps *maps) {

@@ -24,9 +24,11 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
         "(--progressive)", default=True)
     first_bounce: EnumProperty(
         name="First Bounce", description="How photons find their first hit (--first-bounce)",
-        items=[("traced", "Traced", "Traced from the light"),
+        items=[("auto", "Auto", "Shadow maps for the lights whose map covers under half of their light "
+                "(open scenes), traced for the others"),
+               ("traced", "Traced", "Traced from the light"),
                ("rsm", "Shadow Maps", "Sampled from reflective shadow maps by reflected power")],
-        default="traced")
+        default="auto")
     blender_bounces: BoolProperty(
         name="Blender's Bounces", description="Limit paths to Light Paths > Max Bounces, as Cycles does "
         "(--max-bounces, Max Bounces + 1 scattering events); off: unbounded, paths end by Russian roulette",
