@@ -98,7 +98,7 @@ set_tests_properties(gpu_cli_render_tracer_images PROPERTIES ENVIRONMENT "PB_VK_
 
 # ring's caustic against its committed converged reference (issue 18 item 2's
 # "ring against its converged reference above a PSNR threshold"): the
-# default render (--first-bounce auto: the point light's map covers about
+# render with --first-bounce auto (the point light's map covers about
 # 5 % of its flux, so its photons start from the RSM) at 64 px, 16 spp, 8
 # maps of 2^18 paths, beauty PSNR on the display image at least 30 dB.
 # tests/data/ring/ring_64_ref.exr: `photonbridge reference
@@ -110,7 +110,7 @@ set_tests_properties(gpu_cli_render_tracer_images PROPERTIES ENVIRONMENT "PB_VK_
 add_test(NAME gpu_ring_caustic_psnr
          COMMAND sh -c "\"$0\" info --devices >/dev/null 2>&1 || { echo 'skip: no Vulkan device'; exit 77; };
                         d=$(mktemp -d);
-                        \"$0\" render samples/ring/ring.gltf -o $d/r.exr --width 64 --spp 16 --photons 262144 --iterations 8 --json $d/r.json -q 2>$d/err; rc=$?; cat $d/err;
+                        \"$0\" render samples/ring/ring.gltf -o $d/r.exr --width 64 --spp 16 --photons 262144 --iterations 8 --first-bounce auto --json $d/r.json -q 2>$d/err; rc=$?; cat $d/err;
                         \"$0\" compare $d/r.exr tests/data/ring/ring_64_ref.exr --json $d/c.json -q; rc2=$?;
                         p=$(sed -n 's/.*\"psnr_db\": *\\([-0-9.e+]*\\).*/\\1/p' $d/c.json | head -n 1);
                         c=$(sed -n 's/.*\"caustic\": *\\([0-9]*\\).*/\\1/p' $d/r.json | head -n 1);

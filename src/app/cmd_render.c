@@ -232,7 +232,7 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
-                   .first_bounce = 2 /* auto */,
+                   .first_bounce = 0 /* traced */,
                    .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
@@ -283,7 +283,7 @@ int pb_cmd_render(int argc, char **argv) {
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
        "how photons find their first hit: traced from the light, rsm: sampled from reflective shadow maps by "
        "reflected power (seed 001 24.2.1), or auto: rsm for the lights whose map covers under half of their flux "
-       "(open scenes, where most traced photons miss), traced for the others (default auto)", first_bounce_names, 0, 0},
+       "(open scenes, where most traced photons miss), traced for the others (default traced: unbiased; the shadow maps miss geometry thinner than a texel)", first_bounce_names, 0, 0},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",

@@ -19,7 +19,7 @@ typedef struct pb_live_opts {
 extern const char *const pb_live_first_bounce_names[];
 
 /* Defaults: 4 A-Trous passes (as render --frames), no device chosen. */
-#define PB_LIVE_OPTS_INIT {.atrous = 4, .device = UINT32_MAX, .atrous_gamma = -1, .first_bounce = 2 /* auto */}
+#define PB_LIVE_OPTS_INIT {.atrous = 4, .device = UINT32_MAX, .atrous_gamma = -1, .first_bounce = 0 /* traced */}
 
 #define PB_LIVE_OPTS(o)                                                                                            \
   {"spp", 0, PB_OPT_U32, &(o)->spp, "N", "samples per pixel per frame (default 1)", NULL, 1, 1 << 20},             \
@@ -44,7 +44,7 @@ extern const char *const pb_live_first_bounce_names[];
   {"alpha", 0, PB_OPT_FLOAT, &(o)->alpha, "A", "--progressive: radius^2 fraction kept per map, in (0, 1) "        \
    "(default 2/3)", NULL, 0, 0},                                                                                   \
   {"first-bounce", 0, PB_OPT_CHOICE, &(o)->first_bounce, "MODE",                                                 \
-   "traced, rsm or auto (default auto: rsm for lights whose map covers under half of their flux)",                 \
+   "traced, rsm or auto (rsm for lights whose map covers under half of their flux; default traced)",                       \
    pb_live_first_bounce_names, 0, 0},                                                                              \
   {"atrous-iterations", 0, PB_OPT_U32, &(o)->atrous, "N", "A-Trous passes on the indirect light (default 4, as "   \
    "render --frames)", NULL, 0, 12},                                                                               \

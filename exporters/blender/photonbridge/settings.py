@@ -28,7 +28,7 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
                 "(open scenes), traced for the others"),
                ("traced", "Traced", "Traced from the light"),
                ("rsm", "Shadow Maps", "Sampled from reflective shadow maps by reflected power")],
-        default="auto")
+        default="traced")
     blender_bounces: BoolProperty(
         name="Blender's Bounces", description="Limit paths to Light Paths > Max Bounces, as Cycles does "
         "(--max-bounces, Max Bounces + 1 scattering events); off: unbounded, paths end by Russian roulette",
