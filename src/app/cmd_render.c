@@ -31,6 +31,7 @@
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
+#include "shared/pb_knn.h"
 #include "render/tracer.h"
 
 static const pb_command *self(void) {
@@ -46,6 +47,7 @@ typedef struct render_opts {
   int first_bounce; /* index into first_bounce_names */
   int tracer;       /* index into pb_tracer_names */
   int estimator;    /* index into pb_estimator_names (pb_estimator_kind) */
+  uint32_t knn_k;   /* --estimator knn: neighbours per shading point */
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
@@ -296,6 +298,9 @@ int pb_cmd_render(int argc, char **argv) {
        "000 3.1: the k nearest photons), splat (seed 001: screen-space splats), vsch (seed 004: a cluster "
        "hierarchy over the view samples) or auto (see 'photonbridge info'; default lbvh)",
        pb_estimator_names, 0, 0},
+      {"knn-k", 0, PB_OPT_U32, &o.knn_k, "K",
+       "--estimator knn: photons per density estimate, the bandwidth the distance of the K-th nearest (seed 000 "
+       "3.1; default 64, the LBVH gather's k_PD at the default smoothing)", NULL, 1, PB_KNN_K_MAX},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
@@ -421,6 +426,8 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.blender_passes && !o.blender_layer)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-passes needs --blender-layer"));
   if ((r = pb_render_check_blender_passes(o.blender_passes)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (o.knn_k && o.estimator != PB_ESTIMATOR_KNN && o.estimator != PB_ESTIMATOR_AUTO)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --knn-k needs --estimator knn (or auto)"));
   if (!pb_estimator_built((uint32_t)o.estimator))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: estimator '%s' is not built in this binary",
                                     pb_estimator_names[o.estimator]));
@@ -474,7 +481,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
                        .r_max = (float)o.r_max, .no_shading_correction = o.no_shading_correction,
-                       .estimator = {.kind = (uint32_t)o.estimator,
+                       .estimator = {.kind = (uint32_t)o.estimator, .knn = {.k = o.knn_k},
                                      .lbvh = {.constant_kernel = o.constant_kernel,
                                               .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size}},
                        .progressive = o.progressive, .alpha = (float)o.alpha,
