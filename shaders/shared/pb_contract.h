@@ -189,7 +189,8 @@
 /* knn.comp's own, after the scene's and PB_SPEC_NORMAL_MAPS: k, the size of
  * each query's max-heap. */
 #define PB_SPEC_KNN_K 9
-#define PB_SPEC_KNN_COUNT 10
+#define PB_SPEC_KNN_BUDGET 10 /* loop iterations per query; 0: no bound */
+#define PB_SPEC_KNN_COUNT 11
 /* lbvh_climb.comp's own. */
 #define PB_SPEC_FENCES 0
 #define PB_SPEC_FENCES_COUNT 1

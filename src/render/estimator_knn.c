@@ -25,6 +25,8 @@
 #include "shaders/knn.spv.h"
 #include "shaders/knn_blender.spv.h"
 
+enum { PB_KNN_LLVMPIPE_BUDGET = 50000 };
+
 typedef struct knn {
   pb_photon_estimator *lbvh; /* the build */
   uint32_t k;
@@ -108,6 +110,10 @@ static pb_result knn_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
   memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's ids 0-3, as the gather's */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   spec[PB_SPEC_KNN_K] = e->k;
+  /* llvmpipe's loop limiter (knn.comp SC_BUDGET): 65535 back edges per
+   * invocation over all its loops; the edge rays' BVH traversals and the
+   * evaluation take the rest. */
+  spec[PB_SPEC_KNN_BUDGET] = pb_gpu_get_limits(g)->driver_id == VK_DRIVER_ID_MESA_LLVMPIPE ? PB_KNN_LLVMPIPE_BUDGET : 0u;
   if (e->pipe.pipeline && (memcmp(e->spec, spec, sizeof spec) != 0 || e->blender != ps->blender))
     pb_gpu_pipeline_destroy(g, &e->pipe);
   if (!e->pipe.pipeline) {
@@ -153,10 +159,14 @@ static pb_result knn_record(pb_gpu *g, void *impl, uint32_t sample_index, uint32
 static uint32_t knn_stats(pb_gpu *g, void *impl, pb_tracer_stat *out, uint32_t max) {
   knn *e = impl;
   pb_photon_estimate_stats es;
-  if (max < 2 || pb_photon_estimator_stats(g, e->lbvh, &es) != PB_OK) return 0;
+  if (max < 3 || pb_photon_estimator_stats(g, e->lbvh, &es) != PB_OK) return 0;
   out[0] = (pb_tracer_stat){"k", e->k, 0};
   out[1] = (pb_tracer_stat){"r_max", e->r_max, 0};
-  return 2 + pb_estimator_lbvh_named_stats(&es, out + 2, max - 2);
+  /* Queries whose search was cut short (the traversal stack, or the loop
+   * budget on llvmpipe: knn.comp SC_BUDGET), of the last map's last sample
+   * pass... summed over the passes since its build. */
+  out[2] = (pb_tracer_stat){"queries_cut_short", es.stack_overflow, 1};
+  return 3 + pb_estimator_lbvh_named_stats(&es, out + 3, max - 3);
 }
 
 const pb_estimator_ops pb_estimator_knn_ops = {

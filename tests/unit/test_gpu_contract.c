@@ -86,7 +86,8 @@ static const entry knn_bind[] = {SCENE_COMMON,
                                  {"PhotonAccum", PB_KNN_BIND_ACCUM},
                                  {"PhotonNmap", PB_KNN_BIND_NMAP},
                                  END};
-static const entry knn_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, {"SC_K", PB_SPEC_KNN_K}, END};
+static const entry knn_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, {"SC_K", PB_SPEC_KNN_K},
+                                 {"SC_BUDGET", PB_SPEC_KNN_BUDGET}, END};
 static const entry trace_bind[] = {SCENE_COMMON,
                                    {"Photons", PB_PHOTON_BIND_PHOTONS},
                                    {"Counts", PB_PHOTON_BIND_COUNTS},
