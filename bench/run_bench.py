@@ -84,6 +84,9 @@ CONFIGS = {
                      needs="--first-bounce"),
             pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(1, 4), (4, 8), (16, 32)],
                      extra=["--atrous-iterations", "5"], needs="--atrous-iterations"),
+            # The density estimators (issue 19): kNN at its default k = 64.
+            pb_curve("2^16, kNN (k 64)", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "knn"],
+                     needs="--estimator"),
         ],
         "reference": [4, 16, 64, 256, 1024],
         # POV-Ray's medium radiosity + caustic photons on cornell_caustics
@@ -105,6 +108,8 @@ CONFIGS = {
             pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
             pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(4, 8), (16, 32)], extra=["--atrous-iterations", "5"],
                      needs="--atrous-iterations"),
+            pb_curve("2^16, kNN (k 64)", 1 << 16, [(4, 8), (16, 32)], extra=["--estimator", "knn"],
+                     needs="--estimator"),
         ],
         "reference": [4, 16, 64, 256],
         # POV-Ray's medium radiosity + photons takes minutes on cornell_caustics.

@@ -42,6 +42,14 @@
 #define PB_GATHER_BIND_NMAP 19    /* pb_gpu_photon_nmap[] (normal maps only) */
 #define PB_GATHER_BIND_COUNT 20
 
+/* ---- knn.comp (estimator_knn.c): the gather's 15-19, the same buffers ----- */
+#define PB_KNN_BIND_PHOTONS PB_GATHER_BIND_PHOTONS /* the LBVH's sorted photons */
+#define PB_KNN_BIND_NODES PB_GATHER_BIND_NODES     /* its nodes */
+#define PB_KNN_BIND_INFO PB_GATHER_BIND_INFO       /* pb_gpu_lbvh_info */
+#define PB_KNN_BIND_ACCUM PB_GATHER_BIND_ACCUM     /* pb_gpu_photon_accum[] */
+#define PB_KNN_BIND_NMAP PB_GATHER_BIND_NMAP       /* pb_gpu_photon_nmap[] */
+#define PB_KNN_BIND_COUNT PB_GATHER_BIND_COUNT
+
 /* ---- photon_trace.comp: the scene's 0-10, 13, 14, then -------------------- */
 #define PB_PHOTON_BIND_PHOTONS 11    /* pb_gpu_photon[] */
 #define PB_PHOTON_BIND_COUNTS 12     /* pb_gpu_photon_counts */
@@ -178,6 +186,11 @@
 #define PB_SPEC_WORLD 7
 #define PB_SPEC_ALPHA 8           /* PB_BLENDER builds only */
 #define PB_SPEC_COUNT 9
+/* knn.comp's own, after the scene's and PB_SPEC_NORMAL_MAPS: k, the size of
+ * each query's max-heap. */
+#define PB_SPEC_KNN_K 9
+#define PB_SPEC_KNN_BUDGET 10 /* loop iterations per query; 0: no bound */
+#define PB_SPEC_KNN_COUNT 11
 /* lbvh_climb.comp's own. */
 #define PB_SPEC_FENCES 0
 #define PB_SPEC_FENCES_COUNT 1

@@ -17,6 +17,8 @@
 #include "shaders/direct_blender.spv.h"
 #include "shaders/gather.spv.h"
 #include "shaders/gather_blender.spv.h"
+#include "shaders/knn.spv.h"
+#include "shaders/knn_blender.spv.h"
 #include "shaders/gbuffer.spv.h"
 #include "shaders/gbuffer_blender.spv.h"
 #include "shaders/lbvh_bounds.spv.h"
@@ -75,6 +77,17 @@ static const entry gather_bind[] = {SCENE_COMMON,
                                     {"PhotonNmap", PB_GATHER_BIND_NMAP},
                                     END};
 static const entry gather_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, END};
+static const entry knn_bind[] = {SCENE_COMMON,
+                                 {"GBuf", PB_BIND_GBUFFER},
+                                 {"Accum", PB_BIND_ACCUM},
+                                 {"Photons", PB_KNN_BIND_PHOTONS},
+                                 {"Nodes2", PB_KNN_BIND_NODES},
+                                 {"InfoBuf", PB_KNN_BIND_INFO},
+                                 {"PhotonAccum", PB_KNN_BIND_ACCUM},
+                                 {"PhotonNmap", PB_KNN_BIND_NMAP},
+                                 END};
+static const entry knn_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, {"SC_K", PB_SPEC_KNN_K},
+                                 {"SC_BUDGET", PB_SPEC_KNN_BUDGET}, END};
 static const entry trace_bind[] = {SCENE_COMMON,
                                    {"Photons", PB_PHOTON_BIND_PHOTONS},
                                    {"Counts", PB_PHOTON_BIND_COUNTS},
@@ -174,6 +187,8 @@ static const module modules[] = {
     MOD(direct_blender, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(gather, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
     MOD(gather_blender, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
+    MOD(knn, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
+    MOD(knn_blender, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
     MOD(photon_trace, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_blender, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_images, trace_images_bind, trace_spec, PB_PHOTON_IMAGES_BIND_COUNT),
