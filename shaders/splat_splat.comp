@@ -118,16 +118,14 @@ void main() {
   bool caustic = (p.flags & PB_PHOTON_CAUSTIC) != 0u;
   float w = dot(E, vec3(0.2126, 0.7152, 0.0722));
 
-  // The kernel's screen rectangle: the projection of its bounding box
-  // (centre +- rho along the camera's axes); the whole image when the box
-  // reaches the near plane.
-  float rho = max(max(U, T), N);
+  // The kernel's screen rectangle: the projection of its oriented bounding
+  // box (centre +- U u +- T t +- N n: the 8 corners); the whole image when
+  // the box reaches the near plane.
   vec2 lo = vec2(1e30), hi = vec2(-1e30);
   bool whole = false;
   for (int k = 0; k < 8; ++k) {
-    vec3 q = p.position + rho * ((((k & 1) != 0) ? 1.0 : -1.0) * c.right / length(c.right) +
-                                 (((k & 2) != 0) ? 1.0 : -1.0) * c.up / length(c.up) +
-                                 (((k & 4) != 0) ? 1.0 : -1.0) * c.forward);
+    vec3 q = p.position + (((k & 1) != 0) ? U : -U) * u + (((k & 2) != 0) ? T : -T) * t +
+             (((k & 4) != 0) ? N : -N) * n;
     vec2 qp;
     float qz;
     if (!pb_camera_project(c, q, qp, qz) || qz < c.clip_near) {

@@ -300,7 +300,7 @@ int pb_cmd_render(int argc, char **argv) {
        pb_estimator_names, 0, 0},
       {"splat-ntile", 0, PB_OPT_FLOAT, &o.splat_ntile, "N",
        "--estimator splat: photons expected per point, n_tile of seed 001 eq. 6 (the kernel's density scale s_d; "
-       "default 32)", NULL, 0, 0},
+       "default 128)", NULL, 0, 0},
       {"splat-lmax", 0, PB_OPT_FLOAT, &o.splat_lmax, "F",
        "--estimator splat: l_max of eq. 2 (the ray-length scale s_l = min(l / l_max, 1)) as F times the scene's "
        "bounding radius (default 1)", NULL, 0, 0},

@@ -172,9 +172,10 @@ static void lit_plane(pb_gpu *g) {
 
 /* ---- (b) cornell_box against the LBVH gather ------------------------------- */
 
-/* Measured on lavapipe (bench/README.md, "Screen-space splatting"): see the
- * printed line; thresholds with a margin below. */
-#define AGREE_PSNR_MIN 30.0
+/* Measured on lavapipe (64 px, 16 spp, 4 maps of 2^18 paths, seed 5): the
+ * photon light's mean -0.43 % from the LBVH gather's, the beauty 30.8 dB
+ * from it; against the reference splat 26.3 dB, lbvh 27.9 dB. */
+#define AGREE_PSNR_MIN 28.0
 
 typedef struct frame_sum {
   double beauty, photons; /* means over pixels and channels */
