@@ -156,7 +156,7 @@ const uint PB_RSM_ROTATION_DIM = 1000u;
 const uint PB_EMIT_DIM = 1002u;
 
 void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
-              uint path) {
+              uint path, float ray_length) {
   float delta = params.delta;
   vec3 a = delta * dPu, b = delta * dPv;
   if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
@@ -247,7 +247,7 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
   ph.normal = n;
   ph.path = path;
   ph.axis_u = a;
-  ph.pad0 = 0.0;
+  ph.ray_length = isinf(ray_length) || isnan(ray_length) ? 0.0 : ray_length; // seed 001 eq. 2
   ph.axis_v = b;
   ph.pad1 = 0.0;
   photons[idx] = ph;
@@ -501,7 +501,7 @@ void pb_trace_path(uint gid) {
     vec3 wo = -d;
     pb_bsdf b = pb_bsdf_setup_t(surf, wo, pb_surface_tangent(prim, u, v));
     if ((depth >= 1u || (params.flags & PB_PHOTON_PARAM_STORE_FIRST) != 0u) && pb_bsdf_has_smooth(b)) {
-      pb_store(surf.p, surf.ng, wo, power, dPu, dPv, caustic, depth, gid);
+      pb_store(surf.p, surf.ng, wo, power, dPu, dPv, caustic, depth, gid, t);
       if (++stored >= params.max_bounces) return;
     }
     float cos_o = dot(wo, b.n);

@@ -14,6 +14,8 @@
   caustics  cornell_caustics_moving_sphere (48 px, 8 frames): the filters (the
             caustics' own clamped temporal filter included) cut the excess
             flicker at least 3x with per-frame error no worse;
+  splat     cornell_box_moving_light (48 px, 8 frames) with --estimator splat
+            (seed 001's screen-space splatting): the same, 3x;
   materials KHR_texture_transform with TEXCOORD_1 (tests/data/gltf_ext) through
             --frames: every frame equals the baked texture's (> 45 dB);
   deform    Blender's skinned and shape-keyed scene (tests/data/deform, 48 px,
@@ -33,7 +35,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pyl
 from pbcheck import Checker  # noqa: E402
 
 EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
-PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "materials", "deform"]
+PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "splat", "materials", "deform"]
 T = Checker(EXE, WORK)
 check, run, fresh = T.check, T.run, T.fresh
 
@@ -135,7 +137,7 @@ if "still" in PARTS:
         check(fr[-1]["temporal"]["mean_history"] > 15.5, "still: history length 16 after 16 frames (%.2f)" %
               fr[-1]["temporal"]["mean_history"])
 
-def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7"):
+def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7", extra=()):
     """The same 8 frames with the filters off and with the defaults, against
     cached references: the filtered excess flicker at least `factor` times
     lower, the mean per-frame relMSE no worse (a ghost of a moving or
@@ -143,7 +145,7 @@ def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7"):
     d = fresh(part)
     path = scene if scene.endswith(".gltf") else sample(scene)
     common = ["render", path, "--frames", frames, "--width", str(size), "--height", str(size),
-              "--photons", "16384", "--reference-spp", str(ref_spp), "--reference-cache", cache]
+              "--photons", "16384", "--reference-spp", str(ref_spp), "--reference-cache", cache] + list(extra)
     p0 = run(common + ["--no-temporal", "--atrous-iterations", "0", "-o", d + "/raw_#.exr", "--json", d + "/raw.json"])
     p1 = run(common + ["-o", d + "/filt_#.exr", "--json", d + "/filt.json"])
     check(p0.returncode == 0 and p1.returncode == 0, "%s: both sequences render" % part)
@@ -166,6 +168,15 @@ if "flicker" in PARTS:
 
 if "caustics" in PARTS:
     filtered_vs_raw("caustics", "cornell_caustics_moving_sphere", 48, 256, 3)
+
+if "splat" in PARTS:
+    # The screen-space splatting estimator (seed 001 24.3) under the same
+    # temporal + A-Trous filters (its chapter's 24.4): they accept its
+    # estimate as they do the LBVH gather's.
+    filtered_vs_raw("splat", "cornell_box_moving_light", 48, 256, 3, extra=["--estimator", "splat"])
+    js = json.load(open(os.path.join(WORK, "splat", "filt.json")))
+    est = js.get("estimator") or (js.get("frames") or [{}])[0].get("estimator") or {}
+    check(est.get("name") == "splat", "splat: --json names the estimator (%r)" % est.get("name"))
 
 if "materials" in PARTS:
     # KHR_texture_transform with TEXCOORD_1 through --frames (the frame

@@ -50,6 +50,18 @@
 #define PB_KNN_BIND_NMAP PB_GATHER_BIND_NMAP       /* pb_gpu_photon_nmap[] */
 #define PB_KNN_BIND_COUNT PB_GATHER_BIND_COUNT
 
+/* ---- splat_count.comp, splat_splat.comp, splat_resolve.comp (seed 001
+ * 24.3; shared/pb_splat.h): the scene's 0-14 (the resolve shades with them;
+ * count and splat read the frame at 0 and the G-buffer at 11), then ------- */
+#define PB_SPLAT_BIND_PHOTONS 15  /* pb_gpu_photon[] of the map */
+#define PB_SPLAT_BIND_COUNTS 16   /* pb_gpu_photon_counts of the map */
+#define PB_SPLAT_BIND_TILES 17    /* uint n_p per screen tile (atomics) */
+#define PB_SPLAT_BIND_TARGET 18   /* PB_SPLAT_PIXEL_WORDS uints per pixel */
+#define PB_SPLAT_BIND_ACCUM 19    /* pb_gpu_photon_accum[] (resolve) */
+#define PB_SPLAT_BIND_NMAP 20     /* pb_gpu_photon_nmap[] (normal maps only) */
+#define PB_SPLAT_BIND_STATS 21    /* pb_gpu_splat_stats (atomics) */
+#define PB_SPLAT_BIND_COUNT 22
+
 /* ---- photon_trace.comp: the scene's 0-10, 13, 14, then -------------------- */
 #define PB_PHOTON_BIND_PHOTONS 11    /* pb_gpu_photon[] */
 #define PB_PHOTON_BIND_COUNTS 12     /* pb_gpu_photon_counts */

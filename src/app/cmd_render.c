@@ -48,6 +48,8 @@ typedef struct render_opts {
   int tracer;       /* index into pb_tracer_names */
   int estimator;    /* index into pb_estimator_names (pb_estimator_kind) */
   uint32_t knn_k;   /* --estimator knn: neighbours per shading point */
+  double splat_ntile, splat_lmax, splat_smax; /* --splat-*: 0 the defaults (estimator_splat.c) */
+  uint32_t splat_tile;
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
@@ -303,6 +305,18 @@ int pb_cmd_render(int argc, char **argv) {
       {"knn-k", 0, PB_OPT_U32, &o.knn_k, "K",
        "--estimator knn: photons per density estimate, the bandwidth the distance of the K-th nearest (seed 000 "
        "3.1; default 64, the LBVH gather's k_PD at the default smoothing)", NULL, 1, PB_KNN_K_MAX},
+      {"splat-ntile", 0, PB_OPT_FLOAT, &o.splat_ntile, "N",
+       "--estimator splat: photons expected per point, n_tile of seed 001 eq. 6 (the kernel's density scale s_d; "
+       "default 128)", NULL, 0, 0},
+      {"splat-lmax", 0, PB_OPT_FLOAT, &o.splat_lmax, "F",
+       "--estimator splat: l_max of eq. 2 (the ray-length scale s_l = min(l / l_max, 1)) as F times the scene's "
+       "bounding radius (default 1)", NULL, 0, 0},
+      {"splat-smax", 0, PB_OPT_FLOAT, &o.splat_smax, "S",
+       "--estimator splat: s_max of eq. 7, the largest stretch s_u along the incident direction, >= 1 (default 4)",
+       NULL, 0, 0},
+      {"splat-tile", 0, PB_OPT_U32, &o.splat_tile, "N",
+       "--estimator splat: screen tile edge in pixels for the photon density n_p (eq. 3-5; default 16)", NULL, 1,
+       4096},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
@@ -483,12 +497,19 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing, --smoothing-caustic and --r-max must be positive");
     goto done;
   }
+  if (o.splat_ntile < 0 || !(o.splat_ntile < 1e6) || o.splat_lmax < 0 || !(o.splat_lmax < 1e6) ||
+      (o.splat_smax != 0 && o.splat_smax < 1) || !(o.splat_smax < 1e6)) {
+    r = pb_fail(PB_ERR_USAGE, "render: --splat-ntile and --splat-lmax must be positive, --splat-smax at least 1");
+    goto done;
+  }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
                        .r_max = (float)o.r_max, .no_shading_correction = o.no_shading_correction,
                        .estimator = {.kind = (uint32_t)o.estimator, .knn = {.k = o.knn_k},
                                      .lbvh = {.constant_kernel = o.constant_kernel,
-                                              .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size}},
+                                              .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size},
+                                     .splat = {.s_l = (float)o.splat_lmax, .s_d = (float)o.splat_ntile,
+                                               .s_u = (float)o.splat_smax, .tile = o.splat_tile}},
                        .progressive = o.progressive, .alpha = (float)o.alpha,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),

@@ -46,6 +46,10 @@
 #include "shaders/temporal.spv.h"
 #include "shaders/filter_io.spv.h"
 #include "shaders/shading_correction.spv.h"
+#include "shaders/splat_count.spv.h"
+#include "shaders/splat_resolve.spv.h"
+#include "shaders/splat_resolve_blender.spv.h"
+#include "shaders/splat_splat.spv.h"
 
 typedef struct entry {
   const char *name; /* block type name (bindings) or constant name (SpecId) */
@@ -170,6 +174,21 @@ static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", 
                                    {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
                                    {"Hits", PB_IMAGE_BIND_HITS},       {"Counts", PB_IMAGE_BIND_COUNTS}, END};
 static const entry no_spec[] = {END};
+/* The splatting passes (seed 001 24.3): count and splat read the frame and
+ * the G-buffer of the scene's set, the resolve shades with all of it. */
+#define SPLAT_OWN                                                                                          \
+  {"Photons", PB_SPLAT_BIND_PHOTONS}, {"MapCounts", PB_SPLAT_BIND_COUNTS}, {"Tiles", PB_SPLAT_BIND_TILES}, \
+      {"Stats", PB_SPLAT_BIND_STATS}
+static const entry splat_bind[] = {{"FrameBuf", PB_BIND_FRAME}, {"GBuf", PB_BIND_GBUFFER}, {"Target", PB_SPLAT_BIND_TARGET},
+                                   SPLAT_OWN, END};
+static const entry splat_resolve_bind[] = {SCENE_COMMON,
+                                           {"GBuf", PB_BIND_GBUFFER},
+                                           {"Accum", PB_BIND_ACCUM},
+                                           {"Tiles", PB_SPLAT_BIND_TILES},
+                                           {"Target", PB_SPLAT_BIND_TARGET},
+                                           {"PhotonAccum", PB_SPLAT_BIND_ACCUM},
+                                           {"PhotonNmap", PB_SPLAT_BIND_NMAP},
+                                           END};
 
 typedef struct module {
   const char *name;
@@ -215,6 +234,10 @@ static const module modules[] = {
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
     MOD(filter_io, filter_io_bind, no_spec, PB_FILTER_IO_BIND_COUNT),
     MOD(shading_correction, shading_bind, no_spec, PB_SHADING_BIND_COUNT),
+    MOD(splat_count, splat_bind, no_spec, PB_SPLAT_BIND_COUNT),
+    MOD(splat_splat, splat_bind, no_spec, PB_SPLAT_BIND_COUNT),
+    MOD(splat_resolve, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
+    MOD(splat_resolve_blender, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };
