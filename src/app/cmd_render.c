@@ -384,6 +384,9 @@ int pb_cmd_render(int argc, char **argv) {
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
+  if ((o.image_maps || o.image_map_resolution) && o.tracer != PB_TRACER_IMAGES)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --image-maps and --image-map-resolution need --tracer "
+                                    "images"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
   /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
    * A photon stored at its k-th bounce ends a path of k + 1 events at the
