@@ -29,6 +29,8 @@ struct pb_image_maps {
                                            a candidate inside an object) */
   uint8_t *seen;                        /* centres of C that see the candidate texel's point */
   uint32_t updates;
+  float (*pose)[3];                     /* the vertex positions the maps were rendered of */
+  uint32_t pose_count;
   pb_image_maps_stats st;
 };
 
@@ -177,8 +179,8 @@ static int swap_step(pb_image_maps *m) {
 }
 
 /* Renders maps [first, first + count) of `pipe` at `res`, own submission. */
-static pb_result render(pb_gpu *g, const pb_gpu_pipeline *pipe, uint32_t count, uint32_t res) {
-  pb_gpu_image_maps_push push = {.first_map = 0, .map_count = count, .resolution = res};
+static pb_result render(pb_gpu *g, const pb_gpu_pipeline *pipe, uint32_t first, uint32_t count, uint32_t res) {
+  pb_gpu_image_maps_push push = {.first_map = first, .map_count = count, .resolution = res};
   pb_result r = pb_gpu_begin(g);
   if (r != PB_OK) return r;
   r = pb_gpu_dispatch(g, pipe, &push, (uint64_t)count * 6u * res * res);
@@ -232,7 +234,7 @@ static pb_result prepare_selection(pb_gpu *g, pb_image_maps *m) {
   pb_result r;
   if ((r = upload_maps(g, &m->cand_maps, m, (const float(*)[3])m->cand, m->ncand, PB_IMAGE_MAPS_SELECT_RESOLUTION)) !=
           PB_OK ||
-      (r = render(g, &m->select_pipe, m->ncand, PB_IMAGE_MAPS_SELECT_RESOLUTION)) != PB_OK ||
+      (r = render(g, &m->select_pipe, 0, m->ncand, PB_IMAGE_MAPS_SELECT_RESOLUTION)) != PB_OK ||
       (r = pb_gpu_buffer_download(g, &m->cand_texels, 0, m->host_cand,
                                   (uint64_t)m->ncand * SELECT_PER * sizeof *m->host_cand)) != PB_OK)
     return r;
@@ -270,15 +272,33 @@ static void coverage_stats(pb_image_maps *m) {
   m->st.uncovered_m2 = un;
 }
 
-static pb_result render_maps(pb_gpu *g, pb_image_maps *m) {
+/* Renders maps [first, first + count) (all: 0, nsel), after uploading
+ * every centre (the others' entries are unchanged). */
+static pb_result render_maps(pb_gpu *g, pb_image_maps *m, uint32_t first, uint32_t count) {
   double t0 = pb_time_now();
   float c[PB_IMAGE_MAPS_MAX][3];
   for (uint32_t i = 0; i < m->nsel; ++i) memcpy(c[i], m->cand[m->sel[i]], sizeof c[i]);
   pb_result r = upload_maps(g, &m->maps, m, (const float(*)[3])c, m->nsel, m->d.resolution);
-  if (r == PB_OK) r = render(g, &m->render_pipe, m->nsel, m->d.resolution);
-  m->st.map_renders++;
+  if (r == PB_OK) r = render(g, &m->render_pipe, first, count, m->d.resolution);
+  if (count == m->nsel) m->st.map_renders++;
+  m->st.maps_rendered += count;
   m->st.render_ms = (pb_time_now() - t0) * 1e3;
   return r;
+}
+
+/* Remembers the pose the maps show; 1 when it differs from the last one
+ * (a vertex moved, or the first call). */
+static int pose_changed(pb_image_maps *m, const pb_scene *s) {
+  size_t bytes = (size_t)s->vertex_count * sizeof *m->pose;
+  if (m->pose && m->pose_count == s->vertex_count && (!bytes || memcmp(m->pose, s->positions, bytes) == 0))
+    return 0;
+  float(*p)[3] = m->pose_count == s->vertex_count && m->pose ? m->pose : realloc(m->pose, bytes ? bytes : 1);
+  if (p) {
+    m->pose = p;
+    m->pose_count = s->vertex_count;
+    if (bytes) memcpy(m->pose, s->positions, bytes);
+  }
+  return 1;
 }
 
 static pb_result bind_render(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_scene *gs, pb_gpu_buffer *maps,
@@ -377,7 +397,8 @@ pb_result pb_image_maps_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   }
   coverage_stats(m);
   m->st.select_ms = (pb_time_now() - t0) * 1e3;
-  if ((r = render_maps(g, m)) != PB_OK) goto fail;
+  pose_changed(m, s);
+  if ((r = render_maps(g, m, 0, m->nsel)) != PB_OK) goto fail;
   pb_log_verbose("image maps: %u of %u candidates, %u^2 x 6 texels each; %.3g m^2 of the candidates' view "
                  "uncovered (%.3g covered); selection %.0f ms, maps %.0f ms",
                  m->nsel, m->ncand, d.resolution, m->st.uncovered_m2, m->st.coverage_m2, m->st.select_ms,
@@ -389,18 +410,38 @@ fail:
   return r;
 }
 
+/* Section 4.1's progressive update, rendering only what changed: the maps
+ * hold the geometry alone (positions, normals, triangles, materials), so a
+ * pose in which no vertex moved (a moving light or camera, a still frame of
+ * an animation) leaves every map valid and renders none; a swap step then
+ * runs on the candidates' maps already read back (they are still right) and
+ * only the swapped centre's map is rendered. When geometry moved, the
+ * candidates see the new pose on every update_every-th update, and every map
+ * is rendered again: which maps a moved object touches is not known without
+ * reading the maps back (a closed room's maps all see most of it). */
 pb_result pb_image_maps_update(pb_gpu *g, pb_image_maps *m, const pb_scene *s) {
   pb_result r;
-  scene_box(m, s);
+  int moved = pose_changed(m, s);
+  if (moved) scene_box(m, s);
   if (++m->updates % m->d.update_every == 0) {
-    /* Progressive update (4.1): the candidates see the new pose, one swap. */
     double t0 = pb_time_now();
-    if ((r = prepare_selection(g, m)) != PB_OK) return r;
-    if (swap_step(m)) m->st.swaps++;
+    if (moved && (r = prepare_selection(g, m)) != PB_OK) return r;
+    uint32_t before[PB_IMAGE_MAPS_MAX + 1];
+    memcpy(before, m->sel, sizeof before);
+    int swapped = swap_step(m);
+    if (swapped) m->st.swaps++;
     coverage_stats(m);
     m->st.select_ms = (pb_time_now() - t0) * 1e3;
+    if (!moved && swapped) {
+      for (uint32_t i = 0; i < m->nsel; ++i)
+        if (m->sel[i] != before[i]) return render_maps(g, m, i, 1);
+    }
   }
-  return render_maps(g, m);
+  if (!moved) {
+    m->st.renders_skipped++;
+    return PB_OK;
+  }
+  return render_maps(g, m, 0, m->nsel);
 }
 
 void pb_image_maps_destroy(pb_gpu *g, pb_image_maps *m) {
@@ -418,6 +459,7 @@ void pb_image_maps_destroy(pb_gpu *g, pb_image_maps *m) {
   free(m->host_cand);
   free(m->area);
   free(m->seen);
+  free(m->pose);
   free(m);
 }
 
