@@ -31,6 +31,9 @@ others' last results:
              of the images tracer against the BVH tracer at many photons, on
              cornell_box and sun_atrium (thin columns, occluded corners): what
              the maps miss; the PNGs beside the report;
+  bandwidth  seed 003's variable bandwidth (--bandwidth-c0 C0) against the
+             differential footprints (C0 = 0) on the still scenes, both
+             tracers: error against the reference, k_PD;
   table1     the shape of seed 003 Table 1: frames per second (1000 / mean
              frame wall ms of frames 1..2 of cornell_caustics_moving_sphere,
              no filters) against resolution and photon paths, both tracers,
@@ -167,6 +170,30 @@ def part_heat(a, work, out):
     return rows
 
 
+def part_bandwidth(a, work, common):
+    rows = []
+    for scene in a.scenes.split(","):
+        name = os.path.splitext(os.path.basename(scene))[0]
+        ref = os.path.join(work, "%s_ref_%d.exr" % (name, a.width))
+        if not os.path.exists(ref):
+            run([a.exe, "reference", scene, "-o", ref, "--width", str(a.width), "--spp", str(a.ref_spp)])
+        for tracer in ("bvh", "images"):
+            for c0 in [float(x) for x in a.c0s.split(",")]:
+                exr = os.path.join(work, "bw_%s_%s_%g.exr" % (name, tracer, c0))
+                js = exr[:-4] + ".json"
+                cmd = [a.exe, "render", scene, "-o", exr, "--json", js, "--tracer", tracer] + common
+                if c0 > 0:
+                    cmd += ["--bandwidth-c0", "%g" % c0]
+                wall, _ = run(cmd)
+                ph = json.load(open(js))["photons"]
+                psnr, rel = compare(a.exe, exr, ref)
+                rows.append({"scene": name, "tracer": tracer, "c0": c0, "wall_s": wall, "k_pd": ph.get("k_pd"),
+                             "stored": ph["stored"], "clamped_share": ph.get("clamped_share"), "psnr_db": psnr,
+                             "relmse": rel})
+                print(rows[-1], flush=True)
+    return rows
+
+
 def part_table1(a, work):
     rows = []
     scene = sample("cornell_caustics_moving_sphere")
@@ -198,11 +225,12 @@ def main():
     ap.add_argument("--ks", default="2,4,8,15")
     ap.add_argument("--ref-spp", type=int, default=512)
     ap.add_argument("--frames", type=int, default=5)
-    ap.add_argument("--parts", default="still,sequence", help="still,sequence,samples,heat,table1")
+    ap.add_argument("--parts", default="still,sequence", help="still,sequence,samples,heat,bandwidth,table1")
     ap.add_argument("--heat-width", type=int, default=96)
     ap.add_argument("--heat-photons", type=int, default=1 << 17)
     ap.add_argument("--heat-maps", type=int, default=2, help="photon maps (iterations) of the heat renders")
     ap.add_argument("--t1-widths", default="128,256,512")
+    ap.add_argument("--c0s", default="0,0.5,1,2,4", help="--bandwidth-c0 values (0: the differential footprints)")
     ap.add_argument("--t1-photons", default="16384,65536")
     ap.add_argument("--scenes", default="samples/cornell_box/cornell_box.gltf")
     ap.add_argument("--out", default="bench/results/lavapipe/tracer_images")
@@ -229,6 +257,10 @@ def main():
         res["heat"] = part_heat(a, work, a.out)
         res["heat_settings"] = "%d px, %d photon paths x %d photon maps, %d spp, k = 8 environment maps of 128^2" % (
             a.heat_width, a.heat_photons, a.heat_maps, a.heat_maps)
+    if "bandwidth" in parts:
+        res["bandwidth"] = part_bandwidth(a, work, common)
+        res["bandwidth_settings"] = "%d px, %d photon paths x %d photon maps, %d spp, reference %d spp" % (
+            a.width, a.photons, a.iterations, a.iterations, a.ref_spp)
     if "table1" in parts:
         res["table1"] = part_table1(a, work)
     dev = subprocess.run([a.exe, "info", "--devices"], capture_output=True, text=True).stdout.strip()
@@ -356,6 +388,16 @@ def samples_md(res, prefix=""):
             L.append("| %s | %s | %s | %s | %.3f | %s | %s |" % (
                 h["scene"], "[%s](%s%s)" % (h["png"], prefix, h["png"]), fmt(c.get("psnr_db"), "%.2f"), fmt(c.get("relmse"), "%.4f"), h["stored_ratio"],
                 fmt(h["miss_rate"]), fmt(h.get("uncovered_share"))))
+    if res.get("bandwidth"):
+        L.append("\nSeed 003's variable bandwidth, h = C0 / sqrt(p) sqrt(A / N) (`--bandwidth-c0 C0`; C0 0: the "
+                 "differential footprints of seed 000, the default) (%s):" % res["bandwidth_settings"])
+        L.append("")
+        L.append("| scene | tracer | C0 | k_PD | stored | at r_max | PSNR dB | relMSE |")
+        L.append("|---|---|---|---|---|---|---|---|")
+        for r in res["bandwidth"]:
+            L.append("| %s | %s | %s | %s | %d | %s | %.2f | %.4f |" % (
+                r["scene"], r["tracer"], "%g" % r["c0"] if r["c0"] else "0 (differentials)", fmt(r["k_pd"], "%.1f"),
+                r["stored"], fmt(r["clamped_share"]), r["psnr_db"], r["relmse"]))
     if res.get("table1"):
         t1 = res["table1"]
         widths = sorted({r["width"] for r in t1})
