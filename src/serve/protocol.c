@@ -484,13 +484,13 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
        * while the tracer is bvh (a client may set them first). */
       const jv *tr = member(r, obj, "tracer");
       if (tr) {
-        uint32_t k = 0;
-        while (pb_tracer_names[k] && (tr->type != JV_STRING || strcmp(tr->str, pb_tracer_names[k]))) ++k;
-        if (!pb_tracer_names[k]) {
+        uint32_t kind = 0;
+        while (pb_tracer_names[kind] && (tr->type != JV_STRING || strcmp(tr->str, pb_tracer_names[kind]))) ++kind;
+        if (!pb_tracer_names[kind]) {
           bad(&c, "\"tracer\" must be \"bvh\" or \"images\"");
           goto done;
         }
-        s->set |= PB_SERVE_SET_TRACER, s->tracer = k;
+        s->set |= PB_SERVE_SET_TRACER, s->tracer = kind;
       }
       if ((g = get_uint(&c, "image_maps", 1, PB_IMAGE_MAPS_MAX, &u)) < 0) goto done;
       if (g) s->set |= PB_SERVE_SET_IMAGE_MAPS, s->image_maps = (uint32_t)u;
