@@ -18,7 +18,7 @@
             renders with seed 003's environment maps (the frame reply names
             the tracer and its miss rate); a "settings" request switches to
             bvh and back, a bad tracer name is an error reply; the images
-            frame's mean within 25 % of the bvh frame's
+            frame's mean within 10 % of the bvh frame's (8 maps of 64^2)
   kill      a client that starts serve, streams and is SIGKILLed leaves no
             process (serve sees EOF, ends after the frame it was rendering)
             and no frame file; the same with --socket and a client that
@@ -202,7 +202,7 @@ def part_protocol():
 
 
 def part_tracer():
-    s = Serve([SCENE] + SETTINGS + ["-q", "--tracer", "images", "--image-maps", "4", "--image-map-resolution", "32",
+    s = Serve([SCENE] + SETTINGS + ["-q", "--tracer", "images", "--image-maps", "8", "--image-map-resolution", "64",
                                     "--atrous-iterations", "0"])
     means = {}
     for want in ("images", "bvh", "images"):
@@ -214,8 +214,10 @@ def part_tracer():
         if not r.get("ok") or r.get("tracer") != want:
             fail("frame with tracer %s: %r" % (want, r))
         rate = r.get("image_miss_rate")
-        if want == "images" and not (rate is not None and 0 <= rate < 0.2):
-            fail("images tracer's miss rate %r (expected in [0, 0.2) on cornell_box)" % rate)
+        # 8 maps of 64^2: some of cornell_box's segments
+        # meet only rejected points (its open front counts there too).
+        if want == "images" and not (rate is not None and 0 <= rate < 0.5):
+            fail("images tracer's miss rate %r (expected in [0, 0.5) on cornell_box)" % rate)
         if want == "bvh" and rate is not None:
             fail("the bvh tracer reports an image miss rate: %r" % r)
         _, _, _, px = read_frame(r["path"])
@@ -225,7 +227,9 @@ def part_tracer():
                ", miss rate %.4f" % rate if rate is not None else ""))
     expect_error(s, {"cmd": "settings", "tracer": "kdtree"}, '"tracer" must be "bvh" or "images"')
     rel = abs(means["images"] - means["bvh"]) / max(means["bvh"], 1e-9)
-    if not (means["bvh"] > 0 and rel < 0.25):
+    # 8 maps of 64^2 store ~0.9 of the BVH's photons here (measured: the
+    # mean 4 % below); 4 maps of 32^2 stored 0.45 and were 23 % below.
+    if not (means["bvh"] > 0 and rel < 0.10):
         fail("the images frame's mean %.4f is %.1f %% from the bvh frame's %.4f" %
              (means["images"], 100 * rel, means["bvh"]))
     s.p.stdin.close()
