@@ -102,7 +102,7 @@ def mean_frames(j, key, first=1):
     return sum(key(x) for x in fr) / len(fr)
 
 
-def part_samples(a, work, common):
+def part_samples(a, work, common, width):
     rows = []
     for name in STATIC + ANIMATED:
         animated = name in ANIMATED
@@ -136,9 +136,9 @@ def part_samples(a, work, common):
         if animated:
             r["psnr_vs_bvh_db"], r["relmse_vs_bvh"] = compare(a.exe, outs["images"], outs["bvh"])
         else:
-            ref = os.path.join(work, "%s_ref_%d.exr" % (name, a.width))
+            ref = os.path.join(work, "%s_ref_%d.exr" % (name, width))
             if not os.path.exists(ref):
-                run([a.exe, "reference", sample(name), "-o", ref, "--width", str(a.width), "--spp", str(a.ref_spp)])
+                run([a.exe, "reference", sample(name), "-o", ref, "--width", str(width), "--spp", str(a.ref_spp)])
             for tracer in ("bvh", "images"):
                 r[tracer]["psnr_db"], r[tracer]["relmse"] = compare(a.exe, outs[tracer], ref)
             r["psnr_vs_bvh_db"], r["relmse_vs_bvh"] = compare(a.exe, outs["images"], outs["bvh"])
@@ -244,36 +244,44 @@ def main():
     jpath = os.path.join(a.out, "tracer_images.json")
     res = json.load(open(jpath)) if os.path.exists(jpath) else {}
     load0 = loadavg()
-    if "still" in parts:
-        res["still"] = part_still(a, work, ks, common)
-    if "sequence" in parts:
-        res["sequence"] = part_sequence(a, work, common)
-    if "samples" in parts:
-        res["samples"] = part_samples(a, work, ["--width", "48", "--photons", "32768", "--iterations", "2",
-                                                "--spp", "2"])
-        res["samples_settings"] = "48 px, 32,768 photon paths x 2 maps, 2 spp, k = 8 maps of 128^2, reference %d spp" \
-            % a.ref_spp
-    if "heat" in parts:
-        res["heat"] = part_heat(a, work, a.out)
-        res["heat_settings"] = "%d px, %d photon paths x %d photon maps, %d spp, k = 8 environment maps of 128^2" % (
-            a.heat_width, a.heat_photons, a.heat_maps, a.heat_maps)
-    if "bandwidth" in parts:
-        res["bandwidth"] = part_bandwidth(a, work, common)
-        res["bandwidth_settings"] = "%d px, %d photon paths x %d photon maps, %d spp, reference %d spp" % (
-            a.width, a.photons, a.iterations, a.iterations, a.ref_spp)
-    if "table1" in parts:
-        res["table1"] = part_table1(a, work)
     dev = subprocess.run([a.exe, "info", "--devices"], capture_output=True, text=True).stdout.strip()
     meta = {"date": datetime.datetime.utcnow().isoformat() + "Z", "machine": platform.node(),
             "cpus": os.cpu_count(), "devices": dev, "width": a.width, "photons": a.photons,
             "iterations": a.iterations, "ref_spp": a.ref_spp}
     res.setdefault("runs", {})
+
+    def done(pt, t0, l0):
+        # Saved after every part: a later failure keeps what was measured.
+        res["runs"][pt] = {"date": t0, "load_start": l0, "load_end": loadavg()}
+        if pt == "still" or "meta" not in res:
+            res["meta"] = meta
+        json.dump(res, open(jpath, "w"), indent=1)
+        write_md(res, os.path.join(a.out, "TRACER_IMAGES.md"))
+
     for pt in parts:
-        res["runs"][pt] = {"date": meta["date"], "load_start": load0, "load_end": loadavg()}
-    if "still" in parts or "meta" not in res:
-        res["meta"] = meta
-    json.dump(res, open(jpath, "w"), indent=1)
-    write_md(res, os.path.join(a.out, "TRACER_IMAGES.md"))
+        t0, l0 = datetime.datetime.utcnow().isoformat() + "Z", loadavg()
+        if pt == "still":
+            res["still"] = part_still(a, work, ks, common)
+        elif pt == "sequence":
+            res["sequence"] = part_sequence(a, work, common)
+        elif pt == "samples":
+            res["samples"] = part_samples(a, work, ["--width", "48", "--photons", "32768", "--iterations", "2",
+                                                    "--spp", "2"], 48)
+            res["samples_settings"] = ("48 px, 32,768 photon paths x 2 maps, 2 spp, k = 8 maps of 128^2, reference "
+                                       "%d spp" % a.ref_spp)
+        elif pt == "heat":
+            res["heat"] = part_heat(a, work, a.out)
+            res["heat_settings"] = "%d px, %d photon paths x %d photon maps, %d spp, k = 8 environment maps of 128^2" % (
+                a.heat_width, a.heat_photons, a.heat_maps, a.heat_maps)
+        elif pt == "bandwidth":
+            res["bandwidth"] = part_bandwidth(a, work, common)
+            res["bandwidth_settings"] = "%d px, %d photon paths x %d photon maps, %d spp, reference %d spp" % (
+                a.width, a.photons, a.iterations, a.iterations, a.ref_spp)
+        elif pt == "table1":
+            res["table1"] = part_table1(a, work)
+        else:
+            sys.exit("unknown part %s" % pt)
+        done(pt, t0, l0)
 
 
 def part_still(a, work, ks, common):
