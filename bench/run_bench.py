@@ -870,7 +870,7 @@ def markdown(res, rel):
                                                                    r["sort_ms"], r["sort_mkeys_s"], r["t_auto"]))
         if "lbvh_rates.svg" in res["plots"]:
             L.append("\n![LBVH rates](%s/lbvh_rates.svg)\n" % rel)
-    L += tracer_section(res)
+    L += tracer_section(res, rel)
     L.append("## Settings\n")
     L.append("Converged references (`photonbridge reference --estimate-noise`, seed 0; the reference sweep uses "
              "seed 1):\n")
@@ -904,7 +904,7 @@ def markdown(res, rel):
     return "\n".join(L) + "\n"
 
 
-def tracer_section(res):
+def tracer_section(res, rel_out):
     """The image-space photon tracer beside the BVH tracer (issue 20, seed
     003): bench/tracer_images.py's last results on this device
     (bench/results/DEVICE/tracer_images/tracer_images.json), with its misses."""
@@ -914,7 +914,10 @@ def tracer_section(res):
         return []
     sys.path.insert(0, HERE)
     import tracer_images
-    rel = os.path.relpath(d, ROOT)
+    # Links relative to the Markdown file: rel_out is the results folder
+    # relative to it.
+    md_dir = os.path.normpath(os.path.join(os.path.abspath(res["out_abs"]), os.path.relpath(".", rel_out)))
+    rel = os.path.relpath(d, md_dir)
     runs = js.get("runs", {})
     L = ["## The image-space photon tracer (seed 003) beside the BVH tracer\n",
          "`--tracer images` (k = 8 cube environment maps of 128^2 texels per face, no hierarchy) against "
