@@ -155,11 +155,35 @@ float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim
 const uint PB_RSM_ROTATION_DIM = 1000u;
 const uint PB_EMIT_DIM = 1002u;
 
+// ray_length: the length of the segment that brought the photon here (seed 003's
+// bandwidth).
 void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
               uint path, float ray_length) {
   float delta = params.delta;
   vec3 a = delta * dPu, b = delta * dPv;
-  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
+  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && params.bandwidth_h0 > 0.0) {
+    // Seed 003 section 6 (render --bandwidth-c0): "h = C sqrt(A / N) ...
+    // C = C0 / sqrt(p) ... p is clamped to a certain range [P_min, P_max].
+    // The PDF is approximated as p = cos(theta) / d^2 where d is the
+    // traveled distance of the photon ray and theta is the incident angle."
+    // p has units 1/m^2 there, C0 none, so that h would not be a length;
+    // here p is made dimensionless by R^2 (R the scene's bounding radius:
+    // p R^2 = 1 for a head-on hit after travelling R; derived, the paper is
+    // silent) and clamped to [PB_PHOTON_BANDWIDTH_P_MIN, _MAX] (photon.h).
+    // d: the last segment's length (the "photon ray" that stored it).
+    // bandwidth_h0 = C0 sqrt(A / N) (host). A disc in the tangent plane, for
+    // every photon (the paper splats caustic photons the same way); the
+    // differentials still drive the paths, not the footprints.
+    float R = params.scene_radius;
+    float cos_t = abs(dot(wi, n));
+    float pr = cos_t * R * R / max(ray_length * ray_length, 1e-12 * R * R);
+    pr = clamp(pr, params.bandwidth_p_min, params.bandwidth_p_max);
+    float h = params.bandwidth_h0 / sqrt(pr);
+    vec3 tb, bb;
+    pb_basis(n, tb, bb);
+    a = h * tb;
+    b = h * bb;
+  } else if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
       (params.flags & PB_PHOTON_PARAM_CAUSTIC_RAW) != 0u) {
     // Caustic photons (issue 18 item 2): seed 000 4.3 rescales "the
     // footprints of all diffusely reflected photons"; a photon that has

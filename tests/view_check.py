@@ -22,6 +22,11 @@
   errors     a bad --script line: exit 2 naming the file and the line
   in_flight  the still part with --frames-in-flight 2 (frames in flight: the
              window one frame behind the renderer): the same screenshots
+  tracer     view --tracer images (seed 003's environment maps): the
+             screenshot after 2 still frames is display of `render --frames
+             0:1 --tracer images` with the same maps (within one 8-bit step)
+             and differs from the bvh tracer's render by more (the option
+             reaches the view's frames)
 
 Exit 77 (skip) where xvfb-run is missing or the binary was built without
 GLFW; CI's install script installs both, so there they run.
@@ -214,7 +219,32 @@ def part_errors():
     print("view_check errors:", p.stderr.strip())
 
 
+def part_tracer():
+    n = 2
+    images = ["--tracer", "images", "--image-maps", "4", "--image-map-resolution", "32"]
+    shot = os.path.join(OUT, "view_images.png")
+    run(["view", SCENE] + SETTINGS + images + ["--exit-after", str(n), "--screenshot", shot, "-q"],
+        env=validation_env())
+    diffs = {}
+    for name, extra in (("images", images), ("bvh", [])):
+        pat = os.path.join(OUT, name + "_#.exr")
+        run(["render", SCENE] + SETTINGS + extra + ["--frames", "0:%d" % (n - 1), "-o", pat, "-q"],
+            env=validation_env(), xvfb=False)
+        ref = os.path.join(OUT, "display_%s.png" % name)
+        run(["display", pat.replace("#", str(n - 1)), "-o", ref], xvfb=False)
+        a, b = png(shot), png(ref)
+        if a.shape != b.shape:
+            fail("screenshot %s, display %s" % (a.shape, b.shape))
+        diffs[name] = int(np.abs(a - b).max())
+        print("view_check tracer: the view's --tracer images frame %d against render --tracer %s: max difference "
+              "%d (8-bit steps), mean level %.1f" % (n - 1, name, diffs[name], a.mean()))
+    if diffs["images"] > 1:
+        fail("view --tracer images differs from render --tracer images by %d steps (at most 1)" % diffs["images"])
+    if diffs["bvh"] <= 1:
+        fail("view --tracer images equals the bvh tracer's render: the option did not reach the frames")
+
+
 check_available()
 {"still": part_still, "input": part_input, "resize": part_resize, "nodisplay": part_nodisplay,
- "errors": part_errors, "in_flight": part_in_flight}[PART]()
+ "errors": part_errors, "in_flight": part_in_flight, "tracer": part_tracer}[PART]()
 print("view_check %s: ok" % PART)

@@ -89,7 +89,7 @@
 #define PB_IMAGE_BIND_TEXELS 6      /* pb_gpu_image_texel[] */
 #define PB_IMAGE_BIND_RAYS 7        /* query: pb_gpu_ray[] */
 #define PB_IMAGE_BIND_HITS 8        /* query: pb_gpu_hit[] (u: the outcome) */
-#define PB_IMAGE_BIND_COUNTS 9      /* query: pb_gpu_image_counts */
+#define PB_IMAGE_BIND_COUNTS 9      /* query: pb_gpu_image_counts; touch: pb_gpu_image_touch */
 #define PB_IMAGE_BIND_COUNT 10
 
 /* ---- photon_rsm.comp: the scene's 0-10, 13, 14, then ---------------------- */

@@ -53,7 +53,7 @@ typedef struct render_opts {
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
-  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic;
+  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0;
   const char *png;
   /* Sequences (issue 6; render_seq.h). */
   const char *frames;
@@ -176,6 +176,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
     pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
+    /* seed 003's variable bandwidth (--bandwidth-c0), 0: the differential footprints */
+    pb_json_number(&j, "bandwidth_c0", o->bandwidth_c0);
     /* The photon tracer (render/tracer.h) and its named statistics; the
      * images tracer's miss rate: segments no map confirmed, over all. */
     pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->tracer]);
@@ -326,6 +328,10 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 1, PB_IMAGE_MAPS_MAX},
       {"image-map-resolution", 0, PB_OPT_U32, &o.image_map_resolution, "N",
        "--tracer images: texels per cube-face side (default 128)", NULL, 8, 1024},
+      {"bandwidth-c0", 0, PB_OPT_FLOAT, &o.bandwidth_c0, "C0",
+       "seed 003's variable bandwidth instead of the differential footprints: every photon a disc of radius "
+       "h = C0 / sqrt(p) sqrt(A / N), p = cos(theta) R^2 / d^2 clamped to [1/4, 4], A the scene's area, N the "
+       "paths (default: off)", NULL, 0, 1e6},
       {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
        "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
        "default 0: off for one frame, 4 for --frames)", NULL, 0, 12},
@@ -422,6 +428,9 @@ int pb_cmd_render(int argc, char **argv) {
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
+  if ((o.image_maps || o.image_map_resolution) && o.tracer != PB_TRACER_IMAGES)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --image-maps and --image-map-resolution need --tracer "
+                                    "images"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
   /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
    * A photon stored at its k-th bounce ends a path of k + 1 events at the
@@ -514,7 +523,7 @@ int pb_cmd_render(int argc, char **argv) {
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
-                       .image_map_resolution = o.image_map_resolution,
+                       .image_map_resolution = o.image_map_resolution, .bandwidth_c0 = (float)o.bandwidth_c0,
                        .atrous_iterations = o.atrous,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
                        .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f

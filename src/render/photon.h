@@ -96,7 +96,20 @@ typedef struct pb_photon_trace_desc {
                                  PB_PHOTON_R_MAX_FACTOR Delta R */
   uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
   uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
+  float bandwidth_c0;         /* > 0: seed 003's variable bandwidth instead of
+                                 seed 000's footprints: every photon a disc
+                                 of radius h = C0 / sqrt(p) sqrt(A / N)
+                                 (section 6; pb_store in photon_trace.comp),
+                                 C0 this; 0: off */
 } pb_photon_trace_desc;
+
+/* Seed 003's PDF clamp [P_min, P_max] for the bandwidth (section 6: "p ...
+ * is clamped to a certain range"; the paper gives no values). p = cos(theta)
+ * / d^2 is made dimensionless with the scene's bounding radius R, p R^2 (a
+ * photon that met a surface head-on after travelling R has 1), and clamped
+ * to [1/4, 4]: h varies at most 2x either way around C0 sqrt(A / N). */
+#define PB_PHOTON_BANDWIDTH_P_MIN 0.25f
+#define PB_PHOTON_BANDWIDTH_P_MAX 4.0f
 
 /* Path length (issue 18 item 8). The default stores every bounce until
  * Russian roulette ends the path: survival p = min(1, max_c(Phi_c w_c) /

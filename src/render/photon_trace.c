@@ -56,6 +56,22 @@ static float luminance(const float c[3]) {
   return 0.2126f * fmaxf(c[0], 0.0f) + 0.7152f * fmaxf(c[1], 0.0f) + 0.0722f * fmaxf(c[2], 0.0f);
 }
 
+/* The scene's surface area A, m^2 (seed 003's bandwidth; the LBVH's T_auto
+ * sums it the same way, lbvh.c). */
+static double surface_area(const pb_scene *s) {
+  double a = 0.0;
+  for (uint32_t t = 0; t < s->triangle_count; ++t) {
+    const float *p0 = s->positions[s->triangles[t][0]], *p1 = s->positions[s->triangles[t][1]],
+                *p2 = s->positions[s->triangles[t][2]];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = (double)p1[k] - p0[k], e2[k] = (double)p2[k] - p0[k];
+    double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double l = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (isfinite(l)) a += l;
+  }
+  return a;
+}
+
 static float scene_radius(const pb_scene *s, float center[3]) {
   float d2 = 0.0f;
   for (int c = 0; c < 3; ++c) {
@@ -177,6 +193,16 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
   t->p.light_count = t->light_entries;
   t->p.delta = delta;
   t->p.r_max = d->r_max > 0.0f ? d->r_max : PB_PHOTON_R_MAX_FACTOR * delta * radius; /* photon.h */
+  /* Seed 003 section 6: h = C sqrt(A / N), C = C0 / sqrt(p), A the scene's
+   * total area, N the photons emitted (this iteration's paths: each map is
+   * an estimate of its own); the 1 / sqrt(p) factor per photon in
+   * pb_store. The pose changes A (moving, deforming objects). */
+  t->p.bandwidth_h0 = 0.0f;
+  if (d->bandwidth_c0 > 0.0f && total > 0) {
+    t->p.bandwidth_h0 = (float)(d->bandwidth_c0 * sqrt(surface_area(s) / (double)total));
+    t->p.bandwidth_p_min = PB_PHOTON_BANDWIDTH_P_MIN;
+    t->p.bandwidth_p_max = PB_PHOTON_BANDWIDTH_P_MAX;
+  }
   t->stats.photons = total;
   t->stats.delta = delta;
   t->stats.r_max = t->p.r_max;
@@ -235,6 +261,8 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   if (!d.rsm_resolution) d.rsm_resolution = 64;
   if (d.r_max < 0.0f || !isfinite(d.r_max))
     return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
+  if (d.bandwidth_c0 < 0.0f || !isfinite(d.bandwidth_c0))
+    return pb_fail(PB_ERR_USAGE, "photons: bandwidth C0 %g must be positive", d.bandwidth_c0);
   /* 3-D dispatch fold limit: gid is a uint. */
   if (d.photons > 0x7fffffffu) return pb_fail(PB_ERR_LIMIT, "photons: %u paths (at most 2^31 - 1)", d.photons);
   uint64_t capacity = (uint64_t)d.photons *

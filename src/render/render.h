@@ -164,6 +164,9 @@ typedef struct pb_render_desc {
   uint32_t tracer;             /* pb_tracer_kind (tracer.h); 0: the BVH */
   uint32_t image_maps;         /* tracer images: k maps; 0: 8 */
   uint32_t image_map_resolution; /* tracer images: texels per face side; 0: 128 */
+  float bandwidth_c0;          /* > 0: seed 003's variable bandwidth footprints,
+                                  h = C0 / sqrt(p) sqrt(A / N) (photon.h); 0:
+                                  seed 000's differential footprints */
   uint32_t atrous_iterations;  /* spatial filter of the indirect AOV
                                   (atrous.h, seed 001 24.4.2); 0: off */
   float atrous_gamma;          /* its detail clipping in standard
