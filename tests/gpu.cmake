@@ -95,3 +95,8 @@ add_test(NAME gpu_cli_render_tracer_images
 set_tests_properties(gpu_cli_render_tracer_images PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                      LABELS "gpu;no-sanitize" TIMEOUT 600
                      PASS_REGULAR_EXPRESSION "exit=0,0 validation_messages=0 tracer_named=2 misses=1")
+# The viewer's display pass against the host path (issue 17 item 2).
+if(TEST test_gpu_present)
+  set_tests_properties(test_gpu_present PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize;view" TIMEOUT 600)
+endif()

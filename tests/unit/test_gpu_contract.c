@@ -41,6 +41,7 @@
 #include "shaders/image_maps_query.spv.h"
 #include "shaders/raycast.spv.h"
 #include "shaders/resolve.spv.h"
+#include "shaders/present.spv.h"
 #include "shaders/temporal.spv.h"
 #include "shaders/filter_io.spv.h"
 #include "shaders/shading_correction.spv.h"
@@ -156,6 +157,10 @@ static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", 
                                    {"TriMat", PB_IMAGE_BIND_TRI_MATERIAL}, {"Maps", PB_IMAGE_BIND_MAPS},
                                    {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
                                    {"Hits", PB_IMAGE_BIND_HITS},       {"Counts", PB_IMAGE_BIND_COUNTS}, END};
+static const entry present_bind[] = {{"Lut", PB_PRESENT_BIND_LUT},
+                                     {"Src", PB_PRESENT_BIND_IN},
+                                     {"Dst", PB_PRESENT_BIND_OUT},
+                                     END};
 static const entry no_spec[] = {END};
 
 typedef struct module {
@@ -200,6 +205,7 @@ static const module modules[] = {
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
     MOD(filter_io, filter_io_bind, no_spec, PB_FILTER_IO_BIND_COUNT),
     MOD(shading_correction, shading_bind, no_spec, PB_SHADING_BIND_COUNT),
+    MOD(present, present_bind, no_spec, PB_PRESENT_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };
