@@ -725,10 +725,10 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
 done:
   validation_messages += pb_present_validation_messages(v.pres);
   if (v.gpu_display) (void)pb_gpu_wait(g);
+  pb_view_session_destroy(&v.ses);
+  pb_present_destroy(v.pres); /* waits for the device: its copies read v.pass.out */
   pb_present_pass_destroy(g, &v.pass);
   pb_color_lut_destroy(&v.lut);
-  pb_view_session_destroy(&v.ses);
-  pb_present_destroy(v.pres);
   if (v.win) glfwDestroyWindow(v.win);
   if (glfw_on) glfwTerminate();
   pb_color_destroy(v.color);
