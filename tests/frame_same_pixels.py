@@ -16,7 +16,7 @@ Also checks that --json reports timing.frame_wall_ms and frame_gpu_ms (a
 number with timestamps) and no non-finite values.
 
 usage: frame_same_pixels.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR [BASELINE] [PART...]
-PART: samples, extra, in_flight (default samples and extra). Exit 77 when no Vulkan device is present."""
+PART: samples, extra, in_flight, still_gpu (default samples and extra). Exit 77 when no Vulkan device is present."""
 import glob
 import json
 import os
@@ -199,6 +199,35 @@ def part_in_flight():
         for f in range(4):
             compare("%s frame %d, 2 in flight vs 1" % (label, f), outs["2"].replace("#", str(f)),
                     outs["1"].replace("#", str(f)))
+
+
+def part_still_gpu():
+    """A still run's progressive accumulation on the GPU (issue 17 item 2:
+    shaders/accumulate.comp, the running means in a target of the sequence)
+    against the host arrays it replaced (PB_STILL_ON_HOST=1, sequence.c's
+    accumulate()), same seed: every frame of a still camera (5 frames: the
+    beauty, direct and caustic means) to float rounding, with 1 and 2 frames
+    in flight, and the --json per-frame record says where it ran."""
+    d = fresh("still_gpu")
+    scene = os.path.join(ROOT, "samples", "cornell_box", "cornell_box.gltf")
+    for n in ("1", "2"):
+        outs = {}
+        for kind, env in (("gpu", None), ("host", {"PB_STILL_ON_HOST": "1"})):
+            pat = os.path.join(d, "still_%s_%s_#.exr" % (n, kind))
+            js = os.path.join(d, "still_%s_%s.json" % (n, kind))
+            p = run(EXE, ["render", scene, "-o", pat, "--json", js, "--frames", "0:4", "--frames-in-flight", n] +
+                    COMMON, env)
+            check(p.returncode == 0, "still %s in flight, %s means: exits 0" % (n, kind))
+            if p.returncode != 0:
+                continue
+            outs[kind] = pat
+            fr = json.load(open(js))["frames"]
+            where = [f.get("timing", {}).get("still_on_gpu") for f in fr]
+            check(where == [kind == "gpu"] * 5, "still %s in flight, %s means: timing.still_on_gpu %s" % (n, kind, where))
+        if len(outs) == 2:
+            for f in range(5):
+                compare("still frame %d (%s in flight), GPU means vs host means" % (f, n),
+                        outs["gpu"].replace("#", str(f)), outs["host"].replace("#", str(f)))
 
 
 if subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True).returncode != 0:

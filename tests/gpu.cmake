@@ -130,3 +130,9 @@ add_test(NAME gpu_cli_render_tracer_images_samples
 set_tests_properties(gpu_cli_render_tracer_images_samples PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1"
                      SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900
                      PASS_REGULAR_EXPRESSION "8 of 8 samples rendered with --tracer images")
+
+# The viewer's display pass against the host path (issue 17 item 2).
+if(TEST test_gpu_present)
+  set_tests_properties(test_gpu_present PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize;view" TIMEOUT 600)
+endif()

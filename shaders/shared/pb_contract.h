@@ -185,6 +185,18 @@
 #define PB_RESOLVE_BIND_OUT_PHOTONS 5   /* float planes of the photon AOVs */
 #define PB_RESOLVE_BIND_COUNT 6
 
+/* ---- present.comp (shared/pb_present.h): the viewer's picture -------------- */
+#define PB_PRESENT_BIND_LUT 0   /* vec4 nodes of the baked view (color.h pb_color_lut) */
+#define PB_PRESENT_BIND_IN 1    /* float: the AOV (the resolved beauty, RGBA) */
+#define PB_PRESENT_BIND_OUT 2   /* uint: RGBA8 (R in the low byte), the displayed image */
+#define PB_PRESENT_BIND_COUNT 3
+
+/* ---- accumulate.comp (shared/pb_accumulate.h): a still run's running means */
+#define PB_ACCUM_BIND_PLANES 0         /* the resolve's float planes (beauty, direct) */
+#define PB_ACCUM_BIND_PHOTON_PLANES 1  /* the photon planes (indirect, caustic) */
+#define PB_ACCUM_BIND_SUM 2            /* float: the running means, PB_ACCUM_FLOATS a pixel */
+#define PB_ACCUM_BIND_COUNT 3
+
 /* ---- specialization constants (constant_id) ------------------------------- */
 /* The scene's (common/scene.glsl), set by the passes from the render plan
  * (plan.h); 4 and 5 belong to one kernel each. */

@@ -195,6 +195,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   else pb_json_null(j, "frame_gpu_ms");
   pb_json_number(j, "frame_interval_ms", st->frame_interval_ms);
   pb_json_bool(j, "in_flight", st->in_flight);
+  pb_json_bool(j, "still_on_gpu", st->still_on_gpu); /* a still run averaged on the GPU (issue 17 item 2) */
   pb_json_end_object(j);
   /* Host <-> device bytes of the frame (pb_render_stats): the readback's,
    * and what else went up or down (constants, scene data, photon counts). */

@@ -531,6 +531,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   const char *host_env = getenv("PB_RESOLVE_ON_HOST");
   int post_gpu = photons_on && bands == 1 && !(host_env && host_env[0] == '1');
   int chain_gpu = post_gpu && fc, sc_on = !desc.no_shading_correction && nmap_aovs;
+  /* A still run's means on the GPU: after eq. 20, on the final planes of a
+   * frame in one band (the host resolve of the tests: on the host). */
+  int still_gpu = desc.still_sum && bands == 1 && !(host_env && host_env[0] == '1') &&
+                  desc.still_sum->pixels == band_pixels;
+  out->stats.still_on_gpu = still_gpu;
   /* Frames in flight (render.h): one band on the GPU path, with a context
    * to keep the tail in. The last submission then also copies the planes
    * into the readback ring and is not waited for. */
@@ -660,6 +665,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
      * (readback.h) is where pixels leave the GPU. Timestamps: 0 start, 1
      * resolved, the chain's from 1 (filters.c), the last after eq. 20. */
     if (chain_gpu && (r = pb_filter_chain_bind(g, fc, &tg, nmap_aovs)) != PB_OK) goto fail;
+    if (still_gpu && (r = pb_still_sum_bind(g, desc.still_sum, &tg)) != PB_OK) goto fail;
     if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
     pb_gpu_timestamp(g, 0);
     float inv_spp = 1.0f / (float)spp_run;
@@ -671,6 +677,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     sc_slot = slot;
     if (post_gpu && sc_on && r == PB_OK) { /* eq. 20 on the filtered indirect */
       r = pb_shading_correction_record(g, &scp, pixels, PB_SHADING_CORRECTION_S_MAX);
+      pb_gpu_barrier(g);
+    }
+    if (still_gpu && r == PB_OK) { /* a still run's running means (targets.h pb_still_sum) */
+      r = pb_still_sum_record(g, desc.still_sum, &tg, pixels);
       pb_gpu_barrier(g);
     }
     pb_gpu_timestamp(g, ++slot);

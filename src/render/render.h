@@ -230,6 +230,12 @@ typedef struct pb_render_desc {
    * store's slot order that any two runs may differ in (bit-identical on
    * lavapipe in tests/frame_same_pixels.py in_flight). */
   int in_flight;
+  /* Sequences (issue 17 item 2): a still run's running means on the GPU
+   * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
+   * submission when the frame is one band on the GPU path; out->stats.
+   * still_on_gpu says whether it was (else the caller averages on the
+   * host). NULL: none. */
+  struct pb_still_sum *still_sum;
   /* Benchmark (bench/run_bench.py): */
   int radius_histogram;        /* 1: read every traced map back and bin its
                                   footprint radii (stats.radius_hist; costs a
@@ -295,6 +301,7 @@ typedef struct pb_render_stats {
    * the throughput: (interval - gpu) / interval is the share of a frame's
    * period in which the host kept the GPU idle. */
   double frame_interval_ms;
+  int still_on_gpu;                           /* 1: pb_render_desc.still_sum's pass ran on this frame */
   int in_flight;                              /* 1: the frame's last submission ran
                                                  while the host went on (pb_render_desc.in_flight) */
   /* The photon tracer that ran (tracer.h: "bvh", "images"; NULL when the

@@ -9,6 +9,7 @@
 #include "core/mix.h"
 #include "render/filters.h"
 #include "render/plan.h"
+#include "render/targets.h"
 
 struct pb_sequence {
   pb_scene *s;
@@ -31,6 +32,12 @@ struct pb_sequence {
    * direct and caustic AOVs) over the run's frames. */
   float *acc_rest, *acc_direct, *acc_caustic;
   uint32_t acc_frames;
+  /* The same running means on the GPU (issue 17 item 2; targets.h): every
+   * frame in one band on the GPU path averages there, so the host arrays
+   * above are only made for frames that do not (several bands, the host
+   * resolve of the tests). */
+  pb_still_sum still;
+  int pend_gpu_acc; /* the frame in flight averaged on the GPU */
   pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
   /* Frames in flight: the frame rendered by the last call, not returned
    * yet (its last submission maybe still on the GPU: pend.pending). */
@@ -46,6 +53,7 @@ void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   if (!q) return;
   if (q->have_pend) (void)pb_gpu_wait(g);
   pb_render_result_destroy(&q->pend);
+  pb_still_sum_destroy(g, &q->still);
   pb_filter_chain_destroy(g, q->chain);
   pb_frame_context_destroy(g, q->frame_ctx);
   free(q->prev_positions);
@@ -76,11 +84,8 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   size_t n = (size_t)width * height;
   q->prev_positions = malloc((size_t)(s->vertex_count ? s->vertex_count : 1) * sizeof *q->prev_positions);
   q->prev_lights = malloc((size_t)(s->light_count ? s->light_count : 1) * sizeof *q->prev_lights);
-  q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
-  q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
-  q->acc_caustic = malloc(n * 3 * sizeof *q->acc_caustic);
   pb_result r = PB_OK;
-  if (!q->prev_positions || !q->prev_lights || !q->acc_rest || !q->acc_direct || !q->acc_caustic) {
+  if (!q->prev_positions || !q->prev_lights) {
     r = pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", width, height);
     goto fail;
   }
@@ -107,6 +112,8 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   }
   if ((cd.temporal || cd.atrous_iterations) && (r = pb_filter_chain_create(g, width, height, &cd, &q->chain)) != PB_OK)
     goto fail;
+  if (!getenv("PB_STILL_ON_HOST") || getenv("PB_STILL_ON_HOST")[0] != '1') /* tests: the host path */
+    if ((r = pb_still_sum_create(g, (uint32_t)n, q->caustic_filtered, &q->still)) != PB_OK) goto fail;
   *out = q;
   return PB_OK;
 fail:
@@ -163,8 +170,15 @@ static int camera_equal(const pb_camera *a, const pb_camera *b) {
  * have their own); the rest of the frame (beauty minus those: emission,
  * direct light; the direct AOV, and unfiltered caustics) is averaged here,
  * so the whole picture converges. A frame that moved starts a new run. */
-static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
+static pb_result accumulate(pb_sequence *q, pb_render_result *out, int still) {
   size_t n = (size_t)q->width * q->height;
+  if (!q->acc_rest) {
+    q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
+    q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
+    q->acc_caustic = malloc(n * 3 * sizeof *q->acc_caustic);
+    if (!q->acc_rest || !q->acc_direct || !q->acc_caustic)
+      return pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", q->width, q->height);
+  }
   if (!still) q->acc_frames = 0;
   float k = (float)q->acc_frames, inv = 1.0f / (k + 1.0f);
   const float *filtered[2] = {out->indirect, q->caustic_filtered ? out->caustic : NULL};
@@ -189,6 +203,7 @@ static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
     }
   }
   q->acc_frames++;
+  return PB_OK;
 }
 
 /* A frame comes out now: its interval since the last one. */
@@ -265,6 +280,13 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
                           .cam = *cam, .prev_cam = q->prev_cam};
     pb_filter_chain_set_frame(q->chain, &ff);
   }
+  /* The still run's means on the GPU: restart with a run (the host's
+   * accumulate() counts the same way). */
+  int acc_still = fi.still && q->has_prev;
+  if (q->still.pipe.pipeline) {
+    if (!acc_still) q->still.frames = 0;
+    rd.still_sum = &q->still;
+  }
   if (q->in_flight) {
     rd.in_flight = 1;
     fi.index = index;
@@ -272,7 +294,8 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     pb_render_result cur;
     if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, &cur)) != PB_OK) return r;
     q->still_iterations += iters;
-    int acc_still = fi.still && q->has_prev;
+    int gpu_acc = cur.stats.still_on_gpu;
+    if (gpu_acc) q->still.frames++;
     q->has_prev = 1;
     q->prev_cam = *cam;
     /* This frame runs on the GPU now; the previous one comes out. */
@@ -280,8 +303,8 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     if (q->have_pend) {
       double t1 = pb_time_now();
       r = pb_render_frame_complete(g, q->frame_ctx, &q->pend);
+      if (r == PB_OK && !q->pend_gpu_acc) r = accumulate(q, &q->pend, q->pend_acc_still);
       if (r == PB_OK) {
-        accumulate(q, &q->pend, q->pend_acc_still);
         *out = q->pend;
         if (info) {
           *info = q->pend_info;
@@ -306,6 +329,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     q->pend_info = fi;
     q->pend_info.camera = *cam;
     q->pend_acc_still = acc_still;
+    q->pend_gpu_acc = gpu_acc;
     q->pend_host_ms = pre_ms;
     q->pend_scene_up = tr_scene1.upload_bytes - tr_scene0.upload_bytes;
     q->pend_scene_down = tr_scene1.download_bytes - tr_scene0.download_bytes;
@@ -315,7 +339,12 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, out)) != PB_OK) return r;
   q->still_iterations += iters;
   fi.motion_ms = out->stats.motion_ms;
-  accumulate(q, out, fi.still && q->has_prev);
+  if (out->stats.still_on_gpu) {
+    q->still.frames++;
+  } else if ((r = accumulate(q, out, acc_still)) != PB_OK) {
+    pb_render_result_destroy(out);
+    return r;
+  }
   q->has_prev = 1;
   out->stats.frame_wall_ms = (pb_time_now() - frame_t0) * 1e3;
   /* The frame's transfers, the scene update's included. */
@@ -345,7 +374,11 @@ pb_result pb_sequence_flush(pb_gpu *g, pb_sequence *q, pb_render_result *out, pb
     pb_render_result_destroy(&q->pend);
     return r;
   }
-  accumulate(q, &q->pend, q->pend_acc_still);
+  if (!q->pend_gpu_acc && (r = accumulate(q, &q->pend, q->pend_acc_still)) != PB_OK) {
+    pb_render_result_destroy(&q->pend);
+    memset(&q->pend, 0, sizeof q->pend);
+    return r;
+  }
   *out = q->pend;
   memset(&q->pend, 0, sizeof q->pend);
   out->stats.frame_wall_ms += q->pend_host_ms + (pb_time_now() - t1) * 1e3;

@@ -43,6 +43,7 @@
 #include "shaders/image_maps_query.spv.h"
 #include "shaders/raycast.spv.h"
 #include "shaders/resolve.spv.h"
+#include "shaders/present.spv.h"
 #include "shaders/temporal.spv.h"
 #include "shaders/filter_io.spv.h"
 #include "shaders/shading_correction.spv.h"
@@ -173,6 +174,10 @@ static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", 
                                    {"TriMat", PB_IMAGE_BIND_TRI_MATERIAL}, {"Maps", PB_IMAGE_BIND_MAPS},
                                    {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
                                    {"Hits", PB_IMAGE_BIND_HITS},       {"Counts", PB_IMAGE_BIND_COUNTS}, END};
+static const entry present_bind[] = {{"Lut", PB_PRESENT_BIND_LUT},
+                                     {"Src", PB_PRESENT_BIND_IN},
+                                     {"Dst", PB_PRESENT_BIND_OUT},
+                                     END};
 static const entry no_spec[] = {END};
 /* The splatting passes (seed 001 24.3): count and splat read the frame and
  * the G-buffer of the scene's set, the resolve shades with all of it. */
@@ -238,6 +243,7 @@ static const module modules[] = {
     MOD(splat_splat, splat_bind, no_spec, PB_SPLAT_BIND_COUNT),
     MOD(splat_resolve, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
     MOD(splat_resolve_blender, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
+    MOD(present, present_bind, no_spec, PB_PRESENT_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };
