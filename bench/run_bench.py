@@ -87,6 +87,12 @@ CONFIGS = {
             # The density estimators (issue 19): kNN at its default k = 64.
             pb_curve("2^16, kNN (k 64)", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "knn"],
                      needs="--estimator"),
+            # Seed 001's screen-space splatting and seed 004's view-sample
+            # hierarchy (issue 19 items 3, 4) at their defaults, on the same maps.
+            pb_curve("2^16, splat", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "splat"],
+                     needs="--splat-ntile"),
+            pb_curve("2^16, vsch", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "vsch"],
+                     needs="--vsch-radius"),
             # Seed 003's image-space photon tracer (issue 20): 8 cube maps
             # instead of the BVH; its misses are in the section below.
             pb_curve("2^16, images tracer (8 maps)", 1 << 16, [(4, 8), (16, 32)], extra=["--tracer", "images"],
@@ -114,6 +120,10 @@ CONFIGS = {
                      needs="--atrous-iterations"),
             pb_curve("2^16, kNN (k 64)", 1 << 16, [(4, 8), (16, 32)], extra=["--estimator", "knn"],
                      needs="--estimator"),
+            pb_curve("2^16, splat", 1 << 16, [(4, 8), (16, 32)], extra=["--estimator", "splat"],
+                     needs="--splat-ntile"),
+            pb_curve("2^16, vsch", 1 << 16, [(4, 8), (16, 32)], extra=["--estimator", "vsch"],
+                     needs="--vsch-radius"),
         ],
         "reference": [4, 16, 64, 256],
         # POV-Ray's medium radiosity + photons takes minutes on cornell_caustics.
