@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/log.h"
 #include "gpu/gpu_internal.h"
 
 void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p) {
@@ -109,7 +110,12 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
           },
       .layout = p->layout,
   };
+  double t0 = pb_time_now();
   vr = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &cpi, NULL, &p->pipeline);
+  /* -v: what each scene pays for creating its pipelines. lavapipe compiles a
+   * kernel at its first dispatch instead (seconds per large kernel with a
+   * cold Mesa shader cache: the first pass timings of a run show it). */
+  pb_log_verbose("gpu: pipeline %s: %.1f ms", name, (pb_time_now() - t0) * 1e3);
   if (vr != VK_SUCCESS) {
     p->pipeline = VK_NULL_HANDLE;
     snprintf(label, sizeof label, "%s: vkCreateComputePipelines", name);
