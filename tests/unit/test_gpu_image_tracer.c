@@ -28,91 +28,14 @@
 
 /* ---- code-built scenes --------------------------------------------------- */
 
-enum { MAXV = 64, MAXT = 32, MAXM = 4, MAXL = 4 };
-typedef struct tscene {
-  float pos[MAXV][3], nrm[MAXV][3], uv[MAXV][2];
-  uint32_t tri[MAXT][3], tm[MAXT];
-  uint32_t nv, nt;
-  pb_material mat[MAXM];
-  uint32_t nm;
-  pb_light light[MAXL];
-  uint32_t nl;
-  pb_scene s;
-} tscene;
-
-static uint32_t add_mat(tscene *t, float rho, float metallic) {
-  pb_material *m = &t->mat[t->nm];
-  memset(m, 0, sizeof *m);
-  m->base_color[0] = m->base_color[1] = m->base_color[2] = rho;
-  m->base_color[3] = 1;
-  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
-  m->metallic = metallic;
-  m->roughness = metallic > 0 ? 0.0f : 1.0f;
-  m->specular = 0; /* pure Lambert for the non-metals */
-  m->ior = 1.5f;
-  return t->nm++;
-}
-
-/* Quad a, b, c, d (counter-clockwise seen from the side n points to). */
-static void add_quad(tscene *t, const float q[4][3], const float n[3], uint32_t mat) {
-  uint32_t b = t->nv;
-  for (int i = 0; i < 4; ++i) {
-    memcpy(t->pos[b + i], q[i], sizeof t->pos[0]);
-    memcpy(t->nrm[b + i], n, sizeof t->nrm[0]);
-  }
-  t->nv += 4;
-  uint32_t a[2][3] = {{b, b + 1, b + 2}, {b, b + 2, b + 3}};
-  for (int i = 0; i < 2; ++i) {
-    memcpy(t->tri[t->nt], a[i], sizeof a[i]);
-    t->tm[t->nt++] = mat;
-  }
-}
-
-static void add_point(tscene *t, float x, float y, float z, float intensity, const float col[3]) {
-  pb_light *l = &t->light[t->nl++];
-  memset(l, 0, sizeof *l);
-  l->type = PB_LIGHT_POINT;
-  l->position[0] = x, l->position[1] = y, l->position[2] = z;
-  memcpy(l->color, col, sizeof l->color);
-  l->intensity = intensity;
-}
-
-static void finish(tscene *t) {
-  pb_scene *s = &t->s;
-  memset(s, 0, sizeof *s);
-  s->positions = t->pos;
-  s->normals = t->nrm;
-  s->uvs = t->uv;
-  s->vertex_count = t->nv;
-  s->triangles = t->tri;
-  s->triangle_material = t->tm;
-  s->triangle_count = t->nt;
-  s->materials = t->mat;
-  s->material_count = t->nm;
-  s->lights = t->light;
-  s->light_count = t->nl;
-  pb_scene_finalize(s);
-}
+#include "gpu_scene_helpers.h"
 
 /* Closed cube [-1, 1]^3 of albedo rho (faces towards the inside), with an
  * optional occluder: a horizontal plate of half-size 0.3 at height py centred
  * at x = px, facing up (its underside not modelled). */
 static void box_scene(tscene *t, float rho, int plate, float px, float py) {
-  memset(t, 0, sizeof *t);
-  uint32_t m = add_mat(t, rho, 0);
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = -1; side <= 1; side += 2) {
-      int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      float q[4][3], n[3] = {0, 0, 0};
-      float c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-      for (int i = 0; i < 4; ++i) {
-        q[i][axis] = (float)side;
-        q[i][u] = c[i][0];
-        q[i][v] = c[i][1];
-      }
-      n[axis] = (float)-side;
-      add_quad(t, q, n, m);
-    }
+  box(t, rho);
+  uint32_t m = 0; /* box()'s material */
   if (plate) {
     float q[4][3] = {{px - 0.3f, py, -0.3f}, {px - 0.3f, py, 0.3f}, {px + 0.3f, py, 0.3f}, {px + 0.3f, py, -0.3f}};
     float n[3] = {0, 1, 0};
