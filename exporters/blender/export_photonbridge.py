@@ -50,13 +50,15 @@ def main(argv):
         report = writer.write_gltf(depsgraph, os.path.abspath(args.out))
     for w in report.warnings:
         print("export_photonbridge: warning: " + w)
+    for w in report.notes:
+        print("export_photonbridge: note: " + w)
     print("export_photonbridge: %d triangles, %d meshes, %d instances, %d lights in %.3f s -> %s"
           % (report.triangles, report.meshes, report.instances, report.lights, report.seconds, args.out))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"triangles": report.triangles, "meshes": report.meshes, "instances": report.instances,
-                       "lights": report.lights, "seconds": report.seconds, "warnings": report.warnings}, f,
-                      indent=1)
+                       "lights": report.lights, "seconds": report.seconds, "warnings": report.warnings,
+                       "notes": report.notes}, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -21,6 +21,8 @@ class EXPORT_SCENE_OT_photonbridge_gltf(bpy.types.Operator, ExportHelper):
         report = writer.write_gltf(depsgraph, self.filepath)
         for w in report.warnings:
             self.report({'WARNING'}, w)
+        for w in report.notes:
+            self.report({'INFO'}, w)
         self.report({'INFO'}, "photonbridge glTF: %d triangles, %d meshes, %d instances, %d lights in %.2f s -> %s"
                     % (report.triangles, report.meshes, report.instances, report.lights, report.seconds,
                        self.filepath))

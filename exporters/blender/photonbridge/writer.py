@@ -55,6 +55,10 @@ FLOAT, UINT16, UINT32 = 5126, 5123, 5125
 class WriteReport:
     def __init__(self):
         self.warnings = []
+        # What only other glTF readers lose (photonbridge reads it from the
+        # extension): the exporter shows these, the render engine does not, so
+        # that an artist's render report lists only what changes the picture.
+        self.notes = []
         self.triangles = 0
         self.meshes = 0
         self.instances = 0
@@ -325,6 +329,11 @@ class SceneWriter:
             self.warned.add(text)
             self.report.warnings.append(text)
 
+    def note(self, text):
+        if text not in self.warned:
+            self.warned.add(text)
+            self.report.notes.append(text)
+
     # ---- geometry ------------------------------------------------------------------
 
     def _materials(self, obj):
@@ -463,7 +472,7 @@ class SceneWriter:
             ext["size"] = lamp.size * abs(scale.x)
             ext["sizeY"] = (lamp.size_y if lamp.shape in ('RECTANGLE', 'ELLIPSE') else lamp.size) * abs(scale.y)
             ext["spread"] = getattr(lamp, "spread", math.pi)
-            self.warn("light '%s': area lights have no glTF form; only the %s extension describes it"
+            self.note("light '%s': area lights have no glTF form; only the %s extension describes it"
                       % (obj.name, EXTENSION))
         if lamp.use_nodes and lamp.node_tree and any(n.type not in ('OUTPUT_LIGHT', 'EMISSION')
                                                       for n in lamp.node_tree.nodes):
