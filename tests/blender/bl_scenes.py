@@ -5,6 +5,8 @@ the folder after '--':
   unsupported.blend  a lit box whose material takes its Base Color from a
                      Noise Texture (not translated: a warning)
   nolights.blend     a box and a camera, no light
+  worldlit.blend     a floor, a box and a camera lit only by a grey world
+                     (Background strength 2): not an unlit scene
   empty_mesh.blend   a camera, a light and only a mesh without faces
   nocamera.blend     a box and a light, no camera
   instances.blend    a floor and a collection with one box, instanced three
@@ -110,6 +112,17 @@ floor()
 camera()
 box("Box", (0, 0, 0.5), 0.5)
 save("nolights.blend")
+
+reset()
+floor()
+camera()
+box("Box", (0, 0, 0.5), 0.5)
+world = bpy.data.worlds.new("Grey")
+world.use_nodes = True
+world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
+world.node_tree.nodes["Background"].inputs["Strength"].default_value = 2.0
+bpy.context.scene.world = world
+save("worldlit.blend")
 
 reset()
 light()

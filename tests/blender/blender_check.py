@@ -467,6 +467,15 @@ def part_unsupported():
     check(os.path.isfile(os.path.join(d, "f_0001.exr")), "the scene renders")
     check("material 'Noisy': node 'Noise Texture' (Noise Texture)" in p.stdout,
           "the warning names the material and the node")
+    # A scene lit by its world alone is lit: no "no lights" warning, and a
+    # grey world of strength 2 gives the floor a radiance near 0.5 * 2 * albedo.
+    d = fresh("worldlit")
+    p = render_f12(d, os.path.join(scenes, "worldlit.blend"), QUICK, fmt="OPEN_EXR")
+    check("no lights" not in p.stdout + p.stderr, "world-lit scene: no 'no lights' warning")
+    img = exr(os.path.join(d, "f_0001.exr")) if os.path.isfile(os.path.join(d, "f_0001.exr")) else None
+    r = img["channels"]["R"] if img else []
+    mean = sum(r) / len(r) if r else 0.0
+    check(mean > 0.2, "world-lit scene: lit (mean R %.3f > 0.2)" % mean)
 
 
 def part_badinput():
@@ -495,7 +504,7 @@ def part_badinput():
          "$PHOTONBRIDGE_BIN (%s: not an executable file), PATH" % os.path.join(WORK, "no", "photonbridge"), env=env)
     # Blender itself refuses these before the engine runs.
     case("no camera", os.path.join(scenes, "nocamera.blend"), "Cannot render, no camera")
-    case("no lights", os.path.join(scenes, "nolights.blend"), "no lights and no emissive materials",
+    case("no lights", os.path.join(scenes, "nolights.blend"), "no lights, no emissive materials and a black world",
          expect_file=True)
     case("only an empty mesh", os.path.join(scenes, "empty_mesh.blend"),
          ["object 'Edges': its mesh has no faces; left out", "(exit 7)"])

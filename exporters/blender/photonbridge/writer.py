@@ -636,9 +636,30 @@ class SceneWriter:
             self._camera(cam.evaluated_get(self.dg) if not cam.is_evaluated else cam)
         else:
             self.warn("scene '%s': no camera; photonbridge frames the scene with a default camera" % self.scene.name)
-        if self.report.lights == 0 and not any(
+        if self.report.lights == 0 and not self._world_lit() and not any(
                 m.get("emissiveFactor") for m in self.doc.j["materials"]):
-            self.warn("scene '%s': no lights and no emissive materials" % self.scene.name)
+            self.warn("scene '%s': no lights, no emissive materials and a black world" % self.scene.name)
+
+    def _world_lit(self):
+        """Whether the world (as _world translates it) may emit: a lit world is
+        a light, so a scene lit by it alone is not unlit. No side effects
+        (_world writes the environment image)."""
+        world = self.scene.world
+        if world is None:
+            return False
+        if not world.use_nodes or world.node_tree is None:
+            return max(world.color) > 0
+        out = materials_mod.active_output(world.node_tree)
+        src = materials_mod._source(out.inputs["Surface"]) if out else None
+        if src is None or src.node.type != 'BACKGROUND':
+            return False
+        node = src.node
+        if materials_mod._source(node.inputs["Color"]) is not None:
+            return True  # an environment (or a colour the writer keeps)
+        strength = node.inputs["Strength"]
+        if materials_mod._source(strength) is not None:
+            return True
+        return float(strength.default_value) > 0 and max(list(node.inputs["Color"].default_value)[:3]) > 0
 
     def finish(self, t0, frame_range=None):
         self.doc.j.setdefault("extensions", {})[EXTENSION] = self._root(frame_range)
