@@ -5,6 +5,8 @@ the folder after '--':
   unsupported.blend  a lit box whose material takes its Base Color from a
                      Noise Texture (not translated: a warning)
   nolights.blend     a box and a camera, no light
+  zero_area.blend    a floor, a box, a point light and a 0 m disk area
+                     light (left out with a warning)
   worldlit.blend     a floor, a box and a camera lit only by a grey world
                      (Background strength 2): not an unlit scene
   empty_mesh.blend   a camera, a light and only a mesh without faces
@@ -123,6 +125,18 @@ world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0
 world.node_tree.nodes["Background"].inputs["Strength"].default_value = 2.0
 bpy.context.scene.world = world
 save("worldlit.blend")
+
+reset()
+floor()
+light()
+camera()
+box("Box", (0, 0, 0.5), 0.5)
+ad = bpy.data.lights.new("Disk", 'AREA')
+ad.shape, ad.size, ad.energy = 'DISK', 0.0, 100.0
+ob = bpy.data.objects.new("Disk", ad)
+ob.location = (1, 0, 2)
+bpy.context.scene.collection.objects.link(ob)
+save("zero_area.blend")
 
 reset()
 light()

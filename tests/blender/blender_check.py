@@ -467,6 +467,8 @@ def part_unsupported():
     check(os.path.isfile(os.path.join(d, "f_0001.exr")), "the scene renders")
     check("material 'Noisy': node 'Noise Texture' (Noise Texture)" in p.stdout,
           "the warning names the material and the node")
+    n = sum("node 'Noise Texture'" in line for line in p.stdout.splitlines() if line.startswith("Warning"))
+    check(n == 1, "the warning is in the report once, not repeated from the CLI (%d)" % n)
     # A scene lit by its world alone is lit: no "no lights" warning, and a
     # grey world of strength 2 gives the floor a radiance near 0.5 * 2 * albedo.
     d = fresh("worldlit")
@@ -506,6 +508,8 @@ def part_badinput():
     case("no camera", os.path.join(scenes, "nocamera.blend"), "Cannot render, no camera")
     case("no lights", os.path.join(scenes, "nolights.blend"), "no lights, no emissive materials and a black world",
          expect_file=True)
+    case("zero-area light", os.path.join(scenes, "zero_area.blend"),
+         "light 'Disk': area light of size 0 x 0 m emits nothing; left out", expect_file=True)
     case("only an empty mesh", os.path.join(scenes, "empty_mesh.blend"),
          ["object 'Edges': its mesh has no faces; left out", "(exit 7)"])
     case("0-pixel image", blend, "Image too small", settings={"border": "0.5,0.5,0.5,0.9", "crop": "1"})

@@ -120,4 +120,8 @@ class Run:
         return self.messages[-1] if self.messages else ""
 
     def warnings(self):
-        return [m for m in self.messages if ": warning: " in m or "warning:" in m]
+        # The CLI repeats what the add-on's writer put in the extension
+        # ("the Blender writer says: ..."); the engine reported those itself
+        # when it wrote the scene, so they are not shown twice.
+        return [m for m in self.messages
+                if (": warning: " in m or "warning:" in m) and "the Blender writer says: " not in m]

@@ -472,6 +472,13 @@ class SceneWriter:
             ext["size"] = lamp.size * abs(scale.x)
             ext["sizeY"] = (lamp.size_y if lamp.shape in ('RECTANGLE', 'ELLIPSE') else lamp.size) * abs(scale.y)
             ext["spread"] = getattr(lamp, "spread", math.pi)
+            if not (ext["size"] > 0 and ext["sizeY"] > 0):
+                # Cycles 3.4 renders a zero-area light black (measured: a 0 m
+                # disk, 16 spp); photonbridge refuses one in a file (exit 5),
+                # so the render leaves it out instead of failing.
+                self.warn("light '%s': area light of size %g x %g m emits nothing; left out"
+                          % (obj.name, ext["size"], ext["sizeY"]))
+                return
             self.note("light '%s': area lights have no glTF form; only the %s extension describes it"
                       % (obj.name, EXTENSION))
         if lamp.use_nodes and lamp.node_tree and any(n.type not in ('OUTPUT_LIGHT', 'EMISSION')
