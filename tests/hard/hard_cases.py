@@ -30,6 +30,9 @@ writer's guard (the reference's `guarded_samples`, the GPU's
 `guarded.nonfinite_values`) and in the EXR read back.
 
 usage: hard_cases.py PHOTONBRIDGE EXR_PROBE WORKDIR [--only NAME] [--renderer ref|gpu|both]
+                     [--gpu-args "ARGS"]
+--gpu-args: more `render` options for the GPU half (e.g. "--estimator vsch":
+the same cases through another density estimator).
 Exit 0 when every check passes, 1 when one fails, 77 when the GPU half has no
 Vulkan device and only it was asked for."""
 import base64
@@ -517,6 +520,8 @@ def main():
         a = rest.pop(0)
         if a == "--only":
             only = rest.pop(0).split(",")
+        elif a == "--gpu-args":
+            GPU_ARGS.extend(rest.pop(0).split())
         elif a == "--renderer":
             k = rest.pop(0)
             kinds = ["ref", "gpu"] if k == "both" else [k]

@@ -44,6 +44,19 @@
 #include "shaders/temporal.spv.h"
 #include "shaders/filter_io.spv.h"
 #include "shaders/shading_correction.spv.h"
+#include "shaders/vsch_blur.spv.h"
+#include "shaders/vsch_clear.spv.h"
+#include "shaders/vsch_cone.spv.h"
+#include "shaders/vsch_count.spv.h"
+#include "shaders/vsch_fill.spv.h"
+#include "shaders/vsch_leaf.spv.h"
+#include "shaders/vsch_mark.spv.h"
+#include "shaders/vsch_range.spv.h"
+#include "shaders/vsch_ranges.spv.h"
+#include "shaders/vsch_scan.spv.h"
+#include "shaders/vsch_shade.spv.h"
+#include "shaders/vsch_shade_blender.spv.h"
+#include "shaders/vsch_up.spv.h"
 
 typedef struct entry {
   const char *name; /* block type name (bindings) or constant name (SpecId) */
@@ -156,6 +169,19 @@ static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", 
                                    {"TriMat", PB_IMAGE_BIND_TRI_MATERIAL}, {"Maps", PB_IMAGE_BIND_MAPS},
                                    {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
                                    {"Hits", PB_IMAGE_BIND_HITS},       {"Counts", PB_IMAGE_BIND_COUNTS}, END};
+static const entry vsch_bind[] = {{"FrameBuf", PB_VSCH_BIND_FRAME}, {"GBuf", PB_VSCH_BIND_GBUFFER},
+                                  {"VschData", PB_VSCH_BIND_DATA},   {"Photons", PB_VSCH_BIND_PHOTONS},
+                                  {"Counts", PB_VSCH_BIND_COUNTS},   {"Keys", PB_VSCH_BIND_KEYS},
+                                  {"Vals", PB_VSCH_BIND_VALS},       END};
+static const entry vsch_shade_bind[] = {SCENE_COMMON,
+                                        {"GBuf", PB_BIND_GBUFFER},
+                                        {"Accum", PB_BIND_ACCUM},
+                                        {"VschData", PB_VSCH_SHADE_BIND_DATA},
+                                        {"Photons", PB_VSCH_SHADE_BIND_PHOTONS},
+                                        {"Vals", PB_VSCH_SHADE_BIND_VALS},
+                                        {"PhotonAccum", PB_VSCH_SHADE_BIND_ACCUM},
+                                        {"PhotonNmap", PB_VSCH_SHADE_BIND_NMAP},
+                                        END};
 static const entry no_spec[] = {END};
 
 typedef struct module {
@@ -200,6 +226,19 @@ static const module modules[] = {
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
     MOD(filter_io, filter_io_bind, no_spec, PB_FILTER_IO_BIND_COUNT),
     MOD(shading_correction, shading_bind, no_spec, PB_SHADING_BIND_COUNT),
+    MOD(vsch_clear, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_range, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_mark, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_scan, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_cone, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_up, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_count, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_fill, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_ranges, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_leaf, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_shade, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_shade_blender, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_blur, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };
