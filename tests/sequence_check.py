@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pyl
 from pbcheck import Checker  # noqa: E402
 
 EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
-PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "materials", "deform"]
+PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "materials", "deform", "vsch"]
 T = Checker(EXE, WORK)
 check, run, fresh = T.check, T.run, T.fresh
 
@@ -135,7 +135,7 @@ if "still" in PARTS:
         check(fr[-1]["temporal"]["mean_history"] > 15.5, "still: history length 16 after 16 frames (%.2f)" %
               fr[-1]["temporal"]["mean_history"])
 
-def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7"):
+def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7", extra=()):
     """The same 8 frames with the filters off and with the defaults, against
     cached references: the filtered excess flicker at least `factor` times
     lower, the mean per-frame relMSE no worse (a ghost of a moving or
@@ -143,7 +143,7 @@ def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7"):
     d = fresh(part)
     path = scene if scene.endswith(".gltf") else sample(scene)
     common = ["render", path, "--frames", frames, "--width", str(size), "--height", str(size),
-              "--photons", "16384", "--reference-spp", str(ref_spp), "--reference-cache", cache]
+              "--photons", "16384", "--reference-spp", str(ref_spp), "--reference-cache", cache] + list(extra)
     p0 = run(common + ["--no-temporal", "--atrous-iterations", "0", "-o", d + "/raw_#.exr", "--json", d + "/raw.json"])
     p1 = run(common + ["-o", d + "/filt_#.exr", "--json", d + "/filt.json"])
     check(p0.returncode == 0 and p1.returncode == 0, "%s: both sequences render" % part)
@@ -163,6 +163,11 @@ def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7"):
 
 if "flicker" in PARTS:
     filtered_vs_raw("flicker", "cornell_box_moving_light", 64, 1024, 4)
+
+if "vsch" in PARTS:
+    # The view-sample cluster hierarchy (seed 004) under the same temporal
+    # filter and A-Trous: the filters follow the estimator's accumulator.
+    filtered_vs_raw("vsch", "cornell_box_moving_light", 64, 1024, 4, extra=["--estimator", "vsch"])
 
 if "caustics" in PARTS:
     filtered_vs_raw("caustics", "cornell_caustics_moving_sphere", 48, 256, 3)

@@ -203,7 +203,7 @@ static pb_result reserve(pb_gpu *g, vsch *v, uint32_t pixels, uint32_t cap) {
   p.nodes = (uint32_t)nodes;
   p.pair_cap = pair_cap;
   p.max_groups_x = pb_gpu_get_limits(g)->max_workgroup_count_x;
-  pb_gpu_buffer_desc dd = {.name = "vsch.data", .size = w * 4u, .readback = 1};
+  pb_gpu_buffer_desc dd = {.name = "vsch.data", .size = w * 4u}; /* device memory: stats() downloads the header */
   pb_result r = pb_gpu_buffer_create(g, &dd, &v->data);
   if (r != PB_OK) return r;
   uint32_t bits = bits_for(nodes);
