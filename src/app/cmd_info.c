@@ -9,6 +9,7 @@
 #include "color/color.h"
 #include "color/color_cli.h"
 #include "core/json.h"
+#include "render/estimator.h"
 #include "render/plan.h"
 #include "scene/camera.h"
 
@@ -162,6 +163,13 @@ static void print_text(const pb_scene *s) {
          pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
                               : "off",
          pl.alpha ? "on" : "off");
+  /* The density estimators (render --estimator; render/estimator.h): what
+   * auto picks for this scene and why, and which are in this binary. */
+  pb_estimator_desc ad = {.kind = PB_ESTIMATOR_AUTO};
+  printf("\nestimator  auto -> %s (%s); built:", pb_estimator_names[pb_estimator_resolve(s, &ad)],
+         pb_estimator_auto_rule);
+  for (uint32_t k = 0; k < PB_ESTIMATOR_AUTO; ++k)
+    printf(" %s%s", pb_estimator_names[k], pb_estimator_built(k) ? "" : " (not built)");
   char view[768];
   default_view(s, view, sizeof view);
   printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
@@ -339,6 +347,15 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   pb_render_plan pl;
   pb_render_plan_of(s, 0, &pl);
   pb_render_plan_json(&j, "pipeline", &pl); /* what the GPU passes compile in */
+  pb_estimator_desc ad = {.kind = PB_ESTIMATOR_AUTO};
+  pb_json_begin_object(&j, "estimator"); /* render --estimator */
+  pb_json_string(&j, "auto", pb_estimator_names[pb_estimator_resolve(s, &ad)]);
+  pb_json_string(&j, "auto_rule", pb_estimator_auto_rule);
+  pb_json_begin_array(&j, "built");
+  for (uint32_t k = 0; k < PB_ESTIMATOR_AUTO; ++k)
+    if (pb_estimator_built(k)) pb_json_string(&j, NULL, pb_estimator_names[k]);
+  pb_json_end_array(&j);
+  pb_json_end_object(&j);
   char view[768];
   default_view(s, view, sizeof view);
   pb_json_string(&j, "display_view", view);

@@ -22,6 +22,7 @@
 #include "core/json.h"
 #include "core/log.h"
 #include "image/image.h"
+#include "render/estimator.h"
 #include "render/photon.h"
 #include "render/plan.h"
 #include "render/render.h"
@@ -44,6 +45,7 @@ typedef struct render_opts {
   int no_edge_correction;
   int first_bounce; /* index into first_bounce_names */
   int tracer;       /* index into pb_tracer_names */
+  int estimator;    /* index into pb_estimator_names (pb_estimator_kind) */
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
@@ -144,7 +146,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   }
   if (st->iterations) {
     pb_json_number(&j, "photon_trace", st->photon_trace_ms);
-    pb_json_number(&j, "lbvh_build", st->lbvh_ms);
+    pb_json_number(&j, "estimator_build", st->estimator_build_ms);
+    pb_json_number(&j, "lbvh_build", st->estimator_build_ms); /* the former name, for readers */
     if (st->timestamps) pb_json_number(&j, "gather", st->gather_ms);
     else pb_json_null(&j, "gather");
     pb_json_number(&j, "filter", st->filter_ms);
@@ -159,9 +162,13 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_int(&j, "caustic", (int64_t)st->photons_caustic);
     pb_json_int(&j, "clamped", (int64_t)st->photons_clamped); /* footprints at r_max */
     pb_json_number(&j, "clamped_share", st->photons_stored ? (double)st->photons_clamped / st->photons_stored : 0.0);
-    pb_json_int(&j, "t_auto", st->t_auto);
-    pb_json_int(&j, "leaf_size", st->leaf_size);
-    pb_json_int(&j, "lbvh_leaves", st->lbvh_leaves);
+    /* The LBVH's (lbvh, knn): also under "estimator", kept here for the
+     * readers of the former keys (bench/run_bench.py). */
+    double t_auto = pb_render_estimator_stat(st, "t_auto", -1), leaf = pb_render_estimator_stat(st, "leaf_size", -1),
+           leaves = pb_render_estimator_stat(st, "leaves", -1);
+    if (t_auto >= 0) pb_json_int(&j, "t_auto", (int64_t)t_auto);
+    if (leaf >= 0) pb_json_int(&j, "leaf_size", (int64_t)leaf);
+    if (leaves >= 0) pb_json_int(&j, "lbvh_leaves", (int64_t)leaves);
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
     pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
@@ -176,7 +183,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     }
     if (segments > 0 && misses >= 0) pb_json_number(&j, "image_miss_rate", misses / segments);
     pb_json_int(&j, "atrous_iterations", o->atrous);
-    if (st->lbvh_sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", st->lbvh_sort_ms);
+    double sort_ms = pb_render_estimator_stat(st, "sort_ms", -1);
+    if (sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", sort_ms);
     else pb_json_null(&j, "lbvh_sort_ms");
     if (st->radius_histogram) {
       /* Footprint radii over all maps (seed 000 Table 3): bins of r_max / 20
@@ -191,6 +199,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
       pb_json_end_object(&j);
     }
     pb_json_end_object(&j);
+    pb_render_json_estimator(&j, st);
   }
   /* Buffer memory photonbridge allocated on the device, at its peak (driver
    * and pipeline memory not included). */
@@ -282,6 +291,11 @@ int pb_cmd_render(int argc, char **argv) {
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
        "how photons find their first hit: traced from the light, or rsm: sampled from reflective shadow maps by "
        "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
+      {"estimator", 0, PB_OPT_CHOICE, &o.estimator, "NAME",
+       "photon density estimator: lbvh (seed 000: footprints in a per-map LBVH, gathered by traversal), knn (seed "
+       "000 3.1: the k nearest photons), splat (seed 001: screen-space splats), vsch (seed 004: a cluster "
+       "hierarchy over the view samples) or auto (see 'photonbridge info'; default lbvh)",
+       pb_estimator_names, 0, 0},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
@@ -407,6 +421,9 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.blender_passes && !o.blender_layer)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-passes needs --blender-layer"));
   if ((r = pb_render_check_blender_passes(o.blender_passes)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (!pb_estimator_built((uint32_t)o.estimator))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: estimator '%s' is not built in this binary",
+                                    pb_estimator_names[o.estimator]));
   pb_progress_lines_enable(o.progress_lines);
   double t_start = pb_time_now();
   pb_scene s;
@@ -456,9 +473,11 @@ int pb_cmd_render(int argc, char **argv) {
   }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
-                       .r_max = (float)o.r_max, .constant_kernel = o.constant_kernel, .no_shading_correction = o.no_shading_correction,
-                       .no_edge_correction = o.no_edge_correction,
-                       .progressive = o.progressive, .alpha = (float)o.alpha, .leaf_size = o.leaf_size,
+                       .r_max = (float)o.r_max, .no_shading_correction = o.no_shading_correction,
+                       .estimator = {.kind = (uint32_t)o.estimator,
+                                     .lbvh = {.constant_kernel = o.constant_kernel,
+                                              .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size}},
+                       .progressive = o.progressive, .alpha = (float)o.alpha,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
@@ -513,10 +532,10 @@ int pb_cmd_render(int argc, char **argv) {
       pb_log_info("render: %ux%u, %u spp on %s: %.0f ms -> %s", w, h, st->spp, pb_gpu_device_name(g), st->wall_ms,
                   c.out);
     if (st->iterations)
-      pb_log_info("render: photons: %u maps, %llu emitted, %llu stored (%llu caustic), k_PD %.1f, T_auto %u; trace %.0f ms, "
-                  "LBVH %.0f ms, gather %.0f ms; device buffers peak %.1f MiB", st->iterations,
+      pb_log_info("render: photons: %u maps, %llu emitted, %llu stored (%llu caustic), k_PD %.1f, estimator %s; trace "
+                  "%.0f ms, build %.0f ms, estimate %.0f ms; device buffers peak %.1f MiB", st->iterations,
                   (unsigned long long)st->photons_emitted, (unsigned long long)st->photons_stored, (unsigned long long)st->photons_caustic, st->k_pd,
-                  st->t_auto, st->photon_trace_ms, st->lbvh_ms, st->gather_ms,
+                  st->estimator ? st->estimator : "none", st->photon_trace_ms, st->estimator_build_ms, st->gather_ms,
                   (double)pb_gpu_memory_peak(g) / 1048576.0);
     if (st->nonfinite_values)
       pb_log_warn("render: %llu NaN/Inf values in the result were written as 0 (a pass failed to guard them)",

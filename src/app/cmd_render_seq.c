@@ -211,7 +211,8 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   }
   if (st->iterations) {
     pb_json_number(j, "photon_trace", st->photon_trace_ms);
-    pb_json_number(j, "lbvh_build", st->lbvh_ms);
+    pb_json_number(j, "estimator_build", st->estimator_build_ms);
+    pb_json_number(j, "lbvh_build", st->estimator_build_ms); /* the former name, for readers */
     if (st->timestamps) pb_json_number(j, "gather", st->gather_ms);
   }
   pb_json_number(j, "motion", f->info.motion_ms);
@@ -237,6 +238,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
     }
     if (segments > 0 && misses >= 0) pb_json_number(j, "image_miss_rate", misses / segments);
     pb_json_end_object(j);
+    pb_render_json_estimator(j, st);
   }
   (void)pixels;
   if (!isnan(f->psnr)) {

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/json.h"
 #include "image/image.h"
 
 /* Cycles' depth for rays that hit nothing (its Depth pass background). */
@@ -156,4 +157,13 @@ void pb_progress_line_done(const char *output, double elapsed_s) {
   json_string(stderr, output);
   fprintf(stderr, ", \"elapsed_s\": %.3f}\n", elapsed_s);
   fflush(stderr);
+}
+
+void pb_render_json_estimator(pb_json *j, const pb_render_stats *st) {
+  if (!st->estimator) return;
+  pb_json_begin_object(j, "estimator");
+  pb_json_string(j, "name", st->estimator);
+  for (uint32_t i = 0; i < st->estimator_stat_count; ++i)
+    pb_json_number(j, st->estimator_stats[i].name, st->estimator_stats[i].value);
+  pb_json_end_object(j);
 }

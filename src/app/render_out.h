@@ -43,6 +43,12 @@ pb_result pb_render_check_blender_passes(const char *list);
  *   {"event": "done", "output": PATH, "elapsed_s": t}
  * Strings are JSON-escaped. Nothing is printed unless enabled (render
  * --progress-lines). */
+/* --json "estimator": {"name": ..., its named statistics} of a frame
+ * (pb_render_stats.estimator, estimator_stats; render/estimator.h); nothing
+ * when the photon stages were off. */
+struct pb_json;
+void pb_render_json_estimator(struct pb_json *j, const pb_render_stats *st);
+
 void pb_progress_lines_enable(int on);
 int pb_progress_lines_enabled(void);
 void pb_progress_line_stage(const char *stage, double elapsed_s);

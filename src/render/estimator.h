@@ -39,42 +39,15 @@
 
 #include "core/result.h"
 #include "gpu/gpu.h"
+#include "render/estimator_desc.h" /* pb_estimator_kind, pb_estimator_desc */
 #include "render/photon.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
 struct pb_pass_setup;
 
-typedef enum pb_estimator_kind {
-  PB_ESTIMATOR_LBVH = 0,
-  PB_ESTIMATOR_KNN = 1,
-  PB_ESTIMATOR_SPLAT = 2,
-  PB_ESTIMATOR_VSCH = 3,
-  PB_ESTIMATOR_AUTO = 4,
-  PB_ESTIMATOR_KIND_COUNT
-} pb_estimator_kind;
-
 /* Timestamp slots an estimator may use in record_build. */
 enum { PB_ESTIMATOR_TS_SLOTS = 5, PB_ESTIMATOR_MAX_STATS = 24 };
-
-/* Zero means default for every field. Each implementation reads its own
- * part; the frame's key (frame.c ctx_key) compares the whole struct. */
-typedef struct pb_estimator_desc {
-  uint32_t kind;                /* pb_estimator_kind; 0: lbvh */
-  pb_photon_estimate_desc lbvh; /* leaf_size, constant_kernel, edges */
-  struct {
-    uint32_t k;                 /* neighbours per shading point; 0: default */
-    float r_max;                /* search radius bound, m; 0: the tracer's */
-  } knn;
-  struct {
-    float s_l, s_d, s_u;        /* seed 001 eq. 2-9 kernel scales; 0: default */
-    uint32_t tile;              /* tile edge, pixels; 0: default */
-  } splat;
-  struct {
-    float radius;               /* photon radius, m; 0: the tracer's */
-    uint32_t directional;       /* 1: 8 octant flux buckets per node */
-  } vsch;
-} pb_estimator_desc;
 
 /* What the tracer knows of the map about to be estimated. */
 typedef struct pb_estimator_map_info {
@@ -120,8 +93,24 @@ extern const pb_estimator_ops pb_estimator_knn_ops;
 extern const pb_estimator_ops pb_estimator_splat_ops;
 extern const pb_estimator_ops pb_estimator_vsch_ops;
 
+/* For implementations that build the photon LBVH (lbvh, knn): its
+ * statistics named (photons, t_auto, leaf_size, leaves, area_sum,
+ * scene_area, stack_overflow of the last map; build_ms, bounds_ms,
+ * morton_ms, sort_ms, climb_ms summed, each only with timestamps). */
+uint32_t pb_estimator_lbvh_named_stats(const pb_photon_estimate_stats *es, pb_tracer_stat *out, uint32_t max);
+
 /* The names of pb_estimator_kind, in order, NULL-terminated (the CLI's
  * --estimator choices). */
 extern const char *const pb_estimator_names[];
+
+/* Which implementations this binary has: 1 where the kind's
+ * src/render/estimator_NAME.c was built (CMakeLists.txt defines
+ * PB_ESTIMATOR_HAVE_NAME for estimator.c; lbvh and auto always). The
+ * others' create fails with "estimator 'NAME' is not built in this binary". */
+int pb_estimator_built(uint32_t kind);
+/* The kind `auto` (or any kind) resolves to for scene s; the rule, in
+ * words, for `info` and the README. */
+uint32_t pb_estimator_resolve(const pb_scene *s, const pb_estimator_desc *desc);
+extern const char *const pb_estimator_auto_rule;
 
 #endif

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "render/estimator.h"
 #include "render/passes.h"
 #include "render/photon.h"
 #include "render/tracer.h"
@@ -19,7 +20,6 @@
 #include "render/targets.h"
 #include "render/filters.h"
 #include "render/shading_correction.h"
-#include "shared/pb_lbvh.h"
 #include "shared/pb_photon.h"
 #include "render/render.h"
 #include "scene/camera.h"
@@ -35,9 +35,10 @@ enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 typedef struct ctx_key {
   const pb_gpu_scene *gs;
   const void *photon_map;
-  uint32_t width, height, photons, bounces, first_bounce, leaf_size, tracer, image_maps, image_map_resolution;
+  uint32_t width, height, photons, bounces, first_bounce, tracer, image_maps, image_map_resolution;
   float smoothing, r_max, smoothing_caustic;
-  int constant_kernel, no_edge_correction, direct_only, photons_on;
+  int direct_only, photons_on;
+  pb_estimator_desc estimator; /* 4-byte fields only: no padding */
 } ctx_key;
 
 struct pb_frame_context {
@@ -46,7 +47,7 @@ struct pb_frame_context {
   pb_frame_targets tg;
   pb_gpu_pipeline gp, dp, rp, scp;
   pb_tracer *tracer;
-  pb_photon_estimator *est;
+  pb_estimator *est;
   pb_photon_map map;
 };
 
@@ -58,7 +59,7 @@ pb_result pb_frame_context_create(pb_frame_context **out) {
 static void context_clear(pb_gpu *g, pb_frame_context *c) {
   if (!c->valid) return;
   pb_photon_map_destroy(g, &c->map);
-  pb_photon_estimator_destroy(g, c->est);
+  pb_estimator_destroy(g, c->est);
   pb_tracer_destroy(g, c->tracer);
   pb_gpu_pipeline_destroy(g, &c->gp);
   pb_gpu_pipeline_destroy(g, &c->dp);
@@ -131,6 +132,30 @@ static void tracer_stats_add(const pb_tracer *t, pb_render_stats *st) {
   }
 }
 
+/* Adds the estimator's statistics of one photon map to the frame's, as
+ * tracer_stats_add does the tracer's. */
+static void estimator_stats_add(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
+  pb_tracer_stat now[PB_TRACER_MAX_STATS];
+  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
+  st->estimator = pb_estimator_name(e);
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t j = 0;
+    while (j < st->estimator_stat_count && strcmp(st->estimator_stats[j].name, now[i].name)) ++j;
+    if (j == st->estimator_stat_count) {
+      st->estimator_stats[j] = now[i];
+      st->estimator_stat_count++;
+    } else {
+      st->estimator_stats[j].value = now[i].summed ? st->estimator_stats[j].value + now[i].value : now[i].value;
+    }
+  }
+}
+
+double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing) {
+  for (uint32_t i = 0; i < st->estimator_stat_count; ++i)
+    if (!strcmp(st->estimator_stats[i].name, name)) return st->estimator_stats[i].value;
+  return missing;
+}
+
 /* Progressive mode: Hachisuka & Jensen's SPPM radius reduction in Knaus &
  * Zwicker's probabilistic form (2011): iteration i = 1, 2, ... uses an
  * independent map with every footprint scaled by k_i,
@@ -139,7 +164,8 @@ static void tracer_stats_add(const pb_tracer *t, pb_render_stats *st) {
  * and the frame averages the K estimates (each with its own radius), so
  * variance ~ 1 / (K r_K^2) -> 0 and bias ~ r_K^2 -> 0 together (r_K^2 ~
  * K^(alpha - 1)). Without it k_i = 1 (a plain average, whose bias stays).
- * The estimator applies k_i (lbvh_climb) to iteration `it`'s map. */
+ * The estimator applies k_i (pb_estimator_map_info.footprint_scale; the
+ * LBVH's in lbvh_climb) to iteration `it`'s map. */
 static float footprint_scale(const pb_render_desc *d, uint32_t it) {
   if (!d->progressive) return 1.0f;
   double k2 = 1.0, alpha = d->alpha > 0.0f ? d->alpha : 2.0 / 3.0;
@@ -249,10 +275,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_filter_chain *fc = desc.filters, *own_fc = NULL;
   int nmap_on = 0;
   pb_tracer *tracer = NULL;
-  pb_photon_estimator *est = NULL;
+  pb_estimator *est = NULL;
   pb_photon_map map;
   memset(&map, 0, sizeof map);
-  double trace_ms = 0, lbvh_ms = 0, sort_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
+  double trace_ms = 0, est_build_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
   double photon_gpu_ms = 0; /* tracing and LBVH builds of every band (timing.frame_gpu_ms) */
   pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
@@ -268,10 +294,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.gs = gs;
   key.photon_map = desc.photon_map;
   key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
-  key.first_bounce = desc.first_bounce, key.leaf_size = desc.leaf_size;
+  key.first_bounce = desc.first_bounce;
   key.tracer = desc.tracer, key.image_maps = desc.image_maps, key.image_map_resolution = desc.image_map_resolution;
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
-  key.constant_kernel = desc.constant_kernel, key.no_edge_correction = desc.no_edge_correction;
+  memcpy(&key.estimator, &desc.estimator, sizeof key.estimator);
   key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
@@ -328,7 +354,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   if (reuse) {
     /* The scene may have moved since the context was made. */
     if (tracer && (r = pb_tracer_update(g, tracer, s)) != PB_OK) goto fail;
-    pb_photon_estimator_update(est, s);
+    pb_estimator_update(est, s);
   } else if (photons_on) {
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
@@ -337,9 +363,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                             .images = {.count = desc.image_maps, .resolution = desc.image_map_resolution}};
       if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;
     }
-    pb_photon_estimate_desc ed = {.constant_kernel = desc.constant_kernel, .leaf_size = desc.leaf_size,
-                                  .no_edge_correction = desc.no_edge_correction};
-    if ((r = pb_photon_estimator_create(g, s, &ed, &est)) != PB_OK) goto fail;
+    if ((r = pb_estimator_create(g, s, &desc.estimator, &est)) != PB_OK) goto fail;
   }
 
   nmap_on = tg.nmap;
@@ -393,28 +417,33 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     for (uint32_t it = 0; it < iters_run; ++it) {
     uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
     if (photons_on && s_end > s_begin) {
-      /* One photon map per iteration (seed, it): traced, LBVH built, gather
-       * bound to this band's buffers. Bands retrace the same maps. */
+      /* One photon map per iteration (seed, it): traced, the estimator's
+       * build (the LBVH's), the estimator bound to this band's buffers.
+       * Bands retrace the same maps. */
       const pb_photon_map *m = desc.photon_map;
       double ms = 0, build_ms = 0;
-      pb_photon_estimator_set_footprint_scale(est, footprint_scale(&desc, it));
+      pb_estimator_map_info mi = {.footprint_scale = footprint_scale(&desc, it)};
       if (!m) {
-        /* The trace and the LBVH build in one submission, no host round
-         * trip between them: the build reads the stored count from the
-         * map's counts on the GPU and sizes its passes from it (lbvh.c);
+        /* The tracer's r_max is set when it is made or updated (photon.h). */
+        pb_photon_trace_stats pts;
+        pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
+        mi.r_max = pts.r_max;
+        /* The trace and the estimator's build in one submission, no host
+         * round trip between them: the build reads the stored count from
+         * the map's counts on the GPU and sizes its passes from it (lbvh.c);
          * the counts come back once, after both. */
         if ((r = pb_tracer_prepare(g, tracer, desc.seed, it, &map)) != PB_OK) goto fail;
-        if ((r = pb_photon_estimator_prepare(g, est, &map)) != PB_OK) goto fail;
+        if ((r = pb_estimator_begin_map(g, est, &map, &mi)) != PB_OK) goto fail;
         if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
         double w0 = pb_time_now();
         r = pb_tracer_record(g, tracer, 0);
-        if (r == PB_OK) r = pb_photon_estimator_record_build(g, est, 2); /* slots 2..6 */
+        if (r == PB_OK) r = pb_estimator_record_build(g, est, 2); /* slots 2..6 */
         pb_result rs = pb_gpu_submit(g);
         if (r == PB_OK) r = rs;
         if (r != PB_OK) goto fail;
         double wall_ms = (pb_time_now() - w0) * 1e3;
         if ((r = pb_tracer_finish(g, tracer, &map, 0, &ms)) != PB_OK) goto fail;
-        pb_photon_estimator_build_done(g, est, 2, &build_ms);
+        pb_estimator_build_done(g, est, 2, &build_ms);
         if (ms < 0 || build_ms < 0) ms = wall_ms, build_ms = 0; /* no timestamps: all of it to the trace */
         if (band == 0) trace_ms += ms;
         photon_gpu_ms += ms;
@@ -422,27 +451,32 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
                      out->stats.photons_clamped += m->clamped;
-      if (!desc.photon_map) {
+      if (!desc.photon_map && band == 0) {
         pb_photon_trace_stats pts;
         pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
-        if (band == 0) {
-          out->stats.photon_guarded += pts.guarded;
-          tracer_stats_add(tracer, &out->stats);
-        }
-        pb_photon_estimator_set_edge_reach(est, pts.r_max);
+        out->stats.photon_guarded += pts.guarded;
+        tracer_stats_add(tracer, &out->stats);
       }
       if (band == 0 && desc.radius_histogram && !desc.photon_map &&
           (r = radius_histogram(g, pb_tracer_photon(tracer), m, &hist_host, &out->stats)) != PB_OK)
         goto fail;
-      if (desc.photon_map && (r = pb_photon_estimator_build(g, est, m, &build_ms)) != PB_OK) goto fail;
+      if (desc.photon_map) { /* a map made by the host: the build in its own submission */
+        if ((r = pb_estimator_begin_map(g, est, m, &mi)) != PB_OK) goto fail;
+        double w0 = pb_time_now();
+        if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
+        r = pb_estimator_record_build(g, est, 0);
+        pb_result rs = pb_gpu_submit(g);
+        if (r == PB_OK) r = rs;
+        if (r != PB_OK) goto fail;
+        pb_estimator_build_done(g, est, 0, &build_ms);
+        if (build_ms < 0) build_ms = (pb_time_now() - w0) * 1e3; /* no timestamps: the wall time */
+      }
       photon_gpu_ms += build_ms > 0 ? build_ms : 0;
       if (band == 0) {
-        pb_photon_estimate_stats es;
-        lbvh_ms += build_ms;
-        if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
-        sort_ms = sort_ms >= 0 && es.sort_ms >= 0 ? sort_ms + es.sort_ms : -1;
+        est_build_ms += build_ms;
+        estimator_stats_add(g, est, &out->stats);
       }
-      if ((r = pb_photon_estimator_bind(g, est, &ps, &tg.paccum, nmap_on ? &tg.pnmap : NULL)) != PB_OK) goto fail;
+      if ((r = pb_estimator_bind(g, est, &ps, &tg.paccum, nmap_on ? &tg.pnmap : NULL)) != PB_OK) goto fail;
     }
     for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
       uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
@@ -455,7 +489,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         if (r == PB_OK) r = pb_pass_record(g, &dp, s0 + k, pixels);
         pb_gpu_barrier(g);
         pb_gpu_timestamp(g, 3 * k + 2);
-        if (photons_on && r == PB_OK) r = pb_photon_estimator_record(g, est, s0 + k, pixels, 0);
+        if (photons_on && r == PB_OK) r = pb_estimator_record(g, est, s0 + k, pixels, 0);
         pb_gpu_barrier(g);
         pb_gpu_timestamp(g, 3 * k + 3);
       }
@@ -537,18 +571,12 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   st->primary_rays = (uint64_t)n * spp_run;
   st->shadow_rays_max = (uint64_t)n * spp_run * (gs->light_count + (fr.emitter_count ? 1u : 0u));
   if (photons_on) {
-    pb_photon_estimate_stats es;
-    if ((r = pb_photon_estimator_stats(g, est, &es)) != PB_OK) goto fail;
     st->photon_trace_ms = trace_ms;
-    st->lbvh_ms = lbvh_ms;
+    st->estimator_build_ms = est_build_ms;
     st->gather_ms = ts ? gather_ms : -1;
     st->photons_stored = stored_sum;
     st->photons_caustic = caustic_sum;
     st->iterations = iters_run;
-    st->t_auto = es.t_auto;
-    st->leaf_size = es.leaf_size;
-    st->lbvh_sort_ms = sort_ms;
-    st->lbvh_leaves = es.leaves;
     st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
   }
   st->wall_ms = (pb_time_now() - wall0) * 1e3;
@@ -570,7 +598,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     return PB_OK;
   }
   pb_photon_map_destroy(g, &map);
-  pb_photon_estimator_destroy(g, est);
+  pb_estimator_destroy(g, est);
   pb_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
@@ -584,7 +612,7 @@ fail:
   pb_filter_chain_destroy(g, own_fc);
   pb_gpu_pipeline_destroy(g, &scp);
   pb_photon_map_destroy(g, &map);
-  pb_photon_estimator_destroy(g, est);
+  pb_estimator_destroy(g, est);
   pb_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);

@@ -186,15 +186,7 @@ void pb_photon_map_destroy(pb_gpu *g, pb_photon_map *m);
 
 struct pb_pass_setup;
 
-/* Zero means default for every field. */
-typedef struct pb_photon_estimate_desc {
-  int constant_kernel;        /* 1: constant kernel; 0: Epanechnikov */
-  int no_edge_correction;     /* 1: no kernel renormalisation at the edges of
-                                 faces (gather.comp; tests, ablation) */
-  uint32_t leaf_size;         /* fixed leaf-size threshold instead of T_auto
-                                 (1..PB_LBVH_MAX_FIXED_LEAF; benchmark sweeps
-                                 as in seed 000 Table 1); 0: T_auto */
-} pb_photon_estimate_desc;
+/* pb_photon_estimate_desc: render/estimator_desc.h (via render.h). */
 
 typedef struct pb_photon_estimator pb_photon_estimator;
 

@@ -20,6 +20,7 @@
 #include "core/result.h"
 #include "gpu/bvh.h"
 #include "gpu/gpu.h"
+#include "render/estimator_desc.h"
 #include "scene/scene.h"
 
 /* The scene resident on the GPU. */
@@ -152,9 +153,12 @@ typedef struct pb_render_desc {
                                   footprint, times this (uncompressed,
                                   issue 18); 0:
                                   PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
-  int constant_kernel;         /* 1: constant gather kernel, 0: Epanechnikov */
-  int no_edge_correction;      /* 1: no kernel renormalisation at the edges
-                                  of faces (gather.comp; tests, ablation) */
+  pb_estimator_desc estimator; /* the density estimator (estimator.h:
+                                  lbvh, knn, splat, vsch, auto) and its own
+                                  settings (the LBVH gather's leaf size,
+                                  constant kernel, edge correction: .lbvh);
+                                  zero: the LBVH gather, T_auto,
+                                  Epanechnikov */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
   uint32_t tracer;             /* pb_tracer_kind (tracer.h); 0: the BVH */
@@ -207,8 +211,6 @@ typedef struct pb_render_desc {
                                   NULL: atrous_iterations alone (a chain made
                                   for the call) */
   /* Benchmark (bench/run_bench.py): */
-  uint32_t leaf_size;          /* fixed LBVH leaf-size threshold instead of
-                                  T_auto (seed 000 Table 1); 0: T_auto */
   int radius_histogram;        /* 1: read every traced map back and bin its
                                   footprint radii (stats.radius_hist; costs a
                                   download per map, so off for timing) */
@@ -232,9 +234,11 @@ typedef struct pb_render_stats {
   uint64_t primary_rays, shadow_rays_max;     /* shadow_rays_max: upper bound */
   uint32_t spp, bvh_nodes, bvh_depth;
   int timestamps;                             /* 0: *_ms are wall-clock */
-  /* Photon stages (0 when off): sums over iterations; t_auto, leaves of the
-   * last map. k_pd: photons contributing per gather at a surface. */
-  double photon_trace_ms, lbvh_ms, gather_ms;
+  /* Photon stages (0 when off): sums over iterations. estimator_build_ms:
+   * the density estimator's per-map build (the LBVH's), gather_ms its
+   * per-sample pass (the gather, kNN query, splat...). k_pd: photons
+   * contributing per estimate at a surface. */
+  double photon_trace_ms, estimator_build_ms, gather_ms;
   double filter_ms;                           /* A-Trous passes (0 when off) */
   double temporal_ms;                         /* temporal filter (0 when off) */
   double motion_ms;                           /* motion vectors (0 when none) */
@@ -244,17 +248,13 @@ typedef struct pb_render_stats {
   uint64_t photons_emitted, photons_stored, photons_caustic;
   uint64_t photons_clamped;                   /* of the stored, footprints
                                                  at r_max (issue 18 item 3) */
-  uint32_t iterations, t_auto, lbvh_leaves;
+  uint32_t iterations;
   double k_pd;
   /* Guards (issue 9): NaN/Inf values met in the resolved AOVs and replaced
    * by 0 (a correct render has none), and divisions the photon tracer
    * guarded, summed over iterations (grazing hits, degenerate footprints;
    * never stored non-finite). */
   uint64_t nonfinite_values, photon_guarded;
-  uint32_t leaf_size;                         /* threshold used (T_auto or
-                                                 desc.leaf_size), last map */
-  double lbvh_sort_ms;                        /* radix sort part of lbvh_ms
-                                                 (-1 without timestamps) */
   /* With desc.radius_histogram: counts over all maps; bin width r_max /
    * (PB_RENDER_RADIUS_BINS - 1) metres; the last bin: at the clamp. */
   uint64_t radius_hist[PB_RENDER_RADIUS_BINS];
@@ -273,6 +273,13 @@ typedef struct pb_render_stats {
   const char *tracer;
   uint32_t tracer_stat_count;
   pb_tracer_stat tracer_stats[PB_TRACER_MAX_STATS];
+  /* The density estimator that ran (estimator.h: "lbvh", "knn", ...; auto
+   * resolved; NULL when the photon stages are off) and its named
+   * statistics over the frame (summed ones added over the maps, the others
+   * the last map's; the LBVH's: pb_estimator_lbvh_named_stats). */
+  const char *estimator;
+  uint32_t estimator_stat_count;
+  pb_tracer_stat estimator_stats[PB_TRACER_MAX_STATS];
   /* Host <-> device traffic of the frame (--json "transfers"):
    * pb_gpu_buffer_upload and _download bytes outside the readback, and
    * what the readback (readback.h) brought to the host. The GPU-resident
@@ -323,5 +330,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                           uint32_t width, uint32_t height, const pb_render_desc *desc,
                           pb_render_result *out);
 void pb_render_result_destroy(pb_render_result *r);
+/* The estimator statistic `name` of st (pb_render_stats.estimator_stats),
+ * or `missing` where the estimator has none of that name. */
+double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing);
 
 #endif

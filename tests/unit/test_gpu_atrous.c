@@ -119,7 +119,7 @@ static void cornell(pb_gpu *g) {
       for (int k = 0; k < 3; ++k) ext += (double)(fx.s.bounds_max[k] - fx.s.bounds_min[k]) * (fx.s.bounds_max[k] - fx.s.bounds_min[k]);
       pb_render_desc rd = {.spp = 16, .seed = 5, .photons = 1u << 15, .iterations = 4,
                            .r_max = (float)(0.05 * 0.5 * sqrt(ext)), .atrous_iterations = f ? 4 : 0,
-                           .no_edge_correction = 1};
+                           .estimator = {.lbvh = {.no_edge_correction = 1}}};
       CHECK_EQ_INT(pb_render_frame(g, &fx.s, &fx.gs, 0, w, h, &rd, &gr), PB_OK);
       pb_metrics m;
       if (gr.beauty && pb_metrics_compute(gr.beauty, fx.ref.beauty, w, h, 4, NULL, &m) == PB_OK) psnr[f] = m.psnr;

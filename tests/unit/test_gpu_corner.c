@@ -59,7 +59,7 @@ int main(void) {
     pb_camera_view(&f.s.cameras[0], f.w, f.h, &v);
     double bias[2][4]; /* [renormalised, not][strips 5, 10, 20 cm, the rest] */
     for (int off = 0; off < 2; ++off) {
-      pb_render_desc rd = {.spp = 8, .iterations = 8, .photons = 1u << 16, .seed = 3, .no_edge_correction = off};
+      pb_render_desc rd = {.spp = 8, .iterations = 8, .photons = 1u << 16, .seed = 3, .estimator = {.lbvh = {.no_edge_correction = off}}};
       pb_render_result gr;
       memset(&gr, 0, sizeof gr);
       CHECK_EQ_INT(pb_render_frame(g, &f.s, &f.gs, 0, f.w, f.h, &rd, &gr), PB_OK);

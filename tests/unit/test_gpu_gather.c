@@ -103,7 +103,7 @@ static void run(pb_gpu *g, int constant_kernel) {
   pb_render_result res;
   memset(&res, 0, sizeof res);
   CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
-  pb_render_desc rd = {.photon_map = &map, .constant_kernel = constant_kernel};
+  pb_render_desc rd = {.photon_map = &map, .estimator = {.lbvh = {.constant_kernel = constant_kernel}}};
   pb_result r = pb_render_frame(g, &s, &gs, 0, W, H, &rd, &res);
   CHECK_EQ_INT(r, PB_OK);
   if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
@@ -149,8 +149,8 @@ static void run(pb_gpu *g, int constant_kernel) {
     double tol = constant_kernel ? 0.15 * max_val : 2e-4 * max_val;
     printf("gather %s kernel: %u lit pixels, max |GPU - analytic| %.3g (largest value %.3g, tolerance %.3g), "
            "beauty - (indirect + caustic) %.3g, T_auto %u, k_PD %.2f, LBVH %.2f ms, gather %.2f ms\n",
-           constant_kernel ? "constant" : "Epanechnikov", lit, max_err, max_val, tol, beauty_err, res.stats.t_auto,
-           res.stats.k_pd, res.stats.lbvh_ms, res.stats.gather_ms);
+           constant_kernel ? "constant" : "Epanechnikov", lit, max_err, max_val, tol, beauty_err, (unsigned)pb_render_estimator_stat(&res.stats, "t_auto", 0),
+           res.stats.k_pd, res.stats.estimator_build_ms, res.stats.gather_ms);
     CHECK(lit > 200);
     CHECK(max_err <= tol);
     CHECK(beauty_err <= 1e-5 * max_val);
@@ -189,7 +189,8 @@ static double cornell_psnr(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs,
     printf("cornell_box %ux%u, 16 spp, %u x 2^16 photons: beauty PSNR %.2f dB, relMSE %.4g; mean beauty %.4f vs ref "
            "%.4f, mean indirect %.4f vs ref %.4f; T_auto %u, k_PD %.1f, LBVH %.1f ms, gather %.1f ms\n",
            w, h, iterations, m.psnr, m.relmse, gm / (3.0 * w * h), rm / (3.0 * w * h), gi / (3.0 * w * h),
-           ri / (3.0 * w * h), gr.stats.t_auto, gr.stats.k_pd, gr.stats.lbvh_ms, gr.stats.gather_ms);
+           ri / (3.0 * w * h), (unsigned)pb_render_estimator_stat(&gr.stats, "t_auto", 0), gr.stats.k_pd,
+           gr.stats.estimator_build_ms, gr.stats.gather_ms);
     CHECK_EQ_INT(m.nonfinite, 0);
     CHECK(fabs(gi - ri) < 0.05 * ri); /* energy: the indirect means within 5 % (measured +1.7 %) */
     *st = gr.stats;

@@ -1,0 +1,153 @@
+#!/usr/bin/env python3
+"""The density-estimator interface (issue 19; src/render/estimator.h).
+
+interface: `render --estimator lbvh` and `--estimator auto` (auto resolves to
+  lbvh) give the default's pixels (to float rounding: the photon store's
+  order follows the GPU's scheduling, as in tests/frame_same_pixels.py) and
+  --json "estimator": {"name": "lbvh", ...} with the LBVH's named statistics,
+  the former photons.t_auto / leaf_size / lbvh_leaves keys equal to them; a
+  sequence's frames carry the same object; `info` names what auto picks and
+  which estimators are built; an estimator this binary lacks is refused with
+  a one-line error and exit 2 before any device work.
+
+usage: estimator_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR [PART...]
+Exit 77 when no Vulkan device is present."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+EXE, PROBE, ROOT, WORK = sys.argv[1:5]
+PARTS = sys.argv[5:] or ["interface"]
+ROUNDING = 1e-5
+CORNELL = os.path.join(ROOT, "samples", "cornell_box", "cornell_box.gltf")
+COMMON = ["--width", "40", "--height", "32", "--spp", "2", "--iterations", "2", "--photons", "4096", "--seed", "5",
+          "-q"]
+failures = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def run(args, env_extra=None):
+    env = dict(os.environ)
+    env.setdefault("PB_VK_VALIDATION", "1")
+    env.update(env_extra or {})
+    p = subprocess.run([EXE] + args, capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        print(" ".join([EXE] + args))
+        print(p.stdout[-3000:])
+        print(p.stderr[-3000:])
+    return p
+
+
+def exr(path):
+    p = subprocess.run([PROBE, path], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(p.stderr)
+    return json.loads(p.stdout)["channels"]
+
+
+def worst_rel(a, b):
+    peak = max(max((abs(v) for v in a), default=0.0), 1e-6)
+    return max((abs(x - y) for x, y in zip(a, b)), default=0.0) / peak
+
+
+def same_pixels(label, got, want):
+    a, b = exr(got), exr(want)
+    worst, name = 0.0, ""
+    for ch in sorted(set(a) & set(b)):
+        w = worst_rel(a[ch], b[ch]) if len(a[ch]) == len(b[ch]) else float("inf")
+        if w > worst:
+            worst, name = w, ch
+    check(sorted(a) == sorted(b) and worst <= ROUNDING,
+          "%s: the same channels, equal to float rounding (worst %.3g of the peak, %s)" % (label, worst, name or "-"))
+
+
+def fresh(sub):
+    d = os.path.join(WORK, sub)
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    return d
+
+
+def info_estimators():
+    p = run(["info", CORNELL, "--json", "-"])
+    check(p.returncode == 0, "info --json exits 0")
+    e = json.loads(p.stdout).get("estimator", {}) if p.returncode == 0 else {}
+    t = run(["info", CORNELL])
+    check(e.get("auto") == "lbvh" and "lbvh" in e.get("built", []) and e.get("auto_rule"),
+          "info --json estimator: auto %s, built %s" % (e.get("auto"), e.get("built")))
+    check("estimator  auto -> %s" % e.get("auto") in t.stdout, "info's text names what auto picks")
+    return e.get("built", [])
+
+
+def part_interface():
+    d = fresh("interface")
+    built = info_estimators()
+    outs = {}
+    for name in ["default", "lbvh", "auto"]:
+        out, js = os.path.join(d, name + ".exr"), os.path.join(d, name + ".json")
+        extra = [] if name == "default" else ["--estimator", name]
+        p = run(["render", CORNELL, "-o", out, "--json", js] + COMMON + extra)
+        check(p.returncode == 0, "render --estimator %s exits 0" % name)
+        if p.returncode != 0:
+            continue
+        outs[name] = out
+        j = json.load(open(js))
+        e, ph = j.get("estimator", {}), j.get("photons", {})
+        check(e.get("name") == "lbvh", "%s: --json estimator.name %s" % (name, e.get("name")))
+        check(all(k in e for k in ("photons", "t_auto", "leaf_size", "leaves")) and e["photons"] > 0 and
+              e["t_auto"] >= 1 and e["leaves"] >= 1,
+              "%s: the LBVH's named statistics (photons %s, t_auto %s, leaves %s)" %
+              (name, e.get("photons"), e.get("t_auto"), e.get("leaves")))
+        check(ph.get("t_auto") == e.get("t_auto") and ph.get("leaf_size") == e.get("leaf_size") and
+              ph.get("lbvh_leaves") == e.get("leaves"),
+              "%s: photons.t_auto / leaf_size / lbvh_leaves kept, equal to estimator's" % name)
+        pm = j.get("passes_ms", {})
+        check(pm.get("lbvh_build") == pm.get("estimator_build") and pm.get("lbvh_build", -1) >= 0,
+              "%s: passes_ms.estimator_build %s (lbvh_build kept)" % (name, pm.get("estimator_build")))
+        check(j["guarded"]["nonfinite_values"] == 0, "%s: no non-finite values" % name)
+    for name in ("lbvh", "auto"):
+        if name in outs and "default" in outs:
+            same_pixels("--estimator %s vs the default" % name, outs[name], outs["default"])
+    # The fixed leaf size reaches the LBVH estimator's description.
+    js = os.path.join(d, "leaf.json")
+    p = run(["render", CORNELL, "-o", os.path.join(d, "leaf.exr"), "--json", js, "--leaf-size", "8"] + COMMON)
+    check(p.returncode == 0 and json.load(open(js))["estimator"]["leaf_size"] == 8, "--leaf-size 8: leaf_size 8")
+    # The sequence path: every frame names its estimator.
+    seq = os.path.join(ROOT, "samples", "cornell_box_moving_light", "cornell_box_moving_light.gltf")
+    js = os.path.join(d, "seq.json")
+    p = run(["render", seq, "-o", os.path.join(d, "seq_#.exr"), "--frames", "0:1", "--estimator", "lbvh",
+             "--json", js] + COMMON)
+    check(p.returncode == 0, "sequence --estimator lbvh exits 0")
+    if p.returncode == 0:
+        frames = json.load(open(js))["frames"]
+        check(len(frames) == 2 and all(f.get("estimator", {}).get("name") == "lbvh" and
+                                       f["estimator"].get("t_auto", 0) >= 1 for f in frames),
+              "sequence: estimator.name lbvh with its statistics in each of %d frames" % len(frames))
+    # Refused before any device work: a name that is none, and every kind
+    # this binary was built without.
+    for name in ["bogus"] + [k for k in ("knn", "splat", "vsch") if k not in built]:
+        p = subprocess.run([EXE, "render", CORNELL, "-o", os.path.join(d, "no.exr"), "--estimator", name],
+                           capture_output=True, text=True)
+        lines = [l for l in p.stderr.splitlines() if l.strip()]
+        want = "not built" if name != "bogus" else "estimator"
+        check(p.returncode == 2 and len(lines) >= 1 and want in lines[0] and name in lines[0] and
+              not os.path.exists(os.path.join(d, "no.exr")),
+              "--estimator %s: exit %d, '%s'" % (name, p.returncode, lines[0] if lines else ""))
+
+
+if subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True).returncode != 0:
+    print("skip: no Vulkan device")
+    sys.exit(77)
+for part in PARTS:
+    globals()["part_" + part]()
+if failures:
+    print("%d failed" % len(failures))
+    sys.exit(1)
+print("all passed")
