@@ -18,16 +18,17 @@ layout(std430, set = 0, binding = PB_VSCH_BIND_COUNTS) readonly buffer Counts { 
 layout(std430, set = 0, binding = PB_VSCH_BIND_KEYS) writeonly buffer Keys { uint keys[]; };
 layout(std430, set = 0, binding = PB_VSCH_BIND_VALS) writeonly buffer Vals { uint vals[]; };
 #define PB_VSCH_FILL 1
-uint g_slot, g_pid;
+uint g_slot, g_end, g_pid;
 void pb_vsch_list(uint g) {
-  if (g_slot < vp.pair_cap) {
+  if (g_slot < g_end) { // within the slots vsch_count reserved, and the sort's capacity
     keys[g_slot] = g;
     vals[g_slot] = g_pid;
   }
   g_slot++;
 }
 #include "common/vsch_traverse.glsl"
-#define PB_VSCH_BEGIN g_slot = vd[vp.photon_off + vp.capacity + gid]; g_pid = gid;
+#define PB_VSCH_BEGIN g_slot = vd[vp.photon_off + vp.capacity + gid]; g_pid = gid; \
+  g_end = min(g_slot + vd[vp.photon_off + gid], vp.pair_cap);
 #define PB_VSCH_END
 
 void main() {

@@ -44,6 +44,23 @@ layout(std430, set = 0, binding = PB_VSCH_SHADE_BIND_ACCUM) buffer PhotonAccum {
 layout(std430, set = 0, binding = PB_VSCH_SHADE_BIND_NMAP) buffer PhotonNmap { pb_gpu_photon_nmap pnmap[]; };
 layout(constant_id = PB_SPEC_NORMAL_MAPS) const bool SC_NORMAL_MAPS = true;
 
+// The list photons' sums in fixed point (64 bits, units of emax / 2^28 per
+// unit of f): the photon map's records are written by the tracer's atomics,
+// so their order (and each list's, sorted by record index) changes from run
+// to run; integer sums do not depend on it, and the image is the same bit
+// for bit for a fixed seed.
+const float PB_VSCH_SUM_ONE = 268435456.0;
+void pb_sum_add(inout uvec2 a, float q) {
+  if (!(q > 0.0)) return;
+  q = min(q, 1.8e19);
+  uint hi = uint(q * (1.0 / 4294967296.0));
+  uint lo = uint(q - float(hi) * 4294967296.0);
+  uint carry;
+  a.x = uaddCarry(a.x, lo, carry);
+  a.y += hi + carry;
+}
+float pb_sum_value(uvec2 a) { return float(a.y) * 4294967296.0 + float(a.x); }
+
 void main() {
   uint gid = pb_gid();
   if (gid >= vp.pixels) return;
@@ -65,6 +82,8 @@ void main() {
   vec3 vr, vu, vf;
   pb_view_frame(vr, vu, vf);
   vec3 ind = vec3(0.0), cau = vec3(0.0), edir = vec3(0.0);
+  uvec2 si[3] = uvec2[3](uvec2(0u), uvec2(0u), uvec2(0u)), sc[3] = uvec2[3](uvec2(0u), uvec2(0u), uvec2(0u));
+  float qscale = emax > 0.0 ? PB_VSCH_SUM_ONE / (emax * float(PB_VSCH_FIXED_ONE)) : 0.0;
   vec4 dir = vec4(0.0);
   uint hits = 0u;
   uint tile = vd[pw + 1u] / PB_VSCH_SLICES;
@@ -92,9 +111,9 @@ void main() {
       vec3 contrib = f * p.power * inv_area;
       if (any(isnan(contrib)) || any(isinf(contrib))) continue;
       if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) {
-        cau += contrib;
+        for (int k = 0; k < 3; ++k) pb_sum_add(sc[k], contrib[k] * qscale);
       } else {
-        ind += contrib;
+        for (int k = 0; k < 3; ++k) pb_sum_add(si[k], contrib[k] * qscale);
         if (nmap) {
           float wgt = inv_area * pb_lum(p.power);
           if (wgt > 0.0) dir += vec4(p.wi * wgt, wgt);
@@ -140,6 +159,11 @@ void main() {
     vd[pw + 8u] = floatBitsToUint(edir.x), vd[pw + 9u] = floatBitsToUint(edir.y), vd[pw + 10u] = floatBitsToUint(edir.z);
     vd[pw + 11u] = floatBitsToUint(fac.x), vd[pw + 12u] = floatBitsToUint(fac.y), vd[pw + 13u] = floatBitsToUint(fac.z);
   }
+  if (qscale > 0.0)
+    for (int k = 0; k < 3; ++k) {
+      ind[k] += pb_sum_value(si[k]) / qscale;
+      cau[k] += pb_sum_value(sc[k]) / qscale;
+    }
   ind *= g.throughput;
   cau *= g.throughput;
   pb_gpu_photon_accum pa = paccum[gid];

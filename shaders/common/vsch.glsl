@@ -47,16 +47,18 @@ float pb_node_alpha(uint g) { return uintBitsToFloat(vd[pb_node_word(g, 11u)]); 
 // the boxes live in it, seed 004 4.3: "bounding boxes in view-space
 // coordinates").
 void pb_view_frame(out vec3 r, out vec3 u, out vec3 f) {
-  f = normalize(frame.cam.forward);
+  precise vec3 f0 = normalize(frame.cam.forward);
+  f = f0;
   r = normalize(frame.cam.right - f * dot(frame.cam.right, f));
   u = cross(r, f);
   if (dot(u, frame.cam.up) < 0.0) u = -u;
 }
 vec3 pb_to_view(vec3 p) {
-  vec3 r, u, f;
+  precise vec3 r, u, f;
   pb_view_frame(r, u, f);
-  vec3 d = p - frame.cam.position;
-  return vec3(dot(d, r), dot(d, u), dot(d, f));
+  precise vec3 d = p - frame.cam.position;
+  precise vec3 v = vec3(dot(d, r), dot(d, u), dot(d, f));
+  return v;
 }
 
 // Global id of node (x, y) of level L >= 1.

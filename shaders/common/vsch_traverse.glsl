@@ -49,19 +49,26 @@
 // 0: skip, 1: descend, 2: recorded (stop).
 uint pb_vsch_visit(uint g, uint L, vec3 c, float r, vec3 wi, vec3 wiv, bool caustic, vec3 E, float emax) {
   if (vd[pb_node_word(g, 7u)] == 0u) return 0u;
+  // Every value a decision depends on is `precise` (no contraction into
+  // fused multiply-adds): vsch_count and vsch_fill are separate modules,
+  // and the compiler must make the same decisions in both, or a photon's
+  // pairs would not fit the slots its count reserved.
   vec3 lo = pb_node_lo(g), hi = pb_node_hi(g);
-  vec3 dq = c - clamp(c, lo, hi);
-  if (dot(dq, dq) > r * r) return 0u;
+  precise vec3 dq = c - clamp(c, lo, hi);
+  precise float d2 = dot(dq, dq), r2 = r * r;
+  if (d2 > r2) return 0u;
   float alpha = pb_node_alpha(g);
-  float ang = acos(clamp(dot(wi, pb_node_axis(g, L)), -1.0, 1.0));
+  precise float ca = dot(wi, pb_node_axis(g, L));
+  precise float ang = acos(clamp(ca, -1.0, 1.0));
   if ((vp.flags & PB_VSCH_NO_CONE) == 0u && ang > 0.5 * PB_VSCH_PI + alpha) {
 #ifndef PB_VSCH_FILL
     atomicAdd(vd[PB_VSCH_H_REJECTED], 1u);
 #endif
     return 0u;
   }
-  vec3 fa = max(abs(c - lo), abs(c - hi));
-  bool enclosed = dot(fa, fa) <= r * r;
+  precise vec3 fa = max(abs(c - lo), abs(c - hi));
+  precise float f2 = dot(fa, fa);
+  bool enclosed = f2 <= r2;
   bool directional = (vp.flags & PB_VSCH_DIRECTIONAL) != 0u && !caustic;
   if (!enclosed && L != 0u) return 1u;
   if (directional) {

@@ -46,6 +46,8 @@ typedef struct render_opts {
   int first_bounce; /* index into first_bounce_names */
   int tracer;       /* index into pb_tracer_names */
   int estimator;    /* index into pb_estimator_names (pb_estimator_kind) */
+  double vsch_radius;
+  int vsch_directional;
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
@@ -296,6 +298,12 @@ int pb_cmd_render(int argc, char **argv) {
        "000 3.1: the k nearest photons), splat (seed 001: screen-space splats), vsch (seed 004: a cluster "
        "hierarchy over the view samples) or auto (see 'photonbridge info'; default lbvh)",
        pb_estimator_names, 0, 0},
+      {"vsch-radius", 0, PB_OPT_FLOAT, &o.vsch_radius, "M",
+       "--estimator vsch: one photon radius in metres for every photon (seed 004's fixed radius; default 0: each "
+       "photon's own footprint radius)", NULL, 0, 0},
+      {"vsch-directional", 0, PB_OPT_FLAG, &o.vsch_directional, NULL,
+       "--estimator vsch: the directional variant (seed 004 4.7: flux per node in 8 octant buckets, weighted by "
+       "2 cos at shading, blurred; approximate, faster)", NULL, 0, 0},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
@@ -421,6 +429,9 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.blender_passes && !o.blender_layer)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-passes needs --blender-layer"));
   if ((r = pb_render_check_blender_passes(o.blender_passes)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (!(o.vsch_radius >= 0 && o.vsch_radius < 1e9))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --vsch-radius %g: a radius in metres >= 0 (0: each "
+                                    "photon's footprint radius)", o.vsch_radius));
   if (!pb_estimator_built((uint32_t)o.estimator))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: estimator '%s' is not built in this binary",
                                     pb_estimator_names[o.estimator]));
@@ -476,7 +487,8 @@ int pb_cmd_render(int argc, char **argv) {
                        .r_max = (float)o.r_max, .no_shading_correction = o.no_shading_correction,
                        .estimator = {.kind = (uint32_t)o.estimator,
                                      .lbvh = {.constant_kernel = o.constant_kernel,
-                                              .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size}},
+                                              .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size},
+                                     .vsch = {.radius = (float)o.vsch_radius, .directional = o.vsch_directional ? 1u : 0u}},
                        .progressive = o.progressive, .alpha = (float)o.alpha,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),

@@ -32,6 +32,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/log.h"
 #include "render/estimator.h"
 #include "render/lbvh_sort.h"
 #include "render/passes.h"
@@ -71,8 +72,8 @@ typedef struct vsch {
   pb_gpu_buffer photons, counts;
   uint32_t capacity, stored;
   float footprint_scale;
-  /* Statistics of the last record, read back by stats(). */
-  uint32_t samples;
+  uint32_t pairs_wanted; /* the most (node, photon) pairs a sample wanted so far */
+  int warned;
 } vsch;
 
 static void free_buffers(pb_gpu *g, vsch *v) {
@@ -176,7 +177,15 @@ static uint32_t bits_for(uint64_t n) {
 static pb_result reserve(pb_gpu *g, vsch *v, uint32_t pixels, uint32_t cap) {
   if (pixels == 0) pixels = 1;
   uint32_t directional = v->desc.vsch.directional ? 1u : 0u;
-  uint32_t pair_cap = cap * 2u > 4096u ? cap * 2u : 4096u;
+  /* The pairs' capacity (the sort's): 4 per pixel and per photon record,
+   * at least 2^16, grown to 1.5 x the most a sample wanted (read back at
+   * every bind: the next map has room). A sample that wants more drops the
+   * rest, counted (pairs_dropped) and warned about once. */
+  uint64_t want = 4ull * pixels + 4ull * cap;
+  if (want < 65536u) want = 65536u;
+  if (want < v->pairs_wanted + v->pairs_wanted / 2ull) want = v->pairs_wanted + v->pairs_wanted / 2ull;
+  if (want > 0x3fffffffull) want = 0x3fffffffull;
+  uint32_t pair_cap = (uint32_t)want;
   if (v->data.buffer && pixels <= v->pixel_cap && cap <= v->photon_cap && pair_cap <= v->pair_cap &&
       directional <= v->directional_cap)
     return PB_OK;
@@ -231,6 +240,11 @@ static pb_result vsch_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps
   vsch *v = impl;
   pb_result r;
   uint32_t pixels = (uint32_t)(photon_accum->size / sizeof(pb_gpu_photon_accum));
+  if (v->data.buffer) { /* the last sample's wanted pairs */
+    uint32_t listed = 0;
+    if ((r = pb_gpu_buffer_download(g, &v->data, PB_VSCH_H_LISTED * 4u, &listed, 4)) != PB_OK) return r;
+    if (listed > v->pairs_wanted) v->pairs_wanted = listed;
+  }
   if ((r = reserve(g, v, pixels, v->capacity)) != PB_OK) return r;
   uint32_t spec[PB_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's 0-3, as the gather */
@@ -346,6 +360,11 @@ static uint32_t vsch_stats(pb_gpu *g, void *impl, pb_tracer_stat *out, uint32_t 
       {"trivial_accepts", PB_VSCH_H_TRIVIAL}, {"cone_rejects", PB_VSCH_H_REJECTED},
       {"directional_adds", PB_VSCH_H_DIRECTIONAL},
   };
+  if (h[PB_VSCH_H_PAIR_OVERFLOW] && !v->warned) {
+    pb_log_warn("vsch estimator: %u of %u photon list entries dropped (the list was full); later photon maps get "
+                "room for them", h[PB_VSCH_H_PAIR_OVERFLOW], h[PB_VSCH_H_LISTED]);
+    v->warned = 1;
+  }
   uint32_t n = 0;
   for (size_t i = 0; i < sizeof k / sizeof *k && n < max; ++i, ++n) {
     out[n].name = k[i].name;

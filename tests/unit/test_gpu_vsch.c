@@ -43,10 +43,7 @@ static void vsch_desc(pb_render_desc *rd, float radius, int directional) {
 }
 
 static double stat_of(const pb_render_result *res, const char *name) {
-  for (uint32_t i = 0; i < PB_TRACER_MAX_STATS; ++i)
-    if (res->stats.estimator_stats[i].name && !strcmp(res->stats.estimator_stats[i].name, name))
-      return res->stats.estimator_stats[i].value;
-  return -1;
+  return pb_render_estimator_stat(&res->stats, name, -1);
 }
 
 static void plane_scene(pb_scene *s, pb_material *mat, pb_camera *cam, float (*pos)[3], float (*nrm)[3],
@@ -267,10 +264,15 @@ static void cornell(pb_gpu *g) {
 
 int main(void) {
   PBT_GPU_OPEN(g);
+  if (getenv("VSCH_R")) { /* one plane case at radius VSCH_R (debugging) */
+    plane(g, (float)atof(getenv("VSCH_R")), 0);
+    pb_gpu_destroy(g);
+    return pbt_done();
+  }
   plane(g, 0.1f, 0);
-  plane(g, 0.6f, 0);
+  plane(g, 0.35f, 0);
   plane(g, 0.1f, 1);
-  plane(g, 0.6f, 1);
+  plane(g, 0.35f, 1);
   cornell(g);
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
   pb_gpu_destroy(g);
