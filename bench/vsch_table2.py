@@ -47,7 +47,7 @@ def compare(exe, a, b, work):
     js = a[:-4] + "_cmp.json"
     run([exe, "compare", a, b, "--json", js, "-q"])
     j = json.load(open(js))
-    return j["psnr"], j["ssim"]
+    return j["psnr_db"], j["ssim"]
 
 
 def estimator_ms(j):
