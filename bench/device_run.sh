@@ -11,8 +11,8 @@
 # STEPS: comma-separated step names to run (default: all), e.g.
 # "devices,lbvh,lbvh_paths,cornell_1080p,cornell_1080p_1m_warm,cornell_1080p_1m,cornell_128" for
 # the photon map's numbers alone (issue 22, about 3 minutes), or
-# "devices,frame_timing_1080p,frame_timing_1080p_single" for the frame's host
-# share (issue 17, about 2 minutes).
+# "devices,frame_timing_1080p,frame_timing_1080p_sync,frame_timing_1080p_single"
+# for the frame's host share (issue 17, about 3 minutes).
 set -u
 pack=$1 out=$2 only=${3:-}
 mkdir -p /tmp/pb "$out"
@@ -48,6 +48,9 @@ step cornell_1080p_1m 120 $b/photonbridge render $s/cornell_box/cornell_box.gltf
 # vectors, temporal filter, 4 A-Trous passes each frame, filters on the GPU)
 # and a single frame; per frame wall, GPU, host share and transfers.
 step frame_timing_1080p 150 python3 bench/frame_timing.py $b/photonbridge $s/cornell_box/cornell_box.gltf 1920x1080 5 --photons 1048576 --orbit --orbit-seconds 8
+# Frames in flight (the default since issue 17's ring): the same sequence one
+# frame at a time, for the before/after of the host share.
+step frame_timing_1080p_sync 150 python3 bench/frame_timing.py $b/photonbridge $s/cornell_box/cornell_box.gltf 1920x1080 5 --photons 1048576 --orbit --orbit-seconds 8 --frames-in-flight 1
 step frame_timing_1080p_single 90 python3 bench/frame_timing.py $b/photonbridge $s/cornell_box/cornell_box.gltf 1920x1080 1 --photons 1048576 --atrous-iterations 4
 # Cross-driver check: the same seed as on lavapipe (compared on the host).
 step cornell_128 60 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 128 --spp 4 --iterations 4 --seed 1 -o "$out/cornell_128_nvidia.exr"

@@ -84,6 +84,13 @@ CONFIGS = {
                      needs="--first-bounce"),
             pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(1, 4), (4, 8), (16, 32)],
                      extra=["--atrous-iterations", "5"], needs="--atrous-iterations"),
+            # The density estimators (issue 19): kNN at its default k = 64.
+            pb_curve("2^16, kNN (k 64)", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "knn"],
+                     needs="--estimator"),
+            # Seed 003's image-space photon tracer (issue 20): 8 cube maps
+            # instead of the BVH; its misses are in the section below.
+            pb_curve("2^16, images tracer (8 maps)", 1 << 16, [(4, 8), (16, 32)], extra=["--tracer", "images"],
+                     needs="--tracer"),
         ],
         "reference": [4, 16, 64, 256, 1024],
         # POV-Ray's medium radiosity + caustic photons on cornell_caustics
@@ -105,6 +112,8 @@ CONFIGS = {
             pb_curve("2^16, progressive", 1 << 16, [(4, 8), (16, 32)], extra=["--progressive"]),
             pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(4, 8), (16, 32)], extra=["--atrous-iterations", "5"],
                      needs="--atrous-iterations"),
+            pb_curve("2^16, kNN (k 64)", 1 << 16, [(4, 8), (16, 32)], extra=["--estimator", "knn"],
+                     needs="--estimator"),
         ],
         "reference": [4, 16, 64, 256],
         # POV-Ray's medium radiosity + photons takes minutes on cornell_caustics.
@@ -202,8 +211,12 @@ def run_point(cmd, log, timeout, env=None):
         f.write("\nexit=%d wall_s=%.3f maxrss_kb=%s\n" % (rc, wall, maxrss))
     with open(log) as f:
         out = f.read()
+    # CPU seconds of the child and the descendants it waited for (wait4's
+    # rusage): on a shared machine a better measure than wall time of work
+    # done on the CPU, lavapipe's included (bench/alternating.py).
+    cpu = ru.ru_utime + ru.ru_stime
     return {"rc": rc, "wall_s": round(wall, 4), "maxrss_mb": round(maxrss / 1024.0, 1) if maxrss else None,
-            "out": out}
+            "cpu_s": round(cpu, 4), "out": out}
 
 
 def read_json(path):
@@ -866,6 +879,7 @@ def markdown(res, rel):
                                                                    r["sort_ms"], r["sort_mkeys_s"], r["t_auto"]))
         if "lbvh_rates.svg" in res["plots"]:
             L.append("\n![LBVH rates](%s/lbvh_rates.svg)\n" % rel)
+    L += tracer_section(res, rel)
     L.append("## Settings\n")
     L.append("Converged references (`photonbridge reference --estimate-noise`, seed 0; the reference sweep uses "
              "seed 1):\n")
@@ -897,6 +911,36 @@ def markdown(res, rel):
         L += ["- %s %s %s: %s" % (p["scene"], p["renderer"], json.dumps(p["params"]), p.get("error", "")[:160])
               for p in failed]
     return "\n".join(L) + "\n"
+
+
+def tracer_section(res, rel_out):
+    """The image-space photon tracer beside the BVH tracer (issue 20, seed
+    003): bench/tracer_images.py's last results on this device
+    (bench/results/DEVICE/tracer_images/tracer_images.json), with its misses."""
+    d = os.path.join(ROOT, "bench", "results", slug(res["device"]["name"]), "tracer_images")
+    js = read_json(os.path.join(d, "tracer_images.json"))
+    if not js:
+        return []
+    sys.path.insert(0, HERE)
+    import tracer_images
+    # Links relative to the Markdown file: rel_out is the results folder
+    # relative to it.
+    md_dir = os.path.normpath(os.path.join(os.path.abspath(res["out_abs"]), os.path.relpath(".", rel_out)))
+    rel = os.path.relpath(d, md_dir)
+    runs = js.get("runs", {})
+    L = ["## The image-space photon tracer (seed 003) beside the BVH tracer\n",
+         "`--tracer images` (k = 8 cube environment maps of 128^2 texels per face, no hierarchy) against "
+         "`--tracer bvh`, from `bench/tracer_images.py` on this device (its own runs, not this sweep's: %s; "
+         "[`%s/TRACER_IMAGES.md`](%s/TRACER_IMAGES.md) has every table). The miss rate is the share of photon "
+         "segments no map confirmed (`photons.image_miss_rate`); the uncovered share the part of the "
+         "candidates' view no centre sees (eq. 1)." % (
+             "; ".join("%s %s UTC, load %s" % (k, v["date"][:16].replace("T", " "),
+                                                "%.1f" % v["load_start"] if v.get("load_start") is not None
+                                                else "?")
+                       for k, v in sorted(runs.items())) or "date unknown", rel, rel)]
+    L += tracer_images.samples_md(js, rel + "/")
+    L.append("")
+    return L
 
 
 def note_load(load_start, cores):

@@ -15,7 +15,7 @@ its --json per-frame records (wall time between frames, PSNR).
              move); reported: the wall time from the move to the first frame
              within 1 dB of it, and that frame's number
 
-usage: view_bench.py PHOTONBRIDGE OUTDIR [--photons N] [--frames N]
+usage: view_bench.py PHOTONBRIDGE OUTDIR [--photons N] [--frames N] [--frames-in-flight 1|2]
 Prints a markdown table (machine, device, scene, sizes, photons) for
 bench/README.md.
 """
@@ -35,6 +35,8 @@ ap.add_argument("--frames", type=int, default=12)
 ap.add_argument("--converge-frames", type=int, default=48)
 ap.add_argument("--ref-spp", type=int, default=1024)
 ap.add_argument("--sizes", default="256,512")
+ap.add_argument("--frames-in-flight", type=int, default=1, choices=(1, 2),
+                help="view --frames-in-flight (2: the window one frame behind the renderer)")
 a = ap.parse_args()
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 scene = os.path.join(root, "samples/cornell_box/cornell_box.gltf")
@@ -50,7 +52,8 @@ def view(size, script_lines, frames, extra=()):
         f.write("\n".join(script_lines) + "\n")
     stats = os.path.join(a.out, "view_%d.json" % size)
     cmd = [xvfb, "-a", "-s", "-screen 0 1400x1000x24", "nice", a.exe, "view", scene, "--width", str(size),
-           "--photons", str(a.photons), "--exit-after", str(frames), "--script", script, "--json", stats, "-q"]
+           "--photons", str(a.photons), "--exit-after", str(frames), "--script", script, "--json", stats, "-q",
+           "--frames-in-flight", str(a.frames_in_flight)]
     subprocess.run(cmd + list(extra), check=True)
     return json.load(open(stats))
 
@@ -93,8 +96,9 @@ for k, f in enumerate(after):
         hit = (k, t)
         break
 
-print("machine: %s, %d cores (%s); device %s; cornell_box, %d photon paths a frame, %d stored" %
-      (platform.processor() or platform.machine(), os.cpu_count(), platform.node(), device, a.photons, rows[0][6]))
+print("machine: %s, %d cores (%s); device %s; cornell_box, %d photon paths a frame, %d stored; %d frame(s) in flight" %
+      (platform.processor() or platform.machine(), os.cpu_count(), platform.node(), device, a.photons, rows[0][6],
+       a.frames_in_flight))
 print()
 print("| size | fps orbiting (frames) | fps still (frames) | ms a still frame (render + resolve + filters) |")
 print("|---:|---:|---:|---:|")

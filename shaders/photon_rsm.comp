@@ -45,8 +45,9 @@
 // PB_RSM_MODE_PYRAMID, dispatched once per level l = 1 .. log2(res), one
 // invocation per node: the sum of its 2 x 2 children at level l - 1 (the
 // texels' weights at level 0), stored as common/rsm_texel.glsl's
-// pb_rsm_node describes. PB_RSM_MODE_TOTAL, one invocation per light: the
-// sum of its faces' tops (rlights.total). The tracer warps stratified points
+// pb_rsm_node describes. PB_RSM_MODE_TOTAL, one workgroup per light: the
+// sum of its faces' tops (rlights.total) and the map's coverage
+// (rlights.coverage, see pb_rsm_total). The tracer warps stratified points
 // down the pyramid (hierarchical warp, seed 001 24.2.1).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
@@ -160,17 +161,56 @@ void pb_rsm_pyramid(uint gid) {
   rtexels[rl.first + pb_rsm_node(rl, push.level, face, x, y)].pyramid = w;
 }
 
-void pb_rsm_total(uint li) {
+// Coverage c of a light's map: the share of the light's flux (luminance)
+// that falls on texels with a weight, i.e. on the scene's front faces; the
+// rest leaves the scene. A traced first bounce spends the same share 1 - c
+// of the light's photons on rays that miss (each of them costs a trace and
+// carries the flux the estimate then lacks elsewhere), while the map spends
+// every photon on the scene: at equal paths the map puts 1 / c times the
+// traced photons on every lit surface (the flux is the same, each photon
+// carries c times less of it). On ring, point light 3 m from a 4 x 4 m
+// floor and a 1 m ring, c is about 0.05 (the floor covers 4.9 % of the
+// light's sphere, the ring 0.2 %), which is the 20-some times more caustic
+// records the RSM stores there at equal paths (bench/README.md, "ring and
+// 35 dB"), not a difference in the flagging or weighting of caustic
+// photons. Directional maps are the square of side 2 R around the scene's
+// bounding disc, the traced emission that disc: hits lie inside the disc, so
+// c is the square's share times 4 / pi.
+shared float s_cov_all[PB_GPU_WORKGROUP], s_cov_hit[PB_GPU_WORKGROUP];
+void pb_rsm_total(uint li, uint l) {
   pb_gpu_rsm_light rl = rlights[li];
+  float all = 0.0, hit = 0.0;
+  for (uint i = l; i < rl.count; i += PB_GPU_WORKGROUP) {
+    pb_gpu_rsm_texel tx = rtexels[rl.first + i];
+    float f = pb_rsm_lum(tx.flux);
+    all += f;
+    if (tx.weight > 0.0) hit += f;
+  }
+  s_cov_all[l] = all;
+  s_cov_hit[l] = hit;
+  barrier();
+  for (uint w = PB_GPU_WORKGROUP / 2u; w > 0u; w >>= 1u) {
+    if (l < w) {
+      s_cov_all[l] += s_cov_all[l + w];
+      s_cov_hit[l] += s_cov_hit[l + w];
+    }
+    barrier();
+  }
+  if (l != 0u) return;
   float t = 0.0;
   for (uint f = 0u; f < rl.faces; ++f) t += pb_rsm_weight(rl, rl.levels, f, 0u, 0u);
   rlights[li].total = t;
+  float c = s_cov_all[0] > 0.0 ? s_cov_hit[0] / s_cov_all[0] : 1.0;
+  if (lights[rl.light].type == PB_GPU_LIGHT_DIRECTIONAL) c *= 4.0 / 3.14159265358979;
+  rlights[li].coverage = clamp(c, 0.0, 1.0);
 }
 
 void main() {
   uint gid = pb_gid();
   if (push.mode == PB_RSM_MODE_TOTAL) {
-    if (gid < push.light_count) pb_rsm_total(gid);
+    // One workgroup per light (uniform in the workgroup: the barriers).
+    uint li = gid / PB_GPU_WORKGROUP;
+    if (li < push.light_count) pb_rsm_total(li, gid % PB_GPU_WORKGROUP);
     return;
   }
   if (gid >= push.texels) return;

@@ -155,11 +155,35 @@ float pb_prand(uint path, uint dim) { return pb_rand(path, params.iteration, dim
 const uint PB_RSM_ROTATION_DIM = 1000u;
 const uint PB_EMIT_DIM = 1002u;
 
+// ray_length: the length of the segment that brought the photon here (seed 003's
+// bandwidth).
 void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caustic, uint bounce,
-              uint path) {
+              uint path, float ray_length) {
   float delta = params.delta;
   vec3 a = delta * dPu, b = delta * dPv;
-  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
+  if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && params.bandwidth_h0 > 0.0) {
+    // Seed 003 section 6 (render --bandwidth-c0): "h = C sqrt(A / N) ...
+    // C = C0 / sqrt(p) ... p is clamped to a certain range [P_min, P_max].
+    // The PDF is approximated as p = cos(theta) / d^2 where d is the
+    // traveled distance of the photon ray and theta is the incident angle."
+    // p has units 1/m^2 there, C0 none, so that h would not be a length;
+    // here p is made dimensionless by R^2 (R the scene's bounding radius:
+    // p R^2 = 1 for a head-on hit after travelling R; derived, the paper is
+    // silent) and clamped to [PB_PHOTON_BANDWIDTH_P_MIN, _MAX] (photon.h).
+    // d: the last segment's length (the "photon ray" that stored it).
+    // bandwidth_h0 = C0 sqrt(A / N) (host). A disc in the tangent plane, for
+    // every photon (the paper splats caustic photons the same way); the
+    // differentials still drive the paths, not the footprints.
+    float R = params.scene_radius;
+    float cos_t = abs(dot(wi, n));
+    float pr = cos_t * R * R / max(ray_length * ray_length, 1e-12 * R * R);
+    pr = clamp(pr, params.bandwidth_p_min, params.bandwidth_p_max);
+    float h = params.bandwidth_h0 / sqrt(pr);
+    vec3 tb, bb;
+    pb_basis(n, tb, bb);
+    a = h * tb;
+    b = h * bb;
+  } else if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
       (params.flags & PB_PHOTON_PARAM_CAUSTIC_RAW) != 0u) {
     // Caustic photons (issue 18 item 2): seed 000 4.3 rescales "the
     // footprints of all diffusely reflected photons"; a photon that has
@@ -247,7 +271,7 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
   ph.normal = n;
   ph.path = path;
   ph.axis_u = a;
-  ph.pad0 = 0.0;
+  ph.ray_length = isinf(ray_length) || isnan(ray_length) ? 0.0 : ray_length; // seed 001 eq. 2
   ph.axis_v = b;
   ph.pad1 = 0.0;
   photons[idx] = ph;
@@ -392,6 +416,16 @@ void pb_trace_path(uint gid) {
   vec3 o, d, dPu = vec3(0.0), dPv = vec3(0.0), dDu = vec3(0.0), dDv = vec3(0.0);
   bool stencil_here = h > 0.0 && params.stencil_depth == 0u;
   bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u && !soft;
+  // --first-bounce auto: the map only for a light whose map covers less than
+  // PB_RSM_AUTO_COVERAGE of its flux (photon_rsm.comp pb_rsm_total): there
+  // a traced first bounce loses more than half of its photons to rays that
+  // miss the scene and the map puts more than twice the photons on every
+  // lit surface (1 / c: 20x on ring); where the map covers more (closed
+  // rooms: c = 1) the gain is under 2x and the map's loss of geometry
+  // thinner than a texel (photon_rsm.comp) is not worth it, so the light is
+  // traced as by default. Both are unbiased per light; lights may differ.
+  if (rsm && (params.flags & PB_PHOTON_PARAM_RSM_AUTO) != 0u && !(rlights[li].coverage < PB_RSM_AUTO_COVERAGE))
+    rsm = false;
   uint first_prim = PB_GPU_MISS;
   float first_t = 0.0, first_u = 0.0, first_v = 0.0;
   if (rsm) {
@@ -491,7 +525,7 @@ void pb_trace_path(uint gid) {
     vec3 wo = -d;
     pb_bsdf b = pb_bsdf_setup_t(surf, wo, pb_surface_tangent(prim, u, v));
     if ((depth >= 1u || (params.flags & PB_PHOTON_PARAM_STORE_FIRST) != 0u) && pb_bsdf_has_smooth(b)) {
-      pb_store(surf.p, surf.ng, wo, power, dPu, dPv, caustic, depth, gid);
+      pb_store(surf.p, surf.ng, wo, power, dPu, dPv, caustic, depth, gid, t);
       if (++stored >= params.max_bounces) return;
     }
     float cos_o = dot(wo, b.n);

@@ -20,7 +20,10 @@ for l in j["lights"]:
     if not (l.get("intensity_w_sr", l.get("irradiance_w_m2", 0)) > 0): problems.append(f"light {l['name']} has no power")
 t = subprocess.run([exe, "info", scene], capture_output=True, text=True, timeout=120)
 if f"triangles  {j['triangles']}" not in t.stdout: problems.append("text summary disagrees with --json")
-checks = 7
+# The photon tracers render --tracer takes (bvh the default), in both forms.
+if j.get("tracers") != ["bvh", "images"] or "tracers    bvh (default" not in t.stdout or ", images (" not in t.stdout:
+    problems.append("tracers not listed: %r" % j.get("tracers"))
+checks = 8
 for m in problems: print("FAIL:", m)
 print(f"{checks - len(problems)} passed, {len(problems)} failed")
 sys.exit(1 if problems else 0)

@@ -122,3 +122,20 @@ pb_cli_test(cli_render_image_maps_99 render samples/cornell_box/cornell_box.gltf
             --tracer images --image-maps 99 EXIT 2 REGEX "--image-maps: 99 is outside \\[1, 15\\].*exit=2")
 pb_cli_test(cli_render_tracer_unknown render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
             --tracer kdtree EXIT 2 REGEX "--tracer: unknown value 'kdtree'.*exit=2")
+# --tracer wherever a render is configured (issue 20 item 1): view and serve
+# take render's choices (app/live_opts.h); the images tracer's options
+# without it are an error, not ignored; info lists the tracers.
+pb_cli_test(cli_view_tracer_unknown view samples/cornell_box/cornell_box.gltf --tracer kdtree EXIT 2
+            REGEX "--tracer: unknown value 'kdtree'.*exit=2")
+pb_cli_test(cli_serve_tracer_unknown serve samples/cornell_box/cornell_box.gltf --tracer kdtree EXIT 2
+            REGEX "--tracer: unknown value 'kdtree'.*exit=2")
+pb_cli_test(cli_serve_image_maps_without_tracer serve samples/cornell_box/cornell_box.gltf --image-maps 4 EXIT 2
+            REGEX "serve: error: --image-maps and --image-map-resolution need --tracer images.*exit=2")
+pb_cli_test(cli_view_image_maps_99 view samples/cornell_box/cornell_box.gltf --tracer images --image-maps 99 EXIT 2
+            REGEX "--image-maps: 99 is outside \\[1, 15\\].*exit=2")
+pb_cli_test(cli_render_image_maps_without_tracer render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
+            --image-map-resolution 64 EXIT 2 REGEX "render: error: --image-maps and --image-map-resolution need --tracer images.*exit=2")
+pb_cli_test(cli_info_tracers info samples/cornell_box/cornell_box.gltf EXIT 0
+            REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(seed 003.*exit=0")
+pb_cli_test(cli_info_tracers_json info --json - samples/cornell_box/cornell_box.gltf EXIT 0
+            REGEX "\"tracers\":[ \n\t]*\\[[ \n\t]*\"bvh\",[ \n\t]*\"images\"[ \n\t]*\\].*exit=0")

@@ -5,3 +5,24 @@ add_test(NAME estimator_interface
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/estimator_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                  ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check interface)
 set_tests_properties(estimator_interface PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
+# kNN photon mapping (seed 000 3.1): tests/unit/test_gpu_knn.c.
+if(TEST test_gpu_knn)
+  set_tests_properties(test_gpu_knn PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize" TIMEOUT 600)
+endif()
+add_test(NAME estimator_knn_cli
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/estimator_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                 ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check knn)
+set_tests_properties(estimator_knn_cli PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
+# The numerical hard cases (tests/hard/hard_cases.py: scale 1e-3 .. 1e3, far
+# from the origin, grazing light, degenerate triangles, extreme lights and
+# albedos) with kNN: finite everywhere, the same picture as kNN's own
+# cornell_box.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME hard_cases_gpu_knn
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/hard_gpu_knn --renderer gpu --gpu-args "--estimator knn"
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(hard_cases_gpu_knn PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize;hard" TIMEOUT 900)
+endif()

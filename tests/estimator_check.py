@@ -10,6 +10,8 @@ interface: `render --estimator lbvh` and `--estimator auto` (auto resolves to
   which estimators are built; an estimator this binary lacks is refused with
   a one-line error and exit 2 before any device work.
 
+knn: see part_knn.
+
 usage: estimator_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR [PART...]
 Exit 77 when no Vulkan device is present."""
 import json
@@ -140,6 +142,51 @@ def part_interface():
         check(p.returncode == 2 and len(lines) >= 1 and want in lines[0] and name in lines[0] and
               not os.path.exists(os.path.join(d, "no.exr")),
               "--estimator %s: exit %d, '%s'" % (name, p.returncode, lines[0] if lines else ""))
+
+
+def part_knn():
+    """kNN from the command line: --knn-k reaches the estimator (its k in
+    --json, k_PD = k where r_max allows), the pixels near the LBVH gather's
+    (mean within 3 % at this small budget), a sequence with the temporal
+    filter on top (finite, every frame names knn), --knn-k refused without
+    --estimator knn."""
+    d = fresh("knn")
+    outs = {}
+    for name, extra in [("lbvh", []), ("knn", ["--estimator", "knn", "--knn-k", "32"])]:
+        out, js = os.path.join(d, name + ".exr"), os.path.join(d, name + ".json")
+        p = run(["render", CORNELL, "-o", out, "--json", js, "--width", "32", "--spp", "4", "--iterations", "4",
+                 "--photons", "32768", "--seed", "3", "-q"] + extra)
+        check(p.returncode == 0, "render %s exits 0" % name)
+        if p.returncode == 0:
+            outs[name] = (exr(out), json.load(open(js)))
+    if len(outs) == 2:
+        j = outs["knn"][1]
+        e = j.get("estimator", {})
+        check(e.get("name") == "knn" and e.get("k") == 32 and e.get("t_auto", 0) >= 1,
+              "knn: --json estimator %s, k %s, the LBVH build's t_auto %s" % (e.get("name"), e.get("k"),
+                                                                             e.get("t_auto")))
+        check(30 <= j["photons"]["k_pd"] <= 32, "knn: k_PD %.2f (k 32 where r_max allows)" % j["photons"]["k_pd"])
+        check(j["guarded"]["nonfinite_values"] == 0, "knn: no non-finite values")
+        m = [sum(sum(outs[n][0]["indirect." + c]) for c in "RGB") for n in ("knn", "lbvh")]
+        check(abs(m[0] / m[1] - 1) < 0.03, "knn: mean indirect %+.2f %% of the LBVH gather's" % (100 * (m[0] / m[1] - 1)))
+    seq = os.path.join(ROOT, "samples", "cornell_box_moving_light", "cornell_box_moving_light.gltf")
+    js = os.path.join(d, "seq.json")
+    p = run(["render", seq, "-o", os.path.join(d, "seq_#.exr"), "--frames", "0:2", "--estimator", "knn",
+             "--json", js] + COMMON)
+    check(p.returncode == 0, "sequence --estimator knn (temporal filter, A-Trous) exits 0")
+    if p.returncode == 0:
+        frames = json.load(open(js))["frames"]
+        check(len(frames) == 3 and all(f.get("estimator", {}).get("name") == "knn" for f in frames),
+              "sequence: estimator.name knn in each of %d frames" % len(frames))
+        for f in range(3):
+            img = exr(os.path.join(d, "seq_%d.exr" % f))
+            bad = sum(1 for ch in img.values() for v in ch if not isinstance(v, (int, float)) or v != v)
+            ind = sum(sum(img["indirect." + c]) for c in "RGB")
+            check(bad == 0 and ind > 0, "sequence frame %d: finite (%d bad), indirect %.4g" % (f, bad, ind))
+    p = subprocess.run([EXE, "render", CORNELL, "-o", os.path.join(d, "no.exr"), "--knn-k", "8"],
+                       capture_output=True, text=True)
+    check(p.returncode == 2 and "--knn-k needs --estimator knn" in p.stderr,
+          "--knn-k without --estimator knn: exit %d" % p.returncode)
 
 
 if subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True).returncode != 0:

@@ -3,7 +3,7 @@
 # (tests/frame_same_pixels.py); with -DPB_BASELINE_EXE=/path/to/photonbridge
 # (a build of an earlier commit) also the same pixels as that binary.
 set(PB_BASELINE_EXE "" CACHE FILEPATH "photonbridge binary of an earlier commit for frame_same_pixels_*")
-foreach(part samples extra)
+foreach(part samples extra in_flight still_gpu)
   add_test(NAME frame_same_pixels_${part}
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/frame_same_pixels.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/frame_same_pixels_${part} "${PB_BASELINE_EXE}" ${part})

@@ -16,7 +16,7 @@ Also checks that --json reports timing.frame_wall_ms and frame_gpu_ms (a
 number with timestamps) and no non-finite values.
 
 usage: frame_same_pixels.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR [BASELINE] [PART...]
-PART: samples, extra (default both). Exit 77 when no Vulkan device is present."""
+PART: samples, extra, in_flight, still_gpu (default samples and extra). Exit 77 when no Vulkan device is present."""
 import glob
 import json
 import os
@@ -154,6 +154,80 @@ def part_extra():
             if "gpu" in outs and other in outs:
                 compare("sequence frame %d vs %s" % (f, other), outs["gpu"].replace("#", str(f)),
                         outs[other].replace("#", str(f)))
+
+
+def part_in_flight():
+    """Frames in flight (issue 17, src/render/sequence.h): a sequence rendered
+    with --frames-in-flight 2 (the frame's last submission and the readback's
+    copy into the ring run while the host goes on; frames come out one late)
+    against --frames-in-flight 1 (one frame at a time), same seed: the same
+    pixels to float rounding (the photon store's order, as above), the same
+    per-frame records. A moving light (temporal filter, motion vectors,
+    A-Trous), a still camera (the progressive accumulation, which the
+    in-flight path runs one frame late), and a warm-up frame."""
+    d = fresh("in_flight")
+    cases = [("moving_light", os.path.join(ROOT, "samples", "cornell_box_moving_light",
+                                           "cornell_box_moving_light.gltf"), ["--frames", "0:3"]),
+             ("still", os.path.join(ROOT, "samples", "cornell_box", "cornell_box.gltf"),
+              ["--frames", "0:3", "--warmup", "1"])]
+    for label, scene, extra in cases:
+        outs, recs = {}, {}
+        for n in ("1", "2"):
+            pat = os.path.join(d, "%s_%s_#.exr" % (label, n))
+            js = os.path.join(d, "%s_%s.json" % (label, n))
+            p = run(EXE, ["render", scene, "-o", pat, "--json", js, "--frames-in-flight", n] + COMMON + extra)
+            check(p.returncode == 0, "%s: --frames-in-flight %s exits 0" % (label, n))
+            if p.returncode != 0:
+                continue
+            outs[n] = pat
+            j = json.load(open(js))
+            check(j.get("frames_in_flight") == int(n), "%s: --json frames_in_flight %s" % (label, j.get("frames_in_flight")))
+            recs[n] = j["frames"]
+        if len(outs) < 2:
+            continue
+        a, b = recs["2"], recs["1"]
+        check([f["frame"] for f in a] == [f["frame"] for f in b] == list(range(4)),
+              "%s: frames 0-3 in order (%s)" % (label, [f["frame"] for f in a]))
+        keys = lambda fs: [(f.get("still"), f.get("photons", {}).get("stored"), f.get("spp")) for f in fs]
+        check(keys(a) == keys(b), "%s: the same still flags, photons stored and spp per frame" % label)
+        ok = all(isinstance(f.get("timing", {}).get("frame_wall_ms"), (int, float)) and f["timing"]["frame_wall_ms"] > 0
+                 for f in a)
+        check(ok, "%s: timing.frame_wall_ms for every frame in flight" % label)
+        flags = ([f["timing"].get("in_flight") for f in a], [f["timing"].get("in_flight") for f in b])
+        check(flags == ([True] * 4, [False] * 4),
+              "%s: timing.in_flight true for every frame with 2 in flight, false with 1 (%s)" % (label, flags))
+        for f in range(4):
+            compare("%s frame %d, 2 in flight vs 1" % (label, f), outs["2"].replace("#", str(f)),
+                    outs["1"].replace("#", str(f)))
+
+
+def part_still_gpu():
+    """A still run's progressive accumulation on the GPU (issue 17 item 2:
+    shaders/accumulate.comp, the running means in a target of the sequence)
+    against the host arrays it replaced (PB_STILL_ON_HOST=1, sequence.c's
+    accumulate()), same seed: every frame of a still camera (5 frames: the
+    beauty, direct and caustic means) to float rounding, with 1 and 2 frames
+    in flight, and the --json per-frame record says where it ran."""
+    d = fresh("still_gpu")
+    scene = os.path.join(ROOT, "samples", "cornell_box", "cornell_box.gltf")
+    for n in ("1", "2"):
+        outs = {}
+        for kind, env in (("gpu", None), ("host", {"PB_STILL_ON_HOST": "1"})):
+            pat = os.path.join(d, "still_%s_%s_#.exr" % (n, kind))
+            js = os.path.join(d, "still_%s_%s.json" % (n, kind))
+            p = run(EXE, ["render", scene, "-o", pat, "--json", js, "--frames", "0:4", "--frames-in-flight", n] +
+                    COMMON, env)
+            check(p.returncode == 0, "still %s in flight, %s means: exits 0" % (n, kind))
+            if p.returncode != 0:
+                continue
+            outs[kind] = pat
+            fr = json.load(open(js))["frames"]
+            where = [f.get("timing", {}).get("still_on_gpu") for f in fr]
+            check(where == [kind == "gpu"] * 5, "still %s in flight, %s means: timing.still_on_gpu %s" % (n, kind, where))
+        if len(outs) == 2:
+            for f in range(5):
+                compare("still frame %d (%s in flight), GPU means vs host means" % (f, n),
+                        outs["gpu"].replace("#", str(f)), outs["host"].replace("#", str(f)))
 
 
 if subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True).returncode != 0:

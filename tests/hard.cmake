@@ -13,6 +13,14 @@ if(Python3_Interpreter_FOUND)
                      ${CMAKE_CURRENT_BINARY_DIR}/hard_${kind} --renderer ${kind}
              WORKING_DIRECTORY ${PB_ROOT})
   endforeach()
+  # The same GPU cases through the screen-space splatting estimator (issue 19
+  # item 3: no non-finite values on the hard cases, the same pictures).
+  add_test(NAME hard_cases_gpu_splat
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/hard_gpu_splat --renderer gpu --gpu-args "--estimator splat"
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(hard_cases_gpu_splat PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize;hard" TIMEOUT 900)
   set_tests_properties(hard_cases_ref PROPERTIES TIMEOUT 900 LABELS hard)
   set_tests_properties(hard_cases_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        LABELS "gpu;no-sanitize;hard" TIMEOUT 900)

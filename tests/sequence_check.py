@@ -14,6 +14,8 @@
   caustics  cornell_caustics_moving_sphere (48 px, 8 frames): the filters (the
             caustics' own clamped temporal filter included) cut the excess
             flicker at least 3x with per-frame error no worse;
+  splat     cornell_box_moving_light (48 px, 8 frames) with --estimator splat
+            (seed 001's screen-space splatting): the same, 3x;
   materials KHR_texture_transform with TEXCOORD_1 (tests/data/gltf_ext) through
             --frames: every frame equals the baked texture's (> 45 dB);
   deform    Blender's skinned and shape-keyed scene (tests/data/deform, 48 px,
@@ -33,7 +35,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pyl
 from pbcheck import Checker  # noqa: E402
 
 EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
-PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "materials", "deform", "vsch"]
+PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "splat", "materials", "deform", "vsch"]
 T = Checker(EXE, WORK)
 check, run, fresh = T.check, T.run, T.fresh
 
@@ -171,6 +173,15 @@ if "vsch" in PARTS:
 
 if "caustics" in PARTS:
     filtered_vs_raw("caustics", "cornell_caustics_moving_sphere", 48, 256, 3)
+
+if "splat" in PARTS:
+    # The screen-space splatting estimator (seed 001 24.3) under the same
+    # temporal + A-Trous filters (its chapter's 24.4): they accept its
+    # estimate as they do the LBVH gather's.
+    filtered_vs_raw("splat", "cornell_box_moving_light", 48, 256, 3, extra=["--estimator", "splat"])
+    js = json.load(open(os.path.join(WORK, "splat", "filt.json")))
+    est = js.get("estimator") or (js.get("frames") or [{}])[0].get("estimator") or {}
+    check(est.get("name") == "splat", "splat: --json names the estimator (%r)" % est.get("name"))
 
 if "materials" in PARTS:
     # KHR_texture_transform with TEXCOORD_1 through --frames (the frame

@@ -20,6 +20,13 @@
   nodisplay  no DISPLAY / WAYLAND_DISPLAY: one line saying so and naming
              `photonbridge render`, exit 15 (PB_ERR_NOT_AVAILABLE)
   errors     a bad --script line: exit 2 naming the file and the line
+  in_flight  the still part with --frames-in-flight 2 (frames in flight: the
+             window one frame behind the renderer): the same screenshots
+  tracer     view --tracer images (seed 003's environment maps): the
+             screenshot after 2 still frames is display of `render --frames
+             0:1 --tracer images` with the same maps (within one 8-bit step)
+             and differs from the bvh tracer's render by more (the option
+             reaches the view's frames)
 
 Exit 77 (skip) where xvfb-run is missing or the binary was built without
 GLFW; CI's install script installs both, so there they run.
@@ -92,7 +99,7 @@ def validation_env():
     return env
 
 
-def part_still():
+def part_still(extra=(), tag="still"):
     # Frames 0-3 still; the screenshot event at frame 3 (before it renders)
     # shows frame 2; two presses of + at frame 3 raise the exposure by one
     # stop, so the final screenshot is frame 3 at +1 EV: both are compared
@@ -100,10 +107,14 @@ def part_still():
     n = 4
     early, shot = os.path.join(OUT, "view_2.png"), os.path.join(OUT, "view_3_ev1.png")
     script = os.path.join(OUT, "still.txt")
+    stats = os.path.join(OUT, "view.json")
     with open(script, "w") as f:
         f.write("3 screenshot %s\n3 key plus\n3 key plus\n" % early)
-    run(["view", SCENE] + SETTINGS + ["--exit-after", str(n), "--script", script, "--screenshot", shot, "-q"],
-        env=validation_env())
+    run(["view", SCENE] + SETTINGS + list(extra) + ["--exit-after", str(n), "--script", script, "--screenshot", shot,
+                                                    "--json", stats, "-q"], env=validation_env())
+    shown = len(json.load(open(stats))["frames"])
+    if shown != n:
+        fail("%d frames shown, expected %d" % (shown, n))
     run(["render", SCENE] + SETTINGS + ["--frames", "0:%d" % (n - 1), "-o", os.path.join(OUT, "f_#.exr"), "-q"],
         env=validation_env(), xvfb=False)
     for frame, view_png, ev in ((n - 2, early, 0), (n - 1, shot, 1)):
@@ -113,13 +124,21 @@ def part_still():
         if a.shape != b.shape:
             fail("screenshot %s, display %s" % (a.shape, b.shape))
         d = np.abs(a - b)
-        print("view_check still: frame %d (%d still frames), 64 px, exposure %+d: max difference %d, mean %.4f "
-              "(8-bit steps), mean level %.1f" % (frame, frame + 1, ev, d.max(), d.mean(), a.mean()))
+        print("view_check %s: frame %d (%d still frames), 64 px, exposure %+d: max difference %d, mean %.4f "
+              "(8-bit steps), mean level %.1f" % (tag, frame, frame + 1, ev, d.max(), d.mean(), a.mean()))
         if d.max() > 1:
             fail("the screenshot of frame %d differs from display's PNG by up to %d steps (at most 1)"
                  % (frame, d.max()))
         if a.mean() < 20:
             fail("the picture is black (mean level %.1f)" % a.mean())
+
+
+def part_in_flight():
+    # The still part with --frames-in-flight 2: the window shows frame k - 1
+    # while frame k renders (its last GPU pass running as the host makes the
+    # picture and presents), --exit-after and --script count shown frames, so
+    # the same screenshots are the same frames of `render --frames`.
+    part_still(["--frames-in-flight", "2"], "in_flight")
 
 
 def part_input():
@@ -200,7 +219,32 @@ def part_errors():
     print("view_check errors:", p.stderr.strip())
 
 
+def part_tracer():
+    n = 2
+    images = ["--tracer", "images", "--image-maps", "4", "--image-map-resolution", "32"]
+    shot = os.path.join(OUT, "view_images.png")
+    run(["view", SCENE] + SETTINGS + images + ["--exit-after", str(n), "--screenshot", shot, "-q"],
+        env=validation_env())
+    diffs = {}
+    for name, extra in (("images", images), ("bvh", [])):
+        pat = os.path.join(OUT, name + "_#.exr")
+        run(["render", SCENE] + SETTINGS + extra + ["--frames", "0:%d" % (n - 1), "-o", pat, "-q"],
+            env=validation_env(), xvfb=False)
+        ref = os.path.join(OUT, "display_%s.png" % name)
+        run(["display", pat.replace("#", str(n - 1)), "-o", ref], xvfb=False)
+        a, b = png(shot), png(ref)
+        if a.shape != b.shape:
+            fail("screenshot %s, display %s" % (a.shape, b.shape))
+        diffs[name] = int(np.abs(a - b).max())
+        print("view_check tracer: the view's --tracer images frame %d against render --tracer %s: max difference "
+              "%d (8-bit steps), mean level %.1f" % (n - 1, name, diffs[name], a.mean()))
+    if diffs["images"] > 1:
+        fail("view --tracer images differs from render --tracer images by %d steps (at most 1)" % diffs["images"])
+    if diffs["bvh"] <= 1:
+        fail("view --tracer images equals the bvh tracer's render: the option did not reach the frames")
+
+
 check_available()
 {"still": part_still, "input": part_input, "resize": part_resize, "nodisplay": part_nodisplay,
- "errors": part_errors}[PART]()
+ "errors": part_errors, "in_flight": part_in_flight, "tracer": part_tracer}[PART]()
 print("view_check %s: ok" % PART)

@@ -78,7 +78,8 @@ float pb_image_march_d(float s_x, float h, float phi0, float phi1, float d0, flo
 }
 
 // One map (section 5.1): the march finds the first bracket [lo, hi] where
-// f goes from in front (< 0) to behind (>= 0); false position (the method
+// f changes sign (in front (< 0) to behind (>= 0), or behind to in front of
+// a surface the map saw); false position (the method
 // of [SKALP05], im_info.secant_steps iterations) narrows it, keeping one
 // under- and one overshoot; the point read at the end (the texel's surface
 // point at the last overshoot) is classified by eq. 2. A type B point
@@ -102,15 +103,23 @@ uint pb_image_map_intersect(uint m, vec3 x, vec3 r, float d0, float d1, out floa
     float d = pb_image_march_d(s_x, h, phi0, phi1, d0, d1, i, n);
     uint tex_hi;
     float f = pb_image_f(m, c, x, r, d, tex_hi);
-    if (f_prev < 0.0 && f >= 0.0) {
+    // A zero of f either way (5.1: "finding a zero of ... f(x + d r) = 0"):
+    // in front -> behind, the ray meets the surface the map sees; behind ->
+    // in front (not into -inf, where the map saw nothing: a silhouette), the
+    // ray comes out through a surface the map sees from its other side (a
+    // ray from outside a closed room, a sun photon through a roof: without
+    // this it passed through and lit the room from inside).
+    if ((f_prev < 0.0 && f >= 0.0) || (f_prev >= 0.0 && f < 0.0 && !isinf(f))) {
       float lo = d_prev, hi = d, f_lo = f_prev, f_hi = f;
       for (uint k = 0u; k < im_info.secant_steps; ++k) {
-        // False position; a bound at -inf (the lower end saw nothing)
-        // falls back to bisection.
-        float dm = (isinf(f_lo) || !(f_hi - f_lo > 0.0)) ? 0.5 * (lo + hi) : lo + (hi - lo) * (-f_lo / (f_hi - f_lo));
+        // False position; a bound at -inf (that end saw nothing) falls back
+        // to bisection.
+        float dm = (isinf(f_lo) || isinf(f_hi) || !(abs(f_hi - f_lo) > 0.0))
+                       ? 0.5 * (lo + hi)
+                       : lo + (hi - lo) * (-f_lo / (f_hi - f_lo));
         uint tm;
         float fm = pb_image_f(m, c, x, r, dm, tm);
-        if (fm < 0.0) {
+        if ((fm < 0.0) == (f_lo < 0.0)) {
           lo = dm;
           f_lo = fm;
         } else {

@@ -42,6 +42,26 @@
 #define PB_GATHER_BIND_NMAP 19    /* pb_gpu_photon_nmap[] (normal maps only) */
 #define PB_GATHER_BIND_COUNT 20
 
+/* ---- knn.comp (estimator_knn.c): the gather's 15-19, the same buffers ----- */
+#define PB_KNN_BIND_PHOTONS PB_GATHER_BIND_PHOTONS /* the LBVH's sorted photons */
+#define PB_KNN_BIND_NODES PB_GATHER_BIND_NODES     /* its nodes */
+#define PB_KNN_BIND_INFO PB_GATHER_BIND_INFO       /* pb_gpu_lbvh_info */
+#define PB_KNN_BIND_ACCUM PB_GATHER_BIND_ACCUM     /* pb_gpu_photon_accum[] */
+#define PB_KNN_BIND_NMAP PB_GATHER_BIND_NMAP       /* pb_gpu_photon_nmap[] */
+#define PB_KNN_BIND_COUNT PB_GATHER_BIND_COUNT
+
+/* ---- splat_count.comp, splat_splat.comp, splat_resolve.comp (seed 001
+ * 24.3; shared/pb_splat.h): the scene's 0-14 (the resolve shades with them;
+ * count and splat read the frame at 0 and the G-buffer at 11), then ------- */
+#define PB_SPLAT_BIND_PHOTONS 15  /* pb_gpu_photon[] of the map */
+#define PB_SPLAT_BIND_COUNTS 16   /* pb_gpu_photon_counts of the map */
+#define PB_SPLAT_BIND_TILES 17    /* uint n_p per screen tile (atomics) */
+#define PB_SPLAT_BIND_TARGET 18   /* PB_SPLAT_PIXEL_WORDS uints per pixel */
+#define PB_SPLAT_BIND_ACCUM 19    /* pb_gpu_photon_accum[] (resolve) */
+#define PB_SPLAT_BIND_NMAP 20     /* pb_gpu_photon_nmap[] (normal maps only) */
+#define PB_SPLAT_BIND_STATS 21    /* pb_gpu_splat_stats (atomics) */
+#define PB_SPLAT_BIND_COUNT 22
+
 /* ---- the view-sample cluster hierarchy (seed 004; shared/pb_vsch.h) ------
  * vsch_clear, _range, _mark, _scan, _cone, _up, _count, _fill, _ranges: */
 #define PB_VSCH_BIND_FRAME 0      /* pb_gpu_frame (as the scene's 0) */
@@ -87,7 +107,7 @@
 #define PB_IMAGE_BIND_TEXELS 6      /* pb_gpu_image_texel[] */
 #define PB_IMAGE_BIND_RAYS 7        /* query: pb_gpu_ray[] */
 #define PB_IMAGE_BIND_HITS 8        /* query: pb_gpu_hit[] (u: the outcome) */
-#define PB_IMAGE_BIND_COUNTS 9      /* query: pb_gpu_image_counts */
+#define PB_IMAGE_BIND_COUNTS 9      /* query: pb_gpu_image_counts; touch: pb_gpu_image_touch */
 #define PB_IMAGE_BIND_COUNT 10
 
 /* ---- photon_rsm.comp: the scene's 0-10, 13, 14, then ---------------------- */
@@ -183,6 +203,18 @@
 #define PB_RESOLVE_BIND_OUT_PHOTONS 5   /* float planes of the photon AOVs */
 #define PB_RESOLVE_BIND_COUNT 6
 
+/* ---- present.comp (shared/pb_present.h): the viewer's picture -------------- */
+#define PB_PRESENT_BIND_LUT 0   /* vec4 nodes of the baked view (color.h pb_color_lut) */
+#define PB_PRESENT_BIND_IN 1    /* float: the AOV (the resolved beauty, RGBA) */
+#define PB_PRESENT_BIND_OUT 2   /* uint: RGBA8 (R in the low byte), the displayed image */
+#define PB_PRESENT_BIND_COUNT 3
+
+/* ---- accumulate.comp (shared/pb_accumulate.h): a still run's running means */
+#define PB_ACCUM_BIND_PLANES 0         /* the resolve's float planes (beauty, direct) */
+#define PB_ACCUM_BIND_PHOTON_PLANES 1  /* the photon planes (indirect, caustic) */
+#define PB_ACCUM_BIND_SUM 2            /* float: the running means, PB_ACCUM_FLOATS a pixel */
+#define PB_ACCUM_BIND_COUNT 3
+
 /* ---- specialization constants (constant_id) ------------------------------- */
 /* The scene's (common/scene.glsl), set by the passes from the render plan
  * (plan.h); 4 and 5 belong to one kernel each. */
@@ -196,6 +228,11 @@
 #define PB_SPEC_WORLD 7
 #define PB_SPEC_ALPHA 8           /* PB_BLENDER builds only */
 #define PB_SPEC_COUNT 9
+/* knn.comp's own, after the scene's and PB_SPEC_NORMAL_MAPS: k, the size of
+ * each query's max-heap. */
+#define PB_SPEC_KNN_K 9
+#define PB_SPEC_KNN_BUDGET 10 /* loop iterations per query; 0: no bound */
+#define PB_SPEC_KNN_COUNT 11
 /* lbvh_climb.comp's own. */
 #define PB_SPEC_FENCES 0
 #define PB_SPEC_FENCES_COUNT 1

@@ -384,8 +384,8 @@ PB_STRUCT(pb_gpu_raycast_push) {
 
 /* Photon tracer (shaders/photon_trace.comp, src/render/photon_trace.c).
  * Header of the tracer's parameter buffer, followed by one
- * pb_gpu_photon_light per light that receives photons. The last four uints
- * are statistics the kernel adds to (atomics). */
+ * pb_gpu_photon_light per light that receives photons. guarded, absorbed
+ * and escaped are statistics the kernel adds to (atomics). */
 PB_CONST(PB_PHOTON_PARAM_RAW_FOOTPRINT, 1u) /* tests: store Delta dP, no
                                                -3/4 compression, s, r_max */
 PB_CONST(PB_PHOTON_PARAM_STORE_FIRST, 2u)   /* tests: store the first hit too */
@@ -393,6 +393,9 @@ PB_CONST(PB_PHOTON_PARAM_CAUSTIC_RAW, 8u)   /* caustic footprints uncompressed,
                                                s_caustic Delta dP (issue 18) */
 PB_CONST(PB_PHOTON_PARAM_RSM, 4u)           /* first hits from the reflective
                                                shadow maps (shared/pb_rsm.h) */
+PB_CONST(PB_PHOTON_PARAM_RSM_AUTO, 16u)     /* with RSM: per light, the map only
+                                               where its coverage is below
+                                               PB_RSM_AUTO_COVERAGE, else traced */
 PB_STRUCT(pb_gpu_photon_params) {
   PB_VEC3(scene_center);  /* centre of the scene's bounding sphere */
   float scene_radius;     /* its radius (directional lights' disc) */
@@ -417,6 +420,14 @@ PB_STRUCT(pb_gpu_photon_params) {
                              non-finite values */
   uint absorbed;          /* stats: paths ended by Russian roulette */
   uint escaped;           /* stats: paths that left the scene */
+  /* Seed 003's variable bandwidth (section 6, "variable bandwidth
+   * splatting"), on when bandwidth_h0 > 0: every footprint a disc of radius
+   * h = bandwidth_h0 / sqrt(clamp(p R^2, p_min, p_max)), p = cos(theta) / d^2
+   * (see pb_store in photon_trace.comp); bandwidth_h0 = C0 sqrt(A / N). */
+  float bandwidth_h0;
+  float bandwidth_p_min;
+  float bandwidth_p_max;
+  uint bandwidth_pad;
 } PB_END(pb_gpu_photon_params)
 
 /* One light's share of the photon budget: paths first .. first + count - 1
@@ -501,11 +512,12 @@ PB_OFFSET(pb_gpu_accum, albedo, 32) PB_OFFSET(pb_gpu_accum, material, 44)
 PB_OFFSET(pb_gpu_accum, normal, 48) PB_OFFSET(pb_gpu_accum, emission, 64)
 PB_LAYOUT(pb_gpu_raycast_push, 16)
 PB_LAYOUT(pb_gpu_pass_push, 16)
-PB_LAYOUT(pb_gpu_photon_params, 80)
+PB_LAYOUT(pb_gpu_photon_params, 96)
 PB_OFFSET(pb_gpu_photon_params, scene_radius, 12) PB_OFFSET(pb_gpu_photon_params, photons, 16)
 PB_OFFSET(pb_gpu_photon_params, capacity, 32) PB_OFFSET(pb_gpu_photon_params, r_max, 48)
 PB_OFFSET(pb_gpu_photon_params, stencil_h, 60) PB_OFFSET(pb_gpu_photon_params, guarded, 68)
-PB_OFFSET(pb_gpu_photon_params, escaped, 76)
+PB_OFFSET(pb_gpu_photon_params, escaped, 76) PB_OFFSET(pb_gpu_photon_params, bandwidth_h0, 80)
+PB_OFFSET(pb_gpu_photon_params, bandwidth_p_max, 88)
 PB_LAYOUT(pb_gpu_photon_light, 32)
 PB_OFFSET(pb_gpu_photon_light, light, 12) PB_OFFSET(pb_gpu_photon_light, first, 16)
 PB_OFFSET(pb_gpu_photon_light, cos_max, 28)

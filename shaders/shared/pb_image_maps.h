@@ -69,8 +69,25 @@ PB_STRUCT(pb_gpu_image_maps_push) {
   uint ray_count;      /* query: rays */
 } PB_END(pb_gpu_image_maps_push)
 
+/* What moved geometry touches (image_maps_touch.comp; issue 20 item 5): the
+ * box of the triangles that moved, old and new positions, and per map a
+ * flag the pass sets when one of the map's texel rays (centre to its stored
+ * surface point, or to infinity where it saw nothing) crosses the box: only
+ * those texels can hold another first surface now, so only those maps are
+ * rendered again. Bound at PB_IMAGE_BIND_COUNTS. 96 bytes. */
+PB_STRUCT(pb_gpu_image_touch) {
+  PB_VEC3(box_min);
+  uint pad0;
+  PB_VEC3(box_max);
+  uint pad1;
+  uint touched[16];    /* per map (PB_IMAGE_MAPS_MAX + 1 slots): 1 touched */
+} PB_END(pb_gpu_image_touch)
+
 #ifndef PB_GLSL
 #include <stddef.h>
+_Static_assert(sizeof(pb_gpu_image_touch) == 96, "pb_gpu_image_touch size");
+_Static_assert(offsetof(pb_gpu_image_touch, box_max) == 16, "pb_gpu_image_touch.box_max");
+_Static_assert(offsetof(pb_gpu_image_touch, touched) == 32, "pb_gpu_image_touch.touched");
 _Static_assert(sizeof(pb_gpu_image_texel) == 32, "pb_gpu_image_texel size");
 _Static_assert(offsetof(pb_gpu_image_texel, normal) == 16, "pb_gpu_image_texel.normal");
 _Static_assert(sizeof(pb_gpu_image_map) == 16, "pb_gpu_image_map size");

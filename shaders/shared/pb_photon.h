@@ -30,7 +30,10 @@ PB_CONST(PB_PHOTON_BOUNCE_SHIFT, 8u)
  *  normal    unit geometric normal of the hit surface, on the side of wi
  *  axis_u, axis_v  the footprint's semi-axes in world space (in the tangent
  *            plane; skewed, not necessarily orthogonal)
- *  normal_extent   half-thickness of the ellipsoid along `normal` */
+ *  normal_extent   half-thickness of the ellipsoid along `normal`
+ *  ray_length      length of the segment that ended at this hit, m (seed 001
+ *            24.2.3 stores t with each photon; its eq. 2 scales the splat
+ *            kernel by it); 0: unknown (maps made by the host) */
 PB_STRUCT(pb_gpu_photon) {
   PB_VEC3(position);
   uint flags;
@@ -41,7 +44,7 @@ PB_STRUCT(pb_gpu_photon) {
   PB_VEC3(normal);
   uint path;            /* index of the emitted photon path (debugging, tests) */
   PB_VEC3(axis_u);
-  float pad0;
+  float ray_length;
   PB_VEC3(axis_v);
   float pad1;
 } PB_END(pb_gpu_photon)
@@ -67,6 +70,7 @@ _Static_assert(offsetof(pb_gpu_photon, normal_extent) == 44, "pb_gpu_photon.norm
 _Static_assert(offsetof(pb_gpu_photon, normal) == 48, "pb_gpu_photon.normal");
 _Static_assert(offsetof(pb_gpu_photon, path) == 60, "pb_gpu_photon.path");
 _Static_assert(offsetof(pb_gpu_photon, axis_u) == 64, "pb_gpu_photon.axis_u");
+_Static_assert(offsetof(pb_gpu_photon, ray_length) == 76, "pb_gpu_photon.ray_length");
 _Static_assert(offsetof(pb_gpu_photon, axis_v) == 80, "pb_gpu_photon.axis_v");
 _Static_assert(sizeof(pb_gpu_photon_counts) == 32, "pb_gpu_photon_counts size");
 #endif

@@ -9,11 +9,18 @@
 
 PB_CONST(PB_RSM_MODE_RENDER, 0u)  /* one invocation per texel */
 PB_CONST(PB_RSM_MODE_PYRAMID, 1u) /* one invocation per node of level push.level */
-PB_CONST(PB_RSM_MODE_TOTAL, 2u)   /* one invocation per light: sum of its faces */
+PB_CONST(PB_RSM_MODE_TOTAL, 2u)   /* one workgroup per light: sum of its faces, coverage */
+
+/* --first-bounce auto (PB_PHOTON_PARAM_RSM_AUTO): a light's photons start
+ * from its map where the map's coverage is below this, else they are traced
+ * (photon_trace.comp; the derivation is in photon_rsm.comp). */
+#define PB_RSM_AUTO_COVERAGE 0.5
 
 /* One light's map: texels first .. first + count - 1 (faces x res x res,
- * face-major, then rows); total: the sum of the texels' sampling weights
- * (written by PB_RSM_MODE_TOTAL). */
+ * face-major, then rows); total: the sum of the texels' sampling weights;
+ * coverage: the share of the light's flux that falls on texels with a
+ * weight, i.e. the share of a traced first bounce's photons that hit the
+ * scene (both written by PB_RSM_MODE_TOTAL; photon_rsm.comp). */
 PB_STRUCT(pb_gpu_rsm_light) {
   uint first;
   uint count;
@@ -23,6 +30,9 @@ PB_STRUCT(pb_gpu_rsm_light) {
   float tan_half;         /* spot: half-size of the image plane at distance 1 */
   uint faces;             /* 6 (point: cube map) or 1 */
   uint levels;            /* log2(res): pyramid levels above the texels */
+  float coverage;         /* flux on weighted texels / the light's flux in
+                             the traced emission's domain, 0 .. 1 */
+  uint pad0;
 } PB_END(pb_gpu_rsm_light)
 
 /* One texel, 64 bytes: the ray through its centre from the light (origin,
@@ -59,7 +69,8 @@ PB_STRUCT(pb_gpu_rsm_push) {
 
 #ifndef PB_GLSL
 #include <stddef.h>
-_Static_assert(sizeof(pb_gpu_rsm_light) == 32, "pb_gpu_rsm_light size");
+_Static_assert(sizeof(pb_gpu_rsm_light) == 40, "pb_gpu_rsm_light size");
+_Static_assert(offsetof(pb_gpu_rsm_light, coverage) == 32, "pb_gpu_rsm_light.coverage");
 _Static_assert(sizeof(pb_gpu_rsm_texel) == 64, "pb_gpu_rsm_texel size");
 _Static_assert(offsetof(pb_gpu_rsm_texel, dir) == 16, "pb_gpu_rsm_texel.dir");
 _Static_assert(offsetof(pb_gpu_rsm_texel, flux) == 32, "pb_gpu_rsm_texel.flux");

@@ -11,6 +11,7 @@
 #include "core/json.h"
 #include "render/estimator.h"
 #include "render/plan.h"
+#include "render/tracer.h"
 #include "scene/camera.h"
 
 static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
@@ -170,6 +171,14 @@ static void print_text(const pb_scene *s) {
          pb_estimator_auto_rule);
   for (uint32_t k = 0; k < PB_ESTIMATOR_AUTO; ++k)
     printf(" %s%s", pb_estimator_names[k], pb_estimator_built(k) ? "" : " (not built)");
+  /* The photon tracers render --tracer (and view, serve) choose from
+   * (render/tracer.h); every one works on every scene. */
+  printf("\ntracers   ");
+  for (uint32_t k = 0; pb_tracer_names[k]; ++k)
+    printf("%s %s%s", k ? "," : "", pb_tracer_names[k],
+           k == PB_TRACER_BVH ? " (default: exact hits in the scene BVH)"
+                              : " (seed 003: --image-maps 1..15 cube environment maps, no hierarchy, approximate: "
+                                "misses counted)");
   char view[768];
   default_view(s, view, sizeof view);
   printf("\ndisplay    %s (PNG previews; EXR stays scene-linear Rec.709)", view);
@@ -356,6 +365,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     if (pb_estimator_built(k)) pb_json_string(&j, NULL, pb_estimator_names[k]);
   pb_json_end_array(&j);
   pb_json_end_object(&j);
+  pb_json_begin_array(&j, "tracers"); /* render --tracer's choices, the default first */
+  for (uint32_t k = 0; pb_tracer_names[k]; ++k) pb_json_string(&j, NULL, pb_tracer_names[k]);
+  pb_json_end_array(&j);
   char view[768];
   default_view(s, view, sizeof view);
   pb_json_string(&j, "display_view", view);

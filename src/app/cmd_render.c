@@ -31,6 +31,7 @@
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
+#include "shared/pb_knn.h"
 #include "render/tracer.h"
 
 static const pb_command *self(void) {
@@ -46,18 +47,21 @@ typedef struct render_opts {
   int first_bounce; /* index into first_bounce_names */
   int tracer;       /* index into pb_tracer_names */
   int estimator;    /* index into pb_estimator_names (pb_estimator_kind) */
+  uint32_t knn_k;   /* --estimator knn: neighbours per shading point */
+  double splat_ntile, splat_lmax, splat_smax; /* --splat-*: 0 the defaults (estimator_splat.c) */
+  uint32_t splat_tile;
   double vsch_radius;
   int vsch_directional;
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
   double atrous_gamma;
-  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic;
+  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0;
   const char *png;
   /* Sequences (issue 6; render_seq.h). */
   const char *frames;
   double fps, orbit_seconds;
   int orbit, no_temporal, bvh_update;
-  uint32_t reference_spp, warmup;
+  uint32_t reference_spp, warmup, frames_in_flight;
   const char *reference_cache;
   /* Driving photonbridge from another program (the Blender add-on). */
   const char *crop, *preview, *blender_layer, *blender_passes;
@@ -114,7 +118,7 @@ static pb_result on_progress(void *user, const pb_render_progress *p) {
 static const char *const bvh_update_names[] = {"auto", "refit", "rebuild", NULL};
 
 /* --first-bounce, in pb_photon_first_bounce order from PB_FIRST_BOUNCE_TRACE. */
-static const char *const first_bounce_names[] = {"traced", "rsm", NULL};
+static const char *const first_bounce_names[] = {"traced", "rsm", "auto", NULL};
 
 static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g, const pb_render_result *res,
                             const render_opts *o) {
@@ -174,6 +178,8 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
     pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
+    /* seed 003's variable bandwidth (--bandwidth-c0), 0: the differential footprints */
+    pb_json_number(&j, "bandwidth_c0", o->bandwidth_c0);
     /* The photon tracer (render/tracer.h) and its named statistics; the
      * images tracer's miss rate: segments no map confirmed, over all. */
     pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->tracer]);
@@ -243,6 +249,7 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
+                   .first_bounce = 0 /* traced */,
                    .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
@@ -291,8 +298,9 @@ int pb_cmd_render(int argc, char **argv) {
        "benchmark: bin every map's footprint radii into --json photons.radius_histogram (reads each map back; "
        "slows the render)", NULL, 0, 0},
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
-       "how photons find their first hit: traced from the light, or rsm: sampled from reflective shadow maps by "
-       "reflected power (seed 001 24.2.1; default traced)", first_bounce_names, 0, 0},
+       "how photons find their first hit: traced from the light, rsm: sampled from reflective shadow maps by "
+       "reflected power (seed 001 24.2.1), or auto: rsm for the lights whose map covers under half of their flux "
+       "(open scenes, where most traced photons miss), traced for the others (default traced: unbiased; the shadow maps miss geometry thinner than a texel)", first_bounce_names, 0, 0},
       {"estimator", 0, PB_OPT_CHOICE, &o.estimator, "NAME",
        "photon density estimator: lbvh (seed 000: footprints in a per-map LBVH, gathered by traversal), knn (seed "
        "000 3.1: the k nearest photons), splat (seed 001: screen-space splats), vsch (seed 004: a cluster "
@@ -304,6 +312,21 @@ int pb_cmd_render(int argc, char **argv) {
       {"vsch-directional", 0, PB_OPT_FLAG, &o.vsch_directional, NULL,
        "--estimator vsch: the directional variant (seed 004 4.7: flux per node in 8 octant buckets, weighted by "
        "2 cos at shading, blurred; approximate, faster)", NULL, 0, 0},
+      {"knn-k", 0, PB_OPT_U32, &o.knn_k, "K",
+       "--estimator knn: photons per density estimate, the bandwidth the distance of the K-th nearest (seed 000 "
+       "3.1; default 64, the LBVH gather's k_PD at the default smoothing)", NULL, 1, PB_KNN_K_MAX},
+      {"splat-ntile", 0, PB_OPT_FLOAT, &o.splat_ntile, "N",
+       "--estimator splat: photons expected per point, n_tile of seed 001 eq. 6 (the kernel's density scale s_d; "
+       "default 128)", NULL, 0, 0},
+      {"splat-lmax", 0, PB_OPT_FLOAT, &o.splat_lmax, "F",
+       "--estimator splat: l_max of eq. 2 (the ray-length scale s_l = min(l / l_max, 1)) as F times the scene's "
+       "bounding radius (default 1)", NULL, 0, 0},
+      {"splat-smax", 0, PB_OPT_FLOAT, &o.splat_smax, "S",
+       "--estimator splat: s_max of eq. 7, the largest stretch s_u along the incident direction, >= 1 (default 4)",
+       NULL, 0, 0},
+      {"splat-tile", 0, PB_OPT_U32, &o.splat_tile, "N",
+       "--estimator splat: screen tile edge in pixels for the photon density n_p (eq. 3-5; default 16)", NULL, 1,
+       4096},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
        "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
@@ -313,6 +336,10 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 1, PB_IMAGE_MAPS_MAX},
       {"image-map-resolution", 0, PB_OPT_U32, &o.image_map_resolution, "N",
        "--tracer images: texels per cube-face side (default 128)", NULL, 8, 1024},
+      {"bandwidth-c0", 0, PB_OPT_FLOAT, &o.bandwidth_c0, "C0",
+       "seed 003's variable bandwidth instead of the differential footprints: every photon a disc of radius "
+       "h = C0 / sqrt(p) sqrt(A / N), p = cos(theta) R^2 / d^2 clamped to [1/4, 4], A the scene's area, N the "
+       "paths (default: off)", NULL, 0, 1e6},
       {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
        "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
        "default 0: off for one frame, 4 for --frames)", NULL, 0, 12},
@@ -335,6 +362,9 @@ int pb_cmd_render(int argc, char **argv) {
       {"bvh-update", 0, PB_OPT_CHOICE, &o.bvh_update, "MODE",
        "--frames: how moving geometry updates the scene BVH: auto, refit or rebuild (default auto)",
        bvh_update_names, 0, 0},
+      {"frames-in-flight", 0, PB_OPT_U32, &o.frames_in_flight, "N",
+       "--frames: 2 (default): the GPU finishes a frame while the previous one is written and the next posed; "
+       "1: one frame at a time (the same pixels either way; --reference-spp renders one at a time)", NULL, 1, 2},
       {"reference-spp", 0, PB_OPT_U32, &o.reference_spp, "N",
        "--frames: render each frame with the reference renderer too (N samples per pixel, cached) and report "
        "per-frame error and flicker in --json", NULL, 1, 1 << 20},
@@ -398,14 +428,17 @@ int pb_cmd_render(int argc, char **argv) {
   int32_t first = 0, last = 0;
   if (o.frames && (r = pb_seq_parse_frames(o.frames, &first, &last)) != PB_OK) return pb_cli_exit(cmd, r);
   if (!o.frames && (o.orbit || o.fps != 0 || o.no_temporal || o.reference_spp || o.reference_cache ||
-                    o.orbit_seconds != 0 || o.warmup))
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup and "
-                                    "--reference-* need --frames A:B"));
+                    o.orbit_seconds != 0 || o.warmup || o.frames_in_flight))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup, "
+                                    "--frames-in-flight and --reference-* need --frames A:B"));
   if (o.frames && (int64_t)first - o.warmup < -1000000)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --warmup %u: frame %lld before the first "
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
+  if ((o.image_maps || o.image_map_resolution) && o.tracer != PB_TRACER_IMAGES)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --image-maps and --image-map-resolution need --tracer "
+                                    "images"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
   /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
    * A photon stored at its k-th bounce ends a path of k + 1 events at the
@@ -432,6 +465,8 @@ int pb_cmd_render(int argc, char **argv) {
   if (!(o.vsch_radius >= 0 && o.vsch_radius < 1e9))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --vsch-radius %g: a radius in metres >= 0 (0: each "
                                     "photon's footprint radius)", o.vsch_radius));
+  if (o.knn_k && o.estimator != PB_ESTIMATOR_KNN && o.estimator != PB_ESTIMATOR_AUTO)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --knn-k needs --estimator knn (or auto)"));
   if (!pb_estimator_built((uint32_t)o.estimator))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: estimator '%s' is not built in this binary",
                                     pb_estimator_names[o.estimator]));
@@ -482,18 +517,25 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing, --smoothing-caustic and --r-max must be positive");
     goto done;
   }
+  if (o.splat_ntile < 0 || !(o.splat_ntile < 1e6) || o.splat_lmax < 0 || !(o.splat_lmax < 1e6) ||
+      (o.splat_smax != 0 && o.splat_smax < 1) || !(o.splat_smax < 1e6)) {
+    r = pb_fail(PB_ERR_USAGE, "render: --splat-ntile and --splat-lmax must be positive, --splat-smax at least 1");
+    goto done;
+  }
   pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
                        .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
                        .r_max = (float)o.r_max, .no_shading_correction = o.no_shading_correction,
-                       .estimator = {.kind = (uint32_t)o.estimator,
+                       .estimator = {.kind = (uint32_t)o.estimator, .knn = {.k = o.knn_k},
                                      .lbvh = {.constant_kernel = o.constant_kernel,
                                               .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size},
-                                     .vsch = {.radius = (float)o.vsch_radius, .directional = o.vsch_directional ? 1u : 0u}},
+                                     .vsch = {.radius = (float)o.vsch_radius, .directional = o.vsch_directional ? 1u : 0u},
+                                     .splat = {.s_l = (float)o.splat_lmax, .s_d = (float)o.splat_ntile,
+                                               .s_u = (float)o.splat_smax, .tile = o.splat_tile}},
                        .progressive = o.progressive, .alpha = (float)o.alpha,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
-                       .image_map_resolution = o.image_map_resolution,
+                       .image_map_resolution = o.image_map_resolution, .bandwidth_c0 = (float)o.bandwidth_c0,
                        .atrous_iterations = o.atrous,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
                        .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
@@ -507,7 +549,10 @@ int pb_cmd_render(int argc, char **argv) {
     double fps = o.fps > 0 ? o.fps : 24.0;
     pb_sequence_desc sd = {.render = rd, .temporal = !o.no_temporal, .bvh_update = bvh_modes[o.bvh_update],
                            .orbit = o.orbit,
-                           .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps};
+                           .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps,
+                           /* The reference renderer poses from the scene, which holds the next
+                            * frame's pose while a frame is in flight: one at a time then. */
+                           .frames_in_flight = o.reference_spp ? 1 : (o.frames_in_flight ? o.frames_in_flight : 2)};
     pb_seq_opts so = {.first = first, .last = last, .warmup = o.warmup, .fps = fps, .png = o.png,
                       .reference_spp = o.reference_spp, .reference_cache = o.reference_cache,
                       .blender_layer = o.blender_layer, .blender_passes = o.blender_passes};

@@ -193,6 +193,9 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   pb_json_number(j, "frame_wall_ms", st->frame_wall_ms);
   if (st->frame_gpu_ms >= 0) pb_json_number(j, "frame_gpu_ms", st->frame_gpu_ms);
   else pb_json_null(j, "frame_gpu_ms");
+  pb_json_number(j, "frame_interval_ms", st->frame_interval_ms);
+  pb_json_bool(j, "in_flight", st->in_flight);
+  pb_json_bool(j, "still_on_gpu", st->still_on_gpu); /* a still run averaged on the GPU (issue 17 item 2) */
   pb_json_end_object(j);
   /* Host <-> device bytes of the frame (pb_render_stats): the readback's,
    * and what else went up or down (constants, scene data, photon counts). */
@@ -278,6 +281,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "atrous_iterations", sd->render.atrous_iterations);
   pb_json_end_object(&j);
   pb_json_bool(&j, "orbit", sd->orbit);
+  pb_json_int(&j, "frames_in_flight", sd->frames_in_flight >= 2 ? 2 : 1);
   pb_json_begin_array(&j, "frames");
   for (size_t i = 0; i < n; ++i) json_frame(&j, &fr[i], (uint64_t)w * h);
   pb_json_end_array(&j);
@@ -377,35 +381,51 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
    * would in a run of the whole shot (the photon seeds follow the frame
    * number, not the position in this run) and fill the temporal history;
    * none is written. The last one's reference gives the first written
-   * frame its flicker. */
-  for (uint32_t k = 0; k < so->warmup; ++k) {
-    int32_t f = so->first - (int32_t)so->warmup + (int32_t)k;
-    double t = (double)f / so->fps;
+   * frame its flicker.
+   *
+   * With frames in flight (sd->frames_in_flight 2, sequence.h) a call
+   * returns the frame before the one it started (info.ready, info.index),
+   * and the flush after the last call the last: the loop handles whatever
+   * frame comes out, by its number, while the GPU runs the next. */
+  size_t total = (size_t)so->warmup + count;
+  int32_t f0 = so->first - (int32_t)so->warmup;
+  for (size_t k = 0; k <= total; ++k) {
     pb_sequence_frame_info info;
-    if ((r = pb_sequence_frame(g, q, (uint32_t)f, t, &res, &info)) != PB_OK) goto done;
-    if (k + 1 == so->warmup) {
-      memcpy(res_prev, res.beauty, pixels * 4 * sizeof *res_prev);
-      if (so->reference_spp) {
-        int cached;
-        double ms;
-        char file[PATH_MAX];
-        if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref_prev, &cached, &ms, file)) != PB_OK)
-          goto done;
-      }
+    if (k < total) {
+      int32_t fk = f0 + (int32_t)k;
+      if ((r = pb_sequence_frame(g, q, (uint32_t)fk, (double)fk / so->fps, &res, &info)) != PB_OK) goto done;
+    } else if ((r = pb_sequence_flush(g, q, &res, &info)) != PB_OK) {
+      goto done;
     }
-    if (!c->quiet)
-      pb_log_info("render: warm-up frame %" PRId32 " (t %.3f s): %.0f ms, not written", f, t, res.stats.wall_ms);
-    pb_render_result_destroy(&res);
-  }
-  for (size_t i = 0; i < count; ++i) {
-    int32_t f = so->first + (int32_t)i;
+    if (!info.ready) continue;
+    int32_t f = (int32_t)info.index; /* the frame that came out (indices wrap like frame numbers) */
+    double t = (double)f / so->fps;
+    size_t kk = (size_t)(int64_t)(f - f0);
+    if (f < f0 || kk >= total) {
+      r = pb_fail(PB_ERR_INTERNAL, "render: the sequence returned frame %" PRId32 ", not one of this run", f);
+      goto done;
+    }
+    if (kk < so->warmup) {
+      if (kk + 1 == so->warmup) {
+        memcpy(res_prev, res.beauty, pixels * 4 * sizeof *res_prev);
+        if (so->reference_spp) {
+          int cached;
+          double ms;
+          char file[PATH_MAX];
+          if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref_prev, &cached, &ms, file)) != PB_OK)
+            goto done;
+        }
+      }
+      if (!c->quiet)
+        pb_log_info("render: warm-up frame %" PRId32 " (t %.3f s): %.0f ms, not written", f, t, res.stats.wall_ms);
+      pb_render_result_destroy(&res);
+      continue;
+    }
+    size_t i = kk - so->warmup;
     frame_record *fr = &rec[i];
     fr->frame = f;
     fr->psnr = fr->relmse = fr->flicker_result = fr->flicker_reference = NAN;
-    double t = (double)f / so->fps;
-    /* The seed index is the frame number (wrapping for negative frames), so
-     * that frame f has the same photons whichever run renders it. */
-    if ((r = pb_sequence_frame(g, q, (uint32_t)f, t, &res, &fr->info)) != PB_OK) goto done;
+    fr->info = info;
     fr->stats = res.stats;
     if (so->reference_spp) {
       if ((r = reference_frame(s, camera, w, h, so, c->seed, cache_dir, ref, &fr->reference_cached,

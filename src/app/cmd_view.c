@@ -29,7 +29,7 @@ int pb_cmd_view(int argc, char **argv) {
   pb_core_opts c = {0};
   pb_color_opts co = {0};
   pb_live_opts lo = PB_LIVE_OPTS_INIT;
-  uint32_t exit_after = 0;
+  uint32_t exit_after = 0, in_flight = 1;
   const char *screenshot = NULL, *script = NULL, *reference = NULL, *save = "photonbridge_view";
   const pb_opt opts[] = {
       {"width", 0, PB_OPT_U32, &c.width, "W", "image width (default 640, or from --height and the camera's aspect)",
@@ -45,6 +45,9 @@ int pb_cmd_view(int argc, char **argv) {
        "(compare's metric) in the heads-up line", NULL, 0, 0},
       {"save", 0, PB_OPT_STRING, &save, "PREFIX", "P / F12 write PREFIX_NNNN.exr (every AOV) and PREFIX_NNNN.png "
        "(what is shown; default photonbridge_view)", NULL, 0, 0},
+      {"frames-in-flight", 0, PB_OPT_U32, &in_flight, "N", "1 (default): each frame is shown once rendered; 2: the "
+       "window shows the frame before the one rendering, whose last GPU pass runs while the host makes the "
+       "picture and presents (one frame more latency; --exit-after and --script count shown frames)", NULL, 1, 2},
       {"exit-after", 0, PB_OPT_U32, &exit_after, "N", "close after N frames (scripts, tests)", NULL, 1, 10000000},
       {"screenshot", 0, PB_OPT_STRING, &screenshot, "FILE.png", "at exit, write the shown image (the frame's pixels, "
        "8-bit, before scaling to the window)", NULL, 0, 0},
@@ -89,8 +92,10 @@ int pb_cmd_view(int argc, char **argv) {
   pb_view_gpu_desc(&gd); /* the window presents through the render device (view/present.h) */
   if ((r = pb_gpu_create(&gd, &g)) != PB_OK) goto done;
   if ((r = pb_gpu_scene_create(g, &s, &gs)) != PB_OK) goto done;
+  pb_sequence_desc sd = pb_live_sequence_desc(&lo, c.seed);
+  sd.frames_in_flight = in_flight;
   pb_view_desc vd = {
-      .seq = pb_live_sequence_desc(&lo, c.seed),
+      .seq = sd,
       .camera = camera, .width = w, .height = h,
       .color = {co.ocio_config, co.display, co.view, co.look, co.exposure, co.gamma, PB_COLOR_PICTURE},
       .exit_after = exit_after, .screenshot = screenshot, .script = script, .reference = reference,

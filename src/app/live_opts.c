@@ -1,11 +1,13 @@
 /* The frame settings `view` and `serve` share (live_opts.h). */
 #include "app/live_opts.h"
 
-const char *const pb_live_first_bounce_names[] = {"traced", "rsm", NULL};
+const char *const pb_live_first_bounce_names[] = {"traced", "rsm", "auto", NULL};
 
 pb_result pb_live_opts_check(const char *command, const pb_live_opts *o) {
   if (o->alpha < 0 || !(o->alpha < 1))
     return pb_fail(PB_ERR_USAGE, "%s: --alpha %g must lie in (0, 1)", command, o->alpha);
+  if ((o->image_maps || o->image_map_resolution) && o->tracer != PB_TRACER_IMAGES)
+    return pb_fail(PB_ERR_USAGE, "%s: --image-maps and --image-map-resolution need --tracer images", command);
   return PB_OK;
 }
 
@@ -25,7 +27,8 @@ pb_sequence_desc pb_live_sequence_desc(const pb_live_opts *o, uint64_t seed) {
                  .photons = o->photons, .iterations = o->iterations, .photon_bounces = bounces,
                  .smoothing = (float)o->smoothing, .smoothing_caustic = (float)o->smoothing_caustic, .r_max = (float)o->r_max, .progressive = o->progressive,
                  .alpha = (float)o->alpha, .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o->first_bounce),
-                 .atrous_iterations = o->atrous,
+                 .tracer = (uint32_t)o->tracer, .image_maps = o->image_maps,
+                 .image_map_resolution = o->image_map_resolution, .atrous_iterations = o->atrous,
                  /* as cmd_render.c maps --atrous-clip */
                  .atrous_gamma = o->atrous_gamma < 0 ? 0.0f : (o->atrous_gamma > 0 ? (float)o->atrous_gamma : -1.0f),
                  .preview_interval_s = -1.0},

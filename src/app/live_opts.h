@@ -9,17 +9,20 @@
 #include "app/cli.h"
 #include "render/photon.h"
 #include "render/sequence.h"
+#include "render/tracer.h"
 
 typedef struct pb_live_opts {
   uint32_t spp, max_spec, photons, iterations, bounces, atrous, device, max_bounces;
   int direct_only, progressive, no_temporal, validation, first_bounce;
+  int tracer;                              /* index into pb_tracer_names (render/tracer.h) */
+  uint32_t image_maps, image_map_resolution; /* --tracer images; 0: the tracer's defaults */
   double smoothing, smoothing_caustic, r_max, alpha, atrous_gamma;
 } pb_live_opts;
 
 extern const char *const pb_live_first_bounce_names[];
 
 /* Defaults: 4 A-Trous passes (as render --frames), no device chosen. */
-#define PB_LIVE_OPTS_INIT {.atrous = 4, .device = UINT32_MAX, .atrous_gamma = -1}
+#define PB_LIVE_OPTS_INIT {.atrous = 4, .device = UINT32_MAX, .atrous_gamma = -1, .first_bounce = 0 /* traced */}
 
 #define PB_LIVE_OPTS(o)                                                                                            \
   {"spp", 0, PB_OPT_U32, &(o)->spp, "N", "samples per pixel per frame (default 1)", NULL, 1, 1 << 20},             \
@@ -43,8 +46,15 @@ extern const char *const pb_live_first_bounce_names[];
    "(probabilistic SPPM), so a still view converges to the unbiased answer", NULL, 0, 0},                          \
   {"alpha", 0, PB_OPT_FLOAT, &(o)->alpha, "A", "--progressive: radius^2 fraction kept per map, in (0, 1) "        \
    "(default 2/3)", NULL, 0, 0},                                                                                   \
-  {"first-bounce", 0, PB_OPT_CHOICE, &(o)->first_bounce, "MODE", "traced (default) or rsm",                        \
+  {"first-bounce", 0, PB_OPT_CHOICE, &(o)->first_bounce, "MODE",                                                 \
+   "traced, rsm or auto (rsm for lights whose map covers under half of their flux; default traced)",                       \
    pb_live_first_bounce_names, 0, 0},                                                                              \
+  {"tracer", 0, PB_OPT_CHOICE, &(o)->tracer, "KIND", "photon tracer, as render --tracer: bvh (default) or images " \
+   "(seed 003's environment maps; misses counted)", pb_tracer_names, 0, 0},                                       \
+  {"image-maps", 0, PB_OPT_U32, &(o)->image_maps, "K", "--tracer images: environment maps (default 8)", NULL, 1,  \
+   PB_IMAGE_MAPS_MAX},                                                                                             \
+  {"image-map-resolution", 0, PB_OPT_U32, &(o)->image_map_resolution, "N", "--tracer images: texels per "         \
+   "cube-face side (default 128)", NULL, 8, 1024},                                                                 \
   {"atrous-iterations", 0, PB_OPT_U32, &(o)->atrous, "N", "A-Trous passes on the indirect light (default 4, as "   \
    "render --frames)", NULL, 0, 12},                                                                               \
   {"atrous-clip", 0, PB_OPT_FLOAT, &(o)->atrous_gamma, "G", "A-Trous detail kept within G standard deviations "    \

@@ -98,6 +98,51 @@ const char *pb_color_blender_config(void);
  * ("display sRGB: Standard, Filmic, ..."), for --list. */
 void pb_color_list(const pb_color *c, FILE *f);
 
+/* The view baked for the GPU (issue 17 item 2): a 3D LUT of size^3 nodes on
+ * a shaper, so that shaders/present.comp (src/view/present_pass.c) shows
+ * what pb_color_apply_display gives, to one 8-bit step, HDR values included.
+ *
+ * The shaper (per channel, after the exposure scale): node 0 is x = 0; node
+ * 1 .. size-1 are log2-spaced from 2^lo to 2^hi; between 0 and 2^lo the
+ * coordinate is linear in x (the toe). lo and hi are chosen by probing the
+ * view (pb_color_bake_lut): hi is where the display values of grey and of
+ * the three primaries stop changing (Standard: 1, where it clips; Filmic:
+ * 2^8.56, where its curve reaches 1), so every value above 1 up to there
+ * has its own nodes and values beyond map as the view maps them (constant);
+ * lo is the largest 1/16 stop below which the view is linear in x (sRGB's
+ * linear segment, 2^-8.3; Filmic's allocation floor, 2^-12.47) within
+ * 2e-5, so the linear toe is exact there (a flat floor is found to float
+ * precision by bisection). Interpolation: tetrahedral, as
+ * OCIO's own 3D LUTs in Blender's config. The nodes hold the processor's
+ * output at exposure 0 (gamma and look included), clamped to [0, 1] as
+ * pb_color_apply_display clamps. No dither: the host path rounds to
+ * nearest, and so does the pass. */
+typedef struct pb_color_lut {
+  uint32_t size;   /* nodes per axis: 66 (the node at 0 and 65 log2-spaced), or
+                      129 where 66 misses by more than half an 8-bit step
+                      (Filmic: 0.93 steps at 129, 2.3 at 66) */
+  float lo, hi;    /* log2 of nodes 1 and size-1 */
+  float *rgba;     /* size^3 nodes, 4 floats each (alpha 1), red fastest,
+                      then green, then blue */
+  double max_error; /* |LUT - processor| over the probe set (display units):
+                       a grey ramp of 2^-24 .. 2^16 and random colours up to
+                       2^8, at exposure 0 */
+} pb_color_lut;
+
+/* Bakes c's view (exposure ignored: the pass scales by 2^exposure, so an
+ * exposure key needs no new bake). size 0: 66, or 129 when 66 misses by
+ * more than half an 8-bit step. Errors: PB_ERR_USAGE (size
+ * not in 2..129), PB_ERR_NOMEM, PB_ERR_NOT_AVAILABLE (OCIO). */
+pb_result pb_color_bake_lut(const pb_color *c, uint32_t size, pb_color_lut *out);
+void pb_color_lut_destroy(pb_color_lut *lut); /* accepts a zeroed one */
+/* The pass's arithmetic on the host (display_lut.c; shaders/present.comp
+ * does the same): scene-linear RGB scaled by `scale` (2^exposure) to
+ * display values in [0, 1] (NaN and negative channels: the node at 0). */
+void pb_color_lut_eval(const pb_color_lut *lut, float scale, const float rgb[3], float out[3]);
+/* The 8-bit encode both paths use: 0 for NaN and x <= 0, 255 for x >= 1,
+ * else round(x * 255) (pb_png_write_display's). */
+uint8_t pb_color_to_u8(float x);
+
 /* The embedded config text (config/ocio/photonbridge.ocio). */
 extern const char pb_color_builtin_config_text[];
 

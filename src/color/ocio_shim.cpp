@@ -200,6 +200,44 @@ pb_result load_config(const pb_color_desc *desc, pb_color *c) {
   return PB_OK;
 }
 
+// The display processor of c's display / view / look and gamma with the
+// given exposure (throws OCIO::Exception).
+OCIO::ConstCPUProcessorRcPtr make_cpu(const pb_color *c, double exposure) {
+  OCIO::DisplayViewTransformRcPtr dvt = OCIO::DisplayViewTransform::Create();
+  dvt->setSrc(OCIO::ROLE_SCENE_LINEAR);
+  dvt->setDisplay(c->display.c_str());
+  dvt->setView(c->view.c_str());
+  // Blender's display processor (OCIOImpl::createDisplayProcessor):
+  // exposure as a scale in scene-linear, the look (replacing the view's own
+  // looks, as Blender's "Look" menu does), the view, then gamma as an
+  // exponent 1/gamma on the display values.
+  OCIO::LegacyViewingPipelineRcPtr vp = OCIO::LegacyViewingPipeline::Create();
+  vp->setDisplayViewTransform(dvt);
+  if (!c->look.empty()) {
+    vp->setLooksOverrideEnabled(true);
+    vp->setLooksOverride(c->look.c_str());
+  }
+  if (exposure != 0.0) {
+    const double k = std::exp2(exposure);
+    const double m[16] = {k, 0, 0, 0, 0, k, 0, 0, 0, 0, k, 0, 0, 0, 0, 1};
+    OCIO::MatrixTransformRcPtr scale = OCIO::MatrixTransform::Create();
+    scale->setMatrix(m);
+    vp->setLinearCC(scale);
+  }
+  if (c->gamma != 1.0) {
+    const double e = 1.0 / c->gamma;
+    const double v[4] = {e, e, e, 1.0};
+    OCIO::ExponentTransformRcPtr ex = OCIO::ExponentTransform::Create();
+    ex->setValue(v);
+    vp->setDisplayCC(ex);
+  }
+  OCIO::ConstProcessorRcPtr proc = vp->getProcessor(c->config, c->config->getCurrentContext());
+  // Lossless: no fast pow/log approximations, so that the Standard view
+  // matches the analytic sRGB encode to float precision.
+  return proc->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
+                                          OCIO::OPTIMIZATION_LOSSLESS);
+}
+
 } // namespace
 
 extern "C" pb_result pb_color_open(const pb_color_desc *desc, pb_color **out) {
@@ -255,39 +293,7 @@ extern "C" pb_result pb_color_open(const pb_color_desc *desc, pb_color **out) {
     c->exposure = desc->exposure;
     c->gamma = desc->gamma > 0.0 ? desc->gamma : 1.0;
 
-    OCIO::DisplayViewTransformRcPtr dvt = OCIO::DisplayViewTransform::Create();
-    dvt->setSrc(OCIO::ROLE_SCENE_LINEAR);
-    dvt->setDisplay(display);
-    dvt->setView(view);
-    // Blender's display processor (OCIOImpl::createDisplayProcessor):
-    // exposure as a scale in scene-linear, the look (replacing the view's own
-    // looks, as Blender's "Look" menu does), the view, then gamma as an
-    // exponent 1/gamma on the display values.
-    OCIO::LegacyViewingPipelineRcPtr vp = OCIO::LegacyViewingPipeline::Create();
-    vp->setDisplayViewTransform(dvt);
-    if (*look) {
-      vp->setLooksOverrideEnabled(true);
-      vp->setLooksOverride(look);
-    }
-    if (c->exposure != 0.0) {
-      const double k = std::exp2(c->exposure);
-      const double m[16] = {k, 0, 0, 0, 0, k, 0, 0, 0, 0, k, 0, 0, 0, 0, 1};
-      OCIO::MatrixTransformRcPtr scale = OCIO::MatrixTransform::Create();
-      scale->setMatrix(m);
-      vp->setLinearCC(scale);
-    }
-    if (c->gamma != 1.0) {
-      const double e = 1.0 / c->gamma;
-      const double v[4] = {e, e, e, 1.0};
-      OCIO::ExponentTransformRcPtr ex = OCIO::ExponentTransform::Create();
-      ex->setValue(v);
-      vp->setDisplayCC(ex);
-    }
-    OCIO::ConstProcessorRcPtr proc = vp->getProcessor(c->config, c->config->getCurrentContext());
-    // Lossless: no fast pow/log approximations, so that the Standard view
-    // matches the analytic sRGB encode to float precision.
-    c->cpu = proc->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
-                                            OCIO::OPTIMIZATION_LOSSLESS);
+    c->cpu = make_cpu(c, c->exposure);
   } catch (const OCIO::Exception &e) {
     r = pb_fail(PB_ERR_NOT_AVAILABLE, "OCIO config %s: display '%s', view '%s': %s", cfg,
                 c->display.c_str(), c->view.c_str(), one_line(e.what()).c_str());
@@ -424,4 +430,177 @@ extern "C" void pb_color_list(const pb_color *c, FILE *f) {
     std::fprintf(f, "display %s: %s\n", d, join_views(c->config, d).c_str());
   }
   std::fprintf(f, "looks: %s\n", join_looks(c->config).c_str());
+}
+
+namespace {
+
+// The view on n RGB triples, clamped to [0, 1] as pb_color_apply_display.
+void eval_rgb(const OCIO::ConstCPUProcessorRcPtr &cpu, std::vector<float> &rgb) {
+  const long n = (long)(rgb.size() / 3);
+  OCIO::PackedImageDesc img(rgb.data(), n, 1, 3);
+  cpu->apply(img);
+  for (float &v : rgb) v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+}
+
+} // namespace
+
+static pb_result bake_lut(const pb_color *c, uint32_t size, pb_color_lut *out);
+
+extern "C" pb_result pb_color_bake_lut(const pb_color *c, uint32_t size, pb_color_lut *out) {
+  if (size) return bake_lut(c, size, out);
+  // Default: 66 nodes; a view whose bake misses by more than half an 8-bit
+  // step there (Filmic's saturated colours: its desaturation curves between
+  // the nodes) gets 129 (34 MB, bakes in about a second).
+  pb_result r = bake_lut(c, 66, out);
+  if (r != PB_OK || out->max_error * 255.0 <= 0.5) return r;
+  pb_color_lut fine;
+  if (bake_lut(c, 129, &fine) != PB_OK) {
+    pb_error_clear();
+    return PB_OK; /* the coarser one stays */
+  }
+  if (fine.max_error < out->max_error) {
+    pb_color_lut_destroy(out);
+    *out = fine;
+  } else {
+    pb_color_lut_destroy(&fine);
+  }
+  return PB_OK;
+}
+
+static pb_result bake_lut(const pb_color *c, uint32_t size, pb_color_lut *out) {
+  std::memset(out, 0, sizeof *out);
+  if (size < 3 || size > 129)
+    return pb_fail(PB_ERR_USAGE, "OCIO config %s: a %u^3 LUT (3 .. 129 nodes per axis)",
+                   c->config_name.c_str(), size);
+  try {
+    OCIO::ConstCPUProcessorRcPtr cpu = make_cpu(c, 0.0);
+    // The shaper's range from probes (color.h): grey and the three
+    // primaries at 2^t, t = -24 .. 20 in 1/16 stops, and at 0.
+    const int steps = 44 * 16 + 1, hues = 4;
+    auto tof = [](int i) { return -24.0 + i / 16.0; };
+    std::vector<float> p((size_t)hues * (steps + 1) * 3, 0.0f);
+    for (int h = 0; h < hues; ++h)
+      for (int i = 0; i < steps; ++i)
+        for (int k = 0; k < 3; ++k)
+          p[((size_t)h * (steps + 1) + i) * 3 + k] = (h == 0 || h == k + 1) ? (float)std::exp2(tof(i)) : 0.0f;
+    eval_rgb(cpu, p); // entry `steps` of each hue: x = 0
+    auto at = [&](int h, int i, int k) { return p[((size_t)h * (steps + 1) + i) * 3 + k]; };
+    // hi: from here up, every probe is what the top probe is (1e-6).
+    int hi = steps - 1;
+    while (hi > 0) {
+      bool same = true;
+      for (int h = 0; h < hues && same; ++h)
+        for (int k = 0; k < 3; ++k) same = same && std::fabs(at(h, hi - 1, k) - at(h, steps - 1, k)) <= 1e-6f;
+      if (!same) break;
+      --hi;
+    }
+    // lo: the largest t below hi under which the view is linear in x
+    // (f(x) = f(0) + (f(2^lo) - f(0)) x / 2^lo within 2e-5).
+    int lo = hi - 16 > 0 ? hi - 16 : 0;
+    for (; lo > 0; --lo) {
+      bool linear = true;
+      for (int h = 0; h < hues && linear; ++h)
+        for (int k = 0; k < 3 && linear; ++k) {
+          const float f0 = at(h, steps, k), fl = at(h, lo, k);
+          for (int j = 0; j < lo && linear; ++j)
+            linear = std::fabs(at(h, j, k) - (f0 + (fl - f0) * (float)std::exp2(tof(j) - tof(lo)))) <= 2e-5f;
+        }
+      if (linear) break;
+    }
+    // A flat bottom (Filmic's allocation floor: the view constant below
+    // it) found to float precision by bisection, so that a log allocation's
+    // own grid can start there.
+    double lo_t = tof(lo);
+    {
+      bool flat = true;
+      for (int h = 0; h < hues && flat; ++h)
+        for (int k = 0; k < 3 && flat; ++k) flat = std::fabs(at(h, lo, k) - at(h, steps, k)) <= 1e-6f;
+      if (flat && lo + 1 < hi) {
+        double a = tof(lo), b = tof(lo + 1);
+        for (int it = 0; it < 40; ++it) {
+          const double m = 0.5 * (a + b);
+          std::vector<float> t((size_t)hues * 3, 0.0f);
+          for (int h = 0; h < hues; ++h)
+            for (int k = 0; k < 3; ++k) t[(size_t)h * 3 + k] = (h == 0 || h == k + 1) ? (float)std::exp2(m) : 0.0f;
+          eval_rgb(cpu, t);
+          bool same = true;
+          for (int h = 0; h < hues && same; ++h)
+            for (int k = 0; k < 3; ++k) same = same && std::fabs(t[(size_t)h * 3 + k] - at(h, steps, k)) <= 1e-6f;
+          (same ? a : b) = m;
+        }
+        lo_t = a;
+      }
+    }
+    out->size = size;
+    const size_t n = (size_t)size * size * size;
+    out->rgba = (float *)std::malloc(n * 4 * sizeof(float));
+    float *best = (float *)std::malloc(n * 4 * sizeof(float));
+    if (!out->rgba || !best) {
+      std::free(best);
+      throw std::bad_alloc();
+    }
+    // The bake's error: a grey ramp 2^-24 .. 2^16 (1/8 stops) and 4096
+    // colours with channels 0 or 2^U(-14, 8) (a fixed LCG).
+    std::vector<float> q;
+    for (int i = 0; i <= 40 * 8; ++i)
+      for (int k = 0; k < 3; ++k) q.push_back((float)std::exp2(-24.0 + i / 8.0));
+    uint64_t s = 0x9e3779b97f4a7c15ull;
+    for (int i = 0; i < 3 * 4096; ++i) {
+      s = s * 6364136223846793005ull + 1442695040888963407ull;
+      const double u = (double)(s >> 11) / 9007199254740992.0;
+      q.push_back(u < 0.1 ? 0.0f : (float)std::exp2(-14.0 + 22.0 * (u - 0.1) / 0.9));
+    }
+    std::vector<float> ref = q;
+    eval_rgb(cpu, ref);
+    // Candidate ranges: the probed one, and (a flat bottom) 25 stops from
+    // it, the span of Blender's Filmic log allocation (-12.47 .. 12.53),
+    // whose own 65^3 cube then lies node on node with 66 nodes (64 log
+    // cells). The one with the smaller error over the probes is kept.
+    double cand[2][2] = {{lo_t, tof(hi)}, {lo_t, lo_t + 25.0}};
+    double best_err = 1e30;
+    float best_lo = 0, best_hi = 0;
+    for (int ci = 0; ci < 2; ++ci) {
+      if (ci == 1 && cand[1][1] < cand[0][1]) continue; /* would clip what the view still changes */
+      out->lo = (float)cand[ci][0];
+      out->hi = (float)cand[ci][1];
+      std::vector<float> xs(size);
+      xs[0] = 0.0f;
+      for (uint32_t i = 1; i < size; ++i)
+        xs[i] = std::exp2f(out->lo + (float)(i - 1) * ((out->hi - out->lo) / (float)(size - 2)));
+      std::vector<float> grid(n * 3);
+      for (uint32_t b = 0; b < size; ++b)
+        for (uint32_t g = 0; g < size; ++g)
+          for (uint32_t r = 0; r < size; ++r) {
+            float *o = &grid[(((size_t)b * size + g) * size + r) * 3];
+            o[0] = xs[r], o[1] = xs[g], o[2] = xs[b];
+          }
+      eval_rgb(cpu, grid);
+      for (size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) out->rgba[4 * i + k] = grid[3 * i + k];
+        out->rgba[4 * i + 3] = 1.0f;
+      }
+      double err = 0.0;
+      for (size_t i = 0; i < q.size(); i += 3) {
+        float v[3];
+        pb_color_lut_eval(out, 1.0f, &q[i], v);
+        for (int k = 0; k < 3; ++k) err = std::max(err, (double)std::fabs(v[k] - ref[i + k]));
+      }
+      if (err < best_err) {
+        best_err = err, best_lo = out->lo, best_hi = out->hi;
+        std::memcpy(best, out->rgba, n * 4 * sizeof(float));
+      }
+    }
+    std::free(out->rgba);
+    out->rgba = best;
+    out->lo = best_lo, out->hi = best_hi;
+    out->max_error = best_err;
+  } catch (const OCIO::Exception &e) {
+    pb_color_lut_destroy(out);
+    return pb_fail(PB_ERR_NOT_AVAILABLE, "OCIO config %s: baking %s / %s: %s", c->config_name.c_str(),
+                   c->display.c_str(), c->view.c_str(), one_line(e.what()).c_str());
+  } catch (const std::bad_alloc &) {
+    pb_color_lut_destroy(out);
+    return pb_fail(PB_ERR_NOMEM, "OCIO config %s: out of memory baking a %u^3 LUT", c->config_name.c_str(), size);
+  }
+  return PB_OK;
 }

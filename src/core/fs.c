@@ -96,11 +96,16 @@ pb_result pb_check_writable(const char *path) {
 
 pb_result pb_atomic_commit(const char *path, FILE *f, char *tmp_path) {
   int bad = ferror(f);
-  int e = errno;
-  if (fclose(f) != 0 && !bad) {
+  int e = bad ? errno : 0;
+  /* errno of the failed write may have been overwritten since (any library
+   * call may set it): fclose flushes what is still buffered and sets it
+   * again, so a stale 0 ("Success") is replaced by the flush's error. */
+  errno = 0;
+  if (fclose(f) != 0 && (!bad || e == 0)) {
     bad = 1;
     e = errno;
   }
+  if (bad && e == 0) e = EIO;
   if (bad) {
     unlink(tmp_path);
     pb_tmp_unregister(tmp_path);

@@ -16,6 +16,7 @@ static uint32_t find_type(const pb_gpu *g, uint32_t bits, VkMemoryPropertyFlags 
 
 void pb_gpu_buffer_destroy(pb_gpu *g, pb_gpu_buffer *b) {
   if (!b) return;
+  if (b->buffer) (void)pb_gpu_settle(g); /* a pending submission may use it */
   if (g && b->memory && b->size) g->memory_live -= b->size <= g->memory_live ? b->size : g->memory_live;
   if (g && g->device) {
     if (b->mapped) vkUnmapMemory(g->device, b->memory);
@@ -150,6 +151,7 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset, con
                                uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
+  if ((r = pb_gpu_settle(g)) != PB_OK) return r; /* frames in flight: the GPU may use b */
   g->transfers.upload_bytes += size, g->transfers.uploads++;
   if (b->mapped) {
     memcpy((char *)b->mapped + offset, data, size);
@@ -162,6 +164,7 @@ pb_result pb_gpu_buffer_download(pb_gpu *g, const pb_gpu_buffer *b, uint64_t off
                                  uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
+  if ((r = pb_gpu_settle(g)) != PB_OK) return r; /* frames in flight: the GPU may use b */
   g->transfers.download_bytes += size, g->transfers.downloads++;
   if (b->mapped && b->cached) {
     memcpy(data, (const char *)b->mapped + offset, size);
@@ -183,6 +186,8 @@ pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t of
 }
 
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {
+  pb_result rs = pb_gpu_settle(g);
+  if (rs != PB_OK) return rs;
   if (b->mapped) {
     memset(b->mapped, 0, b->size);
     return PB_OK;

@@ -628,6 +628,8 @@ int pb_gpu_validation_enabled(const pb_gpu *g) { return g->validation; }
 
 pb_result pb_gpu_begin(pb_gpu *g) {
   if (g->recording) return pb_fail(PB_ERR_INTERNAL, "gpu: pb_gpu_begin while recording");
+  pb_result r = pb_gpu_settle(g); /* the command buffer and the query pool are reused */
+  if (r != PB_OK) return r;
   VkResult vr = vkResetCommandBuffer(g->cmd, 0);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkResetCommandBuffer");
   VkCommandBufferBeginInfo bi = {
@@ -695,7 +697,45 @@ void pb_gpu_timestamp(pb_gpu *g, uint32_t slot) {
   vkCmdWriteTimestamp(g->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->queries, slot);
 }
 
-pb_result pb_gpu_submit(pb_gpu *g) {
+void pb_gpu_copy(pb_gpu *g, const pb_gpu_buffer *src, uint64_t src_offset, const pb_gpu_buffer *dst,
+                 uint64_t dst_offset, uint64_t size) {
+  if (!size) return;
+  VkBufferCopy c = {.srcOffset = src_offset, .dstOffset = dst_offset, .size = size};
+  vkCmdCopyBuffer(g->cmd, src->buffer, dst->buffer, 1, &c);
+}
+
+static pb_result submit(pb_gpu *g, int wait);
+
+pb_result pb_gpu_submit(pb_gpu *g) { return submit(g, 1); }
+
+pb_result pb_gpu_submit_async(pb_gpu *g) { return submit(g, 0); }
+
+int pb_gpu_pending(const pb_gpu *g) { return g->pending; }
+
+/* Waits for the fence of the last submission, in slices, so that a lost
+ * device is reported rather than hanging forever. */
+static pb_result wait_fence(pb_gpu *g) {
+  VkResult vr;
+  for (;;) {
+    vr = vkWaitForFences(g->device, 1, &g->fence, VK_TRUE, 1000000000ull);
+    if (vr != VK_TIMEOUT) break;
+  }
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkWaitForFences");
+  if (g->validation_errors)
+    return pb_fail(PB_ERR_VULKAN, "Vulkan validation reported %u message%s; first: %s",
+                   g->validation_errors, g->validation_errors == 1 ? "" : "s", g->validation_first);
+  return PB_OK;
+}
+
+pb_result pb_gpu_wait(pb_gpu *g) {
+  if (!g->pending) return PB_OK;
+  g->pending = 0;
+  return wait_fence(g);
+}
+
+pb_result pb_gpu_settle(pb_gpu *g) { return g && g->pending ? pb_gpu_wait(g) : PB_OK; }
+
+static pb_result submit(pb_gpu *g, int wait) {
   if (!g->recording) return pb_fail(PB_ERR_INTERNAL, "gpu: submit without begin");
   g->recording = 0;
   VkResult vr = vkEndCommandBuffer(g->cmd);
@@ -709,20 +749,15 @@ pb_result pb_gpu_submit(pb_gpu *g) {
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkResetFences");
   vr = vkQueueSubmit(g->queue, 1, &si, g->fence);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkQueueSubmit");
-  /* Wait without a deadline in slices, so that a lost device is reported
-   * rather than hanging forever. */
-  for (;;) {
-    vr = vkWaitForFences(g->device, 1, &g->fence, VK_TRUE, 1000000000ull);
-    if (vr != VK_TIMEOUT) break;
+  if (!wait) {
+    g->pending = 1;
+    return PB_OK;
   }
-  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkWaitForFences");
-  if (g->validation_errors)
-    return pb_fail(PB_ERR_VULKAN, "Vulkan validation reported %u message%s; first: %s",
-                   g->validation_errors, g->validation_errors == 1 ? "" : "s", g->validation_first);
-  return PB_OK;
+  return wait_fence(g);
 }
 
 double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t a, uint32_t b) {
+  if (pb_gpu_settle(g) != PB_OK) return -1.0;
   if (!g->queries || a >= g->query_count || b >= g->query_count) return -1.0;
   uint64_t ta, tb;
   /* Without WAIT, a slot not written in the last submission is NOT_READY. */

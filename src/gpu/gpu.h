@@ -256,6 +256,25 @@ void pb_gpu_timestamp(pb_gpu *g, uint32_t slot);
 /* Ends, submits, waits. PB_ERR_DEVICE_LOST / PB_ERR_VULKAN with a message;
  * PB_ERR_VULKAN too when validation reported anything. */
 pb_result pb_gpu_submit(pb_gpu *g);
+/* Ends and submits without waiting (frames in flight, issue 17: a frame's
+ * last submission runs while the host goes on with the next). Until
+ * pb_gpu_wait, nothing may touch what that submission reads or writes but
+ * through this API: every call that records, transfers, binds or destroys
+ * (pb_gpu_begin, buffer uploads, downloads, fills, pipeline binds, buffer
+ * and pipeline destruction, pb_gpu_elapsed_ms) waits for it first, so the
+ * host overlaps the GPU exactly as long as it does other work. Reads of a
+ * buffer's `mapped` pointer do not wait: only for buffers the pending
+ * submission does not write (render/readback.h's ring). */
+pb_result pb_gpu_submit_async(pb_gpu *g);
+/* Waits for the pending asynchronous submission, if any; its errors
+ * (device lost, validation messages) as pb_gpu_submit's. */
+pb_result pb_gpu_wait(pb_gpu *g);
+/* 1 while an asynchronous submission has not been waited for. */
+int pb_gpu_pending(const pb_gpu *g);
+/* Copies `size` bytes between buffers in the recording command buffer
+ * (transfer; a pb_gpu_barrier orders it with the passes around it). */
+void pb_gpu_copy(pb_gpu *g, const pb_gpu_buffer *src, uint64_t src_offset, const pb_gpu_buffer *dst,
+                 uint64_t dst_offset, uint64_t size);
 /* Milliseconds between two timestamp slots of the last submission; negative
  * when timestamps are unavailable. */
 double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t from_slot, uint32_t to_slot);

@@ -19,6 +19,7 @@ struct pb_gpu {
   uint32_t query_count;
   uint64_t ts_mask;
   int recording;
+  int pending;       /* a pb_gpu_submit_async submission not yet waited for */
   VkPhysicalDeviceMemoryProperties mem;
   pb_gpu_limits limits;
   char name[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE];
@@ -31,5 +32,9 @@ struct pb_gpu {
   int can_present;            /* pb_gpu_vk */
   const char *present_reason;
 };
+
+/* Waits for a pending asynchronous submission (pb_gpu_wait); every host
+ * access to GPU objects through this API calls it first. */
+pb_result pb_gpu_settle(pb_gpu *g);
 
 #endif

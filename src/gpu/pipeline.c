@@ -8,6 +8,7 @@
 
 void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p) {
   if (!p) return;
+  if (p->pipeline) (void)pb_gpu_settle(g); /* a pending submission may use it */
   if (g && g->device) {
     if (p->pipeline) vkDestroyPipeline(g->device, p->pipeline, NULL);
     if (p->layout) vkDestroyPipelineLayout(g->device, p->layout, NULL);
@@ -159,6 +160,8 @@ pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffe
   if (count != p->binding_count)
     return pb_fail(PB_ERR_INTERNAL, "gpu: %u buffers bound to a pipeline of %u bindings", count,
                    p->binding_count);
+  pb_result r = pb_gpu_settle(g); /* the set may be in use by a pending submission */
+  if (r != PB_OK) return r;
   VkDescriptorBufferInfo bi[PB_GPU_MAX_BINDINGS];
   VkWriteDescriptorSet w[PB_GPU_MAX_BINDINGS];
   for (uint32_t i = 0; i < count; ++i) {

@@ -36,14 +36,34 @@ typedef struct ctx_key {
   const pb_gpu_scene *gs;
   const void *photon_map;
   uint32_t width, height, photons, bounces, first_bounce, tracer, image_maps, image_map_resolution;
-  float smoothing, r_max, smoothing_caustic;
+  float smoothing, r_max, smoothing_caustic, bandwidth_c0;
   int direct_only, photons_on;
   pb_estimator_desc estimator; /* 4-byte fields only: no padding */
 } ctx_key;
 
+/* What a frame's last submission leaves to do once the GPU has run it
+ * (frame_settle, frame_read): everything pb_render_frame knew at that
+ * submission and its finish needs. A frame in flight keeps it in its
+ * context, one per readback ring slot (targets.h). */
+typedef struct frame_tail {
+  int ts, chain_gpu, post_gpu, photons_on, nmap_aovs, opaque, no_shading_correction;
+  uint32_t sc_slot, slot, pixels, spp_run, iters_run, emitter_count, ring_slot;
+  size_t pixel_base, n;
+  float inv_spp;
+  double gpu_ms, gbuf_ms, direct_ms, gather_ms, photon_gpu_ms, trace_ms, est_build_ms, k_sum, hit_sum, wall0;
+  double host_ms; /* frames in flight: the wall time of pb_render_frame up to the last submission */
+  uint64_t stored_sum, caustic_sum;
+  pb_gpu_transfers tr0, tr_submit; /* at the frame's start and its last submission */
+  pb_filter_chain *fc;
+  pb_estimator *est;
+  const pb_gpu_scene *gs;
+} frame_tail;
+
 struct pb_frame_context {
   int valid;
   ctx_key key;
+  frame_tail tail[PB_READBACK_RING]; /* frames in flight, by ring slot */
+  uint32_t next_slot;                /* the ring slot of the next frame in flight */
   pb_frame_targets tg;
   pb_gpu_pipeline gp, dp, rp, scp;
   pb_tracer *tracer;
@@ -250,6 +270,113 @@ static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_fra
   return d->progress(d->progress_user, &p);
 }
 
+/* After the band's last submission finished: its GPU times and the filter
+ * chain's statistics (timestamps of the last submission: before the next
+ * pb_gpu_begin). */
+static pb_result tail_band_times(pb_gpu *g, frame_tail *ft, pb_render_result *out) {
+  if (ft->ts) { /* the resolve and eq. 20; the chain's passes in their own stats */
+    double ms = pb_gpu_elapsed_ms(g, 0, 1), ms2 = pb_gpu_elapsed_ms(g, ft->sc_slot, ft->slot);
+    ft->gpu_ms += (ms > 0 ? ms : 0) + (ms2 > 0 ? ms2 : 0);
+  }
+  if (ft->chain_gpu) return pb_filter_chain_finish(g, ft->fc, ft->ts, &out->stats);
+  return PB_OK;
+}
+
+/* The frame's statistics once every band is read back (or, for a frame in
+ * flight, once its last submission finished: all but k_pd, which the
+ * readback completes), the guard's count and the host path's filters. */
+static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *ft, pb_render_result *out) {
+  pb_render_stats *st = &out->stats;
+  pb_result r;
+  const pb_gpu_scene *gs = ft->gs;
+  size_t n = ft->n;
+  /* Statistics that are not summed over maps (vsch's pair counts, kNN's cut
+   * queries) are read here, after the frame's samples; a deferred tail (frames
+   * in flight) reads them after the next frame was recorded, so they may
+   * describe that frame's work. */
+  if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
+  if ((r = pb_readback_guard(g, tg, &st->nonfinite_values)) != PB_OK) return r;
+  if (!ft->post_gpu) {
+    /* The host path (several bands, the host reference): the same filters
+     * on the read-back AOVs, then eq. 20. With normal maps the filters'
+     * edge-stopping uses the geometric normal (filters.c). */
+    if (ft->fc && ft->photons_on && (r = pb_filter_chain_host(g, ft->fc, out)) != PB_OK) return r;
+    if (!ft->no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX);
+  }
+  int ts = ft->ts;
+  st->spp = ft->spp_run;
+  st->timestamps = ts;
+  st->gbuffer_ms = ts ? ft->gbuf_ms : -1;
+  st->direct_ms = ts ? ft->direct_ms : -1;
+  st->total_gpu_ms = ft->gpu_ms;
+  st->upload_ms = gs->upload_s * 1e3;
+  st->bvh_build_ms = gs->bvh.build_s * 1e3;
+  st->bvh_nodes = gs->bvh.node_count;
+  st->bvh_depth = gs->bvh.depth;
+  st->primary_rays = (uint64_t)n * ft->spp_run;
+  st->shadow_rays_max = (uint64_t)n * ft->spp_run * (gs->light_count + (ft->emitter_count ? 1u : 0u));
+  if (ft->photons_on) {
+    st->photon_trace_ms = ft->trace_ms;
+    st->estimator_build_ms = ft->est_build_ms;
+    st->gather_ms = ts ? ft->gather_ms : -1;
+    st->photons_stored = ft->stored_sum;
+    st->photons_caustic = ft->caustic_sum;
+    st->iterations = ft->iters_run;
+    st->k_pd = ft->hit_sum > 0 ? ft->k_sum / ft->hit_sum : 0.0;
+  }
+  st->wall_ms = (pb_time_now() - ft->wall0) * 1e3;
+  st->frame_wall_ms = st->wall_ms;
+  st->frame_gpu_ms = ts ? ft->gpu_ms + ft->photon_gpu_ms + st->filter_ms + st->temporal_ms + st->motion_ms : -1;
+  pb_gpu_transfers tr1 = pb_gpu_transfers_get(g);
+  st->upload_bytes = tr1.upload_bytes - ft->tr0.upload_bytes;
+  st->download_bytes = tr1.download_bytes - ft->tr0.download_bytes;
+  st->readback_bytes = tr1.readback_bytes - ft->tr0.readback_bytes;
+  return PB_OK;
+}
+
+pb_result pb_render_frame_settle(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
+  if (!out->pending || !c || !c->valid || out->pending_slot >= PB_READBACK_RING)
+    return pb_fail(PB_ERR_INTERNAL, "render: no frame in flight to settle");
+  frame_tail *ft = &c->tail[out->pending_slot];
+  double t0 = pb_time_now();
+  pb_gpu_transfers s0 = pb_gpu_transfers_get(g);
+  pb_result r = pb_gpu_wait(g);
+  if (r == PB_OK) r = tail_band_times(g, ft, out);
+  if (r == PB_OK) r = tail_frame(g, &c->tg, ft, out);
+  /* Not this frame's: what moved between its last submission and now (the
+   * previous frame's readback from the ring). */
+  out->stats.upload_bytes -= s0.upload_bytes - ft->tr_submit.upload_bytes;
+  out->stats.download_bytes -= s0.download_bytes - ft->tr_submit.download_bytes;
+  out->stats.readback_bytes -= s0.readback_bytes - ft->tr_submit.readback_bytes;
+  /* Frames in flight: the host's time on this frame, not the GPU's that
+   * ran while the host did something else (render.h). */
+  out->stats.frame_wall_ms = ft->host_ms + (pb_time_now() - t0) * 1e3;
+  out->pending = 2; /* settled, pixels not read */
+  return r;
+}
+
+pb_result pb_render_frame_read(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
+  if (out->pending != 2 || !c || !c->valid || out->pending_slot >= PB_READBACK_RING)
+    return pb_fail(PB_ERR_INTERNAL, "render: no settled frame to read back");
+  frame_tail *ft = &c->tail[out->pending_slot];
+  double t0 = pb_time_now();
+  pb_gpu_transfers tr0 = pb_gpu_transfers_get(g);
+  pb_result r = pb_readback_ring(g, &c->tg, ft->ring_slot, ft->pixels, ft->nmap_aovs, out, &ft->k_sum, &ft->hit_sum);
+  if (r != PB_OK) return r;
+  pb_render_stats *st = &out->stats;
+  if (ft->photons_on) st->k_pd = ft->hit_sum > 0 ? ft->k_sum / ft->hit_sum : 0.0;
+  st->readback_bytes += pb_gpu_transfers_get(g).readback_bytes - tr0.readback_bytes;
+  st->frame_wall_ms += (pb_time_now() - t0) * 1e3;
+  out->pending = 0;
+  return PB_OK;
+}
+
+pb_result pb_render_frame_complete(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
+  pb_result r = out->pending == 1 ? pb_render_frame_settle(g, c, out) : PB_OK;
+  if (r == PB_OK && out->pending == 2) r = pb_render_frame_read(g, c, out);
+  return r;
+}
+
 pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
                           uint32_t height, const pb_render_desc *desc_in, pb_render_result *out) {
   memset(out, 0, sizeof *out);
@@ -314,9 +441,15 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.tracer = desc.tracer, key.image_maps = desc.image_maps, key.image_map_resolution = desc.image_map_resolution;
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
   memcpy(&key.estimator, &desc.estimator, sizeof key.estimator);
+  key.bandwidth_c0 = desc.bandwidth_c0;
   key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   if (ctx && !reuse) context_clear(g, ctx);
+  /* A frame in flight's tails (read after this frame's last submission)
+   * and the ring's next slot survive the hand-over below. */
+  frame_tail kept_tails[PB_READBACK_RING];
+  uint32_t kept_slot = ctx ? ctx->next_slot : 0;
+  if (ctx) memcpy(kept_tails, ctx->tail, sizeof kept_tails);
   if (reuse) {
     tg = ctx->tg;
     gp = ctx->gp, dp = ctx->dp, rp = ctx->rp, scp = ctx->scp;
@@ -374,7 +507,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   } else if (photons_on) {
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
-                                 .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce};
+                                 .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce,
+                                 .bandwidth_c0 = desc.bandwidth_c0};
       pb_tracer_desc trd = {.kind = desc.tracer, .photon = td,
                             .images = {.count = desc.image_maps, .resolution = desc.image_map_resolution}};
       if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;
@@ -418,6 +552,19 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   const char *host_env = getenv("PB_RESOLVE_ON_HOST");
   int post_gpu = photons_on && bands == 1 && !(host_env && host_env[0] == '1');
   int chain_gpu = post_gpu && fc, sc_on = !desc.no_shading_correction && nmap_aovs;
+  /* A still run's means on the GPU: after eq. 20, on the final planes of a
+   * frame in one band (the host resolve of the tests: on the host). */
+  int still_gpu = desc.still_sum && bands == 1 && !(host_env && host_env[0] == '1') &&
+                  desc.still_sum->pixels == band_pixels;
+  out->stats.still_on_gpu = still_gpu;
+  /* Frames in flight (render.h): one band on the GPU path, with a context
+   * to keep the tail in. The last submission then also copies the planes
+   * into the readback ring and is not waited for. */
+  int defer = desc.in_flight && ctx && bands == 1 && post_gpu && !own_fc;
+  uint32_t ring_slot = defer ? ctx->next_slot % PB_READBACK_RING : 0;
+  if (defer && (r = pb_frame_targets_ring(g, &tg)) != PB_OK) goto fail;
+  frame_tail ft;
+  memset(&ft, 0, sizeof ft);
   if ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK) goto fail;
 
   for (uint32_t band = 0; band < bands; ++band) {
@@ -539,6 +686,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
      * (readback.h) is where pixels leave the GPU. Timestamps: 0 start, 1
      * resolved, the chain's from 1 (filters.c), the last after eq. 20. */
     if (chain_gpu && (r = pb_filter_chain_bind(g, fc, &tg, nmap_aovs)) != PB_OK) goto fail;
+    if (still_gpu && (r = pb_still_sum_bind(g, desc.still_sum, &tg)) != PB_OK) goto fail;
     if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
     pb_gpu_timestamp(g, 0);
     float inv_spp = 1.0f / (float)spp_run;
@@ -552,61 +700,53 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       r = pb_shading_correction_record(g, &scp, pixels, PB_SHADING_CORRECTION_S_MAX);
       pb_gpu_barrier(g);
     }
+    if (still_gpu && r == PB_OK) { /* a still run's running means (targets.h pb_still_sum) */
+      r = pb_still_sum_record(g, desc.still_sum, &tg, pixels);
+      pb_gpu_barrier(g);
+    }
     pb_gpu_timestamp(g, ++slot);
-    pb_result rs = pb_gpu_submit(g);
+    if (defer) { /* after the last timestamp: the download is not a pass */
+      pb_gpu_barrier(g);
+      pb_readback_ring_record(g, &tg, ring_slot, pixels);
+    }
+    pb_result rs = defer ? pb_gpu_submit_async(g) : pb_gpu_submit(g);
     if (r == PB_OK) r = rs;
     if (r != PB_OK) goto fail;
-    if (ts) { /* the resolve and eq. 20; the chain's passes in their own stats */
-      double ms = pb_gpu_elapsed_ms(g, 0, 1), ms2 = pb_gpu_elapsed_ms(g, sc_slot, slot);
-      gpu_ms += (ms > 0 ? ms : 0) + (ms2 > 0 ? ms2 : 0);
-    }
-    if (chain_gpu && (r = pb_filter_chain_finish(g, fc, ts, &out->stats)) != PB_OK) goto fail;
+    ft.ts = ts, ft.chain_gpu = chain_gpu, ft.fc = fc, ft.sc_slot = sc_slot, ft.slot = slot;
+    ft.gpu_ms = gpu_ms;
+    if (defer) break; /* one band: frame_settle and frame_read finish it */
+    if ((r = tail_band_times(g, &ft, out)) != PB_OK) goto fail;
+    gpu_ms = ft.gpu_ms;
     if ((r = pb_readback_band(g, &tg, pixels, fr.pixel_base, n, inv_spp, s->film_opaque, nmap_aovs, out, &k_sum,
                               &hit_sum)) != PB_OK) goto fail;
   }
   out->width = width;
   out->height = height;
-  pb_render_stats *st = &out->stats;
-  if (photons_on && est) estimator_stats_final(g, est, st);
-  if ((r = pb_readback_guard(g, &tg, &st->nonfinite_values)) != PB_OK) goto fail;
-  if (!post_gpu) {
-    /* The host path (several bands, the host reference): the same filters
-     * on the read-back AOVs, then eq. 20. With normal maps the filters'
-     * edge-stopping uses the geometric normal (filters.c). */
-    if (fc && photons_on && (r = pb_filter_chain_host(g, fc, out)) != PB_OK) goto fail;
-    if (!desc.no_shading_correction) pb_shading_correction_apply(out, n, PB_SHADING_CORRECTION_S_MAX);
+  ft.ts = ts, ft.chain_gpu = chain_gpu, ft.post_gpu = post_gpu, ft.photons_on = photons_on;
+  ft.nmap_aovs = nmap_aovs, ft.opaque = s->film_opaque, ft.no_shading_correction = desc.no_shading_correction;
+  ft.pixels = (uint32_t)n, ft.spp_run = spp_run, ft.iters_run = iters_run, ft.emitter_count = fr.emitter_count;
+  ft.ring_slot = ring_slot, ft.pixel_base = 0, ft.n = n, ft.inv_spp = 1.0f / (float)spp_run;
+  ft.gpu_ms = gpu_ms, ft.gbuf_ms = gbuf_ms, ft.direct_ms = direct_ms, ft.gather_ms = gather_ms;
+  ft.photon_gpu_ms = photon_gpu_ms, ft.trace_ms = trace_ms, ft.est_build_ms = est_build_ms;
+  ft.k_sum = k_sum, ft.hit_sum = hit_sum, ft.wall0 = wall0, ft.stored_sum = stored_sum, ft.caustic_sum = caustic_sum;
+  ft.tr0 = tr0, ft.fc = fc, ft.est = est, ft.gs = gs;
+  if (defer) {
+    ft.host_ms = (pb_time_now() - wall0) * 1e3;
+    ft.tr_submit = pb_gpu_transfers_get(g);
+    ctx->tail[ring_slot] = ft;
+    out->pending = 1;
+    out->pending_slot = ring_slot;
+    out->stats.in_flight = 1;
+  } else if ((r = tail_frame(g, &tg, &ft, out)) != PB_OK) {
+    goto fail;
   }
-  st->spp = spp_run;
-  st->timestamps = ts;
-  st->gbuffer_ms = ts ? gbuf_ms : -1;
-  st->direct_ms = ts ? direct_ms : -1;
-  st->total_gpu_ms = gpu_ms;
-  st->upload_ms = gs->upload_s * 1e3;
-  st->bvh_build_ms = gs->bvh.build_s * 1e3;
-  st->bvh_nodes = gs->bvh.node_count;
-  st->bvh_depth = gs->bvh.depth;
-  st->primary_rays = (uint64_t)n * spp_run;
-  st->shadow_rays_max = (uint64_t)n * spp_run * (gs->light_count + (fr.emitter_count ? 1u : 0u));
-  if (photons_on) {
-    st->photon_trace_ms = trace_ms;
-    st->estimator_build_ms = est_build_ms;
-    st->gather_ms = ts ? gather_ms : -1;
-    st->photons_stored = stored_sum;
-    st->photons_caustic = caustic_sum;
-    st->iterations = iters_run;
-    st->k_pd = hit_sum > 0 ? k_sum / hit_sum : 0.0;
-  }
-  st->wall_ms = (pb_time_now() - wall0) * 1e3;
-  st->frame_wall_ms = st->wall_ms;
-  st->frame_gpu_ms = ts ? gpu_ms + photon_gpu_ms + st->filter_ms + st->temporal_ms + st->motion_ms : -1;
-  pb_gpu_transfers tr1 = pb_gpu_transfers_get(g);
-  st->upload_bytes = tr1.upload_bytes - tr0.upload_bytes;
-  st->download_bytes = tr1.download_bytes - tr0.download_bytes;
-  st->readback_bytes = tr1.readback_bytes - tr0.readback_bytes;
   free(preview.beauty);
   free(hist_host);
   pb_filter_chain_destroy(g, own_fc);
   if (ctx) { /* kept for the next frame */
+    for (uint32_t i = 0; i < PB_READBACK_RING; ++i)
+      if (!defer || i != ring_slot) ctx->tail[i] = kept_tails[i];
+    ctx->next_slot = defer ? ring_slot + 1 : kept_slot;
     ctx->tg = tg;
     ctx->gp = gp, ctx->dp = dp, ctx->rp = rp, ctx->scp = scp;
     ctx->tracer = tracer, ctx->est = est, ctx->map = map;

@@ -9,11 +9,13 @@
 #include "core/log.h"
 #include "shaders/image_maps.spv.h"
 #include "shaders/image_maps_query.spv.h"
+#include "shaders/image_maps_touch.spv.h"
 
 struct pb_image_maps {
   pb_image_maps_desc d;
   const pb_gpu_scene *gs;
-  pb_gpu_pipeline render_pipe, select_pipe, query_pipe;
+  pb_gpu_pipeline render_pipe, select_pipe, query_pipe, touch_pipe;
+  pb_gpu_buffer touch;                  /* pb_gpu_image_touch */
   pb_gpu_buffer maps, texels;           /* the k maps */
   pb_gpu_buffer cand_maps, cand_texels; /* the candidates' low-resolution maps */
   pb_gpu_buffer rays, hits, counts;     /* queries */
@@ -29,6 +31,8 @@ struct pb_image_maps {
                                            a candidate inside an object) */
   uint8_t *seen;                        /* centres of C that see the candidate texel's point */
   uint32_t updates;
+  float (*pose)[3];                     /* the vertex positions the maps were rendered of */
+  uint32_t pose_count;
   pb_image_maps_stats st;
 };
 
@@ -177,8 +181,8 @@ static int swap_step(pb_image_maps *m) {
 }
 
 /* Renders maps [first, first + count) of `pipe` at `res`, own submission. */
-static pb_result render(pb_gpu *g, const pb_gpu_pipeline *pipe, uint32_t count, uint32_t res) {
-  pb_gpu_image_maps_push push = {.first_map = 0, .map_count = count, .resolution = res};
+static pb_result render(pb_gpu *g, const pb_gpu_pipeline *pipe, uint32_t first, uint32_t count, uint32_t res) {
+  pb_gpu_image_maps_push push = {.first_map = first, .map_count = count, .resolution = res};
   pb_result r = pb_gpu_begin(g);
   if (r != PB_OK) return r;
   r = pb_gpu_dispatch(g, pipe, &push, (uint64_t)count * 6u * res * res);
@@ -232,7 +236,7 @@ static pb_result prepare_selection(pb_gpu *g, pb_image_maps *m) {
   pb_result r;
   if ((r = upload_maps(g, &m->cand_maps, m, (const float(*)[3])m->cand, m->ncand, PB_IMAGE_MAPS_SELECT_RESOLUTION)) !=
           PB_OK ||
-      (r = render(g, &m->select_pipe, m->ncand, PB_IMAGE_MAPS_SELECT_RESOLUTION)) != PB_OK ||
+      (r = render(g, &m->select_pipe, 0, m->ncand, PB_IMAGE_MAPS_SELECT_RESOLUTION)) != PB_OK ||
       (r = pb_gpu_buffer_download(g, &m->cand_texels, 0, m->host_cand,
                                   (uint64_t)m->ncand * SELECT_PER * sizeof *m->host_cand)) != PB_OK)
     return r;
@@ -270,15 +274,51 @@ static void coverage_stats(pb_image_maps *m) {
   m->st.uncovered_m2 = un;
 }
 
-static pb_result render_maps(pb_gpu *g, pb_image_maps *m) {
+/* Renders maps [first, first + count) (all: 0, nsel), after uploading
+ * every centre (the others' entries are unchanged). */
+static pb_result render_maps(pb_gpu *g, pb_image_maps *m, uint32_t first, uint32_t count) {
   double t0 = pb_time_now();
   float c[PB_IMAGE_MAPS_MAX][3];
   for (uint32_t i = 0; i < m->nsel; ++i) memcpy(c[i], m->cand[m->sel[i]], sizeof c[i]);
   pb_result r = upload_maps(g, &m->maps, m, (const float(*)[3])c, m->nsel, m->d.resolution);
-  if (r == PB_OK) r = render(g, &m->render_pipe, m->nsel, m->d.resolution);
-  m->st.map_renders++;
+  if (r == PB_OK) r = render(g, &m->render_pipe, first, count, m->d.resolution);
+  if (count == m->nsel) m->st.map_renders++;
+  m->st.maps_rendered += count;
   m->st.render_ms = (pb_time_now() - t0) * 1e3;
   return r;
+}
+
+/* Remembers the pose the maps show; 1 when it differs from the last one
+ * (a vertex moved, or the first call). box (may be NULL): the bounds of
+ * every triangle with a moved vertex, at its old and its new positions
+ * (all of the scene's on the first call or a new vertex count). */
+static int pose_changed(pb_image_maps *m, const pb_scene *s, float box[2][3]) {
+  size_t bytes = (size_t)s->vertex_count * sizeof *m->pose;
+  if (m->pose && m->pose_count == s->vertex_count && (!bytes || memcmp(m->pose, s->positions, bytes) == 0))
+    return 0;
+  if (box) {
+    for (int c = 0; c < 3; ++c) box[0][c] = INFINITY, box[1][c] = -INFINITY;
+    int all = !m->pose || m->pose_count != s->vertex_count;
+    for (uint32_t t = 0; t < s->triangle_count; ++t) {
+      const uint32_t *v = s->triangles[t];
+      int mv = all;
+      for (int k = 0; k < 3 && !mv; ++k) mv = memcmp(m->pose[v[k]], s->positions[v[k]], sizeof *m->pose) != 0;
+      if (!mv) continue;
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) {
+          float a = s->positions[v[k]][c], b = all ? a : m->pose[v[k]][c];
+          box[0][c] = fminf(box[0][c], fminf(a, b));
+          box[1][c] = fmaxf(box[1][c], fmaxf(a, b));
+        }
+    }
+  }
+  float(*p)[3] = m->pose_count == s->vertex_count && m->pose ? m->pose : realloc(m->pose, bytes ? bytes : 1);
+  if (p) {
+    m->pose = p;
+    m->pose_count = s->vertex_count;
+    if (bytes) memcpy(m->pose, s->positions, bytes);
+  }
+  return 1;
 }
 
 static pb_result bind_render(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_scene *gs, pb_gpu_buffer *maps,
@@ -377,7 +417,8 @@ pb_result pb_image_maps_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   }
   coverage_stats(m);
   m->st.select_ms = (pb_time_now() - t0) * 1e3;
-  if ((r = render_maps(g, m)) != PB_OK) goto fail;
+  pose_changed(m, s, NULL);
+  if ((r = render_maps(g, m, 0, m->nsel)) != PB_OK) goto fail;
   pb_log_verbose("image maps: %u of %u candidates, %u^2 x 6 texels each; %.3g m^2 of the candidates' view "
                  "uncovered (%.3g covered); selection %.0f ms, maps %.0f ms",
                  m->nsel, m->ncand, d.resolution, m->st.uncovered_m2, m->st.coverage_m2, m->st.select_ms,
@@ -389,18 +430,91 @@ fail:
   return r;
 }
 
+/* The maps whose texel rays cross the box (image_maps_touch.comp): flags
+ * per map slot. */
+static pb_result touched_maps(pb_gpu *g, pb_image_maps *m, const float box[2][3], uint32_t flags[16]) {
+  pb_result r;
+  if (!m->touch_pipe.pipeline) {
+    pb_gpu_buffer_desc bd = {.name = "image_maps.touch", .size = sizeof(pb_gpu_image_touch), .readback = 1};
+    pb_gpu_pipeline_desc pd = {.name = "pass.image_maps.touch",
+                               .spirv = pb_spv_image_maps_touch,
+                               .spirv_bytes = sizeof pb_spv_image_maps_touch,
+                               .binding_count = PB_IMAGE_BIND_COUNT,
+                               .push_bytes = sizeof(pb_gpu_image_maps_push)};
+    if ((r = pb_gpu_buffer_create(g, &bd, &m->touch)) != PB_OK ||
+        (r = pb_gpu_pipeline_create(g, &pd, &m->touch_pipe)) != PB_OK)
+      return r;
+    const pb_gpu_buffer *b[PB_IMAGE_BIND_COUNT] = {
+        [PB_IMAGE_BIND_NODES] = &m->maps,    [PB_IMAGE_BIND_TRIS] = &m->maps,
+        [PB_IMAGE_BIND_INDICES] = &m->maps,  [PB_IMAGE_BIND_POSITIONS] = &m->maps,
+        [PB_IMAGE_BIND_TRI_MATERIAL] = &m->maps, [PB_IMAGE_BIND_MAPS] = &m->maps,
+        [PB_IMAGE_BIND_TEXELS] = &m->texels, [PB_IMAGE_BIND_RAYS] = &m->maps,
+        [PB_IMAGE_BIND_HITS] = &m->maps,     [PB_IMAGE_BIND_COUNTS] = &m->touch};
+    if ((r = pb_gpu_pipeline_bind(g, &m->touch_pipe, b, PB_IMAGE_BIND_COUNT)) != PB_OK) return r;
+  }
+  pb_gpu_image_touch t;
+  memset(&t, 0, sizeof t);
+  memcpy(t.box_min, box[0], sizeof t.box_min);
+  memcpy(t.box_max, box[1], sizeof t.box_max);
+  if ((r = pb_gpu_buffer_upload(g, &m->touch, 0, &t, sizeof t)) != PB_OK) return r;
+  if ((r = render(g, &m->touch_pipe, 0, m->nsel, m->d.resolution)) != PB_OK) return r;
+  if ((r = pb_gpu_buffer_download(g, &m->touch, 0, &t, sizeof t)) != PB_OK) return r;
+  memcpy(flags, t.touched, sizeof t.touched);
+  return PB_OK;
+}
+
+/* Section 4.1's progressive update, rendering only what changed (issue 20
+ * item 5). The maps hold geometry alone (positions, normals, triangles,
+ * materials), so:
+ *   - a pose in which no vertex moved (a moving light or camera, a still
+ *     frame of an animation) leaves every map valid and renders none; a
+ *     swap step then runs on the candidates' maps already read back (still
+ *     right) and only the swapped centre's map is rendered;
+ *   - when vertices moved, only the maps with a texel ray crossing the box
+ *     of the moved triangles (old and new positions: image_maps_touch.comp)
+ *     are rendered again, exactly the maps in which a first surface can
+ *     have changed; every update_every-th update the candidates see the new
+ *     pose first and the swapped-in map is rendered too. */
 pb_result pb_image_maps_update(pb_gpu *g, pb_image_maps *m, const pb_scene *s) {
   pb_result r;
-  scene_box(m, s);
+  float box[2][3];
+  int moved = pose_changed(m, s, box);
+  uint32_t render_slot[PB_IMAGE_MAPS_MAX + 1];
+  memset(render_slot, 0, sizeof render_slot);
+  if (moved) {
+    scene_box(m, s);
+    uint32_t flags[16];
+    if ((r = touched_maps(g, m, (const float(*)[3])box, flags)) != PB_OK) return r;
+    for (uint32_t i = 0; i < m->nsel; ++i) render_slot[i] = flags[i] != 0;
+  }
   if (++m->updates % m->d.update_every == 0) {
-    /* Progressive update (4.1): the candidates see the new pose, one swap. */
     double t0 = pb_time_now();
-    if ((r = prepare_selection(g, m)) != PB_OK) return r;
+    if (moved && (r = prepare_selection(g, m)) != PB_OK) return r;
+    uint32_t before[PB_IMAGE_MAPS_MAX + 1];
+    memcpy(before, m->sel, sizeof before);
     if (swap_step(m)) m->st.swaps++;
     coverage_stats(m);
     m->st.select_ms = (pb_time_now() - t0) * 1e3;
+    for (uint32_t i = 0; i < m->nsel; ++i)
+      if (m->sel[i] != before[i]) render_slot[i] = 1;
   }
-  return render_maps(g, m);
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < m->nsel; ++i) n += render_slot[i];
+  if (n == 0) {
+    m->st.renders_skipped++;
+    if (!moved) return PB_OK;
+    /* Moved geometry no map sees: the maps stay, the scene's box (the
+     * search's clip) follows the pose. */
+    float c[PB_IMAGE_MAPS_MAX][3];
+    for (uint32_t i = 0; i < m->nsel; ++i) memcpy(c[i], m->cand[m->sel[i]], sizeof c[i]);
+    return upload_maps(g, &m->maps, m, (const float(*)[3])c, m->nsel, m->d.resolution);
+  }
+  if (n == m->nsel) return render_maps(g, m, 0, m->nsel);
+  double t0 = pb_time_now();
+  for (uint32_t i = 0; i < m->nsel; ++i)
+    if (render_slot[i] && (r = render_maps(g, m, i, 1)) != PB_OK) return r;
+  m->st.render_ms = (pb_time_now() - t0) * 1e3;
+  return PB_OK;
 }
 
 void pb_image_maps_destroy(pb_gpu *g, pb_image_maps *m) {
@@ -408,6 +522,8 @@ void pb_image_maps_destroy(pb_gpu *g, pb_image_maps *m) {
   pb_gpu_pipeline_destroy(g, &m->render_pipe);
   pb_gpu_pipeline_destroy(g, &m->select_pipe);
   pb_gpu_pipeline_destroy(g, &m->query_pipe);
+  pb_gpu_pipeline_destroy(g, &m->touch_pipe);
+  pb_gpu_buffer_destroy(g, &m->touch);
   pb_gpu_buffer_destroy(g, &m->maps);
   pb_gpu_buffer_destroy(g, &m->texels);
   pb_gpu_buffer_destroy(g, &m->cand_maps);
@@ -418,6 +534,7 @@ void pb_image_maps_destroy(pb_gpu *g, pb_image_maps *m) {
   free(m->host_cand);
   free(m->area);
   free(m->seen);
+  free(m->pose);
   free(m);
 }
 
@@ -442,6 +559,8 @@ pb_result pb_image_maps_query(pb_gpu *g, pb_image_maps *m, const pb_gpu_ray *ray
   if (n == 0) return PB_OK;
   if (n > m->query_capacity) {
     pb_gpu_pipeline_destroy(g, &m->query_pipe);
+  pb_gpu_pipeline_destroy(g, &m->touch_pipe);
+  pb_gpu_buffer_destroy(g, &m->touch);
     pb_gpu_buffer_destroy(g, &m->rays);
     pb_gpu_buffer_destroy(g, &m->hits);
     pb_gpu_buffer_destroy(g, &m->counts);

@@ -12,7 +12,9 @@
  *   motion    pb_image_maps_update after the scene moved: the maps are
  *             rendered again, and every `update_every`-th update (5: "the
  *             update is carried out once every 5 frames") the candidates'
- *             maps too and one swap step runs;
+ *             maps too and one swap step runs; only the maps a moved
+ *             triangle touches are rendered again (image_maps_touch.comp),
+ *             none when no vertex moved (a swap renders its own);
  *   queries   rays against the maps (shaders/image_maps_query.comp), the
  *             same search the images build of photon_trace.comp runs: tests
  *             and the benchmark compare it with the BVH's exact hits. */
@@ -55,7 +57,9 @@ typedef struct pb_image_maps_desc {
 
 typedef struct pb_image_maps_stats {
   uint32_t count, resolution, candidates;
-  uint32_t map_renders;   /* times the k maps were rendered */
+  uint32_t map_renders;   /* times all k maps were rendered */
+  uint32_t maps_rendered; /* single maps rendered (k per full render, 1 per swap on a still pose) */
+  uint32_t renders_skipped; /* updates that rendered no map (no vertex moved) */
   uint32_t selections;    /* times the candidates' maps were rendered */
   uint32_t swaps;         /* centres replaced (initial and progressive) */
   uint32_t initial_swaps; /* swap steps of the initial selection */
@@ -72,8 +76,10 @@ typedef struct pb_image_maps pb_image_maps;
  * pose (gs must be up to date). Bad desc values: PB_ERR_USAGE. */
 pb_result pb_image_maps_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const pb_image_maps_desc *desc,
                                pb_image_maps **out);
-/* The scene was posed again (gs updated): renders the maps again, and on
- * every update_every-th call runs one progressive swap step first. */
+/* The scene was posed again (gs updated): renders again the maps in which
+ * moved triangles (old or new positions) can be seen, and on every
+ * update_every-th call runs one progressive swap step first (the swapped-in
+ * map rendered too). */
 pb_result pb_image_maps_update(pb_gpu *g, pb_image_maps *m, const pb_scene *s);
 void pb_image_maps_destroy(pb_gpu *g, pb_image_maps *m);
 

@@ -72,8 +72,12 @@ typedef struct pb_photon_map {
 typedef enum pb_photon_first_bounce {
   PB_FIRST_BOUNCE_DEFAULT = 0, /* PB_FIRST_BOUNCE_TRACE */
   PB_FIRST_BOUNCE_TRACE,       /* emission traced from the light */
-  PB_FIRST_BOUNCE_RSM          /* texels of a reflective shadow map, sampled
+  PB_FIRST_BOUNCE_RSM,         /* texels of a reflective shadow map, sampled
                                   by reflected power (photon_rsm.c) */
+  PB_FIRST_BOUNCE_AUTO         /* per light: the map where it covers less
+                                  than PB_RSM_AUTO_COVERAGE of the light's
+                                  flux (open scenes: most traced photons
+                                  would miss), else traced */
 } pb_photon_first_bounce;
 
 /* Zero means default for every field. */
@@ -92,7 +96,20 @@ typedef struct pb_photon_trace_desc {
                                  PB_PHOTON_R_MAX_FACTOR Delta R */
   uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
   uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
+  float bandwidth_c0;         /* > 0: seed 003's variable bandwidth instead of
+                                 seed 000's footprints: every photon a disc
+                                 of radius h = C0 / sqrt(p) sqrt(A / N)
+                                 (section 6; pb_store in photon_trace.comp),
+                                 C0 this; 0: off */
 } pb_photon_trace_desc;
+
+/* Seed 003's PDF clamp [P_min, P_max] for the bandwidth (section 6: "p ...
+ * is clamped to a certain range"; the paper gives no values). p = cos(theta)
+ * / d^2 is made dimensionless with the scene's bounding radius R, p R^2 (a
+ * photon that met a surface head-on after travelling R has 1), and clamped
+ * to [1/4, 4]: h varies at most 2x either way around C0 sqrt(A / N). */
+#define PB_PHOTON_BANDWIDTH_P_MIN 0.25f
+#define PB_PHOTON_BANDWIDTH_P_MAX 4.0f
 
 /* Path length (issue 18 item 8). The default stores every bounce until
  * Russian roulette ends the path: survival p = min(1, max_c(Phi_c w_c) /
@@ -154,6 +171,9 @@ typedef struct pb_photon_trace_stats {
   float delta;         /* global spacing Delta = 2 sqrt(pi / photons) */
   float r_max;         /* footprint radius clamp in use, metres */
   float scene_radius;  /* the scene's bounding radius R, metres */
+  uint32_t rsm_lights; /* lights whose photons started from their RSM */
+  float rsm_coverage;  /* smallest coverage of a light's RSM (share of its
+                          flux on the scene; 1 without maps) */
 } pb_photon_trace_stats;
 void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *out);
 

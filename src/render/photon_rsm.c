@@ -136,8 +136,8 @@ pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r) {
     if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->texel_count)) != PB_OK) return rc;
     pb_gpu_barrier(g);
   }
-  p.mode = PB_RSM_MODE_TOTAL;
-  if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->entries)) != PB_OK) return rc;
+  p.mode = PB_RSM_MODE_TOTAL; /* one workgroup per light */
+  if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->entries * PB_GPU_WORKGROUP)) != PB_OK) return rc;
   pb_gpu_barrier(g);
   return PB_OK;
 }
@@ -145,6 +145,23 @@ pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r) {
 const pb_gpu_buffer *pb_photon_rsm_lights(const pb_photon_rsm *r) { return &r->lights; }
 const pb_gpu_buffer *pb_photon_rsm_texels(const pb_photon_rsm *r) { return &r->texels; }
 uint32_t pb_photon_rsm_texel_count(const pb_photon_rsm *r) { return r->texel_count; }
+
+pb_result pb_photon_rsm_coverage(pb_gpu *g, const pb_photon_rsm *r, int auto_mode, uint32_t *mapped,
+                                 float *min_coverage) {
+  *mapped = 0;
+  *min_coverage = 1.0f;
+  if (!r->entries) return PB_OK;
+  pb_gpu_rsm_light *tab = calloc(r->entries, sizeof *tab);
+  if (!tab) return pb_fail(PB_ERR_NOMEM, "photons: out of memory");
+  pb_result rc = pb_gpu_buffer_download(g, &r->lights, 0, tab, r->entries * sizeof *tab);
+  for (uint32_t i = 0; rc == PB_OK && i < r->entries; ++i) {
+    if (!tab[i].count || !(tab[i].total > 0.0f)) continue;
+    if (tab[i].coverage < *min_coverage) *min_coverage = tab[i].coverage;
+    if (!auto_mode || tab[i].coverage < PB_RSM_AUTO_COVERAGE) ++*mapped;
+  }
+  free(tab);
+  return rc;
+}
 
 void pb_photon_rsm_destroy(pb_gpu *g, pb_photon_rsm *r) {
   if (!r) return;

@@ -27,6 +27,12 @@ pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r);
 const pb_gpu_buffer *pb_photon_rsm_lights(const pb_photon_rsm *r);
 const pb_gpu_buffer *pb_photon_rsm_texels(const pb_photon_rsm *r);
 uint32_t pb_photon_rsm_texel_count(const pb_photon_rsm *r);
+/* After the maps ran: the lights whose photons start from their map (all
+ * lights with a map, or with `auto_mode` those whose coverage is below
+ * PB_RSM_AUTO_COVERAGE) and the smallest coverage of a light with a map
+ * (1 when none has one). */
+pb_result pb_photon_rsm_coverage(pb_gpu *g, const pb_photon_rsm *r, int auto_mode, uint32_t *mapped,
+                                 float *min_coverage);
 void pb_photon_rsm_destroy(pb_gpu *g, pb_photon_rsm *r);
 
 #endif

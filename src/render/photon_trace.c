@@ -56,6 +56,22 @@ static float luminance(const float c[3]) {
   return 0.2126f * fmaxf(c[0], 0.0f) + 0.7152f * fmaxf(c[1], 0.0f) + 0.0722f * fmaxf(c[2], 0.0f);
 }
 
+/* The scene's surface area A, m^2 (seed 003's bandwidth; the LBVH's T_auto
+ * sums it the same way, lbvh.c). */
+static double surface_area(const pb_scene *s) {
+  double a = 0.0;
+  for (uint32_t t = 0; t < s->triangle_count; ++t) {
+    const float *p0 = s->positions[s->triangles[t][0]], *p1 = s->positions[s->triangles[t][1]],
+                *p2 = s->positions[s->triangles[t][2]];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = (double)p1[k] - p0[k], e2[k] = (double)p2[k] - p0[k];
+    double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double l = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (isfinite(l)) a += l;
+  }
+  return a;
+}
+
 static float scene_radius(const pb_scene *s, float center[3]) {
   float d2 = 0.0f;
   for (int c = 0; c < 3; ++c) {
@@ -177,6 +193,16 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
   t->p.light_count = t->light_entries;
   t->p.delta = delta;
   t->p.r_max = d->r_max > 0.0f ? d->r_max : PB_PHOTON_R_MAX_FACTOR * delta * radius; /* photon.h */
+  /* Seed 003 section 6: h = C sqrt(A / N), C = C0 / sqrt(p), A the scene's
+   * total area, N the photons emitted (this iteration's paths: each map is
+   * an estimate of its own); the 1 / sqrt(p) factor per photon in
+   * pb_store. The pose changes A (moving, deforming objects). */
+  t->p.bandwidth_h0 = 0.0f;
+  if (d->bandwidth_c0 > 0.0f && total > 0) {
+    t->p.bandwidth_h0 = (float)(d->bandwidth_c0 * sqrt(surface_area(s) / (double)total));
+    t->p.bandwidth_p_min = PB_PHOTON_BANDWIDTH_P_MIN;
+    t->p.bandwidth_p_max = PB_PHOTON_BANDWIDTH_P_MAX;
+  }
   t->stats.photons = total;
   t->stats.delta = delta;
   t->stats.r_max = t->p.r_max;
@@ -230,11 +256,13 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
       !isfinite(d.smoothing_caustic))
     return pb_fail(PB_ERR_USAGE, "photons: smoothing factors must be positive (%g, %g)", d.smoothing,
                    d.smoothing_caustic);
-  if (d.first_bounce > PB_FIRST_BOUNCE_RSM)
-    return pb_fail(PB_ERR_USAGE, "photons: first_bounce %u (TRACE or RSM)", d.first_bounce);
+  if (d.first_bounce > PB_FIRST_BOUNCE_AUTO)
+    return pb_fail(PB_ERR_USAGE, "photons: first_bounce %u (TRACE, RSM or AUTO)", d.first_bounce);
   if (!d.rsm_resolution) d.rsm_resolution = 64;
   if (d.r_max < 0.0f || !isfinite(d.r_max))
     return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
+  if (d.bandwidth_c0 < 0.0f || !isfinite(d.bandwidth_c0))
+    return pb_fail(PB_ERR_USAGE, "photons: bandwidth C0 %g must be positive", d.bandwidth_c0);
   /* 3-D dispatch fold limit: gid is a uint. */
   if (d.photons > 0x7fffffffu) return pb_fail(PB_ERR_LIMIT, "photons: %u paths (at most 2^31 - 1)", d.photons);
   uint64_t capacity = (uint64_t)d.photons *
@@ -271,12 +299,13 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->p.smoothing = d.smoothing;
   t->p.smoothing_caustic = d.smoothing_caustic;
   t->p.flags |= PB_PHOTON_PARAM_CAUSTIC_RAW; /* caustic footprints uncompressed (photon.h) */
-  if (d.first_bounce == PB_FIRST_BOUNCE_RSM) {
+  if (d.first_bounce == PB_FIRST_BOUNCE_RSM || d.first_bounce == PB_FIRST_BOUNCE_AUTO) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,
                                   &t->rsm)) != PB_OK)
       goto fail;
     t->p.flags |= PB_PHOTON_PARAM_RSM;
+    if (d.first_bounce == PB_FIRST_BOUNCE_AUTO) t->p.flags |= PB_PHOTON_PARAM_RSM_AUTO;
   }
 
   pb_gpu_buffer_desc fd = {.name = "photons.frame", .size = sizeof(pb_gpu_frame), .host_visible = 1};
@@ -417,6 +446,11 @@ pb_result pb_photon_tracer_finish(pb_gpu *g, pb_photon_tracer *t, pb_photon_map 
   t->stats.guarded = pp.guarded;
   t->stats.absorbed = pp.absorbed;
   t->stats.escaped = pp.escaped;
+  t->stats.rsm_lights = 0;
+  t->stats.rsm_coverage = 1.0f;
+  if (t->rsm && (r = pb_photon_rsm_coverage(g, t->rsm, (t->p.flags & PB_PHOTON_PARAM_RSM_AUTO) != 0,
+                                            &t->stats.rsm_lights, &t->stats.rsm_coverage)) != PB_OK)
+    return r;
   if (t->images &&
       (r = pb_gpu_buffer_download(g, &t->image_counts, 0, &t->image_last, sizeof t->image_last)) != PB_OK)
     return r;
@@ -439,7 +473,7 @@ void pb_photon_tracer_debug(pb_photon_tracer *t, float h, uint32_t depth, uint32
   t->p.stencil_h = h > 0.0f ? h : 0.0f;
   t->p.stencil_depth = depth;
   t->p.flags = (flags & (PB_PHOTON_PARAM_RAW_FOOTPRINT | PB_PHOTON_PARAM_STORE_FIRST)) |
-               (t->p.flags & (PB_PHOTON_PARAM_RSM | PB_PHOTON_PARAM_CAUSTIC_RAW));
+               (t->p.flags & (PB_PHOTON_PARAM_RSM | PB_PHOTON_PARAM_RSM_AUTO | PB_PHOTON_PARAM_CAUSTIC_RAW));
 }
 
 pb_result pb_photon_tracer_use_image_maps(pb_gpu *g, pb_photon_tracer *t, const pb_image_maps *maps) {

@@ -85,25 +85,27 @@ static pb_result host_resolve(pb_gpu *g, const pb_frame_targets *t, uint32_t pix
   return r;
 }
 
-pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
+/* The band's planes from `planes` and `pplanes` (the targets' or a ring
+ * slot's) into out. */
+static pb_result read_band(pb_gpu *g, const pb_frame_targets *t, const pb_gpu_buffer *planes,
+                           const pb_gpu_buffer *pplanes, int host, uint32_t pixels, size_t pixel_base, size_t n,
                            float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
                            double *hit_sum) {
   /* base[0]: planes 0 .. PB_RESOLVE_BASE_CHANNELS - 1, base[1]: the photon
    * planes from PB_RESOLVE_BASE_CHANNELS on (two buffers, shared/pb_resolve.h). */
   void *scratch = NULL, *scratch2 = NULL;
   const void *view = NULL, *view2 = NULL;
-  const char *env = getenv("PB_RESOLVE_ON_HOST");
   pb_result r;
-  if (env && env[0] == '1') {
+  if (host) {
     if (!(scratch = malloc((uint64_t)pixels * t->channels * sizeof(float))))
       return pb_fail(PB_ERR_NOMEM, "render: out of memory");
     view = scratch;
     view2 = (const float *)scratch + (size_t)PB_RESOLVE_BASE_CHANNELS * pixels;
     r = host_resolve(g, t, pixels, inv_spp, opaque, scratch);
   } else {
-    r = host_view(g, &t->planes, (uint64_t)pixels * PB_RESOLVE_BASE_CHANNELS * sizeof(float), &scratch, &view);
+    r = host_view(g, planes, (uint64_t)pixels * PB_RESOLVE_BASE_CHANNELS * sizeof(float), &scratch, &view);
     if (r == PB_OK && t->photons)
-      r = host_view(g, &t->pplanes, (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float),
+      r = host_view(g, pplanes, (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float),
                     &scratch2, &view2);
   }
   if (r != PB_OK) {
@@ -148,6 +150,28 @@ pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels
   free(scratch);
   free(scratch2);
   return PB_OK;
+}
+
+pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
+                           float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
+                           double *hit_sum) {
+  const char *env = getenv("PB_RESOLVE_ON_HOST");
+  return read_band(g, t, &t->planes, &t->pplanes, env && env[0] == '1', pixels, pixel_base, n, inv_spp, opaque,
+                   nmap_aovs, out, k_sum, hit_sum);
+}
+
+void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels) {
+  pb_gpu_copy(g, &t->planes, 0, &t->ring[slot][0], 0, (uint64_t)pixels * PB_RESOLVE_BASE_CHANNELS * sizeof(float));
+  if (t->photons)
+    pb_gpu_copy(g, &t->pplanes, 0, &t->ring[slot][1], 0,
+                (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float));
+}
+
+pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels, int nmap_aovs,
+                           pb_render_result *out, double *k_sum, double *hit_sum) {
+  /* inv_spp and opaque only serve the host resolve, which is not used here. */
+  return read_band(g, t, &t->ring[slot][0], &t->ring[slot][1], 0, pixels, 0, pixels, 1.0f, 0, nmap_aovs, out, k_sum,
+                   hit_sum);
 }
 
 pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count) {

@@ -27,6 +27,17 @@
 pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
                            float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
                            double *hit_sum);
+/* Frames in flight: records, into the recording command buffer after the
+ * passes that write the planes (a barrier before), the copy of the band's
+ * planes into ring slot `slot` (targets.h; pb_frame_targets_ring made it).
+ * On a discrete GPU this copy is the download, made by the GPU while the
+ * host works; on a CPU device it is a memcpy the driver's threads make. */
+void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels);
+/* pb_readback_band from ring slot `slot` (one band, the whole image)
+ * instead of the planes, without waiting for a pending submission (which
+ * writes the planes and the other slot, never this one). */
+pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels, int nmap_aovs,
+                           pb_render_result *out, double *k_sum, double *hit_sum);
 /* Non-finite values the resolve replaced since the guard was zeroed. */
 pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count);
 /* The temporal filter's counts of one frame (pb_gpu_temporal_stats in b,

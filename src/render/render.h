@@ -164,6 +164,9 @@ typedef struct pb_render_desc {
   uint32_t tracer;             /* pb_tracer_kind (tracer.h); 0: the BVH */
   uint32_t image_maps;         /* tracer images: k maps; 0: 8 */
   uint32_t image_map_resolution; /* tracer images: texels per face side; 0: 128 */
+  float bandwidth_c0;          /* > 0: seed 003's variable bandwidth footprints,
+                                  h = C0 / sqrt(p) sqrt(A / N) (photon.h); 0:
+                                  seed 000's differential footprints */
   uint32_t atrous_iterations;  /* spatial filter of the indirect AOV
                                   (atrous.h, seed 001 24.4.2); 0: off */
   float atrous_gamma;          /* its detail clipping in standard
@@ -210,6 +213,29 @@ typedef struct pb_render_desc {
                                   recorded after the resolve on the GPU;
                                   NULL: atrous_iterations alone (a chain made
                                   for the call) */
+  /* Frames in flight (issue 17; sequences, with `context`): 1: the frame's
+   * last submission (resolve, filters, eq. 20, and a copy of the resolved
+   * planes into the readback's staging ring, targets.h) is not waited for;
+   * pb_render_frame returns with out->pending set, out's arrays allocated
+   * but not filled and its statistics partial, and the host goes on (the
+   * next frame's pose, the caller's output of the previous frame) while the
+   * GPU runs it. pb_render_frame_settle then waits and completes the
+   * statistics (before the context's next pb_render_frame: its timestamps
+   * and counters are reused), pb_render_frame_read brings the pixels from
+   * the ring (before the context's second pb_render_frame after this one:
+   * the ring has two slots). Frames with several bands or the host path
+   * (PB_RESOLVE_ON_HOST=1) are rendered synchronously as without (pending
+   * 0). The same commands as the synchronous path (and the ring's copy after
+   * the last pass), only the wait moves: the same pixels, up to the photon
+   * store's slot order that any two runs may differ in (bit-identical on
+   * lavapipe in tests/frame_same_pixels.py in_flight). */
+  int in_flight;
+  /* Sequences (issue 17 item 2): a still run's running means on the GPU
+   * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
+   * submission when the frame is one band on the GPU path; out->stats.
+   * still_on_gpu says whether it was (else the caller averages on the
+   * host). NULL: none. */
+  struct pb_still_sum *still_sum;
   /* Benchmark (bench/run_bench.py): */
   int radius_histogram;        /* 1: read every traced map back and bin its
                                   footprint radii (stats.radius_hist; costs a
@@ -268,6 +294,16 @@ typedef struct pb_render_stats {
    * summed from timestamp queries; -1 without timestamps. Their difference
    * is the host's share: what the GPU-resident frame removes. */
   double frame_wall_ms, frame_gpu_ms;
+  /* Sequences: the time from the previous frame's coming out of
+   * pb_sequence_frame to this one's (the caller's work between the calls
+   * included: one frame's period at steady state); 0 for the first. With
+   * frames in flight frame_wall_ms is the host's time on the frame and this
+   * the throughput: (interval - gpu) / interval is the share of a frame's
+   * period in which the host kept the GPU idle. */
+  double frame_interval_ms;
+  int still_on_gpu;                           /* 1: pb_render_desc.still_sum's pass ran on this frame */
+  int in_flight;                              /* 1: the frame's last submission ran
+                                                 while the host went on (pb_render_desc.in_flight) */
   /* The photon tracer that ran (tracer.h: "bvh", "images"; NULL when the
    * photon stages are off) and its named statistics over the frame. */
   const char *tracer;
@@ -314,6 +350,11 @@ typedef struct pb_render_result {
   float *shading_normal;/* XYZW: XYZ the normal-mapped n_s, W the fraction
                            of samples on a normal-mapped material */
   pb_render_stats stats;
+  /* Frames in flight (pb_render_desc.in_flight): 1 the GPU may still run
+   * the frame (pb_render_frame_settle next), 2 settled, pixels not yet read
+   * (pb_render_frame_read next), 0 complete; pending_slot: its ring slot. */
+  int pending;
+  uint32_t pending_slot;
 } pb_render_result;
 
 /* What one frame builds before it renders (pipelines, per-pixel buffers,
@@ -333,5 +374,15 @@ void pb_render_result_destroy(pb_render_result *r);
 /* The estimator statistic `name` of st (pb_render_stats.estimator_stats),
  * or `missing` where the estimator has none of that name. */
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing);
+
+/* A frame in flight (pb_render_desc.in_flight, out->pending): settle waits
+ * for the GPU and completes the statistics (out->pending 1 -> 2); read
+ * brings the pixels from the readback ring (2 -> 0); complete does what is
+ * left of both. frame_wall_ms of such a frame is the host's time on it:
+ * pb_render_frame up to its last submission, the wait in settle and the
+ * copy in read, not the time the host spent elsewhere while it ran. */
+pb_result pb_render_frame_settle(pb_gpu *g, pb_frame_context *c, pb_render_result *out);
+pb_result pb_render_frame_read(pb_gpu *g, pb_frame_context *c, pb_render_result *out);
+pb_result pb_render_frame_complete(pb_gpu *g, pb_frame_context *c, pb_render_result *out);
 
 #endif

@@ -9,6 +9,7 @@
 #include "core/mix.h"
 #include "render/filters.h"
 #include "render/plan.h"
+#include "render/targets.h"
 
 struct pb_sequence {
   pb_scene *s;
@@ -31,11 +32,28 @@ struct pb_sequence {
    * direct and caustic AOVs) over the run's frames. */
   float *acc_rest, *acc_direct, *acc_caustic;
   uint32_t acc_frames;
+  /* The same running means on the GPU (issue 17 item 2; targets.h): every
+   * frame in one band on the GPU path averages there, so the host arrays
+   * above are only made for frames that do not (several bands, the host
+   * resolve of the tests). */
+  pb_still_sum still;
+  int pend_gpu_acc; /* the frame in flight averaged on the GPU */
   pb_frame_context *frame_ctx; /* pipelines and buffers kept between frames */
+  /* Frames in flight: the frame rendered by the last call, not returned
+   * yet (its last submission maybe still on the GPU: pend.pending). */
+  int in_flight, have_pend, pend_acc_still;
+  pb_render_result pend;
+  pb_sequence_frame_info pend_info;
+  double last_out;             /* when the last frame came out (pb_time_now), 0: none yet */
+  double pend_host_ms;         /* the sequence's own host time on it (pose, scene update) */
+  uint64_t pend_scene_up, pend_scene_down; /* the scene update's transfers */
 };
 
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q) {
   if (!q) return;
+  if (q->have_pend) (void)pb_gpu_wait(g);
+  pb_render_result_destroy(&q->pend);
+  pb_still_sum_destroy(g, &q->still);
   pb_filter_chain_destroy(g, q->chain);
   pb_frame_context_destroy(g, q->frame_ctx);
   free(q->prev_positions);
@@ -59,15 +77,15 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   q->width = width;
   q->height = height;
   q->desc = *desc;
+  q->in_flight = desc->frames_in_flight >= 2;
+  if (desc->frames_in_flight > 2) pb_log_info("sequence: %u frames in flight asked for; 2 are used (the readback ring's two slots)",
+                                              desc->frames_in_flight);
   q->start_cam = s->cameras[camera];
   size_t n = (size_t)width * height;
   q->prev_positions = malloc((size_t)(s->vertex_count ? s->vertex_count : 1) * sizeof *q->prev_positions);
   q->prev_lights = malloc((size_t)(s->light_count ? s->light_count : 1) * sizeof *q->prev_lights);
-  q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
-  q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
-  q->acc_caustic = malloc(n * 3 * sizeof *q->acc_caustic);
   pb_result r = PB_OK;
-  if (!q->prev_positions || !q->prev_lights || !q->acc_rest || !q->acc_direct || !q->acc_caustic) {
+  if (!q->prev_positions || !q->prev_lights) {
     r = pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", width, height);
     goto fail;
   }
@@ -94,6 +112,8 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
   }
   if ((cd.temporal || cd.atrous_iterations) && (r = pb_filter_chain_create(g, width, height, &cd, &q->chain)) != PB_OK)
     goto fail;
+  if (!getenv("PB_STILL_ON_HOST") || getenv("PB_STILL_ON_HOST")[0] != '1') /* tests: the host path */
+    if ((r = pb_still_sum_create(g, (uint32_t)n, q->caustic_filtered, &q->still)) != PB_OK) goto fail;
   *out = q;
   return PB_OK;
 fail:
@@ -150,8 +170,15 @@ static int camera_equal(const pb_camera *a, const pb_camera *b) {
  * have their own); the rest of the frame (beauty minus those: emission,
  * direct light; the direct AOV, and unfiltered caustics) is averaged here,
  * so the whole picture converges. A frame that moved starts a new run. */
-static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
+static pb_result accumulate(pb_sequence *q, pb_render_result *out, int still) {
   size_t n = (size_t)q->width * q->height;
+  if (!q->acc_rest) {
+    q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
+    q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
+    q->acc_caustic = malloc(n * 3 * sizeof *q->acc_caustic);
+    if (!q->acc_rest || !q->acc_direct || !q->acc_caustic)
+      return pb_fail(PB_ERR_NOMEM, "sequence: out of memory for %ux%u pixels", q->width, q->height);
+  }
   if (!still) q->acc_frames = 0;
   float k = (float)q->acc_frames, inv = 1.0f / (k + 1.0f);
   const float *filtered[2] = {out->indirect, q->caustic_filtered ? out->caustic : NULL};
@@ -176,6 +203,14 @@ static void accumulate(pb_sequence *q, pb_render_result *out, int still) {
     }
   }
   q->acc_frames++;
+  return PB_OK;
+}
+
+/* A frame comes out now: its interval since the last one. */
+static void stamp_out(pb_sequence *q, pb_render_result *out) {
+  double now = pb_time_now();
+  out->stats.frame_interval_ms = q->last_out > 0 ? (now - q->last_out) * 1e3 : 0.0;
+  q->last_out = now;
 }
 
 pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t, pb_render_result *out,
@@ -206,11 +241,24 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     fi.camera_moved = !camera_equal(&q->prev_cam, cam);
   }
   fi.still = !fi.geometry_moved && !fi.lights_moved && !fi.camera_moved;
+  /* Frames in flight: the previous frame's last submission may still run;
+   * it reads the scene and the filter chain's cameras, so it finishes
+   * before they change (the uploads would wait for it anyway), and its
+   * statistics are read before this frame's submissions reuse the
+   * timestamp queries. Its pixels come later, from the ring. */
+  double settle_ms = 0;
+  if (q->have_pend && q->pend.pending == 1) {
+    double ts0 = pb_time_now();
+    if ((r = pb_render_frame_settle(g, q->frame_ctx, &q->pend)) != PB_OK) return r;
+    settle_ms = (pb_time_now() - ts0) * 1e3; /* the previous frame's host time, not this one's */
+  }
+  pb_gpu_transfers tr_scene0 = pb_gpu_transfers_get(g);
   if (fi.geometry_moved || fi.lights_moved || (!q->has_prev && s->anim)) {
     /* The GPU scene was made from the file's static pose: the first frame
      * of an animated scene updates it too. */
     if ((r = pb_gpu_scene_update(g, s, q->gs, q->desc.bvh_update, &fi.scene_update_ms)) != PB_OK) return r;
   }
+  pb_gpu_transfers tr_scene1 = pb_gpu_transfers_get(g);
   pb_render_desc rd = q->desc.render;
   rd.seed = pb_mix64(q->desc.render.seed + 0x9e3779b97f4a7c15ull * index); /* frame i's own photons */
   rd.atrous_iterations = 0;     /* the chain's (q->chain), after the temporal filter */
@@ -232,10 +280,71 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
                           .cam = *cam, .prev_cam = q->prev_cam};
     pb_filter_chain_set_frame(q->chain, &ff);
   }
+  /* The still run's means on the GPU: restart with a run (the host's
+   * accumulate() counts the same way). */
+  int acc_still = fi.still && q->has_prev;
+  if (q->still.pipe.pipeline) {
+    if (!acc_still) q->still.frames = 0;
+    rd.still_sum = &q->still;
+  }
+  if (q->in_flight) {
+    rd.in_flight = 1;
+    fi.index = index;
+    double pre_ms = (pb_time_now() - frame_t0) * 1e3 - settle_ms;
+    pb_render_result cur;
+    if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, &cur)) != PB_OK) return r;
+    q->still_iterations += iters;
+    int gpu_acc = cur.stats.still_on_gpu;
+    if (gpu_acc) q->still.frames++;
+    q->has_prev = 1;
+    q->prev_cam = *cam;
+    /* This frame runs on the GPU now; the previous one comes out. */
+    r = PB_OK;
+    if (q->have_pend) {
+      double t1 = pb_time_now();
+      r = pb_render_frame_complete(g, q->frame_ctx, &q->pend);
+      if (r == PB_OK && !q->pend_gpu_acc) r = accumulate(q, &q->pend, q->pend_acc_still);
+      if (r == PB_OK) {
+        *out = q->pend;
+        if (info) {
+          *info = q->pend_info;
+          info->ready = 1;
+          info->motion_ms = out->stats.motion_ms;
+        }
+        /* Its host time: its pose and scene update, pb_render_frame up to
+         * its last submission, the wait and the read (render.h), and the
+         * accumulation just now. */
+        out->stats.frame_wall_ms += q->pend_host_ms + (pb_time_now() - t1) * 1e3;
+        out->stats.upload_bytes += q->pend_scene_up;
+        out->stats.download_bytes += q->pend_scene_down;
+        stamp_out(q, out);
+      } else {
+        pb_render_result_destroy(&q->pend);
+      }
+      memset(&q->pend, 0, sizeof q->pend);
+    } else if (info) {
+      memset(info, 0, sizeof *info); /* nothing out yet */
+    }
+    q->pend = cur;
+    q->pend_info = fi;
+    q->pend_info.camera = *cam;
+    q->pend_acc_still = acc_still;
+    q->pend_gpu_acc = gpu_acc;
+    q->pend_host_ms = pre_ms;
+    q->pend_scene_up = tr_scene1.upload_bytes - tr_scene0.upload_bytes;
+    q->pend_scene_down = tr_scene1.download_bytes - tr_scene0.download_bytes;
+    q->have_pend = 1;
+    return r;
+  }
   if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, out)) != PB_OK) return r;
   q->still_iterations += iters;
   fi.motion_ms = out->stats.motion_ms;
-  accumulate(q, out, fi.still && q->has_prev);
+  if (out->stats.still_on_gpu) {
+    q->still.frames++;
+  } else if ((r = accumulate(q, out, acc_still)) != PB_OK) {
+    pb_render_result_destroy(out);
+    return r;
+  }
   q->has_prev = 1;
   out->stats.frame_wall_ms = (pb_time_now() - frame_t0) * 1e3;
   /* The frame's transfers, the scene update's included. */
@@ -247,6 +356,39 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
    * at the next call: a caller may set the camera itself between frames
    * (photonbridge view), which is a move like any other. */
   q->prev_cam = *cam;
+  fi.ready = 1;
+  fi.index = index;
+  stamp_out(q, out);
   if (info) *info = fi;
+  return PB_OK;
+}
+
+pb_result pb_sequence_flush(pb_gpu *g, pb_sequence *q, pb_render_result *out, pb_sequence_frame_info *info) {
+  memset(out, 0, sizeof *out);
+  if (info) memset(info, 0, sizeof *info);
+  if (!q->have_pend) return PB_OK;
+  q->have_pend = 0;
+  double t1 = pb_time_now();
+  pb_result r = pb_render_frame_complete(g, q->frame_ctx, &q->pend);
+  if (r != PB_OK) {
+    pb_render_result_destroy(&q->pend);
+    return r;
+  }
+  if (!q->pend_gpu_acc && (r = accumulate(q, &q->pend, q->pend_acc_still)) != PB_OK) {
+    pb_render_result_destroy(&q->pend);
+    memset(&q->pend, 0, sizeof q->pend);
+    return r;
+  }
+  *out = q->pend;
+  memset(&q->pend, 0, sizeof q->pend);
+  out->stats.frame_wall_ms += q->pend_host_ms + (pb_time_now() - t1) * 1e3;
+  out->stats.upload_bytes += q->pend_scene_up;
+  out->stats.download_bytes += q->pend_scene_down;
+  stamp_out(q, out);
+  if (info) {
+    *info = q->pend_info;
+    info->ready = 1;
+    info->motion_ms = out->stats.motion_ms;
+  }
   return PB_OK;
 }

@@ -30,6 +30,15 @@ typedef struct pb_sequence_desc {
   int orbit;               /* 1: replace the camera by an orbit around the
                               scene: one turn per orbit_period seconds */
   double orbit_period;
+  /* Frames in flight (issue 17): 0 or 1, each pb_sequence_frame returns
+   * the frame it rendered; 2, it returns the frame before (the first call
+   * returns none, pb_sequence_flush the last), and the GPU runs a frame's
+   * last submission (resolve, filters, the readback's copy into its ring)
+   * while the caller works on the frame before and the next frame is
+   * posed. The same pixels (tests/frame_same_pixels.py in_flight: 2 against
+   * 1, bit-identical on lavapipe, within float rounding wherever the photon
+   * store's order varies); only when frames come out changes. */
+  uint32_t frames_in_flight;
 } pb_sequence_desc;
 
 /* What happened in one frame. */
@@ -40,6 +49,10 @@ typedef struct pb_sequence_frame_info {
   double pose_ms, scene_update_ms, motion_ms;
   double pose_cpu_ms;          /* the pose's CPU time (skinning, morphing) */
   pb_camera camera;            /* the camera used */
+  int ready;                   /* 1: a frame came out (out and this info are
+                                  it); 0: none yet (frames in flight, the
+                                  first call; pb_sequence_flush with none left) */
+  uint32_t index;              /* the frame's index (pb_sequence_frame's) */
 } pb_sequence_frame_info;
 
 typedef struct pb_sequence pb_sequence;
@@ -51,9 +64,15 @@ pb_result pb_sequence_create(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
 void pb_sequence_destroy(pb_gpu *g, pb_sequence *q);
 
 /* Renders the frame at time t (seconds); index numbers the frame for its
- * photon seeds. out: as pb_render_frame's, filtered. */
+ * photon seeds. out: as pb_render_frame's, filtered. With frames in flight
+ * (desc.frames_in_flight 2) out and info are the previous call's frame,
+ * info->ready 0 (out empty) on the first call: frames come out one late. */
 pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t, pb_render_result *out,
                             pb_sequence_frame_info *info);
+/* Frames in flight: waits for the last frame still in flight and returns
+ * it (info->ready 1), or none (info->ready 0, out empty). Without frames
+ * in flight: always none. */
+pb_result pb_sequence_flush(pb_gpu *g, pb_sequence *q, pb_render_result *out, pb_sequence_frame_info *info);
 
 /* The orbit camera at time t: around the centre of the scene's bounds at
  * the original camera's height and horizontal distance, starting where the

@@ -28,7 +28,25 @@ void pb_frame_targets_destroy(pb_gpu *g, pb_frame_targets *t) {
   pb_gpu_buffer_destroy(g, &t->planes);
   pb_gpu_buffer_destroy(g, &t->pplanes);
   pb_gpu_buffer_destroy(g, &t->guard);
+  for (int i = 0; i < PB_READBACK_RING; ++i)
+    for (int k = 0; k < 2; ++k) pb_gpu_buffer_destroy(g, &t->ring[i][k]);
   memset(t, 0, sizeof *t);
+}
+
+pb_result pb_frame_targets_ring(pb_gpu *g, pb_frame_targets *t) {
+  if (t->ring_made) return PB_OK;
+  static const char *const names[PB_READBACK_RING][2] = {{"frame.ring0.resolved", "frame.ring0.resolved_photons"},
+                                                         {"frame.ring1.resolved", "frame.ring1.resolved_photons"}};
+  for (int i = 0; i < PB_READBACK_RING; ++i)
+    for (int k = 0; k < 2; ++k) {
+      const pb_gpu_buffer *src = k ? &t->pplanes : &t->planes;
+      if (!src->buffer) continue;
+      pb_gpu_buffer_desc d = {.name = names[i][k], .size = src->size, .host_visible = 1, .readback = 1};
+      pb_result r = pb_gpu_buffer_create(g, &d, &t->ring[i][k]);
+      if (r != PB_OK) return r; /* the caller destroys the targets */
+    }
+  t->ring_made = 1;
+  return PB_OK;
 }
 
 pb_result pb_frame_targets_create(pb_gpu *g, uint32_t band_pixels, int photons, int nmap, pb_frame_targets *t) {

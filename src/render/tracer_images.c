@@ -32,6 +32,8 @@ static uint32_t images_stats(const pb_tracer *t, pb_tracer_stat *out, uint32_t m
       {"map_resolution", ms.resolution, 0},
       {"candidates", ms.candidates, 0},
       {"map_renders", ms.map_renders, 0},
+      {"maps_rendered", ms.maps_rendered, 0},
+      {"map_renders_skipped", ms.renders_skipped, 0},
       {"selections", ms.selections, 0},
       {"swaps", ms.swaps, 0},
       {"map_render_ms", ms.render_ms, 0},

@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/tracer.h"
+
 /* ---- the JSON reader ------------------------------------------------------ */
 
 enum { JV_NULL, JV_BOOL, JV_NUMBER, JV_STRING, JV_ARRAY, JV_OBJECT };
@@ -275,12 +277,13 @@ static const char *const cmd_names[PB_SERVE_CMD_COUNT] = {"camera", "resolution"
 const char *pb_serve_cmd_name(pb_serve_cmd c) { return c < PB_SERVE_CMD_COUNT ? cmd_names[c] : "?"; }
 
 /* The fields each request may carry (besides "cmd" and "id"). */
-static const char *const fields[PB_SERVE_CMD_COUNT][10] = {
+enum { MAX_FIELDS = 16 };
+static const char *const fields[PB_SERVE_CMD_COUNT][MAX_FIELDS] = {
     {"view", "projection", "axes", "index"},
     {"width", "height"},
     {"t"},
     {"spp", "photons", "iterations", "photon_bounces", "max_specular_depth", "atrous_iterations", "seed",
-     "progressive", "temporal"},
+     "progressive", "temporal", "tracer", "image_maps", "image_map_resolution"},
     {""},
     {"on", "max_passes"},
     {"scene"},
@@ -399,7 +402,7 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
   for (int i = obj->first; i >= 0; i = r->v[i].next) {
     const char *key = r->v[i].key;
     int known = strcmp(key, "cmd") == 0 || strcmp(key, "id") == 0;
-    for (int f = 0; !known && f < 10 && fields[k][f] && fields[k][f][0]; ++f) known = strcmp(key, fields[k][f]) == 0;
+    for (int f = 0; !known && f < MAX_FIELDS && fields[k][f] && fields[k][f][0]; ++f) known = strcmp(key, fields[k][f]) == 0;
     if (!known) {
       bad(&c, "unknown field \"%.64s\"", key);
       goto done;
@@ -476,6 +479,23 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
       if (g) s->set |= PB_SERVE_SET_PROGRESSIVE;
       if ((g = get_bool(&c, "temporal", &s->temporal)) < 0) goto done;
       if (g) s->set |= PB_SERVE_SET_TEMPORAL;
+      /* The photon tracer (render --tracer; render/tracer.h): a name of
+       * pb_tracer_names, and the images tracer's map count and size, kept
+       * while the tracer is bvh (a client may set them first). */
+      const jv *tr = member(r, obj, "tracer");
+      if (tr) {
+        uint32_t kind = 0;
+        while (pb_tracer_names[kind] && (tr->type != JV_STRING || strcmp(tr->str, pb_tracer_names[kind]))) ++kind;
+        if (!pb_tracer_names[kind]) {
+          bad(&c, "\"tracer\" must be \"bvh\" or \"images\"");
+          goto done;
+        }
+        s->set |= PB_SERVE_SET_TRACER, s->tracer = kind;
+      }
+      if ((g = get_uint(&c, "image_maps", 1, PB_IMAGE_MAPS_MAX, &u)) < 0) goto done;
+      if (g) s->set |= PB_SERVE_SET_IMAGE_MAPS, s->image_maps = (uint32_t)u;
+      if ((g = get_uint(&c, "image_map_resolution", 8, 1024, &u)) < 0) goto done;
+      if (g) s->set |= PB_SERVE_SET_IMAGE_MAP_RESOLUTION, s->image_map_resolution = (uint32_t)u;
       break;
     }
     case PB_SERVE_STREAM:
@@ -713,5 +733,8 @@ size_t pb_serve_format_frame(char *buf, size_t cap, const char *id, const pb_ser
   add_str(&o, f->format);
   add(&o, ",\"passes\":%u,\"still\":%s,\"render_ms\":%.3f,\"photons_stored\":%llu", f->passes,
       f->still ? "true" : "false", isfinite(f->render_ms) ? f->render_ms : 0.0, (unsigned long long)f->photons_stored);
+  add(&o, ",\"tracer\":");
+  add_str(&o, f->tracer ? f->tracer : "none");
+  if (f->tracer && !strcmp(f->tracer, "images") && isfinite(f->image_miss_rate)) add(&o, ",\"image_miss_rate\":%.6g", f->image_miss_rate);
   return finish(&o);
 }

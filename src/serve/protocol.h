@@ -16,7 +16,9 @@
  *   {"cmd":"time","t":SECONDS}
  *   {"cmd":"settings", any of "spp", "photons", "iterations",
  *       "photon_bounces", "max_specular_depth", "atrous_iterations",
- *       "seed" (non-negative integers), "progressive", "temporal" (bools)}
+ *       "seed" (non-negative integers), "progressive", "temporal" (bools),
+ *       "tracer" ("bvh" or "images", render --tracer), "image_maps" (1..15),
+ *       "image_map_resolution" (8..1024; both used by the images tracer)}
  *   {"cmd":"frame"}            render one frame now; the reply is the frame
  *   {"cmd":"stream","on":BOOL,"max_passes":N}
  *                              while on and no request waits, refine frame
@@ -27,7 +29,8 @@
  * Replies: {"reply":CMD,"ok":true,...} for each request, in order; frames
  * {"reply":"frame"|"event":"frame","ok":true,"frame":N,"path":P,"width":W,
  * "height":H,"format":"rgba32f","passes":K,"still":B,"render_ms":MS,
- * "photons_stored":N}; errors {"reply":CMD or null,"ok":false,
+ * "photons_stored":N,"tracer":T} (T the photon tracer that ran, "none" when
+ * no photon map was traced; the images tracer adds "image_miss_rate"); errors {"reply":CMD or null,"ok":false,
  * "error":"line L: ..."}. The frame file (rgba32f): a 32-byte header, the
  * bytes "PBFRAME1", then little-endian u32 width, height, channels (4),
  * u32 0, u64 frame number; then width x height RGBA float32 pixels,
@@ -65,6 +68,9 @@ enum {
   PB_SERVE_SET_SEED = 1u << 6,
   PB_SERVE_SET_PROGRESSIVE = 1u << 7,
   PB_SERVE_SET_TEMPORAL = 1u << 8,
+  PB_SERVE_SET_TRACER = 1u << 9,
+  PB_SERVE_SET_IMAGE_MAPS = 1u << 10,
+  PB_SERVE_SET_IMAGE_MAP_RESOLUTION = 1u << 11,
 };
 
 typedef struct pb_serve_settings {
@@ -72,6 +78,8 @@ typedef struct pb_serve_settings {
   uint32_t spp, photons, iterations, photon_bounces, max_specular_depth, atrous_iterations;
   uint64_t seed;
   int progressive, temporal;
+  uint32_t tracer;               /* index into pb_tracer_names (render/tracer.h) */
+  uint32_t image_maps, image_map_resolution;
 } pb_serve_settings;
 
 typedef struct pb_serve_request {
@@ -128,6 +136,8 @@ typedef struct pb_serve_frame_reply {
   int still;
   double render_ms;
   uint64_t photons_stored;
+  const char *tracer;        /* the photon tracer that ran; NULL: "none" */
+  double image_miss_rate;    /* tracer "images" only: segments no map confirmed, over all */
 } pb_serve_frame_reply;
 size_t pb_serve_format_frame(char *buf, size_t cap, const char *id, const pb_serve_frame_reply *f);
 

@@ -186,6 +186,14 @@ static void render_frame(server *v, int requested, const char *id) {
     return;
   }
   v->pending = 0;
+  /* The images tracer's miss rate, as render --json reports it: segments
+   * no map confirmed, over all. */
+  const pb_render_stats *st = &v->ses.res.stats;
+  double segments = 0, misses = 0;
+  for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
+    if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
+    if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
+  }
   pb_serve_frame_reply f = {.requested = requested,
                             .frame = v->served++,
                             .path = v->frame_path,
@@ -195,7 +203,9 @@ static void render_frame(server *v, int requested, const char *id) {
                             .passes = v->ses.run_frames,
                             .still = v->ses.info.still && v->ses.frame > 1,
                             .render_ms = ms,
-                            .photons_stored = v->ses.res.stats.photons_stored};
+                            .photons_stored = st->photons_stored,
+                            .tracer = st->tracer,
+                            .image_miss_rate = segments > 0 ? misses / segments : 0.0};
   send_line(v, v->reply, pb_serve_format_frame(v->reply, REPLY_CAP, id, &f));
 }
 
@@ -212,6 +222,9 @@ static void apply_settings(pb_sequence_desc *d, const pb_serve_settings *s) {
   if (s->set & PB_SERVE_SET_SEED) rd->seed = s->seed;
   if (s->set & PB_SERVE_SET_PROGRESSIVE) rd->progressive = s->progressive;
   if (s->set & PB_SERVE_SET_TEMPORAL) d->temporal = s->temporal;
+  if (s->set & PB_SERVE_SET_TRACER) rd->tracer = s->tracer;
+  if (s->set & PB_SERVE_SET_IMAGE_MAPS) rd->image_maps = s->image_maps;
+  if (s->set & PB_SERVE_SET_IMAGE_MAP_RESOLUTION) rd->image_map_resolution = s->image_map_resolution;
 }
 
 static void handle_line(server *v, const char *line, size_t len) {

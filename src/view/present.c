@@ -419,7 +419,9 @@ static void barrier(VkCommandBuffer cmd, VkImage img, VkImageLayout from, VkImag
   vkCmdPipelineBarrier(cmd, src, dst, 0, 0, NULL, 0, NULL, 1, &b);
 }
 
-pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, uint32_t height) {
+/* rgba from the host, or src: a buffer of the shared render device that a
+ * compute pass wrote (RGBA8 words, present_pass.h). */
+static pb_result present(pb_present *p, const uint8_t *rgba, VkBuffer src, uint32_t width, uint32_t height) {
   pb_result r = PB_OK;
   int empty = 0;
   if (!p->swapchain || p->extent.width == 0) {
@@ -441,7 +443,7 @@ pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, u
   int suboptimal = vr == VK_SUBOPTIMAL_KHR;
   if (vr != VK_SUCCESS && !suboptimal) VK(vr, "vkAcquireNextImageKHR");
   VK(vkResetFences(p->device, 1, &p->fence), "vkResetFences");
-  memcpy(p->staging_map, rgba, (size_t)width * height * 4);
+  if (rgba) memcpy(p->staging_map, rgba, (size_t)width * height * 4);
   VK(vkResetCommandBuffer(p->cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                  .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
@@ -452,7 +454,17 @@ pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, u
           VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
   p->frame_fresh = 0;
   VkBufferImageCopy copy = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, .imageExtent = {width, height, 1}};
-  vkCmdCopyBufferToImage(p->cmd, p->staging, p->frame, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+  if (src) {
+    /* The display pass's writes (an earlier submission on this queue) made
+     * visible to the copy. */
+    VkBufferMemoryBarrier bb = {.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER, .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                                .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT, .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .buffer = src, .offset = 0,
+                                .size = VK_WHOLE_SIZE};
+    vkCmdPipelineBarrier(p->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 1, &bb,
+                         0, NULL);
+  }
+  vkCmdCopyBufferToImage(p->cmd, src ? src : p->staging, p->frame, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   barrier(p->cmd, p->frame, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
           VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
           VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -493,6 +505,16 @@ pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, u
   return PB_OK;
 fail:
   return r;
+}
+
+pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, uint32_t height) {
+  return present(p, rgba, VK_NULL_HANDLE, width, height);
+}
+
+pb_result pb_present_frame_buffer(pb_present *p, VkBuffer src, uint32_t width, uint32_t height) {
+  if (!p->borrowed)
+    return pb_fail(PB_ERR_USAGE, "view: a render-device buffer given to a presenter on its own device");
+  return present(p, NULL, src, width, height);
 }
 
 uint32_t pb_present_validation_messages(const pb_present *p) { return p ? p->validation_messages : 0; }

@@ -20,6 +20,7 @@
 #define PB_VIEW_PRESENT_H
 
 #include <stdint.h>
+#include <vulkan/vulkan.h>
 
 #include "core/result.h"
 
@@ -39,6 +40,13 @@ void pb_present_destroy(pb_present *p);
 
 /* Shows `rgba` (width x height, 4 bytes a pixel, top row first). */
 pb_result pb_present_frame(pb_present *p, const uint8_t *rgba, uint32_t width, uint32_t height);
+
+/* Shows the RGBA8 words (R in the low byte, width x height, top row
+ * first) that a compute pass of the shared render device wrote into `src`
+ * (present_pass.h, submitted and waited for): copied into the frame image
+ * on the device, nothing through the host. Only when pb_present_shared;
+ * PB_ERR_USAGE otherwise. */
+pb_result pb_present_frame_buffer(pb_present *p, VkBuffer src, uint32_t width, uint32_t height);
 
 /* Validation messages of the presenter's instance so far; swapchain
  * recreations so far (tests). */

@@ -46,7 +46,9 @@ pb_result pb_view_session_frame(pb_view_session *v, const pb_camera *cam, double
   s->anim = anim;
   if (r != PB_OK) return r;
   v->t_posed = t;
-  v->run_frames = v->info.still && v->frame > 0 ? v->run_frames + 1 : 1;
+  /* info is the frame that came out: this one, or with frames in flight
+   * the one before (none after the first call). */
+  if (v->info.ready) v->run_frames = v->info.still && v->info.index > 0 ? v->run_frames + 1 : 1;
   v->frame++;
   return PB_OK;
 }

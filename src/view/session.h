@@ -47,7 +47,10 @@ void pb_view_session_destroy(pb_view_session *v);
 
 /* Renders the next frame with camera `cam` (written into the session's
  * camera slot; NULL: the slot as the file, or its animation, poses it) at
- * time t into v->res and v->info. When t is the time the scene already
+ * time t into v->res and v->info. With desc.frames_in_flight 2 (view
+ * --frames-in-flight 2) v->res and v->info are the frame before
+ * (v->info.ready 0 and v->res empty after the first call); `serve` keeps 1:
+ * each reply is the frame its request asked for. When t is the time the scene already
  * holds, the scene is not posed again, so that an animated scene camera
  * does not replace `cam`. */
 pb_result pb_view_session_frame(pb_view_session *v, const pb_camera *cam, double t);

@@ -16,6 +16,7 @@
 #include "metrics/metrics.h"
 #include "view/controller.h"
 #include "view/present.h"
+#include "view/present_pass.h"
 #include "view/session.h"
 
 /* stb_image_write's implementation lives in src/image/png.c; this is only
@@ -48,6 +49,9 @@ typedef struct frame_stat {
   double wall_ms, render_ms, present_ms, psnr, t;
   int still;
   uint32_t run_frames; /* frames refined by the current still run */
+  /* Host <-> device bytes: the frame's (pb_render_stats: the readback's,
+   * the uploads') and the picture's (the display pass's upload, or 0). */
+  uint64_t readback_bytes, upload_bytes, download_bytes, display_up_bytes;
 } frame_stat;
 
 static uint32_t validation_messages;
@@ -73,7 +77,16 @@ typedef struct viewer {
   pb_color *color, *metric;
   float *ref_display;    /* the reference through the metrics view, RGB */
   float *tmp;            /* RGBA floats of the shown AOV */
-  uint8_t *rgba;         /* the bytes shown */
+  uint8_t *rgba;         /* the bytes shown (GPU display: fetched when asked, rgba_stale) */
+  /* The picture made on the render device (issue 17 item 2): the view
+   * baked to a LUT, the display pass writing RGBA8 into a buffer the
+   * presenter copies into the swapchain. gpu_display 0: the host path
+   * (its own presentation device, PB_VIEW_HOST_DISPLAY=1, a depth AOV). */
+  int gpu_display;
+  pb_color_lut lut;
+  pb_present_pass pass;
+  int rgba_stale;        /* the shown bytes are in pass.out, not yet in rgba */
+  uint32_t gpu_frames;   /* frames shown through the display pass */
   uint32_t frame;
   int save;              /* P / F12 pressed */
   uint32_t saves;
@@ -258,7 +271,7 @@ static pb_result load_script(viewer *v, const char *path) {
   return r;
 }
 
-static pb_result write_screenshot(const viewer *v, const char *path);
+static pb_result write_screenshot(viewer *v, const char *path);
 
 /* The events due before frame v->frame, through the handlers the GLFW
  * callbacks call (a key is a press then a release). */
@@ -293,8 +306,9 @@ static pb_result run_script(viewer *v) {
 /* The shown AOV as RGBA floats into v->tmp, display-encoded into v->rgba:
  * colour AOVs through the OCIO view (exposure included), normal as
  * 0.5 + 0.5 n and depth as 1 - z / z_max (near bright), both raw data. */
-static pb_result make_picture(viewer *v) {
+static pb_result make_picture(viewer *v, int *on_gpu) {
   const pb_render_result *res = &v->ses.res;
+  *on_gpu = 0;
   size_t n = (size_t)res->width * res->height;
   const float *src = NULL;
   int ch = 3;
@@ -309,6 +323,19 @@ static pb_result make_picture(viewer *v) {
     case AOV_DEPTH: src = res->depth, ch = 1; break;
   }
   if (!src) v->note = "this AOV is empty here (no photon stages)";
+  if (v->gpu_display && src && v->aov != AOV_DEPTH) {
+    /* The display pass: the AOV through the baked view (exposure a scale
+     * in the pass), normals as 0.5 + 0.5 n; the bytes stay on the device. */
+    pb_present_job job = {.channels = (uint32_t)ch, .pixels = (uint32_t)n, .scale = (float)exp2(v->exposure),
+                          .data = v->aov == AOV_NORMAL, .data_scale = 0.5f, .data_bias = 0.5f};
+    pb_result r = pb_present_pass_upload(v->g, &v->pass, src, (uint32_t)n, (uint32_t)ch);
+    if (r == PB_OK) r = pb_present_pass_run(v->g, &v->pass, &job);
+    if (r != PB_OK) return r;
+    v->rgba_stale = 1;
+    *on_gpu = 1;
+    return PB_OK;
+  }
+  v->rgba_stale = 0;
   float zmax = 0;
   if (v->aov == AOV_DEPTH)
     for (size_t i = 0; i < n; ++i) zmax = src[i] > zmax ? src[i] : zmax;
@@ -349,9 +376,19 @@ static void sink_write(void *ctx, void *data, int size) {
   if (size > 0 && fwrite(data, 1, (size_t)size, s->f) != (size_t)size) s->failed = 1;
 }
 
+/* The bytes shown, in v->rgba (the display pass's, read back once). */
+static pb_result fetch_shown(viewer *v) {
+  if (!v->rgba_stale) return PB_OK;
+  pb_result r = pb_present_pass_download(v->g, &v->pass, v->rgba, v->ses.res.width * v->ses.res.height);
+  if (r == PB_OK) v->rgba_stale = 0;
+  return r;
+}
+
 /* The bytes shown (RGB, the frame's size), atomically. */
-static pb_result write_screenshot(const viewer *v, const char *path) {
+static pb_result write_screenshot(viewer *v, const char *path) {
   size_t n = (size_t)v->ses.res.width * v->ses.res.height;
+  pb_result fr = fetch_shown(v);
+  if (fr != PB_OK) return fr;
   uint8_t *rgb = malloc(3 * n);
   if (!rgb) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
   for (size_t i = 0; i < n; ++i)
@@ -458,6 +495,14 @@ static pb_result write_stats(const viewer *v, const char *path) {
   pb_json_int(&j, "photons_stored", (int64_t)v->ses.res.stats.photons_stored);
   pb_json_int(&j, "swapchain_recreations", pb_present_recreations(v->pres));
   pb_json_bool(&j, "present_shared_device", pb_present_shared(v->pres));
+  pb_json_bool(&j, "gpu_display", v->gpu_display);
+  pb_json_int(&j, "gpu_display_frames", v->gpu_frames);
+  if (v->gpu_display) {
+    pb_json_int(&j, "display_lut_size", v->lut.size);
+    pb_json_number(&j, "display_lut_lo", v->lut.lo);
+    pb_json_number(&j, "display_lut_hi", v->lut.hi);
+    pb_json_number(&j, "display_lut_error", v->lut.max_error);
+  }
   pb_json_begin_array(&j, "frames");
   for (uint32_t i = 0; i < v->frame; ++i) {
     const frame_stat *f = &v->stats[i];
@@ -467,6 +512,10 @@ static pb_result write_stats(const viewer *v, const char *path) {
     pb_json_number(&j, "present_ms", f->present_ms);
     pb_json_bool(&j, "still", f->still);
     pb_json_int(&j, "run_frames", f->run_frames);
+    pb_json_int(&j, "readback_bytes", (int64_t)f->readback_bytes);
+    pb_json_int(&j, "upload_bytes", (int64_t)f->upload_bytes);
+    pb_json_int(&j, "download_bytes", (int64_t)f->download_bytes);
+    pb_json_int(&j, "display_upload_bytes", (int64_t)f->display_up_bytes);
     pb_json_number(&j, "t", f->t);
     if (v->ref_display && isfinite(f->psnr)) pb_json_number(&j, "psnr", f->psnr);
     pb_json_end_object(&j);
@@ -496,17 +545,33 @@ static pb_result one_frame(viewer *v, double dt) {
   pb_camera want = v->follow ? v->file_cam : v->ctl.cam;
   if ((r = pb_view_session_frame(&v->ses, &want, v->t)) != PB_OK) return r;
   const pb_sequence_frame_info fi = v->ses.info;
-  double t1 = pb_time_now();
-  if (!v->follow && memcmp(fi.camera.position, want.position, sizeof want.position)) {
+  /* The camera of the frame just rendered (the scene's slot): with frames
+   * in flight the frame that came out (fi) is the one before. */
+  const pb_camera rendered = s->cameras[v->ses.camera];
+  if (!v->follow && memcmp(rendered.position, want.position, sizeof want.position)) {
     /* The animation moved the bound camera over the user's: stop playing,
      * so that the next frame shows the user's camera (the session does not
      * pose the scene again while the time stays). */
     v->playing = 0;
     v->note = "paused: the scene camera is animated";
   }
-  if (v->follow) pb_view_controller_reset(&v->ctl, &fi.camera, s->bounds_min, s->bounds_max);
-  if ((r = make_picture(v)) != PB_OK) return r;
-  if ((r = pb_present_frame(v->pres, v->rgba, v->ses.res.width, v->ses.res.height)) != PB_OK) return r;
+  if (v->follow) pb_view_controller_reset(&v->ctl, &rendered, s->bounds_min, s->bounds_max);
+  /* Frames in flight (--frames-in-flight 2): the first call renders and
+   * shows nothing; from then on each call shows the frame before the one
+   * it rendered, so the window runs one frame behind the input and
+   * v->frame counts the frames shown. */
+  if (!fi.ready) return PB_OK;
+  double t1 = pb_time_now();
+  pb_gpu_transfers tp0 = pb_gpu_transfers_get(v->g);
+  int on_gpu = 0;
+  if ((r = make_picture(v, &on_gpu)) != PB_OK) return r;
+  if (on_gpu) {
+    v->gpu_frames++;
+    r = pb_present_frame_buffer(v->pres, v->pass.out.buffer, v->ses.res.width, v->ses.res.height);
+  } else {
+    r = pb_present_frame(v->pres, v->rgba, v->ses.res.width, v->ses.res.height);
+  }
+  if (r != PB_OK) return r;
   double t2 = pb_time_now();
   if (v->frame == v->stat_cap) {
     size_t nc = v->stat_cap ? 2 * v->stat_cap : 256;
@@ -516,6 +581,9 @@ static pb_result one_frame(viewer *v, double dt) {
   }
   frame_stat *fs = &v->stats[v->frame];
   memset(fs, 0, sizeof *fs);
+  pb_gpu_transfers tp1 = pb_gpu_transfers_get(v->g);
+  fs->readback_bytes = v->ses.res.stats.readback_bytes, fs->upload_bytes = v->ses.res.stats.upload_bytes;
+  fs->download_bytes = v->ses.res.stats.download_bytes, fs->display_up_bytes = tp1.upload_bytes - tp0.upload_bytes;
   fs->render_ms = (t1 - t0) * 1e3, fs->present_ms = (t2 - t1) * 1e3, fs->wall_ms = dt * 1e3;
   fs->still = fi.still && v->frame > 0, fs->run_frames = v->ses.run_frames, fs->t = v->t, fs->psnr = NAN;
   if (v->ref_display && (r = frame_psnr(v, &fs->psnr)) != PB_OK) return r;
@@ -610,6 +678,19 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
                         .shared = &vk};
   if ((r = pb_present_create(&pd, &v.pres)) != PB_OK) goto done;
   if ((r = pb_view_session_create(&v.ses, g, s, gs, d->camera, d->width, d->height, &d->seq)) != PB_OK) goto done;
+  {
+    /* The picture on the render device when the presenter shares it (the
+     * host path otherwise, and with PB_VIEW_HOST_DISPLAY=1). */
+    const char *host = getenv("PB_VIEW_HOST_DISPLAY");
+    if (pb_present_shared(v.pres) && !(host && host[0] == '1')) {
+      if ((r = pb_color_bake_lut(v.color, 0, &v.lut)) != PB_OK ||
+          (r = pb_present_pass_create(g, &v.lut, (uint32_t)n, &v.pass)) != PB_OK)
+        goto done;
+      v.gpu_display = 1;
+      pb_log_verbose("view: the picture is made on the render device (a %u^3 LUT, shaper 2^%g .. 2^%g, bake error %.2g)",
+                     v.lut.size, v.lut.lo, v.lut.hi, v.lut.max_error);
+    }
+  }
   pb_view_controller_reset(&v.ctl, &v.file_cam, s->bounds_min, s->bounds_max);
   double last = pb_time_now();
   while (!glfwWindowShouldClose(v.win)) {
@@ -643,8 +724,11 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   }
 done:
   validation_messages += pb_present_validation_messages(v.pres);
+  if (v.gpu_display) (void)pb_gpu_wait(g);
   pb_view_session_destroy(&v.ses);
-  pb_present_destroy(v.pres);
+  pb_present_destroy(v.pres); /* waits for the device: its copies read v.pass.out */
+  pb_present_pass_destroy(g, &v.pass);
+  pb_color_lut_destroy(&v.lut);
   if (v.win) glfwDestroyWindow(v.win);
   if (glfw_on) glfwTerminate();
   pb_color_destroy(v.color);

@@ -30,6 +30,28 @@ for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second r
         check("PHOTONBRIDGE" in getattr(bpy.types, p).COMPAT_ENGINES, "round %d: %s shows for the engine" % (round_, p))
     bpy.context.scene.render.engine = "PHOTONBRIDGE"
     check(bpy.context.scene.render.engine == "PHOTONBRIDGE", "round %d: the scene can select it" % round_)
+    # The photon tracer setting (issue 20): the property, its command line
+    # (settings.cli_args: render and serve) and the viewport's "settings"
+    # request, both ways.
+    s = bpy.context.scene.photonbridge
+    from photonbridge import settings as pb_settings, viewport as pb_viewport
+    args = pb_settings.cli_args(s)
+    check(s.tracer == "bvh" and args[args.index("--tracer") + 1] == "bvh" and "--image-maps" not in args,
+          "round %d: tracer bvh by default, --tracer bvh" % round_)
+    s.tracer, s.image_maps, s.image_map_resolution = "images", 4, 32
+    args = pb_settings.cli_args(s, sequence=True)
+    check(args[args.index("--tracer") + 1] == "images" and args[args.index("--image-maps") + 1] == "4" and
+          args[args.index("--image-map-resolution") + 1] == "32", "round %d: --tracer images --image-maps 4 "
+          "--image-map-resolution 32 from the properties: %s" % (round_, args))
+    st = pb_viewport.Viewport._settings(None, bpy.context.scene)
+    check(st.get("tracer") == "images" and st.get("image_maps") == 4 and st.get("image_map_resolution") == 32,
+          "round %d: the viewport's settings request carries the tracer: %s" % (round_, st))
+    try:
+        s.tracer = "kdtree"
+        check(False, "round %d: an unknown tracer is refused" % round_)
+    except TypeError:
+        check(s.tracer == "images", "round %d: an unknown tracer is refused" % round_)
+    s.tracer = "bvh"
     e = [c for c in bpy.types.RenderEngine.__subclasses__() if c.bl_idname == "PHOTONBRIDGE"][0]
     check(e.bl_use_preview is False and e.bl_use_shading_nodes_custom is False and e.bl_use_eevee_viewport is True
           and e.bl_use_postprocess is True, "round %d: engine flags" % round_)

@@ -46,7 +46,7 @@ STATIC = ["cornell_box", "cornell_caustics", "ring", "spot_room", "sun_atrium"]
 # options for the CLI (exporters/blender/photonbridge/settings.py cli_args).
 QUICK = {"photons": 8192, "iterations": 2, "spp": 2, "seed": 5, "preview_interval": 0}
 QUICK_CLI = ["--photons", "8192", "--iterations", "2", "--spp", "2", "--first-bounce", "traced",
-             "--seed", "5", "--max-bounces", "13", "--progressive"]  # Blender's default Max Bounces 12
+             "--tracer", "bvh", "--seed", "5", "--max-bounces", "13", "--progressive"]  # Blender's default Max Bounces 12
 failures = []
 
 

@@ -32,6 +32,8 @@ sys.path.insert(0, HERE)
 import slurm_cluster  # noqa: E402
 from common import RENDER, ROUNDING, check, failures, fresh, has_device, run, sample, worst_rel  # noqa: E402
 
+ONE_AT_A_TIME = ["--frames-in-flight", "1"]
+
 EXE, PROBE, ROOT, WORK = [os.path.abspath(a) for a in sys.argv[1:5]]
 FARM = os.path.join(ROOT, "scripts", "farm", "slurm_render.py")
 WARM, CHUNK, FIRST, LAST = 2, 2, 0, 5
@@ -75,9 +77,12 @@ def inside():
         env = cl.env
         p = farm(["submit", sample(ROOT), "--frames", "%d:%d" % (FIRST, LAST), "--chunk", str(CHUNK),
                   "--warmup", str(WARM), "-o", out + "/f_##.exr", "--state", state, "--photonbridge", EXE,
-                  "--"] + RENDER, env)
+                  "--"] + RENDER + ONE_AT_A_TIME, env)
         check(p.returncode == 0, "submit: the array and its check submitted")
-        # Kill chunk 1's render while it runs.
+        # Kill chunk 1's render while it runs: between its two frames' files,
+        # which with frames in flight (render's default) follow each other
+        # within one frame's last GPU pass, so the chunks render one frame at
+        # a time here (ONE_AT_A_TIME) to leave the kill a frame's time.
         killed = None
         deadline = time.time() + 60
         while killed is None and time.time() < deadline:

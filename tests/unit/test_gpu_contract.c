@@ -17,6 +17,8 @@
 #include "shaders/direct_blender.spv.h"
 #include "shaders/gather.spv.h"
 #include "shaders/gather_blender.spv.h"
+#include "shaders/knn.spv.h"
+#include "shaders/knn_blender.spv.h"
 #include "shaders/gbuffer.spv.h"
 #include "shaders/gbuffer_blender.spv.h"
 #include "shaders/lbvh_bounds.spv.h"
@@ -41,9 +43,14 @@
 #include "shaders/image_maps_query.spv.h"
 #include "shaders/raycast.spv.h"
 #include "shaders/resolve.spv.h"
+#include "shaders/present.spv.h"
 #include "shaders/temporal.spv.h"
 #include "shaders/filter_io.spv.h"
 #include "shaders/shading_correction.spv.h"
+#include "shaders/splat_count.spv.h"
+#include "shaders/splat_resolve.spv.h"
+#include "shaders/splat_resolve_blender.spv.h"
+#include "shaders/splat_splat.spv.h"
 #include "shaders/vsch_blur.spv.h"
 #include "shaders/vsch_clear.spv.h"
 #include "shaders/vsch_cone.spv.h"
@@ -88,6 +95,17 @@ static const entry gather_bind[] = {SCENE_COMMON,
                                     {"PhotonNmap", PB_GATHER_BIND_NMAP},
                                     END};
 static const entry gather_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, END};
+static const entry knn_bind[] = {SCENE_COMMON,
+                                 {"GBuf", PB_BIND_GBUFFER},
+                                 {"Accum", PB_BIND_ACCUM},
+                                 {"Photons", PB_KNN_BIND_PHOTONS},
+                                 {"Nodes2", PB_KNN_BIND_NODES},
+                                 {"InfoBuf", PB_KNN_BIND_INFO},
+                                 {"PhotonAccum", PB_KNN_BIND_ACCUM},
+                                 {"PhotonNmap", PB_KNN_BIND_NMAP},
+                                 END};
+static const entry knn_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, {"SC_K", PB_SPEC_KNN_K},
+                                 {"SC_BUDGET", PB_SPEC_KNN_BUDGET}, END};
 static const entry trace_bind[] = {SCENE_COMMON,
                                    {"Photons", PB_PHOTON_BIND_PHOTONS},
                                    {"Counts", PB_PHOTON_BIND_COUNTS},
@@ -169,6 +187,10 @@ static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", 
                                    {"TriMat", PB_IMAGE_BIND_TRI_MATERIAL}, {"Maps", PB_IMAGE_BIND_MAPS},
                                    {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
                                    {"Hits", PB_IMAGE_BIND_HITS},       {"Counts", PB_IMAGE_BIND_COUNTS}, END};
+static const entry present_bind[] = {{"Lut", PB_PRESENT_BIND_LUT},
+                                     {"Src", PB_PRESENT_BIND_IN},
+                                     {"Dst", PB_PRESENT_BIND_OUT},
+                                     END};
 static const entry vsch_bind[] = {{"FrameBuf", PB_VSCH_BIND_FRAME}, {"GBuf", PB_VSCH_BIND_GBUFFER},
                                   {"VschData", PB_VSCH_BIND_DATA},   {"Photons", PB_VSCH_BIND_PHOTONS},
                                   {"Counts", PB_VSCH_BIND_COUNTS},   {"Keys", PB_VSCH_BIND_KEYS},
@@ -183,6 +205,21 @@ static const entry vsch_shade_bind[] = {SCENE_COMMON,
                                         {"PhotonNmap", PB_VSCH_SHADE_BIND_NMAP},
                                         END};
 static const entry no_spec[] = {END};
+/* The splatting passes (seed 001 24.3): count and splat read the frame and
+ * the G-buffer of the scene's set, the resolve shades with all of it. */
+#define SPLAT_OWN                                                                                          \
+  {"Photons", PB_SPLAT_BIND_PHOTONS}, {"MapCounts", PB_SPLAT_BIND_COUNTS}, {"Tiles", PB_SPLAT_BIND_TILES}, \
+      {"Stats", PB_SPLAT_BIND_STATS}
+static const entry splat_bind[] = {{"FrameBuf", PB_BIND_FRAME}, {"GBuf", PB_BIND_GBUFFER}, {"Target", PB_SPLAT_BIND_TARGET},
+                                   SPLAT_OWN, END};
+static const entry splat_resolve_bind[] = {SCENE_COMMON,
+                                           {"GBuf", PB_BIND_GBUFFER},
+                                           {"Accum", PB_BIND_ACCUM},
+                                           {"Tiles", PB_SPLAT_BIND_TILES},
+                                           {"Target", PB_SPLAT_BIND_TARGET},
+                                           {"PhotonAccum", PB_SPLAT_BIND_ACCUM},
+                                           {"PhotonNmap", PB_SPLAT_BIND_NMAP},
+                                           END};
 
 typedef struct module {
   const char *name;
@@ -200,6 +237,8 @@ static const module modules[] = {
     MOD(direct_blender, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(gather, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
     MOD(gather_blender, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
+    MOD(knn, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
+    MOD(knn_blender, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
     MOD(photon_trace, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_blender, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_images, trace_images_bind, trace_spec, PB_PHOTON_IMAGES_BIND_COUNT),
@@ -226,6 +265,11 @@ static const module modules[] = {
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
     MOD(filter_io, filter_io_bind, no_spec, PB_FILTER_IO_BIND_COUNT),
     MOD(shading_correction, shading_bind, no_spec, PB_SHADING_BIND_COUNT),
+    MOD(splat_count, splat_bind, no_spec, PB_SPLAT_BIND_COUNT),
+    MOD(splat_splat, splat_bind, no_spec, PB_SPLAT_BIND_COUNT),
+    MOD(splat_resolve, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
+    MOD(splat_resolve_blender, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
+    MOD(present, present_bind, no_spec, PB_PRESENT_BIND_COUNT),
     MOD(vsch_clear, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
     MOD(vsch_range, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
     MOD(vsch_mark, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),

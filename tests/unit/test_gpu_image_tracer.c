@@ -429,12 +429,38 @@ static void moved(pb_gpu *g) {
   uint32_t l0, r0, l1, r1;
   if (tr && trace_with(g, tr, &a) == PB_OK) {
     on_plate(&a, py, &l0, &r0);
+    /* The same pose again (a moving light or camera): no map is rendered
+     * (the maps hold geometry only), and the photons are the same records. */
+    CHECK_EQ_INT(pb_gpu_scene_update(g, &t.s, &gs, PB_BVH_UPDATE_AUTO, NULL), PB_OK);
+    CHECK_EQ_INT(pb_tracer_update(g, tr, &t.s), PB_OK);
+    traced s0;
+    if (trace_with(g, tr, &s0) == PB_OK) {
+      printf("same pose: map_renders %g -> %g, maps_rendered %g -> %g, skipped %g; %u -> %u records\n",
+             stat_of(&a, "map_renders"), stat_of(&s0, "map_renders"), stat_of(&a, "maps_rendered"),
+             stat_of(&s0, "maps_rendered"), stat_of(&s0, "map_renders_skipped"), a.n, s0.n);
+      CHECK(stat_of(&s0, "map_renders") == stat_of(&a, "map_renders"));
+      CHECK(stat_of(&s0, "maps_rendered") == stat_of(&a, "maps_rendered"));
+      CHECK(stat_of(&s0, "map_renders_skipped") == 1);
+      CHECK_EQ_INT(s0.n, a.n);
+      if (s0.n == a.n) {
+        qsort(a.ph, a.n, sizeof *a.ph, cmp_photon);
+        qsort(s0.ph, s0.n, sizeof *s0.ph, cmp_photon);
+        CHECK(memcmp(a.ph, s0.ph, (size_t)a.n * sizeof *a.ph) == 0);
+      }
+      free(s0.ph);
+    }
     /* The plate moves from x = -0.5 to x = +0.5 (its last 4 vertices). */
     for (uint32_t v = t.nv - 4; v < t.nv; ++v) t.pos[v][0] += 1.0f;
     CHECK_EQ_INT(pb_gpu_scene_update(g, &t.s, &gs, PB_BVH_UPDATE_AUTO, NULL), PB_OK);
     CHECK_EQ_INT(pb_tracer_update(g, tr, &t.s), PB_OK);
     if (trace_with(g, tr, &b) == PB_OK) {
       on_plate(&b, py, &l1, &r1);
+      /* The moved plate: the maps whose texel rays cross its old or new
+       * place are rendered again (image_maps_touch.comp), at least one. */
+      printf("moved plate: %g maps rendered again (of 8)\n",
+             stat_of(&b, "maps_rendered") - stat_of(&s0, "maps_rendered"));
+      CHECK(stat_of(&b, "maps_rendered") > stat_of(&s0, "maps_rendered"));
+      CHECK(stat_of(&b, "map_renders_skipped") == 1);
       printf("moved plate: photons on it before: %u left, %u right; after: %u left, %u right\n", l0, r0, l1, r1);
       CHECK(l0 > 200 && r0 == 0);
       CHECK(r1 > 200 && l1 == 0);

@@ -9,7 +9,10 @@
  *      on sun_atrium (directional light) and spot_room;
  *  (c) no NaN/Inf in any record;
  *  (d) photons jittered over their texel: distinct first hits, and the exact
- *      first-hit flux on a plate whose edges cut texels.
+ *      first-hit flux on a plate whose edges cut texels;
+ *  (e) ring: the same caustic flux traced and from the map, the map's
+ *      caustic records 1 / coverage times the traced ones, and
+ *      PB_FIRST_BOUNCE_AUTO choosing the map there and tracing cornell_box.
  * Validation layers on, any message fatal; exit 77 without a device. */
 #include <math.h>
 #include <stdio.h>
@@ -325,6 +328,116 @@ static void sample(pb_gpu *g, const char *name, uint32_t photons, int walls) {
   pb_scene_destroy(&s);
 }
 
+/* ---- (e) ring: where the RSM's extra caustic records come from ------------ */
+
+typedef struct caustics {
+  uint32_t n;               /* caustic records */
+  double flux, other, all;  /* caustic flux, the rest's, all (sum of channels) */
+} caustics;
+
+static caustics caustic_tally(const traced *t) {
+  caustics c = {0};
+  for (uint32_t i = 0; i < t->n; ++i) {
+    const pb_gpu_photon *p = &t->ph[i];
+    double f = (double)p->power[0] + p->power[1] + p->power[2];
+    c.all += f;
+    if (p->flags & PB_PHOTON_CAUSTIC) c.n++, c.flux += f;
+    else c.other += f;
+  }
+  return c;
+}
+
+/* ring (point light 3 m from a 4 x 4 m floor and a 1 m metal ring): at
+ * equal paths and equal emitted power the RSM stored some 22x the traced
+ * first bounce's caustic records (bench/README.md). Both carry the same
+ * caustic flux (within the traced map's noise), so the records are not
+ * flagged or weighted differently; the ratio of their counts is the map's
+ * gain 1 / coverage: the traced emission sends only the share of the
+ * light's sphere the scene covers onto it, the floor's 0.618 sr (4.9 %,
+ * integrated over the 4 x 4 m square at 0.65 m below the light, 1 .. 5 m
+ * away) and the ring's under 0.05 sr, while the map spends every photon on
+ * the scene, by reflected power (albedo 0.8 floor, 0.96 ring): the ring's
+ * share of the map's photons over its share of the sphere is
+ * 0.96 x 4 pi / (0.8 x 0.618 + 0.96 Omega_ring) = 22.2 .. 24.4 for
+ * Omega_ring in 0 .. 0.05 sr. --first-bounce auto picks the map here
+ * (coverage about 0.05 < 0.5: the same records as RSM) and the traced first
+ * bounce on cornell_box (a closed room but for its front: the same records
+ * as traced). */
+static void ring(pb_gpu *g) {
+  pb_scene s;
+  pb_load_desc ld = {0};
+  pb_result r = pb_scene_load("samples/ring/ring.gltf", &ld, &s);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return;
+  pb_photon_trace_desc dt = {.photons = 1u << 19, .max_bounces = 3, .first_bounce = PB_FIRST_BOUNCE_TRACE};
+  pb_photon_trace_desc dr = dt, da = dt;
+  dr.first_bounce = PB_FIRST_BOUNCE_RSM;
+  da.first_bounce = PB_FIRST_BOUNCE_AUTO;
+  traced a, b, c;
+  memset(&a, 0, sizeof a), memset(&b, 0, sizeof b), memset(&c, 0, sizeof c); /* released whatever failed */
+  int ok = trace(g, &s, &dt, 21, 0, 0, 0, 0, &a);
+  ok = ok && trace(g, &s, &dr, 21, 0, 0, 0, 0, &b);
+  ok = ok && trace(g, &s, &da, 21, 0, 0, 0, 0, &c);
+  if (ok) {
+    caustics ct = caustic_tally(&a), cr = caustic_tally(&b), ca = caustic_tally(&c);
+    double ratio = ct.n ? (double)cr.n / ct.n : 0;
+    printf("ring: traced %u records, %u caustic, caustic flux %.5f W, other %.5f W, %u escaped\n", a.n, ct.n,
+           ct.flux, ct.other, a.st.escaped);
+    printf("ring: RSM    %u records, %u caustic, caustic flux %.5f W (%+.2f %%), other %.5f W, %u escaped\n", b.n,
+           cr.n, cr.flux, 100 * (cr.flux / ct.flux - 1), cr.other, b.st.escaped);
+    printf("ring: caustic records RSM / traced %.2f (predicted 22.2 .. 24.4); map coverage %.4f; auto: %u "
+           "caustic of %u, %u lights from their map\n", ratio, b.st.rsm_coverage, ca.n, c.n, c.st.rsm_lights);
+    CHECK(b.st.rsm_coverage > 0.03 && b.st.rsm_coverage < 0.08);
+    CHECK_EQ_INT(c.st.rsm_lights, 1);
+    CHECK(ct.n > 500);
+    CHECK_NEAR(cr.flux, ct.flux, 0.08 * ct.flux);
+    CHECK(ratio > 18 && ratio < 29);
+    CHECK_EQ_INT(ca.n, cr.n);
+    CHECK_EQ_INT(c.n, b.n);
+    check_records(&s, &b, "ring RSM");
+  }
+  release(g, &c);
+  release(g, &b);
+  release(g, &a);
+  pb_scene_destroy(&s);
+
+  r = pb_scene_load("samples/cornell_box/cornell_box.gltf", &ld, &s);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) return;
+  dt.photons = da.photons = 1u << 16;
+  if (trace(g, &s, &dt, 22, 0, 0, 0, 0, &a)) {
+    if (trace(g, &s, &da, 22, 0, 0, 0, 0, &c)) {
+      printf("cornell_box: traced %u records, auto %u (map coverage %.4f, %u lights from their map)\n", a.n, c.n,
+             c.st.rsm_coverage, c.st.rsm_lights);
+      CHECK_EQ_INT(c.n, a.n);
+      CHECK_EQ_INT(c.st.rsm_lights, 0);
+      release(g, &c);
+    }
+    release(g, &a);
+  }
+  pb_scene_destroy(&s);
+
+  /* What auto picks on the other samples: each map's coverage (printed for
+   * bench/README.md); the closed rooms keep the traced first bounce. */
+  static const char *const names[] = {"cornell_caustics", "spot_room", "sun_atrium"};
+  for (int i = 0; i < 3; ++i) {
+    char path[256];
+    snprintf(path, sizeof path, "samples/%s/%s.gltf", names[i], names[i]);
+    if ((r = pb_scene_load(path, &ld, &s)) != PB_OK) {
+      CHECK_EQ_INT(r, PB_OK);
+      continue;
+    }
+    da.photons = 1u << 12;
+    if (trace(g, &s, &da, 23, 0, 0, 0, 0, &c)) {
+      printf("%s: map coverage %.4f, auto: %u lights from their map\n", names[i], c.st.rsm_coverage,
+             c.st.rsm_lights);
+      if (i < 2) CHECK_EQ_INT(c.st.rsm_lights, 0);
+      release(g, &c);
+    }
+    pb_scene_destroy(&s);
+  }
+}
+
 /* ---- (d) jitter within the texel ----------------------------------------- */
 
 static int cmp_pos(const void *a, const void *b) {
@@ -400,6 +513,7 @@ int main(void) {
   sample(g, "sun_atrium", 120000, 0);
   sample(g, "spot_room", 40000, 0);
   jitter(g);
+  ring(g);
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
   pb_gpu_destroy(g);
   return pbt_done();

@@ -413,6 +413,88 @@ static void determinism(pb_gpu *g) {
   release(g, &c);
 }
 
+/* ---- seed 003's variable bandwidth (--bandwidth-c0) ------------------------- */
+
+/* The same paths as the differential footprints (the bandwidth changes no
+ * path: same records per (path, bounce), same positions and powers), every
+ * footprint an isotropic disc in the tangent plane, and its radius eq.
+ * h = C0 / sqrt(clamp(cos(theta) R^2 / d^2, 1/4, 4)) sqrt(A / N) (photon.h):
+ * d taken from the path's previous stored record (a diffuse box: every
+ * segment after the first bounce runs between two stored records). */
+static void bandwidth(pb_gpu *g) {
+  static tscene t;
+  box(&t, 0.7f);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0.2f, 0.1f, -0.3f, 1, w);
+  finish(&t);
+  const uint32_t N = 16384, B = 3;
+  const float c0 = 2.0f;
+  pb_photon_trace_desc d = {.photons = N, .max_bounces = B};
+  pb_photon_trace_desc dbw = d;
+  dbw.bandwidth_c0 = c0;
+  traced a, b;
+  if (!trace(g, &t.s, &d, 9, 0, 0, 0, 0, &a)) return;
+  if (!trace(g, &t.s, &dbw, 9, 0, 0, 0, 0, &b)) return;
+  uint32_t n = N * (B + 1);
+  pb_gpu_photon *sa = calloc(n, sizeof *sa), *sb = calloc(n, sizeof *sb);
+  for (uint32_t i = 0; i < a.n; ++i)
+    if (a.ph[i].path * (B + 1) + bounce_of(&a.ph[i]) < n) sa[a.ph[i].path * (B + 1) + bounce_of(&a.ph[i])] = a.ph[i];
+  for (uint32_t i = 0; i < b.n; ++i)
+    if (b.ph[i].path * (B + 1) + bounce_of(&b.ph[i]) < n) sb[b.ph[i].path * (B + 1) + bounce_of(&b.ph[i])] = b.ph[i];
+  const double R = sqrt(3.0), A = 24.0, h0 = c0 * sqrt(A / N); /* the [-1, 1]^3 box */
+  uint32_t moved = 0, aniso = 0, out_of_range = 0, checked = 0, wrong = 0, clamped_p = 0;
+  double worst = 0, sum_r = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const pb_gpu_photon *p = &sb[i], *q = &sa[i];
+    if (!(q->power[0] > 0) && !(p->power[0] > 0)) continue;
+    if (memcmp(p->position, q->position, sizeof p->position) || memcmp(p->power, q->power, sizeof p->power)) moved++;
+    double lu = len3(p->axis_u), lv = len3(p->axis_v);
+    double du = fabs(p->axis_u[0] * p->normal[0] + p->axis_u[1] * p->normal[1] + p->axis_u[2] * p->normal[2]);
+    if (fabs(lu - lv) > 1e-4 * lu || fabs(lu - p->radius) > 1e-4 * lu || du > 1e-4 * lu) aniso++;
+    if (!(p->radius >= 0.5 * h0 * 0.999 && p->radius <= 2.0 * h0 * 1.001)) out_of_range++;
+    sum_r += p->radius;
+    uint32_t bo = i % (B + 1);
+    if (bo >= 2 && sb[i - 1].power[0] > 0) {
+      const pb_gpu_photon *o = &sb[i - 1];
+      double e[3] = {p->position[0] - o->position[0], p->position[1] - o->position[1], p->position[2] - o->position[2]};
+      double dist2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+      double ct = fabs(p->wi[0] * p->normal[0] + p->wi[1] * p->normal[1] + p->wi[2] * p->normal[2]);
+      double pr = ct * R * R / dist2;
+      if (pr < 0.25 || pr > 4) clamped_p++;
+      pr = pr < 0.25 ? 0.25 : (pr > 4 ? 4 : pr);
+      double want = h0 / sqrt(pr), err = fabs(p->radius - want) / want;
+      if (err > worst) worst = err;
+      if (err > 0.01) wrong++;
+      checked++;
+    }
+  }
+  printf("bandwidth: C0 %.1f, h0 = C0 sqrt(A / N) = %.5f m; %u / %u records (bvh / bandwidth), %u moved, %u not "
+         "isotropic discs, %u outside [h0/2, 2 h0], mean radius %.5f m; eq. checked on %u (%u at the p clamp): %u "
+         "off by > 1 %%, worst %.3g\n",
+         c0, h0, a.n, b.n, moved, aniso, out_of_range, b.n ? sum_r / b.n : 0.0, checked, clamped_p, wrong, worst);
+  CHECK_EQ_INT(a.n, b.n);
+  CHECK_EQ_INT(moved, 0);
+  CHECK_EQ_INT(aniso, 0);
+  CHECK_EQ_INT(out_of_range, 0);
+  CHECK(checked > a.n / 4);
+  CHECK_EQ_INT(wrong, 0);
+  CHECK(clamped_p > 0 && clamped_p < checked); /* both regimes met */
+  check_records(&t.s, &b, "bandwidth box");
+  /* A negative C0 is refused. */
+  dbw.bandwidth_c0 = -1.0f;
+  pb_gpu_scene gs;
+  if (pb_gpu_scene_create(g, &t.s, &gs) == PB_OK) {
+    pb_photon_tracer *tr = NULL;
+    CHECK_EQ_INT(pb_photon_tracer_create(g, &t.s, &gs, &dbw, &tr), PB_ERR_USAGE);
+    pb_photon_tracer_destroy(g, tr);
+    pb_gpu_scene_destroy(g, &gs);
+  }
+  free(sa);
+  free(sb);
+  release(g, &a);
+  release(g, &b);
+}
+
 /* ---- (e) caustics ---------------------------------------------------------- */
 
 static void caustics(pb_gpu *g) {
@@ -679,6 +761,7 @@ int main(void) {
   energy(g);
   differentials(g);
   determinism(g);
+  bandwidth(g);
   caustics(g);
   budget(g);
   samples(g, "spot_room");

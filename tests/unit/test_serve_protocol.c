@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "pbtest.h"
+#include "render/tracer.h"
 #include "serve/protocol.h"
 
 static pb_serve_request req;
@@ -45,6 +46,15 @@ static void test_requests(void) {
   CHECK_EQ_INT(req.settings.progressive, 1);
   CHECK(req.settings.seed == 12345678901ull);
   CHECK_EQ_INT(req.settings.atrous_iterations, 0);
+  /* The photon tracer (render --tracer) and the images tracer's maps. */
+  CHECK(parse("{\"cmd\":\"settings\",\"tracer\":\"images\",\"image_maps\":4,\"image_map_resolution\":32}") == 0);
+  CHECK_EQ_INT(req.settings.set, PB_SERVE_SET_TRACER | PB_SERVE_SET_IMAGE_MAPS | PB_SERVE_SET_IMAGE_MAP_RESOLUTION);
+  CHECK_EQ_INT(req.settings.tracer, PB_TRACER_IMAGES);
+  CHECK_EQ_INT(req.settings.image_maps, 4);
+  CHECK_EQ_INT(req.settings.image_map_resolution, 32);
+  CHECK(parse("{\"cmd\":\"settings\",\"tracer\":\"bvh\"}") == 0);
+  CHECK_EQ_INT(req.settings.set, PB_SERVE_SET_TRACER);
+  CHECK_EQ_INT(req.settings.tracer, PB_TRACER_BVH);
   CHECK(parse("{\"cmd\":\"stream\",\"on\":true,\"max_passes\":8}") == 0);
   CHECK_EQ_INT(req.stream_on, 1);
   CHECK_EQ_INT(req.max_passes, 8);
@@ -85,6 +95,10 @@ static void test_errors(void) {
   CHECK(fails_with("{\"cmd\":\"time\",\"t\":\"soon\"}", "needs \"t\""));
   CHECK(fails_with("{\"cmd\":\"settings\",\"progressive\":1}", "true or false"));
   CHECK(fails_with("{\"cmd\":\"settings\",\"photons\":-4}", "\"photons\" must be an integer"));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"tracer\":\"kdtree\"}", "\"tracer\" must be \"bvh\" or \"images\""));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"tracer\":1}", "\"tracer\" must be"));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"image_maps\":16}", "\"image_maps\" must be an integer in [1, 15]"));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"image_map_resolution\":4}", "\"image_map_resolution\" must be"));
   CHECK(fails_with("{\"cmd\":\"stream\"}", "needs \"on\""));
   CHECK(fails_with("{\"cmd\":\"camera\",\"view\":[1,2,3]}", "\"view\" must be an array of 16"));
   CHECK(fails_with("{\"cmd\":\"camera\",\"view\":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}", "needs \"projection\""));
@@ -223,7 +237,13 @@ static void test_replies(void) {
   n = pb_serve_format_frame(buf, sizeof buf, "\"q\"", &f);
   CHECK(strcmp(buf, "{\"reply\":\"frame\",\"id\":\"q\",\"ok\":true,\"frame\":4,\"path\":\"/dev/shm/p.rgba32f\","
                     "\"width\":64,\"height\":48,\"format\":\"rgba32f\",\"passes\":3,\"still\":true,"
-                    "\"render_ms\":12.500,\"photons_stored\":1000}\n") == 0);
+                    "\"render_ms\":12.500,\"photons_stored\":1000,\"tracer\":\"none\"}\n") == 0);
+  f.tracer = "images", f.image_miss_rate = 0.25; /* the images tracer adds its miss rate */
+  pb_serve_format_frame(buf, sizeof buf, "\"q\"", &f);
+  CHECK(strstr(buf, ",\"tracer\":\"images\",\"image_miss_rate\":0.25}\n") != NULL);
+  f.tracer = "bvh";
+  pb_serve_format_frame(buf, sizeof buf, "\"q\"", &f);
+  CHECK(strstr(buf, ",\"tracer\":\"bvh\"}\n") != NULL);
   f.requested = 0;
   pb_serve_format_frame(buf, sizeof buf, "\"q\"", &f);
   CHECK(strncmp(buf, "{\"event\":\"frame\",\"ok\":true,", 27) == 0); /* a streamed frame answers no request */

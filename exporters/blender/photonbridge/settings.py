@@ -24,9 +24,23 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
         "(--progressive)", default=True)
     first_bounce: EnumProperty(
         name="First Bounce", description="How photons find their first hit (--first-bounce)",
-        items=[("traced", "Traced", "Traced from the light"),
+        items=[("auto", "Auto", "Shadow maps for the lights whose map covers under half of their light "
+                "(open scenes), traced for the others"),
+               ("traced", "Traced", "Traced from the light"),
                ("rsm", "Shadow Maps", "Sampled from reflective shadow maps by reflected power")],
         default="traced")
+    tracer: EnumProperty(
+        name="Photon Tracer", description="How photons find their hits (--tracer)",
+        items=[("bvh", "BVH", "Exact hits in the scene's bounding volume hierarchy"),
+               ("images", "Environment Maps", "Searched in cube environment maps of the scene (seed 003): no "
+                "hierarchy to update when objects move, approximate; what no map sees is missed")],
+        default="bvh")
+    image_maps: IntProperty(
+        name="Maps", description="Environment maps of the Environment Maps tracer (--image-maps)",
+        default=8, min=1, max=15)
+    image_map_resolution: IntProperty(
+        name="Map Resolution", description="Texels per cube-face side of each environment map "
+        "(--image-map-resolution)", default=128, min=8, max=1024)
     blender_bounces: BoolProperty(
         name="Blender's Bounces", description="Limit paths to Light Paths > Max Bounces, as Cycles does "
         "(--max-bounces, Max Bounces + 1 scattering events); off: unbounded, paths end by Russian roulette",
@@ -60,7 +74,9 @@ def cli_args(s, sequence=False):
     crop, files and progress options are the engine's). sequence: for
     --frames, which renders every frame fully (no time limit)."""
     args = ["--photons", str(s.photons), "--iterations", str(s.iterations), "--spp", str(max(s.spp, 1)),
-            "--first-bounce", s.first_bounce, "--seed", str(s.seed)]
+            "--first-bounce", s.first_bounce, "--tracer", s.tracer, "--seed", str(s.seed)]
+    if s.tracer == "images":
+        args += ["--image-maps", str(s.image_maps), "--image-map-resolution", str(s.image_map_resolution)]
     if s.blender_bounces:
         # Cycles counts the direct light's bounce as 0: Max Bounces B is B + 1
         # scattering events, photonbridge's --max-bounces.

@@ -48,6 +48,10 @@ class PHOTONBRIDGE_PT_render(bpy.types.Panel):
         col.prop(s, "iterations")
         col.prop(s, "progressive")
         col.prop(s, "first_bounce")
+        col.prop(s, "tracer")
+        if s.tracer == "images":
+            col.prop(s, "image_maps")
+            col.prop(s, "image_map_resolution")
         col.prop(s, "blender_bounces")
         col.prop(s, "photon_bounces")
         col = layout.column()

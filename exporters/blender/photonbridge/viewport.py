@@ -225,12 +225,18 @@ class Viewport:
         return {"photons": int(s.photons), "iterations": int(s.iterations), "spp": max(int(s.spp), 1),
                 "photon_bounces": int(s.photon_bounces), "max_specular_depth": int(s.specular_depth),
                 "seed": int(s.seed), "progressive": bool(s.progressive),
-                "atrous_iterations": int(s.filter_passes)}
+                "atrous_iterations": int(s.filter_passes), "tracer": s.tracer,
+                "image_maps": int(s.image_maps), "image_map_resolution": int(s.image_map_resolution)}
 
     def _send_settings(self, scene):
         st = self._settings(scene)
         if st != self.sent_settings:
-            self.session.send(dict(cmd="settings", **st))
+            # serve takes photon_bounces and max_specular_depth in 1..64; the
+            # panel's 0 ("from Max Bounces, or unbounded") is what serve was
+            # started with (serve_args), so it is left out rather than sent
+            # (which serve refuses, and the rest of the request with it).
+            req = {k: v for k, v in st.items() if not (k in ("photon_bounces", "max_specular_depth") and v == 0)}
+            self.session.send(dict(cmd="settings", **req))
             self.sent_settings = st
 
     @staticmethod
