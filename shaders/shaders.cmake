@@ -46,7 +46,7 @@ endforeach()
 # exactly what they did before), and with -DPB_BLENDER=1 as NAME_blender
 # (pb_spv_NAME_blender), which the passes load for scenes with Blender
 # materials (plan.h blender_materials).
-set(PB_SHADER_BLENDER_VARIANTS gbuffer direct gather knn photon_trace photon_rsm splat_resolve)
+set(PB_SHADER_BLENDER_VARIANTS gbuffer direct gather knn photon_trace photon_rsm splat_resolve vsch_shade)
 foreach(name ${PB_SHADER_BLENDER_VARIANTS})
   pb_shader(${name}_blender ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -DPB_BLENDER=1)
 endforeach()

@@ -35,7 +35,7 @@ endif()
 # kept out of the LeakSanitizer run.
 foreach(t test_gpu_lbvh test_gpu_lbvh_sort test_gpu_gather test_gpu_resolve test_gpu_faults test_gpu_atrous test_gpu_temporal test_gpu_anim test_gpu_frame_context
         test_gpu_normal_map test_gpu_camera test_gpu_gltf_ext test_gpu_deform test_gpu_soft_lights test_gpu_path_length test_gpu_smooth_shading
-        test_gpu_photon_clamp test_gpu_image_tracer test_gpu_corner test_gpu_async test_gpu_splat)
+        test_gpu_photon_clamp test_gpu_image_tracer test_gpu_corner test_gpu_async test_gpu_splat test_gpu_vsch)
   if(TEST ${t})
     set_tests_properties(${t} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                          LABELS "gpu;no-sanitize" TIMEOUT 900)

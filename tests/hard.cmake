@@ -24,4 +24,19 @@ if(Python3_Interpreter_FOUND)
   set_tests_properties(hard_cases_ref PROPERTIES TIMEOUT 900 LABELS hard)
   set_tests_properties(hard_cases_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        LABELS "gpu;no-sanitize;hard" TIMEOUT 900)
+  # The GPU half again through the view-sample cluster hierarchy (seed 004,
+  # render --estimator vsch), both of its variants.
+  foreach(variant vsch vsch_directional)
+    if(variant STREQUAL "vsch")
+      set(extra "--estimator vsch")
+    else()
+      set(extra "--estimator vsch --vsch-directional")
+    endif()
+    add_test(NAME hard_cases_gpu_${variant}
+             COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                     ${CMAKE_CURRENT_BINARY_DIR}/hard_gpu_${variant} --renderer gpu --gpu-args ${extra}
+             WORKING_DIRECTORY ${PB_ROOT})
+    set_tests_properties(hard_cases_gpu_${variant} PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                         LABELS "gpu;no-sanitize;hard" TIMEOUT 900)
+  endforeach()
 endif()

@@ -35,7 +35,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "pyl
 from pbcheck import Checker  # noqa: E402
 
 EXE, ROOT, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
-PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "splat", "materials", "deform"]
+PARTS = sys.argv[4:] or ["errors", "smoke", "orbit", "still", "flicker", "caustics", "splat", "materials", "deform", "vsch"]
 T = Checker(EXE, WORK)
 check, run, fresh = T.check, T.run, T.fresh
 
@@ -165,6 +165,11 @@ def filtered_vs_raw(part, scene, size, ref_spp, factor, frames="0:7", extra=()):
 
 if "flicker" in PARTS:
     filtered_vs_raw("flicker", "cornell_box_moving_light", 64, 1024, 4)
+
+if "vsch" in PARTS:
+    # The view-sample cluster hierarchy (seed 004) under the same temporal
+    # filter and A-Trous: the filters follow the estimator's accumulator.
+    filtered_vs_raw("vsch", "cornell_box_moving_light", 64, 1024, 4, extra=["--estimator", "vsch"])
 
 if "caustics" in PARTS:
     filtered_vs_raw("caustics", "cornell_caustics_moving_sphere", 48, 256, 3)

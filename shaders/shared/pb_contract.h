@@ -62,6 +62,24 @@
 #define PB_SPLAT_BIND_STATS 21    /* pb_gpu_splat_stats (atomics) */
 #define PB_SPLAT_BIND_COUNT 22
 
+/* ---- the view-sample cluster hierarchy (seed 004; shared/pb_vsch.h) ------
+ * vsch_clear, _range, _mark, _scan, _cone, _up, _count, _fill, _ranges: */
+#define PB_VSCH_BIND_FRAME 0      /* pb_gpu_frame (as the scene's 0) */
+#define PB_VSCH_BIND_GBUFFER 1    /* pb_gpu_gbuffer[] */
+#define PB_VSCH_BIND_DATA 2       /* uint[]: header, nodes, pixels, photons */
+#define PB_VSCH_BIND_PHOTONS 3    /* the map's pb_gpu_photon[] */
+#define PB_VSCH_BIND_COUNTS 4     /* the map's pb_gpu_photon_counts */
+#define PB_VSCH_BIND_KEYS 5       /* the sort's keys (node ids) */
+#define PB_VSCH_BIND_VALS 6       /* the sort's values (photon ids) */
+#define PB_VSCH_BIND_COUNT 7
+/* vsch_leaf, _shade, _blur: the scene's 0-14 (11, 12 as in gather.comp), then */
+#define PB_VSCH_SHADE_BIND_DATA 15
+#define PB_VSCH_SHADE_BIND_PHOTONS 16
+#define PB_VSCH_SHADE_BIND_VALS 17
+#define PB_VSCH_SHADE_BIND_ACCUM 18 /* pb_gpu_photon_accum[] */
+#define PB_VSCH_SHADE_BIND_NMAP 19  /* pb_gpu_photon_nmap[] (normal maps only) */
+#define PB_VSCH_SHADE_BIND_COUNT 20
+
 /* ---- photon_trace.comp: the scene's 0-10, 13, 14, then -------------------- */
 #define PB_PHOTON_BIND_PHOTONS 11    /* pb_gpu_photon[] */
 #define PB_PHOTON_BIND_COUNTS 12     /* pb_gpu_photon_counts */

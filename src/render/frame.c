@@ -170,6 +170,22 @@ static void estimator_stats_add(pb_gpu *g, pb_estimator *e, pb_render_stats *st)
   }
 }
 
+/* After the frame's last sample: the statistics that are not summed over
+ * maps are read again and replace the ones read after the last build (an
+ * estimator whose work is per sample, vsch, counts its last sample; the
+ * LBVH's per-map counts come back unchanged). */
+static void estimator_stats_final(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
+  pb_tracer_stat now[PB_TRACER_MAX_STATS];
+  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (now[i].summed) continue;
+    uint32_t j = 0;
+    while (j < st->estimator_stat_count && strcmp(st->estimator_stats[j].name, now[i].name)) ++j;
+    if (j == st->estimator_stat_count && j < PB_TRACER_MAX_STATS) st->estimator_stats[st->estimator_stat_count++] = now[i];
+    else if (j < st->estimator_stat_count) st->estimator_stats[j].value = now[i].value;
+  }
+}
+
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing) {
   for (uint32_t i = 0; i < st->estimator_stat_count; ++i)
     if (!strcmp(st->estimator_stats[i].name, name)) return st->estimator_stats[i].value;
@@ -274,6 +290,11 @@ static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *f
   pb_result r;
   const pb_gpu_scene *gs = ft->gs;
   size_t n = ft->n;
+  /* Statistics that are not summed over maps (vsch's pair counts, kNN's cut
+   * queries) are read here, after the frame's samples; a deferred tail (frames
+   * in flight) reads them after the next frame was recorded, so they may
+   * describe that frame's work. */
+  if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
   if ((r = pb_readback_guard(g, tg, &st->nonfinite_values)) != PB_OK) return r;
   if (!ft->post_gpu) {
     /* The host path (several bands, the host reference): the same filters

@@ -31,8 +31,9 @@ writer's guard (the reference's `guarded_samples`, the GPU's
 
 usage: hard_cases.py PHOTONBRIDGE EXR_PROBE WORKDIR [--only NAME] [--renderer ref|gpu|both]
                      [--gpu-args "ARGS"]
---gpu-args: more options for every GPU render (e.g. "--estimator knn" or
-"--estimator splat", issue 19: each density estimator through the same cases).
+--gpu-args: more options for every GPU render (e.g. "--estimator knn",
+"--estimator splat" or "--estimator vsch", issue 19: each density estimator
+through the same cases).
 Exit 0 when every check passes, 1 when one fails, 77 when the GPU half has no
 Vulkan device and only it was asked for."""
 import base64

@@ -51,6 +51,19 @@
 #include "shaders/splat_resolve.spv.h"
 #include "shaders/splat_resolve_blender.spv.h"
 #include "shaders/splat_splat.spv.h"
+#include "shaders/vsch_blur.spv.h"
+#include "shaders/vsch_clear.spv.h"
+#include "shaders/vsch_cone.spv.h"
+#include "shaders/vsch_count.spv.h"
+#include "shaders/vsch_fill.spv.h"
+#include "shaders/vsch_leaf.spv.h"
+#include "shaders/vsch_mark.spv.h"
+#include "shaders/vsch_range.spv.h"
+#include "shaders/vsch_ranges.spv.h"
+#include "shaders/vsch_scan.spv.h"
+#include "shaders/vsch_shade.spv.h"
+#include "shaders/vsch_shade_blender.spv.h"
+#include "shaders/vsch_up.spv.h"
 
 typedef struct entry {
   const char *name; /* block type name (bindings) or constant name (SpecId) */
@@ -178,6 +191,19 @@ static const entry present_bind[] = {{"Lut", PB_PRESENT_BIND_LUT},
                                      {"Src", PB_PRESENT_BIND_IN},
                                      {"Dst", PB_PRESENT_BIND_OUT},
                                      END};
+static const entry vsch_bind[] = {{"FrameBuf", PB_VSCH_BIND_FRAME}, {"GBuf", PB_VSCH_BIND_GBUFFER},
+                                  {"VschData", PB_VSCH_BIND_DATA},   {"Photons", PB_VSCH_BIND_PHOTONS},
+                                  {"Counts", PB_VSCH_BIND_COUNTS},   {"Keys", PB_VSCH_BIND_KEYS},
+                                  {"Vals", PB_VSCH_BIND_VALS},       END};
+static const entry vsch_shade_bind[] = {SCENE_COMMON,
+                                        {"GBuf", PB_BIND_GBUFFER},
+                                        {"Accum", PB_BIND_ACCUM},
+                                        {"VschData", PB_VSCH_SHADE_BIND_DATA},
+                                        {"Photons", PB_VSCH_SHADE_BIND_PHOTONS},
+                                        {"Vals", PB_VSCH_SHADE_BIND_VALS},
+                                        {"PhotonAccum", PB_VSCH_SHADE_BIND_ACCUM},
+                                        {"PhotonNmap", PB_VSCH_SHADE_BIND_NMAP},
+                                        END};
 static const entry no_spec[] = {END};
 /* The splatting passes (seed 001 24.3): count and splat read the frame and
  * the G-buffer of the scene's set, the resolve shades with all of it. */
@@ -244,6 +270,19 @@ static const module modules[] = {
     MOD(splat_resolve, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
     MOD(splat_resolve_blender, splat_resolve_bind, gather_spec, PB_SPLAT_BIND_COUNT),
     MOD(present, present_bind, no_spec, PB_PRESENT_BIND_COUNT),
+    MOD(vsch_clear, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_range, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_mark, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_scan, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_cone, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_up, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_count, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_fill, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_ranges, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
+    MOD(vsch_leaf, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_shade, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_shade_blender, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_blur, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
 };
 
 enum { OP_NAME = 5, OP_TYPE_POINTER = 32, OP_VARIABLE = 59, OP_DECORATE = 71, DEC_SPEC_ID = 1, DEC_BINDING = 33 };

@@ -10,6 +10,7 @@
 #include "pbtest.h"
 #include "shaders/layout_probe.spv.h"
 #include "shared/pb_gpu.h"
+#include "shared/pb_vsch.h"
 
 typedef struct member {
   const char *type, *name;
@@ -63,6 +64,13 @@ static const member members[] = {
     M(pb_gpu_pass_push, sample_index), M(pb_gpu_pass_push, pad0), M(pb_gpu_pass_push, pad1),
     M(pb_gpu_pass_push, pad2),
     M(pb_gpu_emitter, prim), M(pb_gpu_emitter, cdf), M(pb_gpu_emitter, pick), M(pb_gpu_emitter, area),
+    M(pb_gpu_vsch_push, sample_index), M(pb_gpu_vsch_push, flags), M(pb_gpu_vsch_push, level),
+    M(pb_gpu_vsch_push, pixels), M(pb_gpu_vsch_push, node_off), M(pb_gpu_vsch_push, triv_off),
+    M(pb_gpu_vsch_push, dir_off), M(pb_gpu_vsch_push, pixel_off), M(pb_gpu_vsch_push, photon_off),
+    M(pb_gpu_vsch_push, nodes), M(pb_gpu_vsch_push, capacity), M(pb_gpu_vsch_push, pair_cap),
+    M(pb_gpu_vsch_push, level_base), M(pb_gpu_vsch_push, radius), M(pb_gpu_vsch_push, footprint_scale),
+    M(pb_gpu_vsch_push, host_count), M(pb_gpu_vsch_push, count_from_map), M(pb_gpu_vsch_push, sorted),
+    M(pb_gpu_vsch_push, max_groups_x), M(pb_gpu_vsch_push, pad0), M(pb_gpu_vsch_push, pad1),
 };
 #define S(T) {#T, sizeof(T)}
 static const struct {
@@ -71,7 +79,7 @@ static const struct {
 } sizes[] = {S(pb_gpu_bvh_node), S(pb_gpu_tri),     S(pb_gpu_ray),   S(pb_gpu_hit),
              S(pb_gpu_material), S(pb_gpu_texture), S(pb_gpu_light), S(pb_gpu_frame),
              S(pb_gpu_gbuffer),  S(pb_gpu_accum),   S(pb_gpu_raycast_push), S(pb_gpu_pass_push),
-             S(pb_gpu_emitter),  S(pb_gpu_world), S(pb_gpu_camera)};
+             S(pb_gpu_emitter),  S(pb_gpu_world), S(pb_gpu_camera), S(pb_gpu_vsch_push)};
 
 /* ---- a minimal SPIR-V reader ---------------------------------------------- */
 
@@ -152,7 +160,7 @@ int main(void) {
   if (pb_gpu_create(&gd, &g) == PB_OK) {
     pb_gpu_pipeline p;
     pb_gpu_pipeline_desc pd = {.name = "layout_probe", .spirv = pb_spv_layout_probe,
-                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 15};
+                               .spirv_bytes = sizeof pb_spv_layout_probe, .binding_count = 16};
     CHECK_EQ_INT(pb_gpu_pipeline_create(g, &pd, &p), PB_OK);
     pb_gpu_pipeline_destroy(g, &p);
     pb_gpu_pipeline_destroy(g, &p); /* destroy twice: handles were reset */
