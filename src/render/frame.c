@@ -469,9 +469,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   if ((desc.readback == PB_RENDER_READBACK_BEAUTY || desc.readback == PB_RENDER_READBACK_STATS) && ctx &&
       bands == 1 && !host_resolve && (!desc.still_sum || desc.still_sum->pixels == band_pixels))
     readback = desc.readback;
-  int all = readback == PB_RENDER_READBACK_ALL;
-  if (all || readback == PB_RENDER_READBACK_BEAUTY) out->beauty = calloc(4 * n, sizeof(float));
-  if (all) {
+  int read_all = readback == PB_RENDER_READBACK_ALL;
+  if (read_all || readback == PB_RENDER_READBACK_BEAUTY) out->beauty = calloc(4 * n, sizeof(float));
+  if (read_all) {
     out->direct = calloc(3 * n, sizeof(float));
     out->albedo = calloc(3 * n, sizeof(float));
     out->normal = calloc(3 * n, sizeof(float));
@@ -484,7 +484,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     }
   }
   if ((readback != PB_RENDER_READBACK_STATS && !out->beauty) ||
-      (all && (!out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !out->emission ||
+      (read_all && (!out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !out->emission ||
                (photons_on && (!out->indirect || !out->caustic))))) {
     r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
     goto fail;
@@ -578,7 +578,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
    * to keep the tail in. The last submission then also copies the planes
    * into the readback ring and is not waited for. */
   int defer = desc.in_flight && ctx && bands == 1 && post_gpu && !own_fc;
-  uint32_t ring_slot = defer ? ctx->next_slot % PB_READBACK_RING : 0;
+  /* kept_slot: the context was zeroed above when reused (ctx->next_slot
+   * then reads 0, and every frame took slot 0: the next frame's copy into
+   * the slot raced the read of the frame before). */
+  uint32_t ring_slot = defer ? kept_slot % PB_READBACK_RING : 0;
   if (defer && (r = pb_frame_targets_ring(g, &tg)) != PB_OK) goto fail;
   frame_tail ft;
   memset(&ft, 0, sizeof ft);
