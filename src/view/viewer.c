@@ -331,6 +331,10 @@ static pb_result make_picture(viewer *v, int *on_gpu) {
                             .channels = v->aov == AOV_BEAUTY ? 4u : 3u, .pixels = (uint32_t)n,
                             .scale = (float)exp2(v->exposure), .data = v->aov == AOV_NORMAL, .data_scale = 0.5f,
                             .data_bias = 0.5f};
+      /* Bound afresh each frame: the planes are the context's (a new
+       * context can put new buffers at the same address, which the pass's
+       * pointer check would take for the bound ones). */
+      v->pass.bound_src = NULL;
       pb_result r = pb_present_pass_run(v->g, &v->pass, &job);
       if (r != PB_OK) return r;
       v->rgba_stale = 1;

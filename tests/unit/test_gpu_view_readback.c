@@ -12,10 +12,13 @@
  *     (the beauty and the k_PD plane: 24 of 104);
  *   - the picture: the beauty where each mode leaves it (the host array for
  *     full and beauty, the GPU planes of out->gpu for the lean modes) equal
- *     to full's within 1e-6 (relative above 1), and the display pass's
+ *     to full's within FLOAT_TOL (relative above 1; the run-to-run rounding
+ *     of the photon store's order, measured below as full_again against
+ *     full), and the display pass's
  *     RGBA8 (view/present_pass.h; the built-in sRGB / Standard view baked)
  *     from the GPU planes equal to full's made from the uploaded beauty, as
- *     the viewer did before;
+ *     the viewer did before, within one 8-bit step on at most 0.1 % of the
+ *     channels (identical in every run so far);
  *   - the statistics the lean modes keep: non-finite count, photons
  *     stored, k_PD equal to full's;
  *   - pb_render_result_read_gpu after a lean frame: every AOV equal to
@@ -35,7 +38,13 @@
 #include "shared/pb_resolve.h"
 #include "view/present_pass.h"
 
-enum { FRAMES = 4, MODES = 4 };
+enum { FRAMES = 4, MODES = 5 };
+/* Two runs of the same sequence differ within float rounding where the
+ * photon store's slot order varies (atomics; sequence.h frames_in_flight):
+ * measured full against full again, cornell_box 2^14 photons, up to 1.7e-6
+ * relative at 256 px and 5.6e-6 at 512 px, 1e-7 at 64 px. A wrong plane, slot
+ * or frame differs by O(1) (the ring-slot race this test found: 1.5). */
+#define FLOAT_TOL 1e-5f
 
 typedef struct run {
   const char *name;
@@ -90,6 +99,7 @@ static void record(pb_gpu *g, pb_present_pass *pass, run *u, pb_render_result *r
   } else { /* the viewer now: the planes where they lie */
     job.src = res->gpu.planes;
     job.offset = PB_RESOLVE_BEAUTY * (uint32_t)n;
+    pass->bound_src = NULL; /* as the viewer: a later sequence's buffers can sit at the same address */
   }
   CHECK_EQ_INT(pb_present_pass_run(g, pass, &job), PB_OK);
   CHECK_EQ_INT(pb_present_pass_download(g, pass, u->shown[k], (uint32_t)n), PB_OK);
@@ -155,7 +165,8 @@ int main(void) {
   run runs[MODES] = {{.name = "full", .mode = PB_RENDER_READBACK_ALL, .fif = 1},
                      {.name = "stats", .mode = PB_RENDER_READBACK_STATS, .fif = 1},
                      {.name = "beauty", .mode = PB_RENDER_READBACK_BEAUTY, .fif = 1},
-                     {.name = "stats_fif2", .mode = PB_RENDER_READBACK_STATS, .fif = 2}};
+                     {.name = "stats_fif2", .mode = PB_RENDER_READBACK_STATS, .fif = 2},
+                     {.name = "full_again", .mode = PB_RENDER_READBACK_ALL, .fif = 1}};
   for (int m = 0; m < MODES; ++m) run_sequence(g, &fx, &pass, &runs[m]);
 
   const run *full = &runs[0];
@@ -177,7 +188,7 @@ int main(void) {
   }
   for (int m = 1; m < MODES; ++m) {
     const run *u = &runs[m];
-    double bound = u->mode == PB_RENDER_READBACK_STATS ? 0.25 : 0.30;
+    double bound = u->mode == PB_RENDER_READBACK_STATS ? 0.25 : u->mode == PB_RENDER_READBACK_BEAUTY ? 0.30 : 1.0001;
     for (int k = 0; k < FRAMES; ++k) {
       if (!u->got[k] || !full->got[k]) continue;
       CHECK_EQ_INT(u->got_mode[k], u->mode); /* the lean mode was honoured, not fallen back from */
@@ -185,12 +196,21 @@ int main(void) {
       printf("  %-10s frame %d: %.4f of full's bytes (bound %.2f)", u->name, k, ratio, bound);
       CHECK(full->bytes[k] > 0);
       CHECK(ratio < bound);
+      if (u->mode == PB_RENDER_READBACK_ALL) CHECK(ratio > 0.9999); /* full again: the same bytes */
       float d = max_rel_diff(u->beauty[k], full->beauty[k], 4 * n);
       uint32_t differ = 0;
-      for (size_t i = 0; i < 4 * n; ++i) differ += u->shown[k][i] != full->shown[k][i];
-      printf(", beauty max rel diff %.3g, display bytes differing %u\n", (double)d, differ);
-      CHECK(d <= 1e-6f);
-      CHECK_EQ_INT(differ, 0);
+      int step = 0;
+      for (size_t i = 0; i < 4 * n; ++i) {
+        int e = abs((int)u->shown[k][i] - (int)full->shown[k][i]);
+        differ += e != 0;
+        step = e > step ? e : step;
+      }
+      printf(", beauty max rel diff %.3g, display bytes differing %u (max %d)\n", (double)d, differ, step);
+      CHECK(d <= FLOAT_TOL);
+      /* The same picture: floats that differ by rounding may round to the
+       * next 8-bit step (none did in the runs above). */
+      CHECK(step <= 1);
+      CHECK(differ <= 4 * n / 1000);
       CHECK_EQ_INT(u->nonfinite[k], full->nonfinite[k]);
       CHECK_EQ_INT(u->stored[k], full->stored[k]);
       CHECK_NEAR(u->k_pd[k], full->k_pd[k], 1e-9 * fmax(1.0, full->k_pd[k]));
@@ -198,14 +218,14 @@ int main(void) {
     /* The rest of the last frame, fetched after the fact. */
     const pb_render_result *a = &u->last, *b = &full->last;
     if (a->beauty && b->beauty) {
-      CHECK(max_rel_diff(a->direct, b->direct, 3 * n) <= 1e-6f);
-      CHECK(max_rel_diff(a->albedo, b->albedo, 3 * n) <= 1e-6f);
-      CHECK(max_rel_diff(a->normal, b->normal, 3 * n) <= 1e-6f);
-      CHECK(max_rel_diff(a->depth, b->depth, n) <= 1e-6f);
-      CHECK(max_rel_diff(a->emission, b->emission, 3 * n) <= 1e-6f);
-      CHECK(max_rel_diff(a->indirect, b->indirect, 3 * n) <= 1e-6f);
-      CHECK(max_rel_diff(a->caustic, b->caustic, 3 * n) <= 1e-6f);
-      CHECK(max_rel_diff(a->beauty, b->beauty, 4 * n) <= 1e-6f);
+      CHECK(max_rel_diff(a->direct, b->direct, 3 * n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->albedo, b->albedo, 3 * n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->normal, b->normal, 3 * n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->depth, b->depth, n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->emission, b->emission, 3 * n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->indirect, b->indirect, 3 * n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->caustic, b->caustic, 3 * n) <= FLOAT_TOL);
+      CHECK(max_rel_diff(a->beauty, b->beauty, 4 * n) <= FLOAT_TOL);
     } else {
       CHECK(!"the last frame's AOVs are missing");
     }
