@@ -13,3 +13,12 @@ foreach(part still input resize nodisplay errors in_flight tracer)
   set_tests_properties(view_${part} PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;view;no-sanitize" TIMEOUT 600
                        RESOURCE_LOCK xvfb)
 endforeach()
+
+# The display-only readback (issue 17; tests/unit/test_gpu_view_readback.c):
+# a sequence read back as `view` (no AOV) and `serve` (the beauty) set it,
+# against the full readback of `render --frames`: bytes per frame under a
+# bound, the same picture. Validation layers on.
+if(TEST test_gpu_view_readback)
+  set_tests_properties(test_gpu_view_readback PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       LABELS "gpu;no-sanitize;view" TIMEOUT 600)
+endif()

@@ -47,6 +47,7 @@ typedef struct ctx_key {
  * context, one per readback ring slot (targets.h). */
 typedef struct frame_tail {
   int ts, chain_gpu, post_gpu, photons_on, nmap_aovs, opaque, no_shading_correction;
+  int readback; /* PB_RENDER_READBACK_*: what the readback brings */
   uint32_t sc_slot, slot, pixels, spp_run, iters_run, emitter_count, ring_slot;
   size_t pixel_base, n;
   float inv_spp;
@@ -296,7 +297,8 @@ static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *f
    * describe that frame's work. */
   if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
   if ((r = pb_readback_guard(g, tg, &st->nonfinite_values)) != PB_OK) return r;
-  if (!ft->post_gpu) {
+  st->readback_mode = ft->readback;
+  if (!ft->post_gpu && ft->readback == PB_RENDER_READBACK_ALL) {
     /* The host path (several bands, the host reference): the same filters
      * on the read-back AOVs, then eq. 20. With normal maps the filters'
      * edge-stopping uses the geometric normal (filters.c). */
@@ -361,7 +363,8 @@ pb_result pb_render_frame_read(pb_gpu *g, pb_frame_context *c, pb_render_result 
   frame_tail *ft = &c->tail[out->pending_slot];
   double t0 = pb_time_now();
   pb_gpu_transfers tr0 = pb_gpu_transfers_get(g);
-  pb_result r = pb_readback_ring(g, &c->tg, ft->ring_slot, ft->pixels, ft->nmap_aovs, out, &ft->k_sum, &ft->hit_sum);
+  pb_result r = pb_readback_ring(g, &c->tg, ft->readback, ft->ring_slot, ft->pixels, ft->nmap_aovs, out, &ft->k_sum,
+                                 &ft->hit_sum);
   if (r != PB_OK) return r;
   pb_render_stats *st = &out->stats;
   if (ft->photons_on) st->k_pd = ft->hit_sum > 0 ? ft->k_sum / ft->hit_sum : 0.0;
@@ -369,6 +372,26 @@ pb_result pb_render_frame_read(pb_gpu *g, pb_frame_context *c, pb_render_result 
   st->frame_wall_ms += (pb_time_now() - t0) * 1e3;
   out->pending = 0;
   return PB_OK;
+}
+
+pb_result pb_render_result_read_gpu(pb_gpu *g, pb_render_result *r) {
+  if (r->stats.readback_mode == PB_RENDER_READBACK_ALL) return PB_OK; /* all on the host already */
+  if (r->pending || !r->gpu.planes)
+    return pb_fail(PB_ERR_INTERNAL, "render: the frame's planes are not on the GPU to read");
+  size_t n = r->gpu.pixels;
+  float **arr[] = {&r->beauty, &r->direct, &r->albedo, &r->normal, &r->depth, &r->material, &r->emission,
+                   &r->indirect, &r->caustic};
+  const size_t ch[] = {4, 3, 3, 3, 1, 1, 3, 3, 3};
+  for (size_t a = 0; a < sizeof arr / sizeof *arr; ++a) {
+    if (a >= 7 && !r->gpu.photons) break;
+    if (!*arr[a] && !(*arr[a] = calloc(ch[a] * n, sizeof(float))))
+      return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", r->width, r->height);
+  }
+  pb_gpu_transfers t0 = pb_gpu_transfers_get(g);
+  pb_result rr = pb_readback_planes(g, &r->gpu, r);
+  r->stats.readback_bytes += pb_gpu_transfers_get(g).readback_bytes - t0.readback_bytes;
+  if (rr == PB_OK) r->stats.readback_mode = PB_RENDER_READBACK_ALL;
+  return rr;
 }
 
 pb_result pb_render_frame_complete(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
@@ -456,19 +479,34 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     tracer = ctx->tracer, est = ctx->est, map = ctx->map;
     memset(ctx, 0, sizeof *ctx);
   }
-  out->beauty = calloc(4 * n, sizeof(float));
-  out->direct = calloc(3 * n, sizeof(float));
-  out->albedo = calloc(3 * n, sizeof(float));
-  out->normal = calloc(3 * n, sizeof(float));
-  out->depth = calloc(n, sizeof(float));
-  out->material = calloc(n, sizeof(float));
-  out->emission = calloc(3 * n, sizeof(float));
-  if (photons_on) {
-    out->indirect = calloc(3 * n, sizeof(float));
-    out->caustic = calloc(3 * n, sizeof(float));
+  /* A lean readback (render.h pb_render_desc.readback): where nothing on
+   * the host needs the AOVs. The GPU path in one band (the host path's
+   * filters and eq. 20 work on the read-back arrays), a context to keep
+   * the planes in, and a still run's means on the GPU when there is one
+   * (else the caller averages the arrays). Everything else reads all. */
+  const char *host_env0 = getenv("PB_RESOLVE_ON_HOST");
+  int host_resolve = host_env0 && host_env0[0] == '1';
+  int readback = PB_RENDER_READBACK_ALL;
+  if ((desc.readback == PB_RENDER_READBACK_BEAUTY || desc.readback == PB_RENDER_READBACK_STATS) && ctx &&
+      bands == 1 && !host_resolve && (!desc.still_sum || desc.still_sum->pixels == band_pixels))
+    readback = desc.readback;
+  int read_all = readback == PB_RENDER_READBACK_ALL;
+  if (read_all || readback == PB_RENDER_READBACK_BEAUTY) out->beauty = calloc(4 * n, sizeof(float));
+  if (read_all) {
+    out->direct = calloc(3 * n, sizeof(float));
+    out->albedo = calloc(3 * n, sizeof(float));
+    out->normal = calloc(3 * n, sizeof(float));
+    out->depth = calloc(n, sizeof(float));
+    out->material = calloc(n, sizeof(float));
+    out->emission = calloc(3 * n, sizeof(float));
+    if (photons_on) {
+      out->indirect = calloc(3 * n, sizeof(float));
+      out->caustic = calloc(3 * n, sizeof(float));
+    }
   }
-  if (!out->beauty || !out->direct || !out->albedo || !out->normal || !out->depth || !out->material ||
-      !out->emission || (photons_on && (!out->indirect || !out->caustic))) {
+  if ((readback != PB_RENDER_READBACK_STATS && !out->beauty) ||
+      (read_all && (!out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !out->emission ||
+               (photons_on && (!out->indirect || !out->caustic))))) {
     r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
     goto fail;
   }
@@ -561,7 +599,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
    * to keep the tail in. The last submission then also copies the planes
    * into the readback ring and is not waited for. */
   int defer = desc.in_flight && ctx && bands == 1 && post_gpu && !own_fc;
-  uint32_t ring_slot = defer ? ctx->next_slot % PB_READBACK_RING : 0;
+  /* kept_slot: the context was zeroed above when reused (ctx->next_slot
+   * then reads 0, and every frame took slot 0: the next frame's copy into
+   * the slot raced the read of the frame before). */
+  uint32_t ring_slot = defer ? kept_slot % PB_READBACK_RING : 0;
   if (defer && (r = pb_frame_targets_ring(g, &tg)) != PB_OK) goto fail;
   frame_tail ft;
   memset(&ft, 0, sizeof ft);
@@ -717,13 +758,21 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if (defer) break; /* one band: frame_settle and frame_read finish it */
     if ((r = tail_band_times(g, &ft, out)) != PB_OK) goto fail;
     gpu_ms = ft.gpu_ms;
-    if ((r = pb_readback_band(g, &tg, pixels, fr.pixel_base, n, inv_spp, s->film_opaque, nmap_aovs, out, &k_sum,
+    if ((r = pb_readback_band(g, &tg, readback, pixels, fr.pixel_base, n, inv_spp, s->film_opaque, nmap_aovs, out, &k_sum,
                               &hit_sum)) != PB_OK) goto fail;
   }
   out->width = width;
   out->height = height;
   ft.ts = ts, ft.chain_gpu = chain_gpu, ft.post_gpu = post_gpu, ft.photons_on = photons_on;
   ft.nmap_aovs = nmap_aovs, ft.opaque = s->film_opaque, ft.no_shading_correction = desc.no_shading_correction;
+  ft.readback = readback;
+  out->stats.readback_mode = readback;
+  if (ctx && bands == 1 && !host_resolve) { /* the planes stay on the GPU (render.h pb_render_gpu_planes) */
+    out->gpu.planes = defer ? &ctx->tg.ring[ring_slot][0] : &ctx->tg.planes;
+    out->gpu.pplanes = !tg.photons ? NULL : defer ? &ctx->tg.ring[ring_slot][1] : &ctx->tg.pplanes;
+    out->gpu.pixels = (uint32_t)n, out->gpu.channels = tg.channels;
+    out->gpu.photons = tg.photons, out->gpu.nmap = tg.nmap, out->gpu.nmap_aovs = nmap_aovs;
+  }
   ft.pixels = (uint32_t)n, ft.spp_run = spp_run, ft.iters_run = iters_run, ft.emitter_count = fr.emitter_count;
   ft.ring_slot = ring_slot, ft.pixel_base = 0, ft.n = n, ft.inv_spp = 1.0f / (float)spp_run;
   ft.gpu_ms = gpu_ms, ft.gbuf_ms = gbuf_ms, ft.direct_ms = direct_ms, ft.gather_ms = gather_ms;

@@ -11,6 +11,20 @@
 
 /* The first `bytes` of b on the host: its mapping when cached, else a
  * staged copy into *scratch (grown as needed, freed by the caller). */
+static pb_result host_view_at(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, uint64_t bytes, void **scratch,
+                              const void **view) {
+  if (b->mapped && b->cached) {
+    *view = (const char *)b->mapped + offset;
+    pb_gpu_note_read_back(g, bytes);
+    return PB_OK;
+  }
+  void *p = malloc(bytes ? bytes : 1);
+  if (!p) return pb_fail(PB_ERR_NOMEM, "render: out of memory reading back %llu bytes", (unsigned long long)bytes);
+  *scratch = p;
+  *view = p;
+  return pb_gpu_buffer_read_back(g, b, offset, p, bytes);
+}
+
 static pb_result host_view(pb_gpu *g, const pb_gpu_buffer *b, uint64_t bytes, void **scratch, const void **view) {
   if (b->mapped && b->cached) {
     *view = b->mapped;
@@ -88,14 +102,36 @@ static pb_result host_resolve(pb_gpu *g, const pb_frame_targets *t, uint32_t pix
 /* The band's planes from `planes` and `pplanes` (the targets' or a ring
  * slot's) into out. */
 static pb_result read_band(pb_gpu *g, const pb_frame_targets *t, const pb_gpu_buffer *planes,
-                           const pb_gpu_buffer *pplanes, int host, uint32_t pixels, size_t pixel_base, size_t n,
-                           float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
+                           const pb_gpu_buffer *pplanes, int host, int mode, uint32_t pixels, size_t pixel_base,
+                           size_t n, float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
                            double *hit_sum) {
   /* base[0]: planes 0 .. PB_RESOLVE_BASE_CHANNELS - 1, base[1]: the photon
    * planes from PB_RESOLVE_BASE_CHANNELS on (two buffers, shared/pb_resolve.h). */
   void *scratch = NULL, *scratch2 = NULL;
   const void *view = NULL, *view2 = NULL;
   pb_result r;
+  if (!host && mode != PB_RENDER_READBACK_ALL) {
+    /* A lean readback (render.h pb_render_desc.readback): the beauty plane
+     * alone (serve) or none, and the k_PD plane's sums for the statistics;
+     * the rest stays on the GPU (out->gpu). */
+    r = PB_OK;
+    if (mode == PB_RENDER_READBACK_BEAUTY && out->beauty) {
+      r = host_view_at(g, planes, (uint64_t)PB_RESOLVE_BEAUTY * pixels * sizeof(float),
+                       (uint64_t)pixels * 4 * sizeof(float), &scratch, &view);
+      if (r == PB_OK) memcpy(out->beauty + pixel_base * 4, view, (size_t)pixels * 4 * sizeof(float));
+    }
+    if (r == PB_OK && t->photons) {
+      r = host_view_at(g, pplanes, ((uint64_t)PB_RESOLVE_KPD - PB_RESOLVE_BASE_CHANNELS) * pixels * sizeof(float),
+                       (uint64_t)pixels * 2 * sizeof(float), &scratch2, &view2);
+      if (r == PB_OK) {
+        const float *kp = view2;
+        for (uint32_t i = 0; i < pixels; ++i) *k_sum += kp[2 * i], *hit_sum += kp[2 * i + 1];
+      }
+    }
+    free(scratch);
+    free(scratch2);
+    return r;
+  }
   if (host) {
     if (!(scratch = malloc((uint64_t)pixels * t->channels * sizeof(float))))
       return pb_fail(PB_ERR_NOMEM, "render: out of memory");
@@ -152,12 +188,21 @@ static pb_result read_band(pb_gpu *g, const pb_frame_targets *t, const pb_gpu_bu
   return PB_OK;
 }
 
-pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
-                           float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
+pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, int mode, uint32_t pixels, size_t pixel_base,
+                           size_t n, float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
                            double *hit_sum) {
   const char *env = getenv("PB_RESOLVE_ON_HOST");
-  return read_band(g, t, &t->planes, &t->pplanes, env && env[0] == '1', pixels, pixel_base, n, inv_spp, opaque,
-                   nmap_aovs, out, k_sum, hit_sum);
+  return read_band(g, t, &t->planes, &t->pplanes, env && env[0] == '1', mode, pixels, pixel_base, n, inv_spp,
+                   opaque, nmap_aovs, out, k_sum, hit_sum);
+}
+
+pb_result pb_readback_planes(pb_gpu *g, const pb_render_gpu_planes *p, pb_render_result *out) {
+  pb_frame_targets t;
+  memset(&t, 0, sizeof t);
+  t.photons = p->photons, t.nmap = p->nmap, t.channels = p->channels;
+  double k = 0, h = 0; /* the frame's k_PD is in its statistics already */
+  return read_band(g, &t, p->planes, p->pplanes, 0, PB_RENDER_READBACK_ALL, p->pixels, 0, p->pixels, 1.0f, 0,
+                   p->nmap_aovs, out, &k, &h);
 }
 
 void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels) {
@@ -167,11 +212,11 @@ void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot
                 (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float));
 }
 
-pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels, int nmap_aovs,
-                           pb_render_result *out, double *k_sum, double *hit_sum) {
+pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, int mode, uint32_t slot, uint32_t pixels,
+                           int nmap_aovs, pb_render_result *out, double *k_sum, double *hit_sum) {
   /* inv_spp and opaque only serve the host resolve, which is not used here. */
-  return read_band(g, t, &t->ring[slot][0], &t->ring[slot][1], 0, pixels, 0, pixels, 1.0f, 0, nmap_aovs, out, k_sum,
-                   hit_sum);
+  return read_band(g, t, &t->ring[slot][0], &t->ring[slot][1], 0, mode, pixels, 0, pixels, 1.0f, 0, nmap_aovs, out,
+                   k_sum, hit_sum);
 }
 
 pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count) {

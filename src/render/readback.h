@@ -16,7 +16,11 @@
 #include "render/targets.h"
 #include "render/temporal.h"
 
-/* The resolved band (pixels at pixel_base of an image of n pixels) into
+/* mode (PB_RENDER_READBACK_*, render.h): ALL reads what follows; BEAUTY
+ * the beauty plane alone into out->beauty, STATS no plane; both then read
+ * only the k_PD plane (8 bytes a pixel) for k_sum and hit_sum, the other
+ * arrays left alone (the host resolve of the tests always reads all).
+ * The resolved band (pixels at pixel_base of an image of n pixels) into
  * out's arrays (allocated by the caller: beauty .. emission, and indirect,
  * caustic with photons); with nmap_aovs also geo_normal, photon_dir and
  * shading_normal (allocated here on first use). k_sum, hit_sum (photons):
@@ -24,8 +28,8 @@
  * (pb_resolve_record), for the host reference: with PB_RESOLVE_ON_HOST=1 in
  * the environment (a test hook) the planes are computed here, from the
  * accumulators, by the host resolve the pass replaced. */
-pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, uint32_t pixels, size_t pixel_base, size_t n,
-                           float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
+pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, int mode, uint32_t pixels, size_t pixel_base,
+                           size_t n, float inv_spp, int opaque, int nmap_aovs, pb_render_result *out, double *k_sum,
                            double *hit_sum);
 /* Frames in flight: records, into the recording command buffer after the
  * passes that write the planes (a barrier before), the copy of the band's
@@ -36,8 +40,12 @@ void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot
 /* pb_readback_band from ring slot `slot` (one band, the whole image)
  * instead of the planes, without waiting for a pending submission (which
  * writes the planes and the other slot, never this one). */
-pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels, int nmap_aovs,
-                           pb_render_result *out, double *k_sum, double *hit_sum);
+pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, int mode, uint32_t slot, uint32_t pixels,
+                           int nmap_aovs, pb_render_result *out, double *k_sum, double *hit_sum);
+/* Every AOV of a frame's planes kept on the GPU (p: pb_render_result.gpu)
+ * into out's non-NULL arrays (the caller allocates them; geo_normal ..
+ * shading_normal allocated here as pb_readback_band does). */
+pb_result pb_readback_planes(pb_gpu *g, const pb_render_gpu_planes *p, pb_render_result *out);
 /* Non-finite values the resolve replaced since the guard was zeroed. */
 pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *count);
 /* The temporal filter's counts of one frame (pb_gpu_temporal_stats in b,

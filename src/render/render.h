@@ -236,11 +236,24 @@ typedef struct pb_render_desc {
    * still_on_gpu says whether it was (else the caller averages on the
    * host). NULL: none. */
   struct pb_still_sum *still_sum;
+  /* What the readback brings to the host (issue 17; PB_RENDER_READBACK_*):
+   * ALL (0) every AOV, as `render` needs them; BEAUTY the beauty alone
+   * (`serve`, which sends it on); STATS none of the pixels, only what the
+   * statistics need (the guard's count, the k_PD plane's sums): the
+   * viewer's GPU display, which shows the planes where they lie
+   * (pb_render_result.gpu). Honoured for a frame in one band on the GPU
+   * path with a context (the planes must outlive the call), and with a
+   * still_sum only when it ran on the GPU; otherwise everything is read
+   * (stats.readback_mode says what was). The arrays not read are NULL;
+   * pb_render_result_read_gpu fetches them later, while the planes last. */
+  int readback;
   /* Benchmark (bench/run_bench.py): */
   int radius_histogram;        /* 1: read every traced map back and bin its
                                   footprint radii (stats.radius_hist; costs a
                                   download per map, so off for timing) */
 } pb_render_desc;
+
+enum { PB_RENDER_READBACK_ALL = 0, PB_RENDER_READBACK_BEAUTY = 1, PB_RENDER_READBACK_STATS = 2 };
 
 enum { PB_RENDER_MAX_SPECULAR_DEPTH = 64 };
 /* Where following a glossy layer with the eye path and shading it from the
@@ -323,7 +336,20 @@ typedef struct pb_render_stats {
    * scene data, other downloads the photon counts (tests/sequence.cmake
    * sequence_transfers). */
   uint64_t upload_bytes, download_bytes, readback_bytes;
+  int readback_mode; /* PB_RENDER_READBACK_*: what this frame's readback brought (pb_render_desc.readback) */
 } pb_render_stats;
+
+/* Where a frame's resolved planes (shared/pb_resolve.h: plane P of `pixels`
+ * pixels at float P * pixels of planes, from PB_RESOLVE_BASE_CHANNELS on in
+ * pplanes) stay on the GPU after the frame: the context's planes, or with
+ * frames in flight its readback ring slot. Valid until the context's next
+ * pb_render_frame (frames in flight: the second after this frame's), the
+ * caller's to read without copying (the viewer's display pass). */
+typedef struct pb_render_gpu_planes {
+  const pb_gpu_buffer *planes, *pplanes; /* NULL: none kept (no context, several bands) */
+  uint32_t pixels, channels;
+  int photons, nmap, nmap_aovs;
+} pb_render_gpu_planes;
 
 /* Per-pixel float buffers, width*height*channels, top row first. */
 typedef struct pb_render_result {
@@ -350,6 +376,7 @@ typedef struct pb_render_result {
   float *shading_normal;/* XYZW: XYZ the normal-mapped n_s, W the fraction
                            of samples on a normal-mapped material */
   pb_render_stats stats;
+  pb_render_gpu_planes gpu; /* the frame's planes on the GPU (with a context, one band) */
   /* Frames in flight (pb_render_desc.in_flight): 1 the GPU may still run
    * the frame (pb_render_frame_settle next), 2 settled, pixels not yet read
    * (pb_render_frame_read next), 0 complete; pending_slot: its ring slot. */
@@ -371,6 +398,11 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                           uint32_t width, uint32_t height, const pb_render_desc *desc,
                           pb_render_result *out);
 void pb_render_result_destroy(pb_render_result *r);
+/* The AOVs a lean readback (pb_render_desc.readback) left out, from
+ * r->gpu while it is valid (render.h pb_render_gpu_planes): every array
+ * still NULL is allocated and read; r->stats.readback_bytes counts the
+ * bytes. A complete frame only (r->pending 0). */
+pb_result pb_render_result_read_gpu(pb_gpu *g, pb_render_result *r);
 /* The estimator statistic `name` of st (pb_render_stats.estimator_stats),
  * or `missing` where the estimator has none of that name. */
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing);

@@ -158,6 +158,8 @@ void pb_sequence_orbit_camera(const pb_scene *s, const pb_camera *start, double 
   memcpy(out->up, up, sizeof up);
 }
 
+void pb_sequence_set_readback(pb_sequence *q, int readback) { q->desc.readback = readback; }
+
 static int camera_equal(const pb_camera *a, const pb_camera *b) {
   return !memcmp(a->position, b->position, sizeof a->position) && !memcmp(a->forward, b->forward, sizeof a->forward) &&
          !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov &&
@@ -172,6 +174,8 @@ static int camera_equal(const pb_camera *a, const pb_camera *b) {
  * so the whole picture converges. A frame that moved starts a new run. */
 static pb_result accumulate(pb_sequence *q, pb_render_result *out, int still) {
   size_t n = (size_t)q->width * q->height;
+  if (out->stats.readback_mode != PB_RENDER_READBACK_ALL) /* lean only with the means on the GPU (frame.c) */
+    return pb_fail(PB_ERR_INTERNAL, "sequence: a frame read back without its AOVs to average on the host");
   if (!q->acc_rest) {
     q->acc_rest = malloc(n * 4 * sizeof *q->acc_rest);
     q->acc_direct = malloc(n * 3 * sizeof *q->acc_direct);
@@ -263,6 +267,9 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   rd.seed = pb_mix64(q->desc.render.seed + 0x9e3779b97f4a7c15ull * index); /* frame i's own photons */
   rd.atrous_iterations = 0;     /* the chain's (q->chain), after the temporal filter */
   rd.context = q->frame_ctx;
+  /* A lean readback needs the still run's means on the GPU: the host's
+   * (accumulate) work on the arrays. */
+  rd.readback = q->still.pipe.pipeline ? q->desc.readback : PB_RENDER_READBACK_ALL;
   rd.filters = q->chain;        /* recorded after the resolve, on the GPU; then
                                    eq. 20 on the filtered indirect, with this
                                    frame's mean photon direction (the chapter

@@ -39,6 +39,14 @@ typedef struct pb_sequence_desc {
    * 1, bit-identical on lavapipe, within float rounding wherever the photon
    * store's order varies); only when frames come out changes. */
   uint32_t frames_in_flight;
+  /* What each frame reads back to the host (issue 17; render.h
+   * pb_render_desc.readback): PB_RENDER_READBACK_ALL (0: `render --frames`,
+   * every AOV), _BEAUTY (`serve`: the beauty it sends), _STATS (`view`
+   * with the GPU display: no pixels, the picture is made from the planes
+   * on the GPU, out->gpu). The statistics are the same in every mode.
+   * Frames that cannot (the host path: several bands, the still run
+   * averaged on the host) read everything; out->stats.readback_mode says. */
+  int readback;
 } pb_sequence_desc;
 
 /* What happened in one frame. */
@@ -69,6 +77,9 @@ void pb_sequence_destroy(pb_gpu *g, pb_sequence *q);
  * info->ready 0 (out empty) on the first call: frames come out one late. */
 pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t, pb_render_result *out,
                             pb_sequence_frame_info *info);
+/* Changes desc.readback from the next frame on (the viewer, when what it
+ * shows needs the host's arrays or no longer does). */
+void pb_sequence_set_readback(pb_sequence *q, int readback);
 /* Frames in flight: waits for the last frame still in flight and returns
  * it (info->ready 1), or none (info->ready 0, out empty). Without frames
  * in flight: always none. */

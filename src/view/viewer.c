@@ -18,6 +18,7 @@
 #include "view/present.h"
 #include "view/present_pass.h"
 #include "view/session.h"
+#include "shared/pb_resolve.h"
 
 /* stb_image_write's implementation lives in src/image/png.c; this is only
  * its declarations (as src/color/png_display.c). */
@@ -307,9 +308,46 @@ static pb_result run_script(viewer *v) {
  * colour AOVs through the OCIO view (exposure included), normal as
  * 0.5 + 0.5 n and depth as 1 - z / z_max (near bright), both raw data. */
 static pb_result make_picture(viewer *v, int *on_gpu) {
-  const pb_render_result *res = &v->ses.res;
+  pb_render_result *res = &v->ses.res;
   *on_gpu = 0;
   size_t n = (size_t)res->width * res->height;
+  if (v->gpu_display && v->aov != AOV_DEPTH && res->stats.readback_mode != PB_RENDER_READBACK_ALL &&
+      res->gpu.planes) {
+    /* The display-only readback (sequence.h desc.readback): the AOV where
+     * the frame left it on the GPU (its planes, shared/pb_resolve.h, or
+     * with frames in flight its ring slot), through the display pass;
+     * nothing comes to the host and nothing goes up. */
+    static const uint32_t plane[AOV_COUNT] = {PB_RESOLVE_BEAUTY, PB_RESOLVE_DIRECT,   PB_RESOLVE_INDIRECT,
+                                              PB_RESOLVE_CAUSTIC, PB_RESOLVE_EMISSION, PB_RESOLVE_ALBEDO,
+                                              PB_RESOLVE_NORMAL, PB_RESOLVE_DEPTH};
+    uint32_t p = plane[v->aov];
+    int second = p >= PB_RESOLVE_BASE_CHANNELS;
+    const pb_gpu_buffer *src = second ? res->gpu.pplanes : res->gpu.planes;
+    if (!src) {
+      v->note = "this AOV is empty here (no photon stages)";
+    } else {
+      pb_present_job job = {.src = src,
+                            .offset = (p - (second ? PB_RESOLVE_BASE_CHANNELS : 0u)) * res->gpu.pixels,
+                            .channels = v->aov == AOV_BEAUTY ? 4u : 3u, .pixels = (uint32_t)n,
+                            .scale = (float)exp2(v->exposure), .data = v->aov == AOV_NORMAL, .data_scale = 0.5f,
+                            .data_bias = 0.5f};
+      /* Bound afresh each frame: the planes are the context's (a new
+       * context can put new buffers at the same address, which the pass's
+       * pointer check would take for the bound ones). */
+      v->pass.bound_src = NULL;
+      pb_result r = pb_present_pass_run(v->g, &v->pass, &job);
+      if (r != PB_OK) return r;
+      v->rgba_stale = 1;
+      *on_gpu = 1;
+      return PB_OK;
+    }
+  }
+  /* The host path (the depth AOV, a host display): the arrays the lean
+   * readback left on the GPU come now (counted in the frame's bytes). */
+  if (res->stats.readback_mode != PB_RENDER_READBACK_ALL) {
+    pb_result r = pb_render_result_read_gpu(v->g, res);
+    if (r != PB_OK) return r;
+  }
   const float *src = NULL;
   int ch = 3;
   switch (v->aov) {
@@ -415,6 +453,8 @@ static pb_result write_screenshot(viewer *v, const char *path) {
  * `render` writes it) and the shown picture as a PNG. */
 static pb_result save_current(viewer *v) {
   char exr[1200], png[1200];
+  pb_result rr = pb_render_result_read_gpu(v->g, &v->ses.res); /* every AOV, also after a lean readback */
+  if (rr != PB_OK) return rr;
   snprintf(exr, sizeof exr, "%s_%04u.exr", v->d->save_prefix, v->saves);
   snprintf(png, sizeof png, "%s_%04u.png", v->d->save_prefix, v->saves);
   char frames_s[32];
@@ -453,6 +493,10 @@ static pb_result load_reference(viewer *v) {
  * default metrics view, display MSE over R, G, B). */
 static pb_result frame_psnr(viewer *v, double *psnr) {
   size_t n = (size_t)v->ses.res.width * v->ses.res.height;
+  if (!v->ses.res.beauty) { /* a display-only readback (the viewer asks for the beauty with --reference) */
+    pb_result rr = pb_render_result_read_gpu(v->g, &v->ses.res);
+    if (rr != PB_OK) return rr;
+  }
   float *t = malloc(3 * n * sizeof *t);
   if (!t) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
   for (size_t i = 0; i < n; ++i)
@@ -687,6 +731,15 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
           (r = pb_present_pass_create(g, &v.lut, (uint32_t)n, &v.pass)) != PB_OK)
         goto done;
       v.gpu_display = 1;
+      /* Display-only readback (issue 17): the picture is made from the
+       * planes on the GPU, so the frames bring no AOV to the host but the
+       * beauty for --reference's PSNR; the depth AOV and P / F12 fetch the
+       * rest when asked (pb_render_result_read_gpu). */
+      int mode = d->reference ? PB_RENDER_READBACK_BEAUTY : PB_RENDER_READBACK_STATS;
+      const char *full = getenv("PB_VIEW_READBACK_ALL"); /* benchmarks: the former readback of every AOV */
+      if (full && full[0] == '1') mode = PB_RENDER_READBACK_ALL;
+      v.ses.desc.readback = mode;
+      pb_sequence_set_readback(v.ses.seq, mode);
       pb_log_verbose("view: the picture is made on the render device (a %u^3 LUT, shaper 2^%g .. 2^%g, bake error %.2g)",
                      v.lut.size, v.lut.lo, v.lut.hi, v.lut.max_error);
     }

@@ -41,7 +41,7 @@ static void resolve(pb_gpu *g, const pb_frame_targets *t, const pb_gpu_pipeline 
   CHECK_EQ_INT(pb_gpu_submit(g), PB_OK);
   alloc(o);
   *k = *hit = 0;
-  CHECK_EQ_INT(pb_readback_band(g, t, N, 0, N, 0.5f, opaque, 1, o, k, hit), PB_OK);
+  CHECK_EQ_INT(pb_readback_band(g, t, PB_RENDER_READBACK_ALL, N, 0, N, 0.5f, opaque, 1, o, k, hit), PB_OK);
   CHECK_EQ_INT(pb_readback_guard(g, t, bad), PB_OK);
 }
 
