@@ -11,6 +11,7 @@ interface: `render --estimator lbvh` and `--estimator auto` (auto resolves to
   a one-line error and exit 2 before any device work.
 
 knn: see part_knn.
+knn_spot: see part_knn_spot.
 
 usage: estimator_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR [PART...]
 Exit 77 when no Vulkan device is present."""
@@ -187,6 +188,37 @@ def part_knn():
                        capture_output=True, text=True)
     check(p.returncode == 2 and "--knn-k needs --estimator knn" in p.stderr,
           "--knn-k without --estimator knn: exit %d" % p.returncode)
+
+
+def part_knn_spot():
+    """kNN at the default k = 64 on spot_room (crate and ball lit by a spot),
+    issue 19 item 2: on llvmpipe the search used to run past the gallivm
+    loop limiter (65535 back edges per SIMD vector, all loops together;
+    shaders/knn.comp SC_BUDGET) and left pixels black where the LBVH gather
+    is lit. No such pixel may be 0 in kNN, and the mean indirect + caustic
+    light must be within 5 % of the gather's (measured: within ~1 %)."""
+    d = fresh("knn_spot")
+    scene = os.path.join(ROOT, "samples", "spot_room", "spot_room.gltf")
+    imgs = {}
+    for name, extra in [("lbvh", []), ("knn", ["--estimator", "knn", "--knn-k", "64"])]:
+        out = os.path.join(d, name + ".exr")
+        p = run(["render", scene, "-o", out, "--width", "96", "--height", "72", "--spp", "1", "--iterations", "2",
+                 "--photons", "65536", "--seed", "7", "-q"] + extra)
+        check(p.returncode == 0, "spot_room %s exits 0" % name)
+        if p.returncode != 0:
+            return
+        img = exr(out)
+        imgs[name] = [sum(img[l + "." + c][i] for l in ("indirect", "caustic") for c in "RGB")
+                      for i in range(len(img["indirect.R"]))]
+    g, k = imgs["lbvh"], imgs["knn"]
+    peak = max(g)
+    floor = 1e-4 * peak  # the gather's noise floor: 1e-4 of its brightest pixel
+    lit = [i for i, v in enumerate(g) if v > 10 * floor]
+    black = [i for i in lit if not k[i] > 0.0]
+    check(len(lit) > len(g) // 4, "spot_room: %d of %d pixels lit by the gather" % (len(lit), len(g)))
+    check(len(black) == 0, "spot_room: %d of the %d gather-lit pixels black in kNN at k = 64" % (len(black), len(lit)))
+    mk, mg = sum(k) / len(k), sum(g) / len(g)
+    check(abs(mk / mg - 1) < 0.05, "spot_room: kNN mean indirect %+.2f %% of the LBVH gather's" % (100 * (mk / mg - 1)))
 
 
 if subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True).returncode != 0:

@@ -25,7 +25,15 @@
 #include "shaders/knn.spv.h"
 #include "shaders/knn_blender.spv.h"
 
-enum { PB_KNN_LLVMPIPE_BUDGET = 50000 };
+/* llvmpipe's loop limiter (Mesa gallivm, lp_bld_ir_common.c): 65535 back
+ * edges per SIMD vector over ALL the shader's loops together, never reset;
+ * past it every loop leaves after one iteration (knn.comp SC_BUDGET). The
+ * search is one loop of one step per iteration, so it may take this many
+ * less the others' share: the 4 edge rays' BVH traversals (PB_EDGES_MAX in
+ * kernel_edges.glsl; a few hundred steps in these scenes, reserved 8192),
+ * the k iterations of eq. 1's sum and the <= 16 sift steps a search may
+ * finish past its bound. */
+enum { PB_KNN_LLVMPIPE_LIMIT = 65535, PB_KNN_LLVMPIPE_RESERVE = 8192, PB_KNN_SIFT_PAST_BOUND = 16 };
 
 typedef struct knn {
   pb_photon_estimator *lbvh; /* the build */
@@ -110,10 +118,11 @@ static pb_result knn_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
   memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's ids 0-3, as the gather's */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   spec[PB_SPEC_KNN_K] = e->k;
-  /* llvmpipe's loop limiter (knn.comp SC_BUDGET): 65535 back edges per
-   * invocation over all its loops; the edge rays' BVH traversals and the
-   * evaluation take the rest. */
-  spec[PB_SPEC_KNN_BUDGET] = pb_gpu_get_limits(g)->driver_id == VK_DRIVER_ID_MESA_LLVMPIPE ? PB_KNN_LLVMPIPE_BUDGET : 0u;
+  /* llvmpipe's loop limiter (above; knn.comp SC_BUDGET). */
+  spec[PB_SPEC_KNN_BUDGET] =
+      pb_gpu_get_limits(g)->driver_id == VK_DRIVER_ID_MESA_LLVMPIPE
+          ? (uint32_t)(PB_KNN_LLVMPIPE_LIMIT - PB_KNN_LLVMPIPE_RESERVE - PB_KNN_SIFT_PAST_BOUND) - e->k
+          : 0u;
   if (e->pipe.pipeline && (memcmp(e->spec, spec, sizeof spec) != 0 || e->blender != ps->blender))
     pb_gpu_pipeline_destroy(g, &e->pipe);
   if (!e->pipe.pipeline) {
