@@ -117,6 +117,12 @@ bench-lights: install-deps $(BUILD)/Makefile
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
+# The four density estimators side by side on every sample (issue 19;
+# bench/results/DEVICE/estimators/).
+.PHONY: bench-estimators
+bench-estimators: bench-build
+	$(BENCH_PYTHON) bench/run_bench.py --mode estimators --no-cycles --no-internals --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+
 # Blender's Principled BSDF against Cycles on the studio scenes, and what the
 # Blender materials and Multiscatter GGX cost (bench/principled_studio.py;
 # results in bench/results/DEVICE/principled/).

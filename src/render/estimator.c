@@ -75,15 +75,22 @@ int pb_estimator_built(uint32_t kind) {
 
 /* ---- auto ------------------------------------------------------------------ */
 
-/* The rule as far as measured (bench/README.md, "kNN against the LBVH
- * gather", bench/run_knn.py, cornell_box on lavapipe): kNN never reached
- * the gather's error with the same photon maps at any k (best at k 32,
- * 0.24 dB below) and cost 4.6x its estimator time there, so auto is the
- * gather everywhere; splat and vsch (issue 19 items 3-4) enter the rule
- * when they are measured. */
+/* The rule as measured (bench/run_bench.py --mode estimators, `make
+ * bench-estimators`: the four estimators on the same photon maps of every
+ * sample, 96 px, 2^16 paths a map, 1 / 4 / 16 maps, lavapipe; results in
+ * bench/results/lavapipe/estimators/, BENCHMARKS.md "Density estimators
+ * side by side"): the LBVH gather reaches each PSNR first on cornell_box,
+ * cornell_caustics and spot_room; kNN is 2.1-3.4x slower at equal error;
+ * splatting is as fast on spot_room but stays at 18-19 dB on
+ * cornell_caustics whatever the photon count (a bias); the view-sample
+ * hierarchy is 2.8-4.5x slower on lavapipe and ahead only on ring (25.0 dB
+ * where the gather stays at 22.4 dB, 214-3124 photons stored: a sparse
+ * caustic map), too few scenes to found a scene-dependent rule on. So auto
+ * is the gather everywhere. */
 const char *const pb_estimator_auto_rule =
-    "lbvh on every scene: kNN, the only other one measured, is slower at equal error "
-    "(bench/README.md, kNN against the LBVH gather)";
+    "lbvh on every scene: first to each PSNR on 3 of the 4 samples (knn 2-3.5x slower at equal error, "
+    "splat biased on cornell_caustics, vsch ahead only on the sparse caustic map of ring; BENCHMARKS.md, "
+    "density estimators side by side)";
 
 uint32_t pb_estimator_resolve(const pb_scene *s, const pb_estimator_desc *desc) {
   uint32_t kind = desc ? desc->kind : PB_ESTIMATOR_LBVH;
