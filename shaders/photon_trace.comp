@@ -576,7 +576,17 @@ void pb_trace_path(uint gid) {
       wi = b.t * lw.x + b.b * lw.y + b.n * lw.z;
       if (!(lw.z > 0.0) || dot(wi, b.ng) <= 0.0) return;
       uint no_rng = 0u; // glTF materials evaluate deterministically
-      w = pb_bsdf_eval(b, wo, wi, no_rng) * (PB_PI / p_smooth) * pb_adjoint_shading(wo, wi, b.n, surf.ng);
+      // The adjoint: light arrives from wo and leaves along wi, so wi is the
+      // BSDF's outgoing ("view") direction and wo its light direction,
+      // f(wi <- wo). The glTF model is not symmetric: its diffuse weight
+      // kd = 1 - F(cos of the view direction) (pb_lobes), and with the
+      // arguments the other way round a photon was weighted by the Fresnel
+      // of its arrival, not of its departure: measured on a closed box of
+      // albedo 0.6 around a point light (tests/estimator_check.py furnace),
+      // +2.2 % indirect against the reference (light arriving near the
+      // normal, F ~ F0, kept more than the cosine-weighted mean 1 - F it
+      // leaves with), and +2.9 % at 4x the photons: a bias, not noise.
+      w = pb_bsdf_eval(b, wi, wo, no_rng) * (PB_PI / p_smooth) * pb_adjoint_shading(wo, wi, b.n, surf.ng);
       vec3 nu, nv;
       pb_diff_emission_dirs(b.t, b.b, b.n, c, sn, phi, nu, nv);
       pb_diff_reemit(dPu, dPv, nu, nv);

@@ -20,6 +20,16 @@ add_test(NAME estimator_knn_spot_room
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/estimator_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                  ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check knn_spot)
 set_tests_properties(estimator_knn_spot_room PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
+# Every estimator renders every sample, and a closed furnace (a box of albedo 0.6 around a point
+# light) against the reference path tracer (tests/estimator_check.py part_samples, part_furnace).
+add_test(NAME estimator_samples
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/estimator_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                 ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check samples)
+set_tests_properties(estimator_samples PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900)
+add_test(NAME estimator_furnace
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/estimator_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                 ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check furnace)
+set_tests_properties(estimator_furnace PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900)
 # The numerical hard cases (tests/hard/hard_cases.py: scale 1e-3 .. 1e3, far
 # from the origin, grazing light, degenerate triangles, extreme lights and
 # albedos) with kNN: finite everywhere, the same picture as kNN's own
