@@ -875,7 +875,7 @@ static pb_result vertex_attr(loader *L, void **arr, size_t comps, const float *f
   pb_scene *s = L->s;
   if (!*arr && !present) return PB_OK;
   int fresh = !*arr;
-  float *q = realloc(*arr, (size_t)L->vertex_cap * comps * sizeof *q);
+  float *q = realloc(*arr, (size_t)(L->vertex_cap ? L->vertex_cap : 1) * comps * sizeof *q); /* 0 bytes would free */
   if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
   *arr = q;
   if (fresh)
@@ -1024,6 +1024,12 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
   /* Triangle list from the mode. Limits come before any per-element work:
    * an accessor without a bufferView costs the file nothing per element. */
   uint64_t ntri = p->mode == MODE_TRIANGLES ? nidx / 3 : (nidx >= 3 ? nidx - 2 : 0);
+  /* Fewer than 3 indices (or vertices) make no triangle: skipped before any
+   * allocation (a primitive of 0 vertices made the vertex arrays realloc to 0
+   * bytes, which frees them: fuzz_gltf found the double free that followed). */
+  if (ntri == 0)
+    return warn(L, "meshes[%d].primitives[%zu]: %llu %s make no triangle: primitive skipped", mesh, pi,
+                (unsigned long long)nidx, indexed ? "indices" : "vertices");
   if ((uint64_t)s->triangle_count + ntri > L->desc->max_triangles)
     return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu]: more than %llu triangles in the scene", L->path, mesh,
                    pi, (unsigned long long)L->desc->max_triangles);
@@ -1059,7 +1065,7 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     goto done;
   if ((r = grow(L, (void **)&s->positions, &L->vertex_cap, (uint64_t)s->vertex_count + nverts, sizeof *s->positions, "vertices")) != PB_OK)
     goto done;
-  uint32_t vcap = L->vertex_cap;
+  uint32_t vcap = L->vertex_cap ? L->vertex_cap : 1; /* never realloc to 0 bytes (that frees) */
   void *q1 = realloc(s->normals, (size_t)vcap * sizeof *s->normals);
   if (q1) s->normals = q1;
   void *q2 = q1 ? realloc(s->uvs, (size_t)vcap * sizeof *s->uvs) : NULL;
