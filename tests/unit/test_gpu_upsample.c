@@ -12,7 +12,11 @@
  * half the albedo step). The plane is flat: nothing is recomputed; the
  * estimate runs at ceil(65 / 4)^2 pixels per sample; the caustic photons are
  * estimated at full resolution, equal to L = 0 to float rounding. Validation
- * layers on; exit 77 without a Vulkan device. */
+ * layers on; exit 77 without a Vulkan device. One sample per pixel: the
+ * camera ray then meets the pixel centre (with more the samples spread over
+ * the pixel and L = 0 differs from the centre's sum by up to 2 %).
+ * Measured on lavapipe: L 0 exact to rounding; L 2 mean 0.66 %, worst 3.3 %,
+ * the mean beauty 0.44 % from L 0's. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -107,7 +111,7 @@ int main(void) {
   CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
   pb_render_result res[2];
   memset(res, 0, sizeof res);
-  const uint32_t levels[2] = {0, 2}, spp = 2;
+  const uint32_t levels[2] = {0, 2}, spp = 1;
   for (int k = 0; k < 2; ++k) {
     pb_render_desc rd = {.photon_map = &map, .spp = spp, .upsample_levels = levels[k]};
     pb_result rr = pb_render_frame(g, &s, &gs, 0, W, H, &rd, &res[k]);
