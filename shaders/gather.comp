@@ -23,6 +23,25 @@
 // which includes the interpolation), so it is not applied twice. Caustic photons go into their own sum;
 // both are multiplied by the specular chain's throughput and added to the
 // beauty (unless PB_GATHER_NO_BEAUTY).
+//
+// Built a second time with -DPB_UPSAMPLE=1 (gather_upsample): the multi-level
+// up-sampling of seed 003 sec. 6 (Figure 9; src/render/upsample.c). With
+// PB_GATHER_UPS_LIST it runs only at the pixels of the level's list and
+// stores, per unit albedo, the diffuse irradiance of the non-caustic photons
+// (for the glTF model f_d = base kd(wo) / pi at wi . n_g > 0, wi . n > 0,
+// exactly the Lambert term of pb_bsdf_eval, so f_d / (base kd / pi) is the
+// indicator of those two tests and the sum is sum_i K_i / A_i Phi_i times the
+// adjoint weight): "it is not the final radiance, but the incoming
+// irradiance on the diffuse surfaces, that is up-sampled";
+// upsample_compose.comp multiplies it by base kd / pi and the throughput of
+// every pixel. With PB_GATHER_UPS_REST it runs at full resolution for what is
+// not up-sampled: f - f_d of the non-caustic photons where the surface has a
+// glossy lobe ("for glossy surfaces, up-sampling is only performed for its
+// diffuse component, while the glossy component is computed at full
+// resolution"), the whole f of the caustic photons where the map has any
+// (PB_GATHER_UPS_CAUSTICS), and everything at a Blender material's pixels
+// (their closures are not split here); a pixel with none of these does not
+// traverse the photon LBVH at all.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -46,6 +65,26 @@ layout(std430, set = 0, binding = PB_GATHER_BIND_NMAP) buffer PhotonNmap { pb_gp
 layout(push_constant) uniform GatherPush { pb_gpu_gather_push gp; };
 // Scenes with normal maps (eq. 20's sums below); compiled out for the rest.
 layout(constant_id = PB_SPEC_NORMAL_MAPS) const bool SC_NORMAL_MAPS = true;
+#ifdef PB_UPSAMPLE
+#include "shared/pb_upsample.h"
+layout(std430, set = 0, binding = PB_GATHER_BIND_UPS_IRR) buffer UpsIrr { vec4 ups_irr[]; };
+layout(std430, set = 0, binding = PB_GATHER_BIND_UPS_LIST) buffer UpsList { uint ups_list[]; };
+
+// The glTF model's Lambert term, as pb_bsdf_eval computes it (the same
+// expressions, so f - f_d of a surface without a glossy lobe is exactly 0).
+vec3 pb_ups_diffuse(pb_bsdf b, vec3 wo, vec3 wi) {
+  if (dot(wi, b.ng) <= 0.0) return vec3(0.0);
+  vec3 lo = pb_to_local(b, wo), li = pb_to_local(b, wi);
+  if (lo.z <= 0.0 || li.z <= 0.0) return vec3(0.0);
+  vec4 l = pb_lobes(b, lo.z);
+  return l.w > 0.0 ? b.base * (l.w * PB_INV_PI) : vec3(0.0);
+}
+// A non-delta specular lobe with any weight (pb_spec_fresnel's two terms).
+bool pb_ups_glossy(pb_bsdf b) {
+  float kdiel = (1.0 - b.metallic) * (1.0 - b.transmission) * b.spec;
+  return !b.delta_spec && (kdiel > 0.0 || (b.metallic > 0.0 && any(greaterThan(b.base, vec3(0.0)))));
+}
+#endif
 #include "common/lbvh_traverse.glsl"
 
 // Kernel renormalisation at the edges of a face (corners, creases; a
@@ -92,15 +131,45 @@ float pb_kernel_mass_beyond(float t, bool box_kernel) {
 
 void main() {
   uint gid = pb_gid();
+#ifdef PB_UPSAMPLE
+  bool listed = (gp.flags & PB_GATHER_UPS_LIST) != 0u;
+  if (listed) {
+    if (gid >= ups_list[PB_UPS_H_QUEUED + gp.level]) return;
+    gid = ups_list[PB_UPS_HEADER_WORDS + gid];
+  }
+#else
+  const bool listed = false;
+#endif
   if (gid >= frame.pixel_count) return;
   pb_gpu_gbuffer g = gbuffer[gid];
-  if (g.prim == PB_GPU_MISS || info.root == PB_LBVH_NONE) return;
+  if (g.prim == PB_GPU_MISS) return;
+  if (info.root == PB_LBVH_NONE) {
+#ifdef PB_UPSAMPLE
+    if (listed) {
+      ups_irr[gid] = vec4(0.0, 0.0, 0.0, float(PB_UPS_ESTIMATED));
+      atomicAdd(ups_list[PB_UPS_H_ESTIMATED + gp.level], 1u);
+    }
+#endif
+    return;
+  }
   pb_surface surf = pb_surface_from_hit(g.prim, g.u, g.v, -g.wo);
   pb_bsdf b = pb_bsdf_setup_t(surf, g.wo, pb_surface_tangent(g.prim, g.u, g.v));
   if (SC_BLENDER && g.lobes != 0u) { // a Blender material: the closures left to the photon map
     b.mask = g.lobes;
     pb_blender_split(b, frame.glossy_path_alpha2);
   }
+#ifdef PB_UPSAMPLE
+  // UPS_REST at a glTF pixel: only the glossy lobe of the non-caustic
+  // photons (split), and the caustic ones where the map has any.
+  bool blender_px = SC_BLENDER && g.lobes != 0u;
+  bool glossy = !blender_px && pb_ups_glossy(b);
+  bool caustics = (gp.flags & PB_GATHER_UPS_CAUSTICS) != 0u;
+  bool split = !listed && !blender_px;
+  if (!listed) {
+    if (!blender_px && !glossy && !caustics) return;
+    atomicAdd(ups_list[PB_UPS_H_FULL_RES], 1u);
+  }
+#endif
   uint rng = pb_walk_seed(pb_pixel_key(frame.pixel_base + gid), gp.sample_index, 2u);
   vec3 x = surf.p;
   bool box_kernel = (gp.flags & PB_GATHER_CONSTANT_KERNEL) != 0u;
@@ -183,7 +252,21 @@ void main() {
               }
               k /= max(share, PB_EDGE_MIN_SHARE);
             }
+            bool caustic_photon = (p.flags & PB_PHOTON_CAUSTIC) != 0u;
+#ifdef PB_UPSAMPLE
+            vec3 f;
+            if (listed) { // the diffuse irradiance of the non-caustic photons: f_d / (base kd / pi)
+              if (caustic_photon) continue;
+              f = dot(p.wi, b.ng) > 0.0 && dot(p.wi, b.n) > 0.0 ? vec3(1.0) : vec3(0.0);
+            } else if (split && !caustic_photon) { // the glossy lobe only
+              if (!glossy) continue;
+              f = max(pb_bsdf_eval(b, g.wo, p.wi, rng) - pb_ups_diffuse(b, g.wo, p.wi), vec3(0.0));
+            } else {
+              f = pb_bsdf_eval(b, g.wo, p.wi, rng);
+            }
+#else
             vec3 f = pb_bsdf_eval(b, g.wo, p.wi, rng);
+#endif
             if (SC_HAS_NORMALS && !nmap) {
               // The photon's own face: its density carries |wi . n_g| of the
               // face it hit (p.normal), which differs from this point's n_g
@@ -195,7 +278,7 @@ void main() {
             }
             vec3 contrib = k * f * p.power;
             if (!any(isnan(contrib)) && !any(isinf(contrib))) {
-              if ((p.flags & PB_PHOTON_CAUSTIC) != 0u) {
+              if (caustic_photon) {
                 cau += contrib;
               } else {
                 ind += contrib;
@@ -211,6 +294,13 @@ void main() {
       }
     }
   }
+#ifdef PB_UPSAMPLE
+  if (listed) { // per unit albedo, without the throughput: upsample_compose.comp applies both
+    ups_irr[gid] = vec4(ind, float(PB_UPS_ESTIMATED));
+    atomicAdd(ups_list[PB_UPS_H_ESTIMATED + gp.level], 1u);
+    return;
+  }
+#endif
   ind *= g.throughput;
   cau *= g.throughput;
   pb_gpu_photon_accum pa = paccum[gid];

@@ -57,4 +57,10 @@ endforeach()
 pb_shader(photon_trace_images ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp -DPB_IMAGE_TRACER=1)
 pb_shader(photon_trace_images_blender ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp -DPB_IMAGE_TRACER=1
           -DPB_BLENDER=1)
+# The multi-level up-sampling's gather (seed 003 sec. 6; src/render/upsample.c):
+# gather.comp with -DPB_UPSAMPLE=1, the diffuse irradiance at a list of pixels
+# and the rest at full resolution, as gather_upsample and
+# gather_upsample_blender.
+pb_shader(gather_upsample ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_UPSAMPLE=1)
+pb_shader(gather_upsample_blender ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_UPSAMPLE=1 -DPB_BLENDER=1)
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

@@ -41,6 +41,18 @@
 #define PB_GATHER_BIND_ACCUM 18   /* pb_gpu_photon_accum[] */
 #define PB_GATHER_BIND_NMAP 19    /* pb_gpu_photon_nmap[] (normal maps only) */
 #define PB_GATHER_BIND_COUNT 20
+/* gather_upsample (gather.comp with -DPB_UPSAMPLE=1): the gather's 0-19, then */
+#define PB_GATHER_BIND_UPS_IRR 20  /* vec4 per pixel: irradiance (shared/pb_upsample.h) */
+#define PB_GATHER_BIND_UPS_LIST 21 /* uint: header, pixel indices */
+#define PB_GATHER_UPS_BIND_COUNT 22
+
+/* ---- upsample_mark.comp, upsample_compose.comp (seed 003 sec. 6, Figure 9;
+ * shared/pb_upsample.h): the scene's 0-14 (11 the G-buffer, 12 the
+ * accumulators), then ------------------------------------------------------ */
+#define PB_UPS_BIND_IRR 15      /* vec4 per pixel: irradiance, state */
+#define PB_UPS_BIND_LIST 16     /* uint: header, pixel indices */
+#define PB_UPS_BIND_PACCUM 17   /* pb_gpu_photon_accum[] (compose) */
+#define PB_UPS_BIND_COUNT 18
 
 /* ---- knn.comp (estimator_knn.c): the gather's 15-19, the same buffers ----- */
 #define PB_KNN_BIND_PHOTONS PB_GATHER_BIND_PHOTONS /* the LBVH's sorted photons */
@@ -48,7 +60,7 @@
 #define PB_KNN_BIND_INFO PB_GATHER_BIND_INFO       /* pb_gpu_lbvh_info */
 #define PB_KNN_BIND_ACCUM PB_GATHER_BIND_ACCUM     /* pb_gpu_photon_accum[] */
 #define PB_KNN_BIND_NMAP PB_GATHER_BIND_NMAP       /* pb_gpu_photon_nmap[] */
-#define PB_KNN_BIND_COUNT PB_GATHER_BIND_COUNT
+#define PB_KNN_BIND_COUNT 20 /* the gather's count without gather_upsample's */
 
 /* ---- splat_count.comp, splat_splat.comp, splat_resolve.comp (seed 001
  * 24.3; shared/pb_splat.h): the scene's 0-14 (the resolve shades with them;

@@ -161,12 +161,21 @@ PB_STRUCT(pb_gpu_photon_nmap) {
 
 PB_CONST(PB_GATHER_CONSTANT_KERNEL, 1u) /* box kernel instead of Epanechnikov */
 PB_CONST(PB_GATHER_NO_BEAUTY, 2u)       /* do not add into accum.beauty */
+/* gather_upsample (gather.comp with -DPB_UPSAMPLE=1; shared/pb_upsample.h):
+ * UPS_LIST: the diffuse irradiance of the non-caustic photons at the pixels
+ * of the list (level `level`), into the irradiance buffer; UPS_REST: at
+ * every pixel, what is not up-sampled (glossy lobes; caustic photons where
+ * UPS_CAUSTICS says the map has some; all of a Blender material's closures),
+ * into the photon accumulators; pixels with none of it skip the traversal. */
+PB_CONST(PB_GATHER_UPS_LIST, 4u)
+PB_CONST(PB_GATHER_UPS_REST, 8u)
+PB_CONST(PB_GATHER_UPS_CAUSTICS, 16u)
 PB_STRUCT(pb_gpu_gather_push) {
   uint sample_index;
   uint flags;            /* PB_GATHER_* */
   float edge_reach;      /* largest footprint radius, m: the kernel's edge
                             renormalisation looks this far (gather.comp); 0: off */
-  uint pad1;
+  uint level;            /* PB_GATHER_UPS_LIST: the up-sampling level */
 } PB_END(pb_gpu_gather_push)
 
 #ifndef PB_GLSL

@@ -54,6 +54,7 @@ typedef struct render_opts {
   int vsch_directional;
   uint32_t image_maps, image_map_resolution;
   uint32_t atrous;
+  uint32_t upsample_levels;
   double atrous_gamma;
   double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0;
   const char *png;
@@ -191,6 +192,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     }
     if (segments > 0 && misses >= 0) pb_json_number(&j, "image_miss_rate", misses / segments);
     pb_json_int(&j, "atrous_iterations", o->atrous);
+    pb_json_int(&j, "upsample_levels", o->upsample_levels);
     double sort_ms = pb_render_estimator_stat(st, "sort_ms", -1);
     if (sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", sort_ms);
     else pb_json_null(&j, "lbvh_sort_ms");
@@ -340,6 +342,11 @@ int pb_cmd_render(int argc, char **argv) {
        "seed 003's variable bandwidth instead of the differential footprints: every photon a disc of radius "
        "h = C0 / sqrt(p) sqrt(A / N), p = cos(theta) R^2 / d^2 clamped to [1/4, 4], A the scene's area, N the "
        "paths (default: off)", NULL, 0, 1e6},
+      {"upsample-levels", 0, PB_OPT_U32, &o.upsample_levels, "L",
+       "seed 003's multi-level up-sampling: the photon estimate's diffuse irradiance at every 2^L-th pixel, "
+       "up-sampled level by level by a normal- and depth-aware interpolation, recomputed where the surface "
+       "changes (corners, edges); glossy lobes and caustics at full resolution; --estimator lbvh only, off with "
+       "normal maps (default 0: off)", NULL, 0, 4},
       {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
        "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
        "default 0: off for one frame, 4 for --frames)", NULL, 0, 12},
@@ -465,6 +472,9 @@ int pb_cmd_render(int argc, char **argv) {
   if (!(o.vsch_radius >= 0 && o.vsch_radius < 1e9))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --vsch-radius %g: a radius in metres >= 0 (0: each "
                                     "photon's footprint radius)", o.vsch_radius));
+  if (o.upsample_levels && o.estimator != PB_ESTIMATOR_LBVH && o.estimator != PB_ESTIMATOR_AUTO)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --upsample-levels needs --estimator lbvh (the LBVH "
+                                    "gather; auto resolves to it)"));
   if (o.knn_k && o.estimator != PB_ESTIMATOR_KNN && o.estimator != PB_ESTIMATOR_AUTO)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --knn-k needs --estimator knn (or auto)"));
   if (!pb_estimator_built((uint32_t)o.estimator))
@@ -536,7 +546,7 @@ int pb_cmd_render(int argc, char **argv) {
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
                        .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
                        .image_map_resolution = o.image_map_resolution, .bandwidth_c0 = (float)o.bandwidth_c0,
-                       .atrous_iterations = o.atrous,
+                       .atrous_iterations = o.atrous, .upsample_levels = o.upsample_levels,
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
                        .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
                                                 : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),

@@ -157,6 +157,25 @@ uint32_t pb_estimator_stats(pb_gpu *g, pb_estimator *e, pb_tracer_stat *out, uin
 
 const char *pb_estimator_name(const pb_estimator *e) { return e ? e->ops->name : "none"; }
 
+int pb_estimator_can_upsample(const pb_estimator *e) {
+  return e && e->ops->bind_upsample && e->ops->record_upsample;
+}
+
+pb_result pb_estimator_bind_upsample(pb_gpu *g, pb_estimator *e, const struct pb_pass_setup *ps,
+                                     const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *irradiance,
+                                     const pb_gpu_buffer *list) {
+  if (!pb_estimator_can_upsample(e))
+    return pb_fail(PB_ERR_USAGE, "render: --upsample-levels needs --estimator lbvh (not %s)", pb_estimator_name(e));
+  return e->ops->bind_upsample(g, e->impl, ps, photon_accum, irradiance, list);
+}
+
+pb_result pb_estimator_record_upsample(pb_gpu *g, pb_estimator *e, uint32_t sample_index, uint32_t invocations,
+                                       uint32_t flags, uint32_t level) {
+  if (!pb_estimator_can_upsample(e))
+    return pb_fail(PB_ERR_INTERNAL, "render: estimator %s has no up-sampling", pb_estimator_name(e));
+  return e->ops->record_upsample(g, e->impl, sample_index, invocations, flags, level);
+}
+
 void pb_estimator_destroy(pb_gpu *g, pb_estimator *e) {
   if (!e) return;
   if (e->ops->destroy) e->ops->destroy(g, e->impl);

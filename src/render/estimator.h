@@ -70,6 +70,16 @@ typedef struct pb_estimator_ops {
    * written, their number returned. */
   uint32_t (*stats)(pb_gpu *g, void *impl, pb_tracer_stat *out, uint32_t max);
   void (*destroy)(pb_gpu *g, void *impl);
+  /* Optional: the estimate of seed 003's multi-level up-sampling
+   * (render/upsample.h): bound to the frame's buffers plus the irradiance
+   * plane and the pixel list (after bind), recorded over `invocations` work
+   * items with PB_GATHER_UPS_LIST (level `level`'s list) or
+   * PB_GATHER_UPS_REST (every pixel). NULL: this estimator cannot be
+   * up-sampled (only the LBVH gather can). */
+  pb_result (*bind_upsample)(pb_gpu *g, void *impl, const struct pb_pass_setup *ps, const pb_gpu_buffer *photon_accum,
+                             const pb_gpu_buffer *irradiance, const pb_gpu_buffer *list);
+  pb_result (*record_upsample)(pb_gpu *g, void *impl, uint32_t sample_index, uint32_t invocations, uint32_t flags,
+                               uint32_t level);
 } pb_estimator_ops;
 
 typedef struct pb_estimator pb_estimator;
@@ -85,6 +95,13 @@ pb_result pb_estimator_bind(pb_gpu *g, pb_estimator *e, const struct pb_pass_set
 pb_result pb_estimator_record(pb_gpu *g, pb_estimator *e, uint32_t sample_index, uint32_t pixels, uint32_t flags);
 uint32_t pb_estimator_stats(pb_gpu *g, pb_estimator *e, pb_tracer_stat *out, uint32_t max);
 const char *pb_estimator_name(const pb_estimator *e);
+/* 1 where the estimator has the up-sampling's estimate (bind_upsample). */
+int pb_estimator_can_upsample(const pb_estimator *e);
+pb_result pb_estimator_bind_upsample(pb_gpu *g, pb_estimator *e, const struct pb_pass_setup *ps,
+                                     const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *irradiance,
+                                     const pb_gpu_buffer *list);
+pb_result pb_estimator_record_upsample(pb_gpu *g, pb_estimator *e, uint32_t sample_index, uint32_t invocations,
+                                       uint32_t flags, uint32_t level);
 void pb_estimator_destroy(pb_gpu *g, pb_estimator *e);
 
 /* The implementations (estimator.c dispatches through them). */

@@ -73,6 +73,17 @@ static uint32_t lbvh_stats(pb_gpu *g, void *impl, pb_tracer_stat *out, uint32_t 
 
 static void lbvh_destroy(pb_gpu *g, void *impl) { pb_photon_estimator_destroy(g, impl); }
 
+static pb_result lbvh_bind_upsample(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
+                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *irradiance,
+                                    const pb_gpu_buffer *list) {
+  return pb_photon_estimator_bind_upsample(g, impl, ps, photon_accum, irradiance, list);
+}
+
+static pb_result lbvh_record_upsample(pb_gpu *g, void *impl, uint32_t sample_index, uint32_t invocations,
+                                      uint32_t flags, uint32_t level) {
+  return pb_photon_estimator_record_upsample(g, impl, sample_index, invocations, flags, level);
+}
+
 const pb_estimator_ops pb_estimator_lbvh_ops = {
     .name = "lbvh",
     .create = lbvh_create,
@@ -84,4 +95,6 @@ const pb_estimator_ops pb_estimator_lbvh_ops = {
     .record = lbvh_record,
     .stats = lbvh_stats,
     .destroy = lbvh_destroy,
+    .bind_upsample = lbvh_bind_upsample,
+    .record_upsample = lbvh_record_upsample,
 };

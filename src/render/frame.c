@@ -14,6 +14,7 @@
 #include "render/passes.h"
 #include "render/photon.h"
 #include "render/tracer.h"
+#include "render/upsample.h"
 #include "render/plan.h"
 #include "render/readback.h"
 #include "render/resolve.h"
@@ -35,7 +36,7 @@ enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 typedef struct ctx_key {
   const pb_gpu_scene *gs;
   const void *photon_map;
-  uint32_t width, height, photons, bounces, first_bounce, tracer, image_maps, image_map_resolution;
+  uint32_t width, height, photons, bounces, first_bounce, tracer, image_maps, image_map_resolution, upsample_levels;
   float smoothing, r_max, smoothing_caustic, bandwidth_c0;
   int direct_only, photons_on;
   pb_estimator_desc estimator; /* 4-byte fields only: no padding */
@@ -57,6 +58,7 @@ typedef struct frame_tail {
   pb_gpu_transfers tr0, tr_submit; /* at the frame's start and its last submission */
   pb_filter_chain *fc;
   pb_estimator *est;
+  pb_upsample *ups;
   const pb_gpu_scene *gs;
 } frame_tail;
 
@@ -69,6 +71,7 @@ struct pb_frame_context {
   pb_gpu_pipeline gp, dp, rp, scp;
   pb_tracer *tracer;
   pb_estimator *est;
+  pb_upsample *ups;
   pb_photon_map map;
 };
 
@@ -81,6 +84,7 @@ static void context_clear(pb_gpu *g, pb_frame_context *c) {
   if (!c->valid) return;
   pb_photon_map_destroy(g, &c->map);
   pb_estimator_destroy(g, c->est);
+  pb_upsample_destroy(g, c->ups);
   pb_tracer_destroy(g, c->tracer);
   pb_gpu_pipeline_destroy(g, &c->gp);
   pb_gpu_pipeline_destroy(g, &c->dp);
@@ -296,6 +300,12 @@ static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *f
    * in flight) reads them after the next frame was recorded, so they may
    * describe that frame's work. */
   if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
+  if (ft->photons_on && ft->ups) { /* the up-sampling's counts, under "estimator" too */
+    pb_tracer_stat us[PB_TRACER_MAX_STATS];
+    uint32_t m = pb_upsample_stats(g, ft->ups, us, PB_TRACER_MAX_STATS);
+    for (uint32_t i = 0; i < m && st->estimator_stat_count < PB_TRACER_MAX_STATS; ++i)
+      st->estimator_stats[st->estimator_stat_count++] = us[i];
+  }
   if ((r = pb_readback_guard(g, tg, &st->nonfinite_values)) != PB_OK) return r;
   st->readback_mode = ft->readback;
   if (!ft->post_gpu && ft->readback == PB_RENDER_READBACK_ALL) {
@@ -442,6 +452,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   int nmap_on = 0;
   pb_tracer *tracer = NULL;
   pb_estimator *est = NULL;
+  pb_upsample *ups = NULL;
   pb_photon_map map;
   memset(&map, 0, sizeof map);
   double trace_ms = 0, est_build_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
@@ -462,6 +473,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
   key.first_bounce = desc.first_bounce;
   key.tracer = desc.tracer, key.image_maps = desc.image_maps, key.image_map_resolution = desc.image_map_resolution;
+  key.upsample_levels = desc.upsample_levels;
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
   memcpy(&key.estimator, &desc.estimator, sizeof key.estimator);
   key.bandwidth_c0 = desc.bandwidth_c0;
@@ -476,7 +488,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   if (reuse) {
     tg = ctx->tg;
     gp = ctx->gp, dp = ctx->dp, rp = ctx->rp, scp = ctx->scp;
-    tracer = ctx->tracer, est = ctx->est, map = ctx->map;
+    tracer = ctx->tracer, est = ctx->est, ups = ctx->ups, map = ctx->map;
     memset(ctx, 0, sizeof *ctx);
   }
   /* A lean readback (render.h pb_render_desc.readback): where nothing on
@@ -552,6 +564,17 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;
     }
     if ((r = pb_estimator_create(g, s, &desc.estimator, &est)) != PB_OK) goto fail;
+    /* Seed 003 sec. 6's up-sampling (upsample.h): the LBVH gather's; not
+     * with normal maps (eq. 20's per-pixel photon directions). */
+    if (desc.upsample_levels && !pb_estimator_can_upsample(est)) {
+      r = pb_fail(PB_ERR_USAGE, "render: --upsample-levels needs --estimator lbvh (not %s)", pb_estimator_name(est));
+      goto fail;
+    }
+    if (desc.upsample_levels && plan.normal_maps)
+      pb_log_warn("render: --upsample-levels is off in scenes with normal maps (eq. 20 needs every pixel's photon "
+                  "directions); the estimate runs at full resolution");
+    else if (desc.upsample_levels && (r = pb_upsample_create(g, desc.upsample_levels, band_pixels, &ups)) != PB_OK)
+      goto fail;
   }
 
   nmap_on = tg.nmap;
@@ -618,6 +641,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if ((r = pb_gpu_buffer_fill_zero(g, &tg.accum)) != PB_OK) goto fail;
     if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &tg.paccum)) != PB_OK) goto fail;
     if (nmap_on && (r = pb_gpu_buffer_fill_zero(g, &tg.pnmap)) != PB_OK) goto fail;
+    if (ups && (r = pb_upsample_reset(g, ups)) != PB_OK) goto fail;
     for (uint32_t it = 0; it < iters_run; ++it) {
     uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
     if (photons_on && s_end > s_begin) {
@@ -681,6 +705,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         estimator_stats_add(g, est, &out->stats);
       }
       if ((r = pb_estimator_bind(g, est, &ps, &tg.paccum, nmap_on ? &tg.pnmap : NULL)) != PB_OK) goto fail;
+      if (ups && (r = pb_upsample_bind(g, ups, est, &ps, &tg.paccum, m->caustic > 0)) != PB_OK) goto fail;
     }
     for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
       uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
@@ -693,7 +718,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
         if (r == PB_OK) r = pb_pass_record(g, &dp, s0 + k, pixels);
         pb_gpu_barrier(g);
         pb_gpu_timestamp(g, 3 * k + 2);
-        if (photons_on && r == PB_OK) r = pb_estimator_record(g, est, s0 + k, pixels, 0);
+        if (photons_on && r == PB_OK)
+          r = ups ? pb_upsample_record(g, ups, est, s0 + k, width, pixels, 0) : pb_estimator_record(g, est, s0 + k, pixels, 0);
         pb_gpu_barrier(g);
         pb_gpu_timestamp(g, 3 * k + 3);
       }
@@ -778,7 +804,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   ft.gpu_ms = gpu_ms, ft.gbuf_ms = gbuf_ms, ft.direct_ms = direct_ms, ft.gather_ms = gather_ms;
   ft.photon_gpu_ms = photon_gpu_ms, ft.trace_ms = trace_ms, ft.est_build_ms = est_build_ms;
   ft.k_sum = k_sum, ft.hit_sum = hit_sum, ft.wall0 = wall0, ft.stored_sum = stored_sum, ft.caustic_sum = caustic_sum;
-  ft.tr0 = tr0, ft.fc = fc, ft.est = est, ft.gs = gs;
+  ft.tr0 = tr0, ft.fc = fc, ft.est = est, ft.ups = ups, ft.gs = gs;
   if (defer) {
     ft.host_ms = (pb_time_now() - wall0) * 1e3;
     ft.tr_submit = pb_gpu_transfers_get(g);
@@ -798,13 +824,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     ctx->next_slot = defer ? ring_slot + 1 : kept_slot;
     ctx->tg = tg;
     ctx->gp = gp, ctx->dp = dp, ctx->rp = rp, ctx->scp = scp;
-    ctx->tracer = tracer, ctx->est = est, ctx->map = map;
+    ctx->tracer = tracer, ctx->est = est, ctx->ups = ups, ctx->map = map;
     ctx->key = key;
     ctx->valid = 1;
     return PB_OK;
   }
   pb_photon_map_destroy(g, &map);
   pb_estimator_destroy(g, est);
+  pb_upsample_destroy(g, ups);
   pb_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);
@@ -819,6 +846,7 @@ fail:
   pb_gpu_pipeline_destroy(g, &scp);
   pb_photon_map_destroy(g, &map);
   pb_estimator_destroy(g, est);
+  pb_upsample_destroy(g, ups);
   pb_tracer_destroy(g, tracer);
   pb_gpu_pipeline_destroy(g, &gp);
   pb_gpu_pipeline_destroy(g, &dp);

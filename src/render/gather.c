@@ -8,6 +8,8 @@
 #include "render/estimator_internal.h"
 #include "shaders/gather.spv.h"
 #include "shaders/gather_blender.spv.h"
+#include "shaders/gather_upsample.spv.h"
+#include "shaders/gather_upsample_blender.spv.h"
 
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
@@ -56,4 +58,57 @@ pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t
                              .flags = flags | (e->desc.constant_kernel ? PB_GATHER_CONSTANT_KERNEL : 0u),
                              .edge_reach = e->desc.no_edge_correction ? 0.0f : e->edge_reach};
   return pb_gpu_dispatch(g, &e->gather, &push, pixels);
+}
+
+/* gather_upsample: the same bindings as the gather's (the accumulators at
+ * 12 and 18, the normal-map sums unused: up-sampling is off in scenes with
+ * normal maps), then the irradiance plane and the list (pb_contract.h). */
+pb_result pb_photon_estimator_bind_upsample(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
+                                            const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *irradiance,
+                                            const pb_gpu_buffer *list) {
+  pb_result r;
+  uint32_t spec[PB_SPEC_COUNT] = {0};
+  memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec);
+  spec[PB_SPEC_NORMAL_MAPS] = 0u;
+  if (e->gather_ups.pipeline &&
+      (memcmp(e->gather_ups_spec, spec, sizeof e->gather_ups_spec) != 0 || e->gather_ups_blender != ps->blender))
+    pb_gpu_pipeline_destroy(g, &e->gather_ups);
+  if (!e->gather_ups.pipeline) {
+    pb_gpu_pipeline_desc d = {
+        .name = "pass.gather_upsample",
+        .spirv = ps->blender ? pb_spv_gather_upsample_blender : pb_spv_gather_upsample,
+        .spirv_bytes = ps->blender ? sizeof pb_spv_gather_upsample_blender : sizeof pb_spv_gather_upsample,
+        .binding_count = PB_GATHER_UPS_BIND_COUNT,
+        .push_bytes = sizeof(pb_gpu_gather_push),
+        .spec = spec,
+        .spec_count = PB_SPEC_COUNT,
+    };
+    if ((r = pb_gpu_pipeline_create(g, &d, &e->gather_ups)) != PB_OK) return r;
+    memcpy(e->gather_ups_spec, spec, sizeof e->gather_ups_spec);
+    e->gather_ups_blender = ps->blender;
+  }
+  if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
+  const pb_gpu_buffer *b[PB_GATHER_UPS_BIND_COUNT];
+  for (int i = 0; i < PB_BIND_WORLD; ++i) b[i] = ps->bindings[i];
+  b[PB_GATHER_BIND_PHOTONS] = &e->sorted;
+  b[PB_GATHER_BIND_NODES] = &e->nodes;
+  b[PB_GATHER_BIND_INFO] = &e->info;
+  b[PB_GATHER_BIND_ACCUM] = photon_accum;
+  b[PB_GATHER_BIND_NMAP] = photon_accum; /* never read (SC_NORMAL_MAPS 0) */
+  b[PB_GATHER_BIND_UPS_IRR] = irradiance;
+  b[PB_GATHER_BIND_UPS_LIST] = list;
+  if ((r = pb_gpu_pipeline_bind(g, &e->gather_ups, b, PB_GATHER_UPS_BIND_COUNT)) != PB_OK) return r;
+  e->gather_ups_ready = 1;
+  return PB_OK;
+}
+
+pb_result pb_photon_estimator_record_upsample(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
+                                              uint32_t invocations, uint32_t flags, uint32_t level) {
+  if (!e->gather_ups_ready)
+    return pb_fail(PB_ERR_INTERNAL, "gather: up-sampling recorded before pb_photon_estimator_bind_upsample");
+  pb_gpu_gather_push push = {.sample_index = sample_index,
+                             .flags = flags | (e->desc.constant_kernel ? PB_GATHER_CONSTANT_KERNEL : 0u),
+                             .edge_reach = e->desc.no_edge_correction ? 0.0f : e->edge_reach,
+                             .level = level};
+  return pb_gpu_dispatch(g, &e->gather_ups, &push, invocations);
 }

@@ -110,6 +110,7 @@ void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e) {
   if (!e) return;
   for (int i = 0; i < PB_LBVH_PASS_N; ++i) pb_gpu_pipeline_destroy(g, &e->pass[i]);
   pb_gpu_pipeline_destroy(g, &e->gather);
+  pb_gpu_pipeline_destroy(g, &e->gather_ups);
   free_buffers(g, e);
   pb_radix_sort_destroy(g, e->sort);
   pb_gpu_buffer_destroy(g, &e->info);
@@ -148,6 +149,7 @@ static pb_result reserve(pb_gpu *g, pb_photon_estimator *e, uint32_t cap) {
   }
   e->capacity = cap;
   e->gather_ready = 0;
+  e->gather_ups_ready = 0;
   return PB_OK;
 }
 
@@ -180,6 +182,7 @@ pb_result pb_photon_estimator_prepare(pb_gpu *g, pb_photon_estimator *e, const p
   for (int i = 0; i < PB_LBVH_PASS_N; ++i)
     if ((r = pb_gpu_pipeline_bind(g, &e->pass[i], b, PB_LBVH_BIND_COUNT)) != PB_OK) return r;
   e->gather_ready = 0;
+  e->gather_ups_ready = 0;
   return PB_OK;
 }
 

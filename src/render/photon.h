@@ -257,6 +257,17 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
  * open command buffer; flags: PB_GATHER_* (shaders/shared/pb_lbvh.h). */
 pb_result pb_photon_estimator_record(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
                                      uint32_t pixels, uint32_t flags);
+/* The multi-level up-sampling's gather (gather.comp built with
+ * -DPB_UPSAMPLE=1; render/upsample.h, seed 003 sec. 6): bound as
+ * pb_photon_estimator_bind plus the irradiance plane and the pixel list
+ * (shared/pb_upsample.h); recorded over `invocations` work items with
+ * PB_GATHER_UPS_LIST (the list of level `level`) or PB_GATHER_UPS_REST
+ * (every pixel of the band). Call bind after pb_photon_estimator_bind. */
+pb_result pb_photon_estimator_bind_upsample(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
+                                            const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *irradiance,
+                                            const pb_gpu_buffer *list);
+pb_result pb_photon_estimator_record_upsample(pb_gpu *g, pb_photon_estimator *e, uint32_t sample_index,
+                                              uint32_t invocations, uint32_t flags, uint32_t level);
 /* The largest footprint radius of the maps gathered next (the tracer's
  * r_max, m): how far the gather looks for the edges of a face to
  * renormalise its kernel (gather.comp); 0 (the default): no renormalisation,

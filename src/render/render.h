@@ -167,6 +167,11 @@ typedef struct pb_render_desc {
   float bandwidth_c0;          /* > 0: seed 003's variable bandwidth footprints,
                                   h = C0 / sqrt(p) sqrt(A / N) (photon.h); 0:
                                   seed 000's differential footprints */
+  uint32_t upsample_levels;    /* seed 003's multi-level up-sampling of the
+                                  diffuse photon irradiance (upsample.h):
+                                  estimated at every 2^L-th pixel, up-sampled
+                                  L times; 0: off, 1 .. 4; the LBVH gather
+                                  only; off in scenes with normal maps */
   uint32_t atrous_iterations;  /* spatial filter of the indirect AOV
                                   (atrous.h, seed 001 24.4.2); 0: off */
   float atrous_gamma;          /* its detail clipping in standard

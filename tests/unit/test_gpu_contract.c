@@ -17,6 +17,10 @@
 #include "shaders/direct_blender.spv.h"
 #include "shaders/gather.spv.h"
 #include "shaders/gather_blender.spv.h"
+#include "shaders/gather_upsample.spv.h"
+#include "shaders/gather_upsample_blender.spv.h"
+#include "shaders/upsample_compose.spv.h"
+#include "shaders/upsample_mark.spv.h"
 #include "shaders/knn.spv.h"
 #include "shaders/knn_blender.spv.h"
 #include "shaders/gbuffer.spv.h"
@@ -94,6 +98,24 @@ static const entry gather_bind[] = {SCENE_COMMON,
                                     {"PhotonAccum", PB_GATHER_BIND_ACCUM},
                                     {"PhotonNmap", PB_GATHER_BIND_NMAP},
                                     END};
+static const entry gather_ups_bind[] = {SCENE_COMMON,
+                                        {"GBuf", PB_BIND_GBUFFER},
+                                        {"Accum", PB_BIND_ACCUM},
+                                        {"Photons", PB_GATHER_BIND_PHOTONS},
+                                        {"Nodes2", PB_GATHER_BIND_NODES},
+                                        {"InfoBuf", PB_GATHER_BIND_INFO},
+                                        {"PhotonAccum", PB_GATHER_BIND_ACCUM},
+                                        {"PhotonNmap", PB_GATHER_BIND_NMAP},
+                                        {"UpsIrr", PB_GATHER_BIND_UPS_IRR},
+                                        {"UpsList", PB_GATHER_BIND_UPS_LIST},
+                                        END};
+static const entry ups_bind[] = {SCENE_COMMON,
+                                 {"GBuf", PB_BIND_GBUFFER},
+                                 {"Accum", PB_BIND_ACCUM},
+                                 {"UpsIrr", PB_UPS_BIND_IRR},
+                                 {"UpsList", PB_UPS_BIND_LIST},
+                                 {"PhotonAccum", PB_UPS_BIND_PACCUM},
+                                 END};
 static const entry gather_spec[] = {SCENE_SPEC, {"SC_NORMAL_MAPS", PB_SPEC_NORMAL_MAPS}, END};
 static const entry knn_bind[] = {SCENE_COMMON,
                                  {"GBuf", PB_BIND_GBUFFER},
@@ -237,6 +259,10 @@ static const module modules[] = {
     MOD(direct_blender, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(gather, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
     MOD(gather_blender, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
+    MOD(gather_upsample, gather_ups_bind, gather_spec, PB_GATHER_UPS_BIND_COUNT),
+    MOD(gather_upsample_blender, gather_ups_bind, gather_spec, PB_GATHER_UPS_BIND_COUNT),
+    MOD(upsample_mark, ups_bind, scene_spec, PB_UPS_BIND_COUNT),
+    MOD(upsample_compose, ups_bind, scene_spec, PB_UPS_BIND_COUNT),
     MOD(knn, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
     MOD(knn_blender, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
     MOD(photon_trace, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
