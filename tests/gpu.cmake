@@ -121,7 +121,8 @@ add_test(NAME gpu_ring_caustic_psnr
 set_tests_properties(gpu_ring_caustic_psnr PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                      LABELS "gpu;no-sanitize" TIMEOUT 600)
 
-# render --tracer images on every glTF sample, still and animated (issue 20:
+# render --tracer images on every glTF sample, still and animated, and the
+# .blend samples' hand-off glTFs (issue 20:
 # the images tracer renders each one; tests/tracer_samples.py prints the
 # miss rate per sample), validation layers on.
 add_test(NAME gpu_cli_render_tracer_images_samples
@@ -129,7 +130,7 @@ add_test(NAME gpu_cli_render_tracer_images_samples
                  ${CMAKE_CURRENT_BINARY_DIR}/tracer_samples)
 set_tests_properties(gpu_cli_render_tracer_images_samples PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1"
                      SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900
-                     PASS_REGULAR_EXPRESSION "8 of 8 samples rendered with --tracer images")
+                     PASS_REGULAR_EXPRESSION "11 of 11 samples rendered with --tracer images")
 
 # The viewer's display pass against the host path (issue 17 item 2).
 if(TEST test_gpu_present)
