@@ -4,7 +4,8 @@ with --python before -E/-f/-a): enables the add-on from the checkout
 exporters/blender/photonbridge), selects the engine and applies settings
 given after '--' as NAME=VALUE: photonbridge settings by their property
 name, and 'percent', 'width', 'height', 'border' (x0,y0,x1,y1), 'crop',
-'pass_z', 'frames' (start,end)."""
+'pass_z', 'frames' (start,end), 'layers' (names of view layers to add, comma
+separated: Blender then calls the engine's render() once per layer)."""
 import sys
 
 import addon_utils
@@ -34,6 +35,9 @@ for a in args:
     elif k == "pass_z":
         for vl in sc.view_layers:
             vl.use_pass_z = v == "1"
+    elif k == "layers":
+        for name in v.split(","):
+            sc.view_layers.new(name)
     elif k == "frames":
         sc.frame_start, sc.frame_end = (int(x) for x in v.split(","))
     else:

@@ -341,6 +341,20 @@ def part_f12():
     check(sum(f12["channels"]["ViewLayer.Direct.R"]) > 0 and sum(f12["channels"]["ViewLayer.Indirect.G"]) > 0,
           "Direct and Indirect hold light")
     check(not tmp_left(), "no temporary files left (%s)" % tmp_left())
+    # Two view layers: Blender calls render() once per layer, and each call
+    # fills its own layer of the result (begin_result(layer=...)); an engine
+    # that loads its EXR into every layer blanks the others (the first layer
+    # of the file came out black).
+    dl = fresh("f12_layers")
+    render_f12(dl, sample_blend(name), dict(settings, layers="Second"))
+    lout = os.path.join(dl, "f_0001.exr")
+    lay = exr(lout) if os.path.isfile(lout) else {"channels": {}}
+    for ln in ("ViewLayer", "Second"):
+        ch = lay["channels"].get(ln + ".Combined.G", [])
+        rel = max((abs(x - y) for x, y in zip(ch, f12["channels"]["ViewLayer.Combined.G"])), default=1e9) / \
+            max(max(f12["channels"]["ViewLayer.Combined.G"]), 1e-6) if len(ch) == w * h else 1e9
+        check(rel <= 1e-5, "two view layers: layer %s equals the one-layer render to float rounding (%.3g)"
+              % (ln, rel))
     # A border render (crop to border) equals that part of the full render.
     border = (0.25, 0.2, 0.75, 0.7)
     db = fresh("f12_border")

@@ -184,7 +184,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         out = os.path.join(folder, "render.exr")
         preview = os.path.join(folder, "preview.exr")
         s = scene.photonbridge
-        result = self.begin_result(0, 0, w, h)
+        result = self.begin_result(0, 0, w, h, layer=layer)
         argv = [exe, "render", self.handoff["path"], "-o", out, "--width", str(full_w), "--height", str(full_h),
                 "--blender-layer", layer, "--blender-passes", result_passes(result), "--progress-lines",
                 "--preview", preview, "--preview-interval", "%g" % s.preview_interval] + settings.cli_args(s)
@@ -268,7 +268,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
             s = scene.photonbridge
             # Sequence frame i is at t = i fps_base / fps (anim.py's key
             # times from frame_start): Blender's frame first + i.
-            probe = self.begin_result(0, 0, w, h)
+            probe = self.begin_result(0, 0, w, h, layer=layer)
             passes = result_passes(probe)
             self.end_result(probe, cancel=True)
             argv = [exe, "render", self.handoff["path"], "-o", pattern, "--width", str(full_w), "--height",
@@ -313,7 +313,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
                 self._end_sequence(key)
                 return
             time.sleep(POLL_S)
-        result = self.begin_result(0, 0, w, h)
+        result = self.begin_result(0, 0, w, h, layer=layer)
         result.load_from_file(seq["frames"][index])
         self.end_result(result)
         self.update_progress(1.0)
