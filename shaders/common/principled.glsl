@@ -393,6 +393,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) pb_add_closure(b, i, PB_CL_TRANSPARENT, vec3(0.0));
   vec3 base = m.base_color.rgb;
   if (SC_TEXTURES && m.base_color_tex != PB_GPU_NO_TEXTURE) base = pb_texture_lookup(m.base_color_tex, surf).rgb;
+  if ((m.flags & PB_GPU_MAT_VERTEX_COLOR) != 0u) base = surf.color.rgb; // a Color Attribute node (COLOR_0)
   base = max(base, vec3(0.0));
   b.base = clamp(base, 0.0, 1.0);
   b.albedo = b.base;

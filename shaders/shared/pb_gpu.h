@@ -94,6 +94,8 @@ PB_STRUCT(pb_gpu_hit) {
 PB_CONST(PB_GPU_NO_TEXTURE, 0xffffffffu)
 PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
 PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
+PB_CONST(PB_GPU_MAT_VERTEX_COLOR, 4u)      /* a Blender model's base colour is COLOR_0
+                                              (pb_blender_material.base_from_vertex_color) */
 /* model: pb_material_model's values. */
 PB_CONST(PB_GPU_MODEL_GLTF, 0u)
 PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)

@@ -528,6 +528,7 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
   v3_basis(b->n, &b->t, &b->b);
   b->entering = surf->front;
   v3 base = color_value(s, v3_load(m->base_color), m->base_color_tex, surf);
+  if (bm->base_from_vertex_color) base = v3_make(surf->color[0], surf->color[1], surf->color[2]); /* COLOR_0 */
   base = v3_make(fmaxf(base.x, 0.0f), fmaxf(base.y, 0.0f), fmaxf(base.z, 0.0f));
   b->albedo = v3_sat(base);
   if (bm->model == PB_MODEL_EMISSION || bm->model == PB_MODEL_HOLDOUT) {

@@ -306,7 +306,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->transmission = m->transmission;
     o->ior = m->ior;
     o->specular = m->specular;
-    o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0);
+    o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0) |
+               (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0);
     memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
     o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;

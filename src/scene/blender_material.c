@@ -471,6 +471,20 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
   }
   if (r != PB_OK) return r;
 
+  /* "vertexColor": the input a Color Attribute node drives, its colour the
+   * primitive's COLOR_0 (the writer puts the attribute there). */
+  const pb_gltf_value *vc = pb_gltf_value_get(ext, "vertexColor");
+  if (vc) {
+    const char *want = b->model == PB_MODEL_PRINCIPLED ? "baseColor" : b->model == PB_MODEL_DIFFUSE ? "color" : NULL;
+    if (vc->type != PB_GLTF_STRING)
+      return bad(&R, "vertexColor", "%s, expected the name of the input a Color Attribute drives",
+                 pb_gltf_value_type_name(vc));
+    if (!want || strcmp(vc->string, want) != 0)
+      return bad(&R, "vertexColor", "'%s': a colour attribute drives no such input of the %s model%s%s%s",
+                 vc->string, models[model], want ? " (only '" : "", want ? want : "", want ? "')" : " (none)");
+    b->base_from_vertex_color = 1;
+  }
+
   /* Viewport settings Cycles does not use (EEVEE's blend mode, clip
    * threshold, backface culling): checked, not used. Cycles renders Alpha
    * as fractional transparency whatever the blend mode. */

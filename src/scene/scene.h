@@ -96,6 +96,11 @@ typedef struct pb_blender_material {
   float subsurface_color[3];     /* linear RGB */
   int32_t subsurface_color_tex;  /* sRGB texels unless Non-Color */
   float normal_strength;         /* Normal Map node strength (normal_tex) */
+  /* The base colour (Principled Base Color, Diffuse Color) comes from a
+   * Color Attribute node: the primitive's COLOR_0 RGB replaces the constant
+   * and any texture, as a linked socket does in Cycles (extension member
+   * "vertexColor"; white where the primitive has no COLOR_0). */
+  int base_from_vertex_color;
 } pb_blender_material;
 
 /* glTF metallic-roughness with the extensions Blender writes. Each texture is

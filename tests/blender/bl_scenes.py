@@ -14,6 +14,13 @@ the folder after '--':
   instances.blend    a floor and a collection with one box, instanced three
                      times (collection instances) and once more through
                      geometry nodes' Instance on Points on a 4-vertex mesh
+  vcolor.blend       a floor, a light and two boxes whose base colour comes
+                     from colour attributes: a Principled BSDF fed by a Color
+                     Attribute node (byte colours on corners, (0.8, 0.1, 0.1))
+                     and a Diffuse BSDF fed by an Attribute node (float colours
+                     on points, (0.1, 0.2, 0.8)); a third box's material has no
+                     attribute node (its primitive gets no COLOR_0)
+  vcolor_ref.blend   the same with those colours as the sockets' constants
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -179,4 +186,41 @@ tree.links.new(info.outputs["Geometry"], inst.inputs["Instance"])
 tree.links.new(inst.outputs[0], gout.inputs[0])
 gn.node_group = tree
 save("instances.blend")
+
+
+def vcolor_scene(attrs):
+    reset()
+    floor()
+    light()
+    camera()
+    red, blue = (0.8, 0.1, 0.1), (0.1, 0.2, 0.8)
+    m1 = material("PaintedRed", red if not attrs else (0.8, 0.8, 0.8))
+    a = box("Painted", (-1.2, 0, 0.5), 0.5, m1)
+    m2 = bpy.data.materials.new("PaintedBlue")
+    m2.use_nodes = True
+    nt = m2.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (*blue, 1) if not attrs else (0.8, 0.8, 0.8, 1)
+    nt.links.new(d.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    b = box("Dyed", (1.2, 0, 0.5), 0.5, m2)
+    box("Plain", (0, 1.5, 0.5), 0.4, material("Plain", (0.7, 0.7, 0.2)))
+    if attrs:
+        ca = a.data.color_attributes.new("Paint", 'BYTE_COLOR', 'CORNER')
+        for e in ca.data:
+            e.color = (*red, 1)
+        node = m1.node_tree.nodes.new("ShaderNodeVertexColor")
+        node.layer_name = "Paint"
+        m1.node_tree.links.new(node.outputs["Color"], m1.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+        cb = b.data.color_attributes.new("Dye", 'FLOAT_COLOR', 'POINT')
+        for e in cb.data:
+            e.color = (*blue, 1)
+        at = nt.nodes.new("ShaderNodeAttribute")
+        at.attribute_name = "Dye"
+        nt.links.new(at.outputs["Color"], d.inputs["Color"])
+    save("vcolor.blend" if attrs else "vcolor_ref.blend")
+
+
+vcolor_scene(True)
+vcolor_scene(False)
 print("bl_scenes: saved into", out)

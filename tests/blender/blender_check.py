@@ -19,6 +19,10 @@ PHOTONBRIDGE_BIN):
                process left, no output, no temporary file;
   animation    `-a` of a 3-frame animation gives 3 different frames that
                follow the motion, frame by frame and as one sequence;
+  vcolor       colour attributes on the base colour (a Color Attribute node
+               into a Principled BSDF, an Attribute node into a Diffuse BSDF)
+               are written as COLOR_0 of those primitives only, and render as
+               the same colours given as the sockets' constants do;
   unsupported  a material with an untranslated node renders, with a warning
                naming the material and the node;
   badinput     a missing binary, no camera, no lights, only an empty mesh, a
@@ -492,6 +496,38 @@ def part_unsupported():
     r = img["channels"]["R"] if img else []
     mean = sum(r) / len(r) if r else 0.0
     check(mean > 0.2, "world-lit scene: lit (mean R %.3f > 0.2)" % mean)
+
+
+def part_vcolor():
+    scenes = fresh("vcolor_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    gltf = os.path.join(WORK, "vcolor.gltf")
+    ok, _ = write_with_addon(os.path.join(scenes, "vcolor.blend"), gltf)
+    check(ok, "the writer wrote vcolor.gltf")
+    if not ok:
+        return
+    j = json.load(open(gltf))
+    mats = {m["name"]: m for m in j["materials"]}
+    ext = lambda n: mats[n]["extensions"]["PHOTONBRIDGE_blender"]
+    check(ext("PaintedRed").get("vertexColor") == "baseColor" and ext("PaintedBlue").get("vertexColor") == "color"
+          and "vertexColor" not in ext("Plain"), "the extension names the input each attribute drives")
+    idx = {n: i for i, n in enumerate(m["name"] for m in j["materials"])}
+    with_col = sorted(j["materials"][p["material"]]["name"] for me in j["meshes"] for p in me["primitives"]
+                      if "COLOR_0" in p["attributes"])
+    check(with_col == ["PaintedBlue", "PaintedRed"], "COLOR_0 only on the painted primitives (%s)" % with_col)
+    means = {}
+    for name in ("vcolor", "vcolor_ref"):
+        d = fresh(name)
+        p = render_f12(d, os.path.join(scenes, name + ".blend"), QUICK, fmt="OPEN_EXR")
+        if name == "vcolor":
+            check("not translated" not in p.stdout, "no node is reported untranslated")
+        f = os.path.join(d, "f_0001.exr")
+        img = exr(f) if os.path.isfile(f) else None
+        means[name] = [sum(img["channels"][c]) / len(img["channels"][c]) for c in "RGB"] if img else [0, 0, 0]
+    a, b = means["vcolor"], means["vcolor_ref"]
+    worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(a, b))
+    check(worst <= 0.01, "the attributes render as the constants do: mean RGB %s against %s (largest %.2f %%)"
+          % (["%.4f" % x for x in a], ["%.4f" % x for x in b], 100 * worst))
 
 
 def part_badinput():

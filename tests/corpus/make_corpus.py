@@ -596,6 +596,15 @@ def broken_cases(C, png):
          blender({"model": "diffuse", "diffuse": {"roughness": -1}}))
     case("blender_emission_color_type", EXIT_INVALID, X + ".emission.color: an object, expected an array",
          blender({"model": "emission", "emission": {"color": {"r": 1}}}))
+    case("blender_vertex_color_input", EXIT_INVALID,
+         X + ".vertexColor: 'roughness': a colour attribute drives no such input of the principled model (only "
+         "'baseColor')", blender({"model": "principled", "vertexColor": "roughness"}))
+    case("blender_vertex_color_emission", EXIT_INVALID,
+         X + ".vertexColor: 'color': a colour attribute drives no such input of the emission model (none)",
+         blender({"model": "emission", "vertexColor": "color"}))
+    case("blender_vertex_color_type", EXIT_INVALID,
+         X + ".vertexColor: a boolean, expected the name of the input a Color Attribute drives",
+         blender({"model": "diffuse", "vertexColor": True}))
     case("blender_texture_oob", EXIT_INVALID, X + ".textures.baseColor.index: texture 7 does not exist",
          blender({"model": "principled", "textures": {"baseColor": {"index": 7}}}))
     case("blender_texture_index_float", EXIT_INVALID, X + ".textures.roughness.index: the number is not a texture index",

@@ -5,7 +5,9 @@ The surface shader reached from the active Material Output is read as it is:
 a Principled BSDF (every input of Blender 3.4's Principled v1), a Diffuse
 BSDF, an Emission shader or a Holdout. Image Texture nodes linked to an input
 (directly, through Separate RGB/Color for one channel, or through a Normal
-Map node) become glTF textures. Whatever else the tree holds is a warning
+Map node) become glTF textures; a Color Attribute node (or a Geometry
+Attribute node's Color) on the base colour becomes the primitives' COLOR_0
+and the extension's "vertexColor". Whatever else the tree holds is a warning
 naming the material and the node, and the input keeps its own value: a
 material is never refused.
 
@@ -101,6 +103,9 @@ class MaterialWriter:
         self.warn = warn
         self.cache = {}
         self.uses_normal_map = set()  # glTF material indices needing TANGENT
+        # glTF material index -> the colour attribute its base colour reads
+        # ('' for the mesh's render colour attribute), written as COLOR_0.
+        self.vertex_color = {}
 
     # ---- textures ----------------------------------------------------------------
 
@@ -157,6 +162,20 @@ class MaterialWriter:
                         % (name, _fmt(_value(socket))))
         return None
 
+    def _vertex_color_link(self, socket):
+        """The colour attribute a Color Attribute node (or an Attribute node
+        of type Geometry, its Color output) feeding `socket` reads: its name,
+        '' for the mesh's render colour attribute; None when none does."""
+        src = _source(socket)
+        if src is None or src.name != "Color":
+            return None
+        node = src.node
+        if node.type == 'VERTEX_COLOR':
+            return node.layer_name
+        if node.type == 'ATTRIBUTE' and node.attribute_type == 'GEOMETRY':
+            return node.attribute_name
+        return None
+
     def _texture_entry(self, link, color):
         """The extension's texture entry (and glTF texture index) for a link."""
         node, channel = link
@@ -185,7 +204,10 @@ class MaterialWriter:
             return self.cache[key]
         self.mat_name = mat.name if mat else "(none)"
         self._mat_warnings = []
+        self._vcol = None
         gm, ext = self._translate(mat, holdout)
+        if self._vcol is not None:
+            ext["vertexColor"] = "baseColor" if ext.get("model") == "principled" else "color"
         if self._mat_warnings:
             ext["warnings"] = self._mat_warnings
         gm["name"] = mat.name if mat else "default"
@@ -204,6 +226,8 @@ class MaterialWriter:
         index = self.doc.add_material(gm)
         if "normal" in ext.get("textures", {}):
             self.uses_normal_map.add(index)
+        if self._vcol is not None:
+            self.vertex_color[index] = self._vcol
         self.cache[key] = index
         return index
 
@@ -261,6 +285,14 @@ class MaterialWriter:
             if sock is None:
                 continue
             p[member] = _value(sock)
+            if member == "baseColor":
+                vcol = self._vertex_color_link(sock)
+                if vcol is not None:
+                    # Cycles: the linked socket's value is the attribute's;
+                    # glTF: baseColorFactor x COLOR_0, so a white factor.
+                    self._vcol = vcol
+                    p[member] = [1.0, 1.0, 1.0, 1.0]
+                    continue
             link = self._texture_link(sock, sock_name)
             if link is not None:
                 links[member] = link
@@ -395,7 +427,11 @@ class MaterialWriter:
     def _diffuse(self, node):
         color = _value(node.inputs["Color"])
         rough = _value(node.inputs["Roughness"])
-        link = self._texture_link(node.inputs["Color"], "Color")
+        vcol = self._vertex_color_link(node.inputs["Color"])
+        if vcol is not None:
+            self._vcol = vcol
+            color = [1.0, 1.0, 1.0, 1.0]
+        link = None if vcol is not None else self._texture_link(node.inputs["Color"], "Color")
         ext = {"model": "diffuse", "diffuse": {"color": color, "roughness": rough}}
         tex = {}
         if link is not None:

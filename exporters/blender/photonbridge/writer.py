@@ -206,17 +206,45 @@ def _rigid(m):
 class MeshData:
     """One evaluated mesh as glTF primitives (one per material slot used)."""
 
-    def __init__(self, positions, normals, uvs, tangents, indices_by_slot):
+    def __init__(self, positions, normals, uvs, tangents, indices_by_slot, colors=None):
         self.positions = positions  # (n, 3) float32, glTF axes
         self.normals = normals
         self.uvs = uvs              # (n, 2) or None
         self.tangents = tangents    # (n, 4) or None
+        self.colors = colors        # (n, 4) linear RGBA or None (COLOR_0)
         self.indices_by_slot = indices_by_slot  # slot -> (m, 3) uint32
         self.triangles = sum(len(i) for i in indices_by_slot.values())
 
 
-def read_mesh(mesh, want_tangents, warn, name):
-    """Loop triangles of `mesh` with numpy: merged vertices in glTF axes."""
+def _color_attribute(mesh, want, warn, name):
+    """Colour attribute `want` of `mesh` ('' for its render colour attribute)
+    as (loops, 4) linear RGBA, or None (with a warning) when it has none."""
+    attrs = getattr(mesh, "color_attributes", None)
+    layer = None
+    if attrs is not None and len(attrs):
+        if want:
+            layer = attrs.get(want)
+        else:
+            i = attrs.render_color_index
+            layer = attrs[i] if 0 <= i < len(attrs) else attrs[0]
+    if layer is None or layer.domain not in ('POINT', 'CORNER'):
+        warn("mesh '%s': a material reads colour attribute '%s', which the mesh %s; white is used"
+             % (name, want or "(render)", "lacks" if layer is None else "has on the %s domain" % layer.domain))
+        return None
+    c = np.empty(len(layer.data) * 4, np.float32)
+    layer.data.foreach_get("color", c)  # linear for byte and float colours alike
+    c = c.reshape(-1, 4)
+    if layer.domain == 'POINT':
+        loop_vert = np.empty(len(mesh.loops), np.int32)
+        mesh.loops.foreach_get("vertex_index", loop_vert)
+        c = c[loop_vert]
+    return c
+
+
+def read_mesh(mesh, want_tangents, warn, name, want_color=None):
+    """Loop triangles of `mesh` with numpy: merged vertices in glTF axes
+    (want_color: the colour attribute to read as COLOR_0, '' for the render
+    one, None for none)."""
     mesh.calc_loop_triangles()
     n_tri = len(mesh.loop_triangles)
     if n_tri == 0:
@@ -262,6 +290,9 @@ def read_mesh(mesh, want_tangents, warn, name):
                 cols.append(tangent)
             except RuntimeError as e:
                 warn("mesh '%s': tangents failed (%s); photonbridge derives them from the UVs" % (name, e))
+    color = _color_attribute(mesh, want_color, warn, name) if want_color is not None else None
+    if color is not None:
+        cols.append(color)
     attr = np.ascontiguousarray(np.concatenate(cols, axis=1), dtype=np.float32)
     # Merge loops whose attributes are bit-identical into one vertex (the
     # corners glTF shares): sort the loops by vertex index, then by a hash of
@@ -301,10 +332,14 @@ def read_mesh(mesh, want_tangents, warn, name):
         t3[~ok] = (1.0, 0.0, 0.0)
         w = np.where(verts[:, c + 3] < 0, -1.0, 1.0).astype(np.float32)
         tan = np.concatenate([t3, w[:, None]], axis=1)
+        c += 4
+    colors = None
+    if color is not None:
+        colors = np.clip(verts[:, c:c + 4], 0.0, None).astype(np.float32)
     by_slot = {}
     for slot in np.unique(tri_mat):
         by_slot[int(slot)] = np.ascontiguousarray(idx[tri_mat == slot])
-    return MeshData(pos, n, uvs, tan, by_slot)
+    return MeshData(pos, n, uvs, tan, by_slot, colors)
 
 
 class SceneWriter:
@@ -353,6 +388,10 @@ class SceneWriter:
     def _mesh_data(self, obj, mats, holdout):
         gltf_mats = [self.mats.material(m, holdout) for m in mats]
         want_tan = any(i in self.mats.uses_normal_map for i in gltf_mats)
+        vcols = sorted({self.mats.vertex_color[i] for i in gltf_mats if i in self.mats.vertex_color})
+        if len(vcols) > 1:
+            self.warn("object '%s': its materials read colour attributes %s; '%s' is written for all"
+                      % (obj.name, ", ".join("'%s'" % v for v in vcols), vcols[0]))
         try:
             mesh = obj.to_mesh(preserve_all_data_layers=False, depsgraph=self.dg)
         except RuntimeError as e:
@@ -361,7 +400,7 @@ class SceneWriter:
         if mesh is None:
             return None
         try:
-            data = read_mesh(mesh, want_tan, self.warn, obj.name)
+            data = read_mesh(mesh, want_tan, self.warn, obj.name, vcols[0] if vcols else None)
         finally:
             obj.to_mesh_clear()
         if data is None:
@@ -392,11 +431,19 @@ class SceneWriter:
         if tan is not None:
             attrs["TANGENT"] = self.doc.accessor(tan, "VEC4")
         small = len(pos) < 65536
+        color_acc = None
         prims = []
         for slot, idx in sorted(data.indices_by_slot.items()):
             mi = data.gltf_materials[min(slot, len(data.gltf_materials) - 1)]
             ind = idx.ravel().astype(np.uint16 if small else np.uint32)
-            prims.append({"attributes": attrs, "indices": self.doc.accessor(ind, "SCALAR", target=34963),
+            pa = attrs
+            if data.colors is not None and mi in self.mats.vertex_color:
+                # COLOR_0 only where the material reads it: glTF multiplies
+                # every material's base colour by it.
+                if color_acc is None:
+                    color_acc = self.doc.accessor(data.colors, "VEC4")
+                pa = dict(attrs, COLOR_0=color_acc)
+            prims.append({"attributes": pa, "indices": self.doc.accessor(ind, "SCALAR", target=34963),
                           "material": mi, "mode": 4})
         self.doc.j["meshes"].append({"name": name, "primitives": prims})
         self.report.meshes += 1
