@@ -242,6 +242,12 @@ class MaterialWriter:
                  "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": mat.diffuse_color[3]}
             return self._principled_plain(p, {}), {"model": "principled", "principled": p}
         out = active_output(mat.node_tree)
+        if out is not None:
+            # What photonbridge does not render is said, not dropped silently.
+            for sock, what in (("Volume", "a volume shader"), ("Displacement", "displacement")):
+                s = out.inputs.get(sock)
+                if s is not None and _source(s) is not None:
+                    self.warn_material("%s on the Material Output is not rendered" % what)
         shader = _source(out.inputs["Surface"]) if out else None
         node = shader.node if shader else None
         while node is not None and node.type in ('MIX_SHADER', 'ADD_SHADER'):

@@ -404,7 +404,12 @@ class SceneWriter:
         finally:
             obj.to_mesh_clear()
         if data is None:
-            self.warn("object '%s': its mesh has no faces; left out" % obj.name)
+            if any(m.type == 'NODES' and m.show_render for m in getattr(obj, "modifiers", ())):
+                # Geometry nodes that output instances only: the instances
+                # come as instances of their own, nothing is lost.
+                self.note("object '%s': no faces of its own (geometry-node instances only)" % obj.name)
+            else:
+                self.warn("object '%s': its mesh has no faces; left out" % obj.name)
         else:
             data.gltf_materials = gltf_mats
         return data
@@ -678,10 +683,22 @@ class SceneWriter:
     def collect(self):
         """Every instance, light and the camera, at the depsgraph's frame."""
         cam = self.camera or self.scene.camera
+        if self.scene.render.use_motion_blur:
+            self.warn("scene '%s': motion blur is not rendered (each frame is an instant)" % self.scene.name)
         for inst in self.dg.object_instances:
             obj = inst.object
             if obj.type in GEOMETRY_TYPES:
-                self._instance(inst, obj)
+                # show_self: the instancer's own geometry (hidden when its
+                # "Show Instancer for Render" or a particle emitter's is off,
+                # as Cycles' sync skips it); show_particles: its particles.
+                if getattr(inst, "show_self", True):
+                    self._instance(inst, obj)
+                if not inst.is_instance and getattr(inst, "show_particles", True):
+                    for ps in getattr(obj, "particle_systems", ()):
+                        st = ps.settings
+                        if st.type == 'HAIR' and st.render_type == 'PATH':
+                            self.warn("object '%s': hair of particle system '%s' is not rendered (strands); "
+                                      "set Render As to Object or Collection for instances" % (obj.name, ps.name))
             elif obj.type == 'LIGHT':
                 self._light(inst, obj)
             elif obj.type in ('CURVES', 'POINTCLOUD', 'VOLUME', 'GPENCIL'):
