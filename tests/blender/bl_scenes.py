@@ -21,6 +21,11 @@ the folder after '--':
                      on points, (0.1, 0.2, 0.8)); a third box's material has no
                      attribute node (its primitive gets no COLOR_0)
   vcolor_ref.blend   the same with those colours as the sockets' constants
+  groups.blend       two boxes whose Principled BSDFs sit inside node groups:
+                     one group exposing Base Color and Roughness (set on the
+                     group node), one group nesting that group and exposing
+                     its colour again, through a reroute
+  groups_ref.blend   the same Principled BSDFs with those values, no groups
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -223,4 +228,73 @@ def vcolor_scene(attrs):
 
 vcolor_scene(True)
 vcolor_scene(False)
+
+
+def pbr_group():
+    g = bpy.data.node_groups.new("PBR", 'ShaderNodeTree')
+    g.inputs.new('NodeSocketColor', "Color")
+    g.inputs.new('NodeSocketFloatFactor', "Rough")
+    g.outputs.new('NodeSocketShader', "BSDF")
+    gi, go = g.nodes.new("NodeGroupInput"), g.nodes.new("NodeGroupOutput")
+    b = g.nodes.new("ShaderNodeBsdfPrincipled")
+    b.inputs["Specular"].default_value = 0.3
+    g.links.new(gi.outputs["Color"], b.inputs["Base Color"])
+    g.links.new(gi.outputs["Rough"], b.inputs["Roughness"])
+    g.links.new(b.outputs[0], go.inputs["BSDF"])
+    return g
+
+
+def grouped(name, color, rough, nested):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    pbr = bpy.data.node_groups.get("PBR") or pbr_group()
+    if nested:
+        w = bpy.data.node_groups.new("Wrap", 'ShaderNodeTree')
+        w.inputs.new('NodeSocketColor', "Tint")
+        w.outputs.new('NodeSocketShader', "Shader")
+        wi, wo = w.nodes.new("NodeGroupInput"), w.nodes.new("NodeGroupOutput")
+        inner = w.nodes.new("ShaderNodeGroup")
+        inner.node_tree = pbr
+        inner.inputs["Rough"].default_value = rough
+        rr = w.nodes.new("NodeReroute")
+        w.links.new(wi.outputs["Tint"], rr.inputs[0])
+        w.links.new(rr.outputs[0], inner.inputs["Color"])
+        w.links.new(inner.outputs["BSDF"], wo.inputs["Shader"])
+        node = nt.nodes.new("ShaderNodeGroup")
+        node.node_tree = w
+        node.inputs["Tint"].default_value = (*color, 1)
+        out = node.outputs["Shader"]
+    else:
+        node = nt.nodes.new("ShaderNodeGroup")
+        node.node_tree = pbr
+        node.inputs["Color"].default_value = (*color, 1)
+        node.inputs["Rough"].default_value = rough
+        out = node.outputs["BSDF"]
+    nt.links.new(out, nt.nodes["Material Output"].inputs["Surface"])
+    return m
+
+
+def plain(name, color, rough):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    b = m.node_tree.nodes["Principled BSDF"]
+    b.inputs["Base Color"].default_value = (*color, 1)
+    b.inputs["Roughness"].default_value = rough
+    b.inputs["Specular"].default_value = 0.3
+    return m
+
+
+for ref in (False, True):
+    reset()
+    floor()
+    light()
+    camera()
+    make = plain if ref else (lambda n, c, r, nested: grouped(n, c, r, nested))
+    a = (0.1, 0.7, 0.2), 0.35
+    b = (0.8, 0.3, 0.1), 0.6
+    box("GroupA", (-1.2, 0, 0.5), 0.5, plain("A", *a) if ref else grouped("A", *a, False))
+    box("GroupB", (1.2, 0, 0.5), 0.5, plain("B", *b) if ref else grouped("B", *b, True))
+    save("groups_ref.blend" if ref else "groups.blend")
 print("bl_scenes: saved into", out)

@@ -23,6 +23,9 @@ PHOTONBRIDGE_BIN):
                into a Principled BSDF, an Attribute node into a Diffuse BSDF)
                are written as COLOR_0 of those primitives only, and render as
                the same colours given as the sockets' constants do;
+  groups       Principled BSDFs inside node groups (exposed inputs set on the
+               group node, a nested group, a reroute) render as the same
+               BSDFs without groups, with no warning;
   unsupported  a material with an untranslated node renders, with a warning
                naming the material and the node;
   badinput     a missing binary, no camera, no lights, only an empty mesh, a
@@ -527,6 +530,25 @@ def part_vcolor():
     a, b = means["vcolor"], means["vcolor_ref"]
     worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(a, b))
     check(worst <= 0.01, "the attributes render as the constants do: mean RGB %s against %s (largest %.2f %%)"
+          % (["%.4f" % x for x in a], ["%.4f" % x for x in b], 100 * worst))
+
+
+def part_groups():
+    scenes = fresh("groups_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    means = {}
+    for name in ("groups", "groups_ref"):
+        d = fresh(name)
+        p = render_f12(d, os.path.join(scenes, name + ".blend"), QUICK, fmt="OPEN_EXR")
+        if name == "groups":
+            check("not translated" not in p.stdout and "grey Principled" not in p.stdout,
+                  "no node is reported untranslated")
+        f = os.path.join(d, "f_0001.exr")
+        img = exr(f) if os.path.isfile(f) else None
+        means[name] = [sum(img["channels"][c]) / len(img["channels"][c]) for c in "RGB"] if img else [0, 0, 0]
+    a, b = means["groups"], means["groups_ref"]
+    worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(a, b))
+    check(worst <= 0.01, "the grouped BSDFs render as the plain ones: mean RGB %s against %s (largest %.2f %%)"
           % (["%.4f" % x for x in a], ["%.4f" % x for x in b], 100 * worst))
 
 

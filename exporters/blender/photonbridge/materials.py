@@ -7,7 +7,9 @@ BSDF, an Emission shader or a Holdout. Image Texture nodes linked to an input
 (directly, through Separate RGB/Color for one channel, or through a Normal
 Map node) become glTF textures; a Color Attribute node (or a Geometry
 Attribute node's Color) on the base colour becomes the primitives' COLOR_0
-and the extension's "vertexColor". Whatever else the tree holds is a warning
+and the extension's "vertexColor". Node groups are read through (a socket
+inside a group that a Group Input drives takes the group node's input, linked
+or not) and so are reroutes. Whatever else the tree holds is a warning
 naming the material and the node, and the input keeps its own value: a
 material is never refused.
 
@@ -51,8 +53,66 @@ NEAREST, LINEAR, LINEAR_MIPMAP_LINEAR = 9728, 9729, 9987
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
 
 
+# Group nodes entered while the current material is read (innermost last):
+# a Group Input inside a group tree stands for the input of the group node it
+# was entered through. Reset per material (reset_groups); the same group used
+# twice in one material with different inputs reads the last one entered.
+_GROUPS = []
+
+
+def reset_groups():
+    del _GROUPS[:]
+
+
+def _outer_input(group_input_socket):
+    """The group node input a Group Input node's output stands for, or None."""
+    tree = group_input_socket.id_data
+    for g in reversed(_GROUPS):
+        if g.node_tree == tree:
+            for s in g.inputs:
+                if s.identifier == group_input_socket.identifier:
+                    return s
+    return None
+
+
+def _follow(socket):
+    """(output socket feeding `socket`, value socket): through reroutes,
+    into group nodes (to their Group Output's input) and out through Group
+    Input nodes (to the group node's input). The output is None when
+    nothing drives it; the value socket holds its default_value then (the
+    group node's input for an unlinked exposed input)."""
+    value = socket
+    for _ in range(256):  # bounded: a malformed tree never hangs the writer
+        if not socket.is_linked:
+            return None, value
+        link = socket.links[0]
+        if link.is_muted:
+            return None, value
+        node = link.from_node
+        if node.type == 'REROUTE':
+            socket = node.inputs[0]
+            continue
+        if node.type == 'GROUP' and node.node_tree is not None and not node.mute:
+            out = next((n for n in node.node_tree.nodes if n.type == 'GROUP_OUTPUT' and n.is_active_output), None) \
+                or next((n for n in node.node_tree.nodes if n.type == 'GROUP_OUTPUT'), None)
+            inner = next((i for i in out.inputs if i.identifier == link.from_socket.identifier), None) if out else None
+            if inner is None:
+                return None, value
+            _GROUPS.append(node)
+            socket = value = inner
+            continue
+        if node.type == 'GROUP_INPUT':
+            outer = _outer_input(link.from_socket)
+            if outer is None:
+                return None, value
+            socket = value = outer
+            continue
+        return link.from_socket, value
+    return None, value
+
+
 def _value(socket):
-    v = socket.default_value
+    v = _follow(socket)[1].default_value
     try:
         return [float(x) for x in v]
     except TypeError:
@@ -60,21 +120,9 @@ def _value(socket):
 
 
 def _source(socket):
-    """The output socket feeding `socket`, through reroutes (None when
-    unlinked or muted)."""
-    if not socket.is_linked:
-        return None
-    link = socket.links[0]
-    while True:
-        if link.is_muted:
-            return None
-        node = link.from_node
-        if node.type == 'REROUTE':
-            if not node.inputs[0].is_linked:
-                return None
-            link = node.inputs[0].links[0]
-            continue
-        return link.from_socket
+    """The output socket feeding `socket`, through reroutes and node groups
+    (None when unlinked or muted)."""
+    return _follow(socket)[0]
 
 
 def active_output(tree):
@@ -204,6 +252,7 @@ class MaterialWriter:
             return self.cache[key]
         self.mat_name = mat.name if mat else "(none)"
         self._mat_warnings = []
+        reset_groups()
         self._vcol = None
         gm, ext = self._translate(mat, holdout)
         if self._vcol is not None:
@@ -345,7 +394,7 @@ class MaterialWriter:
                     strength = node.inputs["Strength"]
                     if _source(strength) is not None:
                         self._warn_node(node, "a linked Strength is not translated")
-                    return img, float(strength.default_value)
+                    return img, float(_value(strength))
             elif col is not None:
                 self._warn_node(col.node, "drives the Normal Map's Color and is not translated")
             return None
