@@ -65,7 +65,7 @@ typedef struct run {
   uint32_t fif;
   uint64_t keep; /* keep_planes */
   uint64_t bytes[FRAMES], ring[FRAMES], kept[FRAMES];
-  double wall[FRAMES];
+  double wall[FRAMES], gpu[FRAMES]; /* frame_wall_ms, frame_gpu_ms (printed only) */
   int got_mode[FRAMES], got[FRAMES];
   uint64_t nonfinite[FRAMES], stored[FRAMES];
   double k_pd[FRAMES];
@@ -93,6 +93,7 @@ static void record(pb_gpu *g, pb_present_pass *pass, run *u, pb_render_result *r
   u->ring[k] = res->stats.ring_bytes;
   u->kept[k] = res->gpu.kept;
   u->wall[k] = res->stats.frame_wall_ms;
+  u->gpu[k] = res->stats.frame_gpu_ms;
   u->got_mode[k] = res->stats.readback_mode;
   u->nonfinite[k] = res->stats.nonfinite_values;
   u->stored[k] = res->stats.photons_stored;
@@ -194,19 +195,20 @@ int main(void) {
   printf("cornell_box %ux%u, 2^14 photons, 1 spp, temporal + 2 A-Trous, frames 0-1 still, 2-3 moving\n", fx.w, fx.h);
   for (int m = 0; m < MODES; ++m) {
     const run *u = &runs[m];
-    double bytes = 0, wall = 0;
+    double bytes = 0, wall = 0, gpu = 0;
     uint32_t got = 0;
     for (int k = 0; k < FRAMES; ++k) {
       CHECK(u->got[k]);
       if (!u->got[k]) continue;
-      printf("  %-11s frame %d: readback %9llu bytes (%.1f B/px), ring %9llu bytes (%.1f B/px), wall %8.2f ms, mode %d\n",
+      printf("  %-11s frame %d: readback %9llu bytes (%.1f B/px), ring %9llu bytes (%.1f B/px), wall %8.2f ms, "
+             "gpu %8.2f ms, mode %d\n",
              u->name, k, (unsigned long long)u->bytes[k], (double)u->bytes[k] / (double)n,
-             (unsigned long long)u->ring[k], (double)u->ring[k] / (double)n, u->wall[k], u->got_mode[k]);
-      if (k > 0) bytes += (double)u->bytes[k], wall += u->wall[k], got++;
+             (unsigned long long)u->ring[k], (double)u->ring[k] / (double)n, u->wall[k], u->gpu[k], u->got_mode[k]);
+      if (k > 0) bytes += (double)u->bytes[k], wall += u->wall[k], gpu += u->gpu[k], got++;
     }
     if (got)
-      printf("  %-10s mean of frames 1-%d: %.0f bytes a frame, %.2f ms a frame\n", u->name, FRAMES - 1, bytes / got,
-             wall / got);
+      printf("  %-11s mean of frames 1-%d: %.0f bytes a frame, wall %.2f ms, gpu %.2f ms a frame\n", u->name,
+             FRAMES - 1, bytes / got, wall / got, gpu / got);
   }
   for (int m = 1; m < MODES; ++m) {
     const run *u = &runs[m];
