@@ -213,7 +213,8 @@
 #define PB_RESOLVE_BIND_OUT 3           /* float planes */
 #define PB_RESOLVE_BIND_GUARD 4         /* uint: non-finite values replaced */
 #define PB_RESOLVE_BIND_OUT_PHOTONS 5   /* float planes of the photon AOVs */
-#define PB_RESOLVE_BIND_COUNT 6
+#define PB_RESOLVE_BIND_KPD_SUMS 6      /* pb_gpu_resolve_kpd: k_PD's two sums over the frame */
+#define PB_RESOLVE_BIND_COUNT 7
 
 /* ---- present.comp (shared/pb_present.h): the viewer's picture -------------- */
 #define PB_PRESENT_BIND_LUT 0   /* vec4 nodes of the baked view (color.h pb_color_lut) */

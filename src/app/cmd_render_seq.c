@@ -203,6 +203,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   pb_json_int(j, "upload_bytes", (int64_t)st->upload_bytes);
   pb_json_int(j, "download_bytes", (int64_t)st->download_bytes);
   pb_json_int(j, "readback_bytes", (int64_t)st->readback_bytes);
+  pb_json_int(j, "ring_bytes", (int64_t)st->ring_bytes);
   pb_json_end_object(j);
   pb_json_begin_object(j, "passes_ms");
   pb_json_number(j, "pose", f->info.pose_ms);

@@ -22,6 +22,7 @@
 #include "render/filters.h"
 #include "render/shading_correction.h"
 #include "shared/pb_photon.h"
+#include "shared/pb_resolve.h"
 #include "render/render.h"
 #include "scene/camera.h"
 
@@ -307,6 +308,11 @@ static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *f
       st->estimator_stats[st->estimator_stat_count++] = us[i];
   }
   if ((r = pb_readback_guard(g, tg, &st->nonfinite_values)) != PB_OK) return r;
+  /* A lean readback reads no k_PD plane: the resolve's sums (16 bytes),
+   * here, before the next frame zeroes them (a frame in flight: settled). */
+  if (ft->photons_on && ft->readback != PB_RENDER_READBACK_ALL &&
+      (r = pb_readback_kpd(g, tg, &ft->k_sum, &ft->hit_sum)) != PB_OK)
+    return r;
   st->readback_mode = ft->readback;
   if (!ft->post_gpu && ft->readback == PB_RENDER_READBACK_ALL) {
     /* The host path (several bands, the host reference): the same filters
@@ -388,6 +394,19 @@ pb_result pb_render_result_read_gpu(pb_gpu *g, pb_render_result *r) {
   if (r->stats.readback_mode == PB_RENDER_READBACK_ALL) return PB_OK; /* all on the host already */
   if (r->pending || !r->gpu.planes)
     return pb_fail(PB_ERR_INTERNAL, "render: the frame's planes are not on the GPU to read");
+  /* A frame in flight's ring slot holds what its lean readback read and
+   * pb_render_desc.keep_planes: every AOV needs every plane. */
+  uint64_t need = PB_RENDER_KEEP(PB_RESOLVE_BEAUTY) | PB_RENDER_KEEP(PB_RESOLVE_DIRECT) |
+                  PB_RENDER_KEEP(PB_RESOLVE_ALBEDO) | PB_RENDER_KEEP(PB_RESOLVE_NORMAL) |
+                  PB_RENDER_KEEP(PB_RESOLVE_DEPTH) | PB_RENDER_KEEP(PB_RESOLVE_MATERIAL) |
+                  PB_RENDER_KEEP(PB_RESOLVE_EMISSION);
+  if (r->gpu.photons) need |= PB_RENDER_KEEP(PB_RESOLVE_INDIRECT) | PB_RENDER_KEEP(PB_RESOLVE_CAUSTIC);
+  if (r->gpu.nmap && r->gpu.nmap_aovs)
+    need |= PB_RENDER_KEEP(PB_RESOLVE_GEO_NORMAL) | PB_RENDER_KEEP(PB_RESOLVE_PHOTON_DIR) |
+            PB_RENDER_KEEP(PB_RESOLVE_SHADING_NORMAL);
+  if ((r->gpu.kept & need) != need)
+    return pb_fail(PB_ERR_INTERNAL, "render: a frame in flight with a lean readback kept only some planes "
+                                    "(pb_render_desc.keep_planes): its AOVs cannot be read");
   size_t n = r->gpu.pixels;
   float **arr[] = {&r->beauty, &r->direct, &r->albedo, &r->normal, &r->depth, &r->material, &r->emission,
                    &r->indirect, &r->caustic};
@@ -630,6 +649,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   frame_tail ft;
   memset(&ft, 0, sizeof ft);
   if ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK) goto fail;
+  if ((r = pb_gpu_buffer_fill_zero(g, &tg.kpd)) != PB_OK) goto fail;
+  uint64_t ring_kept = PB_RENDER_KEEP_ALL;
 
   for (uint32_t band = 0; band < bands; ++band) {
     uint32_t row0 = band * band_rows;
@@ -774,7 +795,8 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     pb_gpu_timestamp(g, ++slot);
     if (defer) { /* after the last timestamp: the download is not a pass */
       pb_gpu_barrier(g);
-      pb_readback_ring_record(g, &tg, ring_slot, pixels);
+      ring_kept = pb_readback_ring_record(g, &tg, ring_slot, pixels, readback, desc.keep_planes,
+                                          &out->stats.ring_bytes);
     }
     pb_result rs = defer ? pb_gpu_submit_async(g) : pb_gpu_submit(g);
     if (r == PB_OK) r = rs;
@@ -797,6 +819,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     out->gpu.planes = defer ? &ctx->tg.ring[ring_slot][0] : &ctx->tg.planes;
     out->gpu.pplanes = !tg.photons ? NULL : defer ? &ctx->tg.ring[ring_slot][1] : &ctx->tg.pplanes;
     out->gpu.pixels = (uint32_t)n, out->gpu.channels = tg.channels;
+    out->gpu.kept = defer ? ring_kept : PB_RENDER_KEEP_ALL;
     out->gpu.photons = tg.photons, out->gpu.nmap = tg.nmap, out->gpu.nmap_aovs = nmap_aovs;
   }
   ft.pixels = (uint32_t)n, ft.spp_run = spp_run, ft.iters_run = iters_run, ft.emitter_count = fr.emitter_count;

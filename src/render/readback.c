@@ -112,24 +112,16 @@ static pb_result read_band(pb_gpu *g, const pb_frame_targets *t, const pb_gpu_bu
   pb_result r;
   if (!host && mode != PB_RENDER_READBACK_ALL) {
     /* A lean readback (render.h pb_render_desc.readback): the beauty plane
-     * alone (serve) or none, and the k_PD plane's sums for the statistics;
-     * the rest stays on the GPU (out->gpu). */
+     * alone (serve) or none; k_PD's sums come from the resolve's reduction
+     * (pb_readback_kpd), not the plane; the rest stays on the GPU
+     * (out->gpu). */
     r = PB_OK;
     if (mode == PB_RENDER_READBACK_BEAUTY && out->beauty) {
       r = host_view_at(g, planes, (uint64_t)PB_RESOLVE_BEAUTY * pixels * sizeof(float),
                        (uint64_t)pixels * 4 * sizeof(float), &scratch, &view);
       if (r == PB_OK) memcpy(out->beauty + pixel_base * 4, view, (size_t)pixels * 4 * sizeof(float));
     }
-    if (r == PB_OK && t->photons) {
-      r = host_view_at(g, pplanes, ((uint64_t)PB_RESOLVE_KPD - PB_RESOLVE_BASE_CHANNELS) * pixels * sizeof(float),
-                       (uint64_t)pixels * 2 * sizeof(float), &scratch2, &view2);
-      if (r == PB_OK) {
-        const float *kp = view2;
-        for (uint32_t i = 0; i < pixels; ++i) *k_sum += kp[2 * i], *hit_sum += kp[2 * i + 1];
-      }
-    }
     free(scratch);
-    free(scratch2);
     return r;
   }
   if (host) {
@@ -205,11 +197,55 @@ pb_result pb_readback_planes(pb_gpu *g, const pb_render_gpu_planes *p, pb_render
                    p->nmap_aovs, out, &k, &h);
 }
 
-void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels) {
-  pb_gpu_copy(g, &t->planes, 0, &t->ring[slot][0], 0, (uint64_t)pixels * PB_RESOLVE_BASE_CHANNELS * sizeof(float));
-  if (t->photons)
-    pb_gpu_copy(g, &t->pplanes, 0, &t->ring[slot][1], 0,
-                (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float));
+/* The planes of shared/pb_resolve.h: offset (floats per pixel) and channels. */
+static const struct { uint32_t plane, ch; } k_planes[] = {
+    {PB_RESOLVE_BEAUTY, 4},   {PB_RESOLVE_DIRECT, 3},      {PB_RESOLVE_ALBEDO, 3},     {PB_RESOLVE_NORMAL, 3},
+    {PB_RESOLVE_DEPTH, 1},    {PB_RESOLVE_MATERIAL, 1},    {PB_RESOLVE_EMISSION, 3},   {PB_RESOLVE_INDIRECT, 3},
+    {PB_RESOLVE_CAUSTIC, 3},  {PB_RESOLVE_KPD, 2},         {PB_RESOLVE_GEO_NORMAL, 3}, {PB_RESOLVE_PHOTON_DIR, 3},
+    {PB_RESOLVE_SHADING_NORMAL, 4}};
+
+uint64_t pb_readback_ring_planes(int mode, uint64_t keep) {
+  if (mode == PB_RENDER_READBACK_ALL) return PB_RENDER_KEEP_ALL;
+  return (mode == PB_RENDER_READBACK_BEAUTY ? PB_RENDER_KEEP(PB_RESOLVE_BEAUTY) : 0) | keep;
+}
+
+uint64_t pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels, int mode,
+                                 uint64_t keep, uint64_t *bytes) {
+  uint64_t want = pb_readback_ring_planes(mode, keep);
+  *bytes = 0;
+  if (want == PB_RENDER_KEEP_ALL) { /* every plane, as two copies */
+    pb_gpu_copy(g, &t->planes, 0, &t->ring[slot][0], 0, (uint64_t)pixels * PB_RESOLVE_BASE_CHANNELS * sizeof(float));
+    *bytes = (uint64_t)pixels * t->channels * sizeof(float);
+    if (t->photons)
+      pb_gpu_copy(g, &t->pplanes, 0, &t->ring[slot][1], 0,
+                  (uint64_t)pixels * (t->channels - PB_RESOLVE_BASE_CHANNELS) * sizeof(float));
+    return want;
+  }
+  /* A lean readback: the planes it reads (the beauty or none) and those the
+   * caller keeps, each where it lies in the planes. */
+  uint64_t got = 0;
+  for (size_t k = 0; k < sizeof k_planes / sizeof *k_planes; ++k) {
+    uint32_t p = k_planes[k].plane;
+    if (!(want & PB_RENDER_KEEP(p)) || p >= t->channels) continue;
+    int second = p >= PB_RESOLVE_BASE_CHANNELS;
+    uint64_t off = (uint64_t)(second ? p - PB_RESOLVE_BASE_CHANNELS : p) * pixels * sizeof(float);
+    pb_gpu_copy(g, second ? &t->pplanes : &t->planes, off, &t->ring[slot][second], off,
+                (uint64_t)pixels * k_planes[k].ch * sizeof(float));
+    *bytes += (uint64_t)pixels * k_planes[k].ch * sizeof(float);
+    got |= PB_RENDER_KEEP(p);
+  }
+  return got;
+}
+
+pb_result pb_readback_kpd(pb_gpu *g, const pb_frame_targets *t, double *k_sum, double *hit_sum) {
+  pb_gpu_resolve_kpd s;
+  pb_result r = pb_gpu_buffer_read_back(g, &t->kpd, 0, &s, sizeof s);
+  if (r != PB_OK) return r;
+  /* 64-bit fixed point (shared/pb_resolve.h): exact in a double below 2^53. */
+  double scale = 1.0 / (double)(1u << PB_RESOLVE_KPD_FRAC_BITS);
+  *k_sum = ((double)s.photons_hi * 4294967296.0 + (double)s.photons_lo) * scale;
+  *hit_sum = ((double)s.hits_hi * 4294967296.0 + (double)s.hits_lo) * scale;
+  return PB_OK;
 }
 
 pb_result pb_readback_ring(pb_gpu *g, const pb_frame_targets *t, int mode, uint32_t slot, uint32_t pixels,

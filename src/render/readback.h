@@ -17,9 +17,10 @@
 #include "render/temporal.h"
 
 /* mode (PB_RENDER_READBACK_*, render.h): ALL reads what follows; BEAUTY
- * the beauty plane alone into out->beauty, STATS no plane; both then read
- * only the k_PD plane (8 bytes a pixel) for k_sum and hit_sum, the other
- * arrays left alone (the host resolve of the tests always reads all).
+ * the beauty plane alone into out->beauty, STATS no plane; neither reads
+ * the k_PD plane nor adds to k_sum and hit_sum (the resolve's reduction
+ * has them: pb_readback_kpd), the other arrays left alone (the host
+ * resolve of the tests always reads all).
  * The resolved band (pixels at pixel_base of an image of n pixels) into
  * out's arrays (allocated by the caller: beauty .. emission, and indirect,
  * caustic with photons); with nmap_aovs also geo_normal, photon_dir and
@@ -36,7 +37,21 @@ pb_result pb_readback_band(pb_gpu *g, const pb_frame_targets *t, int mode, uint3
  * planes into ring slot `slot` (targets.h; pb_frame_targets_ring made it).
  * On a discrete GPU this copy is the download, made by the GPU while the
  * host works; on a CPU device it is a memcpy the driver's threads make. */
-void pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels);
+/* What is copied: with mode ALL every plane (as before the lean modes),
+ * else only what the readback of `mode` reads (BEAUTY: the beauty plane,
+ * STATS: none) and the planes in keep (pb_render_desc.keep_planes).
+ * Returns the planes copied (PB_RENDER_KEEP bits, PB_RENDER_KEEP_ALL),
+ * *bytes the bytes. */
+uint64_t pb_readback_ring_record(pb_gpu *g, const pb_frame_targets *t, uint32_t slot, uint32_t pixels, int mode,
+                                 uint64_t keep, uint64_t *bytes);
+/* The planes pb_readback_ring_record copies for mode and keep. */
+uint64_t pb_readback_ring_planes(int mode, uint64_t keep);
+/* k_PD's sums over the frame, from the resolve's reduction (targets.kpd,
+ * shared/pb_resolve.h pb_gpu_resolve_kpd; 16 bytes): photons gathered and
+ * samples that hit, as the k_PD plane's sums (exact: they are counts).
+ * Read once the frame's last submission finished, before the next frame
+ * zeroes them. */
+pb_result pb_readback_kpd(pb_gpu *g, const pb_frame_targets *t, double *k_sum, double *hit_sum);
 /* pb_readback_band from ring slot `slot` (one band, the whole image)
  * instead of the planes, without waiting for a pending submission (which
  * writes the planes and the other slot, never this one). */

@@ -252,6 +252,14 @@ typedef struct pb_render_desc {
    * (stats.readback_mode says what was). The arrays not read are NULL;
    * pb_render_result_read_gpu fetches them later, while the planes last. */
   int readback;
+  /* Frames in flight with a lean readback: the ring slot (targets.h) holds
+   * only what the readback reads (BEAUTY: the beauty plane; STATS: none)
+   * and the planes named here (PB_RENDER_KEEP(PB_RESOLVE_P) bits,
+   * shared/pb_resolve.h; PB_RENDER_KEEP_ALL: every one), those the caller
+   * reads from out->gpu after the frame (the viewer's display pass,
+   * pb_render_result_read_gpu); out->gpu.kept says which are there.
+   * Without frames in flight, or with READBACK_ALL, every plane is kept. */
+  uint64_t keep_planes;
   /* Benchmark (bench/run_bench.py): */
   int radius_histogram;        /* 1: read every traced map back and bin its
                                   footprint radii (stats.radius_hist; costs a
@@ -259,6 +267,10 @@ typedef struct pb_render_desc {
 } pb_render_desc;
 
 enum { PB_RENDER_READBACK_ALL = 0, PB_RENDER_READBACK_BEAUTY = 1, PB_RENDER_READBACK_STATS = 2 };
+/* pb_render_desc.keep_planes, pb_render_gpu_planes.kept: bit P for the
+ * resolved plane at float offset P (PB_RESOLVE_BEAUTY ..). */
+#define PB_RENDER_KEEP(plane) (1ull << (plane))
+#define PB_RENDER_KEEP_ALL (~0ull)
 
 enum { PB_RENDER_MAX_SPECULAR_DEPTH = 64 };
 /* Where following a glossy layer with the eye path and shading it from the
@@ -341,6 +353,11 @@ typedef struct pb_render_stats {
    * scene data, other downloads the photon counts (tests/sequence.cmake
    * sequence_transfers). */
   uint64_t upload_bytes, download_bytes, readback_bytes;
+  /* Frames in flight: the bytes the frame's last submission copied into
+   * its readback ring slot (host-cached memory; on a discrete GPU the
+   * download itself, made by the GPU): every plane with READBACK_ALL, else
+   * what the lean readback reads and keep_planes. 0 without. */
+  uint64_t ring_bytes;
   int readback_mode; /* PB_RENDER_READBACK_*: what this frame's readback brought (pb_render_desc.readback) */
 } pb_render_stats;
 
@@ -352,6 +369,8 @@ typedef struct pb_render_stats {
  * caller's to read without copying (the viewer's display pass). */
 typedef struct pb_render_gpu_planes {
   const pb_gpu_buffer *planes, *pplanes; /* NULL: none kept (no context, several bands) */
+  uint64_t kept; /* the planes there (PB_RENDER_KEEP bits; a frame in flight
+                    with a lean readback keeps only some: keep_planes) */
   uint32_t pixels, channels;
   int photons, nmap, nmap_aovs;
 } pb_render_gpu_planes;

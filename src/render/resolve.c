@@ -17,7 +17,8 @@ pb_result pb_resolve_create(pb_gpu *g, const pb_frame_targets *t, pb_gpu_pipelin
       [PB_RESOLVE_BIND_NMAP] = t->nmap ? &t->pnmap : &t->accum,
       [PB_RESOLVE_BIND_OUT] = &t->planes,
       [PB_RESOLVE_BIND_GUARD] = &t->guard,
-      [PB_RESOLVE_BIND_OUT_PHOTONS] = t->photons ? &t->pplanes : &t->planes};
+      [PB_RESOLVE_BIND_OUT_PHOTONS] = t->photons ? &t->pplanes : &t->planes,
+      [PB_RESOLVE_BIND_KPD_SUMS] = &t->kpd};
   if ((r = pb_gpu_pipeline_bind(g, out, b, PB_RESOLVE_BIND_COUNT)) != PB_OK) pb_gpu_pipeline_destroy(g, out);
   return r;
 }

@@ -1,7 +1,8 @@
 /* The resolve pass (resolve.c, shaders/resolve.comp): records, into the
  * frame's command buffer after a band's last sample, the means of the
  * band's accumulators as the AOV planes of shared/pb_resolve.h, with
- * non-finite values replaced by 0 and counted in targets.guard. */
+ * non-finite values replaced by 0 and counted in targets.guard, and (photon
+ * stages on) k_PD's sums added into targets.kpd. */
 #ifndef PB_RENDER_RESOLVE_H
 #define PB_RENDER_RESOLVE_H
 

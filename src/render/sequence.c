@@ -159,6 +159,7 @@ void pb_sequence_orbit_camera(const pb_scene *s, const pb_camera *start, double 
 }
 
 void pb_sequence_set_readback(pb_sequence *q, int readback) { q->desc.readback = readback; }
+void pb_sequence_set_keep_planes(pb_sequence *q, uint64_t keep) { q->desc.keep_planes = keep; }
 
 static int camera_equal(const pb_camera *a, const pb_camera *b) {
   return !memcmp(a->position, b->position, sizeof a->position) && !memcmp(a->forward, b->forward, sizeof a->forward) &&
@@ -270,6 +271,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   /* A lean readback needs the still run's means on the GPU: the host's
    * (accumulate) work on the arrays. */
   rd.readback = q->still.pipe.pipeline ? q->desc.readback : PB_RENDER_READBACK_ALL;
+  rd.keep_planes = q->desc.keep_planes;
   rd.filters = q->chain;        /* recorded after the resolve, on the GPU; then
                                    eq. 20 on the filtered indirect, with this
                                    frame's mean photon direction (the chapter

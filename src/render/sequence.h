@@ -47,6 +47,10 @@ typedef struct pb_sequence_desc {
    * Frames that cannot (the host path: several bands, the still run
    * averaged on the host) read everything; out->stats.readback_mode says. */
   int readback;
+  /* With frames in flight and a lean readback: the planes the caller reads
+   * from out->gpu after the frame (render.h pb_render_desc.keep_planes;
+   * 0: none but what the readback reads). */
+  uint64_t keep_planes;
 } pb_sequence_desc;
 
 /* What happened in one frame. */
@@ -80,6 +84,8 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
 /* Changes desc.readback from the next frame on (the viewer, when what it
  * shows needs the host's arrays or no longer does). */
 void pb_sequence_set_readback(pb_sequence *q, int readback);
+/* Changes desc.keep_planes from the next frame on. */
+void pb_sequence_set_keep_planes(pb_sequence *q, uint64_t keep);
 /* Frames in flight: waits for the last frame still in flight and returns
  * it (info->ready 1), or none (info->ready 0, out empty). Without frames
  * in flight: always none. */

@@ -28,6 +28,7 @@ void pb_frame_targets_destroy(pb_gpu *g, pb_frame_targets *t) {
   pb_gpu_buffer_destroy(g, &t->planes);
   pb_gpu_buffer_destroy(g, &t->pplanes);
   pb_gpu_buffer_destroy(g, &t->guard);
+  pb_gpu_buffer_destroy(g, &t->kpd);
   for (int i = 0; i < PB_READBACK_RING; ++i)
     for (int k = 0; k < 2; ++k) pb_gpu_buffer_destroy(g, &t->ring[i][k]);
   memset(t, 0, sizeof *t);
@@ -62,10 +63,12 @@ pb_result pb_frame_targets_create(pb_gpu *g, uint32_t band_pixels, int photons, 
   pb_gpu_buffer_desc od = {.name = "frame.resolved", .size = px * PB_RESOLVE_BASE_CHANNELS * sizeof(float),
                            .host_visible = 1, .readback = 1};
   pb_gpu_buffer_desc gu = {.name = "frame.guard", .size = 16, .host_visible = 1, .readback = 1};
+  pb_gpu_buffer_desc kd = {.name = "frame.kpd_sums", .size = sizeof(pb_gpu_resolve_kpd), .host_visible = 1,
+                           .readback = 1};
   pb_result r;
   if ((r = pb_gpu_buffer_create(g, &fd, &t->frame)) != PB_OK || (r = pb_gpu_buffer_create(g, &gd, &t->gbuf)) != PB_OK ||
       (r = pb_gpu_buffer_create(g, &ad, &t->accum)) != PB_OK || (r = pb_gpu_buffer_create(g, &od, &t->planes)) != PB_OK ||
-      (r = pb_gpu_buffer_create(g, &gu, &t->guard)) != PB_OK)
+      (r = pb_gpu_buffer_create(g, &gu, &t->guard)) != PB_OK || (r = pb_gpu_buffer_create(g, &kd, &t->kpd)) != PB_OK)
     goto fail;
   if (photons) {
     pb_gpu_buffer_desc pd = {.name = "frame.photon_accum", .size = px * sizeof(pb_gpu_photon_accum), .host_visible = 1};

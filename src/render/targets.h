@@ -10,6 +10,7 @@
  *           (readback.h) brings to the host, host-visible; pplanes those
  *           of the photon stages
  *   guard   the resolve's count of non-finite values replaced
+ *   kpd     the resolve's sums for k_PD over the frame (pb_gpu_resolve_kpd)
  * Sizes never exceed the device's storage-buffer range: frame.c picks the
  * band so that the largest per-pixel target fits. */
 #ifndef PB_RENDER_TARGETS_H
@@ -21,7 +22,7 @@ typedef struct pb_frame_targets {
   uint32_t band_pixels;
   int photons, nmap;
   uint32_t channels; /* floats per pixel in planes (PB_RESOLVE_*_CHANNELS) */
-  pb_gpu_buffer frame, gbuf, accum, paccum, pnmap, planes, pplanes, guard;
+  pb_gpu_buffer frame, gbuf, accum, paccum, pnmap, planes, pplanes, guard, kpd;
   /* Frames in flight (render.h pb_render_desc.in_flight): the readback's
    * staging ring, PB_READBACK_RING copies of planes and pplanes in
    * host-cached memory, made on first use (pb_frame_targets_ring). A frame's

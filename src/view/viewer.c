@@ -740,6 +740,11 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
       if (full && full[0] == '1') mode = PB_RENDER_READBACK_ALL;
       v.ses.desc.readback = mode;
       pb_sequence_set_readback(v.ses.seq, mode);
+      /* Frames in flight: the display pass reads any AOV, and the depth
+       * AOV, P / F12 and --reference every plane, from the frame's ring
+       * slot (render.h pb_render_desc.keep_planes): all of them stay. */
+      v.ses.desc.keep_planes = PB_RENDER_KEEP_ALL;
+      pb_sequence_set_keep_planes(v.ses.seq, PB_RENDER_KEEP_ALL);
       pb_log_verbose("view: the picture is made on the render device (a %u^3 LUT, shaper 2^%g .. 2^%g, bake error %.2g)",
                      v.lut.size, v.lut.lo, v.lut.hi, v.lut.max_error);
     }

@@ -192,6 +192,7 @@ static const entry resolve_bind[] = {{"Accum", PB_RESOLVE_BIND_ACCUM},
                                      {"Planes", PB_RESOLVE_BIND_OUT},
                                      {"Guard", PB_RESOLVE_BIND_GUARD},
                                      {"PhotonPlanes", PB_RESOLVE_BIND_OUT_PHOTONS},
+                                     {"KpdSums", PB_RESOLVE_BIND_KPD_SUMS},
                                      END};
 static const entry trace_images_bind[] = {SCENE_COMMON,
                                           {"Photons", PB_PHOTON_BIND_PHOTONS},

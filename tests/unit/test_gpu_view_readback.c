@@ -5,11 +5,18 @@
  *   full         desc.readback ALL (render --frames, the reference)
  *   stats        _STATS, as `view` with the GPU display sets it
  *   beauty       _BEAUTY, as `serve` (rgba32f frames) sets it
- *   stats_fif2   _STATS with two frames in flight (the ring slots)
+ *   stats_fif2   _STATS with two frames in flight (the ring slots),
+ *                every plane kept in the ring (keep_planes, as the viewer)
+ *   beauty_fif2  _BEAUTY with two frames in flight, nothing kept (the ring
+ *                slot holds the beauty plane alone)
  * and checked per frame:
- *   - readback_bytes of stats below 1/4 of full's (measured here; it reads
- *     the k_PD plane, 8 of full's 104 bytes a pixel), of beauty below 0.3
- *     (the beauty and the k_PD plane: 24 of 104);
+ *   - readback_bytes of stats at most STATS_BYTES (no plane: the guard's
+ *     count, k_PD's sums reduced on the GPU, the temporal filter's counts;
+ *     before the reduction it read the k_PD plane, 8 bytes a pixel), of
+ *     beauty at most 16 bytes a pixel + STATS_BYTES (before: 24 a pixel);
+ *   - ring_bytes (frames in flight: what the ring copy moved): every plane
+ *     (104 bytes a pixel) with keep_planes all, the beauty plane alone (16)
+ *     for beauty_fif2 (before: every plane in every mode), 0 without;
  *   - the picture: the beauty where each mode leaves it (the host array for
  *     full and beauty, the GPU planes of out->gpu for the lean modes) equal
  *     to full's within FLOAT_TOL (relative above 1; the run-to-run rounding
@@ -20,9 +27,11 @@
  *     the viewer did before, within one 8-bit step on at most 0.1 % of the
  *     channels (identical in every run so far);
  *   - the statistics the lean modes keep: non-finite count, photons
- *     stored, k_PD equal to full's;
+ *     stored, k_PD equal to full's (the GPU's sums against the host's sums
+ *     of the plane: counts, so equal to 1e-9);
  *   - pb_render_result_read_gpu after a lean frame: every AOV equal to
- *     full's (what the viewer's depth AOV, P / F12 and --reference use).
+ *     full's (what the viewer's depth AOV, P / F12 and --reference use);
+ *     after beauty_fif2's last frame it fails (the planes were not kept).
  * PB_VIEW_READBACK_WIDTH=N (default 64) renders N pixels wide and prints the
  * per-frame bytes and wall ms of each mode (the brief's measurement). */
 #include <math.h>
@@ -38,7 +47,11 @@
 #include "shared/pb_resolve.h"
 #include "view/present_pass.h"
 
-enum { FRAMES = 4, MODES = 5 };
+enum { FRAMES = 4, MODES = 6 };
+/* A lean frame's readback without pixels: the guard's count (4 bytes), k_PD's
+ * sums (16), the temporal filters' counts (16 each); a small constant with
+ * room to spare, far below a plane's 4 bytes a pixel at 64 px (16 KiB). */
+#define STATS_BYTES 256u
 /* Two runs of the same sequence differ within float rounding where the
  * photon store's slot order varies (atomics; sequence.h frames_in_flight):
  * measured full against full again, cornell_box 2^14 photons, up to 1.7e-6
@@ -50,8 +63,9 @@ typedef struct run {
   const char *name;
   int mode;
   uint32_t fif;
-  uint64_t bytes[FRAMES];
-  double wall[FRAMES];
+  uint64_t keep; /* keep_planes */
+  uint64_t bytes[FRAMES], ring[FRAMES], kept[FRAMES];
+  double wall[FRAMES], gpu[FRAMES]; /* frame_wall_ms, frame_gpu_ms (printed only) */
   int got_mode[FRAMES], got[FRAMES];
   uint64_t nonfinite[FRAMES], stored[FRAMES];
   double k_pd[FRAMES];
@@ -76,7 +90,10 @@ static void record(pb_gpu *g, pb_present_pass *pass, run *u, pb_render_result *r
   size_t n = (size_t)res->width * res->height;
   u->got[k] = 1;
   u->bytes[k] = res->stats.readback_bytes;
+  u->ring[k] = res->stats.ring_bytes;
+  u->kept[k] = res->gpu.kept;
   u->wall[k] = res->stats.frame_wall_ms;
+  u->gpu[k] = res->stats.frame_gpu_ms;
   u->got_mode[k] = res->stats.readback_mode;
   u->nonfinite[k] = res->stats.nonfinite_values;
   u->stored[k] = res->stats.photons_stored;
@@ -103,7 +120,10 @@ static void record(pb_gpu *g, pb_present_pass *pass, run *u, pb_render_result *r
   }
   CHECK_EQ_INT(pb_present_pass_run(g, pass, &job), PB_OK);
   CHECK_EQ_INT(pb_present_pass_download(g, pass, u->shown[k], (uint32_t)n), PB_OK);
-  if (last) {
+  if (last && u->fif == 2 && u->mode != PB_RENDER_READBACK_ALL && u->keep != PB_RENDER_KEEP_ALL) {
+    /* The ring slot holds the beauty alone: the other AOVs cannot come. */
+    CHECK(pb_render_result_read_gpu(g, res) != PB_OK);
+  } else if (last) {
     uint64_t before = res->stats.readback_bytes;
     CHECK_EQ_INT(pb_render_result_read_gpu(g, res), PB_OK);
     if (u->mode != PB_RENDER_READBACK_ALL) {
@@ -119,7 +139,8 @@ static void run_sequence(pb_gpu *g, pbt_sample *fx, pb_present_pass *pass, run *
   pb_sequence_desc sd = {.render = {.spp = 1, .photons = 1u << 14, .iterations = 1, .seed = 7, .atrous_iterations = 2},
                          .temporal = 1,
                          .frames_in_flight = u->fif,
-                         .readback = u->mode};
+                         .readback = u->mode,
+                         .keep_planes = u->keep};
   pb_camera base = fx->s.cameras[0];
   pb_sequence *q = NULL;
   CHECK_EQ_INT(pb_sequence_create(g, &fx->s, &fx->gs, 0, fx->w, fx->h, &sd, &q), PB_OK);
@@ -165,7 +186,8 @@ int main(void) {
   run runs[MODES] = {{.name = "full", .mode = PB_RENDER_READBACK_ALL, .fif = 1},
                      {.name = "stats", .mode = PB_RENDER_READBACK_STATS, .fif = 1},
                      {.name = "beauty", .mode = PB_RENDER_READBACK_BEAUTY, .fif = 1},
-                     {.name = "stats_fif2", .mode = PB_RENDER_READBACK_STATS, .fif = 2},
+                     {.name = "stats_fif2", .mode = PB_RENDER_READBACK_STATS, .fif = 2, .keep = PB_RENDER_KEEP_ALL},
+                     {.name = "beauty_fif2", .mode = PB_RENDER_READBACK_BEAUTY, .fif = 2},
                      {.name = "full_again", .mode = PB_RENDER_READBACK_ALL, .fif = 1}};
   for (int m = 0; m < MODES; ++m) run_sequence(g, &fx, &pass, &runs[m]);
 
@@ -173,18 +195,20 @@ int main(void) {
   printf("cornell_box %ux%u, 2^14 photons, 1 spp, temporal + 2 A-Trous, frames 0-1 still, 2-3 moving\n", fx.w, fx.h);
   for (int m = 0; m < MODES; ++m) {
     const run *u = &runs[m];
-    double bytes = 0, wall = 0;
+    double bytes = 0, wall = 0, gpu = 0;
     uint32_t got = 0;
     for (int k = 0; k < FRAMES; ++k) {
       CHECK(u->got[k]);
       if (!u->got[k]) continue;
-      printf("  %-10s frame %d: readback %9llu bytes (%.1f B/px), wall %8.2f ms, mode %d\n", u->name, k,
-             (unsigned long long)u->bytes[k], (double)u->bytes[k] / (double)n, u->wall[k], u->got_mode[k]);
-      if (k > 0) bytes += (double)u->bytes[k], wall += u->wall[k], got++;
+      printf("  %-11s frame %d: readback %9llu bytes (%.1f B/px), ring %9llu bytes (%.1f B/px), wall %8.2f ms, "
+             "gpu %8.2f ms, mode %d\n",
+             u->name, k, (unsigned long long)u->bytes[k], (double)u->bytes[k] / (double)n,
+             (unsigned long long)u->ring[k], (double)u->ring[k] / (double)n, u->wall[k], u->gpu[k], u->got_mode[k]);
+      if (k > 0) bytes += (double)u->bytes[k], wall += u->wall[k], gpu += u->gpu[k], got++;
     }
     if (got)
-      printf("  %-10s mean of frames 1-%d: %.0f bytes a frame, %.2f ms a frame\n", u->name, FRAMES - 1, bytes / got,
-             wall / got);
+      printf("  %-11s mean of frames 1-%d: %.0f bytes a frame, wall %.2f ms, gpu %.2f ms a frame\n", u->name,
+             FRAMES - 1, bytes / got, wall / got, gpu / got);
   }
   for (int m = 1; m < MODES; ++m) {
     const run *u = &runs[m];
@@ -193,9 +217,21 @@ int main(void) {
       if (!u->got[k] || !full->got[k]) continue;
       CHECK_EQ_INT(u->got_mode[k], u->mode); /* the lean mode was honoured, not fallen back from */
       double ratio = (double)u->bytes[k] / (double)full->bytes[k];
-      printf("  %-10s frame %d: %.4f of full's bytes (bound %.2f)", u->name, k, ratio, bound);
+      printf("  %-11s frame %d: %.4f of full's bytes (bound %.2f)", u->name, k, ratio, bound);
       CHECK(full->bytes[k] > 0);
       CHECK(ratio < bound);
+      /* The lean modes' bytes: no k_PD plane (issue 17: k_PD's sums reduced
+       * on the GPU), the beauty plane alone for BEAUTY. */
+      if (u->mode == PB_RENDER_READBACK_STATS) CHECK(u->bytes[k] <= STATS_BYTES);
+      if (u->mode == PB_RENDER_READBACK_BEAUTY) CHECK(u->bytes[k] <= 16u * n + STATS_BYTES);
+      /* The ring copy: what the readback reads and keep_planes, no more. */
+      if (u->fif == 2) {
+        uint64_t all = (uint64_t)n * PB_RESOLVE_PHOTON_CHANNELS * sizeof(float);
+        CHECK_EQ_INT(u->ring[k], u->keep == PB_RENDER_KEEP_ALL || u->mode == PB_RENDER_READBACK_ALL ? all : 16u * n);
+        if (u->keep != PB_RENDER_KEEP_ALL) CHECK_EQ_INT(u->kept[k], PB_RENDER_KEEP(PB_RESOLVE_BEAUTY));
+      } else {
+        CHECK_EQ_INT(u->ring[k], 0);
+      }
       if (u->mode == PB_RENDER_READBACK_ALL) CHECK(ratio > 0.9999); /* full again: the same bytes */
       float d = max_rel_diff(u->beauty[k], full->beauty[k], 4 * n);
       uint32_t differ = 0;
@@ -213,11 +249,14 @@ int main(void) {
       CHECK(differ <= 4 * n / 1000);
       CHECK_EQ_INT(u->nonfinite[k], full->nonfinite[k]);
       CHECK_EQ_INT(u->stored[k], full->stored[k]);
+      CHECK(full->k_pd[k] > 1.0); /* photons were gathered: the sums compare something */
       CHECK_NEAR(u->k_pd[k], full->k_pd[k], 1e-9 * fmax(1.0, full->k_pd[k]));
     }
     /* The rest of the last frame, fetched after the fact. */
     const pb_render_result *a = &u->last, *b = &full->last;
-    if (a->beauty && b->beauty) {
+    if (u->fif == 2 && u->mode != PB_RENDER_READBACK_ALL && u->keep != PB_RENDER_KEEP_ALL) {
+      /* not kept (checked in record) */
+    } else if (a->beauty && b->beauty) {
       CHECK(max_rel_diff(a->direct, b->direct, 3 * n) <= FLOAT_TOL);
       CHECK(max_rel_diff(a->albedo, b->albedo, 3 * n) <= FLOAT_TOL);
       CHECK(max_rel_diff(a->normal, b->normal, 3 * n) <= FLOAT_TOL);
