@@ -931,10 +931,15 @@ static pb_result deform_add(loader *L, int32_t node, const pb_deform_src *D, con
                                     s->triangle_count - tri_base, !P->has_n, &R);
   if (r != PB_OK || !R) return r;
   if (R->tan) {
+    /* The grown bytes are cleared as in store_tangent: finish_tangents reads
+     * tan_given for every vertex below tan_cap, also the rigid ones before
+     * this range (they were left uninitialised, read as "file tangent"). */
+    uint32_t old = L->tan_cap;
     if ((r = grow(L, (void **)&L->tan, &L->tan_cap, s->vertex_count, sizeof *L->tan, "tangents")) != PB_OK) return r;
-    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    uint8_t *q = realloc(L->tan_given, L->tan_cap ? L->tan_cap : 1); /* 0 bytes would free */
     if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
     L->tan_given = q;
+    memset(q + old, 0, L->tan_cap - old);
     memset(q + P->base, 1, R->vertex_count);
   }
   return pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN);

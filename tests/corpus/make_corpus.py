@@ -1273,6 +1273,21 @@ def valid_cases(C, png):
     d = copy.deepcopy(doc0)
     morphed(d, mesh_weights=[0.5], anim_values=[0, 1, 0])
     C.gltf(V, "morph_animated", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # A rigid primitive (mesh 0) before a morphed one with TANGENT and a
+    # normal map (mesh 1): the loader's tangent table grows at the deformed
+    # range, and the rigid vertices before it must read as "no file tangent"
+    # (the grown bytes were left uninitialised; valgrind_corpus runs it).
+    d = copy.deepcopy(doc0)
+    (tv, dv) = add_buffer(d, b"".join(f32(1, 0, 0, 1) for _ in range(4)),
+                          b"".join(f32(*v) for v in [(0, 0, 0), (0, 0, 0), (0, 0, 1), (0, 0, 1)]))
+    na = len(d["accessors"])
+    d["accessors"] += [{"bufferView": tv, "componentType": FLOAT, "count": 4, "type": "VEC4"},
+                       {"bufferView": dv, "componentType": FLOAT, "count": 4, "type": "VEC3"}]
+    d["meshes"][1]["primitives"][0]["attributes"]["TANGENT"] = na
+    d["meshes"][1]["primitives"][0]["targets"] = [{"POSITION": na + 1}]
+    d["meshes"][1]["weights"] = [0.5]
+    d["materials"][1]["normalTexture"] = {"index": 0}
+    C.gltf(V, "morph_tangent_after_rigid", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
 
 
 def main():
