@@ -940,9 +940,14 @@ static pb_result deform_add(loader *L, int32_t node, const pb_deform_src *D, con
     if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
     L->tan_given = q;
     memset(q + old, 0, L->tan_cap - old);
-    memset(q + P->base, 1, R->vertex_count);
+    memset(L->tan + P->base, 0, (size_t)R->vertex_count * sizeof *L->tan);
   }
-  return pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN);
+  if ((r = pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN)) != PB_OK || !R->tan) return r;
+  /* pb_deform_pose writes a tangent only where it normalises (w = +-1): a
+   * zero or collapsed file TANGENT is left to pb_tangents_generate, as
+   * store_tangent leaves a rigid one (marking the whole range kept garbage). */
+  for (uint32_t v = 0; v < R->vertex_count; ++v) L->tan_given[P->base + v] = L->tan[P->base + v][3] != 0.0f;
+  return PB_OK;
 }
 
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {

@@ -1288,6 +1288,12 @@ def valid_cases(C, png):
     d["meshes"][1]["weights"] = [0.5]
     d["materials"][1]["normalTexture"] = {"index": 0}
     C.gltf(V, "morph_tangent_after_rigid", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # The same with a zero TANGENT at vertex 1: it cannot be posed, so it is
+    # left to the generated tangents (as store_tangent does for a rigid one),
+    # not kept as a "file tangent" that was never written.
+    (tv2,) = add_buffer(d, b"".join(f32(*v) for v in [(1, 0, 0, 1), (0, 0, 0, 1), (1, 0, 0, 1), (1, 0, 0, 1)]))
+    d["accessors"][na]["bufferView"] = tv2
+    C.gltf(V, "morph_tangent_zero", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
 
 
 def main():
