@@ -1068,6 +1068,16 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
                 (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
     return r;
+  /* Morph targets cost 12 bytes per target, vertex and attribute (twice:
+   * the source and the range, deform.h), and a target accessor without a
+   * bufferView costs the file nothing: target x vertex pairs are bounded
+   * like vertices, before any allocation (also keeps every product below
+   * in size_t on 32-bit hosts). */
+  uint64_t dverts = count > nverts ? count : nverts;
+  if (p->target_count && (uint64_t)p->target_count > 3 * L->desc->max_triangles / dverts)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu].targets: %zu morph targets x %llu vertices is over the limit of %llu",
+                   L->path, mesh, pi, p->target_count, (unsigned long long)dverts,
+                   (unsigned long long)(3 * L->desc->max_triangles));
   pb_deform_src D;
   memset(&D, 0, sizeof D);
   if (deformed && (r = pb_deform_read(L->path, d, s, &L->deform, mesh, pi, skinned ? skin : -1, &P.pos,
