@@ -500,6 +500,13 @@ static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp
   pb_span in;
   pb_result r = pb_accessor_check(L->path, L->doc, g->input, w, 1, float_only, &in);
   if (r != PB_OK) return r;
+  /* Keys cost at least 4 bytes of times and 12 of values per key in memory,
+   * nothing in the file when the accessors have no bufferView (zeros pass
+   * every check below): bounded like vertices (3 x max_triangles) before the
+   * per-key loop; convert_anim_sampler bounds the values the same way. */
+  if (in.count > 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: %s: %llu keys is over the limit of %llu", L->path, w, (unsigned long long)in.count,
+                   (unsigned long long)(3 * L->desc->max_triangles));
   float prev = 0;
   for (uint64_t k = 0; k < in.count; ++k) {
     float v = pb_span_f(&in, k, 0);
@@ -548,10 +555,16 @@ static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t
                    g->output, (unsigned long long)out.count, interp == PB_ANIM_CUBICSPLINE ? "CUBICSPLINE" : "LINEAR/STEP",
                    (unsigned long long)in.count, path == PB_ANIM_WEIGHTS ? " for its node's morph targets" : "",
                    (unsigned long long)(in.count * per));
+  /* Values: at most 4 floats per key of the budget check_anim_sampler gave
+   * the keys (weights keys carry one per morph target). */
+  uint64_t nvalues = out.count * (uint64_t)(path == PB_ANIM_WEIGHTS ? 1 : comps);
+  if (nvalues > 4 * 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: %s: %llu values is over the limit of %llu", L->path, wo, (unsigned long long)nvalues,
+                   (unsigned long long)(4 * 3 * L->desc->max_triangles));
   pb_anim_sampler *S = &a->samplers[a->sampler_count];
   memset(S, 0, sizeof *S);
   S->times = malloc((size_t)in.count * sizeof *S->times);
-  S->values = malloc((size_t)in.count * per * (size_t)(path == PB_ANIM_WEIGHTS ? 1 : comps) * sizeof *S->values);
+  S->values = malloc((size_t)nvalues * sizeof *S->values);
   if (!S->times || !S->values) {
     free(S->times);
     free(S->values);

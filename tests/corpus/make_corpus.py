@@ -874,6 +874,16 @@ def broken_cases(C, png):
          anim([0, 1, 2], V3, 3, sampler=4))
     case("anim_interpolation_bogus", EXIT_INVALID, "animations[0].samplers[0].interpolation: 'SMOOTH'",
          anim([0, 1, 2], V3, 3, interp="SMOOTH"))
+    # Keys of accessors without a bufferView (zeros: finite, non-decreasing)
+    # cost the file nothing: 2^31 of them were checked one by one and then
+    # allocated (8 GB of times, 24 GB of values): bounded like vertices.
+    def anim_no_data(d):
+        anim([0, 1, 2], V3, 3)(d)
+        for a in d["accessors"][-2:]:
+            del a["bufferView"]
+            a["count"] = 1 << 31
+    case("anim_keys_without_data", EXIT_LIMIT,
+         "animations[0].samplers[0].input: 2147483648 keys is over the limit of 201326592", anim_no_data)
 
     # -- skins (glTF 2.0 3.7.3; src/scene/skin.c): the quad of nodes[1]
     # skinned to joints nodes[5] and nodes[6] (a child of 5).
