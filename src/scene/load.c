@@ -824,6 +824,7 @@ static void mesh_bounds(loader *L, int32_t mesh, double bmin[3], double bmax[3])
       pb_error_clear(); /* add_primitive reports it */
       continue;
     }
+    if (sp.count > 3 * L->desc->max_triangles) continue; /* add_primitive reports it */
     for (uint64_t i = 0; pb_span_has_data(&sp) && i < sp.count; ++i)
       for (int k = 0; k < 3; ++k) {
         double v = pb_span_f(&sp, i, k);
@@ -1071,6 +1072,14 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     return warn(L, "meshes[%d].primitives[%zu]: %s has no bufferView (all zeros): primitive skipped", mesh, pi,
                 !pb_span_has_data(&P.pos) ? "POSITION" : "indices");
 
+  /* The source elements are bounded like the scene's vertices before the
+   * per-element loops: an indexed primitive without NORMAL makes only its
+   * indexed corners count above, and a sparse POSITION without a bufferView
+   * holds its count in the file at the cost of one element (2^31 of them
+   * took a minute of checking). */
+  if (count > 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu].attributes.POSITION: %llu elements is over the limit of %llu",
+                   L->path, mesh, pi, (unsigned long long)count, (unsigned long long)(3 * L->desc->max_triangles));
   /* Vertex positions: all finite, checked once per accessor element. */
   for (uint64_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c)
