@@ -72,6 +72,9 @@ static pb_result grow(loader *L, void **p, uint32_t *cap, uint64_t need, size_t 
     return pb_fail(PB_ERR_LIMIT, "%s: too many %s (%llu)", L->path, what, (unsigned long long)need);
   uint64_t c = *cap ? *cap : 64;
   while (c < need) c *= 2;
+  if (c > SIZE_MAX / elem) /* a 32-bit host: the byte size would wrap */
+    return pb_fail(PB_ERR_LIMIT, "%s: too many %s (%llu) for this machine's address space", L->path, what,
+                   (unsigned long long)need);
   void *q = realloc(*p, (size_t)c * elem);
   if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for %llu %s", L->path, (unsigned long long)c, what);
   *p = q;
@@ -889,6 +892,8 @@ static pb_result vertex_attr(loader *L, void **arr, size_t comps, const float *f
   pb_scene *s = L->s;
   if (!*arr && !present) return PB_OK;
   int fresh = !*arr;
+  if ((uint64_t)L->vertex_cap > SIZE_MAX / (comps * sizeof(float))) /* a 32-bit host: would wrap (to 0: a free) */
+    return pb_fail(PB_ERR_LIMIT, "%s: too many vertices (%u) for this machine's address space", L->path, L->vertex_cap);
   float *q = realloc(*arr, (size_t)(L->vertex_cap ? L->vertex_cap : 1) * comps * sizeof *q); /* 0 bytes would free */
   if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
   *arr = q;
