@@ -61,6 +61,7 @@ typedef struct loader {
   pb_deform deform;
   mat4 *world;
   int need_uv1;               /* some texture reads TEXCOORD_1 */
+  uint64_t texels;            /* over every s->textures (texture_ref's budget) */
 } loader;
 
 /* ---- growth helpers ---------------------------------------------------- */
@@ -243,6 +244,17 @@ static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb
   }
   pb_result r = decode_image(L, t->source, where);
   if (r != PB_OK) return r;
+  /* Every colour space, uv set and transform of an image is a copy of its
+   * pixels (here and on the GPU): a few hundred bytes of materials could ask
+   * for thousands of copies of one image at the size limit. The scene's
+   * texels are bounded by 16 images at the limit. */
+  uint64_t texels = (uint64_t)L->image_w[t->source] * L->image_h[t->source];
+  uint64_t budget = 16 * L->desc->max_image_pixels;
+  if (L->texels + texels > budget)
+    return pb_fail(PB_ERR_LIMIT, "%s: %s: textures[%d] (images[%d], %ux%u) takes the scene's textures over %llu texels "
+                   "(16 x the image limit; each colour space, uv set and texture transform of an image is a copy)",
+                   L->path, where, tex, t->source, L->image_w[t->source], L->image_h[t->source], (unsigned long long)budget);
+  L->texels += texels;
   uint32_t cap = L->texture_cap;
   r = grow(L, (void **)&s->textures, &L->texture_cap, (uint64_t)s->texture_count + 1, sizeof *s->textures, "textures");
   if (r != PB_OK) return r;
