@@ -72,7 +72,7 @@ corpus)
   for c in bin_truncated accessor_count_past_view accessor_count_2pow40_no_view accessor_count_negative \
            position_nan image_truncated image_huge_header node_cycle json_truncated json_deep_nesting \
            glb_chunk_past_end sparse_index_out_of_range sparse_values_short skin_joint_index_oob \
-           morph_target_attribute_oob sparse_accessors skin morph_animated; do
+           morph_target_attribute_oob sparse_accessors skin morph_animated morph_tangent_after_rigid morph_tangent_zero; do
     line=$(awk -F'\t' -v c="$c" '$1 ~ "/"c"/" {print; exit}' "$root/tests/corpus/expected.tsv")
     [ -n "$line" ] || { fail=$((fail + 1)); echo "FAIL: $c not in expected.tsv"; continue; }
     path=$(echo "$line" | cut -f1)

@@ -61,6 +61,7 @@ typedef struct loader {
   pb_deform deform;
   mat4 *world;
   int need_uv1;               /* some texture reads TEXCOORD_1 */
+  uint64_t texels;            /* over every s->textures (texture_ref's budget) */
 } loader;
 
 /* ---- growth helpers ---------------------------------------------------- */
@@ -72,6 +73,9 @@ static pb_result grow(loader *L, void **p, uint32_t *cap, uint64_t need, size_t 
     return pb_fail(PB_ERR_LIMIT, "%s: too many %s (%llu)", L->path, what, (unsigned long long)need);
   uint64_t c = *cap ? *cap : 64;
   while (c < need) c *= 2;
+  if (c > SIZE_MAX / elem) /* a 32-bit host: the byte size would wrap */
+    return pb_fail(PB_ERR_LIMIT, "%s: too many %s (%llu) for this machine's address space", L->path, what,
+                   (unsigned long long)need);
   void *q = realloc(*p, (size_t)c * elem);
   if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for %llu %s", L->path, (unsigned long long)c, what);
   *p = q;
@@ -240,6 +244,17 @@ static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb
   }
   pb_result r = decode_image(L, t->source, where);
   if (r != PB_OK) return r;
+  /* Every colour space, uv set and transform of an image is a copy of its
+   * pixels (here and on the GPU): a few hundred bytes of materials could ask
+   * for thousands of copies of one image at the size limit. The scene's
+   * texels are bounded by 16 images at the limit. */
+  uint64_t texels = (uint64_t)L->image_w[t->source] * L->image_h[t->source];
+  uint64_t budget = 16 * L->desc->max_image_pixels;
+  if (L->texels + texels > budget)
+    return pb_fail(PB_ERR_LIMIT, "%s: %s: textures[%d] (images[%d], %ux%u) takes the scene's textures over %llu texels "
+                   "(16 x the image limit; each colour space, uv set and texture transform of an image is a copy)",
+                   L->path, where, tex, t->source, L->image_w[t->source], L->image_h[t->source], (unsigned long long)budget);
+  L->texels += texels;
   uint32_t cap = L->texture_cap;
   r = grow(L, (void **)&s->textures, &L->texture_cap, (uint64_t)s->texture_count + 1, sizeof *s->textures, "textures");
   if (r != PB_OK) return r;
@@ -500,6 +515,13 @@ static pb_result check_anim_sampler(loader *L, size_t ai, size_t si, int *interp
   pb_span in;
   pb_result r = pb_accessor_check(L->path, L->doc, g->input, w, 1, float_only, &in);
   if (r != PB_OK) return r;
+  /* Keys cost at least 4 bytes of times and 12 of values per key in memory,
+   * nothing in the file when the accessors have no bufferView (zeros pass
+   * every check below): bounded like vertices (3 x max_triangles) before the
+   * per-key loop; convert_anim_sampler bounds the values the same way. */
+  if (in.count > 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: %s: %llu keys is over the limit of %llu", L->path, w, (unsigned long long)in.count,
+                   (unsigned long long)(3 * L->desc->max_triangles));
   float prev = 0;
   for (uint64_t k = 0; k < in.count; ++k) {
     float v = pb_span_f(&in, k, 0);
@@ -548,10 +570,16 @@ static pb_result convert_anim_sampler(loader *L, struct pb_scene_anim *a, size_t
                    g->output, (unsigned long long)out.count, interp == PB_ANIM_CUBICSPLINE ? "CUBICSPLINE" : "LINEAR/STEP",
                    (unsigned long long)in.count, path == PB_ANIM_WEIGHTS ? " for its node's morph targets" : "",
                    (unsigned long long)(in.count * per));
+  /* Values: at most 4 floats per key of the budget check_anim_sampler gave
+   * the keys (weights keys carry one per morph target). */
+  uint64_t nvalues = out.count * (uint64_t)(path == PB_ANIM_WEIGHTS ? 1 : comps);
+  if (nvalues > 4 * 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: %s: %llu values is over the limit of %llu", L->path, wo, (unsigned long long)nvalues,
+                   (unsigned long long)(4 * 3 * L->desc->max_triangles));
   pb_anim_sampler *S = &a->samplers[a->sampler_count];
   memset(S, 0, sizeof *S);
   S->times = malloc((size_t)in.count * sizeof *S->times);
-  S->values = malloc((size_t)in.count * per * (size_t)(path == PB_ANIM_WEIGHTS ? 1 : comps) * sizeof *S->values);
+  S->values = malloc((size_t)nvalues * sizeof *S->values);
   if (!S->times || !S->values) {
     free(S->times);
     free(S->values);
@@ -811,6 +839,7 @@ static void mesh_bounds(loader *L, int32_t mesh, double bmin[3], double bmax[3])
       pb_error_clear(); /* add_primitive reports it */
       continue;
     }
+    if (sp.count > 3 * L->desc->max_triangles) continue; /* add_primitive reports it */
     for (uint64_t i = 0; pb_span_has_data(&sp) && i < sp.count; ++i)
       for (int k = 0; k < 3; ++k) {
         double v = pb_span_f(&sp, i, k);
@@ -875,6 +904,8 @@ static pb_result vertex_attr(loader *L, void **arr, size_t comps, const float *f
   pb_scene *s = L->s;
   if (!*arr && !present) return PB_OK;
   int fresh = !*arr;
+  if ((uint64_t)L->vertex_cap > SIZE_MAX / (comps * sizeof(float))) /* a 32-bit host: would wrap (to 0: a free) */
+    return pb_fail(PB_ERR_LIMIT, "%s: too many vertices (%u) for this machine's address space", L->path, L->vertex_cap);
   float *q = realloc(*arr, (size_t)(L->vertex_cap ? L->vertex_cap : 1) * comps * sizeof *q); /* 0 bytes would free */
   if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for vertices", L->path);
   *arr = q;
@@ -931,13 +962,23 @@ static pb_result deform_add(loader *L, int32_t node, const pb_deform_src *D, con
                                     s->triangle_count - tri_base, !P->has_n, &R);
   if (r != PB_OK || !R) return r;
   if (R->tan) {
+    /* The grown bytes are cleared as in store_tangent: finish_tangents reads
+     * tan_given for every vertex below tan_cap, also the rigid ones before
+     * this range (they were left uninitialised, read as "file tangent"). */
+    uint32_t old = L->tan_cap;
     if ((r = grow(L, (void **)&L->tan, &L->tan_cap, s->vertex_count, sizeof *L->tan, "tangents")) != PB_OK) return r;
-    uint8_t *q = realloc(L->tan_given, L->tan_cap);
+    uint8_t *q = realloc(L->tan_given, L->tan_cap ? L->tan_cap : 1); /* 0 bytes would free */
     if (!q) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for tangents", L->path);
     L->tan_given = q;
-    memset(q + P->base, 1, R->vertex_count);
+    memset(q + old, 0, L->tan_cap - old);
+    memset(L->tan + P->base, 0, (size_t)R->vertex_count * sizeof *L->tan);
   }
-  return pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN);
+  if ((r = pb_deform_pose(s, &L->deform, R, L->world, L->tan, NAN)) != PB_OK || !R->tan) return r;
+  /* pb_deform_pose writes a tangent only where it normalises (w = +-1): a
+   * zero or collapsed file TANGENT is left to pb_tangents_generate, as
+   * store_tangent leaves a rigid one (marking the whole range kept garbage). */
+  for (uint32_t v = 0; v < R->vertex_count; ++v) L->tan_given[P->base + v] = L->tan[P->base + v][3] != 0.0f;
+  return PB_OK;
 }
 
 static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi, const mat4 *M) {
@@ -1048,6 +1089,14 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
     return warn(L, "meshes[%d].primitives[%zu]: %s has no bufferView (all zeros): primitive skipped", mesh, pi,
                 !pb_span_has_data(&P.pos) ? "POSITION" : "indices");
 
+  /* The source elements are bounded like the scene's vertices before the
+   * per-element loops: an indexed primitive without NORMAL makes only its
+   * indexed corners count above, and a sparse POSITION without a bufferView
+   * holds its count in the file at the cost of one element (2^31 of them
+   * took a minute of checking). */
+  if (count > 3 * L->desc->max_triangles)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu].attributes.POSITION: %llu elements is over the limit of %llu",
+                   L->path, mesh, pi, (unsigned long long)count, (unsigned long long)(3 * L->desc->max_triangles));
   /* Vertex positions: all finite, checked once per accessor element. */
   for (uint64_t i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c)
@@ -1058,6 +1107,16 @@ static pb_result add_primitive(loader *L, int32_t node, int32_t mesh, size_t pi,
       (r = warn(L, "meshes[%d].primitives[%zu]: %llu indices is not a multiple of 3; the last %llu ignored", mesh, pi,
                 (unsigned long long)nidx, (unsigned long long)(nidx % 3))) != PB_OK)
     return r;
+  /* Morph targets cost 12 bytes per target, vertex and attribute (twice:
+   * the source and the range, deform.h), and a target accessor without a
+   * bufferView costs the file nothing: target x vertex pairs are bounded
+   * like vertices, before any allocation (also keeps every product below
+   * in size_t on 32-bit hosts). */
+  uint64_t dverts = count > nverts ? count : nverts;
+  if (p->target_count && (uint64_t)p->target_count > 3 * L->desc->max_triangles / dverts)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu].targets: %zu morph targets x %llu vertices is over the limit of %llu",
+                   L->path, mesh, pi, p->target_count, (unsigned long long)dverts,
+                   (unsigned long long)(3 * L->desc->max_triangles));
   pb_deform_src D;
   memset(&D, 0, sizeof D);
   if (deformed && (r = pb_deform_read(L->path, d, s, &L->deform, mesh, pi, skinned ? skin : -1, &P.pos,

@@ -156,6 +156,12 @@ pb_result pb_skin_read_influences(const char *path, const pb_gltf_doc *doc, pb_s
     return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu].attributes: %zu JOINTS/WEIGHTS sets (at most 1024)", path,
                    mesh, pi, sets);
   uint32_t n = (uint32_t)(4 * sets);
+  /* count * n * 4 bytes must fit in size_t (a 32-bit host: count is bounded
+   * by the file's POSITION bytes, the sets' accessors cost nothing without
+   * a bufferView). */
+  if (n && count > SIZE_MAX / sizeof(float) / n)
+    return pb_fail(PB_ERR_LIMIT, "%s: meshes[%d].primitives[%zu].attributes: %llu vertices x %u joint influences do not fit in memory",
+                   path, mesh, pi, (unsigned long long)count, n);
   uint16_t *joint = malloc((size_t)count * n * sizeof *joint);
   float *weight = malloc((size_t)count * n * sizeof *weight);
   if (!joint || !weight) {

@@ -53,8 +53,8 @@ pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
                    scene_path, where, uri);
   }
   char *dir = pb_dirname(scene_path);
-  size_t len = strlen(dir) + strlen(dec) + 2;
-  char *joined = malloc(len);
+  size_t len = (dir ? strlen(dir) : 0) + strlen(dec) + 2; /* dir NULL: out of memory, reported below */
+  char *joined = dir ? malloc(len) : NULL;
   if (!dir || !joined) {
     free(dir), free(dec), free(joined);
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory", scene_path);

@@ -488,6 +488,19 @@ def broken_cases(C, png):
     case("sparse_indices_strided", EXIT_INVALID, "accessors[0].sparse.indices: bufferViews[",
          sparse([1, 2], P2, edit=lambda sp, d: d["bufferViews"][sp["indices"]["bufferView"]].update({"byteStride": 4})))
     case("sparse_not_object", EXIT_INVALID, "accessors[0].sparse: not an object", setp(("accessors", 0, "sparse"), 3))
+    # A sparse POSITION without a bufferView: one substituted element is all
+    # the file holds of 2^31 (indexed, without NORMAL, so that the vertex
+    # limit counts only the indexed corners): every element was checked for
+    # finiteness by binary search (a minute) before the limit.
+    def sparse_2g(d):
+        sparse([1], [(0, 0, 1)])(d)
+        del d["accessors"][0]["bufferView"]
+        d["accessors"][0]["count"] = 1 << 31
+        for m in d["meshes"]:
+            for a in ("NORMAL", "TEXCOORD_0"):
+                del m["primitives"][0]["attributes"][a]
+    case("position_sparse_2g_no_view", EXIT_LIMIT,
+         "meshes[0].primitives[0].attributes.POSITION: 2147483648 elements is over the limit of 201326592", sparse_2g)
     # KHR_texture_transform's members and KHR_materials_volume's are typed.
     tt = ("materials", 0, "pbrMetallicRoughness", "baseColorTexture", "extensions")
     case("texture_transform_offset_bad", EXIT_INVALID,
@@ -883,6 +896,16 @@ def broken_cases(C, png):
          anim([0, 1, 2], V3, 3, sampler=4))
     case("anim_interpolation_bogus", EXIT_INVALID, "animations[0].samplers[0].interpolation: 'SMOOTH'",
          anim([0, 1, 2], V3, 3, interp="SMOOTH"))
+    # Keys of accessors without a bufferView (zeros: finite, non-decreasing)
+    # cost the file nothing: 2^31 of them were checked one by one and then
+    # allocated (8 GB of times, 24 GB of values): bounded like vertices.
+    def anim_no_data(d):
+        anim([0, 1, 2], V3, 3)(d)
+        for a in d["accessors"][-2:]:
+            del a["bufferView"]
+            a["count"] = 1 << 31
+    case("anim_keys_without_data", EXIT_LIMIT,
+         "animations[0].samplers[0].input: 2147483648 keys is over the limit of 201326592", anim_no_data)
 
     # -- skins (glTF 2.0 3.7.3; src/scene/skin.c): the quad of nodes[1]
     # skinned to joints nodes[5] and nodes[6] (a child of 5).
@@ -1282,6 +1305,27 @@ def valid_cases(C, png):
     d = copy.deepcopy(doc0)
     morphed(d, mesh_weights=[0.5], anim_values=[0, 1, 0])
     C.gltf(V, "morph_animated", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # A rigid primitive (mesh 0) before a morphed one with TANGENT and a
+    # normal map (mesh 1): the loader's tangent table grows at the deformed
+    # range, and the rigid vertices before it must read as "no file tangent"
+    # (the grown bytes were left uninitialised; valgrind_corpus runs it).
+    d = copy.deepcopy(doc0)
+    (tv, dv) = add_buffer(d, b"".join(f32(1, 0, 0, 1) for _ in range(4)),
+                          b"".join(f32(*v) for v in [(0, 0, 0), (0, 0, 0), (0, 0, 1), (0, 0, 1)]))
+    na = len(d["accessors"])
+    d["accessors"] += [{"bufferView": tv, "componentType": FLOAT, "count": 4, "type": "VEC4"},
+                       {"bufferView": dv, "componentType": FLOAT, "count": 4, "type": "VEC3"}]
+    d["meshes"][1]["primitives"][0]["attributes"]["TANGENT"] = na
+    d["meshes"][1]["primitives"][0]["targets"] = [{"POSITION": na + 1}]
+    d["meshes"][1]["weights"] = [0.5]
+    d["materials"][1]["normalTexture"] = {"index": 0}
+    C.gltf(V, "morph_tangent_after_rigid", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
+    # The same with a zero TANGENT at vertex 1: it cannot be posed, so it is
+    # left to the generated tangents (as store_tangent does for a rigid one),
+    # not kept as a "file tangent" that was never written.
+    (tv2,) = add_buffer(d, b"".join(f32(*v) for v in [(1, 0, 0, 1), (0, 0, 0, 1), (1, 0, 0, 1), (1, 0, 0, 1)]))
+    d["accessors"][na]["bufferView"] = tv2
+    C.gltf(V, "morph_tangent_zero", d, bin0, png, code=EXIT_OK, expect="triangles=%d" % BASE_TRIANGLES)
 
 
 def main():

@@ -67,6 +67,8 @@ static int floats(doc *g, const float *v, size_t count, const char *type) {
   return accessor(g, view(g, v, count * (size_t)comps * 4), F32, count, type, mm);
 }
 
+static const pb_load_desc *load_desc; /* NULL: the defaults */
+
 static pb_result load(doc *g, const char *body, pb_scene *s) {
   char *data = pbt_b64(g->data, g->n);
   char path[256];
@@ -80,7 +82,7 @@ static pb_result load(doc *g, const char *body, pb_scene *s) {
   fclose(f);
   free(data);
   pb_error_clear();
-  pb_result r = pb_scene_load(path, NULL, s);
+  pb_result r = pb_scene_load(path, load_desc, s);
   unlink(path);
   return r;
 }
@@ -162,6 +164,36 @@ static void test_morph_static(void) {
   CHECK_NEAR(s.bounds_max[0], 8, 1e-6);
   CHECK_NEAR(s.bounds_max[2], 1, 1e-6);
   pb_scene_destroy(&s);
+}
+
+/* Morph data is bounded like vertices: target x vertex pairs at most
+ * 3 x max_triangles (a target accessor without a bufferView costs the file
+ * nothing, and each pair costs 12 bytes per attribute, twice). With
+ * max_triangles 2 the quad (2 triangles, 4 vertices) loads with one target
+ * (4 pairs of 6) and is refused with two (8). */
+static void test_morph_limit(void) {
+  doc g;
+  int pos, nrm, idx, t0p, t0n, t1p;
+  morph_doc(&g, &pos, &nrm, &idx, &t0p, &t0n, &t1p);
+  pb_load_desc desc;
+  memset(&desc, 0, sizeof desc);
+  desc.max_triangles = 2;
+  load_desc = &desc;
+  char body[2048];
+  const char *fmt = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d},\"indices\":%d,"
+                    "\"targets\":[{\"POSITION\":%d}%s]}]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]";
+  char second[32];
+  snprintf(second, sizeof second, ",{\"POSITION\":%d}", t1p);
+  pb_scene s;
+  snprintf(body, sizeof body, fmt, pos, nrm, idx, t0p, "");
+  CHECK_EQ_INT(load(&g, body, &s), PB_OK);
+  CHECK_EQ_INT(s.morphed_vertex_count, 4);
+  pb_scene_destroy(&s);
+  snprintf(body, sizeof body, fmt, pos, nrm, idx, t0p, second);
+  CHECK_EQ_INT(load(&g, body, &s), PB_ERR_LIMIT);
+  CHECK(strstr(pb_error_message(), "meshes[0].primitives[0].targets: 2 morph targets x 4 vertices is over the limit of 6") != NULL);
+  CHECK(strchr(pb_error_message(), '\n') == NULL);
+  load_desc = NULL;
 }
 
 /* "weights" channels: node 0 LINEAR from the mesh's weights [0.5, 0] at 0 s
@@ -417,6 +449,7 @@ int main(void) {
   test_morph_static();
   test_morph_animated();
   test_morph_tangent();
+  test_morph_limit();
   test_skin_static();
   test_skin_animated();
   test_skin_repairs();

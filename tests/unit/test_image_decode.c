@@ -419,6 +419,67 @@ static void test_data_uri(const char *seeds) {
   rmdir(dir);
 }
 
+/* Every colour space, uv set and KHR_texture_transform of an image is a
+ * copy of its pixels: the scene's texels are bounded by 16 images at the
+ * size limit. The 64x64 seed under a 4096-pixel limit: 16 materials, each
+ * with its own transform of it, load; a 17th is refused, naming it. */
+static void test_texel_budget(const char *seeds) {
+  const char *dir = tmpdir();
+  CHECK(dir != NULL);
+  if (!dir) return;
+  mkdir(dir, 0700); /* test_data_uri removes it when done */
+  char src[1024], copy[512], path[512];
+  snprintf(src, sizeof src, "%s/rgba8_adam7.png", seeds);
+  size_t n = 0;
+  uint8_t *bytes = slurp(src, &n);
+  CHECK(bytes != NULL);
+  if (!bytes) return;
+  snprintf(copy, sizeof copy, "%s/tex.png", dir);
+  FILE *f = fopen(copy, "wb");
+  CHECK(f && fwrite(bytes, 1, n, f) == n);
+  if (f) fclose(f);
+  free(bytes);
+  snprintf(path, sizeof path, "%s/copies.gltf", dir);
+  for (int count = 16; count <= 17; ++count) {
+    /* write_scene's quad; its one material replaced by `count` of them. */
+    CHECK(write_scene(path, "{\"uri\":\"tex.png\"}"));
+    size_t len = 0;
+    char *text = (char *)slurp(path, &len);
+    CHECK(text != NULL);
+    if (!text) return;
+    const char *mat = "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]";
+    char *at = strstr(text, mat);
+    CHECK(at != NULL);
+    if (!at) return;
+    f = fopen(path, "w");
+    fprintf(f, "%.*s\"extensionsUsed\":[\"KHR_texture_transform\"],\"materials\":[", (int)(at - text), text);
+    for (int k = 0; k < count; ++k)
+      fprintf(f, "%s{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0,\"extensions\":"
+                 "{\"KHR_texture_transform\":{\"offset\":[%d,0]}}}}}", k ? "," : "", k);
+    fprintf(f, "]%s", at + strlen(mat));
+    fclose(f);
+    free(text);
+    pb_load_desc small = {.max_image_pixels = 64 * 64};
+    pb_scene s;
+    pb_error_clear();
+    pb_result r = pb_scene_load(path, &small, &s);
+    if (count == 16) {
+      CHECK_EQ_INT(r, PB_OK);
+      if (r == PB_OK) CHECK_EQ_INT(s.texture_count, 16);
+      if (r == PB_OK) pb_scene_destroy(&s);
+    } else {
+      CHECK_EQ_INT(r, PB_ERR_LIMIT);
+      CHECK(strstr(pb_error_message(), "materials[16].pbrMetallicRoughness.baseColorTexture: textures[0] (images[0], 64x64) "
+                                       "takes the scene's textures over 65536 texels") != NULL);
+      CHECK(one_line(pb_error_message()));
+      if (r == PB_OK) pb_scene_destroy(&s);
+    }
+    pb_error_clear();
+  }
+  unlink(path), unlink(copy);
+  rmdir(dir);
+}
+
 int main(int argc, char **argv) {
   pb_log_set_level(PB_LOG_QUIET);
   const char *dir = argc > 1 ? argv[1] : getenv("PB_IMAGE_SEEDS");
@@ -432,5 +493,6 @@ int main(int argc, char **argv) {
   test_jpeg_scan_bound(dir);
   test_finding();
   test_data_uri(dir);
+  test_texel_budget(dir);
   return pbt_done();
 }
