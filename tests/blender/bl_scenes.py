@@ -223,4 +223,27 @@ def vcolor_scene(attrs):
 
 vcolor_scene(True)
 vcolor_scene(False)
+
+
+def sky_scene(name, **params):
+    """A floor and a cube under a Nishita Sky Texture world (no lamp)."""
+    reset()
+    floor()
+    camera()
+    box("Cube", (0, 0, 0.5), 0.5, material("Cube", (0.8, 0.5, 0.2)))
+    w = bpy.data.worlds.new("Sky")
+    w.use_nodes = True
+    sky = w.node_tree.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = 'NISHITA'
+    for k, v in params.items():
+        setattr(sky, k, v)
+    w.node_tree.links.new(sky.outputs["Color"], w.node_tree.nodes["Background"].inputs["Color"])
+    bpy.context.scene.world = w
+    save(name + ".blend")
+
+
+sky_scene("sky")  # Blender 3.4's defaults: sun 15 degrees up, disc on
+sky_scene("sky_low", sun_elevation=0.0872665, sun_rotation=1.0)
+sky_scene("sky_nodisc", sun_disc=False)
+sky_scene("sky_thick", altitude=2000.0, air_density=3.0, dust_density=4.0, ozone_density=2.0)
 print("bl_scenes: saved into", out)
