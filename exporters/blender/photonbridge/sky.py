@@ -275,6 +275,23 @@ class NishitaSky:
         return (np.sum(xyz * dw[..., None], (0, 1))) @ XYZ_TO_REC709.T
 
 
+_last = {}
+
+
+def baked(node):
+    """(NishitaSky, baked map, sun irradiance or None) of a Sky Texture
+    node; the last result is kept, so a viewport re-export of an unchanged
+    sky does not bake it again (~4 s)."""
+    key = tuple(float(getattr(node, k)) for k in ("sun_elevation", "sun_rotation", "altitude", "air_density",
+                                                   "dust_density", "ozone_density", "sun_size", "sun_intensity"))
+    key += (bool(node.sun_disc),)
+    if _last.get("key") != key:
+        sky = NishitaSky(node)
+        _last.clear()
+        _last.update(key=key, value=(sky, sky.bake(), sky.sun_irradiance()))
+    return _last["value"]
+
+
 def write_hdr(path, rgb):
     """Radiance RGBE (.hdr), flat scanlines, row 0 first (top)."""
     h, w = rgb.shape[:2]

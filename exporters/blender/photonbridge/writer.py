@@ -654,12 +654,11 @@ class SceneWriter:
         if materials_mod._source(node.inputs["Vector"]) is not None:
             self.warn("world '%s': node '%s' drives the Sky Texture's Vector and is not translated"
                       % (world.name, materials_mod._source(node.inputs["Vector"]).node.name))
-        sky = sky_mod.NishitaSky(node)
+        sky, rgb, irr = sky_mod.baked(node)
         uri = self.images._unique(world.name + "_sky", ".hdr")
-        sky_mod.write_hdr(os.path.join(self.images.folder, uri), sky.bake())
+        sky_mod.write_hdr(os.path.join(self.images.folder, uri), rgb)
         w["environment"] = {"uri": uri, "projection": "EQUIRECTANGULAR", "rotation": [0.0, 0.0, 0.0],
                             "strength": 1.0}
-        irr = sky.sun_irradiance()
         if irr is None or not max(irr) * w["strength"] > 0:
             return
         strength = float(max(irr)) * w["strength"]
