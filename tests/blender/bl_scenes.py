@@ -21,6 +21,11 @@ the folder after '--':
                      on points, (0.1, 0.2, 0.8)); a third box's material has no
                      attribute node (its primitive gets no COLOR_0)
   vcolor_ref.blend   the same with those colours as the sockets' constants
+  sky.blend          a floor and a cube under a Nishita Sky Texture world
+                     (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
+  sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
+  sky_nodisc.blend   the same, sun disc off
+  sky_thick.blend    the same, altitude 2 km, air 3, dust 4, ozone 2
 64 x 48 pixels at 100 %."""
 import os
 import sys
