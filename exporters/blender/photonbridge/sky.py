@@ -15,7 +15,9 @@ intern/cycles/kernel/svm/sky.h):
    (1 + 2.5 z)^3 to black at z = -0.4; the sun disc (when on) from two
    precomputed pixels (the sun's transmitted spectrum at the disc's bottom
    and top elevation, divided by its solid angle) with limb darkening
-   1 - 0.6 (1 - sqrt(1 - (angle / half angle)^2)); XYZ -> linear Rec.709.
+   1 - 0.6 (1 - sqrt(1 - (angle / half angle)^2)); XYZ -> linear Rec.709,
+   negative components clamped to 0 (measured: a sun at the horizon gives
+   negative blue, which Cycles 3.4 renders as 0).
 
 This module does the same in numpy and bakes step 2 into an equirectangular
 map in photonbridge's layout (world.c: u = 0.5 - atan2(y, x) / 2pi,
@@ -244,9 +246,8 @@ class NishitaSky:
                 th = (math.pi * v)[:, None]
                 d = np.stack(np.broadcast_arrays(np.sin(th) * np.cos(phi), np.sin(th) * np.sin(phi),
                                                  np.cos(th)), -1)
-                acc += self.sky_xyz(d)
-        rgb = (acc / 4.0) @ XYZ_TO_REC709.T
-        return rgb.astype(np.float32)
+                acc += np.maximum(self.sky_xyz(d) @ XYZ_TO_REC709.T, 0.0)  # Cycles clamps each lookup
+        return (acc / 4.0).astype(np.float32)
 
     def sun_irradiance(self, n=96):
         """Linear Rec.709 irradiance (W/m^2 per channel, normal to the sun) of
@@ -272,7 +273,8 @@ class NishitaSky:
         if not e0 + half > 0.0:
             xyz = xyz * 0.0
         xyz = xyz * (elev >= 0.0)[..., None]
-        return (np.sum(xyz * dw[..., None], (0, 1))) @ XYZ_TO_REC709.T
+        rgb = np.maximum(xyz @ XYZ_TO_REC709.T, 0.0)  # clamped as each lookup
+        return np.sum(rgb * dw[..., None], (0, 1))
 
 
 _last = {}
