@@ -26,6 +26,11 @@ the folder after '--':
                      group node), one group nesting that group and exposing
                      its colour again, through a reroute
   groups_ref.blend   the same Principled BSDFs with those values, no groups
+  sky.blend          a floor and a cube under a Nishita Sky Texture world
+                     (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
+  sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
+  sky_nodisc.blend   the same, sun disc off
+  sky_thick.blend    the same, altitude 2 km, air 3, dust 4, ozone 2
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -297,4 +302,27 @@ for ref in (False, True):
     box("GroupA", (-1.2, 0, 0.5), 0.5, plain("A", *a) if ref else grouped("A", *a, False))
     box("GroupB", (1.2, 0, 0.5), 0.5, plain("B", *b) if ref else grouped("B", *b, True))
     save("groups_ref.blend" if ref else "groups.blend")
+
+
+def sky_scene(name, **params):
+    """A floor and a cube under a Nishita Sky Texture world (no lamp)."""
+    reset()
+    floor()
+    camera()
+    box("Cube", (0, 0, 0.5), 0.5, material("Cube", (0.8, 0.5, 0.2)))
+    w = bpy.data.worlds.new("Sky")
+    w.use_nodes = True
+    sky = w.node_tree.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = 'NISHITA'
+    for k, v in params.items():
+        setattr(sky, k, v)
+    w.node_tree.links.new(sky.outputs["Color"], w.node_tree.nodes["Background"].inputs["Color"])
+    bpy.context.scene.world = w
+    save(name + ".blend")
+
+
+sky_scene("sky")  # Blender 3.4's defaults: sun 15 degrees up, disc on
+sky_scene("sky_low", sun_elevation=0.0872665, sun_rotation=1.0)
+sky_scene("sky_nodisc", sun_disc=False)
+sky_scene("sky_thick", altitude=2000.0, air_density=3.0, dust_density=4.0, ozone_density=2.0)
 print("bl_scenes: saved into", out)

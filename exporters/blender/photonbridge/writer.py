@@ -638,10 +638,44 @@ class SceneWriter:
                         self.warn("world '%s': node '%s' drives the environment's Vector and is not translated"
                                   % (world.name, vec.node.name))
                     w["environment"] = e
+            elif col.node.type == 'TEX_SKY' and col.node.sky_type == 'NISHITA':
+                self._sky(world, col.node, w)
             else:
                 self.warn("world '%s': node '%s' (%s) drives the Background colour and is not translated; its "
                           "colour is written" % (world.name, col.node.name, col.node.bl_label))
         return w
+
+    def _sky(self, world, node, w):
+        """A Nishita Sky Texture on the Background colour (sky.py): the sky
+        baked into an equirectangular .hdr environment, the sun disc (when
+        on) a soft sun light of angle sun_size with the disc's irradiance
+        times the Background strength."""
+        from . import sky as sky_mod
+        if materials_mod._source(node.inputs["Vector"]) is not None:
+            self.warn("world '%s': node '%s' drives the Sky Texture's Vector and is not translated"
+                      % (world.name, materials_mod._source(node.inputs["Vector"]).node.name))
+        sky, rgb, irr = sky_mod.baked(node)
+        uri = self.images._unique(world.name + "_sky", ".hdr")
+        sky_mod.write_hdr(os.path.join(self.images.folder, uri), rgb)
+        w["environment"] = {"uri": uri, "projection": "EQUIRECTANGULAR", "rotation": [0.0, 0.0, 0.0],
+                            "strength": 1.0}
+        if irr is None or not max(irr) * w["strength"] > 0:
+            return
+        strength = float(max(irr)) * w["strength"]
+        color = [float(c) / float(max(irr)) for c in irr]
+        from mathutils import Vector
+        m = Vector(tuple(float(c) for c in sky.sun_direction())).to_track_quat('Z', 'Y').to_matrix().to_4x4()
+        node_j = _trs(AXIS @ m) or {}
+        node_j["name"] = world.name + " sun disc"
+        ext = {"type": "SUN", "name": node_j["name"], "color": color, "castShadow": True, "useMIS": True,
+               "strength": strength, "angle": sky.sun_size}
+        self.doc.lights.append({"name": node_j["name"], "color": color, "type": "directional",
+                                "intensity": strength * WATTS_TO_LUMENS})
+        node_j["extensions"] = {"KHR_lights_punctual": {"light": len(self.doc.lights) - 1},
+                                EXTENSION: {"light": ext}}
+        self.doc.add_node(node_j)
+        self.note("world '%s': Sky Texture baked (%s) with its sun disc as a %.4g W/m^2 sun light"
+                  % (world.name, uri, strength))
 
     def _root(self, frame_range):
         sc, r, vs = self.scene, self.scene.render, self.scene.view_settings
