@@ -27,9 +27,6 @@ layout(std430, set = 0, binding = PB_SORT_BIND_HIST) buffer SortHist { uint hist
 layout(std430, set = 0, binding = PB_SORT_BIND_COUNT_SRC) readonly buffer SortCount { uint count_src[]; };
 layout(std430, set = 0, binding = PB_SORT_BIND_KEYS4) readonly buffer SortKeys4 { uvec4 keys4[]; }; // binding 1 again
 layout(std430, set = 0, binding = PB_SORT_BIND_VALS4) readonly buffer SortVals4 { uvec4 vals4[]; }; // binding 2 again
-// The serial path's (key, value) pairs between its passes: 2 x capacity, ping-pong.
-layout(std430, set = 0, binding = PB_SORT_BIND_PAIRS) writeonly buffer SortPairs { uvec2 pairs[]; };
-layout(std430, set = 0, binding = PB_SORT_BIND_PAIRS4) readonly buffer SortPairs4 { uvec4 pairs4[]; }; // binding 7 again
 layout(push_constant) uniform SortPush { pb_gpu_sort_push pc; };
 
 const uint PB_SORT_WG = PB_GPU_WORKGROUP;
@@ -281,32 +278,8 @@ void pb_sort_downsweep() {
 // CPU implementation keeps in registers and the stack (llvmpipe: a gather
 // or scatter of one vector, no loop over the lanes) while the wide kernels
 // above pay a lane loop for every shared access. The tiles, hist and the
-// spine are the same. Between its passes the keys and values travel as
-// (key, value) pairs (PB_SORT_IO_*): llvmpipe scatters each store whose
-// address differs between the lanes in a loop over the lanes, so a pair is
-// one such loop where a key and a value are two (measured: the value's
-// store was half the pass, bench/README.md). ----
+// spine are the same. ----
 uint pb_sort_serial_tile() { return gl_GlobalInvocationID.x; }
-
-// Keys i .. i + 3 of the source (i a multiple of 4; past the count: garbage).
-uvec4 pb_sort_serial_keys(uint i, out uvec4 v) {
-  if ((pc.io & PB_SORT_IO_SRC_PAIRS) != 0u) {
-    uvec4 a = pairs4[(pc.src + i) / 2u], b = pairs4[(pc.src + i) / 2u + 1u];
-    v = uvec4(a.y, a.w, b.y, b.w);
-    return uvec4(a.x, a.z, b.x, b.z);
-  }
-  v = vals4[(pc.src + i) / 4u];
-  return keys4[(pc.src + i) / 4u];
-}
-
-void pb_sort_serial_put(uint dst, uint key, uint val) {
-  if ((pc.io & PB_SORT_IO_DST_PAIRS) != 0u) {
-    pairs[pc.dst + dst] = uvec2(key, val);
-  } else {
-    keys[pc.dst + dst] = key;
-    vals[pc.dst + dst] = val;
-  }
-}
 
 void pb_sort_upsweep_serial() {
   uint tile = pb_sort_serial_tile();
@@ -314,15 +287,8 @@ void pb_sort_upsweep_serial() {
   uint n = st.count, base = tile * PB_SORT_SERIAL_TILE, end = min(base + PB_SORT_SERIAL_TILE, n);
   uint R = pb_sort_radix(), h[PB_SORT_MAX_RADIX];
   for (uint d = 0u; d < R; ++d) h[d] = 0u;
-  bool src_pairs = (pc.io & PB_SORT_IO_SRC_PAIRS) != 0u;
   for (uint i = base; i < end; i += 4u) {
-    uvec4 k;
-    if (src_pairs) {
-      uvec4 a = pairs4[(pc.src + i) / 2u], b = pairs4[(pc.src + i) / 2u + 1u];
-      k = uvec4(a.x, a.z, b.x, b.z);
-    } else {
-      k = keys4[(pc.src + i) / 4u];
-    }
+    uvec4 k = keys4[(pc.src + i) / 4u];
     h[pb_sort_digit(k.x)]++;
     if (i + 1u < end) h[pb_sort_digit(k.y)]++;
     if (i + 2u < end) h[pb_sort_digit(k.z)]++;
@@ -342,22 +308,24 @@ void pb_sort_downsweep_serial() {
   for (uint d = 0u; d < R; ++d) o[d] = hist[d * st.tiles + tile];
   uint i = base;
   for (; i + 4u <= end; i += 4u) {
-    uvec4 v, k = pb_sort_serial_keys(i, v);
+    uvec4 k = keys4[(pc.src + i) / 4u], v = vals4[(pc.src + i) / 4u];
     uint d = pb_sort_digit(k.x), dst = o[d]++;
-    pb_sort_serial_put(dst, k.x, v.x);
+    keys[pc.dst + dst] = k.x;
+    vals[pc.dst + dst] = v.x;
     d = pb_sort_digit(k.y), dst = o[d]++;
-    pb_sort_serial_put(dst, k.y, v.y);
+    keys[pc.dst + dst] = k.y;
+    vals[pc.dst + dst] = v.y;
     d = pb_sort_digit(k.z), dst = o[d]++;
-    pb_sort_serial_put(dst, k.z, v.z);
+    keys[pc.dst + dst] = k.z;
+    vals[pc.dst + dst] = v.z;
     d = pb_sort_digit(k.w), dst = o[d]++;
-    pb_sort_serial_put(dst, k.w, v.w);
+    keys[pc.dst + dst] = k.w;
+    vals[pc.dst + dst] = v.w;
   }
-  if (i < end) { // the last tile's last 1-3 keys
-    uvec4 v, k = pb_sort_serial_keys(i, v);
-    for (uint j = 0u; i + j < end; ++j) {
-      uint d = pb_sort_digit(k[j]), dst = o[d]++;
-      pb_sort_serial_put(dst, k[j], v[j]);
-    }
+  for (; i < end; ++i) {
+    uint key = keys[pc.src + i], d = pb_sort_digit(key), dst = o[d]++;
+    keys[pc.dst + dst] = key;
+    vals[pc.dst + dst] = vals[pc.src + i];
   }
 }
 

@@ -138,9 +138,7 @@
 #define PB_SORT_BIND_COUNT_SRC 4
 #define PB_SORT_BIND_KEYS4 5        /* binding 1 again, as uvec4 */
 #define PB_SORT_BIND_VALS4 6        /* binding 2 again, as uvec4 */
-#define PB_SORT_BIND_PAIRS 7        /* the serial path's (key, value) pairs, uvec2 */
-#define PB_SORT_BIND_PAIRS4 8       /* binding 7 again, as uvec4 (two pairs) */
-#define PB_SORT_BIND_COUNT 9
+#define PB_SORT_BIND_COUNT 7
 
 /* ---- atrous.comp ----------------------------------------------------------- */
 #define PB_ATROUS_BIND_S 0

@@ -121,12 +121,6 @@ PB_CONST(PB_SORT_SERIAL_TILE, 4096)
  * counts, so that small sorts run on one workgroup and large ones on 256. */
 PB_CONST(PB_SORT_SPINE_MIN, 4096)
 
-/* Where a serial pass reads its source and writes its destination: the
- * separate key and value arrays (the caller's input, the result) or the
- * interleaved (key, value) pairs between the passes (lbvh_sort.c). */
-PB_CONST(PB_SORT_IO_SRC_PAIRS, 1u)
-PB_CONST(PB_SORT_IO_DST_PAIRS, 2u)
-
 /* Sort state, written by lbvh_sort_setup for every sort. */
 PB_STRUCT(pb_gpu_sort_state) {
   uint count;            /* keys to sort (min of the source word and the capacity) */
@@ -152,8 +146,7 @@ PB_STRUCT(pb_gpu_sort_push) {
   uint max_groups_x;     /* setup: maxComputeWorkGroupCount[0] (grids fold into y) */
   uint tile;             /* setup: keys per tile (PB_SORT_TILE or PB_SORT_SERIAL_TILE) */
   uint bits;             /* this pass's digit width (setup: the widest pass's) */
-  uint io;               /* serial path: PB_SORT_IO_* (where the pass reads and writes) */
-  uint pad[2];
+  uint pad[3];
 } PB_END(pb_gpu_sort_push)
 
 /* Gather output per pixel of the band, sums over samples, 32 bytes.

@@ -23,7 +23,6 @@ struct pb_radix_sort {
   pb_radix_sort_path path;       /* never AUTO */
   pb_gpu_pipeline k[KERNELS];
   pb_gpu_buffer state, keys, vals, hist;
-  pb_gpu_buffer pairs;           /* serial path, 2+ passes: (key, value) pairs between the passes */
   const pb_gpu_buffer *count;    /* bound count buffer (not owned) */
   uint32_t count_word;
 };
@@ -125,7 +124,6 @@ static void free_buffers(pb_gpu *g, pb_radix_sort *s) {
   pb_gpu_buffer_destroy(g, &s->keys);
   pb_gpu_buffer_destroy(g, &s->vals);
   pb_gpu_buffer_destroy(g, &s->hist);
-  pb_gpu_buffer_destroy(g, &s->pairs);
   s->desc.capacity = 0;
   s->count = NULL;
 }
@@ -150,14 +148,9 @@ pb_result pb_radix_sort_reserve(pb_gpu *g, pb_radix_sort *s, uint32_t capacity) 
   /* The workgroup paths' upsweep writes all PB_SORT_RADIX counts of a tile. */
   uint64_t radix = s->path == PB_SORT_PATH_SERIAL ? 1u << s->digit_bits : PB_SORT_RADIX;
   pb_gpu_buffer_desc hd = {.name = "sort.histogram", .size = radix * tiles * sizeof(uint32_t)};
-  /* The serial path's pairs: one half for 2 passes, two (ping-pong) for more;
-   * else a word, bound and unused. */
-  uint64_t halves = s->path != PB_SORT_PATH_SERIAL || s->passes < 2 ? 0 : s->passes == 2 ? 1 : 2;
-  pb_gpu_buffer_desc pd = {.name = "sort.pairs", .size = halves ? halves * capacity * 8ull : 16u};
   pb_result r = pb_gpu_buffer_create(g, &kd, &s->keys);
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &vd, &s->vals);
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &hd, &s->hist);
-  if (r == PB_OK) r = pb_gpu_buffer_create(g, &pd, &s->pairs);
   if (r != PB_OK) {
     free_buffers(g, s);
     return r;
@@ -170,30 +163,7 @@ uint32_t pb_radix_sort_capacity(const pb_radix_sort *s) { return s->desc.capacit
 pb_radix_sort_path pb_radix_sort_get_path(const pb_radix_sort *s) { return s->path; }
 const pb_gpu_buffer *pb_radix_sort_keys(const pb_radix_sort *s) { return &s->keys; }
 const pb_gpu_buffer *pb_radix_sort_vals(const pb_radix_sort *s) { return &s->vals; }
-/* The serial path with 2+ passes: its last pass writes to 0 (pass_io). */
-uint32_t pb_radix_sort_result(const pb_radix_sort *s) {
-  if (s->path == PB_SORT_PATH_SERIAL && s->passes >= 2) return 0u;
-  return (s->passes & 1u) ? s->desc.capacity : 0u;
-}
-
-/* Pass p's source and destination offsets and PB_SORT_IO_* flags. The
- * workgroup paths, and a single pass: keys and values ping-pong between the
- * halves of their buffers. The serial path with 2+ passes: the first pass
- * reads the caller's keys and values (at 0) and writes pairs, the middle
- * ones ping-pong between the pairs' halves, the last reads pairs and writes
- * keys and values to 0 (free since the first pass). */
-static void pass_io(const pb_radix_sort *s, uint32_t p, pb_gpu_sort_push *push) {
-  const uint32_t cap = s->desc.capacity, last = s->passes - 1;
-  if (s->path != PB_SORT_PATH_SERIAL || s->passes < 2) {
-    push->src = (p & 1u) ? cap : 0u;
-    push->dst = (p & 1u) ? 0u : cap;
-    push->io = 0;
-    return;
-  }
-  push->io = (p > 0 ? PB_SORT_IO_SRC_PAIRS : 0u) | (p < last ? PB_SORT_IO_DST_PAIRS : 0u);
-  push->src = p > 0 ? ((p - 1) & 1u) * cap : 0u; /* pass p < last writes half p & 1 */
-  push->dst = p < last ? (p & 1u) * cap : 0u;
-}
+uint32_t pb_radix_sort_result(const pb_radix_sort *s) { return (s->passes & 1u) ? s->desc.capacity : 0u; }
 uint32_t pb_radix_sort_passes(const pb_radix_sort *s) { return s->passes; }
 uint32_t pb_radix_sort_digit_bits(const pb_radix_sort *s) { return s->digit_bits; }
 
@@ -203,7 +173,7 @@ pb_result pb_radix_sort_bind(pb_gpu *g, pb_radix_sort *s, const pb_gpu_buffer *c
   const pb_gpu_buffer *b[PB_SORT_BIND_COUNT] = {
       [PB_SORT_BIND_STATE] = &s->state, [PB_SORT_BIND_KEYS] = &s->keys,     [PB_SORT_BIND_VALS] = &s->vals,
       [PB_SORT_BIND_HIST] = &s->hist,   [PB_SORT_BIND_COUNT_SRC] = count,   [PB_SORT_BIND_KEYS4] = &s->keys,
-      [PB_SORT_BIND_VALS4] = &s->vals,  [PB_SORT_BIND_PAIRS] = &s->pairs,  [PB_SORT_BIND_PAIRS4] = &s->pairs};
+      [PB_SORT_BIND_VALS4] = &s->vals};
   for (int i = 0; i < KERNELS; ++i) {
     pb_result r = pb_gpu_pipeline_bind(g, &s->k[i], b, PB_SORT_BIND_COUNT);
     if (r != PB_OK) return r;
@@ -231,7 +201,8 @@ pb_result pb_radix_sort_record(pb_gpu *g, pb_radix_sort *s) {
     push.shift = p * s->digit_bits;
     push.bits = bits - push.shift < s->digit_bits ? bits - push.shift : s->digit_bits;
     push.pass = p;
-    pass_io(s, p, &push);
+    push.src = (p & 1u) ? s->desc.capacity : 0u;
+    push.dst = (p & 1u) ? 0u : s->desc.capacity;
     r = pb_gpu_dispatch_indirect(g, &s->k[UPSWEEP], &push, &s->state, tile_args);
     pb_gpu_barrier(g);
     if (r == PB_OK) r = pb_gpu_dispatch_indirect(g, &s->k[SPINE], &push, &s->state, spine_args);

@@ -58,10 +58,7 @@ const char *pb_radix_sort_path_name(pb_radix_sort_path p);
 
 /* The key and value buffers, uint[2 x capacity] each: the caller writes the
  * input to elements 0 .. n-1; the sorted keys and values are at
- * pb_radix_sort_result() .. + n-1 (the workgroup paths and single passes: 0
- * for an even number of passes, else capacity; the serial path with 2+
- * passes: 0, its passes between the first and the last keep the keys and
- * values as pairs in a buffer of its own). */
+ * pb_radix_sort_result() .. + n-1 (0 for an even number of passes). */
 const pb_gpu_buffer *pb_radix_sort_keys(const pb_radix_sort *s);
 const pb_gpu_buffer *pb_radix_sort_vals(const pb_radix_sort *s);
 uint32_t pb_radix_sort_result(const pb_radix_sort *s);

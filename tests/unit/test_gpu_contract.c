@@ -134,8 +134,7 @@ static const entry climb_spec[] = {{"SC_FENCES", PB_SPEC_FENCES}, END};
 static const entry sort_bind[] = {{"SortState", PB_SORT_BIND_STATE}, {"SortKeys", PB_SORT_BIND_KEYS},
                                   {"SortVals", PB_SORT_BIND_VALS},   {"SortHist", PB_SORT_BIND_HIST},
                                   {"SortCount", PB_SORT_BIND_COUNT_SRC}, {"SortKeys4", PB_SORT_BIND_KEYS4},
-                                  {"SortVals4", PB_SORT_BIND_VALS4}, {"SortPairs", PB_SORT_BIND_PAIRS},
-                                  {"SortPairs4", PB_SORT_BIND_PAIRS4}, END};
+                                  {"SortVals4", PB_SORT_BIND_VALS4}, END};
 static const entry atrous_bind[] = {{"S", PB_ATROUS_BIND_S},           {"Detail", PB_ATROUS_BIND_DETAIL},
                                     {"Geo", PB_ATROUS_BIND_GEO},       {"Indirect", PB_ATROUS_BIND_INDIRECT},
                                     {"Albedo", PB_ATROUS_BIND_ALBEDO}, END};
