@@ -98,12 +98,13 @@ PB_STRUCT(pb_gpu_lbvh_push) {
  * another workgroup (no decoupled look-back, so no forward-progress
  * assumption); the key count is read on the GPU and every pass is dispatched
  * indirectly. Digits: PB_SORT_RADIX_BITS wide on the workgroup paths (their
- * shared arrays), PB_SORT_SERIAL_BITS by default on the serial path (up to
- * PB_SORT_MAX_RADIX_BITS; the width is derived in lbvh_sort.c); every pass
- * but the last takes the full width, the last the key bits left. */
+ * shared arrays), PB_SORT_SERIAL_BITS by default on the serial path (8..
+ * PB_SORT_MAX_RADIX_BITS for benchmarks; the default is derived from
+ * lavapipe's measured per-pass cost in lbvh_sort.c); every pass but the
+ * last takes the full width, the last the key bits left. */
 PB_CONST(PB_SORT_RADIX_BITS, 8)
 PB_CONST(PB_SORT_RADIX, 256)
-PB_CONST(PB_SORT_SERIAL_BITS, 10)
+PB_CONST(PB_SORT_SERIAL_BITS, 8)
 PB_CONST(PB_SORT_MIN_RADIX_BITS, 8)
 PB_CONST(PB_SORT_MAX_RADIX_BITS, 11)
 PB_CONST(PB_SORT_MAX_RADIX, 2048)

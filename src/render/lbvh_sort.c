@@ -60,6 +60,17 @@ pb_result pb_radix_sort_create(pb_gpu *g, const pb_radix_sort_desc *desc, pb_rad
   if (s->path == PB_SORT_PATH_AUTO)
     s->path = pb_gpu_get_limits(g)->cpu ? PB_SORT_PATH_SERIAL : PB_SORT_PATH_SUBGROUP;
   if (s->path == PB_SORT_PATH_SUBGROUP && !has_subgroups(g)) s->path = PB_SORT_PATH_PORTABLE;
+  /* The serial path's digit width, PB_SORT_SERIAL_BITS = 8, from its cost
+   * per key and pass on lavapipe (2 cores, 1.4 M random 30-bit keys, CPU
+   * time, three interleaved runs, bench/README.md 2026-12-04): 8-bit digits
+   * 8.9-9.3 ns, 9-bit 8.7-10.3, 10-bit 14.6-15.4, 11-bit 16.9-18.3. A pass
+   * is its scatter (a key and its value to 2^b output runs per tile, 8 tiles
+   * a SIMD vector) plus 2^b counters per 4096-key tile to clear, write, scan
+   * and read, and both grow with 2^b past 8 bits faster than the passes
+   * fall: 30 bits in 4 passes of 8 bits cost ~36 ns a key, in 3 of 10 ~45,
+   * 3 of 11 (11 + 11 + 8) ~53, and 9 bits still take 4 passes. (2 passes
+   * of 15 bits would need 32768 counters per tile: 8 per key at this tile
+   * size.) */
   uint32_t db = PB_SORT_RADIX_BITS;
   if (s->path == PB_SORT_PATH_SERIAL) db = s->desc.digit_bits ? s->desc.digit_bits : PB_SORT_SERIAL_BITS;
   if (db < PB_SORT_MIN_RADIX_BITS || db > PB_SORT_MAX_RADIX_BITS) {

@@ -1,9 +1,10 @@
 /* GPU radix sort of 32-bit keys with 32-bit values (the photon LBVH's Morton
  * codes and photon indices; shaders/lbvh_sort_*.comp, constants and state in
- * shaders/shared/pb_lbvh.h): LSD, reduce-then-scan, stable; 8-bit digits on
- * the workgroup paths, 10-bit ones on the serial path (lbvh_sort.c derives
- * the width from lavapipe's measured per-pass cost), as many passes as the
- * key bits need (30-bit Morton codes: 4 and 3).
+ * shaders/shared/pb_lbvh.h): LSD, reduce-then-scan, stable; 8-bit digits
+ * (the serial path takes 8..11 for benchmarks; lbvh_sort.c derives its
+ * default, 8, from lavapipe's measured per-pass cost), as many passes as the
+ * key bits need, the last only as wide as the bits left (30-bit Morton
+ * codes: 8 + 8 + 8 + 6).
  *
  * The number of keys is read on the GPU from a word of a caller's buffer
  * (clamped to the capacity), so a sort records into an open command buffer
@@ -41,7 +42,7 @@ typedef struct pb_radix_sort_desc {
   pb_radix_sort_path path; /* SUBGROUP where the device lacks it: PORTABLE */
   uint32_t digit_bits; /* serial path only (benchmarks): digit width,
                           PB_SORT_MIN_RADIX_BITS..PB_SORT_MAX_RADIX_BITS;
-                          0: PB_SORT_SERIAL_BITS. The workgroup paths: 8 */
+                          0: PB_SORT_SERIAL_BITS (8). The workgroup paths: 8 */
 } pb_radix_sort_desc;
 
 typedef struct pb_radix_sort pb_radix_sort;
