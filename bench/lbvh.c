@@ -1,7 +1,7 @@
 /* Photon LBVH build and radix-sort rates against photon count (not a test;
  * bench/run_bench.py and bench/device_run.sh run it):
  *
- *   pb_bench_lbvh [--device N] [--repeat R] [--k K] [--sort PATH] COUNT...
+ *   pb_bench_lbvh [--device N] [--repeat R] [--k K] [--sort PATH] [--digit-bits B] COUNT...
  *
  * For each COUNT: that many synthetic photons, uniformly random on a
  * 10 x 10 m floor (the scene T_auto divides by), with skewed elliptic
@@ -9,8 +9,10 @@
  * (so T_auto ~ K at every count, as in a real map at a fixed smoothing);
  * the LBVH is built R times (default 3, after one warm-up build that also
  * JIT-compiles the kernels on lavapipe) and the best is kept. Then, alone,
- * the radix sort of COUNT random 30-bit keys with their indices (the path
- * PATH: auto, portable, subgroup or serial; default auto, the build's). Times
+ * the radix sort of COUNT random 30-bit keys (uniform over all 30 bits)
+ * with their indices (the path
+ * PATH: auto, portable, subgroup or serial; default auto, the build's; B:
+ * the serial path's digit width, 8..11, default the sort's). Times
  * are GPU timestamps: the whole build and its stages (setup + bounds +
  * T_auto, Morton codes, the sort, the climb: reorder + hierarchy + boxes +
  * leaf merge), and the sort alone. On a CPU device (lavapipe), where the
@@ -22,7 +24,7 @@
  *   {"photons": N, "build_ms": .., "bounds_ms": .., "morton_ms": .., "sort_ms": ..,
  *    "climb_ms": .., "build_cpu_ms": .., "build_mphotons_s": .., "build_cpu_mphotons_s": ..,
  *    "sort_alone_ms": .., "sort_alone_cpu_ms": .., "sort_mkeys_s": .., "sort_cpu_mkeys_s": ..,
- *    "sort_path": "..", "t_auto": .., "leaves": .., "record_bytes": .., "node_bytes": ..,
+ *    "sort_path": "..", "sort_digit_bits": .., "sort_passes": .., "t_auto": .., "leaves": .., "record_bytes": .., "node_bytes": ..,
  *    "cores": .., "device": ".."}
  *
  * (record_bytes: the sorted photon record the gather reads; node_bytes: the
@@ -50,6 +52,13 @@ static uint64_t rng_state = BENCH_SEED;
 static float frand(void) {
   rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
   return (float)((rng_state >> 40) & 0xffffff) / 16777216.0f;
+}
+
+/* Uniform over all 30 bits (frand() * 2^30 had only 24 random bits, the
+ * low 6 always 0: the first pass of 8-bit digits met 4 digits, not 256). */
+static uint32_t rand30(void) {
+  rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+  return (uint32_t)(rng_state >> 34);
 }
 
 static void make_photons(pb_gpu_photon *ph, uint32_t n, float radius) {
@@ -80,9 +89,10 @@ static double cpu_now(void) {
 
 /* The radix sort alone: n random 30-bit keys, values 0..n-1, best of
  * `repeat` after a warm-up; GPU and CPU milliseconds. */
-static pb_result sort_alone(pb_gpu *g, pb_radix_sort_path path, uint32_t n, uint32_t repeat, double *ms,
-                            double *cpu_ms, const char **path_name) {
-  pb_radix_sort_desc d = {.capacity = n, .key_bits = PB_LBVH_MORTON_BITS, .path = path};
+static pb_result sort_alone(pb_gpu *g, pb_radix_sort_path path, uint32_t digit_bits, uint32_t n, uint32_t repeat,
+                            double *ms, double *cpu_ms, const char **path_name, uint32_t *bits_out,
+                            uint32_t *passes_out) {
+  pb_radix_sort_desc d = {.capacity = n, .key_bits = PB_LBVH_MORTON_BITS, .path = path, .digit_bits = digit_bits};
   pb_radix_sort *s = NULL;
   pb_gpu_buffer count = {0};
   uint32_t *k = malloc((size_t)n * sizeof *k), *v = malloc((size_t)n * sizeof *v);
@@ -93,7 +103,7 @@ static pb_result sort_alone(pb_gpu *g, pb_radix_sort_path path, uint32_t n, uint
   if (r == PB_OK) r = pb_radix_sort_bind(g, s, &count, 0);
   *ms = *cpu_ms = INFINITY;
   for (uint32_t i = 0; i <= repeat && r == PB_OK; ++i) {
-    for (uint32_t j = 0; j < n; ++j) k[j] = (uint32_t)(frand() * 1073741824.0f), v[j] = j;
+    for (uint32_t j = 0; j < n; ++j) k[j] = rand30(), v[j] = j;
     r = pb_gpu_buffer_upload(g, (pb_gpu_buffer *)pb_radix_sort_keys(s), 0, k, (uint64_t)n * 4);
     if (r == PB_OK) r = pb_gpu_buffer_upload(g, (pb_gpu_buffer *)pb_radix_sort_vals(s), 0, v, (uint64_t)n * 4);
     if (r == PB_OK) r = pb_gpu_begin(g);
@@ -108,7 +118,11 @@ static pb_result sort_alone(pb_gpu *g, pb_radix_sort_path path, uint32_t n, uint
     if (r == PB_OK && i > 0 && t >= 0 && t < *ms) *ms = t;
     if (r == PB_OK && i > 0 && c < *cpu_ms) *cpu_ms = c;
   }
-  if (s) *path_name = pb_radix_sort_path_name(pb_radix_sort_get_path(s));
+  if (s) {
+    *path_name = pb_radix_sort_path_name(pb_radix_sort_get_path(s));
+    *bits_out = pb_radix_sort_digit_bits(s);
+    *passes_out = pb_radix_sort_passes(s);
+  }
   pb_gpu_buffer_destroy(g, &count);
   pb_radix_sort_destroy(g, s);
   free(k);
@@ -130,12 +144,14 @@ int main(int argc, char **argv) {
   uint32_t repeat = 3;
   double k = 20.0;
   pb_radix_sort_path sort_path = PB_SORT_PATH_AUTO;
+  uint32_t digit_bits = 0;
   int first = 1;
   for (; first < argc && argv[first][0] == '-' && argv[first][1] == '-'; first += 2) {
     if (first + 1 >= argc) break;
     if (!strcmp(argv[first], "--device")) gd.device_set = 1, gd.device = (uint32_t)strtoul(argv[first + 1], NULL, 10);
     else if (!strcmp(argv[first], "--repeat")) repeat = (uint32_t)strtoul(argv[first + 1], NULL, 10);
     else if (!strcmp(argv[first], "--k")) k = strtod(argv[first + 1], NULL);
+    else if (!strcmp(argv[first], "--digit-bits")) digit_bits = (uint32_t)strtoul(argv[first + 1], NULL, 10);
     else if (!strcmp(argv[first], "--sort")) {
       static const char *names[] = {"auto", "portable", "subgroup", "serial"};
       sort_path = (pb_radix_sort_path)4;
@@ -145,7 +161,7 @@ int main(int argc, char **argv) {
   }
   if (first >= argc || repeat == 0 || !(k > 0) || sort_path > PB_SORT_PATH_SERIAL) {
     fprintf(stderr, "usage: pb_bench_lbvh [--device N] [--repeat R] [--k K] [--sort auto|portable|subgroup|serial] "
-                    "COUNT...\n");
+                    "[--digit-bits B] COUNT...\n");
     return 2;
   }
   long cores = sysconf(_SC_NPROCESSORS_ONLN);
@@ -216,7 +232,9 @@ int main(int argc, char **argv) {
     }
     double sort_ms = -1, sort_cpu = -1;
     const char *sort_name = "?";
-    if (r == PB_OK) r = sort_alone(g, sort_path, n, repeat, &sort_ms, &sort_cpu, &sort_name);
+    uint32_t sort_bits = 0, sort_passes = 0;
+    if (r == PB_OK)
+      r = sort_alone(g, sort_path, digit_bits, n, repeat, &sort_ms, &sort_cpu, &sort_name, &sort_bits, &sort_passes);
     if (r == PB_OK) {
       /* The gather's bytes per photon: its record, and the nodes it can reach
        * (the merged tree's leaves - 1 inner nodes). */
@@ -225,11 +243,12 @@ int main(int argc, char **argv) {
       printf("{\"photons\": %u, \"build_ms\": %.4f, \"bounds_ms\": %.4f, \"morton_ms\": %.4f, \"sort_ms\": %.4f, "
              "\"climb_ms\": %.4f, \"build_cpu_ms\": %.4f, \"build_mphotons_s\": %.4f, \"build_cpu_mphotons_s\": %.4f, "
              "\"sort_alone_ms\": %.4f, \"sort_alone_cpu_ms\": %.4f, \"sort_mkeys_s\": %.4f, "
-             "\"sort_cpu_mkeys_s\": %.4f, \"sort_path\": \"%s\", \"t_auto\": %u, \"leaves\": %u, "
+             "\"sort_cpu_mkeys_s\": %.4f, \"sort_path\": \"%s\", \"sort_digit_bits\": %u, \"sort_passes\": %u, "
+             "\"t_auto\": %u, \"leaves\": %u, "
              "\"record_bytes\": %u, \"node_bytes\": %.2f, \"repeat\": %u, \"cores\": %ld, \"device\": ",
              n, best, bst.bounds_ms, bst.morton_ms, bst.sort_ms, bst.climb_ms, best_cpu, n / best / 1e3,
              n / (best_cpu / cores) / 1e3, sort_ms, sort_cpu, n / sort_ms / 1e3, n / (sort_cpu / cores) / 1e3,
-             sort_name, bst.t_auto, bst.leaves, (unsigned)sizeof(pb_gpu_photon), node_bytes, repeat, cores);
+             sort_name, sort_bits, sort_passes, bst.t_auto, bst.leaves, (unsigned)sizeof(pb_gpu_photon), node_bytes, repeat, cores);
       json_string(pb_gpu_device_name(g));
       printf("}\n");
     } else {

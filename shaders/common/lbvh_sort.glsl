@@ -23,7 +23,7 @@
 layout(std430, set = 0, binding = PB_SORT_BIND_STATE) buffer SortState { pb_gpu_sort_state st; };
 layout(std430, set = 0, binding = PB_SORT_BIND_KEYS) buffer SortKeys { uint keys[]; };   // 2 x capacity (ping-pong)
 layout(std430, set = 0, binding = PB_SORT_BIND_VALS) buffer SortVals { uint vals[]; };   // 2 x capacity
-layout(std430, set = 0, binding = PB_SORT_BIND_HIST) buffer SortHist { uint hist[]; };   // PB_SORT_RADIX x tiles, digit-major
+layout(std430, set = 0, binding = PB_SORT_BIND_HIST) buffer SortHist { uint hist[]; };   // radix x tiles, digit-major
 layout(std430, set = 0, binding = PB_SORT_BIND_COUNT_SRC) readonly buffer SortCount { uint count_src[]; };
 layout(std430, set = 0, binding = PB_SORT_BIND_KEYS4) readonly buffer SortKeys4 { uvec4 keys4[]; }; // binding 1 again
 layout(std430, set = 0, binding = PB_SORT_BIND_VALS4) readonly buffer SortVals4 { uvec4 vals4[]; }; // binding 2 again
@@ -33,7 +33,10 @@ const uint PB_SORT_WG = PB_GPU_WORKGROUP;
 
 // Workgroup index in a grid folded into x and y (pb_gpu_dispatch_indirect).
 uint pb_sort_group() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
-uint pb_sort_digit(uint key) { return (key >> pc.shift) & (PB_SORT_RADIX - 1u); }
+// This pass's digits: 1 << pc.bits of them (at most PB_SORT_RADIX on the
+// workgroup paths, PB_SORT_MAX_RADIX on the serial one; lbvh_sort.c).
+uint pb_sort_radix() { return 1u << pc.bits; }
+uint pb_sort_digit(uint key) { return (key >> pc.shift) & (pb_sort_radix() - 1u); }
 
 #ifdef PB_SORT_SUBGROUPS
 // The host takes this path only where gl_SubgroupSize is 8..64 and divides
@@ -74,7 +77,7 @@ uint pb_sort_last(uvec2 m) { return m.y != 0u ? 32u + uint(findMSB(m.y)) : uint(
 // ---- setup (one workgroup): key count, tile grid, spine grid, totals ----
 void pb_sort_setup() {
   uint l = gl_LocalInvocationID.x;
-  for (uint i = l; i < PB_SORT_MAX_PASSES * PB_SORT_RADIX; i += PB_SORT_WG) st.totals[i] = 0u;
+  for (uint i = l; i < PB_SORT_MAX_PASSES * PB_SORT_MAX_RADIX; i += PB_SORT_WG) st.totals[i] = 0u;
   if (l != 0u) return;
   uint n = min(count_src[pc.count_word], pc.capacity);
   uint tiles = (n + pc.tile - 1u) / pc.tile;
@@ -84,10 +87,14 @@ void pb_sort_setup() {
   st.tiles = tiles;
   st.tile_args = uint[4](x, x == 0u ? 1u : (tiles + x - 1u) / x, 1u, 0u);
   st.serial_args = uint[4](groups, 1u, 1u, 0u); // tiles / 64 < 2^32 / 2^16 <= the x limit's minimum
-  uint dpw = 1u;
-  while (dpw < PB_SORT_RADIX && dpw * tiles < PB_SORT_SPINE_MIN) dpw *= 2u;
+  // At most PB_SORT_RADIX digits a workgroup: each costs its invocations
+  // ~PB_SORT_WG + 2 loop iterations, and llvmpipe cuts a SIMD vector's
+  // loops short after 65535 iterations in all (1024 digits of one tile
+  // left 10-bit sorts of <= 4096 keys unsorted).
+  uint dpw = 1u, radix = pb_sort_radix(); // the widest pass's (the host's pc.bits for the setup)
+  while (dpw < min(radix, PB_SORT_RADIX) && dpw * tiles < PB_SORT_SPINE_MIN) dpw *= 2u;
   st.spine_digits = dpw;
-  st.spine_args = uint[4](PB_SORT_RADIX / dpw, 1u, 1u, 0u);
+  st.spine_args = uint[4](radix / dpw, 1u, 1u, 0u); // narrower passes: the groups past their digits return
 }
 
 // ---- upsweep: the digit counts of one tile -> hist[digit * tiles + tile],
@@ -112,10 +119,10 @@ void pb_sort_upsweep() {
     if (i + 3u < n) atomicAdd(s_up[pb_sort_digit(k.w)], 1u);
   }
   barrier();
-  for (uint d = l; d < PB_SORT_RADIX; d += PB_SORT_WG) {
+  for (uint d = l; d < pb_sort_radix(); d += PB_SORT_WG) {
     uint c = s_up[d];
     hist[d * st.tiles + tile] = c;
-    if (c != 0u) atomicAdd(st.totals[pc.pass * PB_SORT_RADIX + d], c);
+    if (c != 0u) atomicAdd(st.totals[pc.pass * PB_SORT_MAX_RADIX + d], c);
   }
 }
 
@@ -127,9 +134,9 @@ shared uint s_spine_base;
 
 void pb_sort_spine() {
   uint dpw = st.spine_digits, d0 = pb_sort_group() * dpw;
-  if (d0 >= PB_SORT_RADIX) return;
+  if (d0 >= pb_sort_radix()) return;
   uint l = gl_LocalInvocationID.x, tiles = st.tiles;
-  uint row = pc.pass * PB_SORT_RADIX;
+  uint row = pc.pass * PB_SORT_MAX_RADIX;
   uint below = 0u;
   for (uint k = l; k < d0; k += PB_SORT_WG) below += st.totals[row + k];
   s_spine[l] = below;
@@ -201,7 +208,7 @@ void pb_sort_downsweep() {
     oreg[r] = ((prior + pb_sort_below(peers, lane)) << 8) | (d & (PB_SORT_RADIX - 1u));
   }
   barrier();
-  for (uint d = l; d < PB_SORT_RADIX; d += PB_SORT_WG) {
+  for (uint d = l; d < pb_sort_radix(); d += PB_SORT_WG) {
     uint run = hist[d * st.tiles + tile];
     for (uint s = 0u; s < NS; ++s) {
       uint c = s_down[s * PB_SORT_RADIX + d];
@@ -231,7 +238,7 @@ void pb_sort_downsweep() {
   uint tile = pb_sort_group();
   if (tile >= st.tiles) return; // uniform in the workgroup
   uint l = gl_LocalInvocationID.x, n = st.count, base = tile * PB_SORT_TILE;
-  for (uint d = l; d < PB_SORT_RADIX; d += PB_SORT_WG) s_run[d] = hist[d * st.tiles + tile];
+  for (uint d = l; d < pb_sort_radix(); d += PB_SORT_WG) s_run[d] = hist[d * st.tiles + tile];
   for (uint i = l; i < 2u * PB_SORT_RADIX * PB_SORT_WORDS; i += PB_SORT_WG) s_mask[i] = 0u;
   barrier();
   uint word = l / 32u, bit = l % 32u;
@@ -278,8 +285,8 @@ void pb_sort_upsweep_serial() {
   uint tile = pb_sort_serial_tile();
   if (tile >= st.tiles) return;
   uint n = st.count, base = tile * PB_SORT_SERIAL_TILE, end = min(base + PB_SORT_SERIAL_TILE, n);
-  uint h[PB_SORT_RADIX];
-  for (uint d = 0u; d < PB_SORT_RADIX; ++d) h[d] = 0u;
+  uint R = pb_sort_radix(), h[PB_SORT_MAX_RADIX];
+  for (uint d = 0u; d < R; ++d) h[d] = 0u;
   for (uint i = base; i < end; i += 4u) {
     uvec4 k = keys4[(pc.src + i) / 4u];
     h[pb_sort_digit(k.x)]++;
@@ -287,9 +294,9 @@ void pb_sort_upsweep_serial() {
     if (i + 2u < end) h[pb_sort_digit(k.z)]++;
     if (i + 3u < end) h[pb_sort_digit(k.w)]++;
   }
-  for (uint d = 0u; d < PB_SORT_RADIX; ++d) {
+  for (uint d = 0u; d < R; ++d) {
     hist[d * st.tiles + tile] = h[d];
-    if (h[d] != 0u) atomicAdd(st.totals[pc.pass * PB_SORT_RADIX + d], h[d]);
+    if (h[d] != 0u) atomicAdd(st.totals[pc.pass * PB_SORT_MAX_RADIX + d], h[d]);
   }
 }
 
@@ -297,8 +304,8 @@ void pb_sort_downsweep_serial() {
   uint tile = pb_sort_serial_tile();
   if (tile >= st.tiles) return;
   uint n = st.count, base = tile * PB_SORT_SERIAL_TILE, end = min(base + PB_SORT_SERIAL_TILE, n);
-  uint o[PB_SORT_RADIX]; // the next output position of each digit
-  for (uint d = 0u; d < PB_SORT_RADIX; ++d) o[d] = hist[d * st.tiles + tile];
+  uint R = pb_sort_radix(), o[PB_SORT_MAX_RADIX]; // the next output position of each digit
+  for (uint d = 0u; d < R; ++d) o[d] = hist[d * st.tiles + tile];
   uint i = base;
   for (; i + 4u <= end; i += 4u) {
     uvec4 k = keys4[(pc.src + i) / 4u], v = vals4[(pc.src + i) / 4u];

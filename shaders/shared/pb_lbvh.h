@@ -89,16 +89,26 @@ PB_STRUCT(pb_gpu_lbvh_push) {
 } PB_END(pb_gpu_lbvh_push)
 
 /* ---- GPU radix sort (src/render/lbvh_sort.c, shaders/lbvh_sort_*.comp) ----
- * LSD radix sort of 32-bit keys with 32-bit values, 8-bit digits, one pass
- * per digit, reduce-then-scan (Merrill & Grimshaw 2011, "High performance and
- * scalable radix sorting", section 4): per pass an upsweep counts each tile's
+ * LSD radix sort of 32-bit keys with 32-bit values, one pass per digit,
+ * reduce-then-scan (Merrill & Grimshaw 2011, "High performance and scalable
+ * radix sorting", section 4): per pass an upsweep counts each tile's
  * digits, a spine scans the counts digit-major, a downsweep ranks every key
  * within its tile (stable) and scatters it (on CPU devices one invocation
- * counts and ranks a whole tile in order, see lbvh_sort.c). No pass waits on another
- * workgroup (no decoupled look-back, so no forward-progress assumption); the
- * key count is read on the GPU and every pass is dispatched indirectly. */
+ * counts and ranks a whole tile in order, see lbvh_sort.c). No pass waits on
+ * another workgroup (no decoupled look-back, so no forward-progress
+ * assumption); the key count is read on the GPU and every pass is dispatched
+ * indirectly. Digits: PB_SORT_RADIX_BITS wide on the workgroup paths (their
+ * shared arrays), PB_SORT_SERIAL_BITS by default on the serial path (8..
+ * PB_SORT_MAX_RADIX_BITS for benchmarks; the default is derived from
+ * lavapipe's measured per-pass cost in lbvh_sort.c); every pass but the
+ * last takes the full width, the last the key bits left. */
 PB_CONST(PB_SORT_RADIX_BITS, 8)
 PB_CONST(PB_SORT_RADIX, 256)
+PB_CONST(PB_SORT_SERIAL_BITS, 8)
+PB_CONST(PB_SORT_MIN_RADIX_BITS, 8)
+PB_CONST(PB_SORT_MAX_RADIX_BITS, 11)
+PB_CONST(PB_SORT_MAX_RADIX, 2048)
+/* ceil(32 / PB_SORT_MIN_RADIX_BITS) */
 PB_CONST(PB_SORT_MAX_PASSES, 4)
 /* Keys per invocation of the up- and downsweep; a tile is the
  * PB_GPU_WORKGROUP x PB_SORT_KPT keys of one workgroup. */
@@ -116,13 +126,14 @@ PB_CONST(PB_SORT_SPINE_MIN, 4096)
 PB_STRUCT(pb_gpu_sort_state) {
   uint count;            /* keys to sort (min of the source word and the capacity) */
   uint tiles;            /* ceil(count / tile), tile = push.tile */
-  uint spine_digits;     /* digits per spine workgroup (power of two, <= 256) */
+  uint spine_digits;     /* digits per spine workgroup (power of two, <= PB_SORT_RADIX) */
   uint pad0;
   uint tile_args[4];     /* VkDispatchIndirectCommand of the up/downsweeps (x, y, z), pad:
                             a workgroup per tile */
   uint serial_args[4];   /* the serial variant's: an invocation per tile */
   uint spine_args[4];    /* of the spine */
-  uint totals[PB_SORT_MAX_PASSES * PB_SORT_RADIX]; /* keys per digit and pass (atomics) */
+  uint totals[PB_SORT_MAX_PASSES * PB_SORT_MAX_RADIX]; /* keys per digit and pass (atomics),
+                                                          row pass * PB_SORT_MAX_RADIX */
 } PB_END(pb_gpu_sort_state)
 
 /* Push constants of the sort passes. */
@@ -135,6 +146,8 @@ PB_STRUCT(pb_gpu_sort_push) {
   uint capacity;         /* setup: keys the buffers hold */
   uint max_groups_x;     /* setup: maxComputeWorkGroupCount[0] (grids fold into y) */
   uint tile;             /* setup: keys per tile (PB_SORT_TILE or PB_SORT_SERIAL_TILE) */
+  uint bits;             /* this pass's digit width (setup: the widest pass's) */
+  uint pad[3];
 } PB_END(pb_gpu_sort_push)
 
 /* Gather output per pixel of the band, sums over samples, 32 bytes.
@@ -198,12 +211,19 @@ _Static_assert(offsetof(pb_gpu_lbvh_info, photon_args) == 96, "pb_gpu_lbvh_info.
 _Static_assert(offsetof(pb_gpu_lbvh_info, tile_args) == 112, "pb_gpu_lbvh_info.tile_args");
 _Static_assert(sizeof(pb_gpu_lbvh_push) == 32, "pb_gpu_lbvh_push size");
 _Static_assert(PB_LBVH_BOUNDS_TILE == PB_GPU_WORKGROUP * PB_LBVH_BOUNDS_PPT, "bounds tile");
-_Static_assert(sizeof(pb_gpu_sort_state) == 64 + 4 * PB_SORT_MAX_PASSES * PB_SORT_RADIX, "pb_gpu_sort_state size");
+_Static_assert(sizeof(pb_gpu_sort_state) == 64 + 4 * PB_SORT_MAX_PASSES * PB_SORT_MAX_RADIX, "pb_gpu_sort_state size");
 _Static_assert(offsetof(pb_gpu_sort_state, tile_args) == 16, "pb_gpu_sort_state.tile_args");
 _Static_assert(offsetof(pb_gpu_sort_state, serial_args) == 32, "pb_gpu_sort_state.serial_args");
 _Static_assert(offsetof(pb_gpu_sort_state, spine_args) == 48, "pb_gpu_sort_state.spine_args");
 _Static_assert(offsetof(pb_gpu_sort_state, totals) == 64, "pb_gpu_sort_state.totals");
-_Static_assert(sizeof(pb_gpu_sort_push) == 32, "pb_gpu_sort_push size");
+_Static_assert(sizeof(pb_gpu_sort_push) == 48, "pb_gpu_sort_push size");
+_Static_assert(offsetof(pb_gpu_sort_push, bits) == 32, "pb_gpu_sort_push.bits");
+_Static_assert(PB_SORT_RADIX == 1 << PB_SORT_RADIX_BITS, "sort radix");
+_Static_assert(PB_SORT_MAX_RADIX == 1 << PB_SORT_MAX_RADIX_BITS, "sort max radix");
+_Static_assert((int)PB_SORT_MAX_PASSES * (int)PB_SORT_MIN_RADIX_BITS >= 32, "sort passes");
+_Static_assert((int)PB_SORT_SERIAL_BITS >= (int)PB_SORT_MIN_RADIX_BITS &&
+                   (int)PB_SORT_SERIAL_BITS <= (int)PB_SORT_MAX_RADIX_BITS,
+               "serial digit");
 _Static_assert(PB_SORT_TILE == PB_GPU_WORKGROUP * PB_SORT_KPT, "sort tile");
 _Static_assert(sizeof(pb_gpu_photon_accum) == 32, "pb_gpu_photon_accum size");
 _Static_assert(sizeof(pb_gpu_photon_nmap) == 48, "pb_gpu_photon_nmap size");

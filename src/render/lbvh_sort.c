@@ -19,6 +19,7 @@ enum { SETUP = 0, UPSWEEP, SPINE, DOWNSWEEP, KERNELS };
 struct pb_radix_sort {
   pb_radix_sort_desc desc;
   uint32_t passes;
+  uint32_t digit_bits;           /* every pass's but the last's (that one: the key bits left) */
   pb_radix_sort_path path;       /* never AUTO */
   pb_gpu_pipeline k[KERNELS];
   pb_gpu_buffer state, keys, vals, hist;
@@ -55,11 +56,31 @@ pb_result pb_radix_sort_create(pb_gpu *g, const pb_radix_sort_desc *desc, pb_rad
     free(s);
     return pb_fail(PB_ERR_INTERNAL, "radix sort: %u key bits", bits);
   }
-  s->passes = (bits + PB_SORT_RADIX_BITS - 1) / PB_SORT_RADIX_BITS;
   s->path = s->desc.path;
   if (s->path == PB_SORT_PATH_AUTO)
     s->path = pb_gpu_get_limits(g)->cpu ? PB_SORT_PATH_SERIAL : PB_SORT_PATH_SUBGROUP;
   if (s->path == PB_SORT_PATH_SUBGROUP && !has_subgroups(g)) s->path = PB_SORT_PATH_PORTABLE;
+  /* The serial path's digit width, PB_SORT_SERIAL_BITS = 8, from its cost
+   * per key and pass on lavapipe (2 cores, 1.4 M random 30-bit keys, CPU
+   * time, three interleaved runs, bench/README.md 2026-12-04): 8-bit digits
+   * 8.9-9.3 ns, 9-bit 8.7-10.3, 10-bit 14.6-15.4, 11-bit 16.9-18.3. A pass
+   * is its scatter (a key and its value to 2^b output runs per tile, 8 tiles
+   * a SIMD vector) plus 2^b counters per 4096-key tile to clear, write, scan
+   * and read, and both grow with 2^b past 8 bits faster than the passes
+   * fall: 30 bits in 4 passes of 8 bits cost ~36 ns a key, in 3 of 10 ~45,
+   * 3 of 11 (11 + 11 + 8) ~53, and 9 bits still take 4 passes. (2 passes
+   * of 15 bits would need 32768 counters per tile: 8 per key at this tile
+   * size.) */
+  uint32_t db = PB_SORT_RADIX_BITS;
+  if (s->path == PB_SORT_PATH_SERIAL) db = s->desc.digit_bits ? s->desc.digit_bits : PB_SORT_SERIAL_BITS;
+  if (db < PB_SORT_MIN_RADIX_BITS || db > PB_SORT_MAX_RADIX_BITS) {
+    free(s);
+    return pb_fail(PB_ERR_INTERNAL, "radix sort: %u-bit digits (%u..%u)", db, PB_SORT_MIN_RADIX_BITS,
+                   PB_SORT_MAX_RADIX_BITS);
+  }
+  if (db > bits) db = bits; /* one pass */
+  s->digit_bits = db;
+  s->passes = (bits + db - 1) / db; /* <= PB_SORT_MAX_PASSES: db >= PB_SORT_MIN_RADIX_BITS */
   /* Each kernel for each path. */
   static const struct {
     const char *name;
@@ -131,10 +152,13 @@ pb_result pb_radix_sort_reserve(pb_gpu *g, pb_radix_sort *s, uint32_t capacity) 
   capacity = capacity ? (capacity + 3u) & ~3u : 4u; /* the upsweep reads 4 keys at a time */
   if (s->keys.buffer && capacity <= s->desc.capacity) return PB_OK;
   free_buffers(g, s);
-  uint64_t tiles = ((uint64_t)capacity + PB_SORT_TILE - 1) / PB_SORT_TILE; /* the smaller tile's */
+  const uint32_t tile = s->path == PB_SORT_PATH_SERIAL ? PB_SORT_SERIAL_TILE : PB_SORT_TILE;
+  uint64_t tiles = ((uint64_t)capacity + tile - 1) / tile;
   pb_gpu_buffer_desc kd = {.name = "sort.keys", .size = 2ull * capacity * sizeof(uint32_t)};
   pb_gpu_buffer_desc vd = {.name = "sort.values", .size = 2ull * capacity * sizeof(uint32_t)};
-  pb_gpu_buffer_desc hd = {.name = "sort.histogram", .size = PB_SORT_RADIX * tiles * sizeof(uint32_t)};
+  /* The workgroup paths' upsweep writes all PB_SORT_RADIX counts of a tile. */
+  uint64_t radix = s->path == PB_SORT_PATH_SERIAL ? 1u << s->digit_bits : PB_SORT_RADIX;
+  pb_gpu_buffer_desc hd = {.name = "sort.histogram", .size = radix * tiles * sizeof(uint32_t)};
   pb_result r = pb_gpu_buffer_create(g, &kd, &s->keys);
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &vd, &s->vals);
   if (r == PB_OK) r = pb_gpu_buffer_create(g, &hd, &s->hist);
@@ -151,6 +175,8 @@ pb_radix_sort_path pb_radix_sort_get_path(const pb_radix_sort *s) { return s->pa
 const pb_gpu_buffer *pb_radix_sort_keys(const pb_radix_sort *s) { return &s->keys; }
 const pb_gpu_buffer *pb_radix_sort_vals(const pb_radix_sort *s) { return &s->vals; }
 uint32_t pb_radix_sort_result(const pb_radix_sort *s) { return (s->passes & 1u) ? s->desc.capacity : 0u; }
+uint32_t pb_radix_sort_passes(const pb_radix_sort *s) { return s->passes; }
+uint32_t pb_radix_sort_digit_bits(const pb_radix_sort *s) { return s->digit_bits; }
 
 pb_result pb_radix_sort_bind(pb_gpu *g, pb_radix_sort *s, const pb_gpu_buffer *count, uint32_t count_word) {
   if (!count || (uint64_t)count_word * 4 + 4 > count->size)
@@ -173,15 +199,18 @@ pb_result pb_radix_sort_record(pb_gpu *g, pb_radix_sort *s) {
   pb_gpu_sort_push push = {.count_word = s->count_word,
                            .capacity = s->desc.capacity,
                            .max_groups_x = pb_gpu_get_limits(g)->max_workgroup_count_x,
-                           .tile = s->path == PB_SORT_PATH_SERIAL ? PB_SORT_SERIAL_TILE : PB_SORT_TILE};
+                           .tile = s->path == PB_SORT_PATH_SERIAL ? PB_SORT_SERIAL_TILE : PB_SORT_TILE,
+                           .bits = s->digit_bits};
   const uint64_t tile_args = s->path == PB_SORT_PATH_SERIAL ? offsetof(pb_gpu_sort_state, serial_args)
                                                              : offsetof(pb_gpu_sort_state, tile_args);
   const uint64_t spine_args = offsetof(pb_gpu_sort_state, spine_args);
   pb_gpu_barrier(g);
   pb_result r = pb_gpu_dispatch(g, &s->k[SETUP], &push, PB_GPU_WORKGROUP);
   pb_gpu_barrier(g);
+  const uint32_t bits = s->desc.key_bits ? s->desc.key_bits : 32;
   for (uint32_t p = 0; p < s->passes && r == PB_OK; ++p) {
-    push.shift = p * PB_SORT_RADIX_BITS;
+    push.shift = p * s->digit_bits;
+    push.bits = bits - push.shift < s->digit_bits ? bits - push.shift : s->digit_bits;
     push.pass = p;
     push.src = (p & 1u) ? s->desc.capacity : 0u;
     push.dst = (p & 1u) ? 0u : s->desc.capacity;

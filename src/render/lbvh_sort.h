@@ -1,6 +1,10 @@
 /* GPU radix sort of 32-bit keys with 32-bit values (the photon LBVH's Morton
  * codes and photon indices; shaders/lbvh_sort_*.comp, constants and state in
- * shaders/shared/pb_lbvh.h): LSD, 8-bit digits, reduce-then-scan, stable.
+ * shaders/shared/pb_lbvh.h): LSD, reduce-then-scan, stable; 8-bit digits
+ * (the serial path takes 8..11 for benchmarks; lbvh_sort.c derives its
+ * default, 8, from lavapipe's measured per-pass cost), as many passes as the
+ * key bits need, the last only as wide as the bits left (30-bit Morton
+ * codes: 8 + 8 + 8 + 6).
  *
  * The number of keys is read on the GPU from a word of a caller's buffer
  * (clamped to the capacity), so a sort records into an open command buffer
@@ -34,8 +38,11 @@ typedef enum pb_radix_sort_path {
 /* Zero means default for every field. */
 typedef struct pb_radix_sort_desc {
   uint32_t capacity;  /* keys at most (grown by pb_radix_sort_reserve); 0: 1 */
-  uint32_t key_bits;  /* low bits that can be set (1..32), one pass per 8; 0: 32 */
+  uint32_t key_bits;  /* low bits that can be set (1..32); 0: 32 */
   pb_radix_sort_path path; /* SUBGROUP where the device lacks it: PORTABLE */
+  uint32_t digit_bits; /* serial path only (benchmarks): digit width,
+                          PB_SORT_MIN_RADIX_BITS..PB_SORT_MAX_RADIX_BITS;
+                          0: PB_SORT_SERIAL_BITS (8). The workgroup paths: 8 */
 } pb_radix_sort_desc;
 
 typedef struct pb_radix_sort pb_radix_sort;
@@ -56,6 +63,10 @@ const char *pb_radix_sort_path_name(pb_radix_sort_path p);
 const pb_gpu_buffer *pb_radix_sort_keys(const pb_radix_sort *s);
 const pb_gpu_buffer *pb_radix_sort_vals(const pb_radix_sort *s);
 uint32_t pb_radix_sort_result(const pb_radix_sort *s);
+/* Passes: ceil(key bits / digit width), every digit that wide but the last,
+ * which takes the key bits left. */
+uint32_t pb_radix_sort_passes(const pb_radix_sort *s);
+uint32_t pb_radix_sort_digit_bits(const pb_radix_sort *s);
 
 /* n = min(count[count_word], capacity), read by the GPU when the sort runs.
  * Call after create/reserve and whenever the count buffer changes. */

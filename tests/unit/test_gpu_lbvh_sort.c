@@ -6,11 +6,15 @@
  * keys, one tile and its neighbours (1023, 1024, 1025), partial tiles,
  * random 30-bit Morton-like keys, full 32-bit keys, all keys equal, 5
  * distinct keys (one digit dominates every tile), already sorted and
- * reversed input, 1, 2 and 3 passes (the result in the second half for odd
+ * reversed input, 1 to 4 passes (the result in the second half for odd
  * pass counts), the key count read on the GPU from a word of another buffer
  * and clamped to the capacity, the buffers grown between sorts, and
- * 1.5 M keys. Validation layers on, any message fatal; exit 77 without a
- * Vulkan device. */
+ * 1.5 M keys. Digit widths: 8 bits on the workgroup paths and by default on
+ * the serial path (30-bit keys: 8 + 8 + 8 + 6), and every other width the
+ * serial path takes (9, 10: 30 bits in 3 passes, 11: 11 + 11 + 8), with key
+ * widths whose last pass is narrower (21 = 8 + 8 + 5, 10 + 10 + 1; 16, 24,
+ * 32 = 10 + 10 + 10 + 2). Validation layers on,
+ * any message fatal; exit 77 without a Vulkan device. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -102,19 +106,36 @@ static void sort_case(pb_gpu *g, pb_radix_sort *s, uint32_t n, uint32_t bits, in
   pb_error_clear();
 }
 
-static void run_path(pb_gpu *g, pb_radix_sort_path path) {
+/* digit_bits: the serial path's (0: its default), ignored by the others.
+ * full: every case at 30 bits (else a few at 30 bits). */
+static void run_path(pb_gpu *g, pb_radix_sort_path path, uint32_t digit_bits, int full) {
   static const struct {
     uint32_t bits;
-  } widths[] = {{30}, {32}, {8}, {16}, {24}};
+  } widths[] = {{30}, {32}, {8}, {16}, {24}, {21}};
   for (size_t w = 0; w < sizeof widths / sizeof *widths; ++w) {
     uint32_t bits = widths[w].bits;
-    pb_radix_sort_desc d = {.capacity = 4096, .key_bits = bits, .path = path};
+    pb_radix_sort_desc d = {.capacity = 4096, .key_bits = bits, .path = path, .digit_bits = digit_bits};
     pb_radix_sort *s = NULL;
     CHECK_EQ_INT(pb_radix_sort_create(g, &d, &s), PB_OK);
     if (!s) return;
     CHECK_EQ_INT(pb_radix_sort_get_path(s), path);
-    CHECK_EQ_INT(pb_radix_sort_result(s), (bits + 7) / 8 % 2 ? 4096 : 0);
-    if (bits == 30) {
+    /* The widths the header promises, counted here apart from the sort. */
+    uint32_t db = path != PB_SORT_PATH_SERIAL ? 8u : digit_bits ? digit_bits : 8u;
+    if (db > bits) db = bits;
+    uint32_t passes = (bits + db - 1) / db;
+    CHECK_EQ_INT(pb_radix_sort_digit_bits(s), db);
+    CHECK_EQ_INT(pb_radix_sort_passes(s), passes);
+    CHECK_EQ_INT(pb_radix_sort_result(s), passes % 2 ? 4096 : 0);
+    char what[64];
+    snprintf(what, sizeof what, "%u-bit digits, random", db);
+    if (bits == 30 && !full) {
+      sort_case(g, s, 4096, bits, RANDOM, 4096, what);
+      sort_case(g, s, 3001, bits, RANDOM, 3001, what);
+      sort_case(g, s, 4000, bits, FEW, 4000, "5 distinct");
+      sort_case(g, s, 4000, bits, REVERSED, 4000, "reversed");
+      CHECK_EQ_INT(pb_radix_sort_reserve(g, s, 300001), PB_OK);
+      sort_case(g, s, 300001, bits, RANDOM, 300001, "grown, 300001");
+    } else if (bits == 30) {
       uint32_t sizes[] = {0, 1, 2, 1023, 1024, 1025, 3001, 4096};
       for (size_t i = 0; i < sizeof sizes / sizeof *sizes; ++i) sort_case(g, s, sizes[i], bits, RANDOM, sizes[i], "random");
       sort_case(g, s, 4000, bits, EQUAL, 4000, "all equal");
@@ -129,7 +150,7 @@ static void run_path(pb_gpu *g, pb_radix_sort_path path) {
       sort_case(g, s, 70001, bits, FEW, 70001, "grown, 5 distinct");
       sort_case(g, s, 1500000, bits, RANDOM, 1500000, "grown, 1.5 M");
     } else {
-      sort_case(g, s, 4096, bits, RANDOM, 4096, "random");
+      sort_case(g, s, 4096, bits, RANDOM, 4096, what);
       sort_case(g, s, 3333, bits, FEW, 3333, "5 distinct");
     }
     pb_radix_sort_destroy(g, s);
@@ -147,14 +168,23 @@ int main(void) {
   if (s && lim->cpu) CHECK_EQ_INT(pb_radix_sort_get_path(s), PB_SORT_PATH_SERIAL);
   if (s && !lim->cpu) CHECK(pb_radix_sort_get_path(s) != PB_SORT_PATH_SERIAL);
   pb_radix_sort_destroy(g, s);
-  run_path(g, PB_SORT_PATH_SERIAL);
+  /* Digit widths outside the serial path's range are refused. */
+  pb_radix_sort_desc bad = {.path = PB_SORT_PATH_SERIAL, .digit_bits = 12};
+  s = NULL;
+  CHECK(pb_radix_sort_create(g, &bad, &s) != PB_OK);
+  CHECK(s == NULL);
+  pb_error_clear();
+  run_path(g, PB_SORT_PATH_SERIAL, 0, 1);
+  run_path(g, PB_SORT_PATH_SERIAL, 9, 0);
+  run_path(g, PB_SORT_PATH_SERIAL, 10, 0);
+  run_path(g, PB_SORT_PATH_SERIAL, 11, 0);
   /* Where the device has subgroup ballots and shuffles (lavapipe does). */
   const uint32_t need = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
   if ((lim->subgroup_ops & need) == need && lim->subgroup_size >= 8 && lim->subgroup_size <= 64)
-    run_path(g, PB_SORT_PATH_SUBGROUP);
+    run_path(g, PB_SORT_PATH_SUBGROUP, 0, 1);
   else
     printf("subgroup path: the device has no subgroups of 8..64 with ballots and shuffles\n");
-  run_path(g, PB_SORT_PATH_PORTABLE);
+  run_path(g, PB_SORT_PATH_PORTABLE, 0, 1);
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);
   pb_gpu_destroy(g);
   return pbt_done();
