@@ -26,6 +26,12 @@ the folder after '--':
                      group node), one group nesting that group and exposing
                      its colour again, through a reroute
   groups_ref.blend   the same Principled BSDFs with those values, no groups
+  mix.blend          three boxes: Mix Shader(Transparent, Principled red,
+                     Fac 0.7); Mix Shader(Transparent, Principled green, Fac
+                     from a packed image's Alpha); Add Shader(Emission orange
+                     x 2, Principled grey)
+  mix_ref.blend      the same as single Principled BSDFs: Alpha 0.7, Alpha
+                     from the image's Alpha, Emission orange x 2
   sky.blend          a floor and a cube under a Nishita Sky Texture world
                      (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
   sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
@@ -302,6 +308,68 @@ for ref in (False, True):
     box("GroupA", (-1.2, 0, 0.5), 0.5, plain("A", *a) if ref else grouped("A", *a, False))
     box("GroupB", (1.2, 0, 0.5), 0.5, plain("B", *b) if ref else grouped("B", *b, True))
     save("groups_ref.blend" if ref else "groups.blend")
+
+
+def mix_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    img = bpy.data.images.new("Fade", 16, 16, alpha=True)
+    img.pixels = [v for y in range(16) for x in range(16) for v in (1.0, 1.0, 1.0, x / 15.0)]
+    img.pack()
+
+    def bsdf(name, rgb):
+        m = material(name, rgb)
+        return m, m.node_tree, m.node_tree.nodes["Principled BSDF"]
+
+    def around(nt, b, kind, **kw):
+        out = nt.nodes["Material Output"]
+        if kind == "mix":
+            t, mx = nt.nodes.new("ShaderNodeBsdfTransparent"), nt.nodes.new("ShaderNodeMixShader")
+            nt.links.new(t.outputs[0], mx.inputs[1])
+            nt.links.new(b.outputs[0], mx.inputs[2])
+            if "fac_image" in kw:
+                tex = nt.nodes.new("ShaderNodeTexImage")
+                tex.image = kw["fac_image"]
+                nt.links.new(tex.outputs["Alpha"], mx.inputs[0])
+            else:
+                mx.inputs[0].default_value = kw["fac"]
+            nt.links.new(mx.outputs[0], out.inputs["Surface"])
+        else:
+            e, add = nt.nodes.new("ShaderNodeEmission"), nt.nodes.new("ShaderNodeAddShader")
+            e.inputs["Color"].default_value = (1.0, 0.5, 0.1, 1)
+            e.inputs["Strength"].default_value = 2.0
+            nt.links.new(e.outputs[0], add.inputs[0])
+            nt.links.new(b.outputs[0], add.inputs[1])
+            nt.links.new(add.outputs[0], out.inputs["Surface"])
+
+    m, nt, b = bsdf("Veil", (0.8, 0.1, 0.1))
+    if ref:
+        b.inputs["Alpha"].default_value = 0.7
+    else:
+        around(nt, b, "mix", fac=0.7)
+    box("Veil", (-1.2, 0, 0.5), 0.5, m)
+    m, nt, b = bsdf("Leaf", (0.1, 0.7, 0.1))
+    if ref:
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = img
+        nt.links.new(tex.outputs["Alpha"], b.inputs["Alpha"])
+    else:
+        around(nt, b, "mix", fac_image=img)
+    box("Leaf", (1.2, 0, 0.5), 0.5, m)
+    m, nt, b = bsdf("Glow", (0.5, 0.5, 0.5))
+    if ref:
+        b.inputs["Emission"].default_value = (1.0, 0.5, 0.1, 1)
+        b.inputs["Emission Strength"].default_value = 2.0
+    else:
+        around(nt, b, "add")
+    box("Glow", (0, 1.5, 0.4), 0.4, m)
+    save("mix_ref.blend" if ref else "mix.blend")
+
+
+mix_scene(False)
+mix_scene(True)
 
 
 def sky_scene(name, **params):

@@ -298,12 +298,18 @@ class MaterialWriter:
                 if s is not None and _source(s) is not None:
                     self.warn_material("%s on the Material Output is not rendered" % what)
         shader = _source(out.inputs["Surface"]) if out else None
-        node = shader.node if shader else None
-        while node is not None and node.type in ('MIX_SHADER', 'ADD_SHADER'):
-            first = node.inputs[1] if node.type == 'MIX_SHADER' else node.inputs[0]
-            self._warn_node(node, "only its first shader input is written")
-            nxt = _source(first)
-            node = nxt.node if nxt else None
+        node, extra = self._peel(shader.node if shader else None)
+        if node is None and extra["alpha"] == 0.0 and extra["alpha_link"] is None:
+            # A Transparent BSDF alone: the surface lets every ray through.
+            gm, ext = self._principled_defaults()
+            ext["principled"]["alpha"] = 0.0
+            return self._principled_plain(ext["principled"], {}), ext
+        if extra["alpha"] != 1.0 or extra["alpha_link"] is not None or extra["emission"] is not None:
+            if node is not None and node.type == 'BSDF_PRINCIPLED':
+                return self._principled(node, extra)
+            self._warn_node(node if node is not None else out,
+                            "a Transparent or Emission shader mixed or added to it is written only with a "
+                            "Principled BSDF; left out")
         if node is None:
             self.warn_material("nothing is connected to the Material Output's Surface; written as black")
             gm, ext = self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
@@ -322,6 +328,77 @@ class MaterialWriter:
             gm, ext = self._principled_defaults()
         return gm, ext
 
+    def _shader_node(self, socket):
+        src = _source(socket)
+        return src.node if src is not None else None
+
+    def _transparent(self, node):
+        """A Transparent BSDF that lets all light through (white colour)."""
+        if node is None or node.type != 'BSDF_TRANSPARENT':
+            return False
+        c = _value(node.inputs["Color"])
+        if _source(node.inputs["Color"]) is not None or min(c[:3]) < 0.999:
+            self._warn_node(node, "a tinted or textured Transparent BSDF is written as clear")
+        return True
+
+    def _peel(self, node):
+        """The BSDF under Mix and Add Shaders, and what they add to it exactly:
+        Mix(Transparent, X, fac) is X with alpha x fac (and Mix(X,
+        Transparent, fac) with alpha x (1 - fac) for a constant fac), as the
+        Principled BSDF's Alpha is defined in Cycles; Add(Emission, X) is X
+        with that emission. Returns (node, {"alpha", "alpha_link",
+        "emission"}); node None with alpha 0 is a Transparent BSDF alone.
+        Anything else keeps the larger shader of a Mix (the first when Fac
+        is linked), with a warning."""
+        extra = {"alpha": 1.0, "alpha_link": None, "emission": None}
+        for _ in range(32):
+            if node is None:
+                return None, extra
+            if self._transparent(node):
+                extra["alpha"] = 0.0
+                return None, extra
+            if node.type == 'MIX_SHADER':
+                a, b = self._shader_node(node.inputs[1]), self._shader_node(node.inputs[2])
+                fac_link, fac = _source(node.inputs[0]), float(_value(node.inputs[0]))
+                if self._transparent(a) and b is not None and not self._transparent(b):
+                    if fac_link is not None:
+                        link = self._texture_link(node.inputs[0], "Fac")
+                        if link is not None and extra["alpha_link"] is None and extra["alpha"] == 1.0:
+                            extra["alpha_link"] = link
+                        else:
+                            self._warn_node(node, "its Fac is not translated; the mix is written opaque")
+                    else:
+                        extra["alpha"] *= fac
+                    node = b
+                    continue
+                if self._transparent(b) and a is not None and not self._transparent(a):
+                    if fac_link is not None:
+                        self._warn_node(node, "a linked Fac with the Transparent BSDF second is not translated; "
+                                        "written opaque")
+                    else:
+                        extra["alpha"] *= 1.0 - fac
+                    node = a
+                    continue
+                pick = b if fac_link is None and fac > 0.5 else a
+                self._warn_node(node, "only its %s shader input is written" % ("second" if pick is b else "first"))
+                node = pick
+                continue
+            if node.type == 'ADD_SHADER':
+                a, b = self._shader_node(node.inputs[0]), self._shader_node(node.inputs[1])
+                for e, other in ((a, b), (b, a)):
+                    if e is not None and e.type == 'EMISSION' and extra["emission"] is None and other is not None \
+                            and other.type != 'EMISSION' and _source(e.inputs["Color"]) is None \
+                            and _source(e.inputs["Strength"]) is None:
+                        extra["emission"] = (_value(e.inputs["Color"]), float(_value(e.inputs["Strength"])))
+                        node = other
+                        break
+                else:
+                    self._warn_node(node, "only its first shader input is written")
+                    node = a
+                continue
+            return node, extra
+        return node, extra
+
     def _plain_black(self):
         return {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0,
                                          "roughnessFactor": 1.0},
@@ -333,7 +410,7 @@ class MaterialWriter:
              "emissionStrength": 1.0, "alpha": 1.0}
         return self._principled_plain(p, {}), {"model": "principled", "principled": dict(p)}
 
-    def _principled(self, node):
+    def _principled(self, node, extra=None):
         p, links = {}, {}
         for sock_name, member in PRINCIPLED_INPUTS:
             sock = node.inputs.get(sock_name)
@@ -351,6 +428,25 @@ class MaterialWriter:
             link = self._texture_link(sock, sock_name)
             if link is not None:
                 links[member] = link
+        if extra is not None:
+            # What Mix/Add Shaders around the BSDF add (_peel).
+            if extra["alpha_link"] is not None:
+                if "alpha" in links or p["alpha"] < 1.0:
+                    self._warn_node(node, "its own Alpha and a mixed-in Transparent BSDF's Fac: the Fac is written")
+                links["alpha"] = extra["alpha_link"]
+                p["alpha"] = 1.0
+            if extra["alpha"] != 1.0:
+                if "alpha" in links:
+                    self._warn_node(node, "a textured Alpha mixed with a Transparent BSDF: the factor %s is "
+                                    "not applied" % _fmt(extra["alpha"]))
+                else:
+                    p["alpha"] = p["alpha"] * extra["alpha"]
+            if extra["emission"] is not None:
+                color, strength = extra["emission"]
+                if "emission" in links or max(p["emission"][:3]) * p["emissionStrength"] > 0:
+                    self._warn_node(node, "its own Emission and an added Emission shader: the added one is written")
+                    links.pop("emission", None)
+                p["emission"], p["emissionStrength"] = list(color), strength
         p["distribution"] = node.distribution
         p["subsurfaceMethod"] = node.subsurface_method
         normal = node.inputs.get("Normal")
