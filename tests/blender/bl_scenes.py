@@ -32,6 +32,11 @@ the folder after '--':
                      x 2, Principled grey)
   mix_ref.blend      the same as single Principled BSDFs: Alpha 0.7, Alpha
                      from the image's Alpha, Emission orange x 2
+  mapping.blend      a box with a packed checker image read through UV map ->
+                     Mapping (location (0.2, 0.1), Z rotation 30 degrees,
+                     scale (3, 2)) -> Image Texture
+  mapping_ref.blend  the same box with that mapping applied to its UVs and
+                     no Mapping node
   sky.blend          a floor and a cube under a Nishita Sky Texture world
                      (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
   sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
@@ -370,6 +375,49 @@ def mix_scene(ref):
 
 mix_scene(False)
 mix_scene(True)
+
+
+def mapping_scene(ref):
+    import math
+    reset()
+    floor()
+    light()
+    camera()
+    img = bpy.data.images.new("Checker", 8, 8)
+    img.pixels = [v for y in range(8) for x in range(8)
+                  for v in ((0.9, 0.8, 0.1, 1.0) if (x + y) % 2 else (0.1, 0.2, 0.7, 1.0))]
+    img.pack()
+    m = material("Tiles", (0.8, 0.8, 0.8))
+    nt = m.node_tree
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    tex.interpolation = 'Closest'
+    nt.links.new(tex.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
+    ob = box("Tiles", (0, 0, 0.8), 0.8, m)
+    me = ob.data
+    uv = me.uv_layers.new(name="UVMap")
+    corners = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    th, L, S = math.radians(30), (0.2, 0.1), (3.0, 2.0)
+    for poly in me.polygons:
+        for k, li in enumerate(poly.loop_indices):
+            u, v = corners[k % 4]
+            if ref:
+                u, v = S[0] * u, S[1] * v
+                u, v = math.cos(th) * u - math.sin(th) * v + L[0], math.sin(th) * u + math.cos(th) * v + L[1]
+            uv.data[li].uv = (u, v)
+    if not ref:
+        tc = nt.nodes.new("ShaderNodeTexCoord")
+        mp = nt.nodes.new("ShaderNodeMapping")
+        mp.inputs["Location"].default_value = (L[0], L[1], 0.0)
+        mp.inputs["Rotation"].default_value = (0.0, 0.0, th)
+        mp.inputs["Scale"].default_value = (S[0], S[1], 1.0)
+        nt.links.new(tc.outputs["UV"], mp.inputs["Vector"])
+        nt.links.new(mp.outputs["Vector"], tex.inputs["Vector"])
+    save("mapping_ref.blend" if ref else "mapping.blend")
+
+
+mapping_scene(False)
+mapping_scene(True)
 
 
 def sky_scene(name, **params):

@@ -27,6 +27,9 @@ PHOTONBRIDGE_BIN):
                image Fac, Add Shader(Emission, Principled) render as the
                Principled BSDFs with that Alpha and Emission do, with no
                warning;
+  mapping      an image read through a Mapping node (location, Z rotation,
+               scale) renders pixel for pixel as the same mapping applied to
+               the mesh's UVs (KHR_texture_transform in the written file);
   groups       Principled BSDFs inside node groups (exposed inputs set on the
                group node, a nested group, a reroute) render as the same
                BSDFs without groups, with no warning;
@@ -505,7 +508,20 @@ def part_unsupported():
     check(mean > 0.2, "world-lit scene: lit (mean R %.3f > 0.2)" % mean)
 
 
-def same_means(scenes, name, what, tol=0.01):
+def part_mapping():
+    scenes = fresh("mapping_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    gltf = os.path.join(WORK, "mapping.gltf")
+    ok, _ = write_with_addon(os.path.join(scenes, "mapping.blend"), gltf)
+    j = json.load(open(gltf)) if ok else {}
+    xf = [m["extensions"]["PHOTONBRIDGE_blender"].get("textures", {}).get("baseColor", {}).get("extensions", {})
+          .get("KHR_texture_transform") for m in j.get("materials", []) if m.get("name") == "Tiles"]
+    check(bool(xf and xf[0]) and "KHR_texture_transform" in j.get("extensionsUsed", []),
+          "the Mapping node is written as KHR_texture_transform (%s)" % xf)
+    same_means(scenes, "mapping", "the mapped texture renders as the mapped UVs do", pixels=True)
+
+
+def same_means(scenes, name, what, tol=0.01, pixels=False):
     """Renders NAME.blend and NAME_ref.blend (bl_scenes.py) through F12 and
     checks NAME renders with no untranslated node and the same mean RGB as
     its reference within tol."""
@@ -520,6 +536,17 @@ def same_means(scenes, name, what, tol=0.01):
         f = os.path.join(d, "f_0001.exr")
         img = exr(f) if os.path.isfile(f) else None
         means[n] = [sum(img["channels"][c]) / len(img["channels"][c]) for c in "RGB"] if img else [0, 0, 0]
+        if pixels:
+            means[n + "_img"] = img
+    if pixels:
+        # Pixel for pixel: the mean absolute difference over the mean (a
+        # wrong mapping moves the checker: tens of per cent).
+        x, y = means[name + "_img"], means[name + "_ref_img"]
+        d = 1.0
+        if x and y and len(x["channels"]["G"]) == len(y["channels"]["G"]):
+            d = max(sum(abs(p - q) for p, q in zip(x["channels"][c], y["channels"][c])) /
+                    max(sum(y["channels"][c]), 1e-9) for c in "RGB")
+        check(d <= tol, "%s: pixels differ by %.3f %% of the mean" % (what, 100 * d))
     a, b = means[name], means[name + "_ref"]
     worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(a, b))
     check(worst <= tol, "%s: mean RGB %s against %s (largest %.2f %%)"

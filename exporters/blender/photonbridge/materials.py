@@ -33,6 +33,8 @@ A Diffuse BSDF is written as a dielectric with Specular 0 (Blender's
 exporter, which reads only Principled nodes, writes such a material as
 white metal), an Emission shader as black with its emission."""
 
+import math
+
 GLTF_IOR = 1.5
 BLENDER_SPECULAR = 0.5
 
@@ -151,6 +153,7 @@ class MaterialWriter:
         self.warn = warn
         self.cache = {}
         self.uses_normal_map = set()  # glTF material indices needing TANGENT
+        self._xf_cache = {}  # Mapping node -> KHR_texture_transform (or None)
         # glTF material index -> the colour attribute its base colour reads
         # ('' for the mesh's render colour attribute), written as COLOR_0.
         self.vertex_color = {}
@@ -183,7 +186,9 @@ class MaterialWriter:
         if node.projection != 'FLAT':
             self._warn_node(node, "projection %s is written as flat" % node.projection)
         vec = _source(node.inputs["Vector"])
-        if vec is not None and vec.node.type not in ('UVMAP', 'TEX_COORD'):
+        if vec is not None and vec.node.type == 'MAPPING':
+            pass  # _uv_transform
+        elif vec is not None and vec.node.type not in ('UVMAP', 'TEX_COORD'):
             self._warn_node(vec.node, "texture coordinates are not translated; the UV map is used")
         elif vec is not None and vec.node.type == 'TEX_COORD' and vec.name != 'UV':
             self._warn_node(vec.node, "texture coordinate '%s' is not translated; the UV map is used" % vec.name)
@@ -224,6 +229,53 @@ class MaterialWriter:
             return node.attribute_name
         return None
 
+    def _uv_transform(self, node):
+        """KHR_texture_transform for a Mapping node (Point or Vector, constant
+        inputs, fed by the UV map) in front of Image Texture `node`, or None.
+        Blender maps uv_b' = L + Rz(theta) S uv_b with v up; glTF's v runs
+        down (v_g = 1 - v_b, D = diag(1, -1)), so uv_g' = D Rz S D uv_g + b
+        with D Rz(theta) D = Rz(-theta), the extension's rotation matrix for
+        rotation theta, and b = D L + D Rz S (0, 1) + (0, 1) =
+        (Lx - sin(theta) Sy, 1 - Ly - cos(theta) Sy)."""
+        vec = _source(node.inputs["Vector"])
+        if vec is None or vec.node.type != 'MAPPING':
+            return None
+        m = vec.node
+        key = m.as_pointer()
+        if key in self._xf_cache:
+            return self._xf_cache[key]
+        self._xf_cache[key] = None
+        if m.vector_type not in ('POINT', 'VECTOR'):
+            self._warn_node(m, "type %s is not translated; the UV map is used as it is" % m.vector_type)
+            return None
+        names = ("Location", "Rotation", "Scale") if m.vector_type == 'POINT' else ("Rotation", "Scale")
+        if any(_source(m.inputs[n]) is not None for n in names):
+            self._warn_node(m, "a linked Location, Rotation or Scale is not translated; the UV map is used as it is")
+            return None
+        inner = _source(m.inputs["Vector"])
+        if inner is None or not (inner.node.type == 'UVMAP' or (inner.node.type == 'TEX_COORD' and inner.name == 'UV')):
+            self._warn_node(m, "its Vector is not the UV map; the UV map is used as it is")
+            return None
+        loc = _value(m.inputs["Location"]) if m.vector_type == 'POINT' else [0.0, 0.0, 0.0]
+        rot, scale = _value(m.inputs["Rotation"]), _value(m.inputs["Scale"])
+        if abs(rot[0]) > 1e-6 or abs(rot[1]) > 1e-6:
+            self._warn_node(m, "rotation about X and Y is not translated (Z only)")
+        th, sx, sy = rot[2], scale[0], scale[1]
+        xf = {"offset": [loc[0] - math.sin(th) * sy, 1.0 - loc[1] - math.cos(th) * sy], "rotation": th,
+              "scale": [sx, sy]}
+        self._xf_cache[key] = xf
+        return xf
+
+    def _texture_info(self, index, img_node, **extra):
+        """A glTF textureInfo of texture `index` read through img_node's
+        Mapping node, if any."""
+        info = dict({"index": index}, **extra)
+        xf = self._uv_transform(img_node) if img_node is not None else None
+        if xf is not None:
+            info["extensions"] = {"KHR_texture_transform": xf}
+            self.doc.used.add("KHR_texture_transform")
+        return info
+
     def _texture_entry(self, link, color):
         """The extension's texture entry (and glTF texture index) for a link."""
         node, channel = link
@@ -237,7 +289,7 @@ class MaterialWriter:
         if uri is None:
             return None, None
         index = self.doc.add_texture(uri, self._sampler(node))
-        entry = {"index": index, "texCoord": 0, "channel": channel}
+        entry = self._texture_info(index, node, texCoord=0, channel=channel)
         if color and image.colorspace_settings.name in ("Non-Color", "Raw", "Linear"):
             entry["colorSpace"] = "Non-Color"
         return entry, index
@@ -504,7 +556,7 @@ class MaterialWriter:
         base = [max(0.0, min(1.0, c)) for c in p["baseColor"][:3]]
         alpha = p.get("alpha", 1.0)
         if "baseColor" in tex and tex["baseColor"][1][1] == "RGB":
-            pbr["baseColorTexture"] = {"index": tex["baseColor"][0]}
+            pbr["baseColorTexture"] = self._texture_info(tex["baseColor"][0], tex["baseColor"][1][0])
             base = [1.0, 1.0, 1.0]
         if "alpha" in tex:
             alpha = 1.0
@@ -522,11 +574,11 @@ class MaterialWriter:
         gm = {"pbrMetallicRoughness": pbr}
         exts = {}
         if "normal" in tex:
-            gm["normalTexture"] = {"index": tex["normal"][0], "scale": tex["normal"][1][1]}
+            gm["normalTexture"] = self._texture_info(tex["normal"][0], tex["normal"][1][0], scale=tex["normal"][1][1])
         strength = float(p.get("emissionStrength", 1.0))
         emissive = [c * strength for c in p["emission"][:3]]
         if "emission" in tex:
-            gm["emissiveTexture"] = {"index": tex["emission"][0]}
+            gm["emissiveTexture"] = self._texture_info(tex["emission"][0], tex["emission"][1][0])
             emissive = [strength] * 3
         if any(c > 1.0 for c in emissive):
             m = max(emissive)
