@@ -37,6 +37,10 @@ the folder after '--':
                      scale (3, 2)) -> Image Texture
   mapping_ref.blend  the same box with that mapping applied to its UVs and
                      no Mapping node
+  lightnodes.blend   a floor and a box lit by a point light whose node tree's
+                     Emission has Strength 2 and Color (1, 0.5, 0.25)
+  lightnodes_ref.blend  the same light without nodes, twice the power and
+                     that colour
   sky.blend          a floor and a cube under a Nishita Sky Texture world
                      (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
   sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
@@ -418,6 +422,30 @@ def mapping_scene(ref):
 
 mapping_scene(False)
 mapping_scene(True)
+
+
+def lightnodes_scene(ref):
+    reset()
+    floor()
+    camera()
+    box("Box", (0, 0, 0.5), 0.5, material("White", (0.8, 0.8, 0.8)))
+    ld = bpy.data.lights.new("Lamp", 'POINT')
+    ld.energy = 300.0 * (2.0 if ref else 1.0)
+    if ref:
+        ld.color = (1.0, 0.5, 0.25)
+    else:
+        ld.use_nodes = True
+        e = ld.node_tree.nodes["Emission"]
+        e.inputs["Strength"].default_value = 2.0
+        e.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    ob = bpy.data.objects.new("Lamp", ld)
+    ob.location = (0, 0, 3)
+    bpy.context.scene.collection.objects.link(ob)
+    save("lightnodes_ref.blend" if ref else "lightnodes.blend")
+
+
+lightnodes_scene(False)
+lightnodes_scene(True)
 
 
 def sky_scene(name, **params):

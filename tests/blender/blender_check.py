@@ -30,6 +30,9 @@ PHOTONBRIDGE_BIN):
   mapping      an image read through a Mapping node (location, Z rotation,
                scale) renders pixel for pixel as the same mapping applied to
                the mesh's UVs (KHR_texture_transform in the written file);
+  lightnodes   a light whose node tree's Emission has a colour and strength
+               renders as the light with that colour and power (Cycles
+               multiplies them in: measured 2 x (1, 0.5, 0.25) in Cycles 3.4);
   groups       Principled BSDFs inside node groups (exposed inputs set on the
                group node, a nested group, a reroute) render as the same
                BSDFs without groups, with no warning;
@@ -519,6 +522,12 @@ def part_mapping():
     check(bool(xf and xf[0]) and "KHR_texture_transform" in j.get("extensionsUsed", []),
           "the Mapping node is written as KHR_texture_transform (%s)" % xf)
     same_means(scenes, "mapping", "the mapped texture renders as the mapped UVs do", pixels=True)
+
+
+def part_lightnodes():
+    scenes = fresh("lightnodes_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    same_means(scenes, "lightnodes", "the light's node tree scales it as Cycles does")
 
 
 def same_means(scenes, name, what, tol=0.01, pixels=False):

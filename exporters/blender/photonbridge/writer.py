@@ -506,14 +506,17 @@ class SceneWriter:
         node["name"] = obj.name
         scale = inst.matrix_world.to_scale()
         cyc = getattr(lamp, "cycles", None)
-        ext = {"type": lamp.type, "name": lamp.name, "color": list(lamp.color),
+        tint, gain = self._light_nodes(obj)
+        color = [c * t for c, t in zip(lamp.color, tint)]
+        energy = lamp.energy * gain
+        ext = {"type": lamp.type, "name": lamp.name, "color": color,
                "castShadow": bool(getattr(cyc, "cast_shadow", True)),
                "useMIS": bool(getattr(cyc, "use_multiple_importance_sampling", True))}
         if lamp.type == 'SUN':
-            ext["strength"] = lamp.energy
+            ext["strength"] = energy
             ext["angle"] = lamp.angle
         else:
-            ext["power"] = lamp.energy
+            ext["power"] = energy
         if lamp.type in ('POINT', 'SPOT'):
             ext["radius"] = lamp.shadow_soft_size
         if lamp.type == 'SPOT':
@@ -533,15 +536,11 @@ class SceneWriter:
                 return
             self.note("light '%s': area lights have no glTF form; only the %s extension describes it"
                       % (obj.name, EXTENSION))
-        if lamp.use_nodes and lamp.node_tree and any(n.type not in ('OUTPUT_LIGHT', 'EMISSION')
-                                                      for n in lamp.node_tree.nodes):
-            self.warn("light '%s': its node tree is not translated (colour and power are the light's own)"
-                      % obj.name)
         if lamp.type in ('POINT', 'SPOT', 'SUN'):
             # Blender 3.4's exporter, lighting mode "Standard" (SPEC).
-            light = {"name": lamp.name, "color": list(lamp.color),
+            light = {"name": lamp.name, "color": color,
                      "type": {"POINT": "point", "SPOT": "spot", "SUN": "directional"}[lamp.type],
-                     "intensity": lamp.energy * WATTS_TO_LUMENS / (1.0 if lamp.type == 'SUN' else 4.0 * math.pi)}
+                     "intensity": energy * WATTS_TO_LUMENS / (1.0 if lamp.type == 'SUN' else 4.0 * math.pi)}
             if lamp.type == 'SPOT':
                 outer = lamp.spot_size * 0.5
                 light["spot"] = {"innerConeAngle": outer - outer * lamp.spot_blend, "outerConeAngle": outer}
@@ -552,6 +551,26 @@ class SceneWriter:
         node.setdefault("extensions", {})[EXTENSION] = {"light": ext}
         self.node_of[instance_key(inst)] = self.doc.add_node(node)
         self.report.lights += 1
+
+    def _light_nodes(self, obj):
+        """(RGB tint, gain) of a light's node tree: Cycles multiplies the
+        light's colour and power by the Emission shader on its Light Output
+        (Color x Strength; white and 1 without nodes). Anything else there is
+        a warning and leaves the light as it is."""
+        lamp = obj.data
+        if not lamp.use_nodes or lamp.node_tree is None:
+            return (1.0, 1.0, 1.0), 1.0
+        out = next((n for n in lamp.node_tree.nodes if n.type == 'OUTPUT_LIGHT' and n.is_active_output), None) or \
+            next((n for n in lamp.node_tree.nodes if n.type == 'OUTPUT_LIGHT'), None)
+        src = materials_mod._source(out.inputs["Surface"]) if out else None
+        if src is None:
+            return (1.0, 1.0, 1.0), 1.0
+        e = src.node
+        if e.type == 'EMISSION' and materials_mod._source(e.inputs["Color"]) is None and \
+                materials_mod._source(e.inputs["Strength"]) is None:
+            return tuple(materials_mod._value(e.inputs["Color"])[:3]), float(materials_mod._value(e.inputs["Strength"]))
+        self.warn("light '%s': its node tree is not translated (colour and power are the light's own)" % obj.name)
+        return (1.0, 1.0, 1.0), 1.0
 
     # ---- camera -------------------------------------------------------------------
 
