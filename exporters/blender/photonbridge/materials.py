@@ -128,8 +128,8 @@ def _source(socket):
 
 
 def active_output(tree):
-    """The active Material/World Output for Cycles (or ALL)."""
-    outputs = [n for n in tree.nodes if n.type in ('OUTPUT_MATERIAL', 'OUTPUT_WORLD')]
+    """The active Material/World/Light Output for Cycles (or ALL)."""
+    outputs = [n for n in tree.nodes if n.type in ('OUTPUT_MATERIAL', 'OUTPUT_WORLD', 'OUTPUT_LIGHT')]
     for n in outputs:
         if n.is_active_output and getattr(n, "target", 'ALL') in ('ALL', 'CYCLES'):
             return n
@@ -175,6 +175,8 @@ class MaterialWriter:
     def warn_material(self, text):
         """A warning about the material being written: in Blender's report
         (naming the material) and in the extension's "warnings"."""
+        if text in self._mat_warnings:
+            return  # the same node met again (a Mix Shader's inputs are looked at more than once)
         self._mat_warnings.append(text)
         self.warn("material '%s': %s" % (self.mat_name, text))
 
@@ -353,9 +355,7 @@ class MaterialWriter:
         node, extra = self._peel(shader.node if shader else None)
         if node is None and extra["alpha"] == 0.0 and extra["alpha_link"] is None:
             # A Transparent BSDF alone: the surface lets every ray through.
-            gm, ext = self._principled_defaults()
-            ext["principled"]["alpha"] = 0.0
-            return self._principled_plain(ext["principled"], {}), ext
+            return self._principled_defaults(alpha=0.0)
         if extra["alpha"] != 1.0 or extra["alpha_link"] is not None or extra["emission"] is not None:
             if node is not None and node.type == 'BSDF_PRINCIPLED':
                 return self._principled(node, extra)
@@ -456,10 +456,10 @@ class MaterialWriter:
                                          "roughnessFactor": 1.0},
                 "extensions": {"KHR_materials_specular": {"specularColorFactor": [0.0, 0.0, 0.0]}}}
 
-    def _principled_defaults(self):
+    def _principled_defaults(self, alpha=1.0):
         p = {"baseColor": [0.8, 0.8, 0.8, 1.0], "metallic": 0.0, "roughness": 0.5, "specular": BLENDER_SPECULAR,
              "specularTint": 0.0, "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1],
-             "emissionStrength": 1.0, "alpha": 1.0}
+             "emissionStrength": 1.0, "alpha": alpha}
         return self._principled_plain(p, {}), {"model": "principled", "principled": dict(p)}
 
     def _principled(self, node, extra=None):

@@ -560,8 +560,7 @@ class SceneWriter:
         lamp = obj.data
         if not lamp.use_nodes or lamp.node_tree is None:
             return (1.0, 1.0, 1.0), 1.0
-        out = next((n for n in lamp.node_tree.nodes if n.type == 'OUTPUT_LIGHT' and n.is_active_output), None) or \
-            next((n for n in lamp.node_tree.nodes if n.type == 'OUTPUT_LIGHT'), None)
+        out = materials_mod.active_output(lamp.node_tree)
         src = materials_mod._source(out.inputs["Surface"]) if out else None
         if src is None:
             return (1.0, 1.0, 1.0), 1.0
