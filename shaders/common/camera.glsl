@@ -56,7 +56,9 @@ bool pb_pano_direction(pb_gpu_camera c, float u, float v, out vec3 d) {
       v = (v - 0.5) * c.pano3;
       float r = sqrt(u * u + v * v), rmax = 2.0 * c.pano0 * sin(c.pano1 * 0.25);
       if (r > rmax) return false;
-      theta = 2.0 * asin(min(r / (2.0 * c.pano0), 1.0));
+      // 2 asin(x) as 2 atan(x, sqrt(1 - x^2)): GLSL's asin is loose
+      float x = min(r / (2.0 * c.pano0), 1.0);
+      theta = 2.0 * atan(x, sqrt(max(1.0 - x * x, 0.0)));
     }
     float r = sqrt(u * u + v * v), cp = r != 0.0 ? u / r : 0.0, sp = r != 0.0 ? v / r : 0.0;
     d = vec3(cos(theta), -cp * sin(theta), sp * sin(theta));

@@ -131,7 +131,8 @@ static int pano_direction(const pb_gpu_camera *c, float u, float v, float d[3]) 
       u = (u - 0.5f) * c->pano2, v = (v - 0.5f) * c->pano3;
       float r = sqrtf(u * u + v * v), rmax = 2.0f * c->pano0 * sinf(c->pano1 * 0.25f);
       if (r > rmax) return 0;
-      theta = 2.0f * asinf(fminf(r / (2.0f * c->pano0), 1.0f));
+      float x = fminf(r / (2.0f * c->pano0), 1.0f); /* 2 asin(x), as the shader computes it */
+      theta = 2.0f * atan2f(x, sqrtf(fmaxf(1.0f - x * x, 0.0f)));
     }
     float r = sqrtf(u * u + v * v), cp = r != 0.0f ? u / r : 0.0f, sp = r != 0.0f ? v / r : 0.0f;
     /* phi = acos(u / r), negated below the centre: cos phi = u / r,
