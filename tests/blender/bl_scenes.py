@@ -47,7 +47,8 @@ the folder after '--':
   sky_nodisc.blend   the same, sun disc off
   sky_thick.blend    the same, altitude 2 km, air 3, dust 4, ozone 2
   cam_dof.blend      an emissive plane's edge far out of focus and one at the
-                     focus distance (depth of field: 50 mm, f/0.5, 1 m; 128 x 48)
+                     focus distance (depth of field: 50 mm, f/0.5, an Empty 1 m
+                     along the view as focus object; 128 x 48)
   cam_equirect.blend emissive boxes around an equirectangular camera in a grey
                      world (64 x 32); cam_fisheye.blend the same through a
                      fisheye equisolid (8 mm, 3 rad), cam_fisheye_eqd through
@@ -500,7 +501,8 @@ def cycles_settings(sc):
 
 def cam_dof_scene():
     """An emissive plane's vertical edge 6 m in front of a camera focused at
-    1 m (50 mm, f/0.5: Cycles' aperture radius 0.05 m), and a smaller
+    1 m by a focus object off the axis (50 mm, f/0.5: Cycles' aperture
+    radius 0.05 m), and a smaller
     emissive plane at the focus distance in the upper part of the picture;
     128 x 48."""
     sc = reset()
@@ -509,7 +511,11 @@ def cam_dof_scene():
     cd = bpy.data.cameras.new("Cam")
     cd.dof.use_dof = True
     cd.dof.aperture_fstop = 0.5
-    cd.dof.focus_distance = 1.0
+    cd.dof.focus_distance = 3.0  # ignored: the focus object's distance along the view axis is 1 m
+    target = bpy.data.objects.new("Focus", None)
+    target.location = (0.4, 1.0, 0.3)
+    sc.collection.objects.link(target)
+    cd.dof.focus_object = target
     ob = bpy.data.objects.new("Cam", cd)
     ob.location = (0, 0, 0)
     ob.rotation_euler = (1.5707963, 0, 0)  # looking along +Y
