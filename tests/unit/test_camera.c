@@ -236,6 +236,36 @@ int main(void) {
   CHECK(far_r > 0.04);
   CHECK(spread > 0.03 && spread <= 0.05 + 1e-4); /* circle of confusion: R |6 - 3| / 3 */
 
+  /* Cycles' regular_polygon_sample: 5 blades turned by 0.3 rad fill the
+   * pentagon with corners at 0.3 + (2k + 1) pi / 5 (apothem cos(pi / 5)
+   * toward 0.3 + 2k pi / 5), reaching near every corner; ratio 2 halves x. */
+  d.aperture_radius = 1.0f, d.aperture_blades = 5, d.aperture_rotation = 0.3f, d.aperture_ratio = 1.0f;
+  d.znear = 0.0f;
+  for (int pass = 0; pass < 2; ++pass) {
+    pb_camera_view(&d, 64, 48, &v);
+    double outside = 0, corner_near[5] = {9, 9, 9, 9, 9}, max_x = 0;
+    for (int i = 0; i < 4096; ++i) {
+      float lens[2] = {(float)((i % 64) + 0.5) / 64.0f, (float)((i / 64) + 0.5) / 64.0f};
+      float lo[3], ld[3], lt0, ltm;
+      pb_camera_ray_lens(&v, 32, 24, lens, lo, ld, &lt0, &ltm);
+      double ax = (lo[0] - d.position[0]) * (pass ? 2.0 : 1.0), ay = lo[1] - d.position[1];
+      if (fabs(ax) > max_x) max_x = fabs(ax);
+      for (int k = 0; k < 5; ++k) {
+        double a = 0.3 + 2 * k * M_PI / 5, b = 0.3 + (2 * k + 1) * M_PI / 5;
+        double proj = ax * cos(a) + ay * sin(a) - cos(M_PI / 5);
+        if (proj > outside) outside = proj;
+        double dc = hypot(ax - cos(b), ay - sin(b));
+        if (dc < corner_near[k]) corner_near[k] = dc;
+      }
+    }
+    CHECK(outside < 1e-5);
+    for (int k = 0; k < 5; ++k) CHECK(corner_near[k] < 0.1);
+    if (pass == 0) {
+      CHECK(max_x > 0.9);
+      d.aperture_ratio = 2.0f;
+    }
+  }
+
   /* Equirectangular (Cycles' defaults: all longitudes, all latitudes):
    * the centre looks along forward, three quarters across to the right,
    * the top row up; projection inverts the ray. */
