@@ -101,7 +101,9 @@ bool pb_camera_ray_lens(pb_gpu_camera c, vec2 p, vec2 lens, out vec3 org, out ve
     }
     l = normalize(l);
     if (thin) {
-      vec3 U = normalize(vec3(1.0, 0.0, 0.0) - l.x * l);
+      vec3 U = vec3(1.0, 0.0, 0.0) - l.x * l;
+      // along the frame's x itself Cycles' U is 0 / 0: any normal will do
+      U = length(U) > 1e-6 ? normalize(U) : vec3(0.0, 1.0, 0.0);
       vec3 V = cross(l, U);
       q = U * a.x + V * a.y;
       l = normalize(l * c.focus - q);

@@ -232,6 +232,8 @@ int pb_camera_ray_lens(const pb_gpu_camera *v, float px, float py, const float l
     if (thin) {
       float U[3] = {1.0f - l[0] * l[0], -l[0] * l[1], -l[0] * l[2]};
       float un = sqrtf(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
+      /* along the frame's x itself Cycles' U is 0 / 0: any normal will do */
+      if (!(un > 1e-6f)) U[0] = 0.0f, U[1] = 1.0f, U[2] = 0.0f, un = 1.0f;
       for (int k = 0; k < 3; ++k) U[k] /= un;
       float V[3] = {l[1] * U[2] - l[2] * U[1], l[2] * U[0] - l[0] * U[2], l[0] * U[1] - l[1] * U[0]};
       float dn = 0.0f;

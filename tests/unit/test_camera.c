@@ -291,6 +291,35 @@ int main(void) {
   CHECK_NEAR(y, 31.5, 1e-3);
   CHECK_NEAR(z, 2.1, 1e-4);
   CHECK_NEAR(pb_camera_pixel_size(&v, 1.0f), M_PI / 40, 1e-6);
+  /* A panorama's thin lens (camera_sample_panorama): every lens ray of a
+   * pixel passes through the pinhole ray's point at distance focus, from a
+   * lens point normal to it within the radius; the centre pixel's pinhole
+   * ray is the frame's x itself (Cycles' U degenerates there). */
+  e.aperture_radius = 0.1f, e.focus_distance = 2.5f;
+  pb_camera_view(&e, 80, 40, &v);
+  for (int pix = 0; pix < 2; ++pix) {
+    float qx = pix ? 40.0f : 13.25f, qy = pix ? 20.0f : 31.5f;
+    pb_camera_ray(&v, qx, qy, o1, d1, &t01, &tm1);
+    double focus_pt[3], worst_miss = 0, worst_r = 0, worst_dot = 0;
+    for (int k = 0; k < 3; ++k) focus_pt[k] = e.position[k] + 2.5 * d1[k];
+    for (int i = 0; i < 16; ++i) {
+      float lens[2] = {(float)((i % 4) + 0.5) / 4.0f, (float)((i / 4) + 0.5) / 4.0f}, lo[3], ld[3], lt0, ltm;
+      CHECK(pb_camera_ray_lens(&v, qx, qy, lens, lo, ld, &lt0, &ltm));
+      double a[3], w[3], along = 0, miss = 0, r2 = 0, dn = 0;
+      for (int k = 0; k < 3; ++k) a[k] = lo[k] - ld[k] * lt0; /* the lens point */
+      for (int k = 0; k < 3; ++k) w[k] = focus_pt[k] - a[k], along += w[k] * ld[k];
+      for (int k = 0; k < 3; ++k) miss += (w[k] - along * ld[k]) * (w[k] - along * ld[k]);
+      for (int k = 0; k < 3; ++k) r2 += (a[k] - e.position[k]) * (a[k] - e.position[k]);
+      for (int k = 0; k < 3; ++k) dn += (a[k] - e.position[k]) * d1[k];
+      worst_miss = fmax(worst_miss, sqrt(miss));
+      worst_r = fmax(worst_r, sqrt(r2));
+      worst_dot = fmax(worst_dot, fabs(dn));
+    }
+    CHECK(worst_miss < 1e-5);
+    CHECK(worst_r <= 0.1 + 1e-6 && worst_r > 0.05);
+    CHECK(worst_dot < 1e-6);
+  }
+  e.aperture_radius = 0.0f;
   /* Fisheyes: the corners are outside the circle (no ray); the centre
    * looks along forward; projection inverts the ray. */
   for (int kind = PB_CAMERA_PANO_FISHEYE_EQUIDISTANT; kind <= PB_CAMERA_PANO_MIRRORBALL; ++kind) {
