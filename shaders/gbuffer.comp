@@ -82,9 +82,19 @@ void main() {
               vec2(pb_rand(key, s, 0u), pb_rand(key, s, 1u))) / float(m);
   }
   float fx = float(px + frame.key_x0) + jitter.x, fy = float(py + frame.key_y0) + jitter.y;
+  // The lens sample (depth of field): its own dimensions of the sample's
+  // stream; with several samples the cell of the same m x m grid with the
+  // pixel cell's axes swapped and rotated per pixel, so the lens points of
+  // a pixel are stratified too and not tied to the pixel positions.
+  vec2 lens = vec2(pb_rand(key, s, 0x4c454e00u), pb_rand(key, s, 0x4c454e01u));
+  if (frame.spp > 1u) {
+    uint m = uint(ceil(sqrt(float(frame.spp))));
+    uint cell = s % (m * m), h = pb_hash(key ^ 0x4c454e53u);
+    lens = (vec2(float((cell / m + h) % m), float((cell % m + (h >> 16)) % m)) + lens) / float(m);
+  }
   vec3 org, dir;
   float t0, tmax;
-  pb_camera_ray(frame.cam, vec2(fx, fy), org, dir, t0, tmax);
+  bool has_ray = pb_camera_ray_lens(frame.cam, vec2(fx, fy), lens, org, dir, t0, tmax);
   vec3 beta = vec3(1.0);
   vec3 sigma = vec3(0.0); // absorbing medium the chain is in (KHR_materials_volume)
   bool direct_only = (frame.flags & PB_GPU_FRAME_DIRECT_ONLY) != 0u;
@@ -103,7 +113,8 @@ void main() {
   g.chain = 0u;
   g.lobes = 0u;
 
-  for (uint chain = 0u;; ++chain) {
+  // No ray (outside a fisheye's circle): black and uncovered, as in Cycles.
+  for (uint chain = 0u; has_ray; ++chain) {
     float t, u, v;
     // The camera segment ends at the far clip plane (tmax), the others never.
     // A camera ray that ends there sees the world beyond it, as in Cycles
@@ -126,7 +137,7 @@ void main() {
     if (chain == 0u) {
       acc.beauty.w += 1.0;
       acc.normal += surf.ns;
-      acc.depth += (t0 + t) * dot(dir, frame.cam.forward);
+      acc.depth += pb_camera_depth(frame.cam, org, dir, t0, t);
       acc.albedo += pb_bsdf_albedo(b);
       acc.material = float(surf.mat + 1u);
     }

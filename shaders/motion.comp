@@ -32,6 +32,8 @@ void main() {
   float fx = float(gid % mp.width) + 0.5, fy = float(gid / mp.width) + 0.5;
   vec3 org, dir;
   float t0, tmax;
+  // The pinhole ray (the lens centre's, with depth of field): the vectors
+  // follow the surface seen through the pixel centre, not a lens sample.
   pb_camera_ray(mp.cam, vec2(fx, fy), org, dir, t0, tmax);
   float t, u, v;
   uint prim = pb_trace(org, dir, 0.0, tmax, false, t, u, v);

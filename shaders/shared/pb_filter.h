@@ -102,7 +102,7 @@ PB_STRUCT(pb_gpu_motion_params) {
 } PB_END(pb_gpu_motion_params)
 
 #ifndef PB_GLSL
-_Static_assert(sizeof(pb_gpu_motion_params) == 176, "pb_gpu_motion_params size");
+_Static_assert(sizeof(pb_gpu_motion_params) == 272, "pb_gpu_motion_params size");
 _Static_assert(sizeof(pb_gpu_atrous_push) == 32, "pb_gpu_atrous_push size");
 _Static_assert(sizeof(pb_gpu_temporal_push) == 48, "pb_gpu_temporal_push size");
 _Static_assert(sizeof(pb_gpu_temporal_stats) == 16, "pb_gpu_temporal_stats size");

@@ -251,7 +251,7 @@ PB_STRUCT(pb_gpu_emitter) {
   float area;
 } PB_END(pb_gpu_emitter)
 
-/* A camera's rays for one image, 80 bytes (src/scene/camera.h builds it from
+/* A camera's rays for one image, 128 bytes (src/scene/camera.h builds it from
  * a pb_camera; shaders/common/camera.glsl and pb_camera_ray trace it). Image
  * position (px, py) in pixels, top row first, maps to the screen point
  *   sx = x0 + px dx, sy = y0 + py dy  (dy < 0: rows run down);
@@ -260,7 +260,18 @@ PB_STRUCT(pb_gpu_emitter) {
  * right + sy up (metres) along forward. Either starts at the near clip plane
  * (depth clip_near along forward) and ends at the far one (clip_far, 0:
  * none), as Cycles' camera rays do (kernel/camera/camera.h). A crop of a
- * larger image keeps the larger image's window (pb_gpu_frame.key_*). */
+ * larger image keeps the larger image's window (pb_gpu_frame.key_*).
+ * Thin lens (Cycles 3.4 camera_sample_perspective / _orthographic /
+ * _panorama): aperture > 0 moves the origin to a point of the aperture
+ * (radius `aperture` m; a disc when blades is 0, else a regular polygon of
+ * `blades` corners turned by blade_rotation; its x times inv_ratio) and
+ * aims it at the pinhole ray's point at depth `focus` (perspective:
+ * along forward; panoramic: along the ray). projection != PLANAR: a
+ * panoramic camera (shared with pb_camera_panorama): sx, sy are Cycles'
+ * panorama u, v in [0, 1] (x0 = shift x, dx = 1 / width, y0 = 1 + shift y,
+ * dy = -1 / height) and pano holds EQUIRECTANGULAR: Cycles'
+ * equirectangular_range; FISHEYE_EQUIDISTANT: fov; FISHEYE_EQUISOLID:
+ * lens (mm), fov, sensor width and height (mm). */
 PB_STRUCT(pb_gpu_camera) {
   PB_VEC3(position);
   float x0;
@@ -273,8 +284,25 @@ PB_STRUCT(pb_gpu_camera) {
   float clip_near;
   float clip_far;
   uint orthographic;
+  uint projection;       /* PB_GPU_CAMERA_* */
+  float aperture;        /* lens radius, m; 0: pinhole */
+  float focus;           /* focal distance, m */
+  float blades;          /* 0: disc; >= 3: polygon corners */
+  float blade_rotation;  /* radians */
+  float pano0;
+  float pano1;
+  float pano2;
+  float pano3;
+  float inv_ratio;       /* 1 / aperture ratio (anamorphic bokeh) */
   uint pad0;
+  uint pad1;
+  uint pad2;
 } PB_END(pb_gpu_camera)
+PB_CONST(PB_GPU_CAMERA_PLANAR, 0u)
+PB_CONST(PB_GPU_CAMERA_EQUIRECTANGULAR, 1u)
+PB_CONST(PB_GPU_CAMERA_FISHEYE_EQUIDISTANT, 2u)
+PB_CONST(PB_GPU_CAMERA_FISHEYE_EQUISOLID, 3u)
+PB_CONST(PB_GPU_CAMERA_MIRRORBALL, 4u)
 
 /* Per-frame constants (a storage buffer, read by every render pass).
  * A crop of a larger frame (render --crop): pixel (x, y) of this image is
@@ -493,17 +521,19 @@ PB_OFFSET(pb_gpu_world, map_to2, 48) PB_OFFSET(pb_gpu_world, width, 64)
 PB_OFFSET(pb_gpu_world, scale, 72) PB_OFFSET(pb_gpu_world, marg_offset, 76)
 PB_LAYOUT(pb_gpu_emitter, 16)
 PB_OFFSET(pb_gpu_emitter, cdf, 4) PB_OFFSET(pb_gpu_emitter, pick, 8) PB_OFFSET(pb_gpu_emitter, area, 12)
-PB_LAYOUT(pb_gpu_camera, 80)
+PB_LAYOUT(pb_gpu_camera, 128)
 PB_OFFSET(pb_gpu_camera, x0, 12) PB_OFFSET(pb_gpu_camera, forward, 16) PB_OFFSET(pb_gpu_camera, dx, 28)
 PB_OFFSET(pb_gpu_camera, right, 32) PB_OFFSET(pb_gpu_camera, y0, 44) PB_OFFSET(pb_gpu_camera, up, 48)
 PB_OFFSET(pb_gpu_camera, dy, 60) PB_OFFSET(pb_gpu_camera, clip_near, 64) PB_OFFSET(pb_gpu_camera, orthographic, 72)
-PB_LAYOUT(pb_gpu_frame, 160)
-PB_OFFSET(pb_gpu_frame, width, 80) PB_OFFSET(pb_gpu_frame, spp, 88)
-PB_OFFSET(pb_gpu_frame, seed_lo, 104) PB_OFFSET(pb_gpu_frame, flags, 112)
-PB_OFFSET(pb_gpu_frame, pixel_base, 120) PB_OFFSET(pb_gpu_frame, tangent_base, 124)
-PB_OFFSET(pb_gpu_frame, key_x0, 128) PB_OFFSET(pb_gpu_frame, key_width, 136)
-PB_OFFSET(pb_gpu_frame, uv1_base, 140) PB_OFFSET(pb_gpu_frame, color_base, 144)
-PB_OFFSET(pb_gpu_frame, glossy_path_alpha2, 148)
+PB_OFFSET(pb_gpu_camera, projection, 76) PB_OFFSET(pb_gpu_camera, aperture, 80) PB_OFFSET(pb_gpu_camera, pano0, 96)
+PB_OFFSET(pb_gpu_camera, inv_ratio, 112)
+PB_LAYOUT(pb_gpu_frame, 208)
+PB_OFFSET(pb_gpu_frame, width, 128) PB_OFFSET(pb_gpu_frame, spp, 136)
+PB_OFFSET(pb_gpu_frame, seed_lo, 152) PB_OFFSET(pb_gpu_frame, flags, 160)
+PB_OFFSET(pb_gpu_frame, pixel_base, 168) PB_OFFSET(pb_gpu_frame, tangent_base, 172)
+PB_OFFSET(pb_gpu_frame, key_x0, 176) PB_OFFSET(pb_gpu_frame, key_width, 184)
+PB_OFFSET(pb_gpu_frame, uv1_base, 188) PB_OFFSET(pb_gpu_frame, color_base, 192)
+PB_OFFSET(pb_gpu_frame, glossy_path_alpha2, 196)
 PB_LAYOUT(pb_gpu_gbuffer, 64)
 PB_OFFSET(pb_gpu_gbuffer, prim, 12) PB_OFFSET(pb_gpu_gbuffer, wo, 16) PB_OFFSET(pb_gpu_gbuffer, u, 28)
 PB_OFFSET(pb_gpu_gbuffer, throughput, 32) PB_OFFSET(pb_gpu_gbuffer, v, 44)

@@ -33,6 +33,8 @@ static void default_view(const pb_scene *s, char *buf, size_t size) {
   pb_color_destroy(c);
 }
 static const char *const camera_fit_names[] = {"vertical", "horizontal", "larger"};
+static const char *const camera_panorama_names[] = {"none", "equirectangular", "fisheye equidistant",
+                                                   "fisheye equisolid", "mirror ball"};
 
 static void print_text(const pb_scene *s) {
   printf("scene      %s\n", s->path);
@@ -54,6 +56,10 @@ static void print_text(const pb_scene *s) {
     else printf("%s %.2f deg", c->fit == PB_CAMERA_FIT_VERTICAL ? "yfov" : "fov", c->yfov * 180.0 / M_PI);
     if (c->fit != PB_CAMERA_FIT_VERTICAL) printf(" (%s side)", camera_fit_names[c->fit]);
     if (c->shift[0] != 0 || c->shift[1] != 0) printf(", shift (%.4g %.4g)", c->shift[0], c->shift[1]);
+    if (c->panorama) printf(", panoramic %s", camera_panorama_names[c->panorama]);
+    if (c->aperture_radius > 0)
+      printf(", depth of field (aperture radius %.4g m, focus %.4g m, %s)", c->aperture_radius, c->focus_distance,
+             c->aperture_blades >= 3 ? "blades" : "round");
     printf(", aspect %.4g (%ux%u by default%s), clip %.4g..%.4g m%s\n", (double)w / h, w, h,
            c->aspect > 0 ? "" : "; the file gives no aspect ratio", c->znear, c->zfar,
            c->synthesized ? " (default framing, not in the file)" : "");
@@ -222,6 +228,10 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_string(&j, "fit", camera_fit_names[c->fit]);
     pb_json_number(&j, "yfov", c->yfov);
     pb_json_number(&j, "ortho_size", c->ortho_size);
+    pb_json_string(&j, "panorama", camera_panorama_names[c->panorama]);
+    pb_json_number(&j, "aperture_radius", c->aperture_radius); /* m; 0: no depth of field */
+    pb_json_number(&j, "focus_distance", c->focus_distance);
+    pb_json_int(&j, "aperture_blades", c->aperture_blades);
     pb_json_begin_array(&j, "shift");
     for (int k = 0; k < 2; ++k) pb_json_number(&j, NULL, c->shift[k]);
     pb_json_end_array(&j);

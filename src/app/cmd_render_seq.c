@@ -113,6 +113,11 @@ static uint64_t reference_key(const pb_scene *s, const pb_camera *cam, uint32_t 
                  cam->yfov, cam->ortho_size, cam->shift[0], cam->shift[1], cam->znear, cam->zfar,
                  (float)(cam->orthographic * 4 + (int)cam->fit)};
   k = fnv(k, c, sizeof c);
+  float lens[14] = {cam->aperture_radius, cam->focus_distance, cam->aperture_rotation, cam->aperture_ratio,
+                    (float)cam->aperture_blades, (float)cam->panorama, cam->latitude[0], cam->latitude[1],
+                    cam->longitude[0], cam->longitude[1], cam->fisheye_fov, cam->fisheye_lens, cam->sensor[0],
+                    cam->sensor[1]};
+  k = fnv(k, lens, sizeof lens);
   uint64_t v[4] = {w, h, spp, seed};
   return fnv(k, v, sizeof v);
 }

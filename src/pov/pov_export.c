@@ -568,6 +568,10 @@ static void write_camera(FILE *f, const pb_camera *c, uint32_t w, uint32_t h) {
             "camera {\n  perspective\n  location ",
             name, 2.0 * atan(0.5 * ww) * 180.0 / M_PI, 2.0 * atan(0.5 * wh) * 180.0 / M_PI, c->shift[0], c->shift[1]);
   }
+  if (c->aperture_radius > 0.0f || c->panorama != PB_CAMERA_PANO_NONE)
+    fprintf(f, "// camera '%s': %s not exported (POV-Ray gets the pinhole %s camera)\n", name,
+            c->panorama != PB_CAMERA_PANO_NONE ? "the panoramic projection" : "depth of field",
+            c->orthographic ? "orthographic" : "perspective");
   vecd(f, loc);
   fprintf(f, "\n  right ");
   vec17(f, r3);

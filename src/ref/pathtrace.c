@@ -182,8 +182,16 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
   jx -= floor(jx);
   jy -= floor(jy);
   float px = (float)x + (float)jx, py = (float)y + (float)jy;
-  float o3[3], d3[3], t0, tmax;
-  pb_camera_ray(&ctx->view, px, py, o3, d3, &t0, &tmax);
+  /* The lens point (depth of field) from its own stream, drawn only for a
+   * camera with an aperture so that pinhole images keep their numbers. */
+  float o3[3], d3[3], t0, tmax, lens[2] = {0.5f, 0.5f};
+  if (ctx->view.aperture > 0.0f) {
+    pb_rng lens_rng = pb_rng_make(ctx->seed, PB_RNG_LENS, pixel, sample);
+    lens[0] = pb_rng_f(&lens_rng);
+    lens[1] = pb_rng_f(&lens_rng);
+  }
+  /* No ray (outside a fisheye's circle): black and uncovered, as Cycles. */
+  if (!pb_camera_ray_lens(&ctx->view, px, py, lens, o3, d3, &t0, &tmax)) return;
   v3 fwd = v3_load(cam->forward);
   v3 dir = v3_load(d3);
   v3 org = v3_load(o3);
@@ -213,7 +221,9 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
     if (k == 1) {
       out->hit = 1;
       out->normal = surf.ns;
-      out->depth = (t0 + h.t) * v3_dot(dir, fwd);
+      /* camera depth; a panorama's the distance (Cycles' camera_z_depth) */
+      out->depth = ctx->view.projection ? v3_len(v3_sub(v3_add(org, v3_scale(dir, h.t)), v3_load(cam->position)))
+                                        : (t0 + h.t) * v3_dot(dir, fwd);
     }
 
     v3 le = pb_surface_emission(s, &surf, camera_path);

@@ -103,7 +103,7 @@ static inline float pb_rng_f(pb_rng *r) {
   return (float)(pb_rng_u32(r) >> 8) * (1.0f / 16777216.0f);
 }
 
-enum { PB_RNG_CAMERA = 1, PB_RNG_PHOTON = 2, PB_RNG_PIXEL = 3 };
+enum { PB_RNG_CAMERA = 1, PB_RNG_PHOTON = 2, PB_RNG_PIXEL = 3, PB_RNG_LENS = 4 };
 
 /* ---- Embree ------------------------------------------------------------- */
 

@@ -107,6 +107,14 @@ pb_result pb_estimator_create(pb_gpu *g, const pb_scene *s, const pb_estimator_d
   if (d.kind >= PB_ESTIMATOR_KIND_COUNT)
     return pb_fail(PB_ERR_USAGE, "render: estimator %u (lbvh, knn, splat, vsch or auto)", d.kind);
   d.kind = pb_estimator_resolve(s, &d);
+  /* The screen-space estimators project photons through a planar camera
+   * (splat_splat.comp's z^2 footprint, vsch's view tiles); depth of field
+   * is their pinhole's (the indirect light they splat stays sharp). */
+  if ((d.kind == PB_ESTIMATOR_SPLAT || d.kind == PB_ESTIMATOR_VSCH) && s)
+    for (uint32_t i = 0; i < s->camera_count; ++i)
+      if (s->cameras[i].panorama != PB_CAMERA_PANO_NONE)
+        return pb_fail(PB_ERR_USAGE, "render: estimator %s needs a perspective or orthographic camera; camera '%s' "
+                       "is panoramic (use lbvh or knn)", pb_estimator_names[d.kind], s->cameras[i].name);
   const pb_estimator_ops *ops = ops_of(d.kind);
   pb_estimator *e = calloc(1, sizeof *e);
   if (!e) return pb_fail(PB_ERR_NOMEM, "render: out of memory for the estimator");

@@ -165,7 +165,13 @@ static int camera_equal(const pb_camera *a, const pb_camera *b) {
   return !memcmp(a->position, b->position, sizeof a->position) && !memcmp(a->forward, b->forward, sizeof a->forward) &&
          !memcmp(a->up, b->up, sizeof a->up) && !memcmp(a->right, b->right, sizeof a->right) && a->yfov == b->yfov &&
          a->orthographic == b->orthographic && a->fit == b->fit && a->ortho_size == b->ortho_size &&
-         !memcmp(a->shift, b->shift, sizeof a->shift) && a->znear == b->znear && a->zfar == b->zfar;
+         !memcmp(a->shift, b->shift, sizeof a->shift) && a->znear == b->znear && a->zfar == b->zfar &&
+         a->aperture_radius == b->aperture_radius && a->focus_distance == b->focus_distance &&
+         a->aperture_rotation == b->aperture_rotation && a->aperture_ratio == b->aperture_ratio &&
+         a->aperture_blades == b->aperture_blades && a->panorama == b->panorama &&
+         !memcmp(a->latitude, b->latitude, sizeof a->latitude) && !memcmp(a->longitude, b->longitude, sizeof a->longitude) &&
+         a->fisheye_fov == b->fisheye_fov && a->fisheye_lens == b->fisheye_lens &&
+         !memcmp(a->sensor, b->sensor, sizeof a->sensor);
 }
 
 /* Progressive rendering of a still run: the temporal filters already keep

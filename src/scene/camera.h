@@ -40,9 +40,26 @@ void pb_camera_view(const pb_camera *c, uint32_t full_w, uint32_t full_h, pb_gpu
 void pb_camera_ray(const pb_gpu_camera *v, float px, float py, float org[3], float dir[3], float *t0,
                    float *tmax);
 
+/* The same through a point of the aperture: lens a sample in [0, 1)^2
+ * (NULL, or a view without aperture: the pinhole ray above, the centre's;
+ * motion vectors and reprojection use it). Cycles 3.4's thin lens
+ * (kernel/camera/camera.h): perspective rays leave the lens point toward
+ * the pinhole ray's point at depth `focus`; orthographic ones leave the
+ * window point plus the lens offset on the near plane toward forward x
+ * focus from the lens centre; panoramic ones use the plane normal to the
+ * pinhole ray. A panoramic ray starts clip_near along itself (t0 =
+ * clip_near; its camera depth is the hit's distance from `position`, as
+ * Cycles' camera_z_depth). Returns 0, with tmax 0, where the image
+ * position has no ray (outside a fisheye's circle or the mirror ball):
+ * the pixel stays black and uncovered, as in Cycles. */
+int pb_camera_ray_lens(const pb_gpu_camera *v, float px, float py, const float lens[2], float org[3], float dir[3],
+                       float *t0, float *tmax);
+
 /* Projects world point p: image position (pixels, as pb_camera_ray takes
- * them) and camera depth along forward. Returns 0 when p is not in front of
- * the camera plane (depth <= 0) or the position is not finite. */
+ * them) and camera depth along forward (panoramas: the distance, and the
+ * inverse of their mapping). Returns 0 when p is not in front of the
+ * camera plane (depth <= 0), outside a panorama's field, or the position
+ * is not finite. The pinhole's projection: depth of field is not undone. */
 int pb_camera_view_project(const pb_gpu_camera *v, const float p[3], float *x, float *y, float *depth);
 
 /* The size of one pixel on a surface at camera depth z, metres (reference
@@ -52,10 +69,12 @@ float pb_camera_pixel_size(const pb_gpu_camera *v, float z);
 /* A glTF camera's projection (position and frame left 0): the plain
  * perspective or orthographic camera, replaced by its
  * PHOTONBRIDGE_blender extension where it has one (sensor fit, lens
- * shift, clip range, orthographic scale; exporters/blender/
+ * shift, clip range, orthographic scale, depth of field, panoramas;
+ * exporters/blender/
  * PHOTONBRIDGE_blender.md). Errors name the JSON path: PB_ERR_SCENE_INVALID
  * for a value of the wrong type or out of range, PB_ERR_SCENE_UNSUPPORTED
- * for a camera type other than PERSP/ORTHO. */
+ * for a camera type other than PERSP/ORTHO/PANO or a panorama type other
+ * than EQUIRECTANGULAR, FISHEYE_EQUIDISTANT, FISHEYE_EQUISOLID, MIRRORBALL. */
 pb_result pb_camera_projection_from_gltf(const char *path, int index, const pb_gltf_camera *c, pb_camera *out);
 
 #endif

@@ -143,8 +143,11 @@ typedef struct pb_gltf_scene {
 typedef struct pb_gltf_camera_blender {
   int present;
   const char *bad_member, *bad_expect;
-  const char *type, *sensor_fit;
+  const char *type, *sensor_fit, *panorama_type;
   double lens, sensor_width, sensor_height, ortho_scale, shift_x, shift_y, clip_start, clip_end, aspect;
+  /* depth of field (absent aperture_fstop: none) and panoramas */
+  double focus_distance, aperture_fstop, aperture_blades, aperture_rotation, aperture_ratio;
+  double fisheye_fov, fisheye_lens, latitude_min, latitude_max, longitude_min, longitude_max;
 } pb_gltf_camera_blender;
 
 typedef struct pb_gltf_camera {

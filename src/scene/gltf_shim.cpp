@@ -836,7 +836,7 @@ double num_or(const tinygltf::Value &v, const char *key, double dflt) {
 // cameras[i].extensions.PHOTONBRIDGE_blender, member by member (gltf_doc.h).
 void camera_blender(const tinygltf::Value &v, pb_gltf_camera_blender *x) {
   x->present = 1;
-  x->type = x->sensor_fit = nullptr;
+  x->type = x->sensor_fit = x->panorama_type = nullptr;
   if (!v.IsObject()) {
     x->bad_member = "";
     x->bad_expect = "an object";
@@ -866,6 +866,18 @@ void camera_blender(const tinygltf::Value &v, pb_gltf_camera_blender *x) {
   num("clipStart", &x->clip_start);
   num("clipEnd", &x->clip_end);
   num("aspect", &x->aspect);
+  str("panoramaType", &x->panorama_type);
+  num("focusDistance", &x->focus_distance);
+  num("apertureFstop", &x->aperture_fstop);
+  num("apertureBlades", &x->aperture_blades);
+  num("apertureRotation", &x->aperture_rotation);
+  num("apertureRatio", &x->aperture_ratio);
+  num("fisheyeFov", &x->fisheye_fov);
+  num("fisheyeLens", &x->fisheye_lens);
+  num("latitudeMin", &x->latitude_min);
+  num("latitudeMax", &x->latitude_max);
+  num("longitudeMin", &x->longitude_min);
+  num("longitudeMax", &x->longitude_max);
 }
 
 // Element k of an array member of numbers, or dflt.

@@ -322,7 +322,36 @@ typedef struct pb_camera {
                                         (Cycles' clip_start / clip_end);
                                         zfar 0: infinite */
   int synthesized;                   /* 1: made by the loader (file had none) */
+  /* Thin lens, Cycles 3.4's depth of field (blender/camera.cpp sync,
+   * kernel/camera/camera.h sampling): aperture_radius in metres (0: a
+   * pinhole; Blender: lens / (2 f-stop), 1 / (2 f-stop) when orthographic),
+   * focus_distance in metres along forward (Cycles' focaldistance; a focus
+   * object's distance along the view axis), aperture_blades 0 (a disc) or
+   * >= 3 (a regular polygon turned by aperture_rotation, radians) and
+   * aperture_ratio (anamorphic bokeh: the aperture's x is divided by it;
+   * 0 reads as 1). All 0: no depth of field. */
+  float aperture_radius, focus_distance, aperture_rotation, aperture_ratio;
+  uint32_t aperture_blades;
+  /* Panoramic cameras (Cycles' CAMERA_PANORAMA, kernel/camera/projection.h);
+   * PB_CAMERA_PANO_NONE: the perspective or orthographic camera above.
+   * latitude / longitude: Cycles' equirectangular ranges (min, max,
+   * radians); fisheye_fov (radians) and fisheye_lens (mm) the fisheyes';
+   * sensor (mm, width and height) the equisolid fisheye's, with `fit`. yfov
+   * stays a perspective angle (the plain glTF camera's) for the code that
+   * sizes pixels. */
+  int panorama;                      /* pb_camera_panorama */
+  float latitude[2], longitude[2];
+  float fisheye_fov, fisheye_lens;
+  float sensor[2];
 } pb_camera;
+
+typedef enum pb_camera_panorama {
+  PB_CAMERA_PANO_NONE = 0,
+  PB_CAMERA_PANO_EQUIRECTANGULAR = 1,
+  PB_CAMERA_PANO_FISHEYE_EQUIDISTANT = 2,
+  PB_CAMERA_PANO_FISHEYE_EQUISOLID = 3,
+  PB_CAMERA_PANO_MIRRORBALL = 4,
+} pb_camera_panorama;
 
 /* Features the scene needs; renderers build only the machinery a scene uses. */
 enum {

@@ -46,6 +46,15 @@ the folder after '--':
   sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
   sky_nodisc.blend   the same, sun disc off
   sky_thick.blend    the same, altitude 2 km, air 3, dust 4, ozone 2
+  cam_dof.blend      an emissive plane's edge far out of focus and one at the
+                     focus distance (depth of field: 50 mm, f/0.5, an Empty 1 m
+                     along the view as focus object; 128 x 48)
+  cam_equirect.blend emissive boxes around an equirectangular camera in a grey
+                     world (64 x 32); cam_fisheye.blend the same through a
+                     fisheye equisolid (8 mm, 3 rad), cam_fisheye_eqd through
+                     a fisheye equidistant (3.5 rad)
+  (the cam_* scenes carry Cycles settings for a reference render: 64
+  samples, no denoising, CPU)
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -469,4 +478,83 @@ sky_scene("sky")  # Blender 3.4's defaults: sun 15 degrees up, disc on
 sky_scene("sky_low", sun_elevation=0.0872665, sun_rotation=1.0)
 sky_scene("sky_nodisc", sun_disc=False)
 sky_scene("sky_thick", altitude=2000.0, air_density=3.0, dust_density=4.0, ozone_density=2.0)
+
+
+def emitter(name, rgb, strength=1.0):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    e = nt.nodes.new("ShaderNodeEmission")
+    e.inputs["Color"].default_value = (*rgb, 1)
+    e.inputs["Strength"].default_value = strength
+    nt.links.new(e.outputs["Emission"], nt.nodes["Material Output"].inputs["Surface"])
+    return m
+
+
+def cycles_settings(sc):
+    """What the Cycles reference render of these scenes uses."""
+    sc.cycles.samples = 64
+    sc.cycles.use_denoising = False
+    sc.cycles.device = 'CPU'
+
+
+def cam_dof_scene():
+    """An emissive plane's vertical edge 6 m in front of a camera focused at
+    1 m by a focus object off the axis (50 mm, f/0.5: Cycles' aperture
+    radius 0.05 m), and a smaller
+    emissive plane at the focus distance in the upper part of the picture;
+    128 x 48."""
+    sc = reset()
+    cycles_settings(sc)
+    sc.render.resolution_x = 128
+    cd = bpy.data.cameras.new("Cam")
+    cd.dof.use_dof = True
+    cd.dof.aperture_fstop = 0.5
+    cd.dof.focus_distance = 3.0  # ignored: the focus object's distance along the view axis is 1 m
+    target = bpy.data.objects.new("Focus", None)
+    target.location = (0.4, 1.0, 0.3)
+    sc.collection.objects.link(target)
+    cd.dof.focus_object = target
+    ob = bpy.data.objects.new("Cam", cd)
+    ob.location = (0, 0, 0)
+    ob.rotation_euler = (1.5707963, 0, 0)  # looking along +Y
+    sc.collection.objects.link(ob)
+    sc.camera = ob
+    white = emitter("White", (1, 1, 1))
+    mesh("Far", [(-20, 6, -20), (0, 6, -20), (0, 6, 0.0), (-20, 6, 0.0)], [(0, 1, 2, 3)], white)
+    mesh("Near", [(-0.5, 1.0, 0.05), (0, 1.0, 0.05), (0, 1.0, 0.5), (-0.5, 1.0, 0.5)], [(0, 1, 2, 3)], white)
+    save("cam_dof.blend")
+
+
+def cam_pano_scene(name, kind, **params):
+    """Emissive boxes of four colours around the camera (front, right, back,
+    left) and one above, in a grey world, seen by a panoramic camera."""
+    sc = reset()
+    cycles_settings(sc)
+    sc.render.resolution_x, sc.render.resolution_y = 64, 32 if kind == 'EQUIRECTANGULAR' else 48
+    cd = bpy.data.cameras.new("Cam")
+    cd.type = 'PANO'
+    cd.cycles.panorama_type = kind
+    for k, v in params.items():
+        setattr(cd.cycles, k, v)
+    ob = bpy.data.objects.new("Cam", cd)
+    ob.location = (0, 0, 1)
+    ob.rotation_euler = (1.5707963, 0, -1.5707963)  # pointing along +X: the manual's match with the world map
+    sc.collection.objects.link(ob)
+    sc.camera = ob
+    for n, (c, rgb) in enumerate((((4, 0, 1), (1, 0.2, 0.1)), ((0, -4, 1), (0.1, 1, 0.2)), ((-4, 0, 1), (0.2, 0.1, 1)),
+                                  ((0, 4, 1), (1, 1, 0.2)), ((1, 1, 4), (1, 1, 1)))):
+        box("Box%d" % n, c, 0.8, emitter("E%d" % n, rgb, 2.0))
+    w = bpy.data.worlds.new("Grey")
+    w.use_nodes = True
+    w.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.2, 0.2, 1)
+    sc.world = w
+    save(name + ".blend")
+
+
+cam_dof_scene()
+cam_pano_scene("cam_equirect", 'EQUIRECTANGULAR')
+cam_pano_scene("cam_fisheye", 'FISHEYE_EQUISOLID', fisheye_lens=8.0, fisheye_fov=3.0)
+cam_pano_scene("cam_fisheye_eqd", 'FISHEYE_EQUIDISTANT', fisheye_fov=3.5)
 print("bl_scenes: saved into", out)

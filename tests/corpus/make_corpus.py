@@ -734,8 +734,37 @@ def broken_cases(C, png):
          cam_ext({"type": "PERSP", "sensorFit": "DIAGONAL"}))
     case("camera_ext_clip_end_below_start", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.clipEnd",
          cam_ext({"type": "PERSP", "clipStart": 2, "clipEnd": 1}))
-    case("camera_ext_panoramic", EXIT_UNSUPPORTED, "cameras[0].extensions.PHOTONBRIDGE_blender.type",
-         cam_ext({"type": "PANO"}))
+    case("camera_ext_bad_type", EXIT_UNSUPPORTED, "cameras[0].extensions.PHOTONBRIDGE_blender.type",
+         cam_ext({"type": "CUSTOM"}))
+    case("camera_ext_panorama_polynomial", EXIT_UNSUPPORTED,
+         "cameras[0].extensions.PHOTONBRIDGE_blender.panoramaType: 'FISHEYE_LENS_POLYNOMIAL'",
+         cam_ext({"type": "PANO", "panoramaType": "FISHEYE_LENS_POLYNOMIAL"}))
+    case("camera_ext_panorama_type_number", EXIT_INVALID,
+         "cameras[0].extensions.PHOTONBRIDGE_blender.panoramaType: not a string",
+         cam_ext({"type": "PANO", "panoramaType": 1}))
+    case("camera_ext_fisheye_fov_zero", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.fisheyeFov: 0",
+         cam_ext({"type": "PANO", "panoramaType": "FISHEYE_EQUIDISTANT", "fisheyeFov": 0}))
+    case("camera_ext_latitude_range", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.latitudeMax: 2",
+         cam_ext({"type": "PANO", "panoramaType": "EQUIRECTANGULAR", "latitudeMax": 2}))
+    case("camera_ext_longitude_range", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.longitudeMin: -4",
+         cam_ext({"type": "PANO", "panoramaType": "EQUIRECTANGULAR", "longitudeMin": -4}))
+    # Depth of field (Blender's f-stop, focus distance, blades, rotation, ratio).
+    case("camera_ext_fstop_negative", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.apertureFstop: -2",
+         cam_ext({"type": "PERSP", "apertureFstop": -2}))
+    case("camera_ext_fstop_zero", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.apertureFstop: 0",
+         cam_ext({"type": "PERSP", "apertureFstop": 0}))
+    case("camera_ext_fstop_string", EXIT_INVALID,
+         "cameras[0].extensions.PHOTONBRIDGE_blender.apertureFstop: not a number",
+         cam_ext({"type": "PERSP", "apertureFstop": "NaN"}))
+    case("camera_ext_focus_negative", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.focusDistance: -1",
+         cam_ext({"type": "PERSP", "apertureFstop": 2.8, "focusDistance": -1}))
+    case("camera_ext_focus_huge", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.focusDistance: 1e+300",
+         cam_ext({"type": "PERSP", "apertureFstop": 2.8, "focusDistance": 1e300}))
+    case("camera_ext_blades_fraction", EXIT_INVALID,
+         "cameras[0].extensions.PHOTONBRIDGE_blender.apertureBlades: 5.5 is not a whole number",
+         cam_ext({"type": "PERSP", "apertureFstop": 2.8, "apertureBlades": 5.5}))
+    case("camera_ext_ratio_zero", EXIT_INVALID, "cameras[0].extensions.PHOTONBRIDGE_blender.apertureRatio: 0",
+         cam_ext({"type": "PERSP", "apertureFstop": 2.8, "apertureRatio": 0}))
     lights = ("extensions", "KHR_lights_punctual", "lights")
     case("light_oob", EXIT_INVALID, "nodes[3].extensions.KHR_lights_punctual.light",
          setp(("nodes", 3, "extensions", "KHR_lights_punctual", "light"), 5))

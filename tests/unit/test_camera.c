@@ -40,7 +40,10 @@ static pb_gltf_camera blender_cam(const char *type, const char *fit) {
   g.blender.sensor_fit = fit;
   double *n[] = {&g.blender.lens, &g.blender.sensor_width, &g.blender.sensor_height, &g.blender.ortho_scale,
                  &g.blender.shift_x, &g.blender.shift_y, &g.blender.clip_start, &g.blender.clip_end,
-                 &g.blender.aspect};
+                 &g.blender.aspect, &g.blender.focus_distance, &g.blender.aperture_fstop,
+                 &g.blender.aperture_blades, &g.blender.aperture_rotation, &g.blender.aperture_ratio,
+                 &g.blender.fisheye_fov, &g.blender.fisheye_lens, &g.blender.latitude_min, &g.blender.latitude_max,
+                 &g.blender.longitude_min, &g.blender.longitude_max};
   for (size_t i = 0; i < sizeof n / sizeof *n; ++i) *n[i] = NAN;
   return g;
 }
@@ -152,9 +155,189 @@ int main(void) {
   CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 2, &g, &out), PB_ERR_SCENE_INVALID);
   CHECK(strstr(pb_error_message(), "x.gltf: cameras[2].extensions.PHOTONBRIDGE_blender.lens: -1") != NULL);
   pb_error_clear();
-  g = blender_cam("PANO", NULL);
+  g = blender_cam("CUSTOM", NULL);
   CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_ERR_SCENE_UNSUPPORTED);
   pb_error_clear();
+  g = blender_cam("PANO", NULL);
+  g.blender.panorama_type = "FISHEYE_LENS_POLYNOMIAL";
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_ERR_SCENE_UNSUPPORTED);
+  CHECK(strstr(pb_error_message(), "panoramaType: 'FISHEYE_LENS_POLYNOMIAL'") != NULL);
+  pb_error_clear();
+  /* Depth of field: Cycles' radius lens / (2 f-stop) (1 / (2 f-stop) when
+   * orthographic); absent f-stop: none. */
+  g = blender_cam("PERSP", NULL);
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_OK);
+  CHECK(out.aperture_radius == 0.0f);
+  g.blender.lens = 50, g.blender.aperture_fstop = 2, g.blender.focus_distance = 4, g.blender.aperture_blades = 6;
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_OK);
+  CHECK_NEAR(out.aperture_radius, 0.0125, 1e-8);
+  CHECK_NEAR(out.focus_distance, 4, 1e-7);
+  CHECK_EQ_INT((int)out.aperture_blades, 6);
+  CHECK_NEAR(out.aperture_ratio, 1, 1e-7);
+  g.blender.type = "ORTHO";
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_OK);
+  CHECK_NEAR(out.aperture_radius, 0.25, 1e-7);
+  g.blender.type = "PERSP", g.blender.aperture_fstop = -1;
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 1, &g, &out), PB_ERR_SCENE_INVALID);
+  CHECK(strstr(pb_error_message(), "cameras[1].extensions.PHOTONBRIDGE_blender.apertureFstop: -1") != NULL);
+  pb_error_clear();
+  g.blender.aperture_fstop = 2, g.blender.aperture_blades = 2.5;
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 1, &g, &out), PB_ERR_SCENE_INVALID);
+  CHECK(strstr(pb_error_message(), "apertureBlades") != NULL);
+  pb_error_clear();
+  /* Panorama defaults: Blender's fisheye equisolid, 10.5 mm, 180 degrees. */
+  g = blender_cam("PANO", NULL);
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_OK);
+  CHECK_EQ_INT(out.panorama, PB_CAMERA_PANO_FISHEYE_EQUISOLID);
+  CHECK_NEAR(out.fisheye_lens, 10.5, 1e-6);
+  CHECK_NEAR(out.fisheye_fov, M_PI, 1e-6);
+  g.blender.panorama_type = "EQUIRECTANGULAR", g.blender.latitude_min = -2;
+  CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_ERR_SCENE_INVALID);
+  CHECK(strstr(pb_error_message(), "latitudeMin: -2") != NULL);
+  pb_error_clear();
+
+  /* Thin lens (Cycles' camera_sample_perspective): every lens sample of a
+   * pixel meets the pinhole ray at depth `focus`; the lens points lie in
+   * the aperture (a disc of the radius; a hexagon inside it). */
+  pb_camera d = base();
+  d.yfov = 0.8f, d.znear = 0.1f;
+  d.aperture_radius = 0.05f, d.focus_distance = 3.0f;
+  pb_camera_view(&d, 64, 48, &v);
+  float po3[3], pd3[3], pt0, ptm;
+  pb_camera_ray(&v, 10.5f, 40.25f, po3, pd3, &pt0, &ptm);
+  double pcz = pd3[0] * d.forward[0] + pd3[1] * d.forward[1] + pd3[2] * d.forward[2];
+  double far_r = 0, spread = 0;
+  for (int blades = 0; blades <= 6; blades += 6) {
+    d.aperture_blades = (uint32_t)blades;
+    pb_camera_view(&d, 64, 48, &v);
+    for (int i = 0; i < 64; ++i) {
+      float lens[2] = {(float)((i % 8) + 0.5) / 8.0f, (float)((i / 8) + 0.3) / 8.0f};
+      float lo[3], ld[3], lt0, ltm;
+      CHECK(pb_camera_ray_lens(&v, 10.5f, 40.25f, lens, lo, ld, &lt0, &ltm));
+      double lcz = ld[0] * d.forward[0] + ld[1] * d.forward[1] + ld[2] * d.forward[2];
+      /* the ray's origin at the near plane's depth along the pinhole ray's cosine */
+      double lens_pt[3], r2 = 0, miss = 0;
+      for (int k = 0; k < 3; ++k) lens_pt[k] = lo[k] - ld[k] * lt0 - d.position[k];
+      for (int k = 0; k < 3; ++k) r2 += lens_pt[k] * lens_pt[k];
+      CHECK(sqrt(r2) <= 0.05 + 1e-6);
+      if (sqrt(r2) > far_r) far_r = sqrt(r2);
+      /* both rays reach depth 3 at the same point */
+      for (int k = 0; k < 3; ++k) {
+        double a = lo[k] + ld[k] * (3.0 - (lt0 * lcz)) / lcz;
+        double b = po3[k] + pd3[k] * (3.0 - pt0 * pcz) / pcz;
+        miss += (a - b) * (a - b);
+      }
+      CHECK(sqrt(miss) < 1e-5);
+      /* and spread at depth 6 */
+      double a6 = lo[0] + ld[0] * (6.0 - lt0 * lcz) / lcz, b6 = po3[0] + pd3[0] * (6.0 - pt0 * pcz) / pcz;
+      if (fabs(a6 - b6) > spread) spread = fabs(a6 - b6);
+    }
+  }
+  CHECK(far_r > 0.04);
+  CHECK(spread > 0.03 && spread <= 0.05 + 1e-4); /* circle of confusion: R |6 - 3| / 3 */
+
+  /* Cycles' regular_polygon_sample: 5 blades turned by 0.3 rad fill the
+   * pentagon with corners at 0.3 + (2k + 1) pi / 5 (apothem cos(pi / 5)
+   * toward 0.3 + 2k pi / 5), reaching near every corner; ratio 2 halves x. */
+  d.aperture_radius = 1.0f, d.aperture_blades = 5, d.aperture_rotation = 0.3f, d.aperture_ratio = 1.0f;
+  d.znear = 0.0f;
+  for (int pass = 0; pass < 2; ++pass) {
+    pb_camera_view(&d, 64, 48, &v);
+    double outside = 0, corner_near[5] = {9, 9, 9, 9, 9}, max_x = 0;
+    for (int i = 0; i < 4096; ++i) {
+      float lens[2] = {(float)((i % 64) + 0.5) / 64.0f, (float)((i / 64) + 0.5) / 64.0f};
+      float lo[3], ld[3], lt0, ltm;
+      pb_camera_ray_lens(&v, 32, 24, lens, lo, ld, &lt0, &ltm);
+      double ax = (lo[0] - d.position[0]) * (pass ? 2.0 : 1.0), ay = lo[1] - d.position[1];
+      if (fabs(ax) > max_x) max_x = fabs(ax);
+      for (int k = 0; k < 5; ++k) {
+        double a = 0.3 + 2 * k * M_PI / 5, b = 0.3 + (2 * k + 1) * M_PI / 5;
+        double proj = ax * cos(a) + ay * sin(a) - cos(M_PI / 5);
+        if (proj > outside) outside = proj;
+        double dc = hypot(ax - cos(b), ay - sin(b));
+        if (dc < corner_near[k]) corner_near[k] = dc;
+      }
+    }
+    CHECK(outside < 1e-5);
+    for (int k = 0; k < 5; ++k) CHECK(corner_near[k] < 0.1);
+    if (pass == 0) {
+      CHECK(max_x > 0.9);
+      d.aperture_ratio = 2.0f;
+    }
+  }
+
+  /* Equirectangular (Cycles' defaults: all longitudes, all latitudes):
+   * the centre looks along forward, three quarters across to the right,
+   * the top row up; projection inverts the ray. */
+  pb_camera e = base();
+  e.yfov = 0.8f, e.znear = 0.1f, e.zfar = 100.0f;
+  e.panorama = PB_CAMERA_PANO_EQUIRECTANGULAR;
+  e.latitude[0] = (float)(-M_PI / 2), e.latitude[1] = (float)(M_PI / 2);
+  e.longitude[0] = (float)-M_PI, e.longitude[1] = (float)M_PI;
+  pb_camera_view(&e, 80, 40, &v);
+  CHECK_EQ_INT((int)v.projection, PB_GPU_CAMERA_EQUIRECTANGULAR);
+  pb_camera_ray(&v, 40, 20, o1, d1, &t01, &tm1);
+  CHECK_NEAR(d1[2], -1, 1e-5);
+  CHECK_NEAR(t01, 0.1, 1e-7);
+  CHECK_NEAR(tm1, 99.9, 1e-3);
+  pb_camera_ray(&v, 60, 20, o1, d1, &t01, &tm1);
+  CHECK_NEAR(d1[0], 1, 1e-5);
+  pb_camera_ray(&v, 40, 0, o1, d1, &t01, &tm1);
+  CHECK_NEAR(d1[1], 1, 1e-5);
+  pb_camera_ray(&v, 13.25f, 31.5f, o1, d1, &t01, &tm1);
+  for (int k = 0; k < 3; ++k) p[k] = o1[k] + 2.0f * d1[k];
+  CHECK(pb_camera_view_project(&v, p, &x, &y, &z));
+  CHECK_NEAR(x, 13.25, 1e-3);
+  CHECK_NEAR(y, 31.5, 1e-3);
+  CHECK_NEAR(z, 2.1, 1e-4);
+  CHECK_NEAR(pb_camera_pixel_size(&v, 1.0f), M_PI / 40, 1e-6);
+  /* A panorama's thin lens (camera_sample_panorama): every lens ray of a
+   * pixel passes through the pinhole ray's point at distance focus, from a
+   * lens point normal to it within the radius; the centre pixel's pinhole
+   * ray is the frame's x itself (Cycles' U degenerates there). */
+  e.aperture_radius = 0.1f, e.focus_distance = 2.5f;
+  pb_camera_view(&e, 80, 40, &v);
+  for (int pix = 0; pix < 2; ++pix) {
+    float qx = pix ? 40.0f : 13.25f, qy = pix ? 20.0f : 31.5f;
+    pb_camera_ray(&v, qx, qy, o1, d1, &t01, &tm1);
+    double focus_pt[3], worst_miss = 0, worst_r = 0, worst_dot = 0;
+    for (int k = 0; k < 3; ++k) focus_pt[k] = e.position[k] + 2.5 * d1[k];
+    for (int i = 0; i < 16; ++i) {
+      float lens[2] = {(float)((i % 4) + 0.5) / 4.0f, (float)((i / 4) + 0.5) / 4.0f}, lo[3], ld[3], lt0, ltm;
+      CHECK(pb_camera_ray_lens(&v, qx, qy, lens, lo, ld, &lt0, &ltm));
+      double a[3], w[3], along = 0, miss = 0, r2 = 0, dn = 0;
+      for (int k = 0; k < 3; ++k) a[k] = lo[k] - ld[k] * lt0; /* the lens point */
+      for (int k = 0; k < 3; ++k) w[k] = focus_pt[k] - a[k], along += w[k] * ld[k];
+      for (int k = 0; k < 3; ++k) miss += (w[k] - along * ld[k]) * (w[k] - along * ld[k]);
+      for (int k = 0; k < 3; ++k) r2 += (a[k] - e.position[k]) * (a[k] - e.position[k]);
+      for (int k = 0; k < 3; ++k) dn += (a[k] - e.position[k]) * d1[k];
+      worst_miss = fmax(worst_miss, sqrt(miss));
+      worst_r = fmax(worst_r, sqrt(r2));
+      worst_dot = fmax(worst_dot, fabs(dn));
+    }
+    CHECK(worst_miss < 1e-5);
+    CHECK(worst_r <= 0.1 + 1e-6 && worst_r > 0.05);
+    CHECK(worst_dot < 1e-6);
+  }
+  e.aperture_radius = 0.0f;
+  /* Fisheyes: the corners are outside the circle (no ray); the centre
+   * looks along forward; projection inverts the ray. */
+  for (int kind = PB_CAMERA_PANO_FISHEYE_EQUIDISTANT; kind <= PB_CAMERA_PANO_MIRRORBALL; ++kind) {
+    e.panorama = kind;
+    e.fisheye_fov = (float)M_PI, e.fisheye_lens = 10.5f, e.sensor[0] = 36, e.sensor[1] = 24;
+    e.fit = PB_CAMERA_FIT_AUTO;
+    pb_camera_view(&e, 60, 60, &v);
+    CHECK(!pb_camera_ray_lens(&v, 0.5f, 0.5f, NULL, o1, d1, &t01, &tm1));
+    CHECK(tm1 == 0.0f);
+    CHECK(pb_camera_ray_lens(&v, 30, 30, NULL, o1, d1, &t01, &tm1));
+    CHECK_NEAR(d1[2], -1, 1e-5);
+    CHECK(pb_camera_ray_lens(&v, 40.5f, 21.0f, NULL, o1, d1, &t01, &tm1));
+    CHECK(d1[0] > 0.1 && d1[1] > 0.1); /* right of and above the centre */
+    for (int k = 0; k < 3; ++k) p[k] = o1[k] + 2.0f * d1[k];
+    CHECK(pb_camera_view_project(&v, p, &x, &y, &z));
+    CHECK_NEAR(x, 40.5, 2e-3);
+    CHECK_NEAR(y, 21.0, 2e-3);
+  }
   g = blender_cam("PERSP", NULL);
   g.blender.bad_member = "shiftX", g.blender.bad_expect = "a number";
   CHECK_EQ_INT(pb_camera_projection_from_gltf("x.gltf", 0, &g, &out), PB_ERR_SCENE_INVALID);

@@ -2,7 +2,9 @@
  * (scene/camera.c), and crops against the full frame: every pixel's depth
  * on a plane equals the host ray's, for a perspective camera with Blender's
  * AUTO fit, a lens shift and a near clip plane that cuts the picture, and
- * for an orthographic camera; a crop of the frame (render --crop) has the
+ * for an orthographic camera, and for panoramic ones (equirectangular with
+ * ranges and a shift, fisheye equisolid, mirror ball: the depth is the
+ * distance); a crop of the frame (render --crop) has the
  * full render's pixels exactly (same seed, 4 jittered samples, an emissive
  * triangle sampled per pixel); the far clip plane hides what lies beyond. */
 #include <math.h>
@@ -29,10 +31,11 @@ static double hit_square(const float o[3], const float d[3], double z0, double h
  * half-size 0.3), 0 when it misses or the hit is beyond the far plane. */
 static double host_depth(const pb_gpu_camera *v, uint32_t x, uint32_t y) {
   float o[3], d[3], t0, tmax;
-  pb_camera_ray(v, x + 0.5f, y + 0.5f, o, d, &t0, &tmax);
+  if (!pb_camera_ray_lens(v, x + 0.5f, y + 0.5f, NULL, o, d, &t0, &tmax)) return 0;
   double t = hit_square(o, d, 0.0, 4.0), te = hit_square(o, d, 1.5, 0.3);
   if (te >= 0 && (t < 0 || te < t)) t = te;
   if (t < 0 || t > tmax) return 0;
+  if (v->projection) return t0 + t; /* a panorama's depth: the distance */
   double cz = d[0] * v->forward[0] + d[1] * v->forward[1] + d[2] * v->forward[2];
   return (t0 + t) * cz;
 }
@@ -133,6 +136,28 @@ int main(void) {
   cam->znear = 0.5f;
   cam->zfar = 4.5f;
   seen = check_depths(g, &s, &gs, "orthographic, horizontal fit, shift, far clip");
+  CHECK(seen > W * H / 8 && seen < W * H);
+
+  /* Panoramas (Cycles' equirectangular with narrowed ranges, fisheye
+   * equisolid, mirror ball): the GPU's rays are the host's, pixels outside
+   * a fisheye's circle see nothing. */
+  cam->orthographic = 0;
+  cam->fit = PB_CAMERA_FIT_AUTO;
+  cam->znear = 0.1f;
+  cam->zfar = 0.0f;
+  cam->shift[0] = 0.05f, cam->shift[1] = 0.0f;
+  cam->panorama = PB_CAMERA_PANO_EQUIRECTANGULAR;
+  cam->latitude[0] = -1.2f, cam->latitude[1] = 0.9f;
+  cam->longitude[0] = -2.5f, cam->longitude[1] = 2.0f;
+  seen = check_depths(g, &s, &gs, "equirectangular, ranges, shift");
+  CHECK(seen > W * H / 8 && seen < W * H);
+  cam->shift[0] = 0.0f;
+  cam->panorama = PB_CAMERA_PANO_FISHEYE_EQUISOLID;
+  cam->fisheye_lens = 8.0f, cam->fisheye_fov = 3.0f, cam->sensor[0] = 36.0f, cam->sensor[1] = 24.0f;
+  seen = check_depths(g, &s, &gs, "fisheye equisolid");
+  CHECK(seen > W * H / 8 && seen < W * H);
+  cam->panorama = PB_CAMERA_PANO_MIRRORBALL;
+  seen = check_depths(g, &s, &gs, "mirror ball");
   CHECK(seen > W * H / 8 && seen < W * H);
 
   CHECK_EQ_INT(pb_gpu_validation_errors(g), 0);

@@ -590,7 +590,7 @@ class SceneWriter:
             c["orthographic"] = {"xmag": cam.ortho_scale * (width / sq) / 2, "ymag": cam.ortho_scale * (height / sq) / 2,
                                  "znear": cam.clip_start, "zfar": cam.clip_end}
         else:
-            if cam.type != 'PERSP':
+            if cam.type not in ('PERSP', 'PANO'):
                 self.warn("camera '%s': type %s is rendered as perspective" % (obj.name, cam.type))
             if width >= height:
                 yfov = cam.angle if cam.sensor_fit == 'VERTICAL' else 2.0 * math.atan(math.tan(cam.angle * 0.5) / aspect)
@@ -598,13 +598,16 @@ class SceneWriter:
                 yfov = 2.0 * math.atan(math.tan(cam.angle * 0.5) / aspect) if cam.sensor_fit == 'HORIZONTAL' else cam.angle
             c["type"] = "perspective"
             c["perspective"] = {"aspectRatio": aspect, "yfov": yfov, "znear": cam.clip_start, "zfar": cam.clip_end}
-        c["extensions"] = {EXTENSION: {
+        ext = {
             "type": "ORTHO" if cam.type == 'ORTHO' else "PERSP", "lens": cam.lens, "sensorFit": cam.sensor_fit,
             "sensorWidth": cam.sensor_width, "sensorHeight": cam.sensor_height, "orthoScale": cam.ortho_scale,
             "shiftX": cam.shift_x, "shiftY": cam.shift_y, "clipStart": cam.clip_start, "clipEnd": cam.clip_end,
-            "aspect": aspect}}
+            "aspect": aspect}
+        if cam.type == 'PANO':
+            self._panorama(obj, cam, ext)
         if cam.dof.use_dof:
-            self.warn("camera '%s': depth of field is not rendered" % obj.name)
+            ext.update(self._dof(obj, cam))
+        c["extensions"] = {EXTENSION: ext}
         if r.pixel_aspect_x != r.pixel_aspect_y:
             self.warn("render: pixel aspect %g:%g is rendered with square pixels"
                       % (r.pixel_aspect_x, r.pixel_aspect_y))
@@ -614,6 +617,44 @@ class SceneWriter:
         node["name"] = obj.name
         node["camera"] = len(self.doc.j["cameras"]) - 1
         self.node_of["camera"] = self.doc.add_node(node)
+
+    # Cycles 3.4's panoramic cameras (blender/camera.cpp): the properties live on
+    # the camera since 3.3 (before on cam.cycles); the polynomial fisheye and
+    # others are rendered as perspective.
+    PANORAMAS = ("EQUIRECTANGULAR", "FISHEYE_EQUIDISTANT", "FISHEYE_EQUISOLID", "MIRRORBALL")
+
+    def _panorama(self, obj, cam, ext):
+        src = cam if hasattr(cam, "panorama_type") else getattr(cam, "cycles", cam)
+        kind = getattr(src, "panorama_type", "FISHEYE_EQUISOLID")
+        if kind not in self.PANORAMAS:
+            self.warn("camera '%s': panorama type %s is rendered as perspective" % (obj.name, kind))
+            return
+        ext["type"] = "PANO"
+        ext["panoramaType"] = kind
+        for key, name in (("fisheyeFov", "fisheye_fov"), ("fisheyeLens", "fisheye_lens"),
+                          ("latitudeMin", "latitude_min"), ("latitudeMax", "latitude_max"),
+                          ("longitudeMin", "longitude_min"), ("longitudeMax", "longitude_max")):
+            if hasattr(src, name):
+                ext[key] = float(getattr(src, name))
+
+    def _dof(self, obj, cam):
+        """Depth of field as Blender holds it; the loader makes Cycles' aperture
+        radius of it. A focus object gives its distance along the camera's view
+        axis (blender_camera_focal_distance: the bone's head with a subtarget)."""
+        dof = cam.dof
+        focus = dof.focus_distance
+        target = dof.focus_object
+        if target is not None:
+            m = target.matrix_world
+            sub = getattr(dof, "focus_subtarget", "")
+            if sub and target.pose and sub in target.pose.bones:
+                m = m @ target.pose.bones[sub].matrix
+            cm = obj.matrix_world
+            view = cm.col[2].xyz.normalized()
+            focus = abs(view.dot(cm.col[3].xyz - m.col[3].xyz))
+        return {"focusDistance": float(focus), "apertureFstop": float(dof.aperture_fstop),
+                "apertureBlades": int(dof.aperture_blades), "apertureRotation": float(dof.aperture_rotation),
+                "apertureRatio": float(dof.aperture_ratio)}
 
     # ---- world and root ----------------------------------------------------------
 
