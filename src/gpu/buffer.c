@@ -107,6 +107,7 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
     out->cached = (g->mem.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT) != 0;
   }
   out->size = d->size;
+  out->id = ++g->next_buffer_id;
   g->memory_live += d->size;
   if (g->memory_live > g->memory_peak) g->memory_peak = g->memory_live;
   pb_gpu_set_name(g, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
@@ -151,7 +152,14 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset, con
                                uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
-  if ((r = pb_gpu_settle(g)) != PB_OK) return r; /* frames in flight: the GPU may use b */
+  /* Frames in flight (gpu.h pb_gpu_submit_async): the GPU may still read b.
+   * A small write goes into the next command buffer, after that; a larger
+   * one waits. */
+  if (pb_gpu_can_defer(g) && size <= 65536 && offset % 4 == 0 && size % 4 == 0) {
+    g->transfers.upload_bytes += size, g->transfers.uploads++;
+    return pb_gpu_defer_write(g, b, offset, data, size);
+  }
+  if ((r = pb_gpu_settle(g)) != PB_OK) return r;
   g->transfers.upload_bytes += size, g->transfers.uploads++;
   if (b->mapped) {
     memcpy((char *)b->mapped + offset, data, size);
@@ -186,6 +194,7 @@ pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t of
 }
 
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {
+  if (pb_gpu_can_defer(g)) return pb_gpu_defer_write(g, b, 0, NULL, b->size); /* as an upload (above) */
   pb_result rs = pb_gpu_settle(g);
   if (rs != PB_OK) return rs;
   if (b->mapped) {

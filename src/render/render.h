@@ -235,6 +235,14 @@ typedef struct pb_render_desc {
    * store's slot order that any two runs may differ in (bit-identical on
    * lavapipe in tests/frame_same_pixels.py in_flight). */
   int in_flight;
+  /* Frames in flight: the previous frame of the same context, still pending
+   * (out->pending 1) or NULL. This frame is then recorded and its first
+   * submissions queued while that one's last submission still runs (the
+   * GPU runs them after it: gpu.h PB_GPU_FRAMES); pb_render_frame settles
+   * it (pb_render_frame_settle) before its own last submission, the one
+   * that overwrites what that settle reads (the guard, the k_PD sums, the
+   * temporal filter's counts). Its pixels stay in its ring slot. */
+  struct pb_render_result *settle_first;
   /* Sequences (issue 17 item 2): a still run's running means on the GPU
    * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
    * submission when the frame is one band on the GPU path; out->stats.
@@ -334,6 +342,9 @@ typedef struct pb_render_stats {
   int still_on_gpu;                           /* 1: pb_render_desc.still_sum's pass ran on this frame */
   int in_flight;                              /* 1: the frame's last submission ran
                                                  while the host went on (pb_render_desc.in_flight) */
+  int record_overlapped;                      /* 1: the frame's first command buffer was recorded
+                                                 while the previous frame's last submission had
+                                                 not finished (its fence unsignalled) */
   /* The photon tracer that ran (tracer.h: "bvh", "images"; NULL when the
    * photon stages are off) and its named statistics over the frame. */
   const char *tracer;
