@@ -851,6 +851,11 @@ static uint32_t find_sub(const pb_gpu *g, uint64_t sub) {
   return UINT32_MAX;
 }
 
+int pb_gpu_outstanding(const pb_gpu *g, uint64_t sub) {
+  uint32_t i = find_sub(g, sub);
+  return i != UINT32_MAX && g->subs[i].pending;
+}
+
 int pb_gpu_busy(pb_gpu *g, uint64_t sub) {
   uint32_t i = find_sub(g, sub);
   if (i == UINT32_MAX || !g->subs[i].pending) return 0;

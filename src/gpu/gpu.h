@@ -299,7 +299,9 @@ pb_result pb_gpu_wait(pb_gpu *g);
 int pb_gpu_pending(const pb_gpu *g);
 /* The last submission's number (1, 2, ...; 0 before any). */
 uint64_t pb_gpu_last_submission(const pb_gpu *g);
-/* 1 while submission `sub` may still run on the GPU (its fence unsignalled;
+/* 1 while the host has not waited for submission `sub` (it may still run). */
+int pb_gpu_outstanding(const pb_gpu *g, uint64_t sub);
+/* 1 while submission `sub` still runs on the GPU (its fence unsignalled;
  * does not wait). */
 int pb_gpu_busy(pb_gpu *g, uint64_t sub);
 /* pb_gpu_elapsed_ms reads submission `sub`'s timestamps from now on (0: the

@@ -30,6 +30,48 @@
  * gather), plus the start. */
 enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 
+/* ---- frames in flight: what the host writes while a frame still runs --------
+ *
+ * With pb_render_desc.in_flight a frame's last submission (the resolve, the
+ * filter chain, eq. 20, the still run's means, the copy into the readback
+ * ring: "tail N") is not waited for; the next frame N+1 is posed, set up and
+ * recorded, and its first submissions queued, while tail N may still run
+ * (gpu.h PB_GPU_FRAMES: its own command buffer, fence and timestamps). Every
+ * host write between tail N's submission and N+1's last submission, and why
+ * tail N cannot see it:
+ *   sequence.c  pb_gpu_scene_update (geometry or lights moved): uploads of
+ *               positions, BVH, lights: over 64 KiB they wait for tail N,
+ *               under it they are deferred (recorded after tail N, gpu.h
+ *               pb_gpu_submit_async). pb_filter_chain_set_frame: host state
+ *               only, read when N+1's chain is recorded.
+ *   frame.c     tg.frame (pb_gpu_frame, the camera and constants): deferred.
+ *               tg.accum, tg.paccum, tg.pnmap zeroed (tail N's resolve reads
+ *               them): deferred fills. tg.guard, tg.kpd (tail N's resolve
+ *               writes them, its settle reads them): zeroed after the settle
+ *               below, right before N+1's resolve.
+ *   upsample.c  pb_upsample_reset's list fill: deferred.
+ *   photon_trace.c (pb_tracer_prepare) image counts fill, frame, params,
+ *               lights and map counts uploads: deferred (params and lights
+ *               over 64 KiB wait).
+ *   pipeline binds (tracer, estimator, up-sampling, filter chain, temporal,
+ *               A-Trous, still sum): the same buffers as the set holds skip
+ *               (gpu.h); the others wait for tail N (the temporal filter's
+ *               ping-pong history rebinds every frame: after the settle).
+ *   filters.c   the temporal statistics' fills (tail N wrote them, its settle
+ *               reads them): after the settle, nothing pending.
+ *   motion.c    the motion pass's params and previous positions: uploaded
+ *               while N+1's tail records, after the settle.
+ *   targets.c   the still run's means (pb_still_sum): GPU-only; the frame
+ *               count is a push constant of the recording.
+ *   readback    tail N writes ring slot i, N+1's tail slot i + 1; the host
+ *               reads slot i after tail N's fence (pb_render_frame_read).
+ *   estimator   statistics read from the GPU after the samples (vsch's pair
+ *               counts, kNN's cut queries): read before tail N's submission
+ *               (estimator_final), not at its settle, where N+1's build
+ *               would have replaced them.
+ * No code outside src/gpu writes a buffer's `mapped` pointer. Checked with
+ * PB_SYNC_VALIDATION=1 (tests/frame_in_flight.py): zero messages. */
+
 /* ---- the frame context (render.h) ------------------------------------------ */
 
 /* What a reusable context must match: everything its contents depend on.
@@ -680,8 +722,10 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   /* Frames in flight: the previous frame's last submission may still run
    * now, while this frame's first command buffer is recorded (gpu.h
    * PB_GPU_FRAMES; render.h pb_render_stats.record_overlapped). */
-  if (prev && prev->pending_slot < PB_READBACK_RING)
-    out->stats.record_overlapped = pb_gpu_busy(g, kept_tails[prev->pending_slot].gpu_sub);
+  if (prev && prev->pending_slot < PB_READBACK_RING) {
+    out->stats.record_overlapped = pb_gpu_outstanding(g, kept_tails[prev->pending_slot].gpu_sub);
+    out->stats.record_running = pb_gpu_busy(g, kept_tails[prev->pending_slot].gpu_sub);
+  }
 
   for (uint32_t band = 0; band < bands; ++band) {
     uint32_t row0 = band * band_rows;

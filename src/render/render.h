@@ -342,9 +342,13 @@ typedef struct pb_render_stats {
   int still_on_gpu;                           /* 1: pb_render_desc.still_sum's pass ran on this frame */
   int in_flight;                              /* 1: the frame's last submission ran
                                                  while the host went on (pb_render_desc.in_flight) */
-  int record_overlapped;                      /* 1: the frame's first command buffer was recorded
-                                                 while the previous frame's last submission had
-                                                 not finished (its fence unsignalled) */
+  /* Frames in flight: 1 when the frame's first command buffer was recorded
+   * while the host had not waited for the previous frame's last submission
+   * (structural: every frame after the first with 2 in flight; 0 with 1);
+   * record_running: and that submission was still running on the GPU then
+   * (its fence unsignalled: how long the host took, not a property of the
+   * code). */
+  int record_overlapped, record_running;
   /* The photon tracer that ran (tracer.h: "bvh", "images"; NULL when the
    * photon stages are off) and its named statistics over the frame. */
   const char *tracer;
