@@ -78,6 +78,7 @@ if j2 and j1:
           "2 in flight: records_overlapped %s of 6 frames (5 expected)" % s2.get("records_overlapped"))
     check(s1.get("records_overlapped") == 0, "1 in flight: records_overlapped %s (0 expected)" % s1.get("records_overlapped"))
     check(ring.get("deferred_writes", 0) > 0, "2 in flight: host writes deferred into the next command buffer (%s)" % ring.get("deferred_writes"))
+    check(ring.get("late_writes") == 0, "2 in flight: no host write while recording after deferred writes (%s)" % ring.get("late_writes"))
     check(ring.get("held_stolen") == 0, "2 in flight: no held context reused before its timestamps were read (%s)" % ring.get("held_stolen"))
     check(all(f["timing"].get("frame_gpu_ms") is None or f["timing"]["frame_gpu_ms"] > 0 for f in j2["frames"]),
           "2 in flight: every frame has its GPU time (its own timestamps)")

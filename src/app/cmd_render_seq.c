@@ -317,6 +317,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "deferred_writes", (int64_t)rs.deferred_writes);
   pb_json_int(&j, "deferred_bytes", (int64_t)rs.deferred_bytes);
   pb_json_int(&j, "bind_skips", (int64_t)rs.bind_skips);
+  pb_json_int(&j, "late_writes", (int64_t)rs.late_writes);
   pb_json_end_object(&j);
   if (np) {
     pb_json_int(&j, "reference_spp", so->reference_spp);

@@ -130,11 +130,13 @@ static pb_result staged(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void
     return pb_fail(PB_ERR_VULKAN, "gpu: staging memory is not mappable");
   }
   if (upload) memcpy(st.mapped, host, size);
+  uint32_t keep_ts = g->read_sub; /* a staged copy has no timestamps: the last pass's stay readable */
   r = pb_gpu_begin(g);
   if (r != PB_OK) goto done;
   VkBufferCopy c = {.srcOffset = upload ? 0 : offset, .dstOffset = upload ? offset : 0, .size = size};
   vkCmdCopyBuffer(g->cmd, upload ? st.buffer : b->buffer, upload ? b->buffer : st.buffer, 1, &c);
   r = pb_gpu_submit(g);
+  if (keep_ts != UINT32_MAX && g->subs[keep_ts].serial && keep_ts != g->cur) g->read_sub = keep_ts;
   if (r == PB_OK && !upload) memcpy(host, st.mapped, size);
 done:
   pb_gpu_buffer_destroy(g, &st);
@@ -159,6 +161,7 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset, con
     g->transfers.upload_bytes += size, g->transfers.uploads++;
     return pb_gpu_defer_write(g, b, offset, data, size);
   }
+  pb_gpu_note_host_write(g);
   if ((r = pb_gpu_settle(g)) != PB_OK) return r;
   g->transfers.upload_bytes += size, g->transfers.uploads++;
   if (b->mapped) {
@@ -195,6 +198,7 @@ pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t of
 
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {
   if (pb_gpu_can_defer(g)) return pb_gpu_defer_write(g, b, 0, NULL, b->size); /* as an upload (above) */
+  pb_gpu_note_host_write(g);
   pb_result rs = pb_gpu_settle(g);
   if (rs != PB_OK) return rs;
   if (b->mapped) {

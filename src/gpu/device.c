@@ -696,6 +696,7 @@ static uint32_t next_sub(pb_gpu *g) {
 /* Records the deferred host writes (pb_gpu_defer_write) into the recording
  * command buffer, after its leading barrier, and a barrier after them. */
 static void record_deferred(pb_gpu *g) {
+  g->cmd_deferred = g->deferred_count > 0;
   if (!g->deferred_count) return;
   for (uint32_t i = 0; i < g->deferred_count; ++i) {
     struct pb_gpu_deferred *d = &g->deferred[i];
@@ -748,6 +749,12 @@ pb_result pb_gpu_begin(pb_gpu *g) {
 }
 
 int pb_gpu_can_defer(const pb_gpu *g) { return g && !g->recording && pb_gpu_pending(g); }
+
+void pb_gpu_note_host_write(pb_gpu *g) {
+  if (!g->recording || !g->cmd_deferred) return;
+  if (!g->ring.late_writes) pb_log_verbose("gpu: a host write while recording a command buffer with deferred writes");
+  g->ring.late_writes++;
+}
 
 pb_result pb_gpu_defer_write(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, const void *data, uint64_t size) {
   if (g->deferred_count == g->deferred_cap) {

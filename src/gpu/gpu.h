@@ -318,6 +318,9 @@ typedef struct pb_gpu_ring_stats {
   uint64_t held_stolen;   /* a held context reused before pb_gpu_release (timestamps lost) */
   uint64_t deferred_writes, deferred_bytes; /* host writes recorded instead of waiting */
   uint64_t bind_skips;    /* pipeline binds that changed nothing */
+  uint64_t late_writes;   /* host writes while recording a command buffer that
+                             holds deferred writes: made on the host now, before
+                             those (an older value may land last; 0 expected) */
 } pb_gpu_ring_stats;
 pb_gpu_ring_stats pb_gpu_ring_stats_get(const pb_gpu *g);
 /* Copies `size` bytes between buffers in the recording command buffer

@@ -45,6 +45,7 @@ struct pb_gpu {
     void *data;       /* NULL: zeros */
   } *deferred;
   uint32_t deferred_count, deferred_cap;
+  int cmd_deferred; /* the recording command buffer holds deferred writes */
   VkPhysicalDeviceMemoryProperties mem;
   pb_gpu_limits limits;
   char name[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE];
@@ -68,5 +69,8 @@ pb_result pb_gpu_settle(pb_gpu *g);
  * (data copied; NULL: zeros). PB_ERR_NOMEM when it cannot. */
 int pb_gpu_can_defer(const pb_gpu *g);
 pb_result pb_gpu_defer_write(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, const void *data, uint64_t size);
+/* Counts a host write made while recording after deferred writes
+ * (pb_gpu_ring_stats.late_writes). */
+void pb_gpu_note_host_write(pb_gpu *g);
 
 #endif
