@@ -225,8 +225,9 @@ typedef struct pb_render_desc {
    * but not filled and its statistics partial, and the host goes on (the
    * next frame's pose, the caller's output of the previous frame) while the
    * GPU runs it. pb_render_frame_settle then waits and completes the
-   * statistics (before the context's next pb_render_frame: its timestamps
-   * and counters are reused), pb_render_frame_read brings the pixels from
+   * statistics (before the context's next pb_render_frame, or by it:
+   * settle_first below; the frame's timestamps stay in its own submission
+   * context), pb_render_frame_read brings the pixels from
    * the ring (before the context's second pb_render_frame after this one:
    * the ring has two slots). Frames with several bands or the host path
    * (PB_RESOLVE_ON_HOST=1) are rendered synchronously as without (pending
