@@ -51,6 +51,13 @@ step frame_timing_1080p 150 python3 bench/frame_timing.py $b/photonbridge $s/cor
 # Frames in flight (the default since issue 17's ring): the same sequence one
 # frame at a time, for the before/after of the host share.
 step frame_timing_1080p_sync 150 python3 bench/frame_timing.py $b/photonbridge $s/cornell_box/cornell_box.gltf 1920x1080 5 --photons 1048576 --orbit --orbit-seconds 8 --frames-in-flight 1
+# The submission ring (gpu.h PB_GPU_FRAMES) on a discrete GPU: device-local
+# buffers are not mapped there, so deferred writes and their settle take
+# the paths lavapipe never does. 1080p 1 M: records_overlapped, records_running
+# and gpu_ring in the JSON's summary; then a short run under synchronization
+# validation (zero messages; skipped where the layer is missing).
+step inflight_1080p_1m 150 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 1920 --height 1080 --photons 1048576 --frames 0:5 --frames-in-flight 2 -o /tmp/i_#.exr -q --json "$out/inflight_1080p_1m.json"
+step inflight_sync 120 env PB_SYNC_VALIDATION=1 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 256 --frames 0:3 --frames-in-flight 2 --orbit --orbit-seconds 8 -o /tmp/s_#.exr --json "$out/inflight_sync.json"
 step frame_timing_1080p_single 90 python3 bench/frame_timing.py $b/photonbridge $s/cornell_box/cornell_box.gltf 1920x1080 1 --photons 1048576 --atrous-iterations 4
 # Cross-driver check: the same seed as on lavapipe (compared on the host).
 step cornell_128 60 $b/photonbridge render $s/cornell_box/cornell_box.gltf --width 128 --spp 4 --iterations 4 --seed 1 -o "$out/cornell_128_nvidia.exr"

@@ -15,3 +15,10 @@ add_test(NAME frame_transfers
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/frame_transfers.py ${PB_EXE} ${PB_ROOT}
                  ${CMAKE_CURRENT_BINARY_DIR}/frame_transfers)
 set_tests_properties(frame_transfers PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
+# Frames in flight (gpu.h PB_GPU_FRAMES): synchronization validation over
+# in-flight sequences gives zero messages, and the next frame's recording
+# overlaps the previous frame's last submission (tests/frame_in_flight.py).
+add_test(NAME frame_in_flight
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/frame_in_flight.py ${PB_EXE} ${PB_ROOT}
+                 ${CMAKE_CURRENT_BINARY_DIR}/frame_in_flight)
+set_tests_properties(frame_in_flight PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900)

@@ -21,7 +21,9 @@
              `photonbridge render`, exit 15 (PB_ERR_NOT_AVAILABLE)
   errors     a bad --script line: exit 2 naming the file and the line
   in_flight  the still part with --frames-in-flight 2 (frames in flight: the
-             window one frame behind the renderer): the same screenshots
+             window one frame behind the renderer): the same screenshots;
+             the ring slot keeps the shown AOV's planes alone (ring_bytes:
+             the beauty's 16 bytes a pixel, the normal's 12 after F7)
   tracer     view --tracer images (seed 003's environment maps): the
              screenshot after 2 still frames is display of `render --frames
              0:1 --tracer images` with the same maps (within one 8-bit step)
@@ -139,6 +141,29 @@ def part_in_flight():
     # picture and presents), --exit-after and --script count shown frames, so
     # the same screenshots are the same frames of `render --frames`.
     part_still(["--frames-in-flight", "2"], "in_flight")
+    # The ring slot keeps only the shown AOV's planes (viewer.c set_keep):
+    # the beauty's 16 bytes a pixel, after F7 the normal's 12 (every plane
+    # was 104); the switch shows on the next frame.
+    script = os.path.join(OUT, "aov.txt")
+    beauty, normal = os.path.join(OUT, "fif_beauty.png"), os.path.join(OUT, "fif_normal.png")
+    with open(script, "w") as f:
+        f.write("1 screenshot %s\n2 key F7\n" % beauty)
+    stats = os.path.join(OUT, "aov.json")
+    run(["view", SCENE] + SETTINGS + ["--frames-in-flight", "2", "--exit-after", "6", "--script", script,
+                                      "--screenshot", normal, "--json", stats, "-q"], env=validation_env())
+    frames = json.load(open(stats))["frames"]
+    a, b = png(beauty), png(normal)
+    px = a.shape[0] * a.shape[1]
+    ring = [f.get("ring_bytes") for f in frames]
+    print("view_check in_flight: ring bytes per frame %s (%d px)" % (ring, px))
+    if ring[0] != 16 * px or ring[1] != 16 * px:
+        fail("the beauty frames' ring slots hold %s bytes, expected the beauty plane's %d" % (ring[:2], 16 * px))
+    if ring[-1] != 12 * px:
+        fail("after F7 the ring slot holds %s bytes, expected the normal plane's %d" % (ring[-1], 12 * px))
+    d = np.abs(a - b).mean()
+    print("view_check in_flight: beauty -> normal AOV: mean change %.2f steps" % d)
+    if d < 3:
+        fail("F7 did not show the normal AOV with frames in flight (mean change %.2f steps)" % d)
 
 
 def part_input():

@@ -200,6 +200,8 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   else pb_json_null(j, "frame_gpu_ms");
   pb_json_number(j, "frame_interval_ms", st->frame_interval_ms);
   pb_json_bool(j, "in_flight", st->in_flight);
+  pb_json_bool(j, "record_overlapped", st->record_overlapped); /* recorded before the previous frame was waited for */
+  pb_json_bool(j, "record_running", st->record_running);       /* ... and while it still ran on the GPU */
   pb_json_bool(j, "still_on_gpu", st->still_on_gpu); /* a still run averaged on the GPU (issue 17 item 2) */
   pb_json_end_object(j);
   /* Host <-> device bytes of the frame (pb_render_stats): the readback's,
@@ -293,8 +295,10 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_end_array(&j);
   /* Summary: means over frames (error) and over frame pairs (flicker). */
   double ps = 0, rm = 0, fl_r = 0, fl_ref = 0, filt = 0, wall = 0;
-  size_t np = 0, nf = 0;
+  size_t np = 0, nf = 0, overlapped = 0, running = 0;
   for (size_t i = 0; i < n; ++i) {
+    overlapped += fr[i].stats.record_overlapped != 0;
+    running += fr[i].stats.record_running != 0;
     filt += fr[i].stats.temporal_ms + fr[i].stats.filter_ms;
     wall += fr[i].stats.wall_ms;
     if (!isnan(fr[i].psnr)) ps += fr[i].psnr, rm += fr[i].relmse, ++np;
@@ -304,6 +308,22 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "frames", (int64_t)n);
   pb_json_number(&j, "mean_wall_ms", n ? wall / (double)n : 0);
   pb_json_number(&j, "mean_filter_ms", n ? filt / (double)n : 0);
+  /* Frames in flight: frames recorded while the previous frame's last
+   * submission ran, and what the submission ring did (gpu.h). */
+  pb_json_int(&j, "records_overlapped", (int64_t)overlapped);
+  pb_json_int(&j, "records_running", (int64_t)running);
+  pb_gpu_ring_stats rs = pb_gpu_ring_stats_get(g);
+  pb_json_begin_object(&j, "gpu_ring");
+  pb_json_int(&j, "contexts", PB_GPU_FRAMES);
+  pb_json_int(&j, "submissions", (int64_t)rs.submissions);
+  pb_json_int(&j, "async_submissions", (int64_t)rs.async_submissions);
+  pb_json_int(&j, "begin_waits", (int64_t)rs.begin_waits);
+  pb_json_int(&j, "held_stolen", (int64_t)rs.held_stolen);
+  pb_json_int(&j, "deferred_writes", (int64_t)rs.deferred_writes);
+  pb_json_int(&j, "deferred_bytes", (int64_t)rs.deferred_bytes);
+  pb_json_int(&j, "bind_skips", (int64_t)rs.bind_skips);
+  pb_json_int(&j, "late_writes", (int64_t)rs.late_writes);
+  pb_json_end_object(&j);
   if (np) {
     pb_json_int(&j, "reference_spp", so->reference_spp);
     pb_json_number(&j, "mean_psnr_db", ps / (double)np);

@@ -107,6 +107,7 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
     out->cached = (g->mem.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT) != 0;
   }
   out->size = d->size;
+  out->id = ++g->next_buffer_id;
   g->memory_live += d->size;
   if (g->memory_live > g->memory_peak) g->memory_peak = g->memory_live;
   pb_gpu_set_name(g, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
@@ -129,11 +130,13 @@ static pb_result staged(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void
     return pb_fail(PB_ERR_VULKAN, "gpu: staging memory is not mappable");
   }
   if (upload) memcpy(st.mapped, host, size);
+  uint32_t keep_ts = g->read_sub; /* a staged copy has no timestamps: the last pass's stay readable */
   r = pb_gpu_begin(g);
   if (r != PB_OK) goto done;
   VkBufferCopy c = {.srcOffset = upload ? 0 : offset, .dstOffset = upload ? offset : 0, .size = size};
   vkCmdCopyBuffer(g->cmd, upload ? st.buffer : b->buffer, upload ? b->buffer : st.buffer, 1, &c);
   r = pb_gpu_submit(g);
+  if (keep_ts != UINT32_MAX && g->subs[keep_ts].serial && keep_ts != g->cur) g->read_sub = keep_ts;
   if (r == PB_OK && !upload) memcpy(host, st.mapped, size);
 done:
   pb_gpu_buffer_destroy(g, &st);
@@ -151,7 +154,15 @@ pb_result pb_gpu_buffer_upload(pb_gpu *g, pb_gpu_buffer *b, uint64_t offset, con
                                uint64_t size) {
   pb_result r = check_range(b, offset, size);
   if (r != PB_OK || size == 0) return r;
-  if ((r = pb_gpu_settle(g)) != PB_OK) return r; /* frames in flight: the GPU may use b */
+  /* Frames in flight (gpu.h pb_gpu_submit_async): the GPU may still read b.
+   * A small write goes into the next command buffer, after that; a larger
+   * one waits. */
+  if (pb_gpu_can_defer(g) && size <= 65536 && offset % 4 == 0 && size % 4 == 0) {
+    g->transfers.upload_bytes += size, g->transfers.uploads++;
+    return pb_gpu_defer_write(g, b, offset, data, size);
+  }
+  pb_gpu_note_host_write(g);
+  if ((r = pb_gpu_settle(g)) != PB_OK) return r;
   g->transfers.upload_bytes += size, g->transfers.uploads++;
   if (b->mapped) {
     memcpy((char *)b->mapped + offset, data, size);
@@ -186,6 +197,8 @@ pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t of
 }
 
 pb_result pb_gpu_buffer_fill_zero(pb_gpu *g, pb_gpu_buffer *b) {
+  if (pb_gpu_can_defer(g)) return pb_gpu_defer_write(g, b, 0, NULL, b->size); /* as an upload (above) */
+  pb_gpu_note_host_write(g);
   pb_result rs = pb_gpu_settle(g);
   if (rs != PB_OK) return rs;
   if (b->mapped) {

@@ -62,10 +62,13 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug(VkDebugUtilsMessageSeverityFlagBi
   return VK_FALSE;
 }
 
-static int env_validation(void) {
-  const char *v = getenv("PB_VK_VALIDATION");
+static int env_flag(const char *name) {
+  const char *v = getenv(name);
   return v && v[0] && strcmp(v, "0") != 0;
 }
+
+/* PB_VK_VALIDATION=1, or PB_SYNC_VALIDATION=1 (which implies it). */
+static int env_validation(void) { return env_flag("PB_VK_VALIDATION") || env_flag("PB_SYNC_VALIDATION"); }
 
 static int has_layer(const char *name) {
   uint32_t n = 0;
@@ -94,8 +97,9 @@ static pb_result create_instance(int validation, pb_gpu *g, const char *const *e
   if (vkEnumerateInstanceVersion(&version) != VK_SUCCESS || version < VK_API_VERSION_1_1)
     return pb_fail(PB_ERR_NO_DEVICE, "Vulkan 1.1 loader not found: %s", no_driver_advice);
   const char *layers[1] = {"VK_LAYER_KHRONOS_validation"};
-  const char *exts[17] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
-  uint32_t ext_count = validation ? 1u : 0u;
+  const char *exts[18] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+  int sync = validation && env_flag("PB_SYNC_VALIDATION");
+  uint32_t ext_count = validation ? (sync ? 2u : 1u) : 0u;
   if (extra_count > 16) return pb_fail(PB_ERR_USAGE, "gpu: %u instance extensions (at most 16)", extra_count);
   for (uint32_t i = 0; i < extra_count; ++i) exts[ext_count++] = extra[i];
   if (validation && !has_layer(layers[0]))
@@ -118,9 +122,18 @@ static pb_result create_instance(int validation, pb_gpu *g, const char *const *e
       .pUserData = g,
   };
   int use_dbg = validation && g;
+  /* PB_SYNC_VALIDATION=1: the layer's synchronization validation as well
+   * (hazards between submissions in flight and the host's writes). */
+  VkValidationFeatureEnableEXT sync_enable = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT vf = {
+      .sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT,
+      .pNext = use_dbg ? &dbg : NULL,
+      .enabledValidationFeatureCount = 1,
+      .pEnabledValidationFeatures = &sync_enable,
+  };
   VkInstanceCreateInfo ci = {
       .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
-      .pNext = use_dbg ? &dbg : NULL,
+      .pNext = sync ? (void *)&vf : use_dbg ? (void *)&dbg : NULL,
       .pApplicationInfo = &app,
       .enabledLayerCount = validation ? 1u : 0u,
       .ppEnabledLayerNames = layers,
@@ -393,8 +406,10 @@ void pb_gpu_destroy(pb_gpu *g) {
   if (!g) return;
   if (g->device) {
     vkDeviceWaitIdle(g->device);
-    if (g->queries) vkDestroyQueryPool(g->device, g->queries, NULL);
-    if (g->fence) vkDestroyFence(g->device, g->fence, NULL);
+    for (uint32_t i = 0; i < PB_GPU_FRAMES; ++i) {
+      if (g->subs[i].queries) vkDestroyQueryPool(g->device, g->subs[i].queries, NULL);
+      if (g->subs[i].fence) vkDestroyFence(g->device, g->subs[i].fence, NULL);
+    }
     if (g->pool) vkDestroyCommandPool(g->device, g->pool, NULL);
     vkDestroyDevice(g->device, NULL);
   }
@@ -404,6 +419,8 @@ void pb_gpu_destroy(pb_gpu *g) {
     if (destroy) destroy(g->instance, g->messenger, NULL);
   }
   if (g->instance) vkDestroyInstance(g->instance, NULL);
+  for (uint32_t i = 0; i < g->deferred_count; ++i) free(g->deferred[i].data);
+  free(g->deferred);
   free(g);
 }
 
@@ -572,34 +589,44 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
       .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
       .commandBufferCount = 1,
   };
-  vr = vkAllocateCommandBuffers(g->device, &cai, &g->cmd);
-  if (vr != VK_SUCCESS) {
-    r = pb_vk_fail(vr, "vkAllocateCommandBuffers");
-    goto fail;
-  }
-  VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  vr = vkCreateFence(g->device, &fci, NULL, &g->fence);
-  if (vr != VK_SUCCESS) {
-    r = pb_vk_fail(vr, "vkCreateFence");
-    goto fail;
-  }
-  if (g->limits.timestamps) {
-    VkQueryPoolCreateInfo qpi = {
-        .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
-        .queryType = VK_QUERY_TYPE_TIMESTAMP,
-        .queryCount = desc.max_timestamps,
-    };
-    vr = vkCreateQueryPool(g->device, &qpi, NULL, &g->queries);
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_COMMAND_POOL, (uint64_t)g->pool, "pb.command_pool");
+  for (uint32_t i = 0; i < PB_GPU_FRAMES; ++i) { /* the submission ring (gpu.h PB_GPU_FRAMES) */
+    struct pb_gpu_sub *c = &g->subs[i];
+    vr = vkAllocateCommandBuffers(g->device, &cai, &c->cmd);
     if (vr != VK_SUCCESS) {
-      r = pb_vk_fail(vr, "vkCreateQueryPool");
+      r = pb_vk_fail(vr, "vkAllocateCommandBuffers");
       goto fail;
     }
-    g->query_count = desc.max_timestamps;
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    vr = vkCreateFence(g->device, &fci, NULL, &c->fence);
+    if (vr != VK_SUCCESS) {
+      r = pb_vk_fail(vr, "vkCreateFence");
+      goto fail;
+    }
+    if (g->limits.timestamps) {
+      VkQueryPoolCreateInfo qpi = {
+          .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+          .queryType = VK_QUERY_TYPE_TIMESTAMP,
+          .queryCount = desc.max_timestamps,
+      };
+      vr = vkCreateQueryPool(g->device, &qpi, NULL, &c->queries);
+      if (vr != VK_SUCCESS) {
+        r = pb_vk_fail(vr, "vkCreateQueryPool");
+        goto fail;
+      }
+      g->query_count = desc.max_timestamps;
+    }
+    char nm[48];
+    snprintf(nm, sizeof nm, "pb.commands[%u]", i);
+    pb_gpu_set_name(g, VK_OBJECT_TYPE_COMMAND_BUFFER, (uint64_t)(uintptr_t)c->cmd, nm);
+    snprintf(nm, sizeof nm, "pb.fence[%u]", i);
+    pb_gpu_set_name(g, VK_OBJECT_TYPE_FENCE, (uint64_t)c->fence, nm);
+    snprintf(nm, sizeof nm, "pb.timestamps[%u]", i);
+    pb_gpu_set_name(g, VK_OBJECT_TYPE_QUERY_POOL, (uint64_t)c->queries, nm);
   }
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_COMMAND_POOL, (uint64_t)g->pool, "pb.command_pool");
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_COMMAND_BUFFER, (uint64_t)(uintptr_t)g->cmd, "pb.commands");
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_FENCE, (uint64_t)g->fence, "pb.fence");
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_QUERY_POOL, (uint64_t)g->queries, "pb.timestamps");
+  g->cur = g->read_sub = 0;
+  g->cmd = g->subs[0].cmd;
+  g->queries = g->subs[0].queries;
   pb_log_verbose("gpu: %s (%s), subgroup %u, maxStorageBufferRange %llu MiB%s", g->name,
                  info[idx].type, g->limits.subgroup_size,
                  (unsigned long long)(g->limits.max_storage_buffer_range >> 20),
@@ -626,10 +653,76 @@ int pb_gpu_validation_enabled(const pb_gpu *g) { return g->validation; }
 
 /* ---- recording ------------------------------------------------------------ */
 
+/* Waits for context i's submission, in slices, so that a lost device is
+ * reported rather than hanging forever. */
+static pb_result wait_sub(pb_gpu *g, uint32_t i) {
+  struct pb_gpu_sub *c = &g->subs[i];
+  if (!c->pending) return PB_OK;
+  VkResult vr;
+  for (;;) {
+    vr = vkWaitForFences(g->device, 1, &c->fence, VK_TRUE, 1000000000ull);
+    if (vr != VK_TIMEOUT) break;
+  }
+  c->pending = 0;
+  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkWaitForFences");
+  if (g->validation_errors)
+    return pb_fail(PB_ERR_VULKAN, "Vulkan validation reported %u message%s; first: %s",
+                   g->validation_errors, g->validation_errors == 1 ? "" : "s", g->validation_first);
+  return PB_OK;
+}
+
+/* The context for the next submission: after the last one, the first that
+ * is neither pending nor held; else the first not held (waiting for it);
+ * else the oldest held one (its timestamps are lost). */
+static uint32_t next_sub(pb_gpu *g) {
+  uint32_t best = UINT32_MAX;
+  for (uint32_t k = 1; k <= PB_GPU_FRAMES && best == UINT32_MAX; ++k) {
+    uint32_t i = (g->cur + k) % PB_GPU_FRAMES;
+    if (!g->subs[i].pending && !g->subs[i].held) best = i;
+  }
+  for (uint32_t k = 1; k <= PB_GPU_FRAMES && best == UINT32_MAX; ++k) {
+    uint32_t i = (g->cur + k) % PB_GPU_FRAMES;
+    if (!g->subs[i].held) best = i;
+  }
+  if (best == UINT32_MAX) {
+    best = 0;
+    for (uint32_t i = 1; i < PB_GPU_FRAMES; ++i)
+      if (g->subs[i].serial < g->subs[best].serial) best = i;
+    g->ring.held_stolen++;
+  }
+  return best;
+}
+
+/* Records the deferred host writes (pb_gpu_defer_write) into the recording
+ * command buffer, after its leading barrier, and a barrier after them. */
+static void record_deferred(pb_gpu *g) {
+  g->cmd_deferred = g->deferred_count > 0;
+  if (!g->deferred_count) return;
+  for (uint32_t i = 0; i < g->deferred_count; ++i) {
+    struct pb_gpu_deferred *d = &g->deferred[i];
+    if (!d->data) { /* pb_gpu_buffer_fill_zero: the whole buffer */
+      vkCmdFillBuffer(g->cmd, d->buffer, 0, VK_WHOLE_SIZE, 0);
+    } else {
+      vkCmdUpdateBuffer(g->cmd, d->buffer, d->offset, d->size, d->data);
+      free(d->data);
+    }
+  }
+  g->deferred_count = 0;
+  pb_gpu_barrier(g);
+}
+
 pb_result pb_gpu_begin(pb_gpu *g) {
   if (g->recording) return pb_fail(PB_ERR_INTERNAL, "gpu: pb_gpu_begin while recording");
-  pb_result r = pb_gpu_settle(g); /* the command buffer and the query pool are reused */
+  uint32_t i = next_sub(g);
+  struct pb_gpu_sub *c = &g->subs[i];
+  if (c->pending) g->ring.begin_waits++;
+  pb_result r = wait_sub(g, i); /* only this context's command buffer and queries are reused */
+  c->held = 0;
   if (r != PB_OK) return r;
+  if (g->read_sub == i) g->read_sub = UINT32_MAX; /* its timestamps are about to go */
+  g->cur = i;
+  g->cmd = c->cmd;
+  g->queries = c->queries;
   VkResult vr = vkResetCommandBuffer(g->cmd, 0);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkResetCommandBuffer");
   VkCommandBufferBeginInfo bi = {
@@ -639,7 +732,46 @@ pb_result pb_gpu_begin(pb_gpu *g) {
   vr = vkBeginCommandBuffer(g->cmd, &bi);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkBeginCommandBuffer");
   if (g->queries) vkCmdResetQueryPool(g->cmd, g->queries, 0, g->query_count);
+  /* Queue order (gpu.h PB_GPU_FRAMES): everything this submission does comes
+   * after everything the earlier ones did, as with one context that waited.
+   * The first scope of a pipeline barrier includes the commands of earlier
+   * submissions to the queue. */
+  VkMemoryBarrier mb = {
+      .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+      .srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT,
+      .dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT,
+  };
+  vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &mb, 0,
+                       NULL, 0, NULL);
   g->recording = 1;
+  record_deferred(g);
+  return PB_OK;
+}
+
+int pb_gpu_can_defer(const pb_gpu *g) { return g && !g->recording && pb_gpu_pending(g); }
+
+void pb_gpu_note_host_write(pb_gpu *g) {
+  if (!g->recording || !g->cmd_deferred) return;
+  if (!g->ring.late_writes) pb_log_verbose("gpu: a host write while recording a command buffer with deferred writes");
+  g->ring.late_writes++;
+}
+
+pb_result pb_gpu_defer_write(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, const void *data, uint64_t size) {
+  if (g->deferred_count == g->deferred_cap) {
+    uint32_t cap = g->deferred_cap ? 2 * g->deferred_cap : 16;
+    struct pb_gpu_deferred *d = realloc(g->deferred, cap * sizeof *d);
+    if (!d) return pb_fail(PB_ERR_NOMEM, "gpu: out of memory for a deferred write");
+    g->deferred = d, g->deferred_cap = cap;
+  }
+  void *copy = NULL;
+  if (data) {
+    if (!(copy = malloc(size))) return pb_fail(PB_ERR_NOMEM, "gpu: out of memory for a deferred write");
+    memcpy(copy, data, size);
+  }
+  g->deferred[g->deferred_count++] = (struct pb_gpu_deferred){
+      .buffer = b->buffer, .mapped = b->mapped, .offset = offset, .size = size, .data = copy};
+  g->ring.deferred_writes++;
+  g->ring.deferred_bytes += size;
   return PB_OK;
 }
 
@@ -710,34 +842,80 @@ pb_result pb_gpu_submit(pb_gpu *g) { return submit(g, 1); }
 
 pb_result pb_gpu_submit_async(pb_gpu *g) { return submit(g, 0); }
 
-int pb_gpu_pending(const pb_gpu *g) { return g->pending; }
+int pb_gpu_pending(const pb_gpu *g) {
+  for (uint32_t i = 0; i < PB_GPU_FRAMES; ++i)
+    if (g->subs[i].pending) return 1;
+  return 0;
+}
 
-/* Waits for the fence of the last submission, in slices, so that a lost
- * device is reported rather than hanging forever. */
-static pb_result wait_fence(pb_gpu *g) {
-  VkResult vr;
+uint64_t pb_gpu_last_submission(const pb_gpu *g) { return g->serial; }
+
+pb_gpu_ring_stats pb_gpu_ring_stats_get(const pb_gpu *g) { return g->ring; }
+
+static uint32_t find_sub(const pb_gpu *g, uint64_t sub) {
+  for (uint32_t i = 0; sub && i < PB_GPU_FRAMES; ++i)
+    if (g->subs[i].serial == sub) return i;
+  return UINT32_MAX;
+}
+
+int pb_gpu_outstanding(const pb_gpu *g, uint64_t sub) {
+  uint32_t i = find_sub(g, sub);
+  return i != UINT32_MAX && g->subs[i].pending;
+}
+
+int pb_gpu_busy(pb_gpu *g, uint64_t sub) {
+  uint32_t i = find_sub(g, sub);
+  if (i == UINT32_MAX || !g->subs[i].pending) return 0;
+  return vkGetFenceStatus(g->device, g->subs[i].fence) == VK_NOT_READY;
+}
+
+int pb_gpu_timestamps_of(pb_gpu *g, uint64_t sub) {
+  g->read_sub = sub ? find_sub(g, sub) : find_sub(g, g->serial);
+  return g->read_sub != UINT32_MAX;
+}
+
+void pb_gpu_release(pb_gpu *g, uint64_t sub) {
+  uint32_t i = find_sub(g, sub);
+  if (i != UINT32_MAX) g->subs[i].held = 0;
+}
+
+/* Waits for every pending submission, oldest first, then makes the
+ * deferred host writes: on the host where the buffer is mapped (nothing
+ * runs now), else in a submission of their own. */
+pb_result pb_gpu_wait(pb_gpu *g) {
+  pb_result r = PB_OK;
   for (;;) {
-    vr = vkWaitForFences(g->device, 1, &g->fence, VK_TRUE, 1000000000ull);
-    if (vr != VK_TIMEOUT) break;
+    uint32_t oldest = UINT32_MAX;
+    for (uint32_t i = 0; i < PB_GPU_FRAMES; ++i)
+      if (g->subs[i].pending && (oldest == UINT32_MAX || g->subs[i].serial < g->subs[oldest].serial)) oldest = i;
+    if (oldest == UINT32_MAX) break;
+    pb_result ri = wait_sub(g, oldest);
+    if (r == PB_OK) r = ri;
   }
-  if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkWaitForFences");
-  if (g->validation_errors)
-    return pb_fail(PB_ERR_VULKAN, "Vulkan validation reported %u message%s; first: %s",
-                   g->validation_errors, g->validation_errors == 1 ? "" : "s", g->validation_first);
+  if (r != PB_OK || !g->deferred_count || g->recording) return r;
+  int all_mapped = 1;
+  for (uint32_t i = 0; i < g->deferred_count; ++i)
+    if (!g->deferred[i].mapped) all_mapped = 0;
+  if (!all_mapped) { /* recorded by pb_gpu_begin */
+    if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+    return submit(g, 1);
+  }
+  for (uint32_t i = 0; i < g->deferred_count; ++i) {
+    struct pb_gpu_deferred *d = &g->deferred[i];
+    if (d->data) memcpy((char *)d->mapped + d->offset, d->data, d->size);
+    else memset((char *)d->mapped + d->offset, 0, d->size);
+    free(d->data);
+  }
+  g->deferred_count = 0;
   return PB_OK;
 }
 
-pb_result pb_gpu_wait(pb_gpu *g) {
-  if (!g->pending) return PB_OK;
-  g->pending = 0;
-  return wait_fence(g);
-}
-
-pb_result pb_gpu_settle(pb_gpu *g) { return g && g->pending ? pb_gpu_wait(g) : PB_OK; }
+pb_result pb_gpu_settle(pb_gpu *g) { return g && (pb_gpu_pending(g) || g->deferred_count) ? pb_gpu_wait(g) : PB_OK; }
 
 static pb_result submit(pb_gpu *g, int wait) {
   if (!g->recording) return pb_fail(PB_ERR_INTERNAL, "gpu: submit without begin");
   g->recording = 0;
+  struct pb_gpu_sub *c = &g->subs[g->cur];
   VkResult vr = vkEndCommandBuffer(g->cmd);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkEndCommandBuffer");
   VkSubmitInfo si = {
@@ -745,26 +923,31 @@ static pb_result submit(pb_gpu *g, int wait) {
       .commandBufferCount = 1,
       .pCommandBuffers = &g->cmd,
   };
-  vr = vkResetFences(g->device, 1, &g->fence);
+  vr = vkResetFences(g->device, 1, &c->fence);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkResetFences");
-  vr = vkQueueSubmit(g->queue, 1, &si, g->fence);
+  vr = vkQueueSubmit(g->queue, 1, &si, c->fence);
   if (vr != VK_SUCCESS) return pb_vk_fail(vr, "vkQueueSubmit");
+  c->serial = ++g->serial;
+  c->pending = 1;
+  g->read_sub = g->cur;
+  g->ring.submissions++;
   if (!wait) {
-    g->pending = 1;
+    c->held = 1;
+    g->ring.async_submissions++;
     return PB_OK;
   }
-  return wait_fence(g);
+  return wait_sub(g, g->cur);
 }
 
 double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t a, uint32_t b) {
-  if (pb_gpu_settle(g) != PB_OK) return -1.0;
-  if (!g->queries || a >= g->query_count || b >= g->query_count) return -1.0;
+  uint32_t i = g->read_sub;
+  if (i == UINT32_MAX || wait_sub(g, i) != PB_OK) return -1.0;
+  VkQueryPool q = g->subs[i].queries;
+  if (!q || a >= g->query_count || b >= g->query_count) return -1.0;
   uint64_t ta, tb;
-  /* Without WAIT, a slot not written in the last submission is NOT_READY. */
-  if (vkGetQueryPoolResults(g->device, g->queries, a, 1, sizeof ta, &ta, sizeof ta,
-                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS ||
-      vkGetQueryPoolResults(g->device, g->queries, b, 1, sizeof tb, &tb, sizeof tb,
-                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+  /* Without WAIT, a slot not written in that submission is NOT_READY. */
+  if (vkGetQueryPoolResults(g->device, q, a, 1, sizeof ta, &ta, sizeof ta, VK_QUERY_RESULT_64_BIT) != VK_SUCCESS ||
+      vkGetQueryPoolResults(g->device, q, b, 1, sizeof tb, &tb, sizeof tb, VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
     return -1.0;
   uint64_t d = (tb - ta) & g->ts_mask;
   return (double)d * g->limits.timestamp_period_ns * 1e-6;

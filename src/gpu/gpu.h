@@ -7,8 +7,10 @@
  * lost, a limit exceeded) are pb_results with a one-line message saying what
  * to install or do; every VkResult is checked. Validation layers: on when
  * pb_gpu_desc.validation is set or the environment has PB_VK_VALIDATION=1;
- * any validation message then makes the next pb_gpu_submit fail with
- * PB_ERR_VULKAN (tests treat them as fatal). */
+ * PB_SYNC_VALIDATION=1 turns them on with synchronization validation too
+ * (VK_EXT_validation_features: hazards between submissions, the host's
+ * writes and the GPU's reads). Any validation message then makes the next
+ * pb_gpu_submit fail with PB_ERR_VULKAN (tests treat them as fatal). */
 #ifndef PB_GPU_H
 #define PB_GPU_H
 
@@ -156,6 +158,7 @@ typedef struct pb_gpu_buffer {
   VkBuffer buffer;
   VkDeviceMemory memory;
   uint64_t size;
+  uint64_t id;        /* unique per context, never reused (pipeline binds compare it) */
   void *mapped;       /* non-NULL when the memory is host-visible and coherent */
   int cached;         /* mapped memory is also HOST_CACHED: the host reads it at
                          memory speed (device-local host-visible memory, as a
@@ -222,6 +225,7 @@ typedef struct pb_gpu_pipeline {
   VkDescriptorPool pool;
   VkDescriptorSet set;
   uint32_t binding_count, push_bytes;
+  uint64_t bound[PB_GPU_MAX_BINDINGS]; /* the buffers' ids the set holds (0: unset) */
 } pb_gpu_pipeline;
 
 pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *desc,
@@ -233,8 +237,19 @@ pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p,
 
 /* ---- recording and submission ------------------------------------------ */
 
-/* One primary command buffer per context: begin, record dispatches, barriers
- * and timestamps, then submit and wait. */
+/* The submission ring: PB_GPU_FRAMES contexts of {command buffer, fence,
+ * timestamp query pool}. pb_gpu_begin takes the next free context and waits
+ * only for that context's own earlier submission (when every context is
+ * pending), so the host records submission k + 1 while the GPU runs k.
+ * Queue order is kept: every command buffer starts with a full execution and
+ * memory dependency on all earlier submissions to the queue (a pipeline
+ * barrier's first scope includes them), so a submission never overlaps the
+ * one before it on the GPU, only the host's work. Three: a frame in flight,
+ * the next frame's, and the one recording (render/frame.c). */
+enum { PB_GPU_FRAMES = 3 };
+
+/* Begin, record dispatches, barriers and timestamps, then submit (and wait,
+ * or not: pb_gpu_submit_async). */
 pb_result pb_gpu_begin(pb_gpu *g);
 /* Dispatches `invocations` 1-D work items in workgroups of PB_GPU_WORKGROUP,
  * folded into a 2-D grid when the count exceeds the x limit; kernels compute
@@ -256,27 +271,65 @@ void pb_gpu_timestamp(pb_gpu *g, uint32_t slot);
 /* Ends, submits, waits. PB_ERR_DEVICE_LOST / PB_ERR_VULKAN with a message;
  * PB_ERR_VULKAN too when validation reported anything. */
 pb_result pb_gpu_submit(pb_gpu *g);
-/* Ends and submits without waiting (frames in flight, issue 17: a frame's
- * last submission runs while the host goes on with the next). Until
- * pb_gpu_wait, nothing may touch what that submission reads or writes but
- * through this API: every call that records, transfers, binds or destroys
- * (pb_gpu_begin, buffer uploads, downloads, fills, pipeline binds, buffer
- * and pipeline destruction, pb_gpu_elapsed_ms) waits for it first, so the
- * host overlaps the GPU exactly as long as it does other work. Reads of a
- * buffer's `mapped` pointer do not wait: only for buffers the pending
- * submission does not write (render/readback.h's ring). */
+/* Ends and submits without waiting (frames in flight: a frame's last
+ * submission runs while the host goes on with the next). Until pb_gpu_wait,
+ * nothing may touch what that submission reads or writes but through this
+ * API, which keeps the GPU's order:
+ *   - pb_gpu_begin records the next submission into another context; the
+ *     queue runs it after this one (see PB_GPU_FRAMES).
+ *   - pb_gpu_buffer_fill_zero, and pb_gpu_buffer_upload of at most 64 KiB
+ *     (offset and size multiples of 4), made while nothing records, are
+ *     deferred: recorded at the start of the next command buffer
+ *     (vkCmdFillBuffer, vkCmdUpdateBuffer), after the pending submission on
+ *     the GPU, never over memory it still reads. A host read of the buffer
+ *     through this API first makes them (pb_gpu_settle).
+ *   - pb_gpu_pipeline_bind of the buffers a pipeline's set already holds
+ *     changes nothing and does not wait; other binds wait.
+ *   - everything else (downloads, larger uploads, uploads while recording,
+ *     destruction) waits for every pending submission first.
+ * Reads of a buffer's `mapped` pointer do not wait: only for buffers the
+ * pending submission does not write (render/readback.h's ring).
+ * The submission's timestamps stay readable (pb_gpu_timestamps_of) until
+ * pb_gpu_release: its context is reused only when no other is free. */
 pb_result pb_gpu_submit_async(pb_gpu *g);
-/* Waits for the pending asynchronous submission, if any; its errors
- * (device lost, validation messages) as pb_gpu_submit's. */
+/* Waits for every pending submission; their errors (device lost,
+ * validation messages) as pb_gpu_submit's. */
 pb_result pb_gpu_wait(pb_gpu *g);
 /* 1 while an asynchronous submission has not been waited for. */
 int pb_gpu_pending(const pb_gpu *g);
+/* The last submission's number (1, 2, ...; 0 before any). */
+uint64_t pb_gpu_last_submission(const pb_gpu *g);
+/* 1 while the host has not waited for submission `sub` (it may still run). */
+int pb_gpu_outstanding(const pb_gpu *g, uint64_t sub);
+/* 1 while submission `sub` still runs on the GPU (its fence unsignalled;
+ * does not wait). */
+int pb_gpu_busy(pb_gpu *g, uint64_t sub);
+/* pb_gpu_elapsed_ms reads submission `sub`'s timestamps from now on (0: the
+ * last submission's, as after every submit). Returns 0, and makes
+ * pb_gpu_elapsed_ms negative, when that submission's context was reused. */
+int pb_gpu_timestamps_of(pb_gpu *g, uint64_t sub);
+/* The asynchronous submission `sub`'s timestamps are read: its context may
+ * be reused. */
+void pb_gpu_release(pb_gpu *g, uint64_t sub);
+/* What the ring did since the context was made. */
+typedef struct pb_gpu_ring_stats {
+  uint64_t submissions, async_submissions;
+  uint64_t begin_waits;   /* pb_gpu_begin found its context pending and waited for it */
+  uint64_t held_stolen;   /* a held context reused before pb_gpu_release (timestamps lost) */
+  uint64_t deferred_writes, deferred_bytes; /* host writes recorded instead of waiting */
+  uint64_t bind_skips;    /* pipeline binds that changed nothing */
+  uint64_t late_writes;   /* host writes while recording a command buffer that
+                             holds deferred writes: made on the host now, before
+                             those (an older value may land last; 0 expected) */
+} pb_gpu_ring_stats;
+pb_gpu_ring_stats pb_gpu_ring_stats_get(const pb_gpu *g);
 /* Copies `size` bytes between buffers in the recording command buffer
  * (transfer; a pb_gpu_barrier orders it with the passes around it). */
 void pb_gpu_copy(pb_gpu *g, const pb_gpu_buffer *src, uint64_t src_offset, const pb_gpu_buffer *dst,
                  uint64_t dst_offset, uint64_t size);
-/* Milliseconds between two timestamp slots of the last submission; negative
- * when timestamps are unavailable. */
+/* Milliseconds between two timestamp slots of the last submission (or of
+ * pb_gpu_timestamps_of's), waiting for it; negative when timestamps are
+ * unavailable. */
 double pb_gpu_elapsed_ms(pb_gpu *g, uint32_t from_slot, uint32_t to_slot);
 
 /* Turns a VkResult into a pb_result with "what: VK_ERROR_..." (device lost

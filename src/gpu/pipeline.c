@@ -166,6 +166,13 @@ pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffe
   if (count != p->binding_count)
     return pb_fail(PB_ERR_INTERNAL, "gpu: %u buffers bound to a pipeline of %u bindings", count,
                    p->binding_count);
+  int same = 1;
+  for (uint32_t i = 0; i < count; ++i)
+    if (!buffers[i] || !buffers[i]->buffer || !buffers[i]->id || buffers[i]->id != p->bound[i]) same = 0;
+  if (same) { /* what the set holds: a pending submission may use it as it is */
+    g->ring.bind_skips++;
+    return PB_OK;
+  }
   pb_result r = pb_gpu_settle(g); /* the set may be in use by a pending submission */
   if (r != PB_OK) return r;
   VkDescriptorBufferInfo bi[PB_GPU_MAX_BINDINGS];
@@ -184,5 +191,6 @@ pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffe
     };
   }
   vkUpdateDescriptorSets(g->device, count, w, 0, NULL);
+  for (uint32_t i = 0; i < count; ++i) p->bound[i] = buffers[i]->id;
   return PB_OK;
 }

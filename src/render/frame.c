@@ -30,6 +30,48 @@
  * gather), plus the start. */
 enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 
+/* ---- frames in flight: what the host writes while a frame still runs --------
+ *
+ * With pb_render_desc.in_flight a frame's last submission (the resolve, the
+ * filter chain, eq. 20, the still run's means, the copy into the readback
+ * ring: "tail N") is not waited for; the next frame N+1 is posed, set up and
+ * recorded, and its first submissions queued, while tail N may still run
+ * (gpu.h PB_GPU_FRAMES: its own command buffer, fence and timestamps). Every
+ * host write between tail N's submission and N+1's last submission, and why
+ * tail N cannot see it:
+ *   sequence.c  pb_gpu_scene_update (geometry or lights moved): uploads of
+ *               positions, BVH, lights: over 64 KiB they wait for tail N,
+ *               under it they are deferred (recorded after tail N, gpu.h
+ *               pb_gpu_submit_async). pb_filter_chain_set_frame: host state
+ *               only, read when N+1's chain is recorded.
+ *   frame.c     tg.frame (pb_gpu_frame, the camera and constants): deferred.
+ *               tg.accum, tg.paccum, tg.pnmap zeroed (tail N's resolve reads
+ *               them): deferred fills. tg.guard, tg.kpd (tail N's resolve
+ *               writes them, its settle reads them): zeroed after the settle
+ *               below, right before N+1's resolve.
+ *   upsample.c  pb_upsample_reset's list fill: deferred.
+ *   photon_trace.c (pb_tracer_prepare) image counts fill, frame, params,
+ *               lights and map counts uploads: deferred (params and lights
+ *               over 64 KiB wait).
+ *   pipeline binds (tracer, estimator, up-sampling, filter chain, temporal,
+ *               A-Trous, still sum): the same buffers as the set holds skip
+ *               (gpu.h); the others wait for tail N (the temporal filter's
+ *               ping-pong history rebinds every frame: after the settle).
+ *   filters.c   the temporal statistics' fills (tail N wrote them, its settle
+ *               reads them): after the settle, nothing pending.
+ *   motion.c    the motion pass's params and previous positions: uploaded
+ *               while N+1's tail records, after the settle.
+ *   targets.c   the still run's means (pb_still_sum): GPU-only; the frame
+ *               count is a push constant of the recording.
+ *   readback    tail N writes ring slot i, N+1's tail slot i + 1; the host
+ *               reads slot i after tail N's fence (pb_render_frame_read).
+ *   estimator   statistics read from the GPU after the samples (vsch's pair
+ *               counts, kNN's cut queries): read before tail N's submission
+ *               (estimator_final), not at its settle, where N+1's build
+ *               would have replaced them.
+ * No code outside src/gpu writes a buffer's `mapped` pointer. Checked with
+ * PB_SYNC_VALIDATION=1 (tests/frame_in_flight.py): zero messages. */
+
 /* ---- the frame context (render.h) ------------------------------------------ */
 
 /* What a reusable context must match: everything its contents depend on.
@@ -50,6 +92,8 @@ typedef struct ctx_key {
 typedef struct frame_tail {
   int ts, chain_gpu, post_gpu, photons_on, nmap_aovs, opaque, no_shading_correction;
   int readback; /* PB_RENDER_READBACK_*: what the readback brings */
+  int est_final; /* the estimator's final statistics are in the result already */
+  uint64_t gpu_sub; /* the last submission (gpu.h): its timestamps */
   uint32_t sc_slot, slot, pixels, spp_run, iters_run, emitter_count, ring_slot;
   size_t pixel_base, n;
   float inv_spp;
@@ -280,12 +324,31 @@ static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_fra
  * chain's statistics (timestamps of the last submission: before the next
  * pb_gpu_begin). */
 static pb_result tail_band_times(pb_gpu *g, frame_tail *ft, pb_render_result *out) {
-  if (ft->ts) { /* the resolve and eq. 20; the chain's passes in their own stats */
+  /* A frame in flight's submission may not be the last one any more: its
+   * context keeps its timestamps until released (gpu.h pb_gpu_release). */
+  int ts = ft->ts && pb_gpu_timestamps_of(g, ft->gpu_sub);
+  if (ts) { /* the resolve and eq. 20; the chain's passes in their own stats */
     double ms = pb_gpu_elapsed_ms(g, 0, 1), ms2 = pb_gpu_elapsed_ms(g, ft->sc_slot, ft->slot);
     ft->gpu_ms += (ms > 0 ? ms : 0) + (ms2 > 0 ? ms2 : 0);
   }
-  if (ft->chain_gpu) return pb_filter_chain_finish(g, ft->fc, ft->ts, &out->stats);
-  return PB_OK;
+  pb_result r = ft->chain_gpu ? pb_filter_chain_finish(g, ft->fc, ts, &out->stats) : PB_OK;
+  pb_gpu_release(g, ft->gpu_sub);
+  (void)pb_gpu_timestamps_of(g, 0);
+  return r;
+}
+
+/* The estimator's and the up-sampling's statistics after the frame's
+ * samples (a frame in flight: before its last submission, which the next
+ * frame's work follows). */
+static void estimator_final(pb_gpu *g, frame_tail *ft, pb_render_stats *st) {
+  if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
+  if (ft->photons_on && ft->ups) { /* the up-sampling's counts, under "estimator" too */
+    pb_tracer_stat us[PB_TRACER_MAX_STATS];
+    uint32_t m = pb_upsample_stats(g, ft->ups, us, PB_TRACER_MAX_STATS);
+    for (uint32_t i = 0; i < m && st->estimator_stat_count < PB_TRACER_MAX_STATS; ++i)
+      st->estimator_stats[st->estimator_stat_count++] = us[i];
+  }
+  ft->est_final = 1;
 }
 
 /* The frame's statistics once every band is read back (or, for a frame in
@@ -300,13 +363,7 @@ static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *f
    * queries) are read here, after the frame's samples; a deferred tail (frames
    * in flight) reads them after the next frame was recorded, so they may
    * describe that frame's work. */
-  if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
-  if (ft->photons_on && ft->ups) { /* the up-sampling's counts, under "estimator" too */
-    pb_tracer_stat us[PB_TRACER_MAX_STATS];
-    uint32_t m = pb_upsample_stats(g, ft->ups, us, PB_TRACER_MAX_STATS);
-    for (uint32_t i = 0; i < m && st->estimator_stat_count < PB_TRACER_MAX_STATS; ++i)
-      st->estimator_stats[st->estimator_stat_count++] = us[i];
-  }
+  if (!ft->est_final) estimator_final(g, ft, st);
   if ((r = pb_readback_guard(g, tg, &st->nonfinite_values)) != PB_OK) return r;
   /* A lean readback reads no k_PD plane: the resolve's sums (16 bytes),
    * here, before the next frame zeroes them (a frame in flight: settled). */
@@ -352,15 +409,12 @@ static pb_result tail_frame(pb_gpu *g, const pb_frame_targets *tg, frame_tail *f
   return PB_OK;
 }
 
-pb_result pb_render_frame_settle(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
-  if (!out->pending || !c || !c->valid || out->pending_slot >= PB_READBACK_RING)
-    return pb_fail(PB_ERR_INTERNAL, "render: no frame in flight to settle");
-  frame_tail *ft = &c->tail[out->pending_slot];
+static pb_result settle_tail(pb_gpu *g, const pb_frame_targets *tg, frame_tail *ft, pb_render_result *out) {
   double t0 = pb_time_now();
   pb_gpu_transfers s0 = pb_gpu_transfers_get(g);
   pb_result r = pb_gpu_wait(g);
   if (r == PB_OK) r = tail_band_times(g, ft, out);
-  if (r == PB_OK) r = tail_frame(g, &c->tg, ft, out);
+  if (r == PB_OK) r = tail_frame(g, tg, ft, out);
   /* Not this frame's: what moved between its last submission and now (the
    * previous frame's readback from the ring). */
   out->stats.upload_bytes -= s0.upload_bytes - ft->tr_submit.upload_bytes;
@@ -371,6 +425,12 @@ pb_result pb_render_frame_settle(pb_gpu *g, pb_frame_context *c, pb_render_resul
   out->stats.frame_wall_ms = ft->host_ms + (pb_time_now() - t0) * 1e3;
   out->pending = 2; /* settled, pixels not read */
   return r;
+}
+
+pb_result pb_render_frame_settle(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
+  if (out->pending != 1 || !c || !c->valid || out->pending_slot >= PB_READBACK_RING)
+    return pb_fail(PB_ERR_INTERNAL, "render: no frame in flight to settle");
+  return settle_tail(g, &c->tg, &c->tail[out->pending_slot], out);
 }
 
 pb_result pb_render_frame_read(pb_gpu *g, pb_frame_context *c, pb_render_result *out) {
@@ -498,6 +558,16 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.bandwidth_c0 = desc.bandwidth_c0;
   key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
+  /* The previous frame in flight (pb_render_desc.settle_first): finished
+   * here before its context goes, with its pixels. */
+  pb_render_result *prev = desc.settle_first && desc.settle_first->pending && ctx ? desc.settle_first : NULL;
+  if (prev && !reuse) {
+    double p0 = pb_time_now();
+    if ((r = pb_render_frame_complete(g, ctx, prev)) != PB_OK) return r;
+    wall0 += pb_time_now() - p0; /* its time, not this frame's */
+    tr0 = pb_gpu_transfers_get(g);
+    prev = NULL;
+  }
   if (ctx && !reuse) context_clear(g, ctx);
   /* A frame in flight's tails (read after this frame's last submission)
    * and the ring's next slot survive the hand-over below. */
@@ -648,9 +718,14 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   if (defer && (r = pb_frame_targets_ring(g, &tg)) != PB_OK) goto fail;
   frame_tail ft;
   memset(&ft, 0, sizeof ft);
-  if ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK) goto fail;
-  if ((r = pb_gpu_buffer_fill_zero(g, &tg.kpd)) != PB_OK) goto fail;
   uint64_t ring_kept = PB_RENDER_KEEP_ALL;
+  /* Frames in flight: the previous frame's last submission may still run
+   * now, while this frame's first command buffer is recorded (gpu.h
+   * PB_GPU_FRAMES; render.h pb_render_stats.record_overlapped). */
+  if (prev && prev->pending_slot < PB_READBACK_RING) {
+    out->stats.record_overlapped = pb_gpu_outstanding(g, kept_tails[prev->pending_slot].gpu_sub);
+    out->stats.record_running = pb_gpu_busy(g, kept_tails[prev->pending_slot].gpu_sub);
+  }
 
   for (uint32_t band = 0; band < bands; ++band) {
     uint32_t row0 = band * band_rows;
@@ -773,6 +848,34 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
      * submission, then the band's AOVs to the host: the readback
      * (readback.h) is where pixels leave the GPU. Timestamps: 0 start, 1
      * resolved, the chain's from 1 (filters.c), the last after eq. 20. */
+    if (band == 0 && prev) {
+      /* The previous frame in flight is settled before this submission
+       * overwrites what its settle reads (the guard, the k_PD sums, the
+       * temporal counts; its timestamps are in its own context). */
+      double p0 = pb_time_now();
+      pb_gpu_transfers q0 = pb_gpu_transfers_get(g);
+      if (prev->pending_slot >= PB_READBACK_RING) {
+        r = pb_fail(PB_ERR_INTERNAL, "render: no frame in flight to settle");
+        goto fail;
+      }
+      if ((r = settle_tail(g, &tg, &kept_tails[prev->pending_slot], prev)) != PB_OK) goto fail;
+      pb_gpu_transfers q1 = pb_gpu_transfers_get(g);
+      wall0 += pb_time_now() - p0; /* its host time, not this frame's */
+      tr0.upload_bytes += q1.upload_bytes - q0.upload_bytes;
+      tr0.download_bytes += q1.download_bytes - q0.download_bytes;
+      tr0.readback_bytes += q1.readback_bytes - q0.readback_bytes;
+    }
+    if (defer) {
+      /* The samples' statistics now, before the last submission: the next
+       * frame's work follows it (render.h settle_first). */
+      ft.photons_on = photons_on, ft.est = est, ft.ups = ups;
+      estimator_final(g, &ft, &out->stats);
+    }
+    /* The resolve's counters, zeroed for the frame just before its first
+     * band's resolve (only the resolve writes them). */
+    if (band == 0 && ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK ||
+                      (r = pb_gpu_buffer_fill_zero(g, &tg.kpd)) != PB_OK))
+      goto fail;
     if (chain_gpu && (r = pb_filter_chain_bind(g, fc, &tg, nmap_aovs)) != PB_OK) goto fail;
     if (still_gpu && (r = pb_still_sum_bind(g, desc.still_sum, &tg)) != PB_OK) goto fail;
     if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
@@ -801,6 +904,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     pb_result rs = defer ? pb_gpu_submit_async(g) : pb_gpu_submit(g);
     if (r == PB_OK) r = rs;
     if (r != PB_OK) goto fail;
+    ft.gpu_sub = pb_gpu_last_submission(g);
     ft.ts = ts, ft.chain_gpu = chain_gpu, ft.fc = fc, ft.sc_slot = sc_slot, ft.slot = slot;
     ft.gpu_ms = gpu_ms;
     if (defer) break; /* one band: frame_settle and frame_read finish it */

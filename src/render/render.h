@@ -225,8 +225,9 @@ typedef struct pb_render_desc {
    * but not filled and its statistics partial, and the host goes on (the
    * next frame's pose, the caller's output of the previous frame) while the
    * GPU runs it. pb_render_frame_settle then waits and completes the
-   * statistics (before the context's next pb_render_frame: its timestamps
-   * and counters are reused), pb_render_frame_read brings the pixels from
+   * statistics (before the context's next pb_render_frame, or by it:
+   * settle_first below; the frame's timestamps stay in its own submission
+   * context), pb_render_frame_read brings the pixels from
    * the ring (before the context's second pb_render_frame after this one:
    * the ring has two slots). Frames with several bands or the host path
    * (PB_RESOLVE_ON_HOST=1) are rendered synchronously as without (pending
@@ -235,6 +236,14 @@ typedef struct pb_render_desc {
    * store's slot order that any two runs may differ in (bit-identical on
    * lavapipe in tests/frame_same_pixels.py in_flight). */
   int in_flight;
+  /* Frames in flight: the previous frame of the same context, still pending
+   * (out->pending 1) or NULL. This frame is then recorded and its first
+   * submissions queued while that one's last submission still runs (the
+   * GPU runs them after it: gpu.h PB_GPU_FRAMES); pb_render_frame settles
+   * it (pb_render_frame_settle) before its own last submission, the one
+   * that overwrites what that settle reads (the guard, the k_PD sums, the
+   * temporal filter's counts). Its pixels stay in its ring slot. */
+  struct pb_render_result *settle_first;
   /* Sequences (issue 17 item 2): a still run's running means on the GPU
    * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
    * submission when the frame is one band on the GPU path; out->stats.
@@ -334,6 +343,13 @@ typedef struct pb_render_stats {
   int still_on_gpu;                           /* 1: pb_render_desc.still_sum's pass ran on this frame */
   int in_flight;                              /* 1: the frame's last submission ran
                                                  while the host went on (pb_render_desc.in_flight) */
+  /* Frames in flight: 1 when the frame's first command buffer was recorded
+   * while the host had not waited for the previous frame's last submission
+   * (structural: every frame after the first with 2 in flight; 0 with 1);
+   * record_running: and that submission was still running on the GPU then
+   * (its fence unsignalled: how long the host took, not a property of the
+   * code). */
+  int record_overlapped, record_running;
   /* The photon tracer that ran (tracer.h: "bvh", "images"; NULL when the
    * photon stages are off) and its named statistics over the frame. */
   const char *tracer;

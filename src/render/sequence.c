@@ -252,17 +252,13 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     fi.camera_moved = !camera_equal(&q->prev_cam, cam);
   }
   fi.still = !fi.geometry_moved && !fi.lights_moved && !fi.camera_moved;
-  /* Frames in flight: the previous frame's last submission may still run;
-   * it reads the scene and the filter chain's cameras, so it finishes
-   * before they change (the uploads would wait for it anyway), and its
-   * statistics are read before this frame's submissions reuse the
-   * timestamp queries. Its pixels come later, from the ring. */
-  double settle_ms = 0;
-  if (q->have_pend && q->pend.pending == 1) {
-    double ts0 = pb_time_now();
-    if ((r = pb_render_frame_settle(g, q->frame_ctx, &q->pend)) != PB_OK) return r;
-    settle_ms = (pb_time_now() - ts0) * 1e3; /* the previous frame's host time, not this one's */
-  }
+  /* Frames in flight: the previous frame's last submission may still run
+   * while this frame is posed and recorded. What it reads stays as it was
+   * on the GPU: a scene update's uploads wait for it (large) or follow it
+   * in the queue (small, gpu.h pb_gpu_submit_async), the filter chain's
+   * cameras are recorded, and pb_render_frame settles it before this
+   * frame's last submission (render.h settle_first). Its pixels come later,
+   * from the ring. */
   pb_gpu_transfers tr_scene0 = pb_gpu_transfers_get(g);
   if (fi.geometry_moved || fi.lights_moved || (!q->has_prev && s->anim)) {
     /* The GPU scene was made from the file's static pose: the first frame
@@ -304,8 +300,9 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   }
   if (q->in_flight) {
     rd.in_flight = 1;
+    rd.settle_first = q->have_pend && q->pend.pending == 1 ? &q->pend : NULL;
     fi.index = index;
-    double pre_ms = (pb_time_now() - frame_t0) * 1e3 - settle_ms;
+    double pre_ms = (pb_time_now() - frame_t0) * 1e3;
     pb_render_result cur;
     if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, &cur)) != PB_OK) return r;
     q->still_iterations += iters;

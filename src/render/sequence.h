@@ -35,7 +35,8 @@ typedef struct pb_sequence_desc {
    * returns none, pb_sequence_flush the last), and the GPU runs a frame's
    * last submission (resolve, filters, the readback's copy into its ring)
    * while the caller works on the frame before and the next frame is
-   * posed. The same pixels (tests/frame_same_pixels.py in_flight: 2 against
+   * posed, set up and recorded (its first submissions queued behind it:
+   * gpu.h PB_GPU_FRAMES). The same pixels (tests/frame_same_pixels.py in_flight: 2 against
    * 1, bit-identical on lavapipe, within float rounding wherever the photon
    * store's order varies); only when frames come out changes. */
   uint32_t frames_in_flight;

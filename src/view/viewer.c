@@ -53,6 +53,7 @@ typedef struct frame_stat {
   /* Host <-> device bytes: the frame's (pb_render_stats: the readback's,
    * the uploads') and the picture's (the display pass's upload, or 0). */
   uint64_t readback_bytes, upload_bytes, download_bytes, display_up_bytes;
+  uint64_t ring_bytes; /* frames in flight: what the frame's ring copy moved (the shown AOV's planes) */
 } frame_stat;
 
 static uint32_t validation_messages;
@@ -74,6 +75,12 @@ typedef struct viewer {
   int playing;
   double t;              /* animation time now */
   int aov;
+  int aov_shown;         /* the AOV of the picture shown last */
+  /* Frames in flight with the display-only readback: the frame's ring slot
+   * keeps only the planes the picture reads (pb_render_desc.keep_planes):
+   * lean_ring 1, keep what the next frame keeps. */
+  int lean_ring;
+  uint64_t keep;
   double exposure;
   pb_color *color, *metric;
   float *ref_display;    /* the reference through the metrics view, RGB */
@@ -307,20 +314,50 @@ static pb_result run_script(viewer *v) {
 /* The shown AOV as RGBA floats into v->tmp, display-encoded into v->rgba:
  * colour AOVs through the OCIO view (exposure included), normal as
  * 0.5 + 0.5 n and depth as 1 - z / z_max (near bright), both raw data. */
+static const uint32_t aov_plane[AOV_COUNT] = {PB_RESOLVE_BEAUTY, PB_RESOLVE_DIRECT,   PB_RESOLVE_INDIRECT,
+                                              PB_RESOLVE_CAUSTIC, PB_RESOLVE_EMISSION, PB_RESOLVE_ALBEDO,
+                                              PB_RESOLVE_NORMAL, PB_RESOLVE_DEPTH};
+
+/* The planes a frame must keep in its ring slot for AOV a: the depth AOV
+ * (the host path) and P / F12 read every AOV (pb_render_result_read_gpu). */
+static uint64_t aov_keep(int a) { return a == AOV_DEPTH ? PB_RENDER_KEEP_ALL : PB_RENDER_KEEP(aov_plane[a]); }
+
+static int aov_kept(const pb_render_result *res, int a) {
+  uint64_t k = aov_keep(a);
+  return (res->gpu.kept & k) == k;
+}
+
+/* The planes the next frame keeps (lean_ring): what the shown AOV reads,
+ * every plane when a save waits for them. */
+static void set_keep(viewer *v) {
+  if (!v->lean_ring) return;
+  uint64_t keep = v->save ? PB_RENDER_KEEP_ALL : aov_keep(v->aov);
+  if (keep == v->keep) return;
+  v->keep = keep;
+  v->ses.desc.keep_planes = keep;
+  pb_sequence_set_keep_planes(v->ses.seq, keep);
+}
+
 static pb_result make_picture(viewer *v, int *on_gpu) {
   pb_render_result *res = &v->ses.res;
   *on_gpu = 0;
   size_t n = (size_t)res->width * res->height;
-  if (v->gpu_display && v->aov != AOV_DEPTH && res->stats.readback_mode != PB_RENDER_READBACK_ALL &&
+  /* Frames in flight with a lean ring: the frame that comes out kept the
+   * planes of the AOV shown when it was rendered, so an AOV switch takes
+   * effect on the next frame; this one shows an AOV it has. */
+  int aov = v->aov;
+  if (v->lean_ring && res->stats.readback_mode != PB_RENDER_READBACK_ALL && res->gpu.planes && !aov_kept(res, aov)) {
+    aov = aov_kept(res, v->aov_shown) ? v->aov_shown : AOV_BEAUTY;
+    for (int a = 0; a < AOV_COUNT && !aov_kept(res, aov); ++a) aov = a;
+  }
+  v->aov_shown = aov;
+  if (v->gpu_display && aov != AOV_DEPTH && res->stats.readback_mode != PB_RENDER_READBACK_ALL &&
       res->gpu.planes) {
     /* The display-only readback (sequence.h desc.readback): the AOV where
      * the frame left it on the GPU (its planes, shared/pb_resolve.h, or
      * with frames in flight its ring slot), through the display pass;
      * nothing comes to the host and nothing goes up. */
-    static const uint32_t plane[AOV_COUNT] = {PB_RESOLVE_BEAUTY, PB_RESOLVE_DIRECT,   PB_RESOLVE_INDIRECT,
-                                              PB_RESOLVE_CAUSTIC, PB_RESOLVE_EMISSION, PB_RESOLVE_ALBEDO,
-                                              PB_RESOLVE_NORMAL, PB_RESOLVE_DEPTH};
-    uint32_t p = plane[v->aov];
+    uint32_t p = aov_plane[aov];
     int second = p >= PB_RESOLVE_BASE_CHANNELS;
     const pb_gpu_buffer *src = second ? res->gpu.pplanes : res->gpu.planes;
     if (!src) {
@@ -328,8 +365,8 @@ static pb_result make_picture(viewer *v, int *on_gpu) {
     } else {
       pb_present_job job = {.src = src,
                             .offset = (p - (second ? PB_RESOLVE_BASE_CHANNELS : 0u)) * res->gpu.pixels,
-                            .channels = v->aov == AOV_BEAUTY ? 4u : 3u, .pixels = (uint32_t)n,
-                            .scale = (float)exp2(v->exposure), .data = v->aov == AOV_NORMAL, .data_scale = 0.5f,
+                            .channels = aov == AOV_BEAUTY ? 4u : 3u, .pixels = (uint32_t)n,
+                            .scale = (float)exp2(v->exposure), .data = aov == AOV_NORMAL, .data_scale = 0.5f,
                             .data_bias = 0.5f};
       /* Bound afresh each frame: the planes are the context's (a new
        * context can put new buffers at the same address, which the pass's
@@ -350,7 +387,7 @@ static pb_result make_picture(viewer *v, int *on_gpu) {
   }
   const float *src = NULL;
   int ch = 3;
-  switch (v->aov) {
+  switch (aov) {
     case AOV_BEAUTY: src = res->beauty, ch = 4; break;
     case AOV_DIRECT: src = res->direct; break;
     case AOV_INDIRECT: src = res->indirect; break;
@@ -361,11 +398,11 @@ static pb_result make_picture(viewer *v, int *on_gpu) {
     case AOV_DEPTH: src = res->depth, ch = 1; break;
   }
   if (!src) v->note = "this AOV is empty here (no photon stages)";
-  if (v->gpu_display && src && v->aov != AOV_DEPTH) {
+  if (v->gpu_display && src && aov != AOV_DEPTH) {
     /* The display pass: the AOV through the baked view (exposure a scale
      * in the pass), normals as 0.5 + 0.5 n; the bytes stay on the device. */
     pb_present_job job = {.channels = (uint32_t)ch, .pixels = (uint32_t)n, .scale = (float)exp2(v->exposure),
-                          .data = v->aov == AOV_NORMAL, .data_scale = 0.5f, .data_bias = 0.5f};
+                          .data = aov == AOV_NORMAL, .data_scale = 0.5f, .data_bias = 0.5f};
     pb_result r = pb_present_pass_upload(v->g, &v->pass, src, (uint32_t)n, (uint32_t)ch);
     if (r == PB_OK) r = pb_present_pass_run(v->g, &v->pass, &job);
     if (r != PB_OK) return r;
@@ -375,7 +412,7 @@ static pb_result make_picture(viewer *v, int *on_gpu) {
   }
   v->rgba_stale = 0;
   float zmax = 0;
-  if (v->aov == AOV_DEPTH)
+  if (aov == AOV_DEPTH)
     for (size_t i = 0; i < n; ++i) zmax = src[i] > zmax ? src[i] : zmax;
   for (size_t i = 0; i < n; ++i) {
     float *o = v->tmp + 4 * i;
@@ -385,12 +422,12 @@ static pb_result make_picture(viewer *v, int *on_gpu) {
       o[0] = o[1] = o[2] = src[i] > 0 && zmax > 0 ? 1.0f - src[i] / zmax : 0.0f;
     } else {
       for (int k = 0; k < 3; ++k) o[k] = src[(size_t)ch * i + k];
-      if (v->aov == AOV_NORMAL)
+      if (aov == AOV_NORMAL)
         for (int k = 0; k < 3; ++k) o[k] = 0.5f + 0.5f * o[k];
     }
     o[3] = 1.0f;
   }
-  int data = v->aov == AOV_NORMAL || v->aov == AOV_DEPTH;
+  int data = aov == AOV_NORMAL || aov == AOV_DEPTH;
   if (!data) {
     pb_result r = pb_color_apply_display(v->color, v->tmp, res->width, res->height, 4);
     if (r != PB_OK) return r;
@@ -557,6 +594,7 @@ static pb_result write_stats(const viewer *v, const char *path) {
     pb_json_bool(&j, "still", f->still);
     pb_json_int(&j, "run_frames", f->run_frames);
     pb_json_int(&j, "readback_bytes", (int64_t)f->readback_bytes);
+    pb_json_int(&j, "ring_bytes", (int64_t)f->ring_bytes);
     pb_json_int(&j, "upload_bytes", (int64_t)f->upload_bytes);
     pb_json_int(&j, "download_bytes", (int64_t)f->download_bytes);
     pb_json_int(&j, "display_upload_bytes", (int64_t)f->display_up_bytes);
@@ -587,6 +625,7 @@ static pb_result one_frame(viewer *v, double dt) {
     if (v->t > s->anim_end) v->t = s->anim_start + fmod(v->t - s->anim_start, fmax(s->anim_end - s->anim_start, 1e-6));
   }
   pb_camera want = v->follow ? v->file_cam : v->ctl.cam;
+  set_keep(v);
   if ((r = pb_view_session_frame(&v->ses, &want, v->t)) != PB_OK) return r;
   const pb_sequence_frame_info fi = v->ses.info;
   /* The camera of the frame just rendered (the scene's slot): with frames
@@ -627,6 +666,7 @@ static pb_result one_frame(viewer *v, double dt) {
   memset(fs, 0, sizeof *fs);
   pb_gpu_transfers tp1 = pb_gpu_transfers_get(v->g);
   fs->readback_bytes = v->ses.res.stats.readback_bytes, fs->upload_bytes = v->ses.res.stats.upload_bytes;
+  fs->ring_bytes = v->ses.res.stats.ring_bytes;
   fs->download_bytes = v->ses.res.stats.download_bytes, fs->display_up_bytes = tp1.upload_bytes - tp0.upload_bytes;
   fs->render_ms = (t1 - t0) * 1e3, fs->present_ms = (t2 - t1) * 1e3, fs->wall_ms = dt * 1e3;
   fs->still = fi.still && v->frame > 0, fs->run_frames = v->ses.run_frames, fs->t = v->t, fs->psnr = NAN;
@@ -634,7 +674,10 @@ static pb_result one_frame(viewer *v, double dt) {
   v->frame++;
   set_title(v, dt > 0 ? 1.0 / dt : 0.0, fs);
   v->note = NULL;
-  if (v->save) {
+  /* A lean ring: the save waits for a frame that kept every plane
+   * (set_keep asks the next one for them). */
+  if (v->save && (!v->lean_ring || v->ses.res.stats.readback_mode == PB_RENDER_READBACK_ALL ||
+                  v->ses.res.gpu.kept == PB_RENDER_KEEP_ALL)) {
     v->save = 0;
     if ((r = save_current(v)) != PB_OK) return r;
   }
@@ -740,11 +783,14 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
       if (full && full[0] == '1') mode = PB_RENDER_READBACK_ALL;
       v.ses.desc.readback = mode;
       pb_sequence_set_readback(v.ses.seq, mode);
-      /* Frames in flight: the display pass reads any AOV, and the depth
-       * AOV, P / F12 and --reference every plane, from the frame's ring
-       * slot (render.h pb_render_desc.keep_planes): all of them stay. */
-      v.ses.desc.keep_planes = PB_RENDER_KEEP_ALL;
-      pb_sequence_set_keep_planes(v.ses.seq, PB_RENDER_KEEP_ALL);
+      /* Frames in flight: the frame's ring slot keeps what the picture
+       * reads (render.h pb_render_desc.keep_planes): the shown AOV's planes
+       * (set_keep, before each frame), every plane for the depth AOV and
+       * while P / F12 waits; --reference's beauty comes with the readback. */
+      v.lean_ring = v.ses.desc.frames_in_flight >= 2 && mode != PB_RENDER_READBACK_ALL;
+      v.keep = v.lean_ring ? aov_keep(v.aov) : PB_RENDER_KEEP_ALL;
+      v.ses.desc.keep_planes = v.keep;
+      pb_sequence_set_keep_planes(v.ses.seq, v.keep);
       pb_log_verbose("view: the picture is made on the render device (a %u^3 LUT, shaper 2^%g .. 2^%g, bake error %.2g)",
                      v.lut.size, v.lut.lo, v.lut.hi, v.lut.max_error);
     }

@@ -1,9 +1,11 @@
 /* Frames in flight at the GPU API (issue 17, gpu.h): pb_gpu_submit_async
- * leaves a submission pending, and every call that touches GPU objects
- * waits for it first, so the host cannot race it: a download sees what the
- * pending copy wrote, an upload does not overwrite what the pending copy
- * has yet to read, a destroy does not free what it uses (validation layers
- * on: a destroyed in-use buffer is a message). Exit 77 without a device. */
+ * leaves a submission pending, and the host cannot race it: a download sees
+ * what the pending copy wrote, an upload does not overwrite what the pending
+ * copy has yet to read (a large one waits, a small one is recorded after
+ * it), a begin records into another context of the ring without waiting
+ * while the queue keeps the order, a destroy does not free what it uses
+ * (validation layers on: a destroyed in-use buffer is a message). Exit 77
+ * without a device. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,14 +65,44 @@ int main(void) {
   CHECK_EQ_INT(pb_gpu_buffer_download(g, &b, 0, got, (uint64_t)N * 4), PB_OK);
   CHECK(same(got, fresh));
 
-  /* A begin after an asynchronous submission reuses the command buffer only
-   * once it ran; destroying a buffer it uses waits too (validation would
-   * report vkDestroyBuffer on a buffer in use). */
+  /* The submission ring (gpu.h PB_GPU_FRAMES): a begin after an asynchronous
+   * submission records into another context without waiting for it, and
+   * the queue still runs the two in order: the second copy reads what the
+   * first wrote (run the other way round, c would hold zeros). */
+  pb_gpu_buffer c;
+  pb_gpu_buffer_desc cd = {.name = "test.async.third", .size = (uint64_t)N * 4, .host_visible = 1, .readback = 1};
+  CHECK_EQ_INT(pb_gpu_buffer_create(g, &cd, &c), PB_OK);
+  CHECK_EQ_INT(pb_gpu_buffer_upload(g, &a, 0, old, (uint64_t)N * 4), PB_OK);
+  CHECK_EQ_INT(pb_gpu_buffer_fill_zero(g, &b), PB_OK);
+  CHECK_EQ_INT(pb_gpu_buffer_fill_zero(g, &c), PB_OK);
+  pb_gpu_ring_stats r0 = pb_gpu_ring_stats_get(g);
   CHECK_EQ_INT(pb_gpu_begin(g), PB_OK);
-  pb_gpu_copy(g, &b, 0, &a, 0, (uint64_t)N * 4);
+  pb_gpu_copy(g, &a, 0, &b, 0, (uint64_t)N * 4);
   CHECK_EQ_INT(pb_gpu_submit_async(g), PB_OK);
+  uint64_t first = pb_gpu_last_submission(g);
   CHECK_EQ_INT(pb_gpu_begin(g), PB_OK);
+  CHECK_EQ_INT(pb_gpu_pending(g), 1);      /* not waited for */
+  CHECK(pb_gpu_outstanding(g, first));
+  pb_gpu_copy(g, &b, 0, &c, 0, (uint64_t)N * 4);
+  CHECK_EQ_INT(pb_gpu_submit_async(g), PB_OK);
+  CHECK_EQ_INT(pb_gpu_ring_stats_get(g).begin_waits, r0.begin_waits);
+  /* A small upload while they are pending is recorded for the next command
+   * buffer instead of waiting: the copies read a's old contents. */
+  CHECK_EQ_INT(pb_gpu_buffer_upload(g, &a, 0, fresh, 4096), PB_OK);
+  CHECK_EQ_INT(pb_gpu_pending(g), 1);
+  CHECK_EQ_INT(pb_gpu_ring_stats_get(g).deferred_writes, r0.deferred_writes + 1);
+  CHECK_EQ_INT(pb_gpu_buffer_download(g, &c, 0, got, (uint64_t)N * 4), PB_OK); /* waits for both, then writes a */
   CHECK_EQ_INT(pb_gpu_pending(g), 0);
+  CHECK(same(got, old));
+  CHECK_EQ_INT(pb_gpu_buffer_download(g, &a, 0, got, (uint64_t)N * 4), PB_OK);
+  CHECK(memcmp(got, fresh, 4096) == 0 && memcmp(got + 1024, old + 1024, (size_t)(N - 1024) * 4) == 0);
+  pb_gpu_release(g, first);
+  pb_gpu_release(g, pb_gpu_last_submission(g));
+  pb_gpu_buffer_destroy(g, &c);
+
+  /* Destroying a buffer a pending submission uses waits for it
+   * (validation would report vkDestroyBuffer on a buffer in use). */
+  CHECK_EQ_INT(pb_gpu_begin(g), PB_OK);
   pb_gpu_copy(g, &a, 0, &b, 0, (uint64_t)N * 4);
   CHECK_EQ_INT(pb_gpu_submit_async(g), PB_OK);
   pb_gpu_buffer_destroy(g, &a);

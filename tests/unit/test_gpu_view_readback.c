@@ -6,9 +6,13 @@
  *   stats        _STATS, as `view` with the GPU display sets it
  *   beauty       _BEAUTY, as `serve` (rgba32f frames) sets it
  *   stats_fif2   _STATS with two frames in flight (the ring slots),
- *                every plane kept in the ring (keep_planes, as the viewer)
+ *                every plane kept in the ring (keep_planes, as the viewer
+ *                does for the depth AOV and while P / F12 waits)
  *   beauty_fif2  _BEAUTY with two frames in flight, nothing kept (the ring
  *                slot holds the beauty plane alone)
+ *   view_fif2    _STATS with two frames in flight keeping the beauty plane,
+ *                as `view --frames-in-flight 2` does showing the beauty
+ *                (the shown AOV's planes; viewer.c set_keep)
  * and checked per frame:
  *   - readback_bytes of stats at most STATS_BYTES (no plane: the guard's
  *     count, k_PD's sums reduced on the GPU, the temporal filter's counts;
@@ -16,7 +20,8 @@
  *     beauty at most 16 bytes a pixel + STATS_BYTES (before: 24 a pixel);
  *   - ring_bytes (frames in flight: what the ring copy moved): every plane
  *     (104 bytes a pixel) with keep_planes all, the beauty plane alone (16)
- *     for beauty_fif2 (before: every plane in every mode), 0 without;
+ *     for beauty_fif2 and view_fif2 (before: every plane in every mode, and
+ *     the viewer kept every plane), 0 without;
  *   - the picture: the beauty where each mode leaves it (the host array for
  *     full and beauty, the GPU planes of out->gpu for the lean modes) equal
  *     to full's within FLOAT_TOL (relative above 1; the run-to-run rounding
@@ -47,7 +52,7 @@
 #include "shared/pb_resolve.h"
 #include "view/present_pass.h"
 
-enum { FRAMES = 4, MODES = 6 };
+enum { FRAMES = 4, MODES = 7 };
 /* A lean frame's readback without pixels: the guard's count (4 bytes), k_PD's
  * sums (16), the temporal filters' counts (16 each); a small constant with
  * room to spare, far below a plane's 4 bytes a pixel at 64 px (16 KiB). */
@@ -188,7 +193,11 @@ int main(void) {
                      {.name = "beauty", .mode = PB_RENDER_READBACK_BEAUTY, .fif = 1},
                      {.name = "stats_fif2", .mode = PB_RENDER_READBACK_STATS, .fif = 2, .keep = PB_RENDER_KEEP_ALL},
                      {.name = "beauty_fif2", .mode = PB_RENDER_READBACK_BEAUTY, .fif = 2},
-                     {.name = "full_again", .mode = PB_RENDER_READBACK_ALL, .fif = 1}};
+                     {.name = "full_again", .mode = PB_RENDER_READBACK_ALL, .fif = 1},
+                     /* `view --frames-in-flight 2` showing the beauty: its ring
+                        slot keeps that AOV's plane alone (viewer.c set_keep) */
+                     {.name = "view_fif2", .mode = PB_RENDER_READBACK_STATS, .fif = 2,
+                      .keep = PB_RENDER_KEEP(PB_RESOLVE_BEAUTY)}};
   for (int m = 0; m < MODES; ++m) run_sequence(g, &fx, &pass, &runs[m]);
 
   const run *full = &runs[0];
