@@ -86,7 +86,7 @@ typedef struct pb_photon_map {
  * starve the diffuse light of scenes whose indirect light is not a caustic.
  * ring (where every stored record is caustic) gains from more: 128 px, 1 map
  * of 2^18, 16 spp, S_c 1: 35.5 dB at 0.5 (96,480 caustic records), 36.0 at
- * 0.9 (173,572), 35.7 at 0.95; without the share 17,400 records and
+ * 0.9 (173,572), 35.7 at 0.95; without the share 17,359 records and
  * 31.7 dB (bench/README.md, "The caustic share"). */
 #define PB_PHOTON_CAUSTIC_SHARE_DEFAULT 0.5f
 #define PB_PHOTON_CAUSTIC_SHARE_DEFAULT_STR "0.5"
