@@ -29,6 +29,7 @@ PB = [
     # label, photons per map, maps, spp, extra
     ("old: rsm, share 0, S_c 0.5", 1 << 16, 16, 32, ["--first-bounce", "rsm", "--caustic-share", "0",
                                                       "--smoothing-caustic", "0.5"]),
+    ("auto (share 0.5, S_c 1)", 1 << 17, 1, 8, ["--first-bounce", "auto"]),
     ("auto (share 0.5, S_c 1)", 1 << 17, 1, 16, ["--first-bounce", "auto"]),
     ("auto (share 0.5, S_c 1)", 1 << 18, 1, 16, ["--first-bounce", "auto"]),
     ("auto (share 0.5, S_c 1)", 1 << 18, 1, 32, ["--first-bounce", "auto"]),
