@@ -287,7 +287,7 @@ int pb_cmd_render(int argc, char **argv) {
       {"smoothing-caustic", 0, PB_OPT_FLOAT, &o.smoothing_caustic, "S",
        "caustic photons keep their differential footprint, uncompressed, times S (seed 000 4.3; default "
        PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0},
-      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 18 photon spacings on the scene's bounding sphere, 18 Delta R: it shrinks as the photons grow)",
+      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 30 photon spacings on the scene's bounding sphere, 30 Delta R: it shrinks as the photons grow)",
        NULL, 0, 0},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
        "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "

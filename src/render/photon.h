@@ -73,10 +73,16 @@ typedef struct pb_photon_map {
  * disc), 7.2 r_ref at 2^18. Measured (test_gpu_photon_clamp, one map of 2^15
  * paths, r_max 10 R, the default s and s_caustic): the 99th percentile of
  * r' / r_ref is 10.4 (cornell_box), 14.7 (cornell_caustics), 12.8 (ring),
- * 13.9 (spot_room), 11.2 (sun_atrium); 99.5th 11.9-18.5. 18 clamps at most
+ * 13.9 (spot_room), 11.2 (sun_atrium); 99.5th 11.9-18.5. 18 clamped at most
  * 1 % on every sample (0.07-0.55 % at 2^15 and 2^17 paths), with a margin
- * for the scene-dependent tail. */
-#define PB_PHOTON_R_MAX_FACTOR 18.0f
+ * for the scene-dependent tail. Raised to 30 with S_c 1 (2026-12-04): a
+ * caustic footprint is S_c Delta |dP|, linear in S_c, so ring's (all
+ * caustic) doubled: 99th percentile 25.6, 99.5th and max 28.6 at 2^15
+ * traced paths, where 18 clamped 1.89 % (0.77 % at 2^17); the others'
+ * 99.5th stayed 11.9-19.1 (cornell_caustics 99.9th 32.1). 30 is above
+ * ring's largest footprint and keeps the diffuse ones' shares under the old
+ * ones. */
+#define PB_PHOTON_R_MAX_FACTOR 30.0f
 
 /* Default caustic share of an RSM's photons (render --caustic-share;
  * photon_rsm.comp PB_RSM_MODE_BOOST): the specular texels get at least this
