@@ -85,7 +85,6 @@ def report(exe, gpu_path, ref):
     whole = psnr(gb, rb)
     h_direct = psnr(add((1, rb), (-1, rd), (1, gd)), rb)
     h_nondirect = psnr(add((1, rd), (1, spec), (1, gc), (1, gi), (1, ge)), rb)
-    h_caustic_only = None
     out = {"file": gpu_path, "psnr_whole": whole[0], "psnr_direct_only": h_direct[0],
            "psnr_nondirect_only": h_nondirect[0],
            "mse_whole": whole[1], "mse_direct": h_direct[1], "mse_nondirect": h_nondirect[1]}
