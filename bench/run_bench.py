@@ -82,6 +82,12 @@ CONFIGS = {
             pb_curve("2^16, constant kernel", 1 << 16, [(4, 8), (16, 32)], extra=["--constant-kernel"]),
             pb_curve("2^16, RSM first bounce", 1 << 16, [(4, 8), (16, 32)], extra=["--first-bounce", "rsm"],
                      needs="--first-bounce"),
+            # One map of many paths from the RSM, its caustic share at the
+            # default 0.5 (issue 18, ring: one map beats several of the same
+            # paths, bench/README.md "The caustic share").
+            {"label": "RSM, one map, caustic share", "needs": "--caustic-share",
+             "points": [{"photons": n, "iterations": 1, "spp": spp, "extra": ["--first-bounce", "rsm"]}
+                        for n, spp in ((1 << 17, 8), (1 << 17, 16), (1 << 18, 16), (1 << 18, 32))]},
             pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(1, 4), (4, 8), (16, 32)],
                      extra=["--atrous-iterations", "5"], needs="--atrous-iterations"),
             # The density estimators (issue 19): kNN at its default k = 64.

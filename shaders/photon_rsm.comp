@@ -116,7 +116,7 @@ void pb_rsm_render(uint gid) {
   // straddling a spot's cone edge keeps a weight though its centre is
   // outside (photons are jittered over the whole texel).
   float dmax = pb_rsm_lum(dens);
-  bool corner_front = false;
+  bool corner_front = false, corner_specular = false;
   for (uint c = 0u; c < 4u; ++c) {
     vec3 oc, dc, dn;
     float mc, tc, uc, vc;
@@ -124,7 +124,12 @@ void pb_rsm_render(uint gid) {
                        dn, mc);
     dmax = max(dmax, pb_rsm_lum(dn));
     uint pc = pb_trace(oc, dc, 0.0, PB_INF, false, tc, uc, vc);
-    if (pc != PB_GPU_MISS) corner_front = corner_front || dot(-dc, pb_surface_from_hit(pc, uc, vc, dc).ng) > 0.0;
+    if (pc != PB_GPU_MISS) {
+      pb_surface sc = pb_surface_from_hit(pc, uc, vc, dc);
+      bool front = dot(-dc, sc.ng) > 0.0;
+      corner_front = corner_front || front;
+      if (front && push.caustic_share > 0.0) corner_specular = corner_specular || !pb_bsdf_has_smooth(pb_bsdf_setup(sc, -dc));
+    }
   }
   float lf = dmax * measure;
   bool centre_front = false;
@@ -133,6 +138,7 @@ void pb_rsm_render(uint gid) {
     pb_bsdf bs = pb_bsdf_setup(surf, -d);
     centre_front = dot(-d, bs.n) > 0.0;
     if (centre_front) tx.weight = lf * max(pb_rsm_lum(bs.base), 0.05);
+    corner_specular = corner_specular || (centre_front && !pb_bsdf_has_smooth(bs));
   } else {
     tx.t = 0.0;
     tx.u = tx.v = 0.0;
@@ -143,6 +149,11 @@ void pb_rsm_render(uint gid) {
   // features seen against nothing can fall between the points, see above).
   if (!centre_front && corner_front) tx.weight = 0.05 * lf;
   if (!(tx.weight > 0.0) || isinf(tx.weight)) tx.weight = 0.0;
+  // PB_RSM_MODE_BOOST's mark (the pyramid field is free until
+  // PB_RSM_MODE_PYRAMID, which runs after it): a texel one of whose five
+  // points sees a front face with only delta lobes (a mirror, glass), where
+  // the photons start caustic paths.
+  if (push.caustic_share > 0.0 && corner_specular && tx.weight > 0.0) tx.pyramid = 1.0;
   rtexels[gid] = tx;
 }
 
@@ -205,8 +216,66 @@ void pb_rsm_total(uint li, uint l) {
   rlights[li].coverage = clamp(c, 0.0, 1.0);
 }
 
+// The caustic share (render --caustic-share F; Jensen's separate caustic
+// map, 1996, "Global illumination using photon maps" 3.1, which spends its
+// own photon budget on the specular objects through projection maps). A
+// map sampled by reflected power alone spends the photons of a small mirror
+// in the proportion of its power: on ring (a 1 m mirror ring 3 m from a
+// point light, on a 4 x 4 m floor) 9 % of them, so 91 % of the paths start
+// on the floor, where they are direct light (not stored) and their diffuse
+// bounce upward leaves the scene or meets the ring's vertical mirror walls,
+// which keep it going up: they store nothing, while the caustic, every
+// record ring stores, gets the rest. Any positive texel weights keep the map
+// unbiased: a photon of texel i carries its flux density times the texel's
+// measure over n p_i, p_i = w_i / sum w (pb_rsm_emit in photon_trace.comp),
+// whatever w_i is. So the specular texels S (marked by the render mode)
+// are multiplied by
+//   beta = F W_D / ((1 - F) W_S),   W_S = sum over S of w, W_D over the rest,
+// which gives them the share beta W_S / (beta W_S + W_D) = F of the
+// photons, and by 1 where that would lower them (beta < 1: a map whose
+// mirrors already reflect more than F of its power keeps its weights).
+// rlights[li].boost keeps beta. Then the pyramid and the totals are built
+// from the new weights (the coverage counts flux, not weights: unchanged).
+shared float s_ws[PB_GPU_WORKGROUP], s_wa[PB_GPU_WORKGROUP];
+void pb_rsm_boost(uint li, uint l) {
+  pb_gpu_rsm_light rl = rlights[li];
+  float ws = 0.0, wa = 0.0;
+  for (uint i = l; i < rl.count; i += PB_GPU_WORKGROUP) {
+    pb_gpu_rsm_texel tx = rtexels[rl.first + i];
+    wa += tx.weight;
+    if (tx.pyramid > 0.0) ws += tx.weight;
+  }
+  s_ws[l] = ws;
+  s_wa[l] = wa;
+  barrier();
+  for (uint w = PB_GPU_WORKGROUP / 2u; w > 0u; w >>= 1u) {
+    if (l < w) {
+      s_ws[l] += s_ws[l + w];
+      s_wa[l] += s_wa[l + w];
+    }
+    barrier();
+  }
+  float F = clamp(push.caustic_share, 0.0, 0.999);
+  float WS = s_ws[0], WD = s_wa[0] - s_ws[0];
+  float beta = WS > 0.0 ? F * WD / ((1.0 - F) * WS) : 1.0;
+  if (!(beta > 1.0) || isinf(beta)) beta = 1.0;
+  for (uint i = l; i < rl.count; i += PB_GPU_WORKGROUP) {
+    uint k = rl.first + i;
+    if (rtexels[k].pyramid > 0.0) {
+      rtexels[k].weight *= beta;
+      rtexels[k].pyramid = 0.0;
+    }
+  }
+  if (l == 0u) rlights[li].boost = beta;
+}
+
 void main() {
   uint gid = pb_gid();
+  if (push.mode == PB_RSM_MODE_BOOST) {
+    uint li = gid / PB_GPU_WORKGROUP;
+    if (li < push.light_count) pb_rsm_boost(li, gid % PB_GPU_WORKGROUP);
+    return;
+  }
   if (push.mode == PB_RSM_MODE_TOTAL) {
     // One workgroup per light (uniform in the workgroup: the barriers).
     uint li = gid / PB_GPU_WORKGROUP;

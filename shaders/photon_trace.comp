@@ -197,11 +197,11 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
     // does the kernel. Raw footprints (s_c = 1) overlap pi of their
     // neighbours (area pi (Delta |dP|)^2 against a spacing (Delta |dP|)^2),
     // s_c photons per axis more: k_PD ~ pi s_c^2 on a caustic. The host
-    // always sets PB_PHOTON_PARAM_CAUSTIC_RAW; s_c defaults to 0.5, the
-    // best of the sweep on ring (src/render/photon.h, bench/README.md
-    // "Caustic footprints": 5 blurs ring's cardioid, 19.1 against 23.4 dB);
-    // the compressed branch below (the old behaviour) stays for the flag's
-    // absence only.
+    // always sets PB_PHOTON_PARAM_CAUSTIC_RAW; s_c defaults to 1 (k ~ 2.9
+    // photons per gather on a caustic; src/render/photon.h has the sweeps:
+    // 0.5, k 0.72, was best only while a map held a few hundred caustic
+    // records, 5 blurs ring's cardioid); the compressed branch below (the
+    // old behaviour) stays for the flag's absence only.
     a = params.smoothing_caustic * a;
     b = params.smoothing_caustic * b;
   } else if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u) {

@@ -10,6 +10,8 @@
 PB_CONST(PB_RSM_MODE_RENDER, 0u)  /* one invocation per texel */
 PB_CONST(PB_RSM_MODE_PYRAMID, 1u) /* one invocation per node of level push.level */
 PB_CONST(PB_RSM_MODE_TOTAL, 2u)   /* one workgroup per light: sum of its faces, coverage */
+PB_CONST(PB_RSM_MODE_BOOST, 3u)   /* one workgroup per light: the specular texels' weights
+                                     raised to push.caustic_share of the map (photon_rsm.comp) */
 
 /* --first-bounce auto (PB_PHOTON_PARAM_RSM_AUTO): a light's photons start
  * from its map where the map's coverage is below this, else they are traced
@@ -32,7 +34,8 @@ PB_STRUCT(pb_gpu_rsm_light) {
   uint levels;            /* log2(res): pyramid levels above the texels */
   float coverage;         /* flux on weighted texels / the light's flux in
                              the traced emission's domain, 0 .. 1 */
-  uint pad0;
+  float boost;            /* the factor PB_RSM_MODE_BOOST multiplied the
+                             specular texels' weights by (1: none) */
 } PB_END(pb_gpu_rsm_light)
 
 /* One texel, 64 bytes: the ray through its centre from the light (origin,
@@ -65,6 +68,9 @@ PB_STRUCT(pb_gpu_rsm_push) {
   uint light_count;
   uint texels;            /* all maps together */
   uint level;             /* PB_RSM_MODE_PYRAMID: the level built, 1 .. levels */
+  float caustic_share;    /* share of a map's photons aimed at its specular
+                             texels (PB_RSM_MODE_BOOST); 0: by power alone */
+  uint pad0, pad1, pad2;
 } PB_END(pb_gpu_rsm_push)
 
 #ifndef PB_GLSL
@@ -75,7 +81,7 @@ _Static_assert(sizeof(pb_gpu_rsm_texel) == 64, "pb_gpu_rsm_texel size");
 _Static_assert(offsetof(pb_gpu_rsm_texel, dir) == 16, "pb_gpu_rsm_texel.dir");
 _Static_assert(offsetof(pb_gpu_rsm_texel, flux) == 32, "pb_gpu_rsm_texel.flux");
 _Static_assert(offsetof(pb_gpu_rsm_texel, u) == 48, "pb_gpu_rsm_texel.u");
-_Static_assert(sizeof(pb_gpu_rsm_push) == 32, "pb_gpu_rsm_push size");
+_Static_assert(sizeof(pb_gpu_rsm_push) == 48, "pb_gpu_rsm_push size");
 #endif
 
 #endif

@@ -56,7 +56,7 @@ typedef struct render_opts {
   uint32_t atrous;
   uint32_t upsample_levels;
   double atrous_gamma;
-  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0;
+  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0, caustic_share;
   const char *png;
   /* Sequences (issue 6; render_seq.h). */
   const char *frames;
@@ -179,6 +179,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "k_pd", st->k_pd);
     pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
     pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
+    pb_json_number(&j, "caustic_share", o->caustic_share == -1.0 ? PB_PHOTON_CAUSTIC_SHARE_DEFAULT : o->caustic_share);
     /* seed 003's variable bandwidth (--bandwidth-c0), 0: the differential footprints */
     pb_json_number(&j, "bandwidth_c0", o->bandwidth_c0);
     /* The photon tracer (render/tracer.h) and its named statistics; the
@@ -251,7 +252,7 @@ int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
-                   .first_bounce = 0 /* traced */,
+                   .first_bounce = 0 /* traced */, .caustic_share = -1.0 /* unset: the default */,
                    .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
@@ -286,7 +287,7 @@ int pb_cmd_render(int argc, char **argv) {
       {"smoothing-caustic", 0, PB_OPT_FLOAT, &o.smoothing_caustic, "S",
        "caustic photons keep their differential footprint, uncompressed, times S (seed 000 4.3; default "
        PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0},
-      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 18 photon spacings on the scene's bounding sphere, 18 Delta R: it shrinks as the photons grow)",
+      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 30 photon spacings on the scene's bounding sphere, 30 Delta R: it shrinks as the photons grow)",
        NULL, 0, 0},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
        "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
@@ -303,6 +304,11 @@ int pb_cmd_render(int argc, char **argv) {
        "how photons find their first hit: traced from the light, rsm: sampled from reflective shadow maps by "
        "reflected power (seed 001 24.2.1), or auto: rsm for the lights whose map covers under half of their flux "
        "(open scenes, where most traced photons miss), traced for the others (default traced: unbiased; the shadow maps miss geometry thinner than a texel)", first_bounce_names, 0, 0},
+      {"caustic-share", 0, PB_OPT_FLOAT, &o.caustic_share, "F",
+       "--first-bounce rsm/auto: the share of each shadow map's photons aimed at the texels that see a mirror or "
+       "glass (caustic paths) at least, their weights raised to it (unbiased: each photon carries its texel's flux "
+       "over its own probability); 0: by reflected power alone (default " PB_PHOTON_CAUSTIC_SHARE_DEFAULT_STR ")",
+       NULL, 0, 0},
       {"estimator", 0, PB_OPT_CHOICE, &o.estimator, "NAME",
        "photon density estimator: lbvh (seed 000: footprints in a per-map LBVH, gathered by traversal), knn (seed "
        "000 3.1: the k nearest photons), splat (seed 001: screen-space splats), vsch (seed 004: a cluster "
@@ -527,6 +533,10 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_fail(PB_ERR_USAGE, "render: --smoothing, --smoothing-caustic and --r-max must be positive");
     goto done;
   }
+  if (o.caustic_share != -1.0 && !(o.caustic_share >= 0.0 && o.caustic_share <= 0.99)) {
+    r = pb_fail(PB_ERR_USAGE, "render: --caustic-share must be in [0, 0.99]");
+    goto done;
+  }
   if (o.splat_ntile < 0 || !(o.splat_ntile < 1e6) || o.splat_lmax < 0 || !(o.splat_lmax < 1e6) ||
       (o.splat_smax != 0 && o.splat_smax < 1) || !(o.splat_smax < 1e6)) {
     r = pb_fail(PB_ERR_USAGE, "render: --splat-ntile and --splat-lmax must be positive, --splat-smax at least 1");
@@ -544,6 +554,8 @@ int pb_cmd_render(int argc, char **argv) {
                        .progressive = o.progressive, .alpha = (float)o.alpha,
                        .radius_histogram = o.radius_histogram,
                        .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
+                       .caustic_share = o.caustic_share == -1.0 ? 0.0f : o.caustic_share == 0.0 ? -1.0f
+                                                                                              : (float)o.caustic_share,
                        .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
                        .image_map_resolution = o.image_map_resolution, .bandwidth_c0 = (float)o.bandwidth_c0,
                        .atrous_iterations = o.atrous, .upsample_levels = o.upsample_levels,

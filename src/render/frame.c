@@ -80,7 +80,7 @@ typedef struct ctx_key {
   const pb_gpu_scene *gs;
   const void *photon_map;
   uint32_t width, height, photons, bounces, first_bounce, tracer, image_maps, image_map_resolution, upsample_levels;
-  float smoothing, r_max, smoothing_caustic, bandwidth_c0;
+  float smoothing, r_max, smoothing_caustic, bandwidth_c0, caustic_share;
   int direct_only, photons_on;
   pb_estimator_desc estimator; /* 4-byte fields only: no padding */
 } ctx_key;
@@ -556,6 +556,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
   memcpy(&key.estimator, &desc.estimator, sizeof key.estimator);
   key.bandwidth_c0 = desc.bandwidth_c0;
+  key.caustic_share = desc.caustic_share;
   key.direct_only = desc.direct_only, key.photons_on = photons_on;
   int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
   /* The previous frame in flight (pb_render_desc.settle_first): finished
@@ -647,7 +648,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     if (!desc.photon_map) {
       pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
                                  .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce,
-                                 .bandwidth_c0 = desc.bandwidth_c0};
+                                 .bandwidth_c0 = desc.bandwidth_c0, .caustic_share = desc.caustic_share};
       pb_tracer_desc trd = {.kind = desc.tracer, .photon = td,
                             .images = {.count = desc.image_maps, .resolution = desc.image_map_resolution}};
       if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;

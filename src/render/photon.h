@@ -49,9 +49,19 @@ typedef struct pb_photon_map {
  * ring 64 px, 8 maps of 2^16 paths: 23.4 dB at 0.5, 22.3 at 1, 19.5 at 2,
  * 19.1 at 5, 21.6 compressed; 2^18: 25.9 dB at 0.5, 25.5 at 1, 24.8
  * compressed; cornell_caustics 48 px: 33.8-33.9 dB for all (its caustic is
- * not footprint-bound). 0.5: the best on ring at both budgets. */
-#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 0.5f
-#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR "0.5"
+ * not footprint-bound). 0.5 was the best on ring at those budgets, where a
+ * map held some 200-800 caustic records. Raised to 1 with the RSM's caustic
+ * share (PB_PHOTON_CAUSTIC_SHARE_DEFAULT, 2026-12-04): a footprint of
+ * S Delta |dP| holds k ~ pi S^2 photons whatever the budget (0.72 at 0.5,
+ * 2.9 at 1: --json photons.k_pd on ring), so the noise of one gather is set
+ * by S, not by the photons, and more caustic records only sharpen it; with
+ * enough of them S = 1 wins. ring, 128 px, 1 map of 2^18 paths, 16 spp,
+ * --first-bounce rsm, caustic share 0.5 (96,480 caustic records), against
+ * the bench's 2048-spp reference: 31.6 dB at S 0.5, 34.6 at 0.75, 35.5 at 1;
+ * 64 px against tests/data/ring: 31.4 at 0.5, 35.8 at 1 (and with the
+ * share off, 31.4 and 33.2). bench/README.md, "The caustic share". */
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 1.0f
+#define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR "1"
 /* Default r_max (issue 18 item 3): PB_PHOTON_R_MAX_FACTOR r_ref, with
  * r_ref = Delta R the photon spacing on the scene's bounding sphere (R its
  * radius, Delta = 2 sqrt(pi / N)). Every footprint is a multiple of Delta
@@ -63,10 +73,29 @@ typedef struct pb_photon_map {
  * disc), 7.2 r_ref at 2^18. Measured (test_gpu_photon_clamp, one map of 2^15
  * paths, r_max 10 R, the default s and s_caustic): the 99th percentile of
  * r' / r_ref is 10.4 (cornell_box), 14.7 (cornell_caustics), 12.8 (ring),
- * 13.9 (spot_room), 11.2 (sun_atrium); 99.5th 11.9-18.5. 18 clamps at most
+ * 13.9 (spot_room), 11.2 (sun_atrium); 99.5th 11.9-18.5. 18 clamped at most
  * 1 % on every sample (0.07-0.55 % at 2^15 and 2^17 paths), with a margin
- * for the scene-dependent tail. */
-#define PB_PHOTON_R_MAX_FACTOR 18.0f
+ * for the scene-dependent tail. Raised to 30 with S_c 1 (2026-12-04): a
+ * caustic footprint is S_c Delta |dP|, linear in S_c, so ring's (all
+ * caustic) doubled: 99th percentile 25.6, 99.5th and max 28.6 at 2^15
+ * traced paths, where 18 clamped 1.89 % (0.77 % at 2^17); the others'
+ * 99.5th stayed 11.9-19.1 (cornell_caustics 99.9th 32.1). 30 is above
+ * ring's largest footprint and keeps the diffuse ones' shares under the old
+ * ones. */
+#define PB_PHOTON_R_MAX_FACTOR 30.0f
+
+/* Default caustic share of an RSM's photons (render --caustic-share;
+ * photon_rsm.comp PB_RSM_MODE_BOOST): the specular texels get at least this
+ * share of a map's photons. 0.5: half of a map's paths for caustics where a
+ * light sees mirrors or glass, half for the rest (Jensen's practice of a
+ * caustic map about as large as the global one), a default that does not
+ * starve the diffuse light of scenes whose indirect light is not a caustic.
+ * ring (where every stored record is caustic) gains from more: 128 px, 1 map
+ * of 2^18, 16 spp, S_c 1: 35.5 dB at 0.5 (96,480 caustic records), 36.0 at
+ * 0.9 (173,572), 35.7 at 0.95; without the share 17,359 records and
+ * 31.7 dB (bench/README.md, "The caustic share"). */
+#define PB_PHOTON_CAUSTIC_SHARE_DEFAULT 0.5f
+#define PB_PHOTON_CAUSTIC_SHARE_DEFAULT_STR "0.5"
 
 /* How a path's first hit is found (seed 001 24.2.1). */
 typedef enum pb_photon_first_bounce {
@@ -96,6 +125,11 @@ typedef struct pb_photon_trace_desc {
                                  PB_PHOTON_R_MAX_FACTOR Delta R */
   uint32_t first_bounce;      /* pb_photon_first_bounce; 0: TRACE */
   uint32_t rsm_resolution;    /* RSM texels per face side; 0: 64 */
+  float caustic_share;        /* RSM first bounce: the share of each map's
+                                 photons its specular texels get at least
+                                 (photon_rsm.comp PB_RSM_MODE_BOOST); 0:
+                                 PB_PHOTON_CAUSTIC_SHARE_DEFAULT, < 0: by
+                                 reflected power alone */
   float bandwidth_c0;         /* > 0: seed 003's variable bandwidth instead of
                                  seed 000's footprints: every photon a disc
                                  of radius h = C0 / sqrt(p) sqrt(A / N)
@@ -174,6 +208,8 @@ typedef struct pb_photon_trace_stats {
   uint32_t rsm_lights; /* lights whose photons started from their RSM */
   float rsm_coverage;  /* smallest coverage of a light's RSM (share of its
                           flux on the scene; 1 without maps) */
+  float rsm_boost;     /* largest factor a light's specular texels were
+                          weighted up by (the caustic share; 1: none) */
 } pb_photon_trace_stats;
 void pb_photon_tracer_stats(const pb_photon_tracer *t, pb_photon_trace_stats *out);
 

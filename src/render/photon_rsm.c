@@ -23,14 +23,16 @@ struct pb_photon_rsm {
   pb_gpu_pipeline pipe;
   pb_gpu_buffer lights, texels;
   uint32_t entries, texel_count, res;
-  float center[3], radius;
+  float center[3], radius, caustic_share;
   uint32_t spec[PB_SPEC_COUNT];
 };
 
 pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const uint32_t *light,
                                uint32_t entries, uint32_t res, const float center[3], float radius,
-                               pb_photon_rsm **out) {
+                               float caustic_share, pb_photon_rsm **out) {
   *out = NULL;
+  if (!(caustic_share >= 0.0f && caustic_share < 1.0f))
+    return pb_fail(PB_ERR_USAGE, "photons: caustic share %g is not in [0, 1)", caustic_share);
   if (res < 1 || res > 4096 || (res & (res - 1)))
     return pb_fail(PB_ERR_USAGE, "photons: RSM resolution %u is not a power of two in 1 .. 4096", res);
   pb_photon_rsm *r = calloc(1, sizeof *r);
@@ -46,6 +48,7 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   r->res = res;
   memcpy(r->center, center, sizeof r->center);
   r->radius = radius;
+  r->caustic_share = caustic_share;
   uint64_t total = 0;
   for (uint32_t i = 0; i < entries; ++i) {
     /* Soft lights and the world have no map (count 0): their photons are
@@ -61,6 +64,7 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
     uint32_t levels = 0;
     while ((1u << levels) < res) ++levels;
     tab[i].levels = levels;
+    tab[i].boost = 1.0f;
     total += faces * res * res;
   }
   const pb_gpu_limits *lim = pb_gpu_get_limits(g);
@@ -124,11 +128,19 @@ pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r) {
   p.scene_radius = r->radius;
   p.light_count = r->entries;
   p.texels = r->texel_count;
+  p.caustic_share = r->caustic_share;
   p.mode = PB_RSM_MODE_RENDER;
   pb_result rc;
   if (!r->entries) return PB_OK;
   if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->texel_count)) != PB_OK) return rc;
   pb_gpu_barrier(g);
+  if (r->caustic_share > 0.0f) {
+    /* The specular texels' weights raised to the caustic share (one
+     * workgroup per light), before the pyramid sums them. */
+    p.mode = PB_RSM_MODE_BOOST;
+    if ((rc = pb_gpu_dispatch(g, &r->pipe, &p, r->entries * PB_GPU_WORKGROUP)) != PB_OK) return rc;
+    pb_gpu_barrier(g);
+  }
   /* The weight pyramid, one level at a time (every light shares res), then
    * each light's total. */
   p.mode = PB_RSM_MODE_PYRAMID;
@@ -159,6 +171,18 @@ pb_result pb_photon_rsm_coverage(pb_gpu *g, const pb_photon_rsm *r, int auto_mod
     if (tab[i].coverage < *min_coverage) *min_coverage = tab[i].coverage;
     if (!auto_mode || tab[i].coverage < PB_RSM_AUTO_COVERAGE) ++*mapped;
   }
+  free(tab);
+  return rc;
+}
+
+pb_result pb_photon_rsm_boost(pb_gpu *g, const pb_photon_rsm *r, float *max_boost) {
+  *max_boost = 1.0f;
+  if (!r->entries) return PB_OK;
+  pb_gpu_rsm_light *tab = calloc(r->entries, sizeof *tab);
+  if (!tab) return pb_fail(PB_ERR_NOMEM, "photons: out of memory");
+  pb_result rc = pb_gpu_buffer_download(g, &r->lights, 0, tab, r->entries * sizeof *tab);
+  for (uint32_t i = 0; rc == PB_OK && i < r->entries; ++i)
+    if (tab[i].count && tab[i].boost > *max_boost) *max_boost = tab[i].boost;
   free(tab);
   return rc;
 }

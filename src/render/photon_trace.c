@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "render/passes.h"
+#include "core/log.h"
 #include "render/photon.h"
 #include "render/photon_rsm.h"
 #include "render/plan.h"
@@ -228,7 +229,8 @@ pb_result pb_photon_tracer_update(pb_gpu *g, pb_photon_tracer *t, const pb_scene
     t->rsm = NULL;
     t->rsm_ready = 0;
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
-    r = pb_photon_rsm_create(g, s, t->gs, counts, t->light_entries, t->desc.rsm_resolution, center, radius, &t->rsm);
+    r = pb_photon_rsm_create(g, s, t->gs, counts, t->light_entries, t->desc.rsm_resolution, center, radius,
+                             t->desc.caustic_share, &t->rsm);
   }
 done:
   free(counts);
@@ -259,6 +261,10 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   if (d.first_bounce > PB_FIRST_BOUNCE_AUTO)
     return pb_fail(PB_ERR_USAGE, "photons: first_bounce %u (TRACE, RSM or AUTO)", d.first_bounce);
   if (!d.rsm_resolution) d.rsm_resolution = 64;
+  if (d.caustic_share == 0.0f) d.caustic_share = PB_PHOTON_CAUSTIC_SHARE_DEFAULT;
+  if (d.caustic_share < 0.0f) d.caustic_share = 0.0f; /* off: by reflected power */
+  if (!(d.caustic_share < 1.0f))
+    return pb_fail(PB_ERR_USAGE, "photons: caustic share %g (in [0, 1))", d.caustic_share);
   if (d.r_max < 0.0f || !isfinite(d.r_max))
     return pb_fail(PB_ERR_USAGE, "photons: r_max %g must be positive", d.r_max);
   if (d.bandwidth_c0 < 0.0f || !isfinite(d.bandwidth_c0))
@@ -302,7 +308,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   if (d.first_bounce == PB_FIRST_BOUNCE_RSM || d.first_bounce == PB_FIRST_BOUNCE_AUTO) {
     for (uint32_t i = 0; i < t->light_entries; ++i) counts[i] = t->lights[i].light;
     if ((r = pb_photon_rsm_create(g, s, gs, counts, t->light_entries, d.rsm_resolution, center, radius,
-                                  &t->rsm)) != PB_OK)
+                                  d.caustic_share, &t->rsm)) != PB_OK)
       goto fail;
     t->p.flags |= PB_PHOTON_PARAM_RSM;
     if (d.first_bounce == PB_FIRST_BOUNCE_AUTO) t->p.flags |= PB_PHOTON_PARAM_RSM_AUTO;
@@ -451,6 +457,11 @@ pb_result pb_photon_tracer_finish(pb_gpu *g, pb_photon_tracer *t, pb_photon_map 
   if (t->rsm && (r = pb_photon_rsm_coverage(g, t->rsm, (t->p.flags & PB_PHOTON_PARAM_RSM_AUTO) != 0,
                                             &t->stats.rsm_lights, &t->stats.rsm_coverage)) != PB_OK)
     return r;
+  t->stats.rsm_boost = 1.0f;
+  if (t->rsm && (r = pb_photon_rsm_boost(g, t->rsm, &t->stats.rsm_boost)) != PB_OK) return r;
+  if (t->rsm && t->stats.rsm_boost > 1.0f)
+    pb_log_verbose("photons: specular RSM texels weighted x %.3g (caustic share %g)", (double)t->stats.rsm_boost,
+                   (double)t->desc.caustic_share);
   if (t->images &&
       (r = pb_gpu_buffer_download(g, &t->image_counts, 0, &t->image_last, sizeof t->image_last)) != PB_OK)
     return r;

@@ -161,6 +161,10 @@ typedef struct pb_render_desc {
                                   Epanechnikov */
   uint32_t first_bounce;       /* pb_photon_first_bounce (photon.h); 0:
                                   traced from the light */
+  float caustic_share;         /* RSM first bounce: share of a map's photons
+                                  its specular texels get at least; 0:
+                                  PB_PHOTON_CAUSTIC_SHARE_DEFAULT, < 0: by
+                                  reflected power alone */
   uint32_t tracer;             /* pb_tracer_kind (tracer.h); 0: the BVH */
   uint32_t image_maps;         /* tracer images: k maps; 0: 8 */
   uint32_t image_map_resolution; /* tracer images: texels per face side; 0: 128 */

@@ -3,7 +3,7 @@
  * shrinks to r_max (pb_gpu_photon_counts.clamped). Checked on every static
  * sample, one map of 2^15 and one of 2^17 paths at the defaults: the count
  * equals the records whose radius sits at r_max in the downloaded map, and
- * it is at most 1 % of them at both budgets (r_max = 18 Delta R, photon.h;
+ * it is at most 1 % of them at both budgets (r_max = 30 Delta R, photon.h;
  * the old 5 % of R clamped 96-100 % at 2^15 paths). Printed: the
  * share, and the quantiles of r' / (Delta R) of the same map traced with
  * r_max = 10 R (no clamp), the measurement behind a density-following r_max
