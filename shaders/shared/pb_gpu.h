@@ -163,6 +163,7 @@ PB_STRUCT(pb_gpu_material) {
  * (the identity rows without KHR_texture_transform). */
 PB_CONST(PB_GPU_TEX_SRGB, 1u)
 PB_CONST(PB_GPU_TEX_NEAREST, 2u)
+PB_CONST(PB_GPU_TEX_HALF, 4u)   /* two texel words a texel: unpackHalf2x16(R | G << 16), (B | A << 16); linear */
 PB_STRUCT(pb_gpu_texture) {
   uint offset;
   uint width;

@@ -129,7 +129,8 @@ static void print_text(const pb_scene *s) {
   printf("textures   %u\n", s->texture_count);
   for (uint32_t i = 0; i < s->texture_count; ++i) {
     const pb_texture *t = &s->textures[i];
-    printf("  %-20s %ux%u %s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    printf("  %-20s %ux%u %s%s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear",
+           t->rgbah ? ", half float" : "");
     if (t->texcoord) printf(", TEXCOORD_%d", t->texcoord);
     if (t->uv_transformed)
       printf(", KHR_texture_transform u' = %.3g u %+.3g v %+.3g, v' = %.3g u %+.3g v %+.3g", t->uv_xform[0], t->uv_xform[1],

@@ -1,4 +1,5 @@
 /* The scene model's own operations (the glTF loader is load.c). */
+#include "core/half.h"
 #include "scene/scene.h"
 
 #include "scene/anim.h"
@@ -271,6 +272,11 @@ static int wrap_coord(int i, int n, pb_wrap w) {
 }
 
 static void texel(const pb_texture *t, int x, int y, float out[4]) {
+  if (t->rgbah) {
+    const uint16_t *h = t->rgbah + ((size_t)y * t->width + (size_t)x) * 4;
+    for (int c = 0; c < 4; ++c) out[c] = pb_half_to_float(h[c]);
+    return;
+  }
   const uint8_t *p = t->rgba8 + ((size_t)y * t->width + (size_t)x) * 4;
   for (int c = 0; c < 4; ++c) {
     float v = (float)p[c] * (1.0f / 255.0f);
@@ -371,7 +377,7 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->triangles);
   free(s->triangle_material);
   free(s->materials);
-  for (uint32_t i = 0; i < s->texture_count; ++i) free(s->textures[i].rgba8);
+  for (uint32_t i = 0; i < s->texture_count; ++i) free(s->textures[i].rgba8), free(s->textures[i].rgbah);
   free(s->textures);
   free(s->lights);
   free(s->cameras);

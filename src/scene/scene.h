@@ -26,6 +26,11 @@ typedef struct pb_texture {
   char name[PB_NAME_MAX];
   uint32_t width, height;
   uint8_t *rgba8;   /* width*height*4 bytes, rows top to bottom as in the file */
+  uint16_t *rgbah;  /* or (rgba8 NULL) width*height*4 IEEE halfs, linear: an
+                       image of more than 8 bits a channel (16-bit PNG, HDR,
+                       EXR: image/decode.h), sRGB already decoded for a colour
+                       slot (srgb then only names the slot); NaN and negative
+                       texels 0, at most 65504 */
   int srgb;         /* 1: texels are sRGB-encoded (base colour, emissive) */
   pb_wrap wrap_s, wrap_t;
   int nearest;      /* 1: magFilter NEAREST; otherwise bilinear */
