@@ -156,7 +156,7 @@ static void print_text(const pb_scene *s) {
          "emissive-triangle sampling %s, textures %s, normal maps %s, unlit %s, vertex colours %s, absorbing media %s, "
          "soft lights %s, world light %s, Blender materials %s, transparent shadows %s (GPU passes compile only what "
          "is on)",
-         pl.photons ? "on" : "off (no light but emissive triangles, no world)",
+         pl.photons ? "on" : "off (no light, no emissive triangle, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
          pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",

@@ -284,6 +284,18 @@ static void texel(const pb_texture *t, int x, int y, float out[4]) {
   }
 }
 
+void pb_texture_mean(const pb_texture *t, float out[4]) {
+  double acc[4] = {0, 0, 0, 0};
+  for (uint32_t y = 0; y < t->height; ++y)
+    for (uint32_t x = 0; x < t->width; ++x) {
+      float c[4];
+      texel(t, (int)x, (int)y, c);
+      for (int k = 0; k < 4; ++k) acc[k] += c[k];
+    }
+  double n = (double)t->width * t->height;
+  for (int k = 0; k < 4; ++k) out[k] = n > 0 ? (float)(acc[k] / n) : 0.0f;
+}
+
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]) {
   if (!isfinite(u)) u = 0;
   if (!isfinite(v)) v = 0;

@@ -518,6 +518,9 @@ void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
 /* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
  * RGBA out (sRGB decoded when the texture is sRGB). */
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
+/* The mean of t's decoded texels (linear RGBA, as pb_texture_sample reads
+ * them), over every texel. */
+void pb_texture_mean(const pb_texture *t, float out[4]);
 
 /* A material's texture at a surface point with uv sets uv0 and uv1 (uv1 may
  * be NULL: zero): the texture's uv set through its uv_xform, then
