@@ -404,18 +404,19 @@ void pb_trace_path(uint gid) {
   pb_gpu_photon_light pl = plights[li];
   if (gid < pl.first || gid - pl.first >= pl.count) return;
   bool world_entry = pl.light == PB_GPU_WORLD_LIGHT;
+  bool emitter_entry = pl.light == PB_GPU_EMITTER_LIGHT;
   // The world has no entry in lights[] (which may be empty): L is read only
   // for a light.
   pb_gpu_light L = pb_gpu_light(vec3(0.0), PB_GPU_LIGHT_DIRECTIONAL, vec3(0.0, -1.0, 0.0), 0.0, vec3(0.0), 0.0,
                                 vec3(0.0), 0.0, vec3(0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 1.0, 0u, 0u);
-  if (!world_entry) L = lights[pl.light];
+  if (!world_entry && !emitter_entry) L = lights[pl.light];
   bool soft = (SC_WORLD && world_entry) || (SC_SOFT_LIGHTS && !world_entry && pb_light_is_soft(L));
   float k = pl.diff_scale;
   float u1 = pb_prand(path, 0u), u2 = pb_prand(path, 1u);
   vec3 power = pl.power;
   vec3 o, d, dPu = vec3(0.0), dPv = vec3(0.0), dDu = vec3(0.0), dDv = vec3(0.0);
   bool stencil_here = h > 0.0 && params.stencil_depth == 0u;
-  bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u && !soft;
+  bool rsm = (params.flags & PB_PHOTON_PARAM_RSM) != 0u && !soft && !emitter_entry;
   // --first-bounce auto: the map only for a light whose map covers less than
   // PB_RSM_AUTO_COVERAGE of its flux (photon_rsm.comp pb_rsm_total): there
   // a traced first bounce loses more than half of its photons to rays that
@@ -432,6 +433,43 @@ void pb_trace_path(uint gid) {
     if (!pb_rsm_emit(li, gid - pl.first, pl.count, path, o, d, power, dPu, dPv, dDu, dDv, first_prim, first_t,
                      first_u, first_v))
       return;
+  } else if (SC_EMISSIVE && emitter_entry) {
+    // An emissive triangle as an area light (derived here; the seeds emit
+    // from lights only): triangle i with the table's probability pick_i
+    // (area x luminance x sides, scene/emitters.h), a uniform point, a side
+    // it emits from (both with equal odds when double-sided), a cosine-
+    // weighted direction: pdf = pick_i / A_i x cos / pi x 1 / sides, so the
+    // photon carries L_e(x) cos / pdf / N = L_e(x) pi A_i sides / (pick_i N)
+    // (pl.power = pi / N). The pick's remainder chooses the side.
+    uint lo = 0u, hi = pl.emitters;
+    if (hi == 0u) return;
+    while (hi - lo > 1u) {
+      uint mid = (lo + hi) / 2u;
+      if (emitters[mid].cdf <= u1) lo = mid;
+      else hi = mid;
+    }
+    pb_gpu_emitter e = emitters[lo];
+    if (!(e.pick > 0.0) || !(e.area > 0.0)) return;
+    pb_gpu_material em = materials[tri_material[e.prim]];
+    bool two = (em.flags & PB_GPU_MAT_DOUBLE_SIDED) != 0u;
+    bool back = two && clamp((u1 - e.cdf) / e.pick, 0.0, 1.0) >= 0.5;
+    float su = sqrt(u2);
+    float eu = pb_prand(path, PB_EMIT_DIM) * su, ev = 1.0 - su;
+    uint i0 = indices[3u * e.prim], i1 = indices[3u * e.prim + 1u], i2 = indices[3u * e.prim + 2u];
+    vec3 p0 = pb_position(i0), p1 = pb_position(i1), p2 = pb_position(i2);
+    vec3 ng = normalize(cross(p1 - p0, p2 - p0));
+    if (back) ng = -ng;
+    pb_surface es = pb_surface_from_hit(e.prim, eu, ev, -ng);
+    vec3 le = pb_emission(es);
+    power *= le * (e.area * (two ? 2.0 : 1.0) / e.pick);
+    vec3 t, b;
+    pb_basis(ng, t, b);
+    float v = pb_prand(path, PB_EMIT_DIM + 1u), phi = 2.0 * PB_PI * pb_prand(path, PB_EMIT_DIM + 2u);
+    float sn = sqrt(v);
+    d = t * (cos(phi) * sn) + b * (sin(phi) * sn) + ng * sqrt(max(0.0, 1.0 - v));
+    o = pb_offset_ray(es.p, ng);
+    dDu = k * t;
+    dDv = k * b;
   } else if (world_entry || L.type == PB_GPU_LIGHT_DIRECTIONAL) {
     float v1 = u1, v2 = u2;
     if (world_entry) {

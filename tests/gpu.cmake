@@ -185,3 +185,13 @@ if(TEST test_gpu_present)
   set_tests_properties(test_gpu_present PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        LABELS "gpu;no-sanitize;view" TIMEOUT 600)
 endif()
+
+# Photons from emissive triangles (render/photon_trace.c's emitter slot): a
+# Cornell box lit only by an emissive quad (single-sided; double-sided and
+# textured) against the reference path tracer, beauty and indirect means
+# (tests/emitter_photons.py; before, no photon stage: 42 % dark).
+add_test(NAME gpu_emitter_photons
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/emitter_photons.py ${PB_EXE} $<TARGET_FILE:exr_probe> ${PB_ROOT}
+                 ${CMAKE_CURRENT_BINARY_DIR}/emitter_photons)
+set_tests_properties(gpu_emitter_photons PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                     LABELS "gpu;no-sanitize" TIMEOUT 900)

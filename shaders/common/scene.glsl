@@ -107,6 +107,10 @@ int pb_wrap(int i, int n, uint mode) {
   return ((i % n) + n) % n;
 }
 vec4 pb_texel(pb_gpu_texture t, int x, int y) {
+  if ((t.flags & PB_GPU_TEX_HALF) != 0u) { // scene.h pb_texture.rgbah
+    uint i = t.offset + 2u * (uint(y) * t.width + uint(x));
+    return vec4(unpackHalf2x16(texels[i]), unpackHalf2x16(texels[i + 1u]));
+  }
   uint w = texels[t.offset + uint(y) * t.width + uint(x)];
   vec4 c = vec4(float(w & 255u), float((w >> 8) & 255u), float((w >> 16) & 255u), float(w >> 24)) * (1.0 / 255.0);
   if ((t.flags & PB_GPU_TEX_SRGB) != 0u)

@@ -163,6 +163,7 @@ PB_STRUCT(pb_gpu_material) {
  * (the identity rows without KHR_texture_transform). */
 PB_CONST(PB_GPU_TEX_SRGB, 1u)
 PB_CONST(PB_GPU_TEX_NEAREST, 2u)
+PB_CONST(PB_GPU_TEX_HALF, 4u)   /* two texel words a texel: unpackHalf2x16(R | G << 16), (B | A << 16); linear */
 PB_STRUCT(pb_gpu_texture) {
   uint offset;
   uint width;
@@ -226,6 +227,7 @@ PB_CONST(PB_GPU_WORLD_MAP, 2u)         /* a map (else the constant colour) */
 PB_CONST(PB_GPU_WORLD_CAMERA, 4u)      /* camera rays see it (opaque film, visible) */
 PB_CONST(PB_GPU_WORLD_SAMPLED, 8u)     /* the map has a sampling table */
 PB_CONST(PB_GPU_WORLD_LIGHT, 0xffffffffu) /* pb_gpu_photon_light.light of the world */
+PB_CONST(PB_GPU_EMITTER_LIGHT, 0xfffffffeu) /* ... and of the emissive triangles (emitters[]) */
 PB_STRUCT(pb_gpu_world) {
   PB_VEC3(color);
   uint flags;
@@ -461,7 +463,10 @@ PB_STRUCT(pb_gpu_photon_params) {
 } PB_END(pb_gpu_photon_params)
 
 /* One light's share of the photon budget: paths first .. first + count - 1
- * start at lights[light] (or the world, light == PB_GPU_WORLD_LIGHT).
+ * start at lights[light] (or the world, light == PB_GPU_WORLD_LIGHT, or the
+ * emissive triangles, light == PB_GPU_EMITTER_LIGHT: `emitters` entries of
+ * emitters[], power pi / count, times L_e A sides / pick of the photon's
+ * triangle).
  * power: flux of each photon before its direction's factor, W (point,
  * sphere: 4 pi I / count; spot: 2 pi (1 - cos_outer) I / count, times the
  * falloff; directional, soft sun: E pi R^2 / count; area: L A pi cos^2 a /
@@ -475,6 +480,8 @@ PB_STRUCT(pb_gpu_photon_light) {
   uint count;
   float diff_scale;
   float cos_max;          /* cosine of the emission cone (-1: sphere) */
+  uint emitters;          /* PB_GPU_EMITTER_LIGHT: entries of emitters[] (the table's count) */
+  uint pad0, pad1, pad2;
 } PB_END(pb_gpu_photon_light)
 
 #ifndef PB_GLSL
@@ -550,9 +557,9 @@ PB_OFFSET(pb_gpu_photon_params, capacity, 32) PB_OFFSET(pb_gpu_photon_params, r_
 PB_OFFSET(pb_gpu_photon_params, stencil_h, 60) PB_OFFSET(pb_gpu_photon_params, guarded, 68)
 PB_OFFSET(pb_gpu_photon_params, escaped, 76) PB_OFFSET(pb_gpu_photon_params, bandwidth_h0, 80)
 PB_OFFSET(pb_gpu_photon_params, bandwidth_p_max, 88)
-PB_LAYOUT(pb_gpu_photon_light, 32)
+PB_LAYOUT(pb_gpu_photon_light, 48)
 PB_OFFSET(pb_gpu_photon_light, light, 12) PB_OFFSET(pb_gpu_photon_light, first, 16)
-PB_OFFSET(pb_gpu_photon_light, cos_max, 28)
+PB_OFFSET(pb_gpu_photon_light, cos_max, 28) PB_OFFSET(pb_gpu_photon_light, emitters, 32)
 #undef PB_LAYOUT
 #undef PB_OFFSET
 #endif

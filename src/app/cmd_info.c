@@ -135,7 +135,8 @@ static void print_text(const pb_scene *s) {
   printf("textures   %u\n", s->texture_count);
   for (uint32_t i = 0; i < s->texture_count; ++i) {
     const pb_texture *t = &s->textures[i];
-    printf("  %-20s %ux%u %s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear");
+    printf("  %-20s %ux%u %s%s", t->name, t->width, t->height, t->srgb ? "sRGB" : "linear",
+           t->rgbah ? ", half float" : "");
     if (t->texcoord) printf(", TEXCOORD_%d", t->texcoord);
     if (t->uv_transformed)
       printf(", KHR_texture_transform u' = %.3g u %+.3g v %+.3g, v' = %.3g u %+.3g v %+.3g", t->uv_xform[0], t->uv_xform[1],
@@ -161,7 +162,7 @@ static void print_text(const pb_scene *s) {
          "emissive-triangle sampling %s, textures %s, normal maps %s, unlit %s, vertex colours %s, absorbing media %s, "
          "soft lights %s, world light %s, Blender materials %s, transparent shadows %s (GPU passes compile only what "
          "is on)",
-         pl.photons ? "on" : "off (no light but emissive triangles, no world)",
+         pl.photons ? "on" : "off (no light, no emissive triangle, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
          pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",

@@ -54,4 +54,30 @@ pb_decode_status pb_decode_jpeg_rgba8(const uint8_t *bytes, size_t size, const p
 pb_decode_status pb_decode_image_rgba8(const uint8_t *bytes, size_t size, const pb_decode_limits *lim,
                                        pb_decoded *out);
 
+/* Images with more than 8 bits a channel, as linear-or-encoded floats
+ * (glTF's core formats are 8-bit PNG and JPEG; a Blender float image, an
+ * HDR emission map or a 16-bit data map keeps its precision this way,
+ * scene.h pb_texture.rgbah):
+ * - PNG of bit depth 16: every colour type, RGBA16 through libspng, each
+ *   sample / 65535 (still encoded: the slot decides sRGB, as for 8 bits);
+ * - Radiance RGBE (.hdr: image/hdr.h), alpha 1;
+ * - OpenEXR (image.h pb_exr_read_memory): R, G, B (Y for a luminance file)
+ *   and A when present (else 1); other channels ignored.
+ * The values of HDR and EXR are linear scene values (`linear` 1), never
+ * sRGB-decoded. PB_DECODE_UNKNOWN for anything else, including PNGs of at
+ * most 8 bits and JPEG (pb_decode_image_rgba8 decodes those). Limits as
+ * above, checked before pixel memory is allocated. */
+typedef struct pb_decoded_float {
+  float *rgba; /* malloc'd (free()), width * height * 4 floats; NULL unless OK */
+  uint32_t width, height;
+  int linear;  /* 1: scene-linear values (HDR, EXR); 0: encoded samples (PNG) */
+  char why[PB_DECODE_WHY_SIZE];
+} pb_decoded_float;
+
+/* 1 when the bytes are a 16-bit PNG, an HDR or an EXR file (by signature
+ * and, for PNG, IHDR's bit depth): the float decoder's formats. */
+int pb_decode_is_float_image(const uint8_t *bytes, size_t size);
+pb_decode_status pb_decode_image_float(const uint8_t *bytes, size_t size, const pb_decode_limits *lim,
+                                       pb_decoded_float *out);
+
 #endif

@@ -210,6 +210,25 @@ static void fill_rows(const pb_exr_desc *d, const wchan *ch, uint32_t nch,
   }
 }
 
+/* OpenEXR 3.1.5's ZIP/ZIPS encoder (Debian 12's; internal_zip.c
+ * apply_zip_impl) keeps the zlib stream when it is exactly as long as the
+ * packed chunk, and every reader takes a chunk of its unpacked size for
+ * uncompressed data, so it decodes the zlib bytes as pixels (upstream issue
+ * AcademySoftwareFoundation/openexr#2306, fixed in 2026 by storing the
+ * packed bytes whenever compression does not shrink them). Found here: a
+ * 2 x 1 RGBA half image of (4, 2, 1, 1) read back, by us and by Blender, as
+ * (1.3e-4, 4.4e-5, -7.6e-6, -4.4e-3); any chunk of any size can land on the
+ * equality. zip_guard does what the fix does (tests/unit/test_image.c). */
+static _Thread_local exr_result_t (*zip_compress)(exr_encode_pipeline_t *);
+
+static exr_result_t zip_guard(exr_encode_pipeline_t *e) {
+  exr_result_t rv = zip_compress(e);
+  if (rv == EXR_ERR_SUCCESS && e->compressed_bytes == e->packed_bytes && e->compressed_buffer != e->packed_buffer &&
+      e->compressed_alloc_size >= e->packed_bytes)
+    memcpy(e->compressed_buffer, e->packed_buffer, (size_t)e->packed_bytes);
+  return rv;
+}
+
 pb_result pb_exr_write(const char *path, const pb_exr_desc *desc) {
   assert(path && desc);
   uint64_t nonfinite = 0, clamped = 0;
@@ -219,7 +238,7 @@ pb_result pb_exr_write(const char *path, const pb_exr_desc *desc) {
   float *planes = NULL;
   exr_context_t ctx = NULL;
   exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-  int enc_live = 0;
+  int enc_live = 0, zip = 1; /* every part is written with EXR_COMPRESSION_ZIP (zip_guard) */
   exr_result_t rv;
   pb_result r = build_channels(path, desc, &ch, &nch);
   if (r != PB_OK) goto done;
@@ -359,6 +378,10 @@ pb_result pb_exr_write(const char *path, const pb_exr_desc *desc) {
       c->user_bytes_per_element = (int16_t)sizeof(float);
     }
     rv = exr_encoding_choose_default_routines(ctx, part, &enc);
+    if (rv == EXR_ERR_SUCCESS && enc.compress_fn && zip) {
+      zip_compress = enc.compress_fn;
+      enc.compress_fn = zip_guard;
+    }
     if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctx, part, &enc);
     if (rv != EXR_ERR_SUCCESS) {
       r = write_fail(path, "cannot write pixels", rv);
@@ -540,18 +563,45 @@ static pb_result read_tiles(rstate *s) {
   return PB_OK;
 }
 
+/* An EXR held in memory (pb_exr_read_memory): OpenEXR's custom stream. */
+typedef struct mem_stream {
+  const uint8_t *bytes;
+  uint64_t size;
+} mem_stream;
+
+static int64_t mem_read(exr_const_context_t ctxt, void *user, void *buffer,
+                        uint64_t sz, uint64_t offset,
+                        exr_stream_error_func_ptr_t error_cb) {
+  (void)ctxt, (void)error_cb;
+  const mem_stream *m = user;
+  if (offset >= m->size) return 0;
+  uint64_t n = m->size - offset < sz ? m->size - offset : sz;
+  memcpy(buffer, m->bytes + offset, (size_t)n);
+  return (int64_t)n;
+}
+
+static int64_t mem_size(exr_const_context_t ctxt, void *user) {
+  (void)ctxt;
+  return (int64_t)((const mem_stream *)user)->size;
+}
+
+static pb_result read_open(const char *path, const mem_stream *mem,
+                           int64_t file_size,
+                           const pb_exr_read_limits *limits, pb_image *out);
+
+pb_result pb_exr_read_memory(const uint8_t *bytes, size_t size,
+                             const char *name,
+                             const pb_exr_read_limits *limits, pb_image *out) {
+  assert(bytes && name && out);
+  memset(out, 0, sizeof *out);
+  mem_stream m = {bytes, size};
+  return read_open(name, &m, (int64_t)size, limits, out);
+}
+
 pb_result pb_exr_read(const char *path, const pb_exr_read_limits *limits,
                       pb_image *out) {
   assert(path && out);
   memset(out, 0, sizeof *out);
-  uint32_t max_dim = limits && limits->max_dim ? limits->max_dim
-                                                : PB_IMAGE_MAX_DIM;
-  uint64_t max_pixels = limits && limits->max_pixels ? limits->max_pixels
-                                                      : PB_IMAGE_MAX_PIXELS;
-  uint32_t max_channels = limits && limits->max_channels
-                              ? limits->max_channels
-                              : PB_IMAGE_MAX_CHANNELS;
-
   /* Absence and access problems are I/O; everything after is the content. */
   struct stat st;
   if (stat(path, &st) != 0)
@@ -560,12 +610,30 @@ pb_result pb_exr_read(const char *path, const pb_exr_read_limits *limits,
     return pb_fail(PB_ERR_IO, "%s: not a regular file", path);
   if (access(path, R_OK) != 0)
     return pb_fail(PB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  return read_open(path, NULL, (int64_t)st.st_size, limits, out);
+}
+
+static pb_result read_open(const char *path, const mem_stream *mem,
+                           int64_t file_size,
+                           const pb_exr_read_limits *limits, pb_image *out) {
+  uint32_t max_dim = limits && limits->max_dim ? limits->max_dim
+                                                : PB_IMAGE_MAX_DIM;
+  uint64_t max_pixels = limits && limits->max_pixels ? limits->max_pixels
+                                                      : PB_IMAGE_MAX_PIXELS;
+  uint32_t max_channels = limits && limits->max_channels
+                              ? limits->max_channels
+                              : PB_IMAGE_MAX_CHANNELS;
 
   rstate s = {.path = path, .img = out};
   pb_result r = PB_OK;
   /* A truncated file must fail, not be patched up from what is left. */
   exr_context_initializer_t init =
       exr_init(EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION);
+  if (mem) {
+    init.user_data = (void *)mem;
+    init.read_fn = mem_read;
+    init.size_fn = mem_size;
+  }
   exr_result_t rv = exr_start_read(&s.ctx, path, &init);
   if (rv != EXR_ERR_SUCCESS) {
     if (rv == EXR_ERR_FILE_ACCESS)
@@ -654,10 +722,10 @@ pb_result pb_exr_read(const char *path, const pb_exr_read_limits *limits,
     r = read_fail(path, "no chunk count", rv);
     goto fail;
   }
-  if ((uint64_t)chunks * 16 > (uint64_t)st.st_size) {
+  if ((uint64_t)chunks * 16 > (uint64_t)file_size) {
     r = pb_fail(PB_ERR_IMAGE, "%s: header declares %d chunks, more than a "
                 "%lld-byte file can hold", path, chunks,
-                (long long)st.st_size);
+                (long long)file_size);
     goto fail;
   }
 

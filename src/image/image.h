@@ -4,6 +4,7 @@
 #ifndef PB_IMAGE_H
 #define PB_IMAGE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "core/result.h"
@@ -90,6 +91,11 @@ typedef struct pb_exr_read_limits {
  * unsupported), PB_ERR_LIMIT, PB_ERR_NOMEM. On failure *out is zeroed. */
 pb_result pb_exr_read(const char *path, const pb_exr_read_limits *limits,
                       pb_image *out);
+/* The same for an EXR file's bytes in memory (a glTF image in a
+ * bufferView or data URI); `name` labels the messages. */
+pb_result pb_exr_read_memory(const uint8_t *bytes, size_t size,
+                             const char *name,
+                             const pb_exr_read_limits *limits, pb_image *out);
 void pb_image_destroy(pb_image *img);
 /* Index of a channel by exact name, or -1. */
 int pb_image_find_channel(const pb_image *img, const char *name);

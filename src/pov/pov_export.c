@@ -1,5 +1,6 @@
 /* pb_scene -> POV-Ray 3.7 SDL. The unit mappings and their derivations are in
  * pov.h; the tests render with POV-Ray and compare with the analytic values. */
+#include "core/half.h"
 #include "pov/pov.h"
 #include "scene/camera.h"
 
@@ -119,7 +120,9 @@ static void png_cb(void *ctx, void *data, int size) {
 }
 
 /* The base colour texture times the base colour factor, in the texture's own
- * encoding (sRGB textures are decoded, scaled and re-encoded), RGB 8-bit. */
+ * encoding (sRGB textures are decoded, scaled and re-encoded), RGB 8-bit. A
+ * float texture (pb_texture.rgbah, linear) is scaled, clamped to 1 and
+ * encoded as sRGB for a colour slot (POV-Ray's image_map is 8-bit here). */
 static pb_result write_texture(const char *path, const pb_texture *t, const float factor[3]) {
   const size_t n = (size_t)t->width * t->height;
   uint8_t *px = malloc(n * 3);
@@ -127,6 +130,13 @@ static pb_result write_texture(const char *path, const pb_texture *t, const floa
   const int identity = factor[0] == 1.0f && factor[1] == 1.0f && factor[2] == 1.0f;
   for (size_t i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
+      if (t->rgbah) {
+        float x = pb_half_to_float(t->rgbah[i * 4 + (size_t)k]) * factor[k];
+        x = x < 0 ? 0 : x > 1 ? 1 : x;
+        if (t->srgb) x = pb_linear_to_srgb(x);
+        px[i * 3 + (size_t)k] = (uint8_t)(x * 255.0f + 0.5f);
+        continue;
+      }
       uint8_t v = t->rgba8[i * 4 + (size_t)k];
       if (!identity) {
         float x = v / 255.0f;

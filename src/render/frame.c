@@ -497,7 +497,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   pb_result r = validate(s, camera, width, height, &desc);
   if (r != PB_OK) return r;
   uint32_t spp = desc.spp ? desc.spp : 1;
-  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0 || s->world.present);
+  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0 || s->world.present || gs->emitter_count > 0);
   uint32_t iters = photons_on ? (desc.iterations ? desc.iterations : 1) : 1;
   if (photons_on && spp < iters) spp = iters;
   uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : PB_RENDER_MAX_SPECULAR_DEPTH; /* RR from 8: gbuffer.comp */

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene/emitters.h"
 #include "render/passes.h"
 #include "core/log.h"
 #include "render/photon.h"
@@ -84,15 +85,26 @@ static float scene_radius(const pb_scene *s, float center[3]) {
   return (r > 1e-6f && isfinite(r)) ? r : 1e-6f;
 }
 
-uint32_t pb_photon_slots(const pb_scene *s) { return s->light_count + (s->world.present ? 1u : 0u); }
+/* Emissive triangles are one photon slot after the lights and the world
+ * (an emissive mesh is an area light of its own: a room lit by emission
+ * planes had no indirect light; PB_GPU_EMITTER_LIGHT in photon_trace.comp). */
+static int emitter_slot(const pb_scene *s) { return (s->features & PB_FEATURE_EMISSIVE) != 0; }
 
-/* Power of slot i (a light, or the world as the last slot) for the split. */
+uint32_t pb_photon_slots(const pb_scene *s) {
+  return s->light_count + (s->world.present ? 1u : 0u) + (emitter_slot(s) ? 1u : 0u);
+}
+
+/* Power of slot i (a light, the world, or the emitters) for the split. */
 static double slot_power(const pb_scene *s, uint32_t i, float radius) {
   float pw[3];
   if (i < s->light_count) {
     pb_light_power(&s->lights[i], radius, pw);
-  } else {
+  } else if (s->world.present && i == s->light_count) {
     for (int c = 0; c < 3; ++c) pw[c] = (float)M_PI * radius * radius * s->world.integral[c];
+  } else {
+    double f[3];
+    pb_emitter_flux(s, f);
+    for (int c = 0; c < 3; ++c) pw[c] = (float)f[c];
   }
   double w = luminance(pw);
   return isfinite(w) ? w : 0.0;
@@ -148,13 +160,27 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
   uint32_t slots = pb_photon_slots(s);
   for (uint32_t i = 0; i < slots; ++i) {
     if (!counts[i]) continue;
-    int world = i == s->light_count;
-    const pb_light *l = world ? NULL : &s->lights[i];
+    int world = s->world.present && i == s->light_count;
+    int emit = i >= s->light_count && !world;
+    const pb_light *l = world || emit ? NULL : &s->lights[i];
     pb_gpu_photon_light *e = &t->lights[t->light_entries++];
-    e->light = world ? PB_GPU_WORLD_LIGHT : i;
+    memset(e, 0, sizeof *e);
+    e->light = world ? PB_GPU_WORLD_LIGHT : emit ? PB_GPU_EMITTER_LIGHT : i;
     e->first = total;
     e->count = counts[i];
     total += counts[i];
+    if (emit) {
+      /* Lambertian emission over a hemisphere of each emitting side (its
+       * solid angle in the differentials, as an area light's cone); the
+       * table's count is the GPU scene's (the same pb_emitter_table_build). */
+      pb_emitter_table et;
+      if (pb_emitter_table_build(s, &et) == PB_OK) e->emitters = et.count;
+      pb_emitter_table_destroy(&et);
+      for (int c = 0; c < 3; ++c) e->power[c] = (float)(M_PI / counts[i]);
+      e->cos_max = 0.0f;
+      e->diff_scale = (float)(sqrt(2.0 * M_PI / counts[i]) / delta);
+      continue;
+    }
     double omega, k, scale;
     float col[3] = {1, 1, 1};
     if (world || l->type == PB_LIGHT_DIRECTIONAL) {
@@ -327,7 +353,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u;
   t->spec[PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u;
   t->spec[PB_SPEC_SPECULAR] = plan.caustic_photons ? 1u : 0u;
-  t->spec[PB_SPEC_EMISSIVE] = 0u; /* photons start at lights and the world, not at emissive triangles */
+  t->spec[PB_SPEC_EMISSIVE] = emitter_slot(s) ? 1u : 0u; /* photons start at emissive triangles too (pb_emission) */
   t->spec[PB_SPEC_TRANSMISSION] = plan.refraction ? 1u : 0u;
   t->spec[PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u;
   t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;

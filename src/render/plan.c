@@ -15,7 +15,7 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   out->media = (f & PB_FEATURE_VOLUME) != 0 && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->textures = (f & PB_FEATURE_TEXTURES) != 0;
   out->vertex_normals = s->normals != NULL;
-  out->photons = !direct_only && (s->light_count > 0 || s->world.present);
+  out->photons = !direct_only && (s->light_count > 0 || s->world.present || (f & PB_FEATURE_EMISSIVE) != 0);
   out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
   out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
   out->normal_maps = (f & PB_FEATURE_NORMAL_MAPS) != 0 && s->tangents != NULL && s->uvs != NULL;

@@ -279,7 +279,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   uint32_t nm = s->material_count ? s->material_count : 1;
   mats = calloc(nm, sizeof *mats);
   uint64_t texel_count = 0;
-  for (uint32_t i = 0; i < s->texture_count; ++i) texel_count += (uint64_t)s->textures[i].width * s->textures[i].height;
+  for (uint32_t i = 0; i < s->texture_count; ++i) /* a half texel is two words */
+    texel_count += (uint64_t)s->textures[i].width * s->textures[i].height * (s->textures[i].rgbah ? 2u : 1u);
   if (texel_count > UINT32_MAX) {
     r = pb_fail(PB_ERR_LIMIT, "%s: %llu texels exceed the GPU texel index range", path, (unsigned long long)texel_count);
     goto fail;
@@ -331,15 +332,22 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     const pb_texture *t = &s->textures[i];
     uint64_t n = (uint64_t)t->width * t->height;
     texs[i] = (pb_gpu_texture){.offset = off, .width = t->width, .height = t->height,
-                               .flags = (t->srgb ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0),
+                               .flags = (t->srgb && !t->rgbah ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0) |
+                                        (t->rgbah ? PB_GPU_TEX_HALF : 0),
                                .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t,
                                .texcoord = t->texcoord == 1 && gs->uv1_base ? 1u : 0u,
                                .xform_u = {1, 0, 0, 0}, .xform_v = {0, 1, 0, 0}};
     if (t->uv_transformed)
       for (int k = 0; k < 3; ++k) texs[i].xform_u[k] = t->uv_xform[k], texs[i].xform_v[k] = t->uv_xform[3 + k];
-    for (uint64_t k = 0; k < n; ++k) {
-      const uint8_t *p = t->rgba8 + 4 * k;
-      texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    if (t->rgbah) { /* R | G << 16, B | A << 16: unpackHalf2x16's order */
+      for (uint64_t k = 0; k < 2 * n; ++k)
+        texels[off + k] = (uint32_t)t->rgbah[2 * k] | (uint32_t)t->rgbah[2 * k + 1] << 16;
+      n *= 2;
+    } else {
+      for (uint64_t k = 0; k < n; ++k) {
+        const uint8_t *p = t->rgba8 + 4 * k;
+        texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+      }
     }
     off += (uint32_t)n;
   }

@@ -211,6 +211,11 @@ typedef struct pb_gltf_material {
 
 typedef struct pb_gltf_texture {
   int32_t source, sampler;
+  /* extensions.PHOTONBRIDGE_blender.source: the same image with more than 8
+   * bits a channel (a 16-bit PNG, HDR or EXR: image/decode.h), read in place
+   * of `source`, which stays the 8-bit fallback other glTF readers show; -1
+   * none, -2 present but not an integer (an error). */
+  int32_t float_source;
 } pb_gltf_texture;
 
 typedef struct pb_gltf_image {

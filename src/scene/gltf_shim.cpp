@@ -1169,7 +1169,16 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.blender = extension_value(m, mt.extensions, "PHOTONBRIDGE_blender");
     m.materials.push_back(x);
   }
-  for (auto &t : g.textures) m.textures.push_back(pb_gltf_texture{t.source, t.sampler});
+  for (auto &t : g.textures) {
+    int32_t fs = -1;
+    auto e = t.extensions.find("PHOTONBRIDGE_blender");
+    if (e != t.extensions.end() && e->second.IsObject() && e->second.Has("source")) {
+      const tinygltf::Value &v = e->second.Get("source");
+      fs = v.IsInt() ? v.GetNumberAsInt() : -2;
+      if (fs < 0) fs = -2;
+    }
+    m.textures.push_back(pb_gltf_texture{t.source, t.sampler, fs});
+  }
   for (auto &im : g.images) {
     pb_gltf_image x{};
     x.name = s(im.name);

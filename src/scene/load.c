@@ -11,6 +11,7 @@
 
 #include "core/fs.h"
 #include "scene/camera.h"
+#include "core/half.h"
 #include "image/decode.h"
 #include "scene/gltf_doc.h"
 #include "scene/tangents.h"
@@ -42,6 +43,8 @@ typedef struct loader {
   int32_t default_material;   /* index in s->materials, -1 until needed */
   int32_t *texture_src;       /* per s->textures: its glTF texture */
   uint8_t **image_cache;      /* decoded RGBA8 per gltf image */
+  float **image_cache_f;      /* or RGBA floats (16-bit PNG, HDR, EXR: image/decode.h) */
+  uint8_t *image_linear;      /* 1: image_cache_f holds scene-linear values (HDR, EXR) */
   uint32_t *image_w, *image_h;
   uint8_t *node_state;        /* cycle detection: 0 new, 1 on stack, 2 done */
   int32_t *parent;
@@ -115,7 +118,7 @@ static mat4 node_local(const pb_gltf_node *n) {
 
 static pb_result decode_image(loader *L, int32_t img, const char *where) {
   pb_gltf_doc *d = L->doc;
-  if (L->image_cache[img]) return PB_OK;
+  if (L->image_cache[img] || L->image_cache_f[img]) return PB_OK;
   const pb_gltf_image *im = &d->images[img];
   uint8_t *file = NULL;
   size_t size = 0;
@@ -158,10 +161,29 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
    * is allocated (image/decode.h). */
   const pb_decode_limits lim = {.max_dim = L->desc->max_image_dim, .max_pixels = L->desc->max_image_pixels};
   pb_decoded dec;
-  pb_decode_status st = pb_decode_image_rgba8(bytes, size, &lim, &dec);
-  free(file);
+  pb_decode_status st;
+  if (pb_decode_is_float_image(bytes, size)) {
+    /* More than 8 bits a channel: kept as floats (scene.h pb_texture.rgbah). */
+    pb_decoded_float df;
+    st = pb_decode_image_float(bytes, size, &lim, &df);
+    free(file);
+    memset(&dec, 0, sizeof dec);
+    dec.width = df.width, dec.height = df.height;
+    memcpy(dec.why, df.why, sizeof dec.why);
+    if (st == PB_DECODE_OK) {
+      L->image_cache_f[img] = df.rgba;
+      L->image_linear[img] = (uint8_t)df.linear;
+      L->image_w[img] = df.width;
+      L->image_h[img] = df.height;
+      return PB_OK;
+    }
+  } else {
+    st = pb_decode_image_rgba8(bytes, size, &lim, &dec);
+    free(file);
+  }
   if (st == PB_DECODE_UNKNOWN)
-    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG or JPEG file", L->path, img, where);
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: images[%d] (used by %s): not a PNG, JPEG, HDR or EXR file", L->path,
+                   img, where);
   if (st == PB_DECODE_TOO_LARGE)
     return pb_fail(PB_ERR_LIMIT, "%s: images[%d]: %ux%u is over the image size limit (%u per side, %llu pixels)",
                    L->path, img, dec.width, dec.height, L->desc->max_image_dim,
@@ -226,10 +248,20 @@ static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb
       return PB_OK;
     }
   }
-  const pb_gltf_texture *t = &d->textures[tex];
-  if (t->source < 0 || (size_t)t->source >= d->image_count)
+  const pb_gltf_texture *t0 = &d->textures[tex];
+  if (t0->source < 0 || (size_t)t0->source >= d->image_count)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: textures[%d].source: image %d does not exist (%zu images)", L->path,
-                   tex, t->source, d->image_count);
+                   tex, t0->source, d->image_count);
+  /* A float image in place of the 8-bit source (gltf_doc.h float_source). */
+  pb_gltf_texture tf = *t0;
+  const pb_gltf_texture *t = &tf;
+  if (t0->float_source != -1) {
+    if (t0->float_source < 0 || (size_t)t0->float_source >= d->image_count)
+      return pb_fail(PB_ERR_SCENE_INVALID,
+                     "%s: textures[%d].extensions.PHOTONBRIDGE_blender.source: not an image index (%zu images)", L->path,
+                     tex, d->image_count);
+    tf.source = t0->float_source;
+  }
   pb_wrap ws = PB_WRAP_REPEAT, wt = PB_WRAP_REPEAT;
   int nearest = 0;
   if (t->sampler != -1) {
@@ -248,7 +280,9 @@ static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb
    * pixels (here and on the GPU): a few hundred bytes of materials could ask
    * for thousands of copies of one image at the size limit. The scene's
    * texels are bounded by 16 images at the limit. */
-  uint64_t texels = (uint64_t)L->image_w[t->source] * L->image_h[t->source];
+  /* A float image's texel is two 32-bit words (half RGBA) here and on the GPU. */
+  int is_f = L->image_cache_f[t->source] != NULL;
+  uint64_t texels = (uint64_t)L->image_w[t->source] * L->image_h[t->source] * (is_f ? 2u : 1u);
   uint64_t budget = 16 * L->desc->max_image_pixels;
   if (L->texels + texels > budget)
     return pb_fail(PB_ERR_LIMIT, "%s: %s: textures[%d] (images[%d], %ux%u) takes the scene's textures over %llu texels "
@@ -266,10 +300,33 @@ static pb_result texture_ref(loader *L, const pb_gltf_texture_ref *ref, int srgb
   L->texture_src[s->texture_count] = tex;
   pb_texture *pt = &s->textures[s->texture_count];
   memset(pt, 0, sizeof *pt);
-  size_t bytes = (size_t)L->image_w[t->source] * L->image_h[t->source] * 4;
-  pt->rgba8 = malloc(bytes);
-  if (!pt->rgba8) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for textures[%d]", L->path, tex);
-  memcpy(pt->rgba8, L->image_cache[t->source], bytes);
+  size_t count = (size_t)L->image_w[t->source] * L->image_h[t->source] * 4;
+  if (is_f) {
+    /* Half RGBA for the slot: a 16-bit PNG's samples are sRGB-decoded here
+     * when the slot is a colour one (as pb_texture_sample does for 8 bits);
+     * HDR and EXR values are scene-linear in every slot. */
+    pt->rgbah = malloc(count * sizeof *pt->rgbah);
+    if (!pt->rgbah) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for textures[%d]", L->path, tex);
+    const float *f = L->image_cache_f[t->source];
+    int decode = srgb && !L->image_linear[t->source];
+    uint64_t odd = 0;
+    for (size_t k = 0; k < count; ++k) {
+      float v = f[k];
+      if (!(v >= 0.0f)) v = 0.0f, ++odd; /* NaN and negative texels: 0 */
+      if (v > 65504.0f) v = 65504.0f, ++odd; /* half's largest */
+      if (decode && k % 4 != 3) v = pb_srgb_to_linear(v);
+      pt->rgbah[k] = pb_float_to_half(v);
+    }
+    if (odd) {
+      pb_result r2 = warn(L, "images[%d]: %llu texel values negative, NaN or over 65504 were set to 0 or 65504",
+                          t->source, (unsigned long long)odd);
+      if (r2 != PB_OK) return r2;
+    }
+  } else {
+    pt->rgba8 = malloc(count);
+    if (!pt->rgba8) return pb_fail(PB_ERR_NOMEM, "%s: out of memory for textures[%d]", L->path, tex);
+    memcpy(pt->rgba8, L->image_cache[t->source], count);
+  }
   pt->width = L->image_w[t->source];
   pt->height = L->image_h[t->source];
   pt->srgb = srgb;
@@ -1729,11 +1786,13 @@ static pb_result load(loader *L) {
    * with room for glTF's default material. */
   s->materials = calloc(d->material_count + 1, sizeof *s->materials);
   L->image_cache = calloc(d->image_count + 1, sizeof *L->image_cache);
+  L->image_cache_f = calloc(d->image_count + 1, sizeof *L->image_cache_f);
+  L->image_linear = calloc(d->image_count + 1, sizeof *L->image_linear);
   L->image_w = calloc(d->image_count + 1, sizeof *L->image_w);
   L->image_h = calloc(d->image_count + 1, sizeof *L->image_h);
   L->node_state = calloc(d->node_count + 1, 1);
   L->parent = malloc((d->node_count + 1) * sizeof *L->parent);
-  if (!s->materials || !L->image_cache || !L->image_w || !L->image_h || !L->node_state || !L->parent)
+  if (!s->materials || !L->image_cache || !L->image_cache_f || !L->image_linear || !L->image_w || !L->image_h || !L->node_state || !L->parent)
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory", L->path);
   for (size_t i = 0; i < d->material_count; ++i) {
     if ((r = convert_material(L, (int)i, &s->materials[i])) != PB_OK) return r;
@@ -1844,7 +1903,10 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   r = out->path ? load(&L) : pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
 
   for (size_t i = 0; i < doc.image_count && L.image_cache; ++i) free(L.image_cache[i]);
+  for (size_t i = 0; i < doc.image_count && L.image_cache_f; ++i) free(L.image_cache_f[i]);
   free(L.image_cache);
+  free(L.image_cache_f);
+  free(L.image_linear);
   free(L.image_w);
   free(L.image_h);
   free(L.texture_src);

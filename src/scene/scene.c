@@ -1,4 +1,5 @@
 /* The scene model's own operations (the glTF loader is load.c). */
+#include "core/half.h"
 #include "scene/scene.h"
 
 #include "scene/anim.h"
@@ -271,11 +272,28 @@ static int wrap_coord(int i, int n, pb_wrap w) {
 }
 
 static void texel(const pb_texture *t, int x, int y, float out[4]) {
+  if (t->rgbah) {
+    const uint16_t *h = t->rgbah + ((size_t)y * t->width + (size_t)x) * 4;
+    for (int c = 0; c < 4; ++c) out[c] = pb_half_to_float(h[c]);
+    return;
+  }
   const uint8_t *p = t->rgba8 + ((size_t)y * t->width + (size_t)x) * 4;
   for (int c = 0; c < 4; ++c) {
     float v = (float)p[c] * (1.0f / 255.0f);
     out[c] = (t->srgb && c < 3) ? pb_srgb_to_linear(v) : v;
   }
+}
+
+void pb_texture_mean(const pb_texture *t, float out[4]) {
+  double acc[4] = {0, 0, 0, 0};
+  for (uint32_t y = 0; y < t->height; ++y)
+    for (uint32_t x = 0; x < t->width; ++x) {
+      float c[4];
+      texel(t, (int)x, (int)y, c);
+      for (int k = 0; k < 4; ++k) acc[k] += c[k];
+    }
+  double n = (double)t->width * t->height;
+  for (int k = 0; k < 4; ++k) out[k] = n > 0 ? (float)(acc[k] / n) : 0.0f;
 }
 
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]) {
@@ -371,7 +389,7 @@ void pb_scene_destroy(pb_scene *s) {
   free(s->triangles);
   free(s->triangle_material);
   free(s->materials);
-  for (uint32_t i = 0; i < s->texture_count; ++i) free(s->textures[i].rgba8);
+  for (uint32_t i = 0; i < s->texture_count; ++i) free(s->textures[i].rgba8), free(s->textures[i].rgbah);
   free(s->textures);
   free(s->lights);
   free(s->cameras);

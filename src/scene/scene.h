@@ -26,6 +26,11 @@ typedef struct pb_texture {
   char name[PB_NAME_MAX];
   uint32_t width, height;
   uint8_t *rgba8;   /* width*height*4 bytes, rows top to bottom as in the file */
+  uint16_t *rgbah;  /* or (rgba8 NULL) width*height*4 IEEE halfs, linear: an
+                       image of more than 8 bits a channel (16-bit PNG, HDR,
+                       EXR: image/decode.h), sRGB already decoded for a colour
+                       slot (srgb then only names the slot); NaN and negative
+                       texels 0, at most 65504 */
   int srgb;         /* 1: texels are sRGB-encoded (base colour, emissive) */
   pb_wrap wrap_s, wrap_t;
   int nearest;      /* 1: magFilter NEAREST; otherwise bilinear */
@@ -542,6 +547,9 @@ void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
 /* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
  * RGBA out (sRGB decoded when the texture is sRGB). */
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
+/* The mean of t's decoded texels (linear RGBA, as pb_texture_sample reads
+ * them), over every texel. */
+void pb_texture_mean(const pb_texture *t, float out[4]);
 
 /* A material's texture at a surface point with uv sets uv0 and uv1 (uv1 may
  * be NULL: zero): the texture's uv set through its uv_xform, then

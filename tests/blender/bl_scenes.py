@@ -41,6 +41,12 @@ the folder after '--':
                      Emission has Strength 2 and Color (1, 0.5, 0.25)
   lightnodes_ref.blend  the same light without nodes, twice the power and
                      that colour
+  floattex.blend     two boxes under a point light: one whose Principled
+                     Emission Color is a generated float image of (4, 2, 1)
+                     (Strength 1), one whose Base Color is an EXR file of
+                     (0.5, 0.25, 0.125) on disk next to the .blend
+  floattex_ref.blend the same with Emission Color (1, 0.5, 0.25) x Strength 4
+                     and that Base Color as constants
   sky.blend          a floor and a cube under a Nishita Sky Texture world
                      (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
   sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
@@ -558,3 +564,41 @@ cam_pano_scene("cam_equirect", 'EQUIRECTANGULAR')
 cam_pano_scene("cam_fisheye", 'FISHEYE_EQUISOLID', fisheye_lens=8.0, fisheye_fov=3.0)
 cam_pano_scene("cam_fisheye_eqd", 'FISHEYE_EQUIDISTANT', fisheye_fov=3.5)
 print("bl_scenes: saved into", out)
+
+
+def floattex_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    m = material("Glow", (0.0, 0.0, 0.0))
+    b = m.node_tree.nodes["Principled BSDF"]
+    if ref:
+        b.inputs["Emission"].default_value = (1.0, 0.5, 0.25, 1.0)
+        b.inputs["Emission Strength"].default_value = 4.0
+    else:
+        img = bpy.data.images.new("Glow", 4, 4, float_buffer=True)
+        img.pixels = [4.0, 2.0, 1.0, 1.0] * 16
+        img.pack()
+        t = m.node_tree.nodes.new("ShaderNodeTexImage")
+        t.image = img
+        m.node_tree.links.new(t.outputs["Color"], b.inputs["Emission"])
+        b.inputs["Emission Strength"].default_value = 1.0
+    box("Glow", (-1.2, 0, 0.5), 0.5, m)
+    m2 = material("Paint", (0.5, 0.25, 0.125))
+    if not ref:
+        img = bpy.data.images.new("Paint", 4, 4, float_buffer=True)
+        img.pixels = [0.5, 0.25, 0.125, 1.0] * 16
+        img.filepath_raw = os.path.join(out, "paint.exr")
+        img.file_format = 'OPEN_EXR'
+        img.save()
+        img = bpy.data.images.load(os.path.join(out, "paint.exr"))
+        t = m2.node_tree.nodes.new("ShaderNodeTexImage")
+        t.image = img
+        m2.node_tree.links.new(t.outputs["Color"], m2.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    box("Paint", (1.2, 0, 0.5), 0.5, m2)
+    save("floattex_ref.blend" if ref else "floattex.blend")
+
+
+floattex_scene(False)
+floattex_scene(True)

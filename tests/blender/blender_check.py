@@ -562,6 +562,19 @@ def same_means(scenes, name, what, tol=0.01, pixels=False):
           % (what, ["%.4f" % x for x in a], ["%.4f" % x for x in b], 100 * worst))
 
 
+def part_floattex():
+    scenes = fresh("floattex_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    gltf = os.path.join(WORK, "floattex.gltf")
+    ok, _ = write_with_addon(os.path.join(scenes, "floattex.blend"), gltf)
+    j = json.load(open(gltf)) if ok else {}
+    fl = [j["images"][t["extensions"]["PHOTONBRIDGE_blender"]["source"]]["uri"] for t in j.get("textures", [])
+          if "PHOTONBRIDGE_blender" in t.get("extensions", {})]
+    check(len(fl) == 2 and all(u.endswith(".exr") for u in fl),
+          "both float images are written at full precision beside their 8-bit fallbacks (%s)" % fl)
+    same_means(scenes, "floattex", "float image textures render as their values do", tol=0.015)
+
+
 def part_vcolor():
     scenes = fresh("vcolor_scenes")
     blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])

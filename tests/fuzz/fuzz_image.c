@@ -17,7 +17,11 @@
  *   - texture decoders: OK with pixels within the limits (every byte read),
  *     TOO_LARGE with a declared size that is over them, BAD with a one-line
  *     reason, never pixels on failure;
- *   - float readers: pb_fuzz_check_image_read. */
+ *   - float readers: pb_fuzz_check_image_read;
+ *   - the float texture decoder (decode.h pb_decode_image_float: 16-bit PNG,
+ *     Radiance, EXR from memory), run on every input: the same contract as
+ *     the texture decoders, UNKNOWN exactly when pb_decode_is_float_image
+ *     says no. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -105,7 +109,38 @@ static void check_rgba8(const char *name, pb_decode_status st, const pb_decoded 
   }
 }
 
+static void check_float_texture(const uint8_t *data, size_t size) {
+  pb_decoded_float d;
+  pb_error_clear();
+  pb_decode_status st = pb_decode_image_float(data, size, &tex_lim, &d);
+  pb_error_clear();
+  int mine = pb_decode_is_float_image(data, size);
+  if ((st == PB_DECODE_UNKNOWN) == mine) pb_fuzz_fail("float texture: status %d, is_float_image %d", (int)st, mine);
+  switch (st) {
+  case PB_DECODE_OK:
+    if (!d.rgba || !d.width || !d.height || d.width > tex_lim.max_dim || d.height > tex_lim.max_dim ||
+        (uint64_t)d.width * d.height > tex_lim.max_pixels)
+      pb_fuzz_fail("float texture: OK with %ux%u, pixels %p", d.width, d.height, (void *)d.rgba);
+    for (size_t i = 0; i < (size_t)d.width * d.height * 4; ++i) sink += (unsigned)(d.rgba[i] != 0.0f);
+    break;
+  case PB_DECODE_TOO_LARGE:
+    if (d.rgba || (d.width <= tex_lim.max_dim && d.height <= tex_lim.max_dim &&
+                   (uint64_t)d.width * d.height <= tex_lim.max_pixels))
+      pb_fuzz_fail("float texture: TOO_LARGE with %ux%u", d.width, d.height);
+    break;
+  case PB_DECODE_BAD:
+    if (d.rgba || !d.why[0] || strchr(d.why, '\n')) pb_fuzz_fail("float texture: BAD without a one-line reason");
+    break;
+  case PB_DECODE_NOMEM:
+  case PB_DECODE_UNKNOWN:
+    if (d.rgba) pb_fuzz_fail("float texture: status %d with pixels", (int)st);
+    break;
+  }
+  free(d.rgba);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  check_float_texture(data, size);
   for (size_t i = 0; i < COUNT(rgba8_decoders); ++i)
     if (size >= rgba8_decoders[i].magic_len && memcmp(data, rgba8_decoders[i].magic, rgba8_decoders[i].magic_len) == 0) {
       pb_decoded d;

@@ -214,6 +214,59 @@ static void test_roundtrip_half(void) {
   free(px);
 }
 
+/* OpenEXR 3.1.5's ZIP encoder kept a zlib stream exactly as long as the
+ * packed chunk, which every reader then takes for raw pixels (exr.c
+ * zip_guard): this 2 x 1 RGBA half image came back as (1.3e-4, 4.4e-5, ...).
+ * Then small images of smooth and repeated values, half and float, each
+ * read back exactly (half: the values are halfs), so that any chunk size
+ * that lands on the equality is caught. */
+static void test_zip_equal_size(void) {
+  const float a[8] = {4.0f, 2.0f, 1.0f, 1.0f, 4.0f, 2.0f, 1.0f, 1.0f};
+  pb_image_layer layer = {NULL, 4, a, NULL};
+  pb_exr_desc d = {.width = 2, .height = 1, .layers = &layer, .layer_count = 1, .pixel_type = PB_EXR_HALF};
+  const char *p = tpath("zip_equal.exr");
+  CHECK_EQ_INT(pb_exr_write(p, &d), PB_OK);
+  pb_image img;
+  CHECK_EQ_INT(pb_exr_read(p, NULL, &img), PB_OK);
+  int same = img.channel_count == 4;
+  for (uint32_t i = 0; same && i < 2; ++i) {
+    same &= img.pixels[i * 4 + (uint32_t)pb_image_find_channel(&img, "R")] == 4.0f;
+    same &= img.pixels[i * 4 + (uint32_t)pb_image_find_channel(&img, "G")] == 2.0f;
+    same &= img.pixels[i * 4 + (uint32_t)pb_image_find_channel(&img, "A")] == 1.0f;
+  }
+  CHECK(same);
+  pb_image_destroy(&img);
+  uint32_t bad = 0, seed = 12345;
+  float px[4 * 24 * 3];
+  for (int t = 0; t < 400; ++t) {
+    uint32_t w = 1 + (uint32_t)t % 24, h = 1 + (uint32_t)(t / 24) % 3;
+    for (uint32_t k = 0; k < 4 * w * h; ++k) {
+      seed = seed * 1664525u + 1013904223u;
+      /* a few distinct values, some runs: partly compressible */
+      px[k] = (float)((seed >> 28) % (1u + (uint32_t)t % 7)) * 0.25f;
+    }
+    for (int half = 0; half < 2; ++half) {
+      pb_image_layer l = {NULL, 4, px, NULL};
+      pb_exr_desc e = {.width = w, .height = h, .layers = &l, .layer_count = 1,
+                       .pixel_type = half ? PB_EXR_HALF : PB_EXR_FLOAT};
+      if (pb_exr_write(p, &e) != PB_OK || pb_exr_read(p, NULL, &img) != PB_OK) {
+        ++bad;
+        continue;
+      }
+      const char *names[4] = {"R", "G", "B", "A"};
+      for (uint32_t k = 0; k < w * h; ++k)
+        for (int c = 0; c < 4; ++c)
+          if (img.pixels[k * 4 + (uint32_t)pb_image_find_channel(&img, names[c])] != px[k * 4 + (uint32_t)c]) {
+            ++bad;
+            k = w * h;
+            break;
+          }
+      pb_image_destroy(&img);
+    }
+  }
+  CHECK_EQ_INT(bad, 0);
+}
+
 static void test_layers(void) {
   enum { W = 13, H = 17, N = W * H };
   /* Every sample is unique: 1000 * layer + 100 * component + pixel / 4. */
@@ -704,6 +757,7 @@ int main(void) {
   }
   test_roundtrip_float();
   test_roundtrip_half();
+  test_zip_equal_size();
   test_layers();
   test_header_attributes();
   test_write_errors();

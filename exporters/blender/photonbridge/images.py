@@ -10,7 +10,13 @@ folder for photonbridge), written once per image and colour use.
   the image holds linear floats, so nothing depends on Blender's image save
   operators (which change the image datablock, unsafe during a render);
 - environment maps (.hdr, .exr) are copied or written as they are; a
-  generated or non-HDR world image is written as PNG.
+  generated or non-HDR world image is written as PNG;
+- a float image in a material (an EXR or HDR file, a generated or edited
+  float image) also gets a full-precision file (float_image: the EXR/HDR
+  copied, or an uncompressed half-float EXR written here), referenced from
+  the glTF texture's extensions.PHOTONBRIDGE_blender.source; the 8-bit PNG
+  stays the texture's source for other glTF readers. 16-bit PNGs are copied
+  as they are and read at 16 bits by photonbridge.
 
 No bpy.context and no operators: safe in RenderEngine.update()."""
 import os
@@ -40,6 +46,36 @@ def png_encode(rgba8):
 
     return (PNG_MAGIC + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, color_type, 0, 0, 0)) +
             chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)) + chunk(b"IEND", b""))
+
+
+def exr_encode(rgba):
+    """An (h, w, 4) float array (rows top to bottom, scene-linear) as the
+    bytes of an uncompressed scanline OpenEXR file with HALF channels R, G,
+    B, A (OpenEXR's file layout: magic, version 2, header attributes, a
+    line offset table, one scanline a chunk; channels in name order)."""
+    h, w, _ = rgba.shape
+    px = np.nan_to_num(np.asarray(rgba, np.float32), nan=0.0, posinf=65504.0, neginf=0.0)
+    px = np.clip(px, 0.0, 65504.0).astype("<f2")
+
+    def attr(name, kind, data):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(data)) + data
+
+    chl = b"".join(c.encode() + b"\0" + struct.pack("<iB3xii", 1, 0, 1, 1) for c in "ABGR") + b"\0"
+    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
+    header = (b"\x76\x2f\x31\x01" + struct.pack("<i", 2) + attr("channels", "chlist", chl) +
+              attr("compression", "compression", b"\0") + attr("dataWindow", "box2i", box) +
+              attr("displayWindow", "box2i", box) + attr("lineOrder", "lineOrder", b"\0") +
+              attr("pixelAspectRatio", "float", struct.pack("<f", 1.0)) +
+              attr("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0)) +
+              attr("screenWindowWidth", "float", struct.pack("<f", 1.0)) + b"\0")
+    line = 2 * w * 4
+    first = len(header) + 8 * h
+    offsets = struct.pack("<%dQ" % h, *[first + y * (8 + line) for y in range(h)])
+    rows = []
+    for y in range(h):
+        planes = b"".join(px[y, :, k].tobytes() for k in (3, 2, 1, 0))  # A, B, G, R
+        rows.append(struct.pack("<ii", y, line) + planes)
+    return header + offsets + b"".join(rows)
 
 
 def linear_to_srgb(x):
@@ -133,6 +169,47 @@ class ImageWriter:
             uri = self._unique(image.name, ".png")
             with open(os.path.join(self.folder, uri), "wb") as f:
                 f.write(png_encode(rgba8))
+        self.done[key] = uri
+        return uri
+
+    def float_image(self, image):
+        """URI of a full-precision copy of a float `image` for a material
+        texture (scene-linear values: an EXR or HDR file as it is, otherwise a
+        half-float EXR of Image.pixels), or None where the 8-bit texture file
+        already holds what the image has (8- and 16-bit PNG, JPEG)."""
+        if not image.is_float:
+            return None
+        key = (image.name, "float")
+        if key in self.done:
+            return self.done[key]
+        uri = None
+        if self._source_bytes(image) is None:
+            data, path = None, None
+            if image.packed_file is not None:
+                data = bytes(image.packed_file.data)
+            elif image.source == 'FILE' and not image.is_dirty:
+                path = bpy.path.abspath(image.filepath, library=image.library)
+                try:
+                    with open(path, "rb") as f:
+                        data = f.read(16)
+                except OSError:
+                    data, path = None, None
+            ext = None
+            if data is not None and data.startswith(b"\x76\x2f\x31\x01"):
+                ext = ".exr"
+            elif data is not None and (data.startswith(b"#?RADIANCE") or data.startswith(b"#?RGBE")):
+                ext = ".hdr"
+            if ext and path:
+                uri = self._unique(os.path.splitext(os.path.basename(path))[0], ext)
+                shutil.copyfile(path, os.path.join(self.folder, uri))
+            elif ext and image.packed_file is not None:
+                uri = self._unique(image.name, ext)
+                with open(os.path.join(self.folder, uri), "wb") as f:
+                    f.write(data)
+            elif image.size[0] > 0 and image.size[1] > 0:
+                uri = self._unique(image.name, ".exr")
+                with open(os.path.join(self.folder, uri), "wb") as f:
+                    f.write(exr_encode(image_pixels(image)))
         self.done[key] = uri
         return uri
 

@@ -290,7 +290,7 @@ class MaterialWriter:
         uri = self.images.texture_image(image, color=color and channel == "RGB")
         if uri is None:
             return None, None
-        index = self.doc.add_texture(uri, self._sampler(node))
+        index = self.doc.add_texture(uri, self._sampler(node), self.images.float_image(image))
         entry = self._texture_info(index, node, texCoord=0, channel=channel)
         if color and image.colorspace_settings.name in ("Non-Color", "Raw", "Linear"):
             entry["colorSpace"] = "Non-Color"

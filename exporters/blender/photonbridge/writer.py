@@ -116,17 +116,29 @@ class Document:
             self.used.add(k)
         return len(self.j["materials"]) - 1
 
-    def add_texture(self, uri, sampler):
+    def _image(self, uri):
         if uri not in self.image_index:
             self.j["images"].append({"uri": uri, "name": os.path.splitext(uri)[0]})
             self.image_index[uri] = len(self.j["images"]) - 1
+        return self.image_index[uri]
+
+    def add_texture(self, uri, sampler, float_uri=None):
+        """A glTF texture of image `uri`; float_uri: the same image at full
+        precision (images.ImageWriter.float_image), which photonbridge reads
+        instead (extensions.PHOTONBRIDGE_blender.source)."""
+        src = self._image(uri)
+        fsrc = self._image(float_uri) if float_uri else None
         sk = json.dumps(sampler, sort_keys=True)
         if sk not in self.sampler_index:
             self.j["samplers"].append(sampler)
             self.sampler_index[sk] = len(self.j["samplers"]) - 1
-        tk = (self.image_index[uri], self.sampler_index[sk])
+        tk = (src, self.sampler_index[sk], fsrc)
         if tk not in self.texture_index:
-            self.j["textures"].append({"source": tk[0], "sampler": tk[1]})
+            t = {"source": tk[0], "sampler": tk[1]}
+            if fsrc is not None:
+                t["extensions"] = {"PHOTONBRIDGE_blender": {"source": fsrc}}
+                self.used.add("PHOTONBRIDGE_blender")
+            self.j["textures"].append(t)
             self.texture_index[tk] = len(self.j["textures"]) - 1
         return self.texture_index[tk]
 
