@@ -637,7 +637,7 @@ def broken_cases(C, png):
          blender({"model": "principled", "warnings": [1]}))
     case("texture_sampler_oob", EXIT_INVALID, "textures[0].sampler", setp(("textures", 0, "sampler"), 3))
     case("sampler_wrap_bogus", EXIT_INVALID, "samplers[0].wrapS", setp(("samplers", 0, "wrapS"), 12345))
-    case("image_not_png", EXIT_UNSUPPORTED, ["images[0]", "not a PNG or JPEG"],
+    case("image_not_png", EXIT_UNSUPPORTED, ["images[0]", "not a PNG, JPEG, HDR or EXR file"],
          png_data=b"GIF89a\x02\x00\x02\x00\x80\x00\x00\xff\x00\x00\xff\xff\xff!\xf9\x04\x00"
                   b"\x00\x00\x00\x00,\x00\x00\x00\x00\x02\x00\x02\x00\x00\x02\x02\x84\x51\x00;")
     case("image_huge_header", EXIT_LIMIT, ["images[0]", "100000x100000"], png_data=huge_png())
