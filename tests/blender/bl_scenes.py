@@ -589,9 +589,12 @@ def floattex_scene(ref):
     if not ref:
         img = bpy.data.images.new("Paint", 4, 4, float_buffer=True)
         img.pixels = [0.5, 0.25, 0.125, 1.0] * 16
-        img.filepath_raw = os.path.join(out, "paint.exr")
-        img.file_format = 'OPEN_EXR'
-        img.save()
+        # Image.save() of a generated float image writes Blender 3.4's
+        # display-encoded values into the EXR (0.5 -> 0.7354, the sRGB
+        # curve), so Cycles would render this box brighter than its constant
+        # too; save_render with an EXR format writes the linear pixels.
+        bpy.context.scene.render.image_settings.file_format = 'OPEN_EXR'
+        img.save_render(os.path.join(out, "paint.exr"), scene=bpy.context.scene)
         img = bpy.data.images.load(os.path.join(out, "paint.exr"))
         t = m2.node_tree.nodes.new("ShaderNodeTexImage")
         t.image = img

@@ -572,7 +572,15 @@ def part_floattex():
           if "PHOTONBRIDGE_blender" in t.get("extensions", {})]
     check(len(fl) == 2 and all(u.endswith(".exr") for u in fl),
           "both float images are written at full precision beside their 8-bit fallbacks (%s)" % fl)
-    same_means(scenes, "floattex", "float image textures render as their values do", tol=0.015)
+    # Written beside its own image file: the EXR is kept as it is, not
+    # copied onto itself (SameFileError before).
+    src = os.path.join(scenes, "paint.exr")
+    before = open(src, "rb").read()
+    here = os.path.join(scenes, "floattex_here.gltf")
+    ok2, out2 = write_with_addon(os.path.join(scenes, "floattex.blend"), here)
+    check(ok2 and "Traceback" not in out2 and open(src, "rb").read() == before,
+          "written into the folder of its own EXR texture, the file is kept and the glTF written")
+    same_means(scenes, "floattex", "float image textures render as their values do")
 
 
 def part_vcolor():

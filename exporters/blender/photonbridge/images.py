@@ -121,6 +121,15 @@ class ImageWriter:
         self.names.add(name)
         return name
 
+    def _copy(self, src, uri):
+        # A source already in the export folder under its own name (an image
+        # saved beside the .gltf being written) stays as it is: copying a
+        # file onto itself raises SameFileError.
+        dst = os.path.join(self.folder, uri)
+        if os.path.exists(dst) and os.path.samefile(src, dst):
+            return
+        shutil.copyfile(src, dst)
+
     def _source_bytes(self, image):
         """The image's own PNG/JPEG bytes (packed or on disk), or None."""
         if image.packed_file is not None:
@@ -150,7 +159,7 @@ class ImageWriter:
                 with open(src, "rb") as f:
                     ext = "." + file_kind(f.read(8))
                 uri = self._unique(os.path.splitext(os.path.basename(src))[0], ext)
-                shutil.copyfile(src, os.path.join(self.folder, uri))
+                self._copy(src, uri)
             else:
                 uri = self._unique(image.name, "." + file_kind(src))
                 with open(os.path.join(self.folder, uri), "wb") as f:
@@ -201,7 +210,7 @@ class ImageWriter:
                 ext = ".hdr"
             if ext and path:
                 uri = self._unique(os.path.splitext(os.path.basename(path))[0], ext)
-                shutil.copyfile(path, os.path.join(self.folder, uri))
+                self._copy(path, uri)
             elif ext and image.packed_file is not None:
                 uri = self._unique(image.name, ext)
                 with open(os.path.join(self.folder, uri), "wb") as f:
@@ -265,7 +274,7 @@ class ImageWriter:
             ext = os.path.splitext(path)[1].lower()
             if ext in (".hdr", ".exr", ".png") and os.path.isfile(path):
                 uri = self._unique(os.path.splitext(os.path.basename(path))[0], ext)
-                shutil.copyfile(path, os.path.join(self.folder, uri))
+                self._copy(path, uri)
         if uri is None:
             uri = self.texture_image(image, color=False)
         self.done[key] = uri
