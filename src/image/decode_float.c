@@ -110,7 +110,14 @@ static pb_decode_status exr(const uint8_t *bytes, size_t size, const pb_decode_l
   if (r != PB_OK) {
     snprintf(out->why, sizeof out->why, "%s", pb_error_message());
     pb_error_clear();
-    return r == PB_ERR_LIMIT ? PB_DECODE_TOO_LARGE : r == PB_ERR_NOMEM ? PB_DECODE_NOMEM : PB_DECODE_BAD;
+    /* TOO_LARGE is the declared size over the limits (the reader leaves it
+     * in im); any other limit (too many channels, a 64-byte channel name) is
+     * a file this decoder does not take: BAD with the reader's reason. */
+    if (r == PB_ERR_LIMIT && (im.width || im.height)) {
+      out->width = im.width, out->height = im.height;
+      return PB_DECODE_TOO_LARGE;
+    }
+    return r == PB_ERR_NOMEM ? PB_DECODE_NOMEM : PB_DECODE_BAD;
   }
   int c[4] = {pb_image_find_channel(&im, "R"), pb_image_find_channel(&im, "G"), pb_image_find_channel(&im, "B"),
               pb_image_find_channel(&im, "A")};

@@ -626,6 +626,7 @@ static pb_result read_open(const char *path, const mem_stream *mem,
 
   rstate s = {.path = path, .img = out};
   pb_result r = PB_OK;
+  uint32_t size_w = 0, size_h = 0; /* the declared size, when it is over the limits */
   /* A truncated file must fail, not be patched up from what is left. */
   exr_context_initializer_t init =
       exr_init(EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION);
@@ -680,6 +681,8 @@ static pb_result read_open(const char *path, const mem_stream *mem,
     r = pb_fail(PB_ERR_LIMIT, "%s: image is %lldx%lld, over the limit of %u "
                 "per side and %llu pixels", path, (long long)w, (long long)h,
                 max_dim, (unsigned long long)max_pixels);
+    size_w = w > UINT32_MAX ? UINT32_MAX : (uint32_t)w;
+    size_h = h > UINT32_MAX ? UINT32_MAX : (uint32_t)h;
     goto fail;
   }
   rv = exr_get_channels(s.ctx, s.part, &s.chl);
@@ -763,6 +766,7 @@ fail:
   free(s.scratch);
   if (s.ctx) exr_finish(&s.ctx);
   pb_image_destroy(out);
+  out->width = size_w, out->height = size_h;
   return r;
 }
 

@@ -88,7 +88,10 @@ typedef struct pb_exr_read_limits {
  * subsampled channels are refused. `limits` may be NULL (defaults); they are
  * checked before any pixel memory is allocated. Errors: PB_ERR_IO (cannot
  * open, not a regular file), PB_ERR_IMAGE (malformed, truncated or
- * unsupported), PB_ERR_LIMIT, PB_ERR_NOMEM. On failure *out is zeroed. */
+ * unsupported), PB_ERR_LIMIT, PB_ERR_NOMEM. On failure *out is zeroed, except that a
+ * PB_ERR_LIMIT for the image's size leaves the declared width and height
+ * (so a texture decoder can say how large; a limit on anything else, such
+ * as the channels, leaves them 0). */
 pb_result pb_exr_read(const char *path, const pb_exr_read_limits *limits,
                       pb_image *out);
 /* The same for an EXR file's bytes in memory (a glTF image in a
