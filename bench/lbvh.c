@@ -248,7 +248,7 @@ int main(int argc, char **argv) {
              "\"record_bytes\": %u, \"node_bytes\": %.2f, \"repeat\": %u, \"cores\": %ld, \"device\": ",
              n, best, bst.bounds_ms, bst.morton_ms, bst.sort_ms, bst.climb_ms, best_cpu, n / best / 1e3,
              n / (best_cpu / cores) / 1e3, sort_ms, sort_cpu, n / sort_ms / 1e3, n / (sort_cpu / cores) / 1e3,
-             sort_name, sort_bits, sort_passes, bst.t_auto, bst.leaves, (unsigned)sizeof(pb_gpu_photon), node_bytes, repeat, cores);
+             sort_name, sort_bits, sort_passes, bst.t_auto, bst.leaves, (unsigned)sizeof(pb_gpu_photon_packed), node_bytes, repeat, cores);
       json_string(pb_gpu_device_name(g));
       printf("}\n");
     } else {

@@ -164,9 +164,9 @@ void main() {
     }
     if (li < lend) { // the leaf's next photon
       uint i = li++;
-      // position, wi, normal
-      uvec4 w0 = photons4[6u * i], w2 = photons4[6u * i + 2u], w3 = photons4[6u * i + 3u];
-      vec3 d = uintBitsToFloat(w0.xyz) - x, pn = uintBitsToFloat(w3.xyz);
+      // position; wi and normal (the packed record's words 0 and 2)
+      uvec4 w0 = photons4[PB_PHOTON_PACKED_WORDS4 * i], w2 = photons4[PB_PHOTON_PACKED_WORDS4 * i + 2u];
+      vec3 d = uintBitsToFloat(w0.xyz) - x, pn = pb_photon_unpack_normal(w2);
       // Same side only, and only photons that count (as gather.comp's
       // weight: wi . n_g,i >= 1e-4, from above their own face): a photon
       // on the far face of a box (its stored normal the triangle's,
@@ -176,7 +176,7 @@ void main() {
       // edge (the camera inside a closed block, tests/hard/hard_cases.py)
       // have cos ~ +1e-8 and lie exactly on the edge's plane, so neither
       // test below excluded them (mean 0.00183 inside, limit 1.6e-4).
-      if (!(dot(pn, surf.ng) > PB_KNN_SAME_SIDE_COS) || !(dot(uintBitsToFloat(w2.xyz), pn) >= 1e-4)) continue;
+      if (!(dot(pn, surf.ng) > PB_KNN_SAME_SIDE_COS) || !(dot(pb_photon_unpack_wi(w2), pn) >= 1e-4)) continue;
       float dn = dot(d, surf.ng);
       float d2 = dot(d, d) + PB_KNN_FLATTEN * dn * dn;
       if (edges > 0u) {

@@ -1,6 +1,7 @@
 #version 450
 // LBVH pass 3 (after the sort), one invocation per sorted photon: the
-// photon copied into Morton order with its footprint scaled by info.footprint_scale (the estimator's
+// photon copied into Morton order, as the 48-byte record
+// (common/photon_pack.glsl), with its footprint scaled by info.footprint_scale (the estimator's
 // per-build bandwidth, e.g. SPPM's shrinking radius: the boxes and the
 // gather's kernel and normalisation all read these copies), then the
 // hierarchy, the boxes and the leaf merge in one bottom-up climb from it
@@ -21,6 +22,7 @@
 #include "shared/pb_lbvh.h"
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 #include "common/lbvh.glsl"
+#include "common/photon_pack.glsl"
 
 // The fences around the visit count (lbvh.c turns them off on llvmpipe, see
 // there).
@@ -43,7 +45,7 @@ vec3 pb_hi(pb_entry c) { return uintBitsToFloat(c.hi_count.xyz); }
 // root (its entry in c). `leaves` counts the leaves this climb made children
 // of inner nodes.
 bool pb_climb(uint i, uint n, uint t_auto, out pb_entry c, inout uint leaves) {
-  uint src = vals[pc.sorted + i] * 6u, dst = i * 6u;
+  uint src = vals[pc.sorted + i] * 6u, dst = i * PB_PHOTON_PACKED_WORDS4;
   float k = info.footprint_scale;
   uvec4 w0 = photons_in4[src], w1 = photons_in4[src + 1u], w2 = photons_in4[src + 2u];
   uvec4 w3 = photons_in4[src + 3u], w4 = photons_in4[src + 4u], w5 = photons_in4[src + 5u];
@@ -51,15 +53,20 @@ bool pb_climb(uint i, uint n, uint t_auto, out pb_entry c, inout uint leaves) {
   w2.w = floatBitsToUint(uintBitsToFloat(w2.w) * k);                    // normal_extent
   w4.xyz = floatBitsToUint(uintBitsToFloat(w4.xyz) * k);                // axis_u
   w5.xyz = floatBitsToUint(uintBitsToFloat(w5.xyz) * k);                // axis_v
-  photons4[dst] = w0;
-  photons4[dst + 1u] = w1;
-  photons4[dst + 2u] = w2;
-  photons4[dst + 3u] = w3;
-  photons4[dst + 4u] = w4;
-  photons4[dst + 5u] = w5;
-  vec3 pos = uintBitsToFloat(w0.xyz);
-  vec3 e = pb_footprint_extent(uintBitsToFloat(w4.xyz), uintBitsToFloat(w5.xyz), uintBitsToFloat(w3.xyz),
-                               uintBitsToFloat(w2.w));
+  // Stored as the 48-byte record (common/photon_pack.glsl); the box is the
+  // decoded footprint's, the one the gather tests against.
+  pb_gpu_photon p = pb_gpu_photon(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
+                                  uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w), uintBitsToFloat(w3.xyz), w3.w,
+                                  uintBitsToFloat(w4.xyz), uintBitsToFloat(w4.w), uintBitsToFloat(w5.xyz),
+                                  uintBitsToFloat(w5.w));
+  uvec4 q0, q1, q2;
+  pb_photon_pack(p, q0, q1, q2);
+  photons4[dst] = q0;
+  photons4[dst + 1u] = q1;
+  photons4[dst + 2u] = q2;
+  pb_gpu_photon d = pb_photon_unpack(q0, q1, q2);
+  vec3 pos = d.position;
+  vec3 e = pb_footprint_extent(d.axis_u, d.axis_v, d.normal, d.normal_extent);
   c = pb_entry(uvec4(floatBitsToUint(pos - e), PB_LBVH_LEAF | i), uvec4(floatBitsToUint(pos + e), 1u));
   uint l = i, r = i;
   while (l != 0u || r != n - 1u) {

@@ -7,11 +7,12 @@
 // entry, node << 1 | 1). Include after declaring `lnodes4` (the nodes),
 // `photons4` (the sorted photons) and `info` (pb_gpu_lbvh_info); start with
 // pb_lbvh_begin(). Nodes and photons are read as uvec4 (a child entry is 2,
-// a photon 6): llvmpipe turns each buffer load whose address differs between
+// a photon 3): llvmpipe turns each buffer load whose address differs between
 // lanes into a loop over the lanes, one per load instruction, so a struct
 // read member by member (16 loads for a photon) costs several times 6.
 #ifndef PB_LBVH_TRAVERSE_GLSL
 #define PB_LBVH_TRAVERSE_GLSL
+#include "common/photon_pack.glsl"
 
 uint pb_lt_stack[PB_LBVH_STACK];
 uint pb_lt_sp;
@@ -35,14 +36,11 @@ bool pb_lbvh_inside(vec3 x, pb_lbvh_entry c) {
   return all(greaterThanEqual(x, uintBitsToFloat(c.lo_ref.xyz))) && all(lessThanEqual(x, uintBitsToFloat(c.hi_count.xyz)));
 }
 
-// Sorted photon i (shared/pb_photon.h's layout, offsets asserted there).
+// Sorted photon i: the 48-byte record (shared/pb_photon.h,
+// pb_gpu_photon_packed), decoded by common/photon_pack.glsl.
 pb_gpu_photon pb_lbvh_photon(uint i) {
-  uvec4 w0 = photons4[6u * i], w1 = photons4[6u * i + 1u], w2 = photons4[6u * i + 2u];
-  uvec4 w3 = photons4[6u * i + 3u], w4 = photons4[6u * i + 4u], w5 = photons4[6u * i + 5u];
-  return pb_gpu_photon(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
-                       uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w), uintBitsToFloat(w3.xyz), w3.w,
-                       uintBitsToFloat(w4.xyz), uintBitsToFloat(w4.w), uintBitsToFloat(w5.xyz),
-                       uintBitsToFloat(w5.w));
+  uint at = PB_PHOTON_PACKED_WORDS4 * i;
+  return pb_photon_unpack(photons4[at], photons4[at + 1u], photons4[at + 2u]);
 }
 
 // The next leaf containing x: its first sorted photon and photon count;

@@ -49,6 +49,33 @@ PB_STRUCT(pb_gpu_photon) {
   float pad1;
 } PB_END(pb_gpu_photon)
 
+/* A photon of the sorted map, 48 bytes (issue 22: the LBVH's copy in Morton
+ * order, written by lbvh_climb.comp and read by the gather and kNN through
+ * common/photon_pack.glsl; the tracer's map keeps pb_gpu_photon). Three uvec4:
+ *  w0  position (f32 x3), normal_extent (f32)
+ *  w1  power (f32 x3), scale s = max(radius, |axis_u|, |axis_v|) (f32)
+ *  w2  x: normal, octahedral (Cigolle et al. 2014), 2 x snorm16
+ *      y: wi, octahedral, 2 x 12-bit snorm (bits 0-23); bits 24-31 the
+ *         flags: bit 24 caustic, bits 25-31 the diffuse bounces (at most 127)
+ *      z, w: axis_u and axis_v / s in the tangent frame of the decoded
+ *         normal (pb_photon_basis), 2 x snorm16 each
+ * Position, power and normal extent are exact; the normal within 1e-4 rad,
+ * wi within 1e-3 rad, the axes within 3e-5 s (the footprint lies in the
+ * tangent plane: photon_trace.comp projects the differentials onto it).
+ * Not kept: path and ray_length (no estimator of the sorted map reads
+ * them). */
+PB_STRUCT(pb_gpu_photon_packed) {
+  PB_VEC3(position);
+  float normal_extent;
+  PB_VEC3(power);
+  float scale;
+  uint normal_oct;
+  uint wi_flags;
+  uint axis_u2;
+  uint axis_v2;
+} PB_END(pb_gpu_photon_packed)
+PB_CONST(PB_PHOTON_PACKED_WORDS4, 3u) /* uvec4 per packed photon */
+
 /* Counters written by the tracer (atomics), 32 bytes. */
 PB_STRUCT(pb_gpu_photon_counts) {
   uint stored;          /* photons written (<= capacity) */
@@ -73,6 +100,11 @@ _Static_assert(offsetof(pb_gpu_photon, axis_u) == 64, "pb_gpu_photon.axis_u");
 _Static_assert(offsetof(pb_gpu_photon, ray_length) == 76, "pb_gpu_photon.ray_length");
 _Static_assert(offsetof(pb_gpu_photon, axis_v) == 80, "pb_gpu_photon.axis_v");
 _Static_assert(sizeof(pb_gpu_photon_counts) == 32, "pb_gpu_photon_counts size");
+_Static_assert(sizeof(pb_gpu_photon_packed) == 48, "pb_gpu_photon_packed size");
+_Static_assert(offsetof(pb_gpu_photon_packed, normal_extent) == 12, "pb_gpu_photon_packed.normal_extent");
+_Static_assert(offsetof(pb_gpu_photon_packed, scale) == 28, "pb_gpu_photon_packed.scale");
+_Static_assert(offsetof(pb_gpu_photon_packed, normal_oct) == 32, "pb_gpu_photon_packed.normal_oct");
+_Static_assert(offsetof(pb_gpu_photon_packed, axis_v2) == 44, "pb_gpu_photon_packed.axis_v2");
 #endif
 
 #endif

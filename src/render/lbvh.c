@@ -131,7 +131,7 @@ static pb_result reserve(pb_gpu *g, pb_photon_estimator *e, uint32_t cap) {
     const char *name;
     uint64_t size;
   } list[] = {
-      {&e->sorted, "lbvh.photons", (uint64_t)cap * sizeof(pb_gpu_photon)},
+      {&e->sorted, "lbvh.photons", (uint64_t)cap * sizeof(pb_gpu_photon_packed)},
       {&e->nodes, "lbvh.nodes", (uint64_t)cap * sizeof(pb_gpu_lbvh_node)},
       {&e->visit, "lbvh.visit", (uint64_t)cap * sizeof(uint32_t)},
       {&e->partial, "lbvh.area_partial", tiles * sizeof(float)},

@@ -321,7 +321,8 @@ void pb_photon_estimator_destroy(pb_gpu *g, pb_photon_estimator *e);
 
 /* Tests: the device buffers of the last build. nodes: pb_gpu_lbvh_node[count]
  * (inner node p at the split after sorted photon p, the one-leaf root at
- * count - 1); photons: pb_gpu_photon[count] in Morton order; keys, order:
+ * count - 1); photons: pb_gpu_photon_packed[count] in Morton order
+ * (render/photon_pack.h decodes them); keys, order:
  * the sorted 30-bit codes and the photons' indices in the map, uints from
  * sorted_offset; info: pb_gpu_lbvh_info. count: photons of the last
  * build, as of the last pb_photon_estimator_stats. */

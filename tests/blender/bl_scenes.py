@@ -47,6 +47,9 @@ the folder after '--':
                      (0.5, 0.25, 0.125) on disk next to the .blend
   floattex_ref.blend the same with Emission Color (1, 0.5, 0.25) x Strength 4
                      and that Base Color as constants
+  missingtex.blend   a box whose Base Color and a floor whose Roughness come
+                     from an image file that is not there (Cycles: magenta)
+  missingtex_ref.blend  the box magenta, the floor at magenta's luminance
   sky.blend          a floor and a cube under a Nishita Sky Texture world
                      (Blender 3.4's defaults: sun 15 degrees up, disc on), no lamp
   sky_low.blend      the same, sun 5 degrees up and rotated 1 rad
@@ -605,3 +608,33 @@ def floattex_scene(ref):
 
 floattex_scene(False)
 floattex_scene(True)
+
+
+# missingtex.blend: a box whose Base Color comes from an image file that is
+# not there (Cycles renders it magenta, IMAGE_TEXTURE_MISSING_RGBA; Cycles 3.4,
+# 64 spp: this scene and missingtex_ref both 0.2454 / 0.1939 / 0.2454), and a
+# floor whose Roughness does (a Color output on a scalar input: Cycles takes
+# its luminance, linear_rgb_to_gray, 0.2126729 + 0.0721750 for magenta);
+# missingtex_ref: the box magenta, the floor at that Roughness, no images.
+def missingtex_scene(ref):
+    reset()
+    light()
+    camera()
+    fm = material("Grey", (0.6, 0.6, 0.6))
+    fm.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 0.2848479 if ref else 0.6
+    mesh("Floor", [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)], [(0, 1, 2, 3)], fm)
+    m = material("Gone", (1.0, 0.0, 1.0) if ref else (0.8, 0.8, 0.8))
+    if not ref:
+        img = bpy.data.images.new("gone.png", 4, 4)
+        img.source = 'FILE'
+        img.filepath = os.path.join(out, "no_such_folder", "gone.png")
+        for mat, inp in ((m, "Base Color"), (fm, "Roughness")):
+            t = mat.node_tree.nodes.new("ShaderNodeTexImage")
+            t.image = img
+            mat.node_tree.links.new(t.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs[inp])
+    box("Gone", (0, 0, 0.5), 0.5, m)
+    save("missingtex_ref.blend" if ref else "missingtex.blend")
+
+
+missingtex_scene(False)
+missingtex_scene(True)

@@ -581,6 +581,11 @@ def part_floattex():
     check(ok2 and "Traceback" not in out2 and open(src, "rb").read() == before,
           "written into the folder of its own EXR texture, the file is kept and the glTF written")
     same_means(scenes, "floattex", "float image textures render as their values do")
+    # An image file that is not there: magenta, as in Cycles, with a warning.
+    ok3, out3 = write_with_addon(os.path.join(scenes, "missingtex.blend"), os.path.join(WORK, "missingtex.gltf"))
+    check(ok3 and "image 'gone.png': no pixels (missing file?); rendered magenta, as Cycles does" in out3,
+          "a missing image file is reported and written as magenta")
+    same_means(scenes, "missingtex", "a missing image renders as magenta does")
 
 
 def part_vcolor():

@@ -446,7 +446,10 @@ def case_degenerate(r, kind):
         m = mean(img)
         base = base_pair(r, kind)
         ref_mean = mean(base[0]) if base else 1.0
-        check(m <= 1e-4 * ref_mean, "%s camera inside the closed tall block: mean radiance %.3g (no light leaks in; "
+        # Every estimator gives exactly 0 since their thin-wall tests (before,
+        # the LBVH gather 1.1e-4, under the former limit of 1e-4 of the mean,
+        # and the view-sample hierarchy 3.5e-4 at r_max 30 Delta R, over it).
+        check(m <= 1e-6 * ref_mean, "%s camera inside the closed tall block: mean radiance %.3g (no light leaks in; "
                                     "cornell_box mean %.3g)" % (kind, m, ref_mean))
 
 

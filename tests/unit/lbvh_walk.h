@@ -11,6 +11,7 @@
 
 #include "gpu/gpu.h"
 #include "render/photon.h"
+#include "render/photon_pack.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
@@ -36,7 +37,7 @@ typedef struct lbvh_host {
   uint32_t n;
   pb_gpu_lbvh_info info;
   pb_gpu_lbvh_node *nodes;  /* n entries */
-  pb_gpu_photon *photons;   /* n, Morton order */
+  pb_gpu_photon *photons;   /* n, Morton order, decoded from the packed records */
   uint32_t *keys, *order;   /* n each */
 } lbvh_host;
 
@@ -78,9 +79,12 @@ static inline int lbvh_download(pb_gpu *g, pb_photon_estimator *e, lbvh_host *h)
   if (n && ok) {
     uint64_t off = (uint64_t)v.sorted_offset * 4;
     ok = pb_gpu_buffer_download(g, v.nodes, 0, h->nodes, (uint64_t)n * sizeof *h->nodes) == PB_OK &&
-         pb_gpu_buffer_download(g, v.photons, 0, h->photons, (uint64_t)n * sizeof *h->photons) == PB_OK &&
          pb_gpu_buffer_download(g, v.keys, off, h->keys, (uint64_t)n * 4) == PB_OK &&
          pb_gpu_buffer_download(g, v.order, off, h->order, (uint64_t)n * 4) == PB_OK;
+    pb_gpu_photon_packed *q = calloc(n, sizeof *q);
+    ok = ok && q && pb_gpu_buffer_download(g, v.photons, 0, q, (uint64_t)n * sizeof *q) == PB_OK;
+    for (uint32_t i = 0; ok && i < n; ++i) pb_photon_unpack_host(&q[i], &h->photons[i]);
+    free(q);
   }
   return ok;
 }

@@ -56,11 +56,42 @@ static pb_scene floor_scene(float (*pos)[3], uint32_t (*tri)[3], uint32_t *tm, p
   return s;
 }
 
-/* mode 0: random; 1: all at one point; 2: clustered on a few points. */
+/* A random unit vector. */
+static void rand_dir(float d[3]) {
+  for (;;) {
+    float v[3] = {frand() * 2 - 1, frand() * 2 - 1, frand() * 2 - 1};
+    float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0.1f && l <= 1.0f) {
+      for (int k = 0; k < 3; ++k) d[k] = v[k] / l;
+      return;
+    }
+  }
+}
+
+/* mode 0: random; 1: all at one point; 2: clustered on a few points; 3: as
+ * 0 with random orientations (normal, wi in its hemisphere, the footprint
+ * in its tangent plane) and flags (the packed record's every octant). */
 static void make_photons(pb_gpu_photon *ph, uint32_t n, int mode, float radius) {
   for (uint32_t i = 0; i < n; ++i) {
     pb_gpu_photon *p = &ph[i];
     memset(p, 0, sizeof *p);
+    if (mode == 3) {
+      p->position[0] = frand() * 8 - 4, p->position[1] = frand() * 0.01f, p->position[2] = frand() * 8 - 4;
+      p->power[0] = 1e-3f * frand(), p->power[1] = 2e-9f * frand(), p->power[2] = 5.0f * frand();
+      float *nn = p->normal, t[3], b[3];
+      rand_dir(nn);
+      rand_dir(p->wi);
+      float c = p->wi[0] * nn[0] + p->wi[1] * nn[1] + p->wi[2] * nn[2];
+      if (c < 0)
+        for (int k = 0; k < 3; ++k) p->wi[k] = -p->wi[k];
+      pb_photon_basis_host(nn, t, b); /* any in-plane frame will do */
+      float r = radius * (0.5f + frand()), sk = frand() - 0.5f, rv = r * (0.3f + frand());
+      for (int k = 0; k < 3; ++k) p->axis_u[k] = r * t[k] + sk * r * b[k], p->axis_v[k] = rv * b[k];
+      p->radius = r * 1.5f;
+      p->normal_extent = 0.1f * r;
+      p->flags = (i & 1u) | ((i % 100u) << PB_PHOTON_BOUNCE_SHIFT);
+      continue;
+    }
     float x = mode == 1 ? 0.25f : (mode == 2 ? (float)(i % 3) : frand() * 8 - 4);
     float z = mode == 1 ? -0.5f : (mode == 2 ? 1.0f : frand() * 8 - 4);
     p->position[0] = x, p->position[1] = mode == 0 ? frand() * 0.01f : 0.0f, p->position[2] = z;
@@ -73,7 +104,6 @@ static void make_photons(pb_gpu_photon *ph, uint32_t n, int mode, float radius) 
     p->axis_v[2] = r * (0.3f + frand());
     p->radius = r * 1.5f;
     p->normal_extent = 0.1f * r;
-    p->path = i; /* identity for the permutation check */
   }
 }
 
@@ -123,17 +153,41 @@ static void check_case(pb_gpu *g, pb_photon_estimator *e, uint32_t n, int mode, 
     CHECK((int)h.info.t_auto >= (int)t_want - 1 && h.info.t_auto <= t_want + 1); /* float sum rounding */
   }
   /* Sorted codes; the photons a permutation of the input, each the record of
-   * the index the sort carried. */
-  uint32_t unsorted = 0, perm_bad = 0;
+   * the index the sort carried, packed (shared/pb_photon.h,
+   * pb_gpu_photon_packed): position, power, normal extent and flags exact,
+   * the normal within 1e-4, wi within 2e-3, the axes within 1e-4 of the
+   * scale (a record's worst errors; the input's footprints lie in its
+   * tangent plane, as the tracer's do). */
+  uint32_t unsorted = 0, perm_bad = 0, pack_bad = 0;
+  double worst_n = 0, worst_wi = 0, worst_ax = 0;
   uint32_t *seen = calloc(n ? n : 1, sizeof *seen);
   for (uint32_t i = 1; i < n; ++i) unsorted += h.keys[i] < h.keys[i - 1];
   for (uint32_t i = 0; i < n; ++i) {
     uint32_t o = h.order[i];
-    if (o >= n || seen[o]++ || h.photons[i].path != o) perm_bad++;
-    else if (memcmp(h.photons[i].position, ph[o].position, sizeof ph[o].position)) perm_bad++;
+    if (o >= n || seen[o]++) {
+      perm_bad++;
+      continue;
+    }
+    const pb_gpu_photon *a = &h.photons[i], *b = &ph[o];
+    if (memcmp(a->position, b->position, sizeof b->position) || memcmp(a->power, b->power, sizeof b->power) ||
+        a->normal_extent != b->normal_extent || a->flags != b->flags)
+      pack_bad++;
+    double s = fmax(b->radius, 1e-30);
+    for (int k = 0; k < 3; ++k) {
+      worst_n = fmax(worst_n, fabs(a->normal[k] - b->normal[k]));
+      worst_wi = fmax(worst_wi, fabs(a->wi[k] - b->wi[k]));
+      worst_ax = fmax(worst_ax, fmax(fabs(a->axis_u[k] - b->axis_u[k]), fabs(a->axis_v[k] - b->axis_v[k])) / s);
+    }
   }
   CHECK_EQ_INT(unsorted, 0);
   CHECK_EQ_INT(perm_bad, 0);
+  CHECK_EQ_INT(pack_bad, 0);
+  CHECK(worst_n <= 1e-4);
+  CHECK(worst_wi <= 2e-3);
+  CHECK(worst_ax <= 1e-4);
+  if (worst_n > 1e-4 || worst_wi > 2e-3 || worst_ax > 1e-4)
+    fprintf(stderr, "%s: packed record errors: normal %.3g, wi %.3g, axes %.3g of the scale\n", what, worst_n,
+            worst_wi, worst_ax);
   lbvh_walk w;
   lbvh_walk_tree(&h, &w);
   printf("lbvh %-26s n=%-8u T_auto %-3u (area ratio %.2f) leaves %u (info %u, largest %u), inner %u, "
@@ -172,6 +226,7 @@ int main(void) {
     check_case(g, e, 3000, 0, 0.3f, 0, "random, large");    /* T_auto > 1 */
     check_case(g, e, 300, 1, 0.05f, 0, "identical codes");
     check_case(g, e, 97, 2, 0.05f, 0, "three clusters");
+    check_case(g, e, 4000, 3, 0.05f, 0, "random orientations");
     check_case(g, e, 2, 0, 0.05f, 0, "two photons");
     check_case(g, e, 1, 0, 0.05f, 0, "one photon");
     check_case(g, e, 0, 0, 0.05f, 0, "zero photons");

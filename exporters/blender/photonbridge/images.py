@@ -166,9 +166,20 @@ class ImageWriter:
                     f.write(src)
         else:
             if image.size[0] == 0 or image.size[1] == 0:
-                self.warn("image '%s': no pixels (missing file?); the texture is left out" % image.name)
-                self.done[key] = None
-                return None
+                # Cycles renders an image it cannot load as magenta (1, 0, 1,
+                # alpha 1: IMAGE_TEXTURE_MISSING_RGBA, intern/cycles/util/texture.h)
+                # whatever its input, colour or data; so does the export, so
+                # the artist sees the same hole and a comparison stays fair.
+                self.warn("image '%s': no pixels (missing file?); rendered magenta, as Cycles does" % image.name)
+                key_m = ("(missing)", "magenta")
+                uri = self.done.get(key_m)
+                if uri is None:
+                    uri = self._unique("missing_image", ".png")
+                    with open(os.path.join(self.folder, uri), "wb") as f:
+                        f.write(png_encode(np.array([[[255, 0, 255, 255]]], np.uint8)))
+                    self.done[key_m] = uri
+                self.done[key] = uri
+                return uri
             px = image_pixels(image)
             rgb = px[..., :3]
             if color and (image.is_float or image.colorspace_settings.name in ("Linear", "Non-Color", "Raw")):
