@@ -64,6 +64,9 @@ the folder after '--':
                      a fisheye equidistant (3.5 rad)
   (the cam_* scenes carry Cycles settings for a reference render: 64
   samples, no denoising, CPU)
+  negative_light.blend  a floor, a point light, a box and a second point
+                     light 'Neg' of -100 W (Blender allows it; left out with
+                     a warning)
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -638,3 +641,16 @@ def missingtex_scene(ref):
 
 missingtex_scene(False)
 missingtex_scene(True)
+
+
+reset()
+floor()
+light()
+camera()
+box("Box", (0, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+ld = bpy.data.lights.new("Neg", 'POINT')
+ld.energy = -100.0
+ob = bpy.data.objects.new("Neg", ld)
+ob.location = (1, 1, 2)
+bpy.context.scene.collection.objects.link(ob)
+save("negative_light.blend")

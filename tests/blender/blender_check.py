@@ -41,7 +41,8 @@ PHOTONBRIDGE_BIN):
   badinput     a missing binary, no camera, no lights, only an empty mesh, a
                0-pixel image, an unwritable output path and a CLI killed
                mid-render each give their message, never a hang, and leave no
-               output or process.
+               output or process; a negative light is left out with a
+               warning (the CLI refused the whole file before).
 
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
@@ -772,6 +773,9 @@ def part_badinput():
          "light 'Disk': area light of size 0 x 0 m emits nothing; left out", expect_file=True)
     case("only an empty mesh", os.path.join(scenes, "empty_mesh.blend"),
          ["object 'Edges': its mesh has no faces; left out", "(exit 7)"])
+    case("negative light", os.path.join(scenes, "negative_light.blend"),
+         "light 'Neg': negative power -100 is not rendered (photonbridge has no negative light); left out",
+         expect_file=True)
     case("0-pixel image", blend, "Image too small", settings={"border": "0.5,0.5,0.5,0.9", "crop": "1"})
     blocker = os.path.join(WORK, "not_a_folder")
     with open(blocker, "w") as f:

@@ -521,6 +521,13 @@ class SceneWriter:
         tint, gain = self._light_nodes(obj)
         color = [c * t for c, t in zip(lamp.color, tint)]
         energy = lamp.energy * gain
+        if not energy >= 0.0:
+            # Blender allows negative power (Cycles subtracts that light);
+            # photonbridge refuses a negative light in a file (exit 5), which
+            # failed the whole render: it is left out instead.
+            self.warn("light '%s': negative %s %g is not rendered (photonbridge has no negative light); left out"
+                      % (obj.name, "strength" if lamp.type == 'SUN' else "power", energy))
+            return
         ext = {"type": lamp.type, "name": lamp.name, "color": color,
                "castShadow": bool(getattr(cyc, "cast_shadow", True)),
                "useMIS": bool(getattr(cyc, "use_multiple_importance_sampling", True))}
