@@ -67,6 +67,9 @@ the folder after '--':
   negative_light.blend  a floor, a point light, a box and a second point
                      light 'Neg' of -100 W (Blender allows it; left out with
                      a warning)
+  mirrored.blend     a camera and a spot light parented to an Empty of scale
+                     (-1, 1, 1) (a mirrored rig), a box and a floor
+  mirrored_ref.blend the same without the Empty
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -654,3 +657,30 @@ ob = bpy.data.objects.new("Neg", ld)
 ob.location = (1, 1, 2)
 bpy.context.scene.collection.objects.link(ob)
 save("negative_light.blend")
+
+
+# mirrored: a camera and a spot light under a parent of scale (-1, 1, 1), as
+# in a mirrored rig; both on the mirror plane (x = 0) looking down their own
+# -Z, so Cycles sees the unmirrored scene mirrored left to right.
+def mirrored_scene(ref):
+    reset()
+    floor()
+    camera()
+    box("Box", (0, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+    ld = bpy.data.lights.new("Spot", 'SPOT')
+    ld.energy, ld.spot_size = 500.0, 1.2
+    spot = bpy.data.objects.new("Spot", ld)
+    spot.location = (0, -1, 3)
+    spot.rotation_euler = (0.3, 0, 0)
+    bpy.context.scene.collection.objects.link(spot)
+    if not ref:
+        rig = bpy.data.objects.new("Rig", None)
+        rig.scale = (-1, 1, 1)
+        bpy.context.scene.collection.objects.link(rig)
+        for ob in (bpy.context.scene.camera, spot):
+            ob.parent = rig
+    save("mirrored_ref.blend" if ref else "mirrored.blend")
+
+
+mirrored_scene(False)
+mirrored_scene(True)

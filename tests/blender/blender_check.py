@@ -42,7 +42,10 @@ PHOTONBRIDGE_BIN):
                0-pixel image, an unwritable output path and a CLI killed
                mid-render each give their message, never a hang, and leave no
                output or process; a negative light is left out with a
-               warning (the CLI refused the whole file before).
+               warning (the CLI refused the whole file before);
+  everyday     what artists' scenes hold and Cycles renders as bl_scenes.py's
+               references: a camera and a spot light under a mirrored parent
+               (they looked and shone backwards: black).
 
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
@@ -612,6 +615,15 @@ def part_groups():
     scenes = fresh("groups_scenes")
     blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
     same_means(scenes, "groups", "the grouped BSDFs render as the plain ones")
+
+
+def part_everyday():
+    scenes = fresh("everyday_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    # Pixel for pixel (both unmirrored: Cycles mirrors the image, photonbridge
+    # cannot, and says so).
+    same_means(scenes, "mirrored", "a camera and a spot light under a mirrored parent render as unmirrored",
+               pixels=True)
 
 
 def part_mix():

@@ -212,6 +212,15 @@ def rigid_matrix(m):
 def _rigid(m):
     """m without its scale (lights and cameras)."""
     loc, rot, _ = m.decompose()
+    if m.to_3x3().determinant() < 0:
+        # A mirrored object (a negative scale, its own or a parent's):
+        # decompose() negates all three axes, so a camera, spot, sun or area
+        # light would look or shine backwards (a camera saw nothing). Cycles
+        # normalises each axis and keeps its direction (transform_clear_scale);
+        # flipping X alone keeps the view/emission axis -Z and up +Y.
+        r = m.to_3x3().normalized()
+        r.col[0] = -r.col[0]
+        rot = r.to_quaternion()
     return Matrix.Translation(loc) @ rot.to_matrix().to_4x4()
 
 
@@ -627,6 +636,9 @@ class SceneWriter:
         if cam.dof.use_dof:
             ext.update(self._dof(obj, cam))
         c["extensions"] = {EXTENSION: ext}
+        if obj.matrix_world.to_3x3().determinant() < 0:
+            self.warn("camera '%s': a negative scale mirrors the image in Cycles; photonbridge renders it unmirrored"
+                      % obj.name)
         if r.pixel_aspect_x != r.pixel_aspect_y:
             self.warn("render: pixel aspect %g:%g is rendered with square pixels"
                       % (r.pixel_aspect_x, r.pixel_aspect_y))
