@@ -67,6 +67,14 @@ the folder after '--':
   negative_light.blend  a floor, a point light, a box and a second point
                      light 'Neg' of -100 W (Blender allows it; left out with
                      a warning)
+  plainmat.blend     a box whose material has no nodes (red viewport colour,
+                     Metallic 1, Roughness 0.1, Specular 1, alpha 0.5) and a
+                     box without a material (Cycles: Diffuse BSDFs of the
+                     viewport colour and of 0.8 grey)
+  plainmat_ref.blend the same as Diffuse BSDF materials of those colours
+  override.blend     a red box, a box without material and the floor under
+                     the view layer's Material Override (a green Diffuse BSDF)
+  override_ref.blend the same with that material on every object
   mirrored.blend     a camera and a spot light parented to an Empty of scale
                      (-1, 1, 1) (a mirrored rig), a box and a floor
   mirrored_ref.blend the same without the Empty
@@ -657,6 +665,65 @@ ob = bpy.data.objects.new("Neg", ld)
 ob.location = (1, 1, 2)
 bpy.context.scene.collection.objects.link(ob)
 save("negative_light.blend")
+
+
+def diffuse(name, rgb):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (*rgb, 1)
+    nt.links.new(d.outputs["BSDF"], nt.nodes["Material Output"].inputs["Surface"])
+    return m
+
+
+# plainmat: Cycles 3.4 renders a material without nodes as a Diffuse BSDF of
+# its viewport colour and an object without material as one of 0.8 grey
+# (32 spp: plainmat and plainmat_ref both 0.2358 / 0.2098 / 0.2098).
+def plainmat_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    if ref:
+        box("Plain", (-1, 0, 0.5), 0.5, diffuse("Plain", (0.8, 0.2, 0.2)))
+        box("NoMaterial", (1, 0, 0.5), 0.5, diffuse("Grey08", (0.8, 0.8, 0.8)))
+    else:
+        m = bpy.data.materials.new("Plain")
+        m.use_nodes = False
+        m.diffuse_color = (0.8, 0.2, 0.2, 0.5)
+        m.metallic, m.roughness, m.specular_intensity = 1.0, 0.1, 1.0
+        box("Plain", (-1, 0, 0.5), 0.5, m)
+        box("NoMaterial", (1, 0, 0.5), 0.5)
+    save("plainmat_ref.blend" if ref else "plainmat.blend")
+
+
+plainmat_scene(False)
+plainmat_scene(True)
+
+
+# override: Cycles renders every slot, empty ones too, with the view layer's
+# Material Override (a clay render).
+def override_scene(ref):
+    reset()
+    clay = diffuse("Clay", (0.2, 0.8, 0.2))
+    fl = floor()
+    light()
+    camera()
+    red = box("Red", (-1, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+    bare = box("Bare", (1, 0, 0.5), 0.5)
+    if ref:
+        for ob in (fl, red, bare):
+            ob.data.materials.clear()
+            ob.data.materials.append(clay)
+    else:
+        bpy.context.view_layer.material_override = clay
+    save("override_ref.blend" if ref else "override.blend")
+
+
+override_scene(False)
+override_scene(True)
 
 
 # mirrored: a camera and a spot light under a parent of scale (-1, 1, 1), as

@@ -44,7 +44,9 @@ PHOTONBRIDGE_BIN):
                output or process; a negative light is left out with a
                warning (the CLI refused the whole file before);
   everyday     what artists' scenes hold and Cycles renders as bl_scenes.py's
-               references: a camera and a spot light under a mirrored parent
+               references: a material without nodes and an object without
+               one (Diffuse BSDFs), the view layer's Material Override (was
+               left out), a camera and a spot light under a mirrored parent
                (they looked and shone backwards: black).
 
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
@@ -620,6 +622,9 @@ def part_groups():
 def part_everyday():
     scenes = fresh("everyday_scenes")
     blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    same_means(scenes, "plainmat", "a material without nodes and no material render as Cycles' Diffuse BSDFs",
+               pixels=True)
+    same_means(scenes, "override", "the view layer's Material Override renders on every object", pixels=True)
     # Pixel for pixel (both unmirrored: Cycles mirrors the image, photonbridge
     # cannot, and says so).
     same_means(scenes, "mirrored", "a camera and a spot light under a mirrored parent render as unmirrored",

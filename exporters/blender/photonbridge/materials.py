@@ -337,13 +337,16 @@ class MaterialWriter:
     def _translate(self, mat, holdout):
         if holdout:
             return self._plain_black(), {"model": "holdout"}
+        # Cycles 3.4 renders an empty slot (or no slot) with its default
+        # surface, a Diffuse BSDF of 0.8 grey (ShaderManager::add_default),
+        # and a material without nodes as a Diffuse BSDF of its viewport
+        # colour (blender/shader.cpp sync_materials): its metallic,
+        # roughness, specular and alpha are the viewport's only. Written as
+        # a Principled BSDF they had rendered glossy (and half transparent).
         if mat is None:
-            return self._principled_defaults()
+            return self._diffuse_constant([0.8, 0.8, 0.8, 1.0])
         if not mat.use_nodes or mat.node_tree is None:
-            p = {"baseColor": list(mat.diffuse_color), "metallic": mat.metallic, "roughness": mat.roughness,
-                 "specular": mat.specular_intensity, "specularTint": 0.0, "ior": 1.45, "transmission": 0.0,
-                 "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": mat.diffuse_color[3]}
-            return self._principled_plain(p, {}), {"model": "principled", "principled": p}
+            return self._diffuse_constant(list(mat.diffuse_color)[:3] + [1.0])
         out = active_output(mat.node_tree)
         if out is not None:
             # What photonbridge does not render is said, not dropped silently.
@@ -653,6 +656,13 @@ class MaterialWriter:
         p = {"baseColor": color, "metallic": 0.0, "roughness": 1.0, "specular": 0.0, "specularTint": 0.0,
              "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": 1.0}
         return self._principled_plain(p, tex), ext
+
+    def _diffuse_constant(self, color):
+        """A Diffuse BSDF of `color`, roughness 0 (what Cycles makes of an
+        empty slot or a material without nodes)."""
+        p = {"baseColor": color, "metallic": 0.0, "roughness": 1.0, "specular": 0.0, "specularTint": 0.0,
+             "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": 1.0}
+        return self._principled_plain(p, {}), {"model": "diffuse", "diffuse": {"color": color, "roughness": 0.0}}
 
     def _emission(self, node):
         color = _value(node.inputs["Color"])

@@ -393,7 +393,13 @@ class SceneWriter:
     # ---- geometry ------------------------------------------------------------------
 
     def _materials(self, obj):
-        return tuple(s.material for s in obj.material_slots) or (None,)
+        mats = tuple(s.material for s in obj.material_slots) or (None,)
+        override = getattr(self.dg.view_layer, "material_override", None)
+        if override is not None:
+            # The view layer's Material Override (a clay render): Cycles
+            # renders every slot, empty ones too, with it (find_used_shaders).
+            return (override,) * len(mats)
+        return mats
 
     def _mesh_entry(self, obj, holdout):
         """[glTF mesh index or None until a TRS instance needs it, MeshData or
