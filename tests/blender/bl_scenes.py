@@ -78,6 +78,10 @@ the folder after '--':
   mirrored.blend     a camera and a spot light parented to an Empty of scale
                      (-1, 1, 1) (a mirrored rig), a box and a floor
   mirrored_ref.blend the same without the Empty
+  sequence.blend     a box whose Base Color is an image sequence of three
+                     PNG frames (Start 1, Frames 3, Offset 1: frame 1 shows
+                     the second file)
+  sequence_ref.blend the same box with the second file as a still image
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -751,3 +755,36 @@ def mirrored_scene(ref):
 
 mirrored_scene(False)
 mirrored_scene(True)
+
+
+# sequence: three PNG frames of different colours; the Image Texture's image
+# user (Start 1, Frames 3, Offset 1) shows the second at scene frame 1, as
+# Cycles picks it (BKE_image_user_frame_get).
+def sequence_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    sc = bpy.context.scene
+    sc.render.image_settings.file_format = 'PNG'
+    for i, rgb in enumerate(((0.8, 0.1, 0.1), (0.1, 0.8, 0.1), (0.1, 0.1, 0.8))):
+        img = bpy.data.images.new("frame", 4, 4)
+        img.pixels = [*rgb, 1.0] * 16
+        img.save_render(os.path.join(out, "seq", "frame_%03d.png" % (i + 1)), scene=sc)
+        bpy.data.images.remove(img)
+    m = material("Seq", (0.8, 0.8, 0.8))
+    t = m.node_tree.nodes.new("ShaderNodeTexImage")
+    if ref:
+        t.image = bpy.data.images.load(os.path.join(out, "seq", "frame_002.png"))
+    else:
+        t.image = bpy.data.images.load(os.path.join(out, "seq", "frame_001.png"))
+        t.image.source = 'SEQUENCE'
+        t.image_user.frame_start, t.image_user.frame_duration, t.image_user.frame_offset = 1, 3, 1
+    m.node_tree.links.new(t.outputs["Color"], m.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    box("Seq", (0, 0, 0.5), 0.5, m)
+    sc.frame_set(1)
+    save("sequence_ref.blend" if ref else "sequence.blend")
+
+
+sequence_scene(False)
+sequence_scene(True)

@@ -47,7 +47,8 @@ PHOTONBRIDGE_BIN):
                references: a material without nodes and an object without
                one (Diffuse BSDFs), the view layer's Material Override (was
                left out), a camera and a spot light under a mirrored parent
-               (they looked and shone backwards: black).
+               (they looked and shone backwards: black), an image sequence's
+               frame (was magenta).
 
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
@@ -629,6 +630,7 @@ def part_everyday():
     # cannot, and says so).
     same_means(scenes, "mirrored", "a camera and a spot light under a mirrored parent render as unmirrored",
                pixels=True)
+    same_means(scenes, "sequence", "an image sequence renders its frame's file", pixels=True)
 
 
 def part_mix():

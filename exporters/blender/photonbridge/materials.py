@@ -287,7 +287,7 @@ class MaterialWriter:
             self._warn_node(node, "its %s output drives a colour input and is not translated" % channel)
             return None, None
         image = node.image
-        uri = self.images.texture_image(image, color=color and channel == "RGB")
+        uri = self.images.texture_image(image, color=color and channel == "RGB", user=node.image_user)
         if uri is None:
             return None, None
         index = self.doc.add_texture(uri, self._sampler(node), self.images.float_image(image))

@@ -372,6 +372,7 @@ class SceneWriter:
         self.report = WriteReport()
         self.doc = Document()
         self.images = images_mod.ImageWriter(self.folder, self.warn)
+        self.images.frame = self.scene.frame_current
         self.mats = materials_mod.MaterialWriter(self.doc, self.images, self.warn)
         self.camera = camera
         self.mesh_cache = {}
