@@ -82,6 +82,11 @@ the folder after '--':
                      PNG frames (Start 1, Frames 3, Offset 1: frame 1 shows
                      the second file)
   sequence_ref.blend the same box with the second file as a still image
+  outputs.blend      a floor, a box whose material's only Material Output
+                     targets EEVEE (blue), the point light and a second one
+                     whose node tree has nothing on its Light Output (Cycles
+                     3.4: a black box, a dark second light)
+  outputs_ref.blend  the box black (a black Diffuse BSDF), the point light
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -788,3 +793,32 @@ def sequence_scene(ref):
 
 sequence_scene(False)
 sequence_scene(True)
+
+
+# outputs: Cycles uses only a Material/Light Output of target All or Cycles,
+# and a light's shader is its nodes alone (32 spp: the box black, a light
+# with nothing on its Light Output black).
+def outputs_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    if ref:
+        box("Box", (0, 0, 0.5), 0.5, diffuse("Black", (0.0, 0.0, 0.0)))
+    else:
+        m = material("EeveeOnly", (0.2, 0.2, 0.8))
+        m.node_tree.nodes["Material Output"].target = 'EEVEE'
+        box("Box", (0, 0, 0.5), 0.5, m)
+        ld = bpy.data.lights.new("Unlinked", 'POINT')
+        ld.energy = 300.0
+        ld.use_nodes = True
+        for link in list(ld.node_tree.links):
+            ld.node_tree.links.remove(link)
+        ob = bpy.data.objects.new("Unlinked", ld)
+        ob.location = (2, -2, 2)
+        bpy.context.scene.collection.objects.link(ob)
+    save("outputs_ref.blend" if ref else "outputs.blend")
+
+
+outputs_scene(False)
+outputs_scene(True)

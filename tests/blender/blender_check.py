@@ -48,7 +48,9 @@ PHOTONBRIDGE_BIN):
                one (Diffuse BSDFs), the view layer's Material Override (was
                left out), a camera and a spot light under a mirrored parent
                (they looked and shone backwards: black), an image sequence's
-               frame (was magenta).
+               frame (was magenta), a material whose only output targets EEVEE
+               and a light with nothing on its Light Output (black in Cycles;
+               were rendered).
 
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
@@ -631,6 +633,7 @@ def part_everyday():
     same_means(scenes, "mirrored", "a camera and a spot light under a mirrored parent render as unmirrored",
                pixels=True)
     same_means(scenes, "sequence", "an image sequence renders its frame's file", pixels=True)
+    same_means(scenes, "outputs", "an EEVEE-only Material Output and an empty Light Output render black")
 
 
 def part_mix():

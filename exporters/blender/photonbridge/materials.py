@@ -136,7 +136,10 @@ def active_output(tree):
     for n in outputs:
         if getattr(n, "target", 'ALL') in ('ALL', 'CYCLES'):
             return n
-    return outputs[0] if outputs else None
+    # Only EEVEE (or other) targets: Cycles uses none of them
+    # (ntreeShaderOutputNode(SHD_OUTPUT_CYCLES) is NULL) and renders the
+    # surface black, the world black, the light dark; so does the export.
+    return None
 
 
 def luminance(c):
@@ -348,6 +351,10 @@ class MaterialWriter:
         if not mat.use_nodes or mat.node_tree is None:
             return self._diffuse_constant(list(mat.diffuse_color)[:3] + [1.0])
         out = active_output(mat.node_tree)
+        if out is None:
+            self.warn_material("no Material Output for Cycles (target All or Cycles); written as black, as Cycles "
+                               "renders it")
+            return self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
         if out is not None:
             # What photonbridge does not render is said, not dropped silently.
             for sock, what in (("Volume", "a volume shader"), ("Displacement", "displacement")):

@@ -598,7 +598,12 @@ class SceneWriter:
         out = materials_mod.active_output(lamp.node_tree)
         src = materials_mod._source(out.inputs["Surface"]) if out else None
         if src is None:
-            return (1.0, 1.0, 1.0), 1.0
+            # Cycles builds the light's shader from its nodes alone: with
+            # nothing on a Cycles Light Output it emits nothing (measured:
+            # a black render); it had rendered at full power here.
+            self.warn("light '%s': nothing is connected to a Light Output for Cycles; it emits nothing, as in Cycles"
+                      % obj.name)
+            return (1.0, 1.0, 1.0), 0.0
         e = src.node
         if e.type == 'EMISSION' and materials_mod._source(e.inputs["Color"]) is None and \
                 materials_mod._source(e.inputs["Strength"]) is None:
