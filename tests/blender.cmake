@@ -2,7 +2,7 @@
 # Debian Blender (tests/blender/blender_check.py): one test per part. Each
 # skips with a clear line (exit 77) where Blender, a Vulkan device or (for
 # the validator) npm's gltf-validator is missing.
-foreach(part register writer instances validator f12 cancel animation vcolor groups mix mapping lightnodes floattex unsupported badinput sky cameras)
+foreach(part register writer instances validator f12 cancel animation vcolor groups mix mapping lightnodes floattex unsupported badinput sky cameras everyday)
   add_test(NAME blender_${part}
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/blender/blender_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/blender_${part} ${part})

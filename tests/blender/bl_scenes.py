@@ -64,6 +64,29 @@ the folder after '--':
                      a fisheye equidistant (3.5 rad)
   (the cam_* scenes carry Cycles settings for a reference render: 64
   samples, no denoising, CPU)
+  negative_light.blend  a floor, a point light, a box and a second point
+                     light 'Neg' of -100 W (Blender allows it; left out with
+                     a warning)
+  plainmat.blend     a box whose material has no nodes (red viewport colour,
+                     Metallic 1, Roughness 0.1, Specular 1, alpha 0.5) and a
+                     box without a material (Cycles: Diffuse BSDFs of the
+                     viewport colour and of 0.8 grey)
+  plainmat_ref.blend the same as Diffuse BSDF materials of those colours
+  override.blend     a red box, a box without material and the floor under
+                     the view layer's Material Override (a green Diffuse BSDF)
+  override_ref.blend the same with that material on every object
+  mirrored.blend     a camera and a spot light parented to an Empty of scale
+                     (-1, 1, 1) (a mirrored rig), a box and a floor
+  mirrored_ref.blend the same without the Empty
+  sequence.blend     a box whose Base Color is an image sequence of three
+                     PNG frames (Start 1, Frames 3, Offset 1: frame 1 shows
+                     the second file)
+  sequence_ref.blend the same box with the second file as a still image
+  outputs.blend      a floor, a box whose material's only Material Output
+                     targets EEVEE (blue), the point light and a second one
+                     whose node tree has nothing on its Light Output (Cycles
+                     3.4: a black box, a dark second light)
+  outputs_ref.blend  the box black (a black Diffuse BSDF), the point light
 64 x 48 pixels at 100 %."""
 import os
 import sys
@@ -638,3 +661,164 @@ def missingtex_scene(ref):
 
 missingtex_scene(False)
 missingtex_scene(True)
+
+
+reset()
+floor()
+light()
+camera()
+box("Box", (0, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+ld = bpy.data.lights.new("Neg", 'POINT')
+ld.energy = -100.0
+ob = bpy.data.objects.new("Neg", ld)
+ob.location = (1, 1, 2)
+bpy.context.scene.collection.objects.link(ob)
+save("negative_light.blend")
+
+
+def diffuse(name, rgb):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (*rgb, 1)
+    nt.links.new(d.outputs["BSDF"], nt.nodes["Material Output"].inputs["Surface"])
+    return m
+
+
+# plainmat: Cycles 3.4 renders a material without nodes as a Diffuse BSDF of
+# its viewport colour and an object without material as one of 0.8 grey
+# (32 spp: plainmat and plainmat_ref both 0.2358 / 0.2098 / 0.2098).
+def plainmat_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    if ref:
+        box("Plain", (-1, 0, 0.5), 0.5, diffuse("Plain", (0.8, 0.2, 0.2)))
+        box("NoMaterial", (1, 0, 0.5), 0.5, diffuse("Grey08", (0.8, 0.8, 0.8)))
+    else:
+        m = bpy.data.materials.new("Plain")
+        m.use_nodes = False
+        m.diffuse_color = (0.8, 0.2, 0.2, 0.5)
+        m.metallic, m.roughness, m.specular_intensity = 1.0, 0.1, 1.0
+        box("Plain", (-1, 0, 0.5), 0.5, m)
+        box("NoMaterial", (1, 0, 0.5), 0.5)
+    save("plainmat_ref.blend" if ref else "plainmat.blend")
+
+
+plainmat_scene(False)
+plainmat_scene(True)
+
+
+# override: Cycles renders every slot, empty ones too, with the view layer's
+# Material Override (a clay render).
+def override_scene(ref):
+    reset()
+    clay = diffuse("Clay", (0.2, 0.8, 0.2))
+    fl = floor()
+    light()
+    camera()
+    red = box("Red", (-1, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+    bare = box("Bare", (1, 0, 0.5), 0.5)
+    if ref:
+        for ob in (fl, red, bare):
+            ob.data.materials.clear()
+            ob.data.materials.append(clay)
+    else:
+        bpy.context.view_layer.material_override = clay
+    save("override_ref.blend" if ref else "override.blend")
+
+
+override_scene(False)
+override_scene(True)
+
+
+# mirrored: a camera and a spot light under a parent of scale (-1, 1, 1), as
+# in a mirrored rig; both on the mirror plane (x = 0) looking down their own
+# -Z, so Cycles sees the unmirrored scene mirrored left to right.
+def mirrored_scene(ref):
+    reset()
+    floor()
+    camera()
+    box("Box", (0, 0, 0.5), 0.5, material("Red", (0.8, 0.1, 0.1)))
+    ld = bpy.data.lights.new("Spot", 'SPOT')
+    ld.energy, ld.spot_size = 500.0, 1.2
+    spot = bpy.data.objects.new("Spot", ld)
+    spot.location = (0, -1, 3)
+    spot.rotation_euler = (0.3, 0, 0)
+    bpy.context.scene.collection.objects.link(spot)
+    if not ref:
+        rig = bpy.data.objects.new("Rig", None)
+        rig.scale = (-1, 1, 1)
+        bpy.context.scene.collection.objects.link(rig)
+        for ob in (bpy.context.scene.camera, spot):
+            ob.parent = rig
+    save("mirrored_ref.blend" if ref else "mirrored.blend")
+
+
+mirrored_scene(False)
+mirrored_scene(True)
+
+
+# sequence: three PNG frames of different colours; the Image Texture's image
+# user (Start 1, Frames 3, Offset 1) shows the second at scene frame 1, as
+# Cycles picks it (BKE_image_user_frame_get).
+def sequence_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    sc = bpy.context.scene
+    sc.render.image_settings.file_format = 'PNG'
+    for i, rgb in enumerate(((0.8, 0.1, 0.1), (0.1, 0.8, 0.1), (0.1, 0.1, 0.8))):
+        img = bpy.data.images.new("frame", 4, 4)
+        img.pixels = [*rgb, 1.0] * 16
+        img.save_render(os.path.join(out, "seq", "frame_%03d.png" % (i + 1)), scene=sc)
+        bpy.data.images.remove(img)
+    m = material("Seq", (0.8, 0.8, 0.8))
+    t = m.node_tree.nodes.new("ShaderNodeTexImage")
+    if ref:
+        t.image = bpy.data.images.load(os.path.join(out, "seq", "frame_002.png"))
+    else:
+        t.image = bpy.data.images.load(os.path.join(out, "seq", "frame_001.png"))
+        t.image.source = 'SEQUENCE'
+        t.image_user.frame_start, t.image_user.frame_duration, t.image_user.frame_offset = 1, 3, 1
+    m.node_tree.links.new(t.outputs["Color"], m.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    box("Seq", (0, 0, 0.5), 0.5, m)
+    sc.frame_set(1)
+    save("sequence_ref.blend" if ref else "sequence.blend")
+
+
+sequence_scene(False)
+sequence_scene(True)
+
+
+# outputs: Cycles uses only a Material/Light Output of target All or Cycles,
+# and a light's shader is its nodes alone (32 spp: the box black, a light
+# with nothing on its Light Output black).
+def outputs_scene(ref):
+    reset()
+    floor()
+    light()
+    camera()
+    if ref:
+        box("Box", (0, 0, 0.5), 0.5, diffuse("Black", (0.0, 0.0, 0.0)))
+    else:
+        m = material("EeveeOnly", (0.2, 0.2, 0.8))
+        m.node_tree.nodes["Material Output"].target = 'EEVEE'
+        box("Box", (0, 0, 0.5), 0.5, m)
+        ld = bpy.data.lights.new("Unlinked", 'POINT')
+        ld.energy = 300.0
+        ld.use_nodes = True
+        for link in list(ld.node_tree.links):
+            ld.node_tree.links.remove(link)
+        ob = bpy.data.objects.new("Unlinked", ld)
+        ob.location = (2, -2, 2)
+        bpy.context.scene.collection.objects.link(ob)
+    save("outputs_ref.blend" if ref else "outputs.blend")
+
+
+outputs_scene(False)
+outputs_scene(True)

@@ -41,7 +41,16 @@ PHOTONBRIDGE_BIN):
   badinput     a missing binary, no camera, no lights, only an empty mesh, a
                0-pixel image, an unwritable output path and a CLI killed
                mid-render each give their message, never a hang, and leave no
-               output or process.
+               output or process; a negative light is left out with a
+               warning (the CLI refused the whole file before);
+  everyday     what artists' scenes hold and Cycles renders as bl_scenes.py's
+               references: a material without nodes and an object without
+               one (Diffuse BSDFs), the view layer's Material Override (was
+               left out), a camera and a spot light under a mirrored parent
+               (they looked and shone backwards: black), an image sequence's
+               frame (was magenta), a material whose only output targets EEVEE
+               and a light with nothing on its Light Output (black in Cycles;
+               were rendered).
 
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
@@ -613,6 +622,20 @@ def part_groups():
     same_means(scenes, "groups", "the grouped BSDFs render as the plain ones")
 
 
+def part_everyday():
+    scenes = fresh("everyday_scenes")
+    blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    same_means(scenes, "plainmat", "a material without nodes and no material render as Cycles' Diffuse BSDFs",
+               pixels=True)
+    same_means(scenes, "override", "the view layer's Material Override renders on every object", pixels=True)
+    # Pixel for pixel (both unmirrored: Cycles mirrors the image, photonbridge
+    # cannot, and says so).
+    same_means(scenes, "mirrored", "a camera and a spot light under a mirrored parent render as unmirrored",
+               pixels=True)
+    same_means(scenes, "sequence", "an image sequence renders its frame's file", pixels=True)
+    same_means(scenes, "outputs", "an EEVEE-only Material Output and an empty Light Output render black")
+
+
 def part_mix():
     scenes = fresh("mix_scenes")
     blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
@@ -772,6 +795,9 @@ def part_badinput():
          "light 'Disk': area light of size 0 x 0 m emits nothing; left out", expect_file=True)
     case("only an empty mesh", os.path.join(scenes, "empty_mesh.blend"),
          ["object 'Edges': its mesh has no faces; left out", "(exit 7)"])
+    case("negative light", os.path.join(scenes, "negative_light.blend"),
+         "light 'Neg': negative power -100 is not rendered (photonbridge has no negative light); left out",
+         expect_file=True)
     case("0-pixel image", blend, "Image too small", settings={"border": "0.5,0.5,0.5,0.9", "crop": "1"})
     blocker = os.path.join(WORK, "not_a_folder")
     with open(blocker, "w") as f:

@@ -20,6 +20,7 @@ folder for photonbridge), written once per image and colour use.
 
 No bpy.context and no operators: safe in RenderEngine.update()."""
 import os
+import re
 import shutil
 import struct
 import zlib
@@ -108,6 +109,7 @@ class ImageWriter:
         self.warn = warn
         self.done = {}      # (image name, mode) -> uri
         self.names = set()
+        self.frame = 1      # the scene frame (an image sequence's frame follows it)
 
     def _unique(self, stem, ext):
         # Blender names a loaded image after its file ("sky.hdr"): the
@@ -145,12 +147,79 @@ class ImageWriter:
             return None
         return path if file_kind(head) else None
 
-    def texture_image(self, image, color):
+    def _magenta(self, key, warning):
+        """The one-pixel magenta image Cycles renders for an image it cannot
+        load (1, 0, 1, alpha 1: IMAGE_TEXTURE_MISSING_RGBA,
+        intern/cycles/util/texture.h) whatever its input, colour or data; so
+        does the export, so the artist sees the same hole and a comparison
+        stays fair."""
+        self.warn(warning)
+        key_m = ("(missing)", "magenta")
+        uri = self.done.get(key_m)
+        if uri is None:
+            uri = self._unique("missing_image", ".png")
+            with open(os.path.join(self.folder, uri), "wb") as f:
+                f.write(png_encode(np.array([[[255, 0, 255, 255]]], np.uint8)))
+            self.done[key_m] = uri
+        self.done[key] = uri
+        return uri
+
+    def _sequence_file(self, image, user):
+        """The file of image sequence `image` that Cycles reads at the scene
+        frame through Image Texture node image user `user`
+        (BKE_image_user_frame_get: Start Frame, Frames, Offset, Cyclic; then
+        the file name's last digits replaced, keeping their zero padding)."""
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        if user is None:
+            return path
+        n = user.frame_duration
+        f = 0
+        if n > 0:
+            f = self.frame - user.frame_start + 1
+            if user.use_cyclic:
+                f = f % n or n
+            f = max(0, min(f, n)) + user.frame_offset
+        folder, name = os.path.split(path)
+        stem, ext = os.path.splitext(name)
+        m = re.search(r"\d+(?=\D*$)", stem)
+        if m:
+            stem = stem[:m.start()] + "%0*d" % (len(m.group()), f) + stem[m.end():]
+        return os.path.join(folder, stem + ext)
+
+    def texture_image(self, image, color, user=None):
         """URI of `image` as a glTF texture image. color: the slot is a colour
-        one (base colour, emission: sRGB in glTF)."""
+        one (base colour, emission: sRGB in glTF); user: the Image Texture
+        node's image user (an image sequence's frame)."""
         key = (image.name, "color" if color else "data")
+        if image.source == 'SEQUENCE':
+            # Its pixels (when loaded at all) are of whatever frame Blender
+            # last showed, and its size 0 otherwise (it was written magenta
+            # as if missing): the frame's own file is copied.
+            path = self._sequence_file(image, user)
+            key = key + (path,)
+            if key in self.done:
+                return self.done[key]
+            try:
+                with open(path, "rb") as f:
+                    kind = file_kind(f.read(8))
+            except OSError:
+                kind = None
+            if kind is None:
+                return self._magenta(key, "image '%s': sequence frame file %s is not there or not a PNG or JPEG; "
+                                          "rendered magenta" % (image.name, os.path.basename(path)))
+            uri = self._unique(os.path.splitext(os.path.basename(path))[0], "." + kind)
+            self._copy(path, uri)
+            self.done[key] = uri
+            return uri
         if key in self.done:
             return self.done[key]
+        if image.source == 'MOVIE':
+            return self._magenta(key, "image '%s': movie textures are not translated; rendered magenta" % image.name)
+        if image.source == 'TILED' and len(image.tiles) > 1:
+            # Image.pixels holds the first tile only; UVs on the other tiles
+            # wrap onto it.
+            self.warn("image '%s': UDIM tiles are not translated; only tile %d is written"
+                      % (image.name, image.tiles[0].number))
         src = self._source_bytes(image)
         # PNG/JPEG bytes are usable as they are unless a float (linear) image
         # would need encoding; byte images keep their own encoding.
@@ -166,20 +235,8 @@ class ImageWriter:
                     f.write(src)
         else:
             if image.size[0] == 0 or image.size[1] == 0:
-                # Cycles renders an image it cannot load as magenta (1, 0, 1,
-                # alpha 1: IMAGE_TEXTURE_MISSING_RGBA, intern/cycles/util/texture.h)
-                # whatever its input, colour or data; so does the export, so
-                # the artist sees the same hole and a comparison stays fair.
-                self.warn("image '%s': no pixels (missing file?); rendered magenta, as Cycles does" % image.name)
-                key_m = ("(missing)", "magenta")
-                uri = self.done.get(key_m)
-                if uri is None:
-                    uri = self._unique("missing_image", ".png")
-                    with open(os.path.join(self.folder, uri), "wb") as f:
-                        f.write(png_encode(np.array([[[255, 0, 255, 255]]], np.uint8)))
-                    self.done[key_m] = uri
-                self.done[key] = uri
-                return uri
+                return self._magenta(key, "image '%s': no pixels (missing file?); rendered magenta, as Cycles does"
+                                     % image.name)
             px = image_pixels(image)
             rgb = px[..., :3]
             if color and (image.is_float or image.colorspace_settings.name in ("Linear", "Non-Color", "Raw")):
@@ -197,8 +254,8 @@ class ImageWriter:
         texture (scene-linear values: an EXR or HDR file as it is, otherwise a
         half-float EXR of Image.pixels), or None where the 8-bit texture file
         already holds what the image has (8- and 16-bit PNG, JPEG)."""
-        if not image.is_float:
-            return None
+        if not image.is_float or image.source in ('SEQUENCE', 'MOVIE'):
+            return None  # texture_image: a PNG/JPEG frame or magenta
         key = (image.name, "float")
         if key in self.done:
             return self.done[key]

@@ -136,7 +136,10 @@ def active_output(tree):
     for n in outputs:
         if getattr(n, "target", 'ALL') in ('ALL', 'CYCLES'):
             return n
-    return outputs[0] if outputs else None
+    # Only EEVEE (or other) targets: Cycles uses none of them
+    # (ntreeShaderOutputNode(SHD_OUTPUT_CYCLES) is NULL) and renders the
+    # surface black, the world black, the light dark; so does the export.
+    return None
 
 
 def luminance(c):
@@ -287,7 +290,7 @@ class MaterialWriter:
             self._warn_node(node, "its %s output drives a colour input and is not translated" % channel)
             return None, None
         image = node.image
-        uri = self.images.texture_image(image, color=color and channel == "RGB")
+        uri = self.images.texture_image(image, color=color and channel == "RGB", user=node.image_user)
         if uri is None:
             return None, None
         index = self.doc.add_texture(uri, self._sampler(node), self.images.float_image(image))
@@ -337,14 +340,21 @@ class MaterialWriter:
     def _translate(self, mat, holdout):
         if holdout:
             return self._plain_black(), {"model": "holdout"}
+        # Cycles 3.4 renders an empty slot (or no slot) with its default
+        # surface, a Diffuse BSDF of 0.8 grey (ShaderManager::add_default),
+        # and a material without nodes as a Diffuse BSDF of its viewport
+        # colour (blender/shader.cpp sync_materials): its metallic,
+        # roughness, specular and alpha are the viewport's only. Written as
+        # a Principled BSDF they had rendered glossy (and half transparent).
         if mat is None:
-            return self._principled_defaults()
+            return self._diffuse_constant([0.8, 0.8, 0.8, 1.0])
         if not mat.use_nodes or mat.node_tree is None:
-            p = {"baseColor": list(mat.diffuse_color), "metallic": mat.metallic, "roughness": mat.roughness,
-                 "specular": mat.specular_intensity, "specularTint": 0.0, "ior": 1.45, "transmission": 0.0,
-                 "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": mat.diffuse_color[3]}
-            return self._principled_plain(p, {}), {"model": "principled", "principled": p}
+            return self._diffuse_constant(list(mat.diffuse_color)[:3] + [1.0])
         out = active_output(mat.node_tree)
+        if out is None:
+            self.warn_material("no Material Output for Cycles (target All or Cycles); written as black, as Cycles "
+                               "renders it")
+            return self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
         if out is not None:
             # What photonbridge does not render is said, not dropped silently.
             for sock, what in (("Volume", "a volume shader"), ("Displacement", "displacement")):
@@ -653,6 +663,13 @@ class MaterialWriter:
         p = {"baseColor": color, "metallic": 0.0, "roughness": 1.0, "specular": 0.0, "specularTint": 0.0,
              "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": 1.0}
         return self._principled_plain(p, tex), ext
+
+    def _diffuse_constant(self, color):
+        """A Diffuse BSDF of `color`, roughness 0 (what Cycles makes of an
+        empty slot or a material without nodes)."""
+        p = {"baseColor": color, "metallic": 0.0, "roughness": 1.0, "specular": 0.0, "specularTint": 0.0,
+             "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": 1.0}
+        return self._principled_plain(p, {}), {"model": "diffuse", "diffuse": {"color": color, "roughness": 0.0}}
 
     def _emission(self, node):
         color = _value(node.inputs["Color"])

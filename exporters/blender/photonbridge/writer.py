@@ -212,6 +212,15 @@ def rigid_matrix(m):
 def _rigid(m):
     """m without its scale (lights and cameras)."""
     loc, rot, _ = m.decompose()
+    if m.to_3x3().determinant() < 0:
+        # A mirrored object (a negative scale, its own or a parent's):
+        # decompose() negates all three axes, so a camera, spot, sun or area
+        # light would look or shine backwards (a camera saw nothing). Cycles
+        # normalises each axis and keeps its direction (transform_clear_scale);
+        # flipping X alone keeps the view/emission axis -Z and up +Y.
+        r = m.to_3x3().normalized()
+        r.col[0] = -r.col[0]
+        rot = r.to_quaternion()
     return Matrix.Translation(loc) @ rot.to_matrix().to_4x4()
 
 
@@ -363,6 +372,7 @@ class SceneWriter:
         self.report = WriteReport()
         self.doc = Document()
         self.images = images_mod.ImageWriter(self.folder, self.warn)
+        self.images.frame = self.scene.frame_current
         self.mats = materials_mod.MaterialWriter(self.doc, self.images, self.warn)
         self.camera = camera
         self.mesh_cache = {}
@@ -384,7 +394,13 @@ class SceneWriter:
     # ---- geometry ------------------------------------------------------------------
 
     def _materials(self, obj):
-        return tuple(s.material for s in obj.material_slots) or (None,)
+        mats = tuple(s.material for s in obj.material_slots) or (None,)
+        override = getattr(self.dg.view_layer, "material_override", None)
+        if override is not None:
+            # The view layer's Material Override (a clay render): Cycles
+            # renders every slot, empty ones too, with it (find_used_shaders).
+            return (override,) * len(mats)
+        return mats
 
     def _mesh_entry(self, obj, holdout):
         """[glTF mesh index or None until a TRS instance needs it, MeshData or
@@ -521,6 +537,13 @@ class SceneWriter:
         tint, gain = self._light_nodes(obj)
         color = [c * t for c, t in zip(lamp.color, tint)]
         energy = lamp.energy * gain
+        if not energy >= 0.0:
+            # Blender allows negative power (Cycles subtracts that light);
+            # photonbridge refuses a negative light in a file (exit 5), which
+            # failed the whole render: it is left out instead.
+            self.warn("light '%s': negative %s %g is not rendered (photonbridge has no negative light); left out"
+                      % (obj.name, "strength" if lamp.type == 'SUN' else "power", energy))
+            return
         ext = {"type": lamp.type, "name": lamp.name, "color": color,
                "castShadow": bool(getattr(cyc, "cast_shadow", True)),
                "useMIS": bool(getattr(cyc, "use_multiple_importance_sampling", True))}
@@ -575,7 +598,12 @@ class SceneWriter:
         out = materials_mod.active_output(lamp.node_tree)
         src = materials_mod._source(out.inputs["Surface"]) if out else None
         if src is None:
-            return (1.0, 1.0, 1.0), 1.0
+            # Cycles builds the light's shader from its nodes alone: with
+            # nothing on a Cycles Light Output it emits nothing (measured:
+            # a black render); it had rendered at full power here.
+            self.warn("light '%s': nothing is connected to a Light Output for Cycles; it emits nothing, as in Cycles"
+                      % obj.name)
+            return (1.0, 1.0, 1.0), 0.0
         e = src.node
         if e.type == 'EMISSION' and materials_mod._source(e.inputs["Color"]) is None and \
                 materials_mod._source(e.inputs["Strength"]) is None:
@@ -620,6 +648,9 @@ class SceneWriter:
         if cam.dof.use_dof:
             ext.update(self._dof(obj, cam))
         c["extensions"] = {EXTENSION: ext}
+        if obj.matrix_world.to_3x3().determinant() < 0:
+            self.warn("camera '%s': a negative scale mirrors the image in Cycles; photonbridge renders it unmirrored"
+                      % obj.name)
         if r.pixel_aspect_x != r.pixel_aspect_y:
             self.warn("render: pixel aspect %g:%g is rendered with square pixels"
                       % (r.pixel_aspect_x, r.pixel_aspect_y))
