@@ -342,7 +342,10 @@ static void eq20(pb_gpu *g) {
              "(b) cs min(1 / cg, s_max) %.5f, reference %.5f; RMSE (a) %.5f, (b) %.5f\n",
              smax, differ, n, mean3(fa, n), mean3(fb, n), mean3(rr.indirect, n), ea, eb);
       if (si == 1) CHECK(differ > n / 2);
-      CHECK(ea <= eb);
+      /* At s_max 4 no pixel differs beyond 1e-4, and the two RMSEs are equal
+       * up to the float rounding of the two expressions (they tipped either
+       * way by 1e-9 when the photon directions moved by their packing). */
+      CHECK(ea <= eb * (1.0 + 1e-5));
       free(fa);
       free(fb);
     }
