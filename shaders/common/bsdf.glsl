@@ -67,15 +67,7 @@ vec3 pb_schlick3(vec3 f0, float c) {
 float pb_lum(vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 float pb_max3(vec3 c) { return max(c.x, max(c.y, c.z)); }
 
-// Duff et al. 2017 (the reference's v3_basis).
-void pb_basis(vec3 n, out vec3 t, out vec3 b) {
-  float s = n.z >= 0.0 ? 1.0 : -1.0; // copysignf(1, n.z): -0 counts as negative there
-  if (n.z == 0.0 && floatBitsToUint(n.z) != 0u) s = -1.0;
-  float a = -1.0 / (s + n.z);
-  float c = n.x * n.y * a;
-  t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-  b = vec3(c, s + n.y * n.y * a, -n.y);
-}
+#include "common/basis.glsl"
 
 #include "common/principled.glsl"
 

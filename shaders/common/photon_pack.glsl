@@ -7,6 +7,9 @@
 // decoder (tests), the same arithmetic in C.
 #ifndef PB_PHOTON_PACK_GLSL
 #define PB_PHOTON_PACK_GLSL
+// The axes are stored in pb_basis's frame of the decoded normal; packer and
+// unpacker both build it from that normal, so they agree exactly.
+#include "common/basis.glsl"
 
 vec2 pb_oct_sign(vec2 v) { return vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0); }
 
@@ -34,23 +37,12 @@ vec2 pb_unpack_snorm12x2(uint w) {
   return vec2(float(int(w & 0xfffu) - 2048), float(int((w >> 12) & 0xfffu) - 2048)) * (1.0 / 2047.0);
 }
 
-// The tangent frame of a unit normal the axes are stored in (Duff et al.
-// 2017, "Building an Orthonormal Basis, Revisited"); packer and unpacker
-// both use it on the decoded normal, so they agree exactly.
-void pb_photon_basis(vec3 n, out vec3 t, out vec3 b) {
-  float s = n.z >= 0.0 ? 1.0 : -1.0;
-  float a = -1.0 / (s + n.z);
-  float c = n.x * n.y * a;
-  t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-  b = vec3(c, s + n.y * n.y * a, -n.y);
-}
-
 void pb_photon_pack(pb_gpu_photon p, out uvec4 w0, out uvec4 w1, out uvec4 w2) {
   float s = max(p.radius, max(length(p.axis_u), length(p.axis_v)));
   float inv = s > 0.0 ? 1.0 / s : 0.0;
   uint no = packSnorm2x16(pb_oct_encode(p.normal));
   vec3 t, b;
-  pb_photon_basis(pb_oct_decode(unpackSnorm2x16(no)), t, b);
+  pb_basis(pb_oct_decode(unpackSnorm2x16(no)), t, b);
   uint bounces = min((p.flags >> PB_PHOTON_BOUNCE_SHIFT) & 0xffu, 127u);
   uint fl = (p.flags & PB_PHOTON_CAUSTIC) | (bounces << 1);
   w0 = uvec4(floatBitsToUint(p.position), floatBitsToUint(p.normal_extent));
@@ -67,7 +59,7 @@ vec3 pb_photon_unpack_wi(uvec4 w2) { return pb_oct_decode(pb_unpack_snorm12x2(w2
 // axis), path and ray_length 0.
 pb_gpu_photon pb_photon_unpack(uvec4 w0, uvec4 w1, uvec4 w2) {
   vec3 n = pb_photon_unpack_normal(w2), t, b;
-  pb_photon_basis(n, t, b);
+  pb_basis(n, t, b);
   float s = uintBitsToFloat(w1.w);
   vec2 u = unpackSnorm2x16(w2.z) * s, v = unpackSnorm2x16(w2.w) * s;
   uint fl = w2.y >> 24;

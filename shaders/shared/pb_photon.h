@@ -58,7 +58,7 @@ PB_STRUCT(pb_gpu_photon) {
  *      y: wi, octahedral, 2 x 12-bit snorm (bits 0-23); bits 24-31 the
  *         flags: bit 24 caustic, bits 25-31 the diffuse bounces (at most 127)
  *      z, w: axis_u and axis_v / s in the tangent frame of the decoded
- *         normal (pb_photon_basis), 2 x snorm16 each
+ *         normal (pb_basis, common/basis.glsl), 2 x snorm16 each
  * Position, power and normal extent are exact; the normal within 1e-4 rad,
  * wi within 1e-3 rad, the axes within 3e-5 s (the footprint lies in the
  * tangent plane: photon_trace.comp projects the differentials onto it).

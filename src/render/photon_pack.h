@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "shared/pb_gpu.h"
+#include "scene/tangents.h"
 #include "shared/pb_photon.h"
 
 static inline float pb_pack_sign(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
@@ -37,15 +38,6 @@ static inline void pb_oct_decode(const float e[2], float n[3]) {
   for (int k = 0; k < 3; ++k) n[k] = v[k] / l;
 }
 
-/* Duff et al. 2017, as pb_photon_basis. */
-static inline void pb_photon_basis_host(const float n[3], float t[3], float b[3]) {
-  float s = n[2] >= 0.0f ? 1.0f : -1.0f;
-  float a = -1.0f / (s + n[2]);
-  float c = n[0] * n[1] * a;
-  t[0] = 1.0f + s * n[0] * n[0] * a, t[1] = s * c, t[2] = -s * n[0];
-  b[0] = c, b[1] = s + n[1] * n[1] * a, b[2] = -n[1];
-}
-
 /* The record as pb_gpu_photon (radius: the scale s; path, ray_length 0). */
 static inline void pb_photon_unpack_host(const pb_gpu_photon_packed *q, pb_gpu_photon *p) {
   memset(p, 0, sizeof *p);
@@ -60,7 +52,7 @@ static inline void pb_photon_unpack_host(const pb_gpu_photon_packed *q, pb_gpu_p
   pb_oct_decode(e, p->wi);
   uint32_t fl = q->wi_flags >> 24;
   p->flags = (fl & PB_PHOTON_CAUSTIC) | ((fl >> 1) << PB_PHOTON_BOUNCE_SHIFT);
-  pb_photon_basis_host(p->normal, t, b);
+  pb_basis_any(p->normal, t, b);
   pb_unpack_snorm2x16(q->axis_u2, u);
   pb_unpack_snorm2x16(q->axis_v2, v);
   for (int k = 0; k < 3; ++k) {

@@ -5,13 +5,21 @@
 #include <stdlib.h>
 #include <string.h>
 
-void pb_tangent_any(const float n[3], float t[3]) {
+void pb_basis_any(const float n[3], float t[3], float b[3]) {
   float s = copysignf(1.0f, n[2]);
   float a = -1.0f / (s + n[2]);
-  float b = n[0] * n[1] * a;
+  float c = n[0] * n[1] * a;
   t[0] = 1.0f + s * n[0] * n[0] * a;
-  t[1] = s * b;
+  t[1] = s * c;
   t[2] = -s * n[0];
+  b[0] = c;
+  b[1] = s + n[1] * n[1] * a;
+  b[2] = -n[1];
+}
+
+void pb_tangent_any(const float n[3], float t[3]) {
+  float b[3];
+  pb_basis_any(n, t, b);
 }
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

@@ -33,5 +33,8 @@ pb_result pb_tangents_generate(const float (*positions)[3], const float (*normal
 
 /* Any unit vector orthogonal to unit n (Duff et al. 2017's basis). */
 void pb_tangent_any(const float n[3], float t[3]);
+/* That basis whole: t (pb_tangent_any's) and b, with n right-handed; the
+ * GLSL pb_basis (shaders/common/basis.glsl). */
+void pb_basis_any(const float n[3], float t[3], float b[3]);
 
 #endif

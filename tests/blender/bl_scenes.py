@@ -512,16 +512,22 @@ sky_scene("sky_nodisc", sun_disc=False)
 sky_scene("sky_thick", altitude=2000.0, air_density=3.0, dust_density=4.0, ozone_density=2.0)
 
 
-def emitter(name, rgb, strength=1.0):
+def node_material(name, kind, **inputs):
+    """A material whose Surface is one new node of type `kind` with those
+    input values (the default Principled BSDF removed)."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nt = m.node_tree
     nt.nodes.remove(nt.nodes["Principled BSDF"])
-    e = nt.nodes.new("ShaderNodeEmission")
-    e.inputs["Color"].default_value = (*rgb, 1)
-    e.inputs["Strength"].default_value = strength
-    nt.links.new(e.outputs["Emission"], nt.nodes["Material Output"].inputs["Surface"])
+    n = nt.nodes.new(kind)
+    for k, v in inputs.items():
+        n.inputs[k].default_value = v
+    nt.links.new(n.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     return m
+
+
+def emitter(name, rgb, strength=1.0):
+    return node_material(name, "ShaderNodeEmission", Color=(*rgb, 1), Strength=strength)
 
 
 def cycles_settings(sc):
@@ -677,14 +683,7 @@ save("negative_light.blend")
 
 
 def diffuse(name, rgb):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (*rgb, 1)
-    nt.links.new(d.outputs["BSDF"], nt.nodes["Material Output"].inputs["Surface"])
-    return m
+    return node_material(name, "ShaderNodeBsdfDiffuse", Color=(*rgb, 1))
 
 
 # plainmat: Cycles 3.4 renders a material without nodes as a Diffuse BSDF of

@@ -84,7 +84,7 @@ static void make_photons(pb_gpu_photon *ph, uint32_t n, int mode, float radius) 
       float c = p->wi[0] * nn[0] + p->wi[1] * nn[1] + p->wi[2] * nn[2];
       if (c < 0)
         for (int k = 0; k < 3; ++k) p->wi[k] = -p->wi[k];
-      pb_photon_basis_host(nn, t, b); /* any in-plane frame will do */
+      pb_basis_any(nn, t, b); /* any in-plane frame will do */
       float r = radius * (0.5f + frand()), sk = frand() - 0.5f, rv = r * (0.3f + frand());
       for (int k = 0; k < 3; ++k) p->axis_u[k] = r * t[k] + sk * r * b[k], p->axis_v[k] = rv * b[k];
       p->radius = r * 1.5f;

@@ -354,14 +354,13 @@ class MaterialWriter:
         if out is None:
             self.warn_material("no Material Output for Cycles (target All or Cycles); written as black, as Cycles "
                                "renders it")
-            return self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
-        if out is not None:
-            # What photonbridge does not render is said, not dropped silently.
-            for sock, what in (("Volume", "a volume shader"), ("Displacement", "displacement")):
-                s = out.inputs.get(sock)
-                if s is not None and _source(s) is not None:
-                    self.warn_material("%s on the Material Output is not rendered" % what)
-        shader = _source(out.inputs["Surface"]) if out else None
+            return self._black_diffuse()
+        # What photonbridge does not render is said, not dropped silently.
+        for sock, what in (("Volume", "a volume shader"), ("Displacement", "displacement")):
+            s = out.inputs.get(sock)
+            if s is not None and _source(s) is not None:
+                self.warn_material("%s on the Material Output is not rendered" % what)
+        shader = _source(out.inputs["Surface"])
         node, extra = self._peel(shader.node if shader else None)
         if node is None and extra["alpha"] == 0.0 and extra["alpha_link"] is None:
             # A Transparent BSDF alone: the surface lets every ray through.
@@ -374,7 +373,7 @@ class MaterialWriter:
                             "Principled BSDF; left out")
         if node is None:
             self.warn_material("nothing is connected to the Material Output's Surface; written as black")
-            gm, ext = self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
+            gm, ext = self._black_diffuse()
         elif node.type == 'BSDF_PRINCIPLED':
             gm, ext = self._principled(node)
         elif node.type == 'BSDF_DIFFUSE':
@@ -663,6 +662,10 @@ class MaterialWriter:
         p = {"baseColor": color, "metallic": 0.0, "roughness": 1.0, "specular": 0.0, "specularTint": 0.0,
              "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1], "emissionStrength": 1.0, "alpha": 1.0}
         return self._principled_plain(p, tex), ext
+
+    def _black_diffuse(self):
+        """A black Diffuse BSDF (a surface Cycles renders black)."""
+        return self._plain_black(), {"model": "diffuse", "diffuse": {"color": [0, 0, 0, 1]}}
 
     def _diffuse_constant(self, color):
         """A Diffuse BSDF of `color`, roughness 0 (what Cycles makes of an
