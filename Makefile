@@ -44,6 +44,13 @@ build-fuzz: install-deps $(FUZZ_BUILD)/Makefile
 demo: build
 	@bash scripts/demo.sh $(BUILD)/photonbridge
 
+# The Blender add-on as the two zips Blender installs, in $(BUILD)/blender/:
+# photonbridge-VERSION-extension.zip (Blender 4.2+ extension) and
+# photonbridge-VERSION-addon.zip (legacy add-on, Blender 3.4 to 5.x).
+.PHONY: blender-extension
+blender-extension:
+	python3 scripts/blender_package.py $(BUILD)/blender
+
 # The Blender render engine for this user (README, "Blender render engine").
 blender-addon: build
 	@bash scripts/install-blender-addon.sh $(BUILD)/photonbridge

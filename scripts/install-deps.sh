@@ -25,6 +25,7 @@ PKGS=(
   clang libclang-rt-14-dev python3-pil valgrind
   libglfw3-dev xvfb xauth
   nodejs slurm-wlm munge iproute2
+  python3-venv libx11-6 libxext6 libxi6 libxrender1 libxfixes3 libxxf86vm1 libxkbcommon0 libsm6 libice6 libgl1 libegl1
 )
 # Optional extras: skipped quietly when the archive lacks them.
 OPTIONAL=(python3-matplotlib chromium)
@@ -43,6 +44,32 @@ install_validator() {
 }
 command -v npm >/dev/null 2>&1 || OPTIONAL+=(npm)
 
+# Blender 4.5 LTS as a Python module (bpy, CPython 3.11, Debian's python3)
+# in tools/bpy45 (ignored by git), for the add-on's Blender 4.5 tests and
+# Cycles 4.5: the newest 4.5.x LTS wheel, pinned here, with the numpy the
+# wheel was built against (bpy 4.5 needs numpy < 2). The X11/GL libraries
+# it loads are in PKGS (no X server is needed). Required: a package index
+# that no longer serves this version is an error, not a skipped test.
+BPY_VERSION=4.5.15
+BPY_NUMPY=1.26.4
+BPY_VENV="$ROOT/tools/bpy45"
+install_bpy() {
+  if "$BPY_VENV/bin/python" -c "import sys, bpy; sys.exit(bpy.app.version_string.split()[0] != '$BPY_VERSION')" \
+      >/dev/null 2>&1; then
+    return 0
+  fi
+  echo "install-deps: pip install bpy==$BPY_VERSION numpy==$BPY_NUMPY into tools/bpy45"
+  rm -rf "$BPY_VENV"
+  /usr/bin/python3 -m venv "$BPY_VENV"
+  if ! "$BPY_VENV/bin/pip" install -q --disable-pip-version-check "bpy==$BPY_VERSION" "numpy==$BPY_NUMPY"; then
+    rm -rf "$BPY_VENV"
+    echo "install-deps: error: could not install bpy==$BPY_VERSION (Blender 4.5 LTS) from the Python package index;" \
+         "the Blender 4.5 tests need it (change BPY_VERSION in scripts/install-deps.sh to a 4.5.x the index serves)" >&2
+    exit 1
+  fi
+  "$BPY_VENV/bin/python" -c "import bpy; print('install-deps: Blender', bpy.app.version_string, 'in tools/bpy45')"
+}
+
 missing=()
 for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
@@ -51,6 +78,7 @@ for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   install_validator
+  install_bpy
   echo "install-deps: all packages present"
   exit 0
 fi
@@ -79,4 +107,5 @@ for p in "${OPTIONAL[@]}"; do
   esac
 done
 install_validator
+install_bpy
 echo "install-deps: done"

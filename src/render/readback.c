@@ -264,7 +264,7 @@ pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *coun
 
 pb_result pb_readback_preview(pb_gpu *g, const pb_frame_targets *t, size_t n, uint32_t samples, float *beauty) {
   void *scratch = NULL;
-  const void *view;
+  const void *view = NULL; /* host_view sets it on success; gcc -O3 cannot see that */
   pb_result r = host_view(g, &t->accum, (uint64_t)n * sizeof(pb_gpu_accum), &scratch, &view);
   if (r == PB_OK) {
     const pb_gpu_accum *a = view;

@@ -14,7 +14,9 @@ def check(cond, what):
 
 def engine_registered():
     # A class stays among __subclasses__ after unregistering; is_registered says.
-    return any(c.bl_idname == "PHOTONBRIDGE" and c.is_registered for c in bpy.types.RenderEngine.__subclasses__())
+    # (4.x registers engines without a bl_idname of their own, e.g. Hydra's base.)
+    return any(getattr(c, "bl_idname", None) == "PHOTONBRIDGE" and c.is_registered
+               for c in bpy.types.RenderEngine.__subclasses__())
 
 
 check(not engine_registered(), "no engine before enabling")
@@ -52,7 +54,7 @@ for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second r
     except TypeError:
         check(s.tracer == "images", "round %d: an unknown tracer is refused" % round_)
     s.tracer = "bvh"
-    e = [c for c in bpy.types.RenderEngine.__subclasses__() if c.bl_idname == "PHOTONBRIDGE"][0]
+    e = [c for c in bpy.types.RenderEngine.__subclasses__() if getattr(c, "bl_idname", None) == "PHOTONBRIDGE"][0]
     check(e.bl_use_preview is False and e.bl_use_shading_nodes_custom is False and e.bl_use_eevee_viewport is True
           and e.bl_use_postprocess is True, "round %d: engine flags" % round_)
     check("view_update" in e.__dict__ and "view_draw" in e.__dict__,

@@ -55,6 +55,7 @@ PHOTONBRIDGE_BIN):
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
 import json
+import math
 import os
 import shutil
 import signal
@@ -74,6 +75,11 @@ QUICK = {"photons": 8192, "iterations": 2, "spp": 2, "seed": 5, "preview_interva
 QUICK_CLI = ["--photons", "8192", "--iterations", "2", "--spp", "2", "--first-bounce", "traced",
              "--tracer", "bvh", "--seed", "5", "--max-bounces", "13", "--progressive"]  # Blender's default Max Bounces 12
 failures = []
+# Which Blender: Debian's `blender` (3.4), or with PB_BLENDER_PYTHON set, the
+# bpy module of that interpreter (Blender 4.5 LTS in tools/bpy45) driven
+# through bpy_blender.py, the same command line over the module.
+BPY = os.environ.get("PB_BLENDER_PYTHON")
+BLENDER = [BPY, os.path.join(HERE, "bpy_blender.py")] if BPY else ["blender"]
 
 
 def check(cond, what):
@@ -103,7 +109,7 @@ def blender(args, setup=None, env=None, timeout=600, check_rc=True):
     """Runs Blender headless: [BLEND --python bl_setup.py] ARGS [-- SETTINGS]
     (setup = (BLEND, SETTINGS): the add-on enabled and set up before ARGS,
     which Blender runs in order: -o, -F, then -f/-a)."""
-    argv = ["blender", "-b", "--factory-startup", "--python-exit-code", "1"]
+    argv = BLENDER + ["-b", "--factory-startup", "--python-exit-code", "1"]
     if setup is not None:
         argv += [setup[0], "--python", os.path.join(HERE, "bl_setup.py")]
     argv += args
@@ -427,7 +433,7 @@ def start_long_render(d, blend, extra_env=None):
     """Blender rendering a long F12 (many photon maps); returns (process, the
     photonbridge child's pid) once the first map is done."""
     settings = dict(QUICK, iterations=400, spp=400, percent="10")
-    argv = ["blender", "-b", "--factory-startup", "--python-exit-code", "1", blend, "--python",
+    argv = BLENDER + ["-b", "--factory-startup", "--python-exit-code", "1", blend, "--python",
             os.path.join(HERE, "bl_setup.py"), "-o", os.path.join(d, "f_####"), "-F", "OPEN_EXR", "-f", "1", "--"] + \
         ["%s=%s" % kv for kv in settings.items()]
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
@@ -815,8 +821,117 @@ def part_badinput():
     check(not tmp_left(), "killed CLI: no temporary files left (%s)" % tmp_left())
 
 
+def blender_version():
+    p = subprocess.run(BLENDER + ["-b", "--factory-startup", "--python-exit-code", "1", "-P",
+                                  os.path.join(HERE, "bl_version.py")],
+                       capture_output=True, text=True, env=blender_env(), timeout=300)
+    for line in p.stdout.splitlines():
+        if line.startswith("BLENDER_VERSION "):
+            return tuple(int(x) for x in line.split()[1:4])
+    return (0, 0, 0)
+
+
+def part_install():
+    """Both ways Blender installs add-ons, from the zips `make
+    blender-extension` makes: the legacy add-on (every Blender) and the
+    extension (4.2+), each into fresh user folders, enabled and rendering."""
+    d = fresh("install")
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "blender_package.py"), d],
+                       capture_output=True, text=True)
+    check(p.returncode == 0, "blender_package.py made the zips: %s" % (p.stdout + p.stderr).strip())
+    zips = {k: os.path.join(d, n) for n in os.listdir(d) for k in ("addon", "extension") if n.endswith(k + ".zip")}
+    version = blender_version()
+    kinds = [("legacy", zips.get("addon"))]
+    if version >= (4, 2, 0):
+        kinds.append(("extension", zips.get("extension")))
+    for kind, z in kinds:
+        user = fresh("install_user_" + kind)
+        env = blender_env({"BLENDER_USER_RESOURCES": user, "BLENDER_USER_SCRIPTS": os.path.join(user, "scripts"),
+                           "BLENDER_USER_CONFIG": os.path.join(user, "config")})
+        out = os.path.join(d, kind + ".exr")
+        p = subprocess.run(BLENDER + ["-b", "--factory-startup", "--python-exit-code", "1", "-P",
+                                      os.path.join(HERE, "bl_install.py"), "--", kind, z or "missing.zip", out],
+                           capture_output=True, text=True, env=env, timeout=600)
+        print("\n".join(l for l in p.stdout.splitlines() if l.startswith(("ok   ", "FAIL "))))
+        check(p.returncode == 0 and "0 failed" in p.stdout,
+              "Blender %d.%d.%d: the %s zip installs, enables and renders" % (version + (kind,)))
+        if p.returncode != 0:
+            print(p.stdout[-3000:], p.stderr[-2000:])
+        if os.path.isfile(out):
+            img = exr(out)
+            total = sum(sum(img["channels"][c]) for c in "RGB")
+            check(total > 0, "%s: the render holds light" % kind)
+    check(version >= (4, 2, 0) or len(kinds) == 1, "the extension is tested where Blender has extensions (4.2+)")
+
+
+def part_lights45():
+    """Blender 4.5's light settings (Exposure, Temperature, Normalize off on
+    point, spot, area rectangle and disc and sun lights, Shadow off) as
+    Cycles 4.5 computes them: the written powers against Cycles' formulas
+    (scene/light.cpp Light::area, blender/light.cpp), then photonbridge's F12
+    against Cycles 4.5's render of the same file."""
+    if blender_version() < (4, 5, 0):
+        print("skip: Blender 4.5's light settings need Blender 4.5 (this is %d.%d.%d)" % blender_version())
+        return 77
+    scenes = fresh("lights45_scenes")
+    blender(["-P", os.path.join(HERE, "bl_lights45.py"), "--", scenes])
+    blend = os.path.join(scenes, "lights45.blend")
+    gltf = os.path.join(scenes, "lights45.gltf")
+    ok, text = write_with_addon(blend, gltf)
+    check(ok, "the scene is written")
+    if not ok:
+        print(text[-3000:])
+        return
+    with open(gltf) as f:
+        doc = json.load(f)
+    lights = {n["name"]: n["extensions"]["PHOTONBRIDGE_blender"]["light"] for n in doc["nodes"]
+              if "light" in n.get("extensions", {}).get("PHOTONBRIDGE_blender", {})}
+    pi = math.pi
+    want = {"Warm": ("power", 200.0 * 2.0), "Raw": ("power", 50.0 * 4 * pi * 0.25 ** 2),
+            "Panel": ("power", 20.0 * 2.0 * 1.0 * 2 ** -0.5), "Disc": ("power", 10.0 * 0.6 * 0.6 * pi / 4),
+            "Sun": ("strength", 1.0 * pi * math.sin(math.radians(5)) ** 2 * 8.0), "Ghost": ("power", 30.0)}
+    for name, (key, value) in want.items():
+        got = lights.get(name, {}).get(key)
+        check(got is not None and close(got, value, 1e-5), "%s: %s %s W (Cycles 4.5: %.6g)" % (name, key, got, value))
+    warm = lights.get("Warm", {}).get("color", [1, 1, 1])
+    lum = 0.2126 * warm[0] + 0.7152 * warm[1] + 0.0722 * warm[2]
+    check(warm[0] > warm[1] > warm[2] and close(lum, 1.0, 0.02),
+          "Warm: colour x the 3000 K temperature colour %s (luminance %.3f)" % (["%.3f" % c for c in warm], lum))
+    check(lights.get("Ghost", {}).get("castShadow") is False and lights.get("Warm", {}).get("castShadow") is True,
+          "Ghost: Shadow off is written as castShadow false (others true)")
+    # Cycles 4.5 against photonbridge's F12 on the same file.
+    dc = fresh("lights45_cycles")
+    blender([blend, "-E", "CYCLES", "-o", os.path.join(dc, "c_####"), "-F", "OPEN_EXR", "-x", "1", "-f", "1"])
+    df = fresh("lights45_pb")
+    render_f12(df, blend, dict(QUICK, photons=65536, iterations=4, spp=16), fmt="OPEN_EXR")
+    cf, pf = os.path.join(dc, "c_0001.exr"), os.path.join(df, "f_0001.exr")
+    check(os.path.isfile(cf) and os.path.isfile(pf), "Cycles 4.5 and photonbridge rendered the scene")
+    if not (os.path.isfile(cf) and os.path.isfile(pf)):
+        return
+    # The reference (path tracing, 256 spp) within 1 %, F12 (the GPU
+    # pipeline at small settings) within 2 %. Cycles 3.4's light models
+    # (area radiance P / (4 A), the spot's cosine) are 5.5 % off here.
+    rf = os.path.join(dc, "reference.exr")
+    subprocess.run([EXE, "reference", gltf, "-o", rf, "--width", "64", "--height", "48", "--spp", "256", "-q"],
+                   check=False)
+    c = exr(cf)
+    mc = [sum(c["channels"][k]) / len(c["channels"][k]) for k in "RGB"]
+    for what, f, tol in (("the reference", rf, 0.01), ("F12", pf, 0.02)):
+        p = exr(f) if os.path.isfile(f) else {"channels": {k: [0.0] for k in "RGB"}}
+        mp = [sum(p["channels"][k]) / len(p["channels"][k]) for k in "RGB"]
+        worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(mp, mc))
+        check(worst <= tol, "%s: mean RGB %s against Cycles 4.5's %s (largest %.2f %%)"
+              % (what, ["%.4f" % x for x in mp], ["%.4f" % x for x in mc], 100 * worst))
+
+
 def main():
-    if not shutil.which("blender"):
+    if BPY:
+        # Installed by scripts/install-deps.sh on every machine: missing is
+        # a failure, not a skip.
+        if not os.access(BPY, os.X_OK):
+            print("FAIL Blender 4.5 (bpy) is not installed at %s: run scripts/install-deps.sh" % BPY)
+            return 1
+    elif not shutil.which("blender"):
         print("skip: Blender is not installed (apt-get install blender; scripts/install-deps.sh)")
         return 77
     p = subprocess.run([EXE, "info", "--devices"], capture_output=True, text=True)

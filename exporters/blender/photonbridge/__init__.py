@@ -2,12 +2,18 @@
 PHOTONBRIDGE`) that hands the evaluated scene to `photonbridge render` as
 glTF plus the PHOTONBRIDGE_blender extension, and File > Export >
 photonbridge glTF with the same writer. See the README's "Blender render
-engine" section."""
+engine" section.
+
+One package, two ways to install it: the legacy add-on (bl_info below;
+Blender 3.4 to 5.x, "Install from Disk" of a zip holding this folder) and a
+Blender 4.2+ extension (blender_manifest.toml; imported as
+bl_ext.REPOSITORY.photonbridge, so every lookup of the add-on's own
+preferences goes through __package__)."""
 
 bl_info = {
     "name": "photonbridge",
     "author": "photonbridge",
-    "version": (1, 0, 0),
+    "version": (0, 1, 0),  # the CLI's version, as blender_manifest.toml
     "blender": (3, 4, 0),
     "location": "Render Properties > Render Engine; File > Export > photonbridge glTF",
     "description": "GPU photon-mapping render engine (photonbridge CLI)",

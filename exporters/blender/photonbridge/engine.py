@@ -75,7 +75,11 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
     bl_use_eevee_viewport = True         # Material Preview stays on EEVEE
     bl_use_postprocess = True            # the compositor runs on the result
 
-    def __init__(self):
+    def __init__(self, *args, **kwargs):
+        # Blender 4.4+ builds Python subclasses of its types through
+        # __init__(*args, **kwargs) and refuses one that does not forward
+        # them ("could not create instance"); 3.4 passes none.
+        super().__init__(*args, **kwargs)
         self.handoff = None      # this frame's folder, glTF path, writer report
         self.handoff_error = None
         self.exe = None
@@ -96,6 +100,9 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         h = getattr(self, "handoff", None)
         if h and not h.get("sequence"):
             shutil.rmtree(h["folder"], ignore_errors=True)
+        parent_del = getattr(super(), "__del__", None)
+        if parent_del is not None:
+            parent_del()
 
     # ---- the viewport (viewport.py: `photonbridge serve`) ---------------------------
 

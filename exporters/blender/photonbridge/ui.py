@@ -8,9 +8,13 @@ import bpy
 ENGINE = "PHOTONBRIDGE"
 
 # EEVEE panels that show what photonbridge reads; generic panels that
-# duplicate them or show what it ignores are left out.
+# duplicate them or show what it ignores are left out. Names of every
+# Blender from 3.4 on: a name this Blender lacks is skipped (3.4's
+# EEVEE_MATERIAL_PT_settings became EEVEE_NEXT_MATERIAL_PT_settings in 4.2;
+# EEVEE's engine id is BLENDER_EEVEE_NEXT in 4.2-4.5, BLENDER_EEVEE again in 5.0).
 EXTRA_PANELS = ("DATA_PT_EEVEE_light", "DATA_PT_EEVEE_light_distance", "EEVEE_MATERIAL_PT_context_material",
-                "EEVEE_MATERIAL_PT_surface", "EEVEE_MATERIAL_PT_settings", "EEVEE_WORLD_PT_surface")
+                "EEVEE_MATERIAL_PT_surface", "EEVEE_MATERIAL_PT_settings", "EEVEE_NEXT_MATERIAL_PT_settings",
+                "EEVEE_WORLD_PT_surface")
 SKIP_PANELS = ("DATA_PT_light", "DATA_PT_area", "DATA_PT_falloff_curve", "DATA_PT_preview", "MATERIAL_PT_preview")
 
 
