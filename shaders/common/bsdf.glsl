@@ -205,12 +205,14 @@ float pb_smoothstep01(float t) {
 
 // A spot's falloff for the cosine c of the angle between its axis and the
 // direction light leaves in (src/ref/lights.c pb_spot_factor): KHR's smooth
-// step between the cones, or Cycles 3.4's c x smoothstep over its band.
+// step between the cones, Cycles 3.4's c x smoothstep over its band, or
+// Cycles 4.x's smoothstep alone (kernel/light/spot.h).
 float pb_spot_factor(pb_gpu_light l, float c) {
-  if ((l.flags & PB_GPU_LIGHT_CYCLES_SPOT) != 0u) {
+  if ((l.flags & (PB_GPU_LIGHT_CYCLES_SPOT | PB_GPU_LIGHT_CYCLES4_SPOT)) != 0u) {
     if (c <= l.cos_outer) return 0.0;
     float band = (1.0 - l.cos_outer) * l.spot_blend, t = c - l.cos_outer;
-    return band > 0.0 && t < band ? c * pb_smoothstep01(t / band) : c;
+    float s = band > 0.0 && t < band ? pb_smoothstep01(t / band) : 1.0;
+    return (l.flags & PB_GPU_LIGHT_CYCLES_SPOT) != 0u ? c * s : s;
   }
   if (l.cos_inner - l.cos_outer <= 1e-7) return c >= l.cos_outer ? 1.0 : 0.0;
   return pb_smoothstep01((c - l.cos_outer) / (l.cos_inner - l.cos_outer));

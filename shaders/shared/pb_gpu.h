@@ -181,7 +181,7 @@ PB_STRUCT(pb_gpu_texture) {
  * `power` (point/spot: W/sr; directional: W/m^2; area: W/(m^2 sr) normal to
  * it). direction: unit, the way light travels. Spot: cos_outer/cos_inner of
  * KHR's smooth step, or with PB_GPU_LIGHT_CYCLES_SPOT Cycles 3.4's falloff
- * from cos_outer and spot_blend. Soft lights (src/ref/soft_lights.c,
+ * from cos_outer and spot_blend (PB_GPU_LIGHT_CYCLES4_SPOT: Cycles 4.x's). Soft lights (src/ref/soft_lights.c,
  * shaders/common/lights.glsl): point/spot with radius > 0 (Cycles' disc
  * facing the lit point); directional with radius = tan(angle / 2) > 0 (the
  * sun's disc at unit distance; cos_half = cos(angle / 2)); area lights of
@@ -195,6 +195,7 @@ PB_CONST(PB_GPU_LIGHT_ELLIPSE, 1u)     /* flags: an area light's shape is an ell
 PB_CONST(PB_GPU_LIGHT_CYCLES_SPOT, 2u) /* Cycles 3.4's spot falloff */
 PB_CONST(PB_GPU_LIGHT_NO_SHADOW, 4u)   /* casts no shadow */
 PB_CONST(PB_GPU_LIGHT_NO_MIS, 8u)      /* not seen by BSDF-sampled rays */
+PB_CONST(PB_GPU_LIGHT_CYCLES4_SPOT, 16u) /* Cycles 4.x's spot falloff (3.4's without its cosine) */
 PB_STRUCT(pb_gpu_light) {
   PB_VEC3(position);
   uint type;

@@ -90,7 +90,9 @@ static void print_text(const pb_scene *s) {
              l->position[1], l->position[2], (power[0] + power[1] + power[2]) / 3);
       if (l->type == PB_LIGHT_SPOT)
         printf(", cone %.2f..%.2f deg%s", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI,
-               l->spot_model == PB_SPOT_CYCLES ? " (Cycles falloff)" : "");
+               l->spot_model == PB_SPOT_CYCLES    ? " (Cycles 3.4 falloff)"
+               : l->spot_model == PB_SPOT_CYCLES4 ? " (Cycles 4 falloff)"
+                                                  : "");
       if (l->radius > 0) printf(", radius %.4g m (soft)", l->radius);
     }
     if (l->no_shadow) printf(", casts no shadow");
@@ -275,7 +277,9 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     if (l->type == PB_LIGHT_SPOT) {
       pb_json_number(&j, "inner_cone", l->inner_cone);
       pb_json_number(&j, "outer_cone", l->outer_cone);
-      pb_json_string(&j, "spot_falloff", l->spot_model == PB_SPOT_CYCLES ? "cycles" : "smoothstep");
+      pb_json_string(&j, "spot_falloff", l->spot_model == PB_SPOT_CYCLES    ? "cycles"
+                                         : l->spot_model == PB_SPOT_CYCLES4 ? "cycles4"
+                                                                            : "smoothstep");
     }
     if (l->type == PB_LIGHT_POINT || l->type == PB_LIGHT_SPOT) pb_json_number(&j, "radius", l->radius);
     if (l->type == PB_LIGHT_DIRECTIONAL) pb_json_number(&j, "angle", l->angle);

@@ -486,7 +486,7 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
                   l->type == PB_LIGHT_DIRECTIONAL ? "angle" : "radius",
                   l->type == PB_LIGHT_DIRECTIONAL ? l->angle : l->radius)) != PB_OK)
       return r;
-    if (l->type == PB_LIGHT_SPOT && l->spot_model == PB_SPOT_CYCLES &&
+    if (l->type == PB_LIGHT_SPOT && l->spot_model != PB_SPOT_SMOOTHSTEP &&
         (r = note(x->rep, 1, "light '%s': Cycles' spot falloff exported as a smooth step between %.4g and %.4g "
                              "degrees", l->name, l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI)) != PB_OK)
       return r;

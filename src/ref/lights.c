@@ -84,10 +84,11 @@ static inline float smoothstep01(float t) {
 
 float pb_spot_factor(const pb_light *l, float cos_angle) {
   float co = cosf(l->outer_cone);
-  if (l->spot_model == PB_SPOT_CYCLES) {
+  if (l->spot_model == PB_SPOT_CYCLES || l->spot_model == PB_SPOT_CYCLES4) {
     if (cos_angle <= co) return 0.0f;
     float band = (1.0f - co) * l->spot_blend, t = cos_angle - co;
-    return band > 0.0f && t < band ? cos_angle * smoothstep01(t / band) : cos_angle;
+    float s = band > 0.0f && t < band ? smoothstep01(t / band) : 1.0f;
+    return l->spot_model == PB_SPOT_CYCLES ? cos_angle * s : s; /* 3.4 keeps the cosine; 4.x does not */
   }
   float ci = cosf(l->inner_cone);
   if (ci - co <= 1e-7f) return cos_angle >= co ? 1.0f : 0.0f;

@@ -329,7 +329,7 @@ void pb_ref_lights_destroy(pb_ref_lights *l);
 int pb_delta_light_at(const pb_light *l, v3 p, v3 *wi, float *dist, v3 *Li);
 
 
-/* Cycles 3.4's spot falloff or KHR's smooth step (scene.h pb_spot_model)
+/* Cycles 3.4's or 4.x's spot falloff or KHR's smooth step (scene.h pb_spot_model)
  * for the cosine of the angle between the spot's axis and the direction
  * light leaves in. */
 float pb_spot_factor(const pb_light *l, float cos_angle);

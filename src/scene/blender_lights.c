@@ -162,7 +162,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
   if (e != PB_OK || !lo) return e;
   snprintf(where, sizeof where, "nodes[%d].extensions.PHOTONBRIDGE_blender.light", node);
 
-  const char *type, *name, *shape = NULL;
+  const char *type, *name, *shape = NULL, *model = NULL;
   if ((e = string(&r, lo, "type", &type)) != PB_OK) return e;
   if (!type) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.type: missing (POINT, SPOT, SUN or AREA)", path, where);
   pb_light l;
@@ -190,8 +190,14 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
       (e = number(&r, lo, "sizeY", DEF_AREA_SIZE, 0, 0, HUGE_VAL, 0, "a non-negative size (m)", &size_y)) != PB_OK ||
       (e = number(&r, lo, "spread", PI, 0, 1, PI_F32, 0, "in (0, pi] radians", &spread)) != PB_OK ||
       (e = boolean(&r, lo, "castShadow", 1, &cast)) != PB_OK || (e = boolean(&r, lo, "useMIS", 1, &mis)) != PB_OK ||
-      (e = string(&r, lo, "shape", &shape)) != PB_OK)
+      (e = string(&r, lo, "shape", &shape)) != PB_OK || (e = string(&r, lo, "model", &model)) != PB_OK)
     return e;
+  /* Which Cycles' light model: 3.4's (no member: files written before 4.0
+   * existed), or 4.x's area radiance and spot falloff (scene.h). */
+  int cycles4 = 0;
+  if (model && strcmp(model, "cycles4") == 0) cycles4 = 1;
+  else if (model && strcmp(model, "cycles3") != 0)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.model: '%s' is not cycles3 or cycles4", path, where, model);
 
   double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
   xform_point(M, o, pos);
@@ -207,7 +213,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     k = power / (4.0 * PI);
     l.radius = (float)radius;
     if (l.type == PB_LIGHT_SPOT) {
-      l.spot_model = PB_SPOT_CYCLES;
+      l.spot_model = cycles4 ? PB_SPOT_CYCLES4 : PB_SPOT_CYCLES;
       spot_size = fmin(spot_size, PI);
       l.outer_cone = (float)(0.5 * spot_size);
       l.spot_blend = (float)spot_blend;
@@ -235,7 +241,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     l.size[0] = (float)size;
     l.size[1] = (float)size_y;
     l.spread = (float)fmin(spread, PI);
-    k = power / (4.0 * area);
+    k = power / ((cycles4 ? PI : 4.0) * area); /* Cycles eval_fac: 3.4 1/(4 A), 4.x 1/(pi A) */
     if (!pb_area_light_axes(M, dir, l.axis_u, l.axis_v))
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", path, node);
     l.file_intensity = (float)power;

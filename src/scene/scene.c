@@ -88,7 +88,7 @@ void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
      * weight: 2 pi (1 - cos) at the mean of the two cone angles. Cycles'
      * falloff (its cos factor, its band inside the outer cone) is within the
      * same estimate's error: the split only needs a rough power. */
-    float inner = l->spot_model == PB_SPOT_CYCLES ? l->outer_cone * (1.0f - l->spot_blend) : l->inner_cone;
+    float inner = l->spot_model != PB_SPOT_SMOOTHSTEP ? l->outer_cone * (1.0f - l->spot_blend) : l->inner_cone;
     float a = 0.5f * (inner + l->outer_cone);
     k = 2.0f * (float)M_PI * (1.0f - cosf(a)) * l->intensity;
     break;

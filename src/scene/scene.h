@@ -189,6 +189,11 @@ typedef enum pb_spot_model {
    * smoothstep((c - c0) / band) inside the band (3 t^2 - 2 t^3). The factor
    * c is Cycles' own (measured: validation/VALIDATE.md). */
   PB_SPOT_CYCLES = 1,
+  /* Cycles 4.0 and later (kernel/light/spot.h spot_attenuation): the same
+   * band without the factor c: 0 for c <= c0, else smoothstep((c - c0) /
+   * band) inside the band and 1 beyond it. Blender 4.x files (the writer's
+   * light "model": "cycles4"). */
+  PB_SPOT_CYCLES4 = 2,
 } pb_spot_model;
 
 typedef enum pb_area_shape {
@@ -218,7 +223,9 @@ typedef enum pb_area_shape {
  *     which keeps the emitted power pi A L for every spread (Cycles 3.4,
  *     scene/light.cpp; s = pi is the Lambertian emitter). Blender's power P
  *     [W] gives L = P / (4 A) (Cycles 3.4's eval_fac = 1/(4 A), measured:
- *     src/scene/blender_lights.c), A the shape's area.
+ *     src/scene/blender_lights.c), A the shape's area; from Blender 4.0 on
+ *     L = P / (pi A) (Cycles 4.x kernel/light/area.h eval_fac = invarea /
+ *     pi: 4 / pi brighter for the same power, which is then the emitted flux).
  * A spot's falloff follows `spot_model`. `direction` is the unit direction
  * light travels (the node's -Z). Soft lights (radius, angle > 0, area
  * lights) are seen by rays: specular chains see their emission and
@@ -239,7 +246,7 @@ typedef struct pb_light {
   float file_intensity;         /* as written in the file: cd or lx (KHR), or
                                    Blender's watts / W/m^2 (PHOTONBRIDGE_blender) */
   pb_spot_model spot_model;
-  float spot_blend;             /* PB_SPOT_CYCLES: Blender's spot blend, [0, 1] */
+  float spot_blend;             /* PB_SPOT_CYCLES(4): Blender's spot blend, [0, 1] */
   float radius;                 /* point/spot: soft radius [m]; 0: a delta light */
   float angle;                  /* directional: angular diameter [rad]; 0: delta */
   pb_area_shape shape;          /* area lights */

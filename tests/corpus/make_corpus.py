@@ -1132,6 +1132,9 @@ def blender_cases(C, png):
          A + ("spread",), 0.0)
     case("blender_spot_blend", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.spotBlend: 2",
          L + ("spotBlend",), 2.0)
+    case("blender_light_model", EXIT_INVALID,
+         "nodes[3].extensions.PHOTONBRIDGE_blender.light.model: 'cycles5' is not cycles3 or cycles4", L + ("model",),
+         "cycles5")
     case("blender_sun_angle_pi", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light.angle",
          L, {"type": "SUN", "angle": 3.5})
     case("blender_light_not_object", EXIT_INVALID, "nodes[3].extensions.PHOTONBRIDGE_blender.light: not an object",

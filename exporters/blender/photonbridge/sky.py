@@ -199,6 +199,12 @@ def _tex_lookup(tex, x, y):
             (tex[yb, xa] * (1 - ax) + tex[yb, xb] * ax) * ay)
 
 
+def _dust(node):
+    """Dust density: 'Aerosol' (aerosol_density) from Blender 5.0 on."""
+    v = getattr(node, "dust_density", None)
+    return float(v if v is not None else node.aerosol_density)
+
+
 class NishitaSky:
     """The node's parameters as Cycles 3.4's SkyTextureNode::compile uses them."""
 
@@ -209,7 +215,7 @@ class NishitaSky:
             rot += 2 * math.pi
         self.sun_rotation = 2 * math.pi - rot  # shader_nodes.cpp flips it
         self.altitude = min(max(float(node.altitude), 1.0), 59999.0)
-        self.air, self.dust, self.ozone = float(node.air_density), float(node.dust_density), float(node.ozone_density)
+        self.air, self.dust, self.ozone = float(node.air_density), float(_dust(node)), float(node.ozone_density)
         self.sun_disc = bool(node.sun_disc)
         self.sun_size = float(node.sun_size)
         self.sun_intensity = float(node.sun_intensity)
@@ -285,7 +291,7 @@ def baked(node):
     node; the last result is kept, so a viewport re-export of an unchanged
     sky does not bake it again (~4 s)."""
     key = tuple(float(getattr(node, k)) for k in ("sun_elevation", "sun_rotation", "altitude", "air_density",
-                                                   "dust_density", "ozone_density", "sun_size", "sun_intensity"))
+                                                   "ozone_density", "sun_size", "sun_intensity")) + (_dust(node),)
     key += (bool(node.sun_disc),)
     if _last.get("key") != key:
         sky = NishitaSky(node)

@@ -537,6 +537,7 @@ class SceneWriter:
         tint, gain = self._light_nodes(obj)
         color = [c * t for c, t in zip(lamp.color, tint)]
         energy = lamp.energy * gain
+        color, energy, factors = self._light_factors(obj, lamp, color, energy, scale)
         if not energy >= 0.0:
             # Blender allows negative power (Cycles subtracts that light);
             # photonbridge refuses a negative light in a file (exit 5), which
@@ -545,15 +546,31 @@ class SceneWriter:
                       % (obj.name, "strength" if lamp.type == 'SUN' else "power", energy))
             return
         ext = {"type": lamp.type, "name": lamp.name, "color": color,
-               "castShadow": bool(getattr(cyc, "cast_shadow", True)),
+               "castShadow": self._light_casts_shadow(lamp, cyc),
                "useMIS": bool(getattr(cyc, "use_multiple_importance_sampling", True))}
         if lamp.type == 'SUN':
             ext["strength"] = energy
             ext["angle"] = lamp.angle
         else:
             ext["power"] = energy
+        ext.update(factors)
+        if bpy.app.version >= (4, 0, 0):
+            # Cycles 4.0 changed two light models: an area light's radiance is
+            # P / (pi A) (3.4: P / (4 A)) and a spot's falloff lost its cosine.
+            ext["model"] = "cycles4"
+        link = getattr(obj, "light_linking", None)
+        if link is not None and (link.receiver_collection is not None or link.blocker_collection is not None):
+            # 4.0+ light and shadow linking: per-light receiver and blocker sets.
+            self.warn("light '%s': light linking is not supported; it lights and is blocked by every object"
+                      % obj.name)
         if lamp.type in ('POINT', 'SPOT'):
             ext["radius"] = lamp.shadow_soft_size
+            if not getattr(lamp, "use_soft_falloff", True) and lamp.shadow_soft_size > 0:
+                # 4.1+: Soft Falloff off makes Cycles' light a true sphere
+                # (klight spot.is_sphere); photonbridge has only the 3.4
+                # oriented disc, the same power but softer near the light.
+                self.warn("light '%s': Soft Falloff off (a sphere light) is rendered with soft falloff; "
+                          "shading within a few radii of the light differs from Cycles" % obj.name)
         if lamp.type == 'SPOT':
             ext["spotSize"] = lamp.spot_size
             ext["spotBlend"] = lamp.spot_blend
@@ -586,6 +603,46 @@ class SceneWriter:
         node.setdefault("extensions", {})[EXTENSION] = {"light": ext}
         self.node_of[instance_key(inst)] = self.doc.add_node(node)
         self.report.lights += 1
+
+    def _light_casts_shadow(self, lamp, cyc):
+        """Cycles 3.x reads the light's Cycles 'Cast Shadow'; 4.x removed it
+        and reads Light.use_shadow (blender/light.cpp)."""
+        if cyc is not None and hasattr(cyc, "cast_shadow"):
+            return bool(cyc.cast_shadow)
+        return bool(getattr(lamp, "use_shadow", True))
+
+    def _light_factors(self, obj, lamp, color, energy, scale):
+        """(colour, power or strength, extension members) with the light
+        settings Blender 4.5 adds, as Cycles 4.5 computes them: strength =
+        colour x temperature colour x energy x 2^exposure (blender/light.cpp),
+        and Normalize off leaves out the 1/area of the emission
+        (scene/light.cpp Light::area: a point or spot light's sphere 4 pi r^2,
+        4 when r = 0; an area light's w x h, x pi/4 for ellipses and discs;
+        a sun's pi sin^2(angle/2), 1 when the angle is 0), which is the
+        normalized light's power times that area. Lights of 3.4 files have
+        none of these and keep their power."""
+        ext = {}
+        exposure = float(getattr(lamp, "exposure", 0.0))
+        if exposure != 0.0:
+            energy *= 2.0 ** exposure
+            ext["exposure"] = exposure
+        if getattr(lamp, "use_temperature", False):
+            tc = list(lamp.temperature_color)
+            color = [c * t for c, t in zip(color, tc)]
+            ext["temperature"] = float(lamp.temperature)
+        if not getattr(lamp, "normalize", True):
+            if lamp.type in ('POINT', 'SPOT'):
+                r = lamp.shadow_soft_size
+                area = 4.0 * math.pi * r * r or 4.0
+            elif lamp.type == 'SUN':
+                area = math.pi * math.sin(lamp.angle * 0.5) ** 2 if lamp.angle > 0 else 1.0
+            else:
+                w = lamp.size * abs(scale.x)
+                h = (lamp.size_y if lamp.shape in ('RECTANGLE', 'ELLIPSE') else lamp.size) * abs(scale.y)
+                area = w * h * (math.pi / 4.0 if lamp.shape in ('DISK', 'ELLIPSE') else 1.0)
+            energy *= area
+            ext["normalize"] = False
+        return color, energy, ext
 
     def _light_nodes(self, obj):
         """(RGB tint, gain) of a light's node tree: Cycles multiplies the
@@ -701,8 +758,13 @@ class SceneWriter:
 
     # ---- world and root ----------------------------------------------------------
 
+    def _scene_world(self):
+        """The world Cycles renders: the view layer's World Override (4.x)
+        when set, else the scene's."""
+        return getattr(self.dg.view_layer, "world_override", None) or self.scene.world
+
     def _world(self):
-        world = self.scene.world
+        world = self._scene_world()
         if world is None:
             return None
         w = {"color": list(world.color), "strength": 1.0}
@@ -740,7 +802,15 @@ class SceneWriter:
                         self.warn("world '%s': node '%s' drives the environment's Vector and is not translated"
                                   % (world.name, vec.node.name))
                     w["environment"] = e
-            elif col.node.type == 'TEX_SKY' and col.node.sky_type == 'NISHITA':
+            elif col.node.type == 'TEX_SKY' and col.node.sky_type in ('NISHITA', 'SINGLE_SCATTERING'):
+                # 5.0 renamed Nishita to Single Scattering (Dust to Aerosol).
+                self._sky(world, col.node, w)
+            elif col.node.type == 'TEX_SKY' and col.node.sky_type == 'MULTIPLE_SCATTERING':
+                # 5.0's default sky model; its ground reflection and
+                # multiple scattering are not modelled here.
+                self.warn("world '%s': Sky Texture '%s' uses Multiple Scattering, which photonbridge does not "
+                          "model; it is baked with the Single Scattering model (darker and bluer near the horizon "
+                          "than Cycles)" % (world.name, col.node.name))
                 self._sky(world, col.node, w)
             else:
                 self.warn("world '%s': node '%s' (%s) drives the Background colour and is not translated; its "
@@ -837,7 +907,7 @@ class SceneWriter:
                                       "set Render As to Object or Collection for instances" % (obj.name, ps.name))
             elif obj.type == 'LIGHT':
                 self._light(inst, obj)
-            elif obj.type in ('CURVES', 'POINTCLOUD', 'VOLUME', 'GPENCIL'):
+            elif obj.type in ('CURVES', 'POINTCLOUD', 'VOLUME', 'GPENCIL', 'GREASEPENCIL'):
                 self.warn("object '%s': type %s is not rendered" % (obj.name, obj.type))
         if cam is not None and cam.type == 'CAMERA':
             self._camera(cam.evaluated_get(self.dg) if not cam.is_evaluated else cam)
@@ -851,7 +921,7 @@ class SceneWriter:
         """Whether the world (as _world translates it) may emit: a lit world is
         a light, so a scene lit by it alone is not unlit. No side effects
         (_world writes the environment image)."""
-        world = self.scene.world
+        world = self._scene_world()
         if world is None:
             return False
         if not world.use_nodes or world.node_tree is None:
