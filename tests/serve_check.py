@@ -22,7 +22,18 @@
   kill      a client that starts serve, streams and is SIGKILLed leaves no
             process (serve sees EOF, ends after the frame it was rendering)
             and no frame file; the same with --socket and a client that
-            disconnects
+            disconnects (the socket, bound under umask 000, is 0600)
+  private   what a session leaves on the machine is the user's alone: the
+            frames live in a folder of the session's own under the base
+            (/dev/shm, else $TMPDIR, else /tmp), made by mkdtemp, 0700 and
+            owned by the user; every file in it (frames, exr frames, a
+            temporary held by PB_TEST_HOLD_OUTPUT) is 0600 with umask 000
+            in serve's environment; symlinks planted at the old predictable
+            names (photonbridge-serve-PID.rgba32f and its .tmp.PID) are not
+            followed (their target is untouched); nothing is left after EOF,
+            SIGINT or SIGTERM (the latter while a temporary exists); a base
+            folder that is missing or not a folder is a one-line error naming
+            it, a non-zero exit and no ready line
 
 Exit 77 (skip) where no Vulkan device is usable.
 usage: serve_check.py PHOTONBRIDGE ROOT OUTDIR PART
@@ -34,6 +45,7 @@ import select
 import shutil
 import signal
 import socket
+import stat
 import subprocess
 import sys
 import time
@@ -60,8 +72,8 @@ def fail(msg):
 
 
 class Serve:
-    def __init__(self, args, env=None):
-        self.p = subprocess.Popen([EXE, "serve"] + args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+    def __init__(self, args, env=None, wrap=()):
+        self.p = subprocess.Popen(list(wrap) + [EXE, "serve"] + args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                   stderr=subprocess.PIPE, text=True, bufsize=1, env=env)
         self.ready = self.read(120)
         if self.ready.get("event") != "ready":
@@ -339,12 +351,12 @@ def part_kill():
         os.kill(info["pid"], signal.SIGKILL)
         fail("serve (pid %d) outlived its killed client by 120 s" % info["pid"])
     print("serve_check kill: serve ended %.1f s after its client was killed" % (time.time() - t0))
-    if os.path.exists(info["frame_path"]):
-        fail("%s is left behind" % info["frame_path"])
+    if os.path.exists(os.path.dirname(info["frame_path"])):
+        fail("%s is left behind" % os.path.dirname(info["frame_path"]))
     # --socket: one client; its disconnect ends the session.
     path = os.path.join(OUT, "serve.sock")
     p = subprocess.Popen([EXE, "serve", SCENE, "--socket", path] + SETTINGS + ["-q"], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True, preexec_fn=lambda: os.umask(0))
     k = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     for _ in range(600):
         try:
@@ -355,6 +367,10 @@ def part_kill():
     else:
         p.kill()
         fail("no socket at %s" % path)
+    mode = os.lstat(path).st_mode
+    if not stat.S_ISSOCK(mode) or stat.S_IMODE(mode) != 0o600:
+        p.kill()
+        fail("the socket %s is mode %o under umask 000 (expected a socket, 0600)" % (path, stat.S_IMODE(mode)))
     f = k.makefile("rw")
     ready = json.loads(f.readline())
     f.write('{"cmd":"frame"}\n')
@@ -369,12 +385,132 @@ def part_kill():
     except subprocess.TimeoutExpired:
         p.kill()
         fail("serve --socket did not end within 60 s of the client's disconnect")
-    if rc != 0 or os.path.exists(path) or os.path.exists(ready["frame_path"]):
+    if rc != 0 or os.path.exists(path) or os.path.exists(os.path.dirname(ready["frame_path"])):
         fail("serve --socket: exit %d, socket left %s, frame left %s" % (rc, os.path.exists(path),
                                                                        os.path.exists(ready["frame_path"])))
     print("serve_check kill: --socket session ended with its client (exit 0, socket and frame removed)")
 
 
+def serve_base():
+    """The base serve picks without --frame-dir (serve.c's frame_dir)."""
+    if os.path.isdir("/dev/shm") and os.access("/dev/shm", os.W_OK):
+        return "/dev/shm"
+    return os.environ.get("TMPDIR") or "/tmp"
+
+
+def check_private_dir(base, frame_path):
+    """The session folder of `frame_path`: a fresh folder in `base`, 0700,
+    the user's; every entry a regular file, 0600, the user's. The folder."""
+    d = os.path.dirname(frame_path)
+    if os.path.realpath(os.path.dirname(d)) != os.path.realpath(base):
+        fail("the frame %s is not in a folder of its own in %s" % (frame_path, base))
+    if not os.path.basename(d).startswith("photonbridge-serve-"):
+        fail("the session folder %s" % d)
+    st = os.lstat(d)
+    if not stat.S_ISDIR(st.st_mode) or stat.S_IMODE(st.st_mode) != 0o700 or st.st_uid != os.getuid():
+        fail("the session folder %s: mode %o, owner %d (expected a folder, 0700, %d)"
+             % (d, stat.S_IMODE(st.st_mode), st.st_uid, os.getuid()))
+    names = os.listdir(d)
+    for n in names:
+        st = os.lstat(os.path.join(d, n))
+        if not stat.S_ISREG(st.st_mode) or stat.S_IMODE(st.st_mode) != 0o600 or st.st_uid != os.getuid():
+            fail("%s/%s: mode %o, owner %d (expected a regular file, 0600, %d)"
+                 % (d, n, stat.S_IMODE(st.st_mode), st.st_uid, os.getuid()))
+    return d, names
+
+
+def end_with(s, how, want_rc, d):
+    if how == "eof":
+        s.p.stdin.close()
+    else:
+        s.p.send_signal(how)
+    try:
+        rc = s.p.wait(60)
+    except subprocess.TimeoutExpired:
+        s.p.kill()
+        fail("serve did not end within 60 s (%s)" % how)
+    if rc != want_rc:
+        fail("exit %d after %s (expected %d); stderr: %s" % (rc, how, want_rc, s.p.stderr.read()))
+    if os.path.exists(d):
+        fail("%s is left behind after %s: %r" % (d, how, os.listdir(d)))
+
+
+def part_private():
+    base = serve_base()
+    victim = os.path.join(OUT, "victim.txt")
+    with open(victim, "w") as f:
+        f.write("untouched\n")
+    # The wrapper shell plants symlinks at the names serve used to write
+    # (its PID is serve's: exec keeps it) and sets umask 000 for serve.
+    plant = ('umask 000; ln -s "$1" "$2/photonbridge-serve-$$.rgba32f"; '
+             'ln -s "$1" "$2/photonbridge-serve-$$.rgba32f.tmp.$$"; shift 2; exec "$@"')
+    s = Serve([SCENE] + SETTINGS + ["-q"], wrap=["sh", "-c", plant, "sh", victim, base])
+    planted = [os.path.join(base, "photonbridge-serve-%d.rgba32f" % s.p.pid),
+               os.path.join(base, "photonbridge-serve-%d.rgba32f.tmp.%d" % (s.p.pid, s.p.pid))]
+    try:
+        d, _ = check_private_dir(base, s.ready["frame_path"])
+        for i in range(2):
+            r = s.ask({"cmd": "frame"})
+            if not r.get("ok") or r.get("path") != s.ready["frame_path"]:
+                fail("frame %d: %r" % (i, r))
+            read_frame(r["path"])
+        _, names = check_private_dir(base, s.ready["frame_path"])
+        print("serve_check private: session folder %s (0700) holds %r (0600) under umask 000" % (d, names))
+        with open(victim) as f:
+            if f.read() != "untouched\n":
+                fail("the symlink target %s was written through" % victim)
+        for link in planted:
+            if not os.path.islink(link) or os.readlink(link) != victim:
+                fail("the planted symlink %s was replaced or removed" % link)
+        print("serve_check private: symlinks at the old names not followed, their target untouched")
+        end_with(s, "eof", 0, d)
+    finally:
+        for link in planted:
+            if os.path.islink(link):
+                os.unlink(link)
+    print("serve_check private: EOF removed the session folder")
+
+    # exr frames (OpenEXR writes the temporary): 0600 too; SIGINT cleans up.
+    s = Serve([SCENE] + SETTINGS + ["-q", "--format", "exr"], wrap=["sh", "-c", 'umask 000; exec "$@"', "sh"])
+    r = s.ask({"cmd": "frame"})
+    if not r.get("ok") or not r["path"].endswith(".exr"):
+        fail("exr frame: %r" % r)
+    d, names = check_private_dir(base, r["path"])
+    end_with(s, signal.SIGINT, 130, d)
+    print("serve_check private: exr frames %r 0600; SIGINT removed the session folder" % names)
+
+    # SIGTERM while a frame's temporary exists (the test hook holds it).
+    env = dict(os.environ, PB_TEST_HOLD_OUTPUT="1")
+    s = Serve([SCENE] + SETTINGS + ["-q"], env=env, wrap=["sh", "-c", 'umask 000; exec "$@"', "sh"])
+    s.send({"cmd": "frame"})
+    r, _, _ = select.select([s.p.stderr], [], [], 120)
+    line = s.p.stderr.readline() if r else ""
+    if "holding " not in line:
+        s.p.kill()
+        fail("no test-hook line on stderr: %r" % line)
+    tmp = line.split("holding ", 1)[1].strip()
+    d, names = check_private_dir(base, s.ready["frame_path"])
+    if os.path.dirname(tmp) != d or os.path.basename(tmp) not in names:
+        s.p.kill()
+        fail("the temporary %s is not in the session folder %s (%r)" % (tmp, d, names))
+    end_with(s, signal.SIGTERM, 143, d)
+    print("serve_check private: temporary %s 0600; SIGTERM removed the session folder" % os.path.basename(tmp))
+
+    # A base that cannot hold the folder: one line naming it, no session.
+    not_dir = os.path.join(OUT, "a_file")
+    open(not_dir, "w").close()
+    for bad in (os.path.join(OUT, "missing"), not_dir):
+        p = subprocess.run([EXE, "serve", SCENE, "--frame-dir", bad] + SETTINGS + ["-q"], capture_output=True,
+                           text=True, timeout=300, stdin=subprocess.DEVNULL)
+        err = p.stderr.strip().splitlines()
+        if p.returncode == 0 or len(err) != 1 or bad not in err[0] or '"event":"ready"' in p.stdout:
+            fail("--frame-dir %s: exit %d, stderr %r, stdout %r" % (bad, p.returncode, p.stderr, p.stdout))
+        print("serve_check private: --frame-dir %s: exit %d, %s" % (os.path.basename(bad), p.returncode, err[0]))
+    if os.listdir(OUT) and any(n.startswith("photonbridge-serve-") for n in os.listdir(OUT)):
+        fail("a session folder was left in %s" % OUT)
+
+
 check_device()
-{"protocol": part_protocol, "still": part_still, "tracer": part_tracer, "kill": part_kill}[PART]()
+{"protocol": part_protocol, "still": part_still, "tracer": part_tracer, "kill": part_kill,
+ "private": part_private}[PART]()
 print("serve_check %s: OK" % PART)

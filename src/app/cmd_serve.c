@@ -38,8 +38,8 @@ int pb_cmd_serve(int argc, char **argv) {
       PB_LIVE_OPTS(&lo),
       {"socket", 0, PB_OPT_STRING, &socket_path, "PATH", "requests and replies on a UNIX socket at PATH (one "
        "client; the session ends when it disconnects) instead of stdin/stdout", NULL, 0, 0},
-      {"frame-dir", 0, PB_OPT_STRING, &frame_dir, "DIR", "where frames are written (default /dev/shm, else "
-       "$TMPDIR or /tmp)", NULL, 0, 0},
+      {"frame-dir", 0, PB_OPT_STRING, &frame_dir, "DIR", "where the session's private folder (0700; "
+       "frames 0600) is made (default /dev/shm, else $TMPDIR or /tmp)", NULL, 0, 0},
       {"format", 0, PB_OPT_CHOICE, &format, "FMT", "frame files: rgba32f (default: a 32-byte header and float RGBA, "
        "top row first) or exr (every AOV, as render writes them)", format_names, 0, 0},
   };

@@ -22,6 +22,15 @@ pb_result pb_atomic_open(const char *path, FILE **f, char **tmp_path);
 pb_result pb_atomic_commit(const char *path, FILE *f, char *tmp_path);
 /* Closes and removes the temporary without touching `path`. */
 void pb_atomic_abort(FILE *f, char *tmp_path);
+/* As pb_atomic_open, for a private folder (pb_private_dir_create): the
+ * temporary is created with pb_private_open (exclusively, 0600 whatever the
+ * umask), so a file or symlink already at its name fails the write instead
+ * of being followed or clobbered. Finish with pb_atomic_commit / _abort. */
+pb_result pb_atomic_open_private(const char *path, FILE **f, char **tmp_path);
+/* Creates `path` exclusively (O_CREAT|O_EXCL|O_NOFOLLOW) with mode 0600
+ * exactly, whatever the umask; the open descriptor, or -1 with errno set
+ * (EEXIST when anything, a symlink included, is already there). */
+int pb_private_open(const char *path);
 /* Checks, before any long work, that `path` could be written: creates and
  * removes its temporary sibling. NULL and "-" (stdout) pass. Errors as
  * pb_atomic_open's (PB_ERR_IO naming the path). */
@@ -47,6 +56,16 @@ const char *pb_basename(const char *path);
 void pb_tmp_register(const char *tmp_path);
 void pb_tmp_unregister(const char *tmp_path);
 void pb_tmp_remove_all_signal_safe(void);
+/* A private folder for one process's files (serve's frames): BASE/PREFIX-
+ * XXXXXX made by mkdtemp (an unpredictable name, never an existing
+ * folder), mode 0700 exactly whatever the umask, its path in `out` (cap
+ * bytes). It is registered: pb_tmp_remove_all_signal_safe empties and
+ * removes it (the files in it need not be registered). On failure `out` is
+ * "" and the error (PB_ERR_IO) names BASE and the reason. */
+pb_result pb_private_dir_create(const char *base, const char *prefix, char *out, size_t cap);
+/* Removes the files in `dir` (not recursively: a private folder holds
+ * files only) and `dir`, and unregisters it. NULL or "" does nothing. */
+void pb_private_dir_remove(const char *dir);
 /* What the interrupt message says was kept (main.c's handler): NULL (the
  * default) "no output written"; a sequence that has finished frames sets
  * its own (a string constant: the handler reads it asynchronously). */

@@ -48,7 +48,8 @@ typedef struct server {
   int streaming, pending;      /* pending: something changed since the last frame */
   uint32_t max_passes;
   uint64_t served;             /* frames handed over */
-  char frame_path[PATH_MAX];
+  char dir[PATH_MAX];          /* the session's private folder (0700): "" until made */
+  char frame_path[PATH_MAX];   /* in it; written only through 0600 exclusive temporaries */
   char *reply;                 /* a reply line */
   int quit;
 } server;
@@ -151,7 +152,7 @@ static pb_result restart(server *v) {
 static pb_result write_rgba32f(const char *path, const pb_render_result *res, uint64_t frame) {
   FILE *f;
   char *tmp;
-  pb_result r = pb_atomic_open(path, &f, &tmp);
+  pb_result r = pb_atomic_open_private(path, &f, &tmp);
   if (r != PB_OK) return r;
   unsigned char head[32];
   memset(head, 0, sizeof head);
@@ -166,6 +167,29 @@ static pb_result write_rgba32f(const char *path, const pb_render_result *res, ui
   return pb_atomic_commit(path, f, tmp);
 }
 
+/* pb_exr_write writes the temporary pb_tmp_name(path) through OpenEXR,
+ * which opens it with O_CREAT|O_TRUNC and mode 0666 less the umask. The
+ * temporary is created here first, exclusively with mode 0600
+ * (pb_private_open): OpenEXR then truncates that file, which keeps its
+ * mode, so the frame is 0600 whatever the umask the client gave serve. */
+static pb_result write_exr(const char *path, const pb_render_result *res) {
+  char *tmp = pb_tmp_name(path);
+  if (!tmp) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  int fd = pb_private_open(tmp);
+  if (fd < 0) {
+    pb_result r = pb_fail(PB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    free(tmp);
+    return r;
+  }
+  close(fd);
+  pb_tmp_register(tmp);
+  pb_result r = pb_render_write_exr(path, res, NULL, NULL, NULL, NULL, 0);
+  if (r != PB_OK) unlink(tmp); /* a failure before OpenEXR opened it leaves it */
+  pb_tmp_unregister(tmp);
+  free(tmp);
+  return r;
+}
+
 static void render_frame(server *v, int requested, const char *id) {
   if (!v->ses_ok) {
     reply_error(v, "frame", requested ? id : "", "no session to render (the last reload or reset failed: fix the "
@@ -177,7 +201,7 @@ static void render_frame(server *v, int requested, const char *id) {
   pb_result r = pb_view_session_frame(&v->ses, v->cam_set ? &v->cam : NULL, v->t);
   double ms = (pb_time_now() - t0) * 1e3;
   if (r == PB_OK)
-    r = v->d->format == PB_SERVE_FORMAT_EXR ? pb_render_write_exr(v->frame_path, &v->ses.res, NULL, NULL, NULL, NULL, 0)
+    r = v->d->format == PB_SERVE_FORMAT_EXR ? write_exr(v->frame_path, &v->ses.res)
                                             : write_rgba32f(v->frame_path, &v->ses.res, v->served);
   if (r != PB_OK) {
     reply_error(v, "frame", requested ? id : "", "%s", pb_error_message());
@@ -383,7 +407,14 @@ static pb_result open_socket(server *v, const char *path) {
   if (lstat(path, &st) == 0) unlink(path); /* a stale socket of a session that died */
   int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
   if (fd < 0) return pb_fail(PB_ERR_IO, "serve: socket: %s", strerror(errno));
-  if (bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || listen(fd, 1) != 0) {
+  /* bind creates the socket file with mode 0777 less the umask, and
+   * connecting needs write permission on it: umask 0177 for the bind makes
+   * it 0600, so only this user can drive the session (serve is single-
+   * threaded here; nothing else creates files meanwhile). */
+  mode_t old_umask = umask(0177);
+  int bound = bind(fd, (struct sockaddr *)&a, sizeof a) == 0;
+  umask(old_umask);
+  if (!bound || listen(fd, 1) != 0) {
     int e = errno;
     close(fd);
     return pb_fail(PB_ERR_IO, "serve: --socket %s: %s", path, strerror(e));
@@ -409,9 +440,29 @@ pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
   signal(SIGPIPE, SIG_IGN); /* a dead client is a failed write, not a signal */
   pb_result r = PB_OK;
   if (!(v.reply = malloc(REPLY_CAP))) return pb_fail(PB_ERR_NOMEM, "serve: out of memory");
-  snprintf(v.frame_path, sizeof v.frame_path, "%s/photonbridge-serve-%ld.%s", frame_dir(d), (long)getpid(),
-           d->format == PB_SERVE_FORMAT_EXR ? "exr" : "rgba32f");
-  pb_tmp_register(v.frame_path); /* SIGINT / SIGTERM remove it (main.c) */
+  /* The frames live in a folder of the session's own: an unpredictable
+   * name (mkdtemp), mode 0700, so no other user can read them, and no name
+   * in the shared base (/dev/shm, $TMPDIR, /tmp) is ever opened: nothing
+   * planted there (a symlink at a name serve could guess) is followed.
+   * Inside it every file is created exclusively with mode 0600. It is
+   * registered (core/fs.h): SIGINT / SIGTERM remove it with what it holds
+   * (main.c), as the end of the session does below. */
+  const char *base = frame_dir(d);
+  if (pb_private_dir_create(base, "photonbridge-serve", v.dir, sizeof v.dir) != PB_OK) {
+    char why[1200];
+    snprintf(why, sizeof why, "%s", pb_error_message());
+    pb_error_clear(); /* the first failure wins: this one says which command */
+    r = pb_fail(PB_ERR_IO, "serve: %s%s", why, d->frame_dir ? " (--frame-dir)" : "");
+    reply_error(&v, NULL, "", "%s", pb_error_message());
+    goto done;
+  }
+  int len = snprintf(v.frame_path, sizeof v.frame_path, "%s/frame.%s", v.dir,
+                     d->format == PB_SERVE_FORMAT_EXR ? "exr" : "rgba32f");
+  if (len < 0 || (size_t)len >= sizeof v.frame_path) {
+    r = pb_fail(PB_ERR_USAGE, "serve: the session folder %s: its path is too long", v.dir);
+    reply_error(&v, NULL, "", "%s", pb_error_message());
+    goto done;
+  }
   if (d->socket_path && (r = open_socket(&v, d->socket_path)) != PB_OK) goto done;
   if ((r = load(&v, d->scene)) != PB_OK) {
     reply_error(&v, NULL, "", "%s", pb_error_message());
@@ -445,8 +496,7 @@ pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
   }
   if (v.quit && !v.client_gone) pb_log_verbose("serve: quit after %lu request lines", v.line_no);
 done:
-  unlink(v.frame_path);
-  pb_tmp_unregister(v.frame_path);
+  pb_private_dir_remove(v.dir); /* the frame and any temporary with it */
   if (v.listen_fd >= 0) {
     close(v.listen_fd);
     if (v.in_fd != STDIN_FILENO) close(v.in_fd);

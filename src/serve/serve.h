@@ -2,12 +2,16 @@
  * is loaded once; requests (protocol.h) change the camera, the size, the
  * time, the settings or the scene, and frames are rendered by the live
  * session (view/session.h, the loop `view` runs) and handed over as files
- * in /dev/shm, each written atomically, the reply naming it.
+ * in a private folder of the session's own (mkdtemp under /dev/shm, else
+ * $TMPDIR or /tmp, or --frame-dir; mode 0700, each file in it created
+ * exclusively with mode 0600), each written atomically, the reply naming
+ * it: clients take the path from the replies.
  *
  * The session ends, removing its files, on "quit", on EOF of its input
  * (the client closed the pipe or died), when a reply cannot be written
  * (the client is gone: EPIPE), and on SIGINT / SIGTERM (main.c's handler
- * removes the registered files). */
+ * removes the registered folder with its files). The base failing to hold
+ * the folder is an error returned naming the base, before the scene loads. */
 #ifndef PB_SERVE_SERVE_H
 #define PB_SERVE_SERVE_H
 
@@ -25,7 +29,7 @@ typedef struct pb_serve_desc {
   const pb_core_opts *core;     /* --width/--height/--camera/scene options, for every (re)load */
   pb_sequence_desc seq;         /* the frame settings; "settings" requests change them */
   const char *socket_path;      /* NULL: requests on stdin, replies on stdout */
-  const char *frame_dir;        /* NULL: /dev/shm, else $TMPDIR or /tmp */
+  const char *frame_dir;        /* the base of the session folder; NULL: /dev/shm, else $TMPDIR or /tmp */
   int format;                   /* PB_SERVE_FORMAT_* */
 } pb_serve_desc;
 

@@ -1,7 +1,9 @@
 /* Core: result table, one-line errors, CLI parsing, JSON writer, atomic files,
  * sRGB transfer, texture sampling, camera image sizes. */
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "app/cli.h"
@@ -145,6 +147,79 @@ static void test_json_and_files(void) {
   free(d);
 }
 
+static int mode_of(const char *path) {
+  struct stat st;
+  return lstat(path, &st) == 0 ? (int)(st.st_mode & 07777) : -1;
+}
+
+/* serve's private session folder (core/fs.h): 0700 and 0600 exactly under
+ * umask 000, a planted symlink never followed, the folder emptied and
+ * removed by the signal handler's path and by pb_private_dir_remove. */
+static void test_private_files(void) {
+  char base[] = "/tmp/pbtest_private_XXXXXX";
+  CHECK(mkdtemp(base) != NULL);
+  mode_t old = umask(0);
+  char dir[512], path[600], victim[600], link[600];
+  pb_error_clear();
+  CHECK_EQ_INT(pb_private_dir_create(base, "pbt", dir, sizeof dir), PB_OK);
+  CHECK(strncmp(dir, base, strlen(base)) == 0 && strstr(dir, "/pbt-") != NULL);
+  CHECK_EQ_INT(mode_of(dir), 0700);
+  snprintf(path, sizeof path, "%s/frame.bin", dir);
+  FILE *f;
+  char *tmp;
+  for (int i = 0; i < 2; ++i) { /* the second write replaces the first */
+    CHECK_EQ_INT(pb_atomic_open_private(path, &f, &tmp), PB_OK);
+    CHECK_EQ_INT(mode_of(tmp), 0600);
+    fputs("frame", f);
+    CHECK_EQ_INT(pb_atomic_commit(path, f, tmp), PB_OK);
+    CHECK_EQ_INT(mode_of(path), 0600);
+  }
+  /* A symlink at the temporary's name: the write fails, the target stays. */
+  snprintf(victim, sizeof victim, "%s/victim", base);
+  FILE *v = fopen(victim, "w");
+  CHECK(v != NULL);
+  if (v) fputs("untouched", v), fclose(v);
+  char *t = pb_tmp_name(path);
+  CHECK(t && symlink(victim, t) == 0);
+  pb_error_clear();
+  CHECK_EQ_INT(pb_atomic_open_private(path, &f, &tmp), PB_ERR_IO);
+  CHECK(strstr(pb_error_message(), "exists") != NULL);
+  uint8_t *data;
+  size_t n;
+  CHECK_EQ_INT(pb_read_file(victim, 100, &data, &n), PB_OK);
+  CHECK(n == 9 && memcmp(data, "untouched", 9) == 0);
+  free(data);
+  CHECK_EQ_INT(pb_private_open(t), -1);
+  CHECK_EQ_INT(errno, EEXIST);
+  free(t);
+  /* The handler's path removes the registered folder with files nobody
+   * registered (the symlink, a stray file), never the symlink's target. */
+  snprintf(link, sizeof link, "%s/stray", dir);
+  int fd = pb_private_open(link);
+  CHECK(fd >= 0);
+  if (fd >= 0) close(fd);
+  pb_tmp_remove_all_signal_safe();
+  CHECK(access(dir, F_OK) != 0);
+  CHECK(access(victim, F_OK) == 0);
+  pb_private_dir_remove(dir); /* unregisters; the folder is already gone */
+  /* The clean end: pb_private_dir_remove. */
+  CHECK_EQ_INT(pb_private_dir_create(base, "pbt", dir, sizeof dir), PB_OK);
+  snprintf(path, sizeof path, "%s/frame.bin", dir);
+  CHECK_EQ_INT(pb_atomic_open_private(path, &f, &tmp), PB_OK);
+  CHECK_EQ_INT(pb_atomic_commit(path, f, tmp), PB_OK);
+  pb_private_dir_remove(dir);
+  CHECK(access(dir, F_OK) != 0);
+  /* A base that cannot hold it: PB_ERR_IO naming the base, out "". */
+  pb_error_clear();
+  CHECK_EQ_INT(pb_private_dir_create("/nonexistent/base", "pbt", dir, sizeof dir), PB_ERR_IO);
+  CHECK(dir[0] == 0 && strstr(pb_error_message(), "/nonexistent/base") != NULL);
+  pb_error_clear();
+  CHECK_EQ_INT(pb_private_dir_create(victim, "pbt", dir, sizeof dir), PB_ERR_IO); /* a file */
+  umask(old);
+  unlink(victim);
+  CHECK(rmdir(base) == 0); /* nothing else was left in the base */
+}
+
 static void test_color_and_textures(void) {
   /* IEC 61966-2-1 values. */
   CHECK_NEAR(pb_linear_to_srgb(0.18f), 0.46135613f, 1e-6);
@@ -205,6 +280,7 @@ int main(void) {
   test_results();
   test_cli();
   test_json_and_files();
+  test_private_files();
   test_color_and_textures();
   return pbt_done();
 }

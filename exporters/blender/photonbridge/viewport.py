@@ -9,7 +9,8 @@ an object, mesh, material, light or world edit rewrites the file and sends
 sends the region's view and window matrices ("camera", Blender's axes) and
 its size ("resolution", divided by the scene's viewport Pixel Size) when they
 changed, turns streaming on, and draws the newest frame (a float RGBA file
-in /dev/shm, scene-linear) as a texture inside bind_display_space_shader /
+in serve's private session folder, scene-linear; its path is the one the
+frame reply names, never guessed) as a texture inside bind_display_space_shader /
 unbind_display_space_shader, so Blender's view transform, look, exposure
 and gamma apply as they do to Cycles' viewport. A timer (bpy.app.timers)
 tags a redraw whenever serve's output has lines waiting, so the picture
