@@ -30,3 +30,9 @@ pb_cli_test(cli_display_missing_config display --list --ocio-config no/such.ocio
 add_test(NAME scene_view COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/scene_view.py ${PB_EXE} ${PB_ROOT}
                                  ${CMAKE_CURRENT_BINARY_DIR}/scene_view)
 set_tests_properties(scene_view PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 300)
+
+# A scene's own OCIO config (colorManagement.ocioConfig, Blender's), its
+# fallbacks and their warnings, through `info`: tests/scene_ocio.py.
+add_test(NAME color_scene_ocio COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/scene_ocio.py ${PB_EXE} ${PB_ROOT}
+                                       ${CMAKE_CURRENT_BINARY_DIR}/scene_ocio)
+set_tests_properties(color_scene_ocio PROPERTIES TIMEOUT 120)
