@@ -21,3 +21,13 @@ foreach(part register install lights45)
   set_tests_properties(blender45_${part} PROPERTIES SKIP_RETURN_CODE 77 LABELS "blender;blender45;no-sanitize"
                        TIMEOUT 900 ENVIRONMENT "PB_BLENDER_PYTHON=${PB_BPY45}")
 endforeach()
+
+# Texture colour spaces in the add-on's image writer (tests/blender/bl_colorspace.py):
+# in the Debian Blender (3.4), and in Blender 4.5 (tools/bpy45, above).
+add_test(NAME blender_colorspace
+         COMMAND sh -c "command -v \"\${BLENDER:-blender}\" >/dev/null || { echo 'skip: no blender'; exit 77; }; exec \"\${BLENDER:-blender}\" -b --factory-startup --python-exit-code 1 --python \"$0/tests/blender/bl_colorspace.py\" -- \"$0\" \"$1\""
+                 ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/blender_colorspace)
+set_tests_properties(blender_colorspace PROPERTIES SKIP_RETURN_CODE 77 LABELS "blender;no-sanitize" TIMEOUT 300)
+add_test(NAME blender45_colorspace
+         COMMAND ${PB_BPY45} ${PB_ROOT}/tests/blender/bl_colorspace.py ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/blender45_colorspace)
+set_tests_properties(blender45_colorspace PROPERTIES LABELS "blender;blender45;no-sanitize" TIMEOUT 300)

@@ -1,5 +1,8 @@
 # Colour management. test_color (the unit-test glob) checks the built-in
-# config against the analytic sRGB encode and the published ACEScg matrix;
+# config against the analytic sRGB encode and the published ACEScg matrix,
+# and its AgX and Khronos PBR Neutral views against a table of what Blender
+# 4.5's own config gives (tests/unit/color_blender4_table.h; with
+# $PB_BLENDER4_OCIO naming that config.ocio, against it on 200k colours);
 # color_filmic_vs_blender renders a 16-stop ramp EXR through Blender's own
 # Filmic view (headless Blender, Image.save_render) and through our shim with
 # Blender's config, and compares the PNGs. Skipped (exit 77) without Blender.
@@ -10,7 +13,7 @@ set_tests_properties(color_filmic_vs_blender PROPERTIES
 # display subcommand: usage errors and --list.
 pb_cli_test(cli_display_no_args display EXIT 2 REGEX "expected IMAGE.exr.*exit=2")
 pb_cli_test(cli_display_list display --list --ocio-config built-in EXIT 0
-            REGEX "config built-in.*display sRGB: Filmic, Standard, ACES 1.0 - SDR Video, Raw.*exit=0")
+            REGEX "config built-in.*display sRGB: Filmic, AgX, Khronos PBR Neutral, Standard, ACES 1.0 - SDR Video, Raw.*exit=0")
 pb_cli_test(cli_display_bad_view display --list --ocio-config built-in --view Nope EXIT 2
             REGEX "config built-in: display 'sRGB' has no view 'Nope'.*exit=2")
 # Without --ocio-config, pictures use Blender's own config where Blender is
@@ -27,3 +30,9 @@ pb_cli_test(cli_display_missing_config display --list --ocio-config no/such.ocio
 add_test(NAME scene_view COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/scene_view.py ${PB_EXE} ${PB_ROOT}
                                  ${CMAKE_CURRENT_BINARY_DIR}/scene_view)
 set_tests_properties(scene_view PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 300)
+
+# A scene's own OCIO config (colorManagement.ocioConfig, Blender's), its
+# fallbacks and their warnings, through `info`: tests/scene_ocio.py.
+add_test(NAME color_scene_ocio COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/scene_ocio.py ${PB_EXE} ${PB_ROOT}
+                                       ${CMAKE_CURRENT_BINARY_DIR}/scene_ocio)
+set_tests_properties(color_scene_ocio PROPERTIES TIMEOUT 120)

@@ -3,7 +3,9 @@
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "color/color_cli.h"
 #include "core/log.h"
@@ -244,7 +246,23 @@ pb_result pb_color_opts_open_scene(const pb_color_opts *o, const pb_scene *s, pb
   const pb_scene_view *sv = s ? &s->view : NULL;
   if (!sv || !sv->set) return pb_color_opts_open(o, out);
   int cli_view = o->display || o->view;
-  pb_color_desc d = {o->ocio_config,
+  /* The config: the command line's; else the one Blender used where this
+   * machine has it; else, for a scene that names one not here, $OCIO or
+   * the built-in config (which has Blender 4's AgX and Khronos PBR
+   * Neutral; an older installed Blender's config may not); else the usual
+   * defaults. */
+  const char *config = o->ocio_config;
+  if (!config && sv->config[0]) {
+    if (access(sv->config, R_OK) == 0) {
+      config = sv->config;
+    } else {
+      const char *env = getenv("OCIO");
+      if (!env || !*env) config = "built-in";
+      pb_log_warn("%s: the scene's OCIO config %s is not on this machine; %s%s is used", s->path, sv->config,
+                  config ? "the built-in config" : "$OCIO=", config ? "" : env);
+    }
+  }
+  pb_color_desc d = {config,
                      o->display ? o->display : sv->display,
                      o->view ? o->view : sv->view,
                      o->look ? o->look : (cli_view ? NULL : sv->look),
@@ -254,10 +272,28 @@ pb_result pb_color_opts_open_scene(const pb_color_opts *o, const pb_scene *s, pb
   pb_result r = pb_color_open(&d, out);
   if (r != PB_ERR_USAGE) return r;
   /* A name the config lacks: the scene's, or one given here? Without the
-   * scene's names, a command-line name fails again and says so. */
-  pb_log_warn("%s: the scene's colour management (%s / %s%s%s): %s; the config's defaults are used", s->path,
-              sv->display, sv->view, sv->look[0] ? ", look " : "", sv->look, pb_error_message());
+   * scene's names, a command-line name fails again and says so. A scene's
+   * look the config lacks (the built-in config has none) drops the look
+   * only; anything else falls back to the config's defaults. */
+  char why[512];
+  snprintf(why, sizeof why, "%s", pb_error_message());
   pb_error_clear();
+  if (!o->look && d.look && d.look[0] && strcmp(d.look, "None") != 0) {
+    d.look = NULL;
+    r = pb_color_open(&d, out);
+    if (r != PB_ERR_USAGE) {
+      if (r == PB_OK)
+        pb_log_warn("%s: the scene's look '%s': %s; view '%s' is used without it", s->path, sv->look, why,
+                    pb_color_view(*out));
+      return r;
+    }
+    pb_error_clear();
+  }
   d.display = o->display, d.view = o->view, d.look = o->look;
-  return pb_color_open(&d, out);
+  r = pb_color_open(&d, out);
+  if (r == PB_OK)
+    pb_log_warn("%s: the scene's colour management (%s / %s%s%s): %s; %s / %s is used instead", s->path,
+                sv->display, sv->view, sv->look[0] ? ", look " : "", sv->look, why, pb_color_display(*out),
+                pb_color_view(*out));
+  return r;
 }

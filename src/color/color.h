@@ -8,9 +8,12 @@
  * pb_color_blender_config), else the built-in config (config/ocio/
  * photonbridge.ocio, embedded in the binary): scene-linear Rec.709, ACEScg,
  * ACES2065-1; display "sRGB" with views "Filmic" (Blender 3.4's Filmic, built
- * from src/color/filmic_builtin.c: the default, as in Blender), "Standard" (no
- * tone mapping, clips at 1), "ACES 1.0 - SDR Video" and "Raw". Blender's
- * config adds its contrast looks.
+ * from src/color/filmic_builtin.c: the default, as in Blender 3.4), "AgX"
+ * (Blender 4.x's default, AgX Base, from src/color/agx_builtin.c), "Khronos
+ * PBR Neutral" (Blender 4.2+'s), "Standard" (no tone mapping, clips at 1),
+ * "ACES 1.0 - SDR Video" and "Raw". Blender's config adds its contrast
+ * looks (Filmic's, and 4.x's "AgX - Punchy" etc.), which the built-in one
+ * has not.
  *
  * Pictures people look at (PNG previews, `display`, reports) default to the
  * config's default view: Filmic, as Blender 3.4 shows every render. Metrics

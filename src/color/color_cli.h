@@ -33,8 +33,8 @@ typedef struct pb_color_opts {
    "OCIO display for PNG images (default: the config's default, sRGB)", NULL,  \
    0, 0},                                                                      \
   {"view", 0, PB_OPT_STRING, &(c)->view, "NAME",                               \
-   "OCIO view (default: the config's, Filmic as in Blender; also Standard, "   \
-   "Raw, ...; --list of `display` shows them)", NULL, 0, 0},                   \
+   "OCIO view (default: the config's, Filmic as in Blender 3.4; also AgX, "    \
+   "Standard, Raw, ...; --list of `display` shows them)", NULL, 0, 0},         \
   {"look", 0, PB_OPT_STRING, &(c)->look, "NAME",                               \
    "OCIO look applied with the view (e.g. Blender's 'Medium High Contrast')",  \
    NULL, 0, 0},                                                                \
@@ -62,12 +62,17 @@ static inline pb_result pb_color_opts_open(const pb_color_opts *o, pb_color **ou
  * line): what the command line gives, else the scene's own colour
  * management (scene.h pb_scene_view: a scene from the Blender render engine
  * keeps its display, view, look, exposure and gamma), else the config's
- * defaults. A scene's look is not applied under a --view or --display of
- * the command line (Blender's looks belong to their view). A name of the
- * scene's that the config lacks (Blender's config has views and looks the
- * built-in one has not) is a warning and the config's default display,
- * view and look (the scene's exposure and gamma kept), not an error: nobody
- * typed it. Errors as pb_color_open for the command line's. */
+ * defaults. The config: --ocio-config; else the one the scene names
+ * (colorManagement.ocioConfig, Blender's own) where it exists here; else,
+ * when the scene names one that is not here, $OCIO or the built-in config
+ * (a one-line warning); else the usual defaults. A scene's look is not
+ * applied under a --view or --display of the command line (Blender's looks
+ * belong to their view). A name of the scene's that the config lacks
+ * (Blender's config has views and looks the built-in one has not) is a
+ * one-line warning naming it and what is used instead, not an error: a
+ * look the config lacks is left out (the view kept), a display or view
+ * gives the config's default display, view and look (the scene's exposure
+ * and gamma kept). Errors as pb_color_open for the command line's. */
 pb_result pb_color_opts_open_scene(const pb_color_opts *o, const pb_scene *s, pb_color **out);
 
 #endif

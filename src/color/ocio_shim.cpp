@@ -3,6 +3,7 @@
 // OCIO exception becomes a pb_result with a one-line message naming the
 // config; nothing C++ crosses color.h.
 #include <OpenColorIO/OpenColorIO.h>
+#include <zlib.h>
 
 #include <dirent.h>
 #include <limits.h>
@@ -20,6 +21,7 @@
 
 extern "C" {
 #include "color/color.h"
+#include "color/agx_builtin.h"
 #include "color/filmic_builtin.h"
 #include "core/result.h"
 }
@@ -85,6 +87,155 @@ bool has_view(const OCIO::ConstConfigRcPtr &cfg, const char *d, const char *v) {
   return false;
 }
 
+// The built-in config's reference is ACES2065-1: its scene-linear Rec.709
+// back from it (the inverse of that colour space's to_scene_reference), the
+// first steps of every view below that Blender's config builds from
+// scene-linear Rec.709.
+void append_to_rec709(const OCIO::GroupTransformRcPtr &g) {
+  OCIO::BuiltinTransformRcPtr to_ap1 = OCIO::BuiltinTransform::Create();
+  to_ap1->setStyle("ACEScg_to_ACES2065-1");
+  to_ap1->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  OCIO::BuiltinTransformRcPtr to_rec709 = OCIO::BuiltinTransform::Create();
+  to_rec709->setStyle("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD");
+  g->appendTransform(to_ap1);
+  g->appendTransform(to_rec709);
+}
+
+OCIO::AllocationTransformRcPtr lg2_allocation(double lo, double hi) {
+  OCIO::AllocationTransformRcPtr a = OCIO::AllocationTransform::Create();
+  a->setAllocation(OCIO::ALLOCATION_LG2);
+  const float vars[2] = {(float)lo, (float)hi};
+  a->setVars(2, vars);
+  return a;
+}
+
+// Blender's "Linear Rec.709 -> sRGB" (ExponentWithLinear 2.4 / 0.055, inverse).
+OCIO::ExponentWithLinearTransformRcPtr srgb_encode() {
+  OCIO::ExponentWithLinearTransformRcPtr e = OCIO::ExponentWithLinearTransform::Create();
+  const double gamma[4] = {2.4, 2.4, 2.4, 1.0}, offset[4] = {0.055, 0.055, 0.055, 0.0};
+  e->setGamma(gamma);
+  e->setOffset(offset);
+  e->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  return e;
+}
+
+// AgX's 57^3 cube from src/color/agx_builtin.c (base64, zlib, differences
+// along red, 16 bits; see agx_builtin.h). Throws OCIO::Exception when the
+// embedded data does not decode (a broken build).
+OCIO::Lut3DTransformRcPtr agx_cube() {
+  static const signed char dec[256] = {
+#define X64 -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1
+      X64, X64, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, 62, -1, -1, -1, 63,
+      52, 53, 54, 55, 56, 57, 58, 59, 60, 61, -1, -1, -1, -1, -1, -1,
+      -1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14,
+      15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, -1, -1, -1, -1, -1,
+      -1, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40,
+      41, 42, 43, 44, 45, 46, 47, 48, 49, 50, 51, -1, -1, -1, -1, -1,
+      X64, X64, X64, X64, X64, X64, X64, X64};
+#undef X64
+  std::vector<unsigned char> z;
+  z.reserve(pb_agx_cube_deflated_size + 4);
+  unsigned acc = 0;
+  int bits = 0;
+  for (const char *p = pb_agx_cube_base64; *p && *p != '='; ++p) {
+    const int v = dec[(unsigned char)*p];
+    if (v < 0) throw OCIO::Exception("built-in AgX: bad base64 in the embedded cube");
+    acc = (acc << 6) | (unsigned)v;
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      z.push_back((unsigned char)(acc >> bits));
+      acc &= (1u << bits) - 1u;
+    }
+  }
+  const int n = PB_AGX_CUBE_SIZE;
+  const size_t count = (size_t)n * n * n * 3;
+  std::vector<unsigned char> raw(count * 2);
+  uLongf raw_size = (uLongf)raw.size();
+  if (z.size() != pb_agx_cube_deflated_size ||
+      uncompress(raw.data(), &raw_size, z.data(), (uLong)z.size()) != Z_OK || raw_size != raw.size())
+    throw OCIO::Exception("built-in AgX: the embedded cube does not inflate");
+  OCIO::Lut3DTransformRcPtr cube = OCIO::Lut3DTransform::Create(n);
+  cube->setInterpolation(OCIO::INTERP_TETRAHEDRAL);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g) {
+      unsigned prev[3] = {0, 0, 0};
+      for (int r = 0; r < n; ++r) {
+        float v[3];
+        for (int k = 0; k < 3; ++k) {
+          const size_t i = ((((size_t)b * n + g) * n + r) * 3 + k) * 2;
+          prev[k] = (prev[k] + (unsigned)(raw[i] | raw[i + 1] << 8)) & 0xffffu;
+          v[k] = (float)(prev[k] / 65535.0);
+        }
+        cube->setValue(r, g, b, v[0], v[1], v[2]);
+      }
+    }
+  return cube;
+}
+
+// Blender 4.x's AgX view on an sRGB display ("AgX Base sRGB"), from the data
+// and steps of src/color/agx_builtin.h.
+OCIO::ConstTransformRcPtr agx_transform() {
+  OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
+  append_to_rec709(g);
+  double m[16] = {0};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m[4 * i + j] = pb_agx_rec709_to_egamut[3 * i + j];
+  m[15] = 1.0;
+  OCIO::MatrixTransformRcPtr to_egamut = OCIO::MatrixTransform::Create();
+  to_egamut->setMatrix(m);
+  g->appendTransform(to_egamut);
+  g->appendTransform(lg2_allocation(PB_AGX_LOG_MIN, PB_AGX_LOG_MAX));
+  g->appendTransform(agx_cube());
+  OCIO::ExponentTransformRcPtr power = OCIO::ExponentTransform::Create();
+  const double e[4] = {PB_AGX_EXPONENT, PB_AGX_EXPONENT, PB_AGX_EXPONENT, 1.0};
+  power->setValue(e);
+  g->appendTransform(power);
+  g->appendTransform(srgb_encode());
+  return g;
+}
+
+// The Khronos PBR Neutral tone mapper (Khronos PBR Neutral specification,
+// start 0.8 - 0.04, desaturation 0.15) on linear Rec.709, in place.
+void pbr_neutral(double c[3]) {
+  const double start = 0.8 - 0.04, desat = 0.15;
+  const double x = std::min(c[0], std::min(c[1], c[2]));
+  const double offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+  for (int k = 0; k < 3; ++k) c[k] -= offset;
+  const double peak = std::max(c[0], std::max(c[1], c[2]));
+  if (peak < start) return;
+  const double d = 1.0 - start;
+  const double new_peak = 1.0 - d * d / (peak + d - start);
+  const double g = 1.0 - 1.0 / (desat * (peak - new_peak) + 1.0);
+  for (int k = 0; k < 3; ++k) c[k] = c[k] * new_peak / peak * (1.0 - g) + new_peak * g;
+}
+
+// Blender 4.2+'s "Khronos PBR Neutral sRGB": the formula sampled on the grid
+// of Blender's pbrNeutral.cube (57^3 on lg2 [-9, 10], which that file is, to
+// its 7 decimals: config/ocio/bake_agx.py checks it), tetrahedral, then the
+// sRGB encode.
+OCIO::ConstTransformRcPtr pbr_neutral_transform() {
+  const int n = PB_PBR_NEUTRAL_CUBE_SIZE;
+  const double lo = PB_PBR_NEUTRAL_LOG_MIN, span = PB_PBR_NEUTRAL_LOG_MAX - PB_PBR_NEUTRAL_LOG_MIN;
+  OCIO::Lut3DTransformRcPtr cube = OCIO::Lut3DTransform::Create(n);
+  cube->setInterpolation(OCIO::INTERP_TETRAHEDRAL);
+  std::vector<double> lin(n);
+  for (int i = 0; i < n; ++i) lin[i] = std::exp2(lo + span * i / (n - 1));
+  for (int r = 0; r < n; ++r)
+    for (int g = 0; g < n; ++g)
+      for (int b = 0; b < n; ++b) {
+        double c[3] = {lin[r], lin[g], lin[b]};
+        pbr_neutral(c);
+        cube->setValue(r, g, b, (float)c[0], (float)c[1], (float)c[2]);
+      }
+  OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
+  append_to_rec709(g);
+  g->appendTransform(lg2_allocation(PB_PBR_NEUTRAL_LOG_MIN, PB_PBR_NEUTRAL_LOG_MAX));
+  g->appendTransform(cube);
+  g->appendTransform(srgb_encode());
+  return g;
+}
+
 // Blender 3.4's Filmic view for the built-in config, from the closed form in
 // src/color/filmic_builtin.h (config/ocio/bake_filmic.py derives it from
 // Blender's files): the same four steps as Blender's "Filmic sRGB" colour
@@ -123,16 +274,8 @@ OCIO::ConstTransformRcPtr filmic_transform() {
   const float rescale_vars[2] = {0.0f, (float)PB_FILMIC_CURVE_MAX};
   rescale->setVars(2, rescale_vars);
 
-  // The built-in config's reference is ACES2065-1: back to scene-linear
-  // Rec.709 first (the inverse of that colour space's to_scene_reference).
-  OCIO::BuiltinTransformRcPtr to_ap1 = OCIO::BuiltinTransform::Create();
-  to_ap1->setStyle("ACEScg_to_ACES2065-1");
-  to_ap1->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
-  OCIO::BuiltinTransformRcPtr to_rec709 = OCIO::BuiltinTransform::Create();
-  to_rec709->setStyle("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD");
   OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
-  g->appendTransform(to_ap1);
-  g->appendTransform(to_rec709);
+  append_to_rec709(g);
   g->appendTransform(shaper);
   g->appendTransform(cube);
   g->appendTransform(rescale);
@@ -140,8 +283,9 @@ OCIO::ConstTransformRcPtr filmic_transform() {
   return g;
 }
 
-// The built-in config with its Filmic view added (OCIO's YAML cannot hold an
-// in-memory LUT, so the view is added here) and made the default.
+// The built-in config with its Filmic, AgX and Khronos PBR Neutral views
+// added (OCIO's YAML cannot hold an in-memory LUT, so they are added here);
+// Filmic is the default, as in Blender 3.4.
 OCIO::ConstConfigRcPtr builtin_config() {
   std::istringstream in(pb_color_builtin_config_text);
   OCIO::ConfigRcPtr cfg = OCIO::Config::CreateFromStream(in)->createEditableCopy();
@@ -152,7 +296,21 @@ OCIO::ConstConfigRcPtr builtin_config() {
   cs->setTransform(filmic_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
   cfg->addColorSpace(cs);
   cfg->addDisplayView("sRGB", "Filmic", "Filmic sRGB", "");
-  cfg->setActiveViews("Filmic, Standard, ACES 1.0 - SDR Video, Raw");
+  cs = OCIO::ColorSpace::Create();
+  cs->setName("AgX Base sRGB");
+  cs->setFamily("Display");
+  cs->setDescription("Blender 4.x's AgX view on an sRGB display (AgX Base, no look)");
+  cs->setTransform(agx_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
+  cfg->addColorSpace(cs);
+  cfg->addDisplayView("sRGB", "AgX", "AgX Base sRGB", "");
+  cs = OCIO::ColorSpace::Create();
+  cs->setName("Khronos PBR Neutral sRGB");
+  cs->setFamily("Display");
+  cs->setDescription("Blender 4.2+'s Khronos PBR Neutral view on an sRGB display");
+  cs->setTransform(pbr_neutral_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
+  cfg->addColorSpace(cs);
+  cfg->addDisplayView("sRGB", "Khronos PBR Neutral", "Khronos PBR Neutral sRGB", "");
+  cfg->setActiveViews("Filmic, AgX, Khronos PBR Neutral, Standard, ACES 1.0 - SDR Video, Raw");
   return cfg;
 }
 

@@ -422,23 +422,30 @@ static pb_result read_world(const char *path, const pb_gltf_value *wo, const pb_
 
 /* ---- colour management ---------------------------------------------------- */
 
-/* An optional name of at most PB_SCENE_VIEW_NAME - 1 bytes into buf ("" when
- * absent). */
-static pb_result name(const rd *r, const pb_gltf_value *o, const char *key, char *buf) {
+/* An optional string of at most size - 1 bytes into buf ("" when absent). */
+static pb_result bounded(const rd *r, const pb_gltf_value *o, const char *key, char *buf, size_t size,
+                         const char *what) {
   const char *v;
   pb_result e = string(r, o, key, &v);
   buf[0] = 0;
   if (e != PB_OK || !v) return e;
   size_t n = strlen(v);
-  if (n >= PB_SCENE_VIEW_NAME)
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.%s: a name of %zu bytes (at most %d)", r->path, r->where, key, n,
-                   PB_SCENE_VIEW_NAME - 1);
+  if (n >= size)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.%s: a %s of %zu bytes (at most %zu)", r->path, r->where, key, what, n,
+                   size - 1);
   memcpy(buf, v, n + 1);
   return PB_OK;
 }
 
+/* An optional name of at most PB_SCENE_VIEW_NAME - 1 bytes into buf ("" when
+ * absent). */
+static pb_result name(const rd *r, const pb_gltf_value *o, const char *key, char *buf) {
+  return bounded(r, o, key, buf, PB_SCENE_VIEW_NAME, "name");
+}
+
 /* colorManagement: Blender's display device, view transform, look ("None"
- * is no look), exposure and gamma, in the ranges of Blender's RNA
+ * is no look), exposure and gamma, in the ranges of Blender's RNA, and the
+ * OCIO config Blender used ("ocioConfig", a path on the writing machine)
  * (rna_color.c: exposure -32..32 stops, gamma 0..5; gamma 0 is taken as
  * Blender does not allow it, so it must be > 0). Missing members keep
  * Blender 3.4's defaults: sRGB / Filmic, no look, 0, 1. Whether the OCIO
@@ -448,6 +455,7 @@ static pb_result read_view(const char *path, const pb_gltf_value *cm, pb_scene_v
   pb_result e;
   if ((e = name(&r, cm, "display", v->display)) != PB_OK || (e = name(&r, cm, "view", v->view)) != PB_OK ||
       (e = name(&r, cm, "look", v->look)) != PB_OK ||
+      (e = bounded(&r, cm, "ocioConfig", v->config, sizeof v->config, "path")) != PB_OK ||
       (e = number(&r, cm, "exposure", 0, -32, 0, 32, 0, "in [-32, 32]", &v->exposure)) != PB_OK ||
       (e = number(&r, cm, "gamma", 1, 0, 1, 5, 0, "in (0, 5]", &v->gamma)) != PB_OK)
     return e;

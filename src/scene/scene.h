@@ -401,11 +401,15 @@ typedef enum pb_light_units {
 #define PB_LUMENS_PER_WATT 683.0f
 
 /* Names as Blender's OCIO config spells them ("sRGB", "Filmic",
- * "Medium High Contrast"); look "" for Blender's "None". */
+ * "Medium High Contrast"); look "" for Blender's "None". config: the OCIO
+ * config Blender used (its own config.ocio or $OCIO, as the add-on found
+ * it on the machine that wrote the scene), "" when not recorded. */
 #define PB_SCENE_VIEW_NAME 64
+#define PB_SCENE_VIEW_PATH 4096
 typedef struct pb_scene_view {
   int set;
   char display[PB_SCENE_VIEW_NAME], view[PB_SCENE_VIEW_NAME], look[PB_SCENE_VIEW_NAME];
+  char config[PB_SCENE_VIEW_PATH];
   double exposure; /* stops, before the view */
   double gamma;    /* after the view; 1: none */
 } pb_scene_view;

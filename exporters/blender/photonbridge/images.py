@@ -85,6 +85,25 @@ def linear_to_srgb(x):
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
 
 
+# Colour-space names under which Cycles reads an image's values as they are
+# (scene-linear Rec.709 or data): Blender 3.4's "Linear", "Non-Color" and
+# "Raw", and Blender 4.x's canonical "Linear Rec.709" (4.x's alias "Linear"
+# and its "Non-Color" are covered above; `colorspace_settings.name` returns
+# the canonical name). Any colour space the config marks as data counts too
+# (colorspace_settings.is_data).
+LINEAR_COLORSPACES = frozenset(("Linear", "Non-Color", "Raw", "Linear Rec.709"))
+# Blender 4.x's wide-gamut linear colour spaces: read as linear, but
+# photonbridge has Rec.709 primaries only.
+WIDE_GAMUT_COLORSPACES = frozenset(("Linear Rec.2020", "ACEScg"))
+
+
+def linear_colorspace(image):
+    """Whether `image`'s values are linear (or data) rather than sRGB-encoded."""
+    cs = image.colorspace_settings
+    return (cs.name in LINEAR_COLORSPACES or cs.name in WIDE_GAMUT_COLORSPACES
+            or bool(getattr(cs, "is_data", False)))
+
+
 def image_pixels(image):
     """(h, w, 4) float32, rows top to bottom (Blender stores them bottom up)."""
     w, h = image.size
@@ -110,6 +129,17 @@ class ImageWriter:
         self.done = {}      # (image name, mode) -> uri
         self.names = set()
         self.frame = 1      # the scene frame (an image sequence's frame follows it)
+        self.gamut_warned = set()
+
+    def linear(self, image):
+        """linear_colorspace(image), warning once per image whose colour
+        space has primaries other than Rec.709."""
+        name = image.colorspace_settings.name
+        if name in WIDE_GAMUT_COLORSPACES and image.name not in self.gamut_warned:
+            self.gamut_warned.add(image.name)
+            self.warn("image '%s': colour space '%s': only Rec.709 primaries are supported; "
+                      "its values are read as linear Rec.709" % (image.name, name))
+        return linear_colorspace(image)
 
     def _unique(self, stem, ext):
         # Blender names a loaded image after its file ("sky.hdr"): the
@@ -239,7 +269,7 @@ class ImageWriter:
                                      % image.name)
             px = image_pixels(image)
             rgb = px[..., :3]
-            if color and (image.is_float or image.colorspace_settings.name in ("Linear", "Non-Color", "Raw")):
+            if color and (image.is_float or self.linear(image)):
                 rgb = linear_to_srgb(rgb)
             out = np.concatenate([np.clip(rgb, 0, 1), np.clip(px[..., 3:4], 0, 1)], axis=2)
             rgba8 = np.round(out * 255.0).astype(np.uint8)

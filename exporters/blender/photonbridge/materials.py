@@ -295,7 +295,7 @@ class MaterialWriter:
             return None, None
         index = self.doc.add_texture(uri, self._sampler(node), self.images.float_image(image))
         entry = self._texture_info(index, node, texCoord=0, channel=channel)
-        if color and image.colorspace_settings.name in ("Non-Color", "Raw", "Linear"):
+        if color and self.images.linear(image):
             entry["colorSpace"] = "Non-Color"
         return entry, index
 

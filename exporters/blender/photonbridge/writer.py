@@ -52,6 +52,19 @@ GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'FONT', 'META'}
 FLOAT, UINT16, UINT32 = 5126, 5123, 5125
 
 
+def ocio_config():
+    """The OCIO config this Blender shows its pictures through, as a path, so
+    that photonbridge can use the same one: $OCIO where it names a file (as
+    Blender reads it), else Blender's own colormanagement/config.ocio; ""
+    when neither is found."""
+    env = os.environ.get("OCIO", "")
+    if env and os.path.isfile(env):
+        return os.path.abspath(env)
+    folder = bpy.utils.system_resource('DATAFILES', path="colormanagement")
+    path = os.path.join(folder, "config.ocio") if folder else ""
+    return os.path.abspath(path) if path and os.path.isfile(path) else ""
+
+
 class WriteReport:
     def __init__(self):
         self.warnings = []
@@ -872,6 +885,9 @@ class SceneWriter:
             "colorManagement": {"display": sc.display_settings.display_device, "view": vs.view_transform,
                                 "look": vs.look, "exposure": vs.exposure, "gamma": vs.gamma},
         }
+        config = ocio_config()
+        if config:
+            root["colorManagement"]["ocioConfig"] = config
         if frame_range is not None:
             root["frame"]["start"], root["frame"]["end"] = frame_range
         world = self._world()
