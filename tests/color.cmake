@@ -36,3 +36,9 @@ set_tests_properties(scene_view PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 300)
 add_test(NAME color_scene_ocio COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/scene_ocio.py ${PB_EXE} ${PB_ROOT}
                                        ${CMAKE_CURRENT_BINARY_DIR}/scene_ocio)
 set_tests_properties(color_scene_ocio PROPERTIES TIMEOUT 120)
+
+# The built-in AgX and Khronos PBR Neutral views against Blender 4.5's own
+# config.ocio (tools/bpy45, installed by scripts/install-deps.sh) on 200k colours.
+add_test(NAME color_blender45_config COMMAND test_color WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(color_blender45_config PROPERTIES LABELS "blender;blender45;no-sanitize" TIMEOUT 300
+  ENVIRONMENT "PB_BLENDER4_OCIO=${PB_ROOT}/tools/bpy45/lib/python3.11/site-packages/bpy/4.5/datafiles/colormanagement/config.ocio")
