@@ -110,6 +110,71 @@ vec3 pb_sphere_radiance(pb_gpu_light l, vec3 w) {
   return l.power * k;
 }
 
+// Cycles 4.x's sphere light (PB_GPU_LIGHT_SPHERE; src/ref/soft_lights.c
+// sphere_light_sample / _hit): the cone the sphere subtends, uniform in solid
+// angle, from outside; the whole sphere of directions from inside; a spot's
+// falloff outside only. 1 - cos of the cone's half-angle without cancellation.
+float pb_sphere_one_minus_cos(float r2, float d2) {
+  float s2 = r2 / d2;
+  return s2 / (1.0 + sqrt(max(0.0, 1.0 - s2)));
+}
+
+vec3 pb_sphere_light_radiance(pb_gpu_light l, vec3 w, bool inside) {
+  float k = 1.0 / (PB_PI * l.radius * l.radius);
+  if (l.type == PB_GPU_LIGHT_SPOT && !inside) k *= pb_spot_factor(l, dot(l.direction, w));
+  return l.power * k;
+}
+
+bool pb_sphere_light_sample(pb_gpu_light l, vec3 p, float u1, float u2, out vec3 wi, out float dist, out vec3 L,
+                            out float pdf) {
+  vec3 axis = l.position - p;
+  float d2 = dot(axis, axis), r2 = l.radius * l.radius, d = sqrt(d2);
+  bool inside = !(d2 > r2);
+  float cos_t;
+  if (!inside) {
+    axis /= d;
+    float omc = pb_sphere_one_minus_cos(r2, d2), x = u1 * omc;
+    cos_t = 1.0 - x;
+    float sin_t = sqrt(max(0.0, x * (2.0 - x))), phi = 2.0 * PB_PI * u2;
+    vec3 t, b;
+    pb_basis(axis, t, b);
+    wi = normalize(axis * cos_t + t * (sin_t * cos(phi)) + b * (sin_t * sin(phi)));
+    pdf = 1.0 / (2.0 * PB_PI * omc);
+  } else {
+    float z = 1.0 - 2.0 * u1, s = sqrt(max(0.0, 1.0 - z * z)), phi = 2.0 * PB_PI * u2;
+    wi = vec3(s * cos(phi), s * sin(phi), z);
+    cos_t = d > 0.0 ? dot(wi, axis / d) : 0.0;
+    pdf = 1.0 / (4.0 * PB_PI);
+  }
+  float h = sqrt(max(0.0, r2 - d2 + d2 * cos_t * cos_t));
+  dist = inside ? d * cos_t + h : d * cos_t - h;
+  L = pb_sphere_light_radiance(l, -wi, inside);
+  return dist > 0.0 && pdf > 0.0 && !isinf(pdf) && any(notEqual(L, vec3(0.0)));
+}
+
+bool pb_sphere_light_hit(pb_gpu_light l, vec3 o, vec3 d, float tmax, out float t, out vec3 L, out float pdf) {
+  t = 0.0;
+  L = vec3(0.0);
+  pdf = 0.0;
+  vec3 oc = o - l.position;
+  float r2 = l.radius * l.radius, b = dot(oc, d), d2 = dot(oc, oc), cc = d2 - r2;
+  float disc = b * b - cc;
+  if (!(disc >= 0.0)) return false;
+  float sq = sqrt(disc);
+  bool inside = !(cc > 0.0);
+  if (!inside) {
+    if (!(b < 0.0)) return false;
+    t = cc / (sq - b);
+    pdf = 1.0 / (2.0 * PB_PI * pb_sphere_one_minus_cos(r2, d2));
+  } else {
+    t = sq - b;
+    pdf = 1.0 / (4.0 * PB_PI);
+  }
+  if (!(t > 0.0) || !(t < tmax)) return false;
+  L = pb_sphere_light_radiance(l, -d, inside);
+  return !isinf(pdf) && any(notEqual(L, vec3(0.0)));
+}
+
 // pb_soft_light_sample: direction wi toward the light, distance, radiance
 // along -wi, solid-angle pdf.
 bool pb_soft_light_sample(pb_gpu_light l, vec3 p, float u1, float u2, out vec3 wi, out float dist, out vec3 L,
@@ -163,7 +228,8 @@ bool pb_soft_light_sample(pb_gpu_light l, vec3 p, float u1, float u2, out vec3 w
     L = l.power * f;
     return pdf > 0.0 && !isinf(pdf);
   }
-  // Sphere light: uniform on the disc facing p.
+  if ((l.flags & PB_GPU_LIGHT_SPHERE) != 0u) return pb_sphere_light_sample(l, p, u1, u2, wi, dist, L, pdf);
+  // Soft light (3.4's, 4.x's Soft Falloff): uniform on the disc facing p.
   vec3 nl = p - l.position;
   float dc = length(nl);
   if (!(dc > 0.0)) return false;
@@ -222,6 +288,7 @@ bool pb_soft_light_hit(pb_gpu_light l, vec3 o, vec3 d, float tmax, out float t, 
     L = l.power * f;
     return pdf > 0.0 && !isinf(pdf);
   }
+  if ((l.flags & PB_GPU_LIGHT_SPHERE) != 0u) return pb_sphere_light_hit(l, o, d, tmax, t, L, pdf);
   vec3 nl = o - l.position;
   float dc = length(nl);
   if (!(dc > 0.0)) return false;

@@ -196,6 +196,7 @@ PB_CONST(PB_GPU_LIGHT_CYCLES_SPOT, 2u) /* Cycles 3.4's spot falloff */
 PB_CONST(PB_GPU_LIGHT_NO_SHADOW, 4u)   /* casts no shadow */
 PB_CONST(PB_GPU_LIGHT_NO_MIS, 8u)      /* not seen by BSDF-sampled rays */
 PB_CONST(PB_GPU_LIGHT_CYCLES4_SPOT, 16u) /* Cycles 4.x's spot falloff (3.4's without its cosine) */
+PB_CONST(PB_GPU_LIGHT_SPHERE, 32u)       /* point/spot: Cycles 4.x's sphere light, not the facing disc */
 PB_STRUCT(pb_gpu_light) {
   PB_VEC3(position);
   uint type;

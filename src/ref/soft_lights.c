@@ -110,6 +110,75 @@ static v3 sphere_radiance(const pb_light *l, v3 w) {
 
 static float sun_tan(const pb_light *l) { return tanf(0.5f * l->angle); }
 
+/* Cycles 4.x's sphere light (kernel/light/point.h, spot.h with is_sphere):
+ * from a point at distance d > r from the centre the sphere subtends the
+ * cone of half-angle asin(r / d), sampled uniformly in solid angle; from
+ * inside, every direction is (uniform sphere; Cycles samples the cosine
+ * hemisphere there when it knows the normal, the same expectation). A
+ * spot's falloff applies outside only. 1 - cos of the cone's half-angle,
+ * exact without cancellation for small r / d: */
+static float sphere_one_minus_cos(float r2, float d2) {
+  float s2 = r2 / d2;
+  return s2 / (1.0f + sqrtf(fmaxf(0.0f, 1.0f - s2)));
+}
+
+static v3 sphere_light_radiance(const pb_light *l, v3 w, int inside) {
+  float k = l->intensity / (PB_PI_F * l->radius * l->radius);
+  if (l->type == PB_LIGHT_SPOT && !inside) k *= pb_spot_factor(l, v3_dot(v3_norm(v3_load(l->direction)), w));
+  return v3_scale(v3_load(l->color), k);
+}
+
+static int sphere_light_sample(const pb_light *l, v3 p, float u1, float u2, pb_light_sample *out) {
+  v3 axis = v3_sub(v3_load(l->position), p);
+  float d2 = v3_dot(axis, axis), r2 = l->radius * l->radius, d = sqrtf(d2);
+  int inside = !(d2 > r2);
+  v3 wi;
+  float cos_t, pdf;
+  if (!inside) {
+    axis = v3_scale(axis, 1.0f / d);
+    float omc = sphere_one_minus_cos(r2, d2), x = u1 * omc;
+    cos_t = 1.0f - x;
+    float sin_t = sqrtf(fmaxf(0.0f, x * (2.0f - x))), phi = 2.0f * PB_PI_F * u2;
+    v3 t, b;
+    v3_basis(axis, &t, &b);
+    wi = v3_norm(v3_add(v3_scale(axis, cos_t), v3_add(v3_scale(t, sin_t * cosf(phi)), v3_scale(b, sin_t * sinf(phi)))));
+    pdf = 1.0f / (2.0f * PB_PI_F * omc);
+  } else {
+    float z = 1.0f - 2.0f * u1, s = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * PB_PI_F * u2;
+    wi = v3_make(s * cosf(phi), s * sinf(phi), z);
+    cos_t = d > 0.0f ? v3_dot(wi, v3_scale(axis, 1.0f / d)) : 0.0f;
+    pdf = 1.0f / (4.0f * PB_PI_F);
+  }
+  /* Law of cosines: the near intersection from outside, the exit from inside. */
+  float h = sqrtf(fmaxf(0.0f, r2 - d2 + d2 * cos_t * cos_t));
+  out->wi = wi;
+  out->dist = inside ? d * cos_t + h : d * cos_t - h;
+  out->pdf = pdf;
+  out->L = sphere_light_radiance(l, v3_neg(wi), inside);
+  return out->dist > 0.0f && pdf > 0.0f && isfinite(pdf) && !v3_is_zero(out->L);
+}
+
+static int sphere_light_hit(const pb_light *l, v3 o, v3 d, float tmax, float *t_out, v3 *L, float *pdf) {
+  v3 oc = v3_sub(o, v3_load(l->position));
+  float r2 = l->radius * l->radius, b = v3_dot(oc, d), d2 = v3_dot(oc, oc), cc = d2 - r2;
+  float disc = b * b - cc;
+  if (!(disc >= 0.0f)) return 0;
+  float sq = sqrtf(disc), t;
+  int inside = !(cc > 0.0f);
+  if (!inside) {
+    if (!(b < 0.0f)) return 0;  /* the sphere is behind */
+    t = cc / (sq - b);          /* the near root, without cancellation */
+    *pdf = 1.0f / (2.0f * PB_PI_F * sphere_one_minus_cos(r2, d2));
+  } else {
+    t = sq - b;
+    *pdf = 1.0f / (4.0f * PB_PI_F);
+  }
+  if (!(t > 0.0f) || !(t < tmax)) return 0;
+  *t_out = t;
+  *L = sphere_light_radiance(l, v3_neg(d), inside);
+  return isfinite(*pdf) && !v3_is_zero(*L);
+}
+
 int pb_soft_light_sample(const pb_light *l, v3 p, float u1, float u2, pb_light_sample *out) {
   v3 col = v3_load(l->color);
   if (l->type == PB_LIGHT_DIRECTIONAL) {
@@ -168,8 +237,9 @@ int pb_soft_light_sample(const pb_light *l, v3 p, float u1, float u2, pb_light_s
     out->L = v3_scale(col, l->intensity * f);
     return pdf > 0.0f && isfinite(pdf);
   }
-  /* Sphere light: uniform on the disc of radius r through the centre,
-   * facing p. */
+  if (l->sphere) return sphere_light_sample(l, p, u1, u2, out);
+  /* Soft light (Cycles 3.4, and 4.x's Soft Falloff): uniform on the disc of
+   * radius r through the centre, facing p. */
   v3 c = v3_load(l->position), nl = v3_sub(p, c);
   float dc = v3_len(nl);
   if (!(dc > 0.0f)) return 0;
@@ -234,7 +304,8 @@ int pb_soft_light_hit(const pb_light *l, v3 o, v3 d, float tmax, float *t_out, v
     *pdf = p;
     return p > 0.0f && isfinite(p);
   }
-  /* Sphere light: the disc through the centre facing o. */
+  if (l->sphere) return sphere_light_hit(l, o, d, tmax, t_out, L, pdf);
+  /* Soft light: the disc through the centre facing o. */
   v3 c = v3_load(l->position), nl = v3_sub(o, c);
   float dc = v3_len(nl);
   if (!(dc > 0.0f)) return 0;

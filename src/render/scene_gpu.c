@@ -69,6 +69,7 @@ static void convert_lights(const pb_scene *s, pb_gpu_light *lights) {
     if (l->spot_model == PB_SPOT_CYCLES) o->flags |= PB_GPU_LIGHT_CYCLES_SPOT;
     if (l->spot_model == PB_SPOT_CYCLES4) o->flags |= PB_GPU_LIGHT_CYCLES4_SPOT;
     if (l->no_shadow) o->flags |= PB_GPU_LIGHT_NO_SHADOW;
+    if (l->sphere && l->radius > 0.0f) o->flags |= PB_GPU_LIGHT_SPHERE;
     if (l->no_mis) o->flags |= PB_GPU_LIGHT_NO_MIS;
     if (l->type == PB_LIGHT_DIRECTIONAL) {
       /* The soft sun: its disc's radius at unit distance (0: a delta light). */

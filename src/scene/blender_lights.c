@@ -178,7 +178,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
 
   static const double white[3] = {1, 1, 1};
   double color[3], power, strength, radius, spot_size, spot_blend, angle, size, size_y, spread;
-  int cast, mis;
+  int cast, mis, soft_falloff;
   if ((e = vector(&r, lo, "color", 3, 1, white, color)) != PB_OK) return e;
   if ((e = number(&r, lo, "power", DEF_POWER, 0, 0, HUGE_VAL, 0, "a non-negative number of watts", &power)) != PB_OK ||
       (e = number(&r, lo, "strength", 1.0, 0, 0, HUGE_VAL, 0, "a non-negative irradiance (W/m^2)", &strength)) != PB_OK ||
@@ -190,6 +190,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
       (e = number(&r, lo, "sizeY", DEF_AREA_SIZE, 0, 0, HUGE_VAL, 0, "a non-negative size (m)", &size_y)) != PB_OK ||
       (e = number(&r, lo, "spread", PI, 0, 1, PI_F32, 0, "in (0, pi] radians", &spread)) != PB_OK ||
       (e = boolean(&r, lo, "castShadow", 1, &cast)) != PB_OK || (e = boolean(&r, lo, "useMIS", 1, &mis)) != PB_OK ||
+      (e = boolean(&r, lo, "softFalloff", 1, &soft_falloff)) != PB_OK ||
       (e = string(&r, lo, "shape", &shape)) != PB_OK || (e = string(&r, lo, "model", &model)) != PB_OK)
     return e;
   /* Which Cycles' light model: 3.4's (no member: files written before 4.0
@@ -259,6 +260,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     l.color[c] = (float)color[c];
   }
   l.no_shadow = !cast;
+  l.sphere = (l.type == PB_LIGHT_POINT || l.type == PB_LIGHT_SPOT) && !soft_falloff && l.radius > 0.0f;
   l.no_mis = !mis;
   l.from_blender = 1;
   *out = l;

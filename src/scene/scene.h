@@ -255,6 +255,10 @@ typedef struct pb_light {
   float spread;                 /* area: (0, pi] radians; 0 in a code-built
                                    scene means pi */
   int no_shadow;                /* Blender's "Cast Shadow" off: lights through geometry */
+  int sphere;                   /* point/spot with radius > 0: Cycles 4.x's sphere light
+                                   (Blender 4.1+ Soft Falloff off) instead of the disc: a
+                                   sphere of radius r and radiance I / (pi r^2); a spot's
+                                   falloff applies outside it, not inside */
   int no_mis;                   /* Blender's "Multiple Importance" off: only
                                    light sampling (and camera rays) reach it */
   int from_blender;             /* read from PHOTONBRIDGE_blender (Blender's

@@ -7,7 +7,11 @@ settings, saved as lights45.blend into the folder after '--':
   Disc    area disc 0.6 m 10 W, Normalize off;
   Sun     sun 1 W/m^2, angle 10 degrees, Normalize off, Exposure +3;
   Ghost   point 30 W with Shadow off (Light.use_shadow False).
-Cycles 4.5 renders it as the reference (blender_check.py part lights45)."""
+and sphere45.blend: the same floor and box lit by two sphere lights (Soft
+Falloff off) close to them: Orb, a point light of 150 W and radius 0.5 m
+0.3 m above the box's top, and Cone, a spot of 100 W, radius 0.3 m, 90 degrees,
+1 m above the floor. Cycles 4.5 renders both as the reference (blender_check.py
+part lights45)."""
 import math
 import os
 import sys
@@ -70,4 +74,10 @@ sc.render.threads = 2
 sc.cycles.seed = 3
 sc.view_settings.view_transform = 'Standard'
 bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, "lights45.blend"))
+for ob in [o for o in sc.objects if o.type == 'LIGHT']:
+    bpy.data.objects.remove(ob, do_unlink=True)
+light("Orb", 'POINT', (0.0, 0.0, 1.8), energy=150.0, shadow_soft_size=0.5, use_soft_falloff=False)
+light("Cone", 'SPOT', (1.6, -0.8, 1.0), (0.5, 0.0, 0.0), energy=100.0, shadow_soft_size=0.3,
+      spot_size=math.radians(90), use_soft_falloff=False)
+bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, "sphere45.blend"))
 print("bl_lights45: wrote", out)

@@ -922,6 +922,52 @@ def part_lights45():
         worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(mp, mc))
         check(worst <= tol, "%s: mean RGB %s against Cycles 4.5's %s (largest %.2f %%)"
               % (what, ["%.4f" % x for x in mp], ["%.4f" % x for x in mc], 100 * worst))
+    # Sphere lights (Soft Falloff off) close to the surfaces they light.
+    sphere = os.path.join(scenes, "sphere45.blend")
+    sg = os.path.join(scenes, "sphere45.gltf")
+    ok, text = write_with_addon(sphere, sg)
+    check(ok, "the sphere-light scene is written")
+    if not ok:
+        print(text[-3000:])
+        return
+    with open(sg) as f:
+        sdoc = json.load(f)
+    disc = os.path.join(scenes, "sphere45_disc.gltf")  # the same with 3.4's facing discs
+    for n in sdoc["nodes"]:
+        lt = n.get("extensions", {}).get("PHOTONBRIDGE_blender", {}).get("light")
+        if lt is not None:
+            check(lt.get("softFalloff") is False, "%s: Soft Falloff off is written" % n["name"])
+    for n in sdoc["nodes"]:
+        n.get("extensions", {}).get("PHOTONBRIDGE_blender", {}).get("light", {}).pop("softFalloff", None)
+    with open(disc, "w") as f:
+        json.dump(sdoc, f)
+    dc = fresh("sphere45_cycles")
+    blender([sphere, "-E", "CYCLES", "-o", os.path.join(dc, "c_####"), "-F", "OPEN_EXR", "-x", "1", "-f", "1"])
+    df = fresh("sphere45_pb")
+    render_f12(df, sphere, dict(QUICK, photons=65536, iterations=4, spp=16), fmt="OPEN_EXR")
+    cf, pf = os.path.join(dc, "c_0001.exr"), os.path.join(df, "f_0001.exr")
+    refs = {}
+    for name, g in (("sphere", sg), ("disc", disc)):
+        refs[name] = os.path.join(dc, name + ".exr")
+        subprocess.run([EXE, "reference", g, "-o", refs[name], "--width", "64", "--height", "48", "--spp", "256",
+                        "-q"], check=False)
+    if not os.path.isfile(cf):
+        check(False, "Cycles 4.5 rendered the sphere-light scene")
+        return
+    c = exr(cf)
+    mc = [sum(c["channels"][k]) / len(c["channels"][k]) for k in "RGB"]
+
+    def off(f):
+        p = exr(f) if os.path.isfile(f) else {"channels": {k: [0.0] for k in "RGB"}}
+        mp = [sum(p["channels"][k]) / len(p["channels"][k]) for k in "RGB"]
+        return mp, max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(mp, mc))
+    for what, f, tol in (("sphere lights, the reference", refs["sphere"], 0.01), ("sphere lights, F12", pf, 0.02)):
+        mp, worst = off(f)
+        check(worst <= tol, "%s: mean RGB %s against Cycles 4.5's %s (largest %.2f %%)"
+              % (what, ["%.4f" % x for x in mp], ["%.4f" % x for x in mc], 100 * worst))
+    mp, worst = off(refs["disc"])
+    check(worst > 0.03, "the same lights as 3.4's facing discs are %.1f %% off: the scene tells the models apart"
+          % (100 * worst))
 
 
 def main():

@@ -578,12 +578,11 @@ class SceneWriter:
                       % obj.name)
         if lamp.type in ('POINT', 'SPOT'):
             ext["radius"] = lamp.shadow_soft_size
-            if not getattr(lamp, "use_soft_falloff", True) and lamp.shadow_soft_size > 0:
+            if not getattr(lamp, "use_soft_falloff", bpy.app.version < (4, 0, 0)):
                 # 4.1+: Soft Falloff off makes Cycles' light a true sphere
-                # (klight spot.is_sphere); photonbridge has only the 3.4
-                # oriented disc, the same power but softer near the light.
-                self.warn("light '%s': Soft Falloff off (a sphere light) is rendered with soft falloff; "
-                          "shading within a few radii of the light differs from Cycles" % obj.name)
+                # (kernel/light/point.h is_sphere); on, 3.4's facing disc.
+                # 4.0 had only the sphere (no setting), 3.x only the disc.
+                ext["softFalloff"] = False
         if lamp.type == 'SPOT':
             ext["spotSize"] = lamp.spot_size
             ext["spotBlend"] = lamp.spot_blend
