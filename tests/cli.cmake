@@ -139,3 +139,36 @@ pb_cli_test(cli_info_tracers info samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(seed 003.*exit=0")
 pb_cli_test(cli_info_tracers_json info --json - samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "\"tracers\":[ \n\t]*\\[[ \n\t]*\"bvh\",[ \n\t]*\"images\"[ \n\t]*\\].*exit=0")
+
+# The first hour of a new user: a misspelt subcommand, option or value gets
+# the closest valid one (within two edits) and the choices; integer bounds
+# print as integers; a .blend or a PNG handed to the wrong command is named
+# for what it is. Exit codes stay the result table's.
+pb_cli_test(cli_subcommand_did_you_mean rendr EXIT 2 REGEX "unknown subcommand 'rendr': did you mean 'render'\\?.*exit=2")
+pb_cli_test(cli_option_did_you_mean render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --widht 64 EXIT 2
+            REGEX "unknown option '--widht': did you mean '--width'\\?.*exit=2")
+pb_cli_test(cli_option_far_no_guess render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --frobnicate 64
+            EXIT 2 REGEX "unknown option '--frobnicate' \\(see 'render --help'\\).*exit=2" FAIL_REGEX "did you mean")
+pb_cli_test(cli_choice_lists_values render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --estimator foo
+            EXIT 2 REGEX "--estimator: unknown value 'foo' \\(one of: lbvh, knn, splat, vsch, auto\\).*exit=2")
+pb_cli_test(cli_choice_did_you_mean render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --first-bounce rms
+            EXIT 2 REGEX "--first-bounce: unknown value 'rms': did you mean 'rsm'\\? \\(one of: traced, rsm, auto\\).*exit=2")
+pb_cli_test(cli_integer_bound_as_integer render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --spp 0
+            EXIT 2 REGEX "--spp: 0 is outside \\[1, 1048576\\].*exit=2")
+add_test(NAME cli_blend_file_named
+         COMMAND sh -c "d=$(mktemp -d); printf 'BLENDER-v404REND' > $d/scene.blend;
+                        \"$0\" info $d/scene.blend; a=$?; \"$0\" render $d/scene.blend -o $d/x.exr; b=$?;
+                        n=$(ls $d | wc -l); rm -rf $d; echo \"exit=$a,$b files=$n\"; [ $a -eq 4 ] && [ $b -eq 4 ] && [ $n -eq 1 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_blend_file_named PROPERTIES
+  PASS_REGULAR_EXPRESSION "scene.blend is a Blender file: render it from Blender with the photonbridge add-on, or export glTF.*render: error: [^\n]*scene.blend is a Blender file.*exit=4,4 files=1"
+  FAIL_REGULAR_EXPRESSION "not valid JSON")
+add_test(NAME cli_display_png_named
+         COMMAND sh -c "d=$(mktemp -d); printf '\\211PNG\\r\\n\\032\\n0000IHDR' > $d/in.png;
+                        \"$0\" display $d/in.png -o $d/out.png; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 8 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_display_png_named PROPERTIES
+  PASS_REGULAR_EXPRESSION "in.png is a PNG image: this takes a scene-linear OpenEXR \\(.exr\\).*exit=8"
+  FAIL_REGULAR_EXPRESSION "magic")

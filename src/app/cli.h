@@ -44,6 +44,12 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        const pb_opt *opts, size_t opt_count, const char **pos,
                        size_t max_pos, size_t *pos_count, int *help);
 
+/* The name closest to word[0, len) within two edits (Levenshtein), or NULL:
+ * the "did you mean" of a misspelt subcommand, option or value. names: the
+ * first of count `const char *`, stride bytes apart (an array of names, or
+ * the name field of an array of structs). */
+const char *pb_cli_closest(const char *word, size_t len, const char *const *names, size_t count, size_t stride);
+
 void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
                        size_t opt_count, const char *details);
 

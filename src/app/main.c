@@ -123,8 +123,13 @@ int main(int argc, char **argv) {
   }
   const pb_command *c = find(argv[1]);
   if (!c) {
-    fprintf(stderr, "photonbridge: error: unknown subcommand '%s' (see 'photonbridge help')\n",
-            argv[1]);
+    const char *near = pb_cli_closest(argv[1], strlen(argv[1]), &pb_commands[0].name, pb_command_count,
+                                      sizeof *pb_commands);
+    if (near)
+      fprintf(stderr, "photonbridge: error: unknown subcommand '%s': did you mean '%s'? (see 'photonbridge help')\n",
+              argv[1], near);
+    else
+      fprintf(stderr, "photonbridge: error: unknown subcommand '%s' (see 'photonbridge help')\n", argv[1]);
     return pb_result_exit_code(PB_ERR_USAGE);
   }
   sig_command = c->name;
