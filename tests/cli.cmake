@@ -101,9 +101,9 @@ set_tests_properties(cli_help_from_anywhere PROPERTIES PASS_REGULAR_EXPRESSION "
 set(PB_DUP_CAMS tests/corpus/valid/duplicate_camera_names/duplicate_camera_names.gltf)
 pb_cli_test(cli_info_camera_numbers info ${PB_DUP_CAMS} EXIT 0
             REGEX "cameras    3\n  0   Camera .*\n  1   Camera .*\n  2   Camera  .*at \\(0 0 9\\).*exit=0")
-pb_cli_test(cli_camera_ambiguous_name export-pov ${PB_DUP_CAMS} --camera Camera -o /dev/null EXIT 2
+pb_cli_test(cli_camera_ambiguous_name export-pov ${PB_DUP_CAMS} --camera Camera -o /tmp/pb_never.pov EXIT 2
             REGEX "cameras 0, 1, 2 are all named 'Camera': choose one by its number.*exit=2")
-pb_cli_test(cli_camera_number_out_of_range export-pov ${PB_DUP_CAMS} --camera 3 -o /dev/null EXIT 2
+pb_cli_test(cli_camera_number_out_of_range export-pov ${PB_DUP_CAMS} --camera 3 -o /tmp/pb_never.pov EXIT 2
             REGEX "no camera 3 \\(the scene has 3, numbered from 0.*exit=2")
 add_test(NAME cli_camera_by_number
          COMMAND sh -c "d=$(mktemp -d); \"$0\" export-pov \"$1\" --camera 2 -o $d/c.pov -q && grep -q 'location <0,0,-9>' $d/c.pov; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
@@ -172,3 +172,23 @@ add_test(NAME cli_display_png_named
 set_tests_properties(cli_display_png_named PROPERTIES
   PASS_REGULAR_EXPRESSION "in.png is a PNG image: this takes a scene-linear OpenEXR \\(.exr\\).*exit=8"
   FAIL_REGULAR_EXPRESSION "magic")
+
+# render -o: the extension says the format. .png is the display-referred
+# beauty through the OCIO view (as --png), .exr the multilayer EXR; any
+# other is refused (exit 2) before any work, and nothing is written.
+add_test(NAME cli_render_output_png
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.png --width 16 -q --direct-only;
+                        rc=$?; magic=$(head -c 4 $d/x.png | od -An -c | tr -d ' '); rm -rf $d; echo \"exit=$rc magic=$magic\"; [ $rc -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_output_png PROPERTIES PASS_REGULAR_EXPRESSION "exit=0 magic=[0-9]*PNG")
+add_test(NAME cli_render_output_bad_extension
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.tif --width 16;
+                        rc=$?; n=$(ls $d | wc -l); rm -rf $d; echo \"exit=$rc files=$n\"; [ $rc -eq 2 ] && [ $n -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_output_bad_extension PROPERTIES
+  PASS_REGULAR_EXPRESSION "x.tif: unknown extension '.tif'; accepted: .exr [^\n]* or .png .*exit=2 files=0")
+pb_cli_test(cli_export_pov_output_not_pov export-pov samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_cb.exr EXIT 2
+            REGEX "-o /tmp/pb_never_cb.exr: the output is POV-Ray scene text and must end in .pov.*exit=2")
+pb_cli_test(cli_export_pov_help_says_pov export-pov --help EXIT 0 REGEX "-o, --output OUT +output file \\(.pov\\).*exit=0")

@@ -81,10 +81,11 @@ typedef struct pb_core_opts {
   {"quiet", 'q', PB_OPT_FLAG, &(c)->quiet, NULL, "errors only", NULL, 0, 0},    \
   {"verbose", 'v', PB_OPT_FLAG, &(c)->verbose, NULL, "more detail", NULL, 0, 0}
 
-/* The image options every rendering subcommand takes. */
-#define PB_RENDER_OPTS(c)                                                      \
-  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", "output file (EXR)", NULL,  \
-   0, 0},                                                                      \
+/* The image options every rendering subcommand takes; out_help: what -o
+ * writes. */
+#define PB_RENDER_OPTS(c) PB_RENDER_OPTS_OUT(c, "output file (EXR)")
+#define PB_RENDER_OPTS_OUT(c, out_help)                                        \
+  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", out_help, NULL, 0, 0},      \
   {"width", 0, PB_OPT_U32, &(c)->width, "W",                                   \
    "image width (default 640, or from --height and the camera's aspect)",     \
    NULL, 1, 16384},                                                            \

@@ -258,7 +258,8 @@ int pb_cmd_render(int argc, char **argv) {
   pb_color_opts co = PB_COLOR_OPTS_INIT;
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
   const pb_opt opts[] = {
-      PB_RENDER_OPTS(&c),
+      PB_RENDER_OPTS_OUT(&c, "output file: .exr (scene-linear, every pass) or .png (the beauty, display-referred "
+                             "through the OCIO view, as --png)"),
       PB_COLOR_OPTS(&co),
       {"spp", 0, PB_OPT_U32, &o.spp, "N", "samples per pixel (default 1: pixel centres; more: stratified jitter)",
        NULL, 1, 1 << 20},
@@ -436,6 +437,10 @@ int pb_cmd_render(int argc, char **argv) {
   }
   if (npos != 1 || !c.out)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: expected SCENE and -o OUT.exr (see 'photonbridge render --help')"));
+  pb_render_out_format out_fmt;
+  if ((r = pb_render_out_format_of(c.out, &out_fmt)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (out_fmt == PB_RENDER_OUT_PNG && o.blender_layer)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-layer names EXR channels: write -o OUT.exr"));
   if (o.alpha < 0 || !(o.alpha < 1))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha));
   int32_t first = 0, last = 0;
@@ -519,7 +524,7 @@ int pb_cmd_render(int argc, char **argv) {
   }
   /* The view is opened before any GPU work so that a misspelt view fails at
    * once. */
-  if (o.png && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
+  if ((o.png || out_fmt == PB_RENDER_OUT_PNG) && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
@@ -589,7 +594,8 @@ int pb_cmd_render(int argc, char **argv) {
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
   const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
-  r = pb_render_write_exr(c.out, &res, o.blender_layer, o.blender_passes, an, av, 4);
+  if (out_fmt == PB_RENDER_OUT_PNG) r = pb_png_write_display(c.out, color, w, h, 4, res.beauty);
+  else r = pb_render_write_exr(c.out, &res, o.blender_layer, o.blender_passes, an, av, 4);
   if (r == PB_OK && o.png) {
     r = pb_png_write_display(o.png, color, w, h, 4, res.beauty);
     if (r != PB_OK) unlink(c.out);

@@ -477,7 +477,11 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
                         "photonbridge/time"};
     const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, frame_s, time_s};
     if ((r = pb_seq_frame_path(c->out, f, path, sizeof path)) != PB_OK) goto done;
-    if ((r = pb_render_write_exr(path, &res, so->blender_layer, so->blender_passes, an, av, 5)) != PB_OK) goto done;
+    pb_render_out_format fmt = PB_RENDER_OUT_EXR;
+    if ((r = pb_render_out_format_of(path, &fmt)) != PB_OK) goto done;
+    if (fmt == PB_RENDER_OUT_PNG) r = pb_png_write_display(path, color, w, h, 4, res.beauty);
+    else r = pb_render_write_exr(path, &res, so->blender_layer, so->blender_passes, an, av, 5);
+    if (r != PB_OK) goto done;
     if (so->png) {
       if ((r = pb_seq_frame_path(so->png, f, png, sizeof png)) != PB_OK) goto done;
       if ((r = pb_png_write_display(png, color, w, h, 4, res.beauty)) != PB_OK) goto done;

@@ -22,7 +22,7 @@ const pb_command pb_commands[] = {
      "Summarise a glTF scene: counts, bounds, cameras, lights (radiometric "
      "units), materials, textures, needed features and warnings.",
      pb_cmd_info},
-    {"render", "SCENE -o OUT.exr [options]",
+    {"render", "SCENE -o OUT.exr|OUT.png [options]",
      "Render with the GPU pipeline (Vulkan compute): direct light, specular eye paths, AOVs.", pb_cmd_render},
     {"display", "IMAGE.exr -o OUT.png [options]", "Scene-linear EXR to a PNG through an OCIO display/view/look.", pb_cmd_display},
     {"export-pov", "SCENE -o OUT.pov [options]", "Write the scene as POV-Ray 3.7 SDL (units matched; see docs in src/pov/pov.h).", pb_cmd_export_pov},

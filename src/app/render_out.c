@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/json.h"
 #include "image/image.h"
@@ -27,6 +28,25 @@ static int listed(const char *list, const char *name) {
     p += len + (e ? 1 : 0);
   }
   return 0;
+}
+
+pb_result pb_render_out_format_of(const char *path, pb_render_out_format *fmt) {
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  const char *dot = strrchr(base, '.');
+  if (dot && !strcasecmp(dot, ".exr")) {
+    *fmt = PB_RENDER_OUT_EXR;
+    return PB_OK;
+  }
+  if (dot && !strcasecmp(dot, ".png")) {
+    *fmt = PB_RENDER_OUT_PNG;
+    return PB_OK;
+  }
+  if (!dot || dot == base)
+    return pb_fail(PB_ERR_USAGE, "render: -o %s: no file extension; accepted: .exr (scene-linear, every pass) or "
+                   ".png (display-referred through the OCIO view)", path);
+  return pb_fail(PB_ERR_USAGE, "render: -o %s: unknown extension '%s'; accepted: .exr (scene-linear, every pass) "
+                 "or .png (display-referred through the OCIO view)", path, dot);
 }
 
 pb_result pb_render_check_blender_passes(const char *list) {
