@@ -192,3 +192,10 @@ set_tests_properties(cli_render_output_bad_extension PROPERTIES
 pb_cli_test(cli_export_pov_output_not_pov export-pov samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_cb.exr EXIT 2
             REGEX "-o /tmp/pb_never_cb.exr: the output is POV-Ray scene text and must end in .pov.*exit=2")
 pb_cli_test(cli_export_pov_help_says_pov export-pov --help EXIT 0 REGEX "-o, --output OUT +output file \\(.pov\\).*exit=0")
+
+# The device named honestly: its type in render --json, a warning on a CPU
+# Vulkan device (not with -q), and the same words on validate's page.
+add_test(NAME cli_device_named
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/device_named_check.py ${PB_EXE} ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_device_named PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")

@@ -132,6 +132,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_string(&j, "renderer", "gpu");
   pb_json_string(&j, "scene", s->path);
   pb_json_string(&j, "device", pb_gpu_device_name(g));
+  pb_json_string(&j, "device_type", pb_gpu_device_type(g)); /* cpu: a CPU Vulkan device */
   pb_json_int(&j, "width", res->width);
   pb_json_int(&j, "height", res->height);
   pb_json_int(&j, "spp", st->spp);
@@ -449,6 +450,11 @@ int pb_cmd_render(int argc, char **argv) {
                     o.orbit_seconds != 0 || o.warmup || o.frames_in_flight))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup, "
                                     "--frames-in-flight and --reference-* need --frames A:B"));
+  /* A sequence's names need the frame number: said before any work. */
+  if (o.frames && last > first && (!strchr(c.out, '#') || (o.png && !strchr(o.png, '#'))))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: %s %s: a sequence needs '#' in the name for the frame "
+                                    "number (out/frame_####.exr)", strchr(c.out, '#') ? "--png" : "-o",
+                                    strchr(c.out, '#') ? o.png : c.out));
   if (o.frames && (int64_t)first - o.warmup < -1000000)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --warmup %u: frame %lld before the first "
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
@@ -529,6 +535,9 @@ int pb_cmd_render(int argc, char **argv) {
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;
+  if (pb_gpu_get_limits(g)->cpu)
+    pb_log_warn("render: the GPU pipeline runs on %s, a CPU Vulkan device (no GPU driver was found or chosen): much "
+                "slower than on a GPU (see 'photonbridge info --devices')", pb_gpu_device_name(g));
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
