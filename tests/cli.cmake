@@ -199,3 +199,19 @@ add_test(NAME cli_device_named
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/device_named_check.py ${PB_EXE} ${PB_ROOT}
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_device_named PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# --time-limit with the default one photon map refines with more maps until
+# the time is up (the planned count is the option's bound); --progressive
+# with one map says it does nothing and how to make it work.
+add_test(NAME cli_render_time_limit_more_maps
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.exr --width 16 --photons 2048 --time-limit 2 --json - -q; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_time_limit_more_maps PROPERTIES
+  PASS_REGULAR_EXPRESSION "\"photons\": *\\{[^}]*\"iterations\": *([2-9]|[1-9][0-9]+),.*exit=0")
+add_test(NAME cli_render_progressive_one_map
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.exr --width 8 --photons 1024 --progressive; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_progressive_one_map PROPERTIES
+  PASS_REGULAR_EXPRESSION "warning: render: --progressive has no effect with one photon map: add --iterations K \\(K > 1\\) or --time-limit S.*exit=0")

@@ -34,6 +34,10 @@
 #include "shared/pb_knn.h"
 #include "render/tracer.h"
 
+/* The photon maps render --time-limit plans without --iterations: the
+ * option's bound; the time limit ends the frame long before. */
+#define PB_RENDER_TIME_LIMIT_ITERATIONS (1u << 16)
+
 static const pb_command *self(void) {
   for (size_t i = 0; i < pb_command_count; ++i)
     if (pb_commands[i].run == pb_cmd_render) return &pb_commands[i];
@@ -293,7 +297,7 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 0, 0},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
        "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
-       "--iterations converge to the unbiased answer", NULL, 0, 0},
+       "--iterations (or a --time-limit) converge to the unbiased answer", NULL, 0, 0},
       {"alpha", 0, PB_OPT_FLOAT, &o.alpha, "A", "--progressive: radius^2 fraction kept per iteration, in (0, 1) "
        "(default 2/3)", NULL, 0, 0},
       {"leaf-size", 0, PB_OPT_U32, &o.leaf_size, "N",
@@ -403,8 +407,8 @@ int pb_cmd_render(int argc, char **argv) {
        "frame's camera window and random numbers: the crop equals that part of the full render (Blender's border)",
        NULL, 0, 0},
       {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
-       "start no photon iteration after S seconds; the image averages the iterations done (of --iterations)", NULL,
-       0, 1e9},
+       "start no photon iteration after S seconds; the image averages the iterations done (of --iterations; "
+       "without --iterations: as many photon maps as S seconds allow, at most 65536)", NULL, 0, 1e9},
       {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
        "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
        "other passes 0)", NULL, 0, 0},
@@ -464,6 +468,24 @@ int pb_cmd_render(int argc, char **argv) {
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --image-maps and --image-map-resolution need --tracer "
                                     "images"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
+  /* -q and -v hold from here (warnings below; the scene's load applies
+   * them again). */
+  if (c.quiet) pb_log_set_level(PB_LOG_QUIET);
+  else if (c.verbose) pb_log_set_level(PB_LOG_VERBOSE);
+  /* --time-limit refines by photon maps: without --iterations, one map
+   * would leave nothing to stop, so the frame plans as many as the option
+   * allows and the time limit ends it (as reference --time-limit ends its
+   * samples). --progressive shrinks footprints between maps: one map has
+   * none to shrink. */
+  if (o.time_limit > 0 && !o.direct_only && !o.frames) {
+    if (!o.iterations) o.iterations = PB_RENDER_TIME_LIMIT_ITERATIONS;
+    else if (o.iterations == 1)
+      pb_log_warn("render: --time-limit %g has no effect with --iterations 1 (one photon map): drop --iterations, "
+                  "or raise it, to refine until the time is up", o.time_limit);
+  }
+  if (o.progressive && o.iterations <= 1 && !o.direct_only && !o.frames)
+    pb_log_warn("render: --progressive has no effect with one photon map: add --iterations K (K > 1) or "
+                "--time-limit S");
   /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
    * A photon stored at its k-th bounce ends a path of k + 1 events at the
    * eye's first smooth vertex, so photons store at most N - 1; the eye's
