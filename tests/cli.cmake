@@ -200,6 +200,13 @@ add_test(NAME cli_device_named
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_device_named PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
 
+# render's progress for a person: a redrawn line on a terminal with the
+# stage and the time left, nothing with -q, --progress-lines unchanged.
+add_test(NAME cli_render_progress
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/progress_check.py ${PB_EXE} ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_progress PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
 # --time-limit with the default one photon map refines with more maps until
 # the time is up (the planned count is the option's bound); --progressive
 # with one map says it does nothing and how to make it work.

@@ -237,6 +237,7 @@ int pb_cli_exit(const pb_command *cmd, pb_result r) {
     /* Messages made inside a command often start with its own name
      * ("serve: --socket ..."); the prefix already says it once. */
     if (nl && strncmp(m, name, nl) == 0 && m[nl] == ':' && m[nl + 1] == ' ') m += nl + 2;
+    pb_progress_clear_line(); /* the error on a line of its own */
     fprintf(stderr, "photonbridge %s: error: %s\n", name, m[0] ? m : pb_result_message(r));
   }
   return pb_result_exit_code(r);

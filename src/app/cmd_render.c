@@ -37,6 +37,7 @@
 /* The photon maps render --time-limit plans without --iterations: the
  * option's bound; the time limit ends the frame long before. */
 #define PB_RENDER_TIME_LIMIT_ITERATIONS (1u << 16)
+enum { PB_PATH_STAGE = 96 }; /* "writing OUT" (the stage text is cut there) */
 
 static const pb_command *self(void) {
   for (size_t i = 0; i < pb_command_count; ++i)
@@ -100,6 +101,24 @@ typedef struct progress_ctx {
 static pb_result on_progress(void *user, const pb_render_progress *p) {
   const progress_ctx *pc = user;
   const char *written = NULL;
+  {
+    /* The bar: maps done, samples, and the time left from the mean time of
+     * a map so far (the time limit, when it comes first). */
+    char stage[96];
+    double per = p->iteration ? p->elapsed_s / p->iteration : 0;
+    double eta = per * (double)(p->iterations - p->iteration);
+    if (pc->o->time_limit > 0 && eta > pc->o->time_limit - p->elapsed_s + per)
+      eta = pc->o->time_limit - p->elapsed_s + per > 0 ? pc->o->time_limit - p->elapsed_s + per : 0;
+    if (pc->o->direct_only)
+      snprintf(stage, sizeof stage, "direct light, %u/%u samples", p->samples, p->spp);
+    else if (pc->o->time_limit > 0)
+      snprintf(stage, sizeof stage, "photon map %u (time limit %gs), %u samples", p->iteration, pc->o->time_limit,
+               p->samples);
+    else
+      snprintf(stage, sizeof stage, "photon map %u/%u, %u/%u samples", p->iteration, p->iterations, p->samples,
+               p->spp);
+    pb_render_bar_stage(stage, p->iteration, pc->o->time_limit > 0 ? 0 : p->iterations, eta);
+  }
   if (p->beauty && pc->o->preview) {
     pb_render_result pr;
     memset(&pr, 0, sizeof pr);
@@ -521,6 +540,9 @@ int pb_cmd_render(int argc, char **argv) {
                                     pb_estimator_names[o.estimator]));
   pb_progress_lines_enable(o.progress_lines);
   double t_start = pb_time_now();
+  /* --progress-lines: its reader wants its own lines alone. */
+  pb_render_bar_begin(!c.quiet && !o.progress_lines);
+  pb_render_bar_stage("loading scene", 0, 0, -1);
   pb_scene s;
   /* Outputs that cannot be written fail now, not after the render
    * (sequences check their expanded names in render_seq.c). */
@@ -553,6 +575,7 @@ int pb_cmd_render(int argc, char **argv) {
   /* The view is opened before any GPU work so that a misspelt view fails at
    * once. */
   if ((o.png || out_fmt == PB_RENDER_OUT_PNG) && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
+  pb_render_bar_stage("starting the Vulkan device", 0, 0, -1);
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
@@ -561,6 +584,7 @@ int pb_cmd_render(int argc, char **argv) {
     pb_log_warn("render: the GPU pipeline runs on %s, a CPU Vulkan device (no GPU driver was found or chosen): much "
                 "slower than on a GPU (see 'photonbridge info --devices')", pb_gpu_device_name(g));
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
+  pb_render_bar_stage("building BVH, uploading the scene", 0, 0, -1);
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
   pb_progress_line_stage("uploaded", pb_time_now() - t_start);
@@ -600,7 +624,7 @@ int pb_cmd_render(int argc, char **argv) {
                                                 : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
                        .time_limit_s = o.time_limit, .preview_interval_s = o.preview ? o.preview_interval : -1.0};
   progress_ctx pctx = {&o};
-  if (o.preview || o.progress_lines) rd.progress = on_progress, rd.progress_user = &pctx;
+  rd.progress = on_progress, rd.progress_user = &pctx; /* the bar, --preview, --progress-lines */
   if (o.crop) rd.full_width = full_w, rd.full_height = full_h, rd.crop_x = crop[0], rd.crop_y = crop[1];
   if (o.frames) {
     static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
@@ -617,8 +641,21 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
     goto done;
   }
+  {
+    char stage[96];
+    uint32_t maps = rd.direct_only ? 0 : (rd.iterations ? rd.iterations : 1);
+    if (o.time_limit > 0) snprintf(stage, sizeof stage, "photon map 0 (time limit %gs)", o.time_limit);
+    else if (maps) snprintf(stage, sizeof stage, "photon map 0/%u", maps);
+    else snprintf(stage, sizeof stage, "direct light, %u samples", o.spp ? o.spp : 1);
+    pb_render_bar_stage(stage, 0, o.time_limit > 0 ? 0 : maps, -1);
+  }
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
+  {
+    char stage[PB_PATH_STAGE];
+    snprintf(stage, sizeof stage, "writing %s", c.out);
+    pb_render_bar_stage(stage, 0, 0, -1);
+  }
 
   /* Outputs, each atomic; a later failure removes the earlier ones. */
   char spp_s[32];
@@ -638,6 +675,7 @@ int pb_cmd_render(int argc, char **argv) {
       if (o.png) unlink(o.png);
     }
   }
+  pb_render_bar_end();
   if (r == PB_OK) pb_progress_line_done(c.out, pb_time_now() - t_start);
   if (r == PB_OK && !c.quiet) {
     const pb_render_stats *st = &res.stats;

@@ -416,6 +416,11 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
    * frame comes out, by its number, while the GPU runs the next. */
   size_t total = (size_t)so->warmup + count;
   int32_t f0 = so->first - (int32_t)so->warmup;
+  {
+    char stage[64];
+    snprintf(stage, sizeof stage, "frame 0/%zu%s", count, so->warmup ? " (warming up)" : "");
+    pb_render_bar_stage(stage, 0, count, -1);
+  }
   for (size_t k = 0; k <= total; ++k) {
     pb_sequence_frame_info info;
     if (k < total) {
@@ -490,6 +495,12 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     /* An interrupt from now on keeps the finished frames (each file whole). */
     pb_tmp_set_interrupt_note("the frames written before it are complete; the frame in progress was not written");
     pb_progress_line_frame(f, (uint32_t)i, (uint32_t)count, path);
+    {
+      char stage[64];
+      double el = pb_time_now() - t_start;
+      snprintf(stage, sizeof stage, "frame %zu/%zu", (size_t)i + 1, count);
+      pb_render_bar_stage(stage, (uint64_t)i + 1, count, el / (double)(i + 1) * (double)(count - (size_t)i - 1));
+    }
     if (!c->quiet) {
       const pb_render_stats *st = &res.stats;
       char metric[96] = "";
@@ -499,6 +510,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     }
     pb_render_result_destroy(&res);
   }
+  pb_render_bar_end();
   if (c->json) r = write_json(c->json, s, g, w, h, sd, so, rec, count);
   if (r == PB_OK) pb_progress_line_done(c->out, pb_time_now() - t_start);
 done:

@@ -8,6 +8,7 @@
 #include <strings.h>
 
 #include "core/json.h"
+#include "core/log.h"
 #include "image/image.h"
 
 /* Cycles' depth for rays that hit nothing (its Depth pass background). */
@@ -118,6 +119,25 @@ pb_result pb_render_write_exr(const char *path, const pb_render_result *res, con
   free(zero);
   free(depth);
   return r;
+}
+
+/* ---- the progress bar ---------------------------------------------------------- */
+
+static pb_progress bar;
+static int bar_on;
+
+void pb_render_bar_begin(int on) {
+  bar_on = on;
+  if (on) pb_progress_begin(&bar, "render", 0);
+}
+
+void pb_render_bar_stage(const char *stage, uint64_t done, uint64_t total, double eta_s) {
+  if (bar_on) pb_progress_stage(&bar, stage, done, total, eta_s);
+}
+
+void pb_render_bar_end(void) {
+  if (bar_on) pb_progress_end(&bar);
+  bar_on = 0;
 }
 
 /* ---- progress lines ---------------------------------------------------------- */
