@@ -188,7 +188,7 @@ add_test(NAME cli_render_output_bad_extension
                  ${PB_EXE}
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_render_output_bad_extension PROPERTIES
-  PASS_REGULAR_EXPRESSION "x.tif: unknown extension '.tif'; accepted: .exr [^\n]* or .png .*exit=2 files=0")
+  PASS_REGULAR_EXPRESSION "x.tif: unknown extension '.tif'. accepted: .exr [^\n]* or .png .*exit=2 files=0")
 pb_cli_test(cli_export_pov_output_not_pov export-pov samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_cb.exr EXIT 2
             REGEX "-o /tmp/pb_never_cb.exr: the output is POV-Ray scene text and must end in .pov.*exit=2")
 pb_cli_test(cli_export_pov_help_says_pov export-pov --help EXIT 0 REGEX "-o, --output OUT +output file \\(.pov\\).*exit=0")
@@ -222,3 +222,6 @@ add_test(NAME cli_render_progressive_one_map
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_render_progressive_one_map PROPERTIES
   PASS_REGULAR_EXPRESSION "warning: render: --progressive has no effect with one photon map: add --iterations K \\(K > 1\\) or --time-limit S.*exit=0")
+# reference writes EXR only: another extension is refused before any work.
+pb_cli_test(cli_reference_output_png reference samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_ref.png EXIT 2
+            REGEX "reference: error: -o /tmp/pb_never_ref.png: unknown extension '.png'. accepted: .exr \\(a display-referred PNG: --png FILE.png\\).*exit=2")
