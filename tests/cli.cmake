@@ -225,3 +225,4 @@ set_tests_properties(cli_render_progressive_one_map PROPERTIES
 # reference writes EXR only: another extension is refused before any work.
 pb_cli_test(cli_reference_output_png reference samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_ref.png EXIT 2
             REGEX "reference: error: -o /tmp/pb_never_ref.png: unknown extension '.png'. accepted: .exr \\(a display-referred PNG: --png FILE.png\\).*exit=2")
+pb_cli_test(cli_help_did_you_mean help exprot-pov EXIT 2 REGEX "unknown subcommand 'exprot-pov': did you mean 'export-pov'\\?.*exit=2")

@@ -66,7 +66,12 @@ static int cmd_help(int argc, char **argv) {
       usage(stdout);
       return 0;
     }
-    fprintf(stderr, "photonbridge help: error: unknown subcommand '%s'\n", argv[1]);
+    const char *near = pb_cli_closest(argv[1], strlen(argv[1]), &pb_commands[0].name, pb_command_count,
+                                      sizeof *pb_commands);
+    if (near)
+      fprintf(stderr, "photonbridge help: error: unknown subcommand '%s': did you mean '%s'?\n", argv[1], near);
+    else
+      fprintf(stderr, "photonbridge help: error: unknown subcommand '%s'\n", argv[1]);
     return pb_result_exit_code(PB_ERR_USAGE);
   }
   char *hv[] = {argv[1], "--help", NULL};
