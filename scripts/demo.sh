@@ -41,8 +41,13 @@ g, ref = rs.get("photonbridge", {}), rs.get("reference", {})
 st = g.get("settings", {})
 print()
 print("demo: rendered %s at %d px" % (r["scene"], r["width"]))
-print("demo:   GPU pipeline (photonbridge render, %s): %.1f s, %s photons emitted, %s stored"
-      % (st.get("device"), g.get("render_s") or 0, st.get("photons_emitted"), st.get("photons_stored")))
+# A CPU Vulkan device (lavapipe) is named as one: the GPU pipeline runs
+# there much slower than on a GPU.
+dev = st.get("device")
+if st.get("device_type") == "cpu":
+    dev = "%s (CPU Vulkan device)" % dev
+print("demo:   GPU pipeline on %s (photonbridge render): %.1f s, %s photons emitted, %s stored"
+      % (dev, g.get("render_s") or 0, st.get("photons_emitted"), st.get("photons_stored")))
 print("demo:   Embree reference path tracer (photonbridge reference, %s spp, SPPM caustics): %.1f s"
       % (ref.get("settings", {}).get("spp"), ref.get("render_s") or 0))
 if p and p.get("psnr_db") is not None:

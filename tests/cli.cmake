@@ -101,9 +101,9 @@ set_tests_properties(cli_help_from_anywhere PROPERTIES PASS_REGULAR_EXPRESSION "
 set(PB_DUP_CAMS tests/corpus/valid/duplicate_camera_names/duplicate_camera_names.gltf)
 pb_cli_test(cli_info_camera_numbers info ${PB_DUP_CAMS} EXIT 0
             REGEX "cameras    3\n  0   Camera .*\n  1   Camera .*\n  2   Camera  .*at \\(0 0 9\\).*exit=0")
-pb_cli_test(cli_camera_ambiguous_name export-pov ${PB_DUP_CAMS} --camera Camera -o /dev/null EXIT 2
+pb_cli_test(cli_camera_ambiguous_name export-pov ${PB_DUP_CAMS} --camera Camera -o /tmp/pb_never.pov EXIT 2
             REGEX "cameras 0, 1, 2 are all named 'Camera': choose one by its number.*exit=2")
-pb_cli_test(cli_camera_number_out_of_range export-pov ${PB_DUP_CAMS} --camera 3 -o /dev/null EXIT 2
+pb_cli_test(cli_camera_number_out_of_range export-pov ${PB_DUP_CAMS} --camera 3 -o /tmp/pb_never.pov EXIT 2
             REGEX "no camera 3 \\(the scene has 3, numbered from 0.*exit=2")
 add_test(NAME cli_camera_by_number
          COMMAND sh -c "d=$(mktemp -d); \"$0\" export-pov \"$1\" --camera 2 -o $d/c.pov -q && grep -q 'location <0,0,-9>' $d/c.pov; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
@@ -139,3 +139,90 @@ pb_cli_test(cli_info_tracers info samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(seed 003.*exit=0")
 pb_cli_test(cli_info_tracers_json info --json - samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "\"tracers\":[ \n\t]*\\[[ \n\t]*\"bvh\",[ \n\t]*\"images\"[ \n\t]*\\].*exit=0")
+
+# The first hour of a new user: a misspelt subcommand, option or value gets
+# the closest valid one (within two edits) and the choices; integer bounds
+# print as integers; a .blend or a PNG handed to the wrong command is named
+# for what it is. Exit codes stay the result table's.
+pb_cli_test(cli_subcommand_did_you_mean rendr EXIT 2 REGEX "unknown subcommand 'rendr': did you mean 'render'\\?.*exit=2")
+pb_cli_test(cli_option_did_you_mean render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --widht 64 EXIT 2
+            REGEX "unknown option '--widht': did you mean '--width'\\?.*exit=2")
+pb_cli_test(cli_option_far_no_guess render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --frobnicate 64
+            EXIT 2 REGEX "unknown option '--frobnicate' \\(see 'render --help'\\).*exit=2" FAIL_REGEX "did you mean")
+pb_cli_test(cli_choice_lists_values render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --estimator foo
+            EXIT 2 REGEX "--estimator: unknown value 'foo' \\(one of: lbvh, knn, splat, vsch, auto\\).*exit=2")
+pb_cli_test(cli_choice_did_you_mean render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --first-bounce rms
+            EXIT 2 REGEX "--first-bounce: unknown value 'rms': did you mean 'rsm'\\? \\(one of: traced, rsm, auto\\).*exit=2")
+pb_cli_test(cli_integer_bound_as_integer render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr --spp 0
+            EXIT 2 REGEX "--spp: 0 is outside \\[1, 1048576\\].*exit=2")
+add_test(NAME cli_blend_file_named
+         COMMAND sh -c "d=$(mktemp -d); printf 'BLENDER-v404REND' > $d/scene.blend;
+                        \"$0\" info $d/scene.blend; a=$?; \"$0\" render $d/scene.blend -o $d/x.exr; b=$?;
+                        n=$(ls $d | wc -l); rm -rf $d; echo \"exit=$a,$b files=$n\"; [ $a -eq 4 ] && [ $b -eq 4 ] && [ $n -eq 1 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_blend_file_named PROPERTIES
+  PASS_REGULAR_EXPRESSION "scene.blend is a Blender file: render it from Blender with the photonbridge add-on, or export glTF.*render: error: [^\n]*scene.blend is a Blender file.*exit=4,4 files=1"
+  FAIL_REGULAR_EXPRESSION "not valid JSON")
+add_test(NAME cli_display_png_named
+         COMMAND sh -c "d=$(mktemp -d); printf '\\211PNG\\r\\n\\032\\n0000IHDR' > $d/in.png;
+                        \"$0\" display $d/in.png -o $d/out.png; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 8 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_display_png_named PROPERTIES
+  PASS_REGULAR_EXPRESSION "in.png is a PNG image: this takes a scene-linear OpenEXR \\(.exr\\).*exit=8"
+  FAIL_REGULAR_EXPRESSION "magic")
+
+# render -o: the extension says the format. .png is the display-referred
+# beauty through the OCIO view (as --png), .exr the multilayer EXR; any
+# other is refused (exit 2) before any work, and nothing is written.
+add_test(NAME cli_render_output_png
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.png --width 16 -q --direct-only;
+                        rc=$?; magic=$(head -c 4 $d/x.png | od -An -c | tr -d ' '); rm -rf $d; echo \"exit=$rc magic=$magic\"; [ $rc -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_output_png PROPERTIES PASS_REGULAR_EXPRESSION "exit=0 magic=[0-9]*PNG")
+add_test(NAME cli_render_output_bad_extension
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.tif --width 16;
+                        rc=$?; n=$(ls $d | wc -l); rm -rf $d; echo \"exit=$rc files=$n\"; [ $rc -eq 2 ] && [ $n -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_output_bad_extension PROPERTIES
+  PASS_REGULAR_EXPRESSION "x.tif: unknown extension '.tif'. accepted: .exr [^\n]* or .png .*exit=2 files=0")
+pb_cli_test(cli_export_pov_output_not_pov export-pov samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_cb.exr EXIT 2
+            REGEX "-o /tmp/pb_never_cb.exr: the output is POV-Ray scene text and must end in .pov.*exit=2")
+pb_cli_test(cli_export_pov_help_says_pov export-pov --help EXIT 0 REGEX "-o, --output OUT +output file \\(.pov\\).*exit=0")
+
+# The device named honestly: its type in render --json, a warning on a CPU
+# Vulkan device (not with -q), and the same words on validate's page.
+add_test(NAME cli_device_named
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/device_named_check.py ${PB_EXE} ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_device_named PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# render's progress for a person: a redrawn line on a terminal with the
+# stage and the time left, nothing with -q, --progress-lines unchanged.
+add_test(NAME cli_render_progress
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/progress_check.py ${PB_EXE} ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_progress PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# --time-limit with the default one photon map refines with more maps until
+# the time is up (the planned count is the option's bound); --progressive
+# with one map says it does nothing and how to make it work.
+add_test(NAME cli_render_time_limit_more_maps
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.exr --width 8 --photons 256 --time-limit 4 --json - -q; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_time_limit_more_maps PROPERTIES
+  PASS_REGULAR_EXPRESSION "\"photons\": *\\{[^}]*\"iterations\": *([2-9]|[1-9][0-9]+),.*exit=0")
+add_test(NAME cli_render_progressive_one_map
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_box/cornell_box.gltf -o $d/x.exr --width 8 --photons 1024 --progressive; rc=$?; rm -rf $d; echo \"exit=$rc\"; [ $rc -eq 0 ]"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_progressive_one_map PROPERTIES
+  PASS_REGULAR_EXPRESSION "warning: render: --progressive has no effect with one photon map: add --iterations K \\(K > 1\\) or --time-limit S.*exit=0")
+# reference writes EXR only: another extension is refused before any work.
+pb_cli_test(cli_reference_output_png reference samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_ref.png EXIT 2
+            REGEX "reference: error: -o /tmp/pb_never_ref.png: unknown extension '.png'. accepted: .exr \\(a display-referred PNG: --png FILE.png\\).*exit=2")
+pb_cli_test(cli_help_did_you_mean help exprot-pov EXIT 2 REGEX "unknown subcommand 'exprot-pov': did you mean 'export-pov'\\?.*exit=2")

@@ -76,6 +76,18 @@ LABEL = {"reference": "photonbridge reference (CPU)", "photonbridge": "photonbri
          "povray": "POV-Ray 3.7", "cycles": "Blender Cycles"}
 
 
+def photonbridge_label(st):
+    """The page's name for photonbridge render, from its --json statistics:
+    the device it ran on, and said plainly when that is a CPU Vulkan device
+    (lavapipe) rather than a GPU."""
+    name = st.get("device") if isinstance(st.get("device"), str) else None
+    if not name:
+        return LABEL["photonbridge"]
+    if st.get("device_type") == "cpu":
+        return "photonbridge render: GPU pipeline on %s (CPU Vulkan device)" % name
+    return "photonbridge render: GPU pipeline on %s" % name
+
+
 def run(cmd, log=None, cwd=None, timeout=1800):
     t0 = time.time()
     try:
@@ -500,9 +512,10 @@ def main(argv):
         rc, o, dt = run(cmd, os.path.join(out, "photonbridge.log"))
         st = read_json(os.path.join(out, "photonbridge.json")) or {}
         if rc == 0 and os.path.isfile(exr):
-            record("photonbridge", "ok", exr="photonbridge.exr", wall_s=round(dt, 3),
+            record("photonbridge", "ok", exr="photonbridge.exr", wall_s=round(dt, 3), label=photonbridge_label(st),
                    render_s=(st["wall_ms"] / 1000.0) if isinstance(st.get("wall_ms"), (int, float)) else None,
                    settings={"spp": a.spp, "direct_only": a.direct_only, "device": st.get("device"),
+                             "device_type": st.get("device_type"),
                              "photons_emitted": (st.get("photons") or {}).get("emitted"),
                              "photons_stored": (st.get("photons") or {}).get("stored"),
                              "extra": a.render_args or None},

@@ -12,6 +12,47 @@
 
 const char *const pb_light_units_names[] = {"standard", "unitless", NULL};
 
+/* Levenshtein distance of a and b (at most 63 characters each; longer
+ * words count as far apart). */
+static size_t edit_distance(const char *a, size_t la, const char *b, size_t lb) {
+  enum { M = 64 };
+  if (la >= M || lb >= M) return M;
+  size_t row[M];
+  for (size_t j = 0; j <= lb; ++j) row[j] = j;
+  for (size_t i = 1; i <= la; ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= lb; ++j) {
+      size_t up = row[j];
+      size_t best = diag + (a[i - 1] != b[j - 1]);
+      if (up + 1 < best) best = up + 1;
+      if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
+      row[j] = best;
+      diag = up;
+    }
+  }
+  return row[lb];
+}
+
+const char *pb_cli_closest(const char *word, size_t len, const char *const *names, size_t count, size_t stride) {
+  const char *best = NULL;
+  size_t best_d = 3; /* suggestions within 2 edits only */
+  for (size_t i = 0; i < count; ++i) {
+    const char *n = *(const char *const *)((const char *)names + i * stride);
+    size_t d = edit_distance(word, len, n, strlen(n));
+    if (d < best_d) best_d = d, best = n;
+  }
+  return best;
+}
+
+/* " (one of: a, b, c)" of a choice option, into buf. */
+static const char *choice_list(const pb_opt *o, char *buf, size_t size) {
+  size_t k = (size_t)snprintf(buf, size, "one of: ");
+  for (int i = 0; o->choices[i] && k < size; ++i)
+    k += (size_t)snprintf(buf + k, size - k, "%s%s", i ? ", " : "", o->choices[i]);
+  return buf;
+}
+
 static const pb_opt *find_long(const pb_opt *o, size_t n, const char *name,
                                size_t len) {
   for (size_t i = 0; i < n; ++i)
@@ -36,8 +77,17 @@ static pb_result set_value(const pb_command *cmd, const pb_opt *o,
         *(int *)o->target = i;
         return PB_OK;
       }
-    return pb_fail(PB_ERR_USAGE, "%s: --%s: unknown value '%s'", cmd->name,
-                   o->name, v);
+  {
+    char list[512];
+    int count = 0;
+    while (o->choices[count]) ++count;
+    const char *near = pb_cli_closest(v, strlen(v), o->choices, (size_t)count, sizeof *o->choices);
+    if (near)
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: unknown value '%s': did you mean '%s'? (%s)", cmd->name, o->name, v,
+                     near, choice_list(o, list, sizeof list));
+    return pb_fail(PB_ERR_USAGE, "%s: --%s: unknown value '%s' (%s)", cmd->name, o->name, v,
+                   choice_list(o, list, sizeof list));
+  }
   case PB_OPT_U32:
   case PB_OPT_U64: {
     errno = 0;
@@ -50,7 +100,7 @@ static pb_result set_value(const pb_command *cmd, const pb_opt *o,
                      cmd->name, o->name, v);
     if ((o->min != 0 || o->max != 0) &&
         ((double)x < o->min || (double)x > o->max))
-      return pb_fail(PB_ERR_USAGE, "%s: --%s: %llu is outside [%g, %g]",
+      return pb_fail(PB_ERR_USAGE, "%s: --%s: %llu is outside [%.0f, %.0f]",
                      cmd->name, o->name, x, o->min, o->max);
     if (o->kind == PB_OPT_U32) {
       if (x > UINT32_MAX)
@@ -111,9 +161,14 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
       const char *eq = strchr(name, '=');
       size_t len = eq ? (size_t)(eq - name) : strlen(name);
       o = find_long(opts, n, name, len);
-      if (!o)
+      if (!o) {
+        const char *near = pb_cli_closest(name, len, &opts[0].name, n, sizeof *opts);
+        if (near)
+          return pb_fail(PB_ERR_USAGE, "%s: unknown option '%.*s': did you mean '--%s'? (see '%s --help')",
+                         cmd->name, (int)(len + 2), a, near, cmd->name);
         return pb_fail(PB_ERR_USAGE, "%s: unknown option '%.*s' (see '%s --help')",
                        cmd->name, (int)(len + 2), a, cmd->name);
+      }
       if (eq) {
         if (o->kind == PB_OPT_FLAG)
           return pb_fail(PB_ERR_USAGE, "%s: --%s takes no value", cmd->name,
@@ -182,6 +237,7 @@ int pb_cli_exit(const pb_command *cmd, pb_result r) {
     /* Messages made inside a command often start with its own name
      * ("serve: --socket ..."); the prefix already says it once. */
     if (nl && strncmp(m, name, nl) == 0 && m[nl] == ':' && m[nl + 1] == ' ') m += nl + 2;
+    pb_progress_clear_line(); /* the error on a line of its own */
     fprintf(stderr, "photonbridge %s: error: %s\n", name, m[0] ? m : pb_result_message(r));
   }
   return pb_result_exit_code(r);

@@ -44,6 +44,12 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        const pb_opt *opts, size_t opt_count, const char **pos,
                        size_t max_pos, size_t *pos_count, int *help);
 
+/* The name closest to word[0, len) within two edits (Levenshtein), or NULL:
+ * the "did you mean" of a misspelt subcommand, option or value. names: the
+ * first of count `const char *`, stride bytes apart (an array of names, or
+ * the name field of an array of structs). */
+const char *pb_cli_closest(const char *word, size_t len, const char *const *names, size_t count, size_t stride);
+
 void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
                        size_t opt_count, const char *details);
 
@@ -75,10 +81,11 @@ typedef struct pb_core_opts {
   {"quiet", 'q', PB_OPT_FLAG, &(c)->quiet, NULL, "errors only", NULL, 0, 0},    \
   {"verbose", 'v', PB_OPT_FLAG, &(c)->verbose, NULL, "more detail", NULL, 0, 0}
 
-/* The image options every rendering subcommand takes. */
-#define PB_RENDER_OPTS(c)                                                      \
-  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", "output file (EXR)", NULL,  \
-   0, 0},                                                                      \
+/* The image options every rendering subcommand takes; out_help: what -o
+ * writes. */
+#define PB_RENDER_OPTS(c) PB_RENDER_OPTS_OUT(c, "output file (EXR)")
+#define PB_RENDER_OPTS_OUT(c, out_help)                                        \
+  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", out_help, NULL, 0, 0},      \
   {"width", 0, PB_OPT_U32, &(c)->width, "W",                                   \
    "image width (default 640, or from --height and the camera's aspect)",     \
    NULL, 1, 16384},                                                            \

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -24,7 +25,7 @@ int pb_cmd_export_pov(int argc, char **argv) {
   int strict = 0;
   pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
-      PB_RENDER_OPTS(&c),
+      PB_RENDER_OPTS_OUT(&c, "output file (.pov)"),
       PB_POSE_OPTS(&pose),
       {"quality", 0, PB_OPT_CHOICE, &quality, "PRESET",
        "radiosity and photon settings: draft, medium (default), high, or direct (no radiosity, no photons)",
@@ -50,6 +51,13 @@ int pb_cmd_export_pov(int argc, char **argv) {
   if (npos != 1 || !c.out)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "export-pov: expected SCENE and -o OUT.pov (see "
                                                   "'photonbridge export-pov --help')"));
+  /* The file is POV-Ray scene text: a name such as cb.exr or cb.png would
+   * hold text under an image's extension. */
+  size_t ol = strlen(c.out);
+  if (ol < 4 || strcasecmp(c.out + ol - 4, ".pov") != 0)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "export-pov: -o %s: the output is POV-Ray scene text and must end "
+                                    "in .pov (render it with 'povray +I%s', or use 'photonbridge render -o OUT.exr' "
+                                    "for an image)", c.out, "OUT.pov"));
   pb_scene s;
   r = pb_cli_load_scene(pos[0], &c, &s);
   if (r != PB_OK) return pb_cli_exit(cmd, r);

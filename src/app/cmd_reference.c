@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #include "app/cli.h"
@@ -107,7 +108,7 @@ int pb_cmd_reference(int argc, char **argv) {
   ref_opts o = {.max_bounces = UINT32_MAX};
   pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
-      PB_RENDER_OPTS(&c),
+      PB_RENDER_OPTS_OUT(&c, "output file (.exr: scene-linear, with its AOVs)"),
       PB_POSE_OPTS(&pose),
       {"spp", 0, PB_OPT_U32, &o.spp, "N",
        "samples per pixel (default 64; with only --time-limit: until the time is up)",
@@ -162,6 +163,16 @@ int pb_cmd_reference(int argc, char **argv) {
   if (npos != 1 || !c.out)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "reference: expected SCENE and -o OUT.exr "
                                                   "(see 'photonbridge reference --help')"));
+  /* -o is the scene-linear EXR (with its AOVs); a PNG is --png's. */
+  {
+    size_t ol = strlen(c.out);
+    if (ol < 4 || strcasecmp(c.out + ol - 4, ".exr") != 0) {
+      const char *dot = strrchr(c.out, '.');
+      return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "reference: -o %s: %s%s%s; accepted: .exr (a display-referred "
+                                      "PNG: --png FILE.png)", c.out, dot && !strchr(dot, '/') ? "unknown extension '" : "no file extension",
+                                      dot && !strchr(dot, '/') ? dot : "", dot && !strchr(dot, '/') ? "'" : ""));
+    }
+  }
   if (o.caustics) o.mode = PB_REF_MODE_SPPM;
 
   /* Outputs that cannot be written fail now, not after the render. */

@@ -34,6 +34,11 @@
 #include "shared/pb_knn.h"
 #include "render/tracer.h"
 
+/* The photon maps render --time-limit plans without --iterations: the
+ * option's bound; the time limit ends the frame long before. */
+#define PB_RENDER_TIME_LIMIT_ITERATIONS (1u << 16)
+enum { PB_PATH_STAGE = 96 }; /* "writing OUT" (the stage text is cut there) */
+
 static const pb_command *self(void) {
   for (size_t i = 0; i < pb_command_count; ++i)
     if (pb_commands[i].run == pb_cmd_render) return &pb_commands[i];
@@ -96,6 +101,24 @@ typedef struct progress_ctx {
 static pb_result on_progress(void *user, const pb_render_progress *p) {
   const progress_ctx *pc = user;
   const char *written = NULL;
+  {
+    /* The bar: maps done, samples, and the time left from the mean time of
+     * a map so far (the time limit, when it comes first). */
+    char stage[96];
+    double per = p->iteration ? p->elapsed_s / p->iteration : 0;
+    double eta = per * (double)(p->iterations - p->iteration);
+    if (pc->o->time_limit > 0 && eta > pc->o->time_limit - p->elapsed_s + per)
+      eta = pc->o->time_limit - p->elapsed_s + per > 0 ? pc->o->time_limit - p->elapsed_s + per : 0;
+    if (pc->o->direct_only)
+      snprintf(stage, sizeof stage, "direct light, %u/%u samples", p->samples, p->spp);
+    else if (pc->o->time_limit > 0)
+      snprintf(stage, sizeof stage, "photon map %u (time limit %gs), %u samples", p->iteration, pc->o->time_limit,
+               p->samples);
+    else
+      snprintf(stage, sizeof stage, "photon map %u/%u, %u/%u samples", p->iteration, p->iterations, p->samples,
+               p->spp);
+    pb_render_bar_stage(stage, p->iteration, pc->o->time_limit > 0 ? 0 : p->iterations, eta);
+  }
   if (p->beauty && pc->o->preview) {
     pb_render_result pr;
     memset(&pr, 0, sizeof pr);
@@ -132,6 +155,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_string(&j, "renderer", "gpu");
   pb_json_string(&j, "scene", s->path);
   pb_json_string(&j, "device", pb_gpu_device_name(g));
+  pb_json_string(&j, "device_type", pb_gpu_device_type(g)); /* cpu: a CPU Vulkan device */
   pb_json_int(&j, "width", res->width);
   pb_json_int(&j, "height", res->height);
   pb_json_int(&j, "spp", st->spp);
@@ -258,7 +282,8 @@ int pb_cmd_render(int argc, char **argv) {
   pb_color_opts co = PB_COLOR_OPTS_INIT;
   double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
   const pb_opt opts[] = {
-      PB_RENDER_OPTS(&c),
+      PB_RENDER_OPTS_OUT(&c, "output file: .exr (scene-linear, every pass) or .png (the beauty, display-referred "
+                             "through the OCIO view, as --png)"),
       PB_COLOR_OPTS(&co),
       {"spp", 0, PB_OPT_U32, &o.spp, "N", "samples per pixel (default 1: pixel centres; more: stratified jitter)",
        NULL, 1, 1 << 20},
@@ -291,7 +316,7 @@ int pb_cmd_render(int argc, char **argv) {
        NULL, 0, 0},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
        "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
-       "--iterations converge to the unbiased answer", NULL, 0, 0},
+       "--iterations (or a --time-limit) converge to the unbiased answer", NULL, 0, 0},
       {"alpha", 0, PB_OPT_FLOAT, &o.alpha, "A", "--progressive: radius^2 fraction kept per iteration, in (0, 1) "
        "(default 2/3)", NULL, 0, 0},
       {"leaf-size", 0, PB_OPT_U32, &o.leaf_size, "N",
@@ -401,8 +426,8 @@ int pb_cmd_render(int argc, char **argv) {
        "frame's camera window and random numbers: the crop equals that part of the full render (Blender's border)",
        NULL, 0, 0},
       {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
-       "start no photon iteration after S seconds; the image averages the iterations done (of --iterations)", NULL,
-       0, 1e9},
+       "start no photon iteration after S seconds; the image averages the iterations done (of --iterations; "
+       "without --iterations: as many photon maps as S seconds allow, at most 65536)", NULL, 0, 1e9},
       {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
        "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
        "other passes 0)", NULL, 0, 0},
@@ -436,6 +461,10 @@ int pb_cmd_render(int argc, char **argv) {
   }
   if (npos != 1 || !c.out)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: expected SCENE and -o OUT.exr (see 'photonbridge render --help')"));
+  pb_render_out_format out_fmt;
+  if ((r = pb_render_out_format_of(c.out, &out_fmt)) != PB_OK) return pb_cli_exit(cmd, r);
+  if (out_fmt == PB_RENDER_OUT_PNG && o.blender_layer)
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-layer names EXR channels: write -o OUT.exr"));
   if (o.alpha < 0 || !(o.alpha < 1))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha));
   int32_t first = 0, last = 0;
@@ -444,6 +473,11 @@ int pb_cmd_render(int argc, char **argv) {
                     o.orbit_seconds != 0 || o.warmup || o.frames_in_flight))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup, "
                                     "--frames-in-flight and --reference-* need --frames A:B"));
+  /* A sequence's names need the frame number: said before any work. */
+  if (o.frames && last > first && (!strchr(c.out, '#') || (o.png && !strchr(o.png, '#'))))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: %s %s: a sequence needs '#' in the name for the frame "
+                                    "number (out/frame_####.exr)", strchr(c.out, '#') ? "--png" : "-o",
+                                    strchr(c.out, '#') ? o.png : c.out));
   if (o.frames && (int64_t)first - o.warmup < -1000000)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --warmup %u: frame %lld before the first "
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
@@ -453,6 +487,24 @@ int pb_cmd_render(int argc, char **argv) {
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --image-maps and --image-map-resolution need --tracer "
                                     "images"));
   if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
+  /* -q and -v hold from here (warnings below; the scene's load applies
+   * them again). */
+  if (c.quiet) pb_log_set_level(PB_LOG_QUIET);
+  else if (c.verbose) pb_log_set_level(PB_LOG_VERBOSE);
+  /* --time-limit refines by photon maps: without --iterations, one map
+   * would leave nothing to stop, so the frame plans as many as the option
+   * allows and the time limit ends it (as reference --time-limit ends its
+   * samples). --progressive shrinks footprints between maps: one map has
+   * none to shrink. */
+  if (o.time_limit > 0 && !o.direct_only && !o.frames) {
+    if (!o.iterations) o.iterations = PB_RENDER_TIME_LIMIT_ITERATIONS;
+    else if (o.iterations == 1)
+      pb_log_warn("render: --time-limit %g has no effect with --iterations 1 (one photon map): drop --iterations, "
+                  "or raise it, to refine until the time is up", o.time_limit);
+  }
+  if (o.progressive && o.iterations <= 1 && !o.direct_only && !o.frames)
+    pb_log_warn("render: --progressive has no effect with one photon map: add --iterations K (K > 1) or "
+                "--time-limit S");
   /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
    * A photon stored at its k-th bounce ends a path of k + 1 events at the
    * eye's first smooth vertex, so photons store at most N - 1; the eye's
@@ -488,6 +540,9 @@ int pb_cmd_render(int argc, char **argv) {
                                     pb_estimator_names[o.estimator]));
   pb_progress_lines_enable(o.progress_lines);
   double t_start = pb_time_now();
+  /* --progress-lines: its reader wants its own lines alone. */
+  pb_render_bar_begin(!c.quiet && !o.progress_lines);
+  pb_render_bar_stage("loading scene", 0, 0, -1);
   pb_scene s;
   /* Outputs that cannot be written fail now, not after the render
    * (sequences check their expanded names in render_seq.c). */
@@ -519,12 +574,17 @@ int pb_cmd_render(int argc, char **argv) {
   }
   /* The view is opened before any GPU work so that a misspelt view fails at
    * once. */
-  if (o.png && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
+  if ((o.png || out_fmt == PB_RENDER_OUT_PNG) && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
+  pb_render_bar_stage("starting the Vulkan device", 0, 0, -1);
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;
+  if (pb_gpu_get_limits(g)->cpu)
+    pb_log_warn("render: the GPU pipeline runs on %s, a CPU Vulkan device (no GPU driver was found or chosen): much "
+                "slower than on a GPU (see 'photonbridge info --devices')", pb_gpu_device_name(g));
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
+  pb_render_bar_stage("building BVH, uploading the scene", 0, 0, -1);
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
   pb_progress_line_stage("uploaded", pb_time_now() - t_start);
@@ -564,7 +624,7 @@ int pb_cmd_render(int argc, char **argv) {
                                                 : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
                        .time_limit_s = o.time_limit, .preview_interval_s = o.preview ? o.preview_interval : -1.0};
   progress_ctx pctx = {&o};
-  if (o.preview || o.progress_lines) rd.progress = on_progress, rd.progress_user = &pctx;
+  rd.progress = on_progress, rd.progress_user = &pctx; /* the bar, --preview, --progress-lines */
   if (o.crop) rd.full_width = full_w, rd.full_height = full_h, rd.crop_x = crop[0], rd.crop_y = crop[1];
   if (o.frames) {
     static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
@@ -581,15 +641,29 @@ int pb_cmd_render(int argc, char **argv) {
     r = pb_render_sequence(g, &s, &gs, camera, w, h, &sd, &so, &c, color);
     goto done;
   }
+  {
+    char stage[96];
+    uint32_t maps = rd.direct_only ? 0 : (rd.iterations ? rd.iterations : 1);
+    if (o.time_limit > 0) snprintf(stage, sizeof stage, "photon map 0 (time limit %gs)", o.time_limit);
+    else if (maps) snprintf(stage, sizeof stage, "photon map 0/%u", maps);
+    else snprintf(stage, sizeof stage, "direct light, %u samples", o.spp ? o.spp : 1);
+    pb_render_bar_stage(stage, 0, o.time_limit > 0 ? 0 : maps, -1);
+  }
   r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
   if (r != PB_OK) goto done;
+  {
+    char stage[PB_PATH_STAGE];
+    snprintf(stage, sizeof stage, "writing %s", c.out);
+    pb_render_bar_stage(stage, 0, 0, -1);
+  }
 
   /* Outputs, each atomic; a later failure removes the earlier ones. */
   char spp_s[32];
   snprintf(spp_s, sizeof spp_s, "%u", res.stats.spp);
   const char *an[] = {"photonbridge/renderer", "photonbridge/device", "photonbridge/spp", "photonbridge/mode"};
   const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, o.direct_only ? "direct-only" : (res.indirect ? "photon-mapping" : "direct+specular")};
-  r = pb_render_write_exr(c.out, &res, o.blender_layer, o.blender_passes, an, av, 4);
+  if (out_fmt == PB_RENDER_OUT_PNG) r = pb_png_write_display(c.out, color, w, h, 4, res.beauty);
+  else r = pb_render_write_exr(c.out, &res, o.blender_layer, o.blender_passes, an, av, 4);
   if (r == PB_OK && o.png) {
     r = pb_png_write_display(o.png, color, w, h, 4, res.beauty);
     if (r != PB_OK) unlink(c.out);
@@ -601,6 +675,7 @@ int pb_cmd_render(int argc, char **argv) {
       if (o.png) unlink(o.png);
     }
   }
+  pb_render_bar_end();
   if (r == PB_OK) pb_progress_line_done(c.out, pb_time_now() - t_start);
   if (r == PB_OK && !c.quiet) {
     const pb_render_stats *st = &res.stats;

@@ -278,6 +278,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_string(&j, "renderer", "gpu");
   pb_json_string(&j, "scene", s->path);
   pb_json_string(&j, "device", pb_gpu_device_name(g));
+  pb_json_string(&j, "device_type", pb_gpu_device_type(g));
   pb_json_int(&j, "width", w);
   pb_json_int(&j, "height", h);
   pb_json_number(&j, "fps", so->fps);
@@ -415,6 +416,11 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
    * frame comes out, by its number, while the GPU runs the next. */
   size_t total = (size_t)so->warmup + count;
   int32_t f0 = so->first - (int32_t)so->warmup;
+  {
+    char stage[64];
+    snprintf(stage, sizeof stage, "frame 0/%zu%s", count, so->warmup ? " (warming up)" : "");
+    pb_render_bar_stage(stage, 0, count, -1);
+  }
   for (size_t k = 0; k <= total; ++k) {
     pb_sequence_frame_info info;
     if (k < total) {
@@ -477,7 +483,11 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
                         "photonbridge/time"};
     const char *av[] = {"gpu", pb_gpu_device_name(g), spp_s, frame_s, time_s};
     if ((r = pb_seq_frame_path(c->out, f, path, sizeof path)) != PB_OK) goto done;
-    if ((r = pb_render_write_exr(path, &res, so->blender_layer, so->blender_passes, an, av, 5)) != PB_OK) goto done;
+    pb_render_out_format fmt = PB_RENDER_OUT_EXR;
+    if ((r = pb_render_out_format_of(path, &fmt)) != PB_OK) goto done;
+    if (fmt == PB_RENDER_OUT_PNG) r = pb_png_write_display(path, color, w, h, 4, res.beauty);
+    else r = pb_render_write_exr(path, &res, so->blender_layer, so->blender_passes, an, av, 5);
+    if (r != PB_OK) goto done;
     if (so->png) {
       if ((r = pb_seq_frame_path(so->png, f, png, sizeof png)) != PB_OK) goto done;
       if ((r = pb_png_write_display(png, color, w, h, 4, res.beauty)) != PB_OK) goto done;
@@ -485,6 +495,12 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     /* An interrupt from now on keeps the finished frames (each file whole). */
     pb_tmp_set_interrupt_note("the frames written before it are complete; the frame in progress was not written");
     pb_progress_line_frame(f, (uint32_t)i, (uint32_t)count, path);
+    {
+      char stage[64];
+      double el = pb_time_now() - t_start;
+      snprintf(stage, sizeof stage, "frame %zu/%zu", (size_t)i + 1, count);
+      pb_render_bar_stage(stage, (uint64_t)i + 1, count, el / (double)(i + 1) * (double)(count - (size_t)i - 1));
+    }
     if (!c->quiet) {
       const pb_render_stats *st = &res.stats;
       char metric[96] = "";
@@ -494,6 +510,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     }
     pb_render_result_destroy(&res);
   }
+  pb_render_bar_end();
   if (c->json) r = write_json(c->json, s, g, w, h, sd, so, rec, count);
   if (r == PB_OK) pb_progress_line_done(c->out, pb_time_now() - t_start);
 done:

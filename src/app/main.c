@@ -22,7 +22,7 @@ const pb_command pb_commands[] = {
      "Summarise a glTF scene: counts, bounds, cameras, lights (radiometric "
      "units), materials, textures, needed features and warnings.",
      pb_cmd_info},
-    {"render", "SCENE -o OUT.exr [options]",
+    {"render", "SCENE -o OUT.exr|OUT.png [options]",
      "Render with the GPU pipeline (Vulkan compute): direct light, specular eye paths, AOVs.", pb_cmd_render},
     {"display", "IMAGE.exr -o OUT.png [options]", "Scene-linear EXR to a PNG through an OCIO display/view/look.", pb_cmd_display},
     {"export-pov", "SCENE -o OUT.pov [options]", "Write the scene as POV-Ray 3.7 SDL (units matched; see docs in src/pov/pov.h).", pb_cmd_export_pov},
@@ -66,7 +66,12 @@ static int cmd_help(int argc, char **argv) {
       usage(stdout);
       return 0;
     }
-    fprintf(stderr, "photonbridge help: error: unknown subcommand '%s'\n", argv[1]);
+    const char *near = pb_cli_closest(argv[1], strlen(argv[1]), &pb_commands[0].name, pb_command_count,
+                                      sizeof *pb_commands);
+    if (near)
+      fprintf(stderr, "photonbridge help: error: unknown subcommand '%s': did you mean '%s'?\n", argv[1], near);
+    else
+      fprintf(stderr, "photonbridge help: error: unknown subcommand '%s'\n", argv[1]);
     return pb_result_exit_code(PB_ERR_USAGE);
   }
   char *hv[] = {argv[1], "--help", NULL};
@@ -123,8 +128,13 @@ int main(int argc, char **argv) {
   }
   const pb_command *c = find(argv[1]);
   if (!c) {
-    fprintf(stderr, "photonbridge: error: unknown subcommand '%s' (see 'photonbridge help')\n",
-            argv[1]);
+    const char *near = pb_cli_closest(argv[1], strlen(argv[1]), &pb_commands[0].name, pb_command_count,
+                                      sizeof *pb_commands);
+    if (near)
+      fprintf(stderr, "photonbridge: error: unknown subcommand '%s': did you mean '%s'? (see 'photonbridge help')\n",
+              argv[1], near);
+    else
+      fprintf(stderr, "photonbridge: error: unknown subcommand '%s' (see 'photonbridge help')\n", argv[1]);
     return pb_result_exit_code(PB_ERR_USAGE);
   }
   sig_command = c->name;

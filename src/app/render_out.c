@@ -5,8 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/json.h"
+#include "core/log.h"
 #include "image/image.h"
 
 /* Cycles' depth for rays that hit nothing (its Depth pass background). */
@@ -27,6 +29,25 @@ static int listed(const char *list, const char *name) {
     p += len + (e ? 1 : 0);
   }
   return 0;
+}
+
+pb_result pb_render_out_format_of(const char *path, pb_render_out_format *fmt) {
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  const char *dot = strrchr(base, '.');
+  if (dot && !strcasecmp(dot, ".exr")) {
+    *fmt = PB_RENDER_OUT_EXR;
+    return PB_OK;
+  }
+  if (dot && !strcasecmp(dot, ".png")) {
+    *fmt = PB_RENDER_OUT_PNG;
+    return PB_OK;
+  }
+  if (!dot || dot == base)
+    return pb_fail(PB_ERR_USAGE, "render: -o %s: no file extension; accepted: .exr (scene-linear, every pass) or "
+                   ".png (display-referred through the OCIO view)", path);
+  return pb_fail(PB_ERR_USAGE, "render: -o %s: unknown extension '%s'; accepted: .exr (scene-linear, every pass) "
+                 "or .png (display-referred through the OCIO view)", path, dot);
 }
 
 pb_result pb_render_check_blender_passes(const char *list) {
@@ -98,6 +119,25 @@ pb_result pb_render_write_exr(const char *path, const pb_render_result *res, con
   free(zero);
   free(depth);
   return r;
+}
+
+/* ---- the progress bar ---------------------------------------------------------- */
+
+static pb_progress bar;
+static int bar_on;
+
+void pb_render_bar_begin(int on) {
+  bar_on = on;
+  if (on) pb_progress_begin(&bar, "render", 0);
+}
+
+void pb_render_bar_stage(const char *stage, uint64_t done, uint64_t total, double eta_s) {
+  if (bar_on) pb_progress_stage(&bar, stage, done, total, eta_s);
+}
+
+void pb_render_bar_end(void) {
+  if (bar_on) pb_progress_end(&bar);
+  bar_on = 0;
 }
 
 /* ---- progress lines ---------------------------------------------------------- */

@@ -25,6 +25,22 @@ pb_result pb_render_write_exr(const char *path, const pb_render_result *res, con
                               const char *blender_passes, const char *const *attr_names,
                               const char *const *attr_values, uint32_t attr_count);
 
+/* The format of render's -o OUT, from its extension (case-insensitive):
+ * .exr the multilayer EXR above, .png the display-referred beauty through
+ * the OCIO view (as --png). Any other name: PB_ERR_USAGE naming the
+ * extension and the accepted ones. */
+typedef enum pb_render_out_format { PB_RENDER_OUT_EXR, PB_RENDER_OUT_PNG } pb_render_out_format;
+pb_result pb_render_out_format_of(const char *path, pb_render_out_format *fmt);
+
+/* The progress a person reads on stderr (core/log.h's pb_progress): one
+ * redrawn line on a terminal, a plain line at most every few seconds
+ * otherwise, nothing with -q or with --progress-lines (whose reader wants
+ * its own lines alone). Stages: "loading scene", "building BVH", "photon map
+ * k/N", "frame i/N", "writing OUT"; eta_s < 0: unknown. */
+void pb_render_bar_begin(int on);
+void pb_render_bar_stage(const char *stage, uint64_t done, uint64_t total, double eta_s);
+void pb_render_bar_end(void);
+
 /* Checks a --blender-passes list: comma-separated names of the passes
  * above (Combined, Depth, Normal, Emit, Direct, Indirect, Caustic,
  * Albedo). NULL passes (all of them). PB_ERR_USAGE naming the first

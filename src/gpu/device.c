@@ -496,6 +496,7 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   snprintf(g->name, sizeof g->name, "%s", info[idx].name);
   VkPhysicalDeviceProperties p;
   vkGetPhysicalDeviceProperties(g->phys, &p);
+  g->type = type_name(p.deviceType);
   vkGetPhysicalDeviceMemoryProperties(g->phys, &g->mem);
   VkPhysicalDeviceMaintenance3Properties m3 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
   VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &m3};
@@ -644,6 +645,7 @@ fail:
 
 const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g) { return &g->limits; }
 const char *pb_gpu_device_name(const pb_gpu *g) { return g->name; }
+const char *pb_gpu_device_type(const pb_gpu *g) { return g->type ? g->type : "other"; }
 VkDevice pb_gpu_vk_device(const pb_gpu *g) { return g->device; }
 uint32_t pb_gpu_validation_errors(const pb_gpu *g) { return g->validation_errors; }
 uint64_t pb_gpu_memory_in_use(const pb_gpu *g) { return g->memory_live; }

@@ -134,6 +134,9 @@ typedef struct pb_gpu_limits {
 } pb_gpu_limits;
 const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g);
 const char *pb_gpu_device_name(const pb_gpu *g);
+/* The device's VkPhysicalDeviceType as a word: "discrete", "integrated",
+ * "virtual", "cpu" (lavapipe, SwiftShader) or "other". */
+const char *pb_gpu_device_type(const pb_gpu *g);
 VkDevice pb_gpu_vk_device(const pb_gpu *g);
 /* Validation messages seen so far (0 without validation). */
 uint32_t pb_gpu_validation_errors(const pb_gpu *g);

@@ -49,6 +49,7 @@ struct pb_gpu {
   VkPhysicalDeviceMemoryProperties mem;
   pb_gpu_limits limits;
   char name[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE];
+  const char *type; /* VkPhysicalDeviceType as a word (pb_gpu_device_type) */
   int validation;
   uint32_t validation_errors;
   char validation_first[512];

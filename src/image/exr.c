@@ -610,6 +610,17 @@ pb_result pb_exr_read(const char *path, const pb_exr_read_limits *limits,
     return pb_fail(PB_ERR_IO, "%s: not a regular file", path);
   if (access(path, R_OK) != 0)
     return pb_fail(PB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  /* A PNG (a preview, a display PNG) handed where an EXR belongs: say so,
+   * rather than OpenEXR's word on its magic number. */
+  FILE *f = fopen(path, "rb");
+  if (f) {
+    unsigned char head[8] = {0};
+    size_t got = fread(head, 1, sizeof head, f);
+    fclose(f);
+    if (got == 8 && memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0)
+      return pb_fail(PB_ERR_IMAGE, "%s is a PNG image: this takes a scene-linear OpenEXR (.exr), e.g. "
+                     "'photonbridge render -o OUT.exr'", path);
+  }
   return read_open(path, NULL, (int64_t)st.st_size, limits, out);
 }
 

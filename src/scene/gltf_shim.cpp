@@ -1248,6 +1248,17 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
   if (r != PB_OK) return r;
   std::unique_ptr<uint8_t, decltype(&free)> hold(data, &free);
 
+  // A .blend (its "BLENDER" header; Blender 3+ may compress it with zstd,
+  // older ones with gzip): the artist's first try, which deserves better
+  // than "not valid JSON".
+  size_t pl = std::strlen(path);
+  bool blend_name = pl >= 6 && std::strcmp(path + pl - 6, ".blend") == 0;
+  bool compressed = (n >= 4 && std::memcmp(data, "\x28\xb5\x2f\xfd", 4) == 0) ||
+                    (n >= 2 && data[0] == 0x1f && data[1] == 0x8b);
+  if ((n >= 7 && std::memcmp(data, "BLENDER", 7) == 0) || (blend_name && compressed))
+    return pb_fail(PB_ERR_SCENE_PARSE, "%s is a Blender file: render it from Blender with the photonbridge "
+                   "add-on, or export glTF (File > Export > glTF 2.0)", path);
+
   bool is_glb = n >= 4 && std::memcmp(data, "glTF", 4) == 0;
   std::string text;
   long long bin_len = -1;
