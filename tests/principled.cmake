@@ -46,3 +46,15 @@ add_test(NAME principled_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
                      LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "19 passed, 0 failed")
+# Principled v2 (Blender 4.x): the render engine's writer on v2 materials in
+# Blender 4.x run as a Python module (PB_BPY4_PYTHON, a venv with bpy 4.x;
+# tests/blender/principled2_writer.py): the extension's principled2 model
+# against the sockets, the plain glTF against Blender's own exporter, and
+# the loader.
+set(PB_BPY4_PYTHON "${PB_ROOT}/tools/bpy45/bin/python" CACHE FILEPATH "Python with bpy 4.x (Blender as a module)")
+add_test(NAME principled2_writer
+         COMMAND sh -c "[ -x \"$0\" ] || { echo 'skip: no bpy 4.x'; exit 77; }; \"$0\" tests/blender/principled2_writer.py \"$1\" \"$2\""
+                 ${PB_BPY4_PYTHON} ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled2_writer
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled2_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
