@@ -58,3 +58,15 @@ add_test(NAME principled2_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled2_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
                      LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
+# The reference's Principled v2 closure stack against Cycles 4.5's renders of
+# tests/data/principled2 (exporters/blender/make_principled2_tests.py): each
+# lobe alone, >= 40 dB and the mean within 0.5 %.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME principled2_lobes_ref
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/principled2_ref --renderer ref --data tests/data/principled2
+                   --psnr 40 --mean-tol 0.005
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(principled2_lobes_ref PROPERTIES TIMEOUT 900 LABELS principled
+                       PASS_REGULAR_EXPRESSION " 0 failed")
+endif()
