@@ -46,3 +46,27 @@ add_test(NAME principled_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
                      LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "19 passed, 0 failed")
+# Principled v2 (Blender 4.x): the render engine's writer on v2 materials in
+# Blender 4.x run as a Python module (PB_BPY4_PYTHON, a venv with bpy 4.x;
+# tests/blender/principled2_writer.py): the extension's principled2 model
+# against the sockets, the plain glTF against Blender's own exporter, and
+# the loader.
+set(PB_BPY4_PYTHON "${PB_ROOT}/tools/bpy45/bin/python" CACHE FILEPATH "Python with bpy 4.x (Blender as a module)")
+add_test(NAME principled2_writer
+         COMMAND sh -c "[ -x \"$0\" ] || { echo 'skip: no bpy 4.x'; exit 77; }; \"$0\" tests/blender/principled2_writer.py \"$1\" \"$2\""
+                 ${PB_BPY4_PYTHON} ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled2_writer
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled2_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
+                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
+# The reference's Principled v2 closure stack against Cycles 4.5's renders of
+# tests/data/principled2 (exporters/blender/make_principled2_tests.py): each
+# lobe alone, >= 40 dB and the mean within 0.5 %.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME principled2_lobes_ref
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/principled2_ref --renderer ref --data tests/data/principled2
+                   --psnr 40 --mean-tol 0.005
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(principled2_lobes_ref PROPERTIES TIMEOUT 900 LABELS principled
+                       PASS_REGULAR_EXPRESSION " 0 failed")
+endif()

@@ -342,7 +342,8 @@ float pb_input_value(pb_gpu_material m, uint i, pb_surface s) {
 // Every input at uv, in one loop (one texture fetch in the code instead of
 // one per input: the shader stays small).
 void pb_inputs(pb_gpu_material m, pb_surface s, out float v[PB_GPU_IN_SLOTS]) {
-  for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) v[i] = pb_input_value(m, i, s);
+  for (uint i = 0u; i < PB_GPU_IN_V1_SLOTS; ++i) v[i] = pb_input_value(m, i, s);
+  for (uint i = PB_GPU_IN_V1_SLOTS; i < PB_GPU_IN_SLOTS; ++i) v[i] = 0.0;
 }
 
 float pb_blender_alpha(pb_surface s) {

@@ -120,7 +120,23 @@ PB_CONST(PB_GPU_IN_TRANSMISSION, 11u)
 PB_CONST(PB_GPU_IN_TRANSMISSION_ROUGHNESS, 12u)
 PB_CONST(PB_GPU_IN_ALPHA, 13u)
 PB_CONST(PB_GPU_IN_SUBSURFACE, 14u)
-PB_CONST(PB_GPU_IN_SLOTS, 16u)
+/* Principled v2 only (principled_v2 != 0; it also reads METALLIC,
+ * ROUGHNESS, ANISOTROPIC(_ROTATION), IOR, TRANSMISSION, ALPHA, SUBSURFACE). */
+PB_CONST(PB_GPU_IN_SPECULAR_IOR_LEVEL, 15u)
+PB_CONST(PB_GPU_IN_COAT_WEIGHT, 16u)
+PB_CONST(PB_GPU_IN_COAT_ROUGHNESS, 17u)
+PB_CONST(PB_GPU_IN_COAT_IOR, 18u)
+PB_CONST(PB_GPU_IN_SHEEN_WEIGHT, 19u)
+PB_CONST(PB_GPU_IN_SHEEN_ROUGHNESS, 20u)
+PB_CONST(PB_GPU_IN_SUBSURFACE_SCALE, 21u)
+PB_CONST(PB_GPU_IN_SUBSURFACE_IOR, 22u)
+PB_CONST(PB_GPU_IN_SUBSURFACE_ANISOTROPY, 23u)
+PB_CONST(PB_GPU_IN_THIN_FILM_THICKNESS, 24u)
+PB_CONST(PB_GPU_IN_THIN_FILM_IOR, 25u)
+PB_CONST(PB_GPU_IN_DIFFUSE_ROUGHNESS, 26u)
+PB_CONST(PB_GPU_IN_EMISSION_STRENGTH, 27u)
+PB_CONST(PB_GPU_IN_V1_SLOTS, 16u)           /* the slots the v1 model reads */
+PB_CONST(PB_GPU_IN_SLOTS, 32u)
 /* in_tex: texture index in the low 28 bits, the channel above (0..3 R, G,
  * B, A; 4 the Rec.709 luminance of RGB, Cycles' colour-to-float), or
  * PB_GPU_NO_TEXTURE. */
@@ -148,10 +164,24 @@ PB_STRUCT(pb_gpu_material) {
   uint subsurface_color_tex;
   PB_VEC3(subsurface_color); /* linear */
   float normal_strength;     /* Blender's Normal Map strength (normal_tex) */
-  float in_value[16];        /* PB_GPU_IN_* inputs, Blender's socket values */
-  uint in_tex[16];           /* their textures (see PB_GPU_INPUT_TEX_INDEX) */
+  float in_value[32];        /* PB_GPU_IN_* inputs, Blender's socket values */
+  uint in_tex[32];           /* their textures (see PB_GPU_INPUT_TEX_INDEX) */
   PB_VEC3(attenuation);      /* KHR_materials_volume: sigma_a [1/m] of the
                                 medium inside (pb_material.attenuation) */
+  uint principled_v2;        /* 1: Principled v2 (Blender 4.x), model PRINCIPLED */
+  /* Principled v2's colour inputs (linear) and their textures (sRGB
+   * unless Non-Color, as base_color_tex), or PB_GPU_NO_TEXTURE. */
+  PB_VEC3(specular_tint);
+  uint specular_tint_tex;
+  PB_VEC3(coat_tint);
+  uint coat_tint_tex;
+  PB_VEC3(sheen_tint);
+  uint sheen_tint_tex;
+  PB_VEC3(subsurface_radius); /* m, before Subsurface Scale */
+  uint coat_normal_tex;      /* Normal Map on Coat Normal (as normal_tex) */
+  float coat_normal_strength;
+  uint subsurface_method;    /* pb_subsurface_method */
+  uint g2_correlated;        /* 1: height-correlated Smith G2 (Blender 3.5+) */
   uint pad0;
 } PB_END(pb_gpu_material)
 
@@ -503,7 +533,7 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 256)
+PB_LAYOUT(pb_gpu_material, 464)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
@@ -511,7 +541,11 @@ PB_OFFSET(pb_gpu_material, specular, 64) PB_OFFSET(pb_gpu_material, flags, 72)
 PB_OFFSET(pb_gpu_material, normal_tex, 76) PB_OFFSET(pb_gpu_material, normal_scale, 80)
 PB_OFFSET(pb_gpu_material, model, 84) PB_OFFSET(pb_gpu_material, subsurface_color, 96)
 PB_OFFSET(pb_gpu_material, normal_strength, 108) PB_OFFSET(pb_gpu_material, in_value, 112)
-PB_OFFSET(pb_gpu_material, in_tex, 176) PB_OFFSET(pb_gpu_material, attenuation, 240)
+PB_OFFSET(pb_gpu_material, in_tex, 240) PB_OFFSET(pb_gpu_material, attenuation, 368)
+PB_OFFSET(pb_gpu_material, principled_v2, 380) PB_OFFSET(pb_gpu_material, specular_tint, 384)
+PB_OFFSET(pb_gpu_material, coat_tint, 400) PB_OFFSET(pb_gpu_material, sheen_tint, 416)
+PB_OFFSET(pb_gpu_material, subsurface_radius, 432) PB_OFFSET(pb_gpu_material, coat_normal_tex, 444)
+PB_OFFSET(pb_gpu_material, g2_correlated, 456)
 PB_LAYOUT(pb_gpu_texture, 64)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
 PB_OFFSET(pb_gpu_texture, texcoord, 24) PB_OFFSET(pb_gpu_texture, xform_u, 32)

@@ -262,13 +262,16 @@ int pb_bsdf_sample_dir(const pb_bsdf *b, v3 wo, float u0, float u1, float u2,
   return 1;
 }
 
-v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_path) {
+v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, v3 wo, int camera_path) {
   const pb_material *m = surf->mat;
   if (!surf->front && !m->double_sided) return v3_make(0, 0, 0);
   if (m->unlit ? !camera_path : !pb_material_is_emissive(m)) return v3_make(0, 0, 0);
   float e[3];
   pb_material_emission(s, m, surf->uv, surf->uv1, surf->color, e);
   v3 le = v3_make(e[0], e[1], e[2]);
-  /* A Principled BSDF's emission is weighted by its Alpha (Cycles). */
+  /* A Principled BSDF's emission is weighted by its Alpha (Cycles); v2's
+   * also by the sheen and coat layered over it. */
+  if (m->blender.model == PB_MODEL_PRINCIPLED && m->blender.principled_v2)
+    return v3_mul(le, pb_principled2_emission_weight(s, surf, wo));
   return m->blender.model == PB_MODEL_PRINCIPLED ? v3_scale(le, pb_blender_alpha(s, surf)) : le;
 }

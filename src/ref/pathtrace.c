@@ -226,7 +226,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
                                         : (t0 + h.t) * v3_dot(dir, fwd);
     }
 
-    v3 le = pb_surface_emission(s, &surf, camera_path);
+    v3 le = pb_surface_emission(s, &surf, wo, camera_path);
     if (!v3_is_zero(le)) {
       float w = 1.0f;
       if (!prev_delta) {
@@ -280,7 +280,7 @@ void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
             float dl = sqrtf(d2);
             v3 wi = v3_scale(d, 1.0f / dl);
             pb_surface_from_hit(s, &eh, wi, &es);
-            v3 le2 = pb_surface_emission(s, &es, 0);
+            v3 le2 = pb_surface_emission(s, &es, v3_neg(wi), 0);
             float cos_l = v3_dot(es.ng, v3_neg(wi));
             float pdf_b;
             v3 f = v3_is_zero(le2) || cos_l <= 0.0f ? v3_make(0, 0, 0)

@@ -1,6 +1,7 @@
 /* The Blender materials of the reference renderer: Blender 3.4's Principled
  * BSDF, Diffuse BSDF, Emission and Holdout shaders as Cycles 3.4 evaluates
- * them. Read from Blender 3.4.1's own kernel source (installed with Debian's
+ * them, and Blender 4.x's Principled BSDF v2 as Cycles 4.5 does (its own
+ * section below, "Principled v2"). Read from Blender 3.4.1's own kernel source (installed with Debian's
  * Blender under scripts/addons/cycles/source/kernel): svm/closure.h turns the
  * Principled node's inputs into closures and weights, closure/
  * bsdf_principled_diffuse.h, bsdf_principled_sheen.h, bsdf_microfacet.h,
@@ -74,6 +75,7 @@
 #include <string.h>
 
 #include "ref/ref_internal.h"
+#include "shared/pb_principled2_tables.h"
 
 #define CUTOFF 1e-5f               /* CLOSURE_WEIGHT_CUTOFF */
 #define SINGULAR_ALPHA2 1e-7f      /* alpha_x alpha_y at or below: a delta lobe */
@@ -386,6 +388,8 @@ static float multi_ggx_pdf(const pb_closure *c, v3 wo, v3 wi) {
 
 /* ---- one closure --------------------------------------------------------- */
 
+static v3 v2_eval(const pb_closure *c, v3 lo, v3 li, float cos_gi, float *pdf);
+
 /* f cos of closure c for world wo (view) and wi (light), and its pdf under
  * our sampling of c; ng: geometric normal facing wo; ns: shading normal. */
 static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *rng, float *pdf) {
@@ -437,7 +441,10 @@ static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *
     float wm = v3_dot(lo, m);
     /* Our sampling: GGX visible normals (Cycles' pdf), GTR1 for the coat. */
     *pdf = c->type == PB_CL_CLEARCOAT ? (wm > 0.0f ? d * m.z * 0.25f / wm : 0.0f) : g1o * common;
-    return v3_scale(f, g1o * g1i * common);
+    /* Blender 3.5+: height-correlated 1 / (1 + L(o) + L(i)), with
+     * 1 / G1 = 1 + L. */
+    float g = c->g2 && g1o > 0.0f && g1i > 0.0f ? 1.0f / (1.0f / g1o + 1.0f / g1i - 1.0f) : g1o * g1i;
+    return v3_scale(f, g * common);
   }
   case PB_CL_MULTI_GGX: {
     if (cos_gi < 0.0f || lo.z <= 0.0f || li.z <= 0.0f) return zero;
@@ -461,8 +468,13 @@ static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *
     float common = d * eta * eta / (lo.z * ht2);
     float hh = fabsf(v3_dot(m, lo) * v3_dot(m, li));
     *pdf = g1o * hh * common;
-    return v3_splat(g1o * g1i * hh * common);
+    float g = c->g2 && g1o > 0.0f && g1i > 0.0f ? 1.0f / (1.0f / g1o + 1.0f / g1i - 1.0f) : g1o * g1i;
+    return v3_splat(g * hh * common);
   }
+  case PB_CL_V2_SHEEN:
+  case PB_CL_V2_GGX:
+  case PB_CL_V2_GLASS:
+    return v2_eval(c, lo, li, cos_gi, pdf);
   default:
     return zero;
   }
@@ -519,6 +531,387 @@ static void microfacet(pb_closure *c, v3 n, v3 t, float ax, float ay, float ior,
   }
 }
 
+
+/* ---- Principled v2 (Blender 4.x, Cycles 4.5) ------------------------------
+ * Read from Cycles v4.5.0: svm/closure.h (CLOSURE_BSDF_PRINCIPLED_ID) builds
+ * the closures top to bottom with a running colour weight w:
+ *   transparent (1 - alpha), w *= alpha;
+ *   sheen       sheen x tint x w x LTC albedo; w layered under it;
+ *   coat        coat x w, GGX of coat roughness^2, dielectric Fresnel of the
+ *               coat IOR, always energy-compensated; w layered under it, then
+ *               w *= mix(1, tint^(1/cos_t), coat) (Beer through the coat);
+ *   emission    x w (pb_principled2_emission_weight);
+ *   metal       metallic x w, GGX aniso, F82-tint Fresnel; w *= 1 - metallic;
+ *   glass       transmission x w, GGX glass, generalized Schlick on the real
+ *               Fresnel curve, F0 = F0(ior) specular tint, transmission tint
+ *               sqrt(base); w *= 1 - transmission;
+ *   specular    w, GGX aniso, F0 = F0(ior) 2 level x tint on the real curve of
+ *               ior_from_F0; w layered under it;
+ *   diffuse     Lambert, base (1 - subsurface) w, plus the subsurface part
+ *               clamped base x subsurface x w rendered as Lambert too.
+ * Layering is closure_layering_weight: w sat(1 - max(albedo / w)), albedo
+ * the closure weight x bsdf_microfacet_estimate_albedo (tables). MULTI_GGX
+ * compensates energy as microfacet_ggx_preserve_energy (Turquin 2019: scale
+ * 1/E; Kulla-Conty darkening of the weight for coloured Fss). Smith G2 is
+ * height-correlated (Cycles 3.5+). Tables: shaders/shared/
+ * pb_principled2_tables.h (Cycles' own figures). Not rendered: thin film,
+ * EON diffuse roughness, subsurface scattering (Lambert), coat normal. */
+
+static inline v3 v3_maxv(v3 a, v3 b) { return v3_make(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)); }
+
+static float lut1(const float *t, float x, int n) {
+  x = sat(x) * (float)(n - 1);
+  int i = (int)x;
+  if (i > n - 1) i = n - 1;
+  int j = i + 1 < n ? i + 1 : n - 1;
+  float f = x - (float)i;
+  return f == 0.0f ? t[i] : (1.0f - f) * t[i] + f * t[j];
+}
+static float lut2(const float *t, float x, float y, int nx, int ny) {
+  y = sat(y) * (float)(ny - 1);
+  int i = (int)y;
+  if (i > ny - 1) i = ny - 1;
+  int j = i + 1 < ny ? i + 1 : ny - 1;
+  float f = y - (float)i;
+  float a = lut1(t + nx * i, x, nx);
+  return f == 0.0f ? a : (1.0f - f) * a + f * lut1(t + nx * j, x, nx);
+}
+static float lut3(const float *t, float x, float y, float z, int nx, int ny, int nz) {
+  z = sat(z) * (float)(nz - 1);
+  int i = (int)z;
+  if (i > nz - 1) i = nz - 1;
+  int j = i + 1 < nz ? i + 1 : nz - 1;
+  float f = z - (float)i;
+  float a = lut2(t + nx * ny * i, x, y, nx, ny);
+  return f == 0.0f ? a : (1.0f - f) * a + f * lut2(t + nx * ny * j, x, y, nx, ny);
+}
+
+static inline float f0_of(float eta) { return sqr((eta - 1.0f) / (eta + 1.0f)); }
+static inline float eta_of_f0(float f0) {
+  float r = sqrtf(clampf(f0, 0.0f, 0.99f));
+  return (1.0f + r) / (1.0f - r);
+}
+static inline float avgmix(v3 a, float s) { return avg3(v3_add(v3_scale(a, 1.0f - s), v3_splat(s))); }
+static inline v3 mix1(v3 a, float s) { return v3_add(v3_scale(a, 1.0f - s), v3_splat(s)); }
+/* Average single-scattering dielectric Fresnel (Cycles' fitted polynomial). */
+static float fresnel_diel_avg(float eta) {
+  if (eta < 1.0f) return 0.997118f + eta * (0.1014f - eta * (0.965241f + eta * 0.130607f));
+  return (eta - 1.0f) / (4.08567f + 1.00071f * eta);
+}
+
+/* Reflectance R and transmittance T of a v2 microfacet closure at cos
+ * between the microfacet and the view. */
+static void fresnel_v2(const pb_closure *c, float cos_hv, v3 *r, v3 *t) {
+  if (c->fresnel == PB_FRESNEL_DIELECTRIC) {
+    float f = fresnel_diel(cos_hv, c->ior);
+    *r = v3_splat(f);
+    *t = v3_splat(1.0f - f);
+  } else if (c->fresnel == PB_FRESNEL_F82_TINT) {
+    float mu = sat(1.0f - cos_hv), mu5 = sqr(sqr(mu)) * mu;
+    v3 fs = mix1(c->cspec0, mu5);
+    *r = v3_sat(v3_sub(fs, v3_scale(c->color, cos_hv * mu5 * mu)));
+    *t = v3_splat(0.0f);
+  } else {
+    /* Generalized Schlick with a negative exponent: F0 to 1 along the real
+     * dielectric curve of c->ior. */
+    float fr = fresnel_diel(cos_hv, c->ior), f0r = f0_of(c->ior);
+    float s = sat((fr - f0r) / (1.0f - f0r));
+    v3 f = mix1(c->cspec0, s);
+    *r = f;
+    *t = v3_mul(v3_sub(v3_splat(1.0f), f), c->ttint);
+  }
+  if (c->type != PB_CL_V2_GLASS) *t = v3_splat(0.0f);
+}
+
+static inline float ggx_lambda(v3 w, float ax, float ay) {
+  float z2 = w.z * w.z;
+  if (!(z2 > 0.0f)) return 1e30f;
+  return 0.5f * (sqrtf(1.0f + (sqr(ax * w.x) + sqr(ay * w.y)) / z2) - 1.0f);
+}
+/* GGX D, symmetric in the half vector's hemisphere (Cycles' bsdf_D). */
+static float ggx_d2(v3 m, float ax, float ay) {
+  float sx = m.x / ax, sy = m.y / ay;
+  float k = sx * sx + sy * sy + m.z * m.z;
+  return 1.0f / (PB_PI_F * ax * ay * k * k);
+}
+
+static v3 v2_eval(const pb_closure *c, v3 lo, v3 li, float cos_gi, float *pdf) {
+  v3 zero = v3_splat(0.0f);
+  if (c->type == PB_CL_V2_SHEEN) {
+    if (li.z <= 0.0f) return zero;
+    float a = c->on_a, b = c->on_b;
+    float l2 = sqr(a * li.x + b * li.z) + sqr(a * li.y) + sqr(li.z);
+    float v = PB_INV_PI_F * li.z * sqr(a / l2);
+    *pdf = v;
+    return v3_splat(v);
+  }
+  if (lo.z <= 0.0f) return zero;
+  int is_t = li.z < 0.0f;
+  if ((cos_gi < 0.0f) != is_t || (is_t && c->type != PB_CL_V2_GLASS)) return zero;
+  v3 h = is_t ? v3_neg(v3_add(v3_scale(li, c->ior), lo)) : v3_add(lo, li);
+  float hl = v3_len(h);
+  if (!(hl > 0.0f)) return zero;
+  float inv = 1.0f / hl;
+  h = v3_scale(h, inv);
+  float cos_hv = v3_dot(h, lo);
+  v3 r, t;
+  fresnel_v2(c, cos_hv, &r, &t);
+  float ar = avg3(r), at = avg3(t);
+  if (!(ar + at > 0.0f)) return zero;
+  float ax = c->ax, ay = is_t ? c->ax : c->ay;
+  float d = ggx_d2(h, ax, ay);
+  float lv = ggx_lambda(lo, ax, ay), ll = ggx_lambda(li, ax, ay);
+  float common = d / lo.z * (is_t ? sqr(c->ior * inv) * fabsf(cos_hv * v3_dot(h, li)) : 0.25f);
+  float p_r = ar / (ar + at);
+  *pdf = common * (is_t ? 1.0f - p_r : p_r) / (1.0f + lv);
+  float g = c->g2 ? 1.0f / (1.0f + lv + ll) : 1.0f / ((1.0f + lv) * (1.0f + ll));
+  return v3_scale(is_t ? t : r, common * g * c->energy);
+}
+
+/* Turquin energy compensation of closure c for view cosine mu, with the
+ * average single-scattering Fresnel fss (microfacet_ggx_preserve_energy). */
+static void preserve_energy(pb_closure *c, float mu, v3 fss) {
+  float rough = sqrtf(sqrtf(c->ax * c->ay)), e, eavg;
+  if (c->type == PB_CL_V2_GLASS) {
+    float ior = c->ior;
+    const float *te = pb_ggx_glass_E, *ta = pb_ggx_glass_Eavg;
+    if (ior < 1.0f) {
+      ior = 1.0f / ior;
+      te = pb_ggx_glass_inv_E;
+      ta = pb_ggx_glass_inv_Eavg;
+    }
+    float z = sqrtf(fabsf((ior - 1.0f) / (ior + 1.0f)));
+    e = lut3(te, rough, mu, z, 16, 16, 16);
+    eavg = lut2(ta, rough, z, 16, 16);
+  } else {
+    e = lut2(pb_ggx_E, rough, mu, 32, 32);
+    eavg = lut1(pb_ggx_Eavg, rough, 32);
+  }
+  float missing = (1.0f - e) / e;
+  c->energy = 1.0f + missing;
+  if (fss.x != 1.0f || fss.y != 1.0f || fss.z != 1.0f) {
+    v3 dark;
+    float *dk = &dark.x;
+    const float *fs = &fss.x;
+    for (int k = 0; k < 3; ++k) {
+      float fms = fs[k] * eavg / (1.0f - fs[k] * (1.0f - eavg));
+      dk[k] = (1.0f + fms * missing) / c->energy;
+    }
+    c->weight = v3_mul(c->weight, dark);
+    c->sample_weight *= avg3(dark);
+  }
+}
+
+/* bsdf_microfacet_estimate_albedo for view cosine mu (reflection, and
+ * transmission when `trans`). */
+static v3 v2_albedo(const pb_closure *c, float mu, int trans) {
+  v3 r, t;
+  fresnel_v2(c, mu, &r, &t);
+  if (!trans) t = v3_splat(0.0f);
+  if (r.x == 0.0f && r.y == 0.0f && r.z == 0.0f) return t;
+  float rough = sqrtf(sqrtf(c->ax * c->ay));
+  if (c->fresnel == PB_FRESNEL_GEN_SCHLICK) {
+    float z = sqrtf(fabsf((c->ior - 1.0f) / (c->ior + 1.0f)));
+    r = mix1(c->cspec0, lut3(pb_ggx_gen_schlick_ior_s, rough, mu, z, 16, 16, 16));
+  } else if (c->fresnel == PB_FRESNEL_F82_TINT) {
+    r = mix1(c->cspec0, lut3(pb_ggx_gen_schlick_s, rough, mu, 0.5f, 16, 16, 16));
+  } else if (c->ior > 1.0f) {
+    float z = sqrtf(fabsf((c->ior - 1.0f) / (c->ior + 1.0f)));
+    r = v3_splat(avgmix(v3_splat(f0_of(c->ior)), lut3(pb_ggx_gen_schlick_ior_s, rough, mu, z, 16, 16, 16)));
+  }
+  return v3_add(r, t);
+}
+
+/* closure_layering_weight */
+static v3 layer_under(v3 albedo, v3 w) {
+  float m = 0.0f;
+  const float *a = &albedo.x, *ww = &w.x;
+  for (int k = 0; k < 3; ++k)
+    if (ww[k] != 0.0f) m = fmaxf(m, a[k] / ww[k]);
+  return v3_scale(w, sat(1.0f - m));
+}
+
+/* A v2 GGX-family closure: frame, alphas, and its sample weight x albedo. */
+static void v2_microfacet(pb_closure *c, v3 n, v3 t, float ax, float ay, float ior, int fresnel, v3 f0, int g2) {
+  lobe_frame(c, n, t);
+  c->ax = sat(ax);
+  c->ay = sat(ay);
+  c->ior = ior;
+  c->fresnel = fresnel;
+  c->cspec0 = fresnel == PB_FRESNEL_GEN_SCHLICK ? v3_sat(f0) : f0;
+  c->energy = 1.0f;
+  c->g2 = g2;
+  c->singular = c->ax * c->ay <= SINGULAR_ALPHA2;
+}
+
+typedef struct v2_inputs {
+  float in[PB_IN_COUNT];
+  v3 base, spec_tint, coat_tint, sheen_tint;
+} v2_inputs;
+
+static void v2_read(const pb_scene *s, const pb_surface *surf, v3 base, v2_inputs *v) {
+  const pb_material *m = surf->mat;
+  const pb_blender_material *bm = &m->blender;
+  for (int i = 0; i < PB_IN_COUNT; ++i) v->in[i] = input_value(s, m, surf, (pb_blender_input)i);
+  v->base = base;
+  v3 z = v3_splat(0.0f);
+  v->spec_tint = v3_maxv(color_value(s, v3_load(bm->specular_tint), bm->specular_tint_tex, surf), z);
+  v->coat_tint = v3_maxv(color_value(s, v3_load(bm->coat_tint), bm->coat_tint_tex, surf), z);
+  v->sheen_tint = v3_maxv(color_value(s, v3_load(bm->sheen_tint), bm->sheen_tint_tex, surf), z);
+}
+
+/* The v2 layering weight down to (and including) the emission: what the
+ * emission is multiplied by, for view direction wo (alpha, sheen and coat
+ * layering, coat tint). */
+static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb_bsdf *b, int emission_only) {
+  const pb_blender_material *bm = &surf->mat->blender;
+  v2_inputs V;
+  v2_read(s, surf, base, &V);
+  const float *in = V.in;
+  int multi = bm->distribution == PB_DISTRIBUTION_MULTI_GGX, g2 = 1;
+  float metallic = sat(in[PB_IN_METALLIC]), ss_w = sat(in[PB_IN_SUBSURFACE]);
+  float level = fmaxf(in[PB_IN_SPECULAR_IOR_LEVEL], 0.0f), roughness = sat(in[PB_IN_ROUGHNESS]);
+  float aniso = sat(in[PB_IN_ANISOTROPIC]), sheen_w = fmaxf(in[PB_IN_SHEEN_WEIGHT], 0.0f);
+  float sheen_r = sat(in[PB_IN_SHEEN_ROUGHNESS]), coat_w = fmaxf(in[PB_IN_COAT_WEIGHT], 0.0f);
+  float coat_r = sat(in[PB_IN_COAT_ROUGHNESS]), coat_ior = fmaxf(in[PB_IN_COAT_IOR], 1.0f);
+  float trans_w = sat(in[PB_IN_TRANSMISSION]), ior = fmaxf(in[PB_IN_IOR], 1e-5f);
+  float alpha = sat(in[PB_IN_ALPHA]);
+  v3 cbase = v3_make(fminf(base.x, 1.0f), fminf(base.y, 1.0f), fminf(base.z, 1.0f));
+  v3 n_shade = surf->ns;
+  v3 n = valid_reflection_normal(surf->ng, wo, surf->ns);
+  v3 tangent = surf->tangent;
+  float ax = sqr(roughness), ay = ax;
+  if (aniso > 0.0f) {
+    float aspect = sqrtf(1.0f - aniso * 0.9f);
+    ax /= aspect;
+    ay *= aspect;
+    if (in[PB_IN_ANISOTROPIC_ROTATION] != 0.0f) {
+      float th = in[PB_IN_ANISOTROPIC_ROTATION] * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
+      tangent = v3_add(v3_add(v3_scale(tangent, cs), v3_scale(v3_cross(n_shade, tangent), sn)),
+                       v3_scale(n_shade, v3_dot(n_shade, tangent) * (1.0f - cs)));
+    }
+  }
+  pb_bsdf dummy;
+  if (emission_only) {
+    memset(&dummy, 0, sizeof dummy);
+    b = &dummy;
+  }
+  v3 w = v3_splat(1.0f);
+  if (alpha < 1.0f) {
+    add_closure(b, PB_CL_TRANSPARENT, v3_splat(1.0f - alpha));
+    w = v3_scale(w, alpha);
+  }
+  v3 coat_n = n_shade;
+  if (sheen_w > CUTOFF) {
+    pb_closure *c = add_closure(b, PB_CL_V2_SHEEN, v3_mul(v3_scale(V.sheen_tint, sheen_w), w));
+    if (c) {
+      v3 sn = v3_norm(v3_add(v3_scale(n_shade, 1.0f - sat(coat_w)), v3_scale(coat_n, sat(coat_w))));
+      float r = clampf(sheen_r, 1e-3f, 1.0f), cni = v3_dot(sn, wo);
+      lobe_frame(c, sn, wo);
+      c->on_a = lut2(pb_sheen_ltc, cni, r, 32, 32);
+      c->on_b = lut2(pb_sheen_ltc + 1024, cni, r, 32, 32);
+      float alb = lut2(pb_sheen_ltc + 2048, cni, r, 32, 32);
+      if (fabsf(c->on_a) < 1e-5f || alb < 1e-5f) {
+        b->ncl--;
+      } else {
+        c->weight = v3_scale(c->weight, alb);
+        c->sample_weight *= alb;
+        w = layer_under(c->weight, w);
+      }
+    }
+  }
+  if (coat_w > CUTOFF) {
+    v3 cn = valid_reflection_normal(surf->ng, wo, coat_n);
+    pb_closure *c = add_closure(b, PB_CL_V2_GGX, v3_scale(w, coat_w));
+    if (c) {
+      float a = sqr(coat_r);
+      v2_microfacet(c, cn, cn, a, a, coat_ior, PB_FRESNEL_DIELECTRIC, v3_splat(0.0f), g2);
+      float mu = v3_dot(wo, cn);
+      c->sample_weight *= avg3(v2_albedo(c, mu, 1));
+      preserve_energy(c, mu, v3_splat(fresnel_diel_avg(coat_ior)));
+      w = layer_under(v3_mul(c->weight, v2_albedo(c, mu, 0)), w);
+    }
+    if (V.coat_tint.x != 1.0f || V.coat_tint.y != 1.0f || V.coat_tint.z != 1.0f) {
+      float cni = v3_dot(wo, cn);
+      float cnt = sqrtf(fmaxf(0.0f, 1.0f - sqr(1.0f / coat_ior) * (1.0f - cni * cni)));
+      float depth = 1.0f / cnt;
+      v3 tt = v3_make(powf(V.coat_tint.x, depth), powf(V.coat_tint.y, depth), powf(V.coat_tint.z, depth));
+      w = v3_mul(w, v3_add(v3_scale(v3_splat(1.0f), 1.0f - coat_w), v3_scale(tt, coat_w)));
+    }
+  }
+  if (emission_only) return w;
+  v3 w_emission = w;
+  if (metallic > CUTOFF) {
+    pb_closure *c = add_closure(b, PB_CL_V2_GGX, v3_scale(w, metallic));
+    if (c) {
+      v3 f82 = v3_make(fminf(V.spec_tint.x, 1.0f), fminf(V.spec_tint.y, 1.0f), fminf(V.spec_tint.z, 1.0f));
+      v2_microfacet(c, n, tangent, ax, ay, 1.0f, PB_FRESNEL_F82_TINT, cbase, g2);
+      /* fresnel_f82tint_B: b = F_schlick(1/7) 7 / (f^6) (1 - tint), f = 6/7. */
+      float f = 6.0f / 7.0f, f5 = sqr(sqr(f)) * f;
+      v3 fs = mix1(cbase, f5);
+      c->color = (f82.x == 1.0f && f82.y == 1.0f && f82.z == 1.0f)
+                     ? v3_splat(0.0f)
+                     : v3_mul(v3_scale(fs, 7.0f / (f5 * f)), v3_sub(v3_splat(1.0f), f82));
+      float mu = v3_dot(wo, n);
+      c->sample_weight *= avg3(v2_albedo(c, mu, 1));
+      if (multi) {
+        v3 fss = v3_sub(mix1(cbase, 1.0f / 21.0f), v3_scale(c->color, 1.0f / 126.0f));
+        preserve_energy(c, mu, fss);
+      }
+    }
+    w = v3_scale(w, 1.0f - metallic);
+  }
+  if (trans_w > CUTOFF) {
+    pb_closure *c = add_closure(b, PB_CL_V2_GLASS, v3_scale(w, trans_w));
+    if (c) {
+      float r2 = sqr(roughness);
+      v2_microfacet(c, n, n, r2, r2, surf->front ? ior : 1.0f / ior, PB_FRESNEL_GEN_SCHLICK,
+                    v3_scale(V.spec_tint, f0_of(ior)), g2);
+      c->ttint = v3_make(sqrtf(cbase.x), sqrtf(cbase.y), sqrtf(cbase.z));
+      float mu = v3_dot(wo, n);
+      c->sample_weight *= avg3(v2_albedo(c, mu, 1));
+      if (multi) preserve_energy(c, mu, c->ttint);
+    }
+    w = v3_scale(w, 1.0f - trans_w);
+  }
+  float eta = ior, f0 = f0_of(eta);
+  if (level != 0.5f) {
+    f0 *= 2.0f * level;
+    eta = eta_of_f0(f0);
+    if (ior < 1.0f) eta = 1.0f / eta;
+  }
+  if (eta != 1.0f) {
+    pb_closure *c = add_closure(b, PB_CL_V2_GGX, w);
+    if (c) {
+      v2_microfacet(c, n, tangent, ax, ay, eta, PB_FRESNEL_GEN_SCHLICK, v3_scale(V.spec_tint, f0), g2);
+      float mu = v3_dot(wo, n);
+      c->sample_weight *= avg3(v2_albedo(c, mu, 1));
+      if (multi) {
+        float f0r = f0_of(eta);
+        float sfs = sat((fresnel_diel_avg(eta) - f0r) / (1.0f - f0r));
+        preserve_energy(c, mu, mix1(c->cspec0, sfs));
+      }
+      w = layer_under(v3_mul(c->weight, v2_albedo(c, mu, 0)), w);
+    }
+  }
+  /* Diffuse, and subsurface rendered as diffuse (the loader warns). */
+  v3 dw = v3_add(v3_scale(base, 1.0f - ss_w), v3_scale(cbase, ss_w));
+  pb_closure *c = add_closure(b, PB_CL_OREN_NAYAR, v3_mul(dw, w));
+  if (c) {
+    lobe_frame(c, n_shade, tangent);
+    c->on_a = PB_INV_PI_F;
+  }
+  b->albedo = v3_scale(cbase, alpha);
+  return w_emission;
+}
+
+v3 pb_principled2_emission_weight(const pb_scene *s, const pb_surface *surf, v3 wo) {
+  v3 base = color_value(s, v3_load(surf->mat->base_color), surf->mat->base_color_tex, surf);
+  if (surf->mat->blender.base_from_vertex_color) base = v3_make(surf->color[0], surf->color[1], surf->color[2]);
+  base = v3_maxv(base, v3_splat(0.0f));
+  return v2_build(s, surf, wo, base, NULL, 1);
+}
+
 void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
   const pb_material *m = surf->mat;
   const pb_blender_material *bm = &m->blender;
@@ -533,6 +926,12 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
   b->albedo = v3_sat(base);
   if (bm->model == PB_MODEL_EMISSION || bm->model == PB_MODEL_HOLDOUT) {
     b->albedo = v3_splat(0.0f);
+    return;
+  }
+  if (bm->model == PB_MODEL_PRINCIPLED && bm->principled_v2) {
+    v2_build(s, surf, wo, base, b, 0);
+    b->sw_sum = 0.0f;
+    for (int i = 0; i < b->ncl; ++i) b->sw_sum += b->cl[i].sample_weight;
     return;
   }
   /* Every closure's normal, as Cycles' svm_node_closure_bsdf lifts it. */
@@ -649,6 +1048,8 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
       }
     }
     b->albedo = v3_scale(v3_sat(base), alpha);
+    for (int i = 0; i < b->ncl; ++i)
+      if (b->cl[i].type == PB_CL_GGX || b->cl[i].type == PB_CL_GGX_REFRACT) b->cl[i].g2 = bm->g2_correlated;
   }
   b->sw_sum = 0.0f;
   for (int i = 0; i < b->ncl; ++i) b->sw_sum += b->cl[i].sample_weight;
@@ -731,6 +1132,28 @@ int pb_blender_bsdf_sample(const pb_bsdf *b, v3 wo, float u0, float u1, float u2
   }
   if (lo.z <= 0.0f) return 0;
   v3 li;
+  int v2_transmit = 0;
+  if (c->singular && (c->type == PB_CL_V2_GGX || c->type == PB_CL_V2_GLASS)) {
+    v3 r, t;
+    fresnel_v2(c, lo.z, &r, &t);
+    float ar = avg3(r), at = avg3(t);
+    if (!(ar + at > 0.0f)) return 0;
+    float p_r = ar / (ar + at);
+    if (ur < p_r) {
+      li = v3_make(-lo.x, -lo.y, lo.z);
+      out->wi = from_lobe(c, li);
+      if (v3_dot(out->wi, b->ng) <= 0.0f) return 0;
+      out->weight = v3_scale(v3_mul(c->weight, r), c->energy / (p_r * pick));
+    } else {
+      if (!refract_dir(lo, v3_make(0.0f, 0.0f, 1.0f), c->ior, &li)) return 0;
+      out->wi = v3_norm(from_lobe(c, li));
+      if (v3_dot(out->wi, b->ng) >= 0.0f) return 0;
+      out->weight = v3_scale(v3_mul(c->weight, t), c->energy / ((1.0f - p_r) * pick));
+      out->transmit = 1;
+    }
+    out->delta = 1;
+    return 1;
+  }
   if (c->singular) {
     if (c->type == PB_CL_GGX_REFRACT) {
       if (!refract_dir(lo, v3_make(0.0f, 0.0f, 1.0f), c->ior, &li)) return 0;
@@ -783,11 +1206,34 @@ int pb_blender_bsdf_sample(const pb_bsdf *b, v3 wo, float u0, float u1, float u2
     if (!refract_dir(lo, m, c->ior, &li)) return 0;
     break;
   }
+  case PB_CL_V2_SHEEN: {
+    float r = sqrtf(u1), phi = 2.0f * PB_PI_F * u2;
+    float dx = r * cosf(phi), dy = r * sinf(phi), dz = sqrtf(fmaxf(0.0f, 1.0f - u1));
+    li = v3_norm(v3_make(dx - dz * c->on_b, dy, dz * c->on_a));
+    break;
+  }
+  case PB_CL_V2_GGX:
+  case PB_CL_V2_GLASS: {
+    v3 m = ggx_vndf(lo, c->ax, c->ay, u1, u2);
+    if (c->type == PB_CL_V2_GLASS) {
+      v3 r, t;
+      fresnel_v2(c, v3_dot(lo, m), &r, &t);
+      float ar = avg3(r), at = avg3(t);
+      if (!(ar + at > 0.0f)) return 0;
+      if (ur >= ar / (ar + at)) {
+        if (!refract_dir(lo, m, c->ior, &li)) return 0;
+        v2_transmit = 1;
+        break;
+      }
+    }
+    li = v3_sub(v3_scale(m, 2.0f * v3_dot(lo, m)), lo);
+    break;
+  }
   default:
     return 0;
   }
   v3 wi = v3_norm(from_lobe(c, li));
-  int transmit = c->type == PB_CL_GGX_REFRACT;
+  int transmit = c->type == PB_CL_GGX_REFRACT || v2_transmit;
   float side = v3_dot(wi, b->ng);
   if (transmit ? side >= 0.0f : side <= 0.0f) return 0;
   float pdf;

@@ -183,9 +183,15 @@ typedef enum pb_closure_type {
   PB_CL_GGX_REFRACT,   /* GGX refraction (glass) */
   PB_CL_CLEARCOAT,     /* GTR1 clearcoat */
   PB_CL_TRANSPARENT,   /* alpha < 1: straight through */
+  /* Principled v2 (Cycles 4.x): */
+  PB_CL_V2_SHEEN,      /* microfiber sheen, LTC (Zeltner et al. 2022) */
+  PB_CL_V2_GGX,        /* GGX reflection: F82-tint metal, generalized-Schlick specular or dielectric coat */
+  PB_CL_V2_GLASS,      /* GGX glass: reflection and refraction in one closure, generalized Schlick */
 } pb_closure_type;
 
 enum { PB_CLOSURE_MAX = 8 };
+/* Fresnel of a Principled v2 microfacet closure (Cycles' MicrofacetFresnel). */
+enum { PB_FRESNEL_DIELECTRIC = 0, PB_FRESNEL_F82_TINT, PB_FRESNEL_GEN_SCHLICK };
 
 typedef struct pb_closure {
   pb_closure_type type;
@@ -200,6 +206,12 @@ typedef struct pb_closure {
   float on_a, on_b;    /* Oren-Nayar A, B (1/pi, 0 for Lambert) */
   float clearcoat;     /* clearcoat: Clearcoat input (F scaled by 0.25 of it) */
   int singular;        /* a delta lobe: not evaluated, sampled by reflection/refraction */
+  /* Principled v2 (PB_CL_V2_*): cspec0 holds F0 (colour), color the F82
+   * b term, on_a/on_b the sheen LTC's a and b. */
+  int fresnel;         /* PB_FRESNEL_* */
+  v3 ttint;            /* glass: transmission tint */
+  float energy;        /* Turquin energy scale 1 / E (1 without compensation) */
+  int g2;              /* height-correlated Smith G2 (else separable G1 G1) */
 } pb_closure;
 
 typedef struct pb_bsdf {
@@ -267,13 +279,16 @@ int pb_blender_bsdf_has_smooth(const pb_bsdf *b);
 float pb_bsdf_transparency(const pb_bsdf *b);
 /* A Principled BSDF's Alpha at surf (its emission is scaled by it too). */
 float pb_blender_alpha(const pb_scene *s, const pb_surface *surf);
+/* Principled v2: the colour weight of its emission for view direction wo
+ * (alpha, sheen and coat layered over it; principled.c). */
+v3 pb_principled2_emission_weight(const pb_scene *s, const pb_surface *surf, v3 wo);
 
 /* Emitted radiance leaving surf toward wo (facing the surface's hit side):
  * material emissive x emissive texture (pb_material_emission), from the front
  * side only unless the material is double-sided. An unlit surface's base
  * colour is counted only on camera paths (camera_path: the eye, or a chain of
  * delta interactions from it); it is no light to anything else. */
-v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, int camera_path);
+v3 pb_surface_emission(const pb_scene *s, const pb_surface *surf, v3 wo, int camera_path);
 
 /* The medium a path is in after a sampled bounce (KHR_materials_volume,
  * pb_material.attenuation): refracting into a front face enters the

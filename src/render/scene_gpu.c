@@ -187,7 +187,11 @@ _Static_assert(PB_SAME(PB_GPU_MODEL_PRINCIPLED, PB_MODEL_PRINCIPLED) && PB_SAME(
                "pb_gpu_material.model");
 _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_ROUGHNESS, PB_IN_ROUGHNESS) &&
                    PB_SAME(PB_GPU_IN_IOR, PB_IN_IOR) && PB_SAME(PB_GPU_IN_ALPHA, PB_IN_ALPHA) &&
-                   PB_SAME(PB_GPU_IN_SUBSURFACE, PB_IN_SUBSURFACE) && (int)PB_IN_COUNT <= (int)PB_GPU_IN_SLOTS,
+                   PB_SAME(PB_GPU_IN_SUBSURFACE, PB_IN_SUBSURFACE) && (int)PB_IN_COUNT <= (int)PB_GPU_IN_SLOTS &&
+                   PB_SAME(PB_GPU_IN_SPECULAR_IOR_LEVEL, PB_IN_SPECULAR_IOR_LEVEL) &&
+                   PB_SAME(PB_GPU_IN_EMISSION_STRENGTH, PB_IN_EMISSION_STRENGTH) &&
+                   (int)PB_GPU_IN_V1_SLOTS > (int)PB_IN_SUBSURFACE &&
+                   PB_SAME(PB_GPU_IN_SLOTS, sizeof ((pb_gpu_material *)0)->in_value / sizeof(float)),
                "pb_gpu_material.in_value");
 #undef PB_SAME
 
@@ -321,6 +325,18 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->subsurface_color_tex = tex_index(b->subsurface_color_tex, s->texture_count);
     memcpy(o->subsurface_color, b->subsurface_color, sizeof o->subsurface_color);
     o->normal_strength = b->normal_strength;
+    o->principled_v2 = (uint32_t)b->principled_v2;
+    memcpy(o->specular_tint, b->specular_tint, sizeof o->specular_tint);
+    memcpy(o->coat_tint, b->coat_tint, sizeof o->coat_tint);
+    memcpy(o->sheen_tint, b->sheen_tint, sizeof o->sheen_tint);
+    memcpy(o->subsurface_radius, b->subsurface_radius, sizeof o->subsurface_radius);
+    o->specular_tint_tex = tex_index(b->specular_tint_tex, s->texture_count);
+    o->coat_tint_tex = tex_index(b->coat_tint_tex, s->texture_count);
+    o->sheen_tint_tex = tex_index(b->sheen_tint_tex, s->texture_count);
+    o->coat_normal_tex = s->tangents && s->uvs ? tex_index(b->coat_normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+    o->coat_normal_strength = b->coat_normal_strength;
+    o->subsurface_method = (uint32_t)b->subsurface_method;
+    o->g2_correlated = (uint32_t)b->g2_correlated;
     for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
       o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
       uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;

@@ -125,13 +125,13 @@ static pb_result opt_object(const reader *R, const pb_gltf_value *obj, const cha
 
 enum { CH_R = 0, CH_G, CH_B, CH_A, CH_RGB };
 /* Where a texture entry goes. */
-typedef enum target_kind { T_NONE = 0, T_COLOR, T_INPUT, T_NORMAL } target_kind;
+typedef enum target_kind { T_NONE = 0, T_COLOR, T_INPUT, T_NORMAL, T_COAT_NORMAL } target_kind;
 typedef struct target {
   const char *name;
   target_kind kind;
   int input;      /* T_INPUT: pb_blender_input; T_COLOR: which colour */
 } target;
-enum { COLOR_BASE = 0, COLOR_SUBSURFACE, COLOR_EMISSION };
+enum { COLOR_BASE = 0, COLOR_SUBSURFACE, COLOR_EMISSION, COLOR_SPECULAR_TINT, COLOR_COAT_TINT, COLOR_SHEEN_TINT };
 
 static const target principled_targets[] = {
     {"baseColor", T_COLOR, COLOR_BASE},
@@ -153,6 +153,37 @@ static const target principled_targets[] = {
     {"transmissionRoughness", T_INPUT, PB_IN_TRANSMISSION_ROUGHNESS},
     {"alpha", T_INPUT, PB_IN_ALPHA},
     {"subsurface", T_INPUT, PB_IN_SUBSURFACE},
+    {NULL, T_NONE, 0}};
+/* Principled v2 (model "principled2"). */
+static const target principled2_targets[] = {
+    {"baseColor", T_COLOR, COLOR_BASE},
+    {"emissionColor", T_COLOR, COLOR_EMISSION},
+    {"specularTint", T_COLOR, COLOR_SPECULAR_TINT},
+    {"coatTint", T_COLOR, COLOR_COAT_TINT},
+    {"sheenTint", T_COLOR, COLOR_SHEEN_TINT},
+    {"normal", T_NORMAL, 0},
+    {"coatNormal", T_COAT_NORMAL, 0},
+    {"metallic", T_INPUT, PB_IN_METALLIC},
+    {"roughness", T_INPUT, PB_IN_ROUGHNESS},
+    {"ior", T_INPUT, PB_IN_IOR},
+    {"alpha", T_INPUT, PB_IN_ALPHA},
+    {"diffuseRoughness", T_INPUT, PB_IN_DIFFUSE_ROUGHNESS},
+    {"subsurfaceWeight", T_INPUT, PB_IN_SUBSURFACE},
+    {"subsurfaceScale", T_INPUT, PB_IN_SUBSURFACE_SCALE},
+    {"subsurfaceIor", T_INPUT, PB_IN_SUBSURFACE_IOR},
+    {"subsurfaceAnisotropy", T_INPUT, PB_IN_SUBSURFACE_ANISOTROPY},
+    {"specularIorLevel", T_INPUT, PB_IN_SPECULAR_IOR_LEVEL},
+    {"anisotropic", T_INPUT, PB_IN_ANISOTROPIC},
+    {"anisotropicRotation", T_INPUT, PB_IN_ANISOTROPIC_ROTATION},
+    {"transmissionWeight", T_INPUT, PB_IN_TRANSMISSION},
+    {"coatWeight", T_INPUT, PB_IN_COAT_WEIGHT},
+    {"coatRoughness", T_INPUT, PB_IN_COAT_ROUGHNESS},
+    {"coatIor", T_INPUT, PB_IN_COAT_IOR},
+    {"sheenWeight", T_INPUT, PB_IN_SHEEN_WEIGHT},
+    {"sheenRoughness", T_INPUT, PB_IN_SHEEN_ROUGHNESS},
+    {"emissionStrength", T_INPUT, PB_IN_EMISSION_STRENGTH},
+    {"thinFilmThickness", T_INPUT, PB_IN_THIN_FILM_THICKNESS},
+    {"thinFilmIor", T_INPUT, PB_IN_THIN_FILM_IOR},
     {NULL, T_NONE, 0}};
 /* The Diffuse BSDF's and Emission shader's Color input is `baseColor` and
  * `emission` in `textures` (the contract; what the writer writes). */
@@ -260,11 +291,18 @@ static pb_result read_texture(const reader *R, const char *name, const pb_gltf_v
       return bad(R, path, "channel %s on a colour input (only RGB)", channels[ch]);
     if (t->input == COLOR_BASE) m->base_color_tex = tex;
     else if (t->input == COLOR_SUBSURFACE) b->subsurface_color_tex = tex;
+    else if (t->input == COLOR_SPECULAR_TINT) b->specular_tint_tex = tex;
+    else if (t->input == COLOR_COAT_TINT) b->coat_tint_tex = tex;
+    else if (t->input == COLOR_SHEEN_TINT) b->sheen_tint_tex = tex;
     else m->emissive_tex = tex;
     break;
   case T_NORMAL:
     m->normal_tex = tex;
     b->normal_strength = strength;
+    break;
+  case T_COAT_NORMAL:
+    b->coat_normal_tex = tex;
+    b->coat_normal_strength = strength;
     break;
   case T_INPUT:
     b->input_tex[t->input].tex = tex;
@@ -331,7 +369,9 @@ static pb_result read_principled(const reader *R, const pb_gltf_value *ext, pb_m
   float radius[3] = {1.0f, 0.2f, 0.1f};
   int dist = 0, ssm = 0;
   static const char *const dists[] = {"GGX", "MULTI_GGX"};
-  static const char *const ss_methods[] = {"RANDOM_WALK", "RANDOM_WALK_FIXED_RADIUS", "BURLEY"};
+  /* Blender 3.4's names; RANDOM_WALK_SKIN, 4.x's name for 3.4's RANDOM_WALK,
+   * is read as it. */
+  static const char *const ss_methods[] = {"RANDOM_WALK", "RANDOM_WALK_FIXED_RADIUS", "BURLEY", "RANDOM_WALK_SKIN"};
   if (p) {
     for (size_t i = 0; i < sizeof principled_inputs / sizeof *principled_inputs && r == PB_OK; ++i) {
       const input_spec *in = &principled_inputs[i];
@@ -353,10 +393,14 @@ static pb_result read_principled(const reader *R, const pb_gltf_value *ext, pb_m
       r = number_in(R, el, &rv->items[k], -FLT_MAX, FLT_MAX, &radius[k]);
     }
     if (r == PB_OK) r = opt_enum(R, p, "principled", "distribution", dists, 2, &dist);
-    if (r == PB_OK) r = opt_enum(R, p, "principled", "subsurfaceMethod", ss_methods, 3, &ssm);
+    if (r == PB_OK) r = opt_enum(R, p, "principled", "subsurfaceMethod", ss_methods, 4, &ssm);
     if (r != PB_OK) return r;
   }
   b->distribution = dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
+  b->subsurface_method = ssm == 1 ? PB_SUBSURFACE_RANDOM_WALK_FIXED_RADIUS
+                         : ssm == 2 ? PB_SUBSURFACE_BURLEY
+                                    : PB_SUBSURFACE_RANDOM_WALK_SKIN;
+  memcpy(b->subsurface_radius, radius, sizeof radius);
   memcpy(b->subsurface_color, ss, sizeof ss);
   for (int k = 0; k < 3; ++k) {
     m->base_color[k] = base[k];
@@ -380,6 +424,126 @@ static pb_result read_principled(const reader *R, const pb_gltf_value *ext, pb_m
   if ((b->input[PB_IN_SUBSURFACE] > 0.0f || b->input_tex[PB_IN_SUBSURFACE].tex >= 0) &&
       (r = warn(R, "materials[%d]." EXT ".principled.subsurface: %g: approximated as diffuse with the subsurface-mixed "
                    "colour (no subsurface scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
+    return r;
+  return PB_OK;
+}
+
+/* Principled v2 (Blender 4.0+). Ranges: Blender 4.5's soft-and-hard socket
+ * ranges where light stays non-negative (the 0..1 factors; IORs >= 0, the
+ * coat's and thin film's >= 1 as Cycles clamps them; colours >= 0);
+ * Subsurface Anisotropy -1..1 (5.2's range, a superset of 4.x's 0..1). */
+static const input_spec principled2_inputs[] = {
+    {"metallic", PB_IN_METALLIC, 0.0f, 0.0f, 1.0f},
+    {"roughness", PB_IN_ROUGHNESS, 0.5f, 0.0f, 1.0f},
+    {"ior", PB_IN_IOR, 1.5f, 0.0f, 1000.0f},
+    {"alpha", PB_IN_ALPHA, 1.0f, 0.0f, 1.0f},
+    {"diffuseRoughness", PB_IN_DIFFUSE_ROUGHNESS, 0.0f, 0.0f, 1.0f},
+    {"subsurfaceWeight", PB_IN_SUBSURFACE, 0.0f, 0.0f, 1.0f},
+    {"subsurfaceScale", PB_IN_SUBSURFACE_SCALE, 0.05f, 0.0f, FLT_MAX},
+    {"subsurfaceIor", PB_IN_SUBSURFACE_IOR, 1.4f, 1.01f, 3.8f},
+    {"subsurfaceAnisotropy", PB_IN_SUBSURFACE_ANISOTROPY, 0.0f, -1.0f, 1.0f},
+    {"specularIorLevel", PB_IN_SPECULAR_IOR_LEVEL, 0.5f, 0.0f, FLT_MAX},
+    {"anisotropic", PB_IN_ANISOTROPIC, 0.0f, 0.0f, 1.0f},
+    {"anisotropicRotation", PB_IN_ANISOTROPIC_ROTATION, 0.0f, 0.0f, 1.0f},
+    {"transmissionWeight", PB_IN_TRANSMISSION, 0.0f, 0.0f, 1.0f},
+    {"coatWeight", PB_IN_COAT_WEIGHT, 0.0f, 0.0f, 1.0f},
+    {"coatRoughness", PB_IN_COAT_ROUGHNESS, 0.03f, 0.0f, 1.0f},
+    {"coatIor", PB_IN_COAT_IOR, 1.5f, 1.0f, 4.0f},
+    {"sheenWeight", PB_IN_SHEEN_WEIGHT, 0.0f, 0.0f, 1.0f},
+    {"sheenRoughness", PB_IN_SHEEN_ROUGHNESS, 0.5f, 0.0f, 1.0f},
+    {"emissionStrength", PB_IN_EMISSION_STRENGTH, 0.0f, 0.0f, FLT_MAX},
+    {"thinFilmThickness", PB_IN_THIN_FILM_THICKNESS, 0.0f, 0.0f, 100000.0f},
+    {"thinFilmIor", PB_IN_THIN_FILM_IOR, 1.33f, 1.0f, 1000.0f},
+};
+
+/* F0 of a dielectric of relative IOR eta at normal incidence. */
+static float f0_of_ior(float eta) {
+  float r = (eta - 1.0f) / (eta + 1.0f);
+  return r * r;
+}
+
+static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  pb_blender_material *b = &m->blender;
+  const pb_gltf_value *p;
+  pb_result r = opt_object(R, ext, "principled2", &p);
+  if (r != PB_OK) return r;
+  float base[3] = {0.8f, 0.8f, 0.8f}, em[3] = {1.0f, 1.0f, 1.0f};
+  int dist = 1, ssm = 1;
+  static const char *const dists[] = {"GGX", "MULTI_GGX"};
+  static const char *const ss_methods[] = {"RANDOM_WALK_SKIN", "RANDOM_WALK_FIXED_RADIUS", "BURLEY"};
+  if (p) {
+    for (size_t i = 0; i < sizeof principled2_inputs / sizeof *principled2_inputs && r == PB_OK; ++i) {
+      const input_spec *in = &principled2_inputs[i];
+      r = opt_number(R, p, "principled2", in->name, in->lo, in->hi, &b->input[in->input]);
+    }
+    if (r == PB_OK) r = opt_color(R, p, "principled2", "baseColor", base);
+    if (r == PB_OK) r = opt_color(R, p, "principled2", "emissionColor", em);
+    if (r == PB_OK) r = opt_color(R, p, "principled2", "specularTint", b->specular_tint);
+    if (r == PB_OK) r = opt_color(R, p, "principled2", "coatTint", b->coat_tint);
+    if (r == PB_OK) r = opt_color(R, p, "principled2", "sheenTint", b->sheen_tint);
+    const pb_gltf_value *rv = pb_gltf_value_get(p, "subsurfaceRadius");
+    if (r == PB_OK && rv) {
+      if (rv->type != PB_GLTF_ARRAY || rv->count != 3)
+        return bad(R, "principled2.subsurfaceRadius", "%s, expected an array of 3 numbers",
+                   rv->type == PB_GLTF_ARRAY ? "an array of another length" : pb_gltf_value_type_name(rv));
+      for (int k = 0; k < 3 && r == PB_OK; ++k) {
+        char el[64];
+        snprintf(el, sizeof el, "principled2.subsurfaceRadius[%d]", k);
+        r = number_in(R, el, &rv->items[k], 0.0, FLT_MAX, &b->subsurface_radius[k]);
+      }
+    }
+    if (r == PB_OK) r = opt_enum(R, p, "principled2", "distribution", dists, 2, &dist);
+    if (r == PB_OK) r = opt_enum(R, p, "principled2", "subsurfaceMethod", ss_methods, 3, &ssm);
+    if (r != PB_OK) return r;
+  }
+  b->distribution = dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
+  b->subsurface_method = ssm == 1 ? PB_SUBSURFACE_RANDOM_WALK_FIXED_RADIUS
+                         : ssm == 2 ? PB_SUBSURFACE_BURLEY
+                                    : PB_SUBSURFACE_RANDOM_WALK_SKIN;
+  float strength = b->input[PB_IN_EMISSION_STRENGTH];
+  for (int k = 0; k < 3; ++k) {
+    m->base_color[k] = b->subsurface_color[k] = base[k];
+    m->emissive[k] = em[k] * strength;
+  }
+  if ((r = read_textures(R, ext, principled2_targets, m)) != PB_OK) return r;
+  if (m->emissive_tex >= 0) m->emissive[0] = m->emissive[1] = m->emissive[2] = strength;
+  b->subsurface_color_tex = m->base_color_tex;
+  if (b->input_tex[PB_IN_EMISSION_STRENGTH].tex >= 0 &&
+      (r = warn(R, "materials[%d]." EXT ".textures.emissionStrength: an Emission Strength texture is not rendered; "
+                   "the strength %g is used", R->index, strength)) != PB_OK)
+    return r;
+  m->base_color[3] = b->input[PB_IN_ALPHA];
+  m->metallic = b->input[PB_IN_METALLIC];
+  m->roughness = b->input[PB_IN_ROUGHNESS];
+  m->transmission = b->input[PB_IN_TRANSMISSION];
+  m->ior = b->input[PB_IN_IOR] >= 1.0f ? b->input[PB_IN_IOR] : 1.0f;
+  /* The v1 slots: Blender 3.4's nearest inputs, for code that renders the
+   * v1 closures (dielectric F0 = 0.08 Specular; Clearcoat is 4 x Coat, as
+   * Blender 4.0's versioning divides it by 4). */
+  float ior = b->input[PB_IN_IOR], f0 = f0_of_ior(ior >= 1.0f ? ior : 1.0f / fmaxf(ior, 1e-3f));
+  b->input[PB_IN_SPECULAR] = fminf(f0 * 2.0f * b->input[PB_IN_SPECULAR_IOR_LEVEL] / 0.08f, 12.5f);
+  b->input[PB_IN_SPECULAR_TINT] = 0.0f;
+  b->input[PB_IN_SHEEN] = b->input[PB_IN_SHEEN_WEIGHT];
+  b->input[PB_IN_SHEEN_TINT] = 0.0f;
+  b->input[PB_IN_CLEARCOAT] = fminf(4.0f * b->input[PB_IN_COAT_WEIGHT], 1.0f);
+  b->input[PB_IN_CLEARCOAT_ROUGHNESS] = b->input[PB_IN_COAT_ROUGHNESS];
+  b->input[PB_IN_TRANSMISSION_ROUGHNESS] = b->input[PB_IN_ROUGHNESS];
+  if ((b->input[PB_IN_SUBSURFACE] > 0.0f || b->input_tex[PB_IN_SUBSURFACE].tex >= 0) &&
+      (r = warn(R, "materials[%d]." EXT ".principled2.subsurfaceWeight: %g: approximated as diffuse (no subsurface "
+                   "scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
+    return r;
+  /* What the renderers do not do yet, said once per material. */
+  if ((b->input[PB_IN_THIN_FILM_THICKNESS] > 0.1f || b->input_tex[PB_IN_THIN_FILM_THICKNESS].tex >= 0) &&
+      (r = warn(R, "materials[%d]." EXT ".principled2.thinFilmThickness: %g nm: thin-film iridescence is not rendered",
+                R->index, b->input[PB_IN_THIN_FILM_THICKNESS])) != PB_OK)
+    return r;
+  if ((b->input[PB_IN_DIFFUSE_ROUGHNESS] > 1e-5f || b->input_tex[PB_IN_DIFFUSE_ROUGHNESS].tex >= 0) &&
+      (r = warn(R, "materials[%d]." EXT ".principled2.diffuseRoughness: %g: rendered as Lambert (no EON Oren-Nayar)",
+                R->index, b->input[PB_IN_DIFFUSE_ROUGHNESS])) != PB_OK)
+    return r;
+  if (b->coat_normal_tex >= 0 &&
+      (r = warn(R, "materials[%d]." EXT ".textures.coatNormal: the coat uses the surface's normal (no coat normal map)",
+                R->index)) != PB_OK)
     return r;
   return PB_OK;
 }
@@ -412,6 +576,26 @@ static pb_result read_emission(const reader *R, const pb_gltf_value *ext, pb_mat
   return PB_OK;
 }
 
+void pb_blender_material_defaults_v2(pb_material *m) {
+  pb_blender_material_defaults(m, PB_MODEL_PRINCIPLED);
+  pb_blender_material *b = &m->blender;
+  b->principled_v2 = 1;
+  for (int i = 0; i < PB_IN_COUNT; ++i) b->input[i] = 0.0f;
+  for (size_t i = 0; i < sizeof principled2_inputs / sizeof *principled2_inputs; ++i)
+    b->input[principled2_inputs[i].input] = principled2_inputs[i].dflt;
+  for (int k = 0; k < 3; ++k) {
+    m->base_color[k] = b->subsurface_color[k] = 0.8f;
+    b->specular_tint[k] = b->coat_tint[k] = b->sheen_tint[k] = 1.0f;
+  }
+  b->distribution = PB_DISTRIBUTION_MULTI_GGX;
+  b->subsurface_method = PB_SUBSURFACE_RANDOM_WALK_FIXED_RADIUS;
+  b->input[PB_IN_SPECULAR] = 0.5f; /* the v1 approximation of level 0.5 at IOR 1.5 */
+  b->input[PB_IN_CLEARCOAT_ROUGHNESS] = b->input[PB_IN_COAT_ROUGHNESS];
+  b->input[PB_IN_TRANSMISSION_ROUGHNESS] = b->input[PB_IN_ROUGHNESS];
+  m->roughness = b->input[PB_IN_ROUGHNESS];
+  m->ior = b->input[PB_IN_IOR];
+}
+
 void pb_blender_material_defaults(pb_material *m, pb_material_model model) {
   /* The extension replaces the plain glTF form: start from nothing. */
   pb_blender_material *b = &m->blender;
@@ -429,6 +613,9 @@ void pb_blender_material_defaults(pb_material *m, pb_material_model model) {
   b->model = model;
   b->subsurface_color_tex = PB_NO_TEXTURE;
   b->normal_strength = 1.0f;
+  b->specular_tint_tex = b->coat_tint_tex = b->sheen_tint_tex = b->coat_normal_tex = PB_NO_TEXTURE;
+  b->coat_normal_strength = 1.0f;
+  b->subsurface_radius[0] = 1.0f, b->subsurface_radius[1] = 0.2f, b->subsurface_radius[2] = 0.1f;
   for (int i = 0; i < PB_IN_COUNT; ++i) b->input_tex[i].tex = PB_NO_TEXTURE;
   switch (model) {
   case PB_MODEL_PRINCIPLED:
@@ -455,21 +642,40 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
   if (ext->type != PB_GLTF_OBJECT)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ": %s, expected an object", io->path, index,
                    pb_gltf_value_type_name(ext));
-  static const char *const models[] = {"principled", "diffuse", "emission", "holdout"};
+  /* Index 0..3: pb_material_model from PB_MODEL_PRINCIPLED; 4: Principled v2. */
+  static const char *const models[] = {"principled", "diffuse", "emission", "holdout", "principled2"};
   int model = -1;
-  pb_result r = opt_enum(&R, ext, "", "model", models, 4, &model);
+  pb_result r = opt_enum(&R, ext, "", "model", models, 5, &model);
   if (r != PB_OK) return r;
-  if (model < 0) return bad(&R, "model", "missing (required: principled, diffuse, emission or holdout)");
+  if (model < 0) return bad(&R, "model", "missing (required: principled, principled2, diffuse, emission or holdout)");
 
   pb_blender_material *b = &m->blender;
-  pb_blender_material_defaults(m, (pb_material_model)(PB_MODEL_PRINCIPLED + model));
+  int v2 = model == 4;
+  if (v2) {
+    pb_blender_material_defaults_v2(m);
+  } else {
+    pb_blender_material_defaults(m, (pb_material_model)(PB_MODEL_PRINCIPLED + model));
+  }
   switch (b->model) {
-  case PB_MODEL_PRINCIPLED: r = read_principled(&R, ext, m); break;
+  case PB_MODEL_PRINCIPLED: r = v2 ? read_principled2(&R, ext, m) : read_principled(&R, ext, m); break;
   case PB_MODEL_DIFFUSE: r = read_diffuse(&R, ext, m); break;
   case PB_MODEL_EMISSION: r = read_emission(&R, ext, m); break;
   default: break; /* holdout: nothing to read */
   }
   if (r != PB_OK) return r;
+  /* Cycles 3.5 made Smith masking-shadowing height-correlated for every GGX
+   * lobe; the root's "blender" (bpy.app.version_string, "4.5.1 LTS") says
+   * which Blender wrote the file. */
+  const pb_gltf_value *ver = io->root && io->root->type == PB_GLTF_OBJECT ? pb_gltf_value_get(io->root, "blender") : NULL;
+  if (ver) {
+    int major = 0, minor = 0;
+    if (ver->type != PB_GLTF_STRING || sscanf(ver->string, "%d.%d", &major, &minor) != 2)
+      return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.PHOTONBRIDGE_blender.blender: %s, expected Blender's version "
+                     "string (\"4.5.1\")", io->path, ver->type == PB_GLTF_STRING ? "not a version" : pb_gltf_value_type_name(ver));
+    b->g2_correlated = major > 3 || (major == 3 && minor >= 5);
+  } else {
+    b->g2_correlated = b->principled_v2; /* principled2 is Blender 4.0+ */
+  }
 
   /* "vertexColor": the input a Color Attribute node drives, its colour the
    * primitive's COLOR_0 (the writer puts the attribute there). */

@@ -23,11 +23,18 @@ typedef struct pb_blender_material_io {
   pb_result (*texture)(void *user, const pb_gltf_texture_ref *ref, int srgb, const char *where, int32_t *out);
   /* Adds a scene warning (one line, without the file name). */
   pb_result (*warn)(void *user, const char *line);
+  /* The root's extensions.PHOTONBRIDGE_blender (NULL: none): its "blender"
+   * version decides the Smith G2 of the GGX lobes (3.5+: height-correlated). */
+  const pb_gltf_value *root;
 } pb_blender_material_io;
 
 /* Sets m to a Blender shader of `model` with Blender 3.4's defaults (the
  * reader starts from these; code-built scenes and tests use them too). */
 void pb_blender_material_defaults(pb_material *m, pb_material_model model);
+
+/* Sets m to a Principled v2 BSDF (Blender 4.x) with a new node's defaults in
+ * Blender 4.5 (and the v1 slots' approximation of them). */
+void pb_blender_material_defaults_v2(pb_material *m);
 
 /* Fills m's Blender model from `ext` (the extension object of
  * materials[index]). Errors are one line "FILE: materials[i].extensions.

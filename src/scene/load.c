@@ -461,7 +461,7 @@ static pb_result convert_material(loader *L, int i, pb_material *m) {
     if (r != PB_OK) return r;
   }
   if (g->blender) {
-    pb_blender_material_io io = {L->path, L, blender_texture, blender_warn};
+    pb_blender_material_io io = {L->path, L, blender_texture, blender_warn, L->doc->blender};
     return pb_blender_material_read(&io, i, g->blender, m);
   }
   return PB_OK;

@@ -71,8 +71,24 @@ typedef enum pb_blender_input {
   PB_IN_METALLIC = 0, PB_IN_SPECULAR, PB_IN_SPECULAR_TINT, PB_IN_ROUGHNESS,
   PB_IN_ANISOTROPIC, PB_IN_ANISOTROPIC_ROTATION, PB_IN_SHEEN, PB_IN_SHEEN_TINT,
   PB_IN_CLEARCOAT, PB_IN_CLEARCOAT_ROUGHNESS, PB_IN_IOR, PB_IN_TRANSMISSION,
-  PB_IN_TRANSMISSION_ROUGHNESS, PB_IN_ALPHA, PB_IN_SUBSURFACE, PB_IN_COUNT
+  PB_IN_TRANSMISSION_ROUGHNESS, PB_IN_ALPHA, PB_IN_SUBSURFACE,
+  /* Principled v2 (Blender 4.0+, pb_blender_material.principled_v2) only;
+   * v2 also reads METALLIC, ROUGHNESS, ANISOTROPIC(_ROTATION), IOR,
+   * TRANSMISSION (Transmission Weight), ALPHA and SUBSURFACE (Subsurface
+   * Weight), whose meaning it keeps. */
+  PB_IN_SPECULAR_IOR_LEVEL, PB_IN_COAT_WEIGHT, PB_IN_COAT_ROUGHNESS, PB_IN_COAT_IOR,
+  PB_IN_SHEEN_WEIGHT, PB_IN_SHEEN_ROUGHNESS, PB_IN_SUBSURFACE_SCALE, PB_IN_SUBSURFACE_IOR,
+  PB_IN_SUBSURFACE_ANISOTROPY, PB_IN_THIN_FILM_THICKNESS, PB_IN_THIN_FILM_IOR, PB_IN_DIFFUSE_ROUGHNESS,
+  PB_IN_EMISSION_STRENGTH, PB_IN_COUNT
 } pb_blender_input;
+
+/* Subsurface method by what it does (Blender 3.4's RANDOM_WALK is 4.x's
+ * RANDOM_WALK_SKIN, 3.4's RANDOM_WALK_FIXED_RADIUS 4.x's RANDOM_WALK). */
+typedef enum pb_subsurface_method {
+  PB_SUBSURFACE_RANDOM_WALK_SKIN = 0, /* automatic radius */
+  PB_SUBSURFACE_RANDOM_WALK_FIXED_RADIUS = 1,
+  PB_SUBSURFACE_BURLEY = 2,
+} pb_subsurface_method;
 
 typedef enum pb_distribution {
   PB_DISTRIBUTION_GGX = 0,       /* single-scatter GGX (Blender 3.4's default) */
@@ -101,6 +117,24 @@ typedef struct pb_blender_material {
   float subsurface_color[3];     /* linear RGB */
   int32_t subsurface_color_tex;  /* sRGB texels unless Non-Color */
   float normal_strength;         /* Normal Map node strength (normal_tex) */
+  pb_subsurface_method subsurface_method;
+  /* Principled v2 (model "principled2" of the extension, Blender 4.0+):
+   * input[] then holds Blender 4.x's sockets in the slots named above, and
+   * the v1 slots (SPECULAR, SPECULAR_TINT, SHEEN, SHEEN_TINT, CLEARCOAT,
+   * CLEARCOAT_ROUGHNESS, TRANSMISSION_ROUGHNESS, subsurface_color) a
+   * Blender 3.4 approximation of them for code that only knows v1.
+   * emissive is Emission Color x Emission Strength (an emission texture:
+   * the Emission Color's, times the strength). */
+  int principled_v2;
+  /* Smith masking-shadowing of every GGX lobe: 1 height-correlated G2 =
+   * 1/(1 + L(wi) + L(wo)) (Cycles 3.5 and later), 0 separable G1 G1 (3.4).
+   * From the root's "blender" version; 0 without it. */
+  int g2_correlated;
+  float specular_tint[3], coat_tint[3], sheen_tint[3]; /* linear RGB */
+  int32_t specular_tint_tex, coat_tint_tex, sheen_tint_tex;
+  float subsurface_radius[3];    /* m, before Subsurface Scale */
+  int32_t coat_normal_tex;       /* Normal Map on Coat Normal (tangent space) */
+  float coat_normal_strength;
   /* The base colour (Principled Base Color, Diffuse Color) comes from a
    * Color Attribute node: the primitive's COLOR_0 RGB replaces the constant
    * and any texture, as a linked socket does in Cycles (extension member

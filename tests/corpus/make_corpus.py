@@ -590,7 +590,8 @@ def broken_cases(C, png):
 
     case("blender_not_object", EXIT_INVALID, X + ": a string, expected an object", blender("principled"))
     case("blender_model_missing", EXIT_INVALID, X + ".model: missing", blender({"principled": {}}))
-    case("blender_model_bogus", EXIT_INVALID, X + ".model: 'toon' is not principled, diffuse, emission or holdout",
+    case("blender_model_bogus", EXIT_INVALID,
+         X + ".model: 'toon' is not principled, diffuse, emission, holdout or principled2",
          blender({"model": "toon"}))
     case("blender_roughness_range", EXIT_INVALID, X + ".principled.roughness: 1.5 is outside [0, 1]",
          principled(roughness=1.5))
@@ -605,6 +606,48 @@ def broken_cases(C, png):
          principled(emissionStrength=-2))
     case("blender_distribution_bogus", EXIT_INVALID, X + ".principled.distribution: 'BECKMANN' is not GGX or MULTI_GGX",
          principled(distribution="BECKMANN"))
+    # Principled v2 (model "principled2", Blender 4.0+).
+    def principled2(**inputs):
+        return blender({"model": "principled2", "principled2": inputs})
+
+    case("blender2_not_object", EXIT_INVALID, X + ".principled2: an array, expected an object",
+         blender({"model": "principled2", "principled2": [1]}))
+    case("blender2_coat_weight_range", EXIT_INVALID, X + ".principled2.coatWeight: 1.5 is outside [0, 1]",
+         principled2(coatWeight=1.5))
+    case("blender2_coat_ior_below_1", EXIT_INVALID, X + ".principled2.coatIor: 0.5 is outside [1, 4]",
+         principled2(coatIor=0.5))
+    case("blender2_level_negative", EXIT_INVALID, X + ".principled2.specularIorLevel: -0.5 is outside",
+         principled2(specularIorLevel=-0.5))
+    case("blender2_level_string", EXIT_INVALID, X + ".principled2.specularIorLevel: a string, expected a number",
+         principled2(specularIorLevel="0.5"))
+    case("blender2_specular_tint_float", EXIT_INVALID,
+         X + ".principled2.specularTint: a number, expected an array of 3 or 4 numbers", principled2(specularTint=0.5))
+    case("blender2_sheen_tint_negative", EXIT_INVALID, X + ".principled2.sheenTint[2]: -1 is outside",
+         principled2(sheenTint=[1, 1, -1]))
+    case("blender2_emission_strength_negative", EXIT_INVALID,
+         X + ".principled2.emissionStrength: -1 is outside", principled2(emissionStrength=-1))
+    case("blender2_thin_film_negative", EXIT_INVALID, X + ".principled2.thinFilmThickness: -10 is outside",
+         principled2(thinFilmThickness=-10))
+    case("blender2_ss_anisotropy_range", EXIT_INVALID, X + ".principled2.subsurfaceAnisotropy: -2 is outside [-1, 1]",
+         principled2(subsurfaceAnisotropy=-2))
+    case("blender2_ss_radius_short", EXIT_INVALID,
+         X + ".principled2.subsurfaceRadius: an array of another length, expected an array of 3 numbers",
+         principled2(subsurfaceRadius=[1, 1]))
+    case("blender2_ss_radius_negative", EXIT_INVALID, X + ".principled2.subsurfaceRadius[0]: -1 is outside",
+         principled2(subsurfaceRadius=[-1, 1, 1]))
+    case("blender2_ss_method_4x_name", EXIT_INVALID,
+         X + ".principled2.subsurfaceMethod: 'RANDOM_WALK' is not RANDOM_WALK_SKIN, RANDOM_WALK_FIXED_RADIUS or "
+         "BURLEY", principled2(subsurfaceMethod="RANDOM_WALK"))
+    case("blender2_distribution_bogus", EXIT_INVALID,
+         X + ".principled2.distribution: 'SHARP' is not GGX or MULTI_GGX", principled2(distribution="SHARP"))
+    case("blender2_texture_tint_channel", EXIT_INVALID,
+         X + ".textures.coatTint: channel R on a colour input (only RGB)",
+         blender({"model": "principled2", "textures": {"coatTint": {"index": 0, "channel": "R"}}}))
+    case("blender2_texture_coat_normal_oob", EXIT_INVALID, X + ".textures.coatNormal.index: texture 9 does not exist",
+         blender({"model": "principled2", "textures": {"coatNormal": {"index": 9}}}))
+    case("blender2_vertex_color_input", EXIT_INVALID,
+         X + ".vertexColor: 'emissionColor': a colour attribute drives no such input of the principled2 model (only "
+         "'baseColor')", blender({"model": "principled2", "vertexColor": "emissionColor"}))
     case("blender_diffuse_roughness_range", EXIT_INVALID, X + ".diffuse.roughness: -1 is outside [0, 1]",
          blender({"model": "diffuse", "diffuse": {"roughness": -1}}))
     case("blender_emission_color_type", EXIT_INVALID, X + ".emission.color: an object, expected an array",
@@ -1242,6 +1285,29 @@ def valid_cases(C, png):
     d["materials"][1]["extensions"] = {"PHOTONBRIDGE_blender": {"model": "diffuse", "diffuse": {"roughness": 0.5}}}
     C.gltf(V, "blender_materials", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=the Blender writer says: Mix Shader"])
+    # Principled v2: every member, textures on its colour, scalar and coat
+    # normal inputs, the Blender version (G2) and the v1 subsurface names
+    # read version-neutrally (RANDOM_WALK_SKIN = 3.4's RANDOM_WALK).
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"].append("PHOTONBRIDGE_blender")
+    d["extensions"] = dict(d.get("extensions", {}), PHOTONBRIDGE_blender={"version": 1, "blender": "4.5.1 LTS"})
+    d["materials"][0]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "principled2", "principled2": {
+            "distribution": "MULTI_GGX", "subsurfaceMethod": "RANDOM_WALK_SKIN", "baseColor": [0.6, 0.3, 0.2, 1.0],
+            "metallic": 0.25, "roughness": 0.35, "ior": 1.62, "alpha": 0.9, "diffuseRoughness": 0.2,
+            "subsurfaceWeight": 0.0, "subsurfaceRadius": [0.5, 0.25, 0.125], "subsurfaceScale": 0.1,
+            "subsurfaceIor": 1.33, "subsurfaceAnisotropy": 0.4, "specularIorLevel": 0.3,
+            "specularTint": [0.9, 0.7, 0.5, 1.0], "anisotropic": 0.5, "anisotropicRotation": 0.125,
+            "transmissionWeight": 0.2, "coatWeight": 0.4, "coatRoughness": 0.15, "coatIor": 1.7,
+            "coatTint": [0.8, 0.9, 1.0, 1.0], "sheenWeight": 0.6, "sheenRoughness": 0.3,
+            "sheenTint": [1.0, 0.5, 0.8, 1.0], "emissionColor": [1.0, 0.5, 0.25, 1.0], "emissionStrength": 3.0,
+            "thinFilmThickness": 250.0, "thinFilmIor": 1.45},
+        "textures": {"coatTint": {"index": 0}, "coatWeight": {"index": 0, "channel": "R"},
+                     "coatNormal": {"index": 0, "strength": 0.5}}}}
+    d["materials"][1]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "principled", "principled": {"subsurfaceMethod": "RANDOM_WALK_SKIN"}}}
+    C.gltf(V, "blender_principled2", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, 'has="model": "principled2"'])
     # A Blender texture link is a glTF textureInfo: its uv set and
     # KHR_texture_transform go the glTF textures' way (a second pb_texture
     # for the transformed read of the same image).

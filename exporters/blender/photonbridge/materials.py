@@ -50,6 +50,56 @@ PRINCIPLED_INPUTS = [
 ]
 COLOR_INPUTS = {"baseColor", "subsurfaceColor", "emission"}
 
+# Principled BSDF v2 inputs (Blender 4.0+ socket names) -> the extension's
+# "principled2" members; each is read only where the node has the socket
+# (Thin Film from 4.2, Diffuse Roughness from 4.3).
+PRINCIPLED2_INPUTS = [
+    ("Base Color", "baseColor"), ("Metallic", "metallic"), ("Roughness", "roughness"), ("IOR", "ior"),
+    ("Alpha", "alpha"), ("Diffuse Roughness", "diffuseRoughness"), ("Subsurface Weight", "subsurfaceWeight"),
+    ("Subsurface Radius", "subsurfaceRadius"), ("Subsurface Scale", "subsurfaceScale"),
+    ("Subsurface IOR", "subsurfaceIor"), ("Subsurface Anisotropy", "subsurfaceAnisotropy"),
+    ("Specular IOR Level", "specularIorLevel"), ("Specular Tint", "specularTint"), ("Anisotropic", "anisotropic"),
+    ("Anisotropic Rotation", "anisotropicRotation"), ("Transmission Weight", "transmissionWeight"),
+    ("Coat Weight", "coatWeight"), ("Coat Roughness", "coatRoughness"), ("Coat IOR", "coatIor"),
+    ("Coat Tint", "coatTint"), ("Sheen Weight", "sheenWeight"), ("Sheen Roughness", "sheenRoughness"),
+    ("Sheen Tint", "sheenTint"), ("Emission Color", "emissionColor"), ("Emission Strength", "emissionStrength"),
+    ("Thin Film Thickness", "thinFilmThickness"), ("Thin Film IOR", "thinFilmIor"),
+]
+COLOR2_INPUTS = {"baseColor", "specularTint", "coatTint", "sheenTint", "emissionColor"}
+# Inputs a texture cannot drive in the extension (a vector): a link is a warning.
+UNTEXTURED2 = {"subsurfaceRadius"}
+BLENDER_COAT_ROUGHNESS = 0.03
+# Blender 4.x's Principled BSDF defaults (a new node in 4.5; the loader's too).
+PRINCIPLED2_DEFAULTS = {
+    "baseColor": [0.8, 0.8, 0.8, 1.0], "metallic": 0.0, "roughness": 0.5, "ior": 1.5, "alpha": 1.0,
+    "diffuseRoughness": 0.0, "subsurfaceWeight": 0.0, "subsurfaceRadius": [1.0, 0.2, 0.1], "subsurfaceScale": 0.05,
+    "subsurfaceIor": 1.4, "subsurfaceAnisotropy": 0.0, "specularIorLevel": 0.5, "specularTint": [1.0, 1.0, 1.0, 1.0],
+    "anisotropic": 0.0, "anisotropicRotation": 0.0, "transmissionWeight": 0.0, "coatWeight": 0.0,
+    "coatRoughness": 0.03, "coatIor": 1.5, "coatTint": [1.0, 1.0, 1.0, 1.0], "sheenWeight": 0.0,
+    "sheenRoughness": 0.5, "sheenTint": [1.0, 1.0, 1.0, 1.0], "emissionColor": [1.0, 1.0, 1.0, 1.0],
+    "emissionStrength": 0.0, "thinFilmThickness": 0.0, "thinFilmIor": 1.33,
+}
+
+# subsurface_method, version-neutral: Blender 3.4's RANDOM_WALK (automatic
+# radius) is 4.x's RANDOM_WALK_SKIN; 3.4's RANDOM_WALK_FIXED_RADIUS is 4.x's
+# RANDOM_WALK. The principled2 model names the method by what it does.
+SUBSURFACE_METHOD_V2 = {"BURLEY": "BURLEY", "RANDOM_WALK": "RANDOM_WALK_FIXED_RADIUS",
+                        "RANDOM_WALK_SKIN": "RANDOM_WALK_SKIN"}
+
+
+def is_principled_v2(node):
+    """A Principled BSDF of Blender 4.0 or later (Principled v2)."""
+    return "Specular IOR Level" in node.inputs
+
+
+def _blender_4():
+    """Does the running Blender have Principled v2 (4.0 or later)?"""
+    try:
+        import bpy
+        return bpy.app.version >= (4, 0, 0)
+    except (ImportError, AttributeError):
+        return False
+
 # glTF sampler constants.
 NEAREST, LINEAR, LINEAR_MIPMAP_LINEAR = 9728, 9729, 9987
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
@@ -313,7 +363,7 @@ class MaterialWriter:
         self._vcol = None
         gm, ext = self._translate(mat, holdout)
         if self._vcol is not None:
-            ext["vertexColor"] = "baseColor" if ext.get("model") == "principled" else "color"
+            ext["vertexColor"] = "baseColor" if ext.get("model") in ("principled", "principled2") else "color"
         if self._mat_warnings:
             ext["warnings"] = self._mat_warnings
         gm["name"] = mat.name if mat else "default"
@@ -367,7 +417,7 @@ class MaterialWriter:
             return self._principled_defaults(alpha=0.0)
         if extra["alpha"] != 1.0 or extra["alpha_link"] is not None or extra["emission"] is not None:
             if node is not None and node.type == 'BSDF_PRINCIPLED':
-                return self._principled(node, extra)
+                return self._principled2(node, extra) if is_principled_v2(node) else self._principled(node, extra)
             self._warn_node(node if node is not None else out,
                             "a Transparent or Emission shader mixed or added to it is written only with a "
                             "Principled BSDF; left out")
@@ -375,7 +425,7 @@ class MaterialWriter:
             self.warn_material("nothing is connected to the Material Output's Surface; written as black")
             gm, ext = self._black_diffuse()
         elif node.type == 'BSDF_PRINCIPLED':
-            gm, ext = self._principled(node)
+            gm, ext = self._principled2(node) if is_principled_v2(node) else self._principled(node)
         elif node.type == 'BSDF_DIFFUSE':
             gm, ext = self._diffuse(node)
         elif node.type == 'EMISSION':
@@ -466,6 +516,11 @@ class MaterialWriter:
                 "extensions": {"KHR_materials_specular": {"specularColorFactor": [0.0, 0.0, 0.0]}}}
 
     def _principled_defaults(self, alpha=1.0):
+        if _blender_4():
+            # Blender 4.x's Principled BSDF at its defaults (v2).
+            p = {"alpha": alpha}
+            return self._principled2_plain(dict(PRINCIPLED2_DEFAULTS, alpha=alpha), {}), \
+                {"model": "principled2", "principled2": p}
         p = {"baseColor": [0.8, 0.8, 0.8, 1.0], "metallic": 0.0, "roughness": 0.5, "specular": BLENDER_SPECULAR,
              "specularTint": 0.0, "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1],
              "emissionStrength": 1.0, "alpha": alpha}
@@ -535,6 +590,145 @@ class MaterialWriter:
             ext["textures"] = textures
         return self._principled_plain(p, tex_index), ext
 
+    def _principled2(self, node, extra=None):
+        """A Principled BSDF v2 (Blender 4.0+): every input the node has, as
+        the extension's "principled2" model, and its plain glTF per Blender
+        4.5's exporter."""
+        p, links = {}, {}
+        for sock_name, member in PRINCIPLED2_INPUTS:
+            sock = node.inputs.get(sock_name)
+            if sock is None:
+                continue
+            p[member] = _value(sock)
+            if member == "baseColor":
+                vcol = self._vertex_color_link(sock)
+                if vcol is not None:
+                    self._vcol = vcol
+                    p[member] = [1.0, 1.0, 1.0, 1.0]
+                    continue
+            if member in UNTEXTURED2:
+                src = _source(sock)
+                if src is not None:
+                    self._warn_node(src.node, "drives %s and is not translated; its value %s is written"
+                                    % (sock_name, _fmt(p[member])))
+                continue
+            link = self._texture_link(sock, sock_name)
+            if link is not None:
+                links[member] = link
+        if extra is not None:
+            if extra["alpha_link"] is not None:
+                if "alpha" in links or p.get("alpha", 1.0) < 1.0:
+                    self._warn_node(node, "its own Alpha and a mixed-in Transparent BSDF's Fac: the Fac is written")
+                links["alpha"] = extra["alpha_link"]
+                p["alpha"] = 1.0
+            if extra["alpha"] != 1.0:
+                if "alpha" in links:
+                    self._warn_node(node, "a textured Alpha mixed with a Transparent BSDF: the factor %s is "
+                                    "not applied" % _fmt(extra["alpha"]))
+                else:
+                    p["alpha"] = p.get("alpha", 1.0) * extra["alpha"]
+            if extra["emission"] is not None:
+                color, strength = extra["emission"]
+                own = max(p.get("emissionColor", [1.0] * 3)[:3]) * p.get("emissionStrength", 0.0)
+                if "emissionColor" in links or "emissionStrength" in links or own > 0:
+                    self._warn_node(node, "its own Emission and an added Emission shader: the added one is written")
+                    links.pop("emissionColor", None)
+                    links.pop("emissionStrength", None)
+                p["emissionColor"], p["emissionStrength"] = list(color), strength
+        p["distribution"] = node.distribution
+        method = SUBSURFACE_METHOD_V2.get(node.subsurface_method)
+        if method is None:
+            self._warn_node(node, "subsurface method %s is written as RANDOM_WALK_SKIN" % node.subsurface_method)
+            method = "RANDOM_WALK_SKIN"
+        p["subsurfaceMethod"] = method
+        s = node.inputs.get("Tangent")
+        if s is not None and _source(s) is not None:
+            self._warn_node(_source(s).node, "drives Tangent and is not translated")
+        textures, tex_index = {}, {}
+        for member, link in links.items():
+            entry, index = self._texture_entry(link, member in COLOR2_INPUTS)
+            if entry is not None:
+                textures[member] = entry
+                tex_index[member] = (index, link)
+        for sock_name, member in (("Normal", "normal"), ("Coat Normal", "coatNormal")):
+            s = node.inputs.get(sock_name)
+            nl = self._normal_link(s) if s is not None else None
+            if nl is not None:
+                img_node, strength = nl
+                entry, index = self._texture_entry((img_node, "RGB"), False)
+                if entry is not None:
+                    entry.pop("channel", None)
+                    entry["strength"] = strength
+                    textures[member] = entry
+                    tex_index[member] = (index, nl)
+        ext = {"model": "principled2", "principled2": p}
+        if textures:
+            ext["textures"] = textures
+        return self._principled2_plain(dict(PRINCIPLED2_DEFAULTS, **p), tex_index), ext
+
+    def _principled2_plain(self, p, tex):
+        """The glTF of Principled v2 values p (every member, defaults filled
+        in) and textures tex, per Blender 4.5's exporter
+        (io_scene_gltf2/blender/exp/material/extensions/*.py): the core as
+        for v1; KHR_materials_specular specularFactor = 2 x Specular IOR
+        Level when below 1, specularColorFactor = Specular Tint (x 2 x
+        level when that is above 1) when not white; KHR_materials_ior with
+        either; KHR_materials_sheen (Sheen Tint, Sheen Roughness) when Sheen
+        Weight > 0; KHR_materials_clearcoat (Coat Weight, Coat Roughness,
+        Coat Normal). Blender 4.5 writes no KHR_materials_iridescence, and
+        neither does this."""
+        v1 = {"baseColor": p["baseColor"], "alpha": p["alpha"], "metallic": p["metallic"],
+              "roughness": p["roughness"], "emission": p["emissionColor"],
+              "emissionStrength": p["emissionStrength"], "transmission": p["transmissionWeight"],
+              "ior": p["ior"]}
+        t1 = {{"emissionColor": "emission", "transmissionWeight": "transmission"}.get(k, k): v for k, v in tex.items()}
+        gm = self._principled_plain(v1, t1, specular=False)
+        exts = gm.setdefault("extensions", {})
+        spec = {}
+        fac = None
+        if "specularIorLevel" not in tex:
+            fac = 2.0 * float(p["specularIorLevel"])
+            if fac < 1.0:
+                spec["specularFactor"] = fac
+        if "specularTint" not in tex:
+            color = [float(c) for c in p["specularTint"][:3]]
+            if fac is not None and fac > 1.0:
+                color = [c * fac for c in color]
+            if color != [1.0, 1.0, 1.0]:
+                spec["specularColorFactor"] = color
+        if spec:
+            exts["KHR_materials_specular"] = spec
+        ior = float(p["ior"])
+        if ior != GLTF_IOR and ("KHR_materials_transmission" in exts or "KHR_materials_specular" in exts):
+            exts["KHR_materials_ior"] = {"ior": ior}
+        if "sheenWeight" in tex or float(p["sheenWeight"]) != 0.0:
+            sheen = {}
+            tint = [float(c) for c in p["sheenTint"][:3]] if "sheenTint" not in tex else [1.0, 1.0, 1.0]
+            if tint != [0.0, 0.0, 0.0]:
+                sheen["sheenColorFactor"] = tint
+            rough = float(p["sheenRoughness"]) if "sheenRoughness" not in tex else 1.0
+            if rough != 0.0:
+                sheen["sheenRoughnessFactor"] = rough
+            if sheen:  # Blender's exporter leaves an empty extension out
+                exts["KHR_materials_sheen"] = sheen
+        coat = {}
+        if "coatWeight" in tex:
+            coat["clearcoatFactor"] = 1.0
+        elif float(p["coatWeight"]) != 0.0:
+            coat["clearcoatFactor"] = float(p["coatWeight"])
+        if "coatRoughness" in tex:
+            coat["clearcoatRoughnessFactor"] = 1.0
+        elif abs(float(p["coatRoughness"]) - BLENDER_COAT_ROUGHNESS) > 1e-5:
+            coat["clearcoatRoughnessFactor"] = float(p["coatRoughness"])
+        if "coatNormal" in tex:
+            coat["clearcoatNormalTexture"] = self._texture_info(tex["coatNormal"][0], tex["coatNormal"][1][0],
+                                                                scale=tex["coatNormal"][1][1])
+        if coat:
+            exts["KHR_materials_clearcoat"] = coat
+        if not exts:
+            del gm["extensions"]
+        return gm
+
     def _normal_link(self, socket):
         src = _source(socket)
         if src is None:
@@ -558,7 +752,7 @@ class MaterialWriter:
         self._warn_node(node, "drives Normal and is not translated (Normal Map nodes only)")
         return None
 
-    def _principled_plain(self, p, tex):
+    def _principled_plain(self, p, tex, specular=True):
         """The glTF of Principled values p and textures tex (member -> (index,
         link)), per Blender 3.4's exporter."""
         pbr = {}
@@ -601,6 +795,10 @@ class MaterialWriter:
             self.warn_material("Transmission texture: only the factor is written in plain glTF")
         elif transmission > 0.0:
             exts["KHR_materials_transmission"] = {"transmissionFactor": transmission}
+        if not specular:  # Principled v2: _principled2_plain adds its own
+            if exts:
+                gm["extensions"] = exts
+            return gm
         spec, tint, ior = float(p["specular"]), float(p["specularTint"]), float(p["ior"])
         if not any(k in tex for k in ("specular", "specularTint", "transmission")) and \
                 (spec != BLENDER_SPECULAR or tint != 0.0):

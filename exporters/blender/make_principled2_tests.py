@@ -1,0 +1,163 @@
+"""The Principled BSDF v2 (Blender 4.x) test scenes and their Cycles 4.x references.
+
+    python exporters/blender/make_principled2_tests.py --out tests/data/principled2 \
+        [--only NAME] [--samples 2048] [--no-render]          (bpy 4.x as a module, e.g. tools/bpy45)
+
+The scenes of make_principled_tests.py (one material on a smooth UV sphere,
+radius 1 m, 64 x 32 segments, one 500 W point light of radius 0, a black
+world, a 50 mm camera 4 m away, 64 x 64 pixels), each with one Principled v2
+lobe alone on constant inputs: Lambert diffuse; the dielectric specular of a
+black base at three roughnesses, GGX and Multiscatter GGX, with a Specular
+IOR Level and a coloured Specular Tint; F82-tint metal (GGX and
+Multiscatter); an anisotropic metal; rough glass in front of an emissive
+card (GGX and Multiscatter); a tinted coat over a black base; microfiber
+sheen lit from behind; emission under a coat and sheen. Each NAME gets
+
+  OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
+                              (photonbridge/writer.py: model principled2);
+  OUT/NAME/cycles.exr         Cycles (CPU) of this Blender, 32-bit float RGB,
+                              box filter of width 1, no denoising, no
+                              clamping, seed 0 (validation/run_cycles.py);
+
+and OUT/cycles.json records Blender's version, the samples, the settings and
+Cycles' own noise (two more renders of half the samples, seeds 1 and 2)."""
+import argparse
+import importlib.util
+import json
+import os
+import sys
+import time
+
+import bpy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+
+
+def load(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+samples = load("pb_make_samples", os.path.join(HERE, "make_samples.py"))
+cycles = load("pb_run_cycles", os.path.join(ROOT, "validation", "run_cycles.py"))
+v1 = load("pb_make_principled_tests", os.path.join(HERE, "make_principled_tests.py"))
+from photonbridge import writer  # noqa: E402
+
+WIDTH = 64
+LIGHT_W = 500.0
+# Nothing but the lobe under test: black base (no diffuse), Specular IOR
+# Level 0 (no dielectric specular: eta 1).
+ISOLATED = {"Base Color": (0.0, 0.0, 0.0, 1.0), "Specular IOR Level": 0.0}
+COPPER = (0.95, 0.64, 0.54, 1.0)
+
+CASES = {
+    "diffuse": {"Base Color": (0.8, 0.45, 0.2, 1.0), "Specular IOR Level": 0.0},
+    "specular_ggx_r02": dict(ISOLATED, **{"Specular IOR Level": 0.5, "Roughness": 0.2, "_distribution": "GGX"}),
+    "specular_ggx_r05": dict(ISOLATED, **{"Specular IOR Level": 0.8, "Roughness": 0.5, "IOR": 1.6,
+                                          "_distribution": "GGX"}),
+    "specular_multi_r05": dict(ISOLATED, **{"Specular IOR Level": 0.8, "Roughness": 0.5, "IOR": 1.6}),
+    "specular_multi_r09": dict(ISOLATED, **{"Specular IOR Level": 1.0, "Roughness": 0.9,
+                                            "Specular Tint": (1.0, 0.6, 0.3, 1.0)}),
+    "metal_ggx": {"Base Color": COPPER, "Metallic": 1.0, "Roughness": 0.4, "_distribution": "GGX"},
+    "metal_multi": {"Base Color": COPPER, "Metallic": 1.0, "Roughness": 0.8, "Specular Tint": (0.9, 0.7, 0.6, 1.0)},
+    "metal_aniso": {"Base Color": (0.9, 0.9, 0.9, 1.0), "Metallic": 1.0, "Roughness": 0.35, "Anisotropic": 0.8,
+                    "Anisotropic Rotation": 0.1},
+    "glass_ggx": {"Base Color": (1.0, 0.9, 0.7, 1.0), "Transmission Weight": 1.0, "Roughness": 0.3, "IOR": 1.45,
+                  "_distribution": "GGX", "_card": True},
+    "glass_multi": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission Weight": 1.0, "Roughness": 0.5,
+                    "IOR": 1.45, "_card": True},
+    "coat": dict(ISOLATED, **{"Coat Weight": 1.0, "Coat Roughness": 0.2, "Coat IOR": 1.6,
+                              "Coat Tint": (0.8, 0.9, 1.0, 1.0)}),
+    "coat_diffuse": {"Base Color": (0.2, 0.5, 0.8, 1.0), "Coat Weight": 0.7, "Coat Roughness": 0.1,
+                     "Coat Tint": (1.0, 0.7, 0.5, 1.0), "Specular IOR Level": 0.0},
+    "sheen": dict(ISOLATED, **{"Sheen Weight": 1.0, "Sheen Roughness": 0.5, "Sheen Tint": (1.0, 0.8, 0.6, 1.0)}),
+    "sheen_diffuse": {"Base Color": (0.3, 0.3, 0.6, 1.0), "Sheen Weight": 0.8, "Sheen Roughness": 0.3,
+                      "Specular IOR Level": 0.0, "_back_light": False},
+    "emission_coat": dict(ISOLATED, **{"Emission Color": (1.0, 0.5, 0.25, 1.0), "Emission Strength": 2.0,
+                                       "Coat Weight": 1.0, "Coat Roughness": 0.05, "Coat Tint": (0.5, 1.0, 1.0, 1.0),
+                                       "Sheen Weight": 0.5}),
+    "default": {},
+}
+BACK_LIGHT = ("sheen",)
+
+
+def build(name, inputs):
+    sc = samples.reset_scene(WIDTH, WIDTH)
+    v1.world_black(sc)
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    p = mat.node_tree.nodes["Principled BSDF"]
+    for k, v in inputs.items():
+        if not k.startswith("_"):
+            p.inputs[k].default_value = v
+    p.distribution = inputs.get("_distribution", "MULTI_GGX")
+    b = samples.MeshBuilder()
+    samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
+    samples.mesh_object("Sphere", b, [mat])
+    if inputs.get("_card"):
+        card = samples.MeshBuilder()
+        card.face([(-2.5, 3.0, -2.5), (2.5, 3.0, -2.5), (2.5, 3.0, 2.5), (-2.5, 3.0, 2.5)], normal=(0.0, -1.0, 0.0))
+        samples.mesh_object("Card", card, [v1.emission_material("Card", 2.0)])
+    samples.add_point_light("Light", (3.0, 3.0, 0.5) if name in BACK_LIGHT else (-2.0, -3.0, 3.0), LIGHT_W)
+    samples.add_camera((0.0, -4.0, 0.0), (0.0, 0.0, 0.0), 50.0)
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(prog="make_principled2_tests.py")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--only", choices=sorted(CASES), action="append")
+    ap.add_argument("--samples", type=int, default=2048, help="Cycles samples of the committed image")
+    ap.add_argument("--no-render", action="store_true", help="write the glTF only")
+    args = ap.parse_args(argv)
+    out = os.path.abspath(args.out)
+    report_path = os.path.join(out, "cycles.json")
+    report = {}
+    if os.path.exists(report_path):
+        with open(report_path) as f:
+            report = json.load(f)
+    for name in CASES:
+        if args.only and name not in args.only:
+            continue
+        d = os.path.join(out, name)
+        os.makedirs(d, exist_ok=True)
+        build(name, CASES[name])
+        path = os.path.join(d, name + ".gltf")
+        writer.write_gltf(bpy.context.evaluated_depsgraph_get(), path)
+        print("make_principled2_tests: %s: %s" % (name, path))
+        if args.no_render:
+            continue
+        sc = bpy.context.scene
+        half = max(1, args.samples // 2)
+        t0 = time.time()
+        v1.render(sc, os.path.join(d, "cycles.exr"), 2 * half, 0)
+        dt = time.time() - t0
+        halves = []
+        for seed in (1, 2):
+            tmp = os.path.join(d, "half%d.exr" % seed)
+            v1.render(sc, tmp, half, seed)
+            halves.append(v1.read_exr_rgb(tmp))
+            os.remove(tmp)
+        (w, h, a), (_, _, b) = halves
+        ma = sum(sum(px) for px in a) / (3 * len(a))
+        mb = sum(sum(px) for px in b) / (3 * len(b))
+        halves_psnr = v1.psnr_srgb(a, b)
+        report[name] = {"blender": bpy.app.version_string, "samples": 2 * half, "width": w, "height": h,
+                        "render_s": round(dt, 2), "pixel_filter": "BOX 1.0", "device": "CPU", "bounces": 64,
+                        "denoising": False, "clamp": 0, "seed": 0,
+                        "halves_psnr_db": round(halves_psnr, 2),
+                        "noise_psnr_db": round(halves_psnr + 6.02, 2),
+                        "halves_mean_diff": round((ma - mb) / max(0.5 * (ma + mb), 1e-12), 5)}
+        print("make_principled2_tests: %s: Cycles %d spp in %.1f s; noise %.2f dB" % (
+            name, 2 * half, dt, halves_psnr + 6.02))
+        with open(report_path, "w") as f:
+            json.dump(report, f, indent=1, sort_keys=True)
+            f.write("\n")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
