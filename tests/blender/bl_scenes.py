@@ -93,6 +93,23 @@ import sys
 
 import bpy
 
+# Principled BSDF socket names: Blender 4.0 renamed them (the values mean
+# what 3.4's did: the versioning copies them unchanged).
+SPECULAR = "Specular" if bpy.app.version < (4, 0, 0) else "Specular IOR Level"
+EMISSION = "Emission" if bpy.app.version < (4, 0, 0) else "Emission Color"
+
+
+def group_socket(tree, in_out, socket_type, name):
+    """A node group's input or output socket: tree.interface from 4.0 on,
+    tree.inputs/outputs before."""
+    if hasattr(tree, "interface"):
+        sub = {"NodeSocketFloatFactor": ("NodeSocketFloat", "FACTOR")}.get(socket_type)
+        sock = tree.interface.new_socket(name, in_out=in_out, socket_type=sub[0] if sub else socket_type)
+        if sub:
+            sock.subtype = sub[1]
+        return sock
+    return (tree.inputs if in_out == 'INPUT' else tree.outputs).new(socket_type, name)
+
 out = sys.argv[sys.argv.index("--") + 1]
 os.makedirs(out, exist_ok=True)
 
@@ -128,7 +145,7 @@ def material(name, rgb):
     m.use_nodes = True
     b = m.node_tree.nodes["Principled BSDF"]
     b.inputs["Base Color"].default_value = (*rgb, 1)
-    b.inputs["Specular"].default_value = 0.0
+    b.inputs[SPECULAR].default_value = 0.0
     b.inputs["Roughness"].default_value = 1.0
     return m
 
@@ -241,8 +258,8 @@ for i, x in enumerate((-2.0, 0.0, 2.0)):
 pts = mesh("Points", [(-1.5, -1.5, 0), (1.5, -1.5, 0), (-1.5, -2.5, 0), (1.5, -2.5, 0)], [])
 gn = pts.modifiers.new("Scatter", 'NODES')
 tree = bpy.data.node_groups.new("Scatter", 'GeometryNodeTree')
-tree.inputs.new('NodeSocketGeometry', "Geometry")
-tree.outputs.new('NodeSocketGeometry', "Geometry")
+group_socket(tree, 'INPUT', 'NodeSocketGeometry', "Geometry")
+group_socket(tree, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
 gin, gout = tree.nodes.new("NodeGroupInput"), tree.nodes.new("NodeGroupOutput")
 inst = tree.nodes.new("GeometryNodeInstanceOnPoints")
 info = tree.nodes.new("GeometryNodeObjectInfo")
@@ -293,12 +310,12 @@ vcolor_scene(False)
 
 def pbr_group():
     g = bpy.data.node_groups.new("PBR", 'ShaderNodeTree')
-    g.inputs.new('NodeSocketColor', "Color")
-    g.inputs.new('NodeSocketFloatFactor', "Rough")
-    g.outputs.new('NodeSocketShader', "BSDF")
+    group_socket(g, 'INPUT', 'NodeSocketColor', "Color")
+    group_socket(g, 'INPUT', 'NodeSocketFloatFactor', "Rough")
+    group_socket(g, 'OUTPUT', 'NodeSocketShader', "BSDF")
     gi, go = g.nodes.new("NodeGroupInput"), g.nodes.new("NodeGroupOutput")
     b = g.nodes.new("ShaderNodeBsdfPrincipled")
-    b.inputs["Specular"].default_value = 0.3
+    b.inputs[SPECULAR].default_value = 0.3
     g.links.new(gi.outputs["Color"], b.inputs["Base Color"])
     g.links.new(gi.outputs["Rough"], b.inputs["Roughness"])
     g.links.new(b.outputs[0], go.inputs["BSDF"])
@@ -313,8 +330,8 @@ def grouped(name, color, rough, nested):
     pbr = bpy.data.node_groups.get("PBR") or pbr_group()
     if nested:
         w = bpy.data.node_groups.new("Wrap", 'ShaderNodeTree')
-        w.inputs.new('NodeSocketColor', "Tint")
-        w.outputs.new('NodeSocketShader', "Shader")
+        group_socket(w, 'INPUT', 'NodeSocketColor', "Tint")
+        group_socket(w, 'OUTPUT', 'NodeSocketShader', "Shader")
         wi, wo = w.nodes.new("NodeGroupInput"), w.nodes.new("NodeGroupOutput")
         inner = w.nodes.new("ShaderNodeGroup")
         inner.node_tree = pbr
@@ -343,7 +360,7 @@ def plain(name, color, rough):
     b = m.node_tree.nodes["Principled BSDF"]
     b.inputs["Base Color"].default_value = (*color, 1)
     b.inputs["Roughness"].default_value = rough
-    b.inputs["Specular"].default_value = 0.3
+    b.inputs[SPECULAR].default_value = 0.3
     return m
 
 
@@ -410,7 +427,7 @@ def mix_scene(ref):
     box("Leaf", (1.2, 0, 0.5), 0.5, m)
     m, nt, b = bsdf("Glow", (0.5, 0.5, 0.5))
     if ref:
-        b.inputs["Emission"].default_value = (1.0, 0.5, 0.1, 1)
+        b.inputs[EMISSION].default_value = (1.0, 0.5, 0.1, 1)
         b.inputs["Emission Strength"].default_value = 2.0
     else:
         around(nt, b, "add")
@@ -573,9 +590,10 @@ def cam_pano_scene(name, kind, **params):
     sc.render.resolution_x, sc.render.resolution_y = 64, 32 if kind == 'EQUIRECTANGULAR' else 48
     cd = bpy.data.cameras.new("Cam")
     cd.type = 'PANO'
-    cd.cycles.panorama_type = kind
+    pano = cd if hasattr(cd, "panorama_type") else cd.cycles  # on the camera since 3.3; 4.x has only that
+    pano.panorama_type = kind
     for k, v in params.items():
-        setattr(cd.cycles, k, v)
+        setattr(pano, k, v)
     ob = bpy.data.objects.new("Cam", cd)
     ob.location = (0, 0, 1)
     ob.rotation_euler = (1.5707963, 0, -1.5707963)  # pointing along +X: the manual's match with the world map
@@ -606,7 +624,7 @@ def floattex_scene(ref):
     m = material("Glow", (0.0, 0.0, 0.0))
     b = m.node_tree.nodes["Principled BSDF"]
     if ref:
-        b.inputs["Emission"].default_value = (1.0, 0.5, 0.25, 1.0)
+        b.inputs[EMISSION].default_value = (1.0, 0.5, 0.25, 1.0)
         b.inputs["Emission Strength"].default_value = 4.0
     else:
         img = bpy.data.images.new("Glow", 4, 4, float_buffer=True)
@@ -614,7 +632,7 @@ def floattex_scene(ref):
         img.pack()
         t = m.node_tree.nodes.new("ShaderNodeTexImage")
         t.image = img
-        m.node_tree.links.new(t.outputs["Color"], b.inputs["Emission"])
+        m.node_tree.links.new(t.outputs["Color"], b.inputs[EMISSION])
         b.inputs["Emission Strength"].default_value = 1.0
     box("Glow", (-1.2, 0, 0.5), 0.5, m)
     m2 = material("Paint", (0.5, 0.25, 0.125))

@@ -470,6 +470,8 @@ def part_cancel():
     proc.send_signal(signal.SIGINT)  # Blender's Ctrl-C: test_break() turns true
     ended, out, secs = finish(proc, lines)
     check(ended, "Blender returned %.1f s after Ctrl-C" % secs)
+    check(proc.returncode is not None and proc.returncode >= 0,
+          "Blender exited by itself (status %s), not by a signal" % proc.returncode)
     time.sleep(0.5)
     check(child is not None and not alive(child), "no photonbridge process left")
     check(not os.listdir(d), "no output written (%s)" % os.listdir(d))

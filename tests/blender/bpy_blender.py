@@ -119,8 +119,24 @@ def render(bpy, **kw):
         print(str(e).strip(), flush=True)
 
 
+def remove_session_tempdir():
+    """Blender's own session folder (TMPDIR/blender_XXXXXX), which the
+    blender binary removes on exit and os._exit below would leave."""
+    try:
+        import bpy
+        import shutil
+        d = bpy.app.tempdir
+        if d and os.path.basename(os.path.normpath(d)).startswith("blender_"):
+            shutil.rmtree(d, ignore_errors=True)
+    except Exception:
+        pass
+
+
 if __name__ == "__main__":
-    rc = main(sys.argv[1:])
+    try:
+        rc = main(sys.argv[1:])
+    finally:
+        remove_session_tempdir()
     sys.stdout.flush()
     sys.stderr.flush()
     # The module's interpreter shutdown can outlive a render's threads;

@@ -85,6 +85,13 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         self.exe = None
         self.viewport = None     # viewport.Viewport, made by the first view_update
 
+    def _remove_handoff(self):
+        """The hand-off folder now, not when the engine is freed (a
+        sequence keeps its own)."""
+        h = self.handoff
+        if h and not h.get("sequence"):
+            shutil.rmtree(h["folder"], ignore_errors=True)
+
     def free(self):
         """The engine goes (Blender frees it when the viewport leaves
         RENDERED shading, the area closes or the file changes): its serve
@@ -223,9 +230,24 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
                     return
                 time.sleep(POLL_S)
             rc = run.finish()
+        except KeyboardInterrupt:
+            # Ctrl-C where Python owns SIGINT (Blender as a Python module,
+            # whose test_break() nothing sets): a cancel, as Esc is in
+            # Blender. Raised on into Blender's render callback it crashed
+            # the module (SIGSEGV).
+            # Reported as an error: with nothing setting Blender's break
+            # flag, a silently cancelled result is still saved, and Blender
+            # 4.5's module crashes writing it (measured: SIGSEGV in
+            # render.render(write_still=True)).
+            rc = run.cancel()
+            self.end_result(result, cancel=True)
+            self._remove_handoff()
+            self._fail("photonbridge: cancelled (Ctrl-C; exit %d)" % rc)
+            return
         except BaseException:
             run.cancel()
             self.end_result(result, cancel=True)
+            self._remove_handoff()
             raise
         for m in run.warnings():
             self.report({'WARNING'}, m)
