@@ -53,7 +53,7 @@ set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 60
 # the loader.
 set(PB_BPY4_PYTHON "${PB_ROOT}/tools/bpy45/bin/python" CACHE FILEPATH "Python with bpy 4.x (Blender as a module)")
 add_test(NAME principled2_writer
-         COMMAND sh -c "[ -x \"$0\" ] || { echo 'skip: no bpy 4.x'; exit 77; }; \"$0\" tests/blender/principled2_writer.py \"$1\" \"$2\""
+         COMMAND sh -c "[ -x \"$0\" ] || { echo 'FAIL Blender 4.5 (bpy) missing: run scripts/install-deps.sh'; exit 1; }; \"$0\" tests/blender/principled2_writer.py \"$1\" \"$2\""
                  ${PB_BPY4_PYTHON} ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled2_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled2_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
