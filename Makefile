@@ -142,3 +142,4 @@ bench-principled: install-deps $(BUILD)/Makefile
 .PHONY: bench-blender
 bench-blender: bench-build
 	$(BENCH_PYTHON) bench/blender_handoff.py $(BUILD)/photonbridge
+	$(BENCH_PYTHON) bench/blender_handoff.py $(BUILD)/photonbridge --bpy tools/bpy45/bin/python

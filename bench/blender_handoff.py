@@ -53,13 +53,68 @@ def env():
     return e
 
 
-def blender(args, extra_env=None):
+def blender(args, extra_env=None, bpy_python=None):
+    """Debian's blender, or with bpy_python Blender as a Python module through
+    tests/blender/bpy_blender.py (the same command line)."""
     e = env()
     if extra_env:
         e.update(extra_env)
+    cmd = [bpy_python, os.path.join(ROOT, "tests", "blender", "bpy_blender.py")] if bpy_python else ["blender"]
     t0 = time.perf_counter()
-    p = subprocess.run(["blender", "-b", "--factory-startup"] + args, capture_output=True, text=True, env=e)
+    p = subprocess.run(cmd + ["-b", "--factory-startup"] + args, capture_output=True, text=True, env=e)
     return p, time.perf_counter() - t0
+
+
+def writer_time(blend, work, tag, bpy_python=None, runs=3):
+    """(triangles, seconds of the add-on's writer alone: the median of runs)
+    in one Blender."""
+    times, tris = [], -1
+    for i in range(runs):
+        out = os.path.join(work, "%s_%d.gltf" % (tag, i))
+        p, _ = blender([blend, "-P", os.path.join(ROOT, "exporters", "blender", "export_photonbridge.py"), "--", out],
+                       bpy_python=bpy_python)
+        m = re.search(r"export_photonbridge: (\d+) triangles.* in ([\d.]+) s", p.stdout)
+        if not m:
+            print(p.stdout[-2000:], p.stderr[-2000:])
+            return -1, float("nan")
+        tris = int(m.group(1))
+        times.append(float(m.group(2)))
+    return tris, sorted(times)[len(times) // 2]
+
+
+def versions(a, big):
+    """The writer's hand-off in Blender 3.4 (Debian) and Blender 4.5 (bpy),
+    the same files (4.5 opens the 3.4 .blend through its versioning: the
+    Principled BSDFs become v2), one run: BLENDER45.md."""
+    rows = []
+    for name, blend in (("sun_atrium", os.path.join(ROOT, "samples", "sun_atrium", "sun_atrium.blend")),
+                        ("grid_1m", big)):
+        t34 = writer_time(blend, a.cache, name + "_34")
+        t45 = writer_time(blend, a.cache, name + "_45", bpy_python=a.bpy)
+        rows.append((name, t34, t45))
+    lines = ["| scene | triangles | writer, Blender 3.4.1 | writer, Blender 4.5.15 | 4.5 / 3.4 |", "|---|---:|---:|---:|---:|"]
+    for name, (n34, s34), (n45, s45) in rows:
+        lines.append("| %s | %d | %.2f s | %.2f s | %.2f |" % (name, n34, s34, s45, s45 / s34 if s34 > 0 else float("nan")))
+    text = "\n".join(lines) + "\n"
+    print(text)
+    out = os.path.join(os.path.dirname(a.out), "BLENDER45.md")
+    with open(out, "w") as f:
+        f.write("# The add-on's hand-off in Blender 3.4 and 4.5 (bench/blender_handoff.py --bpy)\n\n" +
+                time.strftime("%Y-%m-%d") + ", %s; the writer alone (export_photonbridge.py's own timer: "
+                "instances, to_mesh, numpy, materials, the .gltf/.bin), median of 3 runs each, the two Blenders "
+                "alternating scene by scene in one run; load average at start %.2f.\n\n" %
+                (platform_line(), os.getloadavg()[0]) + text)
+    return 0
+
+
+def platform_line():
+    import platform
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), platform.machine())
+    except OSError:
+        cpu = platform.machine()
+    return "%s, %d cores" % (cpu, os.cpu_count() or 0)
 
 
 def stamps(text):
@@ -124,12 +179,15 @@ def main():
     ap.add_argument("exe")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "lavapipe", "blender", "HANDOFF.md"))
     ap.add_argument("--cache", default=os.path.join(ROOT, "bench", "cache", "blender"))
+    ap.add_argument("--bpy", help="Python with bpy 4.5 (tools/bpy45/bin/python): compare the writer in 3.4 and 4.5")
     a = ap.parse_args()
     exe = os.path.abspath(a.exe)
     os.makedirs(a.cache, exist_ok=True)
     big = os.path.join(a.cache, "grid_1m.blend")
     if not os.path.isfile(big):
         blender(["--python-expr", SCENE_1M, "--", big])
+    if a.bpy:
+        return versions(a, big)
     rows = [measure("sun_atrium", os.path.join(ROOT, "samples", "sun_atrium", "sun_atrium.blend"), exe, a.cache),
             measure("grid_1m", big, exe, a.cache)]
     lines = ["| scene | triangles | writer alone | Blender's glTF exporter | F12 hand-off | photonbridge loaded + "

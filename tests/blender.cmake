@@ -14,7 +14,7 @@ endforeach()
 # `blender` command line over the module). Missing bpy is a failure, not a
 # skip: the set-up installs it on every machine.
 set(PB_BPY45 ${PB_ROOT}/tools/bpy45/bin/python)
-foreach(part register install lights45 cancel badinput)
+foreach(part register install writer lights45 cancel badinput)
   add_test(NAME blender45_${part}
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/blender/blender_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/blender45_${part} ${part})

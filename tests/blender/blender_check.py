@@ -256,7 +256,7 @@ def part_writer():
         # Its lights from PHOTONBRIDGE_blender.light: Blender's watts and
         # W/m^2 and Cycles' spot falloff (the plain form: candela and lux).
         check(full["lights"] and all(l.get("blender_units") and ("file_watts" in l or "file_w_m2" in l) and
-                                     l.get("spot_falloff", "cycles") == "cycles" for l in full["lights"]),
+                                     l.get("spot_falloff", "cycles") in ("cycles", "cycles4") for l in full["lights"]),
               "%s: every light read from the extension, in Blender's units" % name)
         ours = strip_extension(ours, os.path.join(d, name, "addon_plain.gltf"))
         compare_info(name, info(ours), info(theirs))
