@@ -901,29 +901,11 @@ def part_lights45():
           "Warm: colour x the 3000 K temperature colour %s (luminance %.3f)" % (["%.3f" % c for c in warm], lum))
     check(lights.get("Ghost", {}).get("castShadow") is False and lights.get("Warm", {}).get("castShadow") is True,
           "Ghost: Shadow off is written as castShadow false (others true)")
-    # Cycles 4.5 against photonbridge's F12 on the same file.
-    dc = fresh("lights45_cycles")
-    blender([blend, "-E", "CYCLES", "-o", os.path.join(dc, "c_####"), "-F", "OPEN_EXR", "-x", "1", "-f", "1"])
-    df = fresh("lights45_pb")
-    render_f12(df, blend, dict(QUICK, photons=65536, iterations=4, spp=16), fmt="OPEN_EXR")
-    cf, pf = os.path.join(dc, "c_0001.exr"), os.path.join(df, "f_0001.exr")
-    check(os.path.isfile(cf) and os.path.isfile(pf), "Cycles 4.5 and photonbridge rendered the scene")
-    if not (os.path.isfile(cf) and os.path.isfile(pf)):
-        return
     # The reference (path tracing, 256 spp) within 1 %, F12 (the GPU
-    # pipeline at small settings) within 2 %. Cycles 3.4's light models
-    # (area radiance P / (4 A), the spot's cosine) are 5.5 % off here.
-    rf = os.path.join(dc, "reference.exr")
-    subprocess.run([EXE, "reference", gltf, "-o", rf, "--width", "64", "--height", "48", "--spp", "256", "-q"],
-                   check=False)
-    c = exr(cf)
-    mc = [sum(c["channels"][k]) / len(c["channels"][k]) for k in "RGB"]
-    for what, f, tol in (("the reference", rf, 0.01), ("F12", pf, 0.02)):
-        p = exr(f) if os.path.isfile(f) else {"channels": {k: [0.0] for k in "RGB"}}
-        mp = [sum(p["channels"][k]) / len(p["channels"][k]) for k in "RGB"]
-        worst = max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(mp, mc))
-        check(worst <= tol, "%s: mean RGB %s against Cycles 4.5's %s (largest %.2f %%)"
-              % (what, ["%.4f" % x for x in mp], ["%.4f" % x for x in mc], 100 * worst))
+    # pipeline at small settings) within 2 % of Cycles 4.5. Cycles 3.4's
+    # light models (area radiance P / (4 A), the spot's cosine) are 5.5 % off.
+    mc, worst = against_cycles45("lights45", blend, gltf)
+    check(mc is not None, "Cycles 4.5 and photonbridge rendered the scene")
     # Sphere lights (Soft Falloff off) close to the surfaces they light.
     sphere = os.path.join(scenes, "sphere45.blend")
     sg = os.path.join(scenes, "sphere45.gltf")
@@ -939,37 +921,51 @@ def part_lights45():
         lt = n.get("extensions", {}).get("PHOTONBRIDGE_blender", {}).get("light")
         if lt is not None:
             check(lt.get("softFalloff") is False, "%s: Soft Falloff off is written" % n["name"])
-    for n in sdoc["nodes"]:
-        n.get("extensions", {}).get("PHOTONBRIDGE_blender", {}).get("light", {}).pop("softFalloff", None)
+            lt.pop("softFalloff", None)
     with open(disc, "w") as f:
         json.dump(sdoc, f)
-    dc = fresh("sphere45_cycles")
-    blender([sphere, "-E", "CYCLES", "-o", os.path.join(dc, "c_####"), "-F", "OPEN_EXR", "-x", "1", "-f", "1"])
-    df = fresh("sphere45_pb")
-    render_f12(df, sphere, dict(QUICK, photons=65536, iterations=4, spp=16), fmt="OPEN_EXR")
-    cf, pf = os.path.join(dc, "c_0001.exr"), os.path.join(df, "f_0001.exr")
-    refs = {}
-    for name, g in (("sphere", sg), ("disc", disc)):
-        refs[name] = os.path.join(dc, name + ".exr")
-        subprocess.run([EXE, "reference", g, "-o", refs[name], "--width", "64", "--height", "48", "--spp", "256",
-                        "-q"], check=False)
-    if not os.path.isfile(cf):
-        check(False, "Cycles 4.5 rendered the sphere-light scene")
-        return
-    c = exr(cf)
-    mc = [sum(c["channels"][k]) / len(c["channels"][k]) for k in "RGB"]
+    mc, _ = against_cycles45("sphere45", sphere, sg, "sphere lights, ")
+    if mc is not None:
+        worst = mean_off(reference_render(disc, os.path.join(WORK, "sphere45_cycles", "disc.exr")), mc)
+        check(worst > 0.03, "the same lights as 3.4's facing discs are %.1f %% off: the scene tells the models "
+              "apart" % (100 * worst))
 
-    def off(f):
-        p = exr(f) if os.path.isfile(f) else {"channels": {k: [0.0] for k in "RGB"}}
-        mp = [sum(p["channels"][k]) / len(p["channels"][k]) for k in "RGB"]
-        return mp, max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(mp, mc))
-    for what, f, tol in (("sphere lights, the reference", refs["sphere"], 0.01), ("sphere lights, F12", pf, 0.02)):
-        mp, worst = off(f)
-        check(worst <= tol, "%s: mean RGB %s against Cycles 4.5's %s (largest %.2f %%)"
-              % (what, ["%.4f" % x for x in mp], ["%.4f" % x for x in mc], 100 * worst))
-    mp, worst = off(refs["disc"])
-    check(worst > 0.03, "the same lights as 3.4's facing discs are %.1f %% off: the scene tells the models apart"
-          % (100 * worst))
+
+def mean_rgb(path):
+    img = exr(path) if os.path.isfile(path) else {"channels": {k: [0.0] for k in "RGB"}}
+    return [sum(img["channels"][k]) / len(img["channels"][k]) for k in "RGB"]
+
+
+def mean_off(path, mc):
+    """The largest relative difference of path's mean RGB from mc."""
+    return max(abs(x / y - 1) if y > 0 else 1 for x, y in zip(mean_rgb(path), mc))
+
+
+def reference_render(gltf, out):
+    subprocess.run([EXE, "reference", gltf, "-o", out, "--width", "64", "--height", "48", "--spp", "256", "-q"],
+                   check=False)
+    return out
+
+
+def against_cycles45(name, blend, gltf, label=""):
+    """Cycles 4.5's render of blend against photonbridge's reference of the
+    written gltf (within 1 %) and F12 of blend (within 2 %), mean RGB:
+    (Cycles' mean, or None when a render is missing; the largest difference)."""
+    dc, df = fresh(name + "_cycles"), fresh(name + "_pb")
+    blender([blend, "-E", "CYCLES", "-o", os.path.join(dc, "c_####"), "-F", "OPEN_EXR", "-x", "1", "-f", "1"])
+    render_f12(df, blend, dict(QUICK, photons=65536, iterations=4, spp=16), fmt="OPEN_EXR")
+    cf, pf = os.path.join(dc, "c_0001.exr"), os.path.join(df, "f_0001.exr")
+    if not (os.path.isfile(cf) and os.path.isfile(pf)):
+        return None, 1.0
+    mc = mean_rgb(cf)
+    rf = reference_render(gltf, os.path.join(dc, "reference.exr"))
+    worst_all = 0.0
+    for what, f, tol in (("the reference", rf, 0.01), ("F12", pf, 0.02)):
+        worst = mean_off(f, mc)
+        worst_all = max(worst_all, worst)
+        check(worst <= tol, "%s%s: mean RGB %s against Cycles 4.5's %s (largest %.2f %%)"
+              % (label, what, ["%.4f" % x for x in mean_rgb(f)], ["%.4f" % x for x in mc], 100 * worst))
+    return mc, worst_all
 
 
 def main():

@@ -40,20 +40,14 @@ def main(argv):
             exit_code = int(nxt)
             i += 2
             continue
-        if a in ("-P", "--python"):
+        if a in ("-P", "--python", "--python-expr"):
+            # A script that raises: the traceback, then the exit code (Blender's
+            # --python-exit-code; 0 goes on with the next argument).
             try:
-                runpy.run_path(nxt, run_name="__main__")
-            except SystemExit:
-                raise
-            except BaseException:
-                traceback.print_exc()
-                if exit_code:
-                    return exit_code
-            i += 2
-            continue
-        if a == "--python-expr":
-            try:
-                exec(compile(nxt, "<string>", "exec"), {"__name__": "__main__"})
+                if a == "--python-expr":
+                    exec(compile(nxt, "<string>", "exec"), {"__name__": "__main__"})
+                else:
+                    runpy.run_path(nxt, run_name="__main__")
             except SystemExit:
                 raise
             except BaseException:
