@@ -92,6 +92,15 @@ def is_principled_v2(node):
     return "Specular IOR Level" in node.inputs
 
 
+def _blender_version():
+    """The running Blender's version; (0, 0, 0) outside Blender."""
+    try:
+        import bpy
+        return tuple(bpy.app.version)
+    except ImportError:
+        return (0, 0, 0)
+
+
 def _blender_4():
     """Does the running Blender have Principled v2 (4.0 or later)?"""
     try:
@@ -396,7 +405,12 @@ class MaterialWriter:
         # colour (blender/shader.cpp sync_materials): its metallic,
         # roughness, specular and alpha are the viewport's only. Written as
         # a Principled BSDF they had rendered glossy (and half transparent).
+        # Cycles 5.0 made the default surface a Principled BSDF at its
+        # defaults (Cycles 43bf8e6c9); a material without nodes stays the
+        # viewport colour's Diffuse.
         if mat is None:
+            if _blender_version() >= (5, 0, 0):
+                return self._principled_defaults()
             return self._diffuse_constant([0.8, 0.8, 0.8, 1.0])
         if not mat.use_nodes or mat.node_tree is None:
             return self._diffuse_constant(list(mat.diffuse_color)[:3] + [1.0])
