@@ -47,11 +47,12 @@ demo: build
 # The Blender add-on as the two zips Blender installs, in $(BUILD)/blender/:
 # photonbridge-VERSION-extension.zip (Blender 4.2+ extension) and
 # photonbridge-VERSION-addon.zip (legacy add-on, Blender 3.4 to 5.x).
-.PHONY: blender-extension
-blender-extension:
+.PHONY: blender-extension blender-addon-zip
+blender-extension blender-addon-zip:
 	python3 scripts/blender_package.py $(BUILD)/blender
 
-# The Blender render engine for this user (README, "Blender render engine").
+# The Blender render engine for this user (README, "Blender render engine");
+# BLENDER=/path/to/blender picks the Blender (default: the one on PATH).
 blender-addon: build
 	@bash scripts/install-blender-addon.sh $(BUILD)/photonbridge
 
