@@ -100,14 +100,6 @@ static float spherical_rect(const rect *r, v3 o, int sample, float s, float t, v
   return S;
 }
 
-/* Radiance of the sphere light's disc toward the lit point, leaving in
- * direction w (from the disc toward the point). */
-static v3 sphere_radiance(const pb_light *l, v3 w) {
-  float k = l->intensity / (PB_PI_F * l->radius * l->radius);
-  if (l->type == PB_LIGHT_SPOT) k *= pb_spot_factor(l, v3_dot(v3_norm(v3_load(l->direction)), w));
-  return v3_scale(v3_load(l->color), k);
-}
-
 static float sun_tan(const pb_light *l) { return tanf(0.5f * l->angle); }
 
 /* Cycles 4.x's sphere light (kernel/light/point.h, spot.h with is_sphere):
@@ -122,6 +114,9 @@ static float sphere_one_minus_cos(float r2, float d2) {
   return s2 / (1.0f + sqrtf(fmaxf(0.0f, 1.0f - s2)));
 }
 
+/* Radiance of a point or spot light of radius r (its disc or its sphere)
+ * leaving in direction w toward the lit point: I / (pi r^2), a spot's
+ * falloff outside the sphere. */
 static v3 sphere_light_radiance(const pb_light *l, v3 w, int inside) {
   float k = l->intensity / (PB_PI_F * l->radius * l->radius);
   if (l->type == PB_LIGHT_SPOT && !inside) k *= pb_spot_factor(l, v3_dot(v3_norm(v3_load(l->direction)), w));
@@ -259,7 +254,7 @@ int pb_soft_light_sample(const pb_light *l, v3 p, float u1, float u2, pb_light_s
   out->wi = wi;
   out->dist = dl;
   out->pdf = d2 / (cos_l * PB_PI_F * l->radius * l->radius);
-  out->L = sphere_radiance(l, v3_neg(wi));
+  out->L = sphere_light_radiance(l, v3_neg(wi), 0);
   return out->pdf > 0.0f && isfinite(out->pdf) && !v3_is_zero(out->L);
 }
 
@@ -317,7 +312,7 @@ int pb_soft_light_hit(const pb_light *l, v3 o, v3 d, float tmax, float *t_out, v
   v3 q = v3_madd(o, d, t), rq = v3_sub(q, c);
   if (v3_dot(rq, rq) > l->radius * l->radius) return 0;
   *t_out = t;
-  *L = sphere_radiance(l, v3_neg(d));
+  *L = sphere_light_radiance(l, v3_neg(d), 0);
   *pdf = t * t / (-dn * PB_PI_F * l->radius * l->radius);
   return *pdf > 0.0f && isfinite(*pdf) && !v3_is_zero(*L);
 }

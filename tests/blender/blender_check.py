@@ -879,13 +879,9 @@ def part_lights45():
     blender(["-P", os.path.join(HERE, "bl_lights45.py"), "--", scenes])
     blend = os.path.join(scenes, "lights45.blend")
     gltf = os.path.join(scenes, "lights45.gltf")
-    ok, text = write_with_addon(blend, gltf)
-    check(ok, "the scene is written")
-    if not ok:
-        print(text[-3000:])
+    doc = written(blend, gltf, "the scene")
+    if doc is None:
         return
-    with open(gltf) as f:
-        doc = json.load(f)
     lights = {n["name"]: n["extensions"]["PHOTONBRIDGE_blender"]["light"] for n in doc["nodes"]
               if "light" in n.get("extensions", {}).get("PHOTONBRIDGE_blender", {})}
     pi = math.pi
@@ -909,13 +905,9 @@ def part_lights45():
     # Sphere lights (Soft Falloff off) close to the surfaces they light.
     sphere = os.path.join(scenes, "sphere45.blend")
     sg = os.path.join(scenes, "sphere45.gltf")
-    ok, text = write_with_addon(sphere, sg)
-    check(ok, "the sphere-light scene is written")
-    if not ok:
-        print(text[-3000:])
+    sdoc = written(sphere, sg, "the sphere-light scene")
+    if sdoc is None:
         return
-    with open(sg) as f:
-        sdoc = json.load(f)
     disc = os.path.join(scenes, "sphere45_disc.gltf")  # the same with 3.4's facing discs
     for n in sdoc["nodes"]:
         lt = n.get("extensions", {}).get("PHOTONBRIDGE_blender", {}).get("light")
@@ -929,6 +921,17 @@ def part_lights45():
         worst = mean_off(reference_render(disc, os.path.join(WORK, "sphere45_cycles", "disc.exr")), mc)
         check(worst > 0.03, "the same lights as 3.4's facing discs are %.1f %% off: the scene tells the models "
               "apart" % (100 * worst))
+
+
+def written(blend, gltf, what):
+    """The add-on's glTF of blend as JSON, or None (checked)."""
+    ok, text = write_with_addon(blend, gltf)
+    check(ok, "%s is written" % what)
+    if not ok:
+        print(text[-3000:])
+        return None
+    with open(gltf) as f:
+        return json.load(f)
 
 
 def mean_rgb(path):

@@ -88,7 +88,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
     def _remove_handoff(self):
         """The hand-off folder now, not when the engine is freed (a
         sequence keeps its own)."""
-        h = self.handoff
+        h = getattr(self, "handoff", None)
         if h and not h.get("sequence"):
             shutil.rmtree(h["folder"], ignore_errors=True)
 
@@ -103,10 +103,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
 
     def __del__(self):
         self.free()
-        # The hand-off folder goes with the frame (a sequence keeps its own).
-        h = getattr(self, "handoff", None)
-        if h and not h.get("sequence"):
-            shutil.rmtree(h["folder"], ignore_errors=True)
+        self._remove_handoff()  # the folder goes with the frame
         parent_del = getattr(super(), "__del__", None)
         if parent_del is not None:
             parent_del()

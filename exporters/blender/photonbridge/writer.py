@@ -65,6 +65,13 @@ def ocio_config():
     return os.path.abspath(path) if path and os.path.isfile(path) else ""
 
 
+
+def _area_light_size(lamp, scale):
+    """An area light's full widths in metres, times its object's scale
+    (SQUARE and DISK: size both ways)."""
+    return (lamp.size * abs(scale.x),
+            (lamp.size_y if lamp.shape in ('RECTANGLE', 'ELLIPSE') else lamp.size) * abs(scale.y))
+
 class WriteReport:
     def __init__(self):
         self.warnings = []
@@ -588,8 +595,7 @@ class SceneWriter:
             ext["spotBlend"] = lamp.spot_blend
         if lamp.type == 'AREA':
             ext["shape"] = lamp.shape
-            ext["size"] = lamp.size * abs(scale.x)
-            ext["sizeY"] = (lamp.size_y if lamp.shape in ('RECTANGLE', 'ELLIPSE') else lamp.size) * abs(scale.y)
+            ext["size"], ext["sizeY"] = _area_light_size(lamp, scale)
             ext["spread"] = getattr(lamp, "spread", math.pi)
             if not (ext["size"] > 0 and ext["sizeY"] > 0):
                 # Cycles 3.4 renders a zero-area light black (measured: a 0 m
@@ -649,8 +655,7 @@ class SceneWriter:
             elif lamp.type == 'SUN':
                 area = math.pi * math.sin(lamp.angle * 0.5) ** 2 if lamp.angle > 0 else 1.0
             else:
-                w = lamp.size * abs(scale.x)
-                h = (lamp.size_y if lamp.shape in ('RECTANGLE', 'ELLIPSE') else lamp.size) * abs(scale.y)
+                w, h = _area_light_size(lamp, scale)
                 area = w * h * (math.pi / 4.0 if lamp.shape in ('DISK', 'ELLIPSE') else 1.0)
             energy *= area
             ext["normalize"] = False
