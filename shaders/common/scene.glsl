@@ -279,6 +279,17 @@ vec3 pb_emission(pb_surface s) {
   if (SC_BLENDER && m.model == PB_GPU_MODEL_PRINCIPLED) e *= pb_blender_alpha(s);
   return e;
 }
+// The same toward wo: a Principled v2 material's emission lies under its
+// sheen and coat (principled.glsl pb2_emission_weight), so it depends on
+// the direction. The photon tracer's emitters keep pb_emission (alpha only).
+vec3 pb_emission_toward(pb_surface s, vec3 wo) {
+  if (SC_BLENDER && materials[s.mat].model == PB_GPU_MODEL_PRINCIPLED && materials[s.mat].principled_v2 != 0u) {
+    vec3 e = pb_emission(s);
+    if (all(equal(e, vec3(0.0)))) return e;
+    return e / max(pb_blender_alpha(s), 1e-30) * pb2_emission_weight(s, wo);
+  }
+  return pb_emission(s);
+}
 // Normal mapping (glTF 2.0, material.normalTexture): in the tangent frame of
 // the interpolated vertex normal N, tangent T (Gram-Schmidt against N at the
 // hit) and bitangent B = cross(N, T) w (glTF TANGENT's handedness),
