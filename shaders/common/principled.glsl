@@ -406,19 +406,11 @@ void pb_microfacet(inout pb_closure c, vec3 n, vec3 t, float ax, float ay, float
 // CLEARCOAT, metal GLASS_REFL, glass GLASS_REFR, specular SPECULAR, diffuse
 // DIFFUSE.
 
-// Table t (0 ggx_E, 1 ggx_Eavg, 2 glass_E, 3 glass_Eavg, 4 glass_inv_E,
-// 5 glass_inv_Eavg, 6 gen_schlick_ior_s, 7 gen_schlick_s, 8 sheen_ltc) at i.
-float pb2_fetch(uint t, int i) {
-  if (t == 0u) return pb_ggx_E[i];
-  if (t == 1u) return pb_ggx_Eavg[i];
-  if (t == 2u) return pb_ggx_glass_E[i];
-  if (t == 3u) return pb_ggx_glass_Eavg[i];
-  if (t == 4u) return pb_ggx_glass_inv_E[i];
-  if (t == 5u) return pb_ggx_glass_inv_Eavg[i];
-  if (t == 6u) return pb_ggx_gen_schlick_ior_s[i];
-  if (t == 7u) return pb_ggx_gen_schlick_s[i];
-  return pb_sheen_ltc[i];
-}
+// The table starting at float t (PB_P2T_*, shared/pb_principled2_tables.h)
+// at i: the tables follow the texels in the same buffer, from texel index
+// frame.principled2_base (src/render/scene_gpu.c), only in scenes that have
+// a v2 material; nothing else reads them.
+float pb2_fetch(uint t, int i) { return uintBitsToFloat(texels[frame.principled2_base + t + uint(i)]); }
 // Samples at k / (n - 1) over [0, 1], clamped; linear in between.
 void pb2_axis(float x, int n, out int i, out int j, out float f) {
   x = clamp(x, 0.0, 1.0) * float(n - 1);
@@ -517,11 +509,11 @@ void pb2_preserve_energy(inout pb_closure c, float mu, vec3 fss) {
     bool inv = c.ior < 1.0;
     float ior = inv ? 1.0 / c.ior : c.ior;
     float z = sqrt(abs((ior - 1.0) / (ior + 1.0)));
-    e = pb2_lut3(inv ? 4u : 2u, rough, mu, z);
-    eavg = pb2_lut2(inv ? 5u : 3u, 0, rough, z, 16, 16);
+    e = pb2_lut3(inv ? PB_P2T_GGX_GLASS_INV_E : PB_P2T_GGX_GLASS_E, rough, mu, z);
+    eavg = pb2_lut2(inv ? PB_P2T_GGX_GLASS_INV_EAVG : PB_P2T_GGX_GLASS_EAVG, 0, rough, z, 16, 16);
   } else {
-    e = pb2_lut2(0u, 0, rough, mu, 32, 32);
-    eavg = pb2_lut1(1u, 0, rough, 32);
+    e = pb2_lut2(PB_P2T_GGX_E, 0, rough, mu, 32, 32);
+    eavg = pb2_lut1(PB_P2T_GGX_EAVG, 0, rough, 32);
   }
   float missing = (1.0 - e) / e;
   c.energy = 1.0 + missing;
@@ -542,11 +534,11 @@ vec3 pb2_albedo(pb_closure c, float mu, bool trans) {
   float rough = sqrt(sqrt(c.ax * c.ay));
   float z = sqrt(abs((c.ior - 1.0) / (c.ior + 1.0)));
   if (c.fresnel == PB_FR_GEN_SCHLICK) {
-    r = mix(c.cspec0, vec3(1.0), pb2_lut3(6u, rough, mu, z));
+    r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z));
   } else if (c.fresnel == PB_FR_F82_TINT) {
-    r = mix(c.cspec0, vec3(1.0), pb2_lut3(7u, rough, mu, 0.5));
+    r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_S, rough, mu, 0.5));
   } else if (c.ior > 1.0) {
-    r = vec3(mix(pb2_f0(c.ior), 1.0, pb2_lut3(6u, rough, mu, z)));
+    r = vec3(mix(pb2_f0(c.ior), 1.0, pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z)));
   }
   return r + t;
 }
@@ -620,9 +612,9 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
     if (b.cl[PB_SLOT_SHEEN].on) {
       float r = clamp(sheen_r, 1e-3, 1.0), cni = dot(ns, wo);
       pb_lobe_frame(b.cl[PB_SLOT_SHEEN], ns, wo);
-      b.cl[PB_SLOT_SHEEN].on_a = pb2_lut2(8u, 0, cni, r, 32, 32);
-      b.cl[PB_SLOT_SHEEN].on_b = pb2_lut2(8u, 1024, cni, r, 32, 32);
-      float alb = pb2_lut2(8u, 2048, cni, r, 32, 32);
+      b.cl[PB_SLOT_SHEEN].on_a = pb2_lut2(PB_P2T_SHEEN_LTC, 0, cni, r, 32, 32);
+      b.cl[PB_SLOT_SHEEN].on_b = pb2_lut2(PB_P2T_SHEEN_LTC, 1024, cni, r, 32, 32);
+      float alb = pb2_lut2(PB_P2T_SHEEN_LTC, 2048, cni, r, 32, 32);
       if (abs(b.cl[PB_SLOT_SHEEN].on_a) < 1e-5 || alb < 1e-5) {
         b.cl[PB_SLOT_SHEEN].on = false;
         b.cl[PB_SLOT_SHEEN].sample_weight = 0.0;

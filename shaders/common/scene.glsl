@@ -335,13 +335,19 @@ void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   }
   vec3 c = pb_texture_lookup(m.normal_tex, s).rgb * 2.0 - 1.0;
   c.xy *= m.normal_scale;
+  // Blender's Normal Map strength (the reference's pb_apply_normal_map):
+  // Cycles 4.0+ on the tangent-space vector, 3.x on the mapped normal below.
+  float st = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF ? m.normal_strength : 1.0;
+  bool cycles4 = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF && (m.flags & PB_GPU_MAT_NORMAL_MAP_CYCLES4) != 0u;
+  if (cycles4 && st != 1.0) {
+    c.xy *= st;
+    c.z = mix(1.0, c.z, clamp(st, 0.0, 1.0));
+  }
   vec3 nm = t * c.x + bb * c.y + n * c.z;
   float ml = length(nm);
   if (!(ml > 1e-12) || isinf(ml)) return;
   nm /= ml;
-  // Blender's Normal Map node strength (the reference's pb_apply_normal_map).
-  float st = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF ? m.normal_strength : 1.0;
-  if (st != 1.0) {
+  if (!cycles4 && st != 1.0) {
     vec3 bl = n + (nm - n) * max(st, 0.0);
     float bll = length(bl);
     if (!(bll > 1e-12) || isinf(bll)) return;

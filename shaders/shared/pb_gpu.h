@@ -96,6 +96,8 @@ PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
 PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
 PB_CONST(PB_GPU_MAT_VERTEX_COLOR, 4u)      /* a Blender model's base colour is COLOR_0
                                               (pb_blender_material.base_from_vertex_color) */
+PB_CONST(PB_GPU_MAT_NORMAL_MAP_CYCLES4, 8u) /* Normal Map strength as Cycles 4.0+
+                                              (pb_blender_material.normal_map_cycles4) */
 /* model: pb_material_model's values. */
 PB_CONST(PB_GPU_MODEL_GLTF, 0u)
 PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
@@ -376,7 +378,10 @@ PB_STRUCT(pb_gpu_frame) {
                             eye path stops, a smoother one followed by the
                             eye path (render.h glossy_path_roughness^4;
                             bench/README.md has the measurement) */
-  uint pad1;
+  uint principled2_base; /* Principled v2: Cycles' BSDF albedo and sheen
+                            tables (shared/pb_principled2_tables.h, PB_P2T_*)
+                            from this index of the texels buffer; 0: the
+                            scene has no v2 material */
   uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)

@@ -673,8 +673,9 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.PHOTONBRIDGE_blender.blender: %s, expected Blender's version "
                      "string (\"4.5.1\")", io->path, ver->type == PB_GLTF_STRING ? "not a version" : pb_gltf_value_type_name(ver));
     b->g2_correlated = major > 3 || (major == 3 && minor >= 5);
+    b->normal_map_cycles4 = major >= 4;
   } else {
-    b->g2_correlated = b->principled_v2; /* principled2 is Blender 4.0+ */
+    b->g2_correlated = b->normal_map_cycles4 = b->principled_v2; /* principled2 is Blender 4.0+ */
   }
 
   /* "vertexColor": the input a Color Attribute node drives, its colour the

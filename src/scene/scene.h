@@ -130,6 +130,11 @@ typedef struct pb_blender_material {
    * 1/(1 + L(wi) + L(wo)) (Cycles 3.5 and later), 0 separable G1 G1 (3.4).
    * From the root's "blender" version; 0 without it. */
   int g2_correlated;
+  /* Normal Map node strength s in tangent space: 1 Cycles 4.0 and later
+   * (xy s, z mix(1, z, sat(s)) before the tangent frame), 0 Cycles 3.x
+   * (normalize(n + (nm - n) s) after it). From the same version; 0
+   * without it unless the material is principled2. */
+  int normal_map_cycles4;
   float specular_tint[3], coat_tint[3], sheen_tint[3]; /* linear RGB */
   int32_t specular_tint_tex, coat_tint_tex, sheen_tint_tex;
   float subsurface_radius[3];    /* m, before Subsurface Scale */

@@ -59,7 +59,7 @@ static const member members[] = {
     M(pb_gpu_frame, max_specular_depth), M(pb_gpu_frame, seed_lo), M(pb_gpu_frame, seed_hi),
     M(pb_gpu_frame, flags), M(pb_gpu_frame, pixel_count), M(pb_gpu_frame, pixel_base), M(pb_gpu_frame, tangent_base),
     M(pb_gpu_frame, key_x0), M(pb_gpu_frame, key_y0), M(pb_gpu_frame, key_width),
-    M(pb_gpu_frame, uv1_base), M(pb_gpu_frame, color_base), M(pb_gpu_frame, glossy_path_alpha2), M(pb_gpu_frame, pad1),
+    M(pb_gpu_frame, uv1_base), M(pb_gpu_frame, color_base), M(pb_gpu_frame, glossy_path_alpha2), M(pb_gpu_frame, principled2_base),
     M(pb_gpu_frame, pad2),
     M(pb_gpu_gbuffer, position), M(pb_gpu_gbuffer, prim), M(pb_gpu_gbuffer, wo), M(pb_gpu_gbuffer, u),
     M(pb_gpu_gbuffer, throughput), M(pb_gpu_gbuffer, v), M(pb_gpu_gbuffer, motion_x),

@@ -913,6 +913,12 @@ class MaterialWriter:
         if node.type == 'BSDF_GLOSSY':
             p["metallic"] = 1.0
             what = "written as a Principled BSDF with Metallic 1"
+            # Blender 4.0 merged the Anisotropic BSDF into Glossy; its
+            # mapping (alpha_x = r^2 (1 - a), alpha_y = r^2 / (1 - a), a in
+            # -0.99..0.99) is not the Principled one, so it is not carried.
+            aniso = node.inputs.get("Anisotropy")
+            if aniso is not None and (_source(aniso) is not None or abs(_value(aniso)) > 1e-4):
+                what += "; its Anisotropy is not translated (isotropic)"
         else:
             p["transmission"] = 1.0
             p["ior"] = _value(node.inputs["IOR"])
