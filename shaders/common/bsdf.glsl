@@ -62,6 +62,8 @@ struct pb_bsdf {
   // Blender materials (SC_BLENDER, model != PB_GPU_MODEL_GLTF): closures,
   // which of them eval uses (PB_GPU_LOBES_*), the AOV albedo.
   uint model;
+  uint bump;     // PB_GPU_BUMP_*
+  vec3 ni;       // pb_surface.ni
   uint mask;
   float sw_sum;
   vec3 albedo;
@@ -88,11 +90,13 @@ pb_bsdf pb_bsdf_setup_t(pb_surface surf, vec3 wo, vec3 tangent) {
   pb_gpu_material m = materials[surf.mat];
   pb_bsdf b;
   b.model = PB_GPU_MODEL_GLTF;
+  b.bump = PB_GPU_BUMP_CHIANG;
   b.mask = PB_GPU_LOBES_ALL;
   b.sw_sum = 0.0;
   if (SC_BLENDER && m.model != PB_GPU_MODEL_GLTF) {
     b.ng = surf.ng;
     b.n = surf.ns;
+    b.ni = surf.ni;
     pb_basis(b.n, b.t, b.b);
     b.entering = surf.front;
     b.metallic = b.roughness = b.alpha = b.transmission = b.spec = 0.0;

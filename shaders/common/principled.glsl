@@ -68,13 +68,27 @@ vec3 pb_valid_reflection_normal(vec3 ng, vec3 i, vec3 n) {
   return res;
 }
 
-float pb_bump_shadowing(vec3 ns, vec3 n, vec3 wi) {
-  float cn = dot(n, wi);
-  vec3 g = cn < 0.0 ? -ns : ns;
-  float den = cn * dot(g, n);
+// Cycles' bump shadowing by Blender version (PB_GPU_BUMP_*; the
+// reference's bump_shadowing has the sources): Chiang et al. 2019 up to
+// 4.4, Conty Estevez et al. 2019 GGX shadowing from 4.5, only the
+// wrong-side test with Bump Map Correction off.
+float pb_bump_shadowing(uint model, vec3 ns, vec3 n, vec3 wi) {
+  float cgi = dot(ns, wi), cgn = dot(ns, n), cni = dot(n, wi);
+  if (model == PB_GPU_BUMP_CONTY) {
+    if (cgi * cgn * cni < 0.0) return 0.0;
+    float ci = abs(cgi), cd = abs(cgn);
+    if (cd >= 1.0 || ci >= 1.0) return 1.0;
+    if (ci < 1e-6) return 0.0;
+    float a2 = clamp(0.125 * (1.0 / (cd * cd) - 1.0), 0.0, 1.0);
+    float lambda = 0.5 * (sqrt(1.0 + a2 * max(1.0 / (ci * ci) - 1.0, 0.0)) - 1.0);
+    return 1.0 / (1.0 + lambda);
+  }
+  vec3 g = cni < 0.0 ? -ns : ns;
+  float den = cni * dot(g, n);
   float x = den != 0.0 ? dot(g, wi) / den : 0.0;
   if (x >= 1.0) return 1.0;
   if (x < 0.0) return 0.0;
+  if (model == PB_GPU_BUMP_NONE) return 1.0;
   float x2 = x * x;
   return -x2 * x + x2 + x;
 }
@@ -266,7 +280,7 @@ float pb_multi_ggx_pdf(pb_closure c, vec3 wo, vec3 wi) {
 // One function per lobe family, so that the per-slot evaluation below
 // inlines each only where its slot can hold it (the slot loops unroll).
 
-vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, vec3 wo, vec3 wi, out float pdf) {
+vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, uint bump, vec3 wo, vec3 wi, out float pdf) {
   pdf = 0.0;
   vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
   if (li.z <= 0.0 || (c.type == PB_CL_SHEEN && lo.z < 0.0)) return vec3(0.0);
@@ -283,7 +297,7 @@ vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, vec3 wo, vec3 wi, out float pdf
     v = li.z * (c.on_a + c.on_b * t);
   }
   pdf = li.z * PB_INV_PI;
-  if (dot(c.n, ns) < 1.0 - 1e-6) v *= pb_bump_shadowing(ns, c.n, wi);
+  if (dot(c.n, ns) < 1.0 - 1e-6) v *= pb_bump_shadowing(bump, ns, c.n, wi);
   return vec3(v);
 }
 
@@ -718,6 +732,7 @@ vec3 pb2_emission_weight(pb_surface surf, vec3 wo) {
 void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   pb_gpu_material m = materials[surf.mat];
   b.model = m.model;
+  b.bump = m.bump_model;
   b.sw_sum = 0.0;
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) pb_add_closure(b, i, PB_CL_TRANSPARENT, vec3(0.0));
   vec3 base = m.base_color.rgb;
@@ -884,12 +899,12 @@ vec3 pb_blender_eval_cos(pb_bsdf b, vec3 wo, vec3 wi, inout uint rng, out float 
   float p = 0.0, pc;
   vec3 e;
   if (pb_lobe_in(b.cl[PB_SLOT_DIFFUSE], b.mask)) {
-    e = pb_eval_diffuse_like(b.cl[PB_SLOT_DIFFUSE], b.n, wo, wi, pc);
+    e = pb_eval_diffuse_like(b.cl[PB_SLOT_DIFFUSE], b.ni, b.bump, wo, wi, pc);
     pb_accumulate(b.cl[PB_SLOT_DIFFUSE], b.mask, e, pc, f, p);
   }
   pb_closure c = b.cl[PB_SLOT_SHEEN];
   if (pb_lobe_in(c, b.mask)) {
-    e = c.type == PB_CL_V2_SHEEN ? pb_eval_v2(c, b.ng, wo, wi, pc) : pb_eval_diffuse_like(c, b.n, wo, wi, pc);
+    e = c.type == PB_CL_V2_SHEEN ? pb_eval_v2(c, b.ng, wo, wi, pc) : pb_eval_diffuse_like(c, b.ni, b.bump, wo, wi, pc);
     pb_accumulate(c, b.mask, e, pc, f, p);
   }
   c = b.cl[PB_SLOT_SPECULAR];

@@ -143,6 +143,7 @@ struct pb_surface {
   vec3 p;      // from barycentrics
   vec3 ng;     // unit, facing the incoming ray
   vec3 ns;     // unit, same hemisphere as ng
+  vec3 ni;     // the interpolated normal: ns before a normal map (the reference's pb_surface.ni)
   bool front;
   vec2 uv;     // TEXCOORD_0
   vec2 uv1;    // TEXCOORD_1 (0 when the scene has none)
@@ -174,6 +175,7 @@ pb_surface pb_surface_from_hit(uint prim, float u, float v, vec3 ray_dir) {
       s.ns = dot(n, ng) < 0.0 ? -n : n;
     }
   }
+  s.ni = s.ns;
   s.uv = vec2(0.0);
   s.uv1 = vec2(0.0);
   if (SC_TEXTURES || frame.tangent_base != 0u) { // textures, or a normal map alone

@@ -98,6 +98,10 @@ PB_CONST(PB_GPU_MAT_VERTEX_COLOR, 4u)      /* a Blender model's base colour is C
                                               (pb_blender_material.base_from_vertex_color) */
 PB_CONST(PB_GPU_MAT_NORMAL_MAP_CYCLES4, 8u) /* Normal Map strength as Cycles 4.0+
                                               (pb_blender_material.normal_map_cycles4) */
+/* bump_model: pb_bump_model's values. */
+PB_CONST(PB_GPU_BUMP_CHIANG, 0u)
+PB_CONST(PB_GPU_BUMP_NONE, 1u)
+PB_CONST(PB_GPU_BUMP_CONTY, 2u)
 /* model: pb_material_model's values. */
 PB_CONST(PB_GPU_MODEL_GLTF, 0u)
 PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
@@ -184,7 +188,7 @@ PB_STRUCT(pb_gpu_material) {
   float coat_normal_strength;
   uint subsurface_method;    /* pb_subsurface_method */
   uint g2_correlated;        /* 1: height-correlated Smith G2 (Blender 3.5+) */
-  uint pad0;
+  uint bump_model;           /* PB_GPU_BUMP_* (pb_bump_model) */
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low

@@ -211,7 +211,7 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
       ns = v3_dot(n, ng) < 0.0f ? v3_neg(n) : n;
     }
   }
-  o->ns = ns;
+  o->ns = o->ni = ns;
   if (s->uvs) {
     o->uv[0] = s->uvs[tri[0]][0] * w + s->uvs[tri[1]][0] * h->u + s->uvs[tri[2]][0] * h->v;
     o->uv[1] = s->uvs[tri[0]][1] * w + s->uvs[tri[1]][1] * h->u + s->uvs[tri[2]][1] * h->v;

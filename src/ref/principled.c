@@ -151,15 +151,30 @@ static v3 valid_reflection_normal(v3 ng, v3 i, v3 n) {
   return v3_add(v3_scale(x, sqrtf(fmaxf(0.0f, 1.0f - nz2))), v3_scale(ng, sqrtf(fmaxf(0.0f, nz2))));
 }
 
-/* Cycles' "bump shadowing" for diffuse lobes whose normal differs from the
- * shading normal (Chiang et al. 2019, "Taming the Shadow Terminator"). */
-static float bump_shadowing(v3 ns, v3 n, v3 wi) {
-  float cn = v3_dot(n, wi);
-  v3 g = cn < 0.0f ? v3_neg(ns) : ns;
-  float den = cn * v3_dot(g, n);
+/* Cycles' "bump shadowing" for diffuse lobes whose normal n differs from
+ * the interpolated shading normal ns (bsdf.h bump_shadowing_term): no light
+ * from below n seen from above ns or the reverse; then, up to Blender 4.4,
+ * Chiang et al. 2019 ("Taming the Shadow Terminator") smoothing, and from
+ * 4.5 the GGX shadowing of Conty Estevez et al. 2019 ("A Microfacet-Based
+ * Shadowing Function to Solve the Bump Terminator Problem") with alpha^2 =
+ * tan^2(n, ns) / 8; none with Bump Map Correction off (4.2+). */
+static float bump_shadowing(pb_bump_model model, v3 ns, v3 n, v3 wi) {
+  float cgi = v3_dot(ns, wi), cgn = v3_dot(ns, n), cni = v3_dot(n, wi);
+  if (model == PB_BUMP_CONTY) {
+    if (cgi * cgn * cni < 0.0f) return 0.0f;
+    float ci = fabsf(cgi), cd = fabsf(cgn);
+    if (cd >= 1.0f || ci >= 1.0f) return 1.0f;
+    if (ci < 1e-6f) return 0.0f;
+    float a2 = sat(0.125f * (1.0f / (cd * cd) - 1.0f));
+    float lambda = 0.5f * (sqrtf(1.0f + a2 * fmaxf(1.0f / (ci * ci) - 1.0f, 0.0f)) - 1.0f);
+    return 1.0f / (1.0f + lambda);
+  }
+  v3 g = cni < 0.0f ? v3_neg(ns) : ns;
+  float den = cni * v3_dot(g, n);
   float x = den != 0.0f ? v3_dot(g, wi) / den : 0.0f;
   if (x >= 1.0f) return 1.0f;
   if (x < 0.0f) return 0.0f;
+  if (model == PB_BUMP_NONE) return 1.0f;
   float x2 = x * x;
   return -x2 * x + x2 + x;
 }
@@ -391,8 +406,9 @@ static float multi_ggx_pdf(const pb_closure *c, v3 wo, v3 wi) {
 static v3 v2_eval(const pb_closure *c, v3 lo, v3 li, float cos_gi, float *pdf);
 
 /* f cos of closure c for world wo (view) and wi (light), and its pdf under
- * our sampling of c; ng: geometric normal facing wo; ns: shading normal. */
-static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *rng, float *pdf) {
+ * our sampling of c; ng: geometric normal facing wo; ns: the interpolated
+ * shading normal (pb_surface.ni, for bump shadowing). */
+static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, pb_bump_model bump, v3 wo, v3 wi, pb_rng *rng, float *pdf) {
   *pdf = 0.0f;
   v3 zero = v3_splat(0.0f);
   if (c->singular || c->type == PB_CL_TRANSPARENT) return zero;
@@ -418,7 +434,7 @@ static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *
     }
     *pdf = li.z * PB_INV_PI_F;
     /* Diffuse lobes on a lifted normal: Cycles' bump shadowing term. */
-    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) v *= bump_shadowing(ns, c->n, wi);
+    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) v *= bump_shadowing(bump, ns, c->n, wi);
     return v3_splat(v);
   }
   case PB_CL_GGX:
@@ -916,6 +932,8 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
   const pb_material *m = surf->mat;
   const pb_blender_material *bm = &m->blender;
   b->model = bm->model;
+  b->bump = bm->bump_model;
+  b->ni = surf->ni;
   b->ng = surf->ng;
   b->n = surf->ns;
   v3_basis(b->n, &b->t, &b->b);
@@ -1064,7 +1082,7 @@ static v3 eval_all(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
   for (int i = 0; i < b->ncl; ++i) {
     const pb_closure *c = &b->cl[i];
     float pc;
-    v3 e = closure_eval(c, b->ng, b->n, wo, wi, b->rng, &pc);
+    v3 e = closure_eval(c, b->ng, b->ni, b->bump, wo, wi, b->rng, &pc);
     if (pc != 0.0f) {
       f = v3_add(f, v3_mul(e, c->weight));
       p += pc * c->sample_weight;

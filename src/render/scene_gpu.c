@@ -369,6 +369,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->coat_normal_strength = b->coat_normal_strength;
     o->subsurface_method = (uint32_t)b->subsurface_method;
     o->g2_correlated = (uint32_t)b->g2_correlated;
+    o->bump_model = (uint32_t)b->bump_model;
     for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
       o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
       uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;

@@ -674,8 +674,17 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
                      "string (\"4.5.1\")", io->path, ver->type == PB_GLTF_STRING ? "not a version" : pb_gltf_value_type_name(ver));
     b->g2_correlated = major > 3 || (major == 3 && minor >= 5);
     b->normal_map_cycles4 = major >= 4;
+    b->bump_model = major > 4 || (major == 4 && minor >= 5) ? PB_BUMP_CONTY : PB_BUMP_CHIANG;
   } else {
     b->g2_correlated = b->normal_map_cycles4 = b->principled_v2; /* principled2 is Blender 4.0+ */
+    b->bump_model = PB_BUMP_CHIANG;
+  }
+  /* "bumpMapCorrection": false (Blender 4.2+ Material > Settings). */
+  const pb_gltf_value *bmc = pb_gltf_value_get(ext, "bumpMapCorrection");
+  if (bmc) {
+    if (bmc->type != PB_GLTF_BOOL)
+      return bad(&R, "bumpMapCorrection", "%s, expected true or false", pb_gltf_value_type_name(bmc));
+    if (!bmc->boolean) b->bump_model = PB_BUMP_NONE;
   }
 
   /* "vertexColor": the input a Color Attribute node drives, its colour the

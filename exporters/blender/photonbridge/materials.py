@@ -380,6 +380,12 @@ class MaterialWriter:
             ext["blendMethod"] = mat.blend_method
             ext["alphaThreshold"] = mat.alpha_threshold
             ext["backfaceCulling"] = mat.use_backface_culling
+            # Material > Settings > Bump Map Correction (Blender 4.2+): off,
+            # Cycles neither smooths diffuse light on a mapped normal nor
+            # lifts a specular normal that reflects below the surface.
+            cyc = getattr(mat, "cycles", None)
+            if cyc is not None and not getattr(cyc, "use_bump_map_correction", True):
+                ext["bumpMapCorrection"] = False
             if not mat.use_backface_culling:
                 gm["doubleSided"] = True
             if mat.blend_method == 'CLIP':
