@@ -11,6 +11,10 @@ ASAN_BUILD ?= build-asan
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 600
 CMAKE_FLAGS ?=
+# The project's own trees treat warnings as errors (CMakeLists.txt's
+# PB_WERROR is off for a plain cmake build); CMAKE_FLAGS comes after, so
+# CMAKE_FLAGS=-DPB_WERROR=OFF still turns it off.
+WERROR ?= -DPB_WERROR=ON
 
 .PHONY: all demo test build build-asan install-deps clean test-fast build-fuzz fuzz-quick fuzz blender-addon
 
@@ -22,15 +26,15 @@ install-deps:
 # The generated Makefile (not CMakeCache.txt, which a failed configure also
 # leaves) marks a configured tree.
 $(BUILD)/Makefile:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(WERROR) $(CMAKE_FLAGS)
 
 $(ASAN_BUILD)/Makefile:
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(CMAKE_FLAGS)
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(WERROR) $(CMAKE_FLAGS)
 
 # The fuzz tree: clang, libFuzzer + ASan + UBSan, only the fuzz targets
 # (tests/fuzz/fuzz.cmake).
 $(FUZZ_BUILD)/Makefile:
-	CC=clang-14 CXX=clang++-14 cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON $(CMAKE_FLAGS)
+	CC=clang-14 CXX=clang++-14 cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON $(WERROR) $(CMAKE_FLAGS)
 
 build: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS)
