@@ -129,8 +129,8 @@ bench-lights: install-deps $(BUILD)/Makefile
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
-# The four density estimators side by side on every sample (issue 19;
-# bench/results/DEVICE/estimators/).
+# The four density estimators side by side on every sample
+# (bench/results/DEVICE/estimators/).
 .PHONY: bench-estimators
 bench-estimators: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --mode estimators --no-cycles --no-internals --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)

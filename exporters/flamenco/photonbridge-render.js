@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Flamenco 3 job type: a frame range rendered by `photonbridge render` on the
-// farm's workers (issue 23). Install: copy this file into the `scripts/`
+// farm's workers. Install: copy this file into the `scripts/`
 // folder beside the flamenco-manager executable and restart the manager
 // (README, "Render farms"). Workers run the `exec` command (task type
 // "misc"), so they need photonbridge on their PATH (or the manager variable

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A shot on a Slurm cluster as a job array (issue 23; README "Render farms").
+"""A shot on a Slurm cluster as a job array (README "Render farms").
 
   slurm_render.py submit SCENE --frames A:B -o OUT/f_####.exr --state DIR
                   [--chunk N] [--warmup W] [--photonbridge EXE] [--python PY]

@@ -1,5 +1,5 @@
 /* The photon density estimator, one interface over its implementations
- * (issue 19; ARCHITECTURE.md: "replaceable stages behind small interfaces"):
+ * (ARCHITECTURE.md: "replaceable stages behind small interfaces"):
  *
  *   lbvh   seed 000 sections 5-6: photon footprints in a linear BVH rebuilt
  *          per photon map, gathered by traversal at every G-buffer surface
