@@ -55,7 +55,7 @@ demo: build
 blender-extension blender-addon-zip:
 	python3 scripts/blender_package.py $(BUILD)/blender
 
-# The Blender render engine for this user (README, "Blender render engine");
+# The Blender render engine for this user (docs/blender.md);
 # BLENDER=/path/to/blender picks the Blender (default: the one on PATH).
 blender-addon: build
 	@bash scripts/install-blender-addon.sh $(BUILD)/photonbridge
