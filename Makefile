@@ -11,6 +11,10 @@ ASAN_BUILD ?= build-asan
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 600
 CMAKE_FLAGS ?=
+# The project's own trees treat warnings as errors (CMakeLists.txt's
+# PB_WERROR is off for a plain cmake build); CMAKE_FLAGS comes after, so
+# CMAKE_FLAGS=-DPB_WERROR=OFF still turns it off.
+WERROR ?= -DPB_WERROR=ON
 
 .PHONY: all demo test build build-asan install-deps clean test-fast build-fuzz fuzz-quick fuzz blender-addon
 
@@ -22,15 +26,15 @@ install-deps:
 # The generated Makefile (not CMakeCache.txt, which a failed configure also
 # leaves) marks a configured tree.
 $(BUILD)/Makefile:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(WERROR) $(CMAKE_FLAGS)
 
 $(ASAN_BUILD)/Makefile:
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(CMAKE_FLAGS)
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(WERROR) $(CMAKE_FLAGS)
 
 # The fuzz tree: clang, libFuzzer + ASan + UBSan, only the fuzz targets
 # (tests/fuzz/fuzz.cmake).
 $(FUZZ_BUILD)/Makefile:
-	CC=clang-14 CXX=clang++-14 cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON $(CMAKE_FLAGS)
+	CC=clang-14 CXX=clang++-14 cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON $(WERROR) $(CMAKE_FLAGS)
 
 build: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS)
@@ -51,7 +55,7 @@ demo: build
 blender-extension blender-addon-zip:
 	python3 scripts/blender_package.py $(BUILD)/blender
 
-# The Blender render engine for this user (README, "Blender render engine");
+# The Blender render engine for this user (docs/blender.md);
 # BLENDER=/path/to/blender picks the Blender (default: the one on PATH).
 blender-addon: build
 	@bash scripts/install-blender-addon.sh $(BUILD)/photonbridge
@@ -125,8 +129,8 @@ bench-lights: install-deps $(BUILD)/Makefile
 bench-quick: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --quick --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
-# The four density estimators side by side on every sample (issue 19;
-# bench/results/DEVICE/estimators/).
+# The four density estimators side by side on every sample
+# (bench/results/DEVICE/estimators/).
 .PHONY: bench-estimators
 bench-estimators: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --mode estimators --no-cycles --no-internals --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Chunk boundaries against the inside of a chunk (issue 23).
+"""Chunk boundaries against the inside of a chunk.
 
 One run renders frames 0..N-1 of an animated sample with per-frame
 references (--reference-spp, cached); then the shot is cut into chunks of C

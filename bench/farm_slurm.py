@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The scheduler's overhead per task (issue 23): a shot on the one-node
+"""The scheduler's overhead per task: a shot on the one-node
 Slurm cluster of tests/farm/slurm_cluster.py (re-executed under
 `unshare -n`, root) against one process rendering the same frames.
 

@@ -1,4 +1,4 @@
-/* Filter cost per frame (not a test; bench/run_filters.py runs it, issue 6):
+/* Filter cost per frame (not a test; bench/run_filters.py runs it):
  *
  *   pb_bench_filters [--device N] [--repeat R] [--iterations K] WxH...
  *

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The host's share of a frame (issue 17): renders a sequence with --json and
+"""The host's share of a frame: renders a sequence with --json and
 prints, per frame, timing.frame_wall_ms, timing.frame_gpu_ms (timestamp
 queries) and (wall - gpu) / wall, and the frame's host <-> device bytes
 (--json "transfers": uploads and downloads outside the readback, and the

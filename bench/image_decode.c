@@ -1,7 +1,7 @@
 /* Texture decode speed: photonbridge's decoders (libspng, libjpeg-turbo;
  * src/image/decode.h) against stb_image on the same files, and whether they
- * give the same pixels. The measurement behind the README's "Texture
- * decoding" choice; not a test.
+ * give the same pixels. The measurement behind the choice in docs/scenes.md,
+ * "Texture decoding"; not a test.
  *
  *   pb_bench_image_decode DIR...     every .png / .jpg in each DIR
  *

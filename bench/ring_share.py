@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """ring to 35 dB: photonbridge's caustic-share configurations against the
-reference renderer, interleaved on a shared machine (issue 18's ring goal).
+reference renderer, interleaved on a shared machine (ring's 35 dB goal).
 
     python3 bench/ring_share.py [--exe build/photonbridge] [--repeat 3] [--out FILE]
 

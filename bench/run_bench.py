@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed against error (issue 8): every renderer, every sample scene, one run.
+"""Speed against error: every renderer, every sample scene, one run.
 
     python3 bench/run_bench.py [--quick] [--exe build/photonbridge] [--device N]
                                [--scenes a,b] [--width W] [--out DIR] [--markdown FILE]
@@ -83,23 +83,23 @@ CONFIGS = {
             pb_curve("2^16, RSM first bounce", 1 << 16, [(4, 8), (16, 32)], extra=["--first-bounce", "rsm"],
                      needs="--first-bounce"),
             # One map of many paths from the RSM, its caustic share at the
-            # default 0.5 (issue 18, ring: one map beats several of the same
+            # default 0.5 (ring: one map beats several of the same
             # paths, bench/README.md "The caustic share").
             {"label": "RSM, one map, caustic share", "needs": "--caustic-share",
              "points": [{"photons": n, "iterations": 1, "spp": spp, "extra": ["--first-bounce", "rsm"]}
                         for n, spp in ((1 << 17, 8), (1 << 17, 16), (1 << 18, 16), (1 << 18, 32))]},
             pb_curve("2^16, A-Trous 5 passes", 1 << 16, [(1, 4), (4, 8), (16, 32)],
                      extra=["--atrous-iterations", "5"], needs="--atrous-iterations"),
-            # The density estimators (issue 19): kNN at its default k = 64.
+            # The density estimators: kNN at its default k = 64.
             pb_curve("2^16, kNN (k 64)", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "knn"],
                      needs="--estimator"),
             # Seed 001's screen-space splatting and seed 004's view-sample
-            # hierarchy (issue 19 items 3, 4) at their defaults, on the same maps.
+            # hierarchy at their defaults, on the same maps.
             pb_curve("2^16, splat", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "splat"],
                      needs="--splat-ntile"),
             pb_curve("2^16, vsch", 1 << 16, [(1, 4), (4, 8), (16, 32)], extra=["--estimator", "vsch"],
                      needs="--vsch-radius"),
-            # Seed 003's image-space photon tracer (issue 20): 8 cube maps
+            # Seed 003's image-space photon tracer: 8 cube maps
             # instead of the BVH; its misses are in the section below.
             pb_curve("2^16, images tracer (8 maps)", 1 << 16, [(4, 8), (16, 32)], extra=["--tracer", "images"],
                      needs="--tracer"),
@@ -141,7 +141,7 @@ CONFIGS = {
         "lbvh_counts": [1e4, 1e5, 1e6],
         "timeout_s": 300,
     },
-    # The density estimators side by side (issue 19): the four on the same
+    # The density estimators side by side: the four on the same
     # maps of every sample, one run (`make bench-estimators`).
     "estimators": {
         "width": 96,
@@ -958,7 +958,7 @@ def markdown(res, rel):
 
 
 def tracer_section(res, rel_out):
-    """The image-space photon tracer beside the BVH tracer (issue 20, seed
+    """The image-space photon tracer beside the BVH tracer (seed
     003): bench/tracer_images.py's last results on this device
     (bench/results/DEVICE/tracer_images/tracer_images.json), with its misses."""
     d = os.path.join(ROOT, "bench", "results", slug(res["device"]["name"]), "tracer_images")
@@ -997,7 +997,7 @@ def estimator_of(cfg_extra):
 
 
 def estimators_section(res):
-    """The density estimators side by side (issue 19): per scene, every
+    """The density estimators side by side: per scene, every
     curve that names an estimator, on the same photon maps: its time to
     each PSNR, the ratio to the LBVH gather's at the same level (within this
     run), its best PSNR and the estimator's GPU ms per sample there."""

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Seed 000 Table 2 on our samples (issue 19 item 2): kNN photon mapping
+"""Seed 000 Table 2 on our samples: kNN photon mapping
 (`render --estimator knn --knn-k K`, seed 000 3.1) against the LBVH gather
 (`--estimator lbvh`, sections 5-6) at equal error.
 

@@ -45,7 +45,7 @@ REF_SPP = {"full": [64, 256, 1024, 4096], "quick": [64, 256]}
 # (label, `render` options): its own defaults (1 spp, one map of 2^18
 # paths), photon maps x spp, and the Blender render engine's defaults
 # (exporters/blender/photonbridge/settings.py: 2^18 paths, 16 maps, 16 spp,
-# progressive), which issue 15's 30 dB goal names.
+# progressive), which the lights' 30 dB goal names.
 ENGINE_DEFAULTS = ("render engine defaults (2^18 x 16 maps, 16 spp, progressive)",
                    ["--photons", str(1 << 18), "--iterations", "16", "--spp", "16", "--progressive"])
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Animated sequences: error against per-frame references and flicker, with
-the filters off, the temporal filter only, and temporal + A-Trous (issue 6),
+the filters off, the temporal filter only, and temporal + A-Trous,
 plus the filters' cost per frame at 1920x1080 (pb_bench_filters).
 
   python3 bench/run_sequences.py [--exe build/photonbridge] [--device N]
@@ -134,7 +134,7 @@ def main():
             if "error" not in r:
                 w.writerow(r)
     m = result["machine"]
-    lines = ["# Sequences: error and flicker against per-frame references (issue 6)", "",
+    lines = ["# Sequences: error and flicker against per-frame references", "",
              "Measured %s on %s (%s cores), Vulkan device %s; frames %s at 24 fps, %d px wide, %d photon paths per "
              "frame, references %d spp (the reference renderer, one per pose, cached). Filters: off; temporal (seed "
              "001 24.4.1, alpha = 0.95 w_z w_n); temporal + 4 A-Trous passes (24.4.2). Flicker: mean |I_f - I_{f-1}| "

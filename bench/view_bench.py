@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""photonbridge view's speed (issue 17): frames per second while orbiting and
+"""photonbridge view's speed: frames per second while orbiting and
 while still, and the time from a camera move to a picture within 1 dB of the
 converged one. Runs the viewer under xvfb-run with --script input and reads
 its --json per-frame records (wall time between frames, PSNR).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""photonbridge view's readback per frame (issue 17, display-only readback):
+"""photonbridge view's readback per frame (display-only readback):
 the viewer under xvfb-run on cornell_box, SIZE x SIZE, a left drag of 2 px
 a frame for FRAMES frames (moving: restart, motion vectors, temporal +
 A-Trous), then FRAMES still frames, once with PB_VIEW_READBACK_ALL=1 (the

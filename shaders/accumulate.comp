@@ -1,5 +1,5 @@
 #version 450
-// A still run's progressive accumulation (issue 17 item 2), one invocation
+// A still run's progressive accumulation, one invocation
 // per pixel of the frame (one band), after the resolve, the filter chain
 // and eq. 20, in the frame's last submission: what sequence.c's host
 // accumulate() did on the read-back arrays, operation for operation (so the

@@ -275,7 +275,7 @@ void main() {
       }
     }
     if (all(equal(beta, vec3(0.0)))) break;
-    // Russian roulette on long delta chains (issue 18 item 8): from the 8th
+    // Russian roulette on long delta chains: from the 8th
     // interaction on (the old default depth) the chain survives with
     // q = min(0.95, max_c beta_c) and beta / q (unbiased: E = q beta / q),
     // so max_specular_depth (64 by default) is a safety net, not the end of

@@ -1,5 +1,5 @@
 #version 450
-// Which environment maps moved geometry touches (issue 20 item 5; seed 003
+// Which environment maps moved geometry touches (seed 003
 // section 4's progressive update renders "only what changed"): one
 // invocation per texel of maps first_map .. first_map + map_count - 1; the
 // texel's ray from the map's centre through the texel's centre (the ray

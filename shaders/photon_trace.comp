@@ -185,7 +185,7 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
     b = h * bb;
   } else if ((params.flags & PB_PHOTON_PARAM_RAW_FOOTPRINT) == 0u && caustic &&
       (params.flags & PB_PHOTON_PARAM_CAUSTIC_RAW) != 0u) {
-    // Caustic photons (issue 18 item 2): seed 000 4.3 rescales "the
+    // Caustic photons: seed 000 4.3 rescales "the
     // footprints of all diffusely reflected photons"; a photon that has
     // undergone only specular interactions keeps its differential
     // footprint, times its own smoothing factor (the paper uses 5,
@@ -278,7 +278,7 @@ void pb_store(vec3 p, vec3 n, vec3 wi, vec3 power, vec3 dPu, vec3 dPv, bool caus
 }
 
 // Adjoint shading-normal correction of a photon's smooth scattering (Veach
-// 1997, eq. 5.19; issue 18 item 4): the BSDF sampled and weighted with the
+// 1997, eq. 5.19): the BSDF sampled and weighted with the
 // shading normal n_s carries flux as radiance would; importance (photons)
 // needs f* = f |wo.n_s| |wi.n_g| / (|wo.n_g| |wi.n_s|), wo the direction the
 // photon came from, wi the one it leaves in. Without it a smooth-shaded face

@@ -1,5 +1,5 @@
 #version 450
-// The viewer's display pass (issue 17 item 2): one invocation per pixel
+// The viewer's display pass: one invocation per pixel
 // scales the scene-linear AOV by 2^exposure, maps each channel through the
 // shaper (node 0 at 0, linear to node 1 at 2^lo, log2-spaced to 2^hi) and
 // interpolates the baked OCIO view tetrahedrally (color.h pb_color_lut;

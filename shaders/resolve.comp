@@ -1,5 +1,5 @@
 #version 450
-// The resolve pass (issue 17): one invocation per pixel of a band turns the
+// The resolve pass: one invocation per pixel of a band turns the
 // sums over samples (pb_gpu_accum from the G-buffer and direct passes,
 // pb_gpu_photon_accum and pb_gpu_photon_nmap from the gather) into the AOVs
 // of pb_render_result, in the planes of shared/pb_resolve.h, on the GPU:
@@ -9,7 +9,7 @@
 // normal with the normal-mapped fraction of samples. Every value of the
 // guarded AOVs (beauty, direct, albedo, normal, depth, material, emission,
 // indirect, caustic) that is not finite is written as 0 and counted
-// (atomicAdd on guard.count; issue 9: a correct render has none).
+// (atomicAdd on guard.count; a correct render has none).
 // k_PD's two sums (the KPD plane's channels) are reduced here too, per
 // workgroup in shared memory, then added with atomics into KpdSums as 64-bit
 // fixed point (shared/pb_resolve.h pb_gpu_resolve_kpd), so a lean readback

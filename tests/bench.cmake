@@ -1,4 +1,4 @@
-# The speed-against-error benchmark (issue 8): the driver end to end in its
+# The speed-against-error benchmark: the driver end to end in its
 # smoke mode, the fixed leaf-size threshold on the GPU, and the new render
 # options' bounds. Device tests: validation layers fatal, skip without one.
 if(TEST test_gpu_lbvh_leaf)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""End-to-end check of bench/run_bench.py (issue 8) in its smoke mode
+"""End-to-end check of bench/run_bench.py in its smoke mode
 (cornell_box at 32 px, a few points of photonbridge, the reference and
 POV-Ray, a two-point leaf sweep, the radius histogram, one LBVH rate), plus
 its time-to-PSNR interpolation on made-up curves.

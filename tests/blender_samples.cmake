@@ -3,8 +3,8 @@
 # ball under a soft spot) handed over by the Blender render engine's writer
 # (the committed hand-off without Blender) and rendered by the reference and
 # the GPU against the committed Cycles 3.4 renders (tests/blender_samples.py:
-# mean and PSNR thresholds from the measured values, README "Blender's
-# materials against Cycles 3.4"). exr_probe comes from tests/hard.cmake.
+# mean and PSNR thresholds from the measured values, docs/benchmarks.md,
+# "Blender's materials against Cycles 3.4"). exr_probe comes from tests/hard.cmake.
 if(Python3_Interpreter_FOUND)
   add_test(NAME blender_samples_ref
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/blender_samples.py ${PB_EXE} $<TARGET_FILE:exr_probe>

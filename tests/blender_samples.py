@@ -14,8 +14,8 @@ and own noise in cycles.json):
   PSNR      at least PSNR_MIN dB on the display image (photonbridge
             compare, built-in sRGB view).
 
-The thresholds are the measured values (README, "Blender's materials
-against Cycles 3.4") less a margin for the renderers' own noise from one
+The thresholds are the measured values (docs/benchmarks.md, "Blender's
+materials against Cycles 3.4") less a margin for the renderers' own noise from one
 build to the next; each is far above Cycles' own noise (cycles.json).
 
 --set 45: the same scenes saved by Blender 4.5 LTS with what 4.x adds
@@ -46,7 +46,7 @@ DATA = os.path.join(ROOT, "samples", "blender")
 # ball's caustic is the photon map's: its density estimate's bias). The
 # GPU's hdri floor fails the world light as it was before the BSDF-sampled
 # strategy and the stratified map samples (24.0 dB: the rough copper sphere
-# reflecting the HDRI's sun, README "Measured"). Floors 2 dB under the
+# reflecting the HDRI's sun, docs/benchmarks.md). Floors 2 dB under the
 # measured PSNR.
 REF_OPTS = ["--max-bounces", "64"]  # as Cycles' render
 GPU_OPTS = ["--photons", "65536", "--iterations", "4", "--progressive"]

@@ -65,7 +65,7 @@ set_tests_properties(cli_render_bad_view_leaves_nothing PROPERTIES PASS_REGULAR_
 pb_cli_test(cli_render_progressive_bad_alpha render samples/cornell_box/cornell_box.gltf -o x.exr --progressive
             --alpha 1.5 EXIT 2 REGEX "--alpha 1.5 must lie in \\(0, 1\\).*exit=2")
 
-# The normal-map test scene (tests/data/normal_map, issue 6 part 4): the
+# The normal-map test scene (tests/data/normal_map): the
 # loader generates its tangents and the plan compiles normal maps and seed
 # 001's eq. 20 correction in.
 pb_cli_test(cli_info_normal_map info tests/data/normal_map/normal_map.gltf EXIT 0
@@ -122,7 +122,7 @@ pb_cli_test(cli_render_image_maps_99 render samples/cornell_box/cornell_box.gltf
             --tracer images --image-maps 99 EXIT 2 REGEX "--image-maps: 99 is outside \\[1, 15\\].*exit=2")
 pb_cli_test(cli_render_tracer_unknown render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
             --tracer kdtree EXIT 2 REGEX "--tracer: unknown value 'kdtree'.*exit=2")
-# --tracer wherever a render is configured (issue 20 item 1): view and serve
+# --tracer wherever a render is configured: view and serve
 # take render's choices (app/live_opts.h); the images tracer's options
 # without it are an error, not ignored; info lists the tracers.
 pb_cli_test(cli_view_tracer_unknown view samples/cornell_box/cornell_box.gltf --tracer kdtree EXIT 2

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The density-estimator interface (issue 19; src/render/estimator.h).
+"""The density-estimator interface (src/render/estimator.h).
 
 interface: `render --estimator lbvh` and `--estimator auto` (auto resolves to
   lbvh) give the default's pixels (to float rounding: the photon store's
@@ -197,8 +197,8 @@ def part_knn():
 
 
 def part_knn_spot():
-    """kNN at the default k = 64 on spot_room (crate and ball lit by a spot),
-    issue 19 item 2: on llvmpipe the search used to run past the gallivm
+    """kNN at the default k = 64 on spot_room (crate and ball lit by a spot):
+    on llvmpipe the search used to run past the gallivm
     loop limiter (65535 back edges per SIMD vector, all loops together;
     shaders/knn.comp SC_BUDGET) and left pixels black where the LBVH gather
     is lit. No such pixel may be 0 in kNN, and the mean indirect + caustic
@@ -249,7 +249,7 @@ def finite(vals):
 
 
 def part_samples():
-    """Every estimator renders every sample (issue 19, "all four estimators
+    """Every estimator renders every sample ("all four estimators
     render every sample"): samples/*/NAME.gltf at 32 px, 2 maps of 8192
     paths, 2 spp: exit 0, every pixel finite, and the mean indirect + caustic
     light within 35 % of the LBVH gather's on the same maps (a bound for
@@ -350,7 +350,7 @@ def box_gltf(path, albedo, light_pos, intensity_cd):
 
 
 def part_furnace():
-    """A closed furnace (issue 19's tests: "a closed furnace scene conserving
+    """A closed furnace ("a closed furnace scene conserving
     stored flux"): a cube of diffuse walls of albedo 0.6 around a point light,
     the camera inside. Nothing escapes, so the light on the walls is the
     light's flux reflected again and again (the indirect share is

@@ -1,4 +1,4 @@
-# Render farms (issue 23; tests/farm/): --warmup and per-frame seeds for
+# Render farms (tests/farm/): --warmup and per-frame seeds for
 # chunked shots, the Flamenco 3 job type compiled in node against a stub of
 # the manager's globals, and a shot on a one-node Slurm cluster the test
 # starts and stops itself (root, unshare -n). Each skips (77, one line)

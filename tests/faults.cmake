@@ -1,4 +1,4 @@
-# Fault injection (issue 9, item 3): tests/faults.sh CASE runs photonbridge
+# Fault injection: tests/faults.sh CASE runs photonbridge
 # under one fault each (no Vulkan driver, a device without a needed feature,
 # a GPU memory cap, an unwritable output folder, a full disk, SIGINT/SIGTERM)
 # and asserts the exit code, a one-line error and an unchanged output folder.
@@ -25,7 +25,7 @@ if(PB_BASH)
   endforeach()
 endif()
 
-# Valgrind memcheck over the CPU paths (issue 9, item 4; tests/valgrind.sh):
+# Valgrind memcheck over the CPU paths (tests/valgrind.sh):
 # info and export-pov on every sample, the reference at 16x16 (path tracing,
 # SPPM, textures), compare/display and their error paths, a dozen broken
 # corpus files. Memory errors and definite/indirect/possible leaks fail;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fault injection for the command line (issue 9, item 3): each case runs
+# Fault injection for the command line: each case runs
 # photonbridge under one fault and asserts the exact exit code from the result
 # table, a one-line error naming the path/device/buffer, and that the output
 # folder holds exactly what it held before (no output, no PATH.tmp.PID).

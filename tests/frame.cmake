@@ -1,4 +1,4 @@
-# The GPU-resident frame (issue 17): the resolve pass and readback give the
+# The GPU-resident frame: the resolve pass and readback give the
 # same pixels as the host resolve, for every sample scene and a sequence
 # (tests/frame_same_pixels.py); with -DPB_BASELINE_EXE=/path/to/photonbridge
 # (a build of an earlier commit) also the same pixels as that binary.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Same pixels as before (issue 17): the GPU-resident frame's resolve pass
+"""Same pixels as before: the GPU-resident frame's resolve pass
 (shaders/resolve.comp) and readback give the AOVs the host resolve gave,
 channel for channel, for every sample scene (small, same seed), a scene
 with normal maps (eq. 20's AOVs), a direct-only render and a short sequence
@@ -157,7 +157,7 @@ def part_extra():
 
 
 def part_in_flight():
-    """Frames in flight (issue 17, src/render/sequence.h): a sequence rendered
+    """Frames in flight (src/render/sequence.h): a sequence rendered
     with --frames-in-flight 2 (the frame's last submission and the readback's
     copy into the ring run while the host goes on; frames come out one late)
     against --frames-in-flight 1 (one frame at a time), same seed: the same
@@ -202,8 +202,8 @@ def part_in_flight():
 
 
 def part_still_gpu():
-    """A still run's progressive accumulation on the GPU (issue 17 item 2:
-    shaders/accumulate.comp, the running means in a target of the sequence)
+    """A still run's progressive accumulation on the GPU
+    (shaders/accumulate.comp, the running means in a target of the sequence)
     against the host arrays it replaced (PB_STILL_ON_HOST=1, sequence.c's
     accumulate()), same seed: every frame of a still camera (5 frames: the
     beauty, direct and caustic means) to float rounding, with 1 and 2 frames

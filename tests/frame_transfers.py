@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The GPU-resident frame moves no pixels but the readback's (issue 17): per
+"""The GPU-resident frame moves no pixels but the readback's: per
 frame, --json "transfers" counts the bytes of pb_gpu_buffer_upload and
 _download outside the readback module and what the readback brought to the
 host. A sequence (cornell_box --orbit: motion vectors, temporal filter,
@@ -104,7 +104,7 @@ for label, args in CASES:
             check(tg and th and abs(tg["mean_history"] - th["mean_history"]) <= 1e-3 and
                   abs(tg["reset_fraction"] - th["reset_fraction"]) <= 1e-9,
                   "orbit frame %d: temporal statistics on the GPU %s, host %s" % (i, tg, th))
-# The host's share of a warm sequence frame on this device (issue 17: at
+# The host's share of a warm sequence frame on this device (at
 # most 10 % on lavapipe at 256 px; here 128 px, which has less GPU work to
 # hide the host's behind, so the bound is the stricter test): the moving
 # light of cornell_box_moving_light, temporal filter, motion vectors and 4

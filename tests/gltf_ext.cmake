@@ -1,5 +1,5 @@
-# What Blender's glTF exporter writes beyond the core (tests/data/gltf_ext,
-# issue 16): COLOR_0, KHR_texture_transform and TEXCOORD_1, unlit, volume,
+# What Blender's glTF exporter writes beyond the core (tests/data/gltf_ext):
+# COLOR_0, KHR_texture_transform and TEXCOORD_1, unlit, volume,
 # blend-0 spots, Blender's default surface.
 #   test_deform          (unit-test glob) skins and morph targets posed on the CPU
 #   test_gpu_gltf_ext    (unit-test glob, tests/gpu.cmake) GPU and reference renders

@@ -96,8 +96,8 @@ set_tests_properties(gpu_cli_render_tracer_images PROPERTIES ENVIRONMENT "PB_VK_
                      LABELS "gpu;no-sanitize" TIMEOUT 600
                      PASS_REGULAR_EXPRESSION "exit=0,0 validation_messages=0 tracer_named=2 misses=1")
 
-# ring's caustic against its committed converged reference (issue 18 item 2's
-# "ring against its converged reference above a PSNR threshold"): the
+# ring's caustic against its committed converged reference (the
+# goal "ring against its converged reference above a PSNR threshold"): the
 # render with --first-bounce auto (the point light's map covers about
 # 5 % of its flux, so its photons start from the RSM) at 64 px, 16 spp, 8
 # maps of 2^18 paths, beauty PSNR on the display image at least 30 dB.
@@ -121,7 +121,7 @@ add_test(NAME gpu_ring_caustic_psnr
 set_tests_properties(gpu_ring_caustic_psnr PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                      LABELS "gpu;no-sanitize" TIMEOUT 600)
 
-# ring at 35 dB (issue 18's goal; bench/README.md, "The caustic share"):
+# ring at 35 dB (the caustic goal; bench/README.md, "The caustic share"):
 # one map of 2^18 paths, 16 spp, --first-bounce auto at the defaults (caustic
 # share 0.5: the RSM's mirror texels weighted up to half of the map's photons;
 # caustic footprints S_c = 1), 64 px against the committed reference above,
@@ -146,7 +146,7 @@ add_test(NAME gpu_ring_caustic_share
 set_tests_properties(gpu_ring_caustic_share PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                      LABELS "gpu;no-sanitize" TIMEOUT 600)
 
-# ring at 35 dB at the benchmark's 128 px (issue 18's goal): the defaults
+# ring at 35 dB at the benchmark's 128 px (the caustic goal): the defaults
 # (--first-bounce auto, caustic share 0.5, S_c 1), one map of 2^17 paths, 16
 # spp, against tests/data/ring/ring_128_ref.exr (`photonbridge reference
 # samples/ring/ring.gltf --width 128 --spp 2048 --seed 0 --estimate-noise`,
@@ -170,7 +170,7 @@ set_tests_properties(gpu_ring_35db PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" S
                      LABELS "gpu;no-sanitize" TIMEOUT 600)
 
 # render --tracer images on every glTF sample, still and animated, and the
-# .blend samples' hand-off glTFs (issue 20:
+# .blend samples' hand-off glTFs:
 # the images tracer renders each one; tests/tracer_samples.py prints the
 # miss rate per sample), validation layers on.
 add_test(NAME gpu_cli_render_tracer_images_samples
@@ -180,7 +180,7 @@ set_tests_properties(gpu_cli_render_tracer_images_samples PROPERTIES ENVIRONMENT
                      SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900
                      PASS_REGULAR_EXPRESSION "11 of 11 samples rendered with --tracer images")
 
-# The viewer's display pass against the host path (issue 17 item 2).
+# The viewer's display pass against the host path.
 if(TEST test_gpu_present)
   set_tests_properties(test_gpu_present PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        LABELS "gpu;no-sanitize;view" TIMEOUT 600)

@@ -1,4 +1,4 @@
-# Hard cases for numerical stability (issue 9, part 1): tests/hard/hard_cases.py
+# Hard cases for numerical stability: tests/hard/hard_cases.py
 # generates the scenes, renders them through the CLI and checks the pictures;
 # exr_probe dumps an EXR's channels as JSON for it. The reference half runs
 # under the sanitizers too; the GPU half opens a Vulkan device (validation
@@ -13,8 +13,8 @@ if(Python3_Interpreter_FOUND)
                      ${CMAKE_CURRENT_BINARY_DIR}/hard_${kind} --renderer ${kind}
              WORKING_DIRECTORY ${PB_ROOT})
   endforeach()
-  # The same GPU cases through the screen-space splatting estimator (issue 19
-  # item 3: no non-finite values on the hard cases, the same pictures).
+  # The same GPU cases through the screen-space splatting estimator
+  # (no non-finite values on the hard cases, the same pictures).
   add_test(NAME hard_cases_gpu_splat
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${CMAKE_CURRENT_BINARY_DIR}/hard_gpu_splat --renderer gpu --gpu-args "--estimator splat"

@@ -6,7 +6,7 @@ compared with the committed Cycles 3.4 render of the same .blend scene:
 
   mean   |mean(photonbridge) / mean(Cycles) - 1| <= 1 %  (all pixels, RGB)
   PSNR   >= 35 dB on the display image (photonbridge compare, built-in sRGB
-         view); on the studio (full global illumination) the issue's goals:
+         view); on the studio (full global illumination) the goals:
          the reference >= 38 dB, the GPU >= 30 dB
 
 usage: principled_lobes.py PHOTONBRIDGE EXR_PROBE WORKDIR --renderer ref|gpu

@@ -1,4 +1,4 @@
-# Frame sequences through the CLI (issue 6; tests/sequence_check.py): one test
+# Frame sequences through the CLI (tests/sequence_check.py): one test
 # per part, so ctest -j runs them side by side. The still and flicker parts
 # share a reference cache under the build folder (first run renders it).
 foreach(part errors smoke orbit still flicker caustics splat materials deform vsch)

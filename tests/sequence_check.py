@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Frame sequences (issue 6), through the CLI:
+"""Frame sequences, through the CLI:
 
   smoke     every animated sample renders a short sequence: one EXR per frame
             with its frame number and time, --json lists the frames, the
@@ -127,7 +127,7 @@ if "still" in PARTS:
         ps = [f["reference"]["psnr_db"] for f in fr]
         print("still: PSNR per frame " + " ".join("%.2f" % x for x in ps))
         check(all(f["still"] for f in fr[1:]), "still: frames after the first are still")
-        # Since r_max follows the photon density (issue 18 item 3) the first
+        # Since r_max follows the photon density the first
         # frame is less noisy (24.3 dB, was 23.4 at the old 5 % clamp) and the
         # run ends at the same bias-limited 26.7-26.9 dB, so 16 frames gain
         # about 2.4 dB (3.3 at the old clamp); frames alternate by up to

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""photonbridge serve (issue 17 item 3), one part a run:
+"""photonbridge serve, one part a run:
 
   protocol  the session over stdin/stdout: the ready line; a camera (view and
             projection matrices) and a frame (its file: header, size,

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """`render --tracer images` renders every glTF sample and animated sample
-(issue 20: "--tracer images renders every sample and animated sample"), and
+("--tracer images renders every sample and animated sample"), and
 the .blend samples as the Blender render engine hands them over
 (samples/blender/NAME/handoff/NAME.gltf: soft lights, an HDRI world, glass):
 exit 0 under the validation layers (PB_VK_VALIDATION=1 from ctest), the JSON

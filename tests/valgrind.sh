@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Memcheck over the CPU paths (issue 9, item 4): each command runs under
+# Memcheck over the CPU paths: each command runs under
 #   valgrind --error-exitcode=99 --leak-check=full
 # (leaks of kinds definite, indirect and possible are errors) and must exit
 # with its own expected code, so a memory error or leak (99) fails the test.

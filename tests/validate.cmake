@@ -1,4 +1,4 @@
-# Cross-renderer validation (issue 7, parts 4 and 5).
+# Cross-renderer validation.
 #   validate_report_chromium  `photonbridge validate cornell_box` at 48 px (reference, GPU
 #                             render, POV-Ray draft, Cycles when installed), then the
 #                             report page in headless Chromium (validation/report_check.py):

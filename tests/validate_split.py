@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`photonbridge validate` split by renderer (issue 23; what a farm runs as
+"""`photonbridge validate` split by renderer (what a farm runs as
 one task per scene and renderer): `--renderers R --render-only` into one
 folder per renderer, then `--report-from` those folders, against the same
 renderers in one process. cornell_box at 24 px, the reference and the GPU

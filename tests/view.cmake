@@ -14,7 +14,7 @@ foreach(part still input resize nodisplay errors in_flight tracer)
                        RESOURCE_LOCK xvfb)
 endforeach()
 
-# The display-only readback (issue 17; tests/unit/test_gpu_view_readback.c):
+# The display-only readback (tests/unit/test_gpu_view_readback.c):
 # a sequence read back as `view` (no AOV) and `serve` (the beauty) set it,
 # against the full readback of `render --frames`: bytes per frame under a
 # bound, the same picture. Validation layers on.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""photonbridge view under Xvfb (issue 17, item 4's viewer tests), one part a run:
+"""photonbridge view under Xvfb (item 4's viewer tests), one part a run:
 
   still      after N still frames the window's screenshot is `photonbridge
              display` of `render --frames 0:N-1` (the same camera, settings

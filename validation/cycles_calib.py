@@ -1,4 +1,4 @@
-"""Cycles calibration scenes (issue 7, part 5): a Lambertian plane (albedo
+"""Cycles calibration scenes: a Lambertian plane (albedo
 0.8, Principled BSDF with Specular 0 and Roughness 1, as the samples' diffuse
 materials) seen from 3 m straight above through a narrow camera (0.6 m of the
 plane across the image), lit by one light:

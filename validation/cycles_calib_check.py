@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The watt convention of shared/VALIDATION.md, kept true (issue 7, part 5):
+"""The watt convention of shared/VALIDATION.md, kept true:
 Blender 3.4's Cycles renders the calibration scenes of cycles_calib.py
 (direct light only on a Lambertian plane of albedo 0.8: a 100 W point light,
 a 100 W spot, a 3 W/m^2 sun at 30 degrees), photonbridge's reference renders

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Cross-renderer validation report for one scene (issue 7, part 4).
+"""Cross-renderer validation report for one scene.
 
     python3 validation/validate.py SCENE --out DIR --exe build/photonbridge \
         [--width 128] [--spp 16] [--ref-spp 64] [--pov-quality medium] \
@@ -41,7 +41,7 @@ Every pair's row also lists what its two renderers model differently on this
 scene (renderer_notes: a feature one side lacks, a material model, bounce
 limits; from photonbridge info, the glTF's JSON and each renderer's own
 report), so that a modelling difference is not read as an error.
-Split by renderer (a farm's one task per scene and renderer, issue 23):
+Split by renderer (a farm's one task per scene and renderer):
 `--renderers R --render-only` runs only R and writes its record as
 DIR/render_R.json beside its image and logs; `--report-from DIR1,DIR2,...`
 renders nothing, copies those folders into --out and compares and reports

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Thin-geometry scene for the RSM first bounce (issue 18 item 7; bench/README.md):
+"""Thin-geometry scene for the RSM first bounce (bench/README.md):
 
     python3 bench/scenes/thin_slats.py WIDTH_M OUT.gltf
 

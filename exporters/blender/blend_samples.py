@@ -1,4 +1,4 @@
-"""The .blend samples of issue 15: scenes an artist opens in Blender, with
+"""The .blend samples: scenes an artist opens in Blender, with
 Principled materials and Blender's own lights, and their Cycles 3.4 renders
 (the references of tests/blender_samples.py and of `photonbridge validate
 FILE.blend`).

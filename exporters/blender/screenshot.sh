@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A screenshot of Blender's window (the README's): the photonbridge panel
+# A screenshot of Blender's window (the README's and docs/blender.md's): the photonbridge panel
 # and a finished F12 render of a sample in the image editor, under Xvfb.
 #   exporters/blender/screenshot.sh [SAMPLE] [OUT.png]
 set -euo pipefail

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Flamenco 3 job type: a frame range rendered by `photonbridge render` on the
-// farm's workers (issue 23). Install: copy this file into the `scripts/`
+// farm's workers. Install: copy this file into the `scripts/`
 // folder beside the flamenco-manager executable and restart the manager
-// (README, "Render farms"). Workers run the `exec` command (task type
+// (docs/farms.md). Workers run the `exec` command (task type
 // "misc"), so they need photonbridge on their PATH (or the manager variable
 // named in the "photonbridge" setting) and the scene and output on shared
 // storage.
@@ -16,7 +16,7 @@
 // (`--warmup`, not written) to rebuild the temporal filter's history. The
 // photon seeds follow the frame number, so a frame comes out as it would in
 // one run of the whole shot up to the history older than the warm-up
-// (README "Render farms" measures how many frames make the boundary
+// (docs/farms.md measures how many frames make the boundary
 // invisible: 32 frames, the default).
 
 const JOB_TYPE = {

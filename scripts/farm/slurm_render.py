@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A shot on a Slurm cluster as a job array (issue 23; README "Render farms").
+"""A shot on a Slurm cluster as a job array (docs/farms.md).
 
   slurm_render.py submit SCENE --frames A:B -o OUT/f_####.exr --state DIR
                   [--chunk N] [--warmup W] [--photonbridge EXE] [--python PY]
@@ -14,7 +14,7 @@ chunk, each running `photonbridge render SCENE --frames a:b --warmup W -o
 OUT ...` (the W frames before a rebuild the temporal history and are not
 written; default 32; the photon seeds follow the frame number, so the
 chunks' frames are those of one run of the shot up to history older than W
-frames: README "Render farms" measures 32 to make a boundary invisible). A second
+frames: docs/farms.md measures 32 to make a boundary invisible). A second
 job, dependent on the whole array (afterany), checks every frame and writes
 DIR/summary.json. --wait blocks until that check ends and exits with its
 status. resubmit submits only the chunks the last check found failed (and a

@@ -69,7 +69,7 @@ PB_STRUCT(pb_gpu_image_maps_push) {
   uint ray_count;      /* query: rays */
 } PB_END(pb_gpu_image_maps_push)
 
-/* What moved geometry touches (image_maps_touch.comp; issue 20 item 5): the
+/* What moved geometry touches (image_maps_touch.comp): the
  * box of the triangles that moved, old and new positions, and per map a
  * flag the pass sets when one of the map's texel rays (centre to its stored
  * surface point, or to infinity where it saw nothing) crosses the box: only

@@ -49,7 +49,7 @@ PB_STRUCT(pb_gpu_photon) {
   float pad1;
 } PB_END(pb_gpu_photon)
 
-/* A photon of the sorted map, 48 bytes (issue 22: the LBVH's copy in Morton
+/* A photon of the sorted map, 48 bytes (the LBVH's copy in Morton
  * order, written by lbvh_climb.comp and read by the gather and kNN through
  * common/photon_pack.glsl; the tracer's map keeps pb_gpu_photon). Three uvec4:
  *  w0  position (f32 x3), normal_extent (f32)

@@ -1,5 +1,5 @@
-/* The viewer's display pass (shaders/present.comp, src/view/present_pass.c;
- * issue 17 item 2): scene-linear pixels through the baked OCIO view
+/* The viewer's display pass (shaders/present.comp, src/view/present_pass.c):
+ * scene-linear pixels through the baked OCIO view
  * (color.h pb_color_lut: shaper + tetrahedral 3D LUT) into 8-bit RGBA on
  * the render device. Shared by C and GLSL. */
 #ifndef PB_PRESENT_SHARED_H

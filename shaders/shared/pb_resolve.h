@@ -8,7 +8,7 @@
  * buffer, at P - PB_RESOLVE_BASE_CHANNELS: neither needs more than 72 bytes
  * per pixel, so the band (frame.c) stays as wide as the accumulators allow.
  * Non-finite values are replaced by 0 and counted with an atomic (the
- * issue 9 guard, formerly on the host). Shared by C and GLSL. */
+ * NaN guard, formerly on the host). Shared by C and GLSL. */
 #ifndef PB_RESOLVE_SHARED_H
 #define PB_RESOLVE_SHARED_H
 

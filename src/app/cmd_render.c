@@ -63,7 +63,7 @@ typedef struct render_opts {
   double atrous_gamma;
   double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0, caustic_share;
   const char *png;
-  /* Sequences (issue 6; render_seq.h). */
+  /* Sequences (render_seq.h). */
   const char *frames;
   double fps, orbit_seconds;
   int orbit, no_temporal, bvh_update;
@@ -252,7 +252,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_end_object(&j);
   pb_json_number(&j, "wall_ms", st->wall_ms);
   /* The frame's wall and GPU time (timestamps; null without): the host's
-   * share is (wall - gpu) / wall (bench/README.md, issue 17). */
+   * share is (wall - gpu) / wall (bench/README.md). */
   pb_json_begin_object(&j, "timing");
   pb_json_number(&j, "frame_wall_ms", st->frame_wall_ms);
   if (st->frame_gpu_ms >= 0) pb_json_number(&j, "frame_gpu_ms", st->frame_gpu_ms);
@@ -280,7 +280,7 @@ int pb_cmd_render(int argc, char **argv) {
                    .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
                    .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
-  double gpu_memory_mb = 0; /* --gpu-memory-limit (issue 9: faults) */
+  double gpu_memory_mb = 0; /* --gpu-memory-limit (faults) */
   const pb_opt opts[] = {
       PB_RENDER_OPTS_OUT(&c, "output file: .exr (scene-linear, every pass) or .png (the beauty, display-referred "
                              "through the OCIO view, as --png)"),
@@ -505,7 +505,7 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.progressive && o.iterations <= 1 && !o.direct_only && !o.frames)
     pb_log_warn("render: --progressive has no effect with one photon map: add --iterations K (K > 1) or "
                 "--time-limit S");
-  /* --max-bounces N: the reference's path-length limit (issue 18 item 8).
+  /* --max-bounces N: the reference's path-length limit.
    * A photon stored at its k-th bounce ends a path of k + 1 events at the
    * eye's first smooth vertex, so photons store at most N - 1; the eye's
    * mirror/glass chain before that vertex is limited to N - 1 as well (a

@@ -1,7 +1,7 @@
 /* render --frames A:B (render_seq.h): frames rendered by render/sequence.h,
  * each written as its own EXR (atomically, so a failure leaves only whole
  * frames behind), after --warmup N unwritten frames before A that build the
- * temporal history (issue 23: a chunk of a shot on a farm), with optional
+ * temporal history (a chunk of a shot on a farm), with optional
  * per-frame references and metrics:
  *
  *  error    per frame, the result against the reference renderer's render
@@ -12,7 +12,7 @@
  *           beauty) averaged over the frame pairs, for the result and for
  *           the reference; the excess flicker is the difference: the
  *           frame-to-frame change the renderer adds to the change the
- *           motion itself causes (issue 6). */
+ *           motion itself causes. */
 #include "app/render_seq.h"
 #include "app/render_out.h"
 
@@ -82,7 +82,7 @@ static uint64_t fnv(uint64_t h, const void *data, size_t n) {
 
 /* Content key of a reference render: the reference renderer's version (the
  * program's version and git description, and its path-length rule: a cache
- * written before issue 18 held 8-event references), the scene file (path,
+ * written before the unbounded default held 8-event references), the scene file (path,
  * size, time), the posed geometry, lights and camera, and the reference's
  * settings. Fields are hashed one by one (no struct padding). */
 static uint64_t reference_key(const pb_scene *s, const pb_camera *cam, uint32_t w, uint32_t h, uint32_t spp,
@@ -202,7 +202,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
   pb_json_bool(j, "in_flight", st->in_flight);
   pb_json_bool(j, "record_overlapped", st->record_overlapped); /* recorded before the previous frame was waited for */
   pb_json_bool(j, "record_running", st->record_running);       /* ... and while it still ran on the GPU */
-  pb_json_bool(j, "still_on_gpu", st->still_on_gpu); /* a still run averaged on the GPU (issue 17 item 2) */
+  pb_json_bool(j, "still_on_gpu", st->still_on_gpu); /* a still run averaged on the GPU */
   pb_json_end_object(j);
   /* Host <-> device bytes of the frame (pb_render_stats): the readback's,
    * and what else went up or down (constants, scene data, photon counts). */
@@ -404,7 +404,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
     goto done;
   }
   if ((r = pb_sequence_create(g, s, gs, camera, w, h, sd, &q)) != PB_OK) goto done;
-  /* Warm-up (issue 23): the frames first-warmup .. first-1 render as they
+  /* Warm-up: the frames first-warmup .. first-1 render as they
    * would in a run of the whole shot (the photon seeds follow the frame
    * number, not the position in this run) and fill the temporal history;
    * none is written. The last one's reference gives the first written

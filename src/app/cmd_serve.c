@@ -51,7 +51,7 @@ int pb_cmd_serve(int argc, char **argv) {
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
     pb_cli_print_help(stdout, cmd, opts, nopts,
-                      "One JSON object a line each way (README, \"photonbridge serve\"; src/serve/protocol.h):\n"
+                      "One JSON object a line each way (docs/serve.md; src/serve/protocol.h):\n"
                       "  {\"cmd\":\"camera\",\"view\":[16],\"projection\":[16],\"axes\":\"blender\"}  "
                       "{\"cmd\":\"resolution\",\"width\":W,\"height\":H}\n"
                       "  {\"cmd\":\"time\",\"t\":S}  {\"cmd\":\"settings\",\"photons\":N,...}  {\"cmd\":\"frame\"}\n"

@@ -1,5 +1,5 @@
 /* photonbridge validate SCENE --out DIR [options]: the cross-renderer report
- * of issue 7 (part 4). A thin wrapper: it runs validation/validate.py with
+ * (validation/validate.py). A thin wrapper: it runs validation/validate.py with
  * python3, passing this executable as --exe and every other argument as is.
  * The script is found through $PB_VALIDATION_DIR, else next to the
  * executable's folder (BUILD/../validation, the source tree's layout), else

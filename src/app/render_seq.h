@@ -13,7 +13,7 @@
 typedef struct pb_seq_opts {
   int32_t first, last;          /* frame numbers, inclusive; t = frame / fps */
   uint32_t warmup;              /* frames first-warmup .. first-1 rendered for the
-                                   temporal history, not written (issue 23) */
+                                   temporal history, not written */
   double fps;
   const char *png;              /* pattern or NULL */
   uint32_t reference_spp;       /* 0: no per-frame reference and metrics */

@@ -101,7 +101,7 @@ const char *pb_color_blender_config(void);
  * ("display sRGB: Standard, Filmic, ..."), for --list. */
 void pb_color_list(const pb_color *c, FILE *f);
 
-/* The view baked for the GPU (issue 17 item 2): a 3D LUT of size^3 nodes on
+/* The view baked for the GPU: a 3D LUT of size^3 nodes on
  * a shaper, so that shaders/present.comp (src/view/present_pass.c) shows
  * what pb_color_apply_display gives, to one 8-bit step, HDR values included.
  *

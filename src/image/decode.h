@@ -1,7 +1,7 @@
 /* Texture decoding from memory: PNG through libspng, JPEG through
  * libjpeg-turbo, both to 8-bit RGBA, top row first. Both libraries are built
- * for untrusted input and fuzzed upstream (OSS-Fuzz); the README's "Texture
- * decoding" section has the measurement that chose them over stb_image.
+ * for untrusted input and fuzzed upstream (OSS-Fuzz); docs/scenes.md, "Texture
+ * decoding", has the measurement that chose them over stb_image.
  *
  * Contract of every decoder here: the declared size is read from the header
  * and checked against the limits before any pixel memory is allocated; no

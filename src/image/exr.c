@@ -213,7 +213,7 @@ static void fill_rows(const pb_exr_desc *d, const wchan *ch, uint32_t nch,
 /* OpenEXR 3.1.5's ZIP/ZIPS encoder (Debian 12's; internal_zip.c
  * apply_zip_impl) keeps the zlib stream when it is exactly as long as the
  * packed chunk, and every reader takes a chunk of its unpacked size for
- * uncompressed data, so it decodes the zlib bytes as pixels (upstream issue
+ * uncompressed data, so it decodes the zlib bytes as pixels (upstream:
  * AcademySoftwareFoundation/openexr#2306, fixed in 2026 by storing the
  * packed bytes whenever compression does not shrink them). Found here: a
  * 2 x 1 RGBA half image of (4, 2, 1, 1) read back, by us and by Blender, as

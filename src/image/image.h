@@ -104,7 +104,7 @@ void pb_image_destroy(pb_image *img);
 int pb_image_find_channel(const pb_image *img, const char *name);
 
 /* Writes an 8-bit PNG preview of linear RGB(A) data through the plain sRGB
- * encode (the shared OCIO view replaces it in its own issue): colour is
+ * encode (the shared OCIO view, src/color, replaces it for the pictures): colour is
  * scaled by 2^exposure, encoded with pb_linear_to_srgb, clamped to [0,1] and
  * rounded to nearest; NaN and negative values give 0. Alpha is written
  * linearly (clamped, rounded, no exposure). channels 3 or 4. Atomic like

@@ -44,7 +44,7 @@
  * divided by q): E[beta'] = q beta / q = beta. By default (ref.h,
  * PB_REF_BOUNCE_CAP) max_bounces is only a safety net: a truncation at 8
  * events lost sum_{k>8} rho^k / sum_k rho^k = rho^8 of the indirect light of
- * a closed room of albedo rho (10 % at 0.75, issue 18; the furnace test
+ * a closed room of albedo rho (10 % at 0.75; the furnace test
  * checks Le / (1 - rho) exactly), while the roulette's expected path length
  * is bounded by the 0.95 cap (at most 2 + 1 / 0.05 = 22 events, and about
  * 2 + 1 / (1 - rho) for albedo rho). */

@@ -1,5 +1,5 @@
 /* The photon density estimator, one interface over its implementations
- * (issue 19; ARCHITECTURE.md: "replaceable stages behind small interfaces"):
+ * (ARCHITECTURE.md: "replaceable stages behind small interfaces"):
  *
  *   lbvh   seed 000 sections 5-6: photon footprints in a linear BVH rebuilt
  *          per photon map, gathered by traversal at every G-buffer surface
@@ -126,7 +126,7 @@ extern const char *const pb_estimator_names[];
  * others' create fails with "estimator 'NAME' is not built in this binary". */
 int pb_estimator_built(uint32_t kind);
 /* The kind `auto` (or any kind) resolves to for scene s; the rule, in
- * words, for `info` and the README. */
+ * words, for `info` and docs/cli.md. */
 uint32_t pb_estimator_resolve(const pb_scene *s, const pb_estimator_desc *desc);
 extern const char *const pb_estimator_auto_rule;
 

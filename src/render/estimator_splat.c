@@ -1,4 +1,4 @@
-/* The screen-space splatting estimator (issue 19 item 3; seed 001, Smal &
+/* The screen-space splatting estimator (seed 001, Smal &
  * Aizenshtein, Ray Tracing Gems ch. 24, section 24.3, eq. 2-9): every
  * stored photon facing the camera and in front of it is splatted into the
  * pixels its kernel covers, a tri-axial ellipsoid on the photon's surface

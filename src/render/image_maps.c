@@ -463,8 +463,8 @@ static pb_result touched_maps(pb_gpu *g, pb_image_maps *m, const float box[2][3]
   return PB_OK;
 }
 
-/* Section 4.1's progressive update, rendering only what changed (issue 20
- * item 5). The maps hold geometry alone (positions, normals, triangles,
+/* Section 4.1's progressive update, rendering only what changed.
+ * The maps hold geometry alone (positions, normals, triangles,
  * materials), so:
  *   - a pose in which no vertex moved (a moving light or camera, a still
  *     frame of an animation) leaves every map valid and renders none; a

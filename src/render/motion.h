@@ -1,4 +1,4 @@
-/* Motion vectors (issue 6; the temporal filter's reprojection, seed 001
+/* Motion vectors (the temporal filter's reprojection, seed 001
  * 24.4.1 "using velocity vectors"): for each pixel, where the surface point
  * its centre sees was in the previous frame, on the previous frame's
  * screen, and at which camera depth.

@@ -39,7 +39,7 @@ typedef struct pb_photon_map {
  * where r_max = 5 % of the scene radius does not clamp first). */
 #define PB_PHOTON_SMOOTHING_DEFAULT 2.5f
 #define PB_PHOTON_SMOOTHING_DEFAULT_STR "2.5"
-/* Default s_caustic (issue 18 item 2): caustic photons keep their
+/* Default s_caustic: caustic photons keep their
  * differential footprint, uncompressed, times s_caustic (seed 000 4.3
  * compresses only the diffusely reflected ones; photon_trace.comp pb_store,
  * PB_PHOTON_PARAM_CAUSTIC_RAW). The old footprint (compressed like the
@@ -62,7 +62,7 @@ typedef struct pb_photon_map {
  * share off, 31.4 and 33.2). bench/README.md, "The caustic share". */
 #define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT 1.0f
 #define PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR "1"
-/* Default r_max (issue 18 item 3): PB_PHOTON_R_MAX_FACTOR r_ref, with
+/* Default r_max: PB_PHOTON_R_MAX_FACTOR r_ref, with
  * r_ref = Delta R the photon spacing on the scene's bounding sphere (R its
  * radius, Delta = 2 sqrt(pi / N)). Every footprint is a multiple of Delta
  * (diffuse: r' = s Delta R^(3/4) |dP|^(1/4); caustic, uncompressed:
@@ -145,7 +145,7 @@ typedef struct pb_photon_trace_desc {
 #define PB_PHOTON_BANDWIDTH_P_MIN 0.25f
 #define PB_PHOTON_BANDWIDTH_P_MAX 4.0f
 
-/* Path length (issue 18 item 8). The default stores every bounce until
+/* Path length. The default stores every bounce until
  * Russian roulette ends the path: survival p = min(1, max_c(Phi_c w_c) /
  * max_c(Phi_c)) (seed 001 eq. 1), capped at 0.95 from the 8th interaction
  * on (where the old default of 7 stored bounces truncated), so a path

@@ -1,4 +1,4 @@
-/* What the GPU pipeline compiles in for a scene (issue 5, part 8: "the scene
+/* What the GPU pipeline compiles in for a scene ("the scene
  * pays only for what it uses"). The passes switch code paths with
  * specialization constants set from the scene's PB_FEATURE_* flags
  * taken from this plan (frame.c's pass setup, photon_trace.c, photon_rsm.c),

@@ -9,10 +9,13 @@
 #include "shared/pb_lbvh.h"
 #include "shared/pb_resolve.h"
 
-/* The first `bytes` of b on the host: its mapping when cached, else a
- * staged copy into *scratch (grown as needed, freed by the caller). */
+/* The `bytes` of b from `offset` on the host: its mapping when cached,
+ * else a staged copy into *scratch (grown as needed, freed by the caller).
+ * *view is set on every path (NULL when the copy cannot be made), so a
+ * caller never reads an unset pointer. */
 static pb_result host_view_at(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, uint64_t bytes, void **scratch,
                               const void **view) {
+  *view = NULL;
   if (b->mapped && b->cached) {
     *view = (const char *)b->mapped + offset;
     pb_gpu_note_read_back(g, bytes);
@@ -25,17 +28,9 @@ static pb_result host_view_at(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset
   return pb_gpu_buffer_read_back(g, b, offset, p, bytes);
 }
 
+/* The first `bytes` of b (host_view_at from 0). */
 static pb_result host_view(pb_gpu *g, const pb_gpu_buffer *b, uint64_t bytes, void **scratch, const void **view) {
-  if (b->mapped && b->cached) {
-    *view = b->mapped;
-    pb_gpu_note_read_back(g, bytes);
-    return PB_OK;
-  }
-  void *p = malloc(bytes ? bytes : 1);
-  if (!p) return pb_fail(PB_ERR_NOMEM, "render: out of memory reading back %llu bytes", (unsigned long long)bytes);
-  *scratch = p;
-  *view = p;
-  return pb_gpu_buffer_read_back(g, b, 0, p, bytes);
+  return host_view_at(g, b, 0, bytes, scratch, view);
 }
 
 /* The former host resolve (frame.c and shading_correction.c before the
@@ -264,7 +259,7 @@ pb_result pb_readback_guard(pb_gpu *g, const pb_frame_targets *t, uint64_t *coun
 
 pb_result pb_readback_preview(pb_gpu *g, const pb_frame_targets *t, size_t n, uint32_t samples, float *beauty) {
   void *scratch = NULL;
-  const void *view = NULL; /* host_view sets it on success; gcc -O3 cannot see that */
+  const void *view; /* host_view sets it on every path */
   pb_result r = host_view(g, &t->accum, (uint64_t)n * sizeof(pb_gpu_accum), &scratch, &view);
   if (r == PB_OK) {
     const pb_gpu_accum *a = view;

@@ -1,4 +1,4 @@
-/* The readback (issue 17): the one place a frame's pixels come to the host.
+/* The readback: the one place a frame's pixels come to the host.
  * Everything else stays in the targets (targets.h) on the GPU; what the
  * host needs (the AOVs of pb_render_result, for EXR and PNG output and the
  * tests; the progress preview; the guard count) is copied here, from

@@ -1,7 +1,7 @@
 /* The GPU renderer: scene upload, the passes of a frame (one file each) and
  * the frame that orders them (frame.c).
  *
- * Frame (this issue's part; the photon stages slot in after `direct`):
+ * Frame (the photon stages slot in after `direct`):
  *   per sample s < spp:  gbuffer (primary visibility, specular eye chains,
  *                        emission seen along them) -> direct (shadow rays to
  *                        point, spot and directional lights, and to one
@@ -152,8 +152,8 @@ typedef struct pb_render_desc {
                                   PB_PHOTON_SMOOTHING_DEFAULT (photon.h) */
   float r_max;                 /* footprint clamp, m; 0: the tracer's */
   float smoothing_caustic;     /* caustic photons keep their differential
-                                  footprint, times this (uncompressed,
-                                  issue 18); 0:
+                                  footprint, times this (uncompressed);
+                                  0:
                                   PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT */
   pb_estimator_desc estimator; /* the density estimator (estimator.h:
                                   lbvh, knn, splat, vsch, auto) and its own
@@ -224,7 +224,7 @@ typedef struct pb_render_desc {
                                   recorded after the resolve on the GPU;
                                   NULL: atrous_iterations alone (a chain made
                                   for the call) */
-  /* Frames in flight (issue 17; sequences, with `context`): 1: the frame's
+  /* Frames in flight (sequences, with `context`): 1: the frame's
    * last submission (resolve, filters, eq. 20, and a copy of the resolved
    * planes into the readback's staging ring, targets.h) is not waited for;
    * pb_render_frame returns with out->pending set, out's arrays allocated
@@ -250,13 +250,13 @@ typedef struct pb_render_desc {
    * that overwrites what that settle reads (the guard, the k_PD sums, the
    * temporal filter's counts). Its pixels stay in its ring slot. */
   struct pb_render_result *settle_first;
-  /* Sequences (issue 17 item 2): a still run's running means on the GPU
+  /* Sequences: a still run's running means on the GPU
    * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
    * submission when the frame is one band on the GPU path; out->stats.
    * still_on_gpu says whether it was (else the caller averages on the
    * host). NULL: none. */
   struct pb_still_sum *still_sum;
-  /* What the readback brings to the host (issue 17; PB_RENDER_READBACK_*):
+  /* What the readback brings to the host (PB_RENDER_READBACK_*):
    * ALL (0) every AOV, as `render` needs them; BEAUTY the beauty alone
    * (`serve`, which sends it on); STATS none of the pixels, only what the
    * statistics need (the guard's count, the k_PD plane's sums): the
@@ -318,10 +318,10 @@ typedef struct pb_render_stats {
   double temporal_mean_history;               /* history; mean history length */
   uint64_t photons_emitted, photons_stored, photons_caustic;
   uint64_t photons_clamped;                   /* of the stored, footprints
-                                                 at r_max (issue 18 item 3) */
+                                                 at r_max */
   uint32_t iterations;
   double k_pd;
-  /* Guards (issue 9): NaN/Inf values met in the resolved AOVs and replaced
+  /* Guards: NaN/Inf values met in the resolved AOVs and replaced
    * by 0 (a correct render has none), and divisions the photon tracer
    * guarded, summed over iterations (grazing hits, degenerate footprints;
    * never stored non-finite). */
@@ -331,7 +331,7 @@ typedef struct pb_render_stats {
   uint64_t radius_hist[PB_RENDER_RADIUS_BINS];
   float radius_r_max, scene_radius;
   int radius_histogram;
-  /* The frame as a whole (issue 17; --json "timing"): frame_wall_ms from
+  /* The frame as a whole (--json "timing"): frame_wall_ms from
    * the call's start to its return (a sequence frame: pb_sequence_frame's,
    * pose, scene update, motion vectors and filters included); frame_gpu_ms
    * the GPU time of every pass recorded for it (G-buffer, direct, photon

@@ -32,7 +32,7 @@ struct pb_sequence {
    * direct and caustic AOVs) over the run's frames. */
   float *acc_rest, *acc_direct, *acc_caustic;
   uint32_t acc_frames;
-  /* The same running means on the GPU (issue 17 item 2; targets.h): every
+  /* The same running means on the GPU (targets.h): every
    * frame in one band on the GPU path averages there, so the host arrays
    * above are only made for frames that do not (several bands, the host
    * resolve of the tests). */

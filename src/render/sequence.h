@@ -1,4 +1,4 @@
-/* Frame sequences (issue 6): the scene posed at each frame's time (glTF
+/* Frame sequences: the scene posed at each frame's time (glTF
  * animation, pb_scene_set_time), the GPU scene updated (BVH refit or
  * rebuild, pb_gpu_scene_update), the frame rendered with new photon seeds,
  * motion vectors (motion.h), then temporal and spatial filtering of the
@@ -30,7 +30,7 @@ typedef struct pb_sequence_desc {
   int orbit;               /* 1: replace the camera by an orbit around the
                               scene: one turn per orbit_period seconds */
   double orbit_period;
-  /* Frames in flight (issue 17): 0 or 1, each pb_sequence_frame returns
+  /* Frames in flight: 0 or 1, each pb_sequence_frame returns
    * the frame it rendered; 2, it returns the frame before (the first call
    * returns none, pb_sequence_flush the last), and the GPU runs a frame's
    * last submission (resolve, filters, the readback's copy into its ring)
@@ -40,7 +40,7 @@ typedef struct pb_sequence_desc {
    * 1, bit-identical on lavapipe, within float rounding wherever the photon
    * store's order varies); only when frames come out changes. */
   uint32_t frames_in_flight;
-  /* What each frame reads back to the host (issue 17; render.h
+  /* What each frame reads back to the host (render.h
    * pb_render_desc.readback): PB_RENDER_READBACK_ALL (0: `render --frames`,
    * every AOV), _BEAUTY (`serve`: the beauty it sends), _STATS (`view`
    * with the GPU display: no pixels, the picture is made from the planes

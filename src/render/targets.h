@@ -1,4 +1,4 @@
-/* The per-pixel targets of a frame (issue 17): every buffer a band of
+/* The per-pixel targets of a frame: every buffer a band of
  * pixels needs on the GPU, created once per band size and feature set and
  * kept by the frame context (render.h) for the frames of a sequence:
  *   frame   pb_gpu_frame, the passes' constants
@@ -41,7 +41,7 @@ uint64_t pb_frame_targets_max_pixel_bytes(void);
 pb_result pb_frame_targets_create(pb_gpu *g, uint32_t band_pixels, int photons, int nmap, pb_frame_targets *out);
 void pb_frame_targets_destroy(pb_gpu *g, pb_frame_targets *t);
 
-/* A still run's running means on the GPU (issue 17 item 2; shaders/
+/* A still run's running means on the GPU (shaders/
  * accumulate.comp, shared/pb_accumulate.h): the sequence's target, made
  * once per size, PB_ACCUM_FLOATS floats a pixel; frame.c records the pass
  * after eq. 20 in a frame's last submission when the frame is one band on

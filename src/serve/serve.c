@@ -434,7 +434,7 @@ pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
   server v;
   memset(&v, 0, sizeof v);
   v.g = g, v.d = d, v.desc = d->seq, v.in_fd = STDIN_FILENO, v.out_fd = STDOUT_FILENO, v.listen_fd = -1;
-  /* Issue 17: rgba32f frames send the beauty alone, so only it comes to
+  /* rgba32f frames send the beauty alone, so only it comes to
    * the host (the EXR format writes every AOV: all are read). */
   if (d->format != PB_SERVE_FORMAT_EXR) v.desc.readback = PB_RENDER_READBACK_BEAUTY;
   signal(SIGPIPE, SIG_IGN); /* a dead client is a failed write, not a signal */

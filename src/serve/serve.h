@@ -1,4 +1,4 @@
-/* `photonbridge serve`: a persistent session (issue 17 item 3). The scene
+/* `photonbridge serve`: a persistent session. The scene
  * is loaded once; requests (protocol.h) change the camera, the size, the
  * time, the settings or the scene, and frames are rendered by the live
  * session (view/session.h, the loop `view` runs) and handed over as files

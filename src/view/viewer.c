@@ -86,7 +86,7 @@ typedef struct viewer {
   float *ref_display;    /* the reference through the metrics view, RGB */
   float *tmp;            /* RGBA floats of the shown AOV */
   uint8_t *rgba;         /* the bytes shown (GPU display: fetched when asked, rgba_stale) */
-  /* The picture made on the render device (issue 17 item 2): the view
+  /* The picture made on the render device: the view
    * baked to a LUT, the display pass writing RGBA8 into a buffer the
    * presenter copies into the swapchain. gpu_display 0: the host path
    * (its own presentation device, PB_VIEW_HOST_DISPLAY=1, a depth AOV). */
@@ -774,7 +774,7 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
           (r = pb_present_pass_create(g, &v.lut, (uint32_t)n, &v.pass)) != PB_OK)
         goto done;
       v.gpu_display = 1;
-      /* Display-only readback (issue 17): the picture is made from the
+      /* Display-only readback: the picture is made from the
        * planes on the GPU, so the frames bring no AOV to the host but the
        * beauty for --reference's PSNR; the depth AOV and P / F12 fetch the
        * rest when asked (pb_render_result_read_gpu). */

@@ -32,7 +32,7 @@ for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second r
         check("PHOTONBRIDGE" in getattr(bpy.types, p).COMPAT_ENGINES, "round %d: %s shows for the engine" % (round_, p))
     bpy.context.scene.render.engine = "PHOTONBRIDGE"
     check(bpy.context.scene.render.engine == "PHOTONBRIDGE", "round %d: the scene can select it" % round_)
-    # The photon tracer setting (issue 20): the property, its command line
+    # The photon tracer setting: the property, its command line
     # (settings.cli_args: render and serve) and the viewport's "settings"
     # request, both ways.
     s = bpy.context.scene.photonbridge

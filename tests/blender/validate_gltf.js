@@ -1,6 +1,6 @@
 // Runs the Khronos glTF-Validator (npm gltf-validator) on one .gltf with
 // its external resources: node validate_gltf.js VALIDATOR_DIR FILE.gltf.
-// Prints the issue counts and every error and warning; exit 1 on errors.
+// Prints the validator's counts (report.issues) and every error and warning; exit 1 on errors.
 const fs = require('fs');
 const path = require('path');
 const validator = require(process.argv[2]);

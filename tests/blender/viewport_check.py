@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Blender's viewport in photonbridge mode (issue 17 items 3 and 4): Blender
+"""Blender's viewport in photonbridge mode: Blender
 with its window (not -b) under `xvfb-run -a` (Mesa's llvmpipe for OpenGL,
 lavapipe for photonbridge), tests/blender/bl_viewport.py setting a 3D view
 to RENDERED shading with the photonbridge engine. After the engine has drawn

@@ -935,7 +935,7 @@ def broken_cases(C, png):
     C.glb(B, "glb_image_view_past_buffer", make_glb(img_doc, gbin), EXIT_INVALID,
           ["bufferViews[4]", "exceeds buffers[0]"])
 
-    # -- animations (issue 6): keys in a second, data-URI buffer
+    # -- animations: keys in a second, data-URI buffer
     def anim(times, values, comps, path="translation", interp=None, node=1, sampler=0):
         def f(d):
             blob = f32(*times) + b"".join(f32(*v) for v in values)

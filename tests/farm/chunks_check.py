@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""render --frames A:B --warmup N (issue 23), through the CLI:
+"""render --frames A:B --warmup N, through the CLI:
 
   errors  --warmup without --frames, a negative or too large warm-up: exit 2
           with one line naming --warmup;

@@ -1,4 +1,4 @@
-"""Shared by the farm tests (issue 23): the scene and render settings they
+"""Shared by the farm tests: the scene and render settings they
 use; the generic helpers (checks, runs, EXR comparison to float rounding)
 are tests/pylib/pbcheck.py's."""
 import os

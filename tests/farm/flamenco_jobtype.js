@@ -1,5 +1,5 @@
 // The Flamenco 3 job type exporters/flamenco/photonbridge-render.js compiled
-// in node against a stub of the manager's globals (issue 23): author.Task,
+// in node against a stub of the manager's globals: author.Task,
 // author.Command, frameChunker (as Flamenco's js_globals.go chunks: sorted,
 // deduplicated frames, chunks of chunk_size frames written as merged runs,
 // two-frame runs as "a,b"), frameCount, print. Checks the tasks and their exec commands

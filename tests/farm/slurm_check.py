@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A shot on a one-node Slurm cluster (issue 23; scripts/farm/slurm_render.py).
+"""A shot on a one-node Slurm cluster (scripts/farm/slurm_render.py).
 
 The test starts munged, slurmctld and slurmd itself (tests/farm/
 slurm_cluster.py) in a private network namespace (it re-executes itself

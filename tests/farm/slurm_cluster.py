@@ -1,4 +1,4 @@
-"""A one-node Slurm 22.05 cluster for tests (issue 23), started and stopped
+"""A one-node Slurm 22.05 cluster for tests, started and stopped
 by the caller inside a private network namespace:
 
   with SlurmCluster(workdir) as cl:      # munged, slurmctld, slurmd

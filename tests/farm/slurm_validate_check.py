@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""`photonbridge validate` on a one-node Slurm cluster (issue 23;
-scripts/farm/slurm_render.py validate), the cluster as in slurm_check.py
+"""`photonbridge validate` on a one-node Slurm cluster
+(scripts/farm/slurm_render.py validate), the cluster as in slurm_check.py
 (started and stopped by this test in its own network namespace).
 
   cornell_box (24 px) and a scene that does not exist, with the reference

@@ -3,7 +3,7 @@
 #
 # Included by the top-level CMakeLists.txt when PB_FUZZ=ON, in a build tree of
 # its own configured with clang (`make fuzz-quick` does it):
-#   CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DPB_FUZZ=ON
+#   CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DPB_FUZZ=ON -DPB_WERROR=ON
 # Such a tree builds only what the targets need (src/core, src/scene,
 # src/image), instrumented for libFuzzer with ASan + UBSan; tests/fuzz/run.sh
 # runs them.

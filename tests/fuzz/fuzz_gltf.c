@@ -9,7 +9,7 @@
  * buffer and image decoding.
  *
  * Besides memory errors and undefined behaviour (ASan + UBSan), the target
- * aborts when the loader breaks its contract (scene.h, README):
+ * aborts when the loader breaks its contract (scene.h, docs/scenes.md):
  *   - failure: a code from the loader's set (never PB_ERR_INTERNAL, which
  *     the shim returns for a std::logic_error or json::exception: a check
  *     that read past what it tested), a one-line message that names the

@@ -1,4 +1,4 @@
-/* glTF node animation (issue 6): hand-written glTF files with the keyframes
+/* glTF node animation: hand-written glTF files with the keyframes
  * in a data-URI buffer, posed with pb_scene_set_time and checked against
  * values worked out by hand (STEP, LINEAR, quaternion slerp, CUBICSPLINE
  * Hermite, clamping, hierarchy, cameras, lights, normals, bounds, the

@@ -8,7 +8,7 @@
  * triangles. Normals follow glTF (the skin matrix's inverse transpose, the
  * targets' NORMAL deltas blended linearly), where Blender recomputes them
  * from the deformed faces: equal at rest (checked), they differ where the
- * mesh bends or the shapes mix (printed; README). The pictures are compared
+ * mesh bends or the shapes mix (printed; docs/benchmarks.md). The pictures are compared
  * by test_gpu_deform, in both renderers. */
 #include <math.h>
 #include <stdio.h>

@@ -1,4 +1,4 @@
-/* pb_gpu_scene_update (issue 6): an animated scene posed at t0 goes to the
+/* pb_gpu_scene_update: an animated scene posed at t0 goes to the
  * GPU, is posed at t1 and updated by refit and by rebuild; the ray-query
  * kernel's hits must equal those of a GPU scene made fresh from the t1 pose.
  * The host BVH passes pb_bvh_check after each update (also without a device:

@@ -1,4 +1,4 @@
-/* Frames in flight at the GPU API (issue 17, gpu.h): pb_gpu_submit_async
+/* Frames in flight at the GPU API (gpu.h): pb_gpu_submit_async
  * leaves a submission pending, and the host cannot race it: a download sees
  * what the pending copy wrote, an upload does not overwrite what the pending
  * copy has yet to read (a large one waits, a small one is recorded after

@@ -109,10 +109,10 @@ static void cornell(pb_gpu *g) {
       memset(&gr, 0, sizeof gr);
       /* The filter's test needs a photon map whose noise is what A-Trous
        * removes: footprints clamped at 5 % of the scene's bounding radius (the
-       * clamp before issue 18 made r_max follow the photon density; at the
+       * clamp before r_max followed the photon density; at the
        * new default the map at 2^15 paths is already smooth, and the filter
        * gains 0.2 dB here). Also without the gather's edge renormalisation
-       * (issue 18 item 5), which amplifies the kernel near the room's edges
+       *, which amplifies the kernel near the room's edges
        * by up to 4x on such large footprints: with it the filter gains
        * 0.36 dB here, without it 0.54 dB, as before. */
       double ext = 0;

@@ -1,4 +1,4 @@
-/* Kernel normalisation at the corners of cornell_box (issue 18 item 5).
+/* Kernel normalisation at the corners of cornell_box.
  * A footprint that reaches past the edge where the floor meets a wall puts
  * part of its kernel where there is no floor: without a correction the
  * photon density within one footprint radius of an edge is too low (half at
@@ -11,7 +11,7 @@
  * W of another, perpendicular room face), GPU (photon gather, defaults, 8
  * maps of 2^16) against the Embree reference (path tracing, 1024 spp), and
  * the same over the rest of the room's faces, for W = 5, 10 and 20 cm; the
- * 10 cm strips must agree within 2 % (the issue's bound) and the interior
+ * 10 cm strips must agree within 2 % (the bound asked for) and the interior
  * of the faces too, so a global gain cannot pass. 64 px wide. */
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* GPU faults at the API (issue 9, item 3): the buffer-memory cap sums live
+/* GPU faults at the API: the buffer-memory cap sums live
  * allocations (exact boundary, release, peak, the error names buffer, size and
  * cap), PB_GPU_MASK_FEATURES makes pb_gpu_create and pb_gpu_list_devices
  * treat a required feature as absent (PB_ERR_NO_DEVICE naming device and

@@ -239,7 +239,7 @@ int main(void) {
      * iterations in all, which cut the root's box short when one invocation
      * looped over the whole map (the gather then lost the x > 0 half). */
     check_case(g, e, 100000, 0, 0.02f, 0, "random, > 65535");
-    /* Ten million (issue 9): 960 MB of records, every structural check, on a
+    /* Ten million: 960 MB of records, every structural check, on a
      * device whose storage buffers can hold them (NVIDIA: 4 GiB). lavapipe's
      * maxStorageBufferRange is 128 MiB: there the largest map that fits
      * (1.4 M photons) is checked, and the 10^7 map must fail cleanly with

@@ -1,4 +1,4 @@
-/* Normal maps in both renderers (issue 6 part 4) and seed 001's shading-
+/* Normal maps in both renderers and seed 001's shading-
  * normal correction of photon-mapped indirect light (24.4.3, eq. 20).
  * Scenes built here, small (the machine is shared):
  *  1. analytic: a Lambert floor (rho 0.8) whose constant normal map tilts

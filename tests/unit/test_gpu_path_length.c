@@ -1,4 +1,4 @@
-/* Path length (issue 18 item 8): a closed room (a 2 x 2 x 2 m box, every
+/* Path length: a closed room (a 2 x 2 x 2 m box, every
  * wall Lambert 0.75, no specular layer) lit by a point light inside. All the
  * light stays in the room, so a path of k scattering events carries rho^k
  * of it and a limit of 8 events loses rho^8 (10 %) of the indirect light.

@@ -1,4 +1,4 @@
-/* The clamped share of the photon map (issue 18 item 3, `render --json`
+/* The clamped share of the photon map (`render --json`
  * photons.clamped / clamped_share): the tracer counts every footprint it
  * shrinks to r_max (pb_gpu_photon_counts.clamped). Checked on every static
  * sample, one map of 2^15 and one of 2^17 paths at the defaults: the count

@@ -596,7 +596,7 @@ static void limits(pb_gpu *g) {
   }
 }
 
-/* ---- (g) hard cases (issue 9) -------------------------------------------- */
+/* ---- (g) hard cases -------------------------------------------- */
 
 /* Every record finite (check_records) and every footprint within the clamp. */
 static void check_clamped(const pb_scene *s, const traced *t, const char *what) {

@@ -1,4 +1,4 @@
-/* The viewer's picture on the GPU (issue 17 item 2): the OCIO view baked to
+/* The viewer's picture on the GPU: the OCIO view baked to
  * a 66^3 or 129^3 LUT with its shaper (color.h pb_color_bake_lut) and the display
  * pass (shaders/present.comp, view/present_pass.h) against the host path
  * (pb_color_apply_display, then pb_png_write_display's rounding: what

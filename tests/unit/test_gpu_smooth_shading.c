@@ -1,4 +1,4 @@
-/* Smooth-shaded meshes (issue 18 item 4). The photon density on a face
+/* Smooth-shaded meshes. The photon density on a face
  * carries |w_i . n_g|, the BSDF's cosine is |w_i . n_s|: the gather weights
  * each photon by |w_i . n_s| / |w_i . n_g| of the face it hit, and the
  * photon tracer's smooth scattering by the adjoint factor

@@ -1,4 +1,4 @@
-/* The screen-space splatting estimator (issue 19 item 3; seed 001 24.3,
+/* The screen-space splatting estimator (seed 001 24.3,
  * eq. 2-9; src/render/estimator_splat.c, shaders/splat_*.comp):
  *  (a) a lit plane: synthetic photons of known total flux, uniform over a
  *      2 x 2 m Lambert plane (albedo 0.8), arriving 40 degrees from the

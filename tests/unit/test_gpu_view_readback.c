@@ -1,4 +1,4 @@
-/* The display-only readback (issue 17: the live viewer reads back only what
+/* The display-only readback (the live viewer reads back only what
  * it shows). The same pb_sequence (cornell_box, photons, temporal filter and
  * A-Trous, the still run's means on the GPU; frames 0-1 still, 2-3 with the
  * camera moving) rendered four times with the same seed:
@@ -229,7 +229,7 @@ int main(void) {
       printf("  %-11s frame %d: %.4f of full's bytes (bound %.2f)", u->name, k, ratio, bound);
       CHECK(full->bytes[k] > 0);
       CHECK(ratio < bound);
-      /* The lean modes' bytes: no k_PD plane (issue 17: k_PD's sums reduced
+      /* The lean modes' bytes: no k_PD plane (k_PD's sums reduced
        * on the GPU), the beauty plane alone for BEAUTY. */
       if (u->mode == PB_RENDER_READBACK_STATS) CHECK(u->bytes[k] <= STATS_BYTES);
       if (u->mode == PB_RENDER_READBACK_BEAUTY) CHECK(u->bytes[k] <= 16u * n + STATS_BYTES);

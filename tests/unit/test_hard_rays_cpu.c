@@ -96,8 +96,8 @@ int main(void) {
     pb_scene_destroy(&s);
   }
   hr_water_print("cpu", "all meshes", &sum);
-  /* Embree 3's robust intersector leaves tiny cracks at vertices (upstream
-   * issues RenderKit/embree#174, #181, #387): rays through and within 1e-5
+  /* Embree 3's robust intersector leaves tiny cracks at vertices (upstream:
+   * RenderKit/embree#174, #181, #387): rays through and within 1e-5
    * of an edge from a vertex miss about 1e-3 of the time on the icosphere
    * (0 on edges, 0 on Embree's own random-ray test). Bounded at 5e-3, so
    * that losing robust mode (~10 % misses) fails. */

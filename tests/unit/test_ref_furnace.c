@@ -6,7 +6,7 @@
  * channel) for B = 1, 3 and 40 (where Russian roulette is at work) and for
  * the default path length (B = 0 here: unbounded, L = Le / (1 - rho); the
  * old default of 8 events gave Le (1 - rho^9) / (1 - rho), 13 % dark at
- * rho 0.8: issue 18 item 8), on the
+ * rho 0.8), on the
  * mean over the image within 1 % and on every pixel within 10 %. It also
  * checks the emission convention: a single-sided emitter whose front faces
  * away from the camera shows nothing. */

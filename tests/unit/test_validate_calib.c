@@ -1,4 +1,4 @@
-/* Issue 7, part 5: calibration of the reference against POV-Ray 3.7 with
+/* Calibration of the reference against POV-Ray 3.7 with
  * thresholds that fail.
  *
  *   direct light only (reference --max-bounces 1, POV-Ray `direct`: no

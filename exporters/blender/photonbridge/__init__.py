@@ -1,8 +1,8 @@
 """photonbridge for Blender: a render engine (F12, `blender -b -E
 PHOTONBRIDGE`) that hands the evaluated scene to `photonbridge render` as
 glTF plus the PHOTONBRIDGE_blender extension, and File > Export >
-photonbridge glTF with the same writer. See the README's "Blender render
-engine" section.
+photonbridge glTF with the same writer. See docs/blender.md in the
+photonbridge repository.
 
 One package, two ways to install it: the legacy add-on (bl_info below;
 Blender 3.4 to 5.x, "Install from Disk" of a zip holding this folder) and a

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes normal_map.gltf and bumps.png next to this script: a small test
-scene for normal maps (issue 6 part 4). A 4 x 4 m Lambert floor (albedo 0.8)
+scene for normal maps. A 4 x 4 m Lambert floor (albedo 0.8)
 with a bumpy tangent-space normal map (bumps.png, 64 x 64, linear RGB, glTF
 convention: +X right, +Y up in the image, uv = (x, z) / 4 + 0.5 so the file
 needs no TANGENT: the loader generates T = +X), a white wall at x = 1.5
