@@ -61,7 +61,7 @@ PT = load("pb_make_principled_tests", os.path.join(HERE, "make_principled_tests.
 
 SRC = os.path.join(ROOT, "samples", "blender")
 BOUNCES = 64
-SAMPLES = {"glass_ball": 4096}
+SAMPLES = {"glass_ball": 65536}
 SCENES = {}
 
 
