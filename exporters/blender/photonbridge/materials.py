@@ -101,6 +101,13 @@ def _blender_version():
         return (0, 0, 0)
 
 
+def _alpha_used(ext):
+    """Does the written material have an Alpha below 1 or a texture on it?"""
+    inputs = ext.get(ext.get("model"))
+    alpha = inputs.get("alpha", 1.0) if isinstance(inputs, dict) else 1.0
+    return "alpha" in ext.get("textures", {}) or (isinstance(alpha, (int, float)) and alpha < 1.0)
+
+
 def _blender_4():
     """Does the running Blender have Principled v2 (4.0 or later)?"""
     try:
@@ -388,7 +395,14 @@ class MaterialWriter:
                 ext["bumpMapCorrection"] = False
             if not mat.use_backface_culling:
                 gm["doubleSided"] = True
-            if mat.blend_method == 'CLIP':
+            if _blender_version() >= (4, 2, 0):
+                # EEVEE's Render Method replaced the Blend Mode (4.2):
+                # blend_method now reads HASHED for every Dithered material.
+                # The glTF's alphaMode comes from the tree, as Blender's own
+                # exporter does: BLEND where the Alpha is below 1 or driven.
+                if _alpha_used(ext):
+                    gm["alphaMode"] = "BLEND"
+            elif mat.blend_method == 'CLIP':
                 gm["alphaMode"] = "MASK"
                 gm["alphaCutoff"] = mat.alpha_threshold
             elif mat.blend_method in ('BLEND', 'HASHED'):
