@@ -86,6 +86,10 @@ CASES = {
     # tangent frame (xy s, z mix(1, z, saturate(s))), 3.x blended normals.
     "normal_half": {"Base Color": (0.8, 0.8, 0.8, 1.0), "Specular IOR Level": 0.0, "_normal": 0.5},
     "normal_double": {"Base Color": (0.8, 0.8, 0.8, 1.0), "Specular IOR Level": 0.0, "_normal": 2.0},
+    # Diffuse Roughness (4.3+) and the Diffuse BSDF's Roughness: Oren-Nayar
+    # with Cycles 4.3's energy-preserving multiple scattering.
+    "diffuse_rough": {"Base Color": (0.8, 0.45, 0.2, 1.0), "Specular IOR Level": 0.0, "Diffuse Roughness": 0.8},
+    "diffuse_bsdf_rough": {"_diffuse_bsdf": ((0.7, 0.7, 0.9, 1.0), 1.0)},
 }
 BACK_LIGHT = ("sheen",)
 
@@ -135,6 +139,13 @@ def build(name, inputs, out_dir):
         if not k.startswith("_"):
             p.inputs[k].default_value = v
     p.distribution = inputs.get("_distribution", "MULTI_GGX")
+    if "_diffuse_bsdf" in inputs:  # a Diffuse BSDF node in the Principled's place
+        color, rough = inputs["_diffuse_bsdf"]
+        d = mat.node_tree.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = color
+        d.inputs["Roughness"].default_value = rough
+        out = mat.node_tree.nodes["Material Output"]
+        mat.node_tree.links.new(d.outputs["BSDF"], out.inputs["Surface"])
     if "_normal" in inputs:
         normal_map(mat, p, inputs["_normal"], out_dir)
     b = samples.MeshBuilder()

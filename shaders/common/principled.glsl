@@ -276,6 +276,29 @@ float pb_multi_ggx_pdf(pb_closure c, vec3 wo, vec3 wi) {
   return a * single + (1.0 - a) * max(wi.z, 0.0) * PB_INV_PI;
 }
 
+// Oren-Nayar as Cycles computes it (the reference's oren_nayar has the
+// formulas): Fujii's a and b, and from Cycles 4.3 OpenPBR's multiple
+// scattering, color = ms (1 - E(wo)), times (1 - E(wi)) in the evaluation.
+float pb_oren_nayar_G(float c) {
+  if (c < 1e-6) return (0.5 * PB_PI - 2.0 / 3.0) - c;
+  float s = sqrt(max(0.0, 1.0 - c * c)), th = acos(min(c, 1.0));
+  return s * (th - 2.0 / 3.0 - s * c) + 2.0 / 3.0 * (s / c) * (1.0 - s * s * s);
+}
+void pb_oren_nayar(inout pb_closure c, float sigma, vec3 albedo, bool ms, vec3 wo) {
+  if (sigma <= 0.0) {
+    c.on_a = PB_INV_PI; // bsdf_diffuse: Lambert
+    return;
+  }
+  sigma = clamp(sigma, 0.0, 1.0);
+  c.on_a = 1.0 / (PB_PI + sigma * (0.5 * PB_PI - 2.0 / 3.0));
+  c.on_b = sigma * c.on_a;
+  if (!ms) return;
+  vec3 rho = clamp(albedo, 0.0, 1.0);
+  float eavg = c.on_a * PB_PI + ((2.0 * PB_PI - 5.6) / 3.0) * c.on_b;
+  float ev = c.on_a * PB_PI + c.on_b * pb_oren_nayar_G(max(dot(c.n, wo), 0.0));
+  c.color = PB_INV_PI * (eavg / (1.0 - eavg)) * (1.0 - ev) * rho * rho / (1.0 - rho * (1.0 - eavg));
+}
+
 // ---- one closure ------------------------------------------------------------
 // One function per lobe family, so that the per-slot evaluation below
 // inlines each only where its slot can hold it (the slot loops unroll).
@@ -297,8 +320,11 @@ vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, uint bump, vec3 wo, vec3 wi, ou
     v = li.z * (c.on_a + c.on_b * t);
   }
   pdf = li.z * PB_INV_PI;
-  if (dot(c.n, ns) < 1.0 - 1e-6) v *= pb_bump_shadowing(bump, ns, c.n, wi);
-  return vec3(v);
+  vec3 f = vec3(v);
+  if (c.type == PB_CL_OREN_NAYAR && c.on_b > 0.0) // multiple scattering (0 before Cycles 4.3)
+    f += c.color * (li.z * (1.0 - c.on_a * PB_PI - c.on_b * pb_oren_nayar_G(li.z)));
+  if (dot(c.n, ns) < 1.0 - 1e-6) f *= pb_bump_shadowing(bump, ns, c.n, wi);
+  return f;
 }
 
 // GGX reflection or the GTR1 clearcoat.
@@ -713,7 +739,9 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
   // Diffuse; subsurface rendered as diffuse (the loader warns).
   pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_OREN_NAYAR, (base * (1.0 - ss_w) + cbase * ss_w) * w);
   pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], ns, tangent);
-  b.cl[PB_SLOT_DIFFUSE].on_a = PB_INV_PI;
+  // Diffuse Roughness (4.3+): Oren-Nayar on the base colour's albedo.
+  float dr = clamp(in_v[PB_GPU_IN_DIFFUSE_ROUGHNESS], 0.0, 1.0);
+  pb_oren_nayar(b.cl[PB_SLOT_DIFFUSE], dr < PB_CUTOFF ? 0.0 : dr, base, true, wo);
   b.albedo = cbase * alpha;
   return w_emission;
 }
@@ -754,14 +782,8 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   if (m.model == PB_GPU_MODEL_DIFFUSE) {
     pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_OREN_NAYAR, base);
     pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], n, tangent);
-    float sigma = clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0);
-    if (sigma == 0.0) {
-      b.cl[PB_SLOT_DIFFUSE].on_a = PB_INV_PI;
-    } else {
-      float div = 1.0 / (PB_PI + ((3.0 * PB_PI - 4.0) / 6.0) * sigma);
-      b.cl[PB_SLOT_DIFFUSE].on_a = div;
-      b.cl[PB_SLOT_DIFFUSE].on_b = sigma * div;
-    }
+    pb_oren_nayar(b.cl[PB_SLOT_DIFFUSE], clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0), base,
+                  (m.flags & PB_GPU_MAT_OREN_NAYAR_MS) != 0u, wo);
   } else {
     float in_v[PB_GPU_IN_SLOTS];
     pb_inputs(m, surf, in_v);

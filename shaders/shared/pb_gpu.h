@@ -98,6 +98,8 @@ PB_CONST(PB_GPU_MAT_VERTEX_COLOR, 4u)      /* a Blender model's base colour is C
                                               (pb_blender_material.base_from_vertex_color) */
 PB_CONST(PB_GPU_MAT_NORMAL_MAP_CYCLES4, 8u) /* Normal Map strength as Cycles 4.0+
                                               (pb_blender_material.normal_map_cycles4) */
+PB_CONST(PB_GPU_MAT_OREN_NAYAR_MS, 16u)   /* Oren-Nayar with Cycles 4.3's multiple
+                                              scattering (pb_blender_material.oren_nayar_ms) */
 /* bump_model: pb_bump_model's values. */
 PB_CONST(PB_GPU_BUMP_CHIANG, 0u)
 PB_CONST(PB_GPU_BUMP_NONE, 1u)

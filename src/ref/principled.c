@@ -179,6 +179,35 @@ static float bump_shadowing(pb_bump_model model, v3 ns, v3 n, v3 wi) {
   return -x2 * x + x2 + x;
 }
 
+/* Oren-Nayar as Cycles computes it (bsdf_oren_nayar.h): Fujii's improved
+ * model, f = (a + b t) / 1 with a = 1 / (pi + sigma (pi/2 - 2/3)), b =
+ * sigma a, t = max(0, cos phi) sin sin / max(cos, cos); from Cycles 4.3
+ * (Blender's "EON") plus OpenPBR's energy-preserving multiple scattering,
+ * ms (1 - E(wo)) (1 - E(wi)) with E(mu) = a pi + b G(mu) its albedo and
+ * ms = rho^2 Eavg / (1 - Eavg) / (pi (1 - rho (1 - Eavg))) for the
+ * albedo rho. Kept in the closure: on_a, on_b, and color = ms (1 - E(wo)). */
+static float oren_nayar_G(float c) {
+  if (c < 1e-6f) return (0.5f * PB_PI_F - 2.0f / 3.0f) - c;
+  float s = sqrtf(fmaxf(0.0f, 1.0f - c * c)), th = acosf(fminf(c, 1.0f));
+  return s * (th - 2.0f / 3.0f - s * c) + 2.0f / 3.0f * (s / c) * (1.0f - s * s * s);
+}
+static void oren_nayar(pb_closure *c, float sigma, v3 albedo, int ms, v3 wo) {
+  if (sigma <= 0.0f) {
+    c->on_a = PB_INV_PI_F; /* bsdf_diffuse: Lambert */
+    return;
+  }
+  sigma = sat(sigma);
+  c->on_a = 1.0f / (PB_PI_F + sigma * (0.5f * PB_PI_F - 2.0f / 3.0f));
+  c->on_b = sigma * c->on_a;
+  if (!ms) return;
+  v3 rho = v3_sat(albedo);
+  float eavg = c->on_a * PB_PI_F + ((2.0f * PB_PI_F - 5.6f) / 3.0f) * c->on_b;
+  float ev = c->on_a * PB_PI_F + c->on_b * oren_nayar_G(fmaxf(v3_dot(c->n, wo), 0.0f));
+  float k = PB_INV_PI_F * (eavg / (1.0f - eavg)) * (1.0f - ev);
+  c->color = v3_make(k * rho.x * rho.x / (1.0f - rho.x * (1.0f - eavg)), k * rho.y * rho.y / (1.0f - rho.y * (1.0f - eavg)),
+                     k * rho.z * rho.z / (1.0f - rho.z * (1.0f - eavg)));
+}
+
 /* Frame (x, y, n) of a lobe: around the tangent t when it is usable. */
 static void lobe_frame(pb_closure *c, v3 n, v3 t) {
   c->n = n;
@@ -433,9 +462,13 @@ static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, pb_bump_model bump, v3
       v = li.z * (c->on_a + c->on_b * t);
     }
     *pdf = li.z * PB_INV_PI_F;
+    /* Oren-Nayar's multiple scattering (oren_nayar; 0 but from Cycles 4.3). */
+    v3 f = v3_splat(v);
+    if (c->type == PB_CL_OREN_NAYAR && c->on_b > 0.0f)
+      f = v3_add(f, v3_scale(c->color, li.z * (1.0f - c->on_a * PB_PI_F - c->on_b * oren_nayar_G(li.z))));
     /* Diffuse lobes on a lifted normal: Cycles' bump shadowing term. */
-    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) v *= bump_shadowing(bump, ns, c->n, wi);
-    return v3_splat(v);
+    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) f = v3_scale(f, bump_shadowing(bump, ns, c->n, wi));
+    return f;
   }
   case PB_CL_GGX:
   case PB_CL_CLEARCOAT: {
@@ -563,15 +596,17 @@ static void microfacet(pb_closure *c, v3 n, v3 t, float ax, float ay, float ior,
  *               sqrt(base); w *= 1 - transmission;
  *   specular    w, GGX aniso, F0 = F0(ior) 2 level x tint on the real curve of
  *               ior_from_F0; w layered under it;
- *   diffuse     Lambert, base (1 - subsurface) w, plus the subsurface part
- *               clamped base x subsurface x w rendered as Lambert too.
+ *   diffuse     Lambert, or Oren-Nayar with multiple scattering where the
+ *               Diffuse Roughness is above 0 (oren_nayar), base (1 -
+ *               subsurface) w, plus the subsurface part clamped base x
+ *               subsurface x w rendered as diffuse too.
  * Layering is closure_layering_weight: w sat(1 - max(albedo / w)), albedo
  * the closure weight x bsdf_microfacet_estimate_albedo (tables). MULTI_GGX
  * compensates energy as microfacet_ggx_preserve_energy (Turquin 2019: scale
  * 1/E; Kulla-Conty darkening of the weight for coloured Fss). Smith G2 is
  * height-correlated (Cycles 3.5+). Tables: shaders/shared/
  * pb_principled2_tables.h (Cycles' own figures). Not rendered: thin film,
- * EON diffuse roughness, subsurface scattering (Lambert), coat normal. */
+ * subsurface scattering (diffuse), coat normal. */
 
 static inline v3 v3_maxv(v3 a, v3 b) { return v3_make(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)); }
 
@@ -915,7 +950,9 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   pb_closure *c = add_closure(b, PB_CL_OREN_NAYAR, v3_mul(dw, w));
   if (c) {
     lobe_frame(c, n_shade, tangent);
-    c->on_a = PB_INV_PI_F;
+    /* Diffuse Roughness (4.3+): Oren-Nayar on the base colour's albedo. */
+    float dr = sat(in[PB_IN_DIFFUSE_ROUGHNESS]);
+    oren_nayar(c, dr < CUTOFF ? 0.0f : dr, base, 1, wo);
   }
   b->albedo = v3_scale(cbase, alpha);
   return w_emission;
@@ -959,14 +996,7 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
     pb_closure *c = add_closure(b, PB_CL_OREN_NAYAR, base);
     if (c) {
       lobe_frame(c, n, tangent);
-      float sigma = sat(input_value(s, m, surf, PB_IN_ROUGHNESS));
-      if (sigma == 0.0f) {
-        c->on_a = PB_INV_PI_F; /* bsdf_diffuse: Lambert */
-      } else {
-        float div = 1.0f / (PB_PI_F + ((3.0f * PB_PI_F - 4.0f) / 6.0f) * sigma);
-        c->on_a = div;
-        c->on_b = sigma * div;
-      }
+      oren_nayar(c, sat(input_value(s, m, surf, PB_IN_ROUGHNESS)), base, bm->oren_nayar_ms, wo);
     }
   } else {
     float in[PB_IN_COUNT];

@@ -346,7 +346,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->specular = m->specular;
     o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0) |
                (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0) |
-               (m->blender.normal_map_cycles4 ? PB_GPU_MAT_NORMAL_MAP_CYCLES4 : 0);
+               (m->blender.normal_map_cycles4 ? PB_GPU_MAT_NORMAL_MAP_CYCLES4 : 0) |
+               (m->blender.oren_nayar_ms ? PB_GPU_MAT_OREN_NAYAR_MS : 0);
     memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
     o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;

@@ -146,6 +146,10 @@ typedef struct pb_blender_material {
    * without it unless the material is principled2. */
   int normal_map_cycles4;
   pb_bump_model bump_model;      /* diffuse light on a mapped normal */
+  /* Oren-Nayar (Diffuse BSDF Roughness, Principled v2 Diffuse Roughness)
+   * with Cycles 4.3's energy-preserving multiple-scattering term (OpenPBR;
+   * Blender calls the model EON); 0: 3.x's single scattering only. */
+  int oren_nayar_ms;
   float specular_tint[3], coat_tint[3], sheen_tint[3]; /* linear RGB */
   int32_t specular_tint_tex, coat_tint_tex, sheen_tint_tex;
   float subsurface_radius[3];    /* m, before Subsurface Scale */
