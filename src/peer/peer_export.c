@@ -415,7 +415,7 @@ static pb_result write_mitsuba(ctx *c, const uint32_t *used) {
   FILE *f = c->f;
   const double vfov = 2 * atan(tan_half_vfov(cam, c->d->width, c->d->height)) * rad2deg;
   uint32_t spp = c->d->spp ? c->d->spp : 64;
-  fprintf(f, "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!-- photonbridge export-peer --format mitsuba: Mitsuba 3 "
+  fprintf(f, "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!-- photonbridge export-peer, format mitsuba: Mitsuba 3 "
              "scene (peer.h); an *_rgb variant. Units: intensity W/sr, irradiance W/m2, radiance W/(m2 sr) -->\n");
   fprintf(f, "<scene version=\"3.0.0\">\n<default name=\"spp\" value=\"%u\"/>\n", spp);
   fprintf(f, "<integrator type=\"path\"><integer name=\"max_depth\" value=\"65\"/>"
