@@ -25,6 +25,7 @@ PKGS=(
   clang libclang-rt-14-dev python3-pil valgrind
   libglfw3-dev xvfb xauth
   nodejs slurm-wlm munge iproute2
+  libllvm19
   python3-venv libx11-6 libxext6 libxi6 libxrender1 libxfixes3 libxxf86vm1 libxkbcommon0 libsm6 libice6 libgl1 libegl1
 )
 # Optional extras: skipped quietly when the archive lacks them.
@@ -76,9 +77,10 @@ install_bpy() {
 # Mitsuba 3 with its Dr.Jit in tools/mitsuba3. Separate venvs because each
 # wheel carries its own TBB/Embree and must not be imported beside the other.
 # pyluxcore 2.11 does not declare NumPy, which its DefineMeshExt and the
-# drivers need. Mitsuba's LLVM variants load the system libLLVM >= 15
-# (libllvm15, the one mesa's lavapipe already brings); its scalar variants
-# need none. Required, as bpy: a version the index no longer serves is an
+# drivers need. Mitsuba's LLVM variants load the newest system libLLVM:
+# libllvm19 in PKGS (with Debian 12's libLLVM-15 alone, llvm_ad_rgb aborts
+# compiling its first kernel, "Cannot select: fminimum"); its scalar
+# variants need none. Required, as bpy: a version the index no longer serves is an
 # error naming the constant to change, never a skipped test.
 LUXCORE_VERSION=2.11.2
 LUXCORE_NUMPY=1.26.4

@@ -1,6 +1,7 @@
 # Benchmark peers: LuxCoreRender (pyluxcore) and Mitsuba 3 read the scene
 # through `export-peer` (src/peer/peer.h; docs/peers.md).
-#   test_peer_render   (unit-test glob) each peer's render of the analytic
+#   test_peer_render   (unit-test glob; peer_render_mitsuba_llvm: the same in
+#                      Mitsuba's llvm_ad_rgb) each peer's render of the analytic
 #                      planes (point, sun, spot) within 1 % of the radiance;
 #                      needs tools/luxcore and tools/mitsuba3 and FAILS
 #                      without them (scripts/install-deps.sh installs them)
@@ -40,3 +41,9 @@ pb_cli_test(cli_export_peer_soft_light export-peer tests/data/lights/point_soft/
             -o x EXIT 6 REGEX "lights\\[[0-9]+\\] '[^']*': a soft light \\(radius [0-9.]+\\) is not written to LuxCore.*exit=6")
 pb_cli_test(cli_export_peer_world_map export-peer tests/data/lights/world_hdri/world_hdri.gltf --format luxcore
             -o x EXIT 6 REGEX "world '[^']*': an environment map is not written to LuxCore.*exit=6")
+
+# Mitsuba's vectorised CPU variant (Dr.Jit on the system's libLLVM: libllvm19
+# from install-deps) on the same planes.
+add_test(NAME peer_render_mitsuba_llvm COMMAND test_peer_render mitsuba WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(peer_render_mitsuba_llvm PROPERTIES ENVIRONMENT "PB_MITSUBA_VARIANT=llvm_ad_rgb"
+                     LABELS "peers;no-sanitize" TIMEOUT 600 PASS_REGULAR_EXPRESSION " 0 failed")

@@ -11,7 +11,8 @@
  * Needs the peers' virtual environments (scripts/install-deps.sh):
  * tools/luxcore/bin/python and tools/mitsuba3/bin/python, or
  * $PB_LUXCORE_PYTHON / $PB_MITSUBA_PYTHON; a missing one FAILS (no skip).
- * argv[1]: luxcore, mitsuba or both (default). Renders 33x33 / 9x9 px, 16
+ * argv[1]: luxcore, mitsuba or both (default); $PB_MITSUBA_VARIANT picks
+ * Mitsuba's variant (default scalar_rgb). Renders 33x33 / 9x9 px, 16
  * samples (the plane is alone: no indirect light; the pixels are narrow, so
  * there is no noise to speak of), two threads. */
 #define _POSIX_C_SOURCE 200809L
@@ -40,8 +41,11 @@ static int render(const pb_scene *s, int cam, pb_peer_format fmt, const char *na
     fprintf(stderr, "export failed: %s\n", pb_error_message());
     return 0;
   }
-  snprintf(cmd, sizeof cmd, "'%s' validation/peer_render.py %s '%s' '%s' --spp 16 --threads 2 >'%s.log' 2>&1",
-           python[fmt], pb_peer_format_names[fmt], dir, exr, exr);
+  const char *variant = getenv("PB_MITSUBA_VARIANT"); /* default scalar_rgb (the driver's) */
+  char extra[96] = "";
+  if (fmt == PB_PEER_MITSUBA && variant && variant[0]) snprintf(extra, sizeof extra, " --variant '%s'", variant);
+  snprintf(cmd, sizeof cmd, "'%s' validation/peer_render.py %s '%s' '%s' --spp 16 --threads 2%s >'%s.log' 2>&1",
+           python[fmt], pb_peer_format_names[fmt], dir, exr, extra, exr);
   if (system(cmd) != 0) {
     fprintf(stderr, "%s failed on %s (log %s.log)\n", pb_peer_format_names[fmt], dir, exr);
     return 0;
