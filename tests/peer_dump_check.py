@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Structure of an `export-peer` dump against what the loader reports.
 
-    peer_dump_check.py PHOTONBRIDGE SCENE.gltf luxcore|mitsuba WORKDIR
+    peer_dump_check.py PHOTONBRIDGE SCENE.gltf luxcore|mitsuba WORKDIR [--render PYTHON]
 
 Dumps SCENE into WORKDIR/dump and checks, against `info --json`:
   - every mN.ply: the header is exactly binary little-endian, vertex
@@ -13,6 +13,10 @@ Dumps SCENE into WORKDIR/dump and checks, against `info --json`:
   - the scene file names every PLY and texture written, and every file it
     names exists; one light entry per loaded light; for Mitsuba the XML
     parses.
+With --render, PYTHON (the peer's venv: tools/luxcore/bin/python or
+tools/mitsuba3/bin/python) renders the dump with validation/peer_render.py
+(32 px wide, 4 samples): the peer must accept it and give a finite,
+non-black image. A missing PYTHON is a failure, not a skip.
 Prints one line per check and "N passed, M failed".
 """
 import glob
@@ -115,6 +119,22 @@ def main():
     check(all(os.path.exists(os.path.join(dump, n)) for n in named), "named files exist")
     check(lights == len(info["lights"]), f"lights: dump {lights}, loader {len(info['lights'])}")
     print(f"{os.path.basename(scene)} {fmt}: {len(plys)} PLY, {tv} vertices, {tt} triangles")
+    if len(sys.argv) > 6 and sys.argv[5] == "--render":
+        py = sys.argv[6]
+        if not os.access(py, os.X_OK):
+            check(False, f"{py} missing: run scripts/install-deps.sh")
+        else:
+            out = os.path.join(work, "render.exr")
+            here = os.path.dirname(os.path.abspath(__file__))
+            r = subprocess.run([py, os.path.join(here, "..", "validation", "peer_render.py"), fmt, dump, out,
+                                "--spp", "4", "--threads", "2"], capture_output=True, text=True, timeout=600)
+            check(r.returncode == 0 and os.path.exists(out + ".json"),
+                  f"{fmt} render exit {r.returncode}: {r.stderr.strip()[-400:]}")
+            if os.path.exists(out + ".json"):
+                res = json.load(open(out + ".json"))
+                mean = res.get("mean_rgb", [0, 0, 0])
+                print(f"{fmt} {res['version']}: mean RGB {mean}, {res['render_s']:.2f} s")
+                check(all(math.isfinite(m) for m in mean) and max(mean) > 0, f"{fmt} image black or not finite")
     print(f"{passed} passed, {failed} failed")
     return 1 if failed else 0
 

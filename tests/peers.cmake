@@ -8,10 +8,14 @@
 #   peer_dump_X_F      every committed sample dumps in format F: PLY headers,
 #                      vertex and triangle counts against the loader's
 #                      (tests/peer_dump_check.py), the scene file's references
+#   peer_sample_X_F    the same, then the peer renders it (32 px, 4 samples):
+#                      accepted, finite, not black; FAILS without the venv
 #   cli_export_peer_*  command-line errors
 set_tests_properties(test_peer_render PROPERTIES LABELS "peers;no-sanitize" TIMEOUT 600
                      PASS_REGULAR_EXPRESSION " 0 failed")
 
+set(PB_PEER_PYTHON_luxcore "${PB_ROOT}/tools/luxcore/bin/python")
+set(PB_PEER_PYTHON_mitsuba "${PB_ROOT}/tools/mitsuba3/bin/python")
 if(Python3_Interpreter_FOUND)
   file(GLOB PB_PEER_SAMPLES ${PB_ROOT}/samples/*/*.gltf)
   foreach(scene ${PB_PEER_SAMPLES})
@@ -22,6 +26,12 @@ if(Python3_Interpreter_FOUND)
                        ${CMAKE_CURRENT_BINARY_DIR}/peer_dump/${sname}_${fmt}
                WORKING_DIRECTORY ${PB_ROOT})
       set_tests_properties(peer_dump_${sname}_${fmt} PROPERTIES LABELS peers TIMEOUT 120
+                           PASS_REGULAR_EXPRESSION " 0 failed")
+      add_test(NAME peer_sample_${sname}_${fmt}
+               COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/peer_dump_check.py ${PB_EXE} ${scene} ${fmt}
+                       ${CMAKE_CURRENT_BINARY_DIR}/peer_sample/${sname}_${fmt} --render ${PB_PEER_PYTHON_${fmt}}
+               WORKING_DIRECTORY ${PB_ROOT})
+      set_tests_properties(peer_sample_${sname}_${fmt} PROPERTIES LABELS "peers;no-sanitize" TIMEOUT 300
                            PASS_REGULAR_EXPRESSION " 0 failed")
     endforeach()
   endforeach()

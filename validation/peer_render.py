@@ -8,7 +8,7 @@
 Run each peer in its own process and interpreter (tools/luxcore, tools/mitsuba3:
 scripts/install-deps.sh): both wheels carry their own TBB and Embree.
 Writes OUT.exr (float, R G B, top row first) and OUT.exr.json (peer version,
-settings, seconds to build the scene and to render). LuxCore prints its own
+settings, seconds to build the scene and to render, the image's mean RGB). LuxCore prints its own
 lines on stdout; this script's one-line summary goes to stderr.
 
 LuxCore: PATHCPU as DIR/render.cfg says (2 threads, no pixel filter, Sobol
@@ -45,11 +45,15 @@ def render_luxcore(a):
             break
     stats = session.GetStats()
     passes = stats.Get("stats.renderengine.pass").GetInt()
-    session.GetFilm().SaveOutputs()
+    film = session.GetFilm()
+    film.SaveOutputs()
+    import numpy as np
+    rgb = np.zeros(film.GetWidth() * film.GetHeight() * 3, np.float32)
+    film.GetOutputFloat(lc.FilmOutputType.RGB, rgb)
     session.Stop()
     t2 = time.monotonic()
     return {"peer": "luxcore", "version": lc.Version(), "engine": "PATHCPU", "spp_reached": passes,
-            "build_s": t1 - t0, "render_s": t2 - t1}
+            "build_s": t1 - t0, "render_s": t2 - t1, "mean_rgb": rgb.reshape(-1, 3).mean(axis=0).tolist()}
 
 
 def render_mitsuba(a):
@@ -68,8 +72,10 @@ def render_mitsuba(a):
     bmp = mi.Bitmap(img, mi.Bitmap.PixelFormat.RGB)
     bmp.write(a.out)
     t2 = time.monotonic()
+    import numpy as np
+    mean = np.asarray(img, dtype=np.float64).reshape(-1, 3).mean(axis=0).tolist()
     return {"peer": "mitsuba", "version": mi.__version__, "drjit": dr.__version__, "variant": a.variant,
-            "spp_reached": a.spp, "build_s": t1 - t0, "render_s": t2 - t1}
+            "spp_reached": a.spp, "build_s": t1 - t0, "render_s": t2 - t1, "mean_rgb": mean}
 
 
 def main():
