@@ -15,7 +15,8 @@
  *   luxcore      scene.scn (SDL properties) and render.cfg (PATHCPU, 2
  *                threads, box pixel filter, film size; scene.file =
  *                scene.scn). Load with pyluxcore.Properties("render.cfg") in
- *                DIR (file names are relative).
+ *                DIR (file names are relative). The screen window is one
+ *                pixel low to undo LuxCore's one-row camera offset.
  *   mitsuba      scene.xml (version 3.0.0; `spp` a default parameter), for
  *                mitsuba.load_file in an *_rgb variant.
  *

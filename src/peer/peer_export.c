@@ -264,9 +264,15 @@ static pb_result write_luxcore(ctx *c, const uint32_t *used) {
   fprintf(f, "scene.camera.lookat.target = %.9g %.9g %.9g\n", cam->position[0] + cam->forward[0],
           cam->position[1] + cam->forward[1], cam->position[2] + cam->forward[2]);
   fprintf(f, "scene.camera.up = %.9g %.9g %.9g\n", cam->up[0], cam->up[1], cam->up[2]);
-  fprintf(f, "# vertical field of view: the explicit screen window makes it so\n");
+  /* PerspectiveCamera::InitRay maps film y to raster y as height - filmY - 1
+   * on continuous coordinates: every row one pixel off (the picture one row
+   * low, measured). The window moved up by one pixel (2 / height in screen
+   * units) puts each row back where photonbridge's camera has it. */
+  const double dy = 2.0 / c->d->height;
+  fprintf(f, "# vertical field of view: the explicit screen window makes it so; the window is one pixel (2/H)\n"
+             "# lower than -1..1 to undo LuxCore's one-row offset (InitRay: raster y = H - filmY - 1)\n");
   fprintf(f, "scene.camera.fieldofview = %.9g\n", vfov);
-  fprintf(f, "scene.camera.screenwindow = %.9g %.9g -1 1\n", -a, a);
+  fprintf(f, "scene.camera.screenwindow = %.9g %.9g %.9g %.9g\n", -a, a, -1 - dy, 1 - dy);
   fprintf(f, "scene.camera.cliphither = %.9g\n", cam->znear > 0 ? cam->znear : 1e-3);
   if (cam->zfar > 0) fprintf(f, "scene.camera.clipyon = %.9g\n", cam->zfar);
   for (uint32_t i = 0; i < s->light_count; ++i) {

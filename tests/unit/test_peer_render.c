@@ -223,6 +223,16 @@ static void test_handedness(pb_peer_format f) {
     CHECK_NEAR(tl, 0.5, 0.01);
     CHECK_NEAR(bl, 0.1, 0.01);
     CHECK_NEAR(br, 0.1, 0.01);
+    /* The quadrants' edges fall on pixel edges (rows 15 | 16, columns 15 |
+     * 16): a camera off by a pixel (or half of one) mixes them. */
+    const float r15 = pixel(&img, 8, 15, "G"), r16 = pixel(&img, 8, 16, "G"), c15 = pixel(&img, 15, 8, "G"),
+                c16 = pixel(&img, 16, 8, "G");
+    printf("%-8s pixel edges: row 15 %.3f row 16 %.3f column 15 %.3f column 16 %.3f (want 0.5 0.1 0.5 0.9)\n",
+           pb_peer_format_names[f], r15, r16, c15, c16);
+    CHECK_NEAR(r15, 0.5, 0.01);
+    CHECK_NEAR(r16, 0.1, 0.01);
+    CHECK_NEAR(c15, 0.5, 0.01);
+    CHECK_NEAR(c16, 0.9, 0.01);
     pb_image_destroy(&img);
   } else {
     CHECK(0);
