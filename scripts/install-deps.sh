@@ -80,8 +80,8 @@ install_bpy() {
 # drivers need. Mitsuba's LLVM variants load the newest system libLLVM:
 # libllvm19 in PKGS (with Debian 12's libLLVM-15 alone, llvm_ad_rgb aborts
 # compiling its first kernel, "Cannot select: fminimum"); its scalar
-# variants need none. Required, as bpy: a version the index no longer serves is an
-# error naming the constant to change, never a skipped test.
+# variants need none. Required, as bpy: a version the index no longer
+# serves is an error naming the constant to change, never a skipped test.
 LUXCORE_VERSION=2.11.2
 LUXCORE_NUMPY=1.26.4
 LUXCORE_VENV="$ROOT/tools/luxcore"
@@ -90,11 +90,12 @@ DRJIT_VERSION=1.5.0
 MITSUBA_NUMPY=1.26.4
 MITSUBA_VENV="$ROOT/tools/mitsuba3"
 # pip_venv VENV WHAT CONSTANT CHECK PACKAGES...: make VENV hold PACKAGES
-# unless CHECK (python code exiting 0) already passes in it.
+# unless CHECK (python code exiting 0) already passes in it; returns 1 when
+# there was nothing to do.
 pip_venv() {
   local venv=$1 what=$2 constant=$3 check=$4; shift 4
   if "$venv/bin/python" -c "$check" >/dev/null 2>&1; then
-    return 0
+    return 1
   fi
   echo "install-deps: pip install $* into tools/$(basename "$venv")"
   rm -rf "$venv"
@@ -109,13 +110,13 @@ pip_venv() {
 install_luxcore() {
   pip_venv "$LUXCORE_VENV" "LuxCoreRender 2.11" LUXCORE_VERSION \
     "import sys, importlib.metadata as m; sys.exit(m.version('pyluxcore') != '$LUXCORE_VERSION')" \
-    "pyluxcore==$LUXCORE_VERSION" "numpy==$LUXCORE_NUMPY"
+    "pyluxcore==$LUXCORE_VERSION" "numpy==$LUXCORE_NUMPY" || return 0
   echo "install-deps: pyluxcore $("$LUXCORE_VENV/bin/python" -c "import importlib.metadata as m; print(m.version('pyluxcore'))") in tools/luxcore"
 }
 install_mitsuba() {
   pip_venv "$MITSUBA_VENV" "Mitsuba 3" MITSUBA_VERSION \
     "import sys, importlib.metadata as m; sys.exit(m.version('mitsuba') != '$MITSUBA_VERSION' or m.version('drjit') != '$DRJIT_VERSION')" \
-    "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" "numpy==$MITSUBA_NUMPY"
+    "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" "numpy==$MITSUBA_NUMPY" || return 0
   "$MITSUBA_VENV/bin/python" -c "import mitsuba as mi, drjit as dr; print('install-deps: mitsuba', mi.__version__, 'drjit', dr.__version__, 'in tools/mitsuba3')"
 }
 
