@@ -740,7 +740,7 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
     char where[64];
     snprintf(where, sizeof where, "buffers[%zu].uri", i);
     char *file = nullptr;
-    pb_result r = pb_gltf_resolve_uri(path, u.c_str(), desc->allow_external_files, where, &file);
+    pb_result r = pb_gltf_resolve_uri(path, desc->dir, u.c_str(), desc->allow_external_files, where, &file);
     if (r != PB_OK) return r;
     FILE *f = fopen(file, "rb");
     if (!f) {
@@ -1247,7 +1247,19 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
   pb_result r = pb_read_file(path, desc->max_file_bytes, &data, &n);
   if (r != PB_OK) return r;
   std::unique_ptr<uint8_t, decltype(&free)> hold(data, &free);
+  char *dir = pb_dirname(path);
+  if (!dir) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  pb_gltf_read_desc at = *desc;
+  at.dir = dir;
+  r = pb_gltf_doc_parse(path, data, n, &at, doc);
+  free(dir);
+  return r;
+}
 
+extern "C" pb_result pb_gltf_doc_parse(const char *path, const uint8_t *data, size_t n,
+                                       const pb_gltf_read_desc *desc, pb_gltf_doc *doc) {
+  std::memset(doc, 0, sizeof *doc);
+  pb_result r = PB_OK;
   // A .blend (its "BLENDER" header; Blender 3+ may compress it with zstd,
   // older ones with gzip): the artist's first try, which deserves better
   // than "not valid JSON".
@@ -1275,9 +1287,9 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
     r = precheck(path, text, is_glb, bin_len, desc, &impl->approved);
     if (r != PB_OK) return r;
 
-    char *dir = pb_dirname(path);
-    std::string base = dir ? dir : ".";
-    free(dir);
+    // No folder (a memory load without one): tinygltf is given none, and
+    // fs_read refuses every file (the precheck approved none).
+    std::string base = desc->dir ? desc->dir : "";
     FsCtx ctx{&impl->approved, desc->max_file_bytes, base};
     tinygltf::FsCallbacks fs{fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;

@@ -35,7 +35,8 @@ static const char *const mode_names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_S
                                          "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
 
 typedef struct loader {
-  const char *path;
+  const char *path;           /* the file, or the memory load's name: in every message */
+  const char *dir;            /* where URIs resolve (gltf_doc.h), NULL: no external files */
   const pb_load_desc *desc;
   pb_gltf_doc *doc;
   pb_scene *s;
@@ -145,7 +146,7 @@ static pb_result decode_image(loader *L, int32_t img, const char *where) {
     char *real = NULL;
     char w[64];
     snprintf(w, sizeof w, "images[%d].uri", img);
-    pb_result r = pb_gltf_resolve_uri(L->path, im->uri, L->desc->allow_external_files, w, &real);
+    pb_result r = pb_gltf_resolve_uri(L->path, L->dir, im->uri, L->desc->allow_external_files, w, &real);
     if (r != PB_OK) return r;
     r = pb_read_file(real, L->desc->max_file_bytes, &file, &size);
     free(real);
@@ -1803,7 +1804,7 @@ static pb_result load(loader *L) {
   if ((r = pb_morph_weights_load(L->path, d, &L->deform)) != PB_OK) return r;
   if ((r = build_anim(L)) != PB_OK) return r;
   /* PHOTONBRIDGE_blender's root: film and world (blender_lights.c). */
-  if (d->blender && (r = pb_blender_read_root(L->path, d->blender, L->desc, s)) != PB_OK) return r;
+  if (d->blender && (r = pb_blender_read_root(L->path, L->dir, d->blender, L->desc, s)) != PB_OK) return r;
 
   /* The scene to show: `scene`, else scenes[0], else every root node. */
   mat4 I;
@@ -1877,33 +1878,32 @@ static pb_result load(loader *L) {
   return PB_OK;
 }
 
-pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene *out) {
-  memset(out, 0, sizeof *out);
+static pb_load_desc load_defaults(const pb_load_desc *desc_in) {
   pb_load_desc desc = desc_in ? *desc_in : (pb_load_desc){0};
   if (!desc.max_file_bytes) desc.max_file_bytes = 2ull << 30;
   if (!desc.max_image_dim) desc.max_image_dim = 16384;
   if (!desc.max_image_pixels) desc.max_image_pixels = 64ull << 20;
   if (!desc.max_triangles) desc.max_triangles = 64ull << 20;
+  return desc;
+}
 
-  pb_gltf_doc doc;
-  pb_gltf_read_desc rd = {desc.allow_external_files, desc.max_file_bytes};
-  pb_result r = pb_gltf_doc_read(path, &rd, &doc);
-  if (r != PB_OK) return r;
-
+/* The parsed document (owned: destroyed here) into `out`. */
+static pb_result load_doc(const char *name, const char *dir, const pb_load_desc *desc, pb_gltf_doc *doc, pb_scene *out) {
   loader L;
   memset(&L, 0, sizeof L);
-  L.path = path;
-  L.desc = &desc;
-  L.doc = &doc;
+  L.path = name;
+  L.dir = dir;
+  L.desc = desc;
+  L.doc = doc;
   L.s = out;
   L.default_material = -1;
-  out->path = strdup(path);
-  out->light_units = desc.light_units;
-  snprintf(out->generator, sizeof out->generator, "%s", doc.generator ? doc.generator : "");
-  r = out->path ? load(&L) : pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  out->path = strdup(name);
+  out->light_units = desc->light_units;
+  snprintf(out->generator, sizeof out->generator, "%s", doc->generator ? doc->generator : "");
+  pb_result r = out->path ? load(&L) : pb_fail(PB_ERR_NOMEM, "%s: out of memory", name);
 
-  for (size_t i = 0; i < doc.image_count && L.image_cache; ++i) free(L.image_cache[i]);
-  for (size_t i = 0; i < doc.image_count && L.image_cache_f; ++i) free(L.image_cache_f[i]);
+  for (size_t i = 0; i < doc->image_count && L.image_cache; ++i) free(L.image_cache[i]);
+  for (size_t i = 0; i < doc->image_count && L.image_cache_f; ++i) free(L.image_cache_f[i]);
   free(L.image_cache);
   free(L.image_cache_f);
   free(L.image_linear);
@@ -1917,7 +1917,40 @@ pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene 
   free(L.world);
   free(L.tan);
   free(L.tan_given);
-  pb_gltf_doc_destroy(&doc);
+  pb_gltf_doc_destroy(doc);
   if (r != PB_OK) pb_scene_destroy(out);
   return r;
+}
+
+pb_result pb_scene_load(const char *path, const pb_load_desc *desc_in, pb_scene *out) {
+  memset(out, 0, sizeof *out);
+  pb_load_desc desc = load_defaults(desc_in);
+  pb_gltf_doc doc;
+  pb_gltf_read_desc rd = {desc.allow_external_files, desc.max_file_bytes, NULL};
+  pb_result r = pb_gltf_doc_read(path, &rd, &doc);
+  if (r != PB_OK) return r;
+  char *dir = pb_dirname(path);
+  if (!dir) {
+    pb_gltf_doc_destroy(&doc);
+    return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  }
+  r = load_doc(path, dir, &desc, &doc, out);
+  free(dir);
+  return r;
+}
+
+pb_result pb_scene_load_memory(const char *name, const char *base_dir, const void *data, size_t size,
+                               const pb_load_desc *desc_in, pb_scene *out) {
+  memset(out, 0, sizeof *out);
+  pb_load_desc desc = load_defaults(desc_in);
+  if (!name || !name[0]) name = "<memory>";
+  if ((uint64_t)size > desc.max_file_bytes)
+    return pb_fail(PB_ERR_LIMIT, "%s: input is %zu bytes, over the limit of %llu", name, size,
+                   (unsigned long long)desc.max_file_bytes);
+  static const uint8_t none[1] = {0};
+  pb_gltf_doc doc;
+  pb_gltf_read_desc rd = {desc.allow_external_files, desc.max_file_bytes, base_dir};
+  pb_result r = pb_gltf_doc_parse(name, size ? (const uint8_t *)data : none, size, &rd, &doc);
+  if (r != PB_OK) return r;
+  return load_doc(name, base_dir, &desc, &doc, out);
 }
