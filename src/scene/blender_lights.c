@@ -330,7 +330,7 @@ static pb_result load_map(const char *path, const char *dir, const char *where, 
         e = PB_ERR_LIMIT;
         snprintf(why, sizeof why, "%u x %u pixels exceeds the limit", dec.width, dec.height);
       } else if (st == PB_DECODE_UNKNOWN) {
-        e = PB_ERR_SCENE_UNSUPPORTED; /* as a texture's (load.c) */
+        e = PB_ERR_SCENE_UNSUPPORTED; /* as a texture's (load_texture.c) */
         snprintf(why, sizeof why, "not a PNG or JPEG file");
       } else if (st == PB_DECODE_NOMEM) {
         e = PB_ERR_NOMEM;

@@ -1,6 +1,6 @@
 /* A plain-C view of a parsed glTF document, filled by the tinygltf shim
  * (gltf_shim.cpp). It is the raw file content: nothing in it is validated
- * beyond what JSON parsing guarantees (types of fields). load.c checks every
+ * beyond what JSON parsing guarantees (types of fields). The loader (load.c, load_*.c) checks every
  * index, offset, stride and count before reading any data.
  *
  * Indices are -1 when absent. Arrays are pointer + count. All memory belongs to

@@ -527,7 +527,7 @@ typedef struct pb_scene {
   /* World position of this scene's (0, 0, 0). Every position, camera and
    * light above is relative to it: a scene far from the world origin (its
    * centre more than 8 box radii away) is moved next to it when loaded,
-   * in double precision, so floats keep their resolution (load.c). Zero
+   * in double precision, so floats keep their resolution (load_node.c). Zero
    * for scenes near the origin and for code-built scenes. */
   double origin[3];
 
