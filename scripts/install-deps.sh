@@ -25,6 +25,7 @@ PKGS=(
   clang libclang-rt-14-dev python3-pil valgrind
   libglfw3-dev xvfb xauth
   nodejs slurm-wlm munge iproute2
+  libllvm19
   python3-venv libx11-6 libxext6 libxi6 libxrender1 libxfixes3 libxxf86vm1 libxkbcommon0 libsm6 libice6 libgl1 libegl1
 )
 # Optional extras: skipped quietly when the archive lacks them.
@@ -70,6 +71,55 @@ install_bpy() {
   "$BPY_VENV/bin/python" -c "import bpy; print('install-deps: Blender', bpy.app.version_string, 'in tools/bpy45')"
 }
 
+# The benchmark peers, each in its own virtual environment under tools/
+# (ignored by git), with Debian's python3 as for bpy: LuxCoreRender's Python
+# module (pyluxcore, PATHCPU/PhotonGI and BIDIRVMCPU) in tools/luxcore and
+# Mitsuba 3 with its Dr.Jit in tools/mitsuba3. Separate venvs because each
+# wheel carries its own TBB/Embree and must not be imported beside the other.
+# pyluxcore 2.11 does not declare NumPy, which its DefineMeshExt and the
+# drivers need. Mitsuba's LLVM variants load the newest system libLLVM:
+# libllvm19 in PKGS (with Debian 12's libLLVM-15 alone, llvm_ad_rgb aborts
+# compiling its first kernel, "Cannot select: fminimum"); its scalar
+# variants need none. Required, as bpy: a version the index no longer
+# serves is an error naming the constant to change, never a skipped test.
+LUXCORE_VERSION=2.11.2
+LUXCORE_NUMPY=1.26.4
+LUXCORE_VENV="$ROOT/tools/luxcore"
+MITSUBA_VERSION=3.9.1
+DRJIT_VERSION=1.5.0
+MITSUBA_NUMPY=1.26.4
+MITSUBA_VENV="$ROOT/tools/mitsuba3"
+# pip_venv VENV WHAT CONSTANT CHECK PACKAGES...: make VENV hold PACKAGES
+# unless CHECK (python code exiting 0) already passes in it; returns 1 when
+# there was nothing to do.
+pip_venv() {
+  local venv=$1 what=$2 constant=$3 check=$4; shift 4
+  if "$venv/bin/python" -c "$check" >/dev/null 2>&1; then
+    return 1
+  fi
+  echo "install-deps: pip install $* into tools/$(basename "$venv")"
+  rm -rf "$venv"
+  /usr/bin/python3 -m venv "$venv"
+  if ! "$venv/bin/pip" install -q --disable-pip-version-check "$@"; then
+    rm -rf "$venv"
+    echo "install-deps: error: could not install $* ($what) from the Python package index;" \
+         "the peer tests need it (change $constant in scripts/install-deps.sh to a version the index serves)" >&2
+    exit 1
+  fi
+}
+install_luxcore() {
+  pip_venv "$LUXCORE_VENV" "LuxCoreRender 2.11" LUXCORE_VERSION \
+    "import sys, importlib.metadata as m; sys.exit(m.version('pyluxcore') != '$LUXCORE_VERSION')" \
+    "pyluxcore==$LUXCORE_VERSION" "numpy==$LUXCORE_NUMPY" || return 0
+  echo "install-deps: pyluxcore $("$LUXCORE_VENV/bin/python" -c "import importlib.metadata as m; print(m.version('pyluxcore'))") in tools/luxcore"
+}
+install_mitsuba() {
+  pip_venv "$MITSUBA_VENV" "Mitsuba 3" MITSUBA_VERSION \
+    "import sys, importlib.metadata as m; sys.exit(m.version('mitsuba') != '$MITSUBA_VERSION' or m.version('drjit') != '$DRJIT_VERSION')" \
+    "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" "numpy==$MITSUBA_NUMPY" || return 0
+  "$MITSUBA_VENV/bin/python" -c "import mitsuba as mi, drjit as dr; print('install-deps: mitsuba', mi.__version__, 'drjit', dr.__version__, 'in tools/mitsuba3')"
+}
+
 missing=()
 for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
@@ -79,6 +129,8 @@ done
 if [ ${#missing[@]} -eq 0 ]; then
   install_validator
   install_bpy
+  install_luxcore
+  install_mitsuba
   echo "install-deps: all packages present"
   exit 0
 fi
@@ -108,4 +160,6 @@ for p in "${OPTIONAL[@]}"; do
 done
 install_validator
 install_bpy
+install_luxcore
+install_mitsuba
 echo "install-deps: done"

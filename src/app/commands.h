@@ -12,6 +12,7 @@ struct pb_core_opts;
 pb_result pb_info_devices(const struct pb_core_opts *c);
 int pb_cmd_display(int argc, char **argv);
 int pb_cmd_export_pov(int argc, char **argv);
+int pb_cmd_export_peer(int argc, char **argv);
 int pb_cmd_reference(int argc, char **argv);
 int pb_cmd_compare(int argc, char **argv);
 int pb_cmd_validate(int argc, char **argv);

@@ -26,6 +26,7 @@ const pb_command pb_commands[] = {
      "Render with the GPU pipeline (Vulkan compute): direct light, specular eye paths, AOVs.", pb_cmd_render},
     {"display", "IMAGE.exr -o OUT.png [options]", "Scene-linear EXR to a PNG through an OCIO display/view/look.", pb_cmd_display},
     {"export-pov", "SCENE -o OUT.pov [options]", "Write the scene as POV-Ray 3.7 SDL (units matched; see docs in src/pov/pov.h).", pb_cmd_export_pov},
+    {"export-peer", "SCENE --format luxcore|mitsuba -o DIR [options]", "Write the scene for LuxCoreRender or Mitsuba 3: PLY meshes, camera, lights in their units (src/peer/peer.h).", pb_cmd_export_peer},
     {"reference", "SCENE -o OUT.exr [options]", "CPU reference (Embree): path tracing with NEE/MIS, SPPM caustics, AOVs, --estimate-noise.", pb_cmd_reference},
     {"compare", "TEST.exr REFERENCE.exr [options]", "RMSE, relMSE, PSNR, SSIM of an image against a reference; heat map PNG, --json.", pb_cmd_compare},
     {"validate", "SCENE --out DIR [options]", "Reference, GPU, POV-Ray and Cycles renders compared pairwise: DIR/index.html, DIR/report.json.", pb_cmd_validate},

@@ -279,9 +279,9 @@ static int ends_with(const char *s, const char *suffix) {
 }
 
 /* Reads the map at `uri` into w->env (RGB float, top row first, linear). */
-static pb_result load_map(const char *path, const char *where, const char *uri, const pb_load_desc *desc, pb_world *w) {
+static pb_result load_map(const char *path, const char *dir, const char *where, const char *uri, const pb_load_desc *desc, pb_world *w) {
   char *file = NULL;
-  pb_result e = pb_gltf_resolve_uri(path, uri, desc->allow_external_files, where, &file);
+  pb_result e = pb_gltf_resolve_uri(path, dir, uri, desc->allow_external_files, where, &file);
   if (e != PB_OK) return e;
   uint32_t W = 0, H = 0;
   float *rgb = NULL;
@@ -330,7 +330,7 @@ static pb_result load_map(const char *path, const char *where, const char *uri, 
         e = PB_ERR_LIMIT;
         snprintf(why, sizeof why, "%u x %u pixels exceeds the limit", dec.width, dec.height);
       } else if (st == PB_DECODE_UNKNOWN) {
-        e = PB_ERR_SCENE_UNSUPPORTED; /* as a texture's (load.c) */
+        e = PB_ERR_SCENE_UNSUPPORTED; /* as a texture's (load_texture.c) */
         snprintf(why, sizeof why, "not a PNG or JPEG file");
       } else if (st == PB_DECODE_NOMEM) {
         e = PB_ERR_NOMEM;
@@ -374,7 +374,7 @@ static pb_result load_map(const char *path, const char *where, const char *uri, 
   return PB_OK;
 }
 
-static pb_result read_world(const char *path, const pb_gltf_value *wo, const pb_load_desc *desc, pb_world *w) {
+static pb_result read_world(const char *path, const char *dir, const pb_gltf_value *wo, const pb_load_desc *desc, pb_world *w) {
   rd r = {path, "extensions.PHOTONBRIDGE_blender.world"};
   static const double grey[3] = {DEF_WORLD_COLOR, DEF_WORLD_COLOR, DEF_WORLD_COLOR}, zero[3] = {0, 0, 0};
   double color[3], strength;
@@ -409,7 +409,7 @@ static pb_result read_world(const char *path, const pb_gltf_value *wo, const pb_
       return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: %s.projection: '%s' (only EQUIRECTANGULAR)", path, re.where, proj);
     if (!fits_float(es * strength))
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.strength: %g x %g is out of float range", path, re.where, es, strength);
-    if ((e = load_map(path, "extensions.PHOTONBRIDGE_blender.world.environment.uri", uri, desc, w)) != PB_OK) return e;
+    if ((e = load_map(path, dir, "extensions.PHOTONBRIDGE_blender.world.environment.uri", uri, desc, w)) != PB_OK) return e;
     w->env_scale = (float)(es * strength);
     pb_world_set_rotation(w, rot);
   }
@@ -468,7 +468,7 @@ static pb_result read_view(const char *path, const pb_gltf_value *cm, pb_scene_v
   return PB_OK;
 }
 
-pb_result pb_blender_read_root(const char *path, const pb_gltf_value *root, const pb_load_desc *desc, pb_scene *s) {
+pb_result pb_blender_read_root(const char *path, const char *dir, const pb_gltf_value *root, const pb_load_desc *desc, pb_scene *s) {
   rd r = {path, "extensions"};
   if (root->type != PB_GLTF_OBJECT) return type_error(&r, "PHOTONBRIDGE_blender", "an object");
   r.where = "extensions.PHOTONBRIDGE_blender";
@@ -490,6 +490,6 @@ pb_result pb_blender_read_root(const char *path, const pb_gltf_value *root, cons
     if ((e = boolean(&rr, render, "filmTransparent", 0, &transparent)) != PB_OK) return e;
   }
   s->film_opaque = !transparent;
-  if (world && (e = read_world(path, world, desc, &s->world)) != PB_OK) return e;
+  if (world && (e = read_world(path, dir, world, desc, &s->world)) != PB_OK) return e;
   return PB_OK;
 }

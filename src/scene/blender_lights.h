@@ -15,9 +15,10 @@
  * and checked). Errors name the JSON path: PB_ERR_SCENE_INVALID for a wrong
  * type, a non-finite number or a value out of range, PB_ERR_SCENE_UNSUPPORTED
  * for another version or projection, PB_ERR_IO / PB_ERR_IMAGE / PB_ERR_LIMIT
- * for the map's file. */
-pb_result pb_blender_read_root(const char *path, const pb_gltf_value *root, const pb_load_desc *desc,
-                               pb_scene *s);
+ * for the map's file, whose uri resolves against `dir` (gltf_doc.h
+ * pb_gltf_resolve_uri; NULL: no external files). */
+pb_result pb_blender_read_root(const char *path, const char *dir, const pb_gltf_value *root,
+                               const pb_load_desc *desc, pb_scene *s);
 
 /* nodes[node].extensions.PHOTONBRIDGE_blender (`ext`): when it has a `light`
  * member, converts it with the node's world transform M into *out and sets

@@ -228,7 +228,7 @@ static pb_result opt_pair(const reader *R, const pb_gltf_value *obj, const char 
 
 /* A texture entry as the glTF textureInfo it is (the contract): index,
  * texCoord and extensions.KHR_texture_transform, for the loader's texture
- * path (load.c texture_ref: uv sets 0 and 1, the transform). */
+ * path (load_texture.c, load_texture_ref: uv sets 0 and 1, the transform). */
 static pb_result texture_info(const reader *R, const char *path, const pb_gltf_value *e, const pb_gltf_value *iv,
                               pb_gltf_texture_ref *ref) {
   memset(ref, 0, sizeof *ref);

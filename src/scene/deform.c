@@ -152,7 +152,7 @@ pb_result pb_deform_pose(pb_scene *s, const pb_deform *d, const pb_deform_range 
       float *T = tangents[r->first_vertex + i];
       xform_dir(&S, tg, tw);
       /* A mirroring skin matrix flips the bitangent, as store_tangent does
-       * for a node (load.c). */
+       * for a node (load_mesh.c). */
       float w = ((r->tan[i][3] < 0.0f) != (det3(&S) < 0)) ? -1.0f : 1.0f;
       if (normalize3(tw)) T[0] = (float)tw[0], T[1] = (float)tw[1], T[2] = (float)tw[2], T[3] = w;
     }

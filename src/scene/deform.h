@@ -1,7 +1,7 @@
 /* Skinned and morphed primitives (glTF 2.0 3.7.3 skins, 3.7.2.2 morph
  * targets), internal to src/scene.
  *
- * The loader (load.c) keeps, for every primitive instance whose node has a
+ * The loader (load_mesh.c) keeps, for every primitive instance whose node has a
  * skin or whose mesh has morph targets, its rest data in the mesh's own
  * space (positions, normals, tangents per scene vertex), its targets'
  * displacements (morph.c) and its joint influences (skin.c); pb_deform_pose

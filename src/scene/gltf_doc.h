@@ -1,6 +1,6 @@
 /* A plain-C view of a parsed glTF document, filled by the tinygltf shim
  * (gltf_shim.cpp). It is the raw file content: nothing in it is validated
- * beyond what JSON parsing guarantees (types of fields). load.c checks every
+ * beyond what JSON parsing guarantees (types of fields). The loader (load.c, load_*.c) checks every
  * index, offset, stride and count before reading any data.
  *
  * Indices are -1 when absent. Arrays are pointer + count. All memory belongs to
@@ -287,21 +287,36 @@ typedef struct pb_gltf_doc {
 typedef struct pb_gltf_read_desc {
   int allow_external_files;
   uint64_t max_file_bytes;
+  /* The folder relative URIs (buffers, images, the PHOTONBRIDGE_blender
+   * world map) resolve against: the file's own folder for
+   * pb_gltf_doc_read; for pb_gltf_doc_parse the caller's, or NULL for none
+   * (every URI that names a file is then refused; data: URIs and the GLB
+   * BIN chunk still work). */
+  const char *dir;
 } pb_gltf_read_desc;
 
 /* Parses `path` (.gltf JSON or .glb by magic) and loads its buffers. External
- * buffer URIs must resolve inside the file's folder unless allowed. Images are
- * not decoded here (load.c does it, with size limits). Errors: one line
- * "PATH: where: why" through pb_fail. */
+ * buffer URIs must resolve inside the file's folder unless allowed (desc->dir
+ * is ignored: the file's folder is used). Images are not decoded here (load.c
+ * does it, with size limits). Errors: one line "PATH: where: why" through
+ * pb_fail. */
 pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc *desc,
                            pb_gltf_doc *doc);
+/* The same on `size` bytes in memory (read during the call only): `name`
+ * stands for the file in every message; URIs resolve against desc->dir
+ * (NULL: no external files). */
+pb_result pb_gltf_doc_parse(const char *name, const uint8_t *data, size_t size,
+                            const pb_gltf_read_desc *desc, pb_gltf_doc *doc);
 void pb_gltf_doc_destroy(pb_gltf_doc *doc);
 
-/* Resolves a relative URI against the scene's folder with percent-decoding,
+/* Resolves a relative URI against the folder `dir` with percent-decoding,
  * refusing absolute paths and paths that leave the folder (after resolving
- * "..", and symlinks through realpath) unless allow_external. On success
- * *out is a malloc'd file path. Shared by buffers and images. */
-pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
+ * "..", and symlinks through realpath) unless allow_external. `dir` NULL:
+ * the document has no folder (loaded from memory without one) and every
+ * file URI is refused (PB_ERR_SCENE_UNSUPPORTED). Messages begin with
+ * `scene_name`. On success *out is a malloc'd file path. Shared by buffers,
+ * images and the PHOTONBRIDGE_blender world map. */
+pb_result pb_gltf_resolve_uri(const char *scene_name, const char *dir, const char *uri,
                               int allow_external, const char *where, char **out);
 
 #endif

@@ -740,7 +740,7 @@ pb_result precheck(const char *path, const std::string &text, bool is_glb, long 
     char where[64];
     snprintf(where, sizeof where, "buffers[%zu].uri", i);
     char *file = nullptr;
-    pb_result r = pb_gltf_resolve_uri(path, u.c_str(), desc->allow_external_files, where, &file);
+    pb_result r = pb_gltf_resolve_uri(path, desc->dir, u.c_str(), desc->allow_external_files, where, &file);
     if (r != PB_OK) return r;
     FILE *f = fopen(file, "rb");
     if (!f) {
@@ -915,14 +915,9 @@ void fill_tex(pb_gltf_texture_ref *t, int index, int texcoord, double scale, con
   t->transform = tex_transform(ext);
 }
 
-void convert(Impl &m, pb_gltf_doc *doc) {
+// The buffers, bufferViews and accessors as parsed.
+void convert_data(Impl &m) {
   tinygltf::Model &g = m.model;
-  doc->generator = s(g.asset.generator);
-  for (auto &e : g.extensionsUsed) m.ext_used.push_back(s(e));
-  for (auto &e : g.extensionsRequired) m.ext_required.push_back(s(e));
-  doc->default_scene = g.defaultScene;
-  doc->blender = extension_value(m, g.extensions, "PHOTONBRIDGE_blender");
-
   for (auto &b : g.buffers) {
     pb_gltf_buffer x{};
     x.data = b.data.data();
@@ -968,6 +963,11 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     }
     m.accessors.push_back(x);
   }
+}
+
+// Meshes and their primitives (attributes, JOINTS_n / WEIGHTS_n sets, morph targets).
+void convert_meshes(Impl &m) {
+  tinygltf::Model &g = m.model;
   m.prims.resize(g.meshes.size());
   size_t nprims = 0;
   for (auto &mesh : g.meshes) nprims += mesh.primitives.size();
@@ -1030,6 +1030,11 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.weight_count = g.meshes[i].weights.size();
     m.meshes.push_back(x);
   }
+}
+
+// Skins, the file's material variants, nodes and scenes.
+void convert_nodes(Impl &m) {
+  tinygltf::Model &g = m.model;
   m.skin_joints.resize(g.skins.size());
   for (size_t i = 0; i < g.skins.size(); ++i) {
     const tinygltf::Skin &sk = g.skins[i];
@@ -1064,7 +1069,7 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.light = -1;
     auto le = n.extensions.find("KHR_lights_punctual");
     if (le != n.extensions.end()) {
-      // -2: present but not a light index (load.c reports it as missing).
+      // -2: present but not a light index (load_light.c reports it as missing).
       double li = num_or(le->second, "light", -2);
       x.light = li >= 0 && li <= INT32_MAX && li == (double)(int32_t)li ? (int32_t)li : -2;
     }
@@ -1091,6 +1096,11 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.node_count = m.scene_nodes[i].size();
     m.scenes.push_back(x);
   }
+}
+
+// Cameras (with their PHOTONBRIDGE_blender extension) and KHR_lights_punctual lights.
+void convert_cameras_lights(Impl &m) {
+  tinygltf::Model &g = m.model;
   for (auto &c : g.cameras) {
     pb_gltf_camera x{};
     x.name = s(c.name);
@@ -1119,6 +1129,11 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.outer_cone = l.spot.outerConeAngle;
     m.lights.push_back(x);
   }
+}
+
+// Materials with the KHR extensions read here (gltf_doc.h pb_gltf_material).
+void convert_materials(Impl &m) {
+  tinygltf::Model &g = m.model;
   for (auto &mt : g.materials) {
     pb_gltf_material x{};
     auto &pbr = mt.pbrMetallicRoughness;
@@ -1169,6 +1184,11 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     x.blender = extension_value(m, mt.extensions, "PHOTONBRIDGE_blender");
     m.materials.push_back(x);
   }
+}
+
+// Textures, images (kept undecoded) and samplers.
+void convert_textures(Impl &m) {
+  tinygltf::Model &g = m.model;
   for (auto &t : g.textures) {
     int32_t fs = -1;
     auto e = t.extensions.find("PHOTONBRIDGE_blender");
@@ -1192,6 +1212,23 @@ void convert(Impl &m, pb_gltf_doc *doc) {
     m.images.push_back(x);
   }
   for (auto &sm : g.samplers) m.samplers.push_back(pb_gltf_sampler{sm.magFilter, sm.minFilter, sm.wrapS, sm.wrapT});
+}
+
+// The parsed model as the plain-C document (gltf_doc.h), one concept at a
+// time; every pointer points into m, which the document keeps.
+void convert(Impl &m, pb_gltf_doc *doc) {
+  tinygltf::Model &g = m.model;
+  doc->generator = s(g.asset.generator);
+  for (auto &e : g.extensionsUsed) m.ext_used.push_back(s(e));
+  for (auto &e : g.extensionsRequired) m.ext_required.push_back(s(e));
+  doc->default_scene = g.defaultScene;
+  doc->blender = extension_value(m, g.extensions, "PHOTONBRIDGE_blender");
+  convert_data(m);
+  convert_meshes(m);
+  convert_nodes(m);
+  convert_cameras_lights(m);
+  convert_materials(m);
+  convert_textures(m);
 
   size_t channels = 0;
   for (auto &a : g.animations) channels += a.channels.size();
@@ -1247,7 +1284,19 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
   pb_result r = pb_read_file(path, desc->max_file_bytes, &data, &n);
   if (r != PB_OK) return r;
   std::unique_ptr<uint8_t, decltype(&free)> hold(data, &free);
+  char *dir = pb_dirname(path);
+  if (!dir) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", path);
+  pb_gltf_read_desc at = *desc;
+  at.dir = dir;
+  r = pb_gltf_doc_parse(path, data, n, &at, doc);
+  free(dir);
+  return r;
+}
 
+extern "C" pb_result pb_gltf_doc_parse(const char *path, const uint8_t *data, size_t n,
+                                       const pb_gltf_read_desc *desc, pb_gltf_doc *doc) {
+  std::memset(doc, 0, sizeof *doc);
+  pb_result r = PB_OK;
   // A .blend (its "BLENDER" header; Blender 3+ may compress it with zstd,
   // older ones with gzip): the artist's first try, which deserves better
   // than "not valid JSON".
@@ -1275,9 +1324,9 @@ extern "C" pb_result pb_gltf_doc_read(const char *path, const pb_gltf_read_desc 
     r = precheck(path, text, is_glb, bin_len, desc, &impl->approved);
     if (r != PB_OK) return r;
 
-    char *dir = pb_dirname(path);
-    std::string base = dir ? dir : ".";
-    free(dir);
+    // No folder (a memory load without one): tinygltf is given none, and
+    // fs_read refuses every file (the precheck approved none).
+    std::string base = desc->dir ? desc->dir : "";
     FsCtx ctx{&impl->approved, desc->max_file_bytes, base};
     tinygltf::FsCallbacks fs{fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;

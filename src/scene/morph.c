@@ -41,7 +41,7 @@ pb_result pb_morph_weights_load(const char *path, const pb_gltf_doc *doc, pb_def
     const pb_gltf_node *g = &doc->nodes[n];
     if (g->weight_count && g->mesh < 0)
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%zu].weights: the node has no mesh to morph", path, n);
-    if (g->mesh < 0 || (size_t)g->mesh >= doc->mesh_count) continue; /* load.c reports a bad mesh index */
+    if (g->mesh < 0 || (size_t)g->mesh >= doc->mesh_count) continue; /* load_node.c reports a bad mesh index */
     const pb_gltf_mesh *mesh = &doc->meshes[g->mesh];
     size_t t = mesh->primitive_count ? mesh->primitives[0].target_count : 0;
     if (g->weight_count && g->weight_count != t)

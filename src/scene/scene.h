@@ -473,7 +473,7 @@ typedef struct pb_scene_view {
 } pb_scene_view;
 
 typedef struct pb_scene {
-  char *path;
+  char *path;            /* the file, or pb_scene_load_memory's name */
 
   /* Geometry: shared vertex arrays, world space. */
   float (*positions)[3];
@@ -547,7 +547,7 @@ typedef struct pb_scene {
   /* World position of this scene's (0, 0, 0). Every position, camera and
    * light above is relative to it: a scene far from the world origin (its
    * centre more than 8 box radii away) is moved next to it when loaded,
-   * in double precision, so floats keep their resolution (load.c). Zero
+   * in double precision, so floats keep their resolution (load_node.c). Zero
    * for scenes near the origin and for code-built scenes. */
   double origin[3];
 
@@ -574,6 +574,25 @@ typedef struct pb_load_desc {
  * code and sets pb_error_message() to one line "FILE: JSON-PATH: why", and
  * `out` holds nothing to free. */
 pb_result pb_scene_load(const char *path, const pb_load_desc *desc, pb_scene *out);
+
+/* pb_scene_load on a .gltf or .glb held in memory: `size` bytes at `data`
+ * (the kind by its magic, as for a file), read during the call only.
+ * `name` stands for the file: every message begins with it ("NAME:
+ * JSON-PATH: why") and it becomes out->path; NULL or "" gives "<memory>".
+ * How URIs are resolved:
+ *   - data: URIs (buffers, images) and the GLB's BIN chunk: always read,
+ *     exactly as from a file;
+ *   - a URI naming a file (buffers, images, the PHOTONBRIDGE_blender world
+ *     map): resolved against `base_dir` as pb_scene_load resolves it
+ *     against the file's folder (relative, percent-decoded, confined to the
+ *     folder unless desc->allow_external_files);
+ *   - base_dir NULL: no external files; every URI naming one fails with
+ *     PB_ERR_SCENE_UNSUPPORTED ("NAME: buffers[0].uri: 'a.bin': an external
+ *     file, and the scene was loaded from memory without a folder ...").
+ * desc->max_file_bytes bounds `size` too (PB_ERR_LIMIT). Results, limits
+ * and `out` on failure are those of pb_scene_load. */
+pb_result pb_scene_load_memory(const char *name, const char *base_dir, const void *data, size_t size,
+                               const pb_load_desc *desc, pb_scene *out);
 void pb_scene_destroy(pb_scene *s);
 
 /* Adds a warning (printf format). Returns PB_ERR_NOMEM on failure. */

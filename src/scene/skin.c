@@ -18,7 +18,7 @@
  *   - weights that are all 0: the vertex follows its mesh node instead of
  *     the skeleton (the skinned node's transform is otherwise ignored), warned;
  *   - a skinned node whose primitive has no JOINTS_0 / WEIGHTS_0: drawn
- *     with its node's transform, warned (load.c). */
+ *     with its node's transform, warned (load_mesh.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -18,7 +18,7 @@ static int hexval(int c) {
   return -1;
 }
 
-pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
+pb_result pb_gltf_resolve_uri(const char *scene_path, const char *dir, const char *uri,
                               int allow_external, const char *where, char **out) {
   *out = NULL;
   size_t n = strlen(uri);
@@ -29,6 +29,9 @@ pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
   if (colon && (!slash || colon < slash))
     return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: %s: '%s': only relative file references and data URIs are supported",
                    scene_path, where, uri);
+  if (!dir)
+    return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: %s: '%s': an external file, and the scene was loaded from memory "
+                   "without a folder (embed it as a data URI or in the GLB)", scene_path, where, uri);
   char *dec = malloc(n + 1);
   if (!dec) return pb_fail(PB_ERR_NOMEM, "%s: out of memory", scene_path);
   size_t k = 0;
@@ -52,11 +55,10 @@ pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: '%s' is an absolute path (use --allow-external-files to allow it)",
                    scene_path, where, uri);
   }
-  char *dir = pb_dirname(scene_path);
-  size_t len = (dir ? strlen(dir) : 0) + strlen(dec) + 2; /* dir NULL: out of memory, reported below */
-  char *joined = dir ? malloc(len) : NULL;
-  if (!dir || !joined) {
-    free(dir), free(dec), free(joined);
+  size_t len = strlen(dir) + strlen(dec) + 2;
+  char *joined = malloc(len);
+  if (!joined) {
+    free(dec);
     return pb_fail(PB_ERR_NOMEM, "%s: out of memory", scene_path);
   }
   if (dec[0] == '/') snprintf(joined, len, "%s", dec);
@@ -67,7 +69,7 @@ pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
   if (!real_file) {
     int e = errno;
     pb_fail(e == ENOMEM ? PB_ERR_NOMEM : PB_ERR_IO, "%s: %s: cannot open '%s': %s", scene_path, where, uri, strerror(e));
-    free(dir), free(joined);
+    free(joined);
     return pb_error_result();
   }
   if (!allow_external) {
@@ -79,11 +81,10 @@ pb_result pb_gltf_resolve_uri(const char *scene_path, const char *uri,
     if (!inside) {
       pb_fail(PB_ERR_SCENE_INVALID, "%s: %s: '%s' leaves the scene's folder (use --allow-external-files to allow it)",
               scene_path, where, uri);
-      free(dir), free(joined), free(real_file);
+      free(joined), free(real_file);
       return PB_ERR_SCENE_INVALID;
     }
   }
-  free(dir);
   free(joined);
   *out = real_file;
   return PB_OK;

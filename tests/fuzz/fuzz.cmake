@@ -8,7 +8,7 @@
 # src/image), instrumented for libFuzzer with ASan + UBSan; tests/fuzz/run.sh
 # runs them.
 #
-#   fuzz_gltf       pb_scene_load on the input, written as in.gltf or in.glb
+#   fuzz_gltf       pb_scene_load_memory on the input (no file written)
 #   fuzz_exr        pb_exr_read on the input
 #   fuzz_image      the decoder the input's signature picks (PNG, JPEG, EXR)
 #   fuzz_exr_seeds  writes the EXR seed files (every compression, tiled, ...)

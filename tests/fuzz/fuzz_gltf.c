@@ -1,12 +1,13 @@
-/* libFuzzer target: the glTF/GLB loader (pb_scene_load) on arbitrary bytes.
+/* libFuzzer target: the glTF/GLB loader (pb_scene_load_memory) on arbitrary
+ * bytes.
  *
- * The loader reads a path, so each input is written to the target's folder
- * (fuzz_util.h) as in.glb when it starts with the GLB magic "glTF" and as
- * in.gltf otherwise; the loader itself decides by the
- * magic, so the name only keeps crash files easy to reproduce with
- * `photonbridge info`. The folder also holds base.bin and tex.png from the
+ * Each input is loaded from memory, named "fuzz_gltf-input.glb" when it
+ * starts with the GLB magic "glTF" and "fuzz_gltf-input.gltf" otherwise (the
+ * loader itself decides by the magic; the name is what messages must name). Its URIs resolve against the
+ * target's folder (fuzz_util.h), which holds base.bin and tex.png from the
  * corpus (tests/corpus/valid/base), so that inputs referencing them reach
- * buffer and image decoding.
+ * buffer and image decoding; nothing is written per input. A finding
+ * reproduces with `photonbridge info` on the file saved next to those two.
  *
  * Besides memory errors and undefined behaviour (ASan + UBSan), the target
  * aborts when the loader breaks its contract (scene.h, docs/scenes.md):
@@ -28,7 +29,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "core/fs.h"
 #include "core/log.h"
@@ -39,7 +39,7 @@
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static const char *path_gltf, *path_glb;
+static char *base_dir; /* the folder external URIs resolve against */
 
 #define FAIL pb_fuzz_fail
 
@@ -59,8 +59,8 @@ static void copy_aux(const char *name) {
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc, (void)argv;
   pb_fuzz_init("gltf");
-  path_gltf = pb_fuzz_path("in.gltf");
-  path_glb = pb_fuzz_path("in.glb");
+  base_dir = pb_dirname(pb_fuzz_path("base.bin"));
+  if (!base_dir) FAIL("out of memory");
   copy_aux("base.bin");
   copy_aux("tex.png");
   return 0;
@@ -73,7 +73,7 @@ static void check_failure(const char *path, pb_result r, const pb_scene *s) {
   case PB_ERR_LIMIT: case PB_ERR_NOMEM:
     break;
   default:
-    FAIL("pb_scene_load returned %d (%s)", (int)r, pb_error_message());
+    FAIL("pb_scene_load_memory returned %d (%s)", (int)r, pb_error_message());
   }
   const char *msg = pb_error_message();
   if (!msg || !msg[0]) FAIL("failure %d without a message", (int)r);
@@ -178,8 +178,7 @@ static void check_success(const pb_scene *s) {
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-  const char *path = size >= 4 && memcmp(data, "glTF", 4) == 0 ? path_glb : path_gltf;
-  pb_fuzz_write(path, data, size);
+  const char *path = size >= 4 && memcmp(data, "glTF", 4) == 0 ? "fuzz_gltf-input.glb" : "fuzz_gltf-input.gltf";
   /* Limits below the defaults keep every run inside libFuzzer's 2 GB
    * allocation limit (the defaults allow a 64 M triangle scene); the code
    * paths are the same. */
@@ -187,7 +186,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                        .max_image_pixels = 1u << 20, .max_triangles = 1u << 20};
   pb_scene s;
   pb_error_clear();
-  pb_result r = pb_scene_load(path, &desc, &s);
+  pb_result r = pb_scene_load_memory(path, base_dir, data, size, &desc, &s);
   if (pb_fuzz_verbose()) fprintf(stderr, "fuzz_gltf: %s: result %d: %s\n", path, (int)r, r ? pb_error_message() : "ok");
   if (r != PB_OK) {
     check_failure(path, r, &s);
@@ -212,6 +211,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     pb_scene_destroy(&s);
   }
   pb_error_clear();
-  unlink(path);
   return 0;
 }

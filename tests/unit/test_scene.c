@@ -1,11 +1,13 @@
 /* The loader's semantics on small glTF files written by the test: node
  * transforms, winding under mirroring, flat normals, strips and fans, light
- * unit conversion (shared/VALIDATION.md), cameras, material classification. */
+ * unit conversion (shared/VALIDATION.md), cameras, material classification;
+ * loading from memory (pb_scene_load_memory: URIs, names in messages). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "core/fs.h"
 #include "pbtest.h"
 #include "gltf_test.h"
 #include "scene/scene.h"
@@ -198,11 +200,73 @@ static void test_materials(void) {
   pb_scene_destroy(&s);
 }
 
+/* pb_scene_load_memory: a sample with an external buffer (resolved against
+ * the folder given, refused without one), a data-URI file without a folder,
+ * and a checking error naming the caller's name. */
+static void test_memory(void) {
+  const char *path = "samples/cornell_box/cornell_box.gltf";
+  uint8_t *bytes = NULL;
+  size_t n = 0;
+  CHECK(pb_read_file(path, 1u << 26, &bytes, &n) == PB_OK);
+  if (!bytes) return;
+  pb_scene a, b;
+  CHECK(pb_scene_load(path, NULL, &a) == PB_OK);
+  CHECK(pb_scene_load_memory("cornell (memory)", "samples/cornell_box", bytes, n, NULL, &b) == PB_OK);
+  CHECK_EQ_INT(a.vertex_count, b.vertex_count);
+  CHECK_EQ_INT(a.triangle_count, b.triangle_count);
+  CHECK_EQ_INT(a.material_count, b.material_count);
+  CHECK_EQ_INT(a.light_count, b.light_count);
+  CHECK(a.vertex_count > 0 && !memcmp(a.positions, b.positions, (size_t)a.vertex_count * sizeof *a.positions));
+  CHECK(b.path && strcmp(b.path, "cornell (memory)") == 0);
+  pb_scene_destroy(&a);
+  pb_scene_destroy(&b);
+  /* No folder: the external buffer is refused, naming the input and the element. */
+  pb_error_clear();
+  CHECK_EQ_INT(pb_scene_load_memory("mem.gltf", NULL, bytes, n, NULL, &b), PB_ERR_SCENE_UNSUPPORTED);
+  CHECK(strncmp(pb_error_message(), "mem.gltf: buffers[0].uri: 'cornell_box.bin': ", 45) == 0);
+  CHECK(!strchr(pb_error_message(), '\n'));
+  free(bytes);
+  /* No name: "<memory>" stands for the input. */
+  pb_error_clear();
+  CHECK_EQ_INT(pb_scene_load_memory(NULL, "samples/ring", "{}", 2, NULL, &b), PB_ERR_SCENE_INVALID);
+  CHECK(strncmp(pb_error_message(), "<memory>: asset: missing", 24) == 0);
+
+  /* Data URIs need no folder. */
+  float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  char *data = pbt_b64(v, sizeof v);
+  char json[1024];
+  for (int bad = 0; bad < 2; ++bad) {
+    snprintf(json, sizeof json,
+             "{\"asset\":{\"version\":\"2.0\"},"
+             "\"buffers\":[{\"uri\":\"data:application/octet-stream;base64,%s\",\"byteLength\":36}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+             "\"materials\":[{\"alphaMode\":\"%s\"}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}",
+             data, bad ? "CLEAR" : "OPAQUE");
+    pb_error_clear();
+    pb_result r = pb_scene_load_memory("inline.gltf", NULL, json, strlen(json), NULL, &b);
+    if (!bad) {
+      CHECK_EQ_INT(r, PB_OK);
+      CHECK_EQ_INT(b.triangle_count, 1);
+      pb_scene_destroy(&b);
+    } else {
+      CHECK_EQ_INT(r, PB_ERR_SCENE_INVALID);
+      CHECK(strcmp(pb_error_message(), "inline.gltf: materials[0].alphaMode: 'CLEAR' is not OPAQUE, MASK or BLEND") == 0);
+      static const pb_scene zero;
+      CHECK(!memcmp(&b, &zero, sizeof b));
+    }
+  }
+  free(data);
+}
+
 int main(void) {
   if (!mkdtemp(dir)) return 1;
   test_transforms();
   test_lights_and_cameras();
   test_materials();
+  test_memory();
   rmdir(dir);
   return pbt_done();
 }
