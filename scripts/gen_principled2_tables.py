@@ -32,8 +32,11 @@ def main(path):
            " * microfacet albedo and sheen LTC tables, figures only. Layouts: see the",
            " * script. Shared by src/ref (C) and shaders/ (GLSL). Do not edit. */",
            "#ifndef PB_PRINCIPLED2_TABLES_H", "#define PB_PRINCIPLED2_TABLES_H", "",
-           "#ifdef PB_GLSL", "#define PB_TABLE(name, n) const float name[n] =",
-           "#else", "#define PB_TABLE(name, n) static const float name[n] =", "#endif", ""]
+           "/* Each table's first float in the concatenation of all of them, in this",
+           " * order: the GPU reads them from one buffer (src/render/scene_gpu.c puts",
+           " * them after the texels, from pb_gpu_frame.principled2_base), the C",
+           " * reference from the arrays below. */"]
+    tables, off = [], 0
     for name in NAMES:
         m = re.search(r"static const float table_%s\[(\d+)\] = \{(.*?)\};" % name, text, re.S)
         if not m:
@@ -43,13 +46,18 @@ def main(path):
         if len(vals) != n:
             sys.exit("table_%s: %d values, declared %d" % (name, len(vals), n))
         vals = [repr(float(v)) if "e" not in v.lower() else repr(float(v)) for v in vals]
-        out.append("PB_TABLE(pb_%s, %d) {" % (name, n))
+        out.append("#define PB_P2T_%s %du" % (name.upper(), off))
+        tables.append((name, n, vals))
+        off += n
+    out += ["#define PB_P2T_COUNT %du" % off, "", "#ifndef PB_GLSL"]
+    for name, n, vals in tables:
+        out.append("static const float pb_%s[%d] = {" % (name, n))
         for i in range(0, n, 8):
             out.append("  " + ", ".join(vals[i:i + 8]) + ",")
         out[-1] = out[-1].rstrip(",")
         out.append("};")
         out.append("")
-    out += ["#undef PB_TABLE", "", "#endif"]
+    out += ["#endif", "", "#endif"]
     print("\n".join(out))
 
 

@@ -143,7 +143,7 @@ void main() {
     }
     // Emission seen after `chain` delta interactions: a path of `chain`
     // scattering events (direct when at most one).
-    vec3 le = pb_emission(surf);
+    vec3 le = pb_emission_toward(surf, wo);
     if (any(notEqual(le, vec3(0.0)))) {
       acc.beauty.rgb += beta * le;
       if (chain <= 1u) acc.direct += beta * le;

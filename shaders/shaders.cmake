@@ -15,6 +15,9 @@ set(PB_SHADER_OUTPUTS "")
 
 # One module: SRC compiled with the defines that follow (glslc, depfile) into
 # NAME.spv and embedded as pb_spv_NAME in NAME.spv.h.
+# The SPIR-V as a C array (shaders/spv_embed.c, a build-time tool).
+add_executable(pb_spv_embed ${CMAKE_SOURCE_DIR}/shaders/spv_embed.c)
+
 function(pb_shader name src)
   set(spv ${PB_SHADER_OUT}/${name}.spv)
   set(hdr ${PB_SHADER_OUT}/${name}.spv.h)
@@ -28,9 +31,8 @@ function(pb_shader name src)
     VERBATIM)
   add_custom_command(
     OUTPUT ${hdr}
-    COMMAND ${CMAKE_COMMAND} -DIN=${spv} -DOUT=${hdr} -DNAME=${name}
-            -P ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
-    DEPENDS ${spv} ${CMAKE_SOURCE_DIR}/shaders/spv_to_header.cmake
+    COMMAND pb_spv_embed ${spv} ${hdr} ${name}
+    DEPENDS ${spv} pb_spv_embed
     COMMENT "embed ${name}.spv"
     VERBATIM)
   set(PB_SHADER_OUTPUTS ${PB_SHADER_OUTPUTS} ${hdr} PARENT_SCOPE)

@@ -18,7 +18,14 @@ The thresholds are the measured values (docs/benchmarks.md, "Blender's
 materials against Cycles 3.4") less a margin for the renderers' own noise from one
 build to the next; each is far above Cycles' own noise (cycles.json).
 
-usage: blender_samples.py PHOTONBRIDGE EXR_PROBE WORKDIR --renderer ref|gpu [--only NAME]
+--set 45: the same scenes saved by Blender 4.5 LTS with what 4.x adds
+(samples/blender45, exporters/blender/blend_samples45.py: Principled v2
+coat, sheen and F82 tint, light temperature, exposure and Normalize off,
+AgX) against Cycles 4.5; the hand-off is Blender 4.5's (PB_BLENDER_PYTHON,
+the bpy interpreter of tools/bpy45, through tests/blender/bpy_blender.py),
+and the GPU renders at the render engine's defaults.
+
+usage: blender_samples.py PHOTONBRIDGE EXR_PROBE WORKDIR --renderer ref|gpu [--only NAME] [--set 45]
 Exit 77 for --renderer gpu when no Vulkan device is present."""
 import json
 import os
@@ -54,24 +61,44 @@ def run(cmd, **kw):
     return subprocess.run(cmd, capture_output=True, text=True, **kw)
 
 
+# Blender 4.5 LTS (--set 45): the .blend files saved by 4.5, their
+# Cycles 4.5 renders, the render engine's defaults on the GPU (add-on
+# settings.py: 2^18 photon paths x 16 progressive maps, 16 spp).
+DATA45 = os.path.join(ROOT, "samples", "blender45")
+ENGINE = ["--photons", "262144", "--iterations", "16", "--progressive", "--spp", "16"]
+CASES45 = {
+    "metal_plastic": {"ref": (["--spp", "256"], 0.01, 35.0), "gpu": ([], 0.02, 30.0)},
+    "hdri": {"ref": (["--spp", "256"], 0.01, 33.0), "gpu": ([], 0.02, 30.0)},
+    "glass_ball": {"ref": (["--spp", "256"], 0.01, 33.0), "gpu": ([], 0.02, 30.0)},
+}
+
+
 def blender():
     exe = os.environ.get("BLENDER", "blender")
-    return exe if shutil.which(exe) else None
+    return [exe] if shutil.which(exe) else None
 
 
-def handoff(name, work):
+def blender45():
+    """Blender 4.5 as a command: the bpy module of PB_BLENDER_PYTHON
+    through bpy_blender.py; None without it."""
+    py = os.environ.get("PB_BLENDER_PYTHON")
+    if not py or not os.access(py, os.X_OK):
+        return None
+    return [py, os.path.join(HERE, "blender", "bpy_blender.py")]
+
+
+def handoff(name, work, data, bl):
     """The render engine's hand-off of NAME.blend, or the committed one."""
-    blend = os.path.join(DATA, name, name + ".blend")
-    bl = blender()
+    blend = os.path.join(data, name, name + ".blend")
     if not bl:
-        return os.path.join(DATA, name, "handoff", name + ".gltf"), "committed hand-off (no blender)"
+        return os.path.join(data, name, "handoff", name + ".gltf"), "committed hand-off (no blender)"
     hdir = os.path.join(work, "handoff", name)
     os.makedirs(hdir, exist_ok=True)
     gltf = os.path.join(hdir, name + ".gltf")
     env = dict(os.environ)
     # Blender's embedded Python breaks with a pyenv python3 first on PATH.
     env["PATH"] = ":".join(p for p in env.get("PATH", "").split(":") if "pyenv" not in p)
-    p = run([bl, "-b", blend, "--factory-startup", "--python-exit-code", "1", "-P",
+    p = run(bl + ["-b", blend, "--factory-startup", "--python-exit-code", "1", "-P",
              os.path.join(ROOT, "exporters", "blender", "export_photonbridge.py"), "--", gltf], env=env)
     if p.returncode:
         raise RuntimeError("hand-off of %s exited %d: %s" % (blend, p.returncode, (p.stdout + p.stderr).strip()[-400:]))
@@ -88,40 +115,48 @@ def probe_mean(exe, path):
 
 def main(argv):
     exe, probe, work = argv[0], argv[1], argv[2]
-    rest, renderer, only = argv[3:], "ref", []
+    rest, renderer, only, version = argv[3:], "ref", [], "34"
     while rest:
         a = rest.pop(0)
         if a == "--renderer":
             renderer = rest.pop(0)
+        elif a == "--set":
+            version = rest.pop(0)
         elif a == "--only":
             only.append(rest.pop(0))
-    if renderer not in ("ref", "gpu"):
+    if renderer not in ("ref", "gpu") or version not in ("34", "45"):
         print(__doc__, file=sys.stderr)
         return 2
     if renderer == "gpu" and run([exe, "info", "--devices"]).returncode:
         print("skip: no Vulkan device")
         return 77
     os.makedirs(work, exist_ok=True)
+    data, cases, gpu_opts, bl = DATA, CASES, GPU_OPTS, blender()
+    if version == "45":
+        data, cases, gpu_opts, bl = DATA45, CASES45, ENGINE, blender45()
+        if bl is None:
+            print("FAIL Blender 4.5 (bpy) missing: set PB_BLENDER_PYTHON (scripts/install-deps.sh installs tools/bpy45)")
+            return 1
     passed = failed = 0
-    for name in sorted(CASES):
+    for name in sorted(cases):
         if only and name not in only:
             continue
-        with open(os.path.join(DATA, name, "cycles.json")) as f:
+        with open(os.path.join(data, name, "cycles.json")) as f:
             cyc = json.load(f)
-        opts, mean_tol, psnr_min = CASES[name][renderer]
+        opts, mean_tol, psnr_min = cases[name][renderer]
         why = []
         try:
-            gltf, source = handoff(name, work)
+            gltf, source = handoff(name, work, data, bl)
         except RuntimeError as e:
             print("FAIL %s: %s" % (name, e))
             failed += 1
             continue
         out = os.path.join(work, "%s_%s.exr" % (name, renderer))
-        ref = os.path.join(DATA, name, "cycles.exr")
+        ref = os.path.join(data, name, "cycles.exr")
         if renderer == "ref":
             cmd = [exe, "reference", gltf, "-o", out, "--width", str(cyc["width"]), "-q"] + REF_OPTS + opts
         else:
-            cmd = [exe, "render", gltf, "-o", out, "--width", str(cyc["width"]), "-q"] + GPU_OPTS + opts
+            cmd = [exe, "render", gltf, "-o", out, "--width", str(cyc["width"]), "-q"] + gpu_opts + opts
         p = run(cmd)
         if p.returncode:
             print("FAIL %s: %s exited %d: %s" % (name, renderer, p.returncode, p.stderr.strip()))
@@ -143,7 +178,7 @@ def main(argv):
         if psnr < psnr_min:
             why.append("PSNR %.2f dB under %.1f" % (psnr, psnr_min))
         print("%s %-14s %s (%s, %s): PSNR %.2f dB, SSIM %.4f, mean %+.3f %% (Cycles %d spp, its noise %.1f dB)" % (
-            "FAIL" if why else "ok  ", name, renderer, " ".join(opts), source, psnr, m["ssim"], 100 * dm,
+            "FAIL" if why else "ok  ", name, renderer, " ".join(opts or gpu_opts), source, psnr, m["ssim"], 100 * dm,
             cyc["samples"], cyc["noise_psnr_db"]))
         if why:
             print("     %s: %s" % (name, "; ".join(why)))

@@ -70,3 +70,14 @@ if(Python3_Interpreter_FOUND)
   set_tests_properties(principled2_lobes_ref PROPERTIES TIMEOUT 900 LABELS principled
                        PASS_REGULAR_EXPRESSION " 0 failed")
 endif()
+# The GPU's Principled v2 (shaders/common/principled.glsl, its own code)
+# against the same Cycles 4.5 renders: >= 36 dB, mean within 1 %.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME principled2_lobes_gpu
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                   ${CMAKE_CURRENT_BINARY_DIR}/principled2_gpu --renderer gpu --data tests/data/principled2
+                   --psnr 36 --mean-tol 0.01
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(principled2_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                       TIMEOUT 1800 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
+endif()

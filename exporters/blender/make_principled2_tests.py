@@ -81,11 +81,55 @@ CASES = {
                                        "Coat Weight": 1.0, "Coat Roughness": 0.05, "Coat Tint": (0.5, 1.0, 1.0, 1.0),
                                        "Sheen Weight": 0.5}),
     "default": {},
+    # A tangent-space Normal Map (stripes tilted +-0.6 along the U tangent)
+    # at Strength 0.5 and 2: Cycles 4.0 scales the map's vector before the
+    # tangent frame (xy s, z mix(1, z, saturate(s))), 3.x blended normals.
+    "normal_half": {"Base Color": (0.8, 0.8, 0.8, 1.0), "Specular IOR Level": 0.0, "_normal": 0.5},
+    "normal_double": {"Base Color": (0.8, 0.8, 0.8, 1.0), "Specular IOR Level": 0.0, "_normal": 2.0},
+    # Diffuse Roughness (4.3+) and the Diffuse BSDF's Roughness: Oren-Nayar
+    # with Cycles 4.3's energy-preserving multiple scattering.
+    "diffuse_rough": {"Base Color": (0.8, 0.45, 0.2, 1.0), "Specular IOR Level": 0.0, "Diffuse Roughness": 0.8},
+    "diffuse_bsdf_rough": {"_diffuse_bsdf": ((0.7, 0.7, 0.9, 1.0), 1.0)},
 }
 BACK_LIGHT = ("sheen",)
 
 
-def build(name, inputs):
+def normal_map(mat, p, strength, out_dir):
+    """A Non-Color stripe normal map (64 x 64 PNG beside the glTF: 8 stripes
+    along U whose normals tilt by +-0.6 along the tangent) through a
+    tangent-space Normal Map node of the given Strength into p's Normal."""
+    import math
+    import struct
+    import zlib
+    n = 64
+    rows = b""
+    for y in range(n):
+        row = b"\x00"  # PNG filter: none
+        for x in range(n):
+            tx = 0.6 * math.sin(2.0 * math.pi * 8.0 * (x + 0.5) / n)
+            ln = math.sqrt(tx * tx + 1.0)
+            row += bytes(round(255.0 * (0.5 + 0.5 * c)) for c in (tx / ln, 0.0, 1.0 / ln))
+        rows += row
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    path = os.path.join(out_dir, "stripes.png")
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 2, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    img = bpy.data.images.load(path)
+    img.colorspace_settings.name = "Non-Color"
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    nm = nodes.new("ShaderNodeNormalMap")
+    nm.space = "TANGENT"
+    nm.inputs["Strength"].default_value = strength
+    links.new(tex.outputs["Color"], nm.inputs["Color"])
+    links.new(nm.outputs["Normal"], p.inputs["Normal"])
+
+
+def build(name, inputs, out_dir):
     sc = samples.reset_scene(WIDTH, WIDTH)
     v1.world_black(sc)
     mat = bpy.data.materials.new(name)
@@ -95,6 +139,15 @@ def build(name, inputs):
         if not k.startswith("_"):
             p.inputs[k].default_value = v
     p.distribution = inputs.get("_distribution", "MULTI_GGX")
+    if "_diffuse_bsdf" in inputs:  # a Diffuse BSDF node in the Principled's place
+        color, rough = inputs["_diffuse_bsdf"]
+        d = mat.node_tree.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = color
+        d.inputs["Roughness"].default_value = rough
+        out = mat.node_tree.nodes["Material Output"]
+        mat.node_tree.links.new(d.outputs["BSDF"], out.inputs["Surface"])
+    if "_normal" in inputs:
+        normal_map(mat, p, inputs["_normal"], out_dir)
     b = samples.MeshBuilder()
     samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
     samples.mesh_object("Sphere", b, [mat])
@@ -124,7 +177,7 @@ def main(argv):
             continue
         d = os.path.join(out, name)
         os.makedirs(d, exist_ok=True)
-        build(name, CASES[name])
+        build(name, CASES[name], d)
         path = os.path.join(d, name + ".gltf")
         writer.write_gltf(bpy.context.evaluated_depsgraph_get(), path)
         print("make_principled2_tests: %s: %s" % (name, path))

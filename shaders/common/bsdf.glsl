@@ -14,6 +14,13 @@ const uint PB_CL_MULTI_GGX = 4u;
 const uint PB_CL_GGX_REFRACT = 5u;
 const uint PB_CL_CLEARCOAT = 6u;
 const uint PB_CL_TRANSPARENT = 7u;
+// Principled v2 (Cycles 4.x; principled.glsl "Principled v2"):
+const uint PB_CL_V2_SHEEN = 8u;  // microfiber sheen (LTC)
+const uint PB_CL_V2_GGX = 9u;    // GGX reflection: F82-tint metal, generalized-Schlick specular, dielectric coat
+const uint PB_CL_V2_GLASS = 10u; // GGX glass, reflection and refraction in one closure
+const uint PB_FR_DIELECTRIC = 0u;
+const uint PB_FR_F82_TINT = 1u;
+const uint PB_FR_GEN_SCHLICK = 2u;
 // Every closure has its own slot (no dynamic indexing: loops over the slots
 // unroll into registers): diffuse or Oren-Nayar, sheen, specular, glass
 // reflection, glass refraction, clearcoat, transparent.
@@ -36,6 +43,11 @@ struct pb_closure {
   float rough, on_a, on_b, clearcoat;
   bool singular;
   bool stops; // a glossy closure shaded where the eye path stops (pb_blender_split)
+  // Principled v2: cspec0 is F0, color the F82 b term, on_a/on_b the sheen LTC
+  uint fresnel;  // PB_FR_*
+  vec3 ttint;    // glass transmission tint
+  float energy;  // Turquin energy scale 1 / E (1 without compensation)
+  bool g2;       // height-correlated Smith G2
 };
 
 struct pb_bsdf {
@@ -50,6 +62,8 @@ struct pb_bsdf {
   // Blender materials (SC_BLENDER, model != PB_GPU_MODEL_GLTF): closures,
   // which of them eval uses (PB_GPU_LOBES_*), the AOV albedo.
   uint model;
+  uint bump;     // PB_GPU_BUMP_*
+  vec3 ni;       // pb_surface.ni
   uint mask;
   float sw_sum;
   vec3 albedo;
@@ -76,11 +90,13 @@ pb_bsdf pb_bsdf_setup_t(pb_surface surf, vec3 wo, vec3 tangent) {
   pb_gpu_material m = materials[surf.mat];
   pb_bsdf b;
   b.model = PB_GPU_MODEL_GLTF;
+  b.bump = PB_GPU_BUMP_CHIANG;
   b.mask = PB_GPU_LOBES_ALL;
   b.sw_sum = 0.0;
   if (SC_BLENDER && m.model != PB_GPU_MODEL_GLTF) {
     b.ng = surf.ng;
     b.n = surf.ns;
+    b.ni = surf.ni;
     pb_basis(b.n, b.t, b.b);
     b.entering = surf.front;
     b.metallic = b.roughness = b.alpha = b.transmission = b.spec = 0.0;

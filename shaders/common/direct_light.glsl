@@ -266,7 +266,7 @@ vec3 pb_emitter_light(pb_surface surf, pb_bsdf b, vec3 wo, uint pixel, uint s, i
   if (!(d2 > 0.0)) return vec3(0.0);
   vec3 wi = d / sqrt(d2);
   pb_surface es = pb_surface_from_hit(e.prim, eu, ev, wi);
-  vec3 le = pb_emission(es);
+  vec3 le = pb_emission_toward(es, -wi);
   float cos_l = dot(es.ng, -wi);
   if (all(equal(le, vec3(0.0))) || !(cos_l > 0.0)) return vec3(0.0);
   vec3 f = pb_bsdf_eval(b, wo, wi, rng);

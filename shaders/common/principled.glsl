@@ -6,6 +6,8 @@
 #ifndef PB_PRINCIPLED_GLSL
 #define PB_PRINCIPLED_GLSL
 
+#include "shared/pb_principled2_tables.h"
+
 const float PB_CUTOFF = 1e-5;           // CLOSURE_WEIGHT_CUTOFF
 const float PB_SINGULAR_ALPHA2 = 1e-7;  // alpha_x alpha_y at or below: a delta lobe
 
@@ -66,13 +68,27 @@ vec3 pb_valid_reflection_normal(vec3 ng, vec3 i, vec3 n) {
   return res;
 }
 
-float pb_bump_shadowing(vec3 ns, vec3 n, vec3 wi) {
-  float cn = dot(n, wi);
-  vec3 g = cn < 0.0 ? -ns : ns;
-  float den = cn * dot(g, n);
+// Cycles' bump shadowing by Blender version (PB_GPU_BUMP_*; the
+// reference's bump_shadowing has the sources): Chiang et al. 2019 up to
+// 4.4, Conty Estevez et al. 2019 GGX shadowing from 4.5, only the
+// wrong-side test with Bump Map Correction off.
+float pb_bump_shadowing(uint model, vec3 ns, vec3 n, vec3 wi) {
+  float cgi = dot(ns, wi), cgn = dot(ns, n), cni = dot(n, wi);
+  if (model == PB_GPU_BUMP_CONTY) {
+    if (cgi * cgn * cni < 0.0) return 0.0;
+    float ci = abs(cgi), cd = abs(cgn);
+    if (cd >= 1.0 || ci >= 1.0) return 1.0;
+    if (ci < 1e-6) return 0.0;
+    float a2 = clamp(0.125 * (1.0 / (cd * cd) - 1.0), 0.0, 1.0);
+    float lambda = 0.5 * (sqrt(1.0 + a2 * max(1.0 / (ci * ci) - 1.0, 0.0)) - 1.0);
+    return 1.0 / (1.0 + lambda);
+  }
+  vec3 g = cni < 0.0 ? -ns : ns;
+  float den = cni * dot(g, n);
   float x = den != 0.0 ? dot(g, wi) / den : 0.0;
   if (x >= 1.0) return 1.0;
   if (x < 0.0) return 0.0;
+  if (model == PB_GPU_BUMP_NONE) return 1.0;
   float x2 = x * x;
   return -x2 * x + x2 + x;
 }
@@ -260,11 +276,34 @@ float pb_multi_ggx_pdf(pb_closure c, vec3 wo, vec3 wi) {
   return a * single + (1.0 - a) * max(wi.z, 0.0) * PB_INV_PI;
 }
 
+// Oren-Nayar as Cycles computes it (the reference's oren_nayar has the
+// formulas): Fujii's a and b, and from Cycles 4.3 OpenPBR's multiple
+// scattering, color = ms (1 - E(wo)), times (1 - E(wi)) in the evaluation.
+float pb_oren_nayar_G(float c) {
+  if (c < 1e-6) return (0.5 * PB_PI - 2.0 / 3.0) - c;
+  float s = sqrt(max(0.0, 1.0 - c * c)), th = acos(min(c, 1.0));
+  return s * (th - 2.0 / 3.0 - s * c) + 2.0 / 3.0 * (s / c) * (1.0 - s * s * s);
+}
+void pb_oren_nayar(inout pb_closure c, float sigma, vec3 albedo, bool ms, vec3 wo) {
+  if (sigma <= 0.0) {
+    c.on_a = PB_INV_PI; // bsdf_diffuse: Lambert
+    return;
+  }
+  sigma = clamp(sigma, 0.0, 1.0);
+  c.on_a = 1.0 / (PB_PI + sigma * (0.5 * PB_PI - 2.0 / 3.0));
+  c.on_b = sigma * c.on_a;
+  if (!ms) return;
+  vec3 rho = clamp(albedo, 0.0, 1.0);
+  float eavg = c.on_a * PB_PI + ((2.0 * PB_PI - 5.6) / 3.0) * c.on_b;
+  float ev = c.on_a * PB_PI + c.on_b * pb_oren_nayar_G(max(dot(c.n, wo), 0.0));
+  c.color = PB_INV_PI * (eavg / (1.0 - eavg)) * (1.0 - ev) * rho * rho / (1.0 - rho * (1.0 - eavg));
+}
+
 // ---- one closure ------------------------------------------------------------
 // One function per lobe family, so that the per-slot evaluation below
 // inlines each only where its slot can hold it (the slot loops unroll).
 
-vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, vec3 wo, vec3 wi, out float pdf) {
+vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, uint bump, vec3 wo, vec3 wi, out float pdf) {
   pdf = 0.0;
   vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
   if (li.z <= 0.0 || (c.type == PB_CL_SHEEN && lo.z < 0.0)) return vec3(0.0);
@@ -281,8 +320,11 @@ vec3 pb_eval_diffuse_like(pb_closure c, vec3 ns, vec3 wo, vec3 wi, out float pdf
     v = li.z * (c.on_a + c.on_b * t);
   }
   pdf = li.z * PB_INV_PI;
-  if (dot(c.n, ns) < 1.0 - 1e-6) v *= pb_bump_shadowing(ns, c.n, wi);
-  return vec3(v);
+  vec3 f = vec3(v);
+  if (c.type == PB_CL_OREN_NAYAR && c.on_b > 0.0) // multiple scattering (0 before Cycles 4.3)
+    f += c.color * (li.z * (1.0 - c.on_a * PB_PI - c.on_b * pb_oren_nayar_G(li.z)));
+  if (dot(c.n, ns) < 1.0 - 1e-6) f *= pb_bump_shadowing(bump, ns, c.n, wi);
+  return f;
 }
 
 // GGX reflection or the GTR1 clearcoat.
@@ -369,6 +411,10 @@ void pb_add_closure(inout pb_bsdf b, uint slot, uint type, vec3 weight) {
   c.cspec0 = c.color = vec3(0.0);
   c.rough = c.on_a = c.on_b = c.clearcoat = 0.0;
   c.singular = c.stops = false;
+  c.fresnel = PB_FR_DIELECTRIC;
+  c.ttint = vec3(0.0);
+  c.energy = 1.0;
+  c.g2 = false;
   b.cl[slot] = c;
 }
 
@@ -387,9 +433,334 @@ void pb_microfacet(inout pb_closure c, vec3 n, vec3 t, float ax, float ay, float
   }
 }
 
+
+// ---- Principled v2 (Blender 4.x, Cycles 4.5) ---------------------------------
+// What Cycles 4.5's svm/closure.h does for the v2 node, written again for the
+// GPU (the reference's own code is principled.c "Principled v2"; the two
+// share only the tables): transparency, microfiber sheen (LTC), GGX coat
+// (dielectric Fresnel, always energy-compensated, Beer tint), emission under
+// both, F82-tint metal, GGX glass and the dielectric specular on the
+// generalized-Schlick real Fresnel curve, Lambert diffuse; layered by
+// closure_layering_weight on tabulated albedos; Multiscatter GGX as Turquin
+// energy compensation; height-correlated Smith G2. Slots: sheen SHEEN, coat
+// CLEARCOAT, metal GLASS_REFL, glass GLASS_REFR, specular SPECULAR, diffuse
+// DIFFUSE.
+
+// The table starting at float t (PB_P2T_*, shared/pb_principled2_tables.h)
+// at i: the tables follow the texels in the same buffer, from texel index
+// frame.principled2_base (src/render/scene_gpu.c), only in scenes that have
+// a v2 material; nothing else reads them.
+float pb2_fetch(uint t, int i) { return uintBitsToFloat(texels[frame.principled2_base + t + uint(i)]); }
+// Samples at k / (n - 1) over [0, 1], clamped; linear in between.
+void pb2_axis(float x, int n, out int i, out int j, out float f) {
+  x = clamp(x, 0.0, 1.0) * float(n - 1);
+  i = min(int(x), n - 1);
+  j = min(i + 1, n - 1);
+  f = x - float(i);
+}
+float pb2_lut1(uint t, int off, float x, int n) {
+  int i, j;
+  float f;
+  pb2_axis(x, n, i, j, f);
+  return pb2_fetch(t, off + i) * (1.0 - f) + pb2_fetch(t, off + j) * f;
+}
+float pb2_lut2(uint t, int off, float x, float y, int nx, int ny) {
+  int i, j;
+  float f;
+  pb2_axis(y, ny, i, j, f);
+  return pb2_lut1(t, off + nx * i, x, nx) * (1.0 - f) + pb2_lut1(t, off + nx * j, x, nx) * f;
+}
+float pb2_lut3(uint t, float x, float y, float z) {  // the 16^3 tables
+  int i, j;
+  float f;
+  pb2_axis(z, 16, i, j, f);
+  return pb2_lut2(t, 256 * i, x, y, 16, 16) * (1.0 - f) + pb2_lut2(t, 256 * j, x, y, 16, 16) * f;
+}
+
+float pb2_f0(float eta) {
+  float r = (eta - 1.0) / (eta + 1.0);
+  return r * r;
+}
+float pb2_fss_dielectric(float eta) {
+  return eta < 1.0 ? 0.997118 + eta * (0.1014 - eta * (0.965241 + eta * 0.130607)) : (eta - 1.0) / (4.08567 + 1.00071 * eta);
+}
+
+// Reflectance r and transmittance t at cos between microfacet and view.
+void pb2_fresnel(pb_closure c, float cos_hv, out vec3 r, out vec3 t) {
+  t = vec3(0.0);
+  if (c.fresnel == PB_FR_DIELECTRIC) {
+    float f = pb_fresnel_diel(cos_hv, c.ior);
+    r = vec3(f);
+  } else if (c.fresnel == PB_FR_F82_TINT) {
+    float mu = clamp(1.0 - cos_hv, 0.0, 1.0);
+    float mu5 = mu * mu * mu * mu * mu;
+    r = clamp(mix(c.cspec0, vec3(1.0), mu5) - c.color * (cos_hv * mu5 * mu), 0.0, 1.0);
+  } else {
+    float f0r = pb2_f0(c.ior);
+    float s = clamp((pb_fresnel_diel(cos_hv, c.ior) - f0r) / (1.0 - f0r), 0.0, 1.0);
+    r = mix(c.cspec0, vec3(1.0), s);
+    if (c.type == PB_CL_V2_GLASS) t = (vec3(1.0) - r) * c.ttint;
+  }
+}
+
+float pb2_lambda(vec3 w, float ax, float ay) {
+  float z2 = w.z * w.z;
+  if (!(z2 > 0.0)) return 1e30;
+  return 0.5 * (sqrt(1.0 + (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / z2) - 1.0);
+}
+
+vec3 pb_eval_v2(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
+  pdf = 0.0;
+  vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
+  if (c.type == PB_CL_V2_SHEEN) {
+    if (li.z <= 0.0) return vec3(0.0);
+    float a = c.on_a, b = c.on_b;
+    float q = a * li.x + b * li.z, l2 = q * q + a * a * li.y * li.y + li.z * li.z;
+    float v = PB_INV_PI * li.z * (a / l2) * (a / l2);
+    pdf = v;
+    return vec3(v);
+  }
+  bool is_t = li.z < 0.0;
+  if (lo.z <= 0.0 || ((dot(ng, wi) < 0.0) != is_t) || (is_t && c.type != PB_CL_V2_GLASS)) return vec3(0.0);
+  vec3 h = is_t ? -(li * c.ior + lo) : lo + li;
+  float hl = length(h);
+  if (!(hl > 0.0)) return vec3(0.0);
+  float inv = 1.0 / hl;
+  h *= inv;
+  float chv = dot(h, lo);
+  vec3 r, t;
+  pb2_fresnel(c, chv, r, t);
+  float ar = pb_avg3(r), at = pb_avg3(t);
+  if (!(ar + at > 0.0)) return vec3(0.0);
+  float ax = c.ax, ay = is_t ? c.ax : c.ay;
+  float sx = h.x / ax, sy = h.y / ay, k = sx * sx + sy * sy + h.z * h.z;
+  float d = 1.0 / (PB_PI * ax * ay * k * k);
+  float lv = pb2_lambda(lo, ax, ay), ll = pb2_lambda(li, ax, ay);
+  float cmn = d / lo.z * (is_t ? (c.ior * inv) * (c.ior * inv) * abs(chv * dot(h, li)) : 0.25);
+  float pr = ar / (ar + at);
+  pdf = cmn * (is_t ? 1.0 - pr : pr) / (1.0 + lv);
+  float g = c.g2 ? 1.0 / (1.0 + lv + ll) : 1.0 / ((1.0 + lv) * (1.0 + ll));
+  return (is_t ? t : r) * (cmn * g * c.energy);
+}
+
+void pb2_preserve_energy(inout pb_closure c, float mu, vec3 fss) {
+  float rough = sqrt(sqrt(c.ax * c.ay)), e, eavg;
+  if (c.type == PB_CL_V2_GLASS) {
+    bool inv = c.ior < 1.0;
+    float ior = inv ? 1.0 / c.ior : c.ior;
+    float z = sqrt(abs((ior - 1.0) / (ior + 1.0)));
+    e = pb2_lut3(inv ? PB_P2T_GGX_GLASS_INV_E : PB_P2T_GGX_GLASS_E, rough, mu, z);
+    eavg = pb2_lut2(inv ? PB_P2T_GGX_GLASS_INV_EAVG : PB_P2T_GGX_GLASS_EAVG, 0, rough, z, 16, 16);
+  } else {
+    e = pb2_lut2(PB_P2T_GGX_E, 0, rough, mu, 32, 32);
+    eavg = pb2_lut1(PB_P2T_GGX_EAVG, 0, rough, 32);
+  }
+  float missing = (1.0 - e) / e;
+  c.energy = 1.0 + missing;
+  if (any(notEqual(fss, vec3(1.0)))) {
+    vec3 fms = fss * eavg / (vec3(1.0) - fss * (1.0 - eavg));
+    vec3 dark = (vec3(1.0) + fms * missing) / c.energy;
+    c.weight *= dark;
+    c.sample_weight *= pb_avg3(dark);
+  }
+}
+
+// bsdf_microfacet_estimate_albedo at view cosine mu.
+vec3 pb2_albedo(pb_closure c, float mu, bool trans) {
+  vec3 r, t;
+  pb2_fresnel(c, mu, r, t);
+  if (!trans) t = vec3(0.0);
+  if (all(equal(r, vec3(0.0)))) return t;
+  float rough = sqrt(sqrt(c.ax * c.ay));
+  float z = sqrt(abs((c.ior - 1.0) / (c.ior + 1.0)));
+  if (c.fresnel == PB_FR_GEN_SCHLICK) {
+    r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z));
+  } else if (c.fresnel == PB_FR_F82_TINT) {
+    r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_S, rough, mu, 0.5));
+  } else if (c.ior > 1.0) {
+    r = vec3(mix(pb2_f0(c.ior), 1.0, pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z)));
+  }
+  return r + t;
+}
+
+vec3 pb2_layer_under(vec3 albedo, vec3 w) {
+  float m = 0.0;
+  for (int k = 0; k < 3; ++k)
+    if (w[k] != 0.0) m = max(m, albedo[k] / w[k]);
+  return w * clamp(1.0 - m, 0.0, 1.0);
+}
+
+void pb2_microfacet(inout pb_closure c, vec3 n, vec3 t, float ax, float ay, float ior, uint fresnel, vec3 f0) {
+  pb_lobe_frame(c, n, t);
+  c.ax = clamp(ax, 0.0, 1.0);
+  c.ay = clamp(ay, 0.0, 1.0);
+  c.ior = ior;
+  c.fresnel = fresnel;
+  c.cspec0 = fresnel == PB_FR_GEN_SCHLICK ? clamp(f0, 0.0, 1.0) : f0;
+  c.energy = 1.0;
+  c.g2 = true;
+  c.singular = c.ax * c.ay <= PB_SINGULAR_ALPHA2;
+}
+
+vec3 pb2_color(uint tex, vec3 value, pb_surface s) {
+  if (SC_TEXTURES && tex != PB_GPU_NO_TEXTURE) value = pb_texture_lookup(tex, s).rgb;
+  return max(value, vec3(0.0));
+}
+
+// The v2 closures into b, top to bottom; returns the weight the emission
+// takes (alpha, sheen and coat over it). emission_only: stop there.
+vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_only, inout pb_bsdf b) {
+  pb_gpu_material m = materials[surf.mat];
+  float in_v[PB_GPU_IN_SLOTS];
+  for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) in_v[i] = pb_input_value(m, i, surf);
+  bool multi = m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX;
+  float metallic = clamp(in_v[PB_GPU_IN_METALLIC], 0.0, 1.0);
+  float ss_w = clamp(in_v[PB_GPU_IN_SUBSURFACE], 0.0, 1.0);
+  float level = max(in_v[PB_GPU_IN_SPECULAR_IOR_LEVEL], 0.0);
+  float roughness = clamp(in_v[PB_GPU_IN_ROUGHNESS], 0.0, 1.0);
+  float aniso = clamp(in_v[PB_GPU_IN_ANISOTROPIC], 0.0, 1.0);
+  float sheen_w = max(in_v[PB_GPU_IN_SHEEN_WEIGHT], 0.0);
+  float sheen_r = clamp(in_v[PB_GPU_IN_SHEEN_ROUGHNESS], 0.0, 1.0);
+  float coat_w = max(in_v[PB_GPU_IN_COAT_WEIGHT], 0.0);
+  float coat_r = clamp(in_v[PB_GPU_IN_COAT_ROUGHNESS], 0.0, 1.0);
+  float coat_ior = max(in_v[PB_GPU_IN_COAT_IOR], 1.0);
+  float trans_w = clamp(in_v[PB_GPU_IN_TRANSMISSION], 0.0, 1.0);
+  float ior = max(in_v[PB_GPU_IN_IOR], 1e-5);
+  float alpha = clamp(in_v[PB_GPU_IN_ALPHA], 0.0, 1.0);
+  vec3 spec_tint = pb2_color(m.specular_tint_tex, m.specular_tint, surf);
+  vec3 coat_tint = pb2_color(m.coat_tint_tex, m.coat_tint, surf);
+  vec3 sheen_tint = pb2_color(m.sheen_tint_tex, m.sheen_tint, surf);
+  vec3 cbase = min(base, vec3(1.0));
+  vec3 ns = surf.ns;
+  vec3 n = pb_valid_reflection_normal(surf.ng, wo, ns);
+  float ax = roughness * roughness, ay = ax;
+  if (aniso > 0.0) {
+    float aspect = sqrt(1.0 - aniso * 0.9);
+    ax /= aspect;
+    ay *= aspect;
+    float rot = in_v[PB_GPU_IN_ANISOTROPIC_ROTATION];
+    if (rot != 0.0) {
+      float th = rot * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
+      tangent = tangent * cs + cross(ns, tangent) * sn + ns * (dot(ns, tangent) * (1.0 - cs));
+    }
+  }
+  vec3 w = vec3(1.0);
+  pb_add_closure(b, PB_SLOT_TRANSPARENT, PB_CL_TRANSPARENT, vec3(1.0 - alpha));
+  w *= alpha;
+  if (sheen_w > PB_CUTOFF) {
+    pb_add_closure(b, PB_SLOT_SHEEN, PB_CL_V2_SHEEN, sheen_tint * sheen_w * w);
+    if (b.cl[PB_SLOT_SHEEN].on) {
+      float r = clamp(sheen_r, 1e-3, 1.0), cni = dot(ns, wo);
+      pb_lobe_frame(b.cl[PB_SLOT_SHEEN], ns, wo);
+      b.cl[PB_SLOT_SHEEN].on_a = pb2_lut2(PB_P2T_SHEEN_LTC, 0, cni, r, 32, 32);
+      b.cl[PB_SLOT_SHEEN].on_b = pb2_lut2(PB_P2T_SHEEN_LTC, 1024, cni, r, 32, 32);
+      float alb = pb2_lut2(PB_P2T_SHEEN_LTC, 2048, cni, r, 32, 32);
+      if (abs(b.cl[PB_SLOT_SHEEN].on_a) < 1e-5 || alb < 1e-5) {
+        b.cl[PB_SLOT_SHEEN].on = false;
+        b.cl[PB_SLOT_SHEEN].sample_weight = 0.0;
+      } else {
+        b.cl[PB_SLOT_SHEEN].weight *= alb;
+        b.cl[PB_SLOT_SHEEN].sample_weight *= alb;
+        w = pb2_layer_under(b.cl[PB_SLOT_SHEEN].weight, w);
+      }
+    }
+  }
+  if (coat_w > PB_CUTOFF) {
+    vec3 cn = pb_valid_reflection_normal(surf.ng, wo, ns);
+    pb_add_closure(b, PB_SLOT_CLEARCOAT, PB_CL_V2_GGX, w * coat_w);
+    if (b.cl[PB_SLOT_CLEARCOAT].on) {
+      float a = coat_r * coat_r;
+      pb2_microfacet(b.cl[PB_SLOT_CLEARCOAT], cn, cn, a, a, coat_ior, PB_FR_DIELECTRIC, vec3(0.0));
+      float mu = dot(wo, cn);
+      b.cl[PB_SLOT_CLEARCOAT].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_CLEARCOAT], mu, true));
+      pb2_preserve_energy(b.cl[PB_SLOT_CLEARCOAT], mu, vec3(pb2_fss_dielectric(coat_ior)));
+      w = pb2_layer_under(b.cl[PB_SLOT_CLEARCOAT].weight * pb2_albedo(b.cl[PB_SLOT_CLEARCOAT], mu, false), w);
+    }
+    if (any(notEqual(coat_tint, vec3(1.0)))) {
+      float cni = dot(wo, cn);
+      float cnt = sqrt(max(0.0, 1.0 - (1.0 - cni * cni) / (coat_ior * coat_ior)));
+      w *= mix(vec3(1.0), pow(coat_tint, vec3(1.0 / cnt)), coat_w);
+    }
+  }
+  if (emission_only) return w;
+  vec3 w_emission = w;
+  if (metallic > PB_CUTOFF) {
+    pb_add_closure(b, PB_SLOT_GLASS_REFL, PB_CL_V2_GGX, w * metallic);
+    if (b.cl[PB_SLOT_GLASS_REFL].on) {
+      pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, 1.0, PB_FR_F82_TINT, cbase);
+      vec3 f82 = min(spec_tint, vec3(1.0));
+      const float f = 6.0 / 7.0;
+      float f5 = f * f * f * f * f;
+      b.cl[PB_SLOT_GLASS_REFL].color = all(equal(f82, vec3(1.0)))
+                                           ? vec3(0.0)
+                                           : mix(cbase, vec3(1.0), f5) * (7.0 / (f5 * f)) * (vec3(1.0) - f82);
+      float mu = dot(wo, n);
+      b.cl[PB_SLOT_GLASS_REFL].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_GLASS_REFL], mu, true));
+      if (multi)
+        pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFL], mu,
+                            mix(cbase, vec3(1.0), 1.0 / 21.0) - b.cl[PB_SLOT_GLASS_REFL].color * (1.0 / 126.0));
+    }
+    w *= 1.0 - metallic;
+  }
+  if (trans_w > PB_CUTOFF) {
+    pb_add_closure(b, PB_SLOT_GLASS_REFR, PB_CL_V2_GLASS, w * trans_w);
+    if (b.cl[PB_SLOT_GLASS_REFR].on) {
+      float r2 = roughness * roughness;
+      pb2_microfacet(b.cl[PB_SLOT_GLASS_REFR], n, n, r2, r2, surf.front ? ior : 1.0 / ior, PB_FR_GEN_SCHLICK,
+                     spec_tint * pb2_f0(ior));
+      b.cl[PB_SLOT_GLASS_REFR].ttint = sqrt(cbase);
+      float mu = dot(wo, n);
+      b.cl[PB_SLOT_GLASS_REFR].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_GLASS_REFR], mu, true));
+      if (multi) pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFR], mu, b.cl[PB_SLOT_GLASS_REFR].ttint);
+    }
+    w *= 1.0 - trans_w;
+  }
+  float eta = ior, f0 = pb2_f0(eta);
+  if (level != 0.5) {
+    f0 *= 2.0 * level;
+    float rf = sqrt(clamp(f0, 0.0, 0.99));
+    eta = (1.0 + rf) / (1.0 - rf);
+    if (ior < 1.0) eta = 1.0 / eta;
+  }
+  if (eta != 1.0) {
+    pb_add_closure(b, PB_SLOT_SPECULAR, PB_CL_V2_GGX, w);
+    if (b.cl[PB_SLOT_SPECULAR].on) {
+      pb2_microfacet(b.cl[PB_SLOT_SPECULAR], n, tangent, ax, ay, eta, PB_FR_GEN_SCHLICK, spec_tint * f0);
+      float mu = dot(wo, n);
+      b.cl[PB_SLOT_SPECULAR].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_SPECULAR], mu, true));
+      if (multi) {
+        float f0r = pb2_f0(eta);
+        float sfs = clamp((pb2_fss_dielectric(eta) - f0r) / (1.0 - f0r), 0.0, 1.0);
+        pb2_preserve_energy(b.cl[PB_SLOT_SPECULAR], mu, mix(b.cl[PB_SLOT_SPECULAR].cspec0, vec3(1.0), sfs));
+      }
+      w = pb2_layer_under(b.cl[PB_SLOT_SPECULAR].weight * pb2_albedo(b.cl[PB_SLOT_SPECULAR], mu, false), w);
+    }
+  }
+  // Diffuse; subsurface rendered as diffuse (the loader warns).
+  pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_OREN_NAYAR, (base * (1.0 - ss_w) + cbase * ss_w) * w);
+  pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], ns, tangent);
+  // Diffuse Roughness (4.3+): Oren-Nayar on the base colour's albedo.
+  float dr = clamp(in_v[PB_GPU_IN_DIFFUSE_ROUGHNESS], 0.0, 1.0);
+  pb_oren_nayar(b.cl[PB_SLOT_DIFFUSE], dr < PB_CUTOFF ? 0.0 : dr, base, true, wo);
+  b.albedo = cbase * alpha;
+  return w_emission;
+}
+
+// The weight of a v2 material's emission toward wo (pb_emission_toward).
+vec3 pb2_emission_weight(pb_surface surf, vec3 wo) {
+  pb_gpu_material m = materials[surf.mat];
+  vec3 base = m.base_color.rgb;
+  if (SC_TEXTURES && m.base_color_tex != PB_GPU_NO_TEXTURE) base = pb_texture_lookup(m.base_color_tex, surf).rgb;
+  if ((m.flags & PB_GPU_MAT_VERTEX_COLOR) != 0u) base = surf.color.rgb;
+  pb_bsdf b;
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) pb_add_closure(b, i, PB_CL_TRANSPARENT, vec3(0.0));
+  return pb2_setup(surf, wo, surf.ns, max(base, vec3(0.0)), true, b);
+}
+
 void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   pb_gpu_material m = materials[surf.mat];
   b.model = m.model;
+  b.bump = m.bump_model;
   b.sw_sum = 0.0;
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) pb_add_closure(b, i, PB_CL_TRANSPARENT, vec3(0.0));
   vec3 base = m.base_color.rgb;
@@ -402,18 +773,17 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     b.albedo = vec3(0.0);
     return;
   }
+  if (m.model == PB_GPU_MODEL_PRINCIPLED && m.principled_v2 != 0u) {
+    pb2_setup(surf, wo, tangent, base, false, b);
+    for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
+    return;
+  }
   vec3 n = pb_valid_reflection_normal(surf.ng, wo, surf.ns);
   if (m.model == PB_GPU_MODEL_DIFFUSE) {
     pb_add_closure(b, PB_SLOT_DIFFUSE, PB_CL_OREN_NAYAR, base);
     pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], n, tangent);
-    float sigma = clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0);
-    if (sigma == 0.0) {
-      b.cl[PB_SLOT_DIFFUSE].on_a = PB_INV_PI;
-    } else {
-      float div = 1.0 / (PB_PI + ((3.0 * PB_PI - 4.0) / 6.0) * sigma);
-      b.cl[PB_SLOT_DIFFUSE].on_a = div;
-      b.cl[PB_SLOT_DIFFUSE].on_b = sigma * div;
-    }
+    pb_oren_nayar(b.cl[PB_SLOT_DIFFUSE], clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0), base,
+                  (m.flags & PB_GPU_MAT_OREN_NAYAR_MS) != 0u, wo);
   } else {
     float in_v[PB_GPU_IN_SLOTS];
     pb_inputs(m, surf, in_v);
@@ -515,13 +885,16 @@ bool pb_layer_stops(pb_closure c, float alpha2) { return c.on && !c.singular && 
 void pb_blender_split(inout pb_bsdf b, float alpha2) {
   b.cl[PB_SLOT_SPECULAR].stops = pb_layer_stops(b.cl[PB_SLOT_SPECULAR], alpha2);
   b.cl[PB_SLOT_CLEARCOAT].stops = pb_layer_stops(b.cl[PB_SLOT_CLEARCOAT], alpha2);
+  // Principled v2's metal (a reflection-only GGX in the glass reflection slot)
+  b.cl[PB_SLOT_GLASS_REFL].stops =
+      b.cl[PB_SLOT_GLASS_REFL].type == PB_CL_V2_GGX && pb_layer_stops(b.cl[PB_SLOT_GLASS_REFL], alpha2);
 }
 
 // Which closures a lobe mask keeps (PB_GPU_LOBES_*): the diffuse-like ones
 // and the layers pb_blender_split let stop, which the photon map shades; the
 // other glossy and the delta ones, which eye paths follow.
 bool pb_lobe_in(pb_closure c, uint mask) {
-  bool diffuse = c.type <= PB_CL_SHEEN || c.stops;
+  bool diffuse = c.type <= PB_CL_SHEEN || c.type == PB_CL_V2_SHEEN || c.stops;
   return c.on && c.type != PB_CL_TRANSPARENT &&
          ((diffuse && (mask & PB_GPU_LOBES_DIFFUSE) != 0u) || (!diffuse && (mask & PB_GPU_LOBES_GLOSSY) != 0u));
 }
@@ -548,31 +921,33 @@ vec3 pb_blender_eval_cos(pb_bsdf b, vec3 wo, vec3 wi, inout uint rng, out float 
   float p = 0.0, pc;
   vec3 e;
   if (pb_lobe_in(b.cl[PB_SLOT_DIFFUSE], b.mask)) {
-    e = pb_eval_diffuse_like(b.cl[PB_SLOT_DIFFUSE], b.n, wo, wi, pc);
+    e = pb_eval_diffuse_like(b.cl[PB_SLOT_DIFFUSE], b.ni, b.bump, wo, wi, pc);
     pb_accumulate(b.cl[PB_SLOT_DIFFUSE], b.mask, e, pc, f, p);
   }
-  if (pb_lobe_in(b.cl[PB_SLOT_SHEEN], b.mask)) {
-    e = pb_eval_diffuse_like(b.cl[PB_SLOT_SHEEN], b.n, wo, wi, pc);
-    pb_accumulate(b.cl[PB_SLOT_SHEEN], b.mask, e, pc, f, p);
+  pb_closure c = b.cl[PB_SLOT_SHEEN];
+  if (pb_lobe_in(c, b.mask)) {
+    e = c.type == PB_CL_V2_SHEEN ? pb_eval_v2(c, b.ng, wo, wi, pc) : pb_eval_diffuse_like(c, b.ni, b.bump, wo, wi, pc);
+    pb_accumulate(c, b.mask, e, pc, f, p);
   }
-  pb_closure c = b.cl[PB_SLOT_SPECULAR];
+  c = b.cl[PB_SLOT_SPECULAR];
   if (pb_lobe_in(c, b.mask) && !c.singular) {
-    e = c.type == PB_CL_MULTI_GGX ? pb_eval_multi(c, b.ng, wo, wi, rng, pc) : pb_eval_reflect(c, b.ng, wo, wi, pc);
+    if (c.type == PB_CL_V2_GGX) e = pb_eval_v2(c, b.ng, wo, wi, pc);
+    else e = c.type == PB_CL_MULTI_GGX ? pb_eval_multi(c, b.ng, wo, wi, rng, pc) : pb_eval_reflect(c, b.ng, wo, wi, pc);
     pb_accumulate(c, b.mask, e, pc, f, p);
   }
   c = b.cl[PB_SLOT_GLASS_REFL];
   if (pb_lobe_in(c, b.mask) && !c.singular) {
-    e = pb_eval_reflect(c, b.ng, wo, wi, pc);
+    e = c.type == PB_CL_V2_GGX ? pb_eval_v2(c, b.ng, wo, wi, pc) : pb_eval_reflect(c, b.ng, wo, wi, pc);
     pb_accumulate(c, b.mask, e, pc, f, p);
   }
   c = b.cl[PB_SLOT_GLASS_REFR];
   if (pb_lobe_in(c, b.mask) && !c.singular) {
-    e = pb_eval_refract(c, b.ng, wo, wi, pc);
+    e = c.type == PB_CL_V2_GLASS ? pb_eval_v2(c, b.ng, wo, wi, pc) : pb_eval_refract(c, b.ng, wo, wi, pc);
     pb_accumulate(c, b.mask, e, pc, f, p);
   }
   c = b.cl[PB_SLOT_CLEARCOAT];
   if (pb_lobe_in(c, b.mask) && !c.singular) {
-    e = pb_eval_reflect(c, b.ng, wo, wi, pc);
+    e = c.type == PB_CL_V2_GGX ? pb_eval_v2(c, b.ng, wo, wi, pc) : pb_eval_reflect(c, b.ng, wo, wi, pc);
     pb_accumulate(c, b.mask, e, pc, f, p);
   }
   pdf = b.sw_sum > 0.0 ? p / b.sw_sum : 0.0;
@@ -635,6 +1010,27 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
   }
   if (lo.z <= 0.0) return false;
   vec3 li;
+  if (c.singular && (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS)) {
+    delta = true;
+    vec3 r, t;
+    pb2_fresnel(c, lo.z, r, t);
+    float ar = pb_avg3(r), at = pb_avg3(t);
+    if (!(ar + at > 0.0)) return false;
+    float pr = ar / (ar + at);
+    if (ur < pr) {
+      li = vec3(-lo.x, -lo.y, lo.z);
+      wi = pb_from_lobe(c, li);
+      if (dot(wi, b.ng) <= 0.0) return false;
+      weight = c.weight * r * (c.energy / (pr * pick));
+    } else {
+      if (!pb_refract_dir(lo, vec3(0.0, 0.0, 1.0), c.ior, li)) return false;
+      wi = normalize(pb_from_lobe(c, li));
+      if (dot(wi, b.ng) >= 0.0) return false;
+      weight = c.weight * t * (c.energy / ((1.0 - pr) * pick));
+      transmit = true;
+    }
+    return true;
+  }
   if (c.singular) {
     delta = true;
     if (c.type == PB_CL_GGX_REFRACT) {
@@ -653,8 +1049,26 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     }
     return true;
   }
+  bool v2_refract = false;
   if (c.type <= PB_CL_SHEEN) {
     li = pb_cosine_dir(u1, u2);
+  } else if (c.type == PB_CL_V2_SHEEN) {
+    float r = sqrt(u1), phi = 2.0 * PB_PI * u2, dz = sqrt(max(0.0, 1.0 - u1));
+    li = normalize(vec3(r * cos(phi) - dz * c.on_b, r * sin(phi), dz * c.on_a));
+  } else if (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS) {
+    vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
+    if (c.type == PB_CL_V2_GLASS) {
+      vec3 r, t;
+      pb2_fresnel(c, dot(lo, m), r, t);
+      float ar = pb_avg3(r), at = pb_avg3(t);
+      if (!(ar + at > 0.0)) return false;
+      v2_refract = ur >= ar / (ar + at);
+    }
+    if (v2_refract) {
+      if (!pb_refract_dir(lo, m, c.ior, li)) return false;
+    } else {
+      li = m * (2.0 * dot(lo, m)) - lo;
+    }
   } else if (c.type == PB_CL_GGX) {
     vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
     li = m * (2.0 * dot(lo, m)) - lo;
@@ -677,7 +1091,7 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     if (!pb_refract_dir(lo, m, c.ior, li)) return false;
   }
   wi = normalize(pb_from_lobe(c, li));
-  transmit = c.type == PB_CL_GGX_REFRACT;
+  transmit = c.type == PB_CL_GGX_REFRACT || v2_refract;
   float side = dot(wi, b.ng);
   if (transmit ? side >= 0.0 : side <= 0.0) return false;
   // The mixture over the mask's closures: their f cos over their share of

@@ -143,6 +143,7 @@ struct pb_surface {
   vec3 p;      // from barycentrics
   vec3 ng;     // unit, facing the incoming ray
   vec3 ns;     // unit, same hemisphere as ng
+  vec3 ni;     // the interpolated normal: ns before a normal map (the reference's pb_surface.ni)
   bool front;
   vec2 uv;     // TEXCOORD_0
   vec2 uv1;    // TEXCOORD_1 (0 when the scene has none)
@@ -174,6 +175,7 @@ pb_surface pb_surface_from_hit(uint prim, float u, float v, vec3 ray_dir) {
       s.ns = dot(n, ng) < 0.0 ? -n : n;
     }
   }
+  s.ni = s.ns;
   s.uv = vec2(0.0);
   s.uv1 = vec2(0.0);
   if (SC_TEXTURES || frame.tangent_base != 0u) { // textures, or a normal map alone
@@ -279,6 +281,17 @@ vec3 pb_emission(pb_surface s) {
   if (SC_BLENDER && m.model == PB_GPU_MODEL_PRINCIPLED) e *= pb_blender_alpha(s);
   return e;
 }
+// The same toward wo: a Principled v2 material's emission lies under its
+// sheen and coat (principled.glsl pb2_emission_weight), so it depends on
+// the direction. The photon tracer's emitters keep pb_emission (alpha only).
+vec3 pb_emission_toward(pb_surface s, vec3 wo) {
+  if (SC_BLENDER && materials[s.mat].model == PB_GPU_MODEL_PRINCIPLED && materials[s.mat].principled_v2 != 0u) {
+    vec3 e = pb_emission(s);
+    if (all(equal(e, vec3(0.0)))) return e;
+    return e / max(pb_blender_alpha(s), 1e-30) * pb2_emission_weight(s, wo);
+  }
+  return pb_emission(s);
+}
 // Normal mapping (glTF 2.0, material.normalTexture): in the tangent frame of
 // the interpolated vertex normal N, tangent T (Gram-Schmidt against N at the
 // hit) and bitangent B = cross(N, T) w (glTF TANGENT's handedness),
@@ -324,13 +337,19 @@ void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   }
   vec3 c = pb_texture_lookup(m.normal_tex, s).rgb * 2.0 - 1.0;
   c.xy *= m.normal_scale;
+  // Blender's Normal Map strength (the reference's pb_apply_normal_map):
+  // Cycles 4.0+ on the tangent-space vector, 3.x on the mapped normal below.
+  float st = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF ? m.normal_strength : 1.0;
+  bool cycles4 = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF && (m.flags & PB_GPU_MAT_NORMAL_MAP_CYCLES4) != 0u;
+  if (cycles4 && st != 1.0) {
+    c.xy *= st;
+    c.z = mix(1.0, c.z, clamp(st, 0.0, 1.0));
+  }
   vec3 nm = t * c.x + bb * c.y + n * c.z;
   float ml = length(nm);
   if (!(ml > 1e-12) || isinf(ml)) return;
   nm /= ml;
-  // Blender's Normal Map node strength (the reference's pb_apply_normal_map).
-  float st = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF ? m.normal_strength : 1.0;
-  if (st != 1.0) {
+  if (!cycles4 && st != 1.0) {
     vec3 bl = n + (nm - n) * max(st, 0.0);
     float bll = length(bl);
     if (!(bll > 1e-12) || isinf(bll)) return;

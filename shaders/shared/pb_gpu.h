@@ -96,6 +96,14 @@ PB_CONST(PB_GPU_MAT_DOUBLE_SIDED, 1u)
 PB_CONST(PB_GPU_MAT_UNLIT, 2u)             /* KHR_materials_unlit (pb_material.unlit) */
 PB_CONST(PB_GPU_MAT_VERTEX_COLOR, 4u)      /* a Blender model's base colour is COLOR_0
                                               (pb_blender_material.base_from_vertex_color) */
+PB_CONST(PB_GPU_MAT_NORMAL_MAP_CYCLES4, 8u) /* Normal Map strength as Cycles 4.0+
+                                              (pb_blender_material.normal_map_cycles4) */
+PB_CONST(PB_GPU_MAT_OREN_NAYAR_MS, 16u)   /* Oren-Nayar with Cycles 4.3's multiple
+                                              scattering (pb_blender_material.oren_nayar_ms) */
+/* bump_model: pb_bump_model's values. */
+PB_CONST(PB_GPU_BUMP_CHIANG, 0u)
+PB_CONST(PB_GPU_BUMP_NONE, 1u)
+PB_CONST(PB_GPU_BUMP_CONTY, 2u)
 /* model: pb_material_model's values. */
 PB_CONST(PB_GPU_MODEL_GLTF, 0u)
 PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
@@ -182,7 +190,7 @@ PB_STRUCT(pb_gpu_material) {
   float coat_normal_strength;
   uint subsurface_method;    /* pb_subsurface_method */
   uint g2_correlated;        /* 1: height-correlated Smith G2 (Blender 3.5+) */
-  uint pad0;
+  uint bump_model;           /* PB_GPU_BUMP_* (pb_bump_model) */
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
@@ -376,7 +384,10 @@ PB_STRUCT(pb_gpu_frame) {
                             eye path stops, a smoother one followed by the
                             eye path (render.h glossy_path_roughness^4;
                             bench/README.md has the measurement) */
-  uint pad1;
+  uint principled2_base; /* Principled v2: Cycles' BSDF albedo and sheen
+                            tables (shared/pb_principled2_tables.h, PB_P2T_*)
+                            from this index of the texels buffer; 0: the
+                            scene has no v2 material */
   uint pad2;
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)

@@ -5,13 +5,23 @@
 #ifndef PB_PRINCIPLED2_TABLES_H
 #define PB_PRINCIPLED2_TABLES_H
 
-#ifdef PB_GLSL
-#define PB_TABLE(name, n) const float name[n] =
-#else
-#define PB_TABLE(name, n) static const float name[n] =
-#endif
+/* Each table's first float in the concatenation of all of them, in this
+ * order: the GPU reads them from one buffer (src/render/scene_gpu.c puts
+ * them after the texels, from pb_gpu_frame.principled2_base), the C
+ * reference from the arrays below. */
+#define PB_P2T_GGX_E 0u
+#define PB_P2T_GGX_EAVG 1024u
+#define PB_P2T_GGX_GLASS_E 1056u
+#define PB_P2T_GGX_GLASS_EAVG 5152u
+#define PB_P2T_GGX_GLASS_INV_E 5408u
+#define PB_P2T_GGX_GLASS_INV_EAVG 9504u
+#define PB_P2T_GGX_GEN_SCHLICK_IOR_S 9760u
+#define PB_P2T_GGX_GEN_SCHLICK_S 13856u
+#define PB_P2T_SHEEN_LTC 17952u
+#define PB_P2T_COUNT 21024u
 
-PB_TABLE(pb_ggx_E, 1024) {
+#ifndef PB_GLSL
+static const float pb_ggx_E[1024] = {
   1.0, 0.980405, 0.994967, 0.997749, 0.998725, 0.999173, 0.999411, 0.99955,
   0.999634, 0.999686, 0.999716, 0.999732, 0.999738, 0.999735, 0.999726, 0.999712,
   0.999693, 0.999671, 0.999645, 0.999615, 0.999583, 0.999548, 0.999511, 0.999471,
@@ -142,14 +152,14 @@ PB_TABLE(pb_ggx_E, 1024) {
   0.592102, 0.546006, 0.500893, 0.457373, 0.415925, 0.376893, 0.340499, 0.306853
 };
 
-PB_TABLE(pb_ggx_Eavg, 32) {
+static const float pb_ggx_Eavg[32] = {
   1.0, 0.999992, 0.999897, 0.999548, 0.998729, 0.997199, 0.994703, 0.990986,
   0.985805, 0.97893, 0.97016, 0.959321, 0.946279, 0.930937, 0.913247, 0.893209,
   0.870874, 0.846345, 0.819774, 0.79136, 0.761345, 0.730001, 0.697631, 0.664547,
   0.631068, 0.597509, 0.564165, 0.531311, 0.499191, 0.468013, 0.43795, 0.409137
 };
 
-PB_TABLE(pb_ggx_glass_E, 4096) {
+static const float pb_ggx_glass_E[4096] = {
   0.999985, 1.0, 0.999989, 0.99999, 1.0, 0.999999, 1.0, 1.0,
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
@@ -664,7 +674,7 @@ PB_TABLE(pb_ggx_glass_E, 4096) {
   0.894841, 0.83206, 0.75362, 0.664714, 0.572245, 0.482769, 0.401059, 0.329698
 };
 
-PB_TABLE(pb_ggx_glass_Eavg, 256) {
+static const float pb_ggx_glass_Eavg[256] = {
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
   1.0, 0.999948, 0.999526, 0.99825, 0.995368, 0.990153, 0.982226, 0.97159,
@@ -699,7 +709,7 @@ PB_TABLE(pb_ggx_glass_Eavg, 256) {
   0.866457, 0.81342, 0.753069, 0.687695, 0.619929, 0.552409, 0.48743, 0.426737
 };
 
-PB_TABLE(pb_ggx_glass_inv_E, 4096) {
+static const float pb_ggx_glass_inv_E[4096] = {
   0.999985, 1.0, 0.999989, 0.99999, 1.0, 0.999999, 1.0, 1.0,
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
@@ -1214,7 +1224,7 @@ PB_TABLE(pb_ggx_glass_inv_E, 4096) {
   0.889944, 0.824522, 0.742959, 0.650753, 0.555166, 0.463063, 0.379413, 0.306851
 };
 
-PB_TABLE(pb_ggx_glass_inv_Eavg, 256) {
+static const float pb_ggx_glass_inv_Eavg[256] = {
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
   1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
   1.0, 0.999883, 0.998571, 0.994611, 0.987932, 0.97934, 0.969124, 0.95715,
@@ -1249,7 +1259,7 @@ PB_TABLE(pb_ggx_glass_inv_Eavg, 256) {
   0.858056, 0.802932, 0.740578, 0.67342, 0.604211, 0.535654, 0.470057, 0.409136
 };
 
-PB_TABLE(pb_ggx_gen_schlick_ior_s, 4096) {
+static const float pb_ggx_gen_schlick_ior_s[4096] = {
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -1764,7 +1774,7 @@ PB_TABLE(pb_ggx_gen_schlick_ior_s, 4096) {
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 };
 
-PB_TABLE(pb_ggx_gen_schlick_s, 4096) {
+static const float pb_ggx_gen_schlick_s[4096] = {
   0.006734, 6e-06, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -2279,7 +2289,7 @@ PB_TABLE(pb_ggx_gen_schlick_s, 4096) {
   0.773776, 0.752689, 0.719302, 0.67507, 0.622442, 0.564517, 0.504549, 0.445448
 };
 
-PB_TABLE(pb_sheen_ltc, 3072) {
+static const float pb_sheen_ltc[3072] = {
   0.01415, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -2666,6 +2676,6 @@ PB_TABLE(pb_sheen_ltc, 3072) {
   0.39997, 0.39069, 0.38171, 0.37342, 0.36523, 0.35675, 0.34897, 0.34187
 };
 
-#undef PB_TABLE
+#endif
 
 #endif

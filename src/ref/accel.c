@@ -211,7 +211,7 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
       ns = v3_dot(n, ng) < 0.0f ? v3_neg(n) : n;
     }
   }
-  o->ns = ns;
+  o->ns = o->ni = ns;
   if (s->uvs) {
     o->uv[0] = s->uvs[tri[0]][0] * w + s->uvs[tri[1]][0] * h->u + s->uvs[tri[2]][0] * h->v;
     o->uv[1] = s->uvs[tri[0]][1] * w + s->uvs[tri[1]][1] * h->u + s->uvs[tri[2]][1] * h->v;
@@ -275,14 +275,22 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) 
   pb_texture_lookup(&s->textures[m->normal_tex], o->uv, o->uv1, c);
   float cx = (c[0] * 2.0f - 1.0f) * m->normal_scale, cy = (c[1] * 2.0f - 1.0f) * m->normal_scale;
   float cz = c[2] * 2.0f - 1.0f;
+  /* Blender's Normal Map node, strength s (svm_node_normal_map): Cycles 4.0
+   * and later scale the tangent-space vector, xy s and z mix(1, z,
+   * saturate(s)), before the frame; 3.x blend the mapped normal from the
+   * interpolated one after it, normalize(n + (nm - n) s). */
+  float st = m->blender.model != PB_MODEL_GLTF ? m->blender.normal_strength : 1.0f;
+  int cycles4 = m->blender.model != PB_MODEL_GLTF && m->blender.normal_map_cycles4;
+  if (cycles4 && st != 1.0f) {
+    cx *= st, cy *= st;
+    float sat = fminf(fmaxf(st, 0.0f), 1.0f);
+    cz = 1.0f + (cz - 1.0f) * sat;
+  }
   v3 nm = v3_add(v3_add(v3_scale(t, cx), v3_scale(b, cy)), v3_scale(n, cz));
   float ml = v3_len(nm);
   if (!(ml > 1e-12f) || !isfinite(ml)) return;
   nm = v3_scale(nm, 1.0f / ml);
-  /* Blender's Normal Map node: strength s blends from the interpolated
-   * normal, normalize(n + (nm - n) s) (svm_node_normal_map). */
-  float st = m->blender.model != PB_MODEL_GLTF ? m->blender.normal_strength : 1.0f;
-  if (st != 1.0f) {
+  if (!cycles4 && st != 1.0f) {
     v3 bl = v3_add(n, v3_scale(v3_sub(nm, n), fmaxf(st, 0.0f)));
     float bl_len = v3_len(bl);
     if (!(bl_len > 1e-12f) || !isfinite(bl_len)) return;

@@ -151,17 +151,61 @@ static v3 valid_reflection_normal(v3 ng, v3 i, v3 n) {
   return v3_add(v3_scale(x, sqrtf(fmaxf(0.0f, 1.0f - nz2))), v3_scale(ng, sqrtf(fmaxf(0.0f, nz2))));
 }
 
-/* Cycles' "bump shadowing" for diffuse lobes whose normal differs from the
- * shading normal (Chiang et al. 2019, "Taming the Shadow Terminator"). */
-static float bump_shadowing(v3 ns, v3 n, v3 wi) {
-  float cn = v3_dot(n, wi);
-  v3 g = cn < 0.0f ? v3_neg(ns) : ns;
-  float den = cn * v3_dot(g, n);
+/* Cycles' "bump shadowing" for diffuse lobes whose normal n differs from
+ * the interpolated shading normal ns (bsdf.h bump_shadowing_term): no light
+ * from below n seen from above ns or the reverse; then, up to Blender 4.4,
+ * Chiang et al. 2019 ("Taming the Shadow Terminator") smoothing, and from
+ * 4.5 the GGX shadowing of Conty Estevez et al. 2019 ("A Microfacet-Based
+ * Shadowing Function to Solve the Bump Terminator Problem") with alpha^2 =
+ * tan^2(n, ns) / 8; none with Bump Map Correction off (4.2+). */
+static float bump_shadowing(pb_bump_model model, v3 ns, v3 n, v3 wi) {
+  float cgi = v3_dot(ns, wi), cgn = v3_dot(ns, n), cni = v3_dot(n, wi);
+  if (model == PB_BUMP_CONTY) {
+    if (cgi * cgn * cni < 0.0f) return 0.0f;
+    float ci = fabsf(cgi), cd = fabsf(cgn);
+    if (cd >= 1.0f || ci >= 1.0f) return 1.0f;
+    if (ci < 1e-6f) return 0.0f;
+    float a2 = sat(0.125f * (1.0f / (cd * cd) - 1.0f));
+    float lambda = 0.5f * (sqrtf(1.0f + a2 * fmaxf(1.0f / (ci * ci) - 1.0f, 0.0f)) - 1.0f);
+    return 1.0f / (1.0f + lambda);
+  }
+  v3 g = cni < 0.0f ? v3_neg(ns) : ns;
+  float den = cni * v3_dot(g, n);
   float x = den != 0.0f ? v3_dot(g, wi) / den : 0.0f;
   if (x >= 1.0f) return 1.0f;
   if (x < 0.0f) return 0.0f;
+  if (model == PB_BUMP_NONE) return 1.0f;
   float x2 = x * x;
   return -x2 * x + x2 + x;
+}
+
+/* Oren-Nayar as Cycles computes it (bsdf_oren_nayar.h): Fujii's improved
+ * model, f = (a + b t) / 1 with a = 1 / (pi + sigma (pi/2 - 2/3)), b =
+ * sigma a, t = max(0, cos phi) sin sin / max(cos, cos); from Cycles 4.3
+ * (Blender's "EON") plus OpenPBR's energy-preserving multiple scattering,
+ * ms (1 - E(wo)) (1 - E(wi)) with E(mu) = a pi + b G(mu) its albedo and
+ * ms = rho^2 Eavg / (1 - Eavg) / (pi (1 - rho (1 - Eavg))) for the
+ * albedo rho. Kept in the closure: on_a, on_b, and color = ms (1 - E(wo)). */
+static float oren_nayar_G(float c) {
+  if (c < 1e-6f) return (0.5f * PB_PI_F - 2.0f / 3.0f) - c;
+  float s = sqrtf(fmaxf(0.0f, 1.0f - c * c)), th = acosf(fminf(c, 1.0f));
+  return s * (th - 2.0f / 3.0f - s * c) + 2.0f / 3.0f * (s / c) * (1.0f - s * s * s);
+}
+static void oren_nayar(pb_closure *c, float sigma, v3 albedo, int ms, v3 wo) {
+  if (sigma <= 0.0f) {
+    c->on_a = PB_INV_PI_F; /* bsdf_diffuse: Lambert */
+    return;
+  }
+  sigma = sat(sigma);
+  c->on_a = 1.0f / (PB_PI_F + sigma * (0.5f * PB_PI_F - 2.0f / 3.0f));
+  c->on_b = sigma * c->on_a;
+  if (!ms) return;
+  v3 rho = v3_sat(albedo);
+  float eavg = c->on_a * PB_PI_F + ((2.0f * PB_PI_F - 5.6f) / 3.0f) * c->on_b;
+  float ev = c->on_a * PB_PI_F + c->on_b * oren_nayar_G(fmaxf(v3_dot(c->n, wo), 0.0f));
+  float k = PB_INV_PI_F * (eavg / (1.0f - eavg)) * (1.0f - ev);
+  c->color = v3_make(k * rho.x * rho.x / (1.0f - rho.x * (1.0f - eavg)), k * rho.y * rho.y / (1.0f - rho.y * (1.0f - eavg)),
+                     k * rho.z * rho.z / (1.0f - rho.z * (1.0f - eavg)));
 }
 
 /* Frame (x, y, n) of a lobe: around the tangent t when it is usable. */
@@ -391,8 +435,9 @@ static float multi_ggx_pdf(const pb_closure *c, v3 wo, v3 wi) {
 static v3 v2_eval(const pb_closure *c, v3 lo, v3 li, float cos_gi, float *pdf);
 
 /* f cos of closure c for world wo (view) and wi (light), and its pdf under
- * our sampling of c; ng: geometric normal facing wo; ns: shading normal. */
-static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *rng, float *pdf) {
+ * our sampling of c; ng: geometric normal facing wo; ns: the interpolated
+ * shading normal (pb_surface.ni, for bump shadowing). */
+static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, pb_bump_model bump, v3 wo, v3 wi, pb_rng *rng, float *pdf) {
   *pdf = 0.0f;
   v3 zero = v3_splat(0.0f);
   if (c->singular || c->type == PB_CL_TRANSPARENT) return zero;
@@ -417,9 +462,13 @@ static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, v3 wo, v3 wi, pb_rng *
       v = li.z * (c->on_a + c->on_b * t);
     }
     *pdf = li.z * PB_INV_PI_F;
+    /* Oren-Nayar's multiple scattering (oren_nayar; 0 but from Cycles 4.3). */
+    v3 f = v3_splat(v);
+    if (c->type == PB_CL_OREN_NAYAR && c->on_b > 0.0f)
+      f = v3_add(f, v3_scale(c->color, li.z * (1.0f - c->on_a * PB_PI_F - c->on_b * oren_nayar_G(li.z))));
     /* Diffuse lobes on a lifted normal: Cycles' bump shadowing term. */
-    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) v *= bump_shadowing(ns, c->n, wi);
-    return v3_splat(v);
+    if (v3_dot(c->n, ns) < 1.0f - 1e-6f) f = v3_scale(f, bump_shadowing(bump, ns, c->n, wi));
+    return f;
   }
   case PB_CL_GGX:
   case PB_CL_CLEARCOAT: {
@@ -547,15 +596,17 @@ static void microfacet(pb_closure *c, v3 n, v3 t, float ax, float ay, float ior,
  *               sqrt(base); w *= 1 - transmission;
  *   specular    w, GGX aniso, F0 = F0(ior) 2 level x tint on the real curve of
  *               ior_from_F0; w layered under it;
- *   diffuse     Lambert, base (1 - subsurface) w, plus the subsurface part
- *               clamped base x subsurface x w rendered as Lambert too.
+ *   diffuse     Lambert, or Oren-Nayar with multiple scattering where the
+ *               Diffuse Roughness is above 0 (oren_nayar), base (1 -
+ *               subsurface) w, plus the subsurface part clamped base x
+ *               subsurface x w rendered as diffuse too.
  * Layering is closure_layering_weight: w sat(1 - max(albedo / w)), albedo
  * the closure weight x bsdf_microfacet_estimate_albedo (tables). MULTI_GGX
  * compensates energy as microfacet_ggx_preserve_energy (Turquin 2019: scale
  * 1/E; Kulla-Conty darkening of the weight for coloured Fss). Smith G2 is
  * height-correlated (Cycles 3.5+). Tables: shaders/shared/
  * pb_principled2_tables.h (Cycles' own figures). Not rendered: thin film,
- * EON diffuse roughness, subsurface scattering (Lambert), coat normal. */
+ * subsurface scattering (diffuse), coat normal. */
 
 static inline v3 v3_maxv(v3 a, v3 b) { return v3_make(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)); }
 
@@ -899,7 +950,9 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   pb_closure *c = add_closure(b, PB_CL_OREN_NAYAR, v3_mul(dw, w));
   if (c) {
     lobe_frame(c, n_shade, tangent);
-    c->on_a = PB_INV_PI_F;
+    /* Diffuse Roughness (4.3+): Oren-Nayar on the base colour's albedo. */
+    float dr = sat(in[PB_IN_DIFFUSE_ROUGHNESS]);
+    oren_nayar(c, dr < CUTOFF ? 0.0f : dr, base, 1, wo);
   }
   b->albedo = v3_scale(cbase, alpha);
   return w_emission;
@@ -916,6 +969,8 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
   const pb_material *m = surf->mat;
   const pb_blender_material *bm = &m->blender;
   b->model = bm->model;
+  b->bump = bm->bump_model;
+  b->ni = surf->ni;
   b->ng = surf->ng;
   b->n = surf->ns;
   v3_basis(b->n, &b->t, &b->b);
@@ -941,14 +996,7 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
     pb_closure *c = add_closure(b, PB_CL_OREN_NAYAR, base);
     if (c) {
       lobe_frame(c, n, tangent);
-      float sigma = sat(input_value(s, m, surf, PB_IN_ROUGHNESS));
-      if (sigma == 0.0f) {
-        c->on_a = PB_INV_PI_F; /* bsdf_diffuse: Lambert */
-      } else {
-        float div = 1.0f / (PB_PI_F + ((3.0f * PB_PI_F - 4.0f) / 6.0f) * sigma);
-        c->on_a = div;
-        c->on_b = sigma * div;
-      }
+      oren_nayar(c, sat(input_value(s, m, surf, PB_IN_ROUGHNESS)), base, bm->oren_nayar_ms, wo);
     }
   } else {
     float in[PB_IN_COUNT];
@@ -1064,7 +1112,7 @@ static v3 eval_all(const pb_bsdf *b, v3 wo, v3 wi, float *pdf) {
   for (int i = 0; i < b->ncl; ++i) {
     const pb_closure *c = &b->cl[i];
     float pc;
-    v3 e = closure_eval(c, b->ng, b->n, wo, wi, b->rng, &pc);
+    v3 e = closure_eval(c, b->ng, b->ni, b->bump, wo, wi, b->rng, &pc);
     if (pc != 0.0f) {
       f = v3_add(f, v3_mul(e, c->weight));
       p += pc * c->sample_weight;

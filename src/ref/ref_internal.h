@@ -141,6 +141,8 @@ typedef struct pb_surface {
   v3 p;       /* on the triangle, from barycentrics (not o + t d) */
   v3 ng;      /* geometric normal, unit, facing the incoming ray */
   v3 ns;      /* shading normal, unit, same hemisphere as ng */
+  v3 ni;      /* the interpolated normal: ns before a normal map moved it
+                 (Cycles' sd->N, which bump shadowing compares with) */
   int front;  /* 1: the ray hit the counter-clockwise (front) side */
   uint32_t prim;
   float uv[2], uv1[2]; /* TEXCOORD_0 and _1 (0 when the scene has none) */
@@ -236,6 +238,8 @@ typedef struct pb_bsdf {
   float sw_sum;     /* sum of the closures' sample weights */
   v3 albedo;        /* for the AOV */
   pb_rng *rng;
+  pb_bump_model bump; /* diffuse light on a mapped normal */
+  v3 ni;              /* pb_surface.ni */
 } pb_bsdf;
 
 /* Prepares the material at surf for outgoing direction wo; eval and sample

@@ -693,6 +693,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   fr.tangent_base = gs->tangent_base;
   fr.uv1_base = gs->uv1_base;
   fr.color_base = gs->color_base;
+  fr.principled2_base = gs->principled2_base;
 
   int ts = lim->timestamps;
   double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;

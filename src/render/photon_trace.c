@@ -428,6 +428,7 @@ pb_result pb_photon_tracer_prepare(pb_gpu *g, pb_photon_tracer *t, uint64_t seed
   fr.light_count = gs->light_count;
   fr.uv1_base = gs->uv1_base; /* base colours of photon bounces */
   fr.color_base = gs->color_base;
+  fr.principled2_base = gs->principled2_base; /* v2 materials at bounces */
   if ((r = pb_gpu_buffer_upload(g, &t->frame, 0, &fr, sizeof fr)) != PB_OK) return r;
   t->p.iteration = iteration;
   t->p.guarded = t->p.absorbed = t->p.escaped = 0;

@@ -46,6 +46,8 @@ typedef struct pb_gpu_scene {
                                  none */
   uint32_t uv1_base, color_base; /* float indices of TEXCOORD_1 and COLOR_0
                                  in `uvs` (pb_gpu_frame); 0: none */
+  uint32_t principled2_base;  /* Principled v2 tables in `texels`
+                                 (pb_gpu_frame.principled2_base); 0: none */
   double upload_s;
   /* For pb_gpu_scene_update: the shape of the scene it was made from, and
    * room for a rebuilt BVH (PB_BVH_WIDTH x triangles + 1 nodes, the most a

@@ -8,6 +8,7 @@
 #include "scene/emitters.h"
 #include "scene/world.h"
 #include "render/render.h"
+#include "shared/pb_principled2_tables.h"
 
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
   if (!gs) return;
@@ -195,6 +196,26 @@ _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_
                "pb_gpu_material.in_value");
 #undef PB_SAME
 
+/* Cycles' tables for Principled v2 (shared/pb_principled2_tables.h) as the
+ * GPU reads them: concatenated at their PB_P2T_* offsets, as float bits. */
+static void pack_principled2_tables(uint32_t *dst) {
+  static const struct {
+    const float *t;
+    uint32_t at, n;
+  } tab[] = {{pb_ggx_E, PB_P2T_GGX_E, PB_P2T_GGX_EAVG - PB_P2T_GGX_E},
+             {pb_ggx_Eavg, PB_P2T_GGX_EAVG, PB_P2T_GGX_GLASS_E - PB_P2T_GGX_EAVG},
+             {pb_ggx_glass_E, PB_P2T_GGX_GLASS_E, PB_P2T_GGX_GLASS_EAVG - PB_P2T_GGX_GLASS_E},
+             {pb_ggx_glass_Eavg, PB_P2T_GGX_GLASS_EAVG, PB_P2T_GGX_GLASS_INV_E - PB_P2T_GGX_GLASS_EAVG},
+             {pb_ggx_glass_inv_E, PB_P2T_GGX_GLASS_INV_E, PB_P2T_GGX_GLASS_INV_EAVG - PB_P2T_GGX_GLASS_INV_E},
+             {pb_ggx_glass_inv_Eavg, PB_P2T_GGX_GLASS_INV_EAVG, PB_P2T_GGX_GEN_SCHLICK_IOR_S - PB_P2T_GGX_GLASS_INV_EAVG},
+             {pb_ggx_gen_schlick_ior_s, PB_P2T_GGX_GEN_SCHLICK_IOR_S, PB_P2T_GGX_GEN_SCHLICK_S - PB_P2T_GGX_GEN_SCHLICK_IOR_S},
+             {pb_ggx_gen_schlick_s, PB_P2T_GGX_GEN_SCHLICK_S, PB_P2T_SHEEN_LTC - PB_P2T_GGX_GEN_SCHLICK_S},
+             {pb_sheen_ltc, PB_P2T_SHEEN_LTC, PB_P2T_COUNT - PB_P2T_SHEEN_LTC}};
+  _Static_assert(sizeof pb_ggx_E / sizeof(float) == PB_P2T_GGX_EAVG - PB_P2T_GGX_E, "table layout");
+  _Static_assert(sizeof pb_sheen_ltc / sizeof(float) == PB_P2T_COUNT - PB_P2T_SHEEN_LTC, "table layout");
+  for (size_t k = 0; k < sizeof tab / sizeof tab[0]; ++k) memcpy(dst + tab[k].at, tab[k].t, tab[k].n * sizeof(float));
+}
+
 static uint32_t tex_index(int32_t t, uint32_t count) {
   return t >= 0 && (uint32_t)t < count ? (uint32_t)t : PB_GPU_NO_TEXTURE;
 }
@@ -287,12 +308,22 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   uint64_t texel_count = 0;
   for (uint32_t i = 0; i < s->texture_count; ++i) /* a half texel is two words */
     texel_count += (uint64_t)s->textures[i].width * s->textures[i].height * (s->textures[i].rgbah ? 2u : 1u);
-  if (texel_count > UINT32_MAX) {
-    r = pb_fail(PB_ERR_LIMIT, "%s: %llu texels exceed the GPU texel index range", path, (unsigned long long)texel_count);
+  /* Principled v2 materials read Cycles' albedo and sheen tables
+   * (PB_P2T_*): they follow the texels in the same buffer, from index
+   * principled2_base (pb_gpu_frame; never 0, so 0 means none), so the
+   * passes keep their bindings and a scene without v2 materials pays
+   * nothing. */
+  int v2 = 0;
+  for (uint32_t i = 0; i < s->material_count; ++i)
+    v2 |= s->materials[i].blender.model == PB_MODEL_PRINCIPLED && s->materials[i].blender.principled_v2;
+  uint64_t p2_base = texel_count ? texel_count : 1;
+  uint64_t texel_words = v2 ? p2_base + PB_P2T_COUNT : texel_count;
+  if (texel_words > UINT32_MAX) {
+    r = pb_fail(PB_ERR_LIMIT, "%s: %llu texels exceed the GPU texel index range", path, (unsigned long long)texel_words);
     goto fail;
   }
   texs = calloc(s->texture_count ? s->texture_count : 1, sizeof *texs);
-  texels = calloc(texel_count ? texel_count : 1, sizeof *texels);
+  texels = calloc(texel_words ? texel_words : 1, sizeof *texels);
   lights = calloc(s->light_count ? s->light_count : 1, sizeof *lights);
   if (!mats || !texs || !texels || !lights) {
     r = pb_fail(PB_ERR_NOMEM, "out of memory preparing the scene for the GPU");
@@ -314,7 +345,9 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->ior = m->ior;
     o->specular = m->specular;
     o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0) |
-               (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0);
+               (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0) |
+               (m->blender.normal_map_cycles4 ? PB_GPU_MAT_NORMAL_MAP_CYCLES4 : 0) |
+               (m->blender.oren_nayar_ms ? PB_GPU_MAT_OREN_NAYAR_MS : 0);
     memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
     o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
     o->normal_scale = m->normal_scale;
@@ -337,6 +370,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     o->coat_normal_strength = b->coat_normal_strength;
     o->subsurface_method = (uint32_t)b->subsurface_method;
     o->g2_correlated = (uint32_t)b->g2_correlated;
+    o->bump_model = (uint32_t)b->bump_model;
     for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
       o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
       uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;
@@ -369,12 +403,16 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     }
     off += (uint32_t)n;
   }
+  if (v2) {
+    gs->principled2_base = (uint32_t)p2_base;
+    pack_principled2_tables(texels + p2_base);
+  }
   convert_lights(s, lights);
   r = make(g, &gs->materials, "scene.materials", mats, (uint64_t)s->material_count * sizeof *mats);
   if (r != PB_OK) goto fail;
   r = make(g, &gs->textures, "scene.textures", texs, (uint64_t)s->texture_count * sizeof *texs);
   if (r != PB_OK) goto fail;
-  r = make(g, &gs->texels, "scene.texels", texels, texel_count * 4);
+  r = make(g, &gs->texels, "scene.texels", texels, texel_words * 4);
   if (r != PB_OK) goto fail;
   r = make(g, &gs->lights, "scene.lights", lights, (uint64_t)s->light_count * sizeof *lights);
   if (r != PB_OK) goto fail;

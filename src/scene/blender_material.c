@@ -537,10 +537,6 @@ static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_
       (r = warn(R, "materials[%d]." EXT ".principled2.thinFilmThickness: %g nm: thin-film iridescence is not rendered",
                 R->index, b->input[PB_IN_THIN_FILM_THICKNESS])) != PB_OK)
     return r;
-  if ((b->input[PB_IN_DIFFUSE_ROUGHNESS] > 1e-5f || b->input_tex[PB_IN_DIFFUSE_ROUGHNESS].tex >= 0) &&
-      (r = warn(R, "materials[%d]." EXT ".principled2.diffuseRoughness: %g: rendered as Lambert (no EON Oren-Nayar)",
-                R->index, b->input[PB_IN_DIFFUSE_ROUGHNESS])) != PB_OK)
-    return r;
   if (b->coat_normal_tex >= 0 &&
       (r = warn(R, "materials[%d]." EXT ".textures.coatNormal: the coat uses the surface's normal (no coat normal map)",
                 R->index)) != PB_OK)
@@ -673,8 +669,22 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.PHOTONBRIDGE_blender.blender: %s, expected Blender's version "
                      "string (\"4.5.1\")", io->path, ver->type == PB_GLTF_STRING ? "not a version" : pb_gltf_value_type_name(ver));
     b->g2_correlated = major > 3 || (major == 3 && minor >= 5);
+    b->normal_map_cycles4 = major >= 4;
+    b->bump_model = major > 4 || (major == 4 && minor >= 5) ? PB_BUMP_CONTY : PB_BUMP_CHIANG;
+    b->oren_nayar_ms = major > 4 || (major == 4 && minor >= 3);
   } else {
-    b->g2_correlated = b->principled_v2; /* principled2 is Blender 4.0+ */
+    b->g2_correlated = b->normal_map_cycles4 = b->principled_v2; /* principled2 is Blender 4.0+ */
+    b->bump_model = PB_BUMP_CHIANG;
+    b->oren_nayar_ms = 0;
+  }
+  /* Diffuse Roughness exists from 4.3, so a v2 material that has it is 4.3+. */
+  if (b->principled_v2) b->oren_nayar_ms = 1;
+  /* "bumpMapCorrection": false (Blender 4.2+ Material > Settings). */
+  const pb_gltf_value *bmc = pb_gltf_value_get(ext, "bumpMapCorrection");
+  if (bmc) {
+    if (bmc->type != PB_GLTF_BOOL)
+      return bad(&R, "bumpMapCorrection", "%s, expected true or false", pb_gltf_value_type_name(bmc));
+    if (!bmc->boolean) b->bump_model = PB_BUMP_NONE;
   }
 
   /* "vertexColor": the input a Color Attribute node drives, its colour the

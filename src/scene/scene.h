@@ -109,6 +109,16 @@ typedef struct pb_input_texture {
  * metallic, roughness, transmission and ior hold the same numbers for
  * consumers that only know glTF's model (info, POV-Ray export), while the
  * renderers read `input`. */
+/* Cycles' term for diffuse light on a shading normal n that a normal or bump
+ * map moved from the interpolated normal ns (bsdf.h bump_shadowing_term):
+ * by the Blender version that wrote the file and the material's Bump Map
+ * Correction (Blender 4.2+). The values are the GPU's (PB_GPU_BUMP_*). */
+typedef enum pb_bump_model {
+  PB_BUMP_CHIANG = 0, /* Chiang et al. 2019 smoothing (up to 4.4) */
+  PB_BUMP_NONE = 1,   /* correction off (4.2+): light below n or ns only */
+  PB_BUMP_CONTY = 2,  /* Conty Estevez et al. 2019 GGX shadowing (4.5+) */
+} pb_bump_model;
+
 typedef struct pb_blender_material {
   pb_material_model model;
   pb_distribution distribution;
@@ -130,6 +140,16 @@ typedef struct pb_blender_material {
    * 1/(1 + L(wi) + L(wo)) (Cycles 3.5 and later), 0 separable G1 G1 (3.4).
    * From the root's "blender" version; 0 without it. */
   int g2_correlated;
+  /* Normal Map node strength s in tangent space: 1 Cycles 4.0 and later
+   * (xy s, z mix(1, z, sat(s)) before the tangent frame), 0 Cycles 3.x
+   * (normalize(n + (nm - n) s) after it). From the same version; 0
+   * without it unless the material is principled2. */
+  int normal_map_cycles4;
+  pb_bump_model bump_model;      /* diffuse light on a mapped normal */
+  /* Oren-Nayar (Diffuse BSDF Roughness, Principled v2 Diffuse Roughness)
+   * with Cycles 4.3's energy-preserving multiple-scattering term (OpenPBR;
+   * Blender calls the model EON); 0: 3.x's single scattering only. */
+  int oren_nayar_ms;
   float specular_tint[3], coat_tint[3], sheen_tint[3]; /* linear RGB */
   int32_t specular_tint_tex, coat_tint_tex, sheen_tint_tex;
   float subsurface_radius[3];    /* m, before Subsurface Scale */

@@ -197,7 +197,9 @@ def plain_part(gm):
             exts[k] = {kk: vv for kk, vv in v.items() if not kk.endswith("Texture")}
     if exts.get("KHR_materials_ior") == {}:
         del exts["KHR_materials_ior"]  # ior 1.5 either way
-    return {"pbr": pbr, "emissive": gm.get("emissiveFactor", [0.0, 0.0, 0.0]), "ext": exts}
+    # alphaMode: from the node tree in 4.2+ (BLEND where Alpha < 1 or driven).
+    return {"pbr": pbr, "emissive": gm.get("emissiveFactor", [0.0, 0.0, 0.0]), "ext": exts,
+            "alphaMode": gm.get("alphaMode", "OPAQUE")}
 
 
 def check(cases, got, ref, mats):

@@ -101,6 +101,13 @@ def _blender_version():
         return (0, 0, 0)
 
 
+def _alpha_used(ext):
+    """Does the written material have an Alpha below 1 or a texture on it?"""
+    inputs = ext.get(ext.get("model"))
+    alpha = inputs.get("alpha", 1.0) if isinstance(inputs, dict) else 1.0
+    return "alpha" in ext.get("textures", {}) or (isinstance(alpha, (int, float)) and alpha < 1.0)
+
+
 def _blender_4():
     """Does the running Blender have Principled v2 (4.0 or later)?"""
     try:
@@ -380,9 +387,22 @@ class MaterialWriter:
             ext["blendMethod"] = mat.blend_method
             ext["alphaThreshold"] = mat.alpha_threshold
             ext["backfaceCulling"] = mat.use_backface_culling
+            # Material > Settings > Bump Map Correction (Blender 4.2+): off,
+            # Cycles neither smooths diffuse light on a mapped normal nor
+            # lifts a specular normal that reflects below the surface.
+            cyc = getattr(mat, "cycles", None)
+            if cyc is not None and not getattr(cyc, "use_bump_map_correction", True):
+                ext["bumpMapCorrection"] = False
             if not mat.use_backface_culling:
                 gm["doubleSided"] = True
-            if mat.blend_method == 'CLIP':
+            if _blender_version() >= (4, 2, 0):
+                # EEVEE's Render Method replaced the Blend Mode (4.2):
+                # blend_method now reads HASHED for every Dithered material.
+                # The glTF's alphaMode comes from the tree, as Blender's own
+                # exporter does: BLEND where the Alpha is below 1 or driven.
+                if _alpha_used(ext):
+                    gm["alphaMode"] = "BLEND"
+            elif mat.blend_method == 'CLIP':
                 gm["alphaMode"] = "MASK"
                 gm["alphaCutoff"] = mat.alpha_threshold
             elif mat.blend_method in ('BLEND', 'HASHED'):
@@ -913,6 +933,12 @@ class MaterialWriter:
         if node.type == 'BSDF_GLOSSY':
             p["metallic"] = 1.0
             what = "written as a Principled BSDF with Metallic 1"
+            # Blender 4.0 merged the Anisotropic BSDF into Glossy; its
+            # mapping (alpha_x = r^2 (1 - a), alpha_y = r^2 / (1 - a), a in
+            # -0.99..0.99) is not the Principled one, so it is not carried.
+            aniso = node.inputs.get("Anisotropy")
+            if aniso is not None and (_source(aniso) is not None or abs(_value(aniso)) > 1e-4):
+                what += "; its Anisotropy is not translated (isotropic)"
         else:
             p["transmission"] = 1.0
             p["ior"] = _value(node.inputs["IOR"])
