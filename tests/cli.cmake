@@ -69,7 +69,7 @@ pb_cli_test(cli_render_progressive_bad_alpha render samples/cornell_box/cornell_
 # loader generates its tangents and the plan compiles normal maps and seed
 # 001's eq. 20 correction in.
 pb_cli_test(cli_info_normal_map info tests/data/normal_map/normal_map.gltf EXIT 0
-            REGEX "\\[normal maps\\].*normal maps on \\(\\+ eq. 20 indirect correction\\).*exit=0")
+            REGEX "\\[normal maps\\].*normal maps on \\(\\+ its correction of the indirect light\\).*exit=0")
 pb_cli_test(cli_info_normal_map_json info --json - tests/data/normal_map/normal_map.gltf EXIT 0
             REGEX "\"normal_maps\": *true.*\"shading_normal_correction\": *true.*exit=0")
 
@@ -136,7 +136,7 @@ pb_cli_test(cli_view_image_maps_99 view samples/cornell_box/cornell_box.gltf --t
 pb_cli_test(cli_render_image_maps_without_tracer render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
             --image-map-resolution 64 EXIT 2 REGEX "render: error: --image-maps and --image-map-resolution need --tracer images.*exit=2")
 pb_cli_test(cli_info_tracers info samples/cornell_box/cornell_box.gltf EXIT 0
-            REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(seed 003.*exit=0")
+            REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(--image-maps 1..15 cube environment maps.*exit=0")
 pb_cli_test(cli_info_tracers_json info --json - samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "\"tracers\":[ \n\t]*\\[[ \n\t]*\"bvh\",[ \n\t]*\"images\"[ \n\t]*\\].*exit=0")
 
@@ -231,3 +231,31 @@ set_tests_properties(cli_render_output_png cli_device_named cli_render_progress 
 pb_cli_test(cli_reference_output_png reference samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_ref.png EXIT 2
             REGEX "reference: error: -o /tmp/pb_never_ref.png: unknown extension '.png'. accepted: .exr \\(a display-referred PNG: --png FILE.png\\).*exit=2")
 pb_cli_test(cli_help_did_you_mean help exprot-pov EXIT 2 REGEX "unknown subcommand 'exprot-pov': did you mean 'export-pov'\\?.*exit=2")
+
+# The advanced switches (algorithm choices, benchmarks, ablations) under
+# --help-all only; --help says they are there.
+add_test(NAME cli_help_all_advanced
+         COMMAND sh -c "set -e; h=$(\"$0\" render --help); a=$(\"$0\" render --help-all);
+                        for o in --estimator --leaf-size --no-edge-correction --splat-ntile --first-bounce --progress-lines; do
+                          if echo \"$h\" | grep -q -- \"$o\"; then echo \"$o in --help\"; exit 1; fi;
+                          echo \"$a\" | grep -q -- \"$o\" || { echo \"$o not in --help-all\"; exit 1; }; done;
+                        for o in --spp --photons --png --width --view --device --time-limit; do
+                          echo \"$h\" | grep -q -- \"$o\" || { echo \"$o not in --help\"; exit 1; }; done;
+                        echo \"$h\" | grep -q -- '--help-all  *also the [0-9]* advanced options';
+                        echo \"$h\" | grep -q '^Sampling:$'; echo \"$h\" | grep -q '^Photons:$'; echo \"$h\" | grep -q '^Colour:$';
+                        echo ok-advanced"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_help_all_advanced PROPERTIES PASS_REGULAR_EXPRESSION "ok-advanced")
+
+# Help speaks of the product: no paper section or equation numbers and no
+# tracker references in any subcommand's --help-all.
+add_test(NAME cli_help_no_references
+         COMMAND sh -c "cmds=$(\"$0\" help | sed -n '/^subcommands:/,$p' | awk 'NR>1{print $1}'); [ -n \"$cmds\" ] || exit 1;
+                        for c in $cmds; do \"$0\" $c --help-all; done > /dev/null || exit 1;
+                        for c in $cmds; do \"$0\" $c --help-all | grep -n -i -E 'seed 0|seed [0-9]{3}|eq\\. ?[0-9]|issue' | sed \"s/^/$c: /\"; done | tee /dev/stderr | grep -q . && exit 1;
+                        echo ok-no-references"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_help_no_references PROPERTIES PASS_REGULAR_EXPRESSION "ok-no-references")
+

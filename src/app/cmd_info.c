@@ -174,7 +174,7 @@ static void print_text(const pb_scene *s) {
          pl.photons ? "on" : "off (no light, no emissive triangle, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
-         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",
+         pl.normal_maps ? (pl.photons ? "on (+ its correction of the indirect light)" : "on") : "off", pl.unlit ? "on" : "off",
          pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
          pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off",
          pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
@@ -193,7 +193,7 @@ static void print_text(const pb_scene *s) {
   for (uint32_t k = 0; pb_tracer_names[k]; ++k)
     printf("%s %s%s", k ? "," : "", pb_tracer_names[k],
            k == PB_TRACER_BVH ? " (default: exact hits in the scene BVH)"
-                              : " (seed 003: --image-maps 1..15 cube environment maps, no hierarchy, approximate: "
+                              : " (--image-maps 1..15 cube environment maps, no hierarchy, approximate: "
                                 "misses counted)");
   char view[768];
   default_view(s, view, sizeof view);
@@ -406,7 +406,7 @@ int pb_cmd_info(int argc, char **argv) {
   int devices = 0;
   const pb_opt opts[] = {PB_SCENE_OPTS(&c),
                          {"devices", 0, PB_OPT_FLAG, &devices, NULL,
-                          "list the Vulkan devices (the order --device N counts) instead of a scene", NULL, 0, 0}};
+                          "list the Vulkan devices (the order --device N counts) instead of a scene", NULL, 0, 0, "Device", 0}};
   const size_t n = sizeof opts / sizeof *opts;
   const char *pos[1];
   size_t npos;
@@ -414,7 +414,7 @@ int pb_cmd_info(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, n, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, n,
+    pb_cli_print_help(stdout, help, cmd, opts, n,
                       "Warnings go to stdout as part of the summary. Exit status 0 when the scene loads.");
     return 0;
   }
