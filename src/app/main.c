@@ -31,7 +31,7 @@ const pb_command pb_commands[] = {
      pb_cmd_reference},
     {"compare", "TEST.exr REFERENCE.exr [options]", "RMSE, relMSE, PSNR, SSIM of an image against a reference.",
      pb_cmd_compare},
-    {"validate", "SCENE --out DIR [options]", "Render with every renderer and compare them: an HTML report.",
+    {"validate", "SCENE -o DIR [options]", "Render with every renderer and compare them: an HTML report.",
      pb_cmd_validate},
     {"view", "SCENE [options]", "Interactive window: progressive refinement, fly, cameras, AOVs.", pb_cmd_view},
     {"serve", "SCENE [options]", "Persistent session of JSON-line requests (Blender's viewport).", pb_cmd_serve},
