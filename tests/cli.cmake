@@ -277,3 +277,21 @@ pb_cli_test(cli_validate_help_style validate --help EXIT 0
 pb_cli_test(cli_validate_dash_o validate does-not-exist.gltf -o x EXIT 2 REGEX "does-not-exist.gltf: no such scene.*exit=2")
 pb_cli_test(cli_validate_typo validate cornell_box -o x --ref-sp 4 EXIT 2
             REGEX "unknown option '--ref-sp': did you mean '--ref-spp'\\?.*exit=2")
+
+# Lights in the units the artist typed: Blender's watts (and a sun's W/m^2)
+# for a scene the add-on wrote, beside the radiometric value rendered; glTF's
+# candela for a plain KHR_lights_punctual light, the whole line exact.
+pb_cli_test(cli_info_blender_watts info samples/blender/metal_plastic/handoff/metal_plastic.gltf EXIT 0
+            REGEX "\n  Key +directional strength 2.5 W/m\\^2 in Blender \\(E = 2.5 W/m\\^2\\) [^\n]*\n  Fill +point +120 W in Blender \\(I = 9.549 W/sr\\) x colour \\(1 0.85 0.7\\), [^\n]*emits 102 W.*exit=0")
+pb_cli_test(cli_info_gltf_candela info samples/cornell_box/cornell_box.gltf EXIT 0
+            REGEX "\n  CeilingLight         point       8153 cd in glTF \\(I = 11.94 W/sr\\) x colour \\(1 1 1\\), at \\(0 1.75 0\\), emits 150 W\n.*exit=0")
+# Blender 4.x's light Exposure is in the file's power already (2^exposure);
+# info shows the watts typed and the exposure: 120 W written at +1 is 60 W.
+add_test(NAME cli_info_blender_exposure
+         COMMAND sh -c "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT; cp samples/blender/metal_plastic/handoff/* \"$d\";
+                        \"$1\" -c \"import json,sys; p=sys.argv[1]; g=json.load(open(p)); [n['extensions']['PHOTONBRIDGE_blender']['light'].update(exposure=1.0) for n in g['nodes'] if n.get('name') == 'Fill']; json.dump(g, open(p, 'w'))\" \"$d/metal_plastic.gltf\";
+                        \"$0\" info \"$d/metal_plastic.gltf\""
+                 ${PB_EXE} ${Python3_EXECUTABLE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_info_blender_exposure PROPERTIES
+                     PASS_REGULAR_EXPRESSION "\n  Fill +point +60 W at exposure \\+1 in Blender \\(I = 9.549 W/sr\\)")
