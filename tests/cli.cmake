@@ -295,3 +295,10 @@ add_test(NAME cli_info_blender_exposure
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_info_blender_exposure PROPERTIES
                      PASS_REGULAR_EXPRESSION "\n  Fill +point +60 W at exposure \\+1 in Blender \\(I = 9.549 W/sr\\)")
+# validate checks its options in C before the script runs: every option of
+# validation/validate.py is in its --help-all (--out as -o/--output's old name).
+add_test(NAME cli_validate_options_in_step
+         COMMAND sh -c "\"$0\" validate --help-all | \"$1\" -c \"import re,sys; names = re.findall(r'add_argument\\\\(\\\"(--[a-z0-9-]+)\\\"', open('validation/validate.py').read()); h = sys.stdin.read(); missing = [n for n in names if not re.search('(^|[ ,])' + re.escape(n) + '([ =]|$)', h, re.M)]; print(len(names), 'options; missing from validate --help-all:', missing or 'none'); sys.exit(1 if missing or not names else 0)\""
+                 ${PB_EXE} ${Python3_EXECUTABLE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_validate_options_in_step PROPERTIES PASS_REGULAR_EXPRESSION "missing from validate --help-all: none")
