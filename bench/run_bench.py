@@ -60,7 +60,7 @@ PEERS = ("reference", "povray", "cycles")
 # photonbridge: photons per map, maps (iterations), spp (>= iterations; the
 # direct light's samples), optional extra options. New density estimators and
 # filters add curves here (an entry's "needs" names a `render` option: the
-# curve is skipped, with a note, when this build's `render --help` lacks it).
+# curve is skipped, with a note, when this build's `render --help-all` lacks it).
 
 
 def pb_curve(label, photons, maps_spp, extra=(), needs=None):
@@ -291,8 +291,13 @@ class Bench:
         self.skipped = []
         os.makedirs(self.work, exist_ok=True)
         os.makedirs(self.cache, exist_ok=True)
-        rc = subprocess.run([self.exe, "render", "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+        # --help-all lists every option (--help leaves out the algorithm
+        # switches the curves need); a build from before it has --help only.
+        rc = subprocess.run([self.exe, "render", "--help-all"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             universal_newlines=True)
+        if rc.returncode != 0:
+            rc = subprocess.run([self.exe, "render", "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                universal_newlines=True)
         self.render_help = rc.stdout
 
     def expired(self, what):

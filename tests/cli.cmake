@@ -69,7 +69,7 @@ pb_cli_test(cli_render_progressive_bad_alpha render samples/cornell_box/cornell_
 # loader generates its tangents and the plan compiles normal maps and seed
 # 001's eq. 20 correction in.
 pb_cli_test(cli_info_normal_map info tests/data/normal_map/normal_map.gltf EXIT 0
-            REGEX "\\[normal maps\\].*normal maps on \\(\\+ eq. 20 indirect correction\\).*exit=0")
+            REGEX "\\[normal maps\\].*normal maps on \\(\\+ its correction of the indirect light\\).*exit=0")
 pb_cli_test(cli_info_normal_map_json info --json - tests/data/normal_map/normal_map.gltf EXIT 0
             REGEX "\"normal_maps\": *true.*\"shading_normal_correction\": *true.*exit=0")
 
@@ -84,13 +84,12 @@ pb_cli_test(cli_value_negative_number render samples/cornell_box/cornell_box.glt
             REGEX "--seed: '-1' is not a non-negative integer.*exit=2")
 
 # Every subcommand's --help from outside the checkout: the binary copied to
-# a temporary folder and run from / (validate finds its script through the
-# source tree it was built from, and prints its help even without it).
+# a temporary folder and run from / (validate's help is the binary's own,
+# with or without the validation scripts).
 add_test(NAME cli_help_from_anywhere
          COMMAND sh -c "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT; cp \"$0\" \"$d/pb\"; cd /;
                         cmds=$(\"$d/pb\" help | sed -n '/^subcommands:/,$p' | awk 'NR>1{print $1}'); n=0;
                         for c in $cmds; do \"$d/pb\" $c --help > \"$d/out\"; grep -q \"usage: photonbridge $c\" \"$d/out\"; n=$((n+1)); done;
-                        grep -q 'usage: validate.py' \"$d/out\" || { \"$d/pb\" validate --help | grep -q 'usage: validate.py'; };
                         echo \"$n passed, 0 failed\""
                  ${PB_EXE})
 set_tests_properties(cli_help_from_anywhere PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
@@ -136,7 +135,7 @@ pb_cli_test(cli_view_image_maps_99 view samples/cornell_box/cornell_box.gltf --t
 pb_cli_test(cli_render_image_maps_without_tracer render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
             --image-map-resolution 64 EXIT 2 REGEX "render: error: --image-maps and --image-map-resolution need --tracer images.*exit=2")
 pb_cli_test(cli_info_tracers info samples/cornell_box/cornell_box.gltf EXIT 0
-            REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(seed 003.*exit=0")
+            REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(--image-maps 1..15 cube environment maps.*exit=0")
 pb_cli_test(cli_info_tracers_json info --json - samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "\"tracers\":[ \n\t]*\\[[ \n\t]*\"bvh\",[ \n\t]*\"images\"[ \n\t]*\\].*exit=0")
 
@@ -231,3 +230,75 @@ set_tests_properties(cli_render_output_png cli_device_named cli_render_progress 
 pb_cli_test(cli_reference_output_png reference samples/cornell_box/cornell_box.gltf -o /tmp/pb_never_ref.png EXIT 2
             REGEX "reference: error: -o /tmp/pb_never_ref.png: unknown extension '.png'. accepted: .exr \\(a display-referred PNG: --png FILE.png\\).*exit=2")
 pb_cli_test(cli_help_did_you_mean help exprot-pov EXIT 2 REGEX "unknown subcommand 'exprot-pov': did you mean 'export-pov'\\?.*exit=2")
+
+# Help at 80 columns: every subcommand's --help and --help-all, no line
+# wider than 80 characters (the widest is printed).
+add_test(NAME cli_help_80_columns
+         COMMAND sh -c "cmds=$(\"$0\" help | sed -n '/^subcommands:/,$p' | awk 'NR>1{print $1}'); [ -n \"$cmds\" ] || exit 1;
+                        n=0; bad=0; for c in $cmds; do for h in --help --help-all; do
+                          w=$(\"$0\" $c $h | awk '{ if (length($0) > m) m = length($0) } END { print m + 0 }');
+                          echo \"$c $h: $w columns\"; n=$((n+1)); [ \"$w\" -le 80 ] || bad=$((bad+1)); done; done;
+                        echo \"$((n-bad)) passed, $bad failed\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_help_80_columns PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# The advanced switches (algorithm choices, benchmarks, ablations) under
+# --help-all only; --help says they are there.
+add_test(NAME cli_help_all_advanced
+         COMMAND sh -c "set -e; h=$(\"$0\" render --help); a=$(\"$0\" render --help-all);
+                        for o in --estimator --leaf-size --no-edge-correction --splat-ntile --first-bounce --progress-lines; do
+                          if echo \"$h\" | grep -q -- \"$o\"; then echo \"$o in --help\"; exit 1; fi;
+                          echo \"$a\" | grep -q -- \"$o\" || { echo \"$o not in --help-all\"; exit 1; }; done;
+                        for o in --spp --photons --png --width --view --device --time-limit; do
+                          echo \"$h\" | grep -q -- \"$o\" || { echo \"$o not in --help\"; exit 1; }; done;
+                        echo \"$h\" | grep -q -- '--help-all  *also the [0-9]* advanced options';
+                        echo \"$h\" | grep -q '^Sampling:$'; echo \"$h\" | grep -q '^Photons:$'; echo \"$h\" | grep -q '^Colour:$';
+                        echo ok-advanced"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_help_all_advanced PROPERTIES PASS_REGULAR_EXPRESSION "ok-advanced")
+
+# Help speaks of the product: no paper section or equation numbers and no
+# tracker numbers in any subcommand's --help-all.
+add_test(NAME cli_help_no_references
+         COMMAND sh -c "cmds=$(\"$0\" help | sed -n '/^subcommands:/,$p' | awk 'NR>1{print $1}'); [ -n \"$cmds\" ] || exit 1;
+                        for c in $cmds; do \"$0\" $c --help-all; done > /dev/null || exit 1;
+                        for c in $cmds; do \"$0\" $c --help-all | grep -n -i -E 'seed 0|seed [0-9]{3}|eq\\. ?[0-9]|issue *#?[0-9]' | sed \"s/^/$c: /\"; done | tee /dev/stderr | grep -q . && exit 1;
+                        echo ok-no-references"
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_help_no_references PROPERTIES PASS_REGULAR_EXPRESSION "ok-no-references")
+
+# validate's help in the style of the rest (not the Python script's), and
+# -o like every other subcommand (--out, its former name, still works).
+pb_cli_test(cli_validate_help_style validate --help EXIT 0
+            REGEX "usage: photonbridge validate SCENE -o DIR.*\nOutput:\n  -o, --output DIR .*exit=0" FAIL_REGEX "validate.py|usage: validate")
+pb_cli_test(cli_validate_dash_o validate does-not-exist.gltf -o x EXIT 2 REGEX "does-not-exist.gltf: no such scene.*exit=2")
+pb_cli_test(cli_validate_typo validate cornell_box -o x --ref-sp 4 EXIT 2
+            REGEX "unknown option '--ref-sp': did you mean '--ref-spp'\\?.*exit=2")
+
+# Lights in the units the artist typed: Blender's watts (and a sun's W/m^2)
+# for a scene the add-on wrote, beside the radiometric value rendered; glTF's
+# candela for a plain KHR_lights_punctual light, the whole line exact.
+pb_cli_test(cli_info_blender_watts info samples/blender/metal_plastic/handoff/metal_plastic.gltf EXIT 0
+            REGEX "\n  Key +directional strength 2.5 W/m\\^2 in Blender \\(E = 2.5 W/m\\^2\\) [^\n]*\n  Fill +point +120 W in Blender \\(I = 9.549 W/sr\\) x colour \\(1 0.85 0.7\\), [^\n]*emits 102 W.*exit=0")
+pb_cli_test(cli_info_gltf_candela info samples/cornell_box/cornell_box.gltf EXIT 0
+            REGEX "\n  CeilingLight         point       8153 cd in glTF \\(I = 11.94 W/sr\\) x colour \\(1 1 1\\), at \\(0 1.75 0\\), emits 150 W\n.*exit=0")
+# Blender 4.x's light Exposure is in the file's power already (2^exposure);
+# info shows the watts typed and the exposure: 120 W written at +1 is 60 W.
+add_test(NAME cli_info_blender_exposure
+         COMMAND sh -c "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT; cp samples/blender/metal_plastic/handoff/* \"$d\";
+                        \"$1\" -c \"import json,sys; p=sys.argv[1]; g=json.load(open(p)); [n['extensions']['PHOTONBRIDGE_blender']['light'].update(exposure=1.0) for n in g['nodes'] if n.get('name') == 'Fill']; json.dump(g, open(p, 'w'))\" \"$d/metal_plastic.gltf\";
+                        \"$0\" info \"$d/metal_plastic.gltf\""
+                 ${PB_EXE} ${Python3_EXECUTABLE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_info_blender_exposure PROPERTIES
+                     PASS_REGULAR_EXPRESSION "\n  Fill +point +60 W at exposure \\+1 in Blender \\(I = 9.549 W/sr\\)")
+# validate checks its options in C before the script runs: every option of
+# validation/validate.py is in its --help-all (--out as -o/--output's old name).
+add_test(NAME cli_validate_options_in_step
+         COMMAND sh -c "\"$0\" validate --help-all | \"$1\" -c \"import re,sys; names = re.findall(r'add_argument\\\\(\\\"(--[a-z0-9-]+)\\\"', open('validation/validate.py').read()); h = sys.stdin.read(); missing = [n for n in names if not re.search('(^|[ ,])' + re.escape(n) + '([ =]|$)', h, re.M)]; print(len(names), 'options; missing from validate --help-all:', missing or 'none'); sys.exit(1 if missing or not names else 0)\""
+                 ${PB_EXE} ${Python3_EXECUTABLE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_validate_options_in_step PROPERTIES PASS_REGULAR_EXPRESSION "missing from validate --help-all: none")

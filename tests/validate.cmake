@@ -63,7 +63,7 @@ set_tests_properties(validate_sequence_chromium PROPERTIES LABELS "chromium;no-s
 add_test(NAME validate_png_check_selftest COMMAND python3 ${PB_ROOT}/validation/png_check.py --selftest)
 set_tests_properties(validate_png_check_selftest PROPERTIES PASS_REGULAR_EXPRESSION "1 passed, 0 failed" TIMEOUT 60)
 
-pb_cli_test(cli_validate_no_out validate cornell_box EXIT 2 REGEX "required: --out.*exit=2")
+pb_cli_test(cli_validate_no_out validate cornell_box EXIT 2 REGEX "expected SCENE and -o DIR.*exit=2")
 pb_cli_test(cli_validate_missing validate does-not-exist.gltf --out x EXIT 2
             REGEX "does-not-exist.gltf: no such scene.*exit=2")
 

@@ -128,10 +128,11 @@ static pb_result set_value(const pb_command *cmd, const pb_opt *o,
   return pb_fail(PB_ERR_INTERNAL, "bad option kind");
 }
 
-/* A word that reads as an option: "-x" or "--name", but not "-" alone or
- * a negative number ("-1", "-0.5e3"). */
+/* A word that reads as an option: "-x" or "--name", but not "-" alone, a
+ * negative number ("-1", "-0.5e3") or a word with a space (options for
+ * another program in one string: validate --render-args "--spp 4"). */
 static int looks_like_option(const char *a) {
-  if (a[0] != '-' || a[1] == 0) return 0;
+  if (a[0] != '-' || a[1] == 0 || strchr(a, ' ')) return 0;
   char *end = NULL;
   errno = 0;
   (void)strtod(a, &end);
@@ -153,7 +154,11 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
       continue;
     }
     if (!only_pos && (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)) {
-      *help = 1;
+      *help = PB_HELP_USER;
+      return PB_OK;
+    }
+    if (!only_pos && strcmp(a, "--help-all") == 0) {
+      *help = PB_HELP_ALL;
       return PB_OK;
     }
     if (!only_pos && a[0] == '-' && a[1] == '-') {
@@ -204,29 +209,137 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
   return PB_OK;
 }
 
-void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
-                       size_t n, const char *details) {
-  fprintf(f, "usage: photonbridge %s %s\n\n%s\n", cmd->name, cmd->usage,
-          cmd->summary);
-  if (details) fprintf(f, "\n%s\n", details);
-  fprintf(f, "\noptions:\n");
-  for (size_t i = 0; i < n; ++i) {
-    char lhs[96];
-    int k = 0;
-    if (opts[i].short_name)
-      k = snprintf(lhs, sizeof lhs, "-%c, ", opts[i].short_name);
-    snprintf(lhs + k, sizeof lhs - (size_t)k, "--%s%s%s", opts[i].name,
-             opts[i].metavar ? " " : "", opts[i].metavar ? opts[i].metavar : "");
-    fprintf(f, "  %-28s %s", lhs, opts[i].help);
-    if (opts[i].kind == PB_OPT_CHOICE) {
-      fprintf(f, " {");
-      for (int c = 0; opts[i].choices[c]; ++c)
-        fprintf(f, "%s%s", c ? ", " : "", opts[i].choices[c]);
-      fprintf(f, "}");
+void pb_cli_wrap(FILE *f, const char *text, int at, int indent, int width) {
+  int col = at;
+  const char *p = text;
+  int first_word = 1;
+  while (*p) {
+    while (*p == ' ') ++p;
+    if (!*p) break;
+    size_t len = strcspn(p, " ");
+    if (!first_word && col + 1 + (int)len > width) {
+      fprintf(f, "\n%*s", indent, "");
+      col = indent;
+    } else if (!first_word) {
+      fputc(' ', f);
+      ++col;
+    }
+    fwrite(p, 1, len, f);
+    col += (int)len;
+    p += len;
+    first_word = 0;
+  }
+}
+
+static const char *const group_order[] = {"Output",   "Sampling",  "Renderers", "Photons", "Filtering", "Animation",
+                                          "Colour",   "Scene",     "Device",  "Reporting", "Blender add-on",
+                                          "Options",  NULL};
+
+enum { HELP_WIDTH = 80, HELP_COLUMN = 28 };
+
+static const char *group_of(const pb_opt *o) { return o->group ? o->group : "Options"; }
+
+/* Details: every line as written, one wider than the help wrapped at its
+ * spaces under its own indentation. */
+static void print_details(FILE *f, const char *d) {
+  while (*d) {
+    size_t len = strcspn(d, "\n");
+    int ind = (int)strspn(d, " ");
+    if ((int)len <= HELP_WIDTH) {
+      fwrite(d, 1, len, f);
+    } else {
+      char *line = malloc(len + 1);
+      if (!line) return;
+      memcpy(line, d, len);
+      line[len] = 0;
+      fprintf(f, "%*s", ind, "");
+      pb_cli_wrap(f, line + ind, ind, ind, HELP_WIDTH);
+      free(line);
     }
     fputc('\n', f);
+    d += len;
+    if (*d == '\n') ++d;
   }
-  fprintf(f, "  %-28s %s\n", "-h, --help", "this help");
+}
+
+static void print_option(FILE *f, const pb_opt *o) {
+  char lhs[96];
+  int k = 0;
+  if (o->short_name) k = snprintf(lhs, sizeof lhs, "-%c, ", o->short_name);
+  snprintf(lhs + k, sizeof lhs - (size_t)k, "--%s%s%s", o->name, o->metavar ? " " : "",
+           o->metavar ? o->metavar : "");
+  int w = 2 + (int)strlen(lhs);
+  fprintf(f, "  %s", lhs);
+  if (w + 1 > HELP_COLUMN) {
+    fprintf(f, "\n%*s", HELP_COLUMN, "");
+  } else {
+    fprintf(f, "%*s", HELP_COLUMN - w, "");
+  }
+  char text[2048];
+  size_t n = (size_t)snprintf(text, sizeof text, "%s", o->help);
+  if (o->kind == PB_OPT_CHOICE && n < sizeof text) {
+    n += (size_t)snprintf(text + n, sizeof text - n, " {");
+    for (int c = 0; o->choices[c] && n < sizeof text; ++c)
+      n += (size_t)snprintf(text + n, sizeof text - n, "%s%s", c ? ", " : "", o->choices[c]);
+    if (n < sizeof text) snprintf(text + n, sizeof text - n, "}");
+  }
+  pb_cli_wrap(f, text, HELP_COLUMN, HELP_COLUMN, HELP_WIDTH);
+  fputc('\n', f);
+}
+
+/* The options of one heading at this level; returns how many. */
+static size_t print_group(FILE *f, int level, const char *group, const pb_opt *opts, size_t n) {
+  size_t shown = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (strcmp(group_of(&opts[i]), group) != 0) continue;
+    if (opts[i].advanced && level < PB_HELP_ALL) continue;
+    if (!shown++) fprintf(f, "\n%s:\n", group);
+    print_option(f, &opts[i]);
+  }
+  return shown;
+}
+
+void pb_cli_print_help(FILE *f, int level, const pb_command *cmd, const pb_opt *opts, size_t n,
+                       const char *details) {
+  char head[512];
+  snprintf(head, sizeof head, "usage: photonbridge %s %s", cmd->name, cmd->usage);
+  int ind = (int)strlen("usage: photonbridge ") + (int)strlen(cmd->name) + 1;
+  pb_cli_wrap(f, head, 0, ind < 40 ? ind : 8, HELP_WIDTH);
+  fputs("\n\n", f);
+  pb_cli_wrap(f, cmd->summary, 0, 0, HELP_WIDTH);
+  fputc('\n', f);
+  if (details) {
+    fputc('\n', f);
+    print_details(f, details);
+  }
+  for (const char *const *g = group_order; *g; ++g)
+    if (strcmp(*g, "Options") != 0) print_group(f, level, *g, opts, n);
+  /* Headings outside the usual list, in the order of first use. */
+  for (size_t i = 0; i < n; ++i) {
+    const char *g = group_of(&opts[i]);
+    int known = 0, seen = 0;
+    for (const char *const *k = group_order; *k; ++k) known |= strcmp(*k, g) == 0;
+    for (size_t j = 0; j < i; ++j) seen |= strcmp(group_of(&opts[j]), g) == 0;
+    if (!known && !seen) print_group(f, level, g, opts, n);
+  }
+  size_t advanced = 0;
+  for (size_t i = 0; i < n; ++i) advanced += opts[i].advanced != 0;
+  print_group(f, level, "Options", opts, n);
+  fprintf(f, "\nHelp:\n");
+  fprintf(f, "  %-*s", HELP_COLUMN - 2, "-h, --help");
+  pb_cli_wrap(f, "this help", HELP_COLUMN, HELP_COLUMN, HELP_WIDTH);
+  fputc('\n', f);
+  if (advanced) {
+    char more[160];
+    if (level < PB_HELP_ALL)
+      snprintf(more, sizeof more, "also the %zu advanced options (algorithm choices, benchmarks, ablations, tuning)",
+               advanced);
+    else
+      snprintf(more, sizeof more, "this help with the advanced options (as now)");
+    fprintf(f, "  %-*s", HELP_COLUMN - 2, "--help-all");
+    pb_cli_wrap(f, more, HELP_COLUMN, HELP_COLUMN, HELP_WIDTH);
+    fputc('\n', f);
+  }
 }
 
 int pb_cli_exit(const pb_command *cmd, pb_result r) {

@@ -28,7 +28,17 @@ typedef struct pb_opt {
   const char *help;
   const char *const *choices; /* PB_OPT_CHOICE */
   double min, max;      /* numeric range, inclusive; both 0: unchecked */
+  const char *group;    /* --help heading ("Output", "Sampling", ...); NULL:
+                         * "Options". Headings print in a fixed order (cli.c),
+                         * then any other in the order of first use. */
+  int advanced;         /* PB_OPT_ADVANCED: listed by --help-all only
+                         * (algorithm choices, benchmarks, ablations) */
 } pb_opt;
+
+enum { PB_OPT_ADVANCED = 1 };
+
+/* The --help levels pb_cli_parse reports. */
+enum { PB_HELP_NONE = 0, PB_HELP_USER = 1, PB_HELP_ALL = 2 };
 
 typedef struct pb_command {
   const char *name;
@@ -38,7 +48,8 @@ typedef struct pb_command {
 } pb_command;
 
 /* Parses argv[1..] against opts. Positional arguments are collected into
- * `pos` (at most max_pos). `--help`/`-h` sets *help and stops. Errors are
+ * `pos` (at most max_pos). `--help`/`-h` sets *help to PB_HELP_USER,
+ * `--help-all` to PB_HELP_ALL, and stops. Errors are
  * PB_ERR_USAGE with the message set. */
 pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        const pb_opt *opts, size_t opt_count, const char **pos,
@@ -50,8 +61,17 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
  * the name field of an array of structs). */
 const char *pb_cli_closest(const char *word, size_t len, const char *const *names, size_t count, size_t stride);
 
-void pb_cli_print_help(FILE *f, const pb_command *cmd, const pb_opt *opts,
+/* The help of cmd at 80 columns: usage, summary, details (each line wider
+ * than 80 wrapped at spaces, under its own indentation), then the options
+ * under their headings. level PB_HELP_USER leaves out the advanced ones
+ * (and says how many, and --help-all); PB_HELP_ALL lists them too. */
+void pb_cli_print_help(FILE *f, int level, const pb_command *cmd, const pb_opt *opts,
                        size_t opt_count, const char *details);
+
+/* Writes text wrapped at width columns: the first line continues from
+ * column `at` (already written), the others start with indent spaces.
+ * Breaks at spaces only (a word longer than the line stays whole). */
+void pb_cli_wrap(FILE *f, const char *text, int at, int indent, int width);
 
 /* Prints the one-line error for r (with the recorded message) and returns the
  * process exit code from the result table. */
@@ -73,29 +93,29 @@ typedef struct pb_core_opts {
 #define PB_SCENE_OPTS(c)                                                       \
   {"light-units", 0, PB_OPT_CHOICE, &(c)->light_units, "MODE",                 \
    "how KHR_lights_punctual intensities were exported: standard (photometric, "\
-   "Blender's default) or unitless", pb_light_units_names, 0, 0},              \
+   "Blender's default) or unitless", pb_light_units_names, 0, 0, "Scene", 0},              \
   {"allow-external-files", 0, PB_OPT_FLAG, &(c)->allow_external_files, NULL,   \
-   "allow buffer/image URIs outside the scene's folder", NULL, 0, 0},          \
+   "allow buffer/image URIs outside the scene's folder", NULL, 0, 0, "Scene", 0},          \
   {"json", 0, PB_OPT_STRING, &(c)->json, "FILE",                               \
-   "write machine-readable statistics to FILE ('-' for stdout)", NULL, 0, 0},  \
-  {"quiet", 'q', PB_OPT_FLAG, &(c)->quiet, NULL, "errors only", NULL, 0, 0},    \
-  {"verbose", 'v', PB_OPT_FLAG, &(c)->verbose, NULL, "more detail", NULL, 0, 0}
+   "write machine-readable statistics to FILE ('-' for stdout)", NULL, 0, 0, "Reporting", 0},  \
+  {"quiet", 'q', PB_OPT_FLAG, &(c)->quiet, NULL, "errors only", NULL, 0, 0, "Reporting", 0},    \
+  {"verbose", 'v', PB_OPT_FLAG, &(c)->verbose, NULL, "more detail", NULL, 0, 0, "Reporting", 0}
 
 /* The image options every rendering subcommand takes; out_help: what -o
  * writes. */
 #define PB_RENDER_OPTS(c) PB_RENDER_OPTS_OUT(c, "output file (EXR)")
 #define PB_RENDER_OPTS_OUT(c, out_help)                                        \
-  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", out_help, NULL, 0, 0},      \
+  {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", out_help, NULL, 0, 0, "Output", 0},      \
   {"width", 0, PB_OPT_U32, &(c)->width, "W",                                   \
    "image width (default 640, or from --height and the camera's aspect)",     \
-   NULL, 1, 16384},                                                            \
+   NULL, 1, 16384, "Output", 0},                                                            \
   {"height", 0, PB_OPT_U32, &(c)->height, "H",                                 \
-   "image height (default from the camera's aspect ratio)", NULL, 1, 16384},  \
+   "image height (default from the camera's aspect ratio)", NULL, 1, 16384, "Output", 0},  \
   {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME|N",                         \
    "camera to render, by name or by its number in 'info' (default: 0)", NULL, \
-   0, 0},                                                                      \
+   0, 0, "Output", 0},                                                                      \
   {"seed", 0, PB_OPT_U64, &(c)->seed, "N", "random seed (default 0)", NULL,   \
-   0, 0},                                                                      \
+   0, 0, "Sampling", 0},                                                                      \
   PB_SCENE_OPTS(c)
 
 extern const char *const pb_light_units_names[];
@@ -110,9 +130,9 @@ typedef struct pb_pose_opts {
 #define PB_POSE_OPTS(p)                                                        \
   {"frame", 0, PB_OPT_FLOAT, &(p)->frame, "N",                                 \
    "pose the scene's animation at frame N (t = N / fps; default: the file's "  \
-   "own pose)", NULL, 0, 0},                                                   \
+   "own pose)", NULL, 0, 0, "Animation", 0},                                                   \
   {"fps", 0, PB_OPT_FLOAT, &(p)->fps, "F",                                     \
-   "--frame: frames per second (default 24)", NULL, 0.001, 1e6}
+   "--frame: frames per second (default 24)", NULL, 0.001, 1e6, "Animation", 0}
 
 /* Poses s per --frame / --fps (nothing without --frame; a warning when the
  * scene has no animation). *t (may be NULL): the time posed at, NAN when

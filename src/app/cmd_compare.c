@@ -74,18 +74,18 @@ int pb_cmd_compare(int argc, char **argv) {
   const pb_opt opts[] = {
       {"layer", 0, PB_OPT_STRING, &layer, "NAME",
        "compare this layer (direct, indirect, albedo, normal, depth...; default: the "
-       "main RGB image); one-channel layers are compared as grey", NULL, 0, 0},
+       "main RGB image); one-channel layers are compared as grey", NULL, 0, 0, "Comparison", 0},
       {"heatmap", 0, PB_OPT_STRING, &heatmap, "FILE.png",
-       "write the per-pixel error as a viridis heat map PNG", NULL, 0, 0},
+       "write the per-pixel error as a viridis heat map PNG", NULL, 0, 0, "Output", 0},
       {"heatmap-metric", 0, PB_OPT_CHOICE, &heat_metric, "M",
        "relative: sqrt(mean over RGB of (t-r)^2/(r^2+0.01)); absolute: per-pixel RMSE",
-       heat_names, 0, 0},
+       heat_names, 0, 0, "Output", 0},
       {"heatmap-max", 0, PB_OPT_FLOAT, &heat_max, "V",
        "error at the bright end of the heat map (default: the 99th percentile)", NULL,
-       0, 1e30},
+       0, 1e30, "Output", 0},
       {"json", 0, PB_OPT_STRING, &json, "FILE",
-       "write the numbers as JSON to FILE ('-' for stdout)", NULL, 0, 0},
-      {"quiet", 'q', PB_OPT_FLAG, &quiet, NULL, "print nothing but errors", NULL, 0, 0},
+       "write the numbers as JSON to FILE ('-' for stdout)", NULL, 0, 0, "Reporting", 0},
+      {"quiet", 'q', PB_OPT_FLAG, &quiet, NULL, "print nothing but errors", NULL, 0, 0, "Reporting", 0},
       PB_COLOR_OPTS(&co),
   };
   const size_t nopts = sizeof opts / sizeof *opts;
@@ -96,7 +96,7 @@ int pb_cmd_compare(int argc, char **argv) {
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
     pb_cli_print_help(
-        stdout, cmd, opts, nopts,
+        stdout, help, cmd, opts, nopts,
         "RMSE and relMSE (mean of (t-r)^2/(r^2+0.01), r = REFERENCE) on scene-linear\n"
         "RGB; PSNR (peak 1) and SSIM (Wang et al. 2004, 11x11 Gaussian window,\n"
         "sigma 1.5, K1 0.01, K2 0.03, mean of R, G, B) on the display image through\n"

@@ -48,11 +48,11 @@ int pb_cmd_display(int argc, char **argv) {
   const char *out = NULL, *layer = NULL;
   int list = 0;
   const pb_opt opts[] = {
-      {"output", 'o', PB_OPT_STRING, &out, "OUT", "output PNG", NULL, 0, 0},
+      {"output", 'o', PB_OPT_STRING, &out, "OUT", "output PNG", NULL, 0, 0, "Output", 0},
       {"layer", 0, PB_OPT_STRING, &layer, "NAME", "EXR layer to show (default: the main R, G, B)",
-       NULL, 0, 0},
+       NULL, 0, 0, "Output", 0},
       {"list", 0, PB_OPT_FLAG, &list, NULL, "list the config's displays, views and looks, then exit",
-       NULL, 0, 0},
+       NULL, 0, 0, "Colour", 0},
       PB_COLOR_OPTS(&co),
   };
   const size_t n = sizeof opts / sizeof *opts;
@@ -62,7 +62,7 @@ int pb_cmd_display(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, n, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, n,
+    pb_cli_print_help(stdout, help, cmd, opts, n,
                       "Input is scene-linear Rec.709 (the config's scene_linear role); output is "
                       "8-bit display-referred, clamped to [0,1].");
     return 0;

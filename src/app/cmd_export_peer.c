@@ -27,10 +27,10 @@ int pb_cmd_export_peer(int argc, char **argv) {
       PB_RENDER_OPTS_OUT(&c, "output folder (created if missing)"),
       PB_POSE_OPTS(&pose),
       {"format", 0, PB_OPT_CHOICE, &format, "PEER", "luxcore (scene.scn + render.cfg) or mitsuba (scene.xml)",
-       pb_peer_format_names, 0, 0},
-      {"spp", 0, PB_OPT_U64, &spp, "N", "samples per pixel written into the settings (default 64)", NULL, 1, 1u << 30},
+       pb_peer_format_names, 0, 0, "Output", 0},
+      {"spp", 0, PB_OPT_U64, &spp, "N", "samples per pixel written into the settings (default 64)", NULL, 1, 1u << 30, "Sampling", 0},
       {"threads", 0, PB_OPT_U64, &threads, "N", "render threads written into the LuxCore settings (default 2)", NULL, 1,
-       4096},
+       4096, "Sampling", 0},
   };
   const size_t n = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -39,7 +39,7 @@ int pb_cmd_export_peer(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, n, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, n,
+    pb_cli_print_help(stdout, help, cmd, opts, n,
                       "Writes DIR/mN.ply (one per material), DIR/mN_base.exr (linear base colour textures) and "
                       "DIR/scene.scn + DIR/render.cfg (LuxCore) or DIR/scene.xml (Mitsuba 3); file names inside "
                       "are relative to DIR. Notes about approximated features go to stdout. The image size is "

@@ -29,11 +29,11 @@ int pb_cmd_export_pov(int argc, char **argv) {
       PB_POSE_OPTS(&pose),
       {"quality", 0, PB_OPT_CHOICE, &quality, "PRESET",
        "radiosity and photon settings: draft, medium (default), high, or direct (no radiosity, no photons)",
-       pb_pov_quality_names, 0, 0},
+       pb_pov_quality_names, 0, 0, "Output", 0},
       {"fade-distance", 0, PB_OPT_FLOAT, &fade, "M",
-       "POV-Ray fade_distance for point/spot lights (default 1e-3 x scene diagonal; error (f/d)^2)", NULL, 0, 1e6},
+       "POV-Ray fade_distance for point/spot lights (default 1e-3 x scene diagonal; error (f/d)^2)", NULL, 0, 1e6, "Output", PB_OPT_ADVANCED},
       {"strict", 0, PB_OPT_FLAG, &strict, NULL,
-       "fail (exit 6) when the scene uses a feature POV-Ray would show differently", NULL, 0, 0},
+       "fail (exit 6) when the scene uses a feature POV-Ray would show differently", NULL, 0, 0, "Output", 0},
   };
   const size_t n = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -42,7 +42,7 @@ int pb_cmd_export_pov(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, n, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, n,
+    pb_cli_print_help(stdout, help, cmd, opts, n,
                       "--width/--height fix the camera's aspect; run POV-Ray with the same +W/+H "
                       "(validation/run_povray.sh reads them from the file). Textures are written "
                       "next to OUT as OUTSTEM_mN.png. Notes about approximated features go to stdout.");

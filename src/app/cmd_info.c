@@ -64,30 +64,45 @@ static void print_text(const pb_scene *s) {
            c->aspect > 0 ? "" : "; the file gives no aspect ratio", c->znear, c->zfar,
            c->synthesized ? " (default framing, not in the file)" : "");
   }
-  printf("lights     %u  (units: %s for KHR_lights_punctual, Blender's own for PHOTONBRIDGE_blender; point/spot "
-         "in W/sr, directional in W/m^2, area in W/(m^2 sr))\n",
-         s->light_count, pb_light_units_names[s->light_units]);
+  /* Each light first in the units the artist typed (Blender's watts for a
+   * scene the add-on wrote, glTF's candela or lux otherwise), then the
+   * radiometric value photonbridge renders with. */
+  printf("lights     %u  (as typed in Blender or glTF, then as rendered: point/spot in W/sr, directional in W/m^2, "
+         "area in W/(m^2 sr))\n",
+         s->light_count);
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
     printf("  %-20s %-11s ", l->name, light_type_names[l->type]);
+    char typed[96];
+    if (l->from_blender && l->blender_exposure != 0) /* Blender 4.x: the value typed times 2^Exposure */
+      snprintf(typed, sizeof typed,
+               l->type == PB_LIGHT_DIRECTIONAL ? "strength %.4g W/m^2 at exposure %+g in Blender"
+                                               : "%.4g W at exposure %+g in Blender",
+               l->file_intensity / exp2(l->blender_exposure), l->blender_exposure);
+    else if (l->from_blender)
+      snprintf(typed, sizeof typed, l->type == PB_LIGHT_DIRECTIONAL ? "strength %.4g W/m^2 in Blender" : "%.4g W in Blender",
+               l->file_intensity);
+    else if (s->light_units == PB_LIGHT_UNITS_UNITLESS)
+      snprintf(typed, sizeof typed, "intensity %.4g in glTF (unitless)", l->file_intensity);
+    else
+      snprintf(typed, sizeof typed, "%.4g %s in glTF", l->file_intensity, l->type == PB_LIGHT_DIRECTIONAL ? "lx" : "cd");
     if (l->type == PB_LIGHT_DIRECTIONAL) {
-      printf("E = %.4g W/m^2 (file: %.4g %s) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)", l->intensity,
-             l->file_intensity, l->from_blender ? "W/m^2" : "lx", l->color[0], l->color[1], l->color[2],
-             l->direction[0], l->direction[1], l->direction[2]);
+      printf("%s (E = %.4g W/m^2) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)", typed, l->intensity,
+             l->color[0], l->color[1], l->color[2], l->direction[0], l->direction[1], l->direction[2]);
       if (l->angle > 0) printf(", angle %.3g deg (soft)", l->angle * 180.0 / M_PI);
     } else if (l->type == PB_LIGHT_AREA) {
-      printf("L = %.4g W/(m^2 sr) (file: %.4g W) x colour (%.3g %.3g %.3g), %s %.4g x %.4g m at (%.4g %.4g %.4g), "
+      printf("%s (L = %.4g W/(m^2 sr)) x colour (%.3g %.3g %.3g), %s %.4g x %.4g m at (%.4g %.4g %.4g), "
              "facing (%.3f %.3f %.3f), spread %.3g deg",
-             l->intensity, l->file_intensity, l->color[0], l->color[1], l->color[2],
+             typed, l->intensity, l->color[0], l->color[1], l->color[2],
              l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle", l->size[0], l->size[1], l->position[0],
              l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
              (l->spread > 0 ? l->spread : M_PI) * 180.0 / M_PI);
     } else {
       float power[3];
       pb_light_power(l, 0, power);
-      printf("I = %.4g W/sr (file: %.4g %s) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), power %.4g W", l->intensity,
-             l->file_intensity, l->from_blender ? "W" : "cd", l->color[0], l->color[1], l->color[2], l->position[0],
-             l->position[1], l->position[2], (power[0] + power[1] + power[2]) / 3);
+      printf("%s (I = %.4g W/sr) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), emits %.4g W%s", typed,
+             l->intensity, l->color[0], l->color[1], l->color[2], l->position[0], l->position[1], l->position[2],
+             (power[0] + power[1] + power[2]) / 3, l->type == PB_LIGHT_SPOT ? " into its cone" : "");
       if (l->type == PB_LIGHT_SPOT)
         printf(", cone %.2f..%.2f deg%s", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI,
                l->spot_model == PB_SPOT_CYCLES    ? " (Cycles 3.4 falloff)"
@@ -174,7 +189,7 @@ static void print_text(const pb_scene *s) {
          pl.photons ? "on" : "off (no light, no emissive triangle, no world)",
          pl.caustic_photons ? "on" : "off", pl.refraction ? "on" : "off", pl.eye_chains ? "on" : "off",
          pl.emitter_sampling ? "on" : "off", pl.textures ? "on" : "off",
-         pl.normal_maps ? (pl.photons ? "on (+ eq. 20 indirect correction)" : "on") : "off", pl.unlit ? "on" : "off",
+         pl.normal_maps ? (pl.photons ? "on (+ its correction of the indirect light)" : "on") : "off", pl.unlit ? "on" : "off",
          pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
          pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off",
          pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
@@ -193,7 +208,7 @@ static void print_text(const pb_scene *s) {
   for (uint32_t k = 0; pb_tracer_names[k]; ++k)
     printf("%s %s%s", k ? "," : "", pb_tracer_names[k],
            k == PB_TRACER_BVH ? " (default: exact hits in the scene BVH)"
-                              : " (seed 003: --image-maps 1..15 cube environment maps, no hierarchy, approximate: "
+                              : " (--image-maps 1..15 cube environment maps, no hierarchy, approximate: "
                                 "misses counted)");
   char view[768];
   default_view(s, view, sizeof view);
@@ -406,7 +421,7 @@ int pb_cmd_info(int argc, char **argv) {
   int devices = 0;
   const pb_opt opts[] = {PB_SCENE_OPTS(&c),
                          {"devices", 0, PB_OPT_FLAG, &devices, NULL,
-                          "list the Vulkan devices (the order --device N counts) instead of a scene", NULL, 0, 0}};
+                          "list the Vulkan devices (the order --device N counts) instead of a scene", NULL, 0, 0, "Device", 0}};
   const size_t n = sizeof opts / sizeof *opts;
   const char *pos[1];
   size_t npos;
@@ -414,7 +429,7 @@ int pb_cmd_info(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, n, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, n,
+    pb_cli_print_help(stdout, help, cmd, opts, n,
                       "Warnings go to stdout as part of the summary. Exit status 0 when the scene loads.");
     return 0;
   }

@@ -112,36 +112,36 @@ int pb_cmd_reference(int argc, char **argv) {
       PB_POSE_OPTS(&pose),
       {"spp", 0, PB_OPT_U32, &o.spp, "N",
        "samples per pixel (default 64; with only --time-limit: until the time is up)",
-       NULL, 1, 1 << 24},
+       NULL, 1, 1 << 24, "Sampling", 0},
       {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
        "stop after the first whole pass (1 spp each) ending past S seconds; "
-       "the spp reached is reported", NULL, 0, 1e9},
+       "the spp reached is reported", NULL, 0, 1e9, "Sampling", 0},
       {"max-bounces", 0, PB_OPT_U32, &o.max_bounces, "N",
        "scattering events per path, direct light = 1 (default: unbounded, paths end by Russian "
        "roulette, with a safety cap of 1024; Blender's Max Bounces B is B + 1; 0: emitters only)",
-       NULL, 0, 4096},
+       NULL, 0, 4096, "Sampling", 0},
       {"threads", 0, PB_OPT_U32, &o.threads, "N",
        "worker threads (default: every core; the image does not depend on it)", NULL,
-       1, 1024},
+       1, 1024, "Device", 0},
       {"mode", 0, PB_OPT_CHOICE, &o.mode, "MODE",
        "pt: path tracing; sppm: plus progressive caustic photon mapping for delta "
        "light -> specular -> diffuse paths; auto: sppm when the scene has both "
        "specular surfaces and point/spot/directional lights",
-       mode_names, 0, 0},
-      {"caustics", 0, PB_OPT_FLAG, &o.caustics, NULL, "same as --mode sppm", NULL, 0, 0},
+       mode_names, 0, 0, "Sampling", 0},
+      {"caustics", 0, PB_OPT_FLAG, &o.caustics, NULL, "same as --mode sppm", NULL, 0, 0, "Sampling", 0},
       {"photons", 0, PB_OPT_U32, &o.photons, "N",
        "SPPM photon paths per pass (default width x height, at least 16384)", NULL, 1,
-       1 << 26},
+       1 << 26, "Photons", PB_OPT_ADVANCED},
       {"photon-radius", 0, PB_OPT_FLOAT, &o.photon_radius, "R",
        "SPPM first gather radius, scene units (default: 2 pixel footprints at the "
-       "scene's centre)", NULL, 0, 1e30},
+       "scene's centre)", NULL, 0, 1e30, "Photons", PB_OPT_ADVANCED},
       {"photon-alpha", 0, PB_OPT_FLOAT, &o.photon_alpha, "A",
-       "SPPM radius reduction r^2 *= (i + A) / (i + 1) (default 2/3)", NULL, 0.01, 0.99},
+       "SPPM radius reduction r^2 *= (i + A) / (i + 1) (default 2/3)", NULL, 0.01, 0.99, "Photons", PB_OPT_ADVANCED},
       {"estimate-noise", 0, PB_OPT_FLAG, &o.estimate_noise, NULL,
        "render even and odd samples as two independent halves and report the "
-       "image's own noise (RMSE, relMSE, PSNR); rounds spp up to even", NULL, 0, 0},
+       "image's own noise (RMSE, relMSE, PSNR); rounds spp up to even", NULL, 0, 0, "Reporting", 0},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE",
-       "also write a PNG preview through the OCIO view", NULL, 0, 0},
+       "also write a PNG preview through the OCIO view", NULL, 0, 0, "Output", 0},
       PB_COLOR_OPTS(&co),
   };
   const size_t nopts = sizeof opts / sizeof *opts;
@@ -152,7 +152,7 @@ int pb_cmd_reference(int argc, char **argv) {
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
     pb_cli_print_help(
-        stdout, cmd, opts, nopts,
+        stdout, help, cmd, opts, nopts,
         "Deterministic for a fixed --seed, whatever the thread count. EXR layers: RGBA\n"
         "beauty (A = coverage), direct (at most one scattering event), indirect,\n"
         "albedo, normal (world, facing the camera), depth (camera-space z, depth.Z).\n"

@@ -286,162 +286,162 @@ int pb_cmd_render(int argc, char **argv) {
                              "through the OCIO view, as --png)"),
       PB_COLOR_OPTS(&co),
       {"spp", 0, PB_OPT_U32, &o.spp, "N", "samples per pixel (default 1: pixel centres; more: stratified jitter)",
-       NULL, 1, 1 << 20},
+       NULL, 1, 1 << 20, "Sampling", 0},
       {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
        "mirror/glass interactions followed along an eye path (default: Russian roulette from the 9th, cap 64)",
-       NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH},
+       NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH, "Sampling", PB_OPT_ADVANCED},
       {"glossy-path-roughness", 0, PB_OPT_FLOAT, &o.glossy_path_roughness, "R",
        "Blender materials: specular and clearcoat layers of Roughness above R are shaded where the eye path stops "
        "(direct light and the photon map), smoother ones are followed by the eye path; 0: every layer shaded at "
-       "the first hit, 1: every one followed (default " PB_RENDER_GLOSSY_PATH_ROUGHNESS_STR ")", NULL, 0, 1},
+       "the first hit, 1: every one followed (default " PB_RENDER_GLOSSY_PATH_ROUGHNESS_STR ")", NULL, 0, 1, "Sampling", PB_OPT_ADVANCED},
       {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
-       "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0},
-      {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26},
+       "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0, "Sampling", 0},
+      {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26, "Photons", 0},
       {"iterations", 0, PB_OPT_U32, &o.iterations, "K",
        "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K; default 1)", NULL, 1,
-       1 << 16},
+       1 << 16, "Photons", 0},
       {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
        "bounces stored per photon path (default: unbounded, paths end by Russian roulette, cap 255)", NULL, 1,
-       255},
+       255, "Photons", 0},
       {"max-bounces", 0, PB_OPT_U32, &o.max_bounces, "N",
        "scattering events per path, direct light = 1, as the reference's --max-bounces (Blender's Max Bounces "
        "B is B + 1): photon paths store N - 1 bounces, eye paths follow N - 1 mirror/glass interactions, 1 is "
-       "--direct-only (default: unbounded)", NULL, 1, 1024},
+       "--direct-only (default: unbounded)", NULL, 1, 1024, "Sampling", 0},
       {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s, dimensionless (default " PB_PHOTON_SMOOTHING_DEFAULT_STR ")",
-       NULL, 0, 0},
+       NULL, 0, 0, "Photons", 0},
       {"smoothing-caustic", 0, PB_OPT_FLOAT, &o.smoothing_caustic, "S",
-       "caustic photons keep their differential footprint, uncompressed, times S (seed 000 4.3; default "
-       PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0},
+       "caustic photons keep their differential footprint, uncompressed, times S (default "
+       PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 30 photon spacings on the scene's bounding sphere, 30 Delta R: it shrinks as the photons grow)",
-       NULL, 0, 0},
+       NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
        "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
-       "--iterations (or a --time-limit) converge to the unbiased answer", NULL, 0, 0},
+       "--iterations (or a --time-limit) converge to the unbiased answer", NULL, 0, 0, "Photons", 0},
       {"alpha", 0, PB_OPT_FLOAT, &o.alpha, "A", "--progressive: radius^2 fraction kept per iteration, in (0, 1) "
-       "(default 2/3)", NULL, 0, 0},
+       "(default 2/3)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"leaf-size", 0, PB_OPT_U32, &o.leaf_size, "N",
-       "benchmark: fixed LBVH leaf-size threshold instead of the automatic T_auto (seed 000 Table 1)", NULL, 1,
-       PB_LBVH_MAX_FIXED_LEAF},
+       "benchmark: fixed LBVH leaf-size threshold instead of the automatic one", NULL, 1,
+       PB_LBVH_MAX_FIXED_LEAF, "Photons", PB_OPT_ADVANCED},
       {"radius-histogram", 0, PB_OPT_FLAG, &o.radius_histogram, NULL,
        "benchmark: bin every map's footprint radii into --json photons.radius_histogram (reads each map back; "
-       "slows the render)", NULL, 0, 0},
+       "slows the render)", NULL, 0, 0, "Reporting", PB_OPT_ADVANCED},
       {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
        "how photons find their first hit: traced from the light, rsm: sampled from reflective shadow maps by "
-       "reflected power (seed 001 24.2.1), or auto: rsm for the lights whose map covers under half of their flux "
-       "(open scenes, where most traced photons miss), traced for the others (default traced: unbiased; the shadow maps miss geometry thinner than a texel)", first_bounce_names, 0, 0},
+       "reflected power, or auto: rsm for the lights whose map covers under half of their flux "
+       "(open scenes, where most traced photons miss), traced for the others (default traced: unbiased; the shadow maps miss geometry thinner than a texel)", first_bounce_names, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"caustic-share", 0, PB_OPT_FLOAT, &o.caustic_share, "F",
        "--first-bounce rsm/auto: the share of each shadow map's photons aimed at the texels that see a mirror or "
        "glass (caustic paths) at least, their weights raised to it (unbiased: each photon carries its texel's flux "
        "over its own probability); 0: by reflected power alone (default " PB_PHOTON_CAUSTIC_SHARE_DEFAULT_STR ")",
-       NULL, 0, 0},
+       NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"estimator", 0, PB_OPT_CHOICE, &o.estimator, "NAME",
-       "photon density estimator: lbvh (seed 000: footprints in a per-map LBVH, gathered by traversal), knn (seed "
-       "000 3.1: the k nearest photons), splat (seed 001: screen-space splats), vsch (seed 004: a cluster "
+       "photon density estimator: lbvh (footprints in a per-map LBVH, gathered by traversal), knn (the k nearest "
+       "photons), splat (screen-space splats), vsch (a cluster "
        "hierarchy over the view samples) or auto (see 'photonbridge info'; default lbvh)",
-       pb_estimator_names, 0, 0},
+       pb_estimator_names, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"vsch-radius", 0, PB_OPT_FLOAT, &o.vsch_radius, "M",
-       "--estimator vsch: one photon radius in metres for every photon (seed 004's fixed radius; default 0: each "
-       "photon's own footprint radius)", NULL, 0, 0},
+       "--estimator vsch: one photon radius in metres for every photon (default 0: each "
+       "photon's own footprint radius)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"vsch-directional", 0, PB_OPT_FLAG, &o.vsch_directional, NULL,
-       "--estimator vsch: the directional variant (seed 004 4.7: flux per node in 8 octant buckets, weighted by "
-       "2 cos at shading, blurred; approximate, faster)", NULL, 0, 0},
+       "--estimator vsch: the directional variant (flux per node in 8 octant buckets, weighted by "
+       "2 cos at shading, blurred; approximate, faster)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"knn-k", 0, PB_OPT_U32, &o.knn_k, "K",
-       "--estimator knn: photons per density estimate, the bandwidth the distance of the K-th nearest (seed 000 "
-       "3.1; default 64, the LBVH gather's k_PD at the default smoothing)", NULL, 1, PB_KNN_K_MAX},
+       "--estimator knn: photons per density estimate, the bandwidth the distance of the K-th nearest "
+       "(default 64, about as many as the default gather averages: k_PD, docs/reading-the-numbers.md)", NULL, 1, PB_KNN_K_MAX, "Photons", PB_OPT_ADVANCED},
       {"splat-ntile", 0, PB_OPT_FLOAT, &o.splat_ntile, "N",
-       "--estimator splat: photons expected per point, n_tile of seed 001 eq. 6 (the kernel's density scale s_d; "
-       "default 128)", NULL, 0, 0},
+       "--estimator splat: photons expected per point, the splat kernel's density scale "
+       "(default 128)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"splat-lmax", 0, PB_OPT_FLOAT, &o.splat_lmax, "F",
-       "--estimator splat: l_max of eq. 2 (the ray-length scale s_l = min(l / l_max, 1)) as F times the scene's "
-       "bounding radius (default 1)", NULL, 0, 0},
+       "--estimator splat: the photon path length at which splats reach full size, as F "
+       "times the scene's bounding radius (default 1)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"splat-smax", 0, PB_OPT_FLOAT, &o.splat_smax, "S",
-       "--estimator splat: s_max of eq. 7, the largest stretch s_u along the incident direction, >= 1 (default 4)",
-       NULL, 0, 0},
+       "--estimator splat: the largest stretch of a splat along the incident direction, >= 1 (default 4)",
+       NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"splat-tile", 0, PB_OPT_U32, &o.splat_tile, "N",
-       "--estimator splat: screen tile edge in pixels for the photon density n_p (eq. 3-5; default 16)", NULL, 1,
-       4096},
+       "--estimator splat: screen tile edge in pixels for the photon density (default 16)", NULL, 1,
+       4096, "Photons", PB_OPT_ADVANCED},
       {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
-       "photon tracer: bvh (exact hits in the scene BVH) or images (seed 003: k cube environment maps of the "
+       "photon tracer: bvh (exact hits in the scene BVH) or images (k cube environment maps of the "
        "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
-       pb_tracer_names, 0, 0},
+       pb_tracer_names, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"image-maps", 0, PB_OPT_U32, &o.image_maps, "K",
        "--tracer images: environment maps, their centres chosen by coverage from 40 candidates (default 8)",
-       NULL, 1, PB_IMAGE_MAPS_MAX},
+       NULL, 1, PB_IMAGE_MAPS_MAX, "Photons", PB_OPT_ADVANCED},
       {"image-map-resolution", 0, PB_OPT_U32, &o.image_map_resolution, "N",
-       "--tracer images: texels per cube-face side (default 128)", NULL, 8, 1024},
+       "--tracer images: texels per cube-face side (default 128)", NULL, 8, 1024, "Photons", PB_OPT_ADVANCED},
       {"bandwidth-c0", 0, PB_OPT_FLOAT, &o.bandwidth_c0, "C0",
-       "seed 003's variable bandwidth instead of the differential footprints: every photon a disc of radius "
+       "a variable bandwidth instead of the differential footprints: every photon a disc of radius "
        "h = C0 / sqrt(p) sqrt(A / N), p = cos(theta) R^2 / d^2 clamped to [1/4, 4], A the scene's area, N the "
-       "paths (default: off)", NULL, 0, 1e6},
+       "paths (default: off)", NULL, 0, 1e6, "Photons", PB_OPT_ADVANCED},
       {"upsample-levels", 0, PB_OPT_U32, &o.upsample_levels, "L",
-       "seed 003's multi-level up-sampling: the photon estimate's diffuse irradiance at every 2^L-th pixel, "
+       "multi-level up-sampling: the photon estimate's diffuse irradiance at every 2^L-th pixel, "
        "up-sampled level by level by a normal- and depth-aware interpolation, recomputed where the surface "
        "changes (corners, edges); glossy lobes and caustics at full resolution; --estimator lbvh only, off with "
-       "normal maps (default 0: off)", NULL, 0, 4},
+       "normal maps (default 0: off)", NULL, 0, 4, "Photons", PB_OPT_ADVANCED},
       {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
-       "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping (seed 001 24.4.2; "
-       "default 0: off for one frame, 4 for --frames)", NULL, 0, 12},
+       "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping "
+       "(default 0: off for one frame, 4 for --frames)", NULL, 0, 12, "Filtering", 0},
       {"atrous-clip", 0, PB_OPT_FLOAT, &o.atrous_gamma, "G",
-       "A-Trous detail kept within G local standard deviations (variance clipping, eq. 18; default 0.25; 0: "
-       "none, the plain A-Trous blur)", NULL, 0, 100},
+       "A-Trous detail kept within G local standard deviations (variance clipping; default 0.25; 0: "
+       "none, the plain A-Trous blur)", NULL, 0, 100, "Filtering", PB_OPT_ADVANCED},
       {"frames", 0, PB_OPT_STRING, &o.frames, "A:B",
        "render frames A to B (inclusive) of the scene's animation at time frame/fps; -o and --png then need a "
-       "run of '#' for the frame number (out/frame_####.exr)", NULL, 0, 0},
-      {"fps", 0, PB_OPT_FLOAT, &o.fps, "F", "--frames: frames per second (default 24)", NULL, 0, 0},
+       "run of '#' for the frame number (out/frame_####.exr)", NULL, 0, 0, "Animation", 0},
+      {"fps", 0, PB_OPT_FLOAT, &o.fps, "F", "--frames: frames per second (default 24)", NULL, 0, 0, "Animation", 0},
       {"warmup", 0, PB_OPT_U32, &o.warmup, "N",
        "--frames: first render the N frames before A (not written) to build the temporal history, so that a "
-       "chunk of a shot continues as one run of the shot would (default 0)", NULL, 0, 10000},
+       "chunk of a shot continues as one run of the shot would (default 0)", NULL, 0, 10000, "Animation", 0},
       {"orbit", 0, PB_OPT_FLAG, &o.orbit, NULL,
        "--frames: move the camera on a circle around the scene's centre, one turn over the frames (or "
-       "--orbit-seconds), looking at the centre", NULL, 0, 0},
-      {"orbit-seconds", 0, PB_OPT_FLOAT, &o.orbit_seconds, "S", "--orbit: seconds per turn", NULL, 0, 0},
+       "--orbit-seconds), looking at the centre", NULL, 0, 0, "Animation", 0},
+      {"orbit-seconds", 0, PB_OPT_FLOAT, &o.orbit_seconds, "S", "--orbit: seconds per turn", NULL, 0, 0, "Animation", 0},
       {"no-temporal", 0, PB_OPT_FLAG, &o.no_temporal, NULL,
-       "--frames: no temporal filter (reprojected history, seed 001 24.4.1; on by default)", NULL, 0, 0},
+       "--frames: no temporal filter (reprojected history; on by default)", NULL, 0, 0, "Filtering", 0},
       {"bvh-update", 0, PB_OPT_CHOICE, &o.bvh_update, "MODE",
        "--frames: how moving geometry updates the scene BVH: auto, refit or rebuild (default auto)",
-       bvh_update_names, 0, 0},
+       bvh_update_names, 0, 0, "Animation", PB_OPT_ADVANCED},
       {"frames-in-flight", 0, PB_OPT_U32, &o.frames_in_flight, "N",
        "--frames: 2 (default): the GPU finishes a frame while the previous one is written and the next posed; "
-       "1: one frame at a time (the same pixels either way; --reference-spp renders one at a time)", NULL, 1, 2},
+       "1: one frame at a time (the same pixels either way; --reference-spp renders one at a time)", NULL, 1, 2, "Animation", PB_OPT_ADVANCED},
       {"reference-spp", 0, PB_OPT_U32, &o.reference_spp, "N",
        "--frames: render each frame with the reference renderer too (N samples per pixel, cached) and report "
-       "per-frame error and flicker in --json", NULL, 1, 1 << 20},
+       "per-frame error and flicker in --json", NULL, 1, 1 << 20, "Animation", PB_OPT_ADVANCED},
       {"reference-cache", 0, PB_OPT_STRING, &o.reference_cache, "DIR",
-       "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0},
+       "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0, "Animation", PB_OPT_ADVANCED},
       {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
-       "gather with a constant kernel instead of Epanechnikov", NULL, 0, 0},
+       "ablation: gather with a constant kernel instead of Epanechnikov", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"no-edge-correction", 0, PB_OPT_FLAG, &o.no_edge_correction, NULL,
-       "no kernel renormalisation at the edges of faces (corners; ablation)", NULL, 0, 0},
+       "ablation: no kernel renormalisation at the edges of faces (corners)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"no-shading-correction", 0, PB_OPT_FLAG, &o.no_shading_correction, NULL,
-       "scenes with normal maps: leave the indirect light without seed 001's eq. 20 correction (24.4.3)", NULL, 0, 0},
-      {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0},
+       "ablation: in scenes with normal maps, no shading correction of the indirect light for the bumped normal", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
+      {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0, "Output", 0},
       {"device", 0, PB_OPT_U32, &o.device, "N", "Vulkan device (see 'photonbridge info --devices'; default: "
-       "a discrete GPU first, lavapipe last)", NULL, 0, 0},
+       "a discrete GPU first, lavapipe last)", NULL, 0, 0, "Device", 0},
       {"validation", 0, PB_OPT_FLAG, &o.validation, NULL,
-       "enable Vulkan validation layers; any message is an error (also PB_VK_VALIDATION=1)", NULL, 0, 0},
+       "enable Vulkan validation layers; any message is an error (also PB_VK_VALIDATION=1)", NULL, 0, 0, "Device", PB_OPT_ADVANCED},
       {"gpu-memory-limit", 0, PB_OPT_FLOAT, &gpu_memory_mb, "MB", "cap on GPU buffer memory in MiB; a render that "
-       "needs more fails with exit 11 (also PB_GPU_MEMORY_LIMIT)", NULL, 0, 1e9},
+       "needs more fails with exit 11 (also PB_GPU_MEMORY_LIMIT)", NULL, 0, 1e9, "Device", PB_OPT_ADVANCED},
       {"crop", 0, PB_OPT_STRING, &o.crop, "X,Y,W,H",
        "render only the W x H pixels at column X, row Y (top row 0) of the --width x --height frame, with the "
        "frame's camera window and random numbers: the crop equals that part of the full render (Blender's border)",
-       NULL, 0, 0},
+       NULL, 0, 0, "Output", 0},
       {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
        "start no photon iteration after S seconds; the image averages the iterations done (of --iterations; "
-       "without --iterations: as many photon maps as S seconds allow, at most 65536)", NULL, 0, 1e9},
+       "without --iterations: as many photon maps as S seconds allow, at most 65536)", NULL, 0, 1e9, "Sampling", 0},
       {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
        "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
-       "other passes 0)", NULL, 0, 0},
+       "other passes 0)", NULL, 0, 0, "Output", 0},
       {"preview-interval", 0, PB_OPT_FLOAT, &o.preview_interval, "S",
-       "--preview: at most one preview per S seconds (default 0: every iteration)", NULL, 0, 1e6},
+       "--preview: at most one preview per S seconds (default 0: every iteration)", NULL, 0, 1e6, "Output", 0},
       {"progress-lines", 0, PB_OPT_FLAG, &o.progress_lines, NULL,
        "machine-readable progress on stderr: one 'photonbridge progress: {JSON}' line per stage, iteration, frame "
-       "and at the end (for the Blender add-on)", NULL, 0, 0},
+       "and at the end (for the Blender add-on)", NULL, 0, 0, "Blender add-on", PB_OPT_ADVANCED},
       {"blender-layer", 0, PB_OPT_STRING, &o.blender_layer, "NAME",
        "name the EXR's channels as Blender's multilayer EXR: NAME.Combined.R..A, NAME.Depth.Z, NAME.Normal.X..Z, "
-       "NAME.Emit, NAME.Direct, NAME.Indirect, NAME.Caustic, NAME.Albedo (.R..B)", NULL, 0, 0},
+       "NAME.Emit, NAME.Direct, NAME.Indirect, NAME.Caustic, NAME.Albedo (.R..B)", NULL, 0, 0, "Blender add-on", PB_OPT_ADVANCED},
       {"blender-passes", 0, PB_OPT_STRING, &o.blender_passes, "LIST",
        "--blender-layer: write only these passes (comma-separated; default all): the passes of Blender's render "
-       "result, so that it finds every channel it reads and nothing else", NULL, 0, 0},
+       "result, so that it finds every channel it reads and nothing else", NULL, 0, 0, "Blender add-on", PB_OPT_ADVANCED},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -450,7 +450,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, nopts,
+    pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1),\n"
                       "emission, indirect, caustic; geo_normal, photon_dir in scenes with normal maps\n"
                       "(--blender-layer: Blender's names instead).\n"

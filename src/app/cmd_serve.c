@@ -27,21 +27,21 @@ int pb_cmd_serve(int argc, char **argv) {
   int format = 0;
   const pb_opt opts[] = {
       {"width", 0, PB_OPT_U32, &c.width, "W", "image width until a resolution request (default 640, or from "
-       "--height and the camera's aspect)", NULL, 1, 16384},
+       "--height and the camera's aspect)", NULL, 1, 16384, "Output", 0},
       {"height", 0, PB_OPT_U32, &c.height, "H", "image height (default from the camera's aspect ratio)", NULL, 1,
-       16384},
+       16384, "Output", 0},
       {"camera", 0, PB_OPT_STRING, &c.camera, "NAME|N", "the scene camera until a camera request (default: 0)", NULL,
-       0, 0},
+       0, 0, "Output", 0},
       {"seed", 0, PB_OPT_U64, &c.seed, "N", "random seed (default 0; frame i after a (re)start uses it mixed with "
-       "i, as render --frames)", NULL, 0, 0},
+       "i, as render --frames)", NULL, 0, 0, "Sampling", 0},
       PB_SCENE_OPTS(&c),
       PB_LIVE_OPTS(&lo),
       {"socket", 0, PB_OPT_STRING, &socket_path, "PATH", "requests and replies on a UNIX socket at PATH (one "
-       "client; the session ends when it disconnects) instead of stdin/stdout", NULL, 0, 0},
+       "client; the session ends when it disconnects) instead of stdin/stdout", NULL, 0, 0, "Session", 0},
       {"frame-dir", 0, PB_OPT_STRING, &frame_dir, "DIR", "where the session's private folder (0700; "
-       "frames 0600) is made (default /dev/shm, else $TMPDIR or /tmp)", NULL, 0, 0},
+       "frames 0600) is made (default /dev/shm, else $TMPDIR or /tmp)", NULL, 0, 0, "Session", 0},
       {"format", 0, PB_OPT_CHOICE, &format, "FMT", "frame files: rgba32f (default: a 32-byte header and float RGBA, "
-       "top row first) or exr (every AOV, as render writes them)", format_names, 0, 0},
+       "top row first) or exr (every AOV, as render writes them)", format_names, 0, 0, "Session", 0},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -50,7 +50,7 @@ int pb_cmd_serve(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, nopts,
+    pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "One JSON object a line each way (docs/serve.md; src/serve/protocol.h):\n"
                       "  {\"cmd\":\"camera\",\"view\":[16],\"projection\":[16],\"axes\":\"blender\"}  "
                       "{\"cmd\":\"resolution\",\"width\":W,\"height\":H}\n"

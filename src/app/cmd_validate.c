@@ -1,11 +1,13 @@
-/* photonbridge validate SCENE --out DIR [options]: the cross-renderer report
- * (validation/validate.py). A thin wrapper: it runs validation/validate.py with
- * python3, passing this executable as --exe and every other argument as is.
+/* photonbridge validate SCENE -o DIR [options]: the cross-renderer report
+ * (validation/validate.py). A thin wrapper: the options are checked here
+ * against the table below (the script's own options, kept in step with its
+ * argparse), --help is this program's, and the script runs with python3,
+ * given this executable as --exe and every argument as is but -o/--output,
+ * passed as the script's --out (--out itself still works).
  * The script is found through $PB_VALIDATION_DIR, else next to the
  * executable's folder (BUILD/../validation, the source tree's layout), else
  * in the source tree the binary was built from (PB_SOURCE_DIR), else
- * ./validation. --help works wherever the binary runs: without the script it
- * prints the wrapper's usage and where it looked. Exit status: the script's
+ * ./validation. --help works wherever the binary runs. Exit status: the script's
  * (0 ok, 1 too few renders, 2 usage);
  * 3 when the script or python3 cannot be run. */
 #define _POSIX_C_SOURCE 200809L
@@ -18,6 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "app/cli.h"
 #include "app/commands.h"
 #include "core/version.h"
 
@@ -58,45 +61,138 @@ static int find_script(char *out, size_t n, char *exe, size_t exe_n) {
   return exists(out);
 }
 
-static const char usage[] =
-    "usage: photonbridge validate SCENE --out DIR [options]\n\n"
-    "Renders SCENE with the reference, the GPU renderer, POV-Ray and (when Blender is\n"
-    "installed) Cycles at the same resolution, shows every picture through the same\n"
-    "OCIO view, compares every pair with the shared metrics and writes DIR/index.html\n"
-    "and DIR/report.json.";
+static const char *const pov_quality_names[] = {"draft", "medium", "high", "direct", NULL};
+static const char *const cycles_source_names[] = {"auto", "sample", "gltf", NULL};
+static const char *const cycles_materials_names[] = {"model", "principled", NULL};
+
+static const pb_command *self(void) {
+  for (size_t i = 0; i < pb_command_count; ++i)
+    if (pb_commands[i].run == pb_cmd_validate) return &pb_commands[i];
+  return &pb_commands[0];
+}
 
 int pb_cmd_validate(int argc, char **argv) {
+  const pb_command *cmd = self();
   char script[PATH_MAX + 32], exe[PATH_MAX];
-  int help = 0;
-  for (int i = 1; i < argc; ++i)
-    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) help = 1;
-  int found = find_script(script, sizeof script, exe, sizeof exe);
-  if (help && !found) {
-    printf("%s\n\nIts options are those of validation/validate.py, which was not found (looked in\n"
-           "$PB_VALIDATION_DIR, ../validation next to this executable, %s/validation and\n"
-           "./validation): set PB_VALIDATION_DIR to the source tree's validation folder.\n",
-           usage, PB_SOURCE_DIR);
+  /* Parsed here for --help and for errors in the words of every other
+   * subcommand; the values themselves are the script's to read. */
+  const char *out = NULL, *old_out = NULL, *s_exe = NULL, *str = NULL;
+  uint32_t u32 = 0;
+  double dbl = 0;
+  int flag = 0, choice = 0;
+  const pb_opt opts[] = {
+      {"output", 'o', PB_OPT_STRING, &out, "DIR", "report folder: DIR/index.html, DIR/report.json, every image "
+       "and log (created if missing)", NULL, 0, 0, "Output", 0},
+      {"out", 0, PB_OPT_STRING, &old_out, "DIR", "the same as --output (its former name)", NULL, 0, 0, "Output",
+       PB_OPT_ADVANCED},
+      {"render-only", 0, PB_OPT_FLAG, &flag, NULL, "run the renderers and write each one's record as "
+       "DIR/render_NAME.json, no comparison or report (one task per scene and renderer on a farm; then "
+       "--report-from)", NULL, 0, 0, "Output", 0},
+      {"report-from", 0, PB_OPT_STRING, &str, "DIR[,DIR...]", "render nothing: gather what --render-only runs "
+       "wrote into these folders (copied into -o DIR), then compare and write the report", NULL, 0, 0, "Output", 0},
+      {"width", 0, PB_OPT_U32, &u32, "W", "image width of every render (default 384; the height from the "
+       "camera's aspect)", NULL, 1, 16384, "Sampling", 0},
+      {"spp", 0, PB_OPT_U32, &u32, "N", "photonbridge render samples per pixel (default 16)", NULL, 1, 1 << 20,
+       "Sampling", 0},
+      {"ref-spp", 0, PB_OPT_U32, &u32, "N", "reference samples per pixel (default 64)", NULL, 1, 1 << 24,
+       "Sampling", 0},
+      {"cycles-spp", 0, PB_OPT_U32, &u32, "N", "Cycles samples per pixel, as two independent halves for its own "
+       "noise (default 64)", NULL, 1, 1 << 24, "Sampling", 0},
+      {"pov-quality", 0, PB_OPT_CHOICE, &choice, "PRESET", "POV-Ray's radiosity and photon settings, as "
+       "export-pov --quality (default medium)", pov_quality_names, 0, 0, "Sampling", 0},
+      {"direct-only", 0, PB_OPT_FLAG, &flag, NULL, "direct light only, in every renderer", NULL, 0, 0, "Sampling", 0},
+      {"frames", 0, PB_OPT_STRING, &str, "A:B", "a sequence (render --frames, with a reference per frame) "
+       "instead of one picture", NULL, 0, 0, "Animation", 0},
+      {"seq-ref-spp", 0, PB_OPT_U32, &u32, "N", "--frames: reference samples per pixel of each frame (default "
+       "64)", NULL, 1, 1 << 24, "Animation", 0},
+      {"renderers", 0, PB_OPT_STRING, &str, "LIST", "comma-separated renderers to run (default all: reference, "
+       "photonbridge, povray, cycles); the others are listed as skipped", NULL, 0, 0, "Renderers", 0},
+      {"no-gpu", 0, PB_OPT_FLAG, &flag, NULL, "skip photonbridge render", NULL, 0, 0, "Renderers", 0},
+      {"no-povray", 0, PB_OPT_FLAG, &flag, NULL, "skip POV-Ray", NULL, 0, 0, "Renderers", 0},
+      {"no-cycles", 0, PB_OPT_FLAG, &flag, NULL, "skip Cycles", NULL, 0, 0, "Renderers", 0},
+      {"cycles-source", 0, PB_OPT_CHOICE, &choice, "FROM", "where the Cycles scene comes from: sample (the "
+       "sample's own Blender build), gltf (Blender's importer reads SCENE) or auto: sample for the samples, gltf "
+       "for any other file (default auto)", cycles_source_names, 0, 0, "Renderers", PB_OPT_ADVANCED},
+      {"cycles-materials", 0, PB_OPT_CHOICE, &choice, "KIND", "model: glTF's material model in Cycles nodes; "
+       "principled: Blender's Principled BSDFs as Blender sets them up (default model)", cycles_materials_names,
+       0, 0, "Renderers", PB_OPT_ADVANCED},
+      {"render-args", 0, PB_OPT_STRING, &str, "ARGS", "more options for photonbridge render (one string)", NULL,
+       0, 0, "Renderers", PB_OPT_ADVANCED},
+      {"ref-args", 0, PB_OPT_STRING, &str, "ARGS", "more options for photonbridge reference (one string)", NULL,
+       0, 0, "Renderers", PB_OPT_ADVANCED},
+      {"exe", 0, PB_OPT_STRING, &s_exe, "FILE", "the photonbridge binary to test (default: this one)", NULL, 0, 0,
+       "Renderers", PB_OPT_ADVANCED},
+      {"ocio-config", 0, PB_OPT_STRING, &str, "FILE", "OpenColorIO config for every picture (as render's)", NULL,
+       0, 0, "Colour", 0},
+      {"display", 0, PB_OPT_STRING, &str, "NAME", "OCIO display of every picture", NULL, 0, 0, "Colour", 0},
+      {"view", 0, PB_OPT_STRING, &str, "NAME", "OCIO view of every picture", NULL, 0, 0, "Colour", 0},
+      {"look", 0, PB_OPT_STRING, &str, "NAME", "OCIO look applied with the view", NULL, 0, 0, "Colour", 0},
+      {"exposure", 0, PB_OPT_FLOAT, &dbl, "STOPS", "scale by 2^STOPS before the view (default 0)", NULL, -64, 64,
+       "Colour", 0},
+      {"threads", 0, PB_OPT_U32, &u32, "N", "CPU threads for the reference, POV-Ray and Cycles (default 0: all)",
+       NULL, 0, 0, "Device", 0},
+  };
+  const size_t nopts = sizeof opts / sizeof *opts;
+  const char *pos[1];
+  size_t npos;
+  int help;
+  pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
+  if (r != PB_OK) return pb_cli_exit(cmd, r);
+  if (help) {
+    pb_cli_print_help(stdout, help, cmd, opts, nopts,
+                      "Renders SCENE with the reference, the GPU renderer, POV-Ray and (when Blender is installed) "
+                      "Cycles at the same resolution, shows every picture through the same OCIO view, compares "
+                      "every pair with compare's metrics and writes DIR/index.html and DIR/report.json. The "
+                      "renderers that are not installed are listed as skipped. Needs python3 and the "
+                      "validation scripts (found through $PB_VALIDATION_DIR, ../validation beside this binary, "
+                      "or the source tree it was built from).");
     return 0;
   }
+  if (npos != 1 || (!out && !old_out))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "expected SCENE and -o DIR (see 'photonbridge validate --help')"));
+  int found = find_script(script, sizeof script, exe, sizeof exe);
   if (!found) {
     fprintf(stderr, "photonbridge validate: error: validation/validate.py not found "
                     "(set PB_VALIDATION_DIR to the source tree's validation folder)\n");
     return 3;
-  }
-  if (help) {
-    printf("%s Runs %s; its options:\n\n", usage, script);
-    fflush(stdout);
   }
   char **av = calloc((size_t)argc + 5, sizeof *av);
   if (!av) return 3;
   int k = 0;
   av[k++] = "python3";
   av[k++] = script;
-  if (exe[0] && !help) {
+  if (exe[0]) {
     av[k++] = "--exe";
     av[k++] = exe;
   }
-  for (int i = 1; i < argc; ++i) av[k++] = argv[i];
+  /* -o DIR and --output[=DIR] are the script's --out; the value of an
+   * option that takes one is passed as it is, whatever it looks like. */
+  char *out_eq = NULL;
+  for (int i = 1; i < argc; ++i) {
+    char *a = argv[i];
+    if (strcmp(a, "--") == 0) {
+      while (i < argc) av[k++] = argv[i++];
+      break;
+    }
+    if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
+      av[k++] = "--out";
+      if (i + 1 < argc) av[k++] = argv[++i];
+      continue;
+    }
+    if (strncmp(a, "--output=", 9) == 0) {
+      size_t len = strlen(a + 9);
+      free(out_eq);
+      out_eq = malloc(len + 7);
+      if (!out_eq) return 3;
+      snprintf(out_eq, len + 7, "--out=%s", a + 9);
+      av[k++] = out_eq;
+      continue;
+    }
+    av[k++] = a;
+    if (a[0] == '-' && a[1] == '-' && !strchr(a, '=') && i + 1 < argc)
+      for (size_t j = 0; j < nopts; ++j)
+        if (strcmp(a + 2, opts[j].name) == 0 && opts[j].kind != PB_OPT_FLAG) av[k++] = argv[++i];
+  }
   av[k] = NULL;
   fflush(stdout);
   fflush(stderr);
@@ -110,6 +206,7 @@ int pb_cmd_validate(int argc, char **argv) {
     _exit(127);
   }
   free(av);
+  free(out_eq);
   if (pid < 0) return 3;
   setpgid(pid, pid); /* also here: no race with the child's own call */
   child_group = pid;

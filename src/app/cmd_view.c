@@ -33,27 +33,27 @@ int pb_cmd_view(int argc, char **argv) {
   const char *screenshot = NULL, *script = NULL, *reference = NULL, *save = "photonbridge_view";
   const pb_opt opts[] = {
       {"width", 0, PB_OPT_U32, &c.width, "W", "image width (default 640, or from --height and the camera's aspect)",
-       NULL, 1, 16384},
-      {"height", 0, PB_OPT_U32, &c.height, "H", "image height (default from the camera's aspect ratio)", NULL, 1, 16384},
-      {"camera", 0, PB_OPT_STRING, &c.camera, "NAME|N", "the scene camera to start from (default: 0)", NULL, 0, 0},
+       NULL, 1, 16384, "Output", 0},
+      {"height", 0, PB_OPT_U32, &c.height, "H", "image height (default from the camera's aspect ratio)", NULL, 1, 16384, "Output", 0},
+      {"camera", 0, PB_OPT_STRING, &c.camera, "NAME|N", "the scene camera to start from (default: 0)", NULL, 0, 0, "Output", 0},
       {"seed", 0, PB_OPT_U64, &c.seed, "N", "random seed (default 0; frame i of the run uses it mixed with i, as "
-       "render --frames)", NULL, 0, 0},
+       "render --frames)", NULL, 0, 0, "Sampling", 0},
       PB_SCENE_OPTS(&c),
       PB_COLOR_OPTS(&co),
       PB_LIVE_OPTS(&lo),
       {"reference", 0, PB_OPT_STRING, &reference, "FILE.exr", "show the PSNR of every frame against this image "
-       "(compare's metric) in the heads-up line", NULL, 0, 0},
+       "(compare's metric) in the heads-up line", NULL, 0, 0, "Window", 0},
       {"save", 0, PB_OPT_STRING, &save, "PREFIX", "P / F12 write PREFIX_NNNN.exr (every AOV) and PREFIX_NNNN.png "
-       "(what is shown; default photonbridge_view)", NULL, 0, 0},
+       "(what is shown; default photonbridge_view)", NULL, 0, 0, "Window", 0},
       {"frames-in-flight", 0, PB_OPT_U32, &in_flight, "N", "1 (default): each frame is shown once rendered; 2: the "
        "window shows the frame before the one rendering, whose last GPU pass runs while the host makes the "
-       "picture and presents (one frame more latency; --exit-after and --script count shown frames)", NULL, 1, 2},
-      {"exit-after", 0, PB_OPT_U32, &exit_after, "N", "close after N frames (scripts, tests)", NULL, 1, 10000000},
+       "picture and presents (one frame more latency; --exit-after and --script count shown frames)", NULL, 1, 2, "Window", PB_OPT_ADVANCED},
+      {"exit-after", 0, PB_OPT_U32, &exit_after, "N", "close after N frames (scripts, tests)", NULL, 1, 10000000, "Window", PB_OPT_ADVANCED},
       {"screenshot", 0, PB_OPT_STRING, &screenshot, "FILE.png", "at exit, write the shown image (the frame's pixels, "
-       "8-bit, before scaling to the window)", NULL, 0, 0},
+       "8-bit, before scaling to the window)", NULL, 0, 0, "Window", PB_OPT_ADVANCED},
       {"script", 0, PB_OPT_STRING, &script, "FILE", "synthetic input: lines 'FRAME ACTION ARGS' (cursor X Y, press|"
        "release left|middle|right, scroll DY, key|keydown|keyup NAME, resize W H, screenshot FILE), through the "
-       "handlers the mouse and keyboard use", NULL, 0, 0},
+       "handlers the mouse and keyboard use", NULL, 0, 0, "Window", PB_OPT_ADVANCED},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -62,7 +62,7 @@ int pb_cmd_view(int argc, char **argv) {
   pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
   if (help) {
-    pb_cli_print_help(stdout, cmd, opts, nopts,
+    pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "Mouse: left drag orbit, middle or shift+left drag pan, wheel dolly. Keys: W A S D + Q E fly,\n"
                       "1-9 and [ ] the scene's cameras, Home back to the scene camera, space play/pause the\n"
                       "animation, Tab or F1-F8 the AOV (beauty, direct, indirect, caustic, emission, albedo,\n"

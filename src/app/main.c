@@ -15,23 +15,26 @@
 
 static int cmd_help(int argc, char **argv);
 
+/* Each summary fits `photonbridge help`'s 80 columns (17 for the name). */
 const pb_command pb_commands[] = {
-    {"help", "[SUBCOMMAND]", "List the subcommands, or show one's options.",
-     cmd_help},
-    {"info", "SCENE [options]",
-     "Summarise a glTF scene: counts, bounds, cameras, lights (radiometric "
-     "units), materials, textures, needed features and warnings.",
-     pb_cmd_info},
-    {"render", "SCENE -o OUT.exr|OUT.png [options]",
-     "Render with the GPU pipeline (Vulkan compute): direct light, specular eye paths, AOVs.", pb_cmd_render},
-    {"display", "IMAGE.exr -o OUT.png [options]", "Scene-linear EXR to a PNG through an OCIO display/view/look.", pb_cmd_display},
-    {"export-pov", "SCENE -o OUT.pov [options]", "Write the scene as POV-Ray 3.7 SDL (units matched; see docs in src/pov/pov.h).", pb_cmd_export_pov},
-    {"export-peer", "SCENE --format luxcore|mitsuba -o DIR [options]", "Write the scene for LuxCoreRender or Mitsuba 3: PLY meshes, camera, lights in their units (src/peer/peer.h).", pb_cmd_export_peer},
-    {"reference", "SCENE -o OUT.exr [options]", "CPU reference (Embree): path tracing with NEE/MIS, SPPM caustics, AOVs, --estimate-noise.", pb_cmd_reference},
-    {"compare", "TEST.exr REFERENCE.exr [options]", "RMSE, relMSE, PSNR, SSIM of an image against a reference; heat map PNG, --json.", pb_cmd_compare},
-    {"validate", "SCENE --out DIR [options]", "Reference, GPU, POV-Ray and Cycles renders compared pairwise: DIR/index.html, DIR/report.json.", pb_cmd_validate},
-    {"view", "SCENE [options]", "Interactive window (GLFW + Vulkan swapchain): progressive refinement, orbit/pan/dolly/fly, cameras, playback, AOVs.", pb_cmd_view},
-    {"serve", "SCENE [options]", "Persistent session: JSON-line requests (camera, size, time, settings, reload) on stdin or a UNIX socket, refined frames through /dev/shm (Blender's viewport).", pb_cmd_serve},
+    {"help", "[SUBCOMMAND]", "List the subcommands, or show one's options.", cmd_help},
+    {"info", "SCENE [options]", "Summarise a glTF scene: cameras, lights, materials, warnings.", pb_cmd_info},
+    {"render", "SCENE -o OUT.exr|OUT.png [options]", "Render on the GPU (Vulkan compute photon mapping): EXR or PNG.",
+     pb_cmd_render},
+    {"display", "IMAGE.exr -o OUT.png [options]", "Scene-linear EXR to a PNG through an OCIO display/view/look.",
+     pb_cmd_display},
+    {"export-pov", "SCENE -o OUT.pov [options]", "Write the scene as POV-Ray 3.7 SDL, in matched units.",
+     pb_cmd_export_pov},
+    {"export-peer", "SCENE --format luxcore|mitsuba -o DIR [options]", "Write the scene for LuxCoreRender or Mitsuba 3.",
+     pb_cmd_export_peer},
+    {"reference", "SCENE -o OUT.exr [options]", "CPU reference renderer (path tracing, SPPM caustics) to EXR.",
+     pb_cmd_reference},
+    {"compare", "TEST.exr REFERENCE.exr [options]", "RMSE, relMSE, PSNR, SSIM of an image against a reference.",
+     pb_cmd_compare},
+    {"validate", "SCENE -o DIR [options]", "Render with every renderer and compare them: an HTML report.",
+     pb_cmd_validate},
+    {"view", "SCENE [options]", "Interactive window: progressive refinement, fly, cameras, AOVs.", pb_cmd_view},
+    {"serve", "SCENE [options]", "Persistent session of JSON-line requests (Blender's viewport).", pb_cmd_serve},
 };
 const size_t pb_command_count = sizeof pb_commands / sizeof pb_commands[0];
 
@@ -52,7 +55,8 @@ static const pb_command *find(const char *name) {
 }
 
 static int cmd_help(int argc, char **argv) {
-  if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+  if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+                    strcmp(argv[1], "--help-all") == 0)) {
     printf("usage: photonbridge help [SUBCOMMAND]\n\n");
     usage(stdout);
     return 0;

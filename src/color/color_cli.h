@@ -28,22 +28,22 @@ typedef struct pb_color_opts {
    "OpenColorIO config for display images (default: $OCIO, else Blender's "    \
    "own where installed, else the built-in one, which has Blender's Filmic; "  \
    "'built-in' names it)",                                                     \
-   NULL, 0, 0},                                                                \
+   NULL, 0, 0, "Colour", 0},                                                                \
   {"display", 0, PB_OPT_STRING, &(c)->display, "NAME",                         \
    "OCIO display for PNG images (default: the config's default, sRGB)", NULL,  \
-   0, 0},                                                                      \
+   0, 0, "Colour", 0},                                                                      \
   {"view", 0, PB_OPT_STRING, &(c)->view, "NAME",                               \
    "OCIO view (default: the config's, Filmic as in Blender 3.4; also AgX, "    \
-   "Standard, Raw, ...; --list of `display` shows them)", NULL, 0, 0},         \
+   "Standard, Raw, ...; --list of `display` shows them)", NULL, 0, 0, "Colour", 0},         \
   {"look", 0, PB_OPT_STRING, &(c)->look, "NAME",                               \
    "OCIO look applied with the view (e.g. Blender's 'Medium High Contrast')",  \
-   NULL, 0, 0},                                                                \
+   NULL, 0, 0, "Colour", 0},                                                                \
   {"exposure", 0, PB_OPT_FLOAT, &(c)->exposure, "STOPS",                       \
    "scale by 2^STOPS before the view, as Blender's Exposure (default 0)",      \
-   NULL, -64, 64},                                                             \
+   NULL, -64, 64, "Colour", 0},                                                             \
   {"gamma", 0, PB_OPT_FLOAT, &(c)->gamma, "G",                                 \
    "display values to the power 1/G after the view, as Blender's Gamma "       \
-   "(default 1)", NULL, 0.001, 1000}
+   "(default 1)", NULL, 0.001, 1000, "Colour", 0}
 
 /* Opens the colour pipeline the options name, for pictures (defaults:
  * Blender's config and view) or metrics (defaults: built-in, Standard). */

@@ -177,7 +177,7 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
   if (!l.name[0]) snprintf(l.name, PB_NAME_MAX, "nodes[%d]", node);
 
   static const double white[3] = {1, 1, 1};
-  double color[3], power, strength, radius, spot_size, spot_blend, angle, size, size_y, spread;
+  double color[3], power, strength, radius, spot_size, spot_blend, angle, size, size_y, spread, exposure;
   int cast, mis, soft_falloff;
   if ((e = vector(&r, lo, "color", 3, 1, white, color)) != PB_OK) return e;
   if ((e = number(&r, lo, "power", DEF_POWER, 0, 0, HUGE_VAL, 0, "a non-negative number of watts", &power)) != PB_OK ||
@@ -189,12 +189,14 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
       (e = number(&r, lo, "size", DEF_AREA_SIZE, 0, 0, HUGE_VAL, 0, "a non-negative size (m)", &size)) != PB_OK ||
       (e = number(&r, lo, "sizeY", DEF_AREA_SIZE, 0, 0, HUGE_VAL, 0, "a non-negative size (m)", &size_y)) != PB_OK ||
       (e = number(&r, lo, "spread", PI, 0, 1, PI_F32, 0, "in (0, pi] radians", &spread)) != PB_OK ||
+      (e = number(&r, lo, "exposure", 0, -32, 0, 32, 0, "in [-32, 32] stops", &exposure)) != PB_OK ||
       (e = boolean(&r, lo, "castShadow", 1, &cast)) != PB_OK || (e = boolean(&r, lo, "useMIS", 1, &mis)) != PB_OK ||
       (e = boolean(&r, lo, "softFalloff", 1, &soft_falloff)) != PB_OK ||
       (e = string(&r, lo, "shape", &shape)) != PB_OK || (e = string(&r, lo, "model", &model)) != PB_OK)
     return e;
   /* Which Cycles' light model: 3.4's (no member: files written before 4.0
    * existed), or 4.x's area radiance and spot falloff (scene.h). */
+  l.blender_exposure = (float)exposure; /* folded into power/strength by the writer */
   int cycles4 = 0;
   if (model && strcmp(model, "cycles4") == 0) cycles4 = 1;
   else if (model && strcmp(model, "cycles3") != 0)

@@ -317,6 +317,10 @@ typedef struct pb_light {
                                    light sampling (and camera rays) reach it */
   int from_blender;             /* read from PHOTONBRIDGE_blender (Blender's
                                    own units), not from KHR_lights_punctual */
+  float blender_exposure;       /* PHOTONBRIDGE_blender: the light's Exposure
+                                   in stops, already in file_intensity (Blender
+                                   4.x: power x 2^exposure); for info's "as
+                                   typed" figure only */
 } pb_light;
 
 /* 1 when the light is a delta light (point/spot of radius 0, directional of

@@ -45,12 +45,12 @@ static void test_cli(void) {
   int flag = 0, choice = 0;
   const char *s = NULL;
   static const char *const ch[] = {"a", "b", NULL};
-  pb_opt o[] = {{"width", 0, PB_OPT_U32, &w, "W", "", NULL, 1, 100},
-                {"seed", 0, PB_OPT_U64, &seed, "N", "", NULL, 0, 0},
-                {"f", 0, PB_OPT_FLOAT, &f, "F", "", NULL, 0, 0},
-                {"flag", 'x', PB_OPT_FLAG, &flag, NULL, "", NULL, 0, 0},
-                {"mode", 0, PB_OPT_CHOICE, &choice, "M", "", ch, 0, 0},
-                {"out", 'o', PB_OPT_STRING, &s, "F", "", NULL, 0, 0}};
+  pb_opt o[] = {{"width", 0, PB_OPT_U32, &w, "W", "", NULL, 1, 100, NULL, 0},
+                {"seed", 0, PB_OPT_U64, &seed, "N", "", NULL, 0, 0, NULL, 0},
+                {"f", 0, PB_OPT_FLOAT, &f, "F", "", NULL, 0, 0, NULL, 0},
+                {"flag", 'x', PB_OPT_FLAG, &flag, NULL, "", NULL, 0, 0, NULL, 0},
+                {"mode", 0, PB_OPT_CHOICE, &choice, "M", "", ch, 0, 0, NULL, 0},
+                {"out", 'o', PB_OPT_STRING, &s, "F", "", NULL, 0, 0, NULL, 0}};
   const char *pos[2];
   size_t np;
   int help;
