@@ -69,8 +69,15 @@ ENGINE = ["--photons", "262144", "--iterations", "16", "--progressive", "--spp",
 CASES45 = {
     "metal_plastic": {"ref": (["--spp", "256"], 0.01, 35.0), "gpu": ([], 0.02, 30.0)},
     "hdri": {"ref": (["--spp", "256"], 0.01, 33.0), "gpu": ([], 0.02, 30.0)},
-    "glass_ball": {"ref": (["--spp", "256"], 0.01, 33.0), "gpu": ([], 0.02, 30.0)},
+    "glass_ball": {"ref": (["--spp", "256"], 0.01, 29.5), "gpu": ([], 0.02, 30.0)},
 }
+# Measured (lavapipe, 2026-12-06; Cycles 4.5.15 at 1024 spp, glass_ball at
+# 65,536, its noise 43.6 / 45.3 / 39.4 dB): the reference at 256 spp 36.5 /
+# 34.7 / 31.2 dB, mean -0.09 / +0.36 / +0.35 % (its own noise: the glass
+# ball's caustic); the GPU at the engine's defaults 33.3 / 30.7 / 30.0 dB,
+# mean +0.49 / +0.12 / +0.69 % (4,194,304 photon paths; stored 490,141 /
+# 9,905 / 330,190, 303,059 of them caustic). The reference's floors 1.5-1.7 dB under its
+# measurement; the GPU's are the 30 dB asked of it.
 
 
 def blender():
