@@ -11,7 +11,7 @@ set -euo pipefail
 # numpy. clang and its runtime (libFuzzer, sanitizers) for the fuzz targets,
 # Pillow for their image seeds (tests/fuzz/make_image_seeds.py);
 # valgrind for the memory checks of the CPU paths. GLFW 3, Xvfb and xauth
-# (xvfb-run) for `photonbridge view` and its tests. Render farms (issue 23):
+# (xvfb-run) for `photonbridge view` and its tests. Render farms:
 # node for the Flamenco job type's test, slurm-wlm and munge (and iproute2's
 # ip, for the private loopback) for the one-node Slurm cluster of
 # tests/farm/slurm_check.py; the packages' services are not needed (the

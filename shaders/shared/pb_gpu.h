@@ -465,7 +465,7 @@ PB_CONST(PB_PHOTON_PARAM_RAW_FOOTPRINT, 1u) /* tests: store Delta dP, no
                                                -3/4 compression, s, r_max */
 PB_CONST(PB_PHOTON_PARAM_STORE_FIRST, 2u)   /* tests: store the first hit too */
 PB_CONST(PB_PHOTON_PARAM_CAUSTIC_RAW, 8u)   /* caustic footprints uncompressed,
-                                               s_caustic Delta dP (issue 18) */
+                                               s_caustic Delta dP (the photon footprints) */
 PB_CONST(PB_PHOTON_PARAM_RSM, 4u)           /* first hits from the reflective
                                                shadow maps (shared/pb_rsm.h) */
 PB_CONST(PB_PHOTON_PARAM_RSM_AUTO, 16u)     /* with RSM: per light, the map only
