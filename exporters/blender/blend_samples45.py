@@ -185,3 +185,8 @@ def main(argv):
 
 if __name__ == "__main__":
     main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
+    # bpy as a module can hang in its own clean-up at interpreter exit
+    # (seen after Cycles renders); everything is written by now.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(0)
