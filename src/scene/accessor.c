@@ -41,7 +41,7 @@ static pb_result check_packed(const char *path, const pb_gltf_doc *d, int32_t id
                               uint64_t offset, uint64_t n, uint32_t elem, uint32_t csize, const uint8_t **out) {
   char user[96];
   snprintf(user, sizeof user, "accessors[%d].sparse.%s.bufferView", idx, which);
-  const uint8_t *bytes;
+  const uint8_t *bytes = NULL;
   pb_result r = check_view(path, d, view, user, &bytes);
   if (r != PB_OK) return r;
   const pb_gltf_buffer_view *v = &d->buffer_views[view];
@@ -136,7 +136,7 @@ pb_result pb_accessor_check(const char *path, const pb_gltf_doc *d, int32_t idx,
   }
   char user[64];
   snprintf(user, sizeof user, "accessors[%d].bufferView", idx);
-  const uint8_t *bytes;
+  const uint8_t *bytes = NULL;
   if ((r = check_view(path, d, a->buffer_view, user, &bytes)) != PB_OK) return r;
   const pb_gltf_buffer_view *v = &d->buffer_views[a->buffer_view];
   uint32_t stride = v->byte_stride ? v->byte_stride : elem;

@@ -51,8 +51,8 @@ static pb_result warn(const reader *R, const char *fmt, ...) {
 
 /* Joins "prefix.key" into buf for messages. */
 static const char *member(char *buf, size_t n, const char *prefix, const char *key) {
-  snprintf(buf, n, "%s%s%s", prefix ? prefix : "", prefix && prefix[0] ? "." : "", key);
-  return buf;
+  if (snprintf(buf, n, "%s%s%s", prefix ? prefix : "", prefix && prefix[0] ? "." : "", key) < 0) buf[0] = '\0';
+  return buf; /* a longer name is cut at n - 1 characters: a message, not a key */
 }
 
 static pb_result number_in(const reader *R, const char *path, const pb_gltf_value *v, double lo, double hi,
