@@ -773,7 +773,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     b.albedo = vec3(0.0);
     return;
   }
-  if (m.model == PB_GPU_MODEL_PRINCIPLED && m.principled_v2 != 0u) {
+  if (SC_PRINCIPLED2 && m.model == PB_GPU_MODEL_PRINCIPLED && m.principled_v2 != 0u) {
     pb2_setup(surf, wo, tangent, base, false, b);
     for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
     return;

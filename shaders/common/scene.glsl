@@ -46,9 +46,11 @@ layout(constant_id = PB_SPEC_WORLD) const bool SC_WORLD = true;
 #ifdef PB_BLENDER
 const bool SC_BLENDER = true;
 layout(constant_id = PB_SPEC_ALPHA) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
+layout(constant_id = PB_SPEC_PRINCIPLED2) const bool SC_PRINCIPLED2 = true; // a Principled v2 material
 #else
 const bool SC_BLENDER = false;
 const bool SC_ALPHA = false;
+const bool SC_PRINCIPLED2 = false;
 #endif
 
 #include "common/bvh.glsl"
@@ -285,7 +287,7 @@ vec3 pb_emission(pb_surface s) {
 // sheen and coat (principled.glsl pb2_emission_weight), so it depends on
 // the direction. The photon tracer's emitters keep pb_emission (alpha only).
 vec3 pb_emission_toward(pb_surface s, vec3 wo) {
-  if (SC_BLENDER && materials[s.mat].model == PB_GPU_MODEL_PRINCIPLED && materials[s.mat].principled_v2 != 0u) {
+  if (SC_PRINCIPLED2 && materials[s.mat].model == PB_GPU_MODEL_PRINCIPLED && materials[s.mat].principled_v2 != 0u) {
     vec3 e = pb_emission(s);
     if (all(equal(e, vec3(0.0)))) return e;
     return e / max(pb_blender_alpha(s), 1e-30) * pb2_emission_weight(s, wo);

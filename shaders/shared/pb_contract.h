@@ -235,17 +235,23 @@
 #define PB_SPEC_TEXTURES 1
 #define PB_SPEC_SPECULAR 2        /* delta lobes: eye chains */
 #define PB_SPEC_EMISSIVE 3        /* emissive triangles or unlit surfaces */
-#define PB_SPEC_TRANSMISSION 4    /* photon_trace.comp only */
-#define PB_SPEC_NORMAL_MAPS 5     /* gather.comp only (eq. 20's sums) */
-#define PB_SPEC_SOFT_LIGHTS 6
-#define PB_SPEC_WORLD 7
-#define PB_SPEC_ALPHA 8           /* PB_BLENDER builds only */
-#define PB_SPEC_COUNT 9
+#define PB_SPEC_PRINCIPLED2 4     /* Principled v2 materials (PB_BLENDER builds
+                                     only): the v2 stack compiled out of the
+                                     scenes without one */
+#define PB_SPEC_TRANSMISSION 5    /* photon_trace.comp only */
+#define PB_SPEC_NORMAL_MAPS 6     /* gather.comp only (eq. 20's sums) */
+#define PB_SPEC_SOFT_LIGHTS 7
+#define PB_SPEC_WORLD 8
+#define PB_SPEC_ALPHA 9           /* PB_BLENDER builds only */
+#define PB_SPEC_COUNT 10
+/* Every pass that shades a surface takes the scene's ids up to this one
+ * (0-4) from the frame's set. */
+#define PB_SPEC_SHADING_COUNT (PB_SPEC_PRINCIPLED2 + 1)
 /* knn.comp's own, after the scene's and PB_SPEC_NORMAL_MAPS: k, the size of
  * each query's max-heap. */
-#define PB_SPEC_KNN_K 9
-#define PB_SPEC_KNN_BUDGET 10 /* loop iterations per query; 0: no bound */
-#define PB_SPEC_KNN_COUNT 11
+#define PB_SPEC_KNN_K 10
+#define PB_SPEC_KNN_BUDGET 11 /* loop iterations per query; 0: no bound */
+#define PB_SPEC_KNN_COUNT 12
 /* lbvh_climb.comp's own. */
 #define PB_SPEC_FENCES 0
 #define PB_SPEC_FENCES_COUNT 1

@@ -634,7 +634,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
                [PB_SPEC_SPECULAR] = plan.eye_chains ? 1u : 0u,
                [PB_SPEC_EMISSIVE] = plan.emitter_sampling || plan.unlit ? 1u : 0u,
                [PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan.world ? 1u : 0u,
-               [PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u},
+               [PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u, [PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u},
       .normal_maps = plan.normal_maps ? 1u : 0u,
       .blender = plan.blender_materials ? 1u : 0u,
   };

@@ -15,7 +15,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
   pb_result r;
   uint32_t spec[PB_SPEC_COUNT] = {0};
-  memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec); /* scene.glsl's ids 0-3; no lights here */
+  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-4; no lights here */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_blender != ps->blender))
     pb_gpu_pipeline_destroy(g, &e->gather);
@@ -68,7 +68,7 @@ pb_result pb_photon_estimator_bind_upsample(pb_gpu *g, pb_photon_estimator *e, c
                                             const pb_gpu_buffer *list) {
   pb_result r;
   uint32_t spec[PB_SPEC_COUNT] = {0};
-  memcpy(spec, ps->spec, (PB_SPEC_EMISSIVE + 1) * sizeof *spec);
+  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec);
   spec[PB_SPEC_NORMAL_MAPS] = 0u;
   if (e->gather_ups.pipeline &&
       (memcmp(e->gather_ups_spec, spec, sizeof e->gather_ups_spec) != 0 || e->gather_ups_blender != ps->blender))

@@ -358,6 +358,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u;
   t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;
   t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
+  t->spec[PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u;
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
       .spirv = plan.blender_materials ? pb_spv_photon_trace_blender : pb_spv_photon_trace,

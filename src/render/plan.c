@@ -24,6 +24,8 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   /* Only the Blender models render Alpha (Cycles' transparency); glTF's
    * alpha modes are not rendered by either renderer. */
   out->alpha = (f & PB_FEATURE_ALPHA) != 0 && out->blender_materials;
+  for (uint32_t i = 0; i < s->material_count && out->blender_materials; ++i)
+    out->principled2 |= s->materials[i].blender.model == PB_MODEL_PRINCIPLED && s->materials[i].blender.principled_v2;
   out->soft_lights = (f & PB_FEATURE_SOFT_LIGHTS) != 0;
   out->world = s->world.present;
   out->world_map = s->world.present && s->world.env != NULL;

@@ -29,6 +29,8 @@ typedef struct pb_render_plan {
   int multi_ggx;         /* of them, Multiscatter GGX's random walk (info only:
                             compiled with SC_BLENDER) */
   int alpha;             /* transparent shadows through Alpha < 1 (SC_ALPHA) */
+  int principled2;       /* a Principled v2 material (SC_PRINCIPLED2): the
+                            v2 stack compiled in */
   int normal_maps;       /* normal-mapped shading normals in the eye passes
                             (tangents uploaded, pb_gpu_frame.tangent_base)
                             and, with photons, seed 001's eq. 20 correction
