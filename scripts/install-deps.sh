@@ -17,7 +17,7 @@ set -euo pipefail
 # tests/farm/slurm_check.py; the packages' services are not needed (the
 # test starts its own daemons in the foreground).
 PKGS=(
-  build-essential cmake pkg-config python3
+  build-essential cmake pkg-config python3 curl
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libembree-dev libopenexr-dev libopencolorio-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev libspng-dev libjpeg62-turbo-dev
@@ -120,6 +120,74 @@ install_mitsuba() {
   "$MITSUBA_VENV/bin/python" -c "import mitsuba as mi, drjit as dr; print('install-deps: mitsuba', mi.__version__, 'drjit', dr.__version__, 'in tools/mitsuba3')"
 }
 
+# Mesa 25's lavapipe (Vulkan 1.4 with VK_KHR_acceleration_structure,
+# VK_KHR_ray_query, VK_KHR_ray_tracing_pipeline) beside the system's Mesa
+# 22.3, for the ray-query path and its tests: Debian bookworm-backports'
+# mesa-vulkan-drivers, pinned by version and SHA-256, fetched from the
+# Debian pool and unpacked with dpkg-deb -x into tools/mesa25/root (ignored
+# by git); tools/mesa25/lvp_icd.x86_64.json is its ICD manifest (library
+# path relative to the manifest), used only where VK_ICD_FILENAMES names it.
+# The system's driver is left as it is. Dependencies: the package asks for
+# libdrm2 >= 2.4.121 (Debian 12 has 2.4.114) for its hardware drivers;
+# lavapipe imports 40 libdrm functions, all present in 2.4.114, which the
+# check below verifies, so no newer libdrm is unpacked (the loader could not
+# make lavapipe load it without LD_LIBRARY_PATH). Every other dependency
+# (libLLVM-15, libxcb*, libwayland-client0, libzstd1, ...) is in Debian 12.
+# Required, as bpy: a download that fails or does not match is an error.
+MESA25_VERSION=25.0.7-2~bpo12+1
+MESA25_DEB="mesa-vulkan-drivers_${MESA25_VERSION}_amd64.deb"
+MESA25_URL="http://deb.debian.org/debian/pool/main/m/mesa/${MESA25_DEB}"
+MESA25_SHA256=3899f1800424c60a05df5d6913076a526ca8fdbabec43672cd397563d1ca3263
+MESA25_DIR="$ROOT/tools/mesa25"
+mesa25_fail() {
+  echo "install-deps: error: Mesa $MESA25_VERSION (tools/mesa25): $*;" \
+       "the ray-query tests need it (change MESA25_VERSION, MESA25_URL and MESA25_SHA256 in scripts/install-deps.sh" \
+       "to a bookworm-backports mesa-vulkan-drivers the Debian pool serves)" >&2
+  exit 1
+}
+install_mesa25() {
+  local icd="$MESA25_DIR/lvp_icd.x86_64.json" lib="$MESA25_DIR/root/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so"
+  if [ "$(cat "$MESA25_DIR/VERSION" 2>/dev/null)" = "$MESA25_VERSION" ] && [ -f "$icd" ] && [ -f "$lib" ]; then
+    return 0
+  fi
+  [ "$(dpkg --print-architecture)" = amd64 ] || mesa25_fail "only amd64 is pinned"
+  echo "install-deps: Mesa $MESA25_VERSION lavapipe into tools/mesa25"
+  rm -rf "$MESA25_DIR"
+  mkdir -p "$MESA25_DIR/root"
+  curl -fsSL --retry 3 -o "$MESA25_DIR/$MESA25_DEB" "$MESA25_URL" || mesa25_fail "download of $MESA25_URL failed"
+  echo "$MESA25_SHA256  $MESA25_DIR/$MESA25_DEB" | sha256sum -c --quiet - || mesa25_fail "$MESA25_DEB does not match its SHA-256"
+  dpkg-deb -x "$MESA25_DIR/$MESA25_DEB" "$MESA25_DIR/root" || mesa25_fail "dpkg-deb -x $MESA25_DEB failed"
+  rm -f "$MESA25_DIR/$MESA25_DEB"
+  [ -f "$lib" ] || mesa25_fail "the package holds no libvulkan_lvp.so"
+  # Shared libraries: none missing, and every libdrm function lavapipe
+  # imports present in the system's libdrm (see above).
+  if ldd "$lib" | grep -q 'not found'; then
+    mesa25_fail "libraries missing: $(ldd "$lib" | grep 'not found' | tr -s ' \t\n' ' ')"
+  fi
+  local drm missing_syms
+  drm=$(ldd "$lib" | awk '$1 == "libdrm.so.2" {print $3}')
+  missing_syms=$(comm -23 \
+    <(objdump -T "$lib" | awk '/\*UND\*/ && $NF ~ /^drm/ {print $NF}' | sort -u) \
+    <(objdump -T "$drm" | awk '!/\*UND\*/ {print $NF}' | sort -u))
+  [ -z "$missing_syms" ] || mesa25_fail "the system's $drm lacks $(echo $missing_syms)"
+  cat > "$icd" <<EOF
+{
+    "file_format_version": "1.0.0",
+    "ICD": {
+        "library_path": "./root/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so",
+        "api_version": "1.4.305"
+    }
+}
+EOF
+  local summary
+  summary=$(VK_ICD_FILENAMES="$icd" vulkaninfo 2>/dev/null) || mesa25_fail "vulkaninfo with $icd failed"
+  for want in "Mesa ${MESA25_VERSION%%-*}" VK_KHR_acceleration_structure VK_KHR_ray_query; do
+    grep -q "$want" <<<"$summary" || mesa25_fail "vulkaninfo with $icd does not show $want"
+  done
+  echo "$MESA25_VERSION" > "$MESA25_DIR/VERSION"
+  echo "install-deps: $(grep -m1 driverInfo <<<"$summary" | sed 's/^[[:space:]]*//') in tools/mesa25"
+}
+
 missing=()
 for p in "${PKGS[@]}" "${OPTIONAL[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
@@ -131,6 +199,7 @@ if [ ${#missing[@]} -eq 0 ]; then
   install_bpy
   install_luxcore
   install_mitsuba
+  install_mesa25
   echo "install-deps: all packages present"
   exit 0
 fi
@@ -162,4 +231,5 @@ install_validator
 install_bpy
 install_luxcore
 install_mitsuba
+install_mesa25
 echo "install-deps: done"
