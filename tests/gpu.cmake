@@ -195,3 +195,20 @@ add_test(NAME gpu_emitter_photons
                  ${CMAKE_CURRENT_BINARY_DIR}/emitter_photons)
 set_tests_properties(gpu_emitter_photons PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                      LABELS "gpu;no-sanitize" TIMEOUT 900)
+
+# info --devices names each device's driver (driverName, driverInfo) and its
+# ray-query support, in text and JSON; with tools/mesa25's lavapipe (Mesa 25,
+# installed by scripts/install-deps.sh: missing is a failure, not a skip)
+# ray_query is true and PB_GPU_MASK_FEATURES=ray-query hides it.
+set(PB_MESA25_ICD ${PB_ROOT}/tools/mesa25/lvp_icd.x86_64.json)
+add_test(NAME gpu_info_devices_driver
+         COMMAND sh -c "\"$2\" info --devices >/dev/null 2>&1 || { echo 'skip: no Vulkan device'; exit 77; }; exec \"$0\" \"$@\""
+                 ${Python3_EXECUTABLE} ${PB_ROOT}/tests/device_info_check.py ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(gpu_info_devices_driver PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize"
+                     PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+add_test(NAME gpu_info_devices_mesa25
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/device_info_check.py ${PB_EXE} --mesa25 ${PB_MESA25_ICD}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(gpu_info_devices_mesa25 PROPERTIES LABELS "gpu;no-sanitize"
+                     PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")

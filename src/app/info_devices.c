@@ -27,6 +27,7 @@ pb_result pb_info_devices(const pb_core_opts *c) {
         pb_json_string(&j, "name", d[i].name);
         pb_json_string(&j, "type", d[i].type);
         pb_json_string(&j, "driver", d[i].driver);
+        pb_json_string(&j, "driver_info", d[i].driver_info);
         char api[32];
         snprintf(api, sizeof api, "%u.%u.%u", VK_API_VERSION_MAJOR(d[i].api_version),
                  VK_API_VERSION_MINOR(d[i].api_version), VK_API_VERSION_PATCH(d[i].api_version));
@@ -35,6 +36,8 @@ pb_result pb_info_devices(const pb_core_opts *c) {
         pb_json_int(&j, "device_local_bytes", (int64_t)d[i].device_local_bytes);
         pb_json_int(&j, "subgroup_size", d[i].subgroup_size);
         pb_json_bool(&j, "timestamps", d[i].timestamps);
+        pb_json_bool(&j, "acceleration_structure", d[i].acceleration_structure);
+        pb_json_bool(&j, "ray_query", d[i].ray_query);
         pb_json_bool(&j, "usable", d[i].usable);
         if (!d[i].usable) pb_json_string(&j, "missing", d[i].missing);
         pb_json_bool(&j, "default", d[i].preferred);
@@ -52,12 +55,14 @@ pb_result pb_info_devices(const pb_core_opts *c) {
   if (!c->quiet) {
     printf("Vulkan devices (--device N):\n");
     for (uint32_t i = 0; i < n; ++i)
-      printf("  %u%s %-36s %-10s Vulkan %u.%u  %s  storage buffer max %llu MiB, subgroup %u, timestamps %s%s%s%s\n", i,
-             d[i].preferred ? "*" : " ", d[i].name, d[i].type, VK_API_VERSION_MAJOR(d[i].api_version),
+      printf("  %u%s %-36s %-10s Vulkan %u.%u  %s%s%s%s  storage buffer max %llu MiB, subgroup %u, timestamps %s, "
+             "acceleration structures %s, ray queries %s%s%s%s\n",
+             i, d[i].preferred ? "*" : " ", d[i].name, d[i].type, VK_API_VERSION_MAJOR(d[i].api_version),
              VK_API_VERSION_MINOR(d[i].api_version), d[i].driver[0] ? d[i].driver : "-",
+             d[i].driver_info[0] ? " (" : "", d[i].driver_info, d[i].driver_info[0] ? ")" : "",
              (unsigned long long)(d[i].max_storage_buffer_range >> 20), d[i].subgroup_size,
-             d[i].timestamps ? "yes" : "no", d[i].usable ? "" : "  (unusable, lacks ", d[i].missing,
-             d[i].usable ? "" : ")");
+             d[i].timestamps ? "yes" : "no", d[i].acceleration_structure ? "yes" : "no", d[i].ray_query ? "yes" : "no",
+             d[i].usable ? "" : "  (unusable, lacks ", d[i].missing, d[i].usable ? "" : ")");
     printf("* = used by default (discrete GPU first, CPU implementations last)\n");
   }
   free(d);

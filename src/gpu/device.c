@@ -208,6 +208,7 @@ enum {
   PB_FEAT_WORKGROUP = 1u << 2,
   PB_FEAT_STORAGE_BUFFERS = 1u << 3,
   PB_FEAT_TIMESTAMPS = 1u << 4,
+  PB_FEAT_RAY_QUERY = 1u << 5,
 };
 static const struct {
   const char *name;
@@ -215,7 +216,7 @@ static const struct {
 } feature_names[] = {
     {"vulkan-1.1", PB_FEAT_VULKAN11},   {"compute", PB_FEAT_COMPUTE},
     {"workgroup-64", PB_FEAT_WORKGROUP}, {"storage-buffers", PB_FEAT_STORAGE_BUFFERS},
-    {"timestamps", PB_FEAT_TIMESTAMPS},
+    {"timestamps", PB_FEAT_TIMESTAMPS}, {"ray-query", PB_FEAT_RAY_QUERY},
 };
 
 /* The features PB_GPU_MASK_FEATURES hides; PB_ERR_USAGE for an unknown name. */
@@ -234,7 +235,7 @@ static pb_result masked_features(unsigned *mask) {
       if (!bit)
         return pb_fail(PB_ERR_USAGE,
                        "PB_GPU_MASK_FEATURES: unknown feature '%.*s' (known: vulkan-1.1, compute, "
-                       "workgroup-64, storage-buffers, timestamps)",
+                       "workgroup-64, storage-buffers, timestamps, ray-query)",
                        (int)len, p);
       *mask |= bit;
     }
@@ -258,6 +259,49 @@ static void add_missing(pb_gpu_device_info *d, const char *fmt, ...) {
   va_end(ap);
 }
 
+/* The device extensions the ray-query path enables: the two it uses and
+ * those they require on a Vulkan 1.1 instance (the instance asks for 1.1, so
+ * the promoted ones are enabled as extensions even on a 1.2+ driver). */
+static const char *const ray_query_exts[] = {
+    VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
+    VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME,
+    VK_EXT_DESCRIPTOR_INDEXING_EXTENSION_NAME, VK_KHR_SPIRV_1_4_EXTENSION_NAME,
+    VK_KHR_SHADER_FLOAT_CONTROLS_EXTENSION_NAME,
+};
+enum { RAY_QUERY_EXT_COUNT = sizeof ray_query_exts / sizeof *ray_query_exts };
+
+/* Sets ext[i] to whether the device offers names[i]. */
+static void device_exts(VkPhysicalDevice pd, const char *const *names, uint32_t count, int *has) {
+  for (uint32_t i = 0; i < count; ++i) has[i] = 0;
+  uint32_t ne = 0;
+  VkExtensionProperties *ep = NULL;
+  if (vkEnumerateDeviceExtensionProperties(pd, NULL, &ne, NULL) == VK_SUCCESS && ne &&
+      (ep = calloc(ne, sizeof *ep)) && vkEnumerateDeviceExtensionProperties(pd, NULL, &ne, ep) == VK_SUCCESS)
+    for (uint32_t e = 0; e < ne; ++e)
+      for (uint32_t i = 0; i < count; ++i)
+        if (strcmp(ep[e].extensionName, names[i]) == 0) has[i] = 1;
+  free(ep);
+}
+
+/* Whether the ray-query path can run on pd (gpu.h pb_gpu_device_info
+ * .ray_query); *accel: VK_KHR_acceleration_structure alone. */
+static int ray_query_support(VkPhysicalDevice pd, uint32_t api_version, int *accel) {
+  int has[RAY_QUERY_EXT_COUNT];
+  device_exts(pd, ray_query_exts, RAY_QUERY_EXT_COUNT, has);
+  *accel = has[0];
+  for (uint32_t i = 0; i < RAY_QUERY_EXT_COUNT; ++i)
+    if (!has[i]) return 0;
+  if (api_version < VK_API_VERSION_1_1) return 0;
+  VkPhysicalDeviceRayQueryFeaturesKHR rq = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, .pNext = &rq};
+  VkPhysicalDeviceBufferDeviceAddressFeatures bda = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES, .pNext = &as};
+  VkPhysicalDeviceFeatures2 f2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &bda};
+  vkGetPhysicalDeviceFeatures2(pd, &f2);
+  return bda.bufferDeviceAddress && as.accelerationStructure && rq.rayQuery;
+}
+
 static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d, unsigned mask) {
   memset(d, 0, sizeof *d);
   VkPhysicalDeviceSubgroupProperties sg = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
@@ -279,7 +323,12 @@ static void describe(VkPhysicalDevice pd, pb_gpu_device_info *d, unsigned mask) 
     size_t k = strnlen(drv.driverName, sizeof drv.driverName);
     memcpy(d->driver, drv.driverName, k < sizeof d->driver ? k : sizeof d->driver - 1);
     d->driver[k < sizeof d->driver ? k : sizeof d->driver - 1] = 0;
+    k = strnlen(drv.driverInfo, sizeof drv.driverInfo);
+    memcpy(d->driver_info, drv.driverInfo, k < sizeof d->driver_info ? k : sizeof d->driver_info - 1);
+    d->driver_info[k < sizeof d->driver_info ? k : sizeof d->driver_info - 1] = 0;
   }
+  d->ray_query = ray_query_support(pd, p.apiVersion, &d->acceleration_structure) && !(mask & PB_FEAT_RAY_QUERY);
+  if (mask & PB_FEAT_RAY_QUERY) d->acceleration_structure = 0;
   d->max_storage_buffer_range = p.limits.maxStorageBufferRange;
   d->subgroup_size = p.apiVersion >= VK_API_VERSION_1_1 ? sg.subgroupSize : 0;
   d->subgroup_ops = p.apiVersion >= VK_API_VERSION_1_1 && (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT)
@@ -554,13 +603,29 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
       .queueCount = 1,
       .pQueuePriorities = &prio,
   };
-  const char *dext = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+  const char *dext[1 + RAY_QUERY_EXT_COUNT];
+  uint32_t dext_count = 0;
+  if (g->can_present) dext[dext_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+  /* The ray-query path's extensions and features only where the device has
+   * them all (describe); a device without keeps the plain 1.1 device. */
+  VkPhysicalDeviceRayQueryFeaturesKHR rq = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR,
+                                            .rayQuery = VK_TRUE};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, .pNext = &rq,
+      .accelerationStructure = VK_TRUE};
+  VkPhysicalDeviceBufferDeviceAddressFeatures bda = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES, .pNext = &as,
+      .bufferDeviceAddress = VK_TRUE};
+  g->limits.ray_query = info[idx].ray_query;
+  if (g->limits.ray_query)
+    for (uint32_t i = 0; i < RAY_QUERY_EXT_COUNT; ++i) dext[dext_count++] = ray_query_exts[i];
   VkDeviceCreateInfo dci = {
       .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+      .pNext = g->limits.ray_query ? (void *)&bda : NULL,
       .queueCreateInfoCount = 1,
       .pQueueCreateInfos = &qci,
-      .enabledExtensionCount = g->can_present ? 1u : 0u,
-      .ppEnabledExtensionNames = &dext,
+      .enabledExtensionCount = dext_count,
+      .ppEnabledExtensionNames = dext,
   };
   VkResult vr = vkCreateDevice(g->phys, &dci, NULL, &g->device);
   if (vr != VK_SUCCESS) {

@@ -29,13 +29,21 @@ typedef struct pb_gpu_device_info {
   const char *type;            /* "discrete", "integrated", "virtual", "cpu", "other" */
   uint32_t vendor_id, device_id;
   uint32_t api_version;        /* VK_MAKE_API_VERSION */
-  char driver[VK_MAX_DRIVER_NAME_SIZE]; /* driver name and info, "" if unknown */
+  char driver[VK_MAX_DRIVER_NAME_SIZE]; /* VkPhysicalDeviceDriverProperties.driverName
+                                           ("llvmpipe"), "" if unknown (Vulkan 1.1) */
+  char driver_info[VK_MAX_DRIVER_INFO_SIZE]; /* its driverInfo, the driver's version
+                                           ("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"), "" if unknown */
   uint64_t max_storage_buffer_range; /* bytes */
   uint64_t device_local_bytes;
   uint32_t subgroup_size;      /* 0 if the device cannot say */
   uint32_t subgroup_ops;       /* VkSubgroupFeatureFlags of the compute stage (0: none) */
   uint32_t driver_id;          /* VkDriverId (Vulkan 1.2 drivers), 0 if unknown */
   int timestamps;              /* compute queue has timestamps */
+  int acceleration_structure;  /* VK_KHR_acceleration_structure offered */
+  int ray_query;               /* the ray-query path can run: VK_KHR_acceleration_structure
+                                  and VK_KHR_ray_query with their features accelerationStructure,
+                                  rayQuery and bufferDeviceAddress (and their required
+                                  extensions); optional, masked by "ray-query" */
   int usable;                  /* has everything the pipeline needs (missing[0] == 0) */
   int preferred;               /* the device that --device auto picks */
   char missing[200];           /* what an unusable device lacks, "" if usable, e.g.
@@ -50,12 +58,15 @@ typedef struct pb_gpu_device_info {
  *   storage-buffers  PB_GPU_REQUIRED_STORAGE_BUFFERS storage buffers per stage
  *                    and per set: the most any kernel binds (the gather's 20,
  *                    PB_GATHER_BIND_COUNT of shaders/shared/pb_contract.h)
- * Optional: timestamps (per-pass GPU times; without them the times are null).
+ * Optional: timestamps (per-pass GPU times; without them the times are null);
+ * ray-query (VK_KHR_ray_query on acceleration structures: pb_gpu_device_info
+ * .ray_query; the device is then created with those extensions and features,
+ * pb_gpu_limits.ray_query, and without them the GLSL BVH serves every ray).
  * Nothing else is required: no subgroup operations, no 64-bit integers or
  * float atomics (shared-memory and 32-bit buffer atomics are core).
  *
  * Test hook: the environment variable PB_GPU_MASK_FEATURES, a comma-separated
- * list of the names above (and "timestamps"), makes device selection treat
+ * list of the names above (and "timestamps", "ray-query"), makes device selection treat
  * those features as absent on every device, so that the "device lacks a
  * feature" paths can be tested on any machine. An unknown name is a usage
  * error (PB_ERR_USAGE). */
@@ -131,6 +142,9 @@ typedef struct pb_gpu_limits {
                                   a driver's known bugs) */
   int timestamps;
   double timestamp_period_ns;
+  int ray_query;               /* the device was created with VK_KHR_acceleration_structure,
+                                  VK_KHR_ray_query, bufferDeviceAddress (pb_gpu_device_info
+                                  .ray_query) */
 } pb_gpu_limits;
 const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g);
 const char *pb_gpu_device_name(const pb_gpu *g);
