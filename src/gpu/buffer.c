@@ -48,11 +48,18 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
                    "photons, or raise the cap",
                    name, (double)d->size / 1048576.0, (double)(g->memory_live + d->size) / 1048576.0,
                    (double)g->memory_limit / 1048576.0);
+  if (d->device_address && !g->limits.ray_query)
+    return pb_fail(PB_ERR_NOT_AVAILABLE, "%s: a buffer with a device address needs a device with ray queries "
+                   "(VK_KHR_acceleration_structure, VK_KHR_ray_query); %s has none", name, g->name);
   VkBufferCreateInfo bci = {
       .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
       .size = d->size,
       .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+               (d->device_address ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+                                        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                                        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR
+                                  : 0),
       .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
   };
   pb_result r;
@@ -74,8 +81,11 @@ pb_result pb_gpu_buffer_create(pb_gpu *g, const pb_gpu_buffer_desc *d, pb_gpu_bu
     r = pb_fail(PB_ERR_VULKAN, "%s: no memory type fits the buffer", name);
     goto fail;
   }
+  VkMemoryAllocateFlagsInfo maf = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO,
+                                   .flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT};
   VkMemoryAllocateInfo mai = {
       .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+      .pNext = d->device_address ? &maf : NULL,
       .allocationSize = req.size,
       .memoryTypeIndex = type,
   };

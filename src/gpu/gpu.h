@@ -189,6 +189,9 @@ typedef struct pb_gpu_buffer_desc {
   uint64_t size;      /* bytes, > 0 */
   int host_visible;   /* 1: must be mappable (readback of large results) */
   int readback;       /* 1: the host reads it: HOST_CACHED memory first */
+  int device_address; /* 1: it has a device address and may hold or feed
+                         acceleration structures (accel.c); only on a device
+                         with pb_gpu_limits.ray_query (PB_ERR_NOT_AVAILABLE) */
 } pb_gpu_buffer_desc;
 
 /* A storage buffer (also a transfer source and destination). Sizes over
@@ -229,6 +232,9 @@ typedef struct pb_gpu_pipeline_desc {
   const uint32_t *spirv;     /* embedded SPIR-V words */
   size_t spirv_bytes;
   uint32_t binding_count;    /* storage buffers at bindings 0 .. count-1 of set 0 */
+  uint32_t accel_bindings;   /* bit i: binding i is an acceleration structure
+                                instead (pb_gpu_pipeline_bind_accel; a device
+                                with pb_gpu_limits.ray_query) */
   uint32_t push_bytes;       /* push-constant block size, multiple of 4; 0: none */
   const uint32_t *spec;      /* specialization constants: constant_id i = spec[i] */
   uint32_t spec_count;
@@ -242,15 +248,49 @@ typedef struct pb_gpu_pipeline {
   VkDescriptorPool pool;
   VkDescriptorSet set;
   uint32_t binding_count, push_bytes;
+  uint32_t accel_bindings;
   uint64_t bound[PB_GPU_MAX_BINDINGS]; /* the buffers' ids the set holds (0: unset) */
 } pb_gpu_pipeline;
 
 pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *desc,
                                  pb_gpu_pipeline *out);
 void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p);
-/* Points bindings 0 .. count-1 at whole buffers; count == binding_count. */
+/* Points bindings 0 .. count-1 at whole buffers; count == binding_count.
+ * The acceleration-structure bindings (accel_bindings) take NULL here and
+ * are set by pb_gpu_pipeline_bind_accel. */
 pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p,
                                const pb_gpu_buffer *const *buffers, uint32_t count);
+
+/* ---- acceleration structures (devices with pb_gpu_limits.ray_query) ------ */
+
+/* Triangles for an acceleration structure: positions float[3 * vertex_count],
+ * indices uint[3 * triangle_count], each below vertex_count. */
+typedef struct pb_gpu_accel_desc {
+  const char *name;
+  const float *positions;
+  uint32_t vertex_count;
+  const uint32_t *indices;
+  uint32_t triangle_count;
+} pb_gpu_accel_desc;
+
+/* One bottom-level structure over the triangles (one opaque geometry, so a
+ * ray query's primitive index is the triangle's index in desc.indices) and a
+ * top-level one holding it once, untransformed, without face culling: what
+ * a shader's accelerationStructureEXT binds. */
+typedef struct pb_gpu_accel {
+  VkAccelerationStructureKHR blas, tlas;
+  pb_gpu_buffer blas_buffer, tlas_buffer;
+  uint64_t bytes;             /* both structures' storage */
+  double build_ms;            /* wall time of the build's submission */
+} pb_gpu_accel;
+
+/* Builds both on the GPU and waits. PB_ERR_NOT_AVAILABLE without
+ * pb_gpu_limits.ray_query, PB_ERR_USAGE for no triangles or an index out
+ * of range. */
+pb_result pb_gpu_accel_create(pb_gpu *g, const pb_gpu_accel_desc *desc, pb_gpu_accel *out);
+void pb_gpu_accel_destroy(pb_gpu *g, pb_gpu_accel *a);
+/* Points acceleration-structure binding `binding` of p at a's top level. */
+pb_result pb_gpu_pipeline_bind_accel(pb_gpu *g, pb_gpu_pipeline *p, uint32_t binding, const pb_gpu_accel *a);
 
 /* ---- recording and submission ------------------------------------------ */
 

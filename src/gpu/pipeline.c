@@ -1,5 +1,6 @@
 /* Compute pipelines from embedded SPIR-V (see gpu.h): one descriptor set of
- * storage buffers, an optional push-constant block, and specialization
+ * storage buffers (and acceleration structures on a device with ray
+ * queries), an optional push-constant block, and specialization
  * constants so that a scene's pipeline holds only the features it uses. */
 #include <stdio.h>
 #include <string.h>
@@ -27,6 +28,8 @@ static pb_result validate(const pb_gpu_pipeline_desc *d) {
   if (d->binding_count == 0 || d->binding_count > PB_GPU_MAX_BINDINGS)
     return pb_fail(PB_ERR_INTERNAL, "gpu: %s: %u bindings (1..%d)", n, d->binding_count,
                    PB_GPU_MAX_BINDINGS);
+  if (d->binding_count < 32 && d->accel_bindings >> d->binding_count)
+    return pb_fail(PB_ERR_INTERNAL, "gpu: %s: acceleration structure beyond its %u bindings", n, d->binding_count);
   if (d->push_bytes % 4 || d->push_bytes > 128)
     return pb_fail(PB_ERR_INTERNAL, "gpu: %s: push constants of %u bytes", n, d->push_bytes);
   if (d->spec_count > PB_GPU_MAX_SPEC || (d->spec_count && !d->spec))
@@ -39,6 +42,10 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
   pb_result r = validate(d);
   if (r != PB_OK) return r;
   const char *name = d->name ? d->name : "pipeline";
+  if (d->accel_bindings && !g->limits.ray_query)
+    return pb_fail(PB_ERR_NOT_AVAILABLE, "%s: binds an acceleration structure; %s has no ray queries", name, g->name);
+  uint32_t accel_count = 0;
+  for (uint32_t i = 0; i < d->binding_count; ++i) accel_count += d->accel_bindings >> i & 1u;
   char label[128];
   VkResult vr;
 
@@ -58,7 +65,8 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
   for (uint32_t i = 0; i < d->binding_count; ++i)
     b[i] = (VkDescriptorSetLayoutBinding){
         .binding = i,
-        .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        .descriptorType = (d->accel_bindings >> i & 1u) ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR
+                                                         : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         .descriptorCount = 1,
         .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
     };
@@ -122,12 +130,15 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
     r = pb_vk_fail(vr, label);
     goto fail;
   }
-  VkDescriptorPoolSize ps = {.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .descriptorCount = d->binding_count};
+  VkDescriptorPoolSize ps[2] = {
+      {.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .descriptorCount = d->binding_count - accel_count},
+      {.type = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, .descriptorCount = accel_count},
+  };
   VkDescriptorPoolCreateInfo dpi = {
       .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
       .maxSets = 1,
-      .poolSizeCount = 1,
-      .pPoolSizes = &ps,
+      .poolSizeCount = accel_count == 0 ? 1u : accel_count == d->binding_count ? 1u : 2u,
+      .pPoolSizes = accel_count == d->binding_count ? &ps[1] : ps,
   };
   vr = vkCreateDescriptorPool(g->device, &dpi, NULL, &p->pool);
   if (vr != VK_SUCCESS) {
@@ -149,6 +160,7 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
     goto fail;
   }
   p->binding_count = d->binding_count;
+  p->accel_bindings = d->accel_bindings;
   p->push_bytes = d->push_bytes;
   pb_gpu_set_name(g, VK_OBJECT_TYPE_SHADER_MODULE, (uint64_t)p->module, name);
   pb_gpu_set_name(g, VK_OBJECT_TYPE_PIPELINE, (uint64_t)p->pipeline, name);
@@ -168,7 +180,9 @@ pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffe
                    p->binding_count);
   int same = 1;
   for (uint32_t i = 0; i < count; ++i)
-    if (!buffers[i] || !buffers[i]->buffer || !buffers[i]->id || buffers[i]->id != p->bound[i]) same = 0;
+    if (!(p->accel_bindings >> i & 1u) &&
+        (!buffers[i] || !buffers[i]->buffer || !buffers[i]->id || buffers[i]->id != p->bound[i]))
+      same = 0;
   if (same) { /* what the set holds: a pending submission may use it as it is */
     g->ring.bind_skips++;
     return PB_OK;
@@ -177,20 +191,47 @@ pb_result pb_gpu_pipeline_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffe
   if (r != PB_OK) return r;
   VkDescriptorBufferInfo bi[PB_GPU_MAX_BINDINGS];
   VkWriteDescriptorSet w[PB_GPU_MAX_BINDINGS];
+  uint32_t nw = 0;
   for (uint32_t i = 0; i < count; ++i) {
+    if (p->accel_bindings >> i & 1u) continue;
     if (!buffers[i] || !buffers[i]->buffer)
       return pb_fail(PB_ERR_INTERNAL, "gpu: binding %u has no buffer", i);
-    bi[i] = (VkDescriptorBufferInfo){.buffer = buffers[i]->buffer, .offset = 0, .range = VK_WHOLE_SIZE};
-    w[i] = (VkWriteDescriptorSet){
+    bi[nw] = (VkDescriptorBufferInfo){.buffer = buffers[i]->buffer, .offset = 0, .range = VK_WHOLE_SIZE};
+    w[nw] = (VkWriteDescriptorSet){
         .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
         .dstSet = p->set,
         .dstBinding = i,
         .descriptorCount = 1,
         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        .pBufferInfo = &bi[i],
+        .pBufferInfo = &bi[nw],
     };
+    ++nw;
   }
-  vkUpdateDescriptorSets(g->device, count, w, 0, NULL);
-  for (uint32_t i = 0; i < count; ++i) p->bound[i] = buffers[i]->id;
+  vkUpdateDescriptorSets(g->device, nw, w, 0, NULL);
+  for (uint32_t i = 0; i < count; ++i)
+    if (!(p->accel_bindings >> i & 1u)) p->bound[i] = buffers[i]->id;
+  return PB_OK;
+}
+
+pb_result pb_gpu_pipeline_bind_accel(pb_gpu *g, pb_gpu_pipeline *p, uint32_t binding, const pb_gpu_accel *a) {
+  if (binding >= p->binding_count || !(p->accel_bindings >> binding & 1u))
+    return pb_fail(PB_ERR_INTERNAL, "gpu: binding %u is not an acceleration structure", binding);
+  if (!a || !a->tlas) return pb_fail(PB_ERR_INTERNAL, "gpu: binding %u has no acceleration structure", binding);
+  pb_result r = pb_gpu_settle(g); /* the set may be in use by a pending submission */
+  if (r != PB_OK) return r;
+  VkWriteDescriptorSetAccelerationStructureKHR as = {
+      .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR,
+      .accelerationStructureCount = 1,
+      .pAccelerationStructures = &a->tlas,
+  };
+  VkWriteDescriptorSet w = {
+      .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+      .pNext = &as,
+      .dstSet = p->set,
+      .dstBinding = binding,
+      .descriptorCount = 1,
+      .descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR,
+  };
+  vkUpdateDescriptorSets(g->device, 1, &w, 0, NULL);
   return PB_OK;
 }
