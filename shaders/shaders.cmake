@@ -65,4 +65,9 @@ pb_shader(photon_trace_images_blender ${CMAKE_SOURCE_DIR}/shaders/photon_trace.c
 # gather_upsample_blender.
 pb_shader(gather_upsample ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_UPSAMPLE=1)
 pb_shader(gather_upsample_blender ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_UPSAMPLE=1 -DPB_BLENDER=1)
+# Kernels that use VK_KHR_ray_query (GL_EXT_ray_query) live in
+# shaders/ray_query/, outside the glob above: only devices created with the
+# ray-query extensions (pb_gpu_limits.ray_query) load them, so no module that
+# every device loads holds ray-query SPIR-V.
+pb_shader(raycast_rq ${CMAKE_SOURCE_DIR}/shaders/ray_query/raycast_rq.comp)
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

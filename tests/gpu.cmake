@@ -212,3 +212,12 @@ add_test(NAME gpu_info_devices_mesa25
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(gpu_info_devices_mesa25 PROPERTIES LABELS "gpu;no-sanitize"
                      PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# Ray queries (VK_KHR_ray_query on acceleration structures) against the GLSL
+# BVH on the same rays, on tools/mesa25's lavapipe: the test fails, never
+# skips, when the manifest is missing (scripts/install-deps.sh provides it).
+if(TEST test_gpu_ray_query)
+  set_tests_properties(test_gpu_ray_query PROPERTIES
+                       ENVIRONMENT "PB_VK_VALIDATION=1;VK_ICD_FILENAMES=${PB_MESA25_ICD}"
+                       LABELS "gpu;no-sanitize" TIMEOUT 900)
+endif()

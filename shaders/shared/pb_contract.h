@@ -206,6 +206,12 @@
 #define PB_RAYCAST_BIND_HITS 3
 #define PB_RAYCAST_BIND_COUNT 4
 
+/* ---- ray_query/raycast_rq.comp (devices with VK_KHR_ray_query) ----------- */
+#define PB_RAYCAST_RQ_BIND_TLAS 0  /* accelerationStructureEXT (src/gpu/accel.c) */
+#define PB_RAYCAST_RQ_BIND_RAYS 1
+#define PB_RAYCAST_RQ_BIND_HITS 2
+#define PB_RAYCAST_RQ_BIND_COUNT 3
+
 /* ---- resolve.comp (shared/pb_resolve.h) ---------------------------------- */
 #define PB_RESOLVE_BIND_ACCUM 0         /* pb_gpu_accum[] */
 #define PB_RESOLVE_BIND_PHOTON_ACCUM 1  /* pb_gpu_photon_accum[] (photons on) */

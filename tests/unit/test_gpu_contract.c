@@ -37,6 +37,7 @@
 #include "shaders/lbvh_sort_upsweep.spv.h"
 #include "shaders/lbvh_sort_upsweep_serial.spv.h"
 #include "shaders/motion.spv.h"
+#include "shaders/raycast_rq.spv.h"
 #include "shaders/photon_rsm.spv.h"
 #include "shaders/photon_rsm_blender.spv.h"
 #include "shaders/photon_trace.spv.h"
@@ -186,6 +187,9 @@ static const entry motion_bind[] = {{"Nodes", PB_MOTION_BIND_NODES},
                                     END};
 static const entry raycast_bind[] = {{"Nodes", PB_RAYCAST_BIND_NODES}, {"Tris", PB_RAYCAST_BIND_TRIS},
                                      {"Rays", PB_RAYCAST_BIND_RAYS},   {"Hits", PB_RAYCAST_BIND_HITS}, END};
+/* An acceleration structure has no block: the variable's own name. */
+static const entry raycast_rq_bind[] = {{"Tlas", PB_RAYCAST_RQ_BIND_TLAS}, {"Rays", PB_RAYCAST_RQ_BIND_RAYS},
+                                        {"Hits", PB_RAYCAST_RQ_BIND_HITS}, END};
 static const entry resolve_bind[] = {{"Accum", PB_RESOLVE_BIND_ACCUM},
                                      {"PhotonAccum", PB_RESOLVE_BIND_PHOTON_ACCUM},
                                      {"PhotonNmap", PB_RESOLVE_BIND_NMAP},
@@ -289,6 +293,7 @@ static const module modules[] = {
     MOD(temporal, temporal_bind, no_spec, PB_TEMPORAL_BIND_COUNT),
     MOD(motion, motion_bind, no_spec, PB_MOTION_BIND_COUNT),
     MOD(raycast, raycast_bind, no_spec, PB_RAYCAST_BIND_COUNT),
+    MOD(raycast_rq, raycast_rq_bind, no_spec, PB_RAYCAST_RQ_BIND_COUNT),
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
     MOD(filter_io, filter_io_bind, no_spec, PB_FILTER_IO_BIND_COUNT),
     MOD(shading_correction, shading_bind, no_spec, PB_SHADING_BIND_COUNT),
@@ -361,6 +366,7 @@ int main(void) {
       if (len == 0) break;
       if (op == OP_DECORATE && w[i + 2] == DEC_BINDING) {
         const char *block = name_of(w, n, pointee_of_variable(w, n, w[i + 1]));
+        if (!block) block = name_of(w, n, w[i + 1]); /* an acceleration structure: no block */
         long want = lookup(md->bind, block);
         if (want != (long)w[i + 3] || w[i + 3] >= md->bind_count)
           fprintf(stderr, "%s: buffer %s at binding %u, the contract says %ld (of %u)\n", md->name,

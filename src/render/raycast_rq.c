@@ -1,0 +1,91 @@
+/* The ray-query twin of raycast.c (shaders/ray_query/raycast_rq.comp):
+ * closest hit or occlusion for a batch of rays through VK_KHR_ray_query on
+ * the scene's acceleration structures (gpu/accel.c), on a device that has
+ * them (pb_gpu_limits.ray_query); the tests compare it with the GLSL BVH. */
+#include <string.h>
+
+#include "core/log.h"
+#include "render/render.h"
+#include "shaders/raycast_rq.spv.h"
+
+void pb_raycast_rq_destroy(pb_gpu *g, pb_raycast_rq_pass *p) {
+  if (!p) return;
+  pb_gpu_pipeline_destroy(g, &p->pipe);
+  pb_gpu_buffer_destroy(g, &p->rays);
+  pb_gpu_buffer_destroy(g, &p->hits);
+  pb_gpu_accel_destroy(g, &p->accel);
+  memset(p, 0, sizeof *p);
+}
+
+pb_result pb_raycast_rq_create(pb_gpu *g, const pb_scene *s, uint32_t capacity, pb_raycast_rq_pass *p) {
+  memset(p, 0, sizeof *p);
+  if (capacity == 0) return pb_fail(PB_ERR_USAGE, "raycast_rq: capacity 0");
+  if (!pb_gpu_get_limits(g)->ray_query)
+    return pb_fail(PB_ERR_NOT_AVAILABLE, "raycast_rq: %s has no ray queries (VK_KHR_ray_query); "
+                   "see 'photonbridge info --devices'", pb_gpu_device_name(g));
+  pb_gpu_accel_desc ad = {
+      .name = "raycast_rq.scene",
+      .positions = &s->positions[0][0],
+      .vertex_count = s->vertex_count,
+      .indices = &s->triangles[0][0],
+      .triangle_count = s->triangle_count,
+  };
+  pb_result r = pb_gpu_accel_create(g, &ad, &p->accel);
+  if (r != PB_OK) goto fail;
+  pb_gpu_pipeline_desc pd = {
+      .name = "raycast_rq",
+      .spirv = pb_spv_raycast_rq,
+      .spirv_bytes = sizeof pb_spv_raycast_rq,
+      .binding_count = PB_RAYCAST_RQ_BIND_COUNT,
+      .accel_bindings = 1u << PB_RAYCAST_RQ_BIND_TLAS,
+      .push_bytes = sizeof(pb_gpu_raycast_push),
+  };
+  r = pb_gpu_pipeline_create(g, &pd, &p->pipe);
+  if (r != PB_OK) goto fail;
+  pb_gpu_buffer_desc rd = {.name = "raycast_rq.rays", .size = (uint64_t)capacity * sizeof(pb_gpu_ray)};
+  r = pb_gpu_buffer_create(g, &rd, &p->rays);
+  if (r != PB_OK) goto fail;
+  pb_gpu_buffer_desc hd = {.name = "raycast_rq.hits", .size = (uint64_t)capacity * sizeof(pb_gpu_hit),
+                           .host_visible = 1};
+  r = pb_gpu_buffer_create(g, &hd, &p->hits);
+  if (r != PB_OK) goto fail;
+  const pb_gpu_buffer *b[PB_RAYCAST_RQ_BIND_COUNT] = {[PB_RAYCAST_RQ_BIND_RAYS] = &p->rays,
+                                                      [PB_RAYCAST_RQ_BIND_HITS] = &p->hits};
+  r = pb_gpu_pipeline_bind(g, &p->pipe, b, PB_RAYCAST_RQ_BIND_COUNT);
+  if (r == PB_OK) r = pb_gpu_pipeline_bind_accel(g, &p->pipe, PB_RAYCAST_RQ_BIND_TLAS, &p->accel);
+  if (r != PB_OK) goto fail;
+  p->capacity = capacity;
+  return PB_OK;
+fail:
+  pb_raycast_rq_destroy(g, p);
+  return r;
+}
+
+pb_result pb_raycast_rq_run(pb_gpu *g, pb_raycast_rq_pass *p, const pb_gpu_ray *rays, uint32_t n, int any_hit,
+                            pb_gpu_hit *hits, double *gpu_ms) {
+  if (n > p->capacity)
+    return pb_fail(PB_ERR_LIMIT, "raycast_rq: %u rays exceed the pass's capacity of %u", n, p->capacity);
+  if (gpu_ms) *gpu_ms = -1.0;
+  if (n == 0) return PB_OK;
+  pb_result r = pb_gpu_buffer_upload(g, &p->rays, 0, rays, (uint64_t)n * sizeof *rays);
+  if (r != PB_OK) return r;
+  pb_gpu_raycast_push push = {.ray_count = n, .any_hit = any_hit ? 1u : 0u};
+  r = pb_gpu_begin(g);
+  if (r != PB_OK) return r;
+  pb_gpu_timestamp(g, 0);
+  r = pb_gpu_dispatch(g, &p->pipe, &push, n);
+  pb_gpu_timestamp(g, 1);
+  if (r != PB_OK) {
+    pb_gpu_submit(g);
+    return r;
+  }
+  double t0 = pb_time_now();
+  r = pb_gpu_submit(g);
+  double wall = (pb_time_now() - t0) * 1e3;
+  if (r != PB_OK) return r;
+  if (gpu_ms) {
+    double ms = pb_gpu_elapsed_ms(g, 0, 1);
+    *gpu_ms = ms >= 0 ? ms : wall;
+  }
+  return pb_gpu_buffer_download(g, &p->hits, 0, hits, (uint64_t)n * sizeof *hits);
+}
