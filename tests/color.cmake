@@ -21,6 +21,12 @@ pb_cli_test(cli_display_bad_view display --list --ocio-config built-in --view No
 if(EXISTS /usr/share/blender/datafiles/colormanagement/config.ocio)
   pb_cli_test(cli_display_list_blender display --list EXIT 0
               REGEX "config Blender's /usr/share/blender/datafiles/colormanagement/config.ocio.*Filmic.*exit=0")
+  # ... and where that config (Blender 3.4's) lacks the view asked for, the
+  # built-in one that has it (a 4.x scene's AgX, Khronos PBR Neutral).
+  pb_cli_test(cli_display_list_blender_agx display --list --view AgX EXIT 0
+              REGEX "config built-in \\(/usr/share/blender/datafiles/colormanagement/config.ocio lacks the display, view or look asked for\\).*AgX.*exit=0")
+  pb_cli_test(cli_display_list_blender_agx_missing display --list --view NoSuchView EXIT 2
+              REGEX "config Blender's /usr/share/blender/datafiles/colormanagement/config.ocio: display 'sRGB' has no view 'NoSuchView'.*exit=2")
 endif()
 pb_cli_test(cli_display_missing_config display --list --ocio-config no/such.ocio EXIT 3
             REGEX "no/such.ocio: cannot open.*exit=3")

@@ -8,6 +8,13 @@
 
 #include "shared/pb_principled2_tables.h"
 
+// The input loops below are kept as loops ([[dont_unroll]]): each of their
+// iterations may read a texture, and a driver that unrolls them (Mesa's NIR
+// does, for a loop that indexes a local array) inlines one bilinear lookup
+// per input, which made pipeline creation of a textured Principled v2 scene
+// take minutes on lavapipe.
+#extension GL_EXT_control_flow_attributes : require
+
 const float PB_CUTOFF = 1e-5;           // CLOSURE_WEIGHT_CUTOFF
 const float PB_SINGULAR_ALPHA2 = 1e-7;  // alpha_x alpha_y at or below: a delta lobe
 
@@ -384,7 +391,7 @@ float pb_input_value(pb_gpu_material m, uint i, pb_surface s) {
 // Every input at uv, in one loop (one texture fetch in the code instead of
 // one per input: the shader stays small).
 void pb_inputs(pb_gpu_material m, pb_surface s, out float v[PB_GPU_IN_SLOTS]) {
-  for (uint i = 0u; i < PB_GPU_IN_V1_SLOTS; ++i) v[i] = pb_input_value(m, i, s);
+  [[dont_unroll]] for (uint i = 0u; i < PB_GPU_IN_V1_SLOTS; ++i) v[i] = pb_input_value(m, i, s);
   for (uint i = PB_GPU_IN_V1_SLOTS; i < PB_GPU_IN_SLOTS; ++i) v[i] = 0.0;
 }
 
@@ -612,7 +619,7 @@ vec3 pb2_color(uint tex, vec3 value, pb_surface s) {
 vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_only, inout pb_bsdf b) {
   pb_gpu_material m = materials[surf.mat];
   float in_v[PB_GPU_IN_SLOTS];
-  for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) in_v[i] = pb_input_value(m, i, surf);
+  [[dont_unroll]] for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) in_v[i] = pb_input_value(m, i, surf);
   bool multi = m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX;
   float metallic = clamp(in_v[PB_GPU_IN_METALLIC], 0.0, 1.0);
   float ss_w = clamp(in_v[PB_GPU_IN_SUBSURFACE], 0.0, 1.0);

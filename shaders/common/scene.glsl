@@ -53,6 +53,9 @@ const bool SC_ALPHA = false;
 const bool SC_PRINCIPLED2 = false;
 #endif
 
+// [[dont_unroll]] on the loops that must stay loops (texture lookups).
+#extension GL_EXT_control_flow_attributes : require
+
 #include "common/bvh.glsl"
 
 const float PB_PI = 3.14159265358979323846;
@@ -119,6 +122,11 @@ vec4 pb_texel(pb_gpu_texture t, int x, int y) {
     c.rgb = vec3(pb_srgb_to_linear(c.r), pb_srgb_to_linear(c.g), pb_srgb_to_linear(c.b));
   return c;
 }
+// The texels are read in a loop kept as a loop ([[dont_unroll]],
+// principled.glsl): a lookup is inlined at every use of a texture, and four
+// inlined texel decodes (each with three sRGB pow) per site made the
+// shading passes of textured scenes slow to compile on lavapipe. Same
+// arithmetic as four separate reads.
 vec4 pb_texture_sample(uint index, vec2 uv) {
   pb_gpu_texture t = textures[index];
   float u = uv.x, v = uv.y;
@@ -128,15 +136,27 @@ vec4 pb_texture_sample(uint index, vec2 uv) {
   v = v - 65536.0 * trunc(v / 65536.0);
   int W = int(t.width), H = int(t.height);
   float fx = u * float(W) - 0.5, fy = v * float(H) - 0.5;
-  if ((t.flags & PB_GPU_TEX_NEAREST) != 0u)
-    return pb_texel(t, pb_wrap(int(floor(fx + 0.5)), W, t.wrap_s), pb_wrap(int(floor(fy + 0.5)), H, t.wrap_t));
-  float x0f = floor(fx), y0f = floor(fy);
-  float ax = fx - x0f, ay = fy - y0f;
-  int x0 = int(x0f), y0 = int(y0f);
-  int xa = pb_wrap(x0, W, t.wrap_s), xb = pb_wrap(x0 + 1, W, t.wrap_s);
-  int ya = pb_wrap(y0, H, t.wrap_t), yb = pb_wrap(y0 + 1, H, t.wrap_t);
-  vec4 a = pb_texel(t, xa, ya), b = pb_texel(t, xb, ya), c = pb_texel(t, xa, yb), d = pb_texel(t, xb, yb);
-  return (a * (1.0 - ax) + b * ax) * (1.0 - ay) + (c * (1.0 - ax) + d * ax) * ay;
+  bool nearest = (t.flags & PB_GPU_TEX_NEAREST) != 0u;
+  int xa, xb, ya, yb;
+  float ax = 0.0, ay = 0.0;
+  if (nearest) {
+    xa = xb = pb_wrap(int(floor(fx + 0.5)), W, t.wrap_s);
+    ya = yb = pb_wrap(int(floor(fy + 0.5)), H, t.wrap_t);
+  } else {
+    float x0f = floor(fx), y0f = floor(fy);
+    ax = fx - x0f;
+    ay = fy - y0f;
+    int x0 = int(x0f), y0 = int(y0f);
+    xa = pb_wrap(x0, W, t.wrap_s);
+    xb = pb_wrap(x0 + 1, W, t.wrap_s);
+    ya = pb_wrap(y0, H, t.wrap_t);
+    yb = pb_wrap(y0 + 1, H, t.wrap_t);
+  }
+  vec4 q[4];
+  uint n = nearest ? 1u : 4u;
+  [[dont_unroll]] for (uint k = 0u; k < n; ++k) q[k] = pb_texel(t, (k & 1u) != 0u ? xb : xa, (k & 2u) != 0u ? yb : ya);
+  if (nearest) return q[0];
+  return (q[0] * (1.0 - ax) + q[1] * ax) * (1.0 - ay) + (q[2] * (1.0 - ax) + q[3] * ax) * ay;
 }
 
 // ---- surfaces -------------------------------------------------------------

@@ -31,6 +31,7 @@ namespace OCIO = OCIO_NAMESPACE;
 struct pb_color {
   std::string config_name; // "built-in" or a path ("$OCIO=" / "Blender's " before it when found so)
   std::string display, view, look;
+  bool found_blender = false; // the config is an installed Blender's, found (not named)
   double exposure = 0.0, gamma = 1.0;
   OCIO::ConstConfigRcPtr config;
   OCIO::ConstCPUProcessorRcPtr cpu;
@@ -334,6 +335,7 @@ pb_result load_config(const pb_color_desc *desc, pb_color *c) {
     c->config_name = path;
   } else if (desc->purpose == PB_COLOR_PICTURE && (path = pb_color_blender_config())) {
     c->config_name = std::string("Blender's ") + path;
+    c->found_blender = true;
   } else {
     c->config_name = "built-in";
   }
@@ -408,6 +410,29 @@ extern "C" pb_result pb_color_open(const pb_color_desc *desc, pb_color **out) {
   if (r != PB_OK) {
     delete c;
     return r;
+  }
+  // A Blender config found on this machine (not named by the user) that
+  // lacks the display, view or look asked for -- an older Blender's, e.g.
+  // 3.4's without AgX, asked for a 4.x scene's view -- gives way to the
+  // built-in one when that has them.
+  if (c->found_blender) {
+    try {
+      OCIO::ConstConfigRcPtr b = builtin_config();
+      auto holds = [&](const OCIO::ConstConfigRcPtr &cf) {
+        const char *d = empty(desc->display) ? cf->getDefaultDisplay() : desc->display;
+        if (!has_display(cf, d)) return false;
+        if (!empty(desc->view) && !has_view(cf, d, desc->view)) return false;
+        return empty(desc->look) || std::strcmp(desc->look, "None") == 0 || cf->getLook(desc->look) != nullptr;
+      };
+      if (!holds(c->config) && holds(b)) {
+        c->config = b;
+        c->config_name = "built-in (" + c->config_name.substr(std::strlen("Blender's ")) +
+                         " lacks the display, view or look asked for)";
+        c->found_blender = false;
+      }
+    } catch (const OCIO::Exception &) {
+      // keep the found config; the checks below name what it lacks
+    }
   }
   const char *cfg = c->config_name.c_str();
   try {
