@@ -184,58 +184,6 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
   return PB_OK;
 }
 
-/* Adds the tracer's statistics of one photon map to the frame's (summed
- * ones added, the others replaced). */
-static void tracer_stats_add(const pb_tracer *t, pb_render_stats *st) {
-  pb_tracer_stat now[PB_TRACER_MAX_STATS];
-  uint32_t n = pb_tracer_stats(t, now, PB_TRACER_MAX_STATS);
-  st->tracer = pb_tracer_name(t);
-  for (uint32_t i = 0; i < n; ++i) {
-    uint32_t j = 0;
-    while (j < st->tracer_stat_count && strcmp(st->tracer_stats[j].name, now[i].name)) ++j;
-    if (j == st->tracer_stat_count) {
-      st->tracer_stats[j] = now[i];
-      st->tracer_stat_count++;
-    } else {
-      st->tracer_stats[j].value = now[i].summed ? st->tracer_stats[j].value + now[i].value : now[i].value;
-    }
-  }
-}
-
-/* Adds the estimator's statistics of one photon map to the frame's, as
- * tracer_stats_add does the tracer's. */
-static void estimator_stats_add(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
-  pb_tracer_stat now[PB_TRACER_MAX_STATS];
-  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
-  st->estimator = pb_estimator_name(e);
-  for (uint32_t i = 0; i < n; ++i) {
-    uint32_t j = 0;
-    while (j < st->estimator_stat_count && strcmp(st->estimator_stats[j].name, now[i].name)) ++j;
-    if (j == st->estimator_stat_count) {
-      st->estimator_stats[j] = now[i];
-      st->estimator_stat_count++;
-    } else {
-      st->estimator_stats[j].value = now[i].summed ? st->estimator_stats[j].value + now[i].value : now[i].value;
-    }
-  }
-}
-
-/* After the frame's last sample: the statistics that are not summed over
- * maps are read again and replace the ones read after the last build (an
- * estimator whose work is per sample, vsch, counts its last sample; the
- * LBVH's per-map counts come back unchanged). */
-static void estimator_stats_final(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
-  pb_tracer_stat now[PB_TRACER_MAX_STATS];
-  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
-  for (uint32_t i = 0; i < n; ++i) {
-    if (now[i].summed) continue;
-    uint32_t j = 0;
-    while (j < st->estimator_stat_count && strcmp(st->estimator_stats[j].name, now[i].name)) ++j;
-    if (j == st->estimator_stat_count && j < PB_TRACER_MAX_STATS) st->estimator_stats[st->estimator_stat_count++] = now[i];
-    else if (j < st->estimator_stat_count) st->estimator_stats[j].value = now[i].value;
-  }
-}
-
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing) {
   for (uint32_t i = 0; i < st->estimator_stat_count; ++i)
     if (!strcmp(st->estimator_stats[i].name, name)) return st->estimator_stats[i].value;
@@ -257,35 +205,6 @@ static float footprint_scale(const pb_render_desc *d, uint32_t it) {
   double k2 = 1.0, alpha = d->alpha > 0.0f ? d->alpha : 2.0 / 3.0;
   for (uint32_t j = 1; j <= d->iteration_base + it; ++j) k2 *= (j + alpha) / (j + 1.0);
   return (float)sqrt(k2);
-}
-
-/* Bins the footprint radii of one traced map into stats->radius_hist (seed
- * 000 Table 3); *buf is a host copy grown as needed (freed by the caller). */
-static pb_result radius_histogram(pb_gpu *g, const pb_photon_tracer *t, const pb_photon_map *m,
-                                  pb_gpu_photon **buf, pb_render_stats *st) {
-  pb_photon_trace_stats ts;
-  pb_photon_tracer_stats(t, &ts);
-  uint32_t n = m->stored < m->capacity ? m->stored : m->capacity;
-  st->radius_histogram = 1;
-  st->radius_r_max = ts.r_max;
-  st->scene_radius = ts.scene_radius;
-  if (n == 0 || !(ts.r_max > 0.0f)) return PB_OK;
-  pb_gpu_photon *p = realloc(*buf, (size_t)n * sizeof *p);
-  if (!p) return pb_fail(PB_ERR_NOMEM, "render: out of memory for the radius histogram (%u photons)", n);
-  *buf = p;
-  pb_result r = pb_gpu_buffer_download(g, &m->photons, 0, p, (uint64_t)n * sizeof *p);
-  if (r != PB_OK) return r;
-  const int below = PB_RENDER_RADIUS_BINS - 1;
-  for (uint32_t i = 0; i < n; ++i) {
-    double x = p[i].radius / ts.r_max;
-    int b = below; /* at the clamp */
-    if (x < 1.0 - 1e-5) {
-      b = x > 0 ? (int)(x * below) : 0;
-      if (b > below - 1) b = below - 1;
-    }
-    st->radius_hist[b]++;
-  }
-  return PB_OK;
 }
 
 /* Progress and the time limit, after iteration `it` of band 0 finished
@@ -341,13 +260,8 @@ static pb_result tail_band_times(pb_gpu *g, frame_tail *ft, pb_render_result *ou
  * samples (a frame in flight: before its last submission, which the next
  * frame's work follows). */
 static void estimator_final(pb_gpu *g, frame_tail *ft, pb_render_stats *st) {
-  if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
-  if (ft->photons_on && ft->ups) { /* the up-sampling's counts, under "estimator" too */
-    pb_tracer_stat us[PB_TRACER_MAX_STATS];
-    uint32_t m = pb_upsample_stats(g, ft->ups, us, PB_TRACER_MAX_STATS);
-    for (uint32_t i = 0; i < m && st->estimator_stat_count < PB_TRACER_MAX_STATS; ++i)
-      st->estimator_stats[st->estimator_stat_count++] = us[i];
-  }
+  if (ft->photons_on && ft->est) pb_estimator_stats_final(g, ft->est, st);
+  if (ft->photons_on && ft->ups) pb_upsample_stats_add(g, ft->ups, st); /* under "estimator" too */
   ft->est_final = 1;
 }
 
@@ -536,7 +450,6 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   memset(&map, 0, sizeof map);
   double trace_ms = 0, est_build_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
   double photon_gpu_ms = 0; /* tracing and LBVH builds of every band (timing.frame_gpu_ms) */
-  pb_gpu_photon *hist_host = NULL;
   uint64_t stored_sum = 0, caustic_sum = 0;
   /* Iterations run (fewer than iters when the time limit stops the
    * refinement in band 0; later bands run as many) and their samples. */
@@ -751,9 +664,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       pb_estimator_map_info mi = {.footprint_scale = footprint_scale(&desc, it)};
       if (!m) {
         /* The tracer's r_max is set when it is made or updated (photon.h). */
-        pb_photon_trace_stats pts;
-        pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
-        mi.r_max = pts.r_max;
+        mi.r_max = pb_tracer_r_max(tracer);
         /* The trace and the estimator's build in one submission, no host
          * round trip between them: the build reads the stored count from
          * the map's counts on the GPU and sizes its passes from it (lbvh.c);
@@ -777,14 +688,9 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       }
       if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
                      out->stats.photons_clamped += m->clamped;
-      if (!desc.photon_map && band == 0) {
-        pb_photon_trace_stats pts;
-        pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
-        out->stats.photon_guarded += pts.guarded;
-        tracer_stats_add(tracer, &out->stats);
-      }
+      if (!desc.photon_map && band == 0) pb_tracer_stats_add(tracer, &out->stats);
       if (band == 0 && desc.radius_histogram && !desc.photon_map &&
-          (r = radius_histogram(g, pb_tracer_photon(tracer), m, &hist_host, &out->stats)) != PB_OK)
+          (r = pb_tracer_radius_histogram(g, tracer, m, &out->stats)) != PB_OK)
         goto fail;
       if (desc.photon_map) { /* a map made by the host: the build in its own submission */
         if ((r = pb_estimator_begin_map(g, est, m, &mi)) != PB_OK) goto fail;
@@ -800,7 +706,7 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
       photon_gpu_ms += build_ms > 0 ? build_ms : 0;
       if (band == 0) {
         est_build_ms += build_ms;
-        estimator_stats_add(g, est, &out->stats);
+        pb_estimator_stats_add(g, est, &out->stats);
       }
       if ((r = pb_estimator_bind(g, est, &ps, &tg.paccum, nmap_on ? &tg.pnmap : NULL)) != PB_OK) goto fail;
       if (ups && (r = pb_upsample_bind(g, ups, est, &ps, &tg.paccum, m->caustic > 0)) != PB_OK) goto fail;
@@ -945,7 +851,6 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     goto fail;
   }
   free(preview.beauty);
-  free(hist_host);
   pb_filter_chain_destroy(g, own_fc);
   if (ctx) { /* kept for the next frame */
     for (uint32_t i = 0; i < PB_READBACK_RING; ++i)
@@ -970,7 +875,6 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
   return PB_OK;
 fail:
   free(preview.beauty);
-  free(hist_host);
   pb_filter_chain_destroy(g, own_fc);
   pb_gpu_pipeline_destroy(g, &scp);
   pb_photon_map_destroy(g, &map);

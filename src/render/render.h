@@ -108,6 +108,13 @@ typedef struct pb_tracer_stat {
   int summed;
 } pb_tracer_stat;
 enum { PB_TRACER_MAX_STATS = 24 };
+/* Merges one photon map's named statistics `now` (n of them) into a frame's
+ * list of *count (at most PB_TRACER_MAX_STATS): summed ones added, the
+ * others replaced, new names appended while there is room. last_only: only
+ * the statistics that are not summed (read again after the frame's last
+ * sample). tracer.c; the tracer's, the estimator's and the up-sampling's. */
+void pb_tracer_stats_merge(pb_tracer_stat *list, uint32_t *count, const pb_tracer_stat *now, uint32_t n,
+                           int last_only);
 
 /* What pb_render_desc.progress hears after each finished photon iteration
  * (band 0 of the image, the first rows when it needs several bands). */
