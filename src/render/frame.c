@@ -99,7 +99,7 @@ typedef struct frame_tail {
 
 /* Every GPU resource a frame owns, made from its shape (plan.h
  * pb_frame_shape) alone and released by context_clear alone: kept by the
- * caller between the frames of a sequence (pb_render_desc.context), or the
+ * caller between the frames of a sequence (pb_render_io.context), or the
  * call's own for one frame. */
 struct pb_frame_context {
   int valid;
@@ -231,7 +231,7 @@ static float footprint_scale(const pb_render_desc *d, uint32_t it) {
 
 /* Progress and the time limit, after iteration `it` of band 0 finished
  * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
- * desc->progress, with the mean beauty so far when desc->preview_interval_s
+ * io->progress, with the mean beauty so far when desc->preview_interval_s
  * allows one (the whole image in one band, not the last iteration: its
  * beauty is the result, and at most one per interval); lowers *iters_run to
  * it + 1 once desc->time_limit_s has passed. */
@@ -240,11 +240,11 @@ typedef struct preview_state {
   double last_s;
 } preview_state;
 
-static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_frame_targets *tg, preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
+static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_render_io *io, const pb_frame_targets *tg, preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
                                 uint32_t width, uint32_t height, uint32_t bands, double t0, uint32_t *iters_run) {
   double now = pb_time_now();
   if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
-  if (!d->progress) return PB_OK;
+  if (!io->progress) return PB_OK;
   pb_render_progress p = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
                           .spp = (uint32_t)((uint64_t)*iters_run * spp / iters), .elapsed_s = now - t0,
                           .width = width, .height = height};
@@ -258,7 +258,7 @@ static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_fra
     p.beauty = pv->beauty;
     pv->last_s = now;
   }
-  return d->progress(d->progress_user, &p);
+  return io->progress(io->progress_user, &p);
 }
 
 /* After the band's last submission finished: its GPU times and the filter
@@ -433,10 +433,11 @@ typedef struct frame_run {
   pb_gpu *g;
   const pb_scene *s;
   const pb_render_desc *d;
+  const pb_render_io *io;
   pb_render_result *out;
   pb_frame_plan p;
-  pb_frame_context *c;         /* desc's context, or `own` */
-  pb_frame_context own;        /* the call's own context (no desc.context) */
+  pb_frame_context *c;         /* io's context, or `own` */
+  pb_frame_context own;        /* the call's own context (no io.context) */
   int reuse;                   /* c was made by an earlier frame of this shape */
   pb_filter_chain *fc, *own_fc;/* the indirect light's filters; the call's own */
   preview_state preview;
@@ -447,16 +448,17 @@ typedef struct frame_run {
   uint64_t ring_kept;          /* ... and the planes it keeps there */
 } frame_run;
 
-static void run_begin(frame_run *run, pb_gpu *g, const pb_scene *s, const pb_render_desc *d, pb_render_result *out) {
-  run->g = g, run->s = s, run->d = d, run->out = out;
+static void run_begin(frame_run *run, pb_gpu *g, const pb_scene *s, const pb_render_desc *d, const pb_render_io *io,
+                      pb_render_result *out) {
+  run->g = g, run->s = s, run->d = d, run->io = io, run->out = out;
   /* A context from the previous frame of a sequence: reused when it
    * matches, cleared on a failure. */
-  run->c = d->context ? d->context : &run->own;
+  run->c = io->context ? io->context : &run->own;
   run->reuse = run->c->valid && !memcmp(&run->c->key, &run->p.shape, sizeof run->p.shape);
   run->kept_slot = run->c->next_slot;
-  /* The previous frame in flight (pb_render_desc.settle_first). */
-  run->prev = d->settle_first && d->settle_first->pending && d->context ? d->settle_first : NULL;
-  run->fc = d->filters;
+  /* The previous frame in flight (pb_render_io.settle_first). */
+  run->prev = io->settle_first && io->settle_first->pending && io->context ? io->settle_first : NULL;
+  run->fc = io->filters;
   run->ring_kept = PB_RENDER_KEEP_ALL;
   frame_tail *ft = &run->ft;
   ft->wall0 = pb_time_now();
@@ -568,7 +570,7 @@ static pb_result record_photon_map(frame_run *run, uint32_t band, uint32_t it) {
   pb_render_stats *st = &run->out->stats;
   frame_tail *ft = &run->ft;
   pb_result r;
-  const pb_photon_map *m = d->photon_map;
+  const pb_photon_map *m = run->io->photon_map;
   double ms = 0, build_ms = 0;
   pb_estimator_map_info mi = {.footprint_scale = footprint_scale(d, it)};
   if (!m) {
@@ -599,11 +601,11 @@ static pb_result record_photon_map(frame_run *run, uint32_t band, uint32_t it) {
     ft->stored_sum += m->stored, ft->caustic_sum += m->caustic;
     st->photons_emitted += m->emitted, st->photons_clamped += m->clamped;
   }
-  if (!d->photon_map && band == 0) pb_tracer_stats_add(c->tracer, st);
-  if (band == 0 && d->radius_histogram && !d->photon_map &&
+  if (!run->io->photon_map && band == 0) pb_tracer_stats_add(c->tracer, st);
+  if (band == 0 && d->radius_histogram && !run->io->photon_map &&
       (r = pb_tracer_radius_histogram(g, c->tracer, m, st)) != PB_OK)
     return r;
-  if (d->photon_map) { /* a map made by the host: the build in its own submission */
+  if (run->io->photon_map) { /* a map made by the host: the build in its own submission */
     if ((r = pb_estimator_begin_map(g, c->est, m, &mi)) != PB_OK) return r;
     double w0 = pb_time_now();
     if ((r = pb_gpu_begin(g)) != PB_OK) return r;
@@ -714,7 +716,7 @@ static pb_result record_tail(frame_run *run, uint32_t band, uint32_t pixels) {
                     (r = pb_gpu_buffer_fill_zero(g, &c->tg.kpd)) != PB_OK))
     return r;
   if (p->chain_gpu && (r = pb_filter_chain_bind(g, run->fc, &c->tg, p->nmap_aovs)) != PB_OK) return r;
-  if (p->still_gpu && (r = pb_still_sum_bind(g, run->d->still_sum, &c->tg)) != PB_OK) return r;
+  if (p->still_gpu && (r = pb_still_sum_bind(g, run->io->still_sum, &c->tg)) != PB_OK) return r;
   if ((r = pb_gpu_begin(g)) != PB_OK) return r;
   pb_gpu_timestamp(g, 0);
   r = pb_resolve_record(g, &c->rp, &c->tg, pixels, 1.0f / (float)ft->spp_run, run->s->film_opaque);
@@ -728,7 +730,7 @@ static pb_result record_tail(frame_run *run, uint32_t band, uint32_t pixels) {
     pb_gpu_barrier(g);
   }
   if (p->still_gpu && r == PB_OK) { /* a still run's running means (targets.h pb_still_sum) */
-    r = pb_still_sum_record(g, run->d->still_sum, &c->tg, pixels);
+    r = pb_still_sum_record(g, run->io->still_sum, &c->tg, pixels);
     pb_gpu_barrier(g);
   }
   pb_gpu_timestamp(g, ++slot);
@@ -771,7 +773,7 @@ static pb_result frame_band(frame_run *run, uint32_t band) {
     uint32_t s_end = (uint32_t)((uint64_t)(it + 1) * p->spp / p->iters);
     if (p->photons && s_end > s_begin && (r = record_photon_map(run, band, it)) != PB_OK) return r;
     if ((r = record_camera_samples(run, s_begin, s_end, pixels)) != PB_OK) return r;
-    if (band == 0 && (r = iteration_done(g, run->d, &c->tg, &run->preview, it, p->iters, s_end, p->spp, width, height,
+    if (band == 0 && (r = iteration_done(g, run->d, run->io, &c->tg, &run->preview, it, p->iters, s_end, p->spp, width, height,
                                          p->bands, ft->wall0, &ft->iters_run)) != PB_OK)
       return r;
   }
@@ -816,17 +818,25 @@ static pb_result frame_finish(frame_run *run) {
 
 /* The stages in order (render.h): the plan, the context, per band the
  * photon maps, camera samples and tail, then the frame's finish. */
-pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
-                          uint32_t height, const pb_render_desc *desc, pb_render_result *out) {
+pb_result pb_render_frame_io(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
+                             uint32_t height, const pb_render_desc *desc, const pb_render_io *io,
+                             pb_render_result *out) {
   static const pb_render_desc defaults;
+  static const pb_render_io none;
   memset(out, 0, sizeof *out);
   frame_run run = {0};
   const pb_render_desc *d = desc ? desc : &defaults;
-  pb_result r = pb_frame_plan_of(g, s, gs, camera, width, height, d, &run.p);
+  if (!io) io = &none;
+  pb_result r = pb_frame_plan_of(g, s, gs, camera, width, height, d, io, &run.p);
   if (r != PB_OK) return r;
-  run_begin(&run, g, s, d, out);
+  run_begin(&run, g, s, d, io, out);
   r = frame_prepare(&run);
   for (uint32_t band = 0; r == PB_OK && band < run.p.bands; ++band) r = frame_band(&run, band);
   if (r == PB_OK) r = frame_finish(&run);
   return run_end(&run, r);
+}
+
+pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
+                          uint32_t height, const pb_render_desc *desc, pb_render_result *out) {
+  return pb_render_frame_io(g, s, gs, camera, width, height, desc, NULL, out);
 }

@@ -149,10 +149,10 @@ static void frame_constants(const pb_scene *s, const pb_gpu_scene *gs, int camer
 
 /* Where the resolve's planes go after it: the filters and eq. 20 on the
  * GPU, the readback, frames in flight. */
-static void decisions(const pb_scene *s, const pb_render_desc *d, pb_frame_plan *p) {
+static void decisions(const pb_scene *s, const pb_render_desc *d, const pb_render_io *io, pb_frame_plan *p) {
   const char *host_env = getenv("PB_RESOLVE_ON_HOST");
   p->host_resolve = host_env && host_env[0] == '1';
-  int one_band = p->bands == 1, ctx = d->context != NULL;
+  int one_band = p->bands == 1, ctx = io->context != NULL;
   /* A lean readback (render.h pb_render_desc.readback): where nothing on
    * the host needs the AOVs. The GPU path in one band (the host path's
    * filters and eq. 20 work on the read-back arrays), a context to keep
@@ -160,24 +160,24 @@ static void decisions(const pb_scene *s, const pb_render_desc *d, pb_frame_plan 
    * (else the caller averages the arrays). Everything else reads all. */
   p->readback = PB_RENDER_READBACK_ALL;
   if ((d->readback == PB_RENDER_READBACK_BEAUTY || d->readback == PB_RENDER_READBACK_STATS) && ctx && one_band &&
-      !p->host_resolve && (!d->still_sum || d->still_sum->pixels == p->shape.band_pixels))
+      !p->host_resolve && (!io->still_sum || io->still_sum->pixels == p->shape.band_pixels))
     p->readback = d->readback;
   p->nmap = p->photons && p->shape.scene.normal_maps;
   /* The shading-correction AOVs leave the GPU where eq. 20 can use them. */
   p->nmap_aovs = p->nmap && (s->features & PB_FEATURE_NORMAL_MAPS) && s->tangents && s->uvs;
   /* The filters of the indirect light: the sequence's chain, or one made
    * for this call's A-Trous (filters.h). */
-  p->own_chain = !d->filters && p->photons && d->atrous_iterations;
+  p->own_chain = !io->filters && p->photons && d->atrous_iterations;
   /* After the resolve, on the GPU: the filter chain and eq. 20, for an image
    * in one band (the filters read neighbours). Several bands, and the host
    * resolve of the tests (PB_RESOLVE_ON_HOST=1, readback.h), filter the
    * read-back AOVs on the host instead: the former path, the reference. */
   p->post_gpu = p->photons && one_band && !p->host_resolve;
-  p->chain_gpu = p->post_gpu && (d->filters || p->own_chain);
+  p->chain_gpu = p->post_gpu && (io->filters || p->own_chain);
   p->sc_on = !d->no_shading_correction && p->nmap_aovs;
   /* A still run's means on the GPU: after eq. 20, on the final planes of a
    * frame in one band (the host resolve of the tests: on the host). */
-  p->still_gpu = d->still_sum && one_band && !p->host_resolve && d->still_sum->pixels == p->shape.band_pixels;
+  p->still_gpu = io->still_sum && one_band && !p->host_resolve && io->still_sum->pixels == p->shape.band_pixels;
   /* Frames in flight (render.h): one band on the GPU path, with a context
    * to keep the tail in. The last submission then also copies the planes
    * into the readback ring and is not waited for. */
@@ -185,11 +185,11 @@ static void decisions(const pb_scene *s, const pb_render_desc *d, pb_frame_plan 
 }
 
 pb_result pb_frame_plan_of(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
-                           uint32_t height, const pb_render_desc *d, pb_frame_plan *p) {
+                           uint32_t height, const pb_render_desc *d, const pb_render_io *io, pb_frame_plan *p) {
   memset(p, 0, sizeof *p);
   pb_result r = validate(s, camera, width, height, d);
   if (r != PB_OK) return r;
-  p->photons = !d->direct_only && (d->photon_map || gs->light_count > 0 || s->world.present || gs->emitter_count > 0);
+  p->photons = !d->direct_only && (io->photon_map || gs->light_count > 0 || s->world.present || gs->emitter_count > 0);
   p->spp = d->spp ? d->spp : 1;
   p->iters = p->photons ? (d->iterations ? d->iterations : 1) : 1;
   if (p->photons && p->spp < p->iters) p->spp = p->iters;
@@ -197,16 +197,16 @@ pb_result pb_frame_plan_of(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs,
   pb_frame_shape *sh = &p->shape;
   if ((r = bands_of(g, width, height, p)) != PB_OK) return r;
   sh->gs = gs;
-  sh->photon_map = d->photon_map;
+  sh->photon_map = io->photon_map;
   sh->width = width, sh->height = height;
   sh->photons = p->photons;
   pb_render_plan_of(s, d->direct_only, &sh->scene);
   if (p->photons) {
-    if (!d->photon_map) tracer_shape(d, &sh->tracer);
+    if (!io->photon_map) tracer_shape(d, &sh->tracer);
     sh->estimator = d->estimator;
     sh->upsample_levels = d->upsample_levels;
   }
-  decisions(s, d, p);
+  decisions(s, d, io, p);
   frame_constants(s, gs, camera, width, height, d, p->spp, &p->frame);
   return PB_OK;
 }

@@ -60,7 +60,8 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
 
 /* ---- one frame's plan (frame.c) --------------------------------------------
  *
- * pb_frame_plan_of validates a frame's settings (pb_render_desc) and
+ * pb_frame_plan_of validates a frame's settings (pb_render_desc, with the
+ * I/O objects it is given: pb_render_io) and
  * resolves, once, every default and every decision the frame makes before
  * it creates anything: the samples and photon maps, the bands, where the
  * resolve and the filters run (the one read of PB_RESOLVE_ON_HOST), what
@@ -102,12 +103,12 @@ typedef struct pb_frame_plan {
   int nmap;                 /* normal-map targets (targets.h nmap) */
   int nmap_aovs;            /* eq. 20's AOVs leave the GPU */
   int own_chain;            /* an A-Trous filter chain made for the call
-                               (atrous_iterations without desc.filters) */
+                               (atrous_iterations without io.filters) */
   int post_gpu;             /* filters and eq. 20 after the resolve, on the
                                GPU (one band, not the host resolve) */
   int chain_gpu;            /* ... with a filter chain */
   int sc_on;                /* eq. 20 (shading_correction.h) */
-  int still_gpu;            /* desc.still_sum's means on the GPU */
+  int still_gpu;            /* io.still_sum's means on the GPU */
   int defer;                /* frames in flight: the last submission is
                                not waited for (render.h in_flight) */
   pb_gpu_frame frame;       /* the frame's constants (per band: pixel_base,
@@ -117,6 +118,6 @@ typedef struct pb_frame_plan {
 /* PB_ERR_USAGE for settings out of range, PB_ERR_LIMIT for a row that does
  * not fit a storage buffer; creates nothing. */
 pb_result pb_frame_plan_of(pb_gpu *g, const pb_scene *s, const struct pb_gpu_scene *gs, int camera, uint32_t width,
-                           uint32_t height, const pb_render_desc *d, pb_frame_plan *out);
+                           uint32_t height, const pb_render_desc *d, const pb_render_io *io, pb_frame_plan *out);
 
 #endif
