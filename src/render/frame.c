@@ -229,37 +229,12 @@ static float footprint_scale(const pb_render_desc *d, uint32_t it) {
   return (float)sqrt(k2);
 }
 
-/* Progress and the time limit, after iteration `it` of band 0 finished
- * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
- * io->progress, with the mean beauty so far when desc->preview_interval_s
- * allows one (the whole image in one band, not the last iteration: its
- * beauty is the result, and at most one per interval); lowers *iters_run to
- * it + 1 once desc->time_limit_s has passed. */
+/* The preview's host copy of the mean beauty (iteration_done). */
 typedef struct preview_state {
   float *beauty;
   double last_s;
 } preview_state;
 
-static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_render_io *io, const pb_frame_targets *tg, preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
-                                uint32_t width, uint32_t height, uint32_t bands, double t0, uint32_t *iters_run) {
-  double now = pb_time_now();
-  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
-  if (!io->progress) return PB_OK;
-  pb_render_progress p = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
-                          .spp = (uint32_t)((uint64_t)*iters_run * spp / iters), .elapsed_s = now - t0,
-                          .width = width, .height = height};
-  size_t n = (size_t)width * height;
-  if (d->preview_interval_s >= 0 && bands == 1 && it + 1 < *iters_run && s_end > 0 &&
-      (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
-    if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
-      return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
-    pb_result r = pb_readback_preview(g, tg, n, s_end, pv->beauty);
-    if (r != PB_OK) return r;
-    p.beauty = pv->beauty;
-    pv->last_s = now;
-  }
-  return io->progress(io->progress_user, &p);
-}
 
 /* After the band's last submission finished: its GPU times and the filter
  * chain's statistics (timestamps of the last submission: before the next
@@ -447,6 +422,36 @@ typedef struct frame_run {
   uint32_t ring_slot;          /* frames in flight: this frame's ring slot */
   uint64_t ring_kept;          /* ... and the planes it keeps there */
 } frame_run;
+
+/* Progress and the time limit, after iteration `it` of band 0 finished
+ * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
+ * io->progress, with the mean beauty so far when desc->preview_interval_s
+ * allows one (the whole image in one band, not the last iteration: its
+ * beauty is the result, and at most one per interval); lowers *iters_run to
+ * it + 1 once desc->time_limit_s has passed. */
+static pb_result iteration_done(frame_run *run, uint32_t it, uint32_t s_end) {
+  const pb_render_desc *d = run->d;
+  const pb_frame_plan *p = &run->p;
+  preview_state *pv = &run->preview;
+  uint32_t *iters_run = &run->ft.iters_run, width = p->shape.width, height = p->shape.height;
+  double now = pb_time_now(), t0 = run->ft.wall0;
+  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
+  if (!run->io->progress) return PB_OK;
+  pb_render_progress pr = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
+                           .spp = (uint32_t)((uint64_t)*iters_run * p->spp / p->iters), .elapsed_s = now - t0,
+                           .width = width, .height = height};
+  size_t n = p->pixels;
+  if (d->preview_interval_s >= 0 && p->bands == 1 && it + 1 < *iters_run && s_end > 0 &&
+      (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
+    if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
+      return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
+    pb_result r = pb_readback_preview(run->g, &run->c->tg, n, s_end, pv->beauty);
+    if (r != PB_OK) return r;
+    pr.beauty = pv->beauty;
+    pv->last_s = now;
+  }
+  return run->io->progress(run->io->progress_user, &pr);
+}
 
 static void run_begin(frame_run *run, pb_gpu *g, const pb_scene *s, const pb_render_desc *d, const pb_render_io *io,
                       pb_render_result *out) {
@@ -773,9 +778,7 @@ static pb_result frame_band(frame_run *run, uint32_t band) {
     uint32_t s_end = (uint32_t)((uint64_t)(it + 1) * p->spp / p->iters);
     if (p->photons && s_end > s_begin && (r = record_photon_map(run, band, it)) != PB_OK) return r;
     if ((r = record_camera_samples(run, s_begin, s_end, pixels)) != PB_OK) return r;
-    if (band == 0 && (r = iteration_done(g, run->d, run->io, &c->tg, &run->preview, it, p->iters, s_end, p->spp, width, height,
-                                         p->bands, ft->wall0, &ft->iters_run)) != PB_OK)
-      return r;
+    if (band == 0 && (r = iteration_done(run, it, s_end)) != PB_OK) return r;
   }
   ft->spp_run = (uint32_t)((uint64_t)ft->iters_run * p->spp / p->iters); /* all of spp without a time limit */
   if ((r = record_tail(run, band, pixels)) != PB_OK) return r;
