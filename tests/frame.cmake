@@ -22,3 +22,7 @@ add_test(NAME frame_in_flight
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/frame_in_flight.py ${PB_EXE} ${PB_ROOT}
                  ${CMAKE_CURRENT_BINARY_DIR}/frame_in_flight)
 set_tests_properties(frame_in_flight PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 900)
+# The frame reads as its stages: no function in src/render over 150 lines
+# (tests/function_length.py; GPU-free).
+add_test(NAME frame_function_length
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/function_length.py ${PB_ROOT}/src/render 150)

@@ -624,7 +624,7 @@ int pb_cmd_render(int argc, char **argv) {
                                                 : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
                        .time_limit_s = o.time_limit, .preview_interval_s = o.preview ? o.preview_interval : -1.0};
   progress_ctx pctx = {&o};
-  rd.progress = on_progress, rd.progress_user = &pctx; /* the bar, --preview, --progress-lines */
+  pb_render_io rio = {.progress = on_progress, .progress_user = &pctx}; /* the bar, --preview, --progress-lines */
   if (o.crop) rd.full_width = full_w, rd.full_height = full_h, rd.crop_x = crop[0], rd.crop_y = crop[1];
   if (o.frames) {
     static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
@@ -634,7 +634,8 @@ int pb_cmd_render(int argc, char **argv) {
                            .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps,
                            /* The reference renderer poses from the scene, which holds the next
                             * frame's pose while a frame is in flight: one at a time then. */
-                           .frames_in_flight = o.reference_spp ? 1 : (o.frames_in_flight ? o.frames_in_flight : 2)};
+                           .frames_in_flight = o.reference_spp ? 1 : (o.frames_in_flight ? o.frames_in_flight : 2),
+                           .progress = rio.progress, .progress_user = rio.progress_user};
     pb_seq_opts so = {.first = first, .last = last, .warmup = o.warmup, .fps = fps, .png = o.png,
                       .reference_spp = o.reference_spp, .reference_cache = o.reference_cache,
                       .blender_layer = o.blender_layer, .blender_passes = o.blender_passes};
@@ -649,7 +650,7 @@ int pb_cmd_render(int argc, char **argv) {
     else snprintf(stage, sizeof stage, "direct light, %u samples", o.spp ? o.spp : 1);
     pb_render_bar_stage(stage, 0, o.time_limit > 0 ? 0 : maps, -1);
   }
-  r = pb_render_frame(g, &s, &gs, camera, w, h, &rd, &res);
+  r = pb_render_frame_io(g, &s, &gs, camera, w, h, &rd, &rio, &res);
   if (r != PB_OK) goto done;
   {
     char stage[PB_PATH_STAGE];

@@ -163,6 +163,19 @@ uint32_t pb_estimator_stats(pb_gpu *g, pb_estimator *e, pb_tracer_stat *out, uin
   return n < max ? n : max;
 }
 
+void pb_estimator_stats_add(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
+  pb_tracer_stat now[PB_TRACER_MAX_STATS];
+  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
+  st->estimator = pb_estimator_name(e);
+  pb_tracer_stats_merge(st->estimator_stats, &st->estimator_stat_count, now, n, 0);
+}
+
+void pb_estimator_stats_final(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
+  pb_tracer_stat now[PB_TRACER_MAX_STATS];
+  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
+  pb_tracer_stats_merge(st->estimator_stats, &st->estimator_stat_count, now, n, 1);
+}
+
 const char *pb_estimator_name(const pb_estimator *e) { return e ? e->ops->name : "none"; }
 
 int pb_estimator_can_upsample(const pb_estimator *e) {

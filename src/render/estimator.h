@@ -94,6 +94,13 @@ pb_result pb_estimator_bind(pb_gpu *g, pb_estimator *e, const struct pb_pass_set
                             const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap);
 pb_result pb_estimator_record(pb_gpu *g, pb_estimator *e, uint32_t sample_index, uint32_t pixels, uint32_t flags);
 uint32_t pb_estimator_stats(pb_gpu *g, pb_estimator *e, pb_tracer_stat *out, uint32_t max);
+/* The frame's hooks (frame.c): stats_add after each map's build adds that
+ * map's statistics to the frame's (summed ones added, the others replaced;
+ * the estimator's name); stats_final after the frame's last sample reads
+ * the ones not summed again (an estimator whose work is per sample, vsch,
+ * counts its last sample; the LBVH's per-map counts come back unchanged). */
+void pb_estimator_stats_add(pb_gpu *g, pb_estimator *e, pb_render_stats *st);
+void pb_estimator_stats_final(pb_gpu *g, pb_estimator *e, pb_render_stats *st);
 const char *pb_estimator_name(const pb_estimator *e);
 /* 1 where the estimator has the up-sampling's estimate (bind_upsample). */
 int pb_estimator_can_upsample(const pb_estimator *e);

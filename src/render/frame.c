@@ -74,20 +74,10 @@ enum { SAMPLES_PER_SUBMIT = 64, TIMESTAMP_SLOTS = 3 * SAMPLES_PER_SUBMIT + 1 };
 
 /* ---- the frame context (render.h) ------------------------------------------ */
 
-/* What a reusable context must match: everything its contents depend on.
- * Zeroed before filling, so memcmp compares no padding garbage. */
-typedef struct ctx_key {
-  const pb_gpu_scene *gs;
-  const void *photon_map;
-  uint32_t width, height, photons, bounces, first_bounce, tracer, image_maps, image_map_resolution, upsample_levels;
-  float smoothing, r_max, smoothing_caustic, bandwidth_c0, caustic_share;
-  int direct_only, photons_on;
-  pb_estimator_desc estimator; /* 4-byte fields only: no padding */
-} ctx_key;
-
 /* What a frame's last submission leaves to do once the GPU has run it
  * (frame_settle, frame_read): everything pb_render_frame knew at that
- * submission and its finish needs. A frame in flight keeps it in its
+ * submission and its finish needs. The frame accumulates its statistics
+ * here as it runs (frame_run.ft); a frame in flight keeps it in its
  * context, one per readback ring slot (targets.h). */
 typedef struct frame_tail {
   int ts, chain_gpu, post_gpu, photons_on, nmap_aovs, opaque, no_shading_correction;
@@ -107,13 +97,18 @@ typedef struct frame_tail {
   const pb_gpu_scene *gs;
 } frame_tail;
 
+/* Every GPU resource a frame owns, made from its shape (plan.h
+ * pb_frame_shape) alone and released by context_clear alone: kept by the
+ * caller between the frames of a sequence (pb_render_io.context), or the
+ * call's own for one frame. */
 struct pb_frame_context {
   int valid;
-  ctx_key key;
+  pb_frame_shape key;                /* what the resources were made from */
   frame_tail tail[PB_READBACK_RING]; /* frames in flight, by ring slot */
   uint32_t next_slot;                /* the ring slot of the next frame in flight */
   pb_frame_targets tg;
-  pb_gpu_pipeline gp, dp, rp, scp;
+  pb_pass_setup ps;                  /* the scene passes' bindings (into tg) and constants */
+  pb_gpu_pipeline gp, dp, rp, scp;   /* G-buffer, direct, resolve, eq. 20 */
   pb_tracer *tracer;
   pb_estimator *est;
   pb_upsample *ups;
@@ -125,8 +120,9 @@ pb_result pb_frame_context_create(pb_frame_context **out) {
   return *out ? PB_OK : pb_fail(PB_ERR_NOMEM, "render: out of memory");
 }
 
+/* The one release of a context's resources (each destroy accepts what was
+ * never made); leaves it zeroed, not valid. */
 static void context_clear(pb_gpu *g, pb_frame_context *c) {
-  if (!c->valid) return;
   pb_photon_map_destroy(g, &c->map);
   pb_estimator_destroy(g, c->est);
   pb_upsample_destroy(g, c->ups);
@@ -145,6 +141,54 @@ void pb_frame_context_destroy(pb_gpu *g, pb_frame_context *c) {
   free(c);
 }
 
+/* The scene passes' setup: the scene's buffers and the frame's targets,
+ * the scene plan's specialization constants. */
+static void pass_setup(const pb_gpu_scene *gs, const pb_render_plan *plan, pb_frame_targets *tg, pb_pass_setup *ps) {
+  *ps = (pb_pass_setup){
+      .bindings = {[PB_BIND_FRAME] = &tg->frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
+                   [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
+                   [PB_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_BIND_MATERIALS] = &gs->materials,
+                   [PB_BIND_TEXTURES] = &gs->textures, [PB_BIND_TEXELS] = &gs->texels, [PB_BIND_LIGHTS] = &gs->lights,
+                   [PB_BIND_GBUFFER] = &tg->gbuf, [PB_BIND_ACCUM] = &tg->accum, [PB_BIND_POSITIONS] = &gs->positions,
+                   [PB_BIND_EMITTERS] = &gs->emitters, [PB_BIND_WORLD] = &gs->world},
+      .spec = {[PB_SPEC_HAS_NORMALS] = plan->vertex_normals ? 1u : 0u, [PB_SPEC_TEXTURES] = plan->textures ? 1u : 0u,
+               [PB_SPEC_SPECULAR] = plan->eye_chains ? 1u : 0u,
+               [PB_SPEC_EMISSIVE] = plan->emitter_sampling || plan->unlit ? 1u : 0u,
+               [PB_SPEC_SOFT_LIGHTS] = plan->soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan->world ? 1u : 0u,
+               [PB_SPEC_ALPHA] = plan->alpha ? 1u : 0u, [PB_SPEC_PRINCIPLED2] = plan->principled2 ? 1u : 0u},
+      .normal_maps = plan->normal_maps ? 1u : 0u,
+      .blender = plan->blender_materials ? 1u : 0u,
+  };
+}
+
+/* Makes every resource of shape `sh` in the zeroed context c (valid and
+ * keyed first, so that a failure part-way leaves context_clear the rest). */
+static pb_result context_build(pb_gpu *g, const pb_scene *s, const pb_frame_shape *sh, pb_frame_context *c) {
+  c->valid = 1;
+  c->key = *sh;
+  pb_result r;
+  if ((r = pb_frame_targets_create(g, sh->band_pixels, sh->photons, sh->scene.normal_maps, &c->tg)) != PB_OK ||
+      (r = pb_resolve_create(g, &c->tg, &c->rp)) != PB_OK ||
+      (c->tg.nmap && (r = pb_shading_correction_create(g, &c->tg, &c->scp)) != PB_OK))
+    return r;
+  pass_setup(sh->gs, &sh->scene, &c->tg, &c->ps);
+  if ((r = pb_pass_gbuffer_create(g, &c->ps, &c->gp)) != PB_OK || (r = pb_pass_direct_create(g, &c->ps, &c->dp)) != PB_OK)
+    return r;
+  if (!sh->photons) return PB_OK;
+  if (!sh->photon_map && (r = pb_tracer_create(g, s, sh->gs, &sh->tracer, &c->tracer)) != PB_OK) return r;
+  if ((r = pb_estimator_create(g, s, &sh->estimator, &c->est)) != PB_OK) return r;
+  /* Seed 003 sec. 6's up-sampling (upsample.h): the LBVH gather's; not
+   * with normal maps (eq. 20's per-pixel photon directions). */
+  if (sh->upsample_levels && !pb_estimator_can_upsample(c->est))
+    return pb_fail(PB_ERR_USAGE, "render: --upsample-levels needs --estimator lbvh (not %s)", pb_estimator_name(c->est));
+  if (sh->upsample_levels && sh->scene.normal_maps)
+    pb_log_warn("render: --upsample-levels is off in scenes with normal maps (eq. 20 needs every pixel's photon "
+                "directions); the estimate runs at full resolution");
+  else if (sh->upsample_levels && (r = pb_upsample_create(g, sh->upsample_levels, sh->band_pixels, &c->ups)) != PB_OK)
+    return r;
+  return PB_OK;
+}
+
 void pb_render_result_destroy(pb_render_result *r) {
   if (!r) return;
   free(r->beauty);
@@ -160,80 +204,6 @@ void pb_render_result_destroy(pb_render_result *r) {
   free(r->photon_dir);
   free(r->shading_normal);
   memset(r, 0, sizeof *r);
-}
-
-static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h, const pb_render_desc *d) {
-  if (camera < 0 || (uint32_t)camera >= s->camera_count)
-    return pb_fail(PB_ERR_USAGE, "render: camera %d of %u", camera, s->camera_count);
-  if (w == 0 || h == 0 || w > 16384 || h > 16384)
-    return pb_fail(PB_ERR_USAGE, "render: image size %ux%u (1..16384 per side)", w, h);
-  if (d->spp > (1u << 20)) return pb_fail(PB_ERR_USAGE, "render: %u samples per pixel (at most 2^20)", d->spp);
-  if (d->alpha < 0.0f || !(d->alpha < 1.0f))
-    return pb_fail(PB_ERR_USAGE, "render: progressive alpha %g (in (0, 1))", d->alpha);
-  if (!(d->glossy_path_roughness <= 1.0f))
-    return pb_fail(PB_ERR_USAGE, "render: glossy path roughness %g (at most 1)", d->glossy_path_roughness);
-  if (d->full_width && ((uint64_t)d->crop_x + w > d->full_width || (uint64_t)d->crop_y + h > d->full_height ||
-                        d->full_width > 65536 || d->full_height > 65536))
-    return pb_fail(PB_ERR_USAGE, "render: crop %ux%u at (%u, %u) does not fit in the %ux%u frame", w, h, d->crop_x,
-                   d->crop_y, d->full_width, d->full_height);
-  if (!(d->time_limit_s >= 0) || !isfinite(d->time_limit_s))
-    return pb_fail(PB_ERR_USAGE, "render: time limit %g s is not a duration", d->time_limit_s);
-  if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
-    return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
-                   PB_RENDER_MAX_SPECULAR_DEPTH);
-  return PB_OK;
-}
-
-/* Adds the tracer's statistics of one photon map to the frame's (summed
- * ones added, the others replaced). */
-static void tracer_stats_add(const pb_tracer *t, pb_render_stats *st) {
-  pb_tracer_stat now[PB_TRACER_MAX_STATS];
-  uint32_t n = pb_tracer_stats(t, now, PB_TRACER_MAX_STATS);
-  st->tracer = pb_tracer_name(t);
-  for (uint32_t i = 0; i < n; ++i) {
-    uint32_t j = 0;
-    while (j < st->tracer_stat_count && strcmp(st->tracer_stats[j].name, now[i].name)) ++j;
-    if (j == st->tracer_stat_count) {
-      st->tracer_stats[j] = now[i];
-      st->tracer_stat_count++;
-    } else {
-      st->tracer_stats[j].value = now[i].summed ? st->tracer_stats[j].value + now[i].value : now[i].value;
-    }
-  }
-}
-
-/* Adds the estimator's statistics of one photon map to the frame's, as
- * tracer_stats_add does the tracer's. */
-static void estimator_stats_add(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
-  pb_tracer_stat now[PB_TRACER_MAX_STATS];
-  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
-  st->estimator = pb_estimator_name(e);
-  for (uint32_t i = 0; i < n; ++i) {
-    uint32_t j = 0;
-    while (j < st->estimator_stat_count && strcmp(st->estimator_stats[j].name, now[i].name)) ++j;
-    if (j == st->estimator_stat_count) {
-      st->estimator_stats[j] = now[i];
-      st->estimator_stat_count++;
-    } else {
-      st->estimator_stats[j].value = now[i].summed ? st->estimator_stats[j].value + now[i].value : now[i].value;
-    }
-  }
-}
-
-/* After the frame's last sample: the statistics that are not summed over
- * maps are read again and replace the ones read after the last build (an
- * estimator whose work is per sample, vsch, counts its last sample; the
- * LBVH's per-map counts come back unchanged). */
-static void estimator_stats_final(pb_gpu *g, pb_estimator *e, pb_render_stats *st) {
-  pb_tracer_stat now[PB_TRACER_MAX_STATS];
-  uint32_t n = pb_estimator_stats(g, e, now, PB_TRACER_MAX_STATS);
-  for (uint32_t i = 0; i < n; ++i) {
-    if (now[i].summed) continue;
-    uint32_t j = 0;
-    while (j < st->estimator_stat_count && strcmp(st->estimator_stats[j].name, now[i].name)) ++j;
-    if (j == st->estimator_stat_count && j < PB_TRACER_MAX_STATS) st->estimator_stats[st->estimator_stat_count++] = now[i];
-    else if (j < st->estimator_stat_count) st->estimator_stats[j].value = now[i].value;
-  }
 }
 
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing) {
@@ -259,66 +229,12 @@ static float footprint_scale(const pb_render_desc *d, uint32_t it) {
   return (float)sqrt(k2);
 }
 
-/* Bins the footprint radii of one traced map into stats->radius_hist (seed
- * 000 Table 3); *buf is a host copy grown as needed (freed by the caller). */
-static pb_result radius_histogram(pb_gpu *g, const pb_photon_tracer *t, const pb_photon_map *m,
-                                  pb_gpu_photon **buf, pb_render_stats *st) {
-  pb_photon_trace_stats ts;
-  pb_photon_tracer_stats(t, &ts);
-  uint32_t n = m->stored < m->capacity ? m->stored : m->capacity;
-  st->radius_histogram = 1;
-  st->radius_r_max = ts.r_max;
-  st->scene_radius = ts.scene_radius;
-  if (n == 0 || !(ts.r_max > 0.0f)) return PB_OK;
-  pb_gpu_photon *p = realloc(*buf, (size_t)n * sizeof *p);
-  if (!p) return pb_fail(PB_ERR_NOMEM, "render: out of memory for the radius histogram (%u photons)", n);
-  *buf = p;
-  pb_result r = pb_gpu_buffer_download(g, &m->photons, 0, p, (uint64_t)n * sizeof *p);
-  if (r != PB_OK) return r;
-  const int below = PB_RENDER_RADIUS_BINS - 1;
-  for (uint32_t i = 0; i < n; ++i) {
-    double x = p[i].radius / ts.r_max;
-    int b = below; /* at the clamp */
-    if (x < 1.0 - 1e-5) {
-      b = x > 0 ? (int)(x * below) : 0;
-      if (b > below - 1) b = below - 1;
-    }
-    st->radius_hist[b]++;
-  }
-  return PB_OK;
-}
-
-/* Progress and the time limit, after iteration `it` of band 0 finished
- * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
- * desc->progress, with the mean beauty so far when desc->preview_interval_s
- * allows one (the whole image in one band, not the last iteration: its
- * beauty is the result, and at most one per interval); lowers *iters_run to
- * it + 1 once desc->time_limit_s has passed. */
+/* The preview's host copy of the mean beauty (iteration_done). */
 typedef struct preview_state {
   float *beauty;
   double last_s;
 } preview_state;
 
-static pb_result iteration_done(pb_gpu *g, const pb_render_desc *d, const pb_frame_targets *tg, preview_state *pv, uint32_t it, uint32_t iters, uint32_t s_end, uint32_t spp,
-                                uint32_t width, uint32_t height, uint32_t bands, double t0, uint32_t *iters_run) {
-  double now = pb_time_now();
-  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
-  if (!d->progress) return PB_OK;
-  pb_render_progress p = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
-                          .spp = (uint32_t)((uint64_t)*iters_run * spp / iters), .elapsed_s = now - t0,
-                          .width = width, .height = height};
-  size_t n = (size_t)width * height;
-  if (d->preview_interval_s >= 0 && bands == 1 && it + 1 < *iters_run && s_end > 0 &&
-      (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
-    if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
-      return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
-    pb_result r = pb_readback_preview(g, tg, n, s_end, pv->beauty);
-    if (r != PB_OK) return r;
-    p.beauty = pv->beauty;
-    pv->last_s = now;
-  }
-  return d->progress(d->progress_user, &p);
-}
 
 /* After the band's last submission finished: its GPU times and the filter
  * chain's statistics (timestamps of the last submission: before the next
@@ -341,13 +257,8 @@ static pb_result tail_band_times(pb_gpu *g, frame_tail *ft, pb_render_result *ou
  * samples (a frame in flight: before its last submission, which the next
  * frame's work follows). */
 static void estimator_final(pb_gpu *g, frame_tail *ft, pb_render_stats *st) {
-  if (ft->photons_on && ft->est) estimator_stats_final(g, ft->est, st);
-  if (ft->photons_on && ft->ups) { /* the up-sampling's counts, under "estimator" too */
-    pb_tracer_stat us[PB_TRACER_MAX_STATS];
-    uint32_t m = pb_upsample_stats(g, ft->ups, us, PB_TRACER_MAX_STATS);
-    for (uint32_t i = 0; i < m && st->estimator_stat_count < PB_TRACER_MAX_STATS; ++i)
-      st->estimator_stats[st->estimator_stat_count++] = us[i];
-  }
+  if (ft->photons_on && ft->est) pb_estimator_stats_final(g, ft->est, st);
+  if (ft->photons_on && ft->ups) pb_upsample_stats_add(g, ft->ups, st); /* under "estimator" too */
   ft->est_final = 1;
 }
 
@@ -489,111 +400,117 @@ pb_result pb_render_frame_complete(pb_gpu *g, pb_frame_context *c, pb_render_res
   return r;
 }
 
-pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
-                          uint32_t height, const pb_render_desc *desc_in, pb_render_result *out) {
-  memset(out, 0, sizeof *out);
-  pb_render_desc desc = {0};
-  if (desc_in) desc = *desc_in;
-  pb_result r = validate(s, camera, width, height, &desc);
-  if (r != PB_OK) return r;
-  uint32_t spp = desc.spp ? desc.spp : 1;
-  int photons_on = !desc.direct_only && (desc.photon_map || gs->light_count > 0 || s->world.present || gs->emitter_count > 0);
-  uint32_t iters = photons_on ? (desc.iterations ? desc.iterations : 1) : 1;
-  if (photons_on && spp < iters) spp = iters;
-  uint32_t max_spec = desc.max_specular_depth ? desc.max_specular_depth : PB_RENDER_MAX_SPECULAR_DEPTH; /* RR from 8: gbuffer.comp */
-  const pb_gpu_limits *lim = pb_gpu_get_limits(g);
-  double wall0 = pb_time_now();
-  pb_gpu_transfers tr0 = pb_gpu_transfers_get(g);
+/* ---- the frame: one call per stage ------------------------------------------ */
 
-  /* Band: whole rows whose per-pixel targets each fit one storage buffer
-   * (the largest: the accumulators, 80 bytes per pixel; targets.h).
-   * Never truncated: a row that does not fit is refused. */
-  uint64_t per_pixel = pb_frame_targets_max_pixel_bytes();
-  uint64_t max_pixels = lim->max_storage_buffer_range / per_pixel;
-  if (max_pixels > lim->max_allocation / per_pixel) max_pixels = lim->max_allocation / per_pixel;
-  if (max_pixels < width)
-    return pb_fail(PB_ERR_LIMIT, "render: one row of %u pixels needs %llu bytes of G-buffer, over the device's "
-                   "storage-buffer limit of %llu bytes; render a narrower image",
-                   width, (unsigned long long)(width * per_pixel),
-                   (unsigned long long)lim->max_storage_buffer_range);
-  uint32_t band_rows = (uint32_t)(max_pixels / width);
-  if (band_rows > height) band_rows = height;
-  uint32_t band_pixels = band_rows * width;
-  uint32_t bands = (height + band_rows - 1) / band_rows;
+/* One call of pb_render_frame: its plan, its context, and what it owns
+ * besides (released by run_end alone). */
+typedef struct frame_run {
+  pb_gpu *g;
+  const pb_scene *s;
+  const pb_render_desc *d;
+  const pb_render_io *io;
+  pb_render_result *out;
+  pb_frame_plan p;
+  pb_frame_context *c;         /* io's context, or `own` */
+  pb_frame_context own;        /* the call's own context (no io.context) */
+  int reuse;                   /* c was made by an earlier frame of this shape */
+  pb_filter_chain *fc, *own_fc;/* the indirect light's filters; the call's own */
+  preview_state preview;
+  frame_tail ft;               /* the statistics as they accumulate; the tail */
+  pb_render_result *prev;      /* the previous frame in flight, until settled */
+  uint32_t kept_slot;          /* the context's next ring slot at the start */
+  uint32_t ring_slot;          /* frames in flight: this frame's ring slot */
+  uint64_t ring_kept;          /* ... and the planes it keeps there */
+} frame_run;
 
-  size_t n = (size_t)width * height;
-  pb_frame_targets tg;
-  memset(&tg, 0, sizeof tg);
-  pb_gpu_pipeline gp = {0}, dp = {0}, rp = {0}, scp = {0};
-  /* The filters of the indirect light: the sequence's chain, or one made
-   * for this call's A-Trous (filters.h). */
-  pb_filter_chain *fc = desc.filters, *own_fc = NULL;
-  int nmap_on = 0;
-  pb_tracer *tracer = NULL;
-  pb_estimator *est = NULL;
-  pb_upsample *ups = NULL;
-  pb_photon_map map;
-  memset(&map, 0, sizeof map);
-  double trace_ms = 0, est_build_ms = 0, gather_ms = 0, k_sum = 0, hit_sum = 0;
-  double photon_gpu_ms = 0; /* tracing and LBVH builds of every band (timing.frame_gpu_ms) */
-  pb_gpu_photon *hist_host = NULL;
-  uint64_t stored_sum = 0, caustic_sum = 0;
-  /* Iterations run (fewer than iters when the time limit stops the
-   * refinement in band 0; later bands run as many) and their samples. */
-  uint32_t iters_run = iters, spp_run = spp;
-  preview_state preview = {0};
-  /* A context from the previous frame of a sequence: reused when it matches,
-   * its contents owned by this call until the end (a failure destroys them). */
-  pb_frame_context *ctx = desc.context;
-  ctx_key key;
-  memset(&key, 0, sizeof key);
-  key.gs = gs;
-  key.photon_map = desc.photon_map;
-  key.width = width, key.height = height, key.photons = desc.photons, key.bounces = desc.photon_bounces;
-  key.first_bounce = desc.first_bounce;
-  key.tracer = desc.tracer, key.image_maps = desc.image_maps, key.image_map_resolution = desc.image_map_resolution;
-  key.upsample_levels = desc.upsample_levels;
-  key.smoothing = desc.smoothing, key.r_max = desc.r_max, key.smoothing_caustic = desc.smoothing_caustic;
-  memcpy(&key.estimator, &desc.estimator, sizeof key.estimator);
-  key.bandwidth_c0 = desc.bandwidth_c0;
-  key.caustic_share = desc.caustic_share;
-  key.direct_only = desc.direct_only, key.photons_on = photons_on;
-  int reuse = ctx && ctx->valid && !memcmp(&ctx->key, &key, sizeof key);
-  /* The previous frame in flight (pb_render_desc.settle_first): finished
-   * here before its context goes, with its pixels. */
-  pb_render_result *prev = desc.settle_first && desc.settle_first->pending && ctx ? desc.settle_first : NULL;
-  if (prev && !reuse) {
+/* Progress and the time limit, after iteration `it` of band 0 finished
+ * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
+ * io->progress, with the mean beauty so far when desc->preview_interval_s
+ * allows one (the whole image in one band, not the last iteration: its
+ * beauty is the result, and at most one per interval); lowers *iters_run to
+ * it + 1 once desc->time_limit_s has passed. */
+static pb_result iteration_done(frame_run *run, uint32_t it, uint32_t s_end) {
+  const pb_render_desc *d = run->d;
+  const pb_frame_plan *p = &run->p;
+  preview_state *pv = &run->preview;
+  uint32_t *iters_run = &run->ft.iters_run, width = p->shape.width, height = p->shape.height;
+  double now = pb_time_now(), t0 = run->ft.wall0;
+  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
+  if (!run->io->progress) return PB_OK;
+  pb_render_progress pr = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
+                           .spp = (uint32_t)((uint64_t)*iters_run * p->spp / p->iters), .elapsed_s = now - t0,
+                           .width = width, .height = height};
+  size_t n = p->pixels;
+  if (d->preview_interval_s >= 0 && p->bands == 1 && it + 1 < *iters_run && s_end > 0 &&
+      (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
+    if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
+      return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
+    pb_result r = pb_readback_preview(run->g, &run->c->tg, n, s_end, pv->beauty);
+    if (r != PB_OK) return r;
+    pr.beauty = pv->beauty;
+    pv->last_s = now;
+  }
+  return run->io->progress(run->io->progress_user, &pr);
+}
+
+static void run_begin(frame_run *run, pb_gpu *g, const pb_scene *s, const pb_render_desc *d, const pb_render_io *io,
+                      pb_render_result *out) {
+  run->g = g, run->s = s, run->d = d, run->io = io, run->out = out;
+  /* A context from the previous frame of a sequence: reused when it
+   * matches, cleared on a failure. */
+  run->c = io->context ? io->context : &run->own;
+  run->reuse = run->c->valid && !memcmp(&run->c->key, &run->p.shape, sizeof run->p.shape);
+  run->kept_slot = run->c->next_slot;
+  /* The previous frame in flight (pb_render_io.settle_first). */
+  run->prev = io->settle_first && io->settle_first->pending && io->context ? io->settle_first : NULL;
+  run->fc = io->filters;
+  run->ring_kept = PB_RENDER_KEEP_ALL;
+  frame_tail *ft = &run->ft;
+  ft->wall0 = pb_time_now();
+  ft->tr0 = pb_gpu_transfers_get(g);
+  ft->ts = pb_gpu_get_limits(g)->timestamps;
+  ft->iters_run = run->p.iters, ft->spp_run = run->p.spp;
+  ft->gs = run->p.shape.gs;
+}
+
+/* The one clean-up path: what the call owns, and on a failure the context
+ * and the result too. */
+static pb_result run_end(frame_run *run, pb_result r) {
+  free(run->preview.beauty);
+  pb_filter_chain_destroy(run->g, run->own_fc);
+  if (r != PB_OK || run->c == &run->own) context_clear(run->g, run->c);
+  if (r != PB_OK) pb_render_result_destroy(run->out);
+  return r;
+}
+
+/* The context for this frame: reused (updated to the scene's new pose), or
+ * made afresh, after the previous frame in flight finished with the old
+ * one. */
+static pb_result context_acquire(frame_run *run) {
+  pb_gpu *g = run->g;
+  pb_frame_context *c = run->c;
+  pb_result r;
+  if (run->reuse) { /* the scene may have moved since the context was made */
+    if (c->tracer && (r = pb_tracer_update(g, c->tracer, run->s)) != PB_OK) return r;
+    pb_estimator_update(c->est, run->s);
+    return PB_OK;
+  }
+  if (run->prev) {
     double p0 = pb_time_now();
-    if ((r = pb_render_frame_complete(g, ctx, prev)) != PB_OK) return r;
-    wall0 += pb_time_now() - p0; /* its time, not this frame's */
-    tr0 = pb_gpu_transfers_get(g);
-    prev = NULL;
+    if ((r = pb_render_frame_complete(g, c, run->prev)) != PB_OK) return r;
+    run->ft.wall0 += pb_time_now() - p0; /* its time, not this frame's */
+    run->ft.tr0 = pb_gpu_transfers_get(g);
+    run->prev = NULL;
   }
-  if (ctx && !reuse) context_clear(g, ctx);
-  /* A frame in flight's tails (read after this frame's last submission)
-   * and the ring's next slot survive the hand-over below. */
-  frame_tail kept_tails[PB_READBACK_RING];
-  uint32_t kept_slot = ctx ? ctx->next_slot : 0;
-  if (ctx) memcpy(kept_tails, ctx->tail, sizeof kept_tails);
-  if (reuse) {
-    tg = ctx->tg;
-    gp = ctx->gp, dp = ctx->dp, rp = ctx->rp, scp = ctx->scp;
-    tracer = ctx->tracer, est = ctx->est, ups = ctx->ups, map = ctx->map;
-    memset(ctx, 0, sizeof *ctx);
-  }
-  /* A lean readback (render.h pb_render_desc.readback): where nothing on
-   * the host needs the AOVs. The GPU path in one band (the host path's
-   * filters and eq. 20 work on the read-back arrays), a context to keep
-   * the planes in, and a still run's means on the GPU when there is one
-   * (else the caller averages the arrays). Everything else reads all. */
-  const char *host_env0 = getenv("PB_RESOLVE_ON_HOST");
-  int host_resolve = host_env0 && host_env0[0] == '1';
-  int readback = PB_RENDER_READBACK_ALL;
-  if ((desc.readback == PB_RENDER_READBACK_BEAUTY || desc.readback == PB_RENDER_READBACK_STATS) && ctx &&
-      bands == 1 && !host_resolve && (!desc.still_sum || desc.still_sum->pixels == band_pixels))
-    readback = desc.readback;
-  int read_all = readback == PB_RENDER_READBACK_ALL;
-  if (read_all || readback == PB_RENDER_READBACK_BEAUTY) out->beauty = calloc(4 * n, sizeof(float));
+  context_clear(g, c);
+  return context_build(g, run->s, &run->p.shape, c);
+}
+
+/* The result's arrays: those the readback brings. */
+static pb_result result_alloc(const pb_frame_plan *p, uint32_t width, uint32_t height, pb_render_result *out) {
+  size_t n = p->pixels;
+  int read_all = p->readback == PB_RENDER_READBACK_ALL;
+  if (read_all || p->readback == PB_RENDER_READBACK_BEAUTY) out->beauty = calloc(4 * n, sizeof(float));
   if (read_all) {
     out->direct = calloc(3 * n, sizeof(float));
     out->albedo = calloc(3 * n, sizeof(float));
@@ -601,386 +518,328 @@ pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, 
     out->depth = calloc(n, sizeof(float));
     out->material = calloc(n, sizeof(float));
     out->emission = calloc(3 * n, sizeof(float));
-    if (photons_on) {
+    if (p->photons) {
       out->indirect = calloc(3 * n, sizeof(float));
       out->caustic = calloc(3 * n, sizeof(float));
     }
   }
-  if ((readback != PB_RENDER_READBACK_STATS && !out->beauty) ||
+  if ((p->readback != PB_RENDER_READBACK_STATS && !out->beauty) ||
       (read_all && (!out->direct || !out->albedo || !out->normal || !out->depth || !out->material || !out->emission ||
-               (photons_on && (!out->indirect || !out->caustic))))) {
-    r = pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
-    goto fail;
-  }
-  pb_render_plan plan;
-  pb_render_plan_of(s, desc.direct_only, &plan);
-  if (!reuse && ((r = pb_frame_targets_create(g, band_pixels, photons_on, plan.normal_maps, &tg)) != PB_OK ||
-                 (r = pb_resolve_create(g, &tg, &rp)) != PB_OK ||
-                 (tg.nmap && (r = pb_shading_correction_create(g, &tg, &scp)) != PB_OK)))
-    goto fail;
-  if (!fc && photons_on && desc.atrous_iterations) {
-    pb_filter_chain_desc cd = {.atrous_iterations = desc.atrous_iterations, .atrous_gamma = desc.atrous_gamma};
-    if ((r = pb_filter_chain_create(g, width, height, &cd, &own_fc)) != PB_OK) goto fail;
-    fc = own_fc;
-  }
-  pb_pass_setup ps = {
-      .bindings = {[PB_BIND_FRAME] = &tg.frame, [PB_BIND_NODES] = &gs->nodes, [PB_BIND_TRIS] = &gs->tris,
-                   [PB_BIND_INDICES] = &gs->indices, [PB_BIND_NORMALS] = &gs->normals, [PB_BIND_UVS] = &gs->uvs,
-                   [PB_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_BIND_MATERIALS] = &gs->materials,
-                   [PB_BIND_TEXTURES] = &gs->textures, [PB_BIND_TEXELS] = &gs->texels, [PB_BIND_LIGHTS] = &gs->lights,
-                   [PB_BIND_GBUFFER] = &tg.gbuf, [PB_BIND_ACCUM] = &tg.accum, [PB_BIND_POSITIONS] = &gs->positions,
-                   [PB_BIND_EMITTERS] = &gs->emitters, [PB_BIND_WORLD] = &gs->world},
-      .spec = {[PB_SPEC_HAS_NORMALS] = plan.vertex_normals ? 1u : 0u, [PB_SPEC_TEXTURES] = plan.textures ? 1u : 0u,
-               [PB_SPEC_SPECULAR] = plan.eye_chains ? 1u : 0u,
-               [PB_SPEC_EMISSIVE] = plan.emitter_sampling || plan.unlit ? 1u : 0u,
-               [PB_SPEC_SOFT_LIGHTS] = plan.soft_lights ? 1u : 0u, [PB_SPEC_WORLD] = plan.world ? 1u : 0u,
-               [PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u, [PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u},
-      .normal_maps = plan.normal_maps ? 1u : 0u,
-      .blender = plan.blender_materials ? 1u : 0u,
-  };
-  if (!reuse && ((r = pb_pass_gbuffer_create(g, &ps, &gp)) != PB_OK || (r = pb_pass_direct_create(g, &ps, &dp)) != PB_OK))
-    goto fail;
-  if (reuse) {
-    /* The scene may have moved since the context was made. */
-    if (tracer && (r = pb_tracer_update(g, tracer, s)) != PB_OK) goto fail;
-    pb_estimator_update(est, s);
-  } else if (photons_on) {
-    if (!desc.photon_map) {
-      pb_photon_trace_desc td = {.photons = desc.photons, .max_bounces = desc.photon_bounces, .smoothing = desc.smoothing > 0.0f ? desc.smoothing : PB_PHOTON_SMOOTHING_DEFAULT, .r_max = desc.r_max,
-                                 .smoothing_caustic = desc.smoothing_caustic, .first_bounce = desc.first_bounce,
-                                 .bandwidth_c0 = desc.bandwidth_c0, .caustic_share = desc.caustic_share};
-      pb_tracer_desc trd = {.kind = desc.tracer, .photon = td,
-                            .images = {.count = desc.image_maps, .resolution = desc.image_map_resolution}};
-      if ((r = pb_tracer_create(g, s, gs, &trd, &tracer)) != PB_OK) goto fail;
-    }
-    if ((r = pb_estimator_create(g, s, &desc.estimator, &est)) != PB_OK) goto fail;
-    /* Seed 003 sec. 6's up-sampling (upsample.h): the LBVH gather's; not
-     * with normal maps (eq. 20's per-pixel photon directions). */
-    if (desc.upsample_levels && !pb_estimator_can_upsample(est)) {
-      r = pb_fail(PB_ERR_USAGE, "render: --upsample-levels needs --estimator lbvh (not %s)", pb_estimator_name(est));
-      goto fail;
-    }
-    if (desc.upsample_levels && plan.normal_maps)
-      pb_log_warn("render: --upsample-levels is off in scenes with normal maps (eq. 20 needs every pixel's photon "
-                  "directions); the estimate runs at full resolution");
-    else if (desc.upsample_levels && (r = pb_upsample_create(g, desc.upsample_levels, band_pixels, &ups)) != PB_OK)
-      goto fail;
-  }
+                    (p->photons && (!out->indirect || !out->caustic)))))
+    return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u image", width, height);
+  return PB_OK;
+}
 
-  nmap_on = tg.nmap;
-  /* The shading-correction AOVs leave the GPU where eq. 20 can use them. */
-  int nmap_aovs = nmap_on && (s->features & PB_FEATURE_NORMAL_MAPS) && s->tangents && s->uvs;
-  const pb_camera *cam = &s->cameras[camera];
-  pb_gpu_frame fr;
-  memset(&fr, 0, sizeof fr);
-  if (desc.full_width) {
-    pb_camera_view(cam, desc.full_width, desc.full_height, &fr.cam);
-    fr.key_x0 = desc.crop_x, fr.key_y0 = desc.crop_y, fr.key_width = desc.full_width;
-  } else {
-    pb_camera_view(cam, width, height, &fr.cam);
+/* Everything before the first band: the context, the result's arrays, the
+ * call's own filter chain, the readback ring slot. */
+static pb_result frame_prepare(frame_run *run) {
+  const pb_frame_plan *p = &run->p;
+  const pb_render_desc *d = run->d;
+  pb_gpu *g = run->g;
+  pb_result r;
+  if ((r = context_acquire(run)) != PB_OK) return r;
+  if ((r = result_alloc(p, p->shape.width, p->shape.height, run->out)) != PB_OK) return r;
+  if (p->own_chain) {
+    pb_filter_chain_desc cd = {.atrous_iterations = d->atrous_iterations, .atrous_gamma = d->atrous_gamma};
+    if ((r = pb_filter_chain_create(g, p->shape.width, p->shape.height, &cd, &run->own_fc)) != PB_OK) return r;
+    run->fc = run->own_fc;
   }
-  fr.width = width;
-  fr.height = height;
-  fr.spp = spp;
-  fr.light_count = gs->light_count;
-  fr.emitter_count = (gs->features & PB_FEATURE_EMISSIVE) ? gs->emitter_count : 0;
-  fr.max_specular_depth = max_spec;
-  fr.seed_lo = (uint32_t)desc.seed;
-  fr.seed_hi = (uint32_t)(desc.seed >> 32);
-  fr.flags = (desc.direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (desc.jitter ? PB_GPU_FRAME_JITTER : 0u);
-  float gr = desc.glossy_path_roughness == 0.0f ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : fmaxf(desc.glossy_path_roughness, 0.0f);
-  fr.glossy_path_alpha2 = gr * gr * gr * gr; /* alpha = roughness^2 */
-  fr.tangent_base = gs->tangent_base;
-  fr.uv1_base = gs->uv1_base;
-  fr.color_base = gs->color_base;
-  fr.principled2_base = gs->principled2_base;
-
-  int ts = lim->timestamps;
-  double gbuf_ms = 0, direct_ms = 0, gpu_ms = 0;
-  /* After the resolve, on the GPU: the filter chain and eq. 20, for an image
-   * in one band (the filters read neighbours). Several bands, and the host
-   * resolve of the tests (PB_RESOLVE_ON_HOST=1, readback.h), filter the
-   * read-back AOVs on the host instead: the former path, the reference. */
-  const char *host_env = getenv("PB_RESOLVE_ON_HOST");
-  int post_gpu = photons_on && bands == 1 && !(host_env && host_env[0] == '1');
-  int chain_gpu = post_gpu && fc, sc_on = !desc.no_shading_correction && nmap_aovs;
-  /* A still run's means on the GPU: after eq. 20, on the final planes of a
-   * frame in one band (the host resolve of the tests: on the host). */
-  int still_gpu = desc.still_sum && bands == 1 && !(host_env && host_env[0] == '1') &&
-                  desc.still_sum->pixels == band_pixels;
-  out->stats.still_on_gpu = still_gpu;
-  /* Frames in flight (render.h): one band on the GPU path, with a context
-   * to keep the tail in. The last submission then also copies the planes
-   * into the readback ring and is not waited for. */
-  int defer = desc.in_flight && ctx && bands == 1 && post_gpu && !own_fc;
-  /* kept_slot: the context was zeroed above when reused (ctx->next_slot
-   * then reads 0, and every frame took slot 0: the next frame's copy into
-   * the slot raced the read of the frame before). */
-  uint32_t ring_slot = defer ? kept_slot % PB_READBACK_RING : 0;
-  if (defer && (r = pb_frame_targets_ring(g, &tg)) != PB_OK) goto fail;
-  frame_tail ft;
-  memset(&ft, 0, sizeof ft);
-  uint64_t ring_kept = PB_RENDER_KEEP_ALL;
+  frame_tail *ft = &run->ft;
+  ft->chain_gpu = p->chain_gpu, ft->post_gpu = p->post_gpu, ft->photons_on = p->photons;
+  ft->nmap_aovs = p->nmap_aovs, ft->opaque = run->s->film_opaque, ft->no_shading_correction = d->no_shading_correction;
+  ft->readback = p->readback, ft->emitter_count = p->frame.emitter_count;
+  ft->fc = run->fc, ft->est = run->c->est, ft->ups = run->c->ups;
+  run->out->stats.still_on_gpu = p->still_gpu;
+  /* kept_slot: read before the context was cleared (a rebuilt context
+   * keeps the ring's order: the next frame's copy into a slot must not
+   * race the read of the frame before). */
+  run->ring_slot = p->defer ? run->kept_slot % PB_READBACK_RING : 0;
+  if (p->defer && (r = pb_frame_targets_ring(g, &run->c->tg)) != PB_OK) return r;
   /* Frames in flight: the previous frame's last submission may still run
    * now, while this frame's first command buffer is recorded (gpu.h
    * PB_GPU_FRAMES; render.h pb_render_stats.record_overlapped). */
-  if (prev && prev->pending_slot < PB_READBACK_RING) {
-    out->stats.record_overlapped = pb_gpu_outstanding(g, kept_tails[prev->pending_slot].gpu_sub);
-    out->stats.record_running = pb_gpu_busy(g, kept_tails[prev->pending_slot].gpu_sub);
+  if (run->prev && run->prev->pending_slot < PB_READBACK_RING) {
+    run->out->stats.record_overlapped = pb_gpu_outstanding(g, run->c->tail[run->prev->pending_slot].gpu_sub);
+    run->out->stats.record_running = pb_gpu_busy(g, run->c->tail[run->prev->pending_slot].gpu_sub);
   }
-
-  for (uint32_t band = 0; band < bands; ++band) {
-    uint32_t row0 = band * band_rows;
-    uint32_t rows = height - row0 < band_rows ? height - row0 : band_rows;
-    uint32_t pixels = rows * width;
-    fr.pixel_base = row0 * width;
-    fr.pixel_count = pixels;
-    if ((r = pb_gpu_buffer_upload(g, &tg.frame, 0, &fr, sizeof fr)) != PB_OK) goto fail;
-    if ((r = pb_gpu_buffer_fill_zero(g, &tg.accum)) != PB_OK) goto fail;
-    if (photons_on && (r = pb_gpu_buffer_fill_zero(g, &tg.paccum)) != PB_OK) goto fail;
-    if (nmap_on && (r = pb_gpu_buffer_fill_zero(g, &tg.pnmap)) != PB_OK) goto fail;
-    if (ups && (r = pb_upsample_reset(g, ups)) != PB_OK) goto fail;
-    for (uint32_t it = 0; it < iters_run; ++it) {
-    uint32_t s_begin = (uint32_t)((uint64_t)it * spp / iters), s_end = (uint32_t)((uint64_t)(it + 1) * spp / iters);
-    if (photons_on && s_end > s_begin) {
-      /* One photon map per iteration (seed, it): traced, the estimator's
-       * build (the LBVH's), the estimator bound to this band's buffers.
-       * Bands retrace the same maps. */
-      const pb_photon_map *m = desc.photon_map;
-      double ms = 0, build_ms = 0;
-      pb_estimator_map_info mi = {.footprint_scale = footprint_scale(&desc, it)};
-      if (!m) {
-        /* The tracer's r_max is set when it is made or updated (photon.h). */
-        pb_photon_trace_stats pts;
-        pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
-        mi.r_max = pts.r_max;
-        /* The trace and the estimator's build in one submission, no host
-         * round trip between them: the build reads the stored count from
-         * the map's counts on the GPU and sizes its passes from it (lbvh.c);
-         * the counts come back once, after both. */
-        if ((r = pb_tracer_prepare(g, tracer, desc.seed, it, &map)) != PB_OK) goto fail;
-        if ((r = pb_estimator_begin_map(g, est, &map, &mi)) != PB_OK) goto fail;
-        if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
-        double w0 = pb_time_now();
-        r = pb_tracer_record(g, tracer, 0);
-        if (r == PB_OK) r = pb_estimator_record_build(g, est, 2); /* slots 2..6 */
-        pb_result rs = pb_gpu_submit(g);
-        if (r == PB_OK) r = rs;
-        if (r != PB_OK) goto fail;
-        double wall_ms = (pb_time_now() - w0) * 1e3;
-        if ((r = pb_tracer_finish(g, tracer, &map, 0, &ms)) != PB_OK) goto fail;
-        pb_estimator_build_done(g, est, 2, &build_ms);
-        if (ms < 0 || build_ms < 0) ms = wall_ms, build_ms = 0; /* no timestamps: all of it to the trace */
-        if (band == 0) trace_ms += ms;
-        photon_gpu_ms += ms;
-        m = &map;
-      }
-      if (band == 0) stored_sum += m->stored, caustic_sum += m->caustic, out->stats.photons_emitted += m->emitted,
-                     out->stats.photons_clamped += m->clamped;
-      if (!desc.photon_map && band == 0) {
-        pb_photon_trace_stats pts;
-        pb_photon_tracer_stats(pb_tracer_photon(tracer), &pts);
-        out->stats.photon_guarded += pts.guarded;
-        tracer_stats_add(tracer, &out->stats);
-      }
-      if (band == 0 && desc.radius_histogram && !desc.photon_map &&
-          (r = radius_histogram(g, pb_tracer_photon(tracer), m, &hist_host, &out->stats)) != PB_OK)
-        goto fail;
-      if (desc.photon_map) { /* a map made by the host: the build in its own submission */
-        if ((r = pb_estimator_begin_map(g, est, m, &mi)) != PB_OK) goto fail;
-        double w0 = pb_time_now();
-        if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
-        r = pb_estimator_record_build(g, est, 0);
-        pb_result rs = pb_gpu_submit(g);
-        if (r == PB_OK) r = rs;
-        if (r != PB_OK) goto fail;
-        pb_estimator_build_done(g, est, 0, &build_ms);
-        if (build_ms < 0) build_ms = (pb_time_now() - w0) * 1e3; /* no timestamps: the wall time */
-      }
-      photon_gpu_ms += build_ms > 0 ? build_ms : 0;
-      if (band == 0) {
-        est_build_ms += build_ms;
-        estimator_stats_add(g, est, &out->stats);
-      }
-      if ((r = pb_estimator_bind(g, est, &ps, &tg.paccum, nmap_on ? &tg.pnmap : NULL)) != PB_OK) goto fail;
-      if (ups && (r = pb_upsample_bind(g, ups, est, &ps, &tg.paccum, m->caustic > 0)) != PB_OK) goto fail;
-    }
-    for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
-      uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
-      if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
-      pb_gpu_timestamp(g, 0);
-      for (uint32_t k = 0; k < count && r == PB_OK; ++k) {
-        r = pb_pass_record(g, &gp, s0 + k, pixels);
-        pb_gpu_barrier(g);
-        pb_gpu_timestamp(g, 3 * k + 1);
-        if (r == PB_OK) r = pb_pass_record(g, &dp, s0 + k, pixels);
-        pb_gpu_barrier(g);
-        pb_gpu_timestamp(g, 3 * k + 2);
-        if (photons_on && r == PB_OK)
-          r = ups ? pb_upsample_record(g, ups, est, s0 + k, width, pixels, 0) : pb_estimator_record(g, est, s0 + k, pixels, 0);
-        pb_gpu_barrier(g);
-        pb_gpu_timestamp(g, 3 * k + 3);
-      }
-      double t0 = pb_time_now();
-      pb_result rs = pb_gpu_submit(g);
-      double wall = (pb_time_now() - t0) * 1e3;
-      if (r == PB_OK) r = rs;
-      if (r != PB_OK) goto fail;
-      if (ts) {
-        for (uint32_t k = 0; k < count; ++k) {
-          double a = pb_gpu_elapsed_ms(g, 3 * k, 3 * k + 1), b = pb_gpu_elapsed_ms(g, 3 * k + 1, 3 * k + 2);
-          double c = pb_gpu_elapsed_ms(g, 3 * k + 2, 3 * k + 3);
-          if (a < 0 || b < 0 || c < 0) ts = 0;
-          gbuf_ms += a;
-          direct_ms += b;
-          gather_ms += c;
-        }
-        double all = pb_gpu_elapsed_ms(g, 0, 3 * count);
-        gpu_ms += all > 0 ? all : 0;
-      } else {
-        gpu_ms += wall;
-      }
-    }
-    if (band == 0 && (r = iteration_done(g, &desc, &tg, &preview, it, iters, s_end, spp, width, height,
-                                         bands, wall0, &iters_run)) != PB_OK)
-      goto fail;
-    }
-    spp_run = (uint32_t)((uint64_t)iters_run * spp / iters); /* all of spp without a time limit */
-    /* The resolve (resolve.h), the filter chain and eq. 20 on the GPU in one
-     * submission, then the band's AOVs to the host: the readback
-     * (readback.h) is where pixels leave the GPU. Timestamps: 0 start, 1
-     * resolved, the chain's from 1 (filters.c), the last after eq. 20. */
-    if (band == 0 && prev) {
-      /* The previous frame in flight is settled before this submission
-       * overwrites what its settle reads (the guard, the k_PD sums, the
-       * temporal counts; its timestamps are in its own context). */
-      double p0 = pb_time_now();
-      pb_gpu_transfers q0 = pb_gpu_transfers_get(g);
-      if (prev->pending_slot >= PB_READBACK_RING) {
-        r = pb_fail(PB_ERR_INTERNAL, "render: no frame in flight to settle");
-        goto fail;
-      }
-      if ((r = settle_tail(g, &tg, &kept_tails[prev->pending_slot], prev)) != PB_OK) goto fail;
-      pb_gpu_transfers q1 = pb_gpu_transfers_get(g);
-      wall0 += pb_time_now() - p0; /* its host time, not this frame's */
-      tr0.upload_bytes += q1.upload_bytes - q0.upload_bytes;
-      tr0.download_bytes += q1.download_bytes - q0.download_bytes;
-      tr0.readback_bytes += q1.readback_bytes - q0.readback_bytes;
-    }
-    if (defer) {
-      /* The samples' statistics now, before the last submission: the next
-       * frame's work follows it (render.h settle_first). */
-      ft.photons_on = photons_on, ft.est = est, ft.ups = ups;
-      estimator_final(g, &ft, &out->stats);
-    }
-    /* The resolve's counters, zeroed for the frame just before its first
-     * band's resolve (only the resolve writes them). */
-    if (band == 0 && ((r = pb_gpu_buffer_fill_zero(g, &tg.guard)) != PB_OK ||
-                      (r = pb_gpu_buffer_fill_zero(g, &tg.kpd)) != PB_OK))
-      goto fail;
-    if (chain_gpu && (r = pb_filter_chain_bind(g, fc, &tg, nmap_aovs)) != PB_OK) goto fail;
-    if (still_gpu && (r = pb_still_sum_bind(g, desc.still_sum, &tg)) != PB_OK) goto fail;
-    if ((r = pb_gpu_begin(g)) != PB_OK) goto fail;
-    pb_gpu_timestamp(g, 0);
-    float inv_spp = 1.0f / (float)spp_run;
-    r = pb_resolve_record(g, &rp, &tg, pixels, inv_spp, s->film_opaque);
-    pb_gpu_barrier(g);
-    pb_gpu_timestamp(g, 1);
-    uint32_t slot = 1, sc_slot;
-    if (chain_gpu && r == PB_OK) r = pb_filter_chain_record(g, fc, pixels, &slot);
-    sc_slot = slot;
-    if (post_gpu && sc_on && r == PB_OK) { /* eq. 20 on the filtered indirect */
-      r = pb_shading_correction_record(g, &scp, pixels, PB_SHADING_CORRECTION_S_MAX);
-      pb_gpu_barrier(g);
-    }
-    if (still_gpu && r == PB_OK) { /* a still run's running means (targets.h pb_still_sum) */
-      r = pb_still_sum_record(g, desc.still_sum, &tg, pixels);
-      pb_gpu_barrier(g);
-    }
-    pb_gpu_timestamp(g, ++slot);
-    if (defer) { /* after the last timestamp: the download is not a pass */
-      pb_gpu_barrier(g);
-      ring_kept = pb_readback_ring_record(g, &tg, ring_slot, pixels, readback, desc.keep_planes,
-                                          &out->stats.ring_bytes);
-    }
-    pb_result rs = defer ? pb_gpu_submit_async(g) : pb_gpu_submit(g);
-    if (r == PB_OK) r = rs;
-    if (r != PB_OK) goto fail;
-    ft.gpu_sub = pb_gpu_last_submission(g);
-    ft.ts = ts, ft.chain_gpu = chain_gpu, ft.fc = fc, ft.sc_slot = sc_slot, ft.slot = slot;
-    ft.gpu_ms = gpu_ms;
-    if (defer) break; /* one band: frame_settle and frame_read finish it */
-    if ((r = tail_band_times(g, &ft, out)) != PB_OK) goto fail;
-    gpu_ms = ft.gpu_ms;
-    if ((r = pb_readback_band(g, &tg, readback, pixels, fr.pixel_base, n, inv_spp, s->film_opaque, nmap_aovs, out, &k_sum,
-                              &hit_sum)) != PB_OK) goto fail;
-  }
-  out->width = width;
-  out->height = height;
-  ft.ts = ts, ft.chain_gpu = chain_gpu, ft.post_gpu = post_gpu, ft.photons_on = photons_on;
-  ft.nmap_aovs = nmap_aovs, ft.opaque = s->film_opaque, ft.no_shading_correction = desc.no_shading_correction;
-  ft.readback = readback;
-  out->stats.readback_mode = readback;
-  if (ctx && bands == 1 && !host_resolve) { /* the planes stay on the GPU (render.h pb_render_gpu_planes) */
-    out->gpu.planes = defer ? &ctx->tg.ring[ring_slot][0] : &ctx->tg.planes;
-    out->gpu.pplanes = !tg.photons ? NULL : defer ? &ctx->tg.ring[ring_slot][1] : &ctx->tg.pplanes;
-    out->gpu.pixels = (uint32_t)n, out->gpu.channels = tg.channels;
-    out->gpu.kept = defer ? ring_kept : PB_RENDER_KEEP_ALL;
-    out->gpu.photons = tg.photons, out->gpu.nmap = tg.nmap, out->gpu.nmap_aovs = nmap_aovs;
-  }
-  ft.pixels = (uint32_t)n, ft.spp_run = spp_run, ft.iters_run = iters_run, ft.emitter_count = fr.emitter_count;
-  ft.ring_slot = ring_slot, ft.pixel_base = 0, ft.n = n, ft.inv_spp = 1.0f / (float)spp_run;
-  ft.gpu_ms = gpu_ms, ft.gbuf_ms = gbuf_ms, ft.direct_ms = direct_ms, ft.gather_ms = gather_ms;
-  ft.photon_gpu_ms = photon_gpu_ms, ft.trace_ms = trace_ms, ft.est_build_ms = est_build_ms;
-  ft.k_sum = k_sum, ft.hit_sum = hit_sum, ft.wall0 = wall0, ft.stored_sum = stored_sum, ft.caustic_sum = caustic_sum;
-  ft.tr0 = tr0, ft.fc = fc, ft.est = est, ft.ups = ups, ft.gs = gs;
-  if (defer) {
-    ft.host_ms = (pb_time_now() - wall0) * 1e3;
-    ft.tr_submit = pb_gpu_transfers_get(g);
-    ctx->tail[ring_slot] = ft;
-    out->pending = 1;
-    out->pending_slot = ring_slot;
-    out->stats.in_flight = 1;
-  } else if ((r = tail_frame(g, &tg, &ft, out)) != PB_OK) {
-    goto fail;
-  }
-  free(preview.beauty);
-  free(hist_host);
-  pb_filter_chain_destroy(g, own_fc);
-  if (ctx) { /* kept for the next frame */
-    for (uint32_t i = 0; i < PB_READBACK_RING; ++i)
-      if (!defer || i != ring_slot) ctx->tail[i] = kept_tails[i];
-    ctx->next_slot = defer ? ring_slot + 1 : kept_slot;
-    ctx->tg = tg;
-    ctx->gp = gp, ctx->dp = dp, ctx->rp = rp, ctx->scp = scp;
-    ctx->tracer = tracer, ctx->est = est, ctx->ups = ups, ctx->map = map;
-    ctx->key = key;
-    ctx->valid = 1;
-    return PB_OK;
-  }
-  pb_photon_map_destroy(g, &map);
-  pb_estimator_destroy(g, est);
-  pb_upsample_destroy(g, ups);
-  pb_tracer_destroy(g, tracer);
-  pb_gpu_pipeline_destroy(g, &gp);
-  pb_gpu_pipeline_destroy(g, &dp);
-  pb_gpu_pipeline_destroy(g, &rp);
-  pb_gpu_pipeline_destroy(g, &scp);
-  pb_frame_targets_destroy(g, &tg);
   return PB_OK;
-fail:
-  free(preview.beauty);
-  free(hist_host);
-  pb_filter_chain_destroy(g, own_fc);
-  pb_gpu_pipeline_destroy(g, &scp);
-  pb_photon_map_destroy(g, &map);
-  pb_estimator_destroy(g, est);
-  pb_upsample_destroy(g, ups);
-  pb_tracer_destroy(g, tracer);
-  pb_gpu_pipeline_destroy(g, &gp);
-  pb_gpu_pipeline_destroy(g, &dp);
-  pb_gpu_pipeline_destroy(g, &rp);
-  pb_frame_targets_destroy(g, &tg);
-  pb_render_result_destroy(out);
-  return r;
+}
+
+/* Stage 1, iteration `it` of `band`: the photon map (seed, it), traced and
+ * the estimator's build (the LBVH's), the estimator bound to the band's
+ * buffers. Bands retrace the same maps. */
+static pb_result record_photon_map(frame_run *run, uint32_t band, uint32_t it) {
+  pb_gpu *g = run->g;
+  pb_frame_context *c = run->c;
+  const pb_render_desc *d = run->d;
+  pb_render_stats *st = &run->out->stats;
+  frame_tail *ft = &run->ft;
+  pb_result r;
+  const pb_photon_map *m = run->io->photon_map;
+  double ms = 0, build_ms = 0;
+  pb_estimator_map_info mi = {.footprint_scale = footprint_scale(d, it)};
+  if (!m) {
+    /* The tracer's r_max is set when it is made or updated (photon.h). */
+    mi.r_max = pb_tracer_r_max(c->tracer);
+    /* The trace and the estimator's build in one submission, no host round
+     * trip between them: the build reads the stored count from the map's
+     * counts on the GPU and sizes its passes from it (lbvh.c); the counts
+     * come back once, after both. */
+    if ((r = pb_tracer_prepare(g, c->tracer, d->seed, it, &c->map)) != PB_OK) return r;
+    if ((r = pb_estimator_begin_map(g, c->est, &c->map, &mi)) != PB_OK) return r;
+    if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+    double w0 = pb_time_now();
+    r = pb_tracer_record(g, c->tracer, 0);
+    if (r == PB_OK) r = pb_estimator_record_build(g, c->est, 2); /* slots 2..6 */
+    pb_result rs = pb_gpu_submit(g);
+    if (r == PB_OK) r = rs;
+    if (r != PB_OK) return r;
+    double wall_ms = (pb_time_now() - w0) * 1e3;
+    if ((r = pb_tracer_finish(g, c->tracer, &c->map, 0, &ms)) != PB_OK) return r;
+    pb_estimator_build_done(g, c->est, 2, &build_ms);
+    if (ms < 0 || build_ms < 0) ms = wall_ms, build_ms = 0; /* no timestamps: all of it to the trace */
+    if (band == 0) ft->trace_ms += ms;
+    ft->photon_gpu_ms += ms;
+    m = &c->map;
+  }
+  if (band == 0) {
+    ft->stored_sum += m->stored, ft->caustic_sum += m->caustic;
+    st->photons_emitted += m->emitted, st->photons_clamped += m->clamped;
+  }
+  if (!run->io->photon_map && band == 0) pb_tracer_stats_add(c->tracer, st);
+  if (band == 0 && d->radius_histogram && !run->io->photon_map &&
+      (r = pb_tracer_radius_histogram(g, c->tracer, m, st)) != PB_OK)
+    return r;
+  if (run->io->photon_map) { /* a map made by the host: the build in its own submission */
+    if ((r = pb_estimator_begin_map(g, c->est, m, &mi)) != PB_OK) return r;
+    double w0 = pb_time_now();
+    if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+    r = pb_estimator_record_build(g, c->est, 0);
+    pb_result rs = pb_gpu_submit(g);
+    if (r == PB_OK) r = rs;
+    if (r != PB_OK) return r;
+    pb_estimator_build_done(g, c->est, 0, &build_ms);
+    if (build_ms < 0) build_ms = (pb_time_now() - w0) * 1e3; /* no timestamps: the wall time */
+  }
+  ft->photon_gpu_ms += build_ms > 0 ? build_ms : 0;
+  if (band == 0) {
+    ft->est_build_ms += build_ms;
+    pb_estimator_stats_add(g, c->est, st);
+  }
+  if ((r = pb_estimator_bind(g, c->est, &c->ps, &c->tg.paccum, c->tg.nmap ? &c->tg.pnmap : NULL)) != PB_OK) return r;
+  if (c->ups && (r = pb_upsample_bind(g, c->ups, c->est, &c->ps, &c->tg.paccum, m->caustic > 0)) != PB_OK) return r;
+  return PB_OK;
+}
+
+/* Stage 2: samples [s_begin, s_end) of every pixel of the band: G-buffer,
+ * direct light and the photon estimate per sample, SAMPLES_PER_SUBMIT to a
+ * submission, timed by timestamps (or the submission's wall time). */
+static pb_result record_camera_samples(frame_run *run, uint32_t s_begin, uint32_t s_end, uint32_t pixels) {
+  pb_gpu *g = run->g;
+  pb_frame_context *c = run->c;
+  frame_tail *ft = &run->ft;
+  int photons_on = run->p.photons;
+  pb_result r;
+  for (uint32_t s0 = s_begin; s0 < s_end; s0 += SAMPLES_PER_SUBMIT) {
+    uint32_t count = s_end - s0 < SAMPLES_PER_SUBMIT ? s_end - s0 : SAMPLES_PER_SUBMIT;
+    if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+    pb_gpu_timestamp(g, 0);
+    for (uint32_t k = 0; k < count && r == PB_OK; ++k) {
+      r = pb_pass_record(g, &c->gp, s0 + k, pixels);
+      pb_gpu_barrier(g);
+      pb_gpu_timestamp(g, 3 * k + 1);
+      if (r == PB_OK) r = pb_pass_record(g, &c->dp, s0 + k, pixels);
+      pb_gpu_barrier(g);
+      pb_gpu_timestamp(g, 3 * k + 2);
+      if (photons_on && r == PB_OK)
+        r = c->ups ? pb_upsample_record(g, c->ups, c->est, s0 + k, run->p.shape.width, pixels, 0)
+                   : pb_estimator_record(g, c->est, s0 + k, pixels, 0);
+      pb_gpu_barrier(g);
+      pb_gpu_timestamp(g, 3 * k + 3);
+    }
+    double t0 = pb_time_now();
+    pb_result rs = pb_gpu_submit(g);
+    double wall = (pb_time_now() - t0) * 1e3;
+    if (r == PB_OK) r = rs;
+    if (r != PB_OK) return r;
+    if (ft->ts) {
+      for (uint32_t k = 0; k < count; ++k) {
+        double a = pb_gpu_elapsed_ms(g, 3 * k, 3 * k + 1), b = pb_gpu_elapsed_ms(g, 3 * k + 1, 3 * k + 2);
+        double cc = pb_gpu_elapsed_ms(g, 3 * k + 2, 3 * k + 3);
+        if (a < 0 || b < 0 || cc < 0) ft->ts = 0;
+        ft->gbuf_ms += a;
+        ft->direct_ms += b;
+        ft->gather_ms += cc;
+      }
+      double all = pb_gpu_elapsed_ms(g, 0, 3 * count);
+      ft->gpu_ms += all > 0 ? all : 0;
+    } else {
+      ft->gpu_ms += wall;
+    }
+  }
+  return PB_OK;
+}
+
+/* Band 0, before the tail's submission: the previous frame in flight is
+ * settled before it overwrites what that settle reads (the guard, the k_PD
+ * sums, the temporal counts; its timestamps are in its own context). */
+static pb_result settle_previous(frame_run *run) {
+  pb_gpu *g = run->g;
+  pb_render_result *prev = run->prev;
+  double p0 = pb_time_now();
+  pb_gpu_transfers q0 = pb_gpu_transfers_get(g);
+  if (prev->pending_slot >= PB_READBACK_RING) return pb_fail(PB_ERR_INTERNAL, "render: no frame in flight to settle");
+  pb_result r = settle_tail(g, &run->c->tg, &run->c->tail[prev->pending_slot], prev);
+  if (r != PB_OK) return r;
+  pb_gpu_transfers q1 = pb_gpu_transfers_get(g);
+  pb_gpu_transfers *tr0 = &run->ft.tr0;
+  run->ft.wall0 += pb_time_now() - p0; /* its host time, not this frame's */
+  tr0->upload_bytes += q1.upload_bytes - q0.upload_bytes;
+  tr0->download_bytes += q1.download_bytes - q0.download_bytes;
+  tr0->readback_bytes += q1.readback_bytes - q0.readback_bytes;
+  return PB_OK;
+}
+
+/* Stage 3, the band's tail: the resolve (resolve.h), the filter chain and
+ * eq. 20 on the GPU, a still run's means, and for a frame in flight the
+ * copy into the readback ring, in one submission (not waited for in
+ * flight). Timestamps: 0 start, 1 resolved, the chain's from 1
+ * (filters.c), the last after eq. 20. */
+static pb_result record_tail(frame_run *run, uint32_t band, uint32_t pixels) {
+  pb_gpu *g = run->g;
+  pb_frame_context *c = run->c;
+  const pb_frame_plan *p = &run->p;
+  frame_tail *ft = &run->ft;
+  pb_result r;
+  if (band == 0 && run->prev && (r = settle_previous(run)) != PB_OK) return r;
+  /* The samples' statistics now, before the last submission: the next
+   * frame's work follows it (render.h settle_first). */
+  if (p->defer) estimator_final(g, ft, &run->out->stats);
+  /* The resolve's counters, zeroed for the frame just before its first
+   * band's resolve (only the resolve writes them). */
+  if (band == 0 && ((r = pb_gpu_buffer_fill_zero(g, &c->tg.guard)) != PB_OK ||
+                    (r = pb_gpu_buffer_fill_zero(g, &c->tg.kpd)) != PB_OK))
+    return r;
+  if (p->chain_gpu && (r = pb_filter_chain_bind(g, run->fc, &c->tg, p->nmap_aovs)) != PB_OK) return r;
+  if (p->still_gpu && (r = pb_still_sum_bind(g, run->io->still_sum, &c->tg)) != PB_OK) return r;
+  if ((r = pb_gpu_begin(g)) != PB_OK) return r;
+  pb_gpu_timestamp(g, 0);
+  r = pb_resolve_record(g, &c->rp, &c->tg, pixels, 1.0f / (float)ft->spp_run, run->s->film_opaque);
+  pb_gpu_barrier(g);
+  pb_gpu_timestamp(g, 1);
+  uint32_t slot = 1;
+  if (p->chain_gpu && r == PB_OK) r = pb_filter_chain_record(g, run->fc, pixels, &slot);
+  ft->sc_slot = slot;
+  if (p->post_gpu && p->sc_on && r == PB_OK) { /* eq. 20 on the filtered indirect */
+    r = pb_shading_correction_record(g, &c->scp, pixels, PB_SHADING_CORRECTION_S_MAX);
+    pb_gpu_barrier(g);
+  }
+  if (p->still_gpu && r == PB_OK) { /* a still run's running means (targets.h pb_still_sum) */
+    r = pb_still_sum_record(g, run->io->still_sum, &c->tg, pixels);
+    pb_gpu_barrier(g);
+  }
+  pb_gpu_timestamp(g, ++slot);
+  ft->slot = slot;
+  if (p->defer) { /* after the last timestamp: the download is not a pass */
+    pb_gpu_barrier(g);
+    run->ring_kept = pb_readback_ring_record(g, &c->tg, run->ring_slot, pixels, p->readback, run->d->keep_planes,
+                                             &run->out->stats.ring_bytes);
+  }
+  pb_result rs = p->defer ? pb_gpu_submit_async(g) : pb_gpu_submit(g);
+  if (r == PB_OK) r = rs;
+  if (r != PB_OK) return r;
+  ft->gpu_sub = pb_gpu_last_submission(g);
+  return PB_OK;
+}
+
+/* One band of rows: its samples and photon maps, iteration by iteration,
+ * then its tail; without frames in flight, its AOVs to the host (the
+ * readback, readback.h, is where pixels leave the GPU). */
+static pb_result frame_band(frame_run *run, uint32_t band) {
+  pb_gpu *g = run->g;
+  pb_frame_context *c = run->c;
+  const pb_frame_plan *p = &run->p;
+  frame_tail *ft = &run->ft;
+  uint32_t width = p->shape.width, height = p->shape.height;
+  uint32_t row0 = band * p->band_rows;
+  uint32_t rows = height - row0 < p->band_rows ? height - row0 : p->band_rows;
+  uint32_t pixels = rows * width;
+  pb_gpu_frame fr = p->frame;
+  fr.pixel_base = row0 * width;
+  fr.pixel_count = pixels;
+  pb_result r;
+  if ((r = pb_gpu_buffer_upload(g, &c->tg.frame, 0, &fr, sizeof fr)) != PB_OK) return r;
+  if ((r = pb_gpu_buffer_fill_zero(g, &c->tg.accum)) != PB_OK) return r;
+  if (p->photons && (r = pb_gpu_buffer_fill_zero(g, &c->tg.paccum)) != PB_OK) return r;
+  if (c->tg.nmap && (r = pb_gpu_buffer_fill_zero(g, &c->tg.pnmap)) != PB_OK) return r;
+  if (c->ups && (r = pb_upsample_reset(g, c->ups)) != PB_OK) return r;
+  for (uint32_t it = 0; it < ft->iters_run; ++it) {
+    uint32_t s_begin = (uint32_t)((uint64_t)it * p->spp / p->iters);
+    uint32_t s_end = (uint32_t)((uint64_t)(it + 1) * p->spp / p->iters);
+    if (p->photons && s_end > s_begin && (r = record_photon_map(run, band, it)) != PB_OK) return r;
+    if ((r = record_camera_samples(run, s_begin, s_end, pixels)) != PB_OK) return r;
+    if (band == 0 && (r = iteration_done(run, it, s_end)) != PB_OK) return r;
+  }
+  ft->spp_run = (uint32_t)((uint64_t)ft->iters_run * p->spp / p->iters); /* all of spp without a time limit */
+  if ((r = record_tail(run, band, pixels)) != PB_OK) return r;
+  if (p->defer) return PB_OK; /* one band: frame_settle and frame_read finish it */
+  if ((r = tail_band_times(g, ft, run->out)) != PB_OK) return r;
+  return pb_readback_band(g, &c->tg, p->readback, pixels, fr.pixel_base, p->pixels, 1.0f / (float)ft->spp_run,
+                          run->s->film_opaque, p->nmap_aovs, run->out, &ft->k_sum, &ft->hit_sum);
+}
+
+/* After the last band: the planes the caller may read on the GPU, then the
+ * statistics now or, for a frame in flight, the tail kept in the context
+ * for pb_render_frame_settle; the context's ring order for the next frame. */
+static pb_result frame_finish(frame_run *run) {
+  const pb_frame_plan *p = &run->p;
+  pb_frame_context *c = run->c;
+  pb_render_result *out = run->out;
+  frame_tail *ft = &run->ft;
+  out->width = p->shape.width;
+  out->height = p->shape.height;
+  out->stats.readback_mode = p->readback;
+  if (c != &run->own && p->bands == 1 && !p->host_resolve) { /* the planes stay on the GPU (render.h pb_render_gpu_planes) */
+    out->gpu.planes = p->defer ? &c->tg.ring[run->ring_slot][0] : &c->tg.planes;
+    out->gpu.pplanes = !c->tg.photons ? NULL : p->defer ? &c->tg.ring[run->ring_slot][1] : &c->tg.pplanes;
+    out->gpu.pixels = (uint32_t)p->pixels, out->gpu.channels = c->tg.channels;
+    out->gpu.kept = p->defer ? run->ring_kept : PB_RENDER_KEEP_ALL;
+    out->gpu.photons = c->tg.photons, out->gpu.nmap = c->tg.nmap, out->gpu.nmap_aovs = p->nmap_aovs;
+  }
+  ft->pixels = (uint32_t)p->pixels, ft->ring_slot = run->ring_slot, ft->pixel_base = 0, ft->n = p->pixels;
+  ft->inv_spp = 1.0f / (float)ft->spp_run;
+  c->next_slot = p->defer ? run->ring_slot + 1 : run->kept_slot;
+  if (!p->defer) return tail_frame(run->g, &c->tg, ft, out);
+  ft->host_ms = (pb_time_now() - ft->wall0) * 1e3;
+  ft->tr_submit = pb_gpu_transfers_get(run->g);
+  c->tail[run->ring_slot] = *ft;
+  out->pending = 1;
+  out->pending_slot = run->ring_slot;
+  out->stats.in_flight = 1;
+  return PB_OK;
+}
+
+/* The stages in order (render.h): the plan, the context, per band the
+ * photon maps, camera samples and tail, then the frame's finish. */
+pb_result pb_render_frame_io(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
+                             uint32_t height, const pb_render_desc *desc, const pb_render_io *io,
+                             pb_render_result *out) {
+  static const pb_render_desc defaults;
+  static const pb_render_io none;
+  memset(out, 0, sizeof *out);
+  frame_run run = {0};
+  const pb_render_desc *d = desc ? desc : &defaults;
+  if (!io) io = &none;
+  pb_result r = pb_frame_plan_of(g, s, gs, camera, width, height, d, io, &run.p);
+  if (r != PB_OK) return r;
+  run_begin(&run, g, s, d, io, out);
+  r = frame_prepare(&run);
+  for (uint32_t band = 0; r == PB_OK && band < run.p.bands; ++band) r = frame_band(&run, band);
+  if (r == PB_OK) r = frame_finish(&run);
+  return run_end(&run, r);
+}
+
+pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
+                          uint32_t height, const pb_render_desc *desc, pb_render_result *out) {
+  return pb_render_frame_io(g, s, gs, camera, width, height, desc, NULL, out);
 }

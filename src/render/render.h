@@ -124,8 +124,15 @@ typedef struct pb_tracer_stat {
   int summed;
 } pb_tracer_stat;
 enum { PB_TRACER_MAX_STATS = 24 };
+/* Merges one photon map's named statistics `now` (n of them) into a frame's
+ * list of *count (at most PB_TRACER_MAX_STATS): summed ones added, the
+ * others replaced, new names appended while there is room. last_only: only
+ * the statistics that are not summed (read again after the frame's last
+ * sample). tracer.c; the tracer's, the estimator's and the up-sampling's. */
+void pb_tracer_stats_merge(pb_tracer_stat *list, uint32_t *count, const pb_tracer_stat *now, uint32_t n,
+                           int last_only);
 
-/* What pb_render_desc.progress hears after each finished photon iteration
+/* What pb_render_io.progress hears after each finished photon iteration
  * (band 0 of the image, the first rows when it needs several bands). */
 typedef struct pb_render_progress {
   uint32_t iteration, iterations;  /* finished, planned (fewer once the
@@ -140,7 +147,8 @@ typedef struct pb_render_progress {
 /* A non-PB_OK return stops the render with that result. */
 typedef pb_result (*pb_render_progress_fn)(void *user, const pb_render_progress *p);
 
-/* Zero means default for every field. */
+/* A frame's settings: values only, zero meaning default for every field
+ * (what the frame reads, calls or keeps besides: pb_render_io). */
 typedef struct pb_render_desc {
   uint32_t spp;                /* 0: 1 (pixel centres); >1 jittered/stratified */
   uint32_t max_specular_depth; /* delta interactions along an eye path; 0:
@@ -213,14 +221,12 @@ typedef struct pb_render_desc {
                                   (sequence.h); the radius schedule goes on
                                   from there */
   /* Progressive refinement (render --time-limit, --preview, --progress):
-   * progress is called after each iteration; with preview_interval_s >= 0
-   * it also gets the mean beauty so far, at most once per that many seconds
-   * (never for the last iteration; the image in one band only: the
-   * accumulators are read back for it). time_limit_s > 0: no iteration
-   * starts after that many seconds; the frame averages those run (stats.spp
-   * and stats.iterations say how many). */
-  pb_render_progress_fn progress;
-  void *progress_user;
+   * pb_render_io.progress is called after each iteration; with
+   * preview_interval_s >= 0 it also gets the mean beauty so far, at most
+   * once per that many seconds (never for the last iteration; the image in
+   * one band only: the accumulators are read back for it). time_limit_s >
+   * 0: no iteration starts after that many seconds; the frame averages
+   * those run (stats.spp and stats.iterations say how many). */
   double preview_interval_s;   /* < 0: no preview (progress only) */
   double time_limit_s;
   /* A crop of a larger frame (render --crop, Blender's border): the image
@@ -230,17 +236,7 @@ typedef struct pb_render_desc {
    * (up to the photon maps' own sampling, which does not depend on the
    * image). full_width 0: the image is the whole frame. */
   uint32_t full_width, full_height, crop_x, crop_y;
-  const struct pb_photon_map *photon_map; /* tests: gather this map (every
-                                  iteration) instead of tracing */
-  struct pb_frame_context *context; /* sequences: keeps pipelines, per-pixel
-                                  buffers, the photon tracer and estimator
-                                  for the next frame (pb_frame_context_*) */
-  struct pb_filter_chain *filters; /* sequences: the temporal and spatial
-                                  filters of the indirect light (filters.h),
-                                  recorded after the resolve on the GPU;
-                                  NULL: atrous_iterations alone (a chain made
-                                  for the call) */
-  /* Frames in flight (sequences, with `context`): 1: the frame's
+  /* Frames in flight (sequences, with pb_render_io.context): 1: the frame's
    * last submission (resolve, filters, eq. 20, and a copy of the resolved
    * planes into the readback's staging ring, targets.h) is not waited for;
    * pb_render_frame returns with out->pending set, out's arrays allocated
@@ -248,7 +244,7 @@ typedef struct pb_render_desc {
    * next frame's pose, the caller's output of the previous frame) while the
    * GPU runs it. pb_render_frame_settle then waits and completes the
    * statistics (before the context's next pb_render_frame, or by it:
-   * settle_first below; the frame's timestamps stay in its own submission
+   * pb_render_io.settle_first; the frame's timestamps stay in its own submission
    * context), pb_render_frame_read brings the pixels from
    * the ring (before the context's second pb_render_frame after this one:
    * the ring has two slots). Frames with several bands or the host path
@@ -258,20 +254,6 @@ typedef struct pb_render_desc {
    * store's slot order that any two runs may differ in (bit-identical on
    * lavapipe in tests/frame_same_pixels.py in_flight). */
   int in_flight;
-  /* Frames in flight: the previous frame of the same context, still pending
-   * (out->pending 1) or NULL. This frame is then recorded and its first
-   * submissions queued while that one's last submission still runs (the
-   * GPU runs them after it: gpu.h PB_GPU_FRAMES); pb_render_frame settles
-   * it (pb_render_frame_settle) before its own last submission, the one
-   * that overwrites what that settle reads (the guard, the k_PD sums, the
-   * temporal filter's counts). Its pixels stay in its ring slot. */
-  struct pb_render_result *settle_first;
-  /* Sequences: a still run's running means on the GPU
-   * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
-   * submission when the frame is one band on the GPU path; out->stats.
-   * still_on_gpu says whether it was (else the caller averages on the
-   * host). NULL: none. */
-  struct pb_still_sum *still_sum;
   /* What the readback brings to the host (PB_RENDER_READBACK_*):
    * ALL (0) every AOV, as `render` needs them; BEAUTY the beauty alone
    * (`serve`, which sends it on); STATS none of the pixels, only what the
@@ -279,7 +261,7 @@ typedef struct pb_render_desc {
    * viewer's GPU display, which shows the planes where they lie
    * (pb_render_result.gpu). Honoured for a frame in one band on the GPU
    * path with a context (the planes must outlive the call), and with a
-   * still_sum only when it ran on the GPU; otherwise everything is read
+   * still sum (pb_render_io) only when it ran on the GPU; otherwise everything is read
    * (stats.readback_mode says what was). The arrays not read are NULL;
    * pb_render_result_read_gpu fetches them later, while the planes last. */
   int readback;
@@ -296,6 +278,38 @@ typedef struct pb_render_desc {
                                   footprint radii (stats.radius_hist; costs a
                                   download per map, so off for timing) */
 } pb_render_desc;
+
+/* A frame's I/O objects, apart from its settings: what it reads besides
+ * them, calls, or keeps for the caller (pb_render_frame_io; all NULL for
+ * pb_render_frame). */
+typedef struct pb_render_io {
+  pb_render_progress_fn progress; /* see pb_render_desc.preview_interval_s */
+  void *progress_user;
+  const struct pb_photon_map *photon_map; /* tests: gather this map (every
+                                  iteration) instead of tracing */
+  struct pb_frame_context *context; /* sequences: keeps pipelines, per-pixel
+                                  buffers, the photon tracer and estimator
+                                  for the next frame (pb_frame_context_*) */
+  struct pb_filter_chain *filters; /* sequences: the temporal and spatial
+                                  filters of the indirect light (filters.h),
+                                  recorded after the resolve on the GPU;
+                                  NULL: atrous_iterations alone (a chain made
+                                  for the call) */
+  /* Frames in flight: the previous frame of the same context, still pending
+   * (out->pending 1) or NULL. This frame is then recorded and its first
+   * submissions queued while that one's last submission still runs (the
+   * GPU runs them after it: gpu.h PB_GPU_FRAMES); pb_render_frame settles
+   * it (pb_render_frame_settle) before its own last submission, the one
+   * that overwrites what that settle reads (the guard, the k_PD sums, the
+   * temporal filter's counts). Its pixels stay in its ring slot. */
+  struct pb_render_result *settle_first;
+  /* Sequences: a still run's running means on the GPU
+   * (targets.h pb_still_sum), updated after eq. 20 in the frame's last
+   * submission when the frame is one band on the GPU path; out->stats.
+   * still_on_gpu says whether it was (else the caller averages on the
+   * host). NULL: none. */
+  struct pb_still_sum *still_sum;
+} pb_render_io;
 
 enum { PB_RENDER_READBACK_ALL = 0, PB_RENDER_READBACK_BEAUTY = 1, PB_RENDER_READBACK_STATS = 2 };
 /* pb_render_desc.keep_planes, pb_render_gpu_planes.kept: bit P for the
@@ -362,7 +376,7 @@ typedef struct pb_render_stats {
    * the throughput: (interval - gpu) / interval is the share of a frame's
    * period in which the host kept the GPU idle. */
   double frame_interval_ms;
-  int still_on_gpu;                           /* 1: pb_render_desc.still_sum's pass ran on this frame */
+  int still_on_gpu;                           /* 1: pb_render_io.still_sum's pass ran on this frame */
   int in_flight;                              /* 1: the frame's last submission ran
                                                  while the host went on (pb_render_desc.in_flight) */
   /* Frames in flight: 1 when the frame's first command buffer was recorded
@@ -459,6 +473,10 @@ void pb_frame_context_destroy(pb_gpu *g, pb_frame_context *c);
 pb_result pb_render_frame(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera,
                           uint32_t width, uint32_t height, const pb_render_desc *desc,
                           pb_render_result *out);
+/* The same with I/O objects (io may be NULL: none). */
+pb_result pb_render_frame_io(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, int camera, uint32_t width,
+                             uint32_t height, const pb_render_desc *desc, const pb_render_io *io,
+                             pb_render_result *out);
 void pb_render_result_destroy(pb_render_result *r);
 /* The AOVs a lean readback (pb_render_desc.readback) left out, from
  * r->gpu while it is valid (render.h pb_render_gpu_planes): every array

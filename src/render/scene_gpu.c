@@ -220,24 +220,12 @@ static uint32_t tex_index(int32_t t, uint32_t count) {
   return t >= 0 && (uint32_t)t < count ? (uint32_t)t : PB_GPU_NO_TEXTURE;
 }
 
-pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
-  memset(gs, 0, sizeof *gs);
-  double t0 = pb_time_now();
-  pb_gpu_material *mats = NULL;
-  pb_gpu_texture *texs = NULL;
-  uint32_t *texels = NULL;
-  pb_gpu_light *lights = NULL;
-  pb_gpu_emitter *emitters = NULL;
+/* The geometry: the BVH, indices, positions, normals (and tangents), uvs
+ * (and TEXCOORD_1, COLOR_0), the triangles' materials. */
+static pb_result upload_geometry(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   pb_result r;
-  const char *path = s->path ? s->path : "scene";
-  for (uint32_t t = 0; t < s->triangle_count; ++t)
-    if (s->triangle_material[t] >= s->material_count) {
-      r = pb_fail(PB_ERR_SCENE_INVALID, "%s: triangle %u uses material %u of %u", path, t,
-                  s->triangle_material[t], s->material_count);
-      goto fail;
-    }
   r = pb_bvh_build(s, &gs->bvh);
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
   pb_log_verbose("gpu: BVH of %u triangles: %u nodes, depth %u, %.1f ms", gs->bvh.tri_count,
                  gs->bvh.node_count, gs->bvh.depth, gs->bvh.build_s * 1e3);
   /* An animated scene may be rebuilt (pb_gpu_scene_update): room for the
@@ -249,13 +237,13 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   gs->triangle_count = s->triangle_count;
   r = make_cap(g, &gs->nodes, "scene.bvh_nodes", gs->bvh.nodes, (uint64_t)gs->bvh.node_count * sizeof(pb_gpu_bvh_node),
                (uint64_t)gs->node_capacity * sizeof(pb_gpu_bvh_node));
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
   r = make(g, &gs->tris, "scene.bvh_triangles", gs->bvh.tris, (uint64_t)gs->bvh.tri_count * sizeof(pb_gpu_tri));
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
   r = make(g, &gs->indices, "scene.indices", s->triangles, (uint64_t)s->triangle_count * 12);
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
   r = make(g, &gs->positions, "scene.positions", s->positions, (uint64_t)s->vertex_count * 12);
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
   gs->has_normals = s->normals != NULL;
   if (s->tangents && s->uvs && (s->features & (PB_FEATURE_NORMAL_MAPS | PB_FEATURE_ANISOTROPY)) && s->vertex_count &&
       (uint64_t)s->vertex_count * 7 < UINT32_MAX) {
@@ -265,10 +253,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
      * nothing. */
     uint64_t nf = (uint64_t)s->vertex_count * 3, tf = (uint64_t)s->vertex_count * 4;
     float *nt = calloc(nf + tf, sizeof *nt);
-    if (!nt) {
-      r = pb_fail(PB_ERR_NOMEM, "out of memory for the normals and tangents");
-      goto fail;
-    }
+    if (!nt) return pb_fail(PB_ERR_NOMEM, "out of memory for the normals and tangents");
     if (s->normals) memcpy(nt, s->normals, nf * sizeof *nt);
     memcpy(nt + nf, s->tangents, tf * sizeof *nt);
     r = make(g, &gs->normals, "scene.normals_tangents", nt, (nf + tf) * sizeof *nt);
@@ -277,7 +262,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   } else {
     r = make(g, &gs->normals, "scene.normals", s->normals, s->normals ? (uint64_t)s->vertex_count * 12 : 0);
   }
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
   if ((s->uvs1 || s->colors) && s->vertex_count && (uint64_t)s->vertex_count * 8 < UINT32_MAX) {
     /* TEXCOORD_1 and COLOR_0 follow TEXCOORD_0 in the same buffer, from the
      * float indices uv1_base and color_base (pb_gpu_frame), as the tangents
@@ -285,10 +270,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
      * without them pay nothing. */
     uint64_t n0 = (uint64_t)s->vertex_count * 2, n1 = s->uvs1 ? n0 : 0, nc = s->colors ? (uint64_t)s->vertex_count * 4 : 0;
     float *u = calloc(n0 + n1 + nc, sizeof *u);
-    if (!u) {
-      r = pb_fail(PB_ERR_NOMEM, "out of memory for the uvs and vertex colours");
-      goto fail;
-    }
+    if (!u) return pb_fail(PB_ERR_NOMEM, "out of memory for the uvs and vertex colours");
     if (s->uvs) memcpy(u, s->uvs, n0 * sizeof *u);
     if (s->uvs1) memcpy(u + n0, s->uvs1, n1 * sizeof *u);
     if (s->colors) memcpy(u + n0 + n1, s->colors, nc * sizeof *u);
@@ -299,10 +281,118 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   } else {
     r = make(g, &gs->uvs, "scene.uvs", s->uvs, s->uvs ? (uint64_t)s->vertex_count * 8 : 0);
   }
-  if (r != PB_OK) goto fail;
-  r = make(g, &gs->tri_material, "scene.triangle_material", s->triangle_material, (uint64_t)s->triangle_count * 4);
-  if (r != PB_OK) goto fail;
+  if (r != PB_OK) return r;
+  return make(g, &gs->tri_material, "scene.triangle_material", s->triangle_material, (uint64_t)s->triangle_count * 4);
+}
 
+/* One material as the passes read it (pb_gpu_material). */
+static void convert_material(const pb_scene *s, const pb_material *m, pb_gpu_material *o) {
+  memcpy(o->base_color, m->base_color, sizeof o->base_color);
+  memcpy(o->emissive, m->emissive, sizeof o->emissive);
+  memcpy(o->specular_color, m->specular_color, sizeof o->specular_color);
+  o->base_color_tex = tex_index(m->base_color_tex, s->texture_count);
+  o->metallic_roughness_tex = tex_index(m->metallic_roughness_tex, s->texture_count);
+  o->emissive_tex = pb_material_is_emissive(m) ? tex_index(m->emissive_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+  if (!pb_material_is_emissive(m)) memset(o->emissive, 0, sizeof o->emissive);
+  o->metallic = m->metallic;
+  o->roughness = m->roughness;
+  o->transmission = m->transmission;
+  o->ior = m->ior;
+  o->specular = m->specular;
+  o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0) |
+             (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0) |
+             (m->blender.normal_map_cycles4 ? PB_GPU_MAT_NORMAL_MAP_CYCLES4 : 0) |
+             (m->blender.oren_nayar_ms ? PB_GPU_MAT_OREN_NAYAR_MS : 0);
+  memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
+  o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+  o->normal_scale = m->normal_scale;
+  const pb_blender_material *b = &m->blender;
+  o->model = (uint32_t)b->model;
+  o->distribution = b->distribution == PB_DISTRIBUTION_MULTI_GGX ? PB_GPU_DISTRIBUTION_MULTI_GGX
+                                                                 : PB_GPU_DISTRIBUTION_GGX;
+  o->subsurface_color_tex = tex_index(b->subsurface_color_tex, s->texture_count);
+  memcpy(o->subsurface_color, b->subsurface_color, sizeof o->subsurface_color);
+  o->normal_strength = b->normal_strength;
+  o->principled_v2 = (uint32_t)b->principled_v2;
+  memcpy(o->specular_tint, b->specular_tint, sizeof o->specular_tint);
+  memcpy(o->coat_tint, b->coat_tint, sizeof o->coat_tint);
+  memcpy(o->sheen_tint, b->sheen_tint, sizeof o->sheen_tint);
+  memcpy(o->subsurface_radius, b->subsurface_radius, sizeof o->subsurface_radius);
+  o->specular_tint_tex = tex_index(b->specular_tint_tex, s->texture_count);
+  o->coat_tint_tex = tex_index(b->coat_tint_tex, s->texture_count);
+  o->sheen_tint_tex = tex_index(b->sheen_tint_tex, s->texture_count);
+  o->coat_normal_tex = s->tangents && s->uvs ? tex_index(b->coat_normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+  o->coat_normal_strength = b->coat_normal_strength;
+  o->subsurface_method = (uint32_t)b->subsurface_method;
+  o->g2_correlated = (uint32_t)b->g2_correlated;
+  o->bump_model = (uint32_t)b->bump_model;
+  for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
+    o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
+    uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;
+    o->in_tex[k] = t == PB_GPU_NO_TEXTURE || t > PB_GPU_INPUT_TEX_INDEX
+                       ? PB_GPU_NO_TEXTURE
+                       : t | (b->input_tex[k].channel << PB_GPU_INPUT_TEX_CHANNEL_SHIFT);
+  }
+}
+
+/* The texture table and the texels (8-bit RGBA or half RGBA, packed). */
+static void pack_textures(const pb_scene *s, const pb_gpu_scene *gs, pb_gpu_texture *texs, uint32_t *texels) {
+  uint32_t off = 0;
+  for (uint32_t i = 0; i < s->texture_count; ++i) {
+    const pb_texture *t = &s->textures[i];
+    uint64_t n = (uint64_t)t->width * t->height;
+    texs[i] = (pb_gpu_texture){.offset = off, .width = t->width, .height = t->height,
+                               .flags = (t->srgb && !t->rgbah ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0) |
+                                        (t->rgbah ? PB_GPU_TEX_HALF : 0),
+                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t,
+                               .texcoord = t->texcoord == 1 && gs->uv1_base ? 1u : 0u,
+                               .xform_u = {1, 0, 0, 0}, .xform_v = {0, 1, 0, 0}};
+    if (t->uv_transformed)
+      for (int k = 0; k < 3; ++k) texs[i].xform_u[k] = t->uv_xform[k], texs[i].xform_v[k] = t->uv_xform[3 + k];
+    if (t->rgbah) { /* R | G << 16, B | A << 16: unpackHalf2x16's order */
+      for (uint64_t k = 0; k < 2 * n; ++k)
+        texels[off + k] = (uint32_t)t->rgbah[2 * k] | (uint32_t)t->rgbah[2 * k + 1] << 16;
+      n *= 2;
+    } else {
+      for (uint64_t k = 0; k < n; ++k) {
+        const uint8_t *p = t->rgba8 + 4 * k;
+        texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+      }
+    }
+    off += (uint32_t)n;
+  }
+}
+
+/* The emitter table, with room for every emissive triangle: a pose can
+ * give area to one that had none (pb_gpu_scene_update). */
+static pb_result upload_emitters(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
+  pb_gpu_emitter *emitters = NULL;
+  pb_result r = build_emitters(s, &emitters, &gs->emitter_count);
+  if (r != PB_OK) return r;
+  gs->emitter_capacity = emissive_triangles(s);
+  if (gs->emitter_capacity < gs->emitter_count) gs->emitter_capacity = gs->emitter_count;
+  r = make_cap(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters,
+               (uint64_t)gs->emitter_capacity * sizeof *emitters);
+  free(emitters);
+  return r;
+}
+
+pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
+  memset(gs, 0, sizeof *gs);
+  double t0 = pb_time_now();
+  pb_gpu_material *mats = NULL;
+  pb_gpu_texture *texs = NULL;
+  uint32_t *texels = NULL;
+  pb_gpu_light *lights = NULL;
+  pb_result r;
+  const char *path = s->path ? s->path : "scene";
+  for (uint32_t t = 0; t < s->triangle_count; ++t)
+    if (s->triangle_material[t] >= s->material_count) {
+      r = pb_fail(PB_ERR_SCENE_INVALID, "%s: triangle %u uses material %u of %u", path, t,
+                  s->triangle_material[t], s->material_count);
+      goto fail;
+    }
+  if ((r = upload_geometry(g, s, gs)) != PB_OK) goto fail;
   uint32_t nm = s->material_count ? s->material_count : 1;
   mats = calloc(nm, sizeof *mats);
   uint64_t texel_count = 0;
@@ -329,80 +419,8 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
     r = pb_fail(PB_ERR_NOMEM, "out of memory preparing the scene for the GPU");
     goto fail;
   }
-  for (uint32_t i = 0; i < s->material_count; ++i) {
-    const pb_material *m = &s->materials[i];
-    pb_gpu_material *o = &mats[i];
-    memcpy(o->base_color, m->base_color, sizeof o->base_color);
-    memcpy(o->emissive, m->emissive, sizeof o->emissive);
-    memcpy(o->specular_color, m->specular_color, sizeof o->specular_color);
-    o->base_color_tex = tex_index(m->base_color_tex, s->texture_count);
-    o->metallic_roughness_tex = tex_index(m->metallic_roughness_tex, s->texture_count);
-    o->emissive_tex = pb_material_is_emissive(m) ? tex_index(m->emissive_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
-    if (!pb_material_is_emissive(m)) memset(o->emissive, 0, sizeof o->emissive);
-    o->metallic = m->metallic;
-    o->roughness = m->roughness;
-    o->transmission = m->transmission;
-    o->ior = m->ior;
-    o->specular = m->specular;
-    o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0) |
-               (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0) |
-               (m->blender.normal_map_cycles4 ? PB_GPU_MAT_NORMAL_MAP_CYCLES4 : 0) |
-               (m->blender.oren_nayar_ms ? PB_GPU_MAT_OREN_NAYAR_MS : 0);
-    memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
-    o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
-    o->normal_scale = m->normal_scale;
-    const pb_blender_material *b = &m->blender;
-    o->model = (uint32_t)b->model;
-    o->distribution = b->distribution == PB_DISTRIBUTION_MULTI_GGX ? PB_GPU_DISTRIBUTION_MULTI_GGX
-                                                                   : PB_GPU_DISTRIBUTION_GGX;
-    o->subsurface_color_tex = tex_index(b->subsurface_color_tex, s->texture_count);
-    memcpy(o->subsurface_color, b->subsurface_color, sizeof o->subsurface_color);
-    o->normal_strength = b->normal_strength;
-    o->principled_v2 = (uint32_t)b->principled_v2;
-    memcpy(o->specular_tint, b->specular_tint, sizeof o->specular_tint);
-    memcpy(o->coat_tint, b->coat_tint, sizeof o->coat_tint);
-    memcpy(o->sheen_tint, b->sheen_tint, sizeof o->sheen_tint);
-    memcpy(o->subsurface_radius, b->subsurface_radius, sizeof o->subsurface_radius);
-    o->specular_tint_tex = tex_index(b->specular_tint_tex, s->texture_count);
-    o->coat_tint_tex = tex_index(b->coat_tint_tex, s->texture_count);
-    o->sheen_tint_tex = tex_index(b->sheen_tint_tex, s->texture_count);
-    o->coat_normal_tex = s->tangents && s->uvs ? tex_index(b->coat_normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
-    o->coat_normal_strength = b->coat_normal_strength;
-    o->subsurface_method = (uint32_t)b->subsurface_method;
-    o->g2_correlated = (uint32_t)b->g2_correlated;
-    o->bump_model = (uint32_t)b->bump_model;
-    for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
-      o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
-      uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;
-      o->in_tex[k] = t == PB_GPU_NO_TEXTURE || t > PB_GPU_INPUT_TEX_INDEX
-                         ? PB_GPU_NO_TEXTURE
-                         : t | (b->input_tex[k].channel << PB_GPU_INPUT_TEX_CHANNEL_SHIFT);
-    }
-  }
-  uint32_t off = 0;
-  for (uint32_t i = 0; i < s->texture_count; ++i) {
-    const pb_texture *t = &s->textures[i];
-    uint64_t n = (uint64_t)t->width * t->height;
-    texs[i] = (pb_gpu_texture){.offset = off, .width = t->width, .height = t->height,
-                               .flags = (t->srgb && !t->rgbah ? PB_GPU_TEX_SRGB : 0) | (t->nearest ? PB_GPU_TEX_NEAREST : 0) |
-                                        (t->rgbah ? PB_GPU_TEX_HALF : 0),
-                               .wrap_s = (uint32_t)t->wrap_s, .wrap_t = (uint32_t)t->wrap_t,
-                               .texcoord = t->texcoord == 1 && gs->uv1_base ? 1u : 0u,
-                               .xform_u = {1, 0, 0, 0}, .xform_v = {0, 1, 0, 0}};
-    if (t->uv_transformed)
-      for (int k = 0; k < 3; ++k) texs[i].xform_u[k] = t->uv_xform[k], texs[i].xform_v[k] = t->uv_xform[3 + k];
-    if (t->rgbah) { /* R | G << 16, B | A << 16: unpackHalf2x16's order */
-      for (uint64_t k = 0; k < 2 * n; ++k)
-        texels[off + k] = (uint32_t)t->rgbah[2 * k] | (uint32_t)t->rgbah[2 * k + 1] << 16;
-      n *= 2;
-    } else {
-      for (uint64_t k = 0; k < n; ++k) {
-        const uint8_t *p = t->rgba8 + 4 * k;
-        texels[off + k] = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-      }
-    }
-    off += (uint32_t)n;
-  }
+  for (uint32_t i = 0; i < s->material_count; ++i) convert_material(s, &s->materials[i], &mats[i]);
+  pack_textures(s, gs, texs, texels);
   if (v2) {
     gs->principled2_base = (uint32_t)p2_base;
     pack_principled2_tables(texels + p2_base);
@@ -416,15 +434,7 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   if (r != PB_OK) goto fail;
   r = make(g, &gs->lights, "scene.lights", lights, (uint64_t)s->light_count * sizeof *lights);
   if (r != PB_OK) goto fail;
-  r = build_emitters(s, &emitters, &gs->emitter_count);
-  if (r != PB_OK) goto fail;
-  /* Room for every emissive triangle: a pose can give area to one that had
-   * none (pb_gpu_scene_update). */
-  gs->emitter_capacity = emissive_triangles(s);
-  if (gs->emitter_capacity < gs->emitter_count) gs->emitter_capacity = gs->emitter_count;
-  r = make_cap(g, &gs->emitters, "scene.emitters", emitters, (uint64_t)gs->emitter_count * sizeof *emitters,
-               (uint64_t)gs->emitter_capacity * sizeof *emitters);
-  if (r != PB_OK) goto fail;
+  if ((r = upload_emitters(g, s, gs)) != PB_OK) goto fail;
   if ((r = make_world(g, s, &gs->world)) != PB_OK) goto fail;
   if (gs->emitter_count)
     pb_log_verbose("gpu: %u emissive triangles in the light-sampling table", gs->emitter_count);
@@ -437,14 +447,12 @@ pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs) {
   free(texs);
   free(texels);
   free(lights);
-  free(emitters);
   return PB_OK;
 fail:
   free(mats);
   free(texs);
   free(texels);
   free(lights);
-  free(emitters);
   pb_gpu_scene_destroy(g, gs);
   return r;
 }

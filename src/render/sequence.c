@@ -269,12 +269,12 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   pb_render_desc rd = q->desc.render;
   rd.seed = pb_mix64(q->desc.render.seed + 0x9e3779b97f4a7c15ull * index); /* frame i's own photons */
   rd.atrous_iterations = 0;     /* the chain's (q->chain), after the temporal filter */
-  rd.context = q->frame_ctx;
+  pb_render_io io = {.progress = q->desc.progress, .progress_user = q->desc.progress_user, .context = q->frame_ctx};
   /* A lean readback needs the still run's means on the GPU: the host's
    * (accumulate) work on the arrays. */
   rd.readback = q->still.pipe.pipeline ? q->desc.readback : PB_RENDER_READBACK_ALL;
   rd.keep_planes = q->desc.keep_planes;
-  rd.filters = q->chain;        /* recorded after the resolve, on the GPU; then
+  io.filters = q->chain;        /* recorded after the resolve, on the GPU; then
                                    eq. 20 on the filtered indirect, with this
                                    frame's mean photon direction (the chapter
                                    filters that direction too; here it is the
@@ -296,15 +296,15 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
   int acc_still = fi.still && q->has_prev;
   if (q->still.pipe.pipeline) {
     if (!acc_still) q->still.frames = 0;
-    rd.still_sum = &q->still;
+    io.still_sum = &q->still;
   }
   if (q->in_flight) {
     rd.in_flight = 1;
-    rd.settle_first = q->have_pend && q->pend.pending == 1 ? &q->pend : NULL;
+    io.settle_first = q->have_pend && q->pend.pending == 1 ? &q->pend : NULL;
     fi.index = index;
     double pre_ms = (pb_time_now() - frame_t0) * 1e3;
     pb_render_result cur;
-    if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, &cur)) != PB_OK) return r;
+    if ((r = pb_render_frame_io(g, s, q->gs, q->camera, q->width, q->height, &rd, &io, &cur)) != PB_OK) return r;
     q->still_iterations += iters;
     int gpu_acc = cur.stats.still_on_gpu;
     if (gpu_acc) q->still.frames++;
@@ -348,7 +348,7 @@ pb_result pb_sequence_frame(pb_gpu *g, pb_sequence *q, uint32_t index, double t,
     q->have_pend = 1;
     return r;
   }
-  if ((r = pb_render_frame(g, s, q->gs, q->camera, q->width, q->height, &rd, out)) != PB_OK) return r;
+  if ((r = pb_render_frame_io(g, s, q->gs, q->camera, q->width, q->height, &rd, &io, out)) != PB_OK) return r;
   q->still_iterations += iters;
   fi.motion_ms = out->stats.motion_ms;
   if (out->stats.still_on_gpu) {

@@ -52,6 +52,10 @@ typedef struct pb_sequence_desc {
    * from out->gpu after the frame (render.h pb_render_desc.keep_planes;
    * 0: none but what the readback reads). */
   uint64_t keep_planes;
+  /* Called after each photon iteration of every frame (render.h
+   * pb_render_io.progress); NULL: none. */
+  pb_render_progress_fn progress;
+  void *progress_user;
 } pb_sequence_desc;
 
 /* What happened in one frame. */

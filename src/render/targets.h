@@ -45,7 +45,7 @@ void pb_frame_targets_destroy(pb_gpu *g, pb_frame_targets *t);
  * accumulate.comp, shared/pb_accumulate.h): the sequence's target, made
  * once per size, PB_ACCUM_FLOATS floats a pixel; frame.c records the pass
  * after eq. 20 in a frame's last submission when the frame is one band on
- * the GPU path (pb_render_desc.still_sum), so a still camera's refinement
+ * the GPU path (pb_render_io.still_sum), so a still camera's refinement
  * keeps nothing on the host. */
 typedef struct pb_still_sum {
   pb_gpu_buffer sum;

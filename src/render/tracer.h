@@ -57,8 +57,17 @@ const char *pb_tracer_name(const pb_tracer *t);
 /* The named statistics of the last trace (and of the maps): up to max
  * entries written, their number returned. */
 uint32_t pb_tracer_stats(const pb_tracer *t, pb_tracer_stat *out, uint32_t max);
-/* The photon tracer inside (footprint statistics, debugging). */
-pb_photon_tracer *pb_tracer_photon(const pb_tracer *t);
+/* The frame's hooks (frame.c), so that it never reaches inside a tracer:
+ * r_max is the footprint clamp in use, metres (set when the tracer is made
+ * or updated: pb_estimator_map_info.r_max); stats_add adds the statistics
+ * of the map just traced to the frame's (the guarded divisions, the named
+ * statistics: summed ones added, the others replaced; the tracer's name);
+ * radius_histogram bins the footprint radii of `map` (just traced) into
+ * st->radius_hist (pb_render_desc.radius_histogram: a download per map;
+ * the host copy is the tracer's, kept for the next map). */
+float pb_tracer_r_max(const pb_tracer *t);
+void pb_tracer_stats_add(const pb_tracer *t, pb_render_stats *st);
+pb_result pb_tracer_radius_histogram(pb_gpu *g, pb_tracer *t, const pb_photon_map *map, pb_render_stats *st);
 /* The maps of an images tracer (NULL for bvh). */
 pb_image_maps *pb_tracer_image_maps(const pb_tracer *t);
 void pb_tracer_destroy(pb_gpu *g, pb_tracer *t);

@@ -3,6 +3,7 @@
 #define PB_RENDER_TRACER_INTERNAL_H
 
 #include "render/tracer.h"
+#include "shared/pb_photon.h"
 
 typedef struct pb_tracer_ops {
   const char *name;
@@ -15,6 +16,8 @@ struct pb_tracer {
   const pb_tracer_ops *ops;
   pb_photon_tracer *photon;   /* every implementation traces with it */
   pb_image_maps *maps;        /* images */
+  pb_gpu_photon *hist;        /* pb_tracer_radius_histogram's host copy */
+  size_t hist_cap;            /* ... its room, in photons */
 };
 
 /* tracer_images.c: turns t (a BVH tracer just made) into an images tracer. */

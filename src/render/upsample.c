@@ -129,6 +129,13 @@ uint32_t pb_upsample_stats(pb_gpu *g, pb_upsample *u, pb_tracer_stat *out, uint3
   return n;
 }
 
+void pb_upsample_stats_add(pb_gpu *g, pb_upsample *u, pb_render_stats *st) {
+  pb_tracer_stat us[PB_TRACER_MAX_STATS];
+  uint32_t m = pb_upsample_stats(g, u, us, PB_TRACER_MAX_STATS);
+  for (uint32_t i = 0; i < m && st->estimator_stat_count < PB_TRACER_MAX_STATS; ++i)
+    st->estimator_stats[st->estimator_stat_count++] = us[i];
+}
+
 void pb_upsample_destroy(pb_gpu *g, pb_upsample *u) {
   if (!u) return;
   for (int i = 0; i < UPS_N; ++i) pb_gpu_pipeline_destroy(g, &u->pass[i]);

@@ -50,6 +50,9 @@ pb_result pb_upsample_record(pb_gpu *g, pb_upsample *u, pb_estimator *est, uint3
  * estimate's invocations that traversed the photon LBVH), upsample_diffuse
  * (pixels shaded from the irradiance), per sample summed. */
 uint32_t pb_upsample_stats(pb_gpu *g, pb_upsample *u, pb_tracer_stat *out, uint32_t max);
+/* The frame's hook after its last sample: those statistics appended to the
+ * estimator's (pb_render_stats.estimator_stats, while there is room). */
+void pb_upsample_stats_add(pb_gpu *g, pb_upsample *u, pb_render_stats *st);
 void pb_upsample_destroy(pb_gpu *g, pb_upsample *u);
 
 #endif

@@ -40,8 +40,8 @@ static void sequence(pb_gpu *g, const char *path, uint32_t first_bounce) {
                         .first_bounce = first_bounce};
     pb_render_result fresh, reused;
     CHECK_EQ_INT(pb_render_frame(g, &s, &gs, 0, 40, 40, &d, &fresh), PB_OK);
-    d.context = ctx;
-    CHECK_EQ_INT(pb_render_frame(g, &s, &gs, 0, 40, 40, &d, &reused), PB_OK);
+    pb_render_io io = {.context = ctx};
+    CHECK_EQ_INT(pb_render_frame_io(g, &s, &gs, 0, 40, 40, &d, &io, &reused), PB_OK);
     double m = max_diff(&reused, &fresh);
     if (m > worst) worst = m;
     CHECK(reused.stats.photons_stored == fresh.stats.photons_stored);
@@ -52,10 +52,10 @@ static void sequence(pb_gpu *g, const char *path, uint32_t first_bounce) {
          path, first_bounce == PB_FIRST_BOUNCE_RSM ? "RSM" : "traced", worst);
   CHECK(worst < 1e-4);
   /* Other settings: the context is rebuilt, and the frame still matches. */
-  pb_render_desc d = {.spp = 1, .photons = 4096, .seed = 5, .context = ctx};
+  pb_render_desc d = {.spp = 1, .photons = 4096, .seed = 5};
+  pb_render_io io = {.context = ctx};
   pb_render_result a, b;
-  CHECK_EQ_INT(pb_render_frame(g, &s, &gs, 0, 24, 32, &d, &a), PB_OK);
-  d.context = NULL;
+  CHECK_EQ_INT(pb_render_frame_io(g, &s, &gs, 0, 24, 32, &d, &io, &a), PB_OK);
   CHECK_EQ_INT(pb_render_frame(g, &s, &gs, 0, 24, 32, &d, &b), PB_OK);
   CHECK(a.width == 24 && a.height == 32 && max_diff(&a, &b) < 1e-4);
   pb_render_result_destroy(&a);

@@ -103,8 +103,9 @@ static void run(pb_gpu *g, int constant_kernel) {
   pb_render_result res;
   memset(&res, 0, sizeof res);
   CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
-  pb_render_desc rd = {.photon_map = &map, .estimator = {.lbvh = {.constant_kernel = constant_kernel}}};
-  pb_result r = pb_render_frame(g, &s, &gs, 0, W, H, &rd, &res);
+  pb_render_desc rd = {.estimator = {.lbvh = {.constant_kernel = constant_kernel}}};
+  pb_render_io io = {.photon_map = &map};
+  pb_result r = pb_render_frame_io(g, &s, &gs, 0, W, H, &rd, &io, &res);
   CHECK_EQ_INT(r, PB_OK);
   if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
   if (r == PB_OK) {

@@ -146,8 +146,9 @@ static int upload_map(pb_gpu *g, const pb_gpu_photon *ph, uint32_t n, pb_photon_
 
 static pb_result render_knn(pb_gpu *g, const plane *p, const pb_gpu_scene *gs, const pb_photon_map *map, uint32_t k,
                             pb_render_result *res) {
-  pb_render_desc rd = {.photon_map = map, .estimator = {.kind = PB_ESTIMATOR_KNN, .knn = {.k = k, .r_max = R_MAX}}};
-  return pb_render_frame(g, &p->s, gs, 0, W, H, &rd, res);
+  pb_render_desc rd = {.estimator = {.kind = PB_ESTIMATOR_KNN, .knn = {.k = k, .r_max = R_MAX}}};
+  pb_render_io io = {.photon_map = map};
+  return pb_render_frame_io(g, &p->s, gs, 0, W, H, &rd, &io, res);
 }
 
 /* Brute force: the k nearest same-side photons of (x, 0, z) within R_MAX. */

@@ -114,9 +114,10 @@ static void lit_plane(pb_gpu *g) {
   pb_render_result res;
   memset(&res, 0, sizeof res);
   CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
-  pb_render_desc rd = {.photon_map = &map};
+  pb_render_desc rd = {0};
+  pb_render_io io = {.photon_map = &map};
   splat_desc(&rd);
-  pb_result r = pb_render_frame(g, &s, &gs, 0, PW, PH, &rd, &res);
+  pb_result r = pb_render_frame_io(g, &s, &gs, 0, PW, PH, &rd, &io, &res);
   CHECK_EQ_INT(r, PB_OK);
   if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
   if (r == PB_OK) {

@@ -113,8 +113,9 @@ int main(void) {
   memset(res, 0, sizeof res);
   const uint32_t levels[2] = {0, 2}, spp = 1;
   for (int k = 0; k < 2; ++k) {
-    pb_render_desc rd = {.photon_map = &map, .spp = spp, .upsample_levels = levels[k]};
-    pb_result rr = pb_render_frame(g, &s, &gs, 0, W, H, &rd, &res[k]);
+    pb_render_desc rd = {.spp = spp, .upsample_levels = levels[k]};
+    pb_render_io io = {.photon_map = &map};
+    pb_result rr = pb_render_frame_io(g, &s, &gs, 0, W, H, &rd, &io, &res[k]);
     CHECK_EQ_INT(rr, PB_OK);
     if (rr != PB_OK) {
       fprintf(stderr, "%s\n", pb_error_message());

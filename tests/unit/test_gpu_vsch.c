@@ -135,9 +135,10 @@ static void plane(pb_gpu *g, float radius, int directional) {
   pb_render_result res;
   memset(&res, 0, sizeof res);
   CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
-  pb_render_desc rd = {.photon_map = &map};
+  pb_render_desc rd = {0};
+  pb_render_io io = {.photon_map = &map};
   vsch_desc(&rd, radius, directional);
-  pb_result r = pb_render_frame(g, &s, &gs, 0, W, H, &rd, &res);
+  pb_result r = pb_render_frame_io(g, &s, &gs, 0, W, H, &rd, &io, &res);
   CHECK_EQ_INT(r, PB_OK);
   if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
   if (r == PB_OK) {
