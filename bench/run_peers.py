@@ -2,8 +2,9 @@
 """Speed against error, the peers: LuxCoreRender, Mitsuba 3 and Cycles 4.5
 beside photonbridge's Embree reference (and its GPU pipeline), one run.
 
-    python3 bench/run_peers.py [--mode full|tiny] [--scenes a,b] [--width W] [--threads N]
-                               [--out DIR] [--markdown FILE] [--minutes M] [--no-photonbridge]
+    python3 bench/run_peers.py [--mode full|tiny] [--scenes a,b] [--renderers r,s] [--width W]
+                               [--threads N] [--out DIR] [--markdown FILE] [--minutes M]
+                               [--no-photonbridge]
 
 For each scene at one resolution every renderer below renders a sweep of
 points (each its own child process, timed from spawn to exit, as
@@ -68,13 +69,13 @@ MODES = {
         "width": 128,
         "scenes": ["cornell_box", "cornell_caustics", "spot_room", "ring"],
         "reference_spp": {"cornell_box": 4096, "default": 2048},
-        "reference": [4, 16, 64, 256],
+        "reference": [4, 16, 64, 256, 1024],
         "photonbridge": [(1 << 16, 1, 4), (1 << 16, 4, 8)],
         # PhotonGI: photon.maxcount, indirect.haltthreshold, caustic.maxsize.
         "photongi": {"photons": 2000000, "halt": 0.05, "indirect_maxsize": 0, "caustic": 100000,
                      "spp": [4, 32]},
         "bidirvm": {"light_paths": 16384, "spp": [1, 4]},
-        "mitsuba": [4, 16, 64, 256, 1024],
+        "mitsuba": [4, 16, 64, 256],
         "cycles": [4, 16, 64, 256],
         "timeout_s": 300,
     },
@@ -192,7 +193,7 @@ class PeerBench(rb.Bench):
         rs = st.get("render_s")
         return self.add_point(scene, renderer, config, params, r, exr, ref, rs, extra)
 
-    def bench_luxcore(self, scene, ref):
+    def bench_luxcore(self, scene, ref, which=("photongi", "bidirvm")):
         if not os.access(PY["luxcore"], os.X_OK):
             self.notes.append("LuxCore: tools/luxcore missing (scripts/install-deps.sh)")
             return
@@ -201,7 +202,7 @@ class PeerBench(rb.Bench):
             self.notes.append("LuxCore: %s: export-peer failed: %s" % (scene, rb.tail(err)))
             return
         pg = self.cfg["photongi"]
-        for spp in pg["spp"]:
+        for spp in (pg["spp"] if "photongi" in which else []):
             if self.expired("%s luxcore-photongi %d" % (scene, spp)):
                 continue
             exr = os.path.join(self.work, "%s_lxpgi_%d.exr" % (scene, spp))
@@ -216,7 +217,7 @@ class PeerBench(rb.Bench):
                              "threads": self.threads}, cmd, exr, ref,
                             self.env())
         vc = self.cfg["bidirvm"]
-        for spp in vc["spp"]:
+        for spp in (vc["spp"] if "bidirvm" in which else []):
             if self.expired("%s luxcore-bidirvm %d" % (scene, spp)):
                 continue
             exr = os.path.join(self.work, "%s_lxvcm_%d.exr" % (scene, spp))
@@ -441,6 +442,8 @@ def main(argv):
     ap.add_argument("--out")
     ap.add_argument("--cache", default=os.path.join(HERE, "cache"))
     ap.add_argument("--markdown", help="also write the tables here")
+    ap.add_argument("--renderers", help="comma-separated subset of %s (the reference always runs)" %
+                    ",".join(RENDERERS))
     ap.add_argument("--no-cycles", action="store_true")
     ap.add_argument("--no-photonbridge", action="store_true", help="leave out the GPU pipeline's points")
     ap.add_argument("--minutes", type=float, default=0, help="skip (and list) points that would start after this "
@@ -468,13 +471,20 @@ def main(argv):
     b.log("%s run, %d px, %d thread(s), scenes %s -> %s" % (a.mode, b.width, a.threads, ",".join(scenes),
                                                             os.path.relpath(b.out, ROOT)))
     refs = {s: b.reference(s) for s in scenes}
-    for s in scenes:
+    want = set(a.renderers.split(",")) if a.renderers else set(RENDERERS)
+    want.add("reference")  # the ratios' denominator, always in the run
+    for s in scenes:  # the dearest curves last, so that --minutes cuts them first
         b.bench_reference(s, refs[s])
-        if dev and not a.no_photonbridge:
+        if "mitsuba" in want:
+            b.bench_mitsuba(s, refs[s])
+        if "cycles" in want:
+            b.bench_cycles45(s, refs[s])
+        if "luxcore-bidirvm" in want:
+            b.bench_luxcore(s, refs[s], ("bidirvm",))
+        if dev and not a.no_photonbridge and "photonbridge" in want:
             b.bench_gpu(s, refs[s])
-        b.bench_luxcore(s, refs[s])
-        b.bench_mitsuba(s, refs[s])
-        b.bench_cycles45(s, refs[s])
+        if "luxcore-photongi" in want:
+            b.bench_luxcore(s, refs[s], ("photongi",))
     res = {"mode": a.mode, "started": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(t_start)),
            "finished": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "duration_s": round(time.time() - t_start),
            "machine": rb.machine_info(), "device": dev, "versions": versions(b.exe), "load_start": load_start,

@@ -147,6 +147,13 @@ def import_gltf(path, light_units="standard"):
 # material without textures becomes a handful of closures with exact
 # constants.
 
+def linear_colorspace(image):
+    """Scene-linear Rec.709: "Linear" in Blender 3.x, "Linear Rec.709" from
+    Blender 4.0."""
+    names = image.colorspace_settings.bl_rna.properties["name"].enum_items.keys()
+    return "Linear" if "Linear" in names else "Linear Rec.709"
+
+
 def _sharp(node):
     """A delta lobe: Blender 3.x's SHARP distribution; Blender 4.0 removed it,
     and its GGX at roughness 0 is the same singular lobe."""
@@ -317,7 +324,7 @@ def linear_float_image(img, srgb):
         else:
             lin = b.astype(numpy.float32) / 255.0
     out = bpy.data.images.new("%s (linear)" % img.name, w, h, alpha=True, float_buffer=True)
-    out.colorspace_settings.name = "Linear"
+    out.colorspace_settings.name = linear_colorspace(out)
     out.alpha_mode = "CHANNEL_PACKED"
     out.pixels.foreach_set(lin)
     return out
