@@ -135,6 +135,14 @@ bench-quick: bench-build
 bench-estimators: bench-build
 	$(BENCH_PYTHON) bench/run_bench.py --mode estimators --no-cycles --no-internals --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
 
+# The peers (bench/run_peers.py; bench/results/lavapipe/peers/PEERS.md):
+# LuxCore PhotonGI and BIDIRVMCPU, Mitsuba 3 and Cycles 4.5 (tools/ venvs of
+# install-deps) against the Embree reference, PSNR and HDR-FLIP, one thread
+# each. BENCH_ARGS: e.g. --scenes cornell_box --minutes 18.
+.PHONY: bench-peers
+bench-peers: bench-build
+	$(BENCH_PYTHON) bench/run_peers.py --exe $(BUILD)/photonbridge $(if $(DEVICE),--device $(DEVICE)) $(BENCH_ARGS)
+
 # Blender's Principled BSDF against Cycles on the studio scenes, and what the
 # Blender materials and Multiscatter GGX cost (bench/principled_studio.py;
 # results in bench/results/DEVICE/principled/).

@@ -89,6 +89,13 @@ MITSUBA_VERSION=3.9.1
 DRJIT_VERSION=1.5.0
 MITSUBA_NUMPY=1.26.4
 MITSUBA_VENV="$ROOT/tools/mitsuba3"
+# NVIDIA FLIP (pip `flip-evaluator`, the image-difference metric that
+# bench/run_peers.py reports beside PSNR, through bench/flip_mean.py) in its
+# own venv tools/flip. Required by the peers' benchmark test
+# (bench_peers_tiny): a version the index no longer serves is an error.
+FLIP_VERSION=1.7
+FLIP_NUMPY=1.26.4
+FLIP_VENV="$ROOT/tools/flip"
 # pip_venv VENV WHAT CONSTANT CHECK PACKAGES...: make VENV hold PACKAGES
 # unless CHECK (python code exiting 0) already passes in it; returns 1 when
 # there was nothing to do.
@@ -118,6 +125,12 @@ install_mitsuba() {
     "import sys, importlib.metadata as m; sys.exit(m.version('mitsuba') != '$MITSUBA_VERSION' or m.version('drjit') != '$DRJIT_VERSION')" \
     "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" "numpy==$MITSUBA_NUMPY" || return 0
   "$MITSUBA_VENV/bin/python" -c "import mitsuba as mi, drjit as dr; print('install-deps: mitsuba', mi.__version__, 'drjit', dr.__version__, 'in tools/mitsuba3')"
+}
+install_flip() {
+  pip_venv "$FLIP_VENV" "NVIDIA FLIP" FLIP_VERSION \
+    "import sys, importlib.metadata as m; import flip_evaluator; sys.exit(m.version('flip-evaluator') != '$FLIP_VERSION')" \
+    "flip-evaluator==$FLIP_VERSION" "numpy==$FLIP_NUMPY" || return 0
+  echo "install-deps: flip-evaluator $("$FLIP_VENV/bin/python" -c "import importlib.metadata as m; print(m.version('flip-evaluator'))") in tools/flip"
 }
 
 # Mesa 25's lavapipe (Vulkan 1.4 with VK_KHR_acceleration_structure,
@@ -200,6 +213,7 @@ if [ ${#missing[@]} -eq 0 ]; then
   install_luxcore
   install_mitsuba
   install_mesa25
+  install_flip
   echo "install-deps: all packages present"
   exit 0
 fi
@@ -232,4 +246,5 @@ install_bpy
 install_luxcore
 install_mitsuba
 install_mesa25
+install_flip
 echo "install-deps: done"

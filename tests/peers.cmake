@@ -57,3 +57,19 @@ pb_cli_test(cli_export_peer_world_map export-peer tests/data/lights/world_hdri/w
 add_test(NAME peer_render_mitsuba_llvm COMMAND test_peer_render mitsuba WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(peer_render_mitsuba_llvm PROPERTIES ENVIRONMENT "PB_MITSUBA_VARIANT=llvm_ad_rgb"
                      LABELS "peers;no-sanitize" TIMEOUT 600 PASS_REGULAR_EXPRESSION " 0 failed")
+
+# The peers' part of the benchmark (bench/run_peers.py --mode tiny: cornell_box,
+# 32 px, a few samples each for the Embree reference, LuxCore PhotonGI and
+# BIDIRVMCPU, Mitsuba 3 and Cycles 4.5, HDR-FLIP beside PSNR) and structural
+# checks on its results.json (tests/bench_peers_check.py): every peer's image
+# finite, the fields there, more samples scoring higher. Needs tools/luxcore,
+# tools/mitsuba3, tools/bpy45 and tools/flip (scripts/install-deps.sh) and
+# FAILS without them.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME bench_peers_tiny
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/bench_peers_check.py ${PB_EXE}
+                   ${CMAKE_CURRENT_BINARY_DIR}/bench_peers_tiny
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(bench_peers_tiny PROPERTIES LABELS "peers;no-sanitize" TIMEOUT 300
+                       PASS_REGULAR_EXPRESSION " 0 failed")
+endif()

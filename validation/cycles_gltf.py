@@ -112,7 +112,10 @@ def import_gltf(path, light_units="standard"):
         if not hasattr(numpy, "bool"):  # removed from Debian's numpy, still used by the add-on
             numpy.bool = bool
         from io_scene_gltf2.io.imp.gltf2_io_gltf import glTFImporter
-        from io_scene_gltf2.blender.imp.gltf2_blender_gltf import BlenderGlTF
+        try:
+            from io_scene_gltf2.blender.imp.gltf2_blender_gltf import BlenderGlTF
+        except ImportError:  # Blender 4.3 and later dropped the gltf2_ prefixes
+            from io_scene_gltf2.blender.imp.blender_gltf import BlenderGlTF
     except ImportError as e:
         raise ImportFailed("Blender's glTF importer is not available: %s" % one_line(e))
     # The operator's own defaults, as bpy.ops.import_scene.gltf would pass them.
@@ -143,6 +146,23 @@ def import_gltf(path, light_units="standard"):
 # output socket; nodes are made only where a socket is involved, so a
 # material without textures becomes a handful of closures with exact
 # constants.
+
+def linear_colorspace(image):
+    """Scene-linear Rec.709: "Linear" in Blender 3.x, "Linear Rec.709" from
+    Blender 4.0."""
+    names = image.colorspace_settings.bl_rna.properties["name"].enum_items.keys()
+    return "Linear" if "Linear" in names else "Linear Rec.709"
+
+
+def _sharp(node):
+    """A delta lobe: Blender 3.x's SHARP distribution; Blender 4.0 removed it,
+    and its GGX at roughness 0 is the same singular lobe."""
+    if "SHARP" in node.bl_rna.properties["distribution"].enum_items.keys():
+        node.distribution = "SHARP"
+    else:
+        node.distribution = "GGX"
+        node.inputs["Roughness"].default_value = 0.0
+
 
 def _is_sock(v):
     return not isinstance(v, (int, float, tuple))
@@ -304,7 +324,7 @@ def linear_float_image(img, srgb):
         else:
             lin = b.astype(numpy.float32) / 255.0
     out = bpy.data.images.new("%s (linear)" % img.name, w, h, alpha=True, float_buffer=True)
-    out.colorspace_settings.name = "Linear"
+    out.colorspace_settings.name = linear_colorspace(out)
     out.alpha_mode = "CHANNEL_PACKED"
     out.pixels.foreach_set(lin)
     return out
@@ -323,7 +343,10 @@ class Textures:
     def image(self, src, srgb):
         key = (src, srgb)
         if key not in self.images:
-            from io_scene_gltf2.blender.imp.gltf2_blender_image import BlenderImage
+            try:
+                from io_scene_gltf2.blender.imp.gltf2_blender_image import BlenderImage
+            except ImportError:  # Blender 4.3 and later
+                from io_scene_gltf2.blender.imp.image import BlenderImage
             BlenderImage.create(self.gltf, src)
             name = self.gltf.data.images[src].blender_image_name
             img = bpy.data.images.get(name) if name else None
@@ -362,7 +385,10 @@ class Textures:
             texcoord = ext["texCoord"]
         uv = G.node("ShaderNodeUVMap", uv_map="UVMap" if texcoord == 0 else "UVMap.%03d" % texcoord).outputs[0]
         if isinstance(ext, dict):
-            from io_scene_gltf2.blender.com.gltf2_blender_conversion import texture_transform_gltf_to_blender
+            try:
+                from io_scene_gltf2.blender.com.gltf2_blender_conversion import texture_transform_gltf_to_blender
+            except ImportError:  # Blender 4.3 and later
+                from io_scene_gltf2.blender.com.conversion import texture_transform_gltf_to_blender
             t = texture_transform_gltf_to_blender(ext)
             m = G.node("ShaderNodeMapping", vector_type="POINT")
             G.link(m.inputs["Vector"], uv)
@@ -551,7 +577,7 @@ def build_material(mat, gmat, textures, vertex_color, what, used):
         mirror = G.cadd(mirror, G.mul(glassw, fg))
     gl = closure("ShaderNodeBsdfGlossy", mirror, weight=delta)
     if gl:
-        gl.distribution = "SHARP"
+        _sharp(gl)
     # Rough specular: Fresnel on the half vector needs a closure that
     # evaluates it per direction pair. Cycles 3.4's Principled BSDF at
     # Metallic 1 is one GGX lobe with F = c + (1 - c) FH(wo . h), FH the
@@ -575,7 +601,7 @@ def build_material(mat, gmat, textures, vertex_color, what, used):
         refr = closure("ShaderNodeBsdfRefraction", G.cmul(base, G.mul(glassw, G.one_minus(fg))), weight=delta,
                        IOR=ior)
         if refr:
-            refr.distribution = "SHARP"
+            _sharp(refr)
         # Rough glass: Cycles' GGX Glass BSDF (Fresnel on the half vector),
         # as the specification says; its colour also tints the reflection.
         gb = closure("ShaderNodeBsdfGlass", base, weight=G.mul(glassw, glossy_w), Roughness=rough, IOR=ior)
