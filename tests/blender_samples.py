@@ -62,8 +62,8 @@ def run(cmd, **kw):
 
 
 # Blender 4.5 LTS (--set 45): the .blend files saved by 4.5, their
-# Cycles 4.5 renders, the render engine's defaults on the GPU (add-on
-# settings.py: 2^18 photon paths x 16 progressive maps, 16 spp).
+# Cycles 4.5 renders, the GPU at 2^18 photon paths x 16 progressive maps,
+# 16 spp (the add-on's defaults before they followed the CLI's).
 DATA45 = os.path.join(ROOT, "samples", "blender45")
 ENGINE = ["--photons", "262144", "--iterations", "16", "--progressive", "--spp", "16"]
 CASES45 = {
