@@ -224,6 +224,17 @@ ui.PHOTONBRIDGE_PT_performance.draw(type("P", (), {"layout": Recorder(log),
                                                    "split_layout": ui.PhotonbridgePanel.split_layout})(),
                                     Ctx("PHOTONBRIDGE"))
 check(any(e[0] == "label" and "not found" in e[1] for e in log), "Performance shows the error under the menu")
+# The real binary: the menu is what its `info --devices --json -` lists.
+devices.clear_cache()
+prefs.binary = EXE
+p = subprocess.run([EXE, "info", "--devices", "--json", "-"], capture_output=True, text=True, timeout=120)
+items = devices.enum_items(s, bpy.context)
+if p.returncode == 0:
+    real = json.loads(p.stdout)["devices"]
+    check([i[1].replace(" (default)", "") for i in items[1:]] == [d["name"] for d in real],
+          "with the real binary: Default + its %d device(s) %s" % (len(real), [i[1] for i in items[1:]]))
+else:
+    check(items[-1][0] == "ERROR", "the real binary lists no devices here (exit %d): the menu says so" % p.returncode)
 prefs.binary = fake
 
 # ---- defaults: the CLI's ------------------------------------------------------------------

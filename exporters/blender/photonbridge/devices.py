@@ -11,7 +11,7 @@ import bpy
 
 from . import cli
 
-TIMEOUT_S = 30
+TIMEOUT_S = 15
 # Item values: DEFAULT_VALUE for "Default", device N as N + 1, ERROR_VALUE
 # for the line that says why there is no list.
 DEFAULT_VALUE = 0
