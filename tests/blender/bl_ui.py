@@ -237,6 +237,22 @@ else:
     check(items[-1][0] == "ERROR", "the real binary lists no devices here (exit %d): the menu says so" % p.returncode)
 prefs.binary = fake
 
+# ---- the viewport: a setting serve's "settings" request lacks restarts serve
+from photonbridge import viewport  # noqa: E402
+base = viewport.fixed_args(scene)
+s.spp, s.photons, s.progressive = 4, 1000, True
+check(viewport.fixed_args(scene) == base, "Samples, Photons, Progressive: sent live, no serve restart (%s)" % base)
+for attr, val in (("caustic_filter", 2.0), ("blender_bounces", True), ("device", 0), ("first_bounce", "rsm")):
+    old = getattr(s, attr)
+    setattr(s, attr, val)
+    check(viewport.fixed_args(scene) != base, "%s: serve restarts (%s)" % (attr, viewport.fixed_args(scene)))
+    setattr(s, attr, old)
+s.spp, s.photons, s.progressive = 1, 262144, False
+s.estimator = "knn"
+check("--estimator" not in viewport.serve_args(scene) and "--estimator" in settings.cli_args(s),
+      "Estimator: render's --estimator, never serve's")
+s.estimator = "lbvh"
+
 # ---- defaults: the CLI's ------------------------------------------------------------------
 text = subprocess.run([EXE, "render", "--help-all"], capture_output=True, text=True, timeout=60).stdout
 helps, cur = {}, None

@@ -178,6 +178,7 @@ class Viewport:
         self.sent_camera = None
         self.sent_size = None
         self.sent_settings = None
+        self.started_fixed = None
         self.streaming = False
         self.sent_passes = None
         self.reloads = 0         # scene edits sent since the start
@@ -197,6 +198,13 @@ class Viewport:
         scene = depsgraph.scene
         try:
             if self.session is None or not self.session.alive():
+                self.stop()
+                self.failed = None
+                self._start(engine, context, depsgraph)
+                return
+            if fixed_args(scene) != self.started_fixed:
+                # a setting serve's "settings" request does not take (first
+                # bounce, bounces limit, caustic filter, device): a new serve
                 self.stop()
                 self.failed = None
                 self._start(engine, context, depsgraph)
@@ -224,6 +232,7 @@ class Viewport:
         self.session = Session(argv)
         self.sent_size = (w, h)
         self.sent_settings = self._settings(scene)
+        self.started_fixed = fixed_args(scene)
         bpy.app.timers.register(_redraw_timer(self), first_interval=POLL_S)
 
     def _settings(self, scene):
@@ -363,6 +372,25 @@ def serve_args(scene):
     if "--atrous-iterations" not in args:
         args += ["--atrous-iterations", str(scene.photonbridge.filter_passes)]
     return args
+
+
+# serve's options that its "settings" request changes (_settings); a change
+# of any other restarts serve.
+LIVE_OPTIONS = ("--photons", "--iterations", "--spp", "--photon-bounces", "--max-specular-depth",
+                "--atrous-iterations", "--seed", "--progressive", "--tracer", "--image-maps",
+                "--image-map-resolution")
+FLAGS = ("--progressive",)
+
+
+def fixed_args(scene):
+    """serve_args(scene) less the options a "settings" request changes."""
+    args, out, i = serve_args(scene), [], 0
+    while i < len(args):
+        n = 1 if args[i] in FLAGS else 2
+        if args[i] not in LIVE_OPTIONS:
+            out += args[i:i + n]
+        i += n
+    return out
 
 
 def scene_edited(depsgraph):
