@@ -17,7 +17,7 @@ set_tests_properties(blender45_ui PROPERTIES LABELS "blender;blender45;no-saniti
 # xvfb-run (tests/blender/bl_ui_window.py): Blender calls every panel's draw
 # and none raises. Skips (77) without Blender or xvfb-run.
 add_test(NAME blender_ui_window
-         COMMAND sh -c "command -v blender >/dev/null && command -v xvfb-run >/dev/null || { echo 'skip: needs blender and xvfb-run'; exit 77; }; exec xvfb-run -a -s '-screen 0 1280x1024x24' blender --factory-startup --python \"$0/tests/blender/bl_ui_window.py\" -- \"$0\" \"$1\" \"$2\""
+         COMMAND sh -c "command -v blender >/dev/null && command -v xvfb-run >/dev/null || { echo 'skip: needs blender and xvfb-run'; exit 77; }; exec xvfb-run -a -s '-screen 0 1280x1500x24' blender --factory-startup \"$0/samples/cornell_box/cornell_box.blend\" --python \"$0/tests/blender/bl_ui_window.py\" -- \"$0\" \"$1\" \"$2\""
                  ${PB_ROOT} ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/blender_ui_window)
 set_tests_properties(blender_ui_window PROPERTIES SKIP_RETURN_CODE 77 LABELS "blender;no-sanitize" TIMEOUT 300
                      RESOURCE_LOCK xvfb)

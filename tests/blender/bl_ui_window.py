@@ -5,8 +5,10 @@ photonbridge panel open (Advanced re-registered open). Each panel's draw
 and draw_header is wrapped to record that Blender called it and that it
 returned without an exception (an exception in a panel's draw is only
 printed by Blender, never raised).
-    xvfb-run -a blender --factory-startup --python bl_ui_window.py -- ROOT EXE OUT
-Exit 0 when every panel drew, 1 otherwise (RESULT lines on stdout)."""
+    xvfb-run -a blender --factory-startup SCENE.blend --python bl_ui_window.py -- ROOT EXE OUT
+(a .blend, so that no splash covers the window)
+Exit 0 when every panel drew, 1 otherwise (RESULT lines on stdout); the
+Properties editor's screenshot in OUT/panels.png."""
 import json
 import os
 import sys
@@ -82,6 +84,40 @@ def redraw():
     return 1.0
 
 
+def big():
+    # The 3D view's area becomes a second Properties editor on the Render
+    # tab: room for every panel in the screenshot.
+    win = bpy.context.window_manager.windows[0]
+    area = max(win.screen.areas, key=lambda a: a.width * a.height)
+    area.type = 'PROPERTIES'
+    state["big"] = area
+    bpy.context.scene.photonbridge.tracer = "bvh"  # the default, in the picture
+    return 1.0
+
+
+def tab():
+    try:
+        state["big"].spaces.active.context = 'RENDER'
+    except Exception as e:  # only the screenshot's
+        print("bl_ui_window: the big editor stays on its tab: %s" % e, flush=True)
+    return 0.5
+
+
+state = {}
+
+
+def shoot():
+    # OUT/panels.png: the Properties editor as drawn (to look at; not compared)
+    win = bpy.context.window_manager.windows[0]
+    area = state.get("big") or [a for a in win.screen.areas if a.type == 'PROPERTIES'][0]
+    try:
+        with bpy.context.temp_override(window=win, screen=win.screen, area=area):
+            bpy.ops.screen.screenshot_area(filepath=os.path.join(OUT, "panels.png"))
+    except Exception as e:
+        print("bl_ui_window: no screenshot: %s" % e, flush=True)
+    return 0.5
+
+
 def check():
     from photonbridge import ui
     want = ["%s.%s" % (c.__name__, fn) for c in ui.classes for fn in ("draw", "draw_header") if fn in c.__dict__]
@@ -93,11 +129,15 @@ def check():
     done(1 if missing or errors else 0)
 
 
-steps = [setup, redraw, redraw, check]
+steps = [setup, redraw, redraw, big, redraw, tab, redraw, shoot, check]
 
 
 def step():
-    delay = steps.pop(0)()
+    try:
+        delay = steps.pop(0)()
+    except Exception:  # never a hang: the test ends
+        errors.append("step: " + traceback.format_exc())
+        check()
     return delay if steps else None
 
 

@@ -107,7 +107,7 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
         items=devices.enum_items, get=devices.enum_get, set=devices.enum_set)
     preview_interval: FloatProperty(
         name="Refresh", description="Seconds between updates of the picture while the render refines",
-        default=2.0, min=0.0, max=600.0)
+        default=2.0, min=0.0, max=600.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE')
     animation_sequence: BoolProperty(
         name="Animation as Sequence",
         description="For animation renders: render the whole frame range in one go, each frame reusing "

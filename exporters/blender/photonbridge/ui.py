@@ -154,7 +154,7 @@ class PHOTONBRIDGE_PT_light_paths_caustics(PhotonbridgePanel, bpy.types.Panel):
         layout.prop(s, "caustic_filter")
         col = layout.column(align=True)
         col.label(text="Reflective and refractive caustics are always on:", icon='INFO')
-        col.label(text="the photon maps carry them")
+        col.label(text="the photon maps carry them", icon='BLANK1')
 
 
 class PHOTONBRIDGE_PT_film(PhotonbridgePanel, bpy.types.Panel):
