@@ -23,7 +23,8 @@ build to the next; each is far above Cycles' own noise (cycles.json).
 coat, sheen and F82 tint, light temperature, exposure and Normalize off,
 AgX) against Cycles 4.5; the hand-off is Blender 4.5's (PB_BLENDER_PYTHON,
 the bpy interpreter of tools/bpy45, through tests/blender/bpy_blender.py),
-and the GPU renders at the render engine's defaults.
+and the GPU renders at 2^18 photon paths x 16 progressive maps, 16 spp (the
+render engine's defaults until they followed the CLI's).
 
 usage: blender_samples.py PHOTONBRIDGE EXR_PROBE WORKDIR --renderer ref|gpu [--only NAME] [--set 45]
 Exit 77 for --renderer gpu when no Vulkan device is present."""
@@ -62,8 +63,8 @@ def run(cmd, **kw):
 
 
 # Blender 4.5 LTS (--set 45): the .blend files saved by 4.5, their
-# Cycles 4.5 renders, the render engine's defaults on the GPU (add-on
-# settings.py: 2^18 photon paths x 16 progressive maps, 16 spp).
+# Cycles 4.5 renders, the GPU at 2^18 photon paths x 16 progressive maps,
+# 16 spp (the add-on's defaults before they followed the CLI's).
 DATA45 = os.path.join(ROOT, "samples", "blender45")
 ENGINE = ["--photons", "262144", "--iterations", "16", "--progressive", "--spp", "16"]
 CASES45 = {
@@ -74,7 +75,7 @@ CASES45 = {
 # Measured (lavapipe, 2026-12-06; Cycles 4.5.15 at 1024 spp, glass_ball at
 # 65,536, its noise 43.6 / 45.3 / 39.4 dB): the reference at 256 spp 36.5 /
 # 34.7 / 31.2 dB, mean -0.09 / +0.36 / +0.35 % (its own noise: the glass
-# ball's caustic); the GPU at the engine's defaults 33.3 / 30.7 / 30.0 dB,
+# ball's caustic); the GPU at those settings 33.3 / 30.7 / 30.0 dB,
 # mean +0.49 / +0.12 / +0.69 % (4,194,304 photon paths; stored 490,141 /
 # 9,905 / 330,190, 303,059 of them caustic). The reference's floors 1.5-1.7 dB under its
 # measurement; the GPU's are the 30 dB asked of it.

@@ -45,10 +45,11 @@ SPP_SCENE = {"ref": {"glass": 512, "studio": 256, "studio_multi": 256, "glass_gg
              "gpu": {"glass": 512, "glass_ggx": 512, "glass_multi": 512, "furnace": 256, "sheen": 256, "studio": 16, "studio_multi": 16,
                      "emission_coat": 1024}}
 # The GPU's photon options: 2^14 paths, one map, except on the studio, whose
-# indirect light is the photon map's: the Blender render engine's defaults
-# (2^18 paths x 16 progressive maps at 16 spp; measured 41.0 / 40.5 dB, mean
-# -0.30 / -0.63 %, 17 s of CPU on lavapipe; fewer photons leave the mean
-# up to 0.9 % low on studio_multi: bench/README.md).
+# indirect light is the photon map's: 2^18 paths x 16 progressive maps at
+# 16 spp (the Blender render engine's defaults until they followed the
+# CLI's; measured 41.0 / 40.5 dB, mean -0.30 / -0.63 %, 17 s of CPU on
+# lavapipe; fewer photons leave the mean up to 0.9 % low on studio_multi:
+# bench/README.md).
 ENGINE = ["--photons", "262144", "--iterations", "16", "--progressive"]
 GPU_OPTS = {"studio": ENGINE, "studio_multi": ENGINE}
 # The GPU renders these again with every glossy layer followed by the eye

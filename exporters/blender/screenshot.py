@@ -18,7 +18,7 @@ def setup():
     sc.render.engine = "PHOTONBRIDGE"
     sc.render.resolution_percentage = 50
     s = sc.photonbridge
-    s.photons, s.iterations, s.spp = 65536, 8, 8
+    s.photons, s.iterations, s.spp, s.progressive = 65536, 8, 8, True
     sc.view_settings.view_transform = 'Filmic'
     win = bpy.context.window_manager.windows[0]
     for area in win.screen.areas:

@@ -26,7 +26,9 @@ for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second r
     check(engine_registered(), "round %d: RenderEngine PHOTONBRIDGE registered" % round_)
     check(hasattr(bpy.types.Scene, "photonbridge"), "round %d: Scene.photonbridge settings" % round_)
     check(hasattr(bpy.ops.export_scene, "photonbridge_gltf"), "round %d: File > Export operator" % round_)
-    check(hasattr(bpy.types, "PHOTONBRIDGE_PT_render"), "round %d: the photonbridge panel" % round_)
+    for p in ("PHOTONBRIDGE_PT_sampling", "PHOTONBRIDGE_PT_sampling_advanced", "PHOTONBRIDGE_PT_light_paths",
+              "PHOTONBRIDGE_PT_film", "PHOTONBRIDGE_PT_performance"):
+        check(hasattr(bpy.types, p), "round %d: the photonbridge panel %s" % (round_, p))
     for p in ("RENDER_PT_color_management", "RENDER_PT_format", "RENDER_PT_output", "DATA_PT_lens",
               "DATA_PT_camera", "DATA_PT_EEVEE_light", "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface"):
         check("PHOTONBRIDGE" in getattr(bpy.types, p).COMPAT_ENGINES, "round %d: %s shows for the engine" % (round_, p))
@@ -63,7 +65,9 @@ for round_ in (1, 2):  # twice: unregister leaves nothing that breaks a second r
     addon_utils.disable("photonbridge", default_set=True, handle_error=None)
     check(not engine_registered(), "round %d: engine gone after disabling" % round_)
     check(not hasattr(bpy.types.Scene, "photonbridge"), "round %d: settings gone" % round_)
-    check(not hasattr(bpy.types, "PHOTONBRIDGE_PT_render"), "round %d: panel gone" % round_)
+    check(not hasattr(bpy.types, "PHOTONBRIDGE_PT_sampling") and not hasattr(bpy.types, "PHOTONBRIDGE_PT_performance"),
+          "round %d: panels gone" % round_)
+    check("refresh_devices" not in dir(bpy.ops.photonbridge), "round %d: operators gone" % round_)
     check("PHOTONBRIDGE" not in bpy.types.RENDER_PT_format.COMPAT_ENGINES, "round %d: panels restored" % round_)
 print("%d failed" % len(failures))
 if failures:

@@ -82,6 +82,7 @@ def setup():
     sc.render.engine = "PHOTONBRIDGE"
     s = sc.photonbridge
     s.photons, s.iterations, s.spp, s.seed, s.progressive = 16384, 1, 1, 5, False
+    s.blender_bounces = True  # Max Bounces 12: --max-bounces 13
     sc.view_settings.view_transform = 'Standard'
     sc.view_settings.look = 'None'
     sc.view_settings.exposure, sc.view_settings.gamma = 0.0, 1.0

@@ -22,14 +22,14 @@ bl_info = {
 
 if "bpy" in locals():  # re-enabling the add-on reloads its modules
     import importlib
-    for _m in (settings, prefs, writer, viewport, engine, ui, export_op):  # noqa: F821
+    for _m in (devices, settings, prefs, writer, viewport, engine, ui, export_op):  # noqa: F821
         importlib.reload(_m)
 
 import bpy  # noqa: E402
 
-from . import settings, prefs, writer, viewport, engine, ui, export_op  # noqa: E402
+from . import devices, settings, prefs, writer, viewport, engine, ui, export_op  # noqa: E402
 
-_modules = (settings, prefs, engine, ui, export_op)
+_modules = (devices, settings, prefs, engine, ui, export_op)
 
 
 def register():

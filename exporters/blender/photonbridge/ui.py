@@ -1,9 +1,17 @@
-"""The photonbridge panel (Render Properties) and the standard Blender
-panels the engine shows: every panel that lists the generic
+"""The photonbridge panels (Render Properties: Sampling with Render,
+Viewport and Advanced (the photon maps), Light Paths with Max Bounces and
+Caustics, Film, Performance), laid out as Cycles' are, and the standard
+Blender panels the engine shows: every panel that lists the generic
 'BLENDER_RENDER' engine (dimensions, output, colour management, camera,
 light cone, ...) plus the EEVEE panels whose settings the writer reads
-(light power and radius, material surface and settings, world surface)."""
+(light power and radius, material surface and settings, world surface).
+Cycles' own panels stay hidden; the one Cycles setting the engine reads
+(Max Bounces) is drawn in photonbridge's Light Paths panel."""
+import textwrap
+
 import bpy
+
+from . import devices, settings
 
 ENGINE = "PHOTONBRIDGE"
 
@@ -31,8 +39,8 @@ def compat_panels():
     return out
 
 
-class PHOTONBRIDGE_PT_render(bpy.types.Panel):
-    bl_label = "photonbridge"
+class PhotonbridgePanel:
+    """Render Properties panels of the engine, laid out as Cycles' are."""
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     bl_context = "render"
@@ -42,35 +50,150 @@ class PHOTONBRIDGE_PT_render(bpy.types.Panel):
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
 
-    def draw(self, context):
+    def split_layout(self):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
+        return layout
+
+
+class PHOTONBRIDGE_PT_sampling(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Sampling"
+
+    def draw(self, context):
+        pass
+
+
+class PHOTONBRIDGE_PT_sampling_render(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Render"
+    bl_parent_id = "PHOTONBRIDGE_PT_sampling"
+
+    def draw(self, context):
         s = context.scene.photonbridge
-        col = layout.column()
+        col = self.split_layout().column(align=True)
+        col.prop(s, "spp", text="Samples")
+        col.prop(s, "time_limit")
+        col = self.layout.column()
+        col.prop(s, "filter_passes")
+
+
+class PHOTONBRIDGE_PT_sampling_viewport(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Viewport"
+    bl_parent_id = "PHOTONBRIDGE_PT_sampling"
+
+    def draw(self, context):
+        s = context.scene.photonbridge
+        self.split_layout().prop(s, "viewport_samples", text="Samples")
+
+
+class PHOTONBRIDGE_PT_sampling_advanced(PhotonbridgePanel, bpy.types.Panel):
+    """The photon maps: photonbridge's own knobs, closed by default."""
+    bl_label = "Advanced"
+    bl_parent_id = "PHOTONBRIDGE_PT_sampling"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        s = context.scene.photonbridge
+        layout = self.split_layout()
+        col = layout.column(align=True)
         col.prop(s, "photons")
         col.prop(s, "iterations")
+        col = layout.column()
         col.prop(s, "progressive")
         col.prop(s, "first_bounce")
         col.prop(s, "tracer")
         if s.tracer == "images":
-            col.prop(s, "image_maps")
-            col.prop(s, "image_map_resolution")
-        col.prop(s, "blender_bounces")
+            sub = col.column(align=True)
+            sub.prop(s, "image_maps")
+            sub.prop(s, "image_map_resolution")
+        col.prop(s, "estimator")
+        layout.column().prop(s, "seed")
+
+
+class PHOTONBRIDGE_PT_light_paths(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Light Paths"
+
+    def draw(self, context):
+        pass
+
+
+class PHOTONBRIDGE_PT_light_paths_max_bounces(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Max Bounces"
+    bl_parent_id = "PHOTONBRIDGE_PT_light_paths"
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.photonbridge, "blender_bounces", text="")
+
+    def draw(self, context):
+        scene = context.scene
+        s = scene.photonbridge
+        layout = self.split_layout()
+        col = layout.column(align=True)
+        cycles = getattr(scene, "cycles", None)
+        if cycles is not None and hasattr(cycles, "max_bounces"):
+            # Cycles' own property: the same Max Bounces in both engines.
+            row = col.row()
+            row.active = s.blender_bounces
+            row.prop(cycles, "max_bounces", text="Total")
+        else:
+            row = col.row()
+            row.active = s.blender_bounces
+            row.label(text="Total: %d (the Cycles add-on is off)" % settings.cycles_max_bounces(scene))
+        col = layout.column(align=True)
         col.prop(s, "photon_bounces")
-        col = layout.column()
-        col.prop(s, "spp")
         col.prop(s, "specular_depth")
-        col.prop(s, "filter_passes")
-        col = layout.column()
-        col.prop(s, "time_limit")
-        col.prop(s, "preview_interval")
-        col.prop(s, "device")
-        col.prop(s, "seed")
-        col.prop(s, "animation_sequence")
 
 
-classes = (PHOTONBRIDGE_PT_render,)
+class PHOTONBRIDGE_PT_light_paths_caustics(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Caustics"
+    bl_parent_id = "PHOTONBRIDGE_PT_light_paths"
+
+    def draw(self, context):
+        s = context.scene.photonbridge
+        layout = self.split_layout()
+        layout.prop(s, "caustic_filter")
+        col = layout.column(align=True)
+        col.label(text="Reflective and refractive caustics are always on:", icon='INFO')
+        col.label(text="the photon maps carry them", icon='BLANK1')
+
+
+class PHOTONBRIDGE_PT_film(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Film"
+
+    def draw(self, context):
+        scene = context.scene
+        layout = self.split_layout()
+        # Colour management's exposure: applied by Blender to the
+        # scene-linear result, as it is to Cycles' (the render itself is
+        # not scaled).
+        layout.prop(scene.view_settings, "exposure")
+        layout.prop(scene.render, "film_transparent", text="Transparent")
+
+
+class PHOTONBRIDGE_PT_performance(PhotonbridgePanel, bpy.types.Panel):
+    bl_label = "Performance"
+
+    def draw(self, context):
+        scene = context.scene
+        s = scene.photonbridge
+        layout = self.split_layout()
+        row = layout.row(align=True)
+        row.prop(s, "device_menu")
+        row.operator("photonbridge.refresh_devices", text="", icon='FILE_REFRESH')
+        error = devices.listing(context)["error"]
+        if error:
+            col = layout.column(align=True)
+            col.alert = True
+            for i, line in enumerate(textwrap.wrap(error, 60)[:4]):
+                col.label(text=line, icon='ERROR' if i == 0 else 'BLANK1')
+        layout.prop(s, "preview_interval")
+        layout.prop(scene.render, "preview_pixel_size", text="Viewport Pixel Size")
+        layout.prop(s, "animation_sequence")
+
+
+classes = (PHOTONBRIDGE_PT_sampling, PHOTONBRIDGE_PT_sampling_render, PHOTONBRIDGE_PT_sampling_viewport,
+           PHOTONBRIDGE_PT_sampling_advanced, PHOTONBRIDGE_PT_light_paths, PHOTONBRIDGE_PT_light_paths_max_bounces,
+           PHOTONBRIDGE_PT_light_paths_caustics, PHOTONBRIDGE_PT_film, PHOTONBRIDGE_PT_performance)
 _added = []
 
 

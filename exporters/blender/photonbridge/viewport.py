@@ -32,8 +32,9 @@ import bpy
 
 from . import cli, settings, writer
 
-# Still passes the viewport refines before it rests (Cycles' viewport
-# samples play the same part); PHOTONBRIDGE_VIEWPORT_PASSES overrides it.
+# Still passes the viewport refines before it rests: Sampling > Viewport >
+# Samples (viewport_samples, as Cycles' viewport samples; this without a
+# scene); PHOTONBRIDGE_VIEWPORT_PASSES overrides it.
 DEFAULT_PASSES = 1024
 POLL_S = 0.1  # how often the redraw timer looks for serve's lines
 HEADER = struct.Struct("<8sIIIIQ")  # protocol.h: "PBFRAME1", w, h, channels, 0, frame
@@ -47,11 +48,14 @@ last_error = {}
 last_drawn = {}
 
 
-def max_passes():
+def max_passes(scene=None):
+    default = DEFAULT_PASSES
+    if scene is not None:
+        default = int(getattr(scene.photonbridge, "viewport_samples", DEFAULT_PASSES))
     try:
-        return max(0, int(os.environ.get("PHOTONBRIDGE_VIEWPORT_PASSES", DEFAULT_PASSES)))
+        return max(0, int(os.environ.get("PHOTONBRIDGE_VIEWPORT_PASSES", default)))
     except ValueError:
-        return DEFAULT_PASSES
+        return default
 
 
 def read_frame(path):
@@ -174,7 +178,9 @@ class Viewport:
         self.sent_camera = None
         self.sent_size = None
         self.sent_settings = None
+        self.started_fixed = None
         self.streaming = False
+        self.sent_passes = None
         self.reloads = 0         # scene edits sent since the start
         self.texture = None
         self.texture_frame = None
@@ -192,6 +198,13 @@ class Viewport:
         scene = depsgraph.scene
         try:
             if self.session is None or not self.session.alive():
+                self.stop()
+                self.failed = None
+                self._start(engine, context, depsgraph)
+                return
+            if fixed_args(scene) != self.started_fixed:
+                # a setting serve's "settings" request does not take (first
+                # bounce, bounces limit, caustic filter, device): a new serve
                 self.stop()
                 self.failed = None
                 self._start(engine, context, depsgraph)
@@ -219,6 +232,7 @@ class Viewport:
         self.session = Session(argv)
         self.sent_size = (w, h)
         self.sent_settings = self._settings(scene)
+        self.started_fixed = fixed_args(scene)
         bpy.app.timers.register(_redraw_timer(self), first_interval=POLL_S)
 
     def _settings(self, scene):
@@ -267,9 +281,10 @@ class Viewport:
             if cam != self.sent_camera:
                 s.send({"cmd": "camera", "view": cam[0], "projection": cam[1], "axes": "blender"})
                 self.sent_camera = cam
-            if not self.streaming:
-                s.send({"cmd": "stream", "on": True, "max_passes": max_passes()})
-                self.streaming = True
+            limit = max_passes(scene)
+            if not self.streaming or limit != self.sent_passes:
+                s.send({"cmd": "stream", "on": True, "max_passes": limit})
+                self.streaming, self.sent_passes = True, limit
             if s.poll() and s.frame.get("path"):
                 f = read_frame(s.frame["path"])
                 if f:
@@ -290,7 +305,6 @@ class Viewport:
                 last_drawn.clear()
                 last_drawn.update(self.texture_frame, pid=s.proc.pid, reloads=self.reloads)
             passes = self.texture_frame["passes"] if self.texture_frame else 0
-            limit = max_passes()
             if s.error:
                 engine.update_stats("", "photonbridge: " + s.error)
             elif not s.ready:
@@ -320,6 +334,7 @@ class Viewport:
             self.session.stop()
             self.session = None
         self.streaming = False
+        self.sent_passes = None
         self.sent_camera = None
         if self.folder:
             shutil.rmtree(self.folder, ignore_errors=True)
@@ -353,10 +368,29 @@ def serve_args(scene):
     """serve's frame options from the photonbridge panel: render's (as a
     sequence: no time limit) with the filter passes always given, so that
     the panel's 0 is off here too (a sequence's own default is 4)."""
-    args = settings.cli_args(scene.photonbridge, sequence=True)
+    args = settings.cli_args(scene.photonbridge, sequence=True, serve=True)
     if "--atrous-iterations" not in args:
         args += ["--atrous-iterations", str(scene.photonbridge.filter_passes)]
     return args
+
+
+# serve's options that its "settings" request changes (_settings); a change
+# of any other restarts serve.
+LIVE_OPTIONS = ("--photons", "--iterations", "--spp", "--photon-bounces", "--max-specular-depth",
+                "--atrous-iterations", "--seed", "--progressive", "--tracer", "--image-maps",
+                "--image-map-resolution")
+FLAGS = ("--progressive",)
+
+
+def fixed_args(scene):
+    """serve_args(scene) less the options a "settings" request changes."""
+    args, out, i = serve_args(scene), [], 0
+    while i < len(args):
+        n = 1 if args[i] in FLAGS else 2
+        if args[i] not in LIVE_OPTIONS:
+            out += args[i:i + n]
+        i += n
+    return out
 
 
 def scene_edited(depsgraph):
