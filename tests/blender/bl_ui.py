@@ -242,7 +242,8 @@ from photonbridge import viewport  # noqa: E402
 base = viewport.fixed_args(scene)
 s.spp, s.photons, s.progressive = 4, 1000, True
 check(viewport.fixed_args(scene) == base, "Samples, Photons, Progressive: sent live, no serve restart (%s)" % base)
-for attr, val in (("caustic_filter", 2.0), ("blender_bounces", True), ("device", 0), ("first_bounce", "rsm")):
+for attr, val in (("caustic_filter", 2.0), ("blender_bounces", not s.blender_bounces), ("device", 0),
+                  ("first_bounce", "rsm")):
     old = getattr(s, attr)
     setattr(s, attr, val)
     check(viewport.fixed_args(scene) != base, "%s: serve restarts (%s)" % (attr, viewport.fixed_args(scene)))
@@ -298,8 +299,12 @@ MAP = {"photons": "photons", "iterations": "iterations", "spp": "spp", "seed": "
        "time_limit": "time-limit", "progressive": "progressive"}
 for p in props:
     check(p in MAP or p in settings.ADDON_ONLY, "setting %s: a CLI option's or the add-on's own" % p)
+for p, val in sorted(settings.FINAL_RENDER.items()):
+    check(rna[p].default == val, "%s: F12's final-render default %s (the add-on's own)" % (p, val))
 for p, opt in sorted(MAP.items()):
     check(opt in helps, "--%s is an option of `photonbridge render`" % opt)
+    if p in settings.FINAL_RENDER:
+        continue
     prop = rna[p]
     d, default = cli_default(opt), prop.default
     if prop.type == 'ENUM':
@@ -315,15 +320,24 @@ for p, opt in sorted(MAP.items()):
         check(default == 0, "%s: default %s, the CLI's (none stated: off)" % (p, default))
     else:
         check(abs(number(d) - default) <= 1e-6 * max(1.0, abs(default)), "%s: default %s, the CLI's %s" % (p, default, d))
-check(rna["blender_bounces"].default is False and cli_default("max-bounces") == "unbounded",
-      "Limit Bounces off by default: unbounded, as the CLI (--max-bounces' default: %s)" % cli_default("max-bounces"))
+check(cli_default("max-bounces") == "unbounded" and cli_default("iterations") == "1",
+      "the CLI's bare render is the preview FINAL_RENDER departs from (--max-bounces' default: %s, "
+      "--iterations': %s)" % (cli_default("max-bounces"), cli_default("iterations")))
 # A new scene's command line: every option it passes at the CLI's default.
 fresh = bpy.data.scenes.new("defaults")
 args = settings.cli_args(fresh.photonbridge)
-pairs = dict(zip(args[0::2], args[1::2]))
-check(set(args[0::2]) == {"--photons", "--iterations", "--spp", "--first-bounce", "--tracer", "--seed"} and
-      len(args) == 12, "a new scene passes only the always-given options: %s" % args)
+pairs, i = {}, 0
+while i < len(args):  # options and their values; a flag (--progressive) has none
+    val = args[i + 1] if i + 1 < len(args) and not args[i + 1].startswith("--") else None
+    pairs[args[i]] = val
+    i += 2 if val is not None else 1
+check(set(a for a in args if a.startswith("--")) ==
+      {"--photons", "--iterations", "--spp", "--first-bounce", "--tracer", "--seed", "--progressive", "--max-bounces"},
+      "a new scene passes the always-given options and F12's: %s" % args)
+check(pairs.get("--iterations") == "16" and pairs.get("--spp") == "16", "a new scene renders 16 maps at 16 spp: %s" % args)
 for k, v in pairs.items():
+    if k in ("--iterations", "--spp", "--progressive", "--max-bounces"):
+        continue
     d = cli_default(k[2:])
     same = (v == d) if not re.match(r"^[0-9.^]+$", d or "") else abs(number(v) - number(d)) < 1e-9
     check(same, "a new scene's %s %s is the CLI's default %s" % (k, v, d))

@@ -2,9 +2,11 @@
 line: every setting is one option of `photonbridge render` and nothing
 else (cli_args), so what Blender renders is what the CLI renders with the
 same options. The defaults are the CLI's (tests/blender/bl_ui.py compares
-them with `photonbridge render --help-all`); the add-on's own settings (the
-viewport's samples, the picture's refresh, Blender's Max Bounces, the
-animation mode) are listed in ADDON_ONLY.
+them with `photonbridge render --help-all`), but for F12's quality
+(FINAL_RENDER: a bare `photonbridge render` is a one-map preview, F12 a
+final render of 16 progressive maps at 16 samples, limited to Blender's Max
+Bounces as Cycles is); the add-on's own settings (the viewport's samples,
+the picture's refresh, the animation mode) are listed in ADDON_ONLY.
 
 The property names are stored in .blend files: a rename needs a migration,
 so new wording goes into the names shown (name=) and the tooltips."""
@@ -15,6 +17,10 @@ from . import devices
 
 # Settings with no `photonbridge render` default to follow: the add-on's own.
 ADDON_ONLY = ("viewport_samples", "preview_interval", "blender_bounces", "animation_sequence", "device_menu")
+# F12 renders a final picture where the CLI's bare defaults are a preview:
+# these differ from the CLI's on purpose (the .blend samples are measured
+# against Cycles at these).
+FINAL_RENDER = {"spp": 16, "iterations": 16, "progressive": True, "blender_bounces": True}
 
 # --smoothing-caustic's default (src/render: PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT)
 CAUSTIC_FILTER_DEFAULT = 1.0
@@ -25,7 +31,7 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     spp: IntProperty(
         name="Samples", description="Camera samples per pixel for the final render. 1 takes each pixel's "
         "centre; more smooth the edges and the noise. At least one sample is taken per photon map (--spp)",
-        default=1, min=1, max=1 << 20)
+        default=FINAL_RENDER["spp"], min=1, max=1 << 20)
     viewport_samples: IntProperty(
         name="Viewport Samples", description="Passes the Rendered viewport refines before it rests; "
         "0: it never rests", default=1024, min=0, max=1 << 24)
@@ -47,11 +53,11 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     iterations: IntProperty(
         name="Maps", description="Photon maps traced one after the other and averaged; the picture refines "
         "after each one. More maps: less noise and blotches, longer render (--iterations)",
-        default=1, min=1, max=65536)
+        default=FINAL_RENDER["iterations"], min=1, max=65536)
     progressive: BoolProperty(
         name="Progressive", description="Each photon map gathers over a smaller area than the one before, so "
         "that many maps (or a time limit) keep getting sharper instead of only less noisy (--progressive)",
-        default=False)
+        default=FINAL_RENDER["progressive"])
     first_bounce: EnumProperty(
         name="First Bounce", description="How photons leaving a light find the first surface they hit "
         "(--first-bounce)",
@@ -86,7 +92,7 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     blender_bounces: BoolProperty(
         name="Limit Bounces", description="Limit light paths to Max Bounces, as Cycles does "
         "(--max-bounces); off: paths end at random when they have little light left (unbounded), "
-        "photonbridge's default", default=False)
+        "the CLI's default", default=FINAL_RENDER["blender_bounces"])
     photon_bounces: IntProperty(
         name="Photon Bounces", description="Bounces kept along each photon's path; 0: from Max Bounces, "
         "or unbounded (--photon-bounces)", default=0, min=0, max=255)
