@@ -71,8 +71,7 @@ SAMPLES = ["cornell_box", "cornell_caustics", "ring", "spot_room", "sun_atrium",
 STATIC = ["cornell_box", "cornell_caustics", "ring", "spot_room", "sun_atrium"]
 # Small and quick (lavapipe on 2 cores): the engine's settings and the same
 # options for the CLI (exporters/blender/photonbridge/settings.py cli_args);
-# progressive maps and Blender's Max Bounces on (the defaults follow the
-# CLI's: off).
+# progressive maps and Blender's Max Bounces on (F12's defaults, stated).
 QUICK = {"photons": 8192, "iterations": 2, "spp": 2, "seed": 5, "preview_interval": 0, "progressive": 1,
          "blender_bounces": 1}
 QUICK_CLI = ["--photons", "8192", "--iterations", "2", "--spp", "2", "--first-bounce", "traced",
