@@ -2,8 +2,8 @@
 """The device a render runs on, named honestly: `render --json` says its
 type next to its name; on a CPU Vulkan device (lavapipe, SwiftShader) one
 warning line on stderr says the GPU pipeline runs there, much slower than on
-a GPU (none with -q, none on a GPU); validate's page and the demo name it
-the same way."""
+a GPU (none with -q, none on a GPU); `serve` warns the same and names the
+type in its ready event; validate's page and the demo name it the same way."""
 import json, os, subprocess, sys, tempfile
 
 exe, root = sys.argv[1], sys.argv[2]
@@ -37,6 +37,19 @@ with tempfile.TemporaryDirectory() as d:
         check(not warned, "a warning about a CPU device on %s: %r" % (j.get("device_type"), warned))
     q = subprocess.run(base + ["-q"], capture_output=True, text=True, timeout=600)
     check(q.returncode == 0 and "CPU Vulkan device" not in q.stderr, "-q still warns: %r" % q.stderr)
+    # serve (the Blender viewport's process) the same, and its ready event
+    # carries the device's type for the add-on.
+    sv = subprocess.run([exe, "serve", scene], input='{"cmd": "quit"}\n', capture_output=True, text=True,
+                        timeout=600)
+    ready = json.loads(sv.stdout.splitlines()[0]) if sv.stdout.strip() else {}
+    check(sv.returncode == 0 and ready.get("device") == j["device"] and
+          ready.get("device_type") == j.get("device_type"), "serve's ready event: %r (exit %d)" % (ready, sv.returncode))
+    sw = [l for l in sv.stderr.splitlines() if "CPU Vulkan device" in l]
+    if j.get("device_type") == "cpu":
+        check(len(sw) == 1 and sw[0].startswith("warning: serve: ") and j["device"] in sw[0],
+              "serve's CPU device warning: %r" % sw)
+    else:
+        check(not sw, "serve warns of a CPU device on %s: %r" % (j.get("device_type"), sw))
 
 sys.path.insert(0, os.path.join(root, "validation"))
 import validate  # noqa: E402

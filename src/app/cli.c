@@ -9,6 +9,7 @@
 
 #include "color/color_cli.h"
 #include "core/log.h"
+#include "gpu/gpu.h"
 
 const char *const pb_light_units_names[] = {"standard", "unitless", NULL};
 
@@ -340,6 +341,12 @@ void pb_cli_print_help(FILE *f, int level, const pb_command *cmd, const pb_opt *
     pb_cli_wrap(f, more, HELP_COLUMN, HELP_COLUMN, HELP_WIDTH);
     fputc('\n', f);
   }
+}
+
+void pb_cli_warn_cpu_device(const char *cmd, pb_gpu *g) {
+  if (g && pb_gpu_get_limits(g)->cpu)
+    pb_log_warn("%s: the GPU pipeline runs on %s, a CPU Vulkan device (no GPU driver was found or chosen): much "
+                "slower than on a GPU (see 'photonbridge info --devices')", cmd, pb_gpu_device_name(g));
 }
 
 int pb_cli_exit(const pb_command *cmd, pb_result r) {

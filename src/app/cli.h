@@ -77,6 +77,12 @@ void pb_cli_wrap(FILE *f, const char *text, int at, int indent, int width);
  * process exit code from the result table. */
 int pb_cli_exit(const pb_command *cmd, pb_result r);
 
+/* A CPU Vulkan device (lavapipe, SwiftShader) runs the GPU pipeline much
+ * slower than a GPU: one warning line on stderr saying so, naming the
+ * device, for `cmd` (render, view, serve). Nothing for a GPU. */
+typedef struct pb_gpu pb_gpu;
+void pb_cli_warn_cpu_device(const char *cmd, pb_gpu *g);
+
 /* The options every rendering subcommand takes. */
 typedef struct pb_core_opts {
   const char *out;      /* -o */

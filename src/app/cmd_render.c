@@ -580,9 +580,7 @@ int pb_cmd_render(int argc, char **argv) {
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;
-  if (pb_gpu_get_limits(g)->cpu)
-    pb_log_warn("render: the GPU pipeline runs on %s, a CPU Vulkan device (no GPU driver was found or chosen): much "
-                "slower than on a GPU (see 'photonbridge info --devices')", pb_gpu_device_name(g));
+  pb_cli_warn_cpu_device("render", g);
   pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
   pb_render_bar_stage("building BVH, uploading the scene", 0, 0, -1);
   r = pb_gpu_scene_create(g, &s, &gs);

@@ -71,6 +71,7 @@ int pb_cmd_serve(int argc, char **argv) {
   pb_gpu *g = NULL;
   pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {
+    pb_cli_warn_cpu_device("serve", g);
     pb_serve_desc d = {.scene = pos[0], .core = &c, .seq = pb_live_sequence_desc(&lo, c.seed),
                        .socket_path = socket_path, .frame_dir = frame_dir, .format = format};
     r = pb_serve_run(g, &d);

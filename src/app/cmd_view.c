@@ -91,6 +91,7 @@ int pb_cmd_view(int argc, char **argv) {
   pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
   pb_view_gpu_desc(&gd); /* the window presents through the render device (view/present.h) */
   if ((r = pb_gpu_create(&gd, &g)) != PB_OK) goto done;
+  pb_cli_warn_cpu_device("view", g);
   if ((r = pb_gpu_scene_create(g, &s, &gs)) != PB_OK) goto done;
   pb_sequence_desc sd = pb_live_sequence_desc(&lo, c.seed);
   sd.frames_in_flight = in_flight;

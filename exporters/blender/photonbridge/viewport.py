@@ -87,6 +87,7 @@ class Session:
                                      text=True, bufsize=1, errors="replace")
         self.stderr = []
         self.ready = False
+        self.cpu_device = None
         self.frame = None      # the newest frame line
         self.error = None      # the newest error (a reply with ok false, or the process's last line)
         self.threads = [threading.Thread(target=t, args=(st,), daemon=True)
@@ -134,6 +135,8 @@ class Session:
                 break
             if m.get("event") == "ready":
                 self.ready = True
+                # A CPU Vulkan device (lavapipe): said in the status line.
+                self.cpu_device = m.get("device") if m.get("device_type") == "cpu" else None
             elif not m.get("ok", False):
                 self.error = m.get("error", "photonbridge serve: error")
             elif m.get("reply") == "frame" or m.get("event") == "frame":
@@ -311,8 +314,9 @@ class Viewport:
                 engine.update_stats("", "photonbridge: loading the scene")
             else:
                 ms = self.texture_frame.get("render_ms", 0) if self.texture_frame else 0
-                engine.update_stats("", "photonbridge: pass %d%s, %.0f ms" % (passes, "/%d" % limit if limit else "",
-                                                                            ms))
+                cpu = " (on %s, a CPU Vulkan device: slow)" % s.cpu_device if s.cpu_device else ""
+                engine.update_stats("", "photonbridge: pass %d%s, %.0f ms%s" % (passes, "/%d" % limit if limit else "",
+                                                                              ms, cpu))
         except Exception as e:
             self._fail(engine, "photonbridge viewport: %s: %s" % (type(e).__name__, e))
 
