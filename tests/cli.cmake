@@ -199,6 +199,15 @@ add_test(NAME cli_device_named
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_device_named PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
 
+# A camera whose clip range excludes every surface (a scene in millimetres
+# under a 0.05 m clip start; a clip end in front of the room): render and
+# reference say so instead of a silent picture of the world alone.
+add_test(NAME cli_camera_clip_empty
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/clip_check.py ${PB_EXE} ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_camera_clip_empty PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed"
+                     LABELS "gpu;no-sanitize" TIMEOUT 600)
+
 # render's progress for a person: a redrawn line on a terminal with the
 # stage and the time left, nothing with -q, --progress-lines unchanged.
 add_test(NAME cli_render_progress

@@ -349,6 +349,19 @@ void pb_cli_warn_cpu_device(const char *cmd, pb_gpu *g) {
                 "slower than on a GPU (see 'photonbridge info --devices')", cmd, pb_gpu_device_name(g));
 }
 
+void pb_cli_warn_clip(const char *cmd, const pb_scene *s, int camera) {
+  if (!s || camera < 0 || (uint32_t)camera >= s->camera_count) return;
+  const pb_camera *c = &s->cameras[camera];
+  float d[2];
+  if (pb_camera_clip_sees(s, c, d)) return;
+  char far[32] = "infinity";
+  if (c->zfar > 0.0f) snprintf(far, sizeof far, "%g m", (double)c->zfar);
+  pb_log_warn("%s: %s: camera '%s' sees no surface: every vertex lies %s its clip range %g m to %s (depths %g to %g m "
+              "along its view): the image shows the world only (Blender: Camera > Clip Start / End)",
+              cmd, s->path, c->name, d[1] < c->znear ? "nearer than" : "beyond", (double)c->znear, far,
+              (double)d[0], (double)d[1]);
+}
+
 int pb_cli_exit(const pb_command *cmd, pb_result r) {
   if (r != PB_OK) {
     const char *m = pb_error_message();

@@ -83,6 +83,11 @@ int pb_cli_exit(const pb_command *cmd, pb_result r);
 typedef struct pb_gpu pb_gpu;
 void pb_cli_warn_cpu_device(const char *cmd, pb_gpu *g);
 
+/* One warning line when camera `camera` of s can see no surface because its
+ * clip range excludes every vertex (pb_camera_clip_sees): the image would
+ * be the world alone, without a word. */
+void pb_cli_warn_clip(const char *cmd, const pb_scene *s, int camera);
+
 /* The options every rendering subcommand takes. */
 typedef struct pb_core_opts {
   const char *out;      /* -o */

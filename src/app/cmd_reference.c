@@ -190,6 +190,7 @@ int pb_cmd_reference(int argc, char **argv) {
   uint32_t w, h;
   r = pb_cli_pose(&s, &pose, NULL);
   if (r == PB_OK) r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
+  if (r == PB_OK) pb_cli_warn_clip("reference", &s, camera);
   if (r != PB_OK) goto done;
   if (o.png && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
   if (o.estimate_noise &&

@@ -563,6 +563,7 @@ int pb_cmd_render(int argc, char **argv) {
   memset(&res, 0, sizeof res);
   pb_color *color = NULL;
   r = pb_cli_pick_camera(&s, &c, &camera, &w, &h);
+  if (r == PB_OK) pb_cli_warn_clip("render", &s, camera);
   if (r != PB_OK) goto done;
   uint32_t full_w = w, full_h = h;
   if (o.crop) {

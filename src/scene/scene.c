@@ -231,6 +231,25 @@ int pb_scene_find_camera(const pb_scene *s, const char *name) {
   return found;
 }
 
+int pb_camera_clip_sees(const pb_scene *s, const pb_camera *c, float depth[2]) {
+  float lo = INFINITY, hi = -INFINITY;
+  for (uint32_t i = 0; s->positions && i < s->vertex_count; ++i) {
+    const float *p = s->positions[i];
+    float d = (p[0] - c->position[0]) * c->forward[0] + (p[1] - c->position[1]) * c->forward[1] +
+              (p[2] - c->position[2]) * c->forward[2];
+    if (d < lo) lo = d;
+    if (d > hi) hi = d;
+  }
+  if (depth) {
+    depth[0] = lo;
+    depth[1] = hi;
+  }
+  if (c->panorama != PB_CAMERA_PANO_NONE || !(lo <= hi)) return 1;
+  if (hi < c->znear) return 0;
+  if (c->zfar > 0.0f && lo > c->zfar) return 0;
+  return 1;
+}
+
 void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
                           uint32_t *w, uint32_t *h) {
   float aspect = c && c->aspect > 0 ? c->aspect : 4.0f / 3.0f;

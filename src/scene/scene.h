@@ -636,6 +636,16 @@ int pb_scene_find_camera(const pb_scene *s, const char *name);
 void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
                           uint32_t *w, uint32_t *h);
 
+/* Whether camera c's clip range (znear..zfar along forward, as every
+ * renderer clips) can hold a surface of s: 0 when every vertex of s lies
+ * nearer than znear or every vertex beyond zfar, so the image can show only
+ * the world (e.g. a scene modelled in millimetres under Blender's default
+ * 0.1 m Clip Start); 1 otherwise, and for panoramic cameras (clipped by
+ * distance, which a vertex test cannot decide) and empty scenes. depth: the
+ * nearest and farthest vertex depth along forward (metres; NULL: not
+ * wanted). Exact for depth: a triangle's depth is extreme at a vertex. */
+int pb_camera_clip_sees(const pb_scene *s, const pb_camera *c, float depth[2]);
+
 /* Sample a texture at uv: bilinear (or nearest) with the wrap modes, linear
  * RGBA out (sRGB decoded when the texture is sRGB). */
 void pb_texture_sample(const pb_texture *t, float u, float v, float out[4]);
