@@ -90,8 +90,20 @@ CASES = {
     # with Cycles 4.3's energy-preserving multiple scattering.
     "diffuse_rough": {"Base Color": (0.8, 0.45, 0.2, 1.0), "Specular IOR Level": 0.0, "Diffuse Roughness": 0.8},
     "diffuse_bsdf_rough": {"_diffuse_bsdf": ((0.7, 0.7, 0.9, 1.0), 1.0)},
+    # The Metallic BSDF (4.3+, F82 Fresnel) and the Sheen BSDF (Microfiber)
+    # in the Principled's place: (node, its inputs, its settings).
+    "metallic_f82_ggx": {"_node": ("ShaderNodeBsdfMetallic",
+                                   {"Base Color": (1.0, 0.78, 0.34, 1.0), "Edge Tint": (1.0, 0.9, 0.6, 1.0),
+                                    "Roughness": 0.3},
+                                   {"fresnel_type": "F82", "distribution": "GGX"})},
+    "metallic_f82_multi_aniso": {"_node": ("ShaderNodeBsdfMetallic",
+                                           {"Base Color": (0.9, 0.9, 0.92, 1.0), "Edge Tint": (0.7, 0.8, 1.0, 1.0),
+                                            "Roughness": 0.5, "Anisotropy": 0.6, "Rotation": 0.15},
+                                           {"fresnel_type": "F82", "distribution": "MULTI_GGX"})},
+    "sheen_bsdf": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.9, 0.6, 0.4, 1.0), "Roughness": 0.35},
+                             {"distribution": "MICROFIBER"})},
 }
-BACK_LIGHT = ("sheen",)
+BACK_LIGHT = ("sheen", "sheen_bsdf")
 
 
 def normal_map(mat, p, strength, out_dir):
@@ -146,6 +158,15 @@ def build(name, inputs, out_dir):
         d.inputs["Roughness"].default_value = rough
         out = mat.node_tree.nodes["Material Output"]
         mat.node_tree.links.new(d.outputs["BSDF"], out.inputs["Surface"])
+    if "_node" in inputs:  # another BSDF node in the Principled's place
+        kind, socks, props = inputs["_node"]
+        n = mat.node_tree.nodes.new(kind)
+        for k, v in props.items():
+            setattr(n, k, v)
+        for k, v in socks.items():
+            n.inputs[k].default_value = v
+        out = mat.node_tree.nodes["Material Output"]
+        mat.node_tree.links.new(n.outputs["BSDF"], out.inputs["Surface"])
     if "_normal" in inputs:
         normal_map(mat, p, inputs["_normal"], out_dir)
     b = samples.MeshBuilder()

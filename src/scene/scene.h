@@ -119,6 +119,12 @@ typedef enum pb_bump_model {
   PB_BUMP_CONTY = 2,  /* Conty Estevez et al. 2019 GGX shadowing (4.5+) */
 } pb_bump_model;
 
+typedef enum pb_blender_node {
+  PB_NODE_PRINCIPLED = 0, /* the model's own node (or glTF) */
+  PB_NODE_METALLIC,       /* Metallic BSDF, F82 */
+  PB_NODE_SHEEN,          /* Sheen BSDF, Microfiber */
+} pb_blender_node;
+
 typedef struct pb_blender_material {
   pb_material_model model;
   pb_distribution distribution;
@@ -136,6 +142,9 @@ typedef struct pb_blender_material {
    * emissive is Emission Color x Emission Strength (an emission texture:
    * the Emission Color's, times the strength). */
   int principled_v2;
+  /* The Blender node the extension's model names (model "metallic", "sheen"):
+   * rendered as the Principled v2 inputs that make the same closure. */
+  pb_blender_node node;
   /* Smith masking-shadowing of every GGX lobe: 1 height-correlated G2 =
    * 1/(1 + L(wi) + L(wo)) (Cycles 3.5 and later), 0 separable G1 G1 (3.4).
    * From the root's "blender" version; 0 without it. */
@@ -224,6 +233,9 @@ int pb_material_is_emissive(const pb_material *m);
  * it aims photons and switches on specular paths. */
 int pb_material_may_be_singular(const pb_material *m);
 const char *pb_material_model_name(pb_material_model m);
+/* The extension's model of a Blender material: principled2, metallic, sheen
+ * or pb_material_model_name's. */
+const char *pb_blender_model_name(const pb_blender_material *b);
 
 typedef enum pb_light_type {
   PB_LIGHT_POINT = 0,

@@ -468,6 +468,15 @@ class MaterialWriter:
             gm, ext = self._plain_black(), {"model": "holdout"}
         elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
             gm, ext = self._like_principled(node)
+        elif node.type == 'BSDF_METALLIC' and node.fresnel_type == 'F82' and node.distribution != 'BECKMANN':
+            gm, ext = self._metallic(node)
+        elif node.type == 'BSDF_SHEEN' and node.distribution == 'MICROFIBER':
+            gm, ext = self._sheen(node)
+        elif node.type in ('BSDF_METALLIC', 'BSDF_SHEEN'):
+            what = ("the Physical Conductor Fresnel" if node.type == 'BSDF_METALLIC' and
+                    node.fresnel_type != 'F82' else "the %s distribution" % node.distribution.title())
+            self._warn_node(node, "%s is not rendered; written as a grey Principled BSDF" % what)
+            gm, ext = self._principled_defaults()
         else:
             self._warn_node(node, "shader not translated; written as a grey Principled BSDF")
             gm, ext = self._principled_defaults()
@@ -921,6 +930,52 @@ class MaterialWriter:
              "specularTint": 0.0, "ior": 1.45, "transmission": 0.0, "emission": color,
              "emissionStrength": strength, "alpha": 1.0}
         return self._principled_plain(p, tex), ext
+
+    def _node_values(self, node, sockets):
+        """The constant values of a BSDF node's sockets (member: value); a
+        linked socket is said and its own value written, Normal and Tangent
+        links are said."""
+        out = {}
+        for sock_name, member in sockets:
+            sock = node.inputs[sock_name]
+            out[member] = _value(sock)
+            src = _source(sock)
+            if src is not None:
+                self._warn_node(src.node, "drives %s and is not translated; its value %s is written"
+                                % (sock_name, _fmt(out[member])))
+        for sock_name in ("Normal", "Tangent"):
+            sock = node.inputs.get(sock_name)
+            if sock is not None and _source(sock) is not None:
+                self._warn_node(_source(sock).node, "drives %s and is not translated" % sock_name)
+        return out
+
+    def _metallic(self, node):
+        """A Metallic BSDF (Blender 4.3+) with the F82 Fresnel, GGX or
+        Multiscatter GGX: the extension's "metallic" model (Cycles renders it
+        as the Principled v2 metal lobe alone; Cycles clamps the colours,
+        Roughness and Anisotropy to [0, 1], and Rotation turns by 2 pi)."""
+        v = self._node_values(node, (("Base Color", "baseColor"), ("Edge Tint", "edgeTint"),
+                                     ("Roughness", "roughness"), ("Anisotropy", "anisotropy"),
+                                     ("Rotation", "rotation")))
+        clamp = lambda x: min(max(float(x), 0.0), 1.0)  # noqa: E731
+        m = {"baseColor": [clamp(c) for c in v["baseColor"][:3]] + [1.0],
+             "edgeTint": [clamp(c) for c in v["edgeTint"][:3]] + [1.0],
+             "roughness": clamp(v["roughness"]), "anisotropy": clamp(v["anisotropy"]),
+             "rotation": float(v["rotation"]) % 1.0, "distribution": node.distribution, "fresnelType": "F82"}
+        p = dict(PRINCIPLED2_DEFAULTS, baseColor=m["baseColor"], metallic=1.0, roughness=m["roughness"],
+                 specularTint=m["edgeTint"], anisotropic=m["anisotropy"], anisotropicRotation=m["rotation"])
+        return self._principled2_plain(p, {}), {"model": "metallic", "metallic": m}
+
+    def _sheen(self, node):
+        """A Sheen BSDF (Blender 4.0+), Microfiber: the extension's "sheen"
+        model (Cycles' microfiber sheen, the Principled v2 sheen lobe over
+        nothing). Its plain glTF is a black KHR_materials_sheen material."""
+        v = self._node_values(node, (("Color", "color"), ("Roughness", "roughness")))
+        m = {"color": list(v["color"][:3]) + [1.0], "roughness": min(max(float(v["roughness"]), 0.0), 1.0),
+             "distribution": "MICROFIBER"}
+        p = dict(PRINCIPLED2_DEFAULTS, baseColor=[0.0, 0.0, 0.0, 1.0], specularIorLevel=0.0, sheenWeight=1.0,
+                 sheenTint=m["color"], sheenRoughness=m["roughness"])
+        return self._principled2_plain(p, {}), {"model": "sheen", "sheen": m}
 
     def _like_principled(self, node):
         """Glass, Glossy and Refraction BSDFs as the Principled inputs that
