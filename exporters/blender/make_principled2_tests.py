@@ -11,7 +11,11 @@ black base at three roughnesses, GGX and Multiscatter GGX, with a Specular
 IOR Level and a coloured Specular Tint; F82-tint metal (GGX and
 Multiscatter); an anisotropic metal; rough glass in front of an emissive
 card (GGX and Multiscatter); a tinted coat over a black base; microfiber
-sheen lit from behind; emission under a coat and sheen. Each NAME gets
+sheen lit from behind; emission under a coat and sheen; and, in the
+Principled's place, the Metallic BSDF (model metallic: F82 with GGX, and
+anisotropic with Multiscatter GGX; Physical Conductor with Multiscatter
+GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
+Microfiber, lit from behind). Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
                               (photonbridge/writer.py: model principled2);
@@ -100,6 +104,14 @@ CASES = {
                                            {"Base Color": (0.9, 0.9, 0.92, 1.0), "Edge Tint": (0.7, 0.8, 1.0, 1.0),
                                             "Roughness": 0.5, "Anisotropy": 0.6, "Rotation": 0.15},
                                            {"fresnel_type": "F82", "distribution": "MULTI_GGX"})},
+    "metallic_conductor_multi": {"_node": ("ShaderNodeBsdfMetallic",
+                                           {"IOR": (0.27, 0.68, 1.32), "Extinction": (3.61, 2.62, 2.29),
+                                            "Roughness": 0.45},
+                                           {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "MULTI_GGX"})},
+    "metallic_conductor_ggx": {"_node": ("ShaderNodeBsdfMetallic",
+                                         {"IOR": (1.8, 1.2, 0.6), "Extinction": (2.5, 3.0, 3.5), "Roughness": 0.25,
+                                          "Anisotropy": 0.5, "Rotation": 0.3},
+                                         {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "GGX"})},
     "sheen_bsdf": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.9, 0.6, 0.4, 1.0), "Roughness": 0.35},
                              {"distribution": "MICROFIBER"})},
 }

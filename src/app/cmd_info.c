@@ -139,7 +139,12 @@ static void print_text(const pb_scene *s) {
     if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0)
       printf(" absorbing medium (%.3g %.3g %.3g)/m", m->attenuation[0], m->attenuation[1], m->attenuation[2]);
     const pb_blender_material *b = &m->blender;
-    if (b->node == PB_NODE_METALLIC)
+    if (b->node == PB_NODE_METALLIC && b->conductor)
+      printf(" [Blender metallic (Metallic BSDF), physical conductor, %s: n (%.3g %.3g %.3g), k (%.3g %.3g %.3g), "
+             "anisotropy %.3g]", b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX",
+             b->input[PB_IN_CONDUCTOR_N_R], b->input[PB_IN_CONDUCTOR_N_G], b->input[PB_IN_CONDUCTOR_N_B],
+             b->specular_tint[0], b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);
+    else if (b->node == PB_NODE_METALLIC)
       printf(" [Blender metallic (Metallic BSDF), F82, %s: edge tint (%.3g %.3g %.3g), anisotropy %.3g]",
              b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX", b->specular_tint[0],
              b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);

@@ -551,23 +551,37 @@ static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_
   return PB_OK;
 }
 
-/* The Metallic BSDF (Blender 4.3+; model "metallic", Fresnel type F82).
+/* Cycles 4.5 src/kernel/closure/bsdf_util.h fresnel_conductor: the
+ * unpolarised reflectance of a conductor of complex IOR n + ik. */
+static float fresnel_conductor1(float cosi, float eta, float k) {
+  float cosi2 = cosi * cosi, tmp_f = eta * eta + k * k, tmp = tmp_f * cosi2;
+  float rparl2 = (tmp - 2.0f * eta * cosi + 1.0f) / (tmp + 2.0f * eta * cosi + 1.0f);
+  float rperp2 = (tmp_f - 2.0f * eta * cosi + cosi2) / (tmp_f + 2.0f * eta * cosi + cosi2);
+  return 0.5f * (rparl2 + rperp2);
+}
+
+/* The Metallic BSDF (Blender 4.3+; model "metallic", Fresnel type F82 or
+ * PHYSICAL_CONDUCTOR).
  * Cycles 4.5 src/kernel/svm/closure.h, CLOSURE_BSDF_F82_CONDUCTOR: a
  * microfacet closure of weight 1, F0 = saturate(Base Color), F82 tint =
  * saturate(Edge Tint) (bsdf_microfacet_setup_fresnel_f82_tint), alpha = r^2
  * stretched by sqrt(1 - 0.9 anisotropy), the tangent rotated by Rotation x
  * 2 pi: the very closure of the Principled v2 metal lobe (Metallic 1, Specular
- * Tint = Edge Tint), which is how both renderers render it. */
+ * Tint = Edge Tint), which is how both renderers render it. PHYSICAL_CONDUCTOR
+ * (CLOSURE_BSDF_PHYSICAL_CONDUCTOR) is the same closure with
+ * bsdf_microfacet_setup_fresnel_conductor's Fresnel of n = max(IOR, 0), k =
+ * max(Extinction, 0): the metal lobe with pb_blender_material.conductor. */
 static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_material *m) {
   pb_blender_material *b = &m->blender;
   const pb_gltf_value *p;
   pb_result r = opt_object(R, ext, "metallic", &p);
   if (r != PB_OK) return r;
   float base[3] = {0.617f, 0.577f, 0.540f}, tint[3] = {0.695f, 0.726f, 0.770f};
+  float n[3] = {2.757f, 2.513f, 2.231f}, k[3] = {3.867f, 3.404f, 3.009f};
   float rough = 0.5f, aniso = 0.0f, rot = 0.0f;
   int dist = 1, fresnel = 0;
   static const char *const dists[] = {"GGX", "MULTI_GGX"};
-  static const char *const fresnels[] = {"F82"};
+  static const char *const fresnels[] = {"F82", "PHYSICAL_CONDUCTOR"};
   if (p) {
     if ((r = opt_color(R, p, "metallic", "baseColor", base)) != PB_OK ||
         (r = opt_color(R, p, "metallic", "edgeTint", tint)) != PB_OK ||
@@ -575,7 +589,9 @@ static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_mat
         (r = opt_number(R, p, "metallic", "anisotropy", 0.0, 1.0, &aniso)) != PB_OK ||
         (r = opt_number(R, p, "metallic", "rotation", 0.0, 1.0, &rot)) != PB_OK ||
         (r = opt_enum(R, p, "metallic", "distribution", dists, 2, &dist)) != PB_OK ||
-        (r = opt_enum(R, p, "metallic", "fresnelType", fresnels, 1, &fresnel)) != PB_OK)
+        (r = opt_enum(R, p, "metallic", "fresnelType", fresnels, 2, &fresnel)) != PB_OK ||
+        (r = opt_color(R, p, "metallic", "ior", n)) != PB_OK ||
+        (r = opt_color(R, p, "metallic", "extinction", k)) != PB_OK)
       return r;
   }
   b->distribution = dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
@@ -583,9 +599,17 @@ static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_mat
   b->input[PB_IN_ROUGHNESS] = rough;
   b->input[PB_IN_ANISOTROPIC] = aniso;
   b->input[PB_IN_ANISOTROPIC_ROTATION] = rot;
-  for (int k = 0; k < 3; ++k) {
-    m->base_color[k] = b->subsurface_color[k] = fminf(base[k], 1.0f);
-    b->specular_tint[k] = fminf(tint[k], 1.0f);
+  for (int c = 0; c < 3; ++c) {
+    m->base_color[c] = b->subsurface_color[c] = fminf(base[c], 1.0f);
+    b->specular_tint[c] = fminf(tint[c], 1.0f);
+  }
+  if (fresnel == 1) {
+    b->conductor = 1;
+    for (int c = 0; c < 3; ++c) {
+      b->input[PB_IN_CONDUCTOR_N_R + c] = n[c];
+      b->specular_tint[c] = k[c];
+      m->base_color[c] = b->subsurface_color[c] = fminf(fmaxf(fresnel_conductor1(1.0f, n[c], k[c]), 0.0f), 1.0f);
+    }
   }
   b->node = PB_NODE_METALLIC;
   principled2_v1_slots(m);

@@ -174,9 +174,9 @@ def build():
         plane(kind, mat, 7.5 + len(cases))
 
     # 7. Metallic BSDF (F82) and Sheen BSDF (Microfiber): models metallic and
-    # sheen with the node's values (clamped as Cycles clamps them); the
-    # Physical Conductor, Beckmann and Ashikhmin forms: a grey principled2
-    # and a warning.
+    # sheen with the node's values (clamped as Cycles clamps them), F82 and
+    # Physical Conductor; the Beckmann and Ashikhmin forms: a grey
+    # principled2 and a warning.
     for name, kind, socks, props, want in (
             ("metallic_f82", "ShaderNodeBsdfMetallic",
              {"Base Color": (1.2, 0.5, 0.25, 1.0), "Edge Tint": (0.9, 0.8, 0.7, 1.0), "Roughness": 0.25,
@@ -187,8 +187,12 @@ def build():
             ("sheen_microfiber", "ShaderNodeBsdfSheen", {"Color": (0.3, 0.6, 0.9, 1.0), "Roughness": 0.7},
              {"distribution": "MICROFIBER"},
              ("sheen", {"color": [0.3, 0.6, 0.9, 1.0], "roughness": 0.7, "distribution": "MICROFIBER"})),
-            ("metallic_conductor", "ShaderNodeBsdfMetallic", {}, {"fresnel_type": "PHYSICAL_CONDUCTOR"},
-             ("principled2", None)),
+            ("metallic_conductor", "ShaderNodeBsdfMetallic",
+             {"IOR": (0.2, 0.9, 1.1), "Extinction": (3.9, 2.4, -1.0), "Roughness": 0.6},
+             {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "MULTI_GGX"},
+             ("metallic", {"ior": [0.2, 0.9, 1.1], "extinction": [3.9, 2.4, 0.0], "roughness": 0.6,
+                           "anisotropy": 0.0, "rotation": 0.0, "distribution": "MULTI_GGX",
+                           "fresnelType": "PHYSICAL_CONDUCTOR"})),
             ("metallic_beckmann", "ShaderNodeBsdfMetallic", {}, {"distribution": "BECKMANN"}, ("principled2", None)),
             ("sheen_ashikhmin", "ShaderNodeBsdfSheen", {}, {"distribution": "ASHIKHMIN"}, ("principled2", None))):
         mat = bpy.data.materials.new(name)

@@ -468,13 +468,12 @@ class MaterialWriter:
             gm, ext = self._plain_black(), {"model": "holdout"}
         elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
             gm, ext = self._like_principled(node)
-        elif node.type == 'BSDF_METALLIC' and node.fresnel_type == 'F82' and node.distribution != 'BECKMANN':
+        elif node.type == 'BSDF_METALLIC' and node.distribution != 'BECKMANN':
             gm, ext = self._metallic(node)
         elif node.type == 'BSDF_SHEEN' and node.distribution == 'MICROFIBER':
             gm, ext = self._sheen(node)
         elif node.type in ('BSDF_METALLIC', 'BSDF_SHEEN'):
-            what = ("the Physical Conductor Fresnel" if node.type == 'BSDF_METALLIC' and
-                    node.fresnel_type != 'F82' else "the %s distribution" % node.distribution.title())
+            what = "the %s distribution" % node.distribution.title()
             self._warn_node(node, "%s is not rendered; written as a grey Principled BSDF" % what)
             gm, ext = self._principled_defaults()
         else:
@@ -950,20 +949,31 @@ class MaterialWriter:
         return out
 
     def _metallic(self, node):
-        """A Metallic BSDF (Blender 4.3+) with the F82 Fresnel, GGX or
-        Multiscatter GGX: the extension's "metallic" model (Cycles renders it
-        as the Principled v2 metal lobe alone; Cycles clamps the colours,
-        Roughness and Anisotropy to [0, 1], and Rotation turns by 2 pi)."""
-        v = self._node_values(node, (("Base Color", "baseColor"), ("Edge Tint", "edgeTint"),
-                                     ("Roughness", "roughness"), ("Anisotropy", "anisotropy"),
-                                     ("Rotation", "rotation")))
+        """A Metallic BSDF (Blender 4.3+), GGX or Multiscatter GGX: the
+        extension's "metallic" model, with the F82 Fresnel (Base Color, Edge
+        Tint) or the Physical Conductor's (IOR n, Extinction k, per RGB
+        channel). Cycles renders it as the Principled v2 metal lobe alone;
+        it clamps the colours, Roughness and Anisotropy to [0, 1] and n, k
+        to >= 0, and Rotation turns by 2 pi. The plain glTF of a conductor
+        has its colour at normal incidence."""
+        conductor = node.fresnel_type == 'PHYSICAL_CONDUCTOR'
+        v = self._node_values(node, ((("IOR", "ior"), ("Extinction", "extinction")) if conductor else
+                                     (("Base Color", "baseColor"), ("Edge Tint", "edgeTint"))) +
+                              (("Roughness", "roughness"), ("Anisotropy", "anisotropy"), ("Rotation", "rotation")))
         clamp = lambda x: min(max(float(x), 0.0), 1.0)  # noqa: E731
-        m = {"baseColor": [clamp(c) for c in v["baseColor"][:3]] + [1.0],
-             "edgeTint": [clamp(c) for c in v["edgeTint"][:3]] + [1.0],
-             "roughness": clamp(v["roughness"]), "anisotropy": clamp(v["anisotropy"]),
-             "rotation": float(v["rotation"]) % 1.0, "distribution": node.distribution, "fresnelType": "F82"}
-        p = dict(PRINCIPLED2_DEFAULTS, baseColor=m["baseColor"], metallic=1.0, roughness=m["roughness"],
-                 specularTint=m["edgeTint"], anisotropic=m["anisotropy"], anisotropicRotation=m["rotation"])
+        m = {"roughness": clamp(v["roughness"]), "anisotropy": clamp(v["anisotropy"]),
+             "rotation": float(v["rotation"]) % 1.0, "distribution": node.distribution,
+             "fresnelType": node.fresnel_type}
+        if conductor:
+            m["ior"] = [max(float(c), 0.0) for c in v["ior"][:3]]
+            m["extinction"] = [max(float(c), 0.0) for c in v["extinction"][:3]]
+            base = [((n - 1.0) ** 2 + k * k) / ((n + 1.0) ** 2 + k * k) for n, k in zip(m["ior"], m["extinction"])]
+            base, tint = [clamp(c) for c in base] + [1.0], [1.0, 1.0, 1.0, 1.0]
+        else:
+            m["baseColor"] = base = [clamp(c) for c in v["baseColor"][:3]] + [1.0]
+            m["edgeTint"] = tint = [clamp(c) for c in v["edgeTint"][:3]] + [1.0]
+        p = dict(PRINCIPLED2_DEFAULTS, baseColor=base, metallic=1.0, roughness=m["roughness"],
+                 specularTint=tint, anisotropic=m["anisotropy"], anisotropicRotation=m["rotation"])
         return self._principled2_plain(p, {}), {"model": "metallic", "metallic": m}
 
     def _sheen(self, node):
