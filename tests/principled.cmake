@@ -81,3 +81,14 @@ if(Python3_Interpreter_FOUND)
   set_tests_properties(principled2_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        TIMEOUT 1800 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
 endif()
+# A bad value in the Metallic BSDF's model: one line naming the file, the
+# material and the member.
+add_test(NAME principled2_metallic_bad_value
+         COMMAND sh -c "mkdir -p \"$1\" && cp tests/data/principled2/metallic_f82_ggx/metallic_f82_ggx.bin \"$1\"/ &&
+                        sed 's/\"fresnelType\": \"F82\"/\"fresnelType\": \"SCHLICK\"/' \
+                          tests/data/principled2/metallic_f82_ggx/metallic_f82_ggx.gltf > \"$1\"/bad.gltf &&
+                        \"$0\" info \"$1\"/bad.gltf; echo \"exit=$?\""
+                 ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled2_metallic_bad
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled2_metallic_bad_value PROPERTIES LABELS principled
+                     PASS_REGULAR_EXPRESSION "bad\\.gltf: materials\\[0\\]\\.extensions\\.PHOTONBRIDGE_blender\\.metallic\\.fresnelType: 'SCHLICK' is not F82 or PHYSICAL_CONDUCTOR\n.*exit=[1-9]")

@@ -42,7 +42,7 @@ SPP = {"ref": 64, "gpu": 64}
 # (the GPU's mean: -0.4 % at 256 spp, +1.1 % at 64, +0.09 % at 1024).
 SPP_SCENE = {"ref": {"glass": 512, "studio": 256, "studio_multi": 256, "glass_ggx": 512, "glass_multi": 512,
                      "emission_coat": 1024},
-             "gpu": {"glass": 512, "glass_ggx": 512, "glass_multi": 512, "furnace": 256, "sheen": 256, "studio": 16, "studio_multi": 16,
+             "gpu": {"glass": 512, "glass_ggx": 512, "glass_multi": 512, "furnace": 256, "sheen": 256, "sheen_bsdf": 256, "studio": 16, "studio_multi": 16,
                      "emission_coat": 1024}}
 # The GPU's photon options: 2^14 paths, one map, except on the studio, whose
 # indirect light is the photon map's: 2^18 paths x 16 progressive maps at
@@ -56,7 +56,7 @@ GPU_OPTS = {"studio": ENGINE, "studio_multi": ENGINE}
 # path (--glossy-path-roughness 1; by default layers rougher than 0.15 are
 # shaded where the eye path stops, from direct light and the photon map):
 # both ways must match Cycles.
-FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "metal_aniso", "clearcoat", "studio"]
+FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "metal_aniso", "metallic_f82_multi_aniso", "clearcoat", "studio"]
 
 
 def probe(exe, path):

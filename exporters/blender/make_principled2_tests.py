@@ -11,7 +11,11 @@ black base at three roughnesses, GGX and Multiscatter GGX, with a Specular
 IOR Level and a coloured Specular Tint; F82-tint metal (GGX and
 Multiscatter); an anisotropic metal; rough glass in front of an emissive
 card (GGX and Multiscatter); a tinted coat over a black base; microfiber
-sheen lit from behind; emission under a coat and sheen. Each NAME gets
+sheen lit from behind; emission under a coat and sheen; and, in the
+Principled's place, the Metallic BSDF (model metallic: F82 with GGX, and
+anisotropic with Multiscatter GGX; Physical Conductor with Multiscatter
+GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
+Microfiber, lit from behind). Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
                               (photonbridge/writer.py: model principled2);
@@ -90,8 +94,28 @@ CASES = {
     # with Cycles 4.3's energy-preserving multiple scattering.
     "diffuse_rough": {"Base Color": (0.8, 0.45, 0.2, 1.0), "Specular IOR Level": 0.0, "Diffuse Roughness": 0.8},
     "diffuse_bsdf_rough": {"_diffuse_bsdf": ((0.7, 0.7, 0.9, 1.0), 1.0)},
+    # The Metallic BSDF (4.3+, F82 Fresnel) and the Sheen BSDF (Microfiber)
+    # in the Principled's place: (node, its inputs, its settings).
+    "metallic_f82_ggx": {"_node": ("ShaderNodeBsdfMetallic",
+                                   {"Base Color": (1.0, 0.78, 0.34, 1.0), "Edge Tint": (1.0, 0.9, 0.6, 1.0),
+                                    "Roughness": 0.3},
+                                   {"fresnel_type": "F82", "distribution": "GGX"})},
+    "metallic_f82_multi_aniso": {"_node": ("ShaderNodeBsdfMetallic",
+                                           {"Base Color": (0.9, 0.9, 0.92, 1.0), "Edge Tint": (0.7, 0.8, 1.0, 1.0),
+                                            "Roughness": 0.5, "Anisotropy": 0.6, "Rotation": 0.15},
+                                           {"fresnel_type": "F82", "distribution": "MULTI_GGX"})},
+    "metallic_conductor_multi": {"_node": ("ShaderNodeBsdfMetallic",
+                                           {"IOR": (0.27, 0.68, 1.32), "Extinction": (3.61, 2.62, 2.29),
+                                            "Roughness": 0.45},
+                                           {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "MULTI_GGX"})},
+    "metallic_conductor_ggx": {"_node": ("ShaderNodeBsdfMetallic",
+                                         {"IOR": (1.8, 1.2, 0.6), "Extinction": (2.5, 3.0, 3.5), "Roughness": 0.25,
+                                          "Anisotropy": 0.5, "Rotation": 0.3},
+                                         {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "GGX"})},
+    "sheen_bsdf": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.9, 0.6, 0.4, 1.0), "Roughness": 0.35},
+                             {"distribution": "MICROFIBER"})},
 }
-BACK_LIGHT = ("sheen",)
+BACK_LIGHT = ("sheen", "sheen_bsdf")
 
 
 def normal_map(mat, p, strength, out_dir):
@@ -146,6 +170,15 @@ def build(name, inputs, out_dir):
         d.inputs["Roughness"].default_value = rough
         out = mat.node_tree.nodes["Material Output"]
         mat.node_tree.links.new(d.outputs["BSDF"], out.inputs["Surface"])
+    if "_node" in inputs:  # another BSDF node in the Principled's place
+        kind, socks, props = inputs["_node"]
+        n = mat.node_tree.nodes.new(kind)
+        for k, v in props.items():
+            setattr(n, k, v)
+        for k, v in socks.items():
+            n.inputs[k].default_value = v
+        out = mat.node_tree.nodes["Material Output"]
+        mat.node_tree.links.new(n.outputs["BSDF"], out.inputs["Surface"])
     if "_normal" in inputs:
         normal_map(mat, p, inputs["_normal"], out_dir)
     b = samples.MeshBuilder()

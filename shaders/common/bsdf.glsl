@@ -21,6 +21,7 @@ const uint PB_CL_V2_GLASS = 10u; // GGX glass, reflection and refraction in one 
 const uint PB_FR_DIELECTRIC = 0u;
 const uint PB_FR_F82_TINT = 1u;
 const uint PB_FR_GEN_SCHLICK = 2u;
+const uint PB_FR_CONDUCTOR = 3u; // physical conductor: n in cspec0, k in color
 // Every closure has its own slot (no dynamic indexing: loops over the slots
 // unroll into registers): diffuse or Oren-Nayar, sheen, specular, glass
 // reflection, glass refraction, clearcoat, transparent.

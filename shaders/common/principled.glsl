@@ -492,12 +492,24 @@ float pb2_fss_dielectric(float eta) {
   return eta < 1.0 ? 0.997118 + eta * (0.1014 - eta * (0.965241 + eta * 0.130607)) : (eta - 1.0) / (4.08567 + 1.00071 * eta);
 }
 
+// Cycles 4.5 src/kernel/closure/bsdf_util.h fresnel_conductor: a conductor
+// of complex IOR n + ik, per channel.
+vec3 pb2_fresnel_conductor(float cosi, vec3 eta, vec3 k) {
+  float cosi2 = cosi * cosi;
+  vec3 tmp_f = eta * eta + k * k, tmp = tmp_f * cosi2;
+  vec3 rparl2 = (tmp - 2.0 * eta * cosi + 1.0) / (tmp + 2.0 * eta * cosi + 1.0);
+  vec3 rperp2 = (tmp_f - 2.0 * eta * cosi + cosi2) / (tmp_f + 2.0 * eta * cosi + cosi2);
+  return 0.5 * (rparl2 + rperp2);
+}
+
 // Reflectance r and transmittance t at cos between microfacet and view.
 void pb2_fresnel(pb_closure c, float cos_hv, out vec3 r, out vec3 t) {
   t = vec3(0.0);
   if (c.fresnel == PB_FR_DIELECTRIC) {
     float f = pb_fresnel_diel(cos_hv, c.ior);
     r = vec3(f);
+  } else if (c.fresnel == PB_FR_CONDUCTOR) {
+    r = pb2_fresnel_conductor(cos_hv, c.cspec0, c.color);
   } else if (c.fresnel == PB_FR_F82_TINT) {
     float mu = clamp(1.0 - cos_hv, 0.0, 1.0);
     float mu5 = mu * mu * mu * mu * mu;
@@ -614,6 +626,27 @@ vec3 pb2_color(uint tex, vec3 value, pb_surface s) {
   return max(value, vec3(0.0));
 }
 
+// The Metallic BSDF's Physical Conductor as the metal closure c (Cycles 4.5
+// svm/closure.h CLOSURE_BSDF_PHYSICAL_CONDUCTOR, closure/bsdf_microfacet.h
+// bsdf_microfacet_setup_fresnel_conductor): n = max(IOR, 0), k =
+// max(Extinction, 0); the sample weight is the smooth surface's albedo;
+// multiscatter with bsdf_util.h fresnel_conductor_Fss, the F82 fit of the
+// conductor at cos 1 and 1/7.
+void pb2_metal_conductor(inout pb_closure c, vec3 n, vec3 tangent, float ax, float ay, vec3 eta, vec3 k, vec3 wo,
+                         bool multi) {
+  pb2_microfacet(c, n, tangent, ax, ay, 1.0, PB_FR_CONDUCTOR, max(eta, vec3(0.0)));
+  c.color = k;
+  float mu = dot(wo, n);
+  c.sample_weight *= pb_avg3(pb2_albedo(c, mu, true));
+  if (multi) {
+    vec3 f0 = pb2_fresnel_conductor(1.0, c.cspec0, k), f82 = pb2_fresnel_conductor(1.0 / 7.0, c.cspec0, k);
+    const float f = 6.0 / 7.0;
+    float f5 = f * f * f * f * f;
+    vec3 bb = (7.0 / (f5 * f)) * (mix(f0, vec3(1.0), f5) - f82);
+    pb2_preserve_energy(c, mu, clamp(mix(f0, vec3(1.0), 1.0 / 21.0) - bb * (1.0 / 126.0), 0.0, 1.0));
+  }
+}
+
 // The v2 closures into b, top to bottom; returns the weight the emission
 // takes (alpha, sheen and coat over it). emission_only: stop there.
 vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_only, inout pb_bsdf b) {
@@ -693,7 +726,10 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
   vec3 w_emission = w;
   if (metallic > PB_CUTOFF) {
     pb_add_closure(b, PB_SLOT_GLASS_REFL, PB_CL_V2_GGX, w * metallic);
-    if (b.cl[PB_SLOT_GLASS_REFL].on) {
+    if (b.cl[PB_SLOT_GLASS_REFL].on && (m.flags & PB_GPU_MAT_CONDUCTOR) != 0u) {
+      vec3 eta = vec3(in_v[PB_GPU_IN_CONDUCTOR_N], in_v[PB_GPU_IN_CONDUCTOR_N + 1u], in_v[PB_GPU_IN_CONDUCTOR_N + 2u]);
+      pb2_metal_conductor(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, eta, spec_tint, wo, multi);
+    } else if (b.cl[PB_SLOT_GLASS_REFL].on) {
       pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, 1.0, PB_FR_F82_TINT, cbase);
       vec3 f82 = min(spec_tint, vec3(1.0));
       const float f = 6.0 / 7.0;

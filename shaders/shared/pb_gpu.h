@@ -98,6 +98,9 @@ PB_CONST(PB_GPU_MAT_VERTEX_COLOR, 4u)      /* a Blender model's base colour is C
                                               (pb_blender_material.base_from_vertex_color) */
 PB_CONST(PB_GPU_MAT_NORMAL_MAP_CYCLES4, 8u) /* Normal Map strength as Cycles 4.0+
                                               (pb_blender_material.normal_map_cycles4) */
+PB_CONST(PB_GPU_MAT_CONDUCTOR, 32u)       /* the v2 metal lobe's Fresnel is a physical
+                                              conductor's: n in_value[PB_GPU_IN_CONDUCTOR_N..+2],
+                                              k specular_tint (pb_blender_material.conductor) */
 PB_CONST(PB_GPU_MAT_OREN_NAYAR_MS, 16u)   /* Oren-Nayar with Cycles 4.3's multiple
                                               scattering (pb_blender_material.oren_nayar_ms) */
 /* bump_model: pb_bump_model's values. */
@@ -143,6 +146,7 @@ PB_CONST(PB_GPU_IN_THIN_FILM_THICKNESS, 24u)
 PB_CONST(PB_GPU_IN_THIN_FILM_IOR, 25u)
 PB_CONST(PB_GPU_IN_DIFFUSE_ROUGHNESS, 26u)
 PB_CONST(PB_GPU_IN_EMISSION_STRENGTH, 27u)
+PB_CONST(PB_GPU_IN_CONDUCTOR_N, 28u)       /* 28..30: a conductor's n (PB_GPU_MAT_CONDUCTOR) */
 PB_CONST(PB_GPU_IN_V1_SLOTS, 16u)           /* the slots the v1 model reads */
 PB_CONST(PB_GPU_IN_SLOTS, 32u)
 /* in_tex: texture index in the low 28 bits, the channel above (0..3 R, G,

@@ -139,7 +139,19 @@ static void print_text(const pb_scene *s) {
     if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0)
       printf(" absorbing medium (%.3g %.3g %.3g)/m", m->attenuation[0], m->attenuation[1], m->attenuation[2]);
     const pb_blender_material *b = &m->blender;
-    if (b->model == PB_MODEL_PRINCIPLED && b->principled_v2)
+    if (b->node == PB_NODE_METALLIC && b->conductor)
+      printf(" [Blender metallic (Metallic BSDF), physical conductor, %s: n (%.3g %.3g %.3g), k (%.3g %.3g %.3g), "
+             "anisotropy %.3g]", b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX",
+             b->input[PB_IN_CONDUCTOR_N_R], b->input[PB_IN_CONDUCTOR_N_G], b->input[PB_IN_CONDUCTOR_N_B],
+             b->specular_tint[0], b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);
+    else if (b->node == PB_NODE_METALLIC)
+      printf(" [Blender metallic (Metallic BSDF), F82, %s: edge tint (%.3g %.3g %.3g), anisotropy %.3g]",
+             b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX", b->specular_tint[0],
+             b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);
+    else if (b->node == PB_NODE_SHEEN)
+      printf(" [Blender sheen (Sheen BSDF), Microfiber: colour (%.3g %.3g %.3g), roughness %.3g]", b->sheen_tint[0],
+             b->sheen_tint[1], b->sheen_tint[2], b->input[PB_IN_SHEEN_ROUGHNESS]);
+    else if (b->model == PB_MODEL_PRINCIPLED && b->principled_v2)
       printf(" [Blender principled v2, %s: specular IOR level %.3g, coat %.3g (roughness %.3g, IOR %.3g), sheen %.3g "
              "(roughness %.3g), anisotropic %.3g, alpha %.3g%s]",
              b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX", b->input[PB_IN_SPECULAR_IOR_LEVEL],
@@ -340,7 +352,7 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_begin_object(&j, NULL);
     pb_json_string(&j, "name", m->name);
     pb_json_string(&j, "kind", bsdf_names[pb_material_kind(m)]);
-    pb_json_string(&j, "model", m->blender.principled_v2 ? "principled2" : pb_material_model_name(m->blender.model));
+    pb_json_string(&j, "model", pb_blender_model_name(&m->blender));
     if (m->blender.model == PB_MODEL_PRINCIPLED)
       pb_json_string(&j, "distribution", m->blender.distribution == PB_DISTRIBUTION_MULTI_GGX ? "MULTI_GGX" : "GGX");
     pb_json_begin_array(&j, "base_color");

@@ -230,7 +230,7 @@ static pb_result material_notes(ctx *c, uint32_t i, pb_bsdf_kind *kind) {
   *kind = pb_material_kind(m);
   if (m->blender.model != PB_MODEL_GLTF)
     r = note(c, "materials[%u] '%s': Blender %s reduced to its closest glTF kind", i, m->name,
-             pb_material_model_name(m->blender.model));
+             pb_blender_model_name(&m->blender));
   if (r == PB_OK && *kind == PB_BSDF_MIRROR)
     r = note(c, "materials[%u] '%s': metal written with constant reflectance = base colour (glTF's Schlick Fresnel, up "
              "to 1 - F0 brighter at grazing, is lost)", i, m->name);

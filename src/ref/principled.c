@@ -650,6 +650,18 @@ static float fresnel_diel_avg(float eta) {
   return (eta - 1.0f) / (4.08567f + 1.00071f * eta);
 }
 
+/* Cycles 4.5 src/kernel/closure/bsdf_util.h fresnel_conductor: a conductor
+ * of complex IOR n + ik, per channel. */
+static float fresnel_cond1(float cosi, float eta, float k) {
+  float cosi2 = cosi * cosi, tmp_f = eta * eta + k * k, tmp = tmp_f * cosi2;
+  float rparl2 = (tmp - 2.0f * eta * cosi + 1.0f) / (tmp + 2.0f * eta * cosi + 1.0f);
+  float rperp2 = (tmp_f - 2.0f * eta * cosi + cosi2) / (tmp_f + 2.0f * eta * cosi + cosi2);
+  return 0.5f * (rparl2 + rperp2);
+}
+static v3 fresnel_cond(float cosi, v3 eta, v3 k) {
+  return v3_make(fresnel_cond1(cosi, eta.x, k.x), fresnel_cond1(cosi, eta.y, k.y), fresnel_cond1(cosi, eta.z, k.z));
+}
+
 /* Reflectance R and transmittance T of a v2 microfacet closure at cos
  * between the microfacet and the view. */
 static void fresnel_v2(const pb_closure *c, float cos_hv, v3 *r, v3 *t) {
@@ -657,6 +669,10 @@ static void fresnel_v2(const pb_closure *c, float cos_hv, v3 *r, v3 *t) {
     float f = fresnel_diel(cos_hv, c->ior);
     *r = v3_splat(f);
     *t = v3_splat(1.0f - f);
+  } else if (c->fresnel == PB_FRESNEL_CONDUCTOR) {
+    /* n in cspec0, k in color */
+    *r = fresnel_cond(cos_hv, c->cspec0, c->color);
+    *t = v3_splat(0.0f);
   } else if (c->fresnel == PB_FRESNEL_F82_TINT) {
     float mu = sat(1.0f - cos_hv), mu5 = sqr(sqr(mu)) * mu;
     v3 fs = mix1(c->cspec0, mu5);
@@ -894,7 +910,26 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   v3 w_emission = w;
   if (metallic > CUTOFF) {
     pb_closure *c = add_closure(b, PB_CL_V2_GGX, v3_scale(w, metallic));
-    if (c) {
+    if (c && bm->conductor) {
+      /* The Metallic BSDF's Physical Conductor (Cycles 4.5 svm/closure.h
+       * CLOSURE_BSDF_PHYSICAL_CONDUCTOR, closure/bsdf_microfacet.h
+       * bsdf_microfacet_setup_fresnel_conductor): n = max(IOR, 0), k =
+       * max(Extinction, 0); the sample weight is the smooth surface's
+       * albedo; multiscatter with fresnel_conductor_Fss, the F82 fit of
+       * the conductor at cos 1 and 1/7. */
+      v3 eta = v3_maxv(v3_make(in[PB_IN_CONDUCTOR_N_R], in[PB_IN_CONDUCTOR_N_G], in[PB_IN_CONDUCTOR_N_B]),
+                       v3_splat(0.0f));
+      v2_microfacet(c, n, tangent, ax, ay, 1.0f, PB_FRESNEL_CONDUCTOR, eta, g2);
+      c->color = V.spec_tint;
+      float mu = v3_dot(wo, n);
+      c->sample_weight *= avg3(v2_albedo(c, mu, 1));
+      if (multi) {
+        v3 f0 = fresnel_cond(1.0f, eta, c->color), f82 = fresnel_cond(1.0f / 7.0f, eta, c->color);
+        float f = 6.0f / 7.0f, f5 = sqr(sqr(f)) * f;
+        v3 bb = v3_scale(v3_sub(mix1(f0, f5), f82), 7.0f / (f5 * f)); /* fresnel_f82_B */
+        preserve_energy(c, mu, v3_sat(v3_sub(mix1(f0, 1.0f / 21.0f), v3_scale(bb, 1.0f / 126.0f))));
+      }
+    } else if (c) {
       v3 f82 = v3_make(fminf(V.spec_tint.x, 1.0f), fminf(V.spec_tint.y, 1.0f), fminf(V.spec_tint.z, 1.0f));
       v2_microfacet(c, n, tangent, ax, ay, 1.0f, PB_FRESNEL_F82_TINT, cbase, g2);
       /* fresnel_f82tint_B: b = F_schlick(1/7) 7 / (f^6) (1 - tint), f = 6/7. */

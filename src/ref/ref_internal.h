@@ -193,7 +193,7 @@ typedef enum pb_closure_type {
 
 enum { PB_CLOSURE_MAX = 8 };
 /* Fresnel of a Principled v2 microfacet closure (Cycles' MicrofacetFresnel). */
-enum { PB_FRESNEL_DIELECTRIC = 0, PB_FRESNEL_F82_TINT, PB_FRESNEL_GEN_SCHLICK };
+enum { PB_FRESNEL_DIELECTRIC = 0, PB_FRESNEL_F82_TINT, PB_FRESNEL_GEN_SCHLICK, PB_FRESNEL_CONDUCTOR };
 
 typedef struct pb_closure {
   pb_closure_type type;

@@ -191,6 +191,7 @@ _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_
                    PB_SAME(PB_GPU_IN_SUBSURFACE, PB_IN_SUBSURFACE) && (int)PB_IN_COUNT <= (int)PB_GPU_IN_SLOTS &&
                    PB_SAME(PB_GPU_IN_SPECULAR_IOR_LEVEL, PB_IN_SPECULAR_IOR_LEVEL) &&
                    PB_SAME(PB_GPU_IN_EMISSION_STRENGTH, PB_IN_EMISSION_STRENGTH) &&
+                   PB_SAME(PB_GPU_IN_CONDUCTOR_N, PB_IN_CONDUCTOR_N_R) &&
                    (int)PB_GPU_IN_V1_SLOTS > (int)PB_IN_SUBSURFACE &&
                    PB_SAME(PB_GPU_IN_SLOTS, sizeof ((pb_gpu_material *)0)->in_value / sizeof(float)),
                "pb_gpu_material.in_value");
@@ -302,7 +303,8 @@ static void convert_material(const pb_scene *s, const pb_material *m, pb_gpu_mat
   o->flags = (m->double_sided ? PB_GPU_MAT_DOUBLE_SIDED : 0) | (m->unlit ? PB_GPU_MAT_UNLIT : 0) |
              (m->blender.base_from_vertex_color ? PB_GPU_MAT_VERTEX_COLOR : 0) |
              (m->blender.normal_map_cycles4 ? PB_GPU_MAT_NORMAL_MAP_CYCLES4 : 0) |
-             (m->blender.oren_nayar_ms ? PB_GPU_MAT_OREN_NAYAR_MS : 0);
+             (m->blender.oren_nayar_ms ? PB_GPU_MAT_OREN_NAYAR_MS : 0) |
+           (m->blender.conductor ? PB_GPU_MAT_CONDUCTOR : 0);
   memcpy(o->attenuation, m->attenuation, sizeof o->attenuation);
   o->normal_tex = s->tangents && s->uvs ? tex_index(m->normal_tex, s->texture_count) : PB_GPU_NO_TEXTURE;
   o->normal_scale = m->normal_scale;

@@ -462,6 +462,28 @@ static float f0_of_ior(float eta) {
   return r * r;
 }
 
+/* The glTF members and the v1 slots of a principled2 material from its
+ * input[]. */
+static void principled2_v1_slots(pb_material *m) {
+  pb_blender_material *b = &m->blender;
+  m->base_color[3] = b->input[PB_IN_ALPHA];
+  m->metallic = b->input[PB_IN_METALLIC];
+  m->roughness = b->input[PB_IN_ROUGHNESS];
+  m->transmission = b->input[PB_IN_TRANSMISSION];
+  m->ior = b->input[PB_IN_IOR] >= 1.0f ? b->input[PB_IN_IOR] : 1.0f;
+  /* The v1 slots: Blender 3.4's nearest inputs, for code that renders the
+   * v1 closures (dielectric F0 = 0.08 Specular; Clearcoat is 4 x Coat, as
+   * Blender 4.0's versioning divides it by 4). */
+  float ior = b->input[PB_IN_IOR], f0 = f0_of_ior(ior >= 1.0f ? ior : 1.0f / fmaxf(ior, 1e-3f));
+  b->input[PB_IN_SPECULAR] = fminf(f0 * 2.0f * b->input[PB_IN_SPECULAR_IOR_LEVEL] / 0.08f, 12.5f);
+  b->input[PB_IN_SPECULAR_TINT] = 0.0f;
+  b->input[PB_IN_SHEEN] = b->input[PB_IN_SHEEN_WEIGHT];
+  b->input[PB_IN_SHEEN_TINT] = 0.0f;
+  b->input[PB_IN_CLEARCOAT] = fminf(4.0f * b->input[PB_IN_COAT_WEIGHT], 1.0f);
+  b->input[PB_IN_CLEARCOAT_ROUGHNESS] = b->input[PB_IN_COAT_ROUGHNESS];
+  b->input[PB_IN_TRANSMISSION_ROUGHNESS] = b->input[PB_IN_ROUGHNESS];
+}
+
 static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_material *m) {
   pb_blender_material *b = &m->blender;
   const pb_gltf_value *p;
@@ -512,22 +534,7 @@ static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_
       (r = warn(R, "materials[%d]." EXT ".textures.emissionStrength: an Emission Strength texture is not rendered; "
                    "the strength %g is used", R->index, strength)) != PB_OK)
     return r;
-  m->base_color[3] = b->input[PB_IN_ALPHA];
-  m->metallic = b->input[PB_IN_METALLIC];
-  m->roughness = b->input[PB_IN_ROUGHNESS];
-  m->transmission = b->input[PB_IN_TRANSMISSION];
-  m->ior = b->input[PB_IN_IOR] >= 1.0f ? b->input[PB_IN_IOR] : 1.0f;
-  /* The v1 slots: Blender 3.4's nearest inputs, for code that renders the
-   * v1 closures (dielectric F0 = 0.08 Specular; Clearcoat is 4 x Coat, as
-   * Blender 4.0's versioning divides it by 4). */
-  float ior = b->input[PB_IN_IOR], f0 = f0_of_ior(ior >= 1.0f ? ior : 1.0f / fmaxf(ior, 1e-3f));
-  b->input[PB_IN_SPECULAR] = fminf(f0 * 2.0f * b->input[PB_IN_SPECULAR_IOR_LEVEL] / 0.08f, 12.5f);
-  b->input[PB_IN_SPECULAR_TINT] = 0.0f;
-  b->input[PB_IN_SHEEN] = b->input[PB_IN_SHEEN_WEIGHT];
-  b->input[PB_IN_SHEEN_TINT] = 0.0f;
-  b->input[PB_IN_CLEARCOAT] = fminf(4.0f * b->input[PB_IN_COAT_WEIGHT], 1.0f);
-  b->input[PB_IN_CLEARCOAT_ROUGHNESS] = b->input[PB_IN_COAT_ROUGHNESS];
-  b->input[PB_IN_TRANSMISSION_ROUGHNESS] = b->input[PB_IN_ROUGHNESS];
+  principled2_v1_slots(m);
   if ((b->input[PB_IN_SUBSURFACE] > 0.0f || b->input_tex[PB_IN_SUBSURFACE].tex >= 0) &&
       (r = warn(R, "materials[%d]." EXT ".principled2.subsurfaceWeight: %g: approximated as diffuse (no subsurface "
                    "scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
@@ -541,6 +548,100 @@ static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_
       (r = warn(R, "materials[%d]." EXT ".textures.coatNormal: the coat uses the surface's normal (no coat normal map)",
                 R->index)) != PB_OK)
     return r;
+  return PB_OK;
+}
+
+/* Cycles 4.5 src/kernel/closure/bsdf_util.h fresnel_conductor: the
+ * unpolarised reflectance of a conductor of complex IOR n + ik. */
+static float fresnel_conductor1(float cosi, float eta, float k) {
+  float cosi2 = cosi * cosi, tmp_f = eta * eta + k * k, tmp = tmp_f * cosi2;
+  float rparl2 = (tmp - 2.0f * eta * cosi + 1.0f) / (tmp + 2.0f * eta * cosi + 1.0f);
+  float rperp2 = (tmp_f - 2.0f * eta * cosi + cosi2) / (tmp_f + 2.0f * eta * cosi + cosi2);
+  return 0.5f * (rparl2 + rperp2);
+}
+
+/* The Metallic BSDF (Blender 4.3+; model "metallic", Fresnel type F82 or
+ * PHYSICAL_CONDUCTOR).
+ * Cycles 4.5 src/kernel/svm/closure.h, CLOSURE_BSDF_F82_CONDUCTOR: a
+ * microfacet closure of weight 1, F0 = saturate(Base Color), F82 tint =
+ * saturate(Edge Tint) (bsdf_microfacet_setup_fresnel_f82_tint), alpha = r^2
+ * stretched by sqrt(1 - 0.9 anisotropy), the tangent rotated by Rotation x
+ * 2 pi: the very closure of the Principled v2 metal lobe (Metallic 1, Specular
+ * Tint = Edge Tint), which is how both renderers render it. PHYSICAL_CONDUCTOR
+ * (CLOSURE_BSDF_PHYSICAL_CONDUCTOR) is the same closure with
+ * bsdf_microfacet_setup_fresnel_conductor's Fresnel of n = max(IOR, 0), k =
+ * max(Extinction, 0): the metal lobe with pb_blender_material.conductor. */
+static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  pb_blender_material *b = &m->blender;
+  const pb_gltf_value *p;
+  pb_result r = opt_object(R, ext, "metallic", &p);
+  if (r != PB_OK) return r;
+  float base[3] = {0.617f, 0.577f, 0.540f}, tint[3] = {0.695f, 0.726f, 0.770f};
+  float n[3] = {2.757f, 2.513f, 2.231f}, k[3] = {3.867f, 3.404f, 3.009f};
+  float rough = 0.5f, aniso = 0.0f, rot = 0.0f;
+  int dist = 1, fresnel = 0;
+  static const char *const dists[] = {"GGX", "MULTI_GGX"};
+  static const char *const fresnels[] = {"F82", "PHYSICAL_CONDUCTOR"};
+  if (p) {
+    if ((r = opt_color(R, p, "metallic", "baseColor", base)) != PB_OK ||
+        (r = opt_color(R, p, "metallic", "edgeTint", tint)) != PB_OK ||
+        (r = opt_number(R, p, "metallic", "roughness", 0.0, 1.0, &rough)) != PB_OK ||
+        (r = opt_number(R, p, "metallic", "anisotropy", 0.0, 1.0, &aniso)) != PB_OK ||
+        (r = opt_number(R, p, "metallic", "rotation", 0.0, 1.0, &rot)) != PB_OK ||
+        (r = opt_enum(R, p, "metallic", "distribution", dists, 2, &dist)) != PB_OK ||
+        (r = opt_enum(R, p, "metallic", "fresnelType", fresnels, 2, &fresnel)) != PB_OK ||
+        (r = opt_color(R, p, "metallic", "ior", n)) != PB_OK ||
+        (r = opt_color(R, p, "metallic", "extinction", k)) != PB_OK)
+      return r;
+  }
+  b->distribution = dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
+  b->input[PB_IN_METALLIC] = 1.0f;
+  b->input[PB_IN_ROUGHNESS] = rough;
+  b->input[PB_IN_ANISOTROPIC] = aniso;
+  b->input[PB_IN_ANISOTROPIC_ROTATION] = rot;
+  for (int c = 0; c < 3; ++c) {
+    m->base_color[c] = b->subsurface_color[c] = fminf(base[c], 1.0f);
+    b->specular_tint[c] = fminf(tint[c], 1.0f);
+  }
+  if (fresnel == 1) {
+    b->conductor = 1;
+    for (int c = 0; c < 3; ++c) {
+      b->input[PB_IN_CONDUCTOR_N_R + c] = n[c];
+      b->specular_tint[c] = k[c];
+      m->base_color[c] = b->subsurface_color[c] = fminf(fmaxf(fresnel_conductor1(1.0f, n[c], k[c]), 0.0f), 1.0f);
+    }
+  }
+  b->node = PB_NODE_METALLIC;
+  principled2_v1_slots(m);
+  return PB_OK;
+}
+
+/* The Sheen BSDF (Blender 4.0+; model "sheen", distribution Microfiber).
+ * Cycles 4.5 src/kernel/svm/closure.h, CLOSURE_BSDF_SHEEN_ID: bsdf_sheen_setup
+ * (closure/bsdf_sheen.h, the LTC microfiber sheen) of weight Color and
+ * roughness saturate(Roughness): the Principled v2 sheen lobe over nothing
+ * (Sheen Weight 1, Sheen Tint = Color, black base, Specular IOR Level 0). */
+static pb_result read_sheen(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  pb_blender_material *b = &m->blender;
+  const pb_gltf_value *p;
+  pb_result r = opt_object(R, ext, "sheen", &p);
+  if (r != PB_OK) return r;
+  float color[3] = {0.8f, 0.8f, 0.8f}, rough = 0.5f;
+  int dist = 0;
+  static const char *const dists[] = {"MICROFIBER"};
+  if (p && ((r = opt_color(R, p, "sheen", "color", color)) != PB_OK ||
+            (r = opt_number(R, p, "sheen", "roughness", 0.0, 1.0, &rough)) != PB_OK ||
+            (r = opt_enum(R, p, "sheen", "distribution", dists, 1, &dist)) != PB_OK))
+    return r;
+  b->input[PB_IN_SPECULAR_IOR_LEVEL] = 0.0f;
+  b->input[PB_IN_SHEEN_WEIGHT] = 1.0f;
+  b->input[PB_IN_SHEEN_ROUGHNESS] = rough;
+  for (int k = 0; k < 3; ++k) {
+    m->base_color[k] = b->subsurface_color[k] = 0.0f;
+    b->sheen_tint[k] = color[k];
+  }
+  b->node = PB_NODE_SHEEN;
+  principled2_v1_slots(m);
   return PB_OK;
 }
 
@@ -638,22 +739,30 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
   if (ext->type != PB_GLTF_OBJECT)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ": %s, expected an object", io->path, index,
                    pb_gltf_value_type_name(ext));
-  /* Index 0..3: pb_material_model from PB_MODEL_PRINCIPLED; 4: Principled v2. */
-  static const char *const models[] = {"principled", "diffuse", "emission", "holdout", "principled2"};
+  /* Index 0..3: pb_material_model from PB_MODEL_PRINCIPLED; 4: Principled
+   * v2; 5, 6: the Metallic and Sheen BSDFs (rendered as Principled v2). */
+  static const char *const models[] = {"principled", "diffuse", "emission", "holdout", "principled2",
+                                        "metallic", "sheen"};
   int model = -1;
-  pb_result r = opt_enum(&R, ext, "", "model", models, 5, &model);
+  pb_result r = opt_enum(&R, ext, "", "model", models, 7, &model);
   if (r != PB_OK) return r;
-  if (model < 0) return bad(&R, "model", "missing (required: principled, principled2, diffuse, emission or holdout)");
+  if (model < 0)
+    return bad(&R, "model", "missing (required: principled, principled2, metallic, sheen, diffuse, emission or holdout)");
 
   pb_blender_material *b = &m->blender;
-  int v2 = model == 4;
+  int v2 = model >= 4;
   if (v2) {
     pb_blender_material_defaults_v2(m);
   } else {
     pb_blender_material_defaults(m, (pb_material_model)(PB_MODEL_PRINCIPLED + model));
   }
   switch (b->model) {
-  case PB_MODEL_PRINCIPLED: r = v2 ? read_principled2(&R, ext, m) : read_principled(&R, ext, m); break;
+  case PB_MODEL_PRINCIPLED:
+    r = model == 5   ? read_metallic(&R, ext, m)
+        : model == 6 ? read_sheen(&R, ext, m)
+        : v2         ? read_principled2(&R, ext, m)
+                     : read_principled(&R, ext, m);
+    break;
   case PB_MODEL_DIFFUSE: r = read_diffuse(&R, ext, m); break;
   case PB_MODEL_EMISSION: r = read_emission(&R, ext, m); break;
   default: break; /* holdout: nothing to read */
@@ -691,7 +800,8 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
    * primitive's COLOR_0 (the writer puts the attribute there). */
   const pb_gltf_value *vc = pb_gltf_value_get(ext, "vertexColor");
   if (vc) {
-    const char *want = b->model == PB_MODEL_PRINCIPLED ? "baseColor" : b->model == PB_MODEL_DIFFUSE ? "color" : NULL;
+    const char *want = b->node != PB_NODE_PRINCIPLED ? NULL
+                       : b->model == PB_MODEL_PRINCIPLED ? "baseColor" : b->model == PB_MODEL_DIFFUSE ? "color" : NULL;
     if (vc->type != PB_GLTF_STRING)
       return bad(&R, "vertexColor", "%s, expected the name of the input a Color Attribute drives",
                  pb_gltf_value_type_name(vc));

@@ -120,6 +120,13 @@ const char *pb_material_model_name(pb_material_model m) {
   }
 }
 
+const char *pb_blender_model_name(const pb_blender_material *b) {
+  if (b->node == PB_NODE_METALLIC) return "metallic";
+  if (b->node == PB_NODE_SHEEN) return "sheen";
+  if (b->model == PB_MODEL_PRINCIPLED && b->principled_v2) return "principled2";
+  return pb_material_model_name(b->model);
+}
+
 const char *pb_feature_name(uint32_t bit) {
   for (unsigned i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
     if (bit == (1u << i)) return feature_names[i];

@@ -79,7 +79,10 @@ typedef enum pb_blender_input {
   PB_IN_SPECULAR_IOR_LEVEL, PB_IN_COAT_WEIGHT, PB_IN_COAT_ROUGHNESS, PB_IN_COAT_IOR,
   PB_IN_SHEEN_WEIGHT, PB_IN_SHEEN_ROUGHNESS, PB_IN_SUBSURFACE_SCALE, PB_IN_SUBSURFACE_IOR,
   PB_IN_SUBSURFACE_ANISOTROPY, PB_IN_THIN_FILM_THICKNESS, PB_IN_THIN_FILM_IOR, PB_IN_DIFFUSE_ROUGHNESS,
-  PB_IN_EMISSION_STRENGTH, PB_IN_COUNT
+  PB_IN_EMISSION_STRENGTH,
+  /* The Metallic BSDF's Physical Conductor (pb_blender_material.conductor):
+   * its IOR n per channel (its Extinction k is specular_tint). */
+  PB_IN_CONDUCTOR_N_R, PB_IN_CONDUCTOR_N_G, PB_IN_CONDUCTOR_N_B, PB_IN_COUNT
 } pb_blender_input;
 
 /* Subsurface method by what it does (Blender 3.4's RANDOM_WALK is 4.x's
@@ -119,6 +122,12 @@ typedef enum pb_bump_model {
   PB_BUMP_CONTY = 2,  /* Conty Estevez et al. 2019 GGX shadowing (4.5+) */
 } pb_bump_model;
 
+typedef enum pb_blender_node {
+  PB_NODE_PRINCIPLED = 0, /* the model's own node (or glTF) */
+  PB_NODE_METALLIC,       /* Metallic BSDF (F82 or Physical Conductor) */
+  PB_NODE_SHEEN,          /* Sheen BSDF, Microfiber */
+} pb_blender_node;
+
 typedef struct pb_blender_material {
   pb_material_model model;
   pb_distribution distribution;
@@ -136,6 +145,13 @@ typedef struct pb_blender_material {
    * emissive is Emission Color x Emission Strength (an emission texture:
    * the Emission Color's, times the strength). */
   int principled_v2;
+  /* The Blender node the extension's model names (model "metallic", "sheen"):
+   * rendered as the Principled v2 inputs that make the same closure. */
+  pb_blender_node node;
+  /* Metallic BSDF, Fresnel type Physical Conductor: the metal lobe's
+   * Fresnel is the conductor's of IOR input[PB_IN_CONDUCTOR_N_*] and
+   * extinction specular_tint (not F82 tint); base_color is its F0. */
+  int conductor;
   /* Smith masking-shadowing of every GGX lobe: 1 height-correlated G2 =
    * 1/(1 + L(wi) + L(wo)) (Cycles 3.5 and later), 0 separable G1 G1 (3.4).
    * From the root's "blender" version; 0 without it. */
@@ -224,6 +240,9 @@ int pb_material_is_emissive(const pb_material *m);
  * it aims photons and switches on specular paths. */
 int pb_material_may_be_singular(const pb_material *m);
 const char *pb_material_model_name(pb_material_model m);
+/* The extension's model of a Blender material: principled2, metallic, sheen
+ * or pb_material_model_name's. */
+const char *pb_blender_model_name(const pb_blender_material *b);
 
 typedef enum pb_light_type {
   PB_LIGHT_POINT = 0,

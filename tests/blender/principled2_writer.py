@@ -172,6 +172,41 @@ def build():
         nt.links.new(g.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
         cases[mat.name] = {"other": True}
         plane(kind, mat, 7.5 + len(cases))
+
+    # 7. Metallic BSDF (F82) and Sheen BSDF (Microfiber): models metallic and
+    # sheen with the node's values (clamped as Cycles clamps them), F82 and
+    # Physical Conductor; the Beckmann and Ashikhmin forms: a grey
+    # principled2 and a warning.
+    for name, kind, socks, props, want in (
+            ("metallic_f82", "ShaderNodeBsdfMetallic",
+             {"Base Color": (1.2, 0.5, 0.25, 1.0), "Edge Tint": (0.9, 0.8, 0.7, 1.0), "Roughness": 0.25,
+              "Anisotropy": 0.4, "Rotation": 1.25},
+             {"fresnel_type": "F82", "distribution": "GGX"},
+             ("metallic", {"baseColor": [1.0, 0.5, 0.25, 1.0], "edgeTint": [0.9, 0.8, 0.7, 1.0], "roughness": 0.25,
+                           "anisotropy": 0.4, "rotation": 0.25, "distribution": "GGX", "fresnelType": "F82"})),
+            ("sheen_microfiber", "ShaderNodeBsdfSheen", {"Color": (0.3, 0.6, 0.9, 1.0), "Roughness": 0.7},
+             {"distribution": "MICROFIBER"},
+             ("sheen", {"color": [0.3, 0.6, 0.9, 1.0], "roughness": 0.7, "distribution": "MICROFIBER"})),
+            ("metallic_conductor", "ShaderNodeBsdfMetallic",
+             {"IOR": (0.2, 0.9, 1.1), "Extinction": (3.9, 2.4, -1.0), "Roughness": 0.6},
+             {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "MULTI_GGX"},
+             ("metallic", {"ior": [0.2, 0.9, 1.1], "extinction": [3.9, 2.4, 0.0], "roughness": 0.6,
+                           "anisotropy": 0.0, "rotation": 0.0, "distribution": "MULTI_GGX",
+                           "fresnelType": "PHYSICAL_CONDUCTOR"})),
+            ("metallic_beckmann", "ShaderNodeBsdfMetallic", {}, {"distribution": "BECKMANN"}, ("principled2", None)),
+            ("sheen_ashikhmin", "ShaderNodeBsdfSheen", {}, {"distribution": "ASHIKHMIN"}, ("principled2", None))):
+        mat = bpy.data.materials.new(name)
+        mat.use_nodes = True
+        nt = mat.node_tree
+        nt.nodes.remove(nt.nodes["Principled BSDF"])
+        g = nt.nodes.new(kind)
+        for k, v in props.items():
+            setattr(g, k, v)
+        for k, v in socks.items():
+            g.inputs[k].default_value = v
+        nt.links.new(g.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+        cases[mat.name] = {"node": want}
+        plane(name, mat, 7.5 + len(cases))
     return cases
 
 
@@ -213,7 +248,15 @@ def check(cases, got, ref, mats):
             continue
         e = g["extensions"]["PHOTONBRIDGE_blender"]
         node = next((n for n in mats[name].node_tree.nodes if n.type == 'BSDF_PRINCIPLED'), None)
-        if case.get("other"):
+        if case.get("node"):
+            model, members = case["node"]
+            if e.get("model") != model:
+                why.append("model %s, want %s" % (e.get("model"), model))
+            elif members is not None and not same(e.get(model), members, 1e-5):
+                why.append("%s %s, want %s" % (model, e.get(model), members))
+            if (members is None) != bool(e.get("warnings")):
+                why.append("warnings %s" % e.get("warnings"))
+        elif case.get("other"):
             if e.get("model") not in ("principled", "principled2"):
                 why.append("model %s" % e.get("model"))
         else:
@@ -249,7 +292,8 @@ def check(cases, got, ref, mats):
                 why.append("unexpected textures %s" % sorted(set(tex) - set(case.get("textures", {}))))
             if e.get("warnings"):
                 why.append("warnings %s" % e["warnings"])
-        if not case.get("other") and not case.get("no_exporter") and not case.get("textures"):
+        if not case.get("other") and not case.get("node") and not case.get("no_exporter") \
+                and not case.get("textures"):
             a, b = plain_part(g), plain_part(ref.get(name, {}))
             if not same(a, b, 1e-5):
                 why.append("plain glTF %s, Blender's exporter %s" % (json.dumps(a), json.dumps(b)))
@@ -281,7 +325,8 @@ def main(argv):
             why = "info exited %d: %s" % (p.returncode, p.stderr.strip())
         else:
             models = {m["name"]: m["model"] for m in json.loads(p.stdout)["materials"]}
-            bad = {k: v for k, v in models.items() if k in cases and not cases[k].get("other") and v != "principled2"}
+            bad = {k: v for k, v in models.items() if k in cases and not cases[k].get("other")
+                   and v != cases[k].get("node", ("principled2",))[0]}
             if bad:
                 why = "loaded as %s" % bad
         print("%s photonbridge info%s" % ("FAIL" if why else "ok  ", ": " + why if why else ""))

@@ -468,6 +468,14 @@ class MaterialWriter:
             gm, ext = self._plain_black(), {"model": "holdout"}
         elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
             gm, ext = self._like_principled(node)
+        elif node.type == 'BSDF_METALLIC' and node.distribution != 'BECKMANN':
+            gm, ext = self._metallic(node)
+        elif node.type == 'BSDF_SHEEN' and node.distribution == 'MICROFIBER':
+            gm, ext = self._sheen(node)
+        elif node.type in ('BSDF_METALLIC', 'BSDF_SHEEN'):
+            what = "the %s distribution" % node.distribution.title()
+            self._warn_node(node, "%s is not rendered; written as a grey Principled BSDF" % what)
+            gm, ext = self._principled_defaults()
         else:
             self._warn_node(node, "shader not translated; written as a grey Principled BSDF")
             gm, ext = self._principled_defaults()
@@ -921,6 +929,63 @@ class MaterialWriter:
              "specularTint": 0.0, "ior": 1.45, "transmission": 0.0, "emission": color,
              "emissionStrength": strength, "alpha": 1.0}
         return self._principled_plain(p, tex), ext
+
+    def _node_values(self, node, sockets):
+        """The constant values of a BSDF node's sockets (member: value); a
+        linked socket is said and its own value written, Normal and Tangent
+        links are said."""
+        out = {}
+        for sock_name, member in sockets:
+            sock = node.inputs[sock_name]
+            out[member] = _value(sock)
+            src = _source(sock)
+            if src is not None:
+                self._warn_node(src.node, "drives %s and is not translated; its value %s is written"
+                                % (sock_name, _fmt(out[member])))
+        for sock_name in ("Normal", "Tangent"):
+            sock = node.inputs.get(sock_name)
+            if sock is not None and _source(sock) is not None:
+                self._warn_node(_source(sock).node, "drives %s and is not translated" % sock_name)
+        return out
+
+    def _metallic(self, node):
+        """A Metallic BSDF (Blender 4.3+), GGX or Multiscatter GGX: the
+        extension's "metallic" model, with the F82 Fresnel (Base Color, Edge
+        Tint) or the Physical Conductor's (IOR n, Extinction k, per RGB
+        channel). Cycles renders it as the Principled v2 metal lobe alone;
+        it clamps the colours, Roughness and Anisotropy to [0, 1] and n, k
+        to >= 0, and Rotation turns by 2 pi. The plain glTF of a conductor
+        has its colour at normal incidence."""
+        conductor = node.fresnel_type == 'PHYSICAL_CONDUCTOR'
+        v = self._node_values(node, ((("IOR", "ior"), ("Extinction", "extinction")) if conductor else
+                                     (("Base Color", "baseColor"), ("Edge Tint", "edgeTint"))) +
+                              (("Roughness", "roughness"), ("Anisotropy", "anisotropy"), ("Rotation", "rotation")))
+        clamp = lambda x: min(max(float(x), 0.0), 1.0)  # noqa: E731
+        m = {"roughness": clamp(v["roughness"]), "anisotropy": clamp(v["anisotropy"]),
+             "rotation": float(v["rotation"]) % 1.0, "distribution": node.distribution,
+             "fresnelType": node.fresnel_type}
+        if conductor:
+            m["ior"] = [max(float(c), 0.0) for c in v["ior"][:3]]
+            m["extinction"] = [max(float(c), 0.0) for c in v["extinction"][:3]]
+            base = [((n - 1.0) ** 2 + k * k) / ((n + 1.0) ** 2 + k * k) for n, k in zip(m["ior"], m["extinction"])]
+            base, tint = [clamp(c) for c in base] + [1.0], [1.0, 1.0, 1.0, 1.0]
+        else:
+            m["baseColor"] = base = [clamp(c) for c in v["baseColor"][:3]] + [1.0]
+            m["edgeTint"] = tint = [clamp(c) for c in v["edgeTint"][:3]] + [1.0]
+        p = dict(PRINCIPLED2_DEFAULTS, baseColor=base, metallic=1.0, roughness=m["roughness"],
+                 specularTint=tint, anisotropic=m["anisotropy"], anisotropicRotation=m["rotation"])
+        return self._principled2_plain(p, {}), {"model": "metallic", "metallic": m}
+
+    def _sheen(self, node):
+        """A Sheen BSDF (Blender 4.0+), Microfiber: the extension's "sheen"
+        model (Cycles' microfiber sheen, the Principled v2 sheen lobe over
+        nothing). Its plain glTF is a black KHR_materials_sheen material."""
+        v = self._node_values(node, (("Color", "color"), ("Roughness", "roughness")))
+        m = {"color": list(v["color"][:3]) + [1.0], "roughness": min(max(float(v["roughness"]), 0.0), 1.0),
+             "distribution": "MICROFIBER"}
+        p = dict(PRINCIPLED2_DEFAULTS, baseColor=[0.0, 0.0, 0.0, 1.0], specularIorLevel=0.0, sheenWeight=1.0,
+                 sheenTint=m["color"], sheenRoughness=m["roughness"])
+        return self._principled2_plain(p, {}), {"model": "sheen", "sheen": m}
 
     def _like_principled(self, node):
         """Glass, Glossy and Refraction BSDFs as the Principled inputs that
