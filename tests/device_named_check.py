@@ -50,6 +50,9 @@ with tempfile.TemporaryDirectory() as d:
               "serve's CPU device warning: %r" % sw)
     else:
         check(not sw, "serve warns of a CPU device on %s: %r" % (j.get("device_type"), sw))
+    sq = subprocess.run([exe, "serve", scene, "-q"], input='{"cmd": "quit"}\n', capture_output=True, text=True,
+                        timeout=600)
+    check(sq.returncode == 0 and "CPU Vulkan device" not in sq.stderr, "serve -q still warns: %r" % sq.stderr)
 
 sys.path.insert(0, os.path.join(root, "validation"))
 import validate  # noqa: E402

@@ -8,6 +8,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/live_opts.h"
+#include "core/log.h"
 #include "gpu/gpu.h"
 #include "serve/serve.h"
 
@@ -70,6 +71,7 @@ int pb_cmd_serve(int argc, char **argv) {
   if (socket_path && (r = pb_serve_socket_check(socket_path)) != PB_OK) return pb_cli_exit(cmd, r);
   pb_gpu *g = NULL;
   pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
+  if (c.quiet) pb_log_set_level(PB_LOG_QUIET); /* before the device's warning (the scene loads later) */
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {
     pb_cli_warn_cpu_device("serve", g);
     pb_serve_desc d = {.scene = pos[0], .core = &c, .seq = pb_live_sequence_desc(&lo, c.seed),
