@@ -1,5 +1,6 @@
 /* The ray-query pass (shaders/raycast.comp): closest hit or occlusion for a
  * batch of rays; used by the tests against Embree and by the benchmark. */
+#include <stdio.h>
 #include <string.h>
 
 #include "core/log.h"
@@ -14,6 +15,19 @@ void pb_raycast_destroy(pb_gpu *g, pb_raycast_pass *p) {
   memset(p, 0, sizeof *p);
 }
 
+pb_result pb_raycast_buffers_create(pb_gpu *g, const char *name, uint32_t capacity, pb_raycast_pass *p) {
+  char rn[64], hn[64];
+  snprintf(rn, sizeof rn, "%s.rays", name);
+  snprintf(hn, sizeof hn, "%s.hits", name);
+  pb_gpu_buffer_desc rd = {.name = rn, .size = (uint64_t)capacity * sizeof(pb_gpu_ray)};
+  pb_result r = pb_gpu_buffer_create(g, &rd, &p->rays);
+  if (r != PB_OK) return r;
+  pb_gpu_buffer_desc hd = {.name = hn, .size = (uint64_t)capacity * sizeof(pb_gpu_hit), .host_visible = 1};
+  r = pb_gpu_buffer_create(g, &hd, &p->hits);
+  if (r == PB_OK) p->capacity = capacity;
+  return r;
+}
+
 pb_result pb_raycast_create(pb_gpu *g, const pb_gpu_scene *gs, uint32_t capacity, pb_raycast_pass *p) {
   memset(p, 0, sizeof *p);
   if (capacity == 0) return pb_fail(PB_ERR_USAGE, "raycast: capacity 0");
@@ -26,18 +40,12 @@ pb_result pb_raycast_create(pb_gpu *g, const pb_gpu_scene *gs, uint32_t capacity
   };
   pb_result r = pb_gpu_pipeline_create(g, &pd, &p->pipe);
   if (r != PB_OK) goto fail;
-  pb_gpu_buffer_desc rd = {.name = "raycast.rays", .size = (uint64_t)capacity * sizeof(pb_gpu_ray)};
-  r = pb_gpu_buffer_create(g, &rd, &p->rays);
-  if (r != PB_OK) goto fail;
-  pb_gpu_buffer_desc hd = {.name = "raycast.hits", .size = (uint64_t)capacity * sizeof(pb_gpu_hit),
-                           .host_visible = 1};
-  r = pb_gpu_buffer_create(g, &hd, &p->hits);
+  r = pb_raycast_buffers_create(g, "raycast", capacity, p);
   if (r != PB_OK) goto fail;
   const pb_gpu_buffer *b[PB_RAYCAST_BIND_COUNT] = {[PB_RAYCAST_BIND_NODES] = &gs->nodes, [PB_RAYCAST_BIND_TRIS] = &gs->tris,
                                                 [PB_RAYCAST_BIND_RAYS] = &p->rays, [PB_RAYCAST_BIND_HITS] = &p->hits};
   r = pb_gpu_pipeline_bind(g, &p->pipe, b, PB_RAYCAST_BIND_COUNT);
   if (r != PB_OK) goto fail;
-  p->capacity = capacity;
   return PB_OK;
 fail:
   pb_raycast_destroy(g, p);

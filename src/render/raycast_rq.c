@@ -10,9 +10,7 @@
 
 void pb_raycast_rq_destroy(pb_gpu *g, pb_raycast_rq_pass *p) {
   if (!p) return;
-  pb_gpu_pipeline_destroy(g, &p->pipe);
-  pb_gpu_buffer_destroy(g, &p->rays);
-  pb_gpu_buffer_destroy(g, &p->hits);
+  pb_raycast_destroy(g, &p->pass);
   pb_gpu_accel_destroy(g, &p->accel);
   memset(p, 0, sizeof *p);
 }
@@ -40,21 +38,15 @@ pb_result pb_raycast_rq_create(pb_gpu *g, const pb_scene *s, uint32_t capacity, 
       .accel_bindings = 1u << PB_RAYCAST_RQ_BIND_TLAS,
       .push_bytes = sizeof(pb_gpu_raycast_push),
   };
-  r = pb_gpu_pipeline_create(g, &pd, &p->pipe);
+  r = pb_gpu_pipeline_create(g, &pd, &p->pass.pipe);
   if (r != PB_OK) goto fail;
-  pb_gpu_buffer_desc rd = {.name = "raycast_rq.rays", .size = (uint64_t)capacity * sizeof(pb_gpu_ray)};
-  r = pb_gpu_buffer_create(g, &rd, &p->rays);
+  r = pb_raycast_buffers_create(g, "raycast_rq", capacity, &p->pass);
   if (r != PB_OK) goto fail;
-  pb_gpu_buffer_desc hd = {.name = "raycast_rq.hits", .size = (uint64_t)capacity * sizeof(pb_gpu_hit),
-                           .host_visible = 1};
-  r = pb_gpu_buffer_create(g, &hd, &p->hits);
+  const pb_gpu_buffer *b[PB_RAYCAST_RQ_BIND_COUNT] = {[PB_RAYCAST_RQ_BIND_RAYS] = &p->pass.rays,
+                                                      [PB_RAYCAST_RQ_BIND_HITS] = &p->pass.hits};
+  r = pb_gpu_pipeline_bind(g, &p->pass.pipe, b, PB_RAYCAST_RQ_BIND_COUNT);
+  if (r == PB_OK) r = pb_gpu_pipeline_bind_accel(g, &p->pass.pipe, PB_RAYCAST_RQ_BIND_TLAS, &p->accel);
   if (r != PB_OK) goto fail;
-  const pb_gpu_buffer *b[PB_RAYCAST_RQ_BIND_COUNT] = {[PB_RAYCAST_RQ_BIND_RAYS] = &p->rays,
-                                                      [PB_RAYCAST_RQ_BIND_HITS] = &p->hits};
-  r = pb_gpu_pipeline_bind(g, &p->pipe, b, PB_RAYCAST_RQ_BIND_COUNT);
-  if (r == PB_OK) r = pb_gpu_pipeline_bind_accel(g, &p->pipe, PB_RAYCAST_RQ_BIND_TLAS, &p->accel);
-  if (r != PB_OK) goto fail;
-  p->capacity = capacity;
   return PB_OK;
 fail:
   pb_raycast_rq_destroy(g, p);
@@ -63,29 +55,5 @@ fail:
 
 pb_result pb_raycast_rq_run(pb_gpu *g, pb_raycast_rq_pass *p, const pb_gpu_ray *rays, uint32_t n, int any_hit,
                             pb_gpu_hit *hits, double *gpu_ms) {
-  if (n > p->capacity)
-    return pb_fail(PB_ERR_LIMIT, "raycast_rq: %u rays exceed the pass's capacity of %u", n, p->capacity);
-  if (gpu_ms) *gpu_ms = -1.0;
-  if (n == 0) return PB_OK;
-  pb_result r = pb_gpu_buffer_upload(g, &p->rays, 0, rays, (uint64_t)n * sizeof *rays);
-  if (r != PB_OK) return r;
-  pb_gpu_raycast_push push = {.ray_count = n, .any_hit = any_hit ? 1u : 0u};
-  r = pb_gpu_begin(g);
-  if (r != PB_OK) return r;
-  pb_gpu_timestamp(g, 0);
-  r = pb_gpu_dispatch(g, &p->pipe, &push, n);
-  pb_gpu_timestamp(g, 1);
-  if (r != PB_OK) {
-    pb_gpu_submit(g);
-    return r;
-  }
-  double t0 = pb_time_now();
-  r = pb_gpu_submit(g);
-  double wall = (pb_time_now() - t0) * 1e3;
-  if (r != PB_OK) return r;
-  if (gpu_ms) {
-    double ms = pb_gpu_elapsed_ms(g, 0, 1);
-    *gpu_ms = ms >= 0 ? ms : wall;
-  }
-  return pb_gpu_buffer_download(g, &p->hits, 0, hits, (uint64_t)n * sizeof *hits);
+  return pb_raycast_run(g, &p->pass, rays, n, any_hit, hits, gpu_ms);
 }

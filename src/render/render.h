@@ -97,6 +97,8 @@ void pb_raycast_destroy(pb_gpu *g, pb_raycast_pass *p);
  * timestamps (or wall time of the submission when the device has none). */
 pb_result pb_raycast_run(pb_gpu *g, pb_raycast_pass *p, const pb_gpu_ray *rays, uint32_t n,
                          int any_hit, pb_gpu_hit *hits, double *gpu_ms);
+/* The rays and hits buffers of a pass of `capacity` rays (both passes). */
+pb_result pb_raycast_buffers_create(pb_gpu *g, const char *name, uint32_t capacity, pb_raycast_pass *p);
 
 /* The same through VK_KHR_ray_query (raycast_rq.c), on a device with
  * pb_gpu_limits.ray_query (PB_ERR_NOT_AVAILABLE otherwise): its own
@@ -104,9 +106,7 @@ pb_result pb_raycast_run(pb_gpu *g, pb_raycast_pass *p, const pb_gpu_ray *rays, 
  * as the BVH's pb_gpu_tri.prim), the same rays, hits and timing. */
 typedef struct pb_raycast_rq_pass {
   pb_gpu_accel accel;
-  pb_gpu_pipeline pipe;
-  pb_gpu_buffer rays, hits;
-  uint32_t capacity;
+  pb_raycast_pass pass; /* its pipeline, buffers and run: pb_raycast_run's */
 } pb_raycast_rq_pass;
 
 pb_result pb_raycast_rq_create(pb_gpu *g, const pb_scene *s, uint32_t capacity, pb_raycast_rq_pass *out);
