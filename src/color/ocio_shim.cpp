@@ -417,14 +417,14 @@ extern "C" pb_result pb_color_open(const pb_color_desc *desc, pb_color **out) {
   // built-in one when that has them.
   if (c->found_blender) {
     try {
-      OCIO::ConstConfigRcPtr b = builtin_config();
       auto holds = [&](const OCIO::ConstConfigRcPtr &cf) {
         const char *d = empty(desc->display) ? cf->getDefaultDisplay() : desc->display;
         if (!has_display(cf, d)) return false;
         if (!empty(desc->view) && !has_view(cf, d, desc->view)) return false;
         return empty(desc->look) || std::strcmp(desc->look, "None") == 0 || cf->getLook(desc->look) != nullptr;
       };
-      if (!holds(c->config) && holds(b)) {
+      OCIO::ConstConfigRcPtr b;
+      if (!holds(c->config) && holds(b = builtin_config())) {
         c->config = b;
         c->config_name = "built-in (" + c->config_name.substr(std::strlen("Blender's ")) +
                          " lacks the display, view or look asked for)";
