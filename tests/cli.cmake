@@ -215,6 +215,15 @@ add_test(NAME cli_render_progress
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_render_progress PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
 
+# --noise-threshold: refinement to the render's own noise estimate, and that
+# estimate within a factor 1.5 of the true error against a converged
+# reference (tests/noise_threshold_check.py).
+add_test(NAME cli_render_noise_threshold
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/noise_threshold_check.py ${PB_EXE} ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_noise_threshold PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed"
+                     LABELS "gpu;no-sanitize" TIMEOUT 900)
+
 # --time-limit with the default one photon map refines with more maps until
 # the time is up (the planned count is the option's bound); --progressive
 # with one map says it does nothing and how to make it work.

@@ -396,6 +396,11 @@ PB_STRUCT(pb_gpu_frame) {
 } PB_END(pb_gpu_frame)
 PB_CONST(PB_GPU_FRAME_DIRECT_ONLY, 1u)
 PB_CONST(PB_GPU_FRAME_JITTER, 2u)      /* jitter the sample in the pixel also at 1 spp */
+PB_CONST(PB_GPU_FRAME_OPEN_SAMPLES, 4u) /* an open-ended sample count (a time
+                                          limit, a noise threshold): sample
+                                          positions from a (0,2)-sequence,
+                                          stratified at every prefix, not an
+                                          m x m grid over spp */
 
 /* G-buffer entry of one pixel for the current sample, 64 bytes: the first
  * non-delta surface along the eye path (after any specular chain), in world

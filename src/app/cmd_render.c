@@ -72,6 +72,7 @@ typedef struct render_opts {
   /* Driving photonbridge from another program (the Blender add-on). */
   const char *crop, *preview, *blender_layer, *blender_passes;
   double time_limit, preview_interval;
+  double noise_threshold; /* -1: unset (off) */
   int progress_lines;
 } render_opts;
 
@@ -107,17 +108,26 @@ static pb_result on_progress(void *user, const pb_render_progress *p) {
     char stage[96];
     double per = p->iteration ? p->elapsed_s / p->iteration : 0;
     double eta = per * (double)(p->iterations - p->iteration);
+    double nt = pc->o->noise_threshold;
+    if (nt > 0 && p->noise > 0) /* the noise falls as 1 / sqrt(maps) */
+      eta = per * fmax(0.0, (double)p->iteration * (p->noise / nt) * (p->noise / nt) - p->iteration);
     if (pc->o->time_limit > 0 && eta > pc->o->time_limit - p->elapsed_s + per)
       eta = pc->o->time_limit - p->elapsed_s + per > 0 ? pc->o->time_limit - p->elapsed_s + per : 0;
     if (pc->o->direct_only)
       snprintf(stage, sizeof stage, "direct light, %u/%u samples", p->samples, p->spp);
+    else if (nt > 0 && p->noise > 0)
+      snprintf(stage, sizeof stage, "photon map %u, noise %.1f dB (target %.1f dB), %u samples", p->iteration,
+               -20.0 * log10(p->noise), -20.0 * log10(nt), p->samples);
+    else if (nt > 0)
+      snprintf(stage, sizeof stage, "photon map %u (noise threshold %.1f dB), %u samples", p->iteration,
+               -20.0 * log10(nt), p->samples);
     else if (pc->o->time_limit > 0)
       snprintf(stage, sizeof stage, "photon map %u (time limit %gs), %u samples", p->iteration, pc->o->time_limit,
                p->samples);
     else
       snprintf(stage, sizeof stage, "photon map %u/%u, %u/%u samples", p->iteration, p->iterations, p->samples,
                p->spp);
-    pb_render_bar_stage(stage, p->iteration, pc->o->time_limit > 0 ? 0 : p->iterations, eta);
+    pb_render_bar_stage(stage, p->iteration, pc->o->time_limit > 0 || nt > 0 ? 0 : p->iterations, eta);
   }
   if (p->beauty && pc->o->preview) {
     pb_render_result pr;
@@ -250,6 +260,28 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "nonfinite_values", (int64_t)st->nonfinite_values);
   pb_json_int(&j, "photon_divisions", (int64_t)st->photon_guarded);
   pb_json_end_object(&j);
+  /* What ended the refinement, and the render's own noise estimate
+   * (render/noise.h; null without a noise threshold or before two maps). */
+  static const char *const stops[] = {"planned", "time_limit", "noise_threshold"};
+  pb_json_string(&j, "stop", stops[st->stop >= 0 && st->stop < 3 ? st->stop : 0]);
+  pb_json_begin_object(&j, "noise");
+  if (o->noise_threshold > 0) {
+    pb_json_number(&j, "threshold", o->noise_threshold);
+    pb_json_number(&j, "threshold_psnr", -20.0 * log10(o->noise_threshold));
+  } else {
+    pb_json_null(&j, "threshold");
+    pb_json_null(&j, "threshold_psnr");
+  }
+  if (st->noise_checks && st->noise_estimate >= 0) {
+    pb_json_number(&j, "estimate", st->noise_estimate);
+    if (isfinite(st->noise_psnr)) pb_json_number(&j, "psnr_estimate", st->noise_psnr);
+    else pb_json_null(&j, "psnr_estimate");
+  } else {
+    pb_json_null(&j, "estimate");
+    pb_json_null(&j, "psnr_estimate");
+  }
+  pb_json_int(&j, "checks", st->noise_checks);
+  pb_json_end_object(&j);
   pb_json_number(&j, "wall_ms", st->wall_ms);
   /* The frame's wall and GPU time (timestamps; null without): the host's
    * share is (wall - gpu) / wall (bench/README.md). */
@@ -278,7 +310,8 @@ int pb_cmd_render(int argc, char **argv) {
   render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
                    .first_bounce = 0 /* traced */, .caustic_share = -1.0 /* unset: the default */,
                    .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
-                   .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */};
+                   .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */,
+                   .noise_threshold = -1.0 /* unset: off */};
   pb_color_opts co = PB_COLOR_OPTS_INIT;
   double gpu_memory_mb = 0; /* --gpu-memory-limit (faults) */
   const pb_opt opts[] = {
@@ -428,6 +461,10 @@ int pb_cmd_render(int argc, char **argv) {
       {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
        "start no photon iteration after S seconds; the image averages the iterations done (of --iterations; "
        "without --iterations: as many photon maps as S seconds allow, at most 65536)", NULL, 0, 1e9, "Sampling", 0},
+      {"noise-threshold", 0, PB_OPT_FLOAT, &o.noise_threshold, "T",
+       "refine photon maps until the render's own estimate of its noise, the RMS error of the displayed image "
+       "(0 to 1, white 1; PSNR = -20 log10 T: 0.01 is 40 dB), is at most T, or --time-limit or --iterations "
+       "ends it; 0: off", NULL, 0, 0.5, "Sampling", 0},
       {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
        "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
        "other passes 0)", NULL, 0, 0, "Output", 0},
@@ -496,6 +533,11 @@ int pb_cmd_render(int argc, char **argv) {
    * allows and the time limit ends it (as reference --time-limit ends its
    * samples). --progressive shrinks footprints between maps: one map has
    * none to shrink. */
+  if (o.noise_threshold < 0) o.noise_threshold = 0;
+  if (o.noise_threshold > 0 && (o.direct_only || o.frames))
+    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --noise-threshold refines photon maps of one frame: "
+                                    "not with --direct-only or --frames"));
+  if (o.noise_threshold > 0 && !o.iterations) o.iterations = PB_RENDER_TIME_LIMIT_ITERATIONS;
   if (o.time_limit > 0 && !o.direct_only && !o.frames) {
     if (!o.iterations) o.iterations = PB_RENDER_TIME_LIMIT_ITERATIONS;
     else if (o.iterations == 1)
@@ -621,7 +663,8 @@ int pb_cmd_render(int argc, char **argv) {
                        .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
                        .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
                                                 : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
-                       .time_limit_s = o.time_limit, .preview_interval_s = o.preview ? o.preview_interval : -1.0};
+                       .time_limit_s = o.time_limit, .noise_threshold = o.noise_threshold,
+                       .preview_interval_s = o.preview ? o.preview_interval : -1.0};
   progress_ctx pctx = {&o};
   pb_render_io rio = {.progress = on_progress, .progress_user = &pctx}; /* the bar, --preview, --progress-lines */
   if (o.crop) rd.full_width = full_w, rd.full_height = full_h, rd.crop_x = crop[0], rd.crop_y = crop[1];

@@ -199,26 +199,54 @@ pb_result pb_metrics_compute(const float *test, const float *ref, uint32_t w,
   return PB_OK;
 }
 
-pb_result pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t w,
-                                       uint32_t h, uint32_t ch,
-                                       const pb_metrics_desc *desc,
-                                       pb_noise_estimate *out) {
+/* The noise estimate of M from parts A (na samples) and B (nb).
+ * delta: the display error by the delta method at M (see metrics.h); else
+ * the difference of the parts' own display images, scaled. */
+static pb_result noise_parts(const float *a, double na, const float *b, double nb, uint32_t w, uint32_t h,
+                             uint32_t ch, const pb_metrics_desc *desc, int delta, pb_noise_estimate *out) {
   memset(out, 0, sizeof *out);
-  if (!a || !b || w == 0 || h == 0 || (ch != 3 && ch != 4))
-    return pb_fail(PB_ERR_USAGE, "noise estimate: bad image (%ux%u, %u channels)", w, h, ch);
+  if (!a || !b || w == 0 || h == 0 || (ch != 3 && ch != 4) || !(na > 0) || !(nb > 0))
+    return pb_fail(PB_ERR_USAGE, "noise estimate: bad image (%ux%u, %u channels) or sample counts", w, h, ch);
+  /* Per sample variance v: Var(A - B) = v (1/na + 1/nb), Var(M) = v / (na + nb),
+   * M = (na A + nb B) / (na + nb): Var(M) = (A - B)^2 / q. */
+  double q = (1.0 / na + 1.0 / nb) * (na + nb), wa = na / (na + nb);
   size_t n = (size_t)w * h;
   double se = 0.0, rel = 0.0, sed = 0.0;
   uint64_t bad = 0;
+  float *hi = NULL, *lo = NULL;
+  if (delta && (!(hi = malloc(3 * n * sizeof *hi)) || !(lo = malloc(3 * n * sizeof *lo)))) {
+    free(hi);
+    return pb_fail(PB_ERR_NOMEM, "metrics: out of memory for a %ux%u image", w, h);
+  }
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
       double va = clean(a[i * ch + (size_t)c], &bad), vb = clean(b[i * ch + (size_t)c], &bad);
-      double d = va - vb, m = 0.5 * (va + vb);
+      double d = va - vb, m = wa * va + (1.0 - wa) * vb;
       se += d * d;
-      rel += 0.25 * d * d / (m * m + 0.01);
+      rel += d * d / q / (m * m + 0.01);
+      if (delta) { /* M plus and minus its own standard deviation */
+        double sd = fabs(d) / sqrt(q);
+        hi[3 * i + (size_t)c] = (float)(m + sd);
+        lo[3 * i + (size_t)c] = (float)(m - sd);
+      }
     }
   float *da, *db;
-  pb_result res = to_display(a, b, w, h, ch, desc, &da, &db);
-  if (res != PB_OK) return res;
+  pb_result res;
+  if (delta) {
+    pb_display_fn disp = desc && desc->display ? desc->display : pb_display_srgb;
+    void *du = desc ? desc->display_user : NULL;
+    res = disp(du, hi, w, h);
+    if (res == PB_OK) res = disp(du, lo, w, h);
+    da = hi, db = lo;
+    if (res != PB_OK) {
+      free(hi);
+      free(lo);
+      return res;
+    }
+    q = 4.0; /* (disp(M + s) - disp(M - s)) / 2 is the error of M */
+  } else if ((res = to_display(a, b, w, h, ch, desc, &da, &db)) != PB_OK) {
+    return res;
+  }
   for (size_t i = 0; i < 3 * n; ++i) {
     double d = (double)da[i] - db[i];
     sed += d * d;
@@ -226,10 +254,24 @@ pb_result pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t 
   free(da);
   free(db);
   double cnt = 3.0 * (double)n;
-  out->rmse = sqrt(0.25 * se / cnt);
+  out->rmse = sqrt(se / ((1.0 / na + 1.0 / nb) * (na + nb)) / cnt);
   out->relmse = rel / cnt;
-  out->psnr = pb_metrics_psnr_from_mse(0.25 * sed / cnt);
+  out->rmse_display = sqrt(sed / q / cnt);
+  out->psnr = pb_metrics_psnr_from_mse(sed / q / cnt);
   return PB_OK;
+}
+
+pb_result pb_metrics_noise_from_parts(const float *a, double na, const float *b, double nb, uint32_t w,
+                                      uint32_t h, uint32_t ch, const pb_metrics_desc *desc,
+                                      pb_noise_estimate *out) {
+  return noise_parts(a, na, b, nb, w, h, ch, desc, 1, out);
+}
+
+pb_result pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t w,
+                                       uint32_t h, uint32_t ch,
+                                       const pb_metrics_desc *desc,
+                                       pb_noise_estimate *out) {
+  return noise_parts(a, 1.0, b, 1.0, w, h, ch, desc, 0, out);
 }
 
 /* matplotlib's viridis at 0, 1/8, ..., 1 (sRGB-encoded 8-bit). */

@@ -87,12 +87,27 @@ double pb_metrics_psnr_from_mse(double mse);
  * as photon mapping's) is not seen. */
 typedef struct pb_noise_estimate {
   double rmse, relmse, psnr;
+  double rmse_display; /* sqrt of the display MSE estimate (psnr's) */
 } pb_noise_estimate;
 
 pb_result pb_metrics_noise_from_halves(const float *a, const float *b, uint32_t width,
                                        uint32_t height, uint32_t channels,
                                        const pb_metrics_desc *desc,
                                        pb_noise_estimate *out);
+
+/* The same from two independent parts of unequal sizes: `a` the mean of na
+ * samples, `b` of nb, for their pooled mean M = (na A + nb B) / (na + nb).
+ * With v the variance of one sample, Var(A - B) = v (1/na + 1/nb) and
+ * Var(M) = v / (na + nb), so each pixel's Var(M) is estimated as
+ * (A - B)^2 / ((1/na + 1/nb)(na + nb)) (4 for halves), and its display
+ * error by the delta method at M: with s that estimate's square root per
+ * pixel and channel, (display(M + s) - display(M - s)) / 2, so that the
+ * display's slope is taken at the pooled mean, not at the noisier parts
+ * (which, a part of one or two samples, overstate the noise of dark
+ * pixels through the sRGB curve's steep start). */
+pb_result pb_metrics_noise_from_parts(const float *a, double na, const float *b, double nb, uint32_t width,
+                                      uint32_t height, uint32_t channels, const pb_metrics_desc *desc,
+                                      pb_noise_estimate *out);
 
 /* Per-pixel error heat maps. */
 typedef enum pb_heatmap_metric {

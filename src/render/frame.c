@@ -16,6 +16,7 @@
 #include "render/tracer.h"
 #include "render/upsample.h"
 #include "render/plan.h"
+#include "render/noise.h"
 #include "render/readback.h"
 #include "render/resolve.h"
 #include "render/targets.h"
@@ -233,6 +234,9 @@ static float footprint_scale(const pb_render_desc *d, uint32_t it) {
 typedef struct preview_state {
   float *beauty;
   double last_s;
+  pb_noise_tracker noise;   /* the noise threshold's estimate */
+  uint32_t noise_next;      /* the iteration count of its next check */
+  int stop;                 /* PB_RENDER_STOP_* */
 } preview_state;
 
 
@@ -423,30 +427,58 @@ typedef struct frame_run {
   uint64_t ring_kept;          /* ... and the planes it keeps there */
 } frame_run;
 
-/* Progress and the time limit, after iteration `it` of band 0 finished
- * (samples [0, s_end) of every pixel of the band are in `accum`). Calls
- * io->progress, with the mean beauty so far when desc->preview_interval_s
- * allows one (the whole image in one band, not the last iteration: its
- * beauty is the result, and at most one per interval); lowers *iters_run to
- * it + 1 once desc->time_limit_s has passed. */
+/* The noise threshold after iteration `it` (samples [0, s_end) in band
+ * 0's accumulators): a check when one is due (noise.h's schedule, and
+ * after the last planned map), lowering *iters_run to it + 1 once the
+ * estimate is at or below the threshold. */
+static pb_result noise_check(frame_run *run, uint32_t it, uint32_t s_end) {
+  preview_state *pv = &run->preview;
+  uint32_t *iters_run = &run->ft.iters_run;
+  if (!(run->d->noise_threshold > 0) || s_end == 0 || (it + 1 != pv->noise_next && it + 1 != *iters_run))
+    return PB_OK;
+  size_t n = (size_t)pv->noise.width * pv->noise.height;
+  if (!pv->beauty && !(pv->beauty = malloc(4 * run->p.pixels * sizeof(float))))
+    return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u noise estimate", pv->noise.width,
+                   pv->noise.height);
+  pb_result r = pb_readback_preview(run->g, &run->c->tg, n, s_end, pv->beauty);
+  if (r == PB_OK) r = pb_noise_tracker_check(&pv->noise, pv->beauty, s_end);
+  if (r != PB_OK) return r;
+  if (pv->noise.estimate >= 0 && pv->noise.estimate <= run->d->noise_threshold && it + 1 < *iters_run) {
+    *iters_run = it + 1;
+    pv->stop = PB_RENDER_STOP_NOISE;
+  }
+  pv->noise_next = pb_noise_tracker_next(&pv->noise, run->d->noise_threshold, it + 1, *iters_run);
+  return PB_OK;
+}
+
+/* Progress, the time limit and the noise threshold, after iteration `it`
+ * of band 0 finished (samples [0, s_end) of every pixel of the band are in
+ * `accum`). Calls io->progress, with the mean beauty so far when
+ * desc->preview_interval_s allows one (the whole image in one band, not the
+ * last iteration: its beauty is the result, and at most one per interval);
+ * lowers *iters_run to it + 1 once desc->time_limit_s has passed or the
+ * noise estimate reached desc->noise_threshold. */
 static pb_result iteration_done(frame_run *run, uint32_t it, uint32_t s_end) {
   const pb_render_desc *d = run->d;
   const pb_frame_plan *p = &run->p;
   preview_state *pv = &run->preview;
   uint32_t *iters_run = &run->ft.iters_run, width = p->shape.width, height = p->shape.height;
   double now = pb_time_now(), t0 = run->ft.wall0;
-  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) *iters_run = it + 1;
-  if (!run->io->progress) return PB_OK;
+  if (d->time_limit_s > 0 && now - t0 >= d->time_limit_s && it + 1 < *iters_run) {
+    *iters_run = it + 1;
+    pv->stop = PB_RENDER_STOP_TIME_LIMIT;
+  }
+  pb_result r = noise_check(run, it, s_end);
+  if (r != PB_OK || !run->io->progress) return r;
   pb_render_progress pr = {.iteration = it + 1, .iterations = *iters_run, .samples = s_end,
                            .spp = (uint32_t)((uint64_t)*iters_run * p->spp / p->iters), .elapsed_s = now - t0,
-                           .width = width, .height = height};
+                           .width = width, .height = height, .noise = pv->noise.estimate};
   size_t n = p->pixels;
   if (d->preview_interval_s >= 0 && p->bands == 1 && it + 1 < *iters_run && s_end > 0 &&
       (pv->last_s == 0 || now - pv->last_s >= d->preview_interval_s)) {
     if (!pv->beauty && !(pv->beauty = malloc(4 * n * sizeof(float))))
       return pb_fail(PB_ERR_NOMEM, "render: out of memory for a %ux%u preview", width, height);
-    pb_result r = pb_readback_preview(run->g, &run->c->tg, n, s_end, pv->beauty);
-    if (r != PB_OK) return r;
+    if ((r = pb_readback_preview(run->g, &run->c->tg, n, s_end, pv->beauty)) != PB_OK) return r;
     pr.beauty = pv->beauty;
     pv->last_s = now;
   }
@@ -471,12 +503,16 @@ static void run_begin(frame_run *run, pb_gpu *g, const pb_scene *s, const pb_ren
   ft->ts = pb_gpu_get_limits(g)->timestamps;
   ft->iters_run = run->p.iters, ft->spp_run = run->p.spp;
   ft->gs = run->p.shape.gs;
+  uint32_t rows0 = run->p.band_rows < run->p.shape.height ? run->p.band_rows : run->p.shape.height;
+  pb_noise_tracker_init(&run->preview.noise, run->p.shape.width, rows0);
+  run->preview.noise_next = 1;
 }
 
 /* The one clean-up path: what the call owns, and on a failure the context
  * and the result too. */
 static pb_result run_end(frame_run *run, pb_result r) {
   free(run->preview.beauty);
+  pb_noise_tracker_free(&run->preview.noise);
   pb_filter_chain_destroy(run->g, run->own_fc);
   if (r != PB_OK || run->c == &run->own) context_clear(run->g, run->c);
   if (r != PB_OK) pb_render_result_destroy(run->out);
@@ -799,6 +835,10 @@ static pb_result frame_finish(frame_run *run) {
   out->width = p->shape.width;
   out->height = p->shape.height;
   out->stats.readback_mode = p->readback;
+  out->stats.stop = run->preview.stop;
+  out->stats.noise_estimate = run->preview.noise.estimate;
+  out->stats.noise_psnr = run->preview.noise.psnr;
+  out->stats.noise_checks = run->preview.noise.checks;
   if (c != &run->own && p->bands == 1 && !p->host_resolve) { /* the planes stay on the GPU (render.h pb_render_gpu_planes) */
     out->gpu.planes = p->defer ? &c->tg.ring[run->ring_slot][0] : &c->tg.planes;
     out->gpu.pplanes = !c->tg.photons ? NULL : p->defer ? &c->tg.ring[run->ring_slot][1] : &c->tg.pplanes;

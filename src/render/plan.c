@@ -76,6 +76,9 @@ static pb_result validate(const pb_scene *s, int camera, uint32_t w, uint32_t h,
                    d->crop_y, d->full_width, d->full_height);
   if (!(d->time_limit_s >= 0) || !isfinite(d->time_limit_s))
     return pb_fail(PB_ERR_USAGE, "render: time limit %g s is not a duration", d->time_limit_s);
+  if (!(d->noise_threshold >= 0 && d->noise_threshold < 1))
+    return pb_fail(PB_ERR_USAGE, "render: noise threshold %g is not in [0, 1) (RMS noise of the display image)",
+                   d->noise_threshold);
   if (d->max_specular_depth > PB_RENDER_MAX_SPECULAR_DEPTH)
     return pb_fail(PB_ERR_USAGE, "render: --max-specular-depth %u (at most %d)", d->max_specular_depth,
                    PB_RENDER_MAX_SPECULAR_DEPTH);
@@ -138,7 +141,8 @@ static void frame_constants(const pb_scene *s, const pb_gpu_scene *gs, int camer
   fr->max_specular_depth = d->max_specular_depth ? d->max_specular_depth : PB_RENDER_MAX_SPECULAR_DEPTH;
   fr->seed_lo = (uint32_t)d->seed;
   fr->seed_hi = (uint32_t)(d->seed >> 32);
-  fr->flags = (d->direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (d->jitter ? PB_GPU_FRAME_JITTER : 0u);
+  fr->flags = (d->direct_only ? PB_GPU_FRAME_DIRECT_ONLY : 0u) | (d->jitter ? PB_GPU_FRAME_JITTER : 0u) |
+              (d->time_limit_s > 0 || d->noise_threshold > 0 ? PB_GPU_FRAME_OPEN_SAMPLES : 0u);
   float gr = d->glossy_path_roughness == 0.0f ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : fmaxf(d->glossy_path_roughness, 0.0f);
   fr->glossy_path_alpha2 = gr * gr * gr * gr; /* alpha = roughness^2 */
   fr->tangent_base = gs->tangent_base;

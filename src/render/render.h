@@ -138,6 +138,8 @@ typedef struct pb_render_progress {
   uint32_t iteration, iterations;  /* finished, planned (fewer once the
                                       time limit stopped the refinement) */
   uint32_t samples, spp;           /* samples per pixel done, planned */
+  double noise;                    /* the frame's noise estimate (RMS on the
+                                      display image, noise.h), < 0: none yet */
   double elapsed_s;                /* since pb_render_frame began */
   uint32_t width, height;
   const float *beauty;             /* NULL, or the mean beauty (RGBA,
@@ -229,6 +231,13 @@ typedef struct pb_render_desc {
    * those run (stats.spp and stats.iterations say how many). */
   double preview_interval_s;   /* < 0: no preview (progress only) */
   double time_limit_s;
+  /* The noise threshold: > 0: the frame checks its own estimate of its
+   * noise (render/noise.h: the RMS noise of the display image, from two
+   * groups of independent photon maps) as the maps finish, and no map
+   * starts once the estimate is at or below this (the iterations are then
+   * the most it runs). Checked on band 0 (the whole image in one band).
+   * stats.noise_* report it; 0: off. */
+  double noise_threshold;
   /* A crop of a larger frame (render --crop, Blender's border): the image
    * is the width x height pixels at column crop_x, row crop_y (top row
    * first) of a full_width x full_height frame, with that frame's camera
@@ -311,6 +320,10 @@ typedef struct pb_render_io {
   struct pb_still_sum *still_sum;
 } pb_render_io;
 
+/* pb_render_stats.stop: the planned maps all ran, the time limit or the
+ * noise threshold ended the frame. */
+enum { PB_RENDER_STOP_PLANNED = 0, PB_RENDER_STOP_TIME_LIMIT = 1, PB_RENDER_STOP_NOISE = 2 };
+
 enum { PB_RENDER_READBACK_ALL = 0, PB_RENDER_READBACK_BEAUTY = 1, PB_RENDER_READBACK_STATS = 2 };
 /* pb_render_desc.keep_planes, pb_render_gpu_planes.kept: bit P for the
  * resolved plane at float offset P (PB_RESOLVE_BEAUTY ..). */
@@ -351,6 +364,13 @@ typedef struct pb_render_stats {
                                                  at r_max */
   uint32_t iterations;
   double k_pd;
+  /* What ended the refinement (PB_RENDER_STOP_*) and, with a noise
+   * threshold, the frame's last noise estimate (render/noise.h: RMS on the
+   * display image; < 0: fewer than two maps checked), its PSNR and the
+   * number of checks. */
+  int stop;
+  double noise_estimate, noise_psnr;
+  uint32_t noise_checks;
   /* Guards: NaN/Inf values met in the resolved AOVs and replaced
    * by 0 (a correct render has none), and divisions the photon tracer
    * guarded, summed over iterations (grazing hits, degenerate footprints;

@@ -149,6 +149,28 @@ static void test_noise(void) {
   free(b);
 }
 
+/* Unequal parts: A the mean of 3 samples, B of 1; Var(M) = (A - B)^2 / q with
+ * q = (1/3 + 1) * 4 = 16/3, and the display error by the delta method at
+ * M = 0.75 A + 0.25 B (metrics.h); a bright pixel clamped at white on both
+ * sides of its deviation has no display noise. */
+static void test_noise_parts(void) {
+  float *a = constant(20, 10, 3, 0.5f), *b = constant(20, 10, 3, 0.3f);
+  pb_noise_estimate n;
+  CHECK_EQ_INT(pb_metrics_noise_from_parts(a, 3, b, 1, 20, 10, 3, NULL, &n), PB_OK);
+  double q = 16.0 / 3.0, s = 0.2 / sqrt(q), m = 0.45;
+  CHECK_NEAR(n.rmse, s, 1e-7);
+  double dd = (srgb(m + s) - srgb(m - s)) / 2;
+  CHECK_NEAR(n.rmse_display, dd, 1e-6);
+  CHECK_NEAR(n.psnr, -20 * log10(dd), 1e-4);
+  for (int i = 0; i < 20 * 10 * 3; ++i) a[i] = 5.0f, b[i] = 4.0f;
+  CHECK_EQ_INT(pb_metrics_noise_from_parts(a, 2, b, 2, 20, 10, 3, NULL, &n), PB_OK);
+  CHECK_NEAR(n.rmse_display, 0.0, 0);
+  CHECK_EQ_INT(pb_metrics_noise_from_parts(a, 0, b, 2, 20, 10, 3, NULL, &n), PB_ERR_USAGE);
+  pb_error_clear();
+  free(a);
+  free(b);
+}
+
 static void test_heatmap(void) {
   float *a = constant(4, 2, 3, 1.0f), *b = constant(4, 2, 3, 1.0f);
   float rgb[4 * 2 * 3], scale = 0;
@@ -172,6 +194,7 @@ int main(void) {
   test_checker();
   test_display_and_errors();
   test_noise();
+  test_noise_parts();
   test_heatmap();
   return pbt_done();
 }
