@@ -296,11 +296,13 @@ MAP = {"photons": "photons", "iterations": "iterations", "spp": "spp", "seed": "
        "tracer": "tracer", "image_maps": "image-maps", "image_map_resolution": "image-map-resolution",
        "filter_passes": "atrous-iterations", "estimator": "estimator", "caustic_filter": "smoothing-caustic",
        "photon_bounces": "photon-bounces", "specular_depth": "max-specular-depth", "device": "device",
-       "time_limit": "time-limit", "progressive": "progressive"}
+       "time_limit": "time-limit", "progressive": "progressive", "noise_threshold": "noise-threshold"}
 for p in props:
     check(p in MAP or p in settings.ADDON_ONLY, "setting %s: a CLI option's or the add-on's own" % p)
 for p, val in sorted(settings.FINAL_RENDER.items()):
-    check(rna[p].default == val, "%s: F12's final-render default %s (the add-on's own)" % (p, val))
+    d = rna[p].default
+    check(abs(d - val) <= 1e-6 if isinstance(val, float) else d == val,
+          "%s: F12's final-render default %s (the add-on's own)" % (p, val))
 for p, opt in sorted(MAP.items()):
     check(opt in helps, "--%s is an option of `photonbridge render`" % opt)
     if p in settings.FINAL_RENDER:
@@ -341,6 +343,13 @@ for k, v in pairs.items():
     d = cli_default(k[2:])
     same = (v == d) if not re.match(r"^[0-9.^]+$", d or "") else abs(number(v) - number(d)) < 1e-9
     check(same, "a new scene's %s %s is the CLI's default %s" % (k, v, d))
+fresh.photonbridge.use_noise_threshold = True  # Cycles' switch: on, F12 passes its threshold
+a2 = settings.cli_args(fresh.photonbridge)
+check("--noise-threshold" in a2 and a2[a2.index("--noise-threshold") + 1] == "0.02" and
+      "--noise-threshold" not in settings.cli_args(fresh.photonbridge, sequence=True) and
+      "--noise-threshold" not in settings.cli_args(fresh.photonbridge, serve=True),
+      "Noise Threshold on: F12 passes --noise-threshold 0.02 (not a sequence, not the viewport): %s" % a2)
+fresh.photonbridge.use_noise_threshold = False
 check(rna["viewport_samples"].default == 1024 and rna["preview_interval"].default == 2.0,
       "the add-on's own: Viewport Samples 1024, Refresh 2 s")
 

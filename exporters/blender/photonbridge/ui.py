@@ -70,7 +70,13 @@ class PHOTONBRIDGE_PT_sampling_render(PhotonbridgePanel, bpy.types.Panel):
 
     def draw(self, context):
         s = context.scene.photonbridge
-        col = self.split_layout().column(align=True)
+        layout = self.split_layout()
+        row = layout.row(align=True)  # Cycles' Noise Threshold: a switch and its value
+        row.prop(s, "use_noise_threshold", text="")
+        sub = row.row()
+        sub.active = s.use_noise_threshold
+        sub.prop(s, "noise_threshold")
+        col = layout.column(align=True)
         col.prop(s, "spp", text="Samples")
         col.prop(s, "time_limit")
         col = self.layout.column()
