@@ -37,6 +37,12 @@
 /* The photon maps render --time-limit plans without --iterations: the
  * option's bound; the time limit ends the frame long before. */
 #define PB_RENDER_TIME_LIMIT_ITERATIONS (1u << 16)
+/* A bare render (no --iterations, --spp, --time-limit or
+ * --noise-threshold) refines photon maps to this noise estimate: 30.5 dB
+ * on the display image, at least 30 dB against converged references on
+ * the samples (bench/README.md, "Noise threshold"). */
+#define PB_RENDER_NOISE_THRESHOLD_DEFAULT 0.03
+#define PB_RENDER_NOISE_THRESHOLD_DEFAULT_STR "0.03"
 enum { PB_PATH_STAGE = 96 }; /* "writing OUT" (the stage text is cut there) */
 
 static const pb_command *self(void) {
@@ -111,7 +117,9 @@ static pb_result on_progress(void *user, const pb_render_progress *p) {
     double nt = pc->o->noise_threshold;
     if (nt > 0 && p->noise > 0) /* the noise falls as 1 / sqrt(maps) */
       eta = per * fmax(0.0, (double)p->iteration * (p->noise / nt) * (p->noise / nt) - p->iteration);
-    if (pc->o->time_limit > 0 && eta > pc->o->time_limit - p->elapsed_s + per)
+    else if (nt > 0)
+      eta = -1; /* not known before the second map */
+    if (pc->o->time_limit > 0 && (eta < 0 || eta > pc->o->time_limit - p->elapsed_s + per))
       eta = pc->o->time_limit - p->elapsed_s + per > 0 ? pc->o->time_limit - p->elapsed_s + per : 0;
     if (pc->o->direct_only)
       snprintf(stage, sizeof stage, "direct light, %u/%u samples", p->samples, p->spp);
@@ -331,7 +339,9 @@ int pb_cmd_render(int argc, char **argv) {
        "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0, "Sampling", 0},
       {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26, "Photons", 0},
       {"iterations", 0, PB_OPT_U32, &o.iterations, "K",
-       "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K; default 1)", NULL, 1,
+       "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K); with "
+       "--noise-threshold or --time-limit the most rendered (default: as many as the noise threshold needs, "
+       "at most 65536; 1 with --spp)", NULL, 1,
        1 << 16, "Photons", 0},
       {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
        "bounces stored per photon path (default: unbounded, paths end by Russian roulette, cap 255)", NULL, 1,
@@ -464,7 +474,8 @@ int pb_cmd_render(int argc, char **argv) {
       {"noise-threshold", 0, PB_OPT_FLOAT, &o.noise_threshold, "T",
        "refine photon maps until the render's own estimate of its noise, the RMS error of the displayed image "
        "(0 to 1, white 1; PSNR = -20 log10 T: 0.01 is 40 dB), is at most T, or --time-limit or --iterations "
-       "ends it; 0: off", NULL, 0, 0.5, "Sampling", 0},
+       "ends it; 0: off (default " PB_RENDER_NOISE_THRESHOLD_DEFAULT_STR " unless --iterations, --spp or "
+       "--time-limit set the work)", NULL, 0, 0.5, "Sampling", 0},
       {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
        "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
        "other passes 0)", NULL, 0, 0, "Output", 0},
@@ -533,7 +544,12 @@ int pb_cmd_render(int argc, char **argv) {
    * allows and the time limit ends it (as reference --time-limit ends its
    * samples). --progressive shrinks footprints between maps: one map has
    * none to shrink. */
-  if (o.noise_threshold < 0) o.noise_threshold = 0;
+  /* Quality as a noise threshold unless the work is set: --iterations,
+   * --spp and --time-limit render exactly what they say (benchmarks), as
+   * do --direct-only (no photon maps) and --frames (a sequence's filters). */
+  if (o.noise_threshold < 0)
+    o.noise_threshold = o.iterations || o.spp || o.time_limit > 0 || o.direct_only || o.max_bounces == 1 || o.frames
+                            ? 0.0 : PB_RENDER_NOISE_THRESHOLD_DEFAULT;
   if (o.noise_threshold > 0 && (o.direct_only || o.frames))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --noise-threshold refines photon maps of one frame: "
                                     "not with --direct-only or --frames"));
@@ -544,7 +560,7 @@ int pb_cmd_render(int argc, char **argv) {
       pb_log_warn("render: --time-limit %g has no effect with --iterations 1 (one photon map): drop --iterations, "
                   "or raise it, to refine until the time is up", o.time_limit);
   }
-  if (o.progressive && o.iterations <= 1 && !o.direct_only && !o.frames)
+  if (o.progressive && o.iterations <= 1 && !o.direct_only && !o.frames && !(o.noise_threshold > 0))
     pb_log_warn("render: --progressive has no effect with one photon map: add --iterations K (K > 1) or "
                 "--time-limit S");
   /* --max-bounces N: the reference's path-length limit.
@@ -687,10 +703,12 @@ int pb_cmd_render(int argc, char **argv) {
   {
     char stage[96];
     uint32_t maps = rd.direct_only ? 0 : (rd.iterations ? rd.iterations : 1);
-    if (o.time_limit > 0) snprintf(stage, sizeof stage, "photon map 0 (time limit %gs)", o.time_limit);
+    if (o.noise_threshold > 0)
+      snprintf(stage, sizeof stage, "photon map 0 (noise threshold %.1f dB)", -20.0 * log10(o.noise_threshold));
+    else if (o.time_limit > 0) snprintf(stage, sizeof stage, "photon map 0 (time limit %gs)", o.time_limit);
     else if (maps) snprintf(stage, sizeof stage, "photon map 0/%u", maps);
     else snprintf(stage, sizeof stage, "direct light, %u samples", o.spp ? o.spp : 1);
-    pb_render_bar_stage(stage, 0, o.time_limit > 0 ? 0 : maps, -1);
+    pb_render_bar_stage(stage, 0, o.time_limit > 0 || o.noise_threshold > 0 ? 0 : maps, -1);
   }
   r = pb_render_frame_io(g, &s, &gs, camera, w, h, &rd, &rio, &res);
   if (r != PB_OK) goto done;
