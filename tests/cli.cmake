@@ -224,6 +224,23 @@ add_test(NAME cli_render_noise_threshold
 set_tests_properties(cli_render_noise_threshold PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed"
                      LABELS "gpu;no-sanitize" TIMEOUT 900)
 
+# A method's own signal of failure is said: the environment-map tracer's
+# miss rate on sun_atrium (thin columns, a roof: 21 % of segments), and
+# splatting on caustics through glass.
+add_test(NAME cli_render_warn_image_misses
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/sun_atrium/sun_atrium.gltf --tracer images --width 16 --iterations 1 --photons 16384 -o $d/x.exr 2>&1; rc=$?; rm -rf $d; echo \"exit=$rc\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_warn_image_misses PROPERTIES
+  PASS_REGULAR_EXPRESSION "warning: render: the environment-map photon tracer \\(--tracer images\\) found no surface for [1-9][0-9] % of its photon segments.*exit=0")
+add_test(NAME cli_render_warn_splat_glass
+         COMMAND sh -c "d=$(mktemp -d); \"$0\" render samples/cornell_caustics/cornell_caustics.gltf --estimator splat --width 8 --iterations 1 -o $d/x.exr 2>&1; rc=$?; \"$0\" render samples/cornell_box/cornell_box.gltf --estimator splat --width 8 --iterations 1 -o $d/y.exr 2>&1 | grep -c 'biased on caustics'; rm -rf $d; echo \"exit=$rc\""
+                 ${PB_EXE}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(cli_render_warn_splat_glass PROPERTIES
+  PASS_REGULAR_EXPRESSION "warning: render: samples/cornell_caustics/cornell_caustics.gltf: --estimator splat is biased on caustics through glass.*\n0\nexit=0")
+set_tests_properties(cli_render_warn_image_misses cli_render_warn_splat_glass PROPERTIES LABELS "gpu;no-sanitize")
+
 # --time-limit with the default one photon map refines with more maps until
 # the time is up (the planned count is the option's bound); --progressive
 # with one map says it does nothing and how to make it work.

@@ -501,6 +501,7 @@ pb_result pb_render_sequence(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, int camer
       snprintf(stage, sizeof stage, "frame %zu/%zu", (size_t)i + 1, count);
       pb_render_bar_stage(stage, (uint64_t)i + 1, count, el / (double)(i + 1) * (double)(count - (size_t)i - 1));
     }
+    pb_render_warn_reliability("render", &res.stats);
     if (!c->quiet) {
       const pb_render_stats *st = &res.stats;
       char metric[96] = "";

@@ -207,3 +207,17 @@ void pb_render_json_estimator(pb_json *j, const pb_render_stats *st) {
     pb_json_number(j, st->estimator_stats[i].name, st->estimator_stats[i].value);
   pb_json_end_object(j);
 }
+
+void pb_render_warn_reliability(const char *cmd, const pb_render_stats *st) {
+  static int warned;
+  double segments = -1, misses = -1;
+  for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
+    if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
+    if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
+  }
+  if (warned || !(segments > 0) || !(misses / segments > PB_RENDER_IMAGE_MISS_WARN)) return;
+  warned = 1;
+  pb_log_warn("%s: the environment-map photon tracer (--tracer images) found no surface for %.0f %% of its photon "
+              "segments (--json photons.image_miss_rate): the indirect light may leak past geometry no map sees "
+              "(thin or hidden surfaces); --tracer bvh traces them exactly", cmd, 100.0 * misses / segments);
+}

@@ -65,6 +65,15 @@ pb_result pb_render_check_blender_passes(const char *list);
 struct pb_json;
 void pb_render_json_estimator(struct pb_json *j, const pb_render_stats *st);
 
+/* A method's own signal that it may have failed, as a warning after a frame
+ * (cmd: "render"): the environment-map photon tracer (--tracer images)
+ * missing more than PB_RENDER_IMAGE_MISS_WARN of its photon segments (light
+ * then leaks past geometry no map sees; bench/README.md: 0.01 on spot_room,
+ * 0.21 on sun_atrium, whose indirect light is 0.26 relMSE off). Once per
+ * process. */
+#define PB_RENDER_IMAGE_MISS_WARN 0.15
+void pb_render_warn_reliability(const char *cmd, const pb_render_stats *st);
+
 void pb_progress_lines_enable(int on);
 int pb_progress_lines_enabled(void);
 void pb_progress_line_stage(const char *stage, double elapsed_s);
