@@ -466,7 +466,8 @@ int pb_cmd_render(int argc, char **argv) {
        "needs more fails with exit 11 (also PB_GPU_MEMORY_LIMIT)", NULL, 0, 1e9, "Device", PB_OPT_ADVANCED},
       {"crop", 0, PB_OPT_STRING, &o.crop, "X,Y,W,H",
        "render only the W x H pixels at column X, row Y (top row 0) of the --width x --height frame, with the "
-       "frame's camera window and random numbers: the crop equals that part of the full render (Blender's border)",
+       "frame's camera window and random numbers: with the same --iterations and --spp the crop equals that part of "
+       "the full render (Blender's border; a noise threshold refines to the crop's own noise)",
        NULL, 0, 0, "Output", 0},
       {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
        "start no photon iteration after S seconds; the image averages the iterations done (of --iterations; "

@@ -3,9 +3,10 @@ line: every setting is one option of `photonbridge render` and nothing
 else (cli_args), so what Blender renders is what the CLI renders with the
 same options. The defaults are the CLI's (tests/blender/bl_ui.py compares
 them with `photonbridge render --help-all`), but for F12's quality
-(FINAL_RENDER: a bare `photonbridge render` is a one-map preview, F12 a
-final render of 16 progressive maps at 16 samples, limited to Blender's Max
-Bounces as Cycles is); the add-on's own settings (the viewport's samples,
+(FINAL_RENDER: a bare `photonbridge render` refines photon maps to its
+default noise threshold, F12 a final render of 16 progressive maps at 16
+samples, limited to Blender's Max Bounces as Cycles is, and to the Noise
+Threshold when that is on); the add-on's own settings (the viewport's samples,
 the picture's refresh, the animation mode) are listed in ADDON_ONLY.
 
 The property names are stored in .blend files: a rename needs a migration,
