@@ -15,7 +15,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "app/render_out.h"
+#include "render/result_exr.h"
 #include "core/fs.h"
 #include "core/log.h"
 #include "serve/protocol.h"
