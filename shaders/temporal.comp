@@ -28,6 +28,15 @@
 //    frame so far, i.e. progressive rendering, so a still view converges
 //    (to the estimator's expectation) instead of plateauing at the
 //    variance of a 0.95 moving average.
+//  * A still run averages the radiance itself, not E times this frame's
+//    albedo: its frames jitter their samples in the pixel, so where a pixel
+//    straddles two materials the albedo a sample meets changes from frame
+//    to frame, and the running mean of E re-modulated by one frame's albedo
+//    would keep that frame's edge at full weight (a still view's edges, a
+//    large share of a small viewport, never converged: 1/sqrt(2k) expected
+//    between frames k and 2k, a third of that fall measured). Its history
+//    is kept in radiance form, marked by a negative length; a moving frame
+//    reading it divides by its pixel's albedo (the run's end, once).
 // The history written for the next frame is E~_i itself, before the
 // spatial filter: feeding the A-Trous output back would compound its blur
 // frame after frame, and a still view would converge to the blurred image.
@@ -82,15 +91,27 @@ float pb_filter_pixel(uint gid) {
   vec3 hist = vec3(0.0);
   float len = 0.0, w = 0.0;
   vec4 mv = motion[gid];
-  if (push.has_history != 0u && push.still != 0u) {
-    // Nothing moved: the history is this pixel's own. No edge-stopping: the
-    // still frames of a sequence jitter their samples in the pixel, and the
-    // differences that makes in depth and normal are anti-aliasing, not
-    // disocclusion. A pixel that had no surface has no history (L = 0).
-    vec4 h = hist_in[gid];
-    hist = h.rgb;
-    len = h.w;
-    w = len > 0.0 ? 1.0 : 0.0;
+  if (push.still != 0u) {
+    // Nothing moved: the history is this pixel's own, in radiance form (a
+    // history from a moving frame, in irradiance form, times this frame's
+    // albedo). No edge-stopping: the still frames of a sequence jitter their
+    // samples in the pixel, and the differences that makes in depth and
+    // normal are anti-aliasing, not disocclusion. A pixel that had no
+    // surface has no history (L = 0).
+    vec3 rad = indirect[gid].rgb;
+    if (push.has_history != 0u) {
+      vec4 h = hist_in[gid];
+      len = abs(h.w);
+      hist = h.w < 0.0 ? h.rgb : h.rgb * a;
+      w = len > 0.0 ? 1.0 : 0.0;
+    }
+    float alpha_s = w * len / (len + 1.0);
+    if (len >= push.max_history) alpha_s = w * push.max_history / (push.max_history + 1.0);
+    vec3 filtered_s = max((1.0 - alpha_s) * rad + alpha_s * hist, vec3(0.0));  // eq. 12, radiance
+    float len_s = 1.0 / (1.0 - alpha_s);
+    hist_out[gid] = vec4(filtered_s, -len_s);
+    result[gid] = vec4(filtered_s, len_s);
+    return len_s;
   } else if (push.has_history != 0u && mv.w > 0.0) {
     int x = int(gid % push.width), y = int(gid / push.width);
     float gx = pb_grad(gp.w, pb_depth(x - 1, y), pb_depth(x + 1, y));
@@ -114,8 +135,8 @@ float pb_filter_pixel(uint gid) {
         float wn = pow(max(0.0, dot(gp.xyz, gq.xyz)), push.sigma_n);
         float wt = bil * wz * wn;
         vec4 h = hist_in[t];
-        hist += wt * h.rgb;
-        len += wt * h.w;
+        hist += wt * (h.w < 0.0 ? h.rgb / a : h.rgb);  // a still run's radiance form
+        len += wt * abs(h.w);
         w += wt;
       }
     // A history worth less than 0.1 % of a frame is a disocclusion met at a
