@@ -9,8 +9,10 @@ floor), at two thresholds. A sample pattern whose first samples all sit in
 one corner of the pixel (an m x m grid over an open-ended count) shifts the
 whole image by half a pixel, an error two groups of maps share: the estimate
 then reads 3 to 10 times too low and this test fails. Also: --json reports
-the stop reason and the estimate; --iterations bounds the maps; the
-option's range and its conflicts are usage errors."""
+the stop reason and the estimate; --iterations bounds the maps; a bare
+render refines to the default threshold, --iterations, --spp and
+--time-limit set the work instead; the option's range and its conflicts
+are usage errors."""
 import json, math, os, subprocess, sys, tempfile
 
 exe, root = sys.argv[1], sys.argv[2]
@@ -64,7 +66,7 @@ with tempfile.TemporaryDirectory() as d:
                   (name, t, est, -20 * math.log10(est), e_true, -20 * math.log10(e_true), -20 * math.log10(e),
                    -20 * math.log10(e_ref), ratio))
     scene = os.path.join(root, "samples", "cornell_box", "cornell_box.gltf")
-    small = ["--width", "16", "--photons", "4096", "-o", os.path.join(d, "s.exr"), "--json", "-", "-q"]
+    small = ["--width", "16", "--photons", "16384", "-o", os.path.join(d, "s.exr"), "--json", "-", "-q"]
     p = run(["render", scene, "--noise-threshold", "0.0001", "--iterations", "3"] + small)
     j = json.loads(p.stdout) if p.returncode == 0 else {}
     check(j.get("stop") == "planned" and j.get("photons", {}).get("iterations") == 3 and
@@ -73,8 +75,17 @@ with tempfile.TemporaryDirectory() as d:
           (p.returncode, {k: j.get(k) for k in ("stop", "noise")}))
     p = run(["render", scene] + small)
     j = json.loads(p.stdout) if p.returncode == 0 else {}
-    check(j.get("noise", {}).get("threshold", 1) is None and j.get("stop") == "planned",
-          "without the option: no threshold, stop 'planned' (%d)" % p.returncode)
+    n = j.get("noise", {})
+    check(n.get("threshold") == 0.03 and j.get("stop") == "noise_threshold" and (n.get("estimate") or 1) <= 0.03 and
+          j.get("photons", {}).get("iterations", 0) >= 2,
+          "a bare render refines to the default threshold 0.03 (%d, %s, %s maps)" %
+          (p.returncode, {k: j.get(k) for k in ("stop", "noise")}, j.get("photons", {}).get("iterations")))
+    for work in (["--iterations", "2"], ["--spp", "2"], ["--time-limit", "600", "--iterations", "2"]):
+        p = run(["render", scene] + work + small)
+        j = json.loads(p.stdout) if p.returncode == 0 else {}
+        check(j.get("noise", {}).get("threshold", 1) is None and j.get("stop") == "planned",
+              "%s sets the work: no threshold, stop 'planned' (%d, %s)" % (" ".join(work), p.returncode,
+                                                                         j.get("stop")))
     for args, msg in ((["--noise-threshold", "0.7"], "render: error: --noise-threshold: 0.7 is outside [0, 0.5]"),
                       (["--noise-threshold", "0.02", "--frames", "1:2"],
                        "render: error: --noise-threshold refines photon maps of one frame: not with "
