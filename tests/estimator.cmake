@@ -33,11 +33,14 @@ set_tests_properties(estimator_furnace PROPERTIES SKIP_RETURN_CODE 77 LABELS "gp
 # The numerical hard cases (tests/hard/hard_cases.py: scale 1e-3 .. 1e3, far
 # from the origin, grazing light, degenerate triangles, extreme lights and
 # albedos) with kNN: finite everywhere, the same picture as kNN's own
-# cornell_box.
+# cornell_box. The validation layers (fatal) on kNN's plain pair and on the
+# cases that leave its maps empty (--validate cornell,materials); every
+# case runs under them with the default estimator in hard_cases_gpu.
 if(Python3_Interpreter_FOUND)
   add_test(NAME hard_cases_gpu_knn
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${CMAKE_CURRENT_BINARY_DIR}/hard_gpu_knn --renderer gpu --gpu-args "--estimator knn"
+                   --validate cornell,materials
            WORKING_DIRECTORY ${PB_ROOT})
   set_tests_properties(hard_cases_gpu_knn PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        LABELS "gpu;no-sanitize;hard" TIMEOUT 900)

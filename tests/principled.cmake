@@ -2,7 +2,12 @@
 # Principled lobe alone, a rough glass and the white furnace, rendered by the
 # reference and by the GPU pipeline and compared with the committed Cycles
 # renders of tests/data/principled (exporters/blender/make_principled_tests.py):
-# mean within 1 %, PSNR >= 35 dB.
+# mean within 1 %, PSNR >= 35 dB. The GPU run has the Vulkan validation
+# layers (fatal) on four renders whose passes and specializations cover the
+# rest: the studio (progressive photon maps, full global illumination) both
+# ways, the rough glass (transmission, an emitter) and the furnace (emission
+# alone); the others render without the layers (principled_lobes.py
+# --validate).
 if(Python3_Interpreter_FOUND)
   add_test(NAME principled_lobes_ref
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
@@ -13,6 +18,7 @@ if(Python3_Interpreter_FOUND)
   add_test(NAME principled_lobes_gpu
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${CMAKE_CURRENT_BINARY_DIR}/principled_gpu --renderer gpu
+                   --validate studio --validate studio@R1 --validate glass --validate furnace
            WORKING_DIRECTORY ${PB_ROOT})
   set_tests_properties(principled_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        TIMEOUT 1200 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
@@ -71,12 +77,16 @@ if(Python3_Interpreter_FOUND)
                        PASS_REGULAR_EXPRESSION " 0 failed")
 endif()
 # The GPU's Principled v2 (shaders/common/principled.glsl, its own code)
-# against the same Cycles 4.5 renders: >= 36 dB, mean within 1 %.
+# against the same Cycles 4.5 renders: >= 36 dB, mean within 1 %. The
+# validation layers (fatal) on four renders: the normal map (a texture),
+# the rough glass (transmission, an emitter), the coated emission and the
+# anisotropic F82 metal with every glossy layer followed by the eye path.
 if(Python3_Interpreter_FOUND)
   add_test(NAME principled2_lobes_gpu
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/principled_lobes.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${CMAKE_CURRENT_BINARY_DIR}/principled2_gpu --renderer gpu --data tests/data/principled2
-                   --psnr 36 --mean-tol 0.01
+                   --psnr 36 --mean-tol 0.01 --validate normal_half --validate glass_ggx
+                   --validate emission_coat --validate metallic_f82_multi_aniso@R1
            WORKING_DIRECTORY ${PB_ROOT})
   set_tests_properties(principled2_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        TIMEOUT 1800 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")

@@ -52,6 +52,14 @@ PHOTONBRIDGE_BIN):
                and a light with nothing on its Light Output (black in Cycles;
                were rendered).
 
+Under PB_VK_VALIDATION=1 (the test suite's) a part's first F12 render runs
+with the Vulkan validation layers and its later ones without
+(PB_VK_VALIDATION=0): on lavapipe the layers cost 1-2 s of CPU a process on
+Blender materials (checking the large shader modules) whatever the scene,
+and the engine drives the same passes each time, so the rest check only the
+pictures. badinput and cancel keep the layers on every
+run (their error paths and torn-down devices are what the layers check).
+
 usage: blender_check.py PHOTONBRIDGE EXR_PROBE ROOT WORKDIR PART
 Exit 77 (skipped) when Blender or a Vulkan device is missing."""
 import json
@@ -329,9 +337,19 @@ def part_validator():
               "the animated hand-off has the frame range as 0 .. %s s of animation" % doc.get("animation_end_s"))
 
 
+VALIDATE_EVERY_RUN = ("badinput", "cancel")
+f12_runs = []  # the F12 renders of this part so far: validated, or not
+
+
 def render_f12(d, blend, settings, fmt="OPEN_EXR_MULTILAYER", frames=("-f", "1"), env=None, timeout=600):
     settings = dict(settings)
     out = os.path.join(d, "f_####")
+    env = dict(env or blender_env())
+    validating = env.get("PB_VK_VALIDATION", "0") not in ("", "0")
+    if validating and f12_runs and PART not in VALIDATE_EVERY_RUN:
+        env["PB_VK_VALIDATION"] = "0"
+        validating = False
+    f12_runs.append(validating)
     p = blender(["-o", out, "-F", fmt, "-x", "1"] + list(frames), setup=(blend, settings), env=env,
                 timeout=timeout, check_rc=False)
     return p
@@ -991,6 +1009,8 @@ def main():
     rc = globals()["part_" + PART]()
     if rc == 77:
         return 77
+    if f12_runs:
+        print("%d F12 renders, %d of them under the validation layers" % (len(f12_runs), sum(f12_runs)))
     print("%d passed, %d failed" % (0, len(failures)) if failures else "all checks passed")
     return 1 if failures else 0
 
