@@ -38,10 +38,11 @@
  * option's bound; the time limit ends the frame long before. */
 #define PB_RENDER_TIME_LIMIT_ITERATIONS (1u << 16)
 /* A bare render (no --iterations, --spp or --time-limit) refines photon
- * maps to this noise estimate: 30.5 dB on the display image, 30.8-33.3 dB
- * against converged references on cornell_box, cornell_caustics and
- * spot_room; ring's caustic, whose footprint bias the estimate cannot see,
- * stops near 26 dB (bench/README.md, "The noise threshold"). */
+ * maps to this noise estimate: 30.5 dB on the display image (at 0.04,
+ * 28 dB estimated, cornell_box, cornell_caustics and spot_room measured
+ * 30.7-33.3 dB against converged references); ring's caustic, whose
+ * footprint bias the estimate cannot see, stops near 26 dB
+ * (bench/README.md, "The noise threshold"). */
 #define PB_RENDER_NOISE_THRESHOLD_DEFAULT 0.03
 #define PB_RENDER_NOISE_THRESHOLD_DEFAULT_STR "0.03"
 enum { PB_PATH_STAGE = 96 }; /* "writing OUT" (the stage text is cut there) */
