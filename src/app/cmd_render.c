@@ -229,13 +229,10 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     /* The photon tracer (render/tracer.h) and its named statistics; the
      * images tracer's miss rate: segments no map confirmed, over all. */
     pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->tracer]);
-    double segments = -1, misses = -1;
-    for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
+    for (uint32_t i = 0; i < st->tracer_stat_count; ++i)
       pb_json_number(&j, st->tracer_stats[i].name, st->tracer_stats[i].value);
-      if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
-      if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
-    }
-    if (segments > 0 && misses >= 0) pb_json_number(&j, "image_miss_rate", misses / segments);
+    double miss_rate = pb_render_image_miss_rate(st);
+    if (miss_rate >= 0) pb_json_number(&j, "image_miss_rate", miss_rate);
     pb_json_int(&j, "atrous_iterations", o->atrous);
     pb_json_int(&j, "upsample_levels", o->upsample_levels);
     double sort_ms = pb_render_estimator_stat(st, "sort_ms", -1);

@@ -241,13 +241,10 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
     pb_json_int(j, "emitted", (int64_t)st->photons_emitted);
     pb_json_int(j, "stored", (int64_t)st->photons_stored);
     if (st->tracer) pb_json_string(j, "tracer", st->tracer); /* render/tracer.h and its statistics */
-    double segments = -1, misses = -1;
-    for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
+    for (uint32_t i = 0; i < st->tracer_stat_count; ++i)
       pb_json_number(j, st->tracer_stats[i].name, st->tracer_stats[i].value);
-      if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
-      if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
-    }
-    if (segments > 0 && misses >= 0) pb_json_number(j, "image_miss_rate", misses / segments);
+    double miss_rate = pb_render_image_miss_rate(st);
+    if (miss_rate >= 0) pb_json_number(j, "image_miss_rate", miss_rate);
     pb_json_end_object(j);
     pb_render_json_estimator(j, st);
   }

@@ -119,14 +119,10 @@ void pb_render_json_estimator(pb_json *j, const pb_render_stats *st) {
 
 void pb_render_warn_reliability(const char *cmd, const pb_render_stats *st) {
   static int warned;
-  double segments = -1, misses = -1;
-  for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
-    if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
-    if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
-  }
-  if (warned || !(segments > 0) || !(misses / segments > PB_RENDER_IMAGE_MISS_WARN)) return;
+  double miss_rate = pb_render_image_miss_rate(st);
+  if (warned || !(miss_rate > PB_RENDER_IMAGE_MISS_WARN)) return;
   warned = 1;
   pb_log_warn("%s: the environment-map photon tracer (--tracer images) found no surface for %.0f %% of its photon "
               "segments (--json photons.image_miss_rate): the indirect light may leak past geometry no map sees "
-              "(thin or hidden surfaces); --tracer bvh traces them exactly", cmd, 100.0 * misses / segments);
+              "(thin or hidden surfaces); --tracer bvh traces them exactly", cmd, 100.0 * miss_rate);
 }

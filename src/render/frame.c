@@ -207,6 +207,15 @@ void pb_render_result_destroy(pb_render_result *r) {
   memset(r, 0, sizeof *r);
 }
 
+double pb_render_image_miss_rate(const pb_render_stats *st) {
+  double segments = -1, misses = -1;
+  for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
+    if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
+    if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
+  }
+  return segments > 0 && misses >= 0 ? misses / segments : -1.0;
+}
+
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing) {
   for (uint32_t i = 0; i < st->estimator_stat_count; ++i)
     if (!strcmp(st->estimator_stats[i].name, name)) return st->estimator_stats[i].value;

@@ -506,6 +506,9 @@ pb_result pb_render_result_read_gpu(pb_gpu *g, pb_render_result *r);
 /* The estimator statistic `name` of st (pb_render_stats.estimator_stats),
  * or `missing` where the estimator has none of that name. */
 double pb_render_estimator_stat(const pb_render_stats *st, const char *name, double missing);
+/* The environment-map tracer's miss rate (tracer "images": photon segments
+ * no map confirmed, over all), or -1 where the frame has none. */
+double pb_render_image_miss_rate(const pb_render_stats *st);
 
 /* A frame in flight (pb_render_desc.in_flight, out->pending): settle waits
  * for the GPU and completes the statistics (out->pending 1 -> 2); read

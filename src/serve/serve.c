@@ -210,14 +210,8 @@ static void render_frame(server *v, int requested, const char *id) {
     return;
   }
   v->pending = 0;
-  /* The images tracer's miss rate, as render --json reports it: segments
-   * no map confirmed, over all. */
   const pb_render_stats *st = &v->ses.res.stats;
-  double segments = 0, misses = 0;
-  for (uint32_t i = 0; i < st->tracer_stat_count; ++i) {
-    if (!strcmp(st->tracer_stats[i].name, "image_segments")) segments = st->tracer_stats[i].value;
-    if (!strcmp(st->tracer_stats[i].name, "image_misses")) misses = st->tracer_stats[i].value;
-  }
+  double miss_rate = pb_render_image_miss_rate(st); /* as render --json reports it */
   pb_serve_frame_reply f = {.requested = requested,
                             .frame = v->served++,
                             .path = v->frame_path,
@@ -229,7 +223,7 @@ static void render_frame(server *v, int requested, const char *id) {
                             .render_ms = ms,
                             .photons_stored = st->photons_stored,
                             .tracer = st->tracer,
-                            .image_miss_rate = segments > 0 ? misses / segments : 0.0};
+                            .image_miss_rate = miss_rate > 0 ? miss_rate : 0.0};
   send_line(v, v->reply, pb_serve_format_frame(v->reply, REPLY_CAP, id, &f));
 }
 
