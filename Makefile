@@ -55,6 +55,12 @@ demo: build
 blender-extension blender-addon-zip:
 	python3 scripts/blender_package.py $(BUILD)/blender
 
+# The add-on's copy of the settings table (src/render/settings.h), written
+# by the binary; a test fails while the two differ.
+.PHONY: settings-table
+settings-table: build
+	$(BUILD)/photonbridge settings --python > exporters/blender/photonbridge/settings_table.py
+
 # The Blender render engine for this user (docs/blender.md);
 # BLENDER=/path/to/blender picks the Blender (default: the one on PATH).
 blender-addon: build

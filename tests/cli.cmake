@@ -122,18 +122,18 @@ pb_cli_test(cli_render_image_maps_99 render samples/cornell_box/cornell_box.gltf
 pb_cli_test(cli_render_tracer_unknown render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
             --tracer kdtree EXIT 2 REGEX "--tracer: unknown value 'kdtree'.*exit=2")
 # --tracer wherever a render is configured: view and serve
-# take render's choices (app/live_opts.h); the images tracer's options
+# take render's choices (the settings table, render/settings.h); the images tracer's options
 # without it are an error, not ignored; info lists the tracers.
 pb_cli_test(cli_view_tracer_unknown view samples/cornell_box/cornell_box.gltf --tracer kdtree EXIT 2
             REGEX "--tracer: unknown value 'kdtree'.*exit=2")
 pb_cli_test(cli_serve_tracer_unknown serve samples/cornell_box/cornell_box.gltf --tracer kdtree EXIT 2
             REGEX "--tracer: unknown value 'kdtree'.*exit=2")
 pb_cli_test(cli_serve_image_maps_without_tracer serve samples/cornell_box/cornell_box.gltf --image-maps 4 EXIT 2
-            REGEX "serve: error: --image-maps and --image-map-resolution need --tracer images.*exit=2")
+            REGEX "serve: error: --image-maps needs --tracer images.*exit=2")
 pb_cli_test(cli_view_image_maps_99 view samples/cornell_box/cornell_box.gltf --tracer images --image-maps 99 EXIT 2
             REGEX "--image-maps: 99 is outside \\[1, 15\\].*exit=2")
 pb_cli_test(cli_render_image_maps_without_tracer render samples/cornell_box/cornell_box.gltf -o /tmp/pb_never.exr
-            --image-map-resolution 64 EXIT 2 REGEX "render: error: --image-maps and --image-map-resolution need --tracer images.*exit=2")
+            --image-map-resolution 64 EXIT 2 REGEX "render: error: --image-map-resolution needs --tracer images.*exit=2")
 pb_cli_test(cli_info_tracers info samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "tracers    bvh \\(default: exact hits in the scene BVH\\), images \\(--image-maps 1..15 cube environment maps.*exit=0")
 pb_cli_test(cli_info_tracers_json info --json - samples/cornell_box/cornell_box.gltf EXIT 0
@@ -337,3 +337,16 @@ add_test(NAME cli_validate_options_in_step
                  ${PB_EXE} ${Python3_EXECUTABLE}
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(cli_validate_options_in_step PROPERTIES PASS_REGULAR_EXPRESSION "missing from validate --help-all: none")
+
+# The settings table (render/settings.h) once: the add-on's copy
+# (exporters/blender/photonbridge/settings_table.py) is what the binary
+# writes (`make settings-table` rewrites it); `settings` lists every row;
+# render, view and serve offer the same options with the same ranges.
+add_test(NAME cli_settings_table_current
+         COMMAND sh -c "\"$0\" settings --python | diff -u \"$1\" - && echo same"
+                 ${PB_EXE} ${CMAKE_SOURCE_DIR}/exporters/blender/photonbridge/settings_table.py)
+set_tests_properties(cli_settings_table_current PROPERTIES PASS_REGULAR_EXPRESSION "^same")
+add_test(NAME cli_settings_everywhere
+         COMMAND python3 ${CMAKE_SOURCE_DIR}/tests/settings_check.py ${PB_EXE}
+                 ${CMAKE_SOURCE_DIR}/exporters/blender/photonbridge/settings_table.py)
+set_tests_properties(cli_settings_everywhere PROPERTIES PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")

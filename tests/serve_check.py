@@ -237,7 +237,22 @@ def part_tracer():
         print("serve_check tracer: %s frame %d, mean %.4f, %d photons stored%s" %
               (want, r["frame"], means[want], r["photons_stored"],
                ", miss rate %.4f" % rate if rate is not None else ""))
-    expect_error(s, {"cmd": "settings", "tracer": "kdtree"}, '"tracer" must be "bvh" or "images"')
+    expect_error(s, {"cmd": "settings", "tracer": "kdtree"}, '"tracer" must be one of "bvh", "images"')
+    # Every render setting reaches a running serve (the settings table,
+    # render/settings.h): the estimator too, with its own option; a bad
+    # value refuses the whole request, and the session goes on.
+    r = s.ask({"cmd": "settings", "tracer": "bvh", "estimator": "knn", "knn_k": 16})
+    if r != {"reply": "settings", "ok": True}:
+        fail("settings estimator knn, knn_k 16 -> %r" % r)
+    r = s.ask({"cmd": "frame"}, timeout=300)
+    if not r.get("ok"):
+        fail("frame with the knn estimator: %r" % r)
+    _, _, _, px = read_frame(r["path"])
+    knn = float(px[..., :3].mean())
+    if not (abs(knn - means["bvh"]) / max(means["bvh"], 1e-9) < 0.10):
+        fail("the knn estimator's frame mean %.4f is not within 10 %% of the LBVH gather's %.4f" % (knn, means["bvh"]))
+    print("serve_check tracer: estimator knn (k 16) frame %d, mean %.4f" % (r["frame"], knn))
+    expect_error(s, {"cmd": "settings", "estimator": "knn", "atrous_clip": 101}, '"atrous_clip" must be a number')
     rel = abs(means["images"] - means["bvh"]) / max(means["bvh"], 1e-9)
     # 8 maps of 64^2 store ~0.9 of the BVH's photons here (measured: the
     # mean 4 % below); 4 maps of 32^2 stored 0.45 and were 23 % below.

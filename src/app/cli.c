@@ -69,6 +69,9 @@ static pb_result set_value(const pb_command *cmd, const pb_opt *o,
   case PB_OPT_FLAG:
     *(int *)o->target = 1;
     return PB_OK;
+  case PB_OPT_FLAG_CLEAR:
+    *(int *)o->target = 0;
+    return PB_OK;
   case PB_OPT_STRING:
     *(const char **)o->target = v;
     return PB_OK;
@@ -143,6 +146,12 @@ static int looks_like_option(const char *a) {
 pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        const pb_opt *opts, size_t n, const char **pos,
                        size_t max_pos, size_t *pos_count, int *help) {
+  return pb_cli_parse_given(cmd, argc, argv, opts, n, pos, max_pos, pos_count, help, NULL);
+}
+
+pb_result pb_cli_parse_given(const pb_command *cmd, int argc, char **argv, const pb_opt *opts, size_t n,
+                             const char **pos, size_t max_pos, size_t *pos_count, int *help, unsigned char *given) {
+  if (given) memset(given, 0, n);
   *pos_count = 0;
   *help = 0;
   int only_pos = 0;
@@ -176,7 +185,7 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        cmd->name, (int)(len + 2), a, cmd->name);
       }
       if (eq) {
-        if (o->kind == PB_OPT_FLAG)
+        if (o->kind == PB_OPT_FLAG || o->kind == PB_OPT_FLAG_CLEAR)
           return pb_fail(PB_ERR_USAGE, "%s: --%s takes no value", cmd->name,
                          o->name);
         val = eq + 1;
@@ -193,7 +202,7 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
       pos[(*pos_count)++] = a;
       continue;
     }
-    if (o->kind != PB_OPT_FLAG && !val) {
+    if (o->kind != PB_OPT_FLAG && o->kind != PB_OPT_FLAG_CLEAR && !val) {
       if (i + 1 >= argc)
         return pb_fail(PB_ERR_USAGE, "%s: --%s needs a value", cmd->name, o->name);
       /* `--png --width 96`: the next word is an option, not this one's
@@ -206,6 +215,7 @@ pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
     }
     pb_result r = set_value(cmd, o, val);
     if (r != PB_OK) return r;
+    if (given) given[o - opts] = 1;
   }
   return PB_OK;
 }

@@ -17,6 +17,7 @@ typedef enum pb_opt_kind {
   PB_OPT_U64,    /* uint64_t */
   PB_OPT_FLOAT,  /* double */
   PB_OPT_CHOICE, /* int: index into `choices` (NULL-terminated) */
+  PB_OPT_FLAG_CLEAR, /* int, set to 0 (--no-temporal: a setting on by default) */
 } pb_opt_kind;
 
 typedef struct pb_opt {
@@ -54,6 +55,12 @@ typedef struct pb_command {
 pb_result pb_cli_parse(const pb_command *cmd, int argc, char **argv,
                        const pb_opt *opts, size_t opt_count, const char **pos,
                        size_t max_pos, size_t *pos_count, int *help);
+
+/* pb_cli_parse, and given[i] set to 1 for each opts[i] the command line
+ * gave (given: n entries, zeroed here; render/settings.h's rows record
+ * which settings the user set). */
+pb_result pb_cli_parse_given(const pb_command *cmd, int argc, char **argv, const pb_opt *opts, size_t opt_count,
+                             const char **pos, size_t max_pos, size_t *pos_count, int *help, unsigned char *given);
 
 /* The name closest to word[0, len) within two edits (Levenshtein), or NULL:
  * the "did you mean" of a misspelt subcommand, option or value. names: the

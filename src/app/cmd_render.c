@@ -27,6 +27,7 @@
 #include "render/plan.h"
 #include "render/render.h"
 #include "app/render_out.h"
+#include "app/settings_opts.h"
 #include "app/render_seq.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
@@ -34,17 +35,6 @@
 #include "shared/pb_knn.h"
 #include "render/tracer.h"
 
-/* The photon maps render --time-limit plans without --iterations: the
- * option's bound; the time limit ends the frame long before. */
-#define PB_RENDER_TIME_LIMIT_ITERATIONS (1u << 16)
-/* A bare render (no --iterations, --spp or --time-limit) refines photon
- * maps to this noise estimate: 30.5 dB on the display image (at 0.04,
- * 28 dB estimated, cornell_box, cornell_caustics and spot_room measured
- * 30.7-33.3 dB against converged references); ring's caustic, whose
- * footprint bias the estimate cannot see, stops near 26 dB
- * (bench/README.md, "The noise threshold"). */
-#define PB_RENDER_NOISE_THRESHOLD_DEFAULT 0.03
-#define PB_RENDER_NOISE_THRESHOLD_DEFAULT_STR "0.03"
 enum { PB_PATH_STAGE = 96 }; /* "writing OUT" (the stage text is cut there) */
 
 static const pb_command *self(void) {
@@ -54,33 +44,22 @@ static const pb_command *self(void) {
 }
 
 typedef struct render_opts {
-  uint32_t spp, max_spec, device, photons, iterations, photon_bounces, leaf_size, max_bounces;
-  int direct_only, validation, constant_kernel, progressive, radius_histogram, no_shading_correction;
-  int no_edge_correction;
-  int first_bounce; /* index into first_bounce_names */
-  int tracer;       /* index into pb_tracer_names */
-  int estimator;    /* index into pb_estimator_names (pb_estimator_kind) */
-  uint32_t knn_k;   /* --estimator knn: neighbours per shading point */
-  double splat_ntile, splat_lmax, splat_smax; /* --splat-*: 0 the defaults (estimator_splat.c) */
-  uint32_t splat_tile;
-  double vsch_radius;
-  int vsch_directional;
-  uint32_t image_maps, image_map_resolution;
-  uint32_t atrous;
-  uint32_t upsample_levels;
-  double atrous_gamma;
-  double smoothing, r_max, alpha, glossy_path_roughness, smoothing_caustic, bandwidth_c0, caustic_share;
+  pb_settings set;  /* the render settings (render/settings.h) */
+  uint32_t device;
+  int validation;
   const char *png;
   /* Sequences (render_seq.h). */
   const char *frames;
   double fps, orbit_seconds;
-  int orbit, no_temporal, bvh_update;
+  int orbit, bvh_update;
   uint32_t reference_spp, warmup, frames_in_flight;
   const char *reference_cache;
   /* Driving photonbridge from another program (the Blender add-on). */
   const char *crop, *preview, *blender_layer, *blender_passes;
-  double time_limit, preview_interval;
-  double noise_threshold; /* -1: unset (off) */
+  double preview_interval;
+  double noise_threshold; /* resolved (pb_settings_render_desc): 0 off */
+  double time_limit;
+  int direct_only;        /* resolved: --direct-only or --max-bounces 1 */
   int progress_lines;
 } render_opts;
 
@@ -161,11 +140,9 @@ static pb_result on_progress(void *user, const pb_render_progress *p) {
 /* --bvh-update, in PB_BVH_UPDATE_* order. */
 static const char *const bvh_update_names[] = {"auto", "refit", "rebuild", NULL};
 
-/* --first-bounce, in pb_photon_first_bounce order from PB_FIRST_BOUNCE_TRACE. */
-static const char *const first_bounce_names[] = {"traced", "rsm", "auto", NULL};
 
 static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g, const pb_render_result *res,
-                            const render_opts *o) {
+                            const render_opts *o, const pb_render_desc *rd) {
   pb_json j;
   char *tmp;
   pb_result r = pb_json_open(&j, path, &tmp);
@@ -181,9 +158,9 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "spp", st->spp);
   pb_json_bool(&j, "direct_only", o->direct_only);
   pb_json_number(&j, "glossy_path_roughness",
-                 isnan(o->glossy_path_roughness) ? PB_RENDER_GLOSSY_PATH_ROUGHNESS : o->glossy_path_roughness);
-  pb_json_int(&j, "max_specular_depth", o->max_spec ? o->max_spec : PB_RENDER_MAX_SPECULAR_DEPTH);
-  pb_json_int(&j, "max_bounces", o->max_bounces); /* 0: unbounded (Russian roulette) */
+                 o->set.glossy_path_roughness);
+  pb_json_int(&j, "max_specular_depth", rd->max_specular_depth ? rd->max_specular_depth : PB_RENDER_MAX_SPECULAR_DEPTH);
+  pb_json_int(&j, "max_bounces", o->set.max_bounces); /* 0: unbounded (Russian roulette) */
   pb_json_bool(&j, "timestamps", st->timestamps);
   pb_json_begin_object(&j, "passes_ms");
   pb_json_number(&j, "bvh_build", st->bvh_build_ms);
@@ -221,20 +198,20 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     if (leaf >= 0) pb_json_int(&j, "leaf_size", (int64_t)leaf);
     if (leaves >= 0) pb_json_int(&j, "lbvh_leaves", (int64_t)leaves);
     pb_json_number(&j, "k_pd", st->k_pd);
-    pb_json_string(&j, "kernel", o->constant_kernel ? "constant" : "epanechnikov");
-    pb_json_string(&j, "first_bounce", first_bounce_names[o->first_bounce]);
-    pb_json_number(&j, "caustic_share", o->caustic_share == -1.0 ? PB_PHOTON_CAUSTIC_SHARE_DEFAULT : o->caustic_share);
+    pb_json_string(&j, "kernel", o->set.constant_kernel ? "constant" : "epanechnikov");
+    pb_json_string(&j, "first_bounce", pb_settings_first_bounce_names[o->set.first_bounce]);
+    pb_json_number(&j, "caustic_share", o->set.caustic_share);
     /* seed 003's variable bandwidth (--bandwidth-c0), 0: the differential footprints */
-    pb_json_number(&j, "bandwidth_c0", o->bandwidth_c0);
+    pb_json_number(&j, "bandwidth_c0", o->set.bandwidth_c0);
     /* The photon tracer (render/tracer.h) and its named statistics; the
      * images tracer's miss rate: segments no map confirmed, over all. */
-    pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->tracer]);
+    pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->set.tracer]);
     for (uint32_t i = 0; i < st->tracer_stat_count; ++i)
       pb_json_number(&j, st->tracer_stats[i].name, st->tracer_stats[i].value);
     double miss_rate = pb_render_image_miss_rate(st);
     if (miss_rate >= 0) pb_json_number(&j, "image_miss_rate", miss_rate);
-    pb_json_int(&j, "atrous_iterations", o->atrous);
-    pb_json_int(&j, "upsample_levels", o->upsample_levels);
+    pb_json_int(&j, "atrous_iterations", rd->atrous_iterations);
+    pb_json_int(&j, "upsample_levels", o->set.upsample_levels);
     double sort_ms = pb_render_estimator_stat(st, "sort_ms", -1);
     if (sort_ms >= 0) pb_json_number(&j, "lbvh_sort_ms", sort_ms);
     else pb_json_null(&j, "lbvh_sort_ms");
@@ -314,118 +291,21 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
 int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
-  render_opts o = {.device = UINT32_MAX, .atrous_gamma = -1.0 /* unset: the filter's default */,
-                   .first_bounce = 0 /* traced */, .caustic_share = -1.0 /* unset: the default */,
-                   .glossy_path_roughness = NAN /* unset: PB_RENDER_GLOSSY_PATH_ROUGHNESS */,
-                   .atrous = UINT32_MAX /* unset: 0 for one frame, 4 for a sequence */,
-                   .noise_threshold = -1.0 /* unset: off */};
+  render_opts o = {.device = UINT32_MAX};
+  int radius_histogram = 0;
   pb_color_opts co = PB_COLOR_OPTS_INIT;
   double gpu_memory_mb = 0; /* --gpu-memory-limit (faults) */
-  const pb_opt opts[] = {
+  pb_settings_init(&o.set);
+  const pb_opt head[] = {
       PB_RENDER_OPTS_OUT(&c, "output file: .exr (scene-linear, every pass) or .png (the beauty, display-referred "
                              "through the OCIO view, as --png)"),
       PB_COLOR_OPTS(&co),
-      {"spp", 0, PB_OPT_U32, &o.spp, "N", "samples per pixel (default 1: pixel centres; more: stratified jitter)",
-       NULL, 1, 1 << 20, "Sampling", 0},
-      {"max-specular-depth", 0, PB_OPT_U32, &o.max_spec, "N",
-       "mirror/glass interactions followed along an eye path (default: Russian roulette from the 9th, cap 64)",
-       NULL, 1, PB_RENDER_MAX_SPECULAR_DEPTH, "Sampling", PB_OPT_ADVANCED},
-      {"glossy-path-roughness", 0, PB_OPT_FLOAT, &o.glossy_path_roughness, "R",
-       "Blender materials: specular and clearcoat layers of Roughness above R are shaded where the eye path stops "
-       "(direct light and the photon map), smoother ones are followed by the eye path; 0: every layer shaded at "
-       "the first hit, 1: every one followed (default " PB_RENDER_GLOSSY_PATH_ROUGHNESS_STR ")", NULL, 0, 1, "Sampling", PB_OPT_ADVANCED},
-      {"direct-only", 0, PB_OPT_FLAG, &o.direct_only, NULL,
-       "render only paths with at most one scattering event (the reference's direct AOV)", NULL, 0, 0, "Sampling", 0},
-      {"photons", 0, PB_OPT_U32, &o.photons, "N", "photon paths per iteration (default 2^18)", NULL, 1, 1u << 26, "Photons", 0},
-      {"iterations", 0, PB_OPT_U32, &o.iterations, "K",
-       "independent photon maps averaged (sample s gathers map s*K/spp; spp is raised to K); with "
-       "--noise-threshold or --time-limit the most rendered (default: as many as the noise threshold needs, "
-       "at most 65536; 1 with --spp)", NULL, 1,
-       1 << 16, "Photons", 0},
-      {"photon-bounces", 0, PB_OPT_U32, &o.photon_bounces, "N",
-       "bounces stored per photon path (default: unbounded, paths end by Russian roulette, cap 255)", NULL, 1,
-       255, "Photons", 0},
-      {"max-bounces", 0, PB_OPT_U32, &o.max_bounces, "N",
-       "scattering events per path, direct light = 1, as the reference's --max-bounces (Blender's Max Bounces "
-       "B is B + 1): photon paths store N - 1 bounces, eye paths follow N - 1 mirror/glass interactions, 1 is "
-       "--direct-only (default: unbounded)", NULL, 1, 1024, "Sampling", 0},
-      {"smoothing", 0, PB_OPT_FLOAT, &o.smoothing, "S", "footprint smoothing factor s, dimensionless (default " PB_PHOTON_SMOOTHING_DEFAULT_STR ")",
-       NULL, 0, 0, "Photons", 0},
-      {"smoothing-caustic", 0, PB_OPT_FLOAT, &o.smoothing_caustic, "S",
-       "caustic photons keep their differential footprint, uncompressed, times S (default "
-       PB_PHOTON_SMOOTHING_CAUSTIC_DEFAULT_STR ")", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"r-max", 0, PB_OPT_FLOAT, &o.r_max, "M", "footprint radius clamp in metres (default 30 photon spacings on the scene's bounding sphere, 30 Delta R: it shrinks as the photons grow)",
-       NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"progressive", 0, PB_OPT_FLAG, &o.progressive, NULL,
-       "shrink the footprints between iterations (probabilistic SPPM: radius^2 *= (i + alpha) / (i + 1)), so more "
-       "--iterations (or a --time-limit) converge to the unbiased answer", NULL, 0, 0, "Photons", 0},
-      {"alpha", 0, PB_OPT_FLOAT, &o.alpha, "A", "--progressive: radius^2 fraction kept per iteration, in (0, 1) "
-       "(default 2/3)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"leaf-size", 0, PB_OPT_U32, &o.leaf_size, "N",
-       "benchmark: fixed LBVH leaf-size threshold instead of the automatic one", NULL, 1,
-       PB_LBVH_MAX_FIXED_LEAF, "Photons", PB_OPT_ADVANCED},
-      {"radius-histogram", 0, PB_OPT_FLAG, &o.radius_histogram, NULL,
+  };
+  /* The settings' rows (the table, render/settings.h), then render's own. */
+  const pb_opt tail[] = {
+      {"radius-histogram", 0, PB_OPT_FLAG, &radius_histogram, NULL,
        "benchmark: bin every map's footprint radii into --json photons.radius_histogram (reads each map back; "
        "slows the render)", NULL, 0, 0, "Reporting", PB_OPT_ADVANCED},
-      {"first-bounce", 0, PB_OPT_CHOICE, &o.first_bounce, "MODE",
-       "how photons find their first hit: traced from the light, rsm: sampled from reflective shadow maps by "
-       "reflected power, or auto: rsm for the lights whose map covers under half of their flux "
-       "(open scenes, where most traced photons miss), traced for the others (default traced: unbiased; the shadow maps miss geometry thinner than a texel)", first_bounce_names, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"caustic-share", 0, PB_OPT_FLOAT, &o.caustic_share, "F",
-       "--first-bounce rsm/auto: the share of each shadow map's photons aimed at the texels that see a mirror or "
-       "glass (caustic paths) at least, their weights raised to it (unbiased: each photon carries its texel's flux "
-       "over its own probability); 0: by reflected power alone (default " PB_PHOTON_CAUSTIC_SHARE_DEFAULT_STR ")",
-       NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"estimator", 0, PB_OPT_CHOICE, &o.estimator, "NAME",
-       "photon density estimator: lbvh (footprints in a per-map LBVH, gathered by traversal), knn (the k nearest "
-       "photons), splat (screen-space splats), vsch (a cluster "
-       "hierarchy over the view samples) or auto (see 'photonbridge info'; default lbvh)",
-       pb_estimator_names, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"vsch-radius", 0, PB_OPT_FLOAT, &o.vsch_radius, "M",
-       "--estimator vsch: one photon radius in metres for every photon (default 0: each "
-       "photon's own footprint radius)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"vsch-directional", 0, PB_OPT_FLAG, &o.vsch_directional, NULL,
-       "--estimator vsch: the directional variant (flux per node in 8 octant buckets, weighted by "
-       "2 cos at shading, blurred; approximate, faster)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"knn-k", 0, PB_OPT_U32, &o.knn_k, "K",
-       "--estimator knn: photons per density estimate, the bandwidth the distance of the K-th nearest "
-       "(default 64, about as many as the default gather averages: k_PD, docs/reading-the-numbers.md)", NULL, 1, PB_KNN_K_MAX, "Photons", PB_OPT_ADVANCED},
-      {"splat-ntile", 0, PB_OPT_FLOAT, &o.splat_ntile, "N",
-       "--estimator splat: photons expected per point, the splat kernel's density scale "
-       "(default 128)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"splat-lmax", 0, PB_OPT_FLOAT, &o.splat_lmax, "F",
-       "--estimator splat: the photon path length at which splats reach full size, as F "
-       "times the scene's bounding radius (default 1)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"splat-smax", 0, PB_OPT_FLOAT, &o.splat_smax, "S",
-       "--estimator splat: the largest stretch of a splat along the incident direction, >= 1 (default 4)",
-       NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"splat-tile", 0, PB_OPT_U32, &o.splat_tile, "N",
-       "--estimator splat: screen tile edge in pixels for the photon density (default 16)", NULL, 1,
-       4096, "Photons", PB_OPT_ADVANCED},
-      {"tracer", 0, PB_OPT_CHOICE, &o.tracer, "KIND",
-       "photon tracer: bvh (exact hits in the scene BVH) or images (k cube environment maps of the "
-       "scene, no hierarchy; approximate, misses counted in --json photons.image_misses; default bvh)",
-       pb_tracer_names, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"image-maps", 0, PB_OPT_U32, &o.image_maps, "K",
-       "--tracer images: environment maps, their centres chosen by coverage from 40 candidates (default 8)",
-       NULL, 1, PB_IMAGE_MAPS_MAX, "Photons", PB_OPT_ADVANCED},
-      {"image-map-resolution", 0, PB_OPT_U32, &o.image_map_resolution, "N",
-       "--tracer images: texels per cube-face side (default 128)", NULL, 8, 1024, "Photons", PB_OPT_ADVANCED},
-      {"bandwidth-c0", 0, PB_OPT_FLOAT, &o.bandwidth_c0, "C0",
-       "a variable bandwidth instead of the differential footprints: every photon a disc of radius "
-       "h = C0 / sqrt(p) sqrt(A / N), p = cos(theta) R^2 / d^2 clamped to [1/4, 4], A the scene's area, N the "
-       "paths (default: off)", NULL, 0, 1e6, "Photons", PB_OPT_ADVANCED},
-      {"upsample-levels", 0, PB_OPT_U32, &o.upsample_levels, "L",
-       "multi-level up-sampling: the photon estimate's diffuse irradiance at every 2^L-th pixel, "
-       "up-sampled level by level by a normal- and depth-aware interpolation, recomputed where the surface "
-       "changes (corners, edges); glossy lobes and caustics at full resolution; --estimator lbvh only, off with "
-       "normal maps (default 0: off)", NULL, 0, 4, "Photons", PB_OPT_ADVANCED},
-      {"atrous-iterations", 0, PB_OPT_U32, &o.atrous, "N",
-       "filter the indirect light: N edge-avoiding A-Trous passes with variance clipping "
-       "(default 0: off for one frame, 4 for --frames)", NULL, 0, 12, "Filtering", 0},
-      {"atrous-clip", 0, PB_OPT_FLOAT, &o.atrous_gamma, "G",
-       "A-Trous detail kept within G local standard deviations (variance clipping; default 0.25; 0: "
-       "none, the plain A-Trous blur)", NULL, 0, 100, "Filtering", PB_OPT_ADVANCED},
       {"frames", 0, PB_OPT_STRING, &o.frames, "A:B",
        "render frames A to B (inclusive) of the scene's animation at time frame/fps; -o and --png then need a "
        "run of '#' for the frame number (out/frame_####.exr)", NULL, 0, 0, "Animation", 0},
@@ -437,8 +317,6 @@ int pb_cmd_render(int argc, char **argv) {
        "--frames: move the camera on a circle around the scene's centre, one turn over the frames (or "
        "--orbit-seconds), looking at the centre", NULL, 0, 0, "Animation", 0},
       {"orbit-seconds", 0, PB_OPT_FLOAT, &o.orbit_seconds, "S", "--orbit: seconds per turn", NULL, 0, 0, "Animation", 0},
-      {"no-temporal", 0, PB_OPT_FLAG, &o.no_temporal, NULL,
-       "--frames: no temporal filter (reprojected history; on by default)", NULL, 0, 0, "Filtering", 0},
       {"bvh-update", 0, PB_OPT_CHOICE, &o.bvh_update, "MODE",
        "--frames: how moving geometry updates the scene BVH: auto, refit or rebuild (default auto)",
        bvh_update_names, 0, 0, "Animation", PB_OPT_ADVANCED},
@@ -450,12 +328,6 @@ int pb_cmd_render(int argc, char **argv) {
        "per-frame error and flicker in --json", NULL, 1, 1 << 20, "Animation", PB_OPT_ADVANCED},
       {"reference-cache", 0, PB_OPT_STRING, &o.reference_cache, "DIR",
        "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0, "Animation", PB_OPT_ADVANCED},
-      {"constant-kernel", 0, PB_OPT_FLAG, &o.constant_kernel, NULL,
-       "ablation: gather with a constant kernel instead of Epanechnikov", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"no-edge-correction", 0, PB_OPT_FLAG, &o.no_edge_correction, NULL,
-       "ablation: no kernel renormalisation at the edges of faces (corners)", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
-      {"no-shading-correction", 0, PB_OPT_FLAG, &o.no_shading_correction, NULL,
-       "ablation: in scenes with normal maps, no shading correction of the indirect light for the bumped normal", NULL, 0, 0, "Photons", PB_OPT_ADVANCED},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0, "Output", 0},
       {"device", 0, PB_OPT_U32, &o.device, "N", "Vulkan device (see 'photonbridge info --devices'; default: "
        "a discrete GPU first, lavapipe last)", NULL, 0, 0, "Device", 0},
@@ -468,14 +340,6 @@ int pb_cmd_render(int argc, char **argv) {
        "frame's camera window and random numbers: with the same --iterations and --spp the crop equals that part of "
        "the full render (Blender's border; a noise threshold refines to the crop's own noise)",
        NULL, 0, 0, "Output", 0},
-      {"time-limit", 0, PB_OPT_FLOAT, &o.time_limit, "S",
-       "start no photon iteration after S seconds; the image averages the iterations done (of --iterations; "
-       "without --iterations: as many photon maps as S seconds allow, at most 65536)", NULL, 0, 1e9, "Sampling", 0},
-      {"noise-threshold", 0, PB_OPT_FLOAT, &o.noise_threshold, "T",
-       "refine photon maps until the render's own estimate of its noise, the RMS error of the displayed image "
-       "(0 to 1, white 1; PSNR = -20 log10 T: 0.01 is 40 dB), is at most T, or --time-limit or --iterations "
-       "ends it; 0: off (default " PB_RENDER_NOISE_THRESHOLD_DEFAULT_STR " unless --iterations, --spp or "
-       "--time-limit set the work)", NULL, 0, 0.5, "Sampling", 0},
       {"preview", 0, PB_OPT_STRING, &o.preview, "FILE.exr",
        "after each finished iteration (but the last), write the image so far to FILE (beauty, atomically; the "
        "other passes 0)", NULL, 0, 0, "Output", 0},
@@ -491,12 +355,18 @@ int pb_cmd_render(int argc, char **argv) {
        "--blender-layer: write only these passes (comma-separated; default all): the passes of Blender's render "
        "result, so that it finds every channel it reads and nothing else", NULL, 0, 0, "Blender add-on", PB_OPT_ADVANCED},
   };
-  const size_t nopts = sizeof opts / sizeof *opts;
+  pb_opt opts[128];
+  size_t nopts = 0;
+  pb_opts_append(opts, &nopts, 128, head, sizeof head / sizeof *head);
+  pb_settings_opts(&o.set, PB_SURFACE_RENDER, opts, &nopts, 128);
+  pb_opts_append(opts, &nopts, 128, tail, sizeof tail / sizeof *tail);
   const char *pos[1];
   size_t npos;
   int help;
-  pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
+  unsigned char given[128];
+  pb_result r = pb_cli_parse_given(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help, given);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
+  pb_settings_mark_given(&o.set, opts, given, nopts);
   if (help) {
     pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "EXR layers: RGBA beauty, direct, albedo, normal, depth, material (index + 1),\n"
@@ -513,11 +383,10 @@ int pb_cmd_render(int argc, char **argv) {
   if ((r = pb_render_out_format_of(c.out, &out_fmt)) != PB_OK) return pb_cli_exit(cmd, r);
   if (out_fmt == PB_RENDER_OUT_PNG && o.blender_layer)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-layer names EXR channels: write -o OUT.exr"));
-  if (o.alpha < 0 || !(o.alpha < 1))
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --alpha %g must lie in (0, 1)", o.alpha));
+  if ((r = pb_settings_check("render", &o.set, 1)) != PB_OK) return pb_cli_exit(cmd, r);
   int32_t first = 0, last = 0;
   if (o.frames && (r = pb_seq_parse_frames(o.frames, &first, &last)) != PB_OK) return pb_cli_exit(cmd, r);
-  if (!o.frames && (o.orbit || o.fps != 0 || o.no_temporal || o.reference_spp || o.reference_cache ||
+  if (!o.frames && (o.orbit || o.fps != 0 || !o.set.temporal || o.reference_spp || o.reference_cache ||
                     o.orbit_seconds != 0 || o.warmup || o.frames_in_flight))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --orbit, --fps, --no-temporal, --warmup, "
                                     "--frames-in-flight and --reference-* need --frames A:B"));
@@ -531,49 +400,27 @@ int pb_cmd_render(int argc, char **argv) {
                                     "allowed (-1000000)", o.warmup, (long long)first - o.warmup));
   if (o.frames && (o.fps < 0 || !(o.fps < 1e6) || o.orbit_seconds < 0 || !(o.orbit_seconds < 1e9)))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --fps and --orbit-seconds must be positive"));
-  if ((o.image_maps || o.image_map_resolution) && o.tracer != PB_TRACER_IMAGES)
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --image-maps and --image-map-resolution need --tracer "
-                                    "images"));
-  if (o.atrous == UINT32_MAX) o.atrous = o.frames ? 4 : 0;
   /* -q and -v hold from here (warnings below; the scene's load applies
    * them again). */
   if (c.quiet) pb_log_set_level(PB_LOG_QUIET);
   else if (c.verbose) pb_log_set_level(PB_LOG_VERBOSE);
-  /* --time-limit refines by photon maps: without --iterations, one map
-   * would leave nothing to stop, so the frame plans as many as the option
-   * allows and the time limit ends it (as reference --time-limit ends its
-   * samples). --progressive shrinks footprints between maps: one map has
-   * none to shrink. */
-  /* Quality as a noise threshold unless the work is set: --iterations,
-   * --spp and --time-limit render exactly what they say (benchmarks), as
-   * do --direct-only (no photon maps) and --frames (a sequence's filters). */
-  if (o.noise_threshold < 0)
-    o.noise_threshold = o.iterations || o.spp || o.time_limit > 0 || o.direct_only || o.max_bounces == 1 || o.frames
-                            ? 0.0 : PB_RENDER_NOISE_THRESHOLD_DEFAULT;
-  if (o.noise_threshold > 0 && (o.direct_only || o.frames))
+  /* The frame's settings, resolved once (render/settings.h): the noise
+   * threshold unless the work is set, the photon maps a threshold or a
+   * time limit plans, --max-bounces' limits. */
+  pb_render_desc rd;
+  memset(&rd, 0, sizeof rd);
+  pb_settings_render_desc(&o.set, o.frames != NULL, &rd);
+  o.noise_threshold = rd.noise_threshold, o.time_limit = o.set.time_limit, o.direct_only = rd.direct_only;
+  if ((o.set.given & PB_SETTING_BIT(noise_threshold)) && o.set.noise_threshold > 0 && (o.direct_only || o.frames))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --noise-threshold refines photon maps of one frame: "
                                     "not with --direct-only or --frames"));
-  if (o.noise_threshold > 0 && !o.iterations) o.iterations = PB_RENDER_TIME_LIMIT_ITERATIONS;
-  if (o.time_limit > 0 && !o.direct_only && !o.frames) {
-    if (!o.iterations) o.iterations = PB_RENDER_TIME_LIMIT_ITERATIONS;
-    else if (o.iterations == 1)
-      pb_log_warn("render: --time-limit %g has no effect with --iterations 1 (one photon map): drop --iterations, "
-                  "or raise it, to refine until the time is up", o.time_limit);
-  }
-  if (o.progressive && o.iterations <= 1 && !o.direct_only && !o.frames && !(o.noise_threshold > 0))
+  if (o.time_limit > 0 && !o.direct_only && !o.frames && rd.iterations == 1)
+    pb_log_warn("render: --time-limit %g has no effect with --iterations 1 (one photon map): drop --iterations, "
+                "or raise it, to refine until the time is up", o.time_limit);
+  /* --progressive shrinks footprints between maps: one map has none. */
+  if (rd.progressive && rd.iterations <= 1 && !o.direct_only && !o.frames && !(o.noise_threshold > 0))
     pb_log_warn("render: --progressive has no effect with one photon map: add --iterations K (K > 1) or "
                 "--time-limit S");
-  /* --max-bounces N: the reference's path-length limit.
-   * A photon stored at its k-th bounce ends a path of k + 1 events at the
-   * eye's first smooth vertex, so photons store at most N - 1; the eye's
-   * mirror/glass chain before that vertex is limited to N - 1 as well (a
-   * path through both may exceed N: the GPU does not count them together). */
-  if (o.max_bounces == 1) o.direct_only = 1;
-  if (o.max_bounces >= 2) {
-    uint32_t n = o.max_bounces - 1;
-    if (!o.photon_bounces) o.photon_bounces = n < PB_PHOTON_BOUNCE_CAP ? n : PB_PHOTON_BOUNCE_CAP;
-    if (!o.max_spec) o.max_spec = n < PB_RENDER_MAX_SPECULAR_DEPTH ? n : PB_RENDER_MAX_SPECULAR_DEPTH;
-  }
   uint32_t crop[4] = {0, 0, 0, 0};
   if (o.crop && (r = parse_crop(o.crop, crop)) != PB_OK) return pb_cli_exit(cmd, r);
   if (o.frames && (o.crop || o.preview || o.time_limit > 0))
@@ -585,17 +432,6 @@ int pb_cmd_render(int argc, char **argv) {
   if (o.blender_passes && !o.blender_layer)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --blender-passes needs --blender-layer"));
   if ((r = pb_render_check_blender_passes(o.blender_passes)) != PB_OK) return pb_cli_exit(cmd, r);
-  if (!(o.vsch_radius >= 0 && o.vsch_radius < 1e9))
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --vsch-radius %g: a radius in metres >= 0 (0: each "
-                                    "photon's footprint radius)", o.vsch_radius));
-  if (o.upsample_levels && o.estimator != PB_ESTIMATOR_LBVH && o.estimator != PB_ESTIMATOR_AUTO)
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --upsample-levels needs --estimator lbvh (the LBVH "
-                                    "gather; auto resolves to it)"));
-  if (o.knn_k && o.estimator != PB_ESTIMATOR_KNN && o.estimator != PB_ESTIMATOR_AUTO)
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: --knn-k needs --estimator knn (or auto)"));
-  if (!pb_estimator_built((uint32_t)o.estimator))
-    return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "render: estimator '%s' is not built in this binary",
-                                    pb_estimator_names[o.estimator]));
   pb_progress_lines_enable(o.progress_lines);
   double t_start = pb_time_now();
   /* --progress-lines: its reader wants its own lines alone. */
@@ -640,7 +476,7 @@ int pb_cmd_render(int argc, char **argv) {
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;
   pb_cli_warn_cpu_device("render", g);
-  if (o.estimator == PB_ESTIMATOR_SPLAT && !o.direct_only) {
+  if (o.set.estimator == PB_ESTIMATOR_SPLAT && !o.direct_only) {
     /* Splatting's own limit (estimator.c's auto rule, never chosen by auto):
      * caustics through glass stay biased whatever the photon count. */
     pb_render_plan pl;
@@ -650,54 +486,21 @@ int pb_cmd_render(int argc, char **argv) {
                   "cornell_caustics whatever the photon count, docs/benchmarks.md); --estimator lbvh converges",
                   s.path);
   }
-  pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, o.spp ? o.spp : 1);
+  pb_log_verbose("render: %s on %s, %ux%u, %u spp", s.path, pb_gpu_device_name(g), w, h, rd.spp ? rd.spp : 1);
   pb_render_bar_stage("building BVH, uploading the scene", 0, 0, -1);
   r = pb_gpu_scene_create(g, &s, &gs);
   if (r != PB_OK) goto done;
   pb_progress_line_stage("uploaded", pb_time_now() - t_start);
-  if (o.smoothing < 0 || o.r_max < 0 || o.smoothing_caustic < 0 || !(o.smoothing < 1e6) || !(o.r_max < 1e9) ||
-      !(o.smoothing_caustic < 1e6)) {
-    r = pb_fail(PB_ERR_USAGE, "render: --smoothing, --smoothing-caustic and --r-max must be positive");
-    goto done;
-  }
-  if (o.caustic_share != -1.0 && !(o.caustic_share >= 0.0 && o.caustic_share <= 0.99)) {
-    r = pb_fail(PB_ERR_USAGE, "render: --caustic-share must be in [0, 0.99]");
-    goto done;
-  }
-  if (o.splat_ntile < 0 || !(o.splat_ntile < 1e6) || o.splat_lmax < 0 || !(o.splat_lmax < 1e6) ||
-      (o.splat_smax != 0 && o.splat_smax < 1) || !(o.splat_smax < 1e6)) {
-    r = pb_fail(PB_ERR_USAGE, "render: --splat-ntile and --splat-lmax must be positive, --splat-smax at least 1");
-    goto done;
-  }
-  pb_render_desc rd = {.spp = o.spp, .max_specular_depth = o.max_spec, .direct_only = o.direct_only, .seed = c.seed,
-                       .photons = o.photons, .iterations = o.iterations, .photon_bounces = o.photon_bounces, .smoothing = (float)o.smoothing, .smoothing_caustic = (float)o.smoothing_caustic,
-                       .r_max = (float)o.r_max, .no_shading_correction = o.no_shading_correction,
-                       .estimator = {.kind = (uint32_t)o.estimator, .knn = {.k = o.knn_k},
-                                     .lbvh = {.constant_kernel = o.constant_kernel,
-                                              .no_edge_correction = o.no_edge_correction, .leaf_size = o.leaf_size},
-                                     .vsch = {.radius = (float)o.vsch_radius, .directional = o.vsch_directional ? 1u : 0u},
-                                     .splat = {.s_l = (float)o.splat_lmax, .s_d = (float)o.splat_ntile,
-                                               .s_u = (float)o.splat_smax, .tile = o.splat_tile}},
-                       .progressive = o.progressive, .alpha = (float)o.alpha,
-                       .radius_histogram = o.radius_histogram,
-                       .first_bounce = (uint32_t)(PB_FIRST_BOUNCE_TRACE + o.first_bounce),
-                       .caustic_share = o.caustic_share == -1.0 ? 0.0f : o.caustic_share == 0.0 ? -1.0f
-                                                                                              : (float)o.caustic_share,
-                       .tracer = (uint32_t)o.tracer, .image_maps = o.image_maps,
-                       .image_map_resolution = o.image_map_resolution, .bandwidth_c0 = (float)o.bandwidth_c0,
-                       .atrous_iterations = o.atrous, .upsample_levels = o.upsample_levels,
-                       .atrous_gamma = o.atrous_gamma < 0 ? 0.0f : (o.atrous_gamma > 0 ? (float)o.atrous_gamma : -1.0f),
-                       .glossy_path_roughness = isnan(o.glossy_path_roughness) ? 0.0f
-                                                : (o.glossy_path_roughness > 0 ? (float)o.glossy_path_roughness : -1.0f),
-                       .time_limit_s = o.time_limit, .noise_threshold = o.noise_threshold,
-                       .preview_interval_s = o.preview ? o.preview_interval : -1.0};
+  rd.seed = c.seed;
+  rd.radius_histogram = radius_histogram;
+  rd.preview_interval_s = o.preview ? o.preview_interval : -1.0;
   progress_ctx pctx = {&o};
   pb_render_io rio = {.progress = on_progress, .progress_user = &pctx}; /* the bar, --preview, --progress-lines */
   if (o.crop) rd.full_width = full_w, rd.full_height = full_h, rd.crop_x = crop[0], rd.crop_y = crop[1];
   if (o.frames) {
     static const int bvh_modes[] = {PB_BVH_UPDATE_AUTO, PB_BVH_UPDATE_REFIT, PB_BVH_UPDATE_REBUILD};
     double fps = o.fps > 0 ? o.fps : 24.0;
-    pb_sequence_desc sd = {.render = rd, .temporal = !o.no_temporal, .bvh_update = bvh_modes[o.bvh_update],
+    pb_sequence_desc sd = {.render = rd, .temporal = o.set.temporal, .bvh_update = bvh_modes[o.bvh_update],
                            .orbit = o.orbit,
                            .orbit_period = o.orbit_seconds > 0 ? o.orbit_seconds : (double)(last - first + 1) / fps,
                            /* The reference renderer poses from the scene, which holds the next
@@ -717,7 +520,7 @@ int pb_cmd_render(int argc, char **argv) {
       snprintf(stage, sizeof stage, "photon map 0 (noise threshold %.1f dB)", -20.0 * log10(o.noise_threshold));
     else if (o.time_limit > 0) snprintf(stage, sizeof stage, "photon map 0 (time limit %gs)", o.time_limit);
     else if (maps) snprintf(stage, sizeof stage, "photon map 0/%u", maps);
-    else snprintf(stage, sizeof stage, "direct light, %u samples", o.spp ? o.spp : 1);
+    else snprintf(stage, sizeof stage, "direct light, %u samples", rd.spp ? rd.spp : 1);
     pb_render_bar_stage(stage, 0, o.time_limit > 0 || o.noise_threshold > 0 ? 0 : maps, -1);
   }
   r = pb_render_frame_io(g, &s, &gs, camera, w, h, &rd, &rio, &res);
@@ -741,7 +544,7 @@ int pb_cmd_render(int argc, char **argv) {
     if (r != PB_OK) unlink(c.out);
   }
   if (r == PB_OK && c.json) {
-    r = write_json(c.json, &s, g, &res, &o);
+    r = write_json(c.json, &s, g, &res, &o, &rd);
     if (r != PB_OK) {
       unlink(c.out);
       if (o.png) unlink(o.png);

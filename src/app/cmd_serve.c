@@ -7,7 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/live_opts.h"
+#include "app/settings_opts.h"
 #include "core/log.h"
 #include "gpu/gpu.h"
 #include "serve/serve.h"
@@ -23,10 +23,11 @@ static const char *const format_names[] = {"rgba32f", "exr", NULL};
 int pb_cmd_serve(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
-  pb_live_opts lo = PB_LIVE_OPTS_INIT;
+  pb_live_opts lo;
+  pb_live_opts_init(&lo);
   const char *socket_path = NULL, *frame_dir = NULL;
   int format = 0;
-  const pb_opt opts[] = {
+  const pb_opt rows[] = {
       {"width", 0, PB_OPT_U32, &c.width, "W", "image width until a resolution request (default 640, or from "
        "--height and the camera's aspect)", NULL, 1, 16384, "Output", 0},
       {"height", 0, PB_OPT_U32, &c.height, "H", "image height (default from the camera's aspect ratio)", NULL, 1,
@@ -36,7 +37,7 @@ int pb_cmd_serve(int argc, char **argv) {
       {"seed", 0, PB_OPT_U64, &c.seed, "N", "random seed (default 0; frame i after a (re)start uses it mixed with "
        "i, as render --frames)", NULL, 0, 0, "Sampling", 0},
       PB_SCENE_OPTS(&c),
-      PB_LIVE_OPTS(&lo),
+      PB_DEVICE_OPTS(&lo),
       {"socket", 0, PB_OPT_STRING, &socket_path, "PATH", "requests and replies on a UNIX socket at PATH (one "
        "client; the session ends when it disconnects) instead of stdin/stdout", NULL, 0, 0, "Session", 0},
       {"frame-dir", 0, PB_OPT_STRING, &frame_dir, "DIR", "where the session's private folder (0700; "
@@ -44,12 +45,18 @@ int pb_cmd_serve(int argc, char **argv) {
       {"format", 0, PB_OPT_CHOICE, &format, "FMT", "frame files: rgba32f (default: a 32-byte header and float RGBA, "
        "top row first) or exr (every AOV, as render writes them)", format_names, 0, 0, "Session", 0},
   };
-  const size_t nopts = sizeof opts / sizeof *opts;
+  /* The settings' rows (the table, render/settings.h), then the rest. */
+  pb_opt opts[128];
+  size_t nopts = 0;
+  pb_settings_opts(&lo.set, PB_SURFACE_LIVE, opts, &nopts, 128);
+  pb_opts_append(opts, &nopts, 128, rows, sizeof rows / sizeof *rows);
   const char *pos[1];
   size_t npos;
   int help;
-  pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
+  unsigned char given[128];
+  pb_result r = pb_cli_parse_given(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help, given);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
+  pb_settings_mark_given(&lo.set, opts, given, nopts);
   if (help) {
     pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "One JSON object a line each way (docs/serve.md; src/serve/protocol.h):\n"
@@ -64,7 +71,8 @@ int pb_cmd_serve(int argc, char **argv) {
   }
   if (npos != 1)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: expected SCENE (see 'photonbridge serve --help')"));
-  if ((r = pb_live_opts_check("serve", &lo)) != PB_OK) return pb_cli_exit(cmd, r);
+  pb_sequence_desc seq;
+  if ((r = pb_live_sequence_desc("serve", &lo, c.seed, &seq)) != PB_OK) return pb_cli_exit(cmd, r);
   if (c.json)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "serve: --json is not taken here (stdout carries the protocol; "
                                     "each frame's reply has its statistics)"));
@@ -74,7 +82,7 @@ int pb_cmd_serve(int argc, char **argv) {
   if (c.quiet) pb_log_set_level(PB_LOG_QUIET); /* before the device's warning (the scene loads later) */
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {
     pb_cli_warn_cpu_device("serve", g);
-    pb_serve_desc d = {.scene = pos[0], .core = &c, .seq = pb_live_sequence_desc(&lo, c.seed),
+    pb_serve_desc d = {.scene = pos[0], .core = &c, .seq = seq, .settings = lo.set,
                        .socket_path = socket_path, .frame_dir = frame_dir, .format = format};
     r = pb_serve_run(g, &d);
     if (r == PB_OK && pb_gpu_validation_total())

@@ -7,7 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/live_opts.h"
+#include "app/settings_opts.h"
 #include "color/color_cli.h"
 #include "core/log.h"
 #include "gpu/gpu.h"
@@ -28,10 +28,11 @@ int pb_cmd_view(int argc, char **argv) {
   const pb_command *cmd = self();
   pb_core_opts c = {0};
   pb_color_opts co = {0};
-  pb_live_opts lo = PB_LIVE_OPTS_INIT;
+  pb_live_opts lo;
+  pb_live_opts_init(&lo);
   uint32_t exit_after = 0, in_flight = 1;
   const char *screenshot = NULL, *script = NULL, *reference = NULL, *save = "photonbridge_view";
-  const pb_opt opts[] = {
+  const pb_opt rows[] = {
       {"width", 0, PB_OPT_U32, &c.width, "W", "image width (default 640, or from --height and the camera's aspect)",
        NULL, 1, 16384, "Output", 0},
       {"height", 0, PB_OPT_U32, &c.height, "H", "image height (default from the camera's aspect ratio)", NULL, 1, 16384, "Output", 0},
@@ -40,7 +41,7 @@ int pb_cmd_view(int argc, char **argv) {
        "render --frames)", NULL, 0, 0, "Sampling", 0},
       PB_SCENE_OPTS(&c),
       PB_COLOR_OPTS(&co),
-      PB_LIVE_OPTS(&lo),
+      PB_DEVICE_OPTS(&lo),
       {"reference", 0, PB_OPT_STRING, &reference, "FILE.exr", "show the PSNR of every frame against this image "
        "(compare's metric) in the heads-up line", NULL, 0, 0, "Window", 0},
       {"save", 0, PB_OPT_STRING, &save, "PREFIX", "P / F12 write PREFIX_NNNN.exr (every AOV) and PREFIX_NNNN.png "
@@ -55,12 +56,18 @@ int pb_cmd_view(int argc, char **argv) {
        "release left|middle|right, scroll DY, key|keydown|keyup NAME, resize W H, screenshot FILE), through the "
        "handlers the mouse and keyboard use", NULL, 0, 0, "Window", PB_OPT_ADVANCED},
   };
-  const size_t nopts = sizeof opts / sizeof *opts;
+  /* The settings' rows (the table, render/settings.h), then the rest. */
+  pb_opt opts[128];
+  size_t nopts = 0;
+  pb_settings_opts(&lo.set, PB_SURFACE_LIVE, opts, &nopts, 128);
+  pb_opts_append(opts, &nopts, 128, rows, sizeof rows / sizeof *rows);
   const char *pos[1];
   size_t npos;
   int help;
-  pb_result r = pb_cli_parse(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help);
+  unsigned char given[128];
+  pb_result r = pb_cli_parse_given(cmd, argc, argv, opts, nopts, pos, 1, &npos, &help, given);
   if (r != PB_OK) return pb_cli_exit(cmd, r);
+  pb_settings_mark_given(&lo.set, opts, given, nopts);
   if (help) {
     pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "Mouse: left drag orbit, middle or shift+left drag pan, wheel dolly. Keys: W A S D + Q E fly,\n"
@@ -74,7 +81,8 @@ int pb_cmd_view(int argc, char **argv) {
   }
   if (npos != 1)
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "view: expected SCENE (see 'photonbridge view --help')"));
-  if ((r = pb_live_opts_check("view", &lo)) != PB_OK) return pb_cli_exit(cmd, r);
+  pb_sequence_desc seq;
+  if ((r = pb_live_sequence_desc("view", &lo, c.seed, &seq)) != PB_OK) return pb_cli_exit(cmd, r);
 #ifndef PB_HAVE_GLFW
   return pb_cli_exit(cmd, pb_fail(PB_ERR_NOT_AVAILABLE, "view: this photonbridge was built without GLFW (install "
                                   "libglfw3-dev and rebuild); render to a file with 'photonbridge render'"));
@@ -94,7 +102,7 @@ int pb_cmd_view(int argc, char **argv) {
   if ((r = pb_gpu_create(&gd, &g)) != PB_OK) goto done;
   pb_cli_warn_cpu_device("view", g);
   if ((r = pb_gpu_scene_create(g, &s, &gs)) != PB_OK) goto done;
-  pb_sequence_desc sd = pb_live_sequence_desc(&lo, c.seed);
+  pb_sequence_desc sd = seq;
   sd.frames_in_flight = in_flight;
   pb_view_desc vd = {
       .seq = sd,

@@ -35,6 +35,7 @@ const pb_command pb_commands[] = {
      pb_cmd_validate},
     {"view", "SCENE [options]", "Interactive window: progressive refinement, fly, cameras, AOVs.", pb_cmd_view},
     {"serve", "SCENE [options]", "Persistent session of JSON-line requests (Blender's viewport).", pb_cmd_serve},
+    {"settings", "[--python]", "The render settings: options, serve keys, ranges, defaults.", pb_cmd_settings},
 };
 const size_t pb_command_count = sizeof pb_commands / sizeof pb_commands[0];
 

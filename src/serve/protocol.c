@@ -282,8 +282,7 @@ static const char *const fields[PB_SERVE_CMD_COUNT][MAX_FIELDS] = {
     {"view", "projection", "axes", "index"},
     {"width", "height"},
     {"t"},
-    {"spp", "photons", "iterations", "photon_bounces", "max_specular_depth", "atrous_iterations", "seed",
-     "progressive", "temporal", "tracer", "image_maps", "image_map_resolution"},
+    {"seed"}, /* and every setting of the table offered to requests (setting_row) */
     {""},
     {"on", "max_passes"},
     {"scene"},
@@ -321,6 +320,62 @@ static int get_bool(req_ctx *c, const char *key, int *out) {
   if (v->type != JV_BOOL) return bad(c, "\"%s\" must be true or false", key);
   *out = v->b;
   return 1;
+}
+
+/* The row of the settings table (render/settings.h) a request may set
+ * under `key`, or -1. */
+static int setting_row(const char *key) {
+  for (int i = 0; i < PB_SETTING_COUNT; ++i)
+    if ((pb_setting_table[i].surfaces & PB_SURFACE_REQUEST) && strcmp(key, pb_setting_table[i].id) == 0) return i;
+  return -1;
+}
+
+/* Setting i from the request, as its row says: an integer or a number in
+ * its range, true or false, or one of its names. 0: not given, 1: set, -1:
+ * bad (the message in c). */
+static int get_setting(req_ctx *c, int i, pb_settings *s) {
+  const pb_setting_info *t = &pb_setting_table[i];
+  const jv *v = member(c->r, c->obj, t->id);
+  if (!v) return 0;
+  int ranged = t->lo != 0 || t->hi != 0;
+  switch (t->kind) {
+  case PB_SETTING_U32: {
+    uint64_t u = 0;
+    int g = get_uint(c, t->id, ranged ? t->lo : 0, ranged ? t->hi : 4294967295.0, &u);
+    if (g <= 0) return g;
+    pb_settings_set(s, i, (double)u);
+    return 1;
+  }
+  case PB_SETTING_F64:
+    if (v->type != JV_NUMBER || !isfinite(v->num) || (ranged && (v->num < t->lo || v->num > t->hi))) {
+      if (ranged) return bad(c, "\"%s\" must be a number in [%g, %g]", t->id, t->lo, t->hi);
+      return bad(c, "\"%s\" must be a finite number", t->id);
+    }
+    pb_settings_set(s, i, v->num);
+    return 1;
+  case PB_SETTING_BOOL: {
+    int b = 0;
+    int g = get_bool(c, t->id, &b);
+    if (g <= 0) return g;
+    pb_settings_set(s, i, b);
+    return 1;
+  }
+  case PB_SETTING_CHOICE: {
+    int k = 0;
+    while (t->choices[k] && (v->type != JV_STRING || strcmp(v->str, t->choices[k]))) ++k;
+    if (!t->choices[k]) {
+      char list[256];
+      size_t n = 0;
+      list[0] = 0;
+      for (int j = 0; t->choices[j] && n < sizeof list; ++j)
+        n += (size_t)snprintf(list + n, sizeof list - n, "%s\"%s\"", j ? ", " : "", t->choices[j]);
+      return bad(c, "\"%s\" must be one of %s", t->id, list);
+    }
+    pb_settings_set(s, i, k);
+    return 1;
+  }
+  }
+  return bad(c, "\"%s\": bad setting kind", t->id);
 }
 
 static int get_matrix(req_ctx *c, const char *key, double m[16]) {
@@ -403,6 +458,7 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
     const char *key = r->v[i].key;
     int known = strcmp(key, "cmd") == 0 || strcmp(key, "id") == 0;
     for (int f = 0; !known && f < MAX_FIELDS && fields[k][f] && fields[k][f][0]; ++f) known = strcmp(key, fields[k][f]) == 0;
+    if (!known && k == PB_SERVE_SETTINGS) known = setting_row(key) >= 0;
     if (!known) {
       bad(&c, "unknown field \"%.64s\"", key);
       goto done;
@@ -452,50 +508,12 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
     }
     case PB_SERVE_SETTINGS: {
       pb_serve_settings *s = &req->settings;
-      static const struct {
-        const char *key;
-        unsigned bit;
-        double lo, hi;
-        size_t off;
-      } ints[] = {
-          {"spp", PB_SERVE_SET_SPP, 1, 1 << 20, offsetof(pb_serve_settings, spp)},
-          {"photons", PB_SERVE_SET_PHOTONS, 1, 1u << 26, offsetof(pb_serve_settings, photons)},
-          {"iterations", PB_SERVE_SET_ITERATIONS, 1, 1 << 16, offsetof(pb_serve_settings, iterations)},
-          {"photon_bounces", PB_SERVE_SET_PHOTON_BOUNCES, 1, 64, offsetof(pb_serve_settings, photon_bounces)},
-          {"max_specular_depth", PB_SERVE_SET_MAX_SPECULAR, 1, 64, offsetof(pb_serve_settings, max_specular_depth)},
-          {"atrous_iterations", PB_SERVE_SET_ATROUS, 0, 12, offsetof(pb_serve_settings, atrous_iterations)},
-      };
-      for (size_t i = 0; i < sizeof ints / sizeof ints[0]; ++i) {
-        if ((g = get_uint(&c, ints[i].key, ints[i].lo, ints[i].hi, &u)) < 0) goto done;
-        if (g) {
-          s->set |= ints[i].bit;
-          *(uint32_t *)((char *)s + ints[i].off) = (uint32_t)u;
-        }
-      }
+      pb_settings_init(&s->set);
       /* 2^53: the integers a double holds exactly. */
       if ((g = get_uint(&c, "seed", 0, 9007199254740992.0, &u)) < 0) goto done;
-      if (g) s->set |= PB_SERVE_SET_SEED, s->seed = u;
-      if ((g = get_bool(&c, "progressive", &s->progressive)) < 0) goto done;
-      if (g) s->set |= PB_SERVE_SET_PROGRESSIVE;
-      if ((g = get_bool(&c, "temporal", &s->temporal)) < 0) goto done;
-      if (g) s->set |= PB_SERVE_SET_TEMPORAL;
-      /* The photon tracer (render --tracer; render/tracer.h): a name of
-       * pb_tracer_names, and the images tracer's map count and size, kept
-       * while the tracer is bvh (a client may set them first). */
-      const jv *tr = member(r, obj, "tracer");
-      if (tr) {
-        uint32_t kind = 0;
-        while (pb_tracer_names[kind] && (tr->type != JV_STRING || strcmp(tr->str, pb_tracer_names[kind]))) ++kind;
-        if (!pb_tracer_names[kind]) {
-          bad(&c, "\"tracer\" must be \"bvh\" or \"images\"");
-          goto done;
-        }
-        s->set |= PB_SERVE_SET_TRACER, s->tracer = kind;
-      }
-      if ((g = get_uint(&c, "image_maps", 1, PB_IMAGE_MAPS_MAX, &u)) < 0) goto done;
-      if (g) s->set |= PB_SERVE_SET_IMAGE_MAPS, s->image_maps = (uint32_t)u;
-      if ((g = get_uint(&c, "image_map_resolution", 8, 1024, &u)) < 0) goto done;
-      if (g) s->set |= PB_SERVE_SET_IMAGE_MAP_RESOLUTION, s->image_map_resolution = (uint32_t)u;
+      if (g) s->seed_given = 1, s->seed = u;
+      for (int i = 0; i < PB_SETTING_COUNT; ++i)
+        if ((pb_setting_table[i].surfaces & PB_SURFACE_REQUEST) && get_setting(&c, i, &s->set) < 0) goto done;
       break;
     }
     case PB_SERVE_STREAM:

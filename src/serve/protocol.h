@@ -14,11 +14,14 @@
  *       file's camera K.
  *   {"cmd":"resolution","width":W,"height":H}
  *   {"cmd":"time","t":SECONDS}
- *   {"cmd":"settings", any of "spp", "photons", "iterations",
- *       "photon_bounces", "max_specular_depth", "atrous_iterations",
- *       "seed" (non-negative integers), "progressive", "temporal" (bools),
- *       "tracer" ("bvh" or "images", render --tracer), "image_maps" (1..15),
- *       "image_map_resolution" (8..1024; both used by the images tracer)}
+ *   {"cmd":"settings", "seed" (a non-negative integer) and any setting of
+ *       the table render/settings.h offers to requests, under its id
+ *       ("photons", "photon_bounces", "estimator", "temporal", ...: the
+ *       option's name with '_' for '-', `photonbridge settings` lists
+ *       them) with the option's type and range: integers and numbers,
+ *       true/false for flags, a name for a choice ("tracer": "images").
+ *       A setting not given keeps its value; the whole request is checked
+ *       as the command line is, and refused whole}
  *   {"cmd":"frame"}            render one frame now; the reply is the frame
  *   {"cmd":"stream","on":BOOL,"max_passes":N}
  *                              while on and no request waits, refine frame
@@ -41,6 +44,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "render/settings.h"
 #include "scene/scene.h"
 
 enum { PB_SERVE_MAX_LINE = 1 << 16, PB_SERVE_MAX_PATH = 4096 };
@@ -57,29 +61,13 @@ typedef enum pb_serve_cmd {
   PB_SERVE_CMD_COUNT
 } pb_serve_cmd;
 
-/* Settings a request changes: the bit PB_SERVE_SET_x says field x is given. */
-enum {
-  PB_SERVE_SET_SPP = 1u << 0,
-  PB_SERVE_SET_PHOTONS = 1u << 1,
-  PB_SERVE_SET_ITERATIONS = 1u << 2,
-  PB_SERVE_SET_PHOTON_BOUNCES = 1u << 3,
-  PB_SERVE_SET_MAX_SPECULAR = 1u << 4,
-  PB_SERVE_SET_ATROUS = 1u << 5,
-  PB_SERVE_SET_SEED = 1u << 6,
-  PB_SERVE_SET_PROGRESSIVE = 1u << 7,
-  PB_SERVE_SET_TEMPORAL = 1u << 8,
-  PB_SERVE_SET_TRACER = 1u << 9,
-  PB_SERVE_SET_IMAGE_MAPS = 1u << 10,
-  PB_SERVE_SET_IMAGE_MAP_RESOLUTION = 1u << 11,
-};
-
+/* The settings a "settings" request changes: those given (set.given),
+ * and the seed. */
 typedef struct pb_serve_settings {
-  unsigned set; /* PB_SERVE_SET_* */
-  uint32_t spp, photons, iterations, photon_bounces, max_specular_depth, atrous_iterations;
+  pb_settings set;               /* render/settings.h: the rows offered to
+                                    requests (PB_SURFACE_REQUEST) */
+  int seed_given;
   uint64_t seed;
-  int progressive, temporal;
-  uint32_t tracer;               /* index into pb_tracer_names (render/tracer.h) */
-  uint32_t image_maps, image_map_resolution;
 } pb_serve_settings;
 
 typedef struct pb_serve_request {

@@ -40,6 +40,7 @@ typedef struct server {
   pb_view_session ses;
   int ses_ok;
   pb_sequence_desc desc;
+  pb_settings settings;        /* what desc was made from (settings.h) */
   uint32_t width, height;
   int size_set;                /* a "resolution" request chose the size */
   pb_camera cam;
@@ -229,20 +230,19 @@ static void render_frame(server *v, int requested, const char *id) {
 
 /* ---- requests -------------------------------------------------------------- */
 
-static void apply_settings(pb_sequence_desc *d, const pb_serve_settings *s) {
-  pb_render_desc *rd = &d->render;
-  if (s->set & PB_SERVE_SET_SPP) rd->spp = s->spp;
-  if (s->set & PB_SERVE_SET_PHOTONS) rd->photons = s->photons;
-  if (s->set & PB_SERVE_SET_ITERATIONS) rd->iterations = s->iterations;
-  if (s->set & PB_SERVE_SET_PHOTON_BOUNCES) rd->photon_bounces = s->photon_bounces;
-  if (s->set & PB_SERVE_SET_MAX_SPECULAR) rd->max_specular_depth = s->max_specular_depth;
-  if (s->set & PB_SERVE_SET_ATROUS) rd->atrous_iterations = s->atrous_iterations;
-  if (s->set & PB_SERVE_SET_SEED) rd->seed = s->seed;
-  if (s->set & PB_SERVE_SET_PROGRESSIVE) rd->progressive = s->progressive;
-  if (s->set & PB_SERVE_SET_TEMPORAL) d->temporal = s->temporal;
-  if (s->set & PB_SERVE_SET_TRACER) rd->tracer = s->tracer;
-  if (s->set & PB_SERVE_SET_IMAGE_MAPS) rd->image_maps = s->image_maps;
-  if (s->set & PB_SERVE_SET_IMAGE_MAP_RESOLUTION) rd->image_map_resolution = s->image_map_resolution;
+/* A "settings" request: the settings given merged into the session's,
+ * checked as the command line's are, and the frames' desc made from them
+ * (settings.h), as `serve`'s options made the first. */
+static pb_result apply_settings(server *v, const pb_serve_settings *q, pb_settings *ns, pb_sequence_desc *nd) {
+  *ns = v->settings;
+  pb_settings_merge(ns, &q->set);
+  pb_result r = pb_settings_check("serve", ns, 0);
+  if (r != PB_OK) return r;
+  *nd = v->desc;
+  pb_settings_render_desc(ns, 1, &nd->render);
+  nd->temporal = ns->temporal;
+  if (q->seed_given) nd->render.seed = q->seed;
+  return PB_OK;
 }
 
 static void handle_line(server *v, const char *line, size_t len) {
@@ -300,11 +300,14 @@ static void handle_line(server *v, const char *line, size_t len) {
       reply_ok(v, q->cmd, q->id);
       break;
     case PB_SERVE_SETTINGS: {
-      pb_sequence_desc nd = v->desc;
-      apply_settings(&nd, &q->settings);
-      if (memcmp(&nd, &v->desc, sizeof nd) != 0 || !v->ses_ok) {
-        v->desc = nd;
-        r = restart(v);
+      pb_sequence_desc nd;
+      pb_settings ns;
+      if ((r = apply_settings(v, &q->settings, &ns, &nd)) == PB_OK) {
+        v->settings = ns;
+        if (memcmp(&nd, &v->desc, sizeof nd) != 0 || !v->ses_ok) {
+          v->desc = nd;
+          r = restart(v);
+        }
       }
       if (r != PB_OK) reply_error(v, name, q->id, "line %lu: %s", v->line_no, pb_error_message());
       else reply_ok(v, q->cmd, q->id);
@@ -427,7 +430,7 @@ static pb_result open_socket(server *v, const char *path) {
 pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
   server v;
   memset(&v, 0, sizeof v);
-  v.g = g, v.d = d, v.desc = d->seq, v.in_fd = STDIN_FILENO, v.out_fd = STDOUT_FILENO, v.listen_fd = -1;
+  v.g = g, v.d = d, v.desc = d->seq, v.settings = d->settings, v.in_fd = STDIN_FILENO, v.out_fd = STDOUT_FILENO, v.listen_fd = -1;
   /* rgba32f frames send the beauty alone, so only it comes to
    * the host (the EXR format writes every AOV: all are read). */
   if (d->format != PB_SERVE_FORMAT_EXR) v.desc.readback = PB_RENDER_READBACK_BEAUTY;

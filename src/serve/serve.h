@@ -21,6 +21,7 @@
 #include "core/result.h"
 #include "gpu/gpu.h"
 #include "render/sequence.h"
+#include "render/settings.h"
 
 enum { PB_SERVE_FORMAT_RGBA32F, PB_SERVE_FORMAT_EXR };
 
@@ -28,6 +29,7 @@ typedef struct pb_serve_desc {
   const char *scene;            /* the file loaded first */
   const pb_core_opts *core;     /* --width/--height/--camera/scene options, for every (re)load */
   pb_sequence_desc seq;         /* the frame settings; "settings" requests change them */
+  pb_settings settings;         /* what seq was made from (render/settings.h) */
   const char *socket_path;      /* NULL: requests on stdin, replies on stdout */
   const char *frame_dir;        /* the base of the session folder; NULL: /dev/shm, else $TMPDIR or /tmp */
   int format;                   /* PB_SERVE_FORMAT_* */

@@ -237,21 +237,27 @@ else:
     check(items[-1][0] == "ERROR", "the real binary lists no devices here (exit %d): the menu says so" % p.returncode)
 prefs.binary = fake
 
-# ---- the viewport: a setting serve's "settings" request lacks restarts serve
+# ---- the viewport: every setting of the table goes to serve's "settings"
+# request; the device, and a setting turning to or from "automatic" (a
+# value the request cannot carry: Photon Bounces 0), restart serve
 from photonbridge import viewport  # noqa: E402
 base = viewport.fixed_args(scene)
-s.spp, s.photons, s.progressive = 4, 1000, True
-check(viewport.fixed_args(scene) == base, "Samples, Photons, Progressive: sent live, no serve restart (%s)" % base)
-for attr, val in (("caustic_filter", 2.0), ("blender_bounces", not s.blender_bounces), ("device", 0),
-                  ("first_bounce", "rsm")):
+base_req = viewport.Viewport._settings(None, scene)
+for attr, val in (("spp", 4), ("photons", 1000), ("progressive", not s.progressive), ("caustic_filter", 2.0),
+                  ("first_bounce", "rsm"), ("estimator", "knn"), ("glossy_path_roughness", 0.5)):
+    old = getattr(s, attr)
+    setattr(s, attr, val)
+    fixed, req = viewport.fixed_args(scene), viewport.Viewport._settings(None, scene)
+    setattr(s, attr, old)
+    check(fixed == base and req != base_req, "%s: sent live, no serve restart (%s)" % (attr, fixed))
+for attr, val in (("blender_bounces", not s.blender_bounces), ("device", 0), ("photon_bounces", 3)):
     old = getattr(s, attr)
     setattr(s, attr, val)
     check(viewport.fixed_args(scene) != base, "%s: serve restarts (%s)" % (attr, viewport.fixed_args(scene)))
     setattr(s, attr, old)
-s.spp, s.photons, s.progressive = 1, 262144, False
 s.estimator = "knn"
-check("--estimator" not in viewport.serve_args(scene) and "--estimator" in settings.cli_args(s),
-      "Estimator: render's --estimator, never serve's")
+check("--estimator" in viewport.serve_args(scene) and "--estimator" in settings.cli_args(s),
+      "Estimator: render's --estimator and serve's")
 s.estimator = "lbvh"
 
 # ---- defaults: the CLI's ------------------------------------------------------------------
@@ -298,7 +304,44 @@ MAP = {"photons": "photons", "iterations": "iterations", "spp": "spp", "seed": "
        "photon_bounces": "photon-bounces", "specular_depth": "max-specular-depth", "device": "device",
        "time_limit": "time-limit", "progressive": "progressive", "noise_threshold": "noise-threshold"}
 for p in props:
-    check(p in MAP or p in settings.ADDON_ONLY, "setting %s: a CLI option's or the add-on's own" % p)
+    check(p in MAP or p in settings.ADDON_ONLY or p in settings.TABLE_PROPERTIES,
+          "setting %s: a CLI option's, the add-on's own or one of the settings table's" % p)
+# The rest of the settings table: a property each, of the row's id, with its
+# default and range, and an option of `photonbridge render`; Blender's
+# wording and the table agree on the ones with the artist's names.
+table = settings.BY_ID
+for sid in settings.TABLE_PROPERTIES:
+    t, prop = table[sid], rna[sid]
+    check(("--" + t["cli"])[2:] in helps, "%s: --%s is an option of `photonbridge render`" % (sid, t["cli"]))
+    if prop.type == 'ENUM':
+        check(prop.default == t["default"], "%s: default %s, the table's %s" % (sid, prop.default, t["default"]))
+    else:
+        check(abs(float(prop.default) - float(t["default"])) <= 1e-6, "%s: default %s, the table's %s" %
+              (sid, prop.default, t["default"]))
+    if t["kind"] in ("u32", "f64") and t["max"] is not None:
+        check(abs(prop.hard_max - t["max"]) <= 1e-6 * max(1.0, t["max"]) and prop.hard_min <= t["min"],
+              "%s: range up to %s, the table's [%s, %s]" % (sid, prop.hard_max, t["min"], t["max"]))
+for p, sid in settings.PROPERTY_SETTING.items():
+    t, prop = table[sid], rna[p]
+    if t["kind"] in ("u32", "f64") and t["max"] is not None and p != "caustic_filter":
+        check(abs(prop.hard_max - t["max"]) <= 1e-6 * max(1.0, t["max"]),
+              "%s: at most %s, as the table's --%s" % (p, prop.hard_max, t["cli"]))
+# A table setting changed reaches the command line (and back: its default
+# passes nothing); one that needs another choice passes only with it.
+fresh0 = bpy.data.scenes.new("table").photonbridge
+fresh0.glossy_path_roughness = 0.5
+fresh0.knn_k = 16
+a0 = settings.cli_args(fresh0)
+check("--glossy-path-roughness" in a0 and a0[a0.index("--glossy-path-roughness") + 1] == "0.5" and
+      "--knn-k" not in a0, "Glossy Path Roughness 0.5 passes --glossy-path-roughness 0.5, Nearest Photons "
+      "without the knn estimator nothing: %s" % a0)
+fresh0.estimator = "knn"
+a0 = settings.cli_args(fresh0)
+check("--knn-k" in a0 and a0[a0.index("--knn-k") + 1] == "16", "with the knn estimator --knn-k 16: %s" % a0)
+req, automatic = settings.request_settings(fresh0)
+check(req.get("knn_k") == 16 and req.get("estimator") == "knn" and req.get("glossy_path_roughness") == 0.5 and
+      "photon_bounces" in automatic and "upsample_levels" not in automatic,
+      "the viewport's request carries them, Photon Bounces 0 left to serve: %s %s" % (req, automatic))
 for p, val in sorted(settings.FINAL_RENDER.items()):
     d = rna[p].default
     check(abs(d - val) <= 1e-6 if isinstance(val, float) else d == val,

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "pbtest.h"
+#include "render/estimator.h"
 #include "render/tracer.h"
 #include "serve/protocol.h"
 
@@ -41,20 +42,35 @@ static void test_requests(void) {
   CHECK_EQ_INT(req.width, 320);
   CHECK_EQ_INT(req.height, 200);
   CHECK(parse("{\"cmd\":\"settings\",\"photons\":65536,\"progressive\":true,\"seed\":12345678901,\"atrous_iterations\":0}") == 0);
-  CHECK_EQ_INT(req.settings.set, PB_SERVE_SET_PHOTONS | PB_SERVE_SET_PROGRESSIVE | PB_SERVE_SET_SEED | PB_SERVE_SET_ATROUS);
-  CHECK_EQ_INT(req.settings.photons, 65536);
-  CHECK_EQ_INT(req.settings.progressive, 1);
+  CHECK(req.settings.set.given ==
+        (PB_SETTING_BIT(photons) | PB_SETTING_BIT(progressive) | PB_SETTING_BIT(atrous_iterations)));
+  CHECK_EQ_INT(req.settings.seed_given, 1);
+  CHECK_EQ_INT(req.settings.set.photons, 65536);
+  CHECK_EQ_INT(req.settings.set.progressive, 1);
   CHECK(req.settings.seed == 12345678901ull);
-  CHECK_EQ_INT(req.settings.atrous_iterations, 0);
+  CHECK_EQ_INT(req.settings.set.atrous_iterations, 0);
+  /* Every setting of the table offered to requests, with its kind: the
+   * estimator (a choice), a number, a flag that is on by default. */
+  CHECK(parse("{\"cmd\":\"settings\",\"estimator\":\"knn\",\"knn_k\":16,\"atrous_clip\":0.5,"
+              "\"temporal\":false,\"photon_bounces\":200}") == 0);
+  CHECK(req.settings.set.given == (PB_SETTING_BIT(estimator) | PB_SETTING_BIT(knn_k) | PB_SETTING_BIT(atrous_clip) |
+                                   PB_SETTING_BIT(temporal) | PB_SETTING_BIT(photon_bounces)));
+  CHECK_EQ_INT(req.settings.set.estimator, PB_ESTIMATOR_KNN);
+  CHECK_EQ_INT(req.settings.set.knn_k, 16);
+  CHECK(req.settings.set.atrous_clip == 0.5);
+  CHECK_EQ_INT(req.settings.set.temporal, 0);
+  CHECK_EQ_INT(req.settings.set.photon_bounces, 200);
+  CHECK_EQ_INT(req.settings.seed_given, 0);
   /* The photon tracer (render --tracer) and the images tracer's maps. */
   CHECK(parse("{\"cmd\":\"settings\",\"tracer\":\"images\",\"image_maps\":4,\"image_map_resolution\":32}") == 0);
-  CHECK_EQ_INT(req.settings.set, PB_SERVE_SET_TRACER | PB_SERVE_SET_IMAGE_MAPS | PB_SERVE_SET_IMAGE_MAP_RESOLUTION);
-  CHECK_EQ_INT(req.settings.tracer, PB_TRACER_IMAGES);
-  CHECK_EQ_INT(req.settings.image_maps, 4);
-  CHECK_EQ_INT(req.settings.image_map_resolution, 32);
+  CHECK(req.settings.set.given ==
+        (PB_SETTING_BIT(tracer) | PB_SETTING_BIT(image_maps) | PB_SETTING_BIT(image_map_resolution)));
+  CHECK_EQ_INT(req.settings.set.tracer, PB_TRACER_IMAGES);
+  CHECK_EQ_INT(req.settings.set.image_maps, 4);
+  CHECK_EQ_INT(req.settings.set.image_map_resolution, 32);
   CHECK(parse("{\"cmd\":\"settings\",\"tracer\":\"bvh\"}") == 0);
-  CHECK_EQ_INT(req.settings.set, PB_SERVE_SET_TRACER);
-  CHECK_EQ_INT(req.settings.tracer, PB_TRACER_BVH);
+  CHECK(req.settings.set.given == PB_SETTING_BIT(tracer));
+  CHECK_EQ_INT(req.settings.set.tracer, PB_TRACER_BVH);
   CHECK(parse("{\"cmd\":\"stream\",\"on\":true,\"max_passes\":8}") == 0);
   CHECK_EQ_INT(req.stream_on, 1);
   CHECK_EQ_INT(req.max_passes, 8);
@@ -95,7 +111,10 @@ static void test_errors(void) {
   CHECK(fails_with("{\"cmd\":\"time\",\"t\":\"soon\"}", "needs \"t\""));
   CHECK(fails_with("{\"cmd\":\"settings\",\"progressive\":1}", "true or false"));
   CHECK(fails_with("{\"cmd\":\"settings\",\"photons\":-4}", "\"photons\" must be an integer"));
-  CHECK(fails_with("{\"cmd\":\"settings\",\"tracer\":\"kdtree\"}", "\"tracer\" must be \"bvh\" or \"images\""));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"tracer\":\"kdtree\"}", "\"tracer\" must be one of \"bvh\", \"images\""));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"photon_bounces\":256}", "\"photon_bounces\" must be an integer in [1, 255]"));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"atrous_clip\":101}", "\"atrous_clip\" must be a number in [0, 100]"));
+  CHECK(fails_with("{\"cmd\":\"settings\",\"noise_threshold\":0.1}", "unknown field \"noise_threshold\""));
   CHECK(fails_with("{\"cmd\":\"settings\",\"tracer\":1}", "\"tracer\" must be"));
   CHECK(fails_with("{\"cmd\":\"settings\",\"image_maps\":16}", "\"image_maps\" must be an integer in [1, 15]"));
   CHECK(fails_with("{\"cmd\":\"settings\",\"image_map_resolution\":4}", "\"image_map_resolution\" must be"));

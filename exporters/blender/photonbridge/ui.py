@@ -116,6 +116,30 @@ class PHOTONBRIDGE_PT_sampling_advanced(PhotonbridgePanel, bpy.types.Panel):
         layout.column().prop(s, "seed")
 
 
+class PHOTONBRIDGE_PT_sampling_algorithm(PhotonbridgePanel, bpy.types.Panel):
+    """Every other setting of photonbridge's settings table
+    (settings.TABLE_PROPERTIES), under its heading; one that does nothing
+    with the current choices (the nearest photons' count with BVH
+    Footprints) is greyed out."""
+    bl_label = "Algorithm"
+    bl_parent_id = "PHOTONBRIDGE_PT_sampling_advanced"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        s = context.scene.photonbridge
+        layout = self.split_layout()
+        group = None
+        col = layout.column()
+        for sid in settings.TABLE_PROPERTIES:
+            g = settings.BY_ID[sid]["group"]
+            if g != group:
+                col = layout.column(heading=g) if bpy.app.version >= (2, 90, 0) else layout.column()
+                group = g
+            row = col.row()
+            row.active = settings.needs_met(s, sid)
+            row.prop(s, sid)
+
+
 class PHOTONBRIDGE_PT_light_paths(PhotonbridgePanel, bpy.types.Panel):
     bl_label = "Light Paths"
 
@@ -198,7 +222,7 @@ class PHOTONBRIDGE_PT_performance(PhotonbridgePanel, bpy.types.Panel):
 
 
 classes = (PHOTONBRIDGE_PT_sampling, PHOTONBRIDGE_PT_sampling_render, PHOTONBRIDGE_PT_sampling_viewport,
-           PHOTONBRIDGE_PT_sampling_advanced, PHOTONBRIDGE_PT_light_paths, PHOTONBRIDGE_PT_light_paths_max_bounces,
+           PHOTONBRIDGE_PT_sampling_advanced, PHOTONBRIDGE_PT_sampling_algorithm, PHOTONBRIDGE_PT_light_paths, PHOTONBRIDGE_PT_light_paths_max_bounces,
            PHOTONBRIDGE_PT_light_paths_caustics, PHOTONBRIDGE_PT_film, PHOTONBRIDGE_PT_performance)
 _added = []
 

@@ -239,22 +239,14 @@ class Viewport:
         bpy.app.timers.register(_redraw_timer(self), first_interval=POLL_S)
 
     def _settings(self, scene):
-        s = scene.photonbridge
-        return {"photons": int(s.photons), "iterations": int(s.iterations), "spp": max(int(s.spp), 1),
-                "photon_bounces": int(s.photon_bounces), "max_specular_depth": int(s.specular_depth),
-                "seed": int(s.seed), "progressive": bool(s.progressive),
-                "atrous_iterations": int(s.filter_passes), "tracer": s.tracer,
-                "image_maps": int(s.image_maps), "image_map_resolution": int(s.image_map_resolution)}
+        """serve's "settings" request of the scene's photonbridge settings:
+        every setting the table offers to requests (settings.request_settings)."""
+        return dict(settings.request_settings(scene.photonbridge)[0], seed=int(scene.photonbridge.seed))
 
     def _send_settings(self, scene):
         st = self._settings(scene)
         if st != self.sent_settings:
-            # serve takes photon_bounces and max_specular_depth in 1..64; the
-            # panel's 0 ("from Max Bounces, or unbounded") is what serve was
-            # started with (serve_args), so it is left out rather than sent
-            # (which serve refuses, and the rest of the request with it).
-            req = {k: v for k, v in st.items() if not (k in ("photon_bounces", "max_specular_depth") and v == 0)}
-            self.session.send(dict(cmd="settings", **req))
+            self.session.send(dict(cmd="settings", **st))
             self.sent_settings = st
 
     @staticmethod
@@ -378,23 +370,27 @@ def serve_args(scene):
     return args
 
 
-# serve's options that its "settings" request changes (_settings); a change
-# of any other restarts serve.
-LIVE_OPTIONS = ("--photons", "--iterations", "--spp", "--photon-bounces", "--max-specular-depth",
-                "--atrous-iterations", "--seed", "--progressive", "--tracer", "--image-maps",
-                "--image-map-resolution")
-FLAGS = ("--progressive",)
+def live_options():
+    """serve's options that its "settings" request changes (the table's
+    rows offered to requests), and which of them are flags."""
+    opts = {"--" + t["cli"]: t["kind"] == "bool" for t in settings.SETTINGS if "request" in t["surfaces"]}
+    opts["--seed"] = False
+    return opts
 
 
 def fixed_args(scene):
-    """serve_args(scene) less the options a "settings" request changes."""
+    """serve_args(scene) less the options a "settings" request changes,
+    plus the settings left to the renderer's own choice (a value such as
+    Photon Bounces 0 cannot be sent: a change to or from it starts a new
+    serve)."""
+    live = live_options()
     args, out, i = serve_args(scene), [], 0
     while i < len(args):
-        n = 1 if args[i] in FLAGS else 2
-        if args[i] not in LIVE_OPTIONS:
+        n = 1 if live.get(args[i], False) else 2
+        if args[i] not in live:
             out += args[i:i + n]
         i += n
-    return out
+    return out + ["automatic:" + a for a in settings.request_settings(scene.photonbridge)[1]]
 
 
 def scene_edited(depsgraph):
