@@ -83,7 +83,8 @@ float pb_filter_pixel(uint gid) {
   vec4 gp = geo[gid];
   vec3 a = pb_demod(albedo[gid].rgb);
   vec3 e = indirect[gid].rgb / a;
-  if (!(gp.w > 0.0)) {  // no surface: nothing to filter, no history
+  bool surface = gp.w > 0.0;
+  if (!surface && push.still == 0u) {  // no surface: nothing to filter, no history
     hist_out[gid] = vec4(e, 0.0);
     result[gid] = vec4(indirect[gid].rgb, 0.0);
     return -1.0;
@@ -96,14 +97,20 @@ float pb_filter_pixel(uint gid) {
     // history from a moving frame, in irradiance form, times this frame's
     // albedo). No edge-stopping: the still frames of a sequence jitter their
     // samples in the pixel, and the differences that makes in depth and
-    // normal are anti-aliasing, not disocclusion. A pixel that had no
-    // surface has no history (L = 0).
+    // normal are anti-aliasing, not disocclusion. Nor is a sample that
+    // missed every surface: at a silhouette against the world the pixel's
+    // mean goes on with this frame's radiance (none), so it converges to
+    // the box-filtered pixel; resetting it there (1.5 % of cornell_box's
+    // pixels every frame at 64 px) kept those pixels at one frame's noise.
+    // A pixel that never had a surface has no history (L = 0); a history
+    // in irradiance form met where this frame has no surface is this
+    // frame's alone.
     vec3 rad = indirect[gid].rgb;
     if (push.has_history != 0u) {
       vec4 h = hist_in[gid];
       len = abs(h.w);
       hist = h.w < 0.0 ? h.rgb : h.rgb * a;
-      w = len > 0.0 ? 1.0 : 0.0;
+      w = len > 0.0 && (surface || h.w < 0.0) ? 1.0 : 0.0;
     }
     float alpha_s = w * len / (len + 1.0);
     if (len >= push.max_history) alpha_s = w * push.max_history / (push.max_history + 1.0);
@@ -111,7 +118,7 @@ float pb_filter_pixel(uint gid) {
     float len_s = 1.0 / (1.0 - alpha_s);
     hist_out[gid] = vec4(filtered_s, -len_s);
     result[gid] = vec4(filtered_s, len_s);
-    return len_s;
+    return surface ? len_s : -1.0;  // the statistics count surface pixels
   } else if (push.has_history != 0u && mv.w > 0.0) {
     int x = int(gid % push.width), y = int(gid / push.width);
     float gx = pb_grad(gp.w, pb_depth(x - 1, y), pb_depth(x + 1, y));

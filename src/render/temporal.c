@@ -189,14 +189,17 @@ pb_result pb_temporal_apply(pb_gpu *g, pb_temporal *t, const float *normal, cons
   double ms = pb_gpu_elapsed_ms(g, 0, 1);
   io->cur = 1 - cur;
   /* The result: the filtered irradiance times the albedo (as the pass
-   * demodulated it) where there is a surface, the input elsewhere. */
+   * demodulated it) where there is a surface, and in a still frame where
+   * the sample missed every surface too (the running mean goes on); the
+   * input elsewhere. */
   if ((r = pb_gpu_buffer_download(g, &io->result, 0, h, bytes)) != PB_OK) return r;
   uint64_t surf = 0, reset = 0;
   double lsum = 0;
   for (size_t i = 0; i < n; ++i) {
     float L = h[4 * i + 3];
-    if (depth[i] > 0.0f) {
+    if (depth[i] > 0.0f || still)
       for (int k = 0; k < 3; ++k) indirect[3 * i + k] = h[4 * i + k];
+    if (depth[i] > 0.0f) {
       ++surf;
       lsum += L;
       if (L < 1.0001f) ++reset;

@@ -238,7 +238,11 @@ static void moving_object(pb_gpu *g) {
  * with a_i changing every frame. The result is the running mean of the
  * radiance itself, sum(e_i a_i) / i, not the mean irradiance times the last
  * frame's albedo (which never converges there: it swings by the ratio of
- * the albedos from frame to frame). */
+ * the albedos from frame to frame). edge = 2: a silhouette against the
+ * world: every fifth pixel's sample misses every surface on even frames
+ * (depth 0, no indirect light), so its mean goes on with a zero there and
+ * converges to the box-filtered pixel, where a reset at each miss kept it
+ * at one frame's noise. */
 static void still_run(pb_gpu *g, int edge) {
   fixture f;
   build(&f);
@@ -249,22 +253,27 @@ static void still_run(pb_gpu *g, int edge) {
   pb_temporal *t = NULL;
   CHECK_EQ_INT(pb_temporal_create(g, W, H, NULL, &t), PB_OK);
   if (!t) return;
-  srand(edge ? 11 : 7);
+  srand(edge ? 11 + edge : 7);
+  float depth0[N];
+  memcpy(depth0, a.depth, sizeof depth0);
   double worst = 0, worst_rel = 0;
   int bad_len = 0;
-  const int frames = edge ? 12 : 40;
+  const int frames = edge == 1 ? 12 : edge == 2 ? 20 : 40;
+  int missed = 0;
   for (int i = 1; i <= frames; ++i) {
     float alb = (i & 1) ? 0.8f : 0.1f;
+    for (int p = 0; p < N; ++p) a.depth[p] = edge == 2 && !(i & 1) && p % 5 == 0 ? 0.0f : depth0[p];
     for (int p = 0; p < 3 * N; ++p) {
-      if (edge) a.albedo[p] = alb;
+      if (edge == 1) a.albedo[p] = alb;
       float r = (float)rand() / (float)RAND_MAX;
-      a.indirect[p] = edge ? alb * (0.2f + 0.6f * r) : 0.5f * r;
+      a.indirect[p] = edge == 1 ? alb * (0.2f + 0.6f * r) : 0.5f * r;
+      if (!(a.depth[p / 3] > 0)) a.indirect[p] = 0.0f, missed += p % 3 == 0;
       sum[p] += a.indirect[p];
     }
     CHECK_EQ_INT(pb_temporal_apply(g, t, a.normal, a.depth, a.albedo, NULL, 1, a.indirect, a.hist, NULL), PB_OK);
     for (int p = 0; p < N; ++p) {
       if (fabsf(a.hist[p] - (float)i) > 1e-3f * i) ++bad_len;
-      if (edge && !(a.depth[p] > 0)) continue;
+      if (edge == 1 && !(a.depth[p] > 0)) continue;
       for (int k = 0; k < 3; ++k) {
         double e = fabs(a.indirect[3 * p + k] - sum[3 * p + k] / i);
         if (e > worst) worst = e;
@@ -273,8 +282,10 @@ static void still_run(pb_gpu *g, int edge) {
     }
   }
   printf("still%s: %d frames, largest difference from the running mean %.2e (relative %.2e)\n",
-         edge ? " edge (alternating albedo)" : "", frames, worst, worst_rel);
-  if (edge) {
+         edge == 1 ? " edge (alternating albedo)" : edge == 2 ? " silhouette (samples missing every surface)" : "",
+         frames, worst, worst_rel);
+  if (edge == 2) CHECK(missed > 0 && depth0[0] > 0);
+  if (edge == 1) {
     CHECK(worst_rel < 1e-5);
   } else {
     CHECK(worst < 2e-5);
@@ -328,6 +339,7 @@ int main(void) {
   moving_object(g);
   still_run(g, 0);
   still_run(g, 1);
+  still_run(g, 2);
   constant(g);
   pb_gpu_destroy(g);
   return pbt_done();
