@@ -175,9 +175,10 @@ static pb_result check_scene(ctx *c) {
   const char *sp = s->path ? s->path : "scene";
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
+    /* The kinds both formats hold; any other is refused by its name. */
     float soft;
     const char *softness = pb_light_softness(l, &soft);
-    if (!softness)
+    if (l->type != PB_LIGHT_POINT && l->type != PB_LIGHT_SPOT && l->type != PB_LIGHT_DIRECTIONAL)
       return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: lights[%u] '%s': %s lights are not written to %s (model it as an "
                      "emissive mesh)", sp, i, l->name, pb_light_kind_name(l->type), c->peer);
     if (!pb_light_is_delta(l))

@@ -476,7 +476,7 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
      * Cycles' models (scene.h); the export keeps what it can say exactly. */
     float soft;
     const char *softness = pb_light_softness(l, &soft);
-    if (!softness) {
+    if (l->type != PB_LIGHT_POINT && l->type != PB_LIGHT_SPOT && l->type != PB_LIGHT_DIRECTIONAL) {
       if ((r = note(x->rep, 1, "light '%s': %s light not exported (the POV-Ray export writes point, spot and "
                                 "directional lights)", l->name, pb_light_kind_name(l->type))) != PB_OK)
         return r;
