@@ -14,7 +14,6 @@
 #include "render/tracer.h"
 #include "scene/camera.h"
 
-static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
 
 /* The view PNG previews of this scene go through by default (`render --png`
@@ -72,46 +71,8 @@ static void print_text(const pb_scene *s) {
          s->light_count);
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
-    printf("  %-20s %-11s ", l->name, light_type_names[l->type]);
-    char typed[96];
-    if (l->from_blender && l->blender_exposure != 0) /* Blender 4.x: the value typed times 2^Exposure */
-      snprintf(typed, sizeof typed,
-               l->type == PB_LIGHT_DIRECTIONAL ? "strength %.4g W/m^2 at exposure %+g in Blender"
-                                               : "%.4g W at exposure %+g in Blender",
-               l->file_intensity / exp2(l->blender_exposure), l->blender_exposure);
-    else if (l->from_blender)
-      snprintf(typed, sizeof typed, l->type == PB_LIGHT_DIRECTIONAL ? "strength %.4g W/m^2 in Blender" : "%.4g W in Blender",
-               l->file_intensity);
-    else if (s->light_units == PB_LIGHT_UNITS_UNITLESS)
-      snprintf(typed, sizeof typed, "intensity %.4g in glTF (unitless)", l->file_intensity);
-    else
-      snprintf(typed, sizeof typed, "%.4g %s in glTF", l->file_intensity, l->type == PB_LIGHT_DIRECTIONAL ? "lx" : "cd");
-    if (l->type == PB_LIGHT_DIRECTIONAL) {
-      printf("%s (E = %.4g W/m^2) x colour (%.3g %.3g %.3g), direction (%.3f %.3f %.3f)", typed, l->intensity,
-             l->color[0], l->color[1], l->color[2], l->direction[0], l->direction[1], l->direction[2]);
-      if (l->angle > 0) printf(", angle %.3g deg (soft)", l->angle * 180.0 / M_PI);
-    } else if (l->type == PB_LIGHT_AREA) {
-      printf("%s (L = %.4g W/(m^2 sr)) x colour (%.3g %.3g %.3g), %s %.4g x %.4g m at (%.4g %.4g %.4g), "
-             "facing (%.3f %.3f %.3f), spread %.3g deg",
-             typed, l->intensity, l->color[0], l->color[1], l->color[2],
-             l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle", l->size[0], l->size[1], l->position[0],
-             l->position[1], l->position[2], l->direction[0], l->direction[1], l->direction[2],
-             (l->spread > 0 ? l->spread : M_PI) * 180.0 / M_PI);
-    } else {
-      float power[3];
-      pb_light_power(l, 0, power);
-      printf("%s (I = %.4g W/sr) x colour (%.3g %.3g %.3g), at (%.4g %.4g %.4g), emits %.4g W%s", typed,
-             l->intensity, l->color[0], l->color[1], l->color[2], l->position[0], l->position[1], l->position[2],
-             (power[0] + power[1] + power[2]) / 3, l->type == PB_LIGHT_SPOT ? " into its cone" : "");
-      if (l->type == PB_LIGHT_SPOT)
-        printf(", cone %.2f..%.2f deg%s", l->inner_cone * 180.0 / M_PI, l->outer_cone * 180.0 / M_PI,
-               l->spot_model == PB_SPOT_CYCLES    ? " (Cycles 3.4 falloff)"
-               : l->spot_model == PB_SPOT_CYCLES4 ? " (Cycles 4 falloff)"
-                                                  : "");
-      if (l->radius > 0) printf(", radius %.4g m (soft)", l->radius);
-    }
-    if (l->no_shadow) printf(", casts no shadow");
-    if (l->no_mis) printf(", no MIS");
+    printf("  %-20s %-11s ", l->name, pb_light_kind_name(l->type));
+    pb_light_describe(l, s->light_units == PB_LIGHT_UNITS_UNITLESS, stdout);
     printf("\n");
   }
   const pb_world *w = &s->world;
@@ -296,38 +257,7 @@ static pb_result write_json(const pb_scene *s, const char *path) {
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
     pb_json_begin_object(&j, NULL);
-    pb_json_string(&j, "name", l->name);
-    pb_json_string(&j, "type", light_type_names[l->type]);
-    pb_json_number(&j, l->type == PB_LIGHT_DIRECTIONAL ? "irradiance_w_m2"
-                       : l->type == PB_LIGHT_AREA ? "radiance_w_m2_sr" : "intensity_w_sr",
-                   l->intensity);
-    pb_json_number(&j,
-                   l->from_blender ? (l->type == PB_LIGHT_DIRECTIONAL ? "file_w_m2" : "file_watts")
-                   : l->type == PB_LIGHT_DIRECTIONAL ? "file_lux" : "file_candela",
-                   l->file_intensity);
-    vec3(&j, "color", l->color);
-    vec3(&j, "position", l->position);
-    vec3(&j, "direction", l->direction);
-    if (l->type == PB_LIGHT_SPOT) {
-      pb_json_number(&j, "inner_cone", l->inner_cone);
-      pb_json_number(&j, "outer_cone", l->outer_cone);
-      pb_json_string(&j, "spot_falloff", l->spot_model == PB_SPOT_CYCLES    ? "cycles"
-                                         : l->spot_model == PB_SPOT_CYCLES4 ? "cycles4"
-                                                                            : "smoothstep");
-    }
-    if (l->type == PB_LIGHT_POINT || l->type == PB_LIGHT_SPOT) pb_json_number(&j, "radius", l->radius);
-    if (l->type == PB_LIGHT_DIRECTIONAL) pb_json_number(&j, "angle", l->angle);
-    if (l->type == PB_LIGHT_AREA) {
-      pb_json_string(&j, "shape", l->shape == PB_AREA_ELLIPSE ? "ellipse" : "rectangle");
-      pb_json_number(&j, "size_u", l->size[0]);
-      pb_json_number(&j, "size_v", l->size[1]);
-      vec3(&j, "axis_u", l->axis_u);
-      vec3(&j, "axis_v", l->axis_v);
-      pb_json_number(&j, "spread", l->spread > 0 ? l->spread : M_PI);
-    }
-    pb_json_bool(&j, "cast_shadow", !l->no_shadow);
-    pb_json_bool(&j, "use_mis", !l->no_mis);
-    pb_json_bool(&j, "blender_units", l->from_blender);
+    pb_light_write_json(l, &j);
     pb_json_end_object(&j);
   }
   pb_json_end_array(&j);

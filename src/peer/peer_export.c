@@ -175,13 +175,15 @@ static pb_result check_scene(ctx *c) {
   const char *sp = s->path ? s->path : "scene";
   for (uint32_t i = 0; i < s->light_count; ++i) {
     const pb_light *l = &s->lights[i];
-    if (l->type == PB_LIGHT_AREA)
-      return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: lights[%u] '%s': area lights are not written to %s (model it as an "
-                     "emissive mesh)", sp, i, l->name, c->peer);
+    /* The kinds both formats hold; any other is refused by its name. */
+    float soft;
+    const char *softness = pb_light_softness(l, &soft);
+    if (l->type != PB_LIGHT_POINT && l->type != PB_LIGHT_SPOT && l->type != PB_LIGHT_DIRECTIONAL)
+      return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: lights[%u] '%s': %s lights are not written to %s (model it as an "
+                     "emissive mesh)", sp, i, l->name, pb_light_kind_name(l->type), c->peer);
     if (!pb_light_is_delta(l))
       return pb_fail(PB_ERR_SCENE_UNSUPPORTED, "%s: lights[%u] '%s': a soft light (%s %g) is not written to %s; only "
-                     "delta point, spot and sun lights", sp, i, l->name, l->type == PB_LIGHT_DIRECTIONAL ? "angle" : "radius",
-                     l->type == PB_LIGHT_DIRECTIONAL ? l->angle : l->radius, c->peer);
+                     "delta point, spot and sun lights", sp, i, l->name, softness, soft, c->peer);
     if (l->range > 0) {
       pb_result r = note(c, "lights[%u] '%s': range %g m ignored (%s lights reach everywhere)", i, l->name, l->range, c->peer);
       if (r != PB_OK) return r;

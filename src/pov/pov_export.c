@@ -474,17 +474,17 @@ static pb_result write_lights(export_ctx *x, FILE *f, float fade) {
     if (r != PB_OK) return r;
     /* Soft lights: POV-Ray's area_light is a grid of point lights, not
      * Cycles' models (scene.h); the export keeps what it can say exactly. */
-    if (l->type == PB_LIGHT_AREA) {
-      if ((r = note(x->rep, 1, "light '%s': area light not exported (the POV-Ray export writes point, spot and "
-                                "directional lights)", l->name)) != PB_OK)
+    float soft;
+    const char *softness = pb_light_softness(l, &soft);
+    if (l->type != PB_LIGHT_POINT && l->type != PB_LIGHT_SPOT && l->type != PB_LIGHT_DIRECTIONAL) {
+      if ((r = note(x->rep, 1, "light '%s': %s light not exported (the POV-Ray export writes point, spot and "
+                                "directional lights)", l->name, pb_light_kind_name(l->type))) != PB_OK)
         return r;
       continue;
     }
     if (!pb_light_is_delta(l) &&
         (r = note(x->rep, 1, "light '%s': exported as a hard %s light (its %s of %.4g is ignored)", l->name,
-                  l->type == PB_LIGHT_DIRECTIONAL ? "directional" : "point or spot",
-                  l->type == PB_LIGHT_DIRECTIONAL ? "angle" : "radius",
-                  l->type == PB_LIGHT_DIRECTIONAL ? l->angle : l->radius)) != PB_OK)
+                  l->type == PB_LIGHT_DIRECTIONAL ? "directional" : "point or spot", softness, soft)) != PB_OK)
       return r;
     if (l->type == PB_LIGHT_SPOT && l->spot_model != PB_SPOT_SMOOTHSTEP &&
         (r = note(x->rep, 1, "light '%s': Cycles' spot falloff exported as a smooth step between %.4g and %.4g "

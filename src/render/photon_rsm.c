@@ -54,12 +54,13 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
     /* Soft lights and the world have no map (count 0): their photons are
      * traced from the light (photon_trace.comp). */
     const pb_light *l = light[i] < s->light_count ? &s->lights[light[i]] : NULL;
-    uint64_t faces = !l || !pb_light_is_delta(l) ? 0u : l->type == PB_LIGHT_POINT ? 6u : 1u;
+    uint32_t kind = l ? pb_light_kind_of(l->type)->flags : 0u;
+    uint64_t faces = !l || !pb_light_is_delta(l) ? 0u : kind & PB_LIGHT_OMNI ? 6u : 1u; /* a cube map, or one face */
     tab[i].first = (uint32_t)total;
     tab[i].count = (uint32_t)(faces * res * res);
     tab[i].res = res;
     tab[i].light = light[i];
-    tab[i].tan_half = l && l->type == PB_LIGHT_SPOT ? tanf(fminf(fmaxf(l->outer_cone, 1e-4f), 1.5f)) : 1.0f;
+    tab[i].tan_half = kind & PB_LIGHT_CONE ? tanf(fminf(fmaxf(l->outer_cone, 1e-4f), 1.5f)) : 1.0f;
     tab[i].faces = (uint32_t)faces;
     uint32_t levels = 0;
     while ((1u << levels) < res) ++levels;

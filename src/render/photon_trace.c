@@ -183,29 +183,18 @@ static void scene_lights(pb_photon_tracer *t, const pb_scene *s, uint32_t *count
     }
     double omega, k, scale;
     float col[3] = {1, 1, 1};
-    if (world || l->type == PB_LIGHT_DIRECTIONAL) {
-      /* Parallel rays over the bounding disc (a soft sun's and the world's
-       * directions vary per photon; the spacing is the disc's). */
+    if (world) {
+      /* Parallel rays over the bounding disc, as a sun's (scene/light.c). */
       omega = M_PI * (double)radius * radius; /* disc area */
       scale = omega;
       e->cos_max = 1.0f;
-    } else if (l->type == PB_LIGHT_AREA) {
-      /* pb_area_light_emit: flux L A pi cos^2 a x the spread profile; the
-       * directions fill a cone of half-angle pi/2 - a, whose solid angle
-       * stands in the differentials (as a point light's would). */
-      double ta = 0.0;
-      if (l->spread > 0.0f && l->spread < (float)M_PI) ta = tan(0.5 * (M_PI - fmax(l->spread, M_PI / 180.0)));
-      double c2 = 1.0 / (1.0 + ta * ta); /* cos^2 a */
-      scale = pb_light_area(l) * M_PI * c2;
-      omega = 2.0 * M_PI * (1.0 - sqrt(1.0 - c2)); /* 1 - cos(pi/2 - a) = 1 - sin a */
-      e->cos_max = 0.0f;
-    } else if (l->type == PB_LIGHT_SPOT) {
-      float co = cosf(fmaxf(l->outer_cone, 0.0f));
-      omega = scale = 2.0 * M_PI * (1.0 - co);
-      e->cos_max = co;
     } else {
-      omega = scale = 4.0 * M_PI;
-      e->cos_max = -1.0f;
+      /* The kind's directions and flux per unit intensity (scene/light.h). */
+      pb_light_emission em;
+      pb_light_kind_of(l->type)->emission(l, radius, &em);
+      omega = em.omega;
+      scale = em.scale;
+      e->cos_max = em.cos_max;
     }
     if (!world) memcpy(col, l->color, sizeof col);
     k = scale / counts[i];

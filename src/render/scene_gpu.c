@@ -48,47 +48,7 @@ static uint32_t emissive_triangles(const pb_scene *s) {
 }
 
 static void convert_lights(const pb_scene *s, pb_gpu_light *lights) {
-  for (uint32_t i = 0; i < s->light_count; ++i) {
-    const pb_light *l = &s->lights[i];
-    pb_gpu_light *o = &lights[i];
-    memset(o, 0, sizeof *o);
-    memcpy(o->position, l->position, sizeof o->position);
-    float d[3] = {l->direction[0], l->direction[1], l->direction[2]};
-    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; ++k) {
-      o->direction[k] = len > 0 ? d[k] / len : 0.0f;
-      o->power[k] = l->color[k] * l->intensity;
-      o->axis_u[k] = l->axis_u[k];
-      o->axis_v[k] = l->axis_v[k];
-    }
-    o->type = l->type == PB_LIGHT_SPOT ? PB_GPU_LIGHT_SPOT
-              : l->type == PB_LIGHT_DIRECTIONAL ? PB_GPU_LIGHT_DIRECTIONAL
-              : l->type == PB_LIGHT_AREA ? PB_GPU_LIGHT_AREA : PB_GPU_LIGHT_POINT;
-    o->cos_outer = cosf(l->outer_cone);
-    o->cos_inner = cosf(l->inner_cone);
-    o->spot_blend = l->spot_blend;
-    if (l->spot_model == PB_SPOT_CYCLES) o->flags |= PB_GPU_LIGHT_CYCLES_SPOT;
-    if (l->spot_model == PB_SPOT_CYCLES4) o->flags |= PB_GPU_LIGHT_CYCLES4_SPOT;
-    if (l->no_shadow) o->flags |= PB_GPU_LIGHT_NO_SHADOW;
-    if (l->sphere && l->radius > 0.0f) o->flags |= PB_GPU_LIGHT_SPHERE;
-    if (l->no_mis) o->flags |= PB_GPU_LIGHT_NO_MIS;
-    if (l->type == PB_LIGHT_DIRECTIONAL) {
-      /* The soft sun: its disc's radius at unit distance (0: a delta light). */
-      o->radius = l->angle > 0.0f ? tanf(0.5f * l->angle) : 0.0f;
-      o->cos_half = cosf(0.5f * l->angle);
-    } else if (l->type == PB_LIGHT_AREA) {
-      if (l->shape == PB_AREA_ELLIPSE) o->flags |= PB_GPU_LIGHT_ELLIPSE;
-      o->size_u = l->size[0];
-      o->size_v = l->size[1];
-      /* The spread profile (scene.h; src/ref/soft_lights.c spread_params). */
-      float sp = l->spread > 0.0f ? l->spread : (float)M_PI;
-      float a = 0.5f * ((float)M_PI - fmaxf(sp, (float)M_PI / 180.0f));
-      o->tan_spread = tanf(a);
-      o->norm_spread = 2.0f / (2.0f + (2.0f * a - (float)M_PI) * o->tan_spread);
-    } else {
-      o->radius = l->radius;
-    }
-  }
+  for (uint32_t i = 0; i < s->light_count; ++i) pb_light_pack_gpu(&s->lights[i], &lights[i]);
 }
 
 /* The world's buffer: pb_gpu_world, then per texel (R, G, B, conditional

@@ -8,7 +8,6 @@
 #include <string.h>
 
 #include "scene/anim.h"
-#include "scene/blender_lights.h"
 #include "scene/deform.h"
 #include "scene/scene.h"
 #include "scene/tangents.h"
@@ -273,22 +272,10 @@ pb_result pb_scene_set_time(pb_scene *s, double t) {
     int32_t n = a->light_node[i];
     if (n < 0 || !a->nodes[n].animated) continue;
     const mat4 *M = &a->world[n];
-    pb_light *l = &s->lights[i];
-    double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
-    xform_point(M, o, pos);
-    xform_dir(M, fz, dir);
-    if (!fits_float3(pos))
+    /* Position, and the axes its kind has (scene/light.h); a degenerate
+     * pose keeps the loaded direction. */
+    if (!pb_light_pose(&s->lights[i], M, a->light_dir[i]))
       return pb_fail(PB_ERR_SCENE_INVALID, "%s: animations: at t = %g nodes[%d] moves its light out of float range", path, t, n);
-    for (int k = 0; k < 3; ++k) l->position[k] = (float)pos[k];
-    if (l->type == PB_LIGHT_POINT) continue; /* direction stays (0, 0, -1), as loaded */
-    if (normalize3(dir)) {
-      for (int k = 0; k < 3; ++k) l->direction[k] = (float)dir[k];
-      /* Area lights: the rectangle turns with its node (a degenerate pose
-       * keeps the last axes). */
-      if (l->type == PB_LIGHT_AREA) pb_area_light_axes(M, dir, l->axis_u, l->axis_v);
-    } else {
-      memcpy(l->direction, a->light_dir[i], sizeof l->direction);
-    }
   }
   pb_scene_update_bounds(s);
   /* Normal maps: the tangent frames follow the posed vertices. They are

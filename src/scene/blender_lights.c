@@ -135,20 +135,6 @@ static pb_result object(const rd *r, const pb_gltf_value *o, const char *key, co
 
 /* ---- lights -------------------------------------------------------------- */
 
-int pb_area_light_axes(const mat4 *M, const double dir[3], float axis_u[3], float axis_v[3]) {
-  double ux[3] = {1, 0, 0}, vy[3] = {0, 1, 0}, u[3], v[3];
-  xform_dir(M, ux, u);
-  xform_dir(M, vy, v);
-  double du = u[0] * dir[0] + u[1] * dir[1] + u[2] * dir[2];
-  for (int c = 0; c < 3; ++c) u[c] -= du * dir[c];
-  if (!normalize3(u)) return 0;
-  double dv = v[0] * dir[0] + v[1] * dir[1] + v[2] * dir[2], uv = v[0] * u[0] + v[1] * u[1] + v[2] * u[2];
-  for (int c = 0; c < 3; ++c) v[c] -= dv * dir[c] + uv * u[c];
-  if (!normalize3(v)) return 0;
-  for (int c = 0; c < 3; ++c) axis_u[c] = (float)u[c], axis_v[c] = (float)v[c];
-  return 1;
-}
-
 pb_result pb_blender_read_light(const char *path, int node, const char *node_name, const pb_gltf_value *ext,
                                 const mat4 *M, pb_light *out, int *has_light) {
   *has_light = 0;
@@ -164,14 +150,12 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
 
   const char *type, *name, *shape = NULL, *model = NULL;
   if ((e = string(&r, lo, "type", &type)) != PB_OK) return e;
-  if (!type) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.type: missing (POINT, SPOT, SUN or AREA)", path, where);
   pb_light l;
   memset(&l, 0, sizeof l);
-  if (strcmp(type, "POINT") == 0) l.type = PB_LIGHT_POINT;
-  else if (strcmp(type, "SPOT") == 0) l.type = PB_LIGHT_SPOT;
-  else if (strcmp(type, "SUN") == 0) l.type = PB_LIGHT_DIRECTIONAL;
-  else if (strcmp(type, "AREA") == 0) l.type = PB_LIGHT_AREA;
-  else return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.type: '%s' is not POINT, SPOT, SUN or AREA", path, where, type);
+  char known[64];
+  int kind_known = pb_light_kind_parse(type, 1, &l.type, known, sizeof known);
+  if (!type) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.type: missing (%s)", path, where, known);
+  if (!kind_known) return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.type: '%s' is not %s", path, where, type, known);
   if ((e = string(&r, lo, "name", &name)) != PB_OK) return e;
   snprintf(l.name, PB_NAME_MAX, "%s", node_name && node_name[0] ? node_name : (name ? name : ""));
   if (!l.name[0]) snprintf(l.name, PB_NAME_MAX, "nodes[%d]", node);
@@ -202,34 +186,27 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
   else if (model && strcmp(model, "cycles3") != 0)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.model: '%s' is not cycles3 or cycles4", path, where, model);
 
-  double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
-  xform_point(M, o, pos);
-  xform_dir(M, fz, dir);
-  if (!fits_float3(pos))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light position is out of float range", path, node);
-  if (!normalize3(dir)) return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", path, node);
+  /* Position, direction and an area light's axes (Blender's size and size_y
+   * run along the node's X and Y). */
+  if ((e = pb_light_place(&l, M, path, node, 1)) != PB_OK) return e;
 
-  double k;
-  switch (l.type) {
-  case PB_LIGHT_POINT:
-  case PB_LIGHT_SPOT:
-    k = power / (4.0 * PI);
-    l.radius = (float)radius;
-    if (l.type == PB_LIGHT_SPOT) {
-      l.spot_model = cycles4 ? PB_SPOT_CYCLES4 : PB_SPOT_CYCLES;
-      spot_size = fmin(spot_size, PI);
-      l.outer_cone = (float)(0.5 * spot_size);
-      l.spot_blend = (float)spot_blend;
-      l.inner_cone = (float)(0.5 * spot_size * (1.0 - spot_blend)); /* for info and POV-Ray's cone */
-    }
-    l.file_intensity = (float)power;
-    break;
-  case PB_LIGHT_DIRECTIONAL:
-    k = strength;
-    l.angle = (float)angle;
-    l.file_intensity = (float)strength;
-    break;
-  default: {
+  /* Blender's value and the members the kind has (scene/light.h): a sun's
+   * strength is its irradiance; the others' power is spread over the
+   * sphere (4 pi) or, for a surface, over Cycles' area term. */
+  const uint32_t kind = pb_light_kind_of(l.type)->flags;
+  const int by_strength = (kind & PB_LIGHT_DISTANT) != 0;
+  double k = by_strength ? strength : power / (4.0 * PI);
+  l.file_intensity = (float)(by_strength ? strength : power);
+  if (kind & PB_LIGHT_RADIUS) l.radius = (float)radius;
+  if (kind & PB_LIGHT_ANGLE) l.angle = (float)angle;
+  if (kind & PB_LIGHT_CONE) {
+    l.spot_model = cycles4 ? PB_SPOT_CYCLES4 : PB_SPOT_CYCLES;
+    spot_size = fmin(spot_size, PI);
+    l.outer_cone = (float)(0.5 * spot_size);
+    l.spot_blend = (float)spot_blend;
+    l.inner_cone = (float)(0.5 * spot_size * (1.0 - spot_blend)); /* for info and POV-Ray's cone */
+  }
+  if (kind & PB_LIGHT_SURFACE) {
     int ellipse;
     if (!shape || strcmp(shape, "SQUARE") == 0) ellipse = 0, size_y = size;
     else if (strcmp(shape, "RECTANGLE") == 0) ellipse = 0;
@@ -245,24 +222,14 @@ pb_result pb_blender_read_light(const char *path, int node, const char *node_nam
     l.size[1] = (float)size_y;
     l.spread = (float)fmin(spread, PI);
     k = power / ((cycles4 ? PI : 4.0) * area); /* Cycles eval_fac: 3.4 1/(4 A), 4.x 1/(pi A) */
-    if (!pb_area_light_axes(M, dir, l.axis_u, l.axis_v))
-      return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", path, node);
-    l.file_intensity = (float)power;
-    break;
-  }
   }
   if (!fits_float(k))
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: %s.%s: %g gives an intensity of %g, out of float range", path, where,
-                   l.type == PB_LIGHT_DIRECTIONAL ? "strength" : "power",
-                   l.type == PB_LIGHT_DIRECTIONAL ? strength : power, k);
+                   by_strength ? "strength" : "power", by_strength ? strength : power, k);
   l.intensity = (float)k;
-  for (int c = 0; c < 3; ++c) {
-    l.position[c] = (float)pos[c];
-    l.direction[c] = l.type == PB_LIGHT_POINT ? (c == 2 ? -1.0f : 0.0f) : (float)dir[c];
-    l.color[c] = (float)color[c];
-  }
+  for (int c = 0; c < 3; ++c) l.color[c] = (float)color[c];
   l.no_shadow = !cast;
-  l.sphere = (l.type == PB_LIGHT_POINT || l.type == PB_LIGHT_SPOT) && !soft_falloff && l.radius > 0.0f;
+  l.sphere = (kind & PB_LIGHT_RADIUS) && !soft_falloff && l.radius > 0.0f;
   l.no_mis = !mis;
   l.from_blender = 1;
   *out = l;

@@ -27,10 +27,4 @@ pb_result pb_blender_read_root(const char *path, const char *dir, const pb_gltf_
 pb_result pb_blender_read_light(const char *path, int node, const char *node_name, const pb_gltf_value *ext,
                                 const mat4 *M, pb_light *out, int *has_light);
 
-/* An area light's axes from its node's world transform M and unit emission
- * direction: the node's local X and Y made orthonormal to the direction
- * (Gram-Schmidt). 0 when M collapses them. Shared with the animation
- * sampler (anim.c), which re-poses area lights. */
-int pb_area_light_axes(const mat4 *M, const double dir[3], float axis_u[3], float axis_v[3]);
-
 #endif

@@ -23,11 +23,11 @@ static pb_result check_light(loader *L, int32_t node, pb_light_type *type_out) {
                    L->path, node, li, d->light_count);
   const pb_gltf_light *g = &d->lights[li];
   pb_light_type type;
-  if (strcmp(g->type, "point") == 0) type = PB_LIGHT_POINT;
-  else if (strcmp(g->type, "spot") == 0) type = PB_LIGHT_SPOT;
-  else if (strcmp(g->type, "directional") == 0) type = PB_LIGHT_DIRECTIONAL;
-  else return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].type: '%s' is not point, spot or directional",
-                      L->path, li, g->type);
+  char known[64];
+  if (!pb_light_kind_parse(g->type, 0, &type, known, sizeof known))
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].type: '%s' is not %s", L->path,
+                   li, g->type, known);
+  const uint32_t kind = pb_light_kind_of(type)->flags;
   if (!fits_float(g->intensity) || g->intensity < 0)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].intensity: %g is not a non-negative float",
                    L->path, li, g->intensity);
@@ -37,7 +37,7 @@ static pb_result check_light(loader *L, int32_t node, pb_light_type *type_out) {
                      L->path, li, k, g->color[k]);
   if (!fits_float(g->range) || g->range < 0)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: extensions.KHR_lights_punctual.lights[%d].range: %g is not a non-negative float", L->path, li, g->range);
-  if (type == PB_LIGHT_SPOT && !(g->inner_cone >= 0 && g->inner_cone <= g->outer_cone && g->outer_cone > 0 &&
+  if ((kind & PB_LIGHT_CONE) && !(g->inner_cone >= 0 && g->inner_cone <= g->outer_cone && g->outer_cone > 0 &&
                                  g->outer_cone <= M_PI / 2 + 1e-6))
     return pb_fail(PB_ERR_SCENE_INVALID,
                    "%s: extensions.KHR_lights_punctual.lights[%d].spot: need 0 <= innerConeAngle (%g) < outerConeAngle (%g) <= pi/2",
@@ -47,7 +47,7 @@ static pb_result check_light(loader *L, int32_t node, pb_light_type *type_out) {
    * outer) but which means what Cycles draws: a hard-edged cone. Every
    * renderer's falloff is a step when the two are equal (pb_spot_falloff). */
   pb_result wr;
-  if (type == PB_LIGHT_SPOT && g->inner_cone == g->outer_cone &&
+  if ((kind & PB_LIGHT_CONE) && g->inner_cone == g->outer_cone &&
       (wr = load_warn(L, "extensions.KHR_lights_punctual.lights[%d].spot: innerConeAngle = outerConeAngle (%g, Blender's spot blend 0): a hard-edged spot",
                       li, g->outer_cone)) != PB_OK)
     return wr;
@@ -58,33 +58,28 @@ static pb_result check_light(loader *L, int32_t node, pb_light_type *type_out) {
 static pb_result add_light(loader *L, int32_t node, const mat4 *M) {
   pb_gltf_doc *d = L->doc;
   int32_t li = d->nodes[node].light;
-  pb_light_type type = PB_LIGHT_POINT; /* set by check_light */
-  pb_result cr = check_light(L, node, &type);
+  pb_light nl;
+  memset(&nl, 0, sizeof nl); /* its type set by check_light */
+  pb_result cr = check_light(L, node, &nl.type);
   if (cr != PB_OK) return cr;
   const pb_gltf_light *g = &d->lights[li];
-  double o[3] = {0, 0, 0}, pos[3], dir[3], fz[3] = {0, 0, -1};
-  xform_point(M, o, pos);
-  xform_dir(M, fz, dir);
-  if (!fits_float3(pos))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light position is out of float range", L->path, node);
-  if (type != PB_LIGHT_POINT && !normalize3(dir))
-    return pb_fail(PB_ERR_SCENE_INVALID, "%s: nodes[%d]: light transform is degenerate", L->path, node);
+  if ((cr = pb_light_place(&nl, M, L->path, node, 0)) != PB_OK) return cr;
   pb_scene *s = L->s;
   pb_result r = load_grow(L, (void **)&s->lights, &L->light_cap, (uint64_t)s->light_count + 1, sizeof *s->lights, "lights");
   if (r != PB_OK) return r;
   pb_light *l = &s->lights[s->light_count++];
-  memset(l, 0, sizeof *l);
+  *l = nl;
   load_copy_name(l->name, d->nodes[node].name, g->name);
   if (!l->name[0]) snprintf(l->name, PB_NAME_MAX, "lights[%d]", li);
-  l->type = type;
-  for (int k = 0; k < 3; ++k) l->position[k] = (float)pos[k], l->direction[k] = (float)dir[k], l->color[k] = (float)g->color[k];
-  if (type == PB_LIGHT_POINT) l->direction[0] = l->direction[1] = 0, l->direction[2] = -1;
+  for (int k = 0; k < 3; ++k) l->color[k] = (float)g->color[k];
   l->file_intensity = (float)g->intensity;
   /* shared/VALIDATION.md: standard = photometric (cd, lx): W = lm / 683;
    * Blender's unitless mode writes W/(4 pi) (point, spot) and W/m^2 (sun). */
   l->intensity = (float)(L->desc->light_units == PB_LIGHT_UNITS_UNITLESS ? g->intensity : g->intensity / PB_LUMENS_PER_WATT);
-  l->inner_cone = type == PB_LIGHT_SPOT ? (float)g->inner_cone : 0;
-  l->outer_cone = type == PB_LIGHT_SPOT ? (float)g->outer_cone : 0;
+  if (pb_light_kind_of(l->type)->flags & PB_LIGHT_CONE) {
+    l->inner_cone = (float)g->inner_cone;
+    l->outer_cone = (float)g->outer_cone;
+  }
   l->range = (float)g->range;
   return PB_OK;
 }

@@ -62,47 +62,6 @@ int pb_material_is_emissive(const pb_material *m) {
   return m->emissive[0] > 0 || m->emissive[1] > 0 || m->emissive[2] > 0;
 }
 
-int pb_light_is_delta(const pb_light *l) {
-  switch (l->type) {
-  case PB_LIGHT_POINT:
-  case PB_LIGHT_SPOT: return !(l->radius > 0.0f);
-  case PB_LIGHT_DIRECTIONAL: return !(l->angle > 0.0f);
-  default: return 0;
-  }
-}
-
-float pb_light_area(const pb_light *l) {
-  if (l->type != PB_LIGHT_AREA) return 0.0f;
-  float a = l->size[0] * l->size[1];
-  return l->shape == PB_AREA_ELLIPSE ? 0.25f * (float)M_PI * a : a;
-}
-
-void pb_light_power(const pb_light *l, float scene_radius, float power[3]) {
-  float k;
-  switch (l->type) {
-  case PB_LIGHT_POINT:
-    k = 4.0f * (float)M_PI * l->intensity;
-    break;
-  case PB_LIGHT_SPOT: {
-    /* Solid angle of the cone, with the smooth-step band counted at half
-     * weight: 2 pi (1 - cos) at the mean of the two cone angles. Cycles'
-     * falloff (its cos factor, its band inside the outer cone) is within the
-     * same estimate's error: the split only needs a rough power. */
-    float inner = l->spot_model != PB_SPOT_SMOOTHSTEP ? l->outer_cone * (1.0f - l->spot_blend) : l->inner_cone;
-    float a = 0.5f * (inner + l->outer_cone);
-    k = 2.0f * (float)M_PI * (1.0f - cosf(a)) * l->intensity;
-    break;
-  }
-  case PB_LIGHT_AREA:
-    /* pi A L: the Lambertian exitance; the spread profile keeps it. */
-    k = (float)M_PI * pb_light_area(l) * l->intensity;
-    break;
-  default:
-    k = (float)M_PI * scene_radius * scene_radius * l->intensity;
-  }
-  for (int c = 0; c < 3; ++c) power[c] = k * l->color[c];
-}
-
 static const char *const feature_names[] = {
     "specular paths", "transmission", "glossy", "textures",
     "emissive triangles", "animation", "alpha", "normal maps",

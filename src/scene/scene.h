@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "core/result.h"
+#include "scene/light.h" /* pb_light_type: the kinds, and what depends on them */
 
 enum { PB_NAME_MAX = 64 };
 
@@ -244,13 +245,6 @@ const char *pb_material_model_name(pb_material_model m);
  * or pb_material_model_name's. */
 const char *pb_blender_model_name(const pb_blender_material *b);
 
-typedef enum pb_light_type {
-  PB_LIGHT_POINT = 0,
-  PB_LIGHT_SPOT = 1,
-  PB_LIGHT_DIRECTIONAL = 2,
-  PB_LIGHT_AREA = 3,
-} pb_light_type;
-
 /* How a spot's intensity falls off with the angle to its axis. */
 typedef enum pb_spot_model {
   /* KHR_lights_punctual's recommendation: smoothstep from cos(outer_cone)
@@ -309,7 +303,7 @@ typedef enum pb_area_shape {
  * rays do not see them. */
 typedef struct pb_light {
   char name[PB_NAME_MAX];
-  pb_light_type type;
+  pb_light_type type;           /* scene/light.h: the kind */
   float position[3];
   float direction[3];
   float color[3];
@@ -342,15 +336,6 @@ typedef struct pb_light {
                                    typed" figure only */
 } pb_light;
 
-/* 1 when the light is a delta light (point/spot of radius 0, directional of
- * angle 0): only next-event estimation or photons reach it. */
-int pb_light_is_delta(const pb_light *l);
-/* Area of an area light's shape [m^2] (0 for other types). */
-float pb_light_area(const pb_light *l);
-
-/* Total emitted power [W] of a light per channel, used to split photon
- * budgets; directional lights use the area of the scene's bounding disc. */
-void pb_light_power(const pb_light *l, float scene_radius, float power[3]);
 
 /* The world (Blender's World: a Background shader, optionally fed by an
  * equirectangular Environment Texture), light arriving from infinitely far

@@ -261,12 +261,69 @@ static void test_memory(void) {
   free(data);
 }
 
+/* The kinds' table (scene/light.h): the host's kind is the GPU's value,
+ * every kind has a row, and the readers' type names parse to it. */
+static void test_light_kinds(void) {
+  CHECK_EQ_INT(PB_LIGHT_SPOT, PB_GPU_LIGHT_SPOT);
+  CHECK_EQ_INT(PB_LIGHT_AREA, PB_GPU_LIGHT_AREA);
+  for (int t = 0; t < PB_LIGHT_KIND_COUNT; ++t) {
+    const pb_light_kind *k = pb_light_kind_of((pb_light_type)t);
+    CHECK(k && k->name && k->blender_type && k->power && k->pack && k->describe && k->json && k->emission);
+  }
+  CHECK(pb_light_kind_of(PB_LIGHT_KIND_COUNT) == NULL);
+  CHECK(strcmp(pb_light_kind_name(PB_LIGHT_KIND_COUNT), "unknown") == 0);
+  pb_light_type t = PB_LIGHT_POINT;
+  char known[64];
+  CHECK_EQ_INT(pb_light_kind_parse("directional", 0, &t, known, sizeof known), 1);
+  CHECK_EQ_INT(t, PB_LIGHT_DIRECTIONAL);
+  CHECK(strcmp(known, "point, spot or directional") == 0);
+  CHECK_EQ_INT(pb_light_kind_parse("area", 0, &t, NULL, 0), 0); /* not in KHR_lights_punctual */
+  CHECK_EQ_INT(pb_light_kind_parse("AREA", 1, &t, known, sizeof known), 1);
+  CHECK_EQ_INT(t, PB_LIGHT_AREA);
+  CHECK(strcmp(known, "POINT, SPOT, SUN or AREA") == 0);
+  /* The GPU's light: the kind as it is, a spot's cone, an area's shape. */
+  pb_light l;
+  memset(&l, 0, sizeof l);
+  l.type = PB_LIGHT_AREA;
+  l.intensity = 2.0f;
+  l.color[0] = l.color[1] = l.color[2] = 1.0f;
+  l.direction[2] = -2.0f;
+  l.size[0] = 2.0f;
+  l.size[1] = 0.5f;
+  l.shape = PB_AREA_ELLIPSE;
+  pb_gpu_light g;
+  pb_light_pack_gpu(&l, &g);
+  CHECK_EQ_INT(g.type, PB_GPU_LIGHT_AREA);
+  CHECK_NEAR(g.direction[2], -1.0, 1e-6);
+  CHECK_NEAR(g.power[1], 2.0, 1e-6);
+  CHECK(g.flags & PB_GPU_LIGHT_ELLIPSE);
+  CHECK_NEAR(g.size_u, 2.0, 1e-6);
+  CHECK_NEAR(g.norm_spread, 1.0, 1e-6); /* spread pi: Lambertian */
+  CHECK_EQ_INT(pb_light_is_delta(&l), 0);
+  float v;
+  CHECK(pb_light_softness(&l, &v) == NULL);
+  l.type = PB_LIGHT_SPOT;
+  l.outer_cone = 0.5f;
+  l.radius = 0.25f;
+  pb_light_pack_gpu(&l, &g);
+  CHECK_EQ_INT(g.type, PB_GPU_LIGHT_SPOT);
+  CHECK_NEAR(g.cos_outer, cos(0.5), 1e-6);
+  CHECK_NEAR(g.radius, 0.25, 1e-6);
+  CHECK(strcmp(pb_light_softness(&l, &v), "radius") == 0 && v == 0.25f);
+  CHECK_EQ_INT(pb_light_is_delta(&l), 0);
+  l.type = PB_LIGHT_DIRECTIONAL;
+  l.angle = 0.0f;
+  CHECK_EQ_INT(pb_light_is_delta(&l), 1);
+  CHECK(strcmp(pb_light_softness(&l, &v), "angle") == 0);
+}
+
 int main(void) {
   if (!mkdtemp(dir)) return 1;
   test_transforms();
   test_lights_and_cameras();
   test_materials();
   test_memory();
+  test_light_kinds();
   rmdir(dir);
   return pbt_done();
 }
