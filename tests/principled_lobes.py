@@ -78,7 +78,7 @@ GPU_OPTS = {"studio": ENGINE, "studio_multi": ENGINE}
 # path (--glossy-path-roughness 1; by default layers rougher than 0.15 are
 # shaded where the eye path stops, from direct light and the photon map):
 # both ways must match Cycles.
-FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "metal_aniso", "metallic_f82_multi_aniso", "clearcoat", "studio"]
+FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "thin_film_diffuse", "metal_aniso", "metallic_f82_multi_aniso", "clearcoat", "studio"]
 
 
 def probe(exe, path):
