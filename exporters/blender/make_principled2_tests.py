@@ -15,7 +15,8 @@ sheen lit from behind; emission under a coat and sheen; and, in the
 Principled's place, the Metallic BSDF (model metallic: F82 with GGX, and
 anisotropic with Multiscatter GGX; Physical Conductor with Multiscatter
 GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
-Microfiber, lit from behind). Each NAME gets
+Microfiber, lit from behind); Thin Film iridescence on the dielectric
+specular, over a diffuse base and on rough glass. Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
                               (photonbridge/writer.py: model principled2);
@@ -114,6 +115,17 @@ CASES = {
                                          {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "GGX"})},
     "sheen_bsdf": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.9, 0.6, 0.4, 1.0), "Roughness": 0.35},
                              {"distribution": "MICROFIBER"})},
+    # Thin Film (4.2+): Belcour-Barla iridescence on the dielectric specular
+    # alone (400 nm), over a grey diffuse base it layers (250 nm, Multiscatter
+    # GGX), and on the glass's Fresnel (600 nm, in front of the card).
+    "thin_film_specular": dict(ISOLATED, **{"Specular IOR Level": 0.5, "IOR": 1.5, "Roughness": 0.25,
+                                            "Thin Film Thickness": 400.0, "Thin Film IOR": 1.33,
+                                            "_distribution": "GGX"}),
+    "thin_film_diffuse": {"Base Color": (0.5, 0.5, 0.5, 1.0), "Roughness": 0.4, "Thin Film Thickness": 250.0,
+                          "Thin Film IOR": 1.6},
+    "thin_film_glass": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission Weight": 1.0, "Roughness": 0.3,
+                        "IOR": 1.45, "Thin Film Thickness": 600.0, "Thin Film IOR": 2.0, "_distribution": "GGX",
+                        "_card": True},
 }
 BACK_LIGHT = ("sheen", "sheen_bsdf")
 

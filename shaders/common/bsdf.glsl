@@ -49,6 +49,8 @@ struct pb_closure {
   vec3 ttint;    // glass transmission tint
   float energy;  // Turquin energy scale 1 / E (1 without compensation)
   bool g2;       // height-correlated Smith G2
+  float tf_d;    // v2 generalized Schlick: thin film thickness (nm; off at <= 0.1)
+  float tf_ior;  // its IOR, relative to the outside as ior is
 };
 
 struct pb_bsdf {

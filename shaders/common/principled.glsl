@@ -7,6 +7,7 @@
 #define PB_PRINCIPLED_GLSL
 
 #include "shared/pb_principled2_tables.h"
+#include "shared/pb_thin_film.h"
 
 // The input loops below are kept as loops ([[dont_unroll]]): each of their
 // iterations may read a texture, and a driver that unrolls them (Mesa's NIR
@@ -422,6 +423,8 @@ void pb_add_closure(inout pb_bsdf b, uint slot, uint type, vec3 weight) {
   c.ttint = vec3(0.0);
   c.energy = 1.0;
   c.g2 = false;
+  c.tf_d = 0.0;
+  c.tf_ior = 1.0;
   b.cl[slot] = c;
 }
 
@@ -451,7 +454,7 @@ void pb_microfacet(inout pb_closure c, vec3 n, vec3 t, float ax, float ay, float
 // closure_layering_weight on tabulated albedos; Multiscatter GGX as Turquin
 // energy compensation; height-correlated Smith G2. Slots: sheen SHEEN, coat
 // CLEARCOAT, metal GLASS_REFL, glass GLASS_REFR, specular SPECULAR, diffuse
-// DIFFUSE.
+// DIFFUSE. Thin Film (4.2+) on the glass and the specular: pb2_thin_film.
 
 // The table starting at float t (PB_P2T_*, shared/pb_principled2_tables.h)
 // at i: the tables follow the texels in the same buffer, from texel index
@@ -502,6 +505,70 @@ vec3 pb2_fresnel_conductor(float cosi, vec3 eta, vec3 k) {
   return 0.5 * (rparl2 + rperp2);
 }
 
+// Thin-film iridescence: Cycles 4.5 closure/bsdf_util.h fresnel_iridescence
+// (Belcour and Barla 2017). Outside medium of index 1, a film of index e2
+// and thickness d (nm), a base of index e3, all relative; both polarisations
+// (x: s, y: p) side by side, the Airy sum to the third order, the XYZ
+// sensitivities' Gaussian fit (shared/pb_thin_film.h), times the white
+// point, to linear Rec.709, clamped.
+//
+// Interface of relative index eta at cos_i: squared amplitudes (s, p), phase
+// shifts, transmitted cosine (negative, relative to the normal); false under
+// total internal reflection (fresnel_dielectric_polarized).
+bool pb2_tf_interface(float cos_i, float eta, out vec2 rr, out vec2 ph, out float cos_t) {
+  rr = vec2(1.0);
+  ph = vec2(0.0);
+  cos_t = 0.0;
+  float d = eta * eta - 1.0 + cos_i * cos_i;
+  if (d <= 0.0) return false;
+  float ci = abs(cos_i);
+  cos_t = -sqrt(d) / eta;
+  vec2 amp = vec2((ci + eta * cos_t) / (ci - eta * cos_t), (cos_t + eta * ci) / (eta * ci - cos_t));
+  rr = amp * amp;
+  ph = mix(vec2(0.0), vec2(PB_PI), lessThan(amp, vec2(0.0)));
+  return true;
+}
+
+// iridescence_lookup_sensitivity: XYZ of path difference opd (nm), shift.
+vec3 pb2_tf_sens(float opd, float shift) {
+  float p = 2.0 * PB_PI * opd * 1e-9, p2 = p * p;
+  const vec3 val = vec3(PB_TF_VAL_X, PB_TF_VAL_Y, PB_TF_VAL_Z);
+  const vec3 pos = vec3(PB_TF_POS_X, PB_TF_POS_Y, PB_TF_POS_Z);
+  const vec3 var = vec3(PB_TF_VAR_X, PB_TF_VAR_Y, PB_TF_VAR_Z);
+  vec3 xyz = val * sqrt(2.0 * PB_PI * var) * cos(pos * p + shift) * exp(-p2 * var);
+  xyz.x += PB_TF_X2_AMP * cos(PB_TF_X2_POS * p + shift) * exp(-PB_TF_X2_VAR * p2);
+  return xyz * (1.0 / PB_TF_NORM);
+}
+
+// iridescence_airy_summation for one polarisation.
+vec3 pb2_tf_airy(float t121, float r12, float r23, float opd, float phi) {
+  if (r23 == 1.0) return vec3(1.0);
+  float r123 = r12 * r23, q = sqrt(r123), rs = t121 * t121 * r23 / (1.0 - r123);
+  vec3 sum = vec3(r12 + rs);
+  float cm = rs - t121;
+  for (int m = 1; m < 4; ++m) {
+    cm *= q;
+    sum += (2.0 * cm) * pb2_tf_sens(float(m) * opd, float(m) * phi);
+  }
+  return sum;
+}
+
+vec3 pb2_thin_film(float cos_i, float e2, float e3, float d) {
+  if (d < PB_TF_BLEND_THICKNESS) e2 = mix(1.0, e2, smoothstep(0.0, PB_TF_BLEND_THICKNESS, d));
+  vec2 r12, p12, r23, p23;
+  float c2, c3;
+  if (!pb2_tf_interface(cos_i, e2, r12, p12, c2) || all(equal(r12, vec2(1.0)))) return vec3(1.0);
+  float opd = -2.0 * e2 * d * c2;
+  if (!pb2_tf_interface(-c2, e3 / e2, r23, p23, c3) || all(equal(r23, vec2(1.0)))) return vec3(1.0);
+  vec2 t121 = vec2(1.0) - r12, phi = vec2(PB_PI) - p12 + p23;
+  vec3 xyz = 0.5 * (pb2_tf_airy(t121.x, r12.x, r23.x, opd, phi.x) + pb2_tf_airy(t121.y, r12.y, r23.y, opd, phi.y));
+  xyz *= vec3(PB_TF_WHITE_X, PB_TF_WHITE_Y, PB_TF_WHITE_Z);
+  // GLSL matrices are column-major: the rows of XYZ -> RGB as columns, transposed.
+  const mat3 to_rgb = transpose(mat3(PB_TF_M00, PB_TF_M01, PB_TF_M02, PB_TF_M10, PB_TF_M11, PB_TF_M12,
+                                     PB_TF_M20, PB_TF_M21, PB_TF_M22));
+  return clamp(to_rgb * xyz, 0.0, 1.0);
+}
+
 // Reflectance r and transmittance t at cos between microfacet and view.
 void pb2_fresnel(pb_closure c, float cos_hv, out vec3 r, out vec3 t) {
   t = vec3(0.0);
@@ -514,6 +581,17 @@ void pb2_fresnel(pb_closure c, float cos_hv, out vec3 r, out vec3 t) {
     float mu = clamp(1.0 - cos_hv, 0.0, 1.0);
     float mu5 = mu * mu * mu * mu * mu;
     r = clamp(mix(c.cspec0, vec3(1.0), mu5) - c.color * (cos_hv * mu5 * mu), 0.0, 1.0);
+  } else if (c.tf_d > PB_TF_MIN_THICKNESS) {
+    // The film (closure/bsdf_microfacet.h microfacet_fresnel): its
+    // reflectance scaled per channel towards F0 / F0(ior) by how far it
+    // lies from 1 towards F0(ior).
+    r = pb2_thin_film(cos_hv, c.tf_ior, c.ior, c.tf_d);
+    float f0r = pb2_f0(c.ior);
+    if (f0r > 1e-5 && any(notEqual(r, vec3(1.0)))) {
+      vec3 s = clamp((r - vec3(1.0)) / (f0r - 1.0), 0.0, 1.0);
+      r *= mix(vec3(1.0), c.cspec0 / f0r, s);
+    }
+    if (c.type == PB_CL_V2_GLASS) t = (vec3(1.0) - r) * c.ttint;
   } else {
     float f0r = pb2_f0(c.ior);
     float s = clamp((pb_fresnel_diel(cos_hv, c.ior) - f0r) / (1.0 - f0r), 0.0, 1.0);
@@ -592,7 +670,9 @@ vec3 pb2_albedo(pb_closure c, float mu, bool trans) {
   if (all(equal(r, vec3(0.0)))) return t;
   float rough = sqrt(sqrt(c.ax * c.ay));
   float z = sqrt(abs((c.ior - 1.0) / (c.ior + 1.0)));
-  if (c.fresnel == PB_FR_GEN_SCHLICK) {
+  if (c.fresnel == PB_FR_GEN_SCHLICK && c.tf_d > PB_TF_MIN_THICKNESS) {
+    // the film has no table: its reflectance at mu, as pb2_fresnel gave it
+  } else if (c.fresnel == PB_FR_GEN_SCHLICK) {
     r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z));
   } else if (c.fresnel == PB_FR_F82_TINT) {
     r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_S, rough, mu, 0.5));
@@ -667,6 +747,9 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
   float trans_w = clamp(in_v[PB_GPU_IN_TRANSMISSION], 0.0, 1.0);
   float ior = max(in_v[PB_GPU_IN_IOR], 1e-5);
   float alpha = clamp(in_v[PB_GPU_IN_ALPHA], 0.0, 1.0);
+  // Thin Film Thickness (nm) and IOR, clamped as svm/closure.h does
+  float tf_d = max(in_v[PB_GPU_IN_THIN_FILM_THICKNESS], 1e-5);
+  float tf_ior = max(in_v[PB_GPU_IN_THIN_FILM_IOR], 1e-5);
   vec3 spec_tint = pb2_color(m.specular_tint_tex, m.specular_tint, surf);
   vec3 coat_tint = pb2_color(m.coat_tint_tex, m.coat_tint, surf);
   vec3 sheen_tint = pb2_color(m.sheen_tint_tex, m.sheen_tint, surf);
@@ -752,6 +835,9 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
       pb2_microfacet(b.cl[PB_SLOT_GLASS_REFR], n, n, r2, r2, surf.front ? ior : 1.0 / ior, PB_FR_GEN_SCHLICK,
                      spec_tint * pb2_f0(ior));
       b.cl[PB_SLOT_GLASS_REFR].ttint = sqrt(cbase);
+      // svm/closure.h: the film on the glass, its IOR relative to wo's side
+      b.cl[PB_SLOT_GLASS_REFR].tf_d = tf_d;
+      b.cl[PB_SLOT_GLASS_REFR].tf_ior = surf.front ? tf_ior : tf_ior / ior;
       float mu = dot(wo, n);
       b.cl[PB_SLOT_GLASS_REFR].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_GLASS_REFR], mu, true));
       if (multi) pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFR], mu, b.cl[PB_SLOT_GLASS_REFR].ttint);
@@ -765,10 +851,13 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
     eta = (1.0 + rf) / (1.0 - rf);
     if (ior < 1.0) eta = 1.0 / eta;
   }
-  if (eta != 1.0) {
+  // svm/closure.h: a film makes the specular lobe even at eta 1.
+  if (eta != 1.0 || tf_d > PB_TF_MIN_THICKNESS) {
     pb_add_closure(b, PB_SLOT_SPECULAR, PB_CL_V2_GGX, w);
     if (b.cl[PB_SLOT_SPECULAR].on) {
       pb2_microfacet(b.cl[PB_SLOT_SPECULAR], n, tangent, ax, ay, eta, PB_FR_GEN_SCHLICK, spec_tint * f0);
+      b.cl[PB_SLOT_SPECULAR].tf_d = tf_d;
+      b.cl[PB_SLOT_SPECULAR].tf_ior = tf_ior;
       float mu = dot(wo, n);
       b.cl[PB_SLOT_SPECULAR].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_SPECULAR], mu, true));
       if (multi) {

@@ -76,6 +76,7 @@
 
 #include "ref/ref_internal.h"
 #include "shared/pb_principled2_tables.h"
+#include "shared/pb_thin_film.h"
 
 #define CUTOFF 1e-5f               /* CLOSURE_WEIGHT_CUTOFF */
 #define SINGULAR_ALPHA2 1e-7f      /* alpha_x alpha_y at or below: a delta lobe */
@@ -605,7 +606,8 @@ static void microfacet(pb_closure *c, v3 n, v3 t, float ax, float ay, float ior,
  * compensates energy as microfacet_ggx_preserve_energy (Turquin 2019: scale
  * 1/E; Kulla-Conty darkening of the weight for coloured Fss). Smith G2 is
  * height-correlated (Cycles 3.5+). Tables: shaders/shared/
- * pb_principled2_tables.h (Cycles' own figures). Not rendered: thin film,
+ * pb_principled2_tables.h (Cycles' own figures). Thin film (4.2+) on the
+ * glass and the specular: thin_film_fresnel below. Not rendered:
  * subsurface scattering (diffuse), coat normal. */
 
 static inline v3 v3_maxv(v3 a, v3 b) { return v3_make(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)); }
@@ -662,6 +664,88 @@ static v3 fresnel_cond(float cosi, v3 eta, v3 k) {
   return v3_make(fresnel_cond1(cosi, eta.x, k.x), fresnel_cond1(cosi, eta.y, k.y), fresnel_cond1(cosi, eta.z, k.z));
 }
 
+/* ---- thin-film iridescence ------------------------------------------------
+ * Cycles 4.5 closure/bsdf_util.h fresnel_iridescence (Belcour and Barla
+ * 2017, "A Practical Extension to Microfacet Theory for the Modeling of
+ * Varying Iridescence"): the Airy sum of the film's two interfaces, outside
+ * medium (index 1) / film / base, per polarisation, to the third order of
+ * path differences, integrated against the CIE XYZ sensitivities in Fourier
+ * space (the Gaussian fit), times the white point and converted to linear
+ * Rec.709, clamped to [0, 1]. Computed here in double. */
+
+#define TF_PI 3.14159265358979323846
+
+/* One interface of relative index eta at cos_i (either sign):
+ * reflectances s and p, their phase shifts (0 or pi) and the cosine of the
+ * transmitted ray relative to the normal (negative). 0 under total internal
+ * reflection (closure/bsdf_util.h fresnel_dielectric_polarized). */
+static int tf_interface(double cos_i, double eta, double rr[2], double ph[2], double *cos_t) {
+  double e2 = eta * eta - (1.0 - cos_i * cos_i);
+  if (e2 <= 0.0) return 0;
+  double ci = fabs(cos_i), ct = -sqrt(e2) / eta;
+  double as = (ci + eta * ct) / (ci - eta * ct), ap = (ct + eta * ci) / (eta * ci - ct);
+  rr[0] = as * as;
+  rr[1] = ap * ap;
+  ph[0] = as < 0.0 ? TF_PI : 0.0;
+  ph[1] = ap < 0.0 ? TF_PI : 0.0;
+  *cos_t = ct;
+  return 1;
+}
+
+/* The XYZ sensitivity of optical path difference opd (nm) with phase shift
+ * `shift` (iridescence_lookup_sensitivity). */
+static void tf_sensitivity(double opd, double shift, double xyz[3]) {
+  double ph = 2.0 * TF_PI * opd * 1e-9, ph2 = ph * ph;
+  const double val[3] = {PB_TF_VAL_X, PB_TF_VAL_Y, PB_TF_VAL_Z};
+  const double pos[3] = {PB_TF_POS_X, PB_TF_POS_Y, PB_TF_POS_Z};
+  const double var[3] = {PB_TF_VAR_X, PB_TF_VAR_Y, PB_TF_VAR_Z};
+  for (int k = 0; k < 3; ++k) xyz[k] = val[k] * sqrt(2.0 * TF_PI * var[k]) * cos(pos[k] * ph + shift) * exp(-ph2 * var[k]);
+  xyz[0] += PB_TF_X2_AMP * cos(PB_TF_X2_POS * ph + shift) * exp(-PB_TF_X2_VAR * ph2);
+  for (int k = 0; k < 3; ++k) xyz[k] /= PB_TF_NORM;
+}
+
+/* Reflectance (XYZ) of one polarisation: orders 0..3 of the Airy sum
+ * (iridescence_airy_summation, the paper's equation 10). */
+static void tf_airy(double t121, double r12, double r23, double opd, double phi, double xyz[3]) {
+  if (r23 == 1.0) {
+    xyz[0] = xyz[1] = xyz[2] = 1.0;
+    return;
+  }
+  double r123 = r12 * r23, a = sqrt(r123), rs = t121 * t121 * r23 / (1.0 - r123);
+  xyz[0] = xyz[1] = xyz[2] = r12 + rs;
+  double cm = rs - t121;
+  for (int m = 1; m <= 3; ++m) {
+    double sm[3];
+    cm *= a;
+    tf_sensitivity(m * opd, m * phi, sm);
+    for (int k = 0; k < 3; ++k) xyz[k] += 2.0 * cm * sm[k];
+  }
+}
+
+/* Reflectance (linear Rec.709) of a film of index eta2 and thickness d (nm)
+ * between the outside (1) and a base of index eta3, at cos_i. */
+static v3 thin_film_fresnel(float cos_i, float eta2, float eta3, float d) {
+  double e1 = 1.0, e2 = eta2, e3 = eta3;
+  if (d < PB_TF_BLEND_THICKNESS) {
+    double u = d / PB_TF_BLEND_THICKNESS;
+    u = u <= 0.0 ? 0.0 : (u >= 1.0 ? 1.0 : u * u * (3.0 - 2.0 * u));
+    e2 = e1 + (e2 - e1) * u;
+  }
+  double r12[2], p12[2], r23[2], p23[2], c2, c3;
+  if (!tf_interface(cos_i, e2 / e1, r12, p12, &c2) || (r12[0] == 1.0 && r12[1] == 1.0)) return v3_splat(1.0f);
+  double opd = -2.0 * e2 * d * c2;
+  if (!tf_interface(-c2, e3 / e2, r23, p23, &c3) || (r23[0] == 1.0 && r23[1] == 1.0)) return v3_splat(1.0f);
+  double xs[3], xp[3], xyz[3];
+  tf_airy(1.0 - r12[0], r12[0], r23[0], opd, TF_PI - p12[0] + p23[0], xs);
+  tf_airy(1.0 - r12[1], r12[1], r23[1], opd, TF_PI - p12[1] + p23[1], xp);
+  const double white[3] = {PB_TF_WHITE_X, PB_TF_WHITE_Y, PB_TF_WHITE_Z};
+  for (int k = 0; k < 3; ++k) xyz[k] = 0.5 * (xs[k] + xp[k]) * white[k];
+  double r = PB_TF_M00 * xyz[0] + PB_TF_M01 * xyz[1] + PB_TF_M02 * xyz[2];
+  double g = PB_TF_M10 * xyz[0] + PB_TF_M11 * xyz[1] + PB_TF_M12 * xyz[2];
+  double b = PB_TF_M20 * xyz[0] + PB_TF_M21 * xyz[1] + PB_TF_M22 * xyz[2];
+  return v3_sat(v3_make((float)r, (float)g, (float)b));
+}
+
 /* Reflectance R and transmittance T of a v2 microfacet closure at cos
  * between the microfacet and the view. */
 static void fresnel_v2(const pb_closure *c, float cos_hv, v3 *r, v3 *t) {
@@ -678,6 +762,23 @@ static void fresnel_v2(const pb_closure *c, float cos_hv, v3 *r, v3 *t) {
     v3 fs = mix1(c->cspec0, mu5);
     *r = v3_sat(v3_sub(fs, v3_scale(c->color, cos_hv * mu5 * mu)));
     *t = v3_splat(0.0f);
+  } else if (c->tf_thickness > (float)PB_TF_MIN_THICKNESS) {
+    /* Generalized Schlick with a thin film (closure/bsdf_microfacet.h
+     * microfacet_fresnel): the film's reflectance, scaled per channel by
+     * F0 / F0(ior) as far as it lies from 1 towards F0(ior) (Specular Tint
+     * and Specular IOR Level). */
+    v3 f = thin_film_fresnel(cos_hv, c->tf_ior, c->ior, c->tf_thickness);
+    float f0r = f0_of(c->ior);
+    if (f0r > 1e-5f && !(f.x == 1.0f && f.y == 1.0f && f.z == 1.0f)) {
+      float *fc = &f.x;
+      const float *f0c = &c->cspec0.x;
+      for (int k = 0; k < 3; ++k) {
+        float sk = sat((fc[k] - 1.0f) / (f0r - 1.0f));
+        fc[k] *= 1.0f + (f0c[k] / f0r - 1.0f) * sk;
+      }
+    }
+    *r = f;
+    *t = v3_mul(v3_sub(v3_splat(1.0f), f), c->ttint);
   } else {
     /* Generalized Schlick with a negative exponent: F0 to 1 along the real
      * dielectric curve of c->ior. */
@@ -777,7 +878,10 @@ static v3 v2_albedo(const pb_closure *c, float mu, int trans) {
   if (!trans) t = v3_splat(0.0f);
   if (r.x == 0.0f && r.y == 0.0f && r.z == 0.0f) return t;
   float rough = sqrtf(sqrtf(c->ax * c->ay));
-  if (c->fresnel == PB_FRESNEL_GEN_SCHLICK) {
+  if (c->fresnel == PB_FRESNEL_GEN_SCHLICK && c->tf_thickness > (float)PB_TF_MIN_THICKNESS) {
+    /* No table for the film: its reflectance at mu, as fresnel_v2 gave it
+     * (bsdf_microfacet_estimate_albedo). */
+  } else if (c->fresnel == PB_FRESNEL_GEN_SCHLICK) {
     float z = sqrtf(fabsf((c->ior - 1.0f) / (c->ior + 1.0f)));
     r = mix1(c->cspec0, lut3(pb_ggx_gen_schlick_ior_s, rough, mu, z, 16, 16, 16));
   } else if (c->fresnel == PB_FRESNEL_F82_TINT) {
@@ -843,6 +947,8 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   float coat_r = sat(in[PB_IN_COAT_ROUGHNESS]), coat_ior = fmaxf(in[PB_IN_COAT_IOR], 1.0f);
   float trans_w = sat(in[PB_IN_TRANSMISSION]), ior = fmaxf(in[PB_IN_IOR], 1e-5f);
   float alpha = sat(in[PB_IN_ALPHA]);
+  /* Thin Film Thickness (nm) and IOR, clamped as svm/closure.h does. */
+  float tf_d = fmaxf(in[PB_IN_THIN_FILM_THICKNESS], 1e-5f), tf_ior = fmaxf(in[PB_IN_THIN_FILM_IOR], 1e-5f);
   v3 cbase = v3_make(fminf(base.x, 1.0f), fminf(base.y, 1.0f), fminf(base.z, 1.0f));
   v3 n_shade = surf->ns;
   v3 n = valid_reflection_normal(surf->ng, wo, surf->ns);
@@ -954,6 +1060,10 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
       v2_microfacet(c, n, n, r2, r2, surf->front ? ior : 1.0f / ior, PB_FRESNEL_GEN_SCHLICK,
                     v3_scale(V.spec_tint, f0_of(ior)), g2);
       c->ttint = v3_make(sqrtf(cbase.x), sqrtf(cbase.y), sqrtf(cbase.z));
+      /* svm/closure.h: the film on the glass, its IOR relative to the
+       * side wo is on. */
+      c->tf_thickness = tf_d;
+      c->tf_ior = surf->front ? tf_ior : tf_ior / ior;
       float mu = v3_dot(wo, n);
       c->sample_weight *= avg3(v2_albedo(c, mu, 1));
       if (multi) preserve_energy(c, mu, c->ttint);
@@ -966,10 +1076,13 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
     eta = eta_of_f0(f0);
     if (ior < 1.0f) eta = 1.0f / eta;
   }
-  if (eta != 1.0f) {
+  /* svm/closure.h: a film alone makes a specular lobe even at eta 1. */
+  if (eta != 1.0f || tf_d > (float)PB_TF_MIN_THICKNESS) {
     pb_closure *c = add_closure(b, PB_CL_V2_GGX, w);
     if (c) {
       v2_microfacet(c, n, tangent, ax, ay, eta, PB_FRESNEL_GEN_SCHLICK, v3_scale(V.spec_tint, f0), g2);
+      c->tf_thickness = tf_d;
+      c->tf_ior = tf_ior;
       float mu = v3_dot(wo, n);
       c->sample_weight *= avg3(v2_albedo(c, mu, 1));
       if (multi) {

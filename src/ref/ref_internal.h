@@ -214,6 +214,8 @@ typedef struct pb_closure {
   v3 ttint;            /* glass: transmission tint */
   float energy;        /* Turquin energy scale 1 / E (1 without compensation) */
   int g2;              /* height-correlated Smith G2 (else separable G1 G1) */
+  float tf_thickness;  /* v2 generalized Schlick: thin film (nm; off at <= 0.1) */
+  float tf_ior;        /* its IOR, relative to the outside as ior is */
 } pb_closure;
 
 typedef struct pb_bsdf {

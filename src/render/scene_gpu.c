@@ -151,6 +151,8 @@ _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_
                    PB_SAME(PB_GPU_IN_SUBSURFACE, PB_IN_SUBSURFACE) && (int)PB_IN_COUNT <= (int)PB_GPU_IN_SLOTS &&
                    PB_SAME(PB_GPU_IN_SPECULAR_IOR_LEVEL, PB_IN_SPECULAR_IOR_LEVEL) &&
                    PB_SAME(PB_GPU_IN_EMISSION_STRENGTH, PB_IN_EMISSION_STRENGTH) &&
+                   PB_SAME(PB_GPU_IN_THIN_FILM_THICKNESS, PB_IN_THIN_FILM_THICKNESS) &&
+                   PB_SAME(PB_GPU_IN_THIN_FILM_IOR, PB_IN_THIN_FILM_IOR) &&
                    PB_SAME(PB_GPU_IN_CONDUCTOR_N, PB_IN_CONDUCTOR_N_R) &&
                    (int)PB_GPU_IN_V1_SLOTS > (int)PB_IN_SUBSURFACE &&
                    PB_SAME(PB_GPU_IN_SLOTS, sizeof ((pb_gpu_material *)0)->in_value / sizeof(float)),

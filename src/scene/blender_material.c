@@ -540,10 +540,6 @@ static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_
                    "scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
     return r;
   /* What the renderers do not do yet, said once per material. */
-  if ((b->input[PB_IN_THIN_FILM_THICKNESS] > 0.1f || b->input_tex[PB_IN_THIN_FILM_THICKNESS].tex >= 0) &&
-      (r = warn(R, "materials[%d]." EXT ".principled2.thinFilmThickness: %g nm: thin-film iridescence is not rendered",
-                R->index, b->input[PB_IN_THIN_FILM_THICKNESS])) != PB_OK)
-    return r;
   if (b->coat_normal_tex >= 0 &&
       (r = warn(R, "materials[%d]." EXT ".textures.coatNormal: the coat uses the surface's normal (no coat normal map)",
                 R->index)) != PB_OK)

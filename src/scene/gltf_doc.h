@@ -203,6 +203,12 @@ typedef struct pb_gltf_material {
   double thickness;             /* its thicknessFactor (0 if absent: thin-walled) */
   double attenuation_distance;  /* metres; 0 if absent (= infinite) */
   double attenuation_color[3];  /* 1 if absent */
+  /* KHR_materials_iridescence: its factor (0 if absent), the film's IOR
+   * (1.3) and thickness range in nm (100, 400); NaN for a member present
+   * that is not a number. iridescence_textures: it names a texture. */
+  int has_iridescence;
+  double iridescence, iridescence_ior, iridescence_thickness_min, iridescence_thickness_max;
+  int iridescence_textures;
   const char *alpha_mode;
   double alpha_cutoff;
   int double_sided;

@@ -1178,6 +1178,24 @@ void convert_materials(Impl &m) {
       x.attenuation_distance = num_or(*e, "attenuationDistance", 0);
       for (int k = 0; k < 3; ++k) x.attenuation_color[k] = num_at(*e, "attenuationColor", k, 1);
     }
+    x.iridescence_ior = 1.3;
+    x.iridescence_thickness_min = 100;
+    x.iridescence_thickness_max = 400;
+    if (auto *e = ext("KHR_materials_iridescence")) {
+      // A member that is there but not a number reads as NaN, which the
+      // loader refuses (load_material.c), rather than as its default.
+      auto num = [&](const char *k, double dflt) {
+        if (!e->IsObject() || !e->Has(k)) return dflt;
+        const tinygltf::Value &v = e->Get(k);
+        return v.IsNumber() ? v.GetNumberAsDouble() : std::nan("");
+      };
+      x.has_iridescence = 1;
+      x.iridescence = num("iridescenceFactor", 0);
+      x.iridescence_ior = num("iridescenceIor", 1.3);
+      x.iridescence_thickness_min = num("iridescenceThicknessMinimum", 100);
+      x.iridescence_thickness_max = num("iridescenceThicknessMaximum", 400);
+      x.iridescence_textures = e->IsObject() && (e->Has("iridescenceTexture") || e->Has("iridescenceThicknessTexture"));
+    }
     x.alpha_mode = s(mt.alphaMode);
     x.alpha_cutoff = mt.alphaCutoff;
     x.double_sided = mt.doubleSided;

@@ -85,6 +85,23 @@ static pb_result check_material(loader *L, int i, const pb_gltf_material *g) {
     if (r == PB_OK) r = check_factor(L, i, "extensions.KHR_materials_specular.specularColorFactor", g->specular_color[k], 0, 1e3);
   }
   if (r != PB_OK) return r;
+  if (g->has_iridescence) {
+    /* KHR_materials_iridescence's schema: a factor in [0, 1], an IOR of at
+     * least 1, thicknesses (nm) of at least 0; the upper bounds are the
+     * Blender model's (blender_material.c thinFilmIor, thinFilmThickness). */
+    static const char *const f[4] = {"iridescenceFactor", "iridescenceIor", "iridescenceThicknessMinimum",
+                                     "iridescenceThicknessMaximum"};
+    const double v[4] = {g->iridescence, g->iridescence_ior, g->iridescence_thickness_min, g->iridescence_thickness_max};
+    static const double lo[4] = {0, 1, 0, 0}, hi[4] = {1, 1000, 100000, 100000};
+    char w[96];
+    for (int k = 0; k < 4 && r == PB_OK; ++k) {
+      snprintf(w, sizeof w, "extensions.KHR_materials_iridescence.%s", f[k]);
+      if (isnan(v[k]))
+        return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].%s: not a number", L->path, i, w);
+      r = check_factor(L, i, w, v[k], lo[k], hi[k]);
+    }
+    if (r != PB_OK) return r;
+  }
   if (g->ior != 0 && g->ior < 1)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d].extensions.KHR_materials_ior.ior: %g is below 1", L->path, i, g->ior);
   if (g->alpha_mode[0] && strcmp(g->alpha_mode, "OPAQUE") != 0 && strcmp(g->alpha_mode, "MASK") != 0 &&
@@ -128,6 +145,12 @@ pb_result load_material(loader *L, int i, pb_material *m) {
   else m->alpha_mode = PB_ALPHA_OPAQUE; /* "" or "OPAQUE" (check_material) */
 
   if ((r = material_extensions(L, i, g, m)) != PB_OK) return r;
+  /* The plain glTF model has no thin film; a Blender Principled v2
+   * material's Thin Film (PHOTONBRIDGE_blender) is rendered. */
+  if (!g->blender && g->has_iridescence && g->iridescence > 0 &&
+      (r = load_warn(L, "materials[%d].extensions.KHR_materials_iridescence: iridescenceFactor %g: thin-film "
+                        "iridescence is not rendered on a plain glTF material", i, g->iridescence)) != PB_OK)
+    return r;
   const pb_gltf_texture_ref *refs[4] = {&g->base_color_tex, &g->metallic_roughness_tex, &g->emissive_tex, &g->normal_tex};
   static const char *const names[4] = {"pbrMetallicRoughness.baseColorTexture", "pbrMetallicRoughness.metallicRoughnessTexture",
                                        "emissiveTexture", "normalTexture"};

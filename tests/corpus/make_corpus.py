@@ -515,6 +515,22 @@ def broken_cases(C, png):
     case("volume_color_range", EXIT_INVALID,
          "materials[1].extensions.KHR_materials_volume.attenuationColor[1]: 2 is outside [0, 1]",
          setp(("materials", 1, "extensions"), {"KHR_materials_volume": {"attenuationColor": [1, 2, 1]}}))
+    # KHR_materials_iridescence: read and checked (the plain glTF model does
+    # not render it; a Blender Principled v2 Thin Film is).
+    case("iridescence_factor_range", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_iridescence.iridescenceFactor: 1.5 is outside [0, 1]",
+         setp(("materials", 1, "extensions"), {"KHR_materials_iridescence": {"iridescenceFactor": 1.5}}))
+    case("iridescence_ior_below_1", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_iridescence.iridescenceIor: 0.8 is outside [1, 1000]",
+         setp(("materials", 1, "extensions"), {"KHR_materials_iridescence": {"iridescenceFactor": 1,
+                                                                              "iridescenceIor": 0.8}}))
+    case("iridescence_thickness_negative", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_iridescence.iridescenceThicknessMaximum: -50 is outside [0, 100000]",
+         setp(("materials", 1, "extensions"), {"KHR_materials_iridescence": {"iridescenceFactor": 1,
+                                                                              "iridescenceThicknessMaximum": -50}}))
+    case("iridescence_thickness_string", EXIT_INVALID,
+         "materials[1].extensions.KHR_materials_iridescence.iridescenceThicknessMinimum: not a number",
+         setp(("materials", 1, "extensions"), {"KHR_materials_iridescence": {"iridescenceThicknessMinimum": "100"}}))
     case("normal_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.NORMAL",
          setp(("accessors", 1, "count"), 3))
     case("texcoord_count_mismatch", EXIT_INVALID, "meshes[0].primitives[0].attributes.TEXCOORD_0",
@@ -1236,6 +1252,12 @@ def valid_cases(C, png):
     del d["cameras"]
     C.gltf(V, "no_camera", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, "warn=default camera"])
+    d = copy.deepcopy(doc0)
+    d["materials"][1]["extensions"] = {"KHR_materials_iridescence": {
+        "iridescenceFactor": 1, "iridescenceIor": 1.33, "iridescenceThicknessMaximum": 450}}
+    C.gltf(V, "iridescence_plain", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES,
+                   "warn=materials[1].extensions.KHR_materials_iridescence: iridescenceFactor 1: thin-film"])
     d = copy.deepcopy(doc0)
     d["meshes"][1]["primitives"].append({"attributes": {"POSITION": 0}, "mode": 0})
     C.gltf(V, "points_and_triangles", d, bin0, png, code=EXIT_OK,
