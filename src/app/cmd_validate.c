@@ -141,6 +141,8 @@ int pb_cmd_validate(int argc, char **argv) {
        "Colour", 0},
       {"threads", 0, PB_OPT_U32, &u32, "N", "CPU threads for the reference, POV-Ray and Cycles (default 0: all)",
        NULL, 0, 0, "Device", 0},
+      {"quiet", 'q', PB_OPT_FLAG, &flag, NULL, "errors only: no progress, no time estimate, no status lines",
+       NULL, 0, 0, "Reporting", 0},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -152,7 +154,10 @@ int pb_cmd_validate(int argc, char **argv) {
     pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "Renders SCENE with the reference, the GPU renderer, POV-Ray and (when Blender is installed) "
                       "Cycles at the same resolution, shows every picture through the same OCIO view, compares "
-                      "every pair with compare's metrics and writes DIR/index.html and DIR/report.json. The "
+                      "every pair with compare's metrics and writes DIR/index.html and DIR/report.json. Before the "
+                      "first render it prints an estimate of the run's time, measured on small probe renders of "
+                      "the reference and photonbridge render (POV-Ray and Cycles modelled from the reference's "
+                      "speed), also in report.json. The "
                       "renderers that are not installed are listed as skipped. Needs python3 and the "
                       "validation scripts (found through $PB_VALIDATION_DIR, ../validation beside this binary, "
                       "../share/photonbridge/validation where it was installed with cmake --install, or the "
