@@ -6,7 +6,7 @@
         [--cycles-spp 64] [--cycles-source auto|sample|gltf] [--cycles-materials model|principled] \
         [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
         [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L] \
-        [--renderers LIST] [--render-only | --report-from DIR[,DIR...]]
+        [--renderers LIST] [--render-only | --report-from DIR[,DIR...]] [-q]
 
 `photonbridge validate` runs this script. SCENE is a glTF/GLB file, a .blend,
 or the name of a sample (samples/NAME/NAME.gltf). A .blend is handed over by
@@ -46,6 +46,12 @@ Split by renderer (a farm's one task per scene and renderer):
 DIR/render_R.json beside its image and logs; `--report-from DIR1,DIR2,...`
 renders nothing, copies those folders into --out and compares and reports
 as one process would (a renderer no folder has is listed as not rendered).
+
+Before the first render, one stderr line estimates the run's time and what
+dominates it (estimate_run: the reference and photonbridge render measured on
+small probes in DIR/estimate/ and extrapolated by pixels x samples, POV-Ray and
+Cycles modelled from the reference probe's speed); report.json's estimate holds
+it. -q prints errors only (no progress, no estimate, no status lines).
 
 A renderer that is missing or fails is listed with the reason and left out of
 the comparisons; the exit status is 0 when the reference and at least one
@@ -348,13 +354,14 @@ def render_cmd(a, exe, scene, exr, js, width, spp):
 # time per pixel and sample (the probe's), so that the model follows the
 # machine's speed and --threads: POV-Ray's time per pixel by --pov-quality,
 # and Cycles' per pixel and sample plus Blender's start and scene build.
-# Measured once on cornell_box (96 px, one thread, POV-Ray 3.7, Blender 3.4);
-# radiosity and Cycles' cost depend on the scene far more than the
-# reference's, so these two are stated as modelled.
-POV_PER_PIXEL = {"direct": 14.0, "draft": 34.0, "medium": 660.0, "high": 14000.0}  # high: at 32 px
-CYCLES_PER_SAMPLE = 1.3
-CYCLES_START_S = 6.0
-PROBE_SPP = 2
+# Measured on cornell_box (64 to 192 px, one thread, POV-Ray 3.7, Blender
+# 3.4; high at 32 px only); radiosity's and Cycles' cost depend on the scene
+# far more than the reference's, so these two are stated as modelled.
+POV_PER_PIXEL = {"direct": 5.0, "draft": 20.0, "medium": 660.0, "high": 14000.0}
+POV_START_S = 0.5
+CYCLES_PER_SAMPLE = 0.75
+CYCLES_START_S = 4.0
+PROBE_MIN_S = 0.3
 SHORT = {"reference": "reference", "photonbridge": "photonbridge", "povray": "POV-Ray", "cycles": "Cycles",
          "sequence": "sequence", "other": "pictures and comparisons"}
 
@@ -370,10 +377,9 @@ def duration(sec):
     return "%.1f h" % (sec / 3600.0)
 
 
-def probe_width(width):
-    """The probes' width: a quarter of the run's (a sixteenth of its
-    pixels), at least 16 px."""
-    return min(width, max(16, int(round(width / 4.0))))
+def probe_width(width, part):
+    """A probe's width: 1/part of the run's, at least 16 px."""
+    return min(width, max(16, int(round(width / float(part)))))
 
 
 def tool_versions(exe):
@@ -396,8 +402,11 @@ def tool_versions(exe):
 def estimate_run(a, exe, scene, out, runs, color):
     """How long the renders of `runs` will take, before any of them starts.
     Measured where it is cheap: the reference and photonbridge render each
-    render a probe (a quarter of the width, PROBE_SPP samples, the run's own
-    options) in OUT/estimate/, and each run is extrapolated by pixels x
+    render a probe with the run's own options in OUT/estimate/ (the
+    reference at a quarter of the width and 2 samples per pixel; the GPU at
+    half the width and 1 sample, since lavapipe's time per pass falls with
+    the image size far into the thousands of pixels, so that a smaller
+    probe overstates it), and each run is extrapolated by pixels x
     samples from the probe's render time, plus the probe's time outside it
     (start, scene load, BVH; for photonbridge also the photon map, which
     does not depend on the image size). POV-Ray and Cycles are modelled from
@@ -409,19 +418,40 @@ def estimate_run(a, exe, scene, out, runs, color):
     the versions)."""
     pdir = os.path.join(out, "estimate")
     os.makedirs(pdir, exist_ok=True)
-    pw = probe_width(a.width)
+    pw = probe_width(a.width, 4)
     parts, ref_rate, size = {}, None, None
     t0 = time.time()
+    def pixel_passes_s(st):  # the GPU's passes per pixel and sample
+        return sum((st.get("passes_ms") or {}).get(k) or 0.0 for k in ("gbuffer", "direct", "gather", "filter")) / 1e3
+
+    def probe(name, build, full_spp, timed, width, spp):
+        """One probe at `width` and `spp` samples, then, where its
+        render took under PROBE_MIN_S (too short to time on a busy machine)
+        and the run it extrapolates to matters (over 2 s), once more with
+        the samples for about 1.5 PROBE_MIN_S (at most the run's). timed(st):
+        the probe's render seconds from its --json. Returns (its --json,
+        its wall seconds), or (None, None) when it failed."""
+        spp = min(spp, full_spp)
+        for _ in range(2):
+            js = os.path.join(pdir, name + ".json")
+            rc, _, dt = run(build(a, exe, scene, os.path.join(pdir, name + ".exr"), js, width, spp),
+                            os.path.join(pdir, name + ".log"))
+            st = read_json(js) or {}
+            if rc != 0 or not all(isinstance(st.get(k), int) and st[k] > 0 for k in ("width", "height", "spp")):
+                return None, None
+            t = timed(st)
+            run_s = t * (a.width / float(st["width"])) ** 2 * full_spp / st["spp"]
+            if t >= PROBE_MIN_S or st["spp"] >= full_spp or run_s < 2:
+                break
+            spp = min(full_spp, int(math.ceil(st["spp"] * PROBE_MIN_S * 1.5 / max(t, 1e-3))))
+        return st, dt
+
     if any(n in runs for n in ("reference", "povray", "cycles")) or a.frames:
-        js = os.path.join(pdir, "reference.json")
-        rc, _, dt = run(reference_cmd(a, exe, scene, os.path.join(pdir, "reference.exr"), js, pw, PROBE_SPP),
-                        os.path.join(pdir, "reference.log"))
-        st = read_json(js) or {}
-        if rc == 0 and all(isinstance(st.get(k), (int, float)) and st[k] > 0
-                           for k in ("width", "height", "spp", "time_s")):
+        spp = a.ref_spp + a.ref_spp % 2  # --estimate-noise rounds up to even
+        st, dt = probe("reference", reference_cmd, spp, lambda st: st.get("time_s") or 0.0, pw, 2)
+        if st and isinstance(st.get("time_s"), (int, float)) and st["time_s"] > 0:
             size = (a.width, max(1, int(round(a.width * st["height"] / float(st["width"])))))
             ref_rate = st["time_s"] / (st["width"] * st["height"] * st["spp"])
-            spp = a.ref_spp + a.ref_spp % 2  # --estimate-noise rounds up to even
             if "reference" in runs:
                 parts["reference"] = {
                     "s": max(0.0, dt - st["time_s"]) + ref_rate * size[0] * size[1] * spp, "method": "probe",
@@ -429,23 +459,19 @@ def estimate_run(a, exe, scene, out, runs, color):
                               "render_s": st["time_s"]}}
     gpu = None
     if "photonbridge" in runs or (a.frames and not a.no_gpu):
-        js = os.path.join(pdir, "photonbridge.json")
-        rc, _, dt = run(render_cmd(a, exe, scene, os.path.join(pdir, "photonbridge.exr"), js, pw, PROBE_SPP),
-                        os.path.join(pdir, "photonbridge.log"))
-        st = read_json(js) or {}
-        passes = st.get("passes_ms") or {}
-        if rc == 0 and st.get("width") and st.get("height"):
+        st, dt = probe("photonbridge", render_cmd, a.spp, pixel_passes_s, probe_width(a.width, 2), 1)
+        if st:
             size = size or (a.width, max(1, int(round(a.width * st["height"] / float(st["width"])))))
-            # The passes per pixel and sample; the rest (device start, photon
-            # map, estimator) is the same at any image size.
-            pix_s = sum(passes.get(k) or 0.0 for k in ("gbuffer", "direct", "gather", "filter")) / 1000.0
-            photon_s = sum(passes.get(k) or 0.0 for k in ("photon_trace", "estimator_build")) / 1000.0
+            # The rest (device start, photon map, estimator) is the same at
+            # any image size.
+            pix_s = pixel_passes_s(st)
+            photon_s = sum((st.get("passes_ms") or {}).get(k) or 0.0 for k in ("photon_trace", "estimator_build")) / 1e3
             gpu = {"fixed_s": max(0.0, dt - pix_s), "photon_s": photon_s,
-                   "rate": pix_s / (st["width"] * st["height"] * (st.get("spp") or PROBE_SPP))}
+                   "rate": pix_s / (st["width"] * st["height"] * st["spp"])}
             if "photonbridge" in runs:
                 parts["photonbridge"] = {
                     "s": gpu["fixed_s"] + gpu["rate"] * size[0] * size[1] * a.spp, "method": "probe",
-                    "probe": {"width": st["width"], "height": st["height"], "spp": st.get("spp"),
+                    "probe": {"width": st["width"], "height": st["height"], "spp": st["spp"],
                               "wall_s": round(dt, 3), "pixel_passes_s": round(pix_s, 3)}}
     t_disp = None
     for f in ("reference.exr", "photonbridge.exr"):
@@ -464,7 +490,7 @@ def estimate_run(a, exe, scene, out, runs, color):
     if ref_rate and size:
         px = size[0] * size[1]
         if "povray" in runs:
-            parts["povray"] = {"s": 0.5 + ref_rate * px * POV_PER_PIXEL.get(a.pov_quality, 660.0),
+            parts["povray"] = {"s": POV_START_S + ref_rate * px * POV_PER_PIXEL.get(a.pov_quality, 660.0),
                                "method": "model: %g reference pixel-samples per pixel at --pov-quality %s"
                                          % (POV_PER_PIXEL.get(a.pov_quality, 660.0), a.pov_quality)}
         if "cycles" in runs:
@@ -501,13 +527,13 @@ def estimate_run(a, exe, scene, out, runs, color):
                                                               ("cycles", a.cycles_spp)) if k in runs)
     if "povray" in runs:
         spp += (", " if spp else "") + "POV-Ray %s" % a.pov_quality
-    line = "estimate: about %s (%s) at %s, %s; measured on %dx%d probes in %s" % (
+    line = "estimate: about %s (%s) at %s, %s; measured on small probe renders in %s" % (
         duration(total), what or "no render measured", "%dx%d" % size if size else "%d px wide" % a.width, spp,
-        pw, int(round(pw * size[1] / float(size[0]))) if size else pw, duration(probe_s))
+        duration(probe_s))
     for p in parts.values():
         p["s"] = round(p["s"], 2)
     return {"total_s": round(total, 2), "parts": parts, "width": size[0] if size else a.width,
-            "height": size[1] if size else None, "probe_width": pw, "probe_s": round(probe_s, 2),
+            "height": size[1] if size else None, "probe_s": round(probe_s, 2),
             "line": line}, versions
 
 
