@@ -32,6 +32,13 @@
 #                             Cycles marked failed with the importer's one-line reason.
 #                             All three labelled blender;no-sanitize; skip without Blender.
 #   cli_validate_*            command-line errors.
+#   validate_install          cmake --install into a temporary prefix, then the installed
+#                             binary's validate --help and a 32 px run from outside the
+#                             source tree: the installed validate.py and sample are the
+#                             ones used (tests/validate_install.py).
+#   validate_estimate         the estimate line before the first render (a number and a
+#                             unit), report.json's estimate, nothing printed with -q
+#                             (tests/validate_estimate.py).
 add_test(NAME validate_report_chromium
          COMMAND sh -c "c=$(command -v chromium || command -v chromium-browser) || { echo 'skip: no chromium'; exit 77; }
                         w='${CMAKE_CURRENT_BINARY_DIR}/validate_report' && rm -rf \"$w\" && mkdir -p \"$w\" &&
@@ -135,4 +142,20 @@ if(Python3_Interpreter_FOUND)
                    ${CMAKE_CURRENT_BINARY_DIR}/validate_split
            WORKING_DIRECTORY ${PB_ROOT})
   set_tests_properties(validate_split PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 300)
+endif()
+# validate from an installed binary (tests/validate_install.py): GPU render
+# where a device is there, else the reference alone.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME validate_install
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/validate_install.py ${CMAKE_COMMAND} ${CMAKE_BINARY_DIR}
+                   ${PB_EXE})
+  set_tests_properties(validate_install PROPERTIES LABELS "no-sanitize" TIMEOUT 300
+                       PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+  # validate's estimate of the run's time (tests/validate_estimate.py).
+  add_test(NAME validate_estimate
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/validate_estimate.py ${PB_EXE}
+                   ${CMAKE_CURRENT_BINARY_DIR}/validate_estimate
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(validate_estimate PROPERTIES LABELS "no-sanitize" TIMEOUT 300
+                       PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
 endif()

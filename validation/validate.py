@@ -6,7 +6,7 @@
         [--cycles-spp 64] [--cycles-source auto|sample|gltf] [--cycles-materials model|principled] \
         [--no-cycles] [--no-gpu] [--no-povray] [--threads N] \
         [--direct-only] [--ocio-config F] [--display D] [--view V] [--look L] \
-        [--renderers LIST] [--render-only | --report-from DIR[,DIR...]]
+        [--renderers LIST] [--render-only | --report-from DIR[,DIR...]] [-q]
 
 `photonbridge validate` runs this script. SCENE is a glTF/GLB file, a .blend,
 or the name of a sample (samples/NAME/NAME.gltf). A .blend is handed over by
@@ -46,6 +46,12 @@ Split by renderer (a farm's one task per scene and renderer):
 DIR/render_R.json beside its image and logs; `--report-from DIR1,DIR2,...`
 renders nothing, copies those folders into --out and compares and reports
 as one process would (a renderer no folder has is listed as not rendered).
+
+Before the first render, one stderr line estimates the run's time and what
+dominates it (estimate_run: the reference and photonbridge render measured on
+small probes in DIR/estimate/ and extrapolated by pixels x samples, POV-Ray and
+Cycles modelled from the reference probe's speed); report.json's estimate holds
+it. -q prints errors only (no progress, no estimate, no status lines).
 
 A renderer that is missing or fails is listed with the reason and left out of
 the comparisons; the exit status is 0 when the reference and at least one
@@ -299,6 +305,7 @@ def halves_noise(exe, out, halves, color):
 
 
 CREATED = None  # the output folder, when this run created it (removed if interrupted)
+QUIET = False  # -q: errors only (no progress, no estimate, no status lines)
 
 
 class Terminated(Exception):
@@ -307,7 +314,8 @@ class Terminated(Exception):
 
 def progress(what):
     """One stderr line as each renderer starts (progress goes to stderr)."""
-    print("validate: %s ..." % what, file=sys.stderr, flush=True)
+    if not QUIET:
+        print("validate: %s ..." % what, file=sys.stderr, flush=True)
 
 
 def write_atomic(path, text):
@@ -319,6 +327,214 @@ def write_atomic(path, text):
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
+
+
+def reference_cmd(a, exe, scene, exr, js, width, spp):
+    """photonbridge reference as validate runs it (the render and the
+    estimate's probe of it)."""
+    cmd = [exe, "reference", scene, "-o", exr, "--width", str(width), "--spp", str(spp), "--estimate-noise",
+           "--json", js, "-q"]
+    if a.threads:
+        cmd += ["--threads", str(a.threads)]
+    if a.direct_only:
+        cmd += ["--max-bounces", "1"]
+    return cmd + shlex.split(a.ref_args)
+
+
+def render_cmd(a, exe, scene, exr, js, width, spp):
+    """photonbridge render as validate runs it (the render and the estimate's
+    probe of it)."""
+    cmd = [exe, "render", scene, "-o", exr, "--width", str(width), "--spp", str(spp), "--json", js, "-q"]
+    if a.direct_only:
+        cmd += ["--direct-only"]
+    return cmd + shlex.split(a.render_args)
+
+
+# The renderers that are not probed, in units of the reference's measured
+# time per pixel and sample (the probe's), so that the model follows the
+# machine's speed and --threads: POV-Ray's time per pixel by --pov-quality,
+# and Cycles' per pixel and sample plus Blender's start and scene build.
+# Measured on cornell_box (64 to 192 px, one thread, POV-Ray 3.7, Blender
+# 3.4; high at 32 px only); radiosity's and Cycles' cost depend on the scene
+# far more than the reference's, so these two are stated as modelled.
+POV_PER_PIXEL = {"direct": 5.0, "draft": 20.0, "medium": 660.0, "high": 14000.0}
+POV_START_S = 0.5
+CYCLES_PER_SAMPLE = 0.75
+CYCLES_START_S = 4.0
+PROBE_MIN_S = 0.3
+SHORT = {"reference": "reference", "photonbridge": "photonbridge", "povray": "POV-Ray", "cycles": "Cycles",
+         "sequence": "sequence", "other": "pictures and comparisons"}
+
+
+def duration(sec):
+    """Seconds as a person reads them: 40 s, 2.5 min, 25 min, 1.5 h."""
+    if sec < 59.5:
+        return "%d s" % max(1, int(round(sec)))
+    if sec < 600:
+        return "%.1f min" % (sec / 60.0)
+    if sec < 5400:
+        return "%d min" % int(round(sec / 60.0))
+    return "%.1f h" % (sec / 3600.0)
+
+
+def probe_width(width, part):
+    """A probe's width: 1/part of the run's, at least 16 px."""
+    return min(width, max(16, int(round(width / float(part)))))
+
+
+def tool_versions(exe):
+    """The tools' versions for the report (photonbridge, POV-Ray, Blender,
+    OpenColorIO, Python)."""
+    bl = os.environ.get("BLENDER", "blender")
+    versions = {
+        "photonbridge": tool_version([exe, "--version"]),
+        "povray": tool_version(["povray", "--version"], "POV-Ray") if shutil.which("povray") else None,
+        "blender": tool_version([bl, "--version"], "Blender") if shutil.which(bl) else None,
+        "opencolorio": None,
+        "python": sys.version.split()[0],
+    }
+    rc, o, _ = run(["pkg-config", "--modversion", "OpenColorIO"], timeout=30)
+    if rc == 0 and o.strip():
+        versions["opencolorio"] = o.strip()
+    return versions
+
+
+def estimate_run(a, exe, scene, out, runs, color):
+    """How long the renders of `runs` will take, before any of them starts.
+    Measured where it is cheap: the reference and photonbridge render each
+    render a probe with the run's own options in OUT/estimate/ (the
+    reference at a quarter of the width and 2 samples per pixel; the GPU at
+    half the width and 1 sample, since lavapipe's time per pass falls with
+    the image size far into the thousands of pixels, so that a smaller
+    probe overstates it), and each run is extrapolated by pixels x
+    samples from the probe's render time, plus the probe's time outside it
+    (start, scene load, BVH; for photonbridge also the photon map, which
+    does not depend on the image size). POV-Ray and Cycles are modelled from
+    the reference probe's time per pixel and sample (POV_PER_PIXEL,
+    CYCLES_PER_SAMPLE). The pictures and comparisons count as the time of
+    one display of a probe's picture (through the run's colour options)
+    each (the faster of two), a compare as one; the tools' versions are
+    taken here for the report (before the line, so not in its estimate). Returns (the report.json entry, its "line" the one printed;
+    the versions)."""
+    pdir = os.path.join(out, "estimate")
+    os.makedirs(pdir, exist_ok=True)
+    pw = probe_width(a.width, 4)
+    parts, ref_rate, size = {}, None, None
+    t0 = time.time()
+    def pixel_passes_s(st):  # the GPU's passes per pixel and sample
+        return sum((st.get("passes_ms") or {}).get(k) or 0.0 for k in ("gbuffer", "direct", "gather", "filter")) / 1e3
+
+    def probe(name, build, full_spp, timed, width, spp):
+        """One probe at `width` and `spp` samples, then, where its
+        render took under PROBE_MIN_S (too short to time on a busy machine)
+        and the run it extrapolates to matters (over 2 s), once more with
+        the samples for about 1.5 PROBE_MIN_S (at most the run's). timed(st):
+        the probe's render seconds from its --json. Returns (its --json,
+        its wall seconds), or (None, None) when it failed."""
+        spp = min(spp, full_spp)
+        for _ in range(2):
+            js = os.path.join(pdir, name + ".json")
+            rc, _, dt = run(build(a, exe, scene, os.path.join(pdir, name + ".exr"), js, width, spp),
+                            os.path.join(pdir, name + ".log"))
+            st = read_json(js) or {}
+            if rc != 0 or not all(isinstance(st.get(k), int) and st[k] > 0 for k in ("width", "height", "spp")):
+                return None, None
+            t = timed(st)
+            run_s = t * (a.width / float(st["width"])) ** 2 * full_spp / st["spp"]
+            if t >= PROBE_MIN_S or st["spp"] >= full_spp or run_s < 2:
+                break
+            spp = min(full_spp, int(math.ceil(st["spp"] * PROBE_MIN_S * 1.5 / max(t, 1e-3))))
+        return st, dt
+
+    if any(n in runs for n in ("reference", "povray", "cycles")) or a.frames:
+        spp = a.ref_spp + a.ref_spp % 2  # --estimate-noise rounds up to even
+        st, dt = probe("reference", reference_cmd, spp, lambda st: st.get("time_s") or 0.0, pw, 2)
+        if st and isinstance(st.get("time_s"), (int, float)) and st["time_s"] > 0:
+            size = (a.width, max(1, int(round(a.width * st["height"] / float(st["width"])))))
+            ref_rate = st["time_s"] / (st["width"] * st["height"] * st["spp"])
+            if "reference" in runs:
+                parts["reference"] = {
+                    "s": max(0.0, dt - st["time_s"]) + ref_rate * size[0] * size[1] * spp, "method": "probe",
+                    "probe": {"width": st["width"], "height": st["height"], "spp": st["spp"], "wall_s": round(dt, 3),
+                              "render_s": st["time_s"]}}
+    gpu = None
+    if "photonbridge" in runs or (a.frames and not a.no_gpu):
+        st, dt = probe("photonbridge", render_cmd, a.spp, pixel_passes_s, probe_width(a.width, 2), 1)
+        if st:
+            size = size or (a.width, max(1, int(round(a.width * st["height"] / float(st["width"])))))
+            # The rest (device start, photon map, estimator) is the same at
+            # any image size.
+            pix_s = pixel_passes_s(st)
+            photon_s = sum((st.get("passes_ms") or {}).get(k) or 0.0 for k in ("photon_trace", "estimator_build")) / 1e3
+            gpu = {"fixed_s": max(0.0, dt - pix_s), "photon_s": photon_s,
+                   "rate": pix_s / (st["width"] * st["height"] * st["spp"])}
+            if "photonbridge" in runs:
+                parts["photonbridge"] = {
+                    "s": gpu["fixed_s"] + gpu["rate"] * size[0] * size[1] * a.spp, "method": "probe",
+                    "probe": {"width": st["width"], "height": st["height"], "spp": st["spp"],
+                              "wall_s": round(dt, 3), "pixel_passes_s": round(pix_s, 3)}}
+    t_disp = None
+    for f in ("reference.exr", "photonbridge.exr"):
+        exr = os.path.join(pdir, f)
+        if os.path.exists(exr) and t_disp is None:
+            # Twice, the faster counting: the first also reads the binary
+            # and the view's files from disk.
+            for _ in range(2):
+                rc, _, dt = run([exe, "display", exr, "-o", exr[:-4] + ".png"] + color,
+                                os.path.join(pdir, "display.log"))
+                t_disp = (dt if t_disp is None else min(t_disp, dt)) if rc == 0 else None
+        for x in (exr, exr[:-4] + ".png"):
+            if os.path.exists(x):
+                os.remove(x)
+    versions = tool_versions(exe)  # here, so that the line's time includes them
+    probe_s = time.time() - t0
+    if ref_rate and size:
+        px = size[0] * size[1]
+        if "povray" in runs:
+            parts["povray"] = {"s": POV_START_S + ref_rate * px * POV_PER_PIXEL.get(a.pov_quality, 660.0),
+                               "method": "model: %g reference pixel-samples per pixel at --pov-quality %s"
+                                         % (POV_PER_PIXEL.get(a.pov_quality, 660.0), a.pov_quality)}
+        if "cycles" in runs:
+            parts["cycles"] = {"s": CYCLES_START_S + ref_rate * px * a.cycles_spp * CYCLES_PER_SAMPLE,
+                               "method": "model: %g s Blender start and %g reference pixel-samples per sample"
+                                         % (CYCLES_START_S, CYCLES_PER_SAMPLE)}
+    frames = None
+    if a.frames and size:
+        try:
+            f0, f1 = (int(x) for x in a.frames.split(":"))
+            frames = f1 - f0 + 1
+        except ValueError:
+            frames = None
+    if frames and frames > 0 and gpu and ref_rate:
+        px = size[0] * size[1]
+        parts["sequence"] = {"s": gpu["fixed_s"] + frames * (gpu["photon_s"] + gpu["rate"] * px * a.spp +
+                                                             ref_rate * px * a.seq_ref_spp),
+                             "method": "the probes, per frame"}
+    n = len(runs)
+    if t_disp is not None:
+        # A display of each picture; each pair compared twice (the second
+        # time on the shared heat-map scale), a compare measured at about
+        # one display's time (the view's set-up dominates both).
+        steps = n + n * (n - 1)
+        parts["other"] = {"s": steps * t_disp,
+                          "method": "%d displays' worth at the probe's display (%.2f s)" % (steps, t_disp)}
+    total = sum(p["s"] for p in parts.values())
+    shown = sorted((k for k in parts if k != "other"), key=lambda k: -parts[k]["s"])
+    what = ", ".join("%s %s%s" % (SHORT[k], duration(parts[k]["s"]),
+                                  " (modelled)" if parts[k]["method"].startswith("model") else "")
+                     for k in shown + (["other"] if "other" in parts else []))
+    spp = ", ".join("%s %d spp" % (SHORT[k], v) for k, v in (("reference", a.ref_spp), ("photonbridge", a.spp),
+                                                              ("cycles", a.cycles_spp)) if k in runs)
+    if "povray" in runs:
+        spp += (", " if spp else "") + "POV-Ray %s" % a.pov_quality
+    line = "estimate: about %s (%s) at %s, %s; measured on small probe renders in %s" % (
+        duration(total), what or "no render measured", "%dx%d" % size if size else "%d px wide" % a.width, spp,
+        duration(probe_s))
+    for p in parts.values():
+        p["s"] = round(p["s"], 2)
+    return {"total_s": round(total, 2), "parts": parts, "width": size[0] if size else a.width,
+            "height": size[1] if size else None, "probe_s": round(probe_s, 2),
+            "line": line}, versions
 
 
 def main(argv):
@@ -362,10 +578,14 @@ def main(argv):
     ap.add_argument("--render-only", action="store_true",
                     help="run the renderers and write each one's record as DIR/render_NAME.json, no comparison "
                          "or report (one task per scene and renderer on a farm; then --report-from)")
+    ap.add_argument("-q", "--quiet", action="store_true",
+                    help="errors only: no progress, no time estimate, no status lines")
     ap.add_argument("--report-from", metavar="DIR[,DIR...]",
                     help="render nothing: gather what --render-only runs wrote into these folders (their records, "
                          "images and logs, copied into --out), then compare and write the report")
     a = ap.parse_args(argv)
+    global QUIET
+    QUIET = a.quiet
     want = [n.strip() for n in a.renderers.split(",") if n.strip()]
     bad = [n for n in want if n not in RUN_ORDER]
     if bad or not want:
@@ -438,7 +658,8 @@ def main(argv):
             r["reason"] = reason
         r.update(kw)
         renders[name] = r
-        print("validate: %-12s %s%s" % (name, status, (": " + reason) if reason else ""))
+        if not QUIET or status == "failed":
+            print("validate: %-12s %s%s" % (name, status, (": " + reason) if reason else ""))
 
     # --report-from: the renderers' records as their runs wrote them.
     if gather:
@@ -446,7 +667,8 @@ def main(argv):
             rec = read_json(os.path.join(out, "render_%s.json" % n))
             if rec and rec.get("name") == n:
                 renders[n] = rec
-                print("validate: %-12s %s (from --report-from)" % (n, rec.get("status")))
+                if not QUIET:
+                    print("validate: %-12s %s (from --report-from)" % (n, rec.get("status")))
             else:
                 record(n, "skipped", "not rendered: no render_%s.json in the --report-from folders" % n)
     skip = (lambda n: True) if gather else (lambda n: n not in want)
@@ -454,17 +676,24 @@ def main(argv):
         if skip(n) and not gather:
             record(n, "skipped", "--renderers %s" % a.renderers)
 
+    # How long the renders will take, measured on small probes (estimate_run),
+    # before the first of them: one stderr line, and report.json's estimate.
+    estimate = versions = None
+    if not gather:
+        runs = [n for n in RUN_ORDER if not skip(n) and not (n == "photonbridge" and a.no_gpu) and
+                not (n == "povray" and (a.no_povray or not shutil.which("povray"))) and
+                not (n == "cycles" and (a.no_cycles or not shutil.which(os.environ.get("BLENDER", "blender")) or
+                                        cycles_source(a, scene, sample, blend) is None))]
+        if runs:
+            estimate, versions = estimate_run(a, exe, scene, out, runs, color)
+            if not QUIET:
+                print("validate: %s" % estimate["line"], file=sys.stderr, flush=True)
+
     # Reference (CPU).
     if not skip("reference"):
         progress("reference")
         exr = os.path.join(out, "reference.exr")
-        cmd = [exe, "reference", scene, "-o", exr, "--width", str(a.width), "--spp", str(a.ref_spp),
-               "--estimate-noise", "--json", os.path.join(out, "reference.json"), "-q"]
-        if a.threads:
-            cmd += ["--threads", str(a.threads)]
-        if a.direct_only:
-            cmd += ["--max-bounces", "1"]
-        cmd += shlex.split(a.ref_args)
+        cmd = reference_cmd(a, exe, scene, exr, os.path.join(out, "reference.json"), a.width, a.ref_spp)
         rc, o, dt = run(cmd, os.path.join(out, "reference.log"))
         st = read_json(os.path.join(out, "reference.json")) or {}
         if rc == 0 and os.path.isfile(exr):
@@ -504,11 +733,7 @@ def main(argv):
     else:
         progress("photonbridge render")
         exr = os.path.join(out, "photonbridge.exr")
-        cmd = [exe, "render", scene, "-o", exr, "--width", str(a.width), "--spp", str(a.spp),
-               "--json", os.path.join(out, "photonbridge.json"), "-q"]
-        if a.direct_only:
-            cmd += ["--direct-only"]
-        cmd += shlex.split(a.render_args)
+        cmd = render_cmd(a, exe, scene, exr, os.path.join(out, "photonbridge.json"), a.width, a.spp)
         rc, o, dt = run(cmd, os.path.join(out, "photonbridge.log"))
         st = read_json(os.path.join(out, "photonbridge.json")) or {}
         if rc == 0 and os.path.isfile(exr):
@@ -606,7 +831,8 @@ def main(argv):
         for n in want:
             write_atomic(os.path.join(out, "render_%s.json" % n), json.dumps(renders[n], indent=1))
         failed = [n for n in want if renders[n]["status"] == "failed"]
-        print("validate: rendered %s%s" % (",".join(want), "; failed: " + ",".join(failed) if failed else ""))
+        if not QUIET or failed:
+            print("validate: rendered %s%s" % (",".join(want), "; failed: " + ",".join(failed) if failed else ""))
         return 1 if failed else 0
 
     ok = [n for n in ORDER if renders.get(n, {}).get("status") == "ok"]
@@ -677,22 +903,13 @@ def main(argv):
 
     sequence = run_sequence(a, exe, scene, out, color) if a.frames else None
 
-    versions = {
-        "photonbridge": tool_version([exe, "--version"]),
-        "povray": tool_version(["povray", "--version"], "POV-Ray") if shutil.which("povray") else None,
-        "blender": tool_version([os.environ.get("BLENDER", "blender"), "--version"], "Blender")
-        if shutil.which(os.environ.get("BLENDER", "blender")) else None,
-        "opencolorio": None,
-        "python": sys.version.split()[0],
-    }
-    rc, o, _ = run(["pkg-config", "--modversion", "OpenColorIO"], timeout=30)
-    if rc == 0 and o.strip():
-        versions["opencolorio"] = o.strip()
+    versions = versions or tool_versions(exe)
     report = {
         "scene": scene, "sample": sample, "blend": blend, "handoff": handoff, "width": a.width,
         "direct_only": a.direct_only,
         "display": display_name or "sRGB / Standard (built-in)", "color_options": color,
-        "picture_view": picture_view, "heat_scale": heat_scale, "sequence": sequence,
+        "picture_view": picture_view, "heat_scale": heat_scale, "sequence": sequence, "estimate": estimate,
+        "validation_script": os.path.abspath(__file__),
         "scene_notes": scene_notes(facts),
         "metrics_note": "RMSE and relMSE (mean of (t-r)^2/(r^2+0.01)) on scene-linear RGB; PSNR and SSIM "
                         "on the display image through the OCIO view above (src/metrics, photonbridge compare)",
@@ -703,7 +920,8 @@ def main(argv):
     # half-written report.
     write_atomic(os.path.join(out, "report.json"), json.dumps(report, indent=1))
     write_atomic(os.path.join(out, "index.html"), render_html(report))
-    print("validate: wrote %s and %s" % (os.path.join(out, "index.html"), os.path.join(out, "report.json")))
+    if not QUIET:
+        print("validate: wrote %s and %s" % (os.path.join(out, "index.html"), os.path.join(out, "report.json")))
     return 0 if "reference" in ok and len(ok) >= 2 else 1
 
 

@@ -6,8 +6,10 @@
  * passed as the script's --out (--out itself still works).
  * The script is found through $PB_VALIDATION_DIR, else next to the
  * executable's folder (BUILD/../validation, the source tree's layout), else
- * in the source tree the binary was built from (PB_SOURCE_DIR), else
- * ./validation. --help works wherever the binary runs. Exit status: the script's
+ * in the installed data folder beside it (BIN/../share/photonbridge/validation,
+ * cmake --install's layout: PB_DATA_FROM_BIN), else in the source tree the
+ * binary was built from (PB_SOURCE_DIR), else ./validation. --help works
+ * wherever the binary runs. Exit status: the script's
  * (0 ok, 1 too few renders, 2 usage);
  * 3 when the script or python3 cannot be run. */
 #define _POSIX_C_SOURCE 200809L
@@ -23,6 +25,12 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "core/version.h"
+
+/* The installed data folder relative to the installed binary's folder
+ * (CMakeLists.txt: GNUInstallDirs' bin and share/photonbridge). */
+#ifndef PB_DATA_FROM_BIN
+#define PB_DATA_FROM_BIN "../share/photonbridge"
+#endif
 
 static int exists(const char *p) { return access(p, R_OK) == 0; }
 
@@ -53,6 +61,8 @@ static int find_script(char *out, size_t n, char *exe, size_t exe_n) {
       *slash = 0;
       snprintf(out, n, "%s/../validation/validate.py", dir);
       if (exists(out)) return 1;
+      snprintf(out, n, "%s/%s/validation/validate.py", dir, PB_DATA_FROM_BIN);
+      if (exists(out)) return 1;
     }
   }
   snprintf(out, n, "%s/validation/validate.py", PB_SOURCE_DIR);
@@ -73,7 +83,7 @@ static const pb_command *self(void) {
 
 int pb_cmd_validate(int argc, char **argv) {
   const pb_command *cmd = self();
-  char script[PATH_MAX + 32], exe[PATH_MAX];
+  char script[PATH_MAX + 96], exe[PATH_MAX];
   /* Parsed here for --help and for errors in the words of every other
    * subcommand; the values themselves are the script's to read. */
   const char *out = NULL, *old_out = NULL, *s_exe = NULL, *str = NULL;
@@ -131,6 +141,8 @@ int pb_cmd_validate(int argc, char **argv) {
        "Colour", 0},
       {"threads", 0, PB_OPT_U32, &u32, "N", "CPU threads for the reference, POV-Ray and Cycles (default 0: all)",
        NULL, 0, 0, "Device", 0},
+      {"quiet", 'q', PB_OPT_FLAG, &flag, NULL, "errors only: no progress, no time estimate, no status lines",
+       NULL, 0, 0, "Reporting", 0},
   };
   const size_t nopts = sizeof opts / sizeof *opts;
   const char *pos[1];
@@ -142,18 +154,22 @@ int pb_cmd_validate(int argc, char **argv) {
     pb_cli_print_help(stdout, help, cmd, opts, nopts,
                       "Renders SCENE with the reference, the GPU renderer, POV-Ray and (when Blender is installed) "
                       "Cycles at the same resolution, shows every picture through the same OCIO view, compares "
-                      "every pair with compare's metrics and writes DIR/index.html and DIR/report.json. The "
+                      "every pair with compare's metrics and writes DIR/index.html and DIR/report.json. Before the "
+                      "first render it prints an estimate of the run's time, measured on small probe renders of "
+                      "the reference and photonbridge render (POV-Ray and Cycles modelled from the reference's "
+                      "speed), also in report.json. The "
                       "renderers that are not installed are listed as skipped. Needs python3 and the "
                       "validation scripts (found through $PB_VALIDATION_DIR, ../validation beside this binary, "
-                      "or the source tree it was built from).");
+                      "../share/photonbridge/validation where it was installed with cmake --install, or the "
+                      "source tree it was built from).");
     return 0;
   }
   if (npos != 1 || (!out && !old_out))
     return pb_cli_exit(cmd, pb_fail(PB_ERR_USAGE, "expected SCENE and -o DIR (see 'photonbridge validate --help')"));
   int found = find_script(script, sizeof script, exe, sizeof exe);
   if (!found) {
-    fprintf(stderr, "photonbridge validate: error: validation/validate.py not found "
-                    "(set PB_VALIDATION_DIR to the source tree's validation folder)\n");
+    fprintf(stderr, "photonbridge validate: error: validation/validate.py not found (install it with cmake "
+                    "--install, or set PB_VALIDATION_DIR to the source tree's validation folder)\n");
     return 3;
   }
   char **av = calloc((size_t)argc + 5, sizeof *av);
