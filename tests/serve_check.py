@@ -525,7 +525,44 @@ def part_private():
         fail("a session folder was left in %s" % OUT)
 
 
+def part_noise():
+    """A stream with a noise threshold rests once the still run's own noise
+    estimate reaches it: every frame says "noise" (null before two passes),
+    the last one at most the threshold, then nothing until something
+    changes; a camera move starts the estimate afresh."""
+    s = Serve([SCENE] + SETTINGS + ["-q"])
+    expect_error(s, {"cmd": "stream", "on": True, "noise_threshold": 0.9}, '"noise_threshold" must be a number in')
+    t = 0.06
+    r = s.ask({"cmd": "stream", "on": True, "noise_threshold": t})
+    if r != {"reply": "stream", "ok": True}:
+        fail("stream -> %r" % r)
+    frames = []
+    while True:
+        f = s.read()
+        frames.append(f)
+        if f.get("noise") is not None and f["noise"] <= t:
+            break
+        if len(frames) > 200:
+            fail("no rest after 200 passes: noise %r" % [x.get("noise") for x in frames[-5:]])
+    if "noise" not in frames[0] or frames[0]["noise"] is not None or frames[-1]["passes"] < 2:
+        fail("frames %r" % [(x.get("passes"), x.get("noise")) for x in frames])
+    r, _, _ = select.select([s.p.stdout], [], [], 3)
+    if r:
+        fail("a frame after the noise threshold was reached: %s" % s.p.stdout.readline())
+    print("serve_check noise: rested after %d passes at noise %.4f (threshold %g); estimates %s"
+          % (frames[-1]["passes"], frames[-1]["noise"], t,
+             [round(x["noise"], 4) for x in frames if x.get("noise") is not None]))
+    cam = camera_request([0, 1.1, 3.9], [0, 0, 0, 1], 0.69, 0.05, 200, 1.0)
+    if s.ask(cam) != {"reply": "camera", "ok": True}:
+        fail("camera")
+    f = s.read()
+    if f.get("passes") != 1 or f.get("noise", 0) is not None:
+        fail("after the camera moved: %r" % f)
+    s.p.stdin.close()
+    s.p.wait(60)
+
+
 check_device()
-{"protocol": part_protocol, "still": part_still, "tracer": part_tracer, "kill": part_kill,
+{"noise": part_noise, "protocol": part_protocol, "still": part_still, "tracer": part_tracer, "kill": part_kill,
  "private": part_private}[PART]()
 print("serve_check %s: OK" % PART)

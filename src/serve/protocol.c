@@ -284,7 +284,7 @@ static const char *const fields[PB_SERVE_CMD_COUNT][MAX_FIELDS] = {
     {"t"},
     {"seed"}, /* and every setting of the table offered to requests (setting_row) */
     {""},
-    {"on", "max_passes"},
+    {"on", "max_passes", "noise_threshold"},
     {"scene"},
     {""},
 };
@@ -523,6 +523,14 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
       }
       if (get_uint(&c, "max_passes", 0, 1e9, &u) < 0) goto done;
       req->max_passes = (uint32_t)u;
+      {
+        const jv *nt = member(r, obj, "noise_threshold");
+        if (nt && (nt->type != JV_NUMBER || !(nt->num >= 0 && nt->num <= 0.5))) {
+          bad(&c, "\"noise_threshold\" must be a number in [0, 0.5] (RMS noise of the displayed image; 0: none)");
+          goto done;
+        }
+        req->noise_threshold = nt ? nt->num : 0.0;
+      }
       break;
     case PB_SERVE_RELOAD: {
       const jv *sc = member(r, obj, "scene");
@@ -754,5 +762,9 @@ size_t pb_serve_format_frame(char *buf, size_t cap, const char *id, const pb_ser
   add(&o, ",\"tracer\":");
   add_str(&o, f->tracer ? f->tracer : "none");
   if (f->tracer && !strcmp(f->tracer, "images") && isfinite(f->image_miss_rate)) add(&o, ",\"image_miss_rate\":%.6g", f->image_miss_rate);
+  if (f->has_noise) {
+    if (f->noise >= 0 && isfinite(f->noise)) add(&o, ",\"noise\":%.6g", f->noise);
+    else add(&o, ",\"noise\":null");
+  }
   return finish(&o);
 }

@@ -23,17 +23,22 @@
  *       A setting not given keeps its value; the whole request is checked
  *       as the command line is, and refused whole}
  *   {"cmd":"frame"}            render one frame now; the reply is the frame
- *   {"cmd":"stream","on":BOOL,"max_passes":N}
+ *   {"cmd":"stream","on":BOOL,"max_passes":N,"noise_threshold":T}
  *                              while on and no request waits, refine frame
  *                              after frame (each an "event":"frame" line),
- *                              until N still passes (0: no limit)
+ *                              until N still passes (0: no limit) or, with
+ *                              T in (0, 0.5], until the still run's noise
+ *                              estimate (render/noise.h: the RMS noise of
+ *                              the displayed image, white 1) is at most T
  *   {"cmd":"reload","scene":PATH}  load PATH (default: the same file) again
  *   {"cmd":"quit"}
  * Replies: {"reply":CMD,"ok":true,...} for each request, in order; frames
  * {"reply":"frame"|"event":"frame","ok":true,"frame":N,"path":P,"width":W,
  * "height":H,"format":"rgba32f","passes":K,"still":B,"render_ms":MS,
  * "photons_stored":N,"tracer":T} (T the photon tracer that ran, "none" when
- * no photon map was traced; the images tracer adds "image_miss_rate"); errors {"reply":CMD or null,"ok":false,
+ * no photon map was traced; the images tracer adds "image_miss_rate"; a
+ * stream with a noise threshold adds "noise", the estimate at the last
+ * check, null before two passes); errors {"reply":CMD or null,"ok":false,
  * "error":"line L: ..."}. The frame file (rgba32f): a 32-byte header, the
  * bytes "PBFRAME1", then little-endian u32 width, height, channels (4),
  * u32 0, u64 frame number; then width x height RGBA float32 pixels,
@@ -85,6 +90,7 @@ typedef struct pb_serve_request {
   /* stream */
   int stream_on;
   uint32_t max_passes;
+  double noise_threshold;     /* 0: none */
   /* reload: "" for the same file */
   char scene[PB_SERVE_MAX_PATH];
 } pb_serve_request;
@@ -126,6 +132,8 @@ typedef struct pb_serve_frame_reply {
   uint64_t photons_stored;
   const char *tracer;        /* the photon tracer that ran; NULL: "none" */
   double image_miss_rate;    /* tracer "images" only: segments no map confirmed, over all */
+  int has_noise;             /* a stream with a noise threshold: "noise" */
+  double noise;              /* its estimate; < 0: null */
 } pb_serve_frame_reply;
 size_t pb_serve_format_frame(char *buf, size_t cap, const char *id, const pb_serve_frame_reply *f);
 

@@ -255,6 +255,11 @@ for attr, val in (("blender_bounces", not s.blender_bounces), ("device", 0), ("p
     setattr(s, attr, val)
     check(viewport.fixed_args(scene) != base, "%s: serve restarts (%s)" % (attr, viewport.fixed_args(scene)))
     setattr(s, attr, old)
+check(viewport.noise_threshold(scene) == 0.0, "the viewport's stream has no noise threshold by default")
+s.use_viewport_noise_threshold = True
+check(viewport.noise_threshold(scene) == 0.05 and viewport.fixed_args(scene) == base,
+      "Viewport Noise Threshold on: the stream rests at 0.05, no serve restart")
+s.use_viewport_noise_threshold = False
 s.estimator = "knn"
 check("--estimator" in viewport.serve_args(scene) and "--estimator" in settings.cli_args(s),
       "Estimator: render's --estimator and serve's")

@@ -24,7 +24,7 @@ from .settings_table import BY_ID, SETTINGS
 
 # Settings with no `photonbridge render` default to follow: the add-on's own.
 ADDON_ONLY = ("viewport_samples", "preview_interval", "blender_bounces", "animation_sequence", "device_menu",
-              "use_noise_threshold")
+              "use_noise_threshold", "use_viewport_noise_threshold", "viewport_noise_threshold")
 # F12 renders a final picture where the CLI's bare defaults are a preview:
 # these differ from the CLI's on purpose (the .blend samples are measured
 # against Cycles at these).
@@ -126,6 +126,13 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     viewport_samples: IntProperty(
         name="Viewport Samples", description="Passes the Rendered viewport refines before it rests; "
         "0: it never rests", default=1024, min=0, max=1 << 24)
+    use_viewport_noise_threshold: BoolProperty(
+        name="Viewport Noise Threshold", description="The Rendered viewport rests once its own estimate of "
+        "its noise is below the Viewport Noise Threshold (or after Viewport Samples passes)", default=False)
+    viewport_noise_threshold: FloatProperty(
+        name="Viewport Noise Threshold", description="The noise the Rendered viewport refines down to: the "
+        "RMS error of the displayed picture, white being 1, estimated from its passes (0.05: 26 dB PSNR, "
+        "0.02: 34 dB)", **table_range("noise_threshold", default=0.05, min=0.001), soft_max=0.2, precision=3)
     time_limit: FloatProperty(
         name="Time Limit", description="Stop starting new photon maps after this long; the picture averages "
         "the maps finished by then. 0: no limit (--time-limit)",

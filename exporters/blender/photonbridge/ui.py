@@ -89,7 +89,13 @@ class PHOTONBRIDGE_PT_sampling_viewport(PhotonbridgePanel, bpy.types.Panel):
 
     def draw(self, context):
         s = context.scene.photonbridge
-        self.split_layout().prop(s, "viewport_samples", text="Samples")
+        layout = self.split_layout()
+        row = layout.row(align=True)
+        row.prop(s, "use_viewport_noise_threshold", text="")
+        sub = row.row()
+        sub.active = s.use_viewport_noise_threshold
+        sub.prop(s, "viewport_noise_threshold", text="Noise Threshold")
+        layout.prop(s, "viewport_samples", text="Samples")
 
 
 class PHOTONBRIDGE_PT_sampling_advanced(PhotonbridgePanel, bpy.types.Panel):

@@ -58,6 +58,12 @@ def max_passes(scene=None):
         return default
 
 
+def noise_threshold(scene):
+    """The viewport's noise threshold (serve's stream rests at it), 0: none."""
+    s = scene.photonbridge
+    return float("%.6g" % s.viewport_noise_threshold) if s.use_viewport_noise_threshold else 0.0
+
+
 def read_frame(path):
     """(width, height, frame number, float32 RGBA bytes bottom row first)
     of a frame file, or None when it is not one."""
@@ -276,9 +282,9 @@ class Viewport:
             if cam != self.sent_camera:
                 s.send({"cmd": "camera", "view": cam[0], "projection": cam[1], "axes": "blender"})
                 self.sent_camera = cam
-            limit = max_passes(scene)
+            limit = (max_passes(scene), noise_threshold(scene))
             if not self.streaming or limit != self.sent_passes:
-                s.send({"cmd": "stream", "on": True, "max_passes": limit})
+                s.send({"cmd": "stream", "on": True, "max_passes": limit[0], "noise_threshold": limit[1]})
                 self.streaming, self.sent_passes = True, limit
             if s.poll() and s.frame.get("path"):
                 f = read_frame(s.frame["path"])
