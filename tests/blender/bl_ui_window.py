@@ -1,7 +1,7 @@
 """The add-on's panels drawn by Blender itself: Blender 3.4 with its window
 (under xvfb-run; the bpy module has no window manager), the Properties
 editor on the Render tab with photonbridge as the engine, every
-photonbridge panel open (Advanced re-registered open). Each panel's draw
+photonbridge panel open (Advanced and Algorithm re-registered open). Each panel's draw
 and draw_header is wrapped to record that Blender called it and that it
 returned without an exception (an exception in a panel's draw is only
 printed by Blender, never raised).
@@ -50,10 +50,14 @@ def setup():
         addon_utils.enable("photonbridge", default_set=True, handle_error=None)
         bpy.context.preferences.addons["photonbridge"].preferences.binary = os.path.abspath(EXE)
         from photonbridge import ui
-        adv = ui.PHOTONBRIDGE_PT_sampling_advanced
-        bpy.utils.unregister_class(adv)
-        adv.bl_options = set()  # open, so that Blender draws it
-        bpy.utils.register_class(adv)
+        # Advanced and its Algorithm panel re-registered open, so that Blender
+        # draws them (a child goes before its parent, and after it back)
+        closed = [ui.PHOTONBRIDGE_PT_sampling_advanced, ui.PHOTONBRIDGE_PT_sampling_algorithm]
+        for c in reversed(closed):
+            bpy.utils.unregister_class(c)
+        for c in closed:
+            c.bl_options = set()
+            bpy.utils.register_class(c)
         for c in ui.classes:
             for fn in ("draw", "draw_header"):
                 if fn in c.__dict__:

@@ -78,6 +78,8 @@ def _table_property(t):
     """A property for table row t: its range, default and help (the
     option's, with the option named)."""
     desc = "%s (--%s)" % (t["help"][:1].upper() + t["help"][1:], t["cli"])
+    if t["kind"] in ("u32", "f64") and t["min"] is not None and not t["min"] <= t["default"] <= t["max"]:
+        desc += ". %g: the renderer's own choice" % t["default"]
     if t["kind"] == "bool":
         return BoolProperty(name=_words(t["id"]), description=desc, default=t["default"])
     if t["kind"] == "choice":

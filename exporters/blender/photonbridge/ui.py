@@ -139,7 +139,8 @@ class PHOTONBRIDGE_PT_sampling_algorithm(PhotonbridgePanel, bpy.types.Panel):
         for sid in settings.TABLE_PROPERTIES:
             g = settings.BY_ID[sid]["group"]
             if g != group:
-                col = layout.column(heading=g) if bpy.app.version >= (2, 90, 0) else layout.column()
+                layout.label(text=g)
+                col = layout.column()
                 group = g
             row = col.row()
             row.active = settings.needs_met(s, sid)
