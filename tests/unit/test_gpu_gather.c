@@ -14,6 +14,7 @@
 
 #include "metrics/metrics.h"
 #include "pbtest.h"
+#include "plane_fixture.h"
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "ref/ref.h"
@@ -37,41 +38,9 @@ enum { W = 33, H = 33, NPH = 400 };
 #define CORNELL_PSNR_MIN 22.0
 
 static void run(pb_gpu *g, int constant_kernel) {
-  float pos[4][3] = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
-  float nrm[4][3] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}};
-  float uv[4][2] = {{0, 0}};
-  uint32_t tri[2][3] = {{0, 2, 1}, {0, 3, 2}};
-  uint32_t tm[2] = {0, 0};
-  pb_material mat;
-  memset(&mat, 0, sizeof mat);
-  mat.base_color[0] = mat.base_color[1] = mat.base_color[2] = 0.8f;
-  mat.base_color[3] = 1;
-  mat.base_color_tex = mat.metallic_roughness_tex = mat.emissive_tex = mat.normal_tex = PB_NO_TEXTURE;
-  mat.roughness = 1;
-  mat.specular = 0;
-  mat.ior = 1.5f;
-  pb_camera cam;
-  memset(&cam, 0, sizeof cam);
-  cam.position[1] = 3;
-  cam.forward[1] = -1;
-  cam.up[2] = -1;
-  cam.right[0] = 1;
-  cam.yfov = 0.6f;
-  cam.aspect = 1;
-  pb_scene s;
-  memset(&s, 0, sizeof s);
-  s.positions = pos;
-  s.normals = nrm;
-  s.uvs = uv;
-  s.vertex_count = 4;
-  s.triangles = tri;
-  s.triangle_material = tm;
-  s.triangle_count = 2;
-  s.materials = &mat;
-  s.material_count = 1;
-  s.cameras = &cam;
-  s.camera_count = 1;
-  pb_scene_finalize(&s);
+  static plane_fixture f; /* the lit plane (plane_fixture.h) */
+  plane_fixture_build(&f);
+  pb_scene *sp = &f.s;
 
   pb_gpu_photon *ph = calloc(NPH, sizeof *ph);
   for (int i = 0; i < NPH; ++i) {
@@ -102,15 +71,15 @@ static void run(pb_gpu *g, int constant_kernel) {
   pb_gpu_scene gs;
   pb_render_result res;
   memset(&res, 0, sizeof res);
-  CHECK_EQ_INT(pb_gpu_scene_create(g, &s, &gs), PB_OK);
+  CHECK_EQ_INT(pb_gpu_scene_create(g, sp, &gs), PB_OK);
   pb_render_desc rd = {.estimator = {.lbvh = {.constant_kernel = constant_kernel}}};
   pb_render_io io = {.photon_map = &map};
-  pb_result r = pb_render_frame_io(g, &s, &gs, 0, W, H, &rd, &io, &res);
+  pb_result r = pb_render_frame_io(g, sp, &gs, 0, W, H, &rd, &io, &res);
   CHECK_EQ_INT(r, PB_OK);
   if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
   if (r == PB_OK) {
     CHECK(res.indirect != NULL && res.caustic != NULL);
-    float tan_y = tanf(0.5f * cam.yfov), tan_x = tan_y;
+    float tan_y = tanf(0.5f * f.cam.yfov), tan_x = tan_y;
     double max_err = 0, max_val = 0, beauty_err = 0;
     uint32_t lit = 0;
     for (int py = 0; py < H; ++py)
