@@ -1,7 +1,10 @@
-/* Ray-throughput benchmark (not a test): the GPU ray-query kernel against
- * Embree's rtcIntersect1 / rtcOccluded1 on exactly the same rays, Embree
- * using as many threads as the machine has cores (the same cores lavapipe
- * runs on).
+/* Ray-throughput benchmark (not a test): the GPU ray-casting kernel through
+ * the GLSL BVH (raycast.c) against Embree's rtcIntersect1 / rtcOccluded1 on
+ * exactly the same rays, Embree using as many threads as the machine has
+ * cores (the same cores lavapipe runs on); on a device with ray queries
+ * (VK_KHR_ray_query: NVIDIA, AMD and Intel GPUs, Mesa 25's lavapipe) the
+ * same rays as ray queries too (raycast_rq.c), with their rate against the
+ * BVH's and their agreement with it.
  *
  *   pb_bench_rays SCENE [WIDTH] [REPEAT]
  *
@@ -76,28 +79,44 @@ int main(int argc, char **argv) {
   pb_gpu *g = NULL;
   pb_gpu_scene gs;
   pb_raycast_pass rc;
+  pb_raycast_rq_pass rq;
   pbt_embree e;
   memset(&gs, 0, sizeof gs);
   memset(&rc, 0, sizeof rc);
+  memset(&rq, 0, sizeof rq);
   pb_gpu_ray *rays = malloc((size_t)n * sizeof *rays);
-  pb_gpu_hit *gh = malloc((size_t)n * sizeof *gh), *eh = malloc((size_t)n * sizeof *eh);
+  pb_gpu_hit *gh = malloc((size_t)n * sizeof *gh), *eh = malloc((size_t)n * sizeof *eh),
+             *qh = malloc((size_t)n * sizeof *qh);
   pb_result r = pb_gpu_create(NULL, &g);
   if (r == PB_OK) r = pb_gpu_scene_create(g, &s, &gs);
   if (r == PB_OK) r = pb_raycast_create(g, &gs, n, &rc);
-  if (r != PB_OK || !rays || !gh || !eh || !pbt_embree_create(&s, threads, &e)) {
+  /* Ray queries where the device has them: the same rays through
+   * VK_KHR_ray_query (raycast_rq.c), beside the GLSL BVH. */
+  int have_rq = r == PB_OK && pb_gpu_get_limits(g)->ray_query;
+  if (have_rq) r = pb_raycast_rq_create(g, &s, n, &rq);
+  if (r != PB_OK || !rays || !gh || !eh || !qh || !pbt_embree_create(&s, threads, &e)) {
     fprintf(stderr, "setup failed: %s\n", pb_error_message());
     return 1;
   }
   printf("scene %s: %u triangles; %u rays per set (%ux%u); GPU %s; Embree %ld with %u threads\n", argv[1],
          s.triangle_count, n, w, h, pb_gpu_device_name(g), (long)rtcGetDeviceProperty(e.dev, RTC_DEVICE_PROPERTY_VERSION), threads);
-  printf("%-16s %12s %12s %8s %8s\n", "rays", "GPU Mrays/s", "Embree Mr/s", "ratio", "agree");
+  printf("%-16s %12s %12s %8s %8s", "rays", "GPU Mrays/s", "Embree Mr/s", "ratio", "agree");
+  if (have_rq) printf(" %12s %8s %8s", "RQ Mrays/s", "RQ/BVH", "RQ agree");
+  printf("\n");
   for (int set = 0; set < 3; ++set) {
     const char *label = set == 0 ? "primary" : set == 1 ? "random closest" : "random any-hit";
     if (set == 0) primary_rays(&s, w, h, rays);
     else if (set == 1) pbt_random_rays(&s, 1234, rays, n);
     int any = set == 2;
-    double best_g = INFINITY, best_e = INFINITY, ms;
+    double best_g = INFINITY, best_e = INFINITY, best_q = INFINITY, ms;
     for (uint32_t k = 0; k <= repeat; ++k) { /* k == 0: warm-up */
+      if (have_rq) {
+        if (pb_raycast_rq_run(g, &rq, rays, n, any, qh, &ms) != PB_OK) {
+          fprintf(stderr, "%s\n", pb_error_message());
+          return 1;
+        }
+        if (k > 0 && ms < best_q) best_q = ms;
+      }
       if (pb_raycast_run(g, &rc, rays, n, any, gh, &ms) != PB_OK) {
         fprintf(stderr, "%s\n", pb_error_message());
         return 1;
@@ -106,18 +125,26 @@ int main(int argc, char **argv) {
       ms = embree_run(&e, rays, eh, n, any, threads);
       if (k > 0 && ms < best_e) best_e = ms;
     }
-    uint32_t agree = 0;
-    for (uint32_t i = 0; i < n; ++i) agree += gh[i].prim == eh[i].prim || (any && (gh[i].prim == PB_GPU_MISS) == (eh[i].prim == PB_GPU_MISS));
-    double grs = n / best_g * 1e-3, ers = n / best_e * 1e-3;
-    printf("%-16s %12.2f %12.2f %7.2fx %7.4f%%\n", label, grs, ers, ers / grs, 100.0 * agree / n);
+    uint32_t agree = 0, agree_q = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+      int gm = gh[i].prim == PB_GPU_MISS;
+      agree += gh[i].prim == eh[i].prim || (any && gm == (eh[i].prim == PB_GPU_MISS));
+      agree_q += gh[i].prim == qh[i].prim || (any && gm == (qh[i].prim == PB_GPU_MISS));
+    }
+    double grs = n / best_g * 1e-3, ers = n / best_e * 1e-3, qrs = n / best_q * 1e-3;
+    printf("%-16s %12.2f %12.2f %7.2fx %7.4f%%", label, grs, ers, ers / grs, 100.0 * agree / n);
+    if (have_rq) printf(" %12.2f %7.2fx %7.4f%%", qrs, qrs / grs, 100.0 * agree_q / n);
+    printf("\n");
   }
   pbt_embree_destroy(&e);
   pb_raycast_destroy(g, &rc);
+  pb_raycast_rq_destroy(g, &rq);
   pb_gpu_scene_destroy(g, &gs);
   pb_gpu_destroy(g);
   pb_scene_destroy(&s);
   free(rays);
   free(gh);
   free(eh);
+  free(qh);
   return 0;
 }

@@ -12,8 +12,12 @@
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
+#ifdef PB_RAY_QUERY
+layout(set = 0, binding = PB_IMAGE_BIND_NODES) uniform accelerationStructureEXT pb_tlas; // the scene's (gpu/accel.c)
+#else
 layout(std430, set = 0, binding = PB_IMAGE_BIND_NODES) readonly buffer Nodes { vec4 bvh_nodes4[]; };
 layout(std430, set = 0, binding = PB_IMAGE_BIND_TRIS) readonly buffer Tris { vec4 bvh_tris4[]; };
+#endif
 layout(std430, set = 0, binding = PB_IMAGE_BIND_INDICES) readonly buffer Indices { uint indices[]; };
 layout(std430, set = 0, binding = PB_IMAGE_BIND_POSITIONS) readonly buffer Positions { float positions[]; };
 layout(std430, set = 0, binding = PB_IMAGE_BIND_TRI_MATERIAL) readonly buffer TriMat { uint tri_material[]; };

@@ -12,8 +12,12 @@
 
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
+#ifdef PB_RAY_QUERY
+layout(set = 0, binding = PB_MOTION_BIND_NODES) uniform accelerationStructureEXT pb_tlas; // the scene's (gpu/accel.c)
+#else
 layout(std430, set = 0, binding = PB_MOTION_BIND_NODES) readonly buffer Nodes { vec4 bvh_nodes4[]; }; // pb_gpu_bvh_node[], 2 each
 layout(std430, set = 0, binding = PB_MOTION_BIND_TRIS) readonly buffer Tris { vec4 bvh_tris4[]; };   // pb_gpu_tri[], 3 each
+#endif
 layout(std430, set = 0, binding = PB_MOTION_BIND_INDICES) readonly buffer Indices { uint indices[]; };
 layout(std430, set = 0, binding = PB_MOTION_BIND_PREV_POSITIONS) readonly buffer PrevPos { float prev_positions[]; };
 layout(std430, set = 0, binding = PB_MOTION_BIND_PARAMS) readonly buffer Params { pb_gpu_motion_params mp; };

@@ -70,4 +70,21 @@ pb_shader(gather_upsample_blender ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_U
 # ray-query extensions (pb_gpu_limits.ray_query) load them, so no module that
 # every device loads holds ray-query SPIR-V.
 pb_shader(raycast_rq ${CMAKE_SOURCE_DIR}/shaders/ray_query/raycast_rq.comp)
+# The ray-query builds of every kernel that casts rays (common/bvh.glsl
+# pb_trace through rayQueryEXT, the scene's acceleration structure at the
+# BVH nodes' binding): NAME_rq, and NAME_rq_blender for the passes with a
+# Blender build. GL_EXT_ray_query needs GLSL 460: -std=460 raises the
+# sources' #version 450 for these builds only (-w: glslc warns that it did),
+# so the modules every device loads stay as they were.
+set(PB_SHADER_RAY_QUERY_VARIANTS gbuffer direct gather knn photon_trace photon_rsm vsch_shade vsch_leaf image_maps
+    motion)
+foreach(name ${PB_SHADER_RAY_QUERY_VARIANTS})
+  pb_shader(${name}_rq ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -std=460 -w -DPB_RAY_QUERY=1)
+  if(name IN_LIST PB_SHADER_BLENDER_VARIANTS)
+    pb_shader(${name}_rq_blender ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -std=460 -w -DPB_RAY_QUERY=1 -DPB_BLENDER=1)
+  endif()
+endforeach()
+pb_shader(gather_upsample_rq ${CMAKE_SOURCE_DIR}/shaders/gather.comp -std=460 -w -DPB_RAY_QUERY=1 -DPB_UPSAMPLE=1)
+pb_shader(gather_upsample_rq_blender ${CMAKE_SOURCE_DIR}/shaders/gather.comp -std=460 -w -DPB_RAY_QUERY=1
+          -DPB_UPSAMPLE=1 -DPB_BLENDER=1)
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

@@ -201,6 +201,9 @@ set_tests_properties(gpu_emitter_photons PROPERTIES ENVIRONMENT "PB_VK_VALIDATIO
 # installed by scripts/install-deps.sh: missing is a failure, not a skip)
 # ray_query is true and PB_GPU_MASK_FEATURES=ray-query hides it.
 set(PB_MESA25_ICD ${PB_ROOT}/tools/mesa25/lvp_icd.x86_64.json)
+# One shader cache for every test on Mesa 25 (its cold compile of a pass is
+# several times Mesa 22.3's), kept in the build tree: paid once a build.
+set(PB_MESA25_CACHE ${CMAKE_BINARY_DIR}/mesa25_shader_cache)
 add_test(NAME gpu_info_devices_driver
          COMMAND sh -c "\"$2\" info --devices >/dev/null 2>&1 || { echo 'skip: no Vulkan device'; exit 77; }; exec \"$0\" \"$@\""
                  ${Python3_EXECUTABLE} ${PB_ROOT}/tests/device_info_check.py ${PB_EXE}
@@ -218,6 +221,18 @@ set_tests_properties(gpu_info_devices_mesa25 PROPERTIES LABELS "gpu;no-sanitize"
 # skips, when the manifest is missing (scripts/install-deps.sh provides it).
 if(TEST test_gpu_ray_query)
   set_tests_properties(test_gpu_ray_query PROPERTIES
-                       ENVIRONMENT "PB_VK_VALIDATION=1;VK_ICD_FILENAMES=${PB_MESA25_ICD}"
+                       ENVIRONMENT "PB_VK_VALIDATION=1;VK_ICD_FILENAMES=${PB_MESA25_ICD};MESA_SHADER_CACHE_DIR=${PB_MESA25_CACHE}"
                        LABELS "gpu;no-sanitize" TIMEOUT 900)
 endif()
+
+# Every pass that casts rays, as ray queries and through the BVH, on
+# tools/mesa25's lavapipe: the same pictures (tests/traversal_check.py states
+# the tolerance), --traversal auto picks ray queries there, --traversal
+# ray-query is refused on a device without. Mesa's shader cache lives in the
+# build tree (PB_MESA25_CACHE), so the cold compile is paid once a build.
+add_test(NAME gpu_traversal_same_pictures
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/traversal_check.py ${PB_EXE} ${PB_MESA25_ICD}
+                 ${CMAKE_CURRENT_BINARY_DIR}/traversal)
+set_tests_properties(gpu_traversal_same_pictures PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 1500
+                     ENVIRONMENT "MESA_SHADER_CACHE_DIR=${PB_MESA25_CACHE}"
+                     WORKING_DIRECTORY ${PB_ROOT} PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")

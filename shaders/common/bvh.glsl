@@ -13,10 +13,51 @@
 // Boxes: slab test with the reciprocal direction and tmax scaled by
 // 1 + 2 gamma(3) (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013), so that
 // rounding never culls a box the ray touches.
+//
+// With PB_RAY_QUERY (the _rq builds of shaders.cmake, loaded on a device with
+// VK_KHR_ray_query) pb_trace is cast through rayQueryEXT instead, against the
+// scene's acceleration structure (src/gpu/accel.c); the includer then
+// declares  accelerationStructureEXT pb_tlas  at the binding where the BVH
+// nodes are, and no BVH buffer.
 #ifndef PB_BVH_GLSL
 #define PB_BVH_GLSL
 
 #define PB_INF uintBitsToFloat(0x7f800000u)
+
+#ifdef PB_RAY_QUERY
+// The same contract as the BVH's pb_trace below: the closest hit in
+// (tmin, tmax) (any hit with any_hit), primitive id = the scene's triangle
+// index (the structure holds the scene's triangles in order, one opaque
+// geometry, no face culling: back faces count, as in the BVH and Embree),
+// u, v the barycentrics of p1 and p2 (Embree's and the BVH's), t_hit = tmax
+// on a miss. Differences by design: the query's interval is closed and the
+// hardware's triangle test is its own (watertight on NVIDIA, AMD, Intel and
+// lavapipe), without the BVH's test that rejects an origin lying on the
+// triangle's plane within rounding; rays start off surfaces by
+// pb_offset_ray as before. A ray the query may not take (a non-finite or
+// zero direction, a non-finite origin, NaN bounds: undefined behaviour for
+// rayQueryInitializeEXT) misses, as every BVH test fails for it.
+uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
+              out float t_hit, out float u_hit, out float v_hit) {
+  u_hit = 0.0;
+  v_hit = 0.0;
+  t_hit = tmax;
+  float t1 = min(tmax, 3.0e38); // +inf and beyond: a finite bound
+  bool ok = !(any(isnan(org)) || any(isinf(org)) || any(isnan(dir)) || any(isinf(dir)) || all(equal(dir, vec3(0.0))));
+  if (!ok || !(tmin >= 0.0) || !(t1 > tmin)) return PB_GPU_MISS;
+  uint flags = gl_RayFlagsOpaqueEXT | (any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : 0u);
+  rayQueryEXT q;
+  rayQueryInitializeEXT(q, pb_tlas, flags, 0xffu, org, tmin, dir, t1);
+  while (rayQueryProceedEXT(q)) {
+  }
+  if (rayQueryGetIntersectionTypeEXT(q, true) != gl_RayQueryCommittedIntersectionTriangleEXT) return PB_GPU_MISS;
+  vec2 b = rayQueryGetIntersectionBarycentricsEXT(q, true);
+  t_hit = rayQueryGetIntersectionTEXT(q, true);
+  u_hit = b.x;
+  v_hit = b.y;
+  return uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true));
+}
+#else
 
 struct pb_ray_prep {
   vec3 org;
@@ -208,5 +249,7 @@ uint pb_trace(vec3 org, vec3 dir, float tmin, float tmax, bool any_hit,
   t_hit = t;
   return prim;
 }
+
+#endif // PB_RAY_QUERY
 
 #endif

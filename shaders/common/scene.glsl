@@ -7,8 +7,12 @@
 #define PB_SCENE_GLSL
 
 layout(std430, set = 0, binding = PB_BIND_FRAME) readonly buffer FrameBuf { pb_gpu_frame frame; };
+#ifdef PB_RAY_QUERY
+layout(set = 0, binding = PB_BIND_NODES) uniform accelerationStructureEXT pb_tlas; // the scene's (gpu/accel.c)
+#else
 layout(std430, set = 0, binding = PB_BIND_NODES) readonly buffer Nodes { vec4 bvh_nodes4[]; };   // pb_gpu_bvh_node[], 2 each
 layout(std430, set = 0, binding = PB_BIND_TRIS) readonly buffer Tris { vec4 bvh_tris4[]; };     // pb_gpu_tri[], 3 each
+#endif
 layout(std430, set = 0, binding = PB_BIND_INDICES) readonly buffer Indices { uint indices[]; };
 layout(std430, set = 0, binding = PB_BIND_NORMALS) readonly buffer Normals { float normals[]; };
 layout(std430, set = 0, binding = PB_BIND_UVS) readonly buffer Uvs { float uvs[]; };

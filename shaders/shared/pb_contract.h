@@ -17,7 +17,7 @@
 /* ---- the scene passes (common/scene.glsl): gbuffer.comp, direct.comp; the
  * photon tracer, the RSM pass and the gather share 0-10, 13, 14 ---------- */
 #define PB_BIND_FRAME 0         /* pb_gpu_frame */
-#define PB_BIND_NODES 1         /* BVH nodes */
+#define PB_BIND_NODES 1         /* BVH nodes; the TLAS in the ray-query builds */
 #define PB_BIND_TRIS 2          /* BVH triangles */
 #define PB_BIND_INDICES 3
 #define PB_BIND_NORMALS 4
@@ -110,7 +110,7 @@
 
 /* ---- image_maps.comp (renders the maps) and image_maps_query.comp (rays
  * against the maps: tests, benchmark); shared/pb_image_maps.h ------------- */
-#define PB_IMAGE_BIND_NODES 0       /* BVH nodes (image_maps.comp) */
+#define PB_IMAGE_BIND_NODES 0       /* BVH nodes (image_maps.comp); its ray-query build: the TLAS */
 #define PB_IMAGE_BIND_TRIS 1        /* BVH triangles (image_maps.comp) */
 #define PB_IMAGE_BIND_INDICES 2
 #define PB_IMAGE_BIND_POSITIONS 3
@@ -191,7 +191,7 @@
 #define PB_SHADING_BIND_COUNT 2
 
 /* ---- motion.comp ----------------------------------------------------------- */
-#define PB_MOTION_BIND_NODES 0
+#define PB_MOTION_BIND_NODES 0      /* BVH nodes; the ray-query build: the TLAS */
 #define PB_MOTION_BIND_TRIS 1
 #define PB_MOTION_BIND_INDICES 2
 #define PB_MOTION_BIND_PREV_POSITIONS 3

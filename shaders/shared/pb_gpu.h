@@ -11,6 +11,11 @@
 #define PB_GPU_SHARED_H
 
 #ifdef PB_GLSL
+#ifdef PB_RAY_QUERY
+/* The ray-query builds (shaders.cmake): every kernel includes this header
+ * first, so the extension is enabled before the kernel's declarations. */
+#extension GL_EXT_ray_query : require
+#endif
 #define PB_VEC3(n) vec3 n
 #define PB_VEC4(n) vec4 n
 #define PB_STRUCT(name) struct name

@@ -47,6 +47,7 @@ typedef struct render_opts {
   pb_settings set;  /* the render settings (render/settings.h) */
   uint32_t device;
   int validation;
+  int traversal; /* PB_GPU_TRAVERSAL_* */
   const char *png;
   /* Sequences (render_seq.h). */
   const char *frames;
@@ -153,6 +154,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_string(&j, "scene", s->path);
   pb_json_string(&j, "device", pb_gpu_device_name(g));
   pb_json_string(&j, "device_type", pb_gpu_device_type(g)); /* cpu: a CPU Vulkan device */
+  pb_json_string(&j, "traversal", pb_gpu_traversal(g));      /* ray-query or bvh */
   pb_json_int(&j, "width", res->width);
   pb_json_int(&j, "height", res->height);
   pb_json_int(&j, "spp", st->spp);
@@ -329,10 +331,7 @@ int pb_cmd_render(int argc, char **argv) {
       {"reference-cache", 0, PB_OPT_STRING, &o.reference_cache, "DIR",
        "--reference-spp: cache folder (default: reference_cache beside -o)", NULL, 0, 0, "Animation", PB_OPT_ADVANCED},
       {"png", 0, PB_OPT_STRING, &o.png, "FILE", "also write a PNG of the beauty image through the OCIO view (--display/--view/--look)", NULL, 0, 0, "Output", 0},
-      {"device", 0, PB_OPT_U32, &o.device, "N", "Vulkan device (see 'photonbridge info --devices'; default: "
-       "a discrete GPU first, lavapipe last)", NULL, 0, 0, "Device", 0},
-      {"validation", 0, PB_OPT_FLAG, &o.validation, NULL,
-       "enable Vulkan validation layers; any message is an error (also PB_VK_VALIDATION=1)", NULL, 0, 0, "Device", PB_OPT_ADVANCED},
+      PB_DEVICE_OPTS(&o),
       {"gpu-memory-limit", 0, PB_OPT_FLOAT, &gpu_memory_mb, "MB", "cap on GPU buffer memory in MiB; a render that "
        "needs more fails with exit 11 (also PB_GPU_MEMORY_LIMIT)", NULL, 0, 1e9, "Device", PB_OPT_ADVANCED},
       {"crop", 0, PB_OPT_STRING, &o.crop, "X,Y,W,H",
@@ -472,6 +471,7 @@ int pb_cmd_render(int argc, char **argv) {
   if ((o.png || out_fmt == PB_RENDER_OUT_PNG) && (r = pb_color_opts_open_scene(&co, &s, &color)) != PB_OK) goto done;
   pb_render_bar_stage("starting the Vulkan device", 0, 0, -1);
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
+                    .traversal = o.traversal,
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_gpu_create(&gd, &g);
   if (r != PB_OK) goto done;

@@ -276,6 +276,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_string(&j, "scene", s->path);
   pb_json_string(&j, "device", pb_gpu_device_name(g));
   pb_json_string(&j, "device_type", pb_gpu_device_type(g));
+  pb_json_string(&j, "traversal", pb_gpu_traversal(g));
   pb_json_int(&j, "width", w);
   pb_json_int(&j, "height", h);
   pb_json_number(&j, "fps", so->fps);

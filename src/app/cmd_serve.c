@@ -78,7 +78,8 @@ int pb_cmd_serve(int argc, char **argv) {
                                     "each frame's reply has its statistics)"));
   if (socket_path && (r = pb_serve_socket_check(socket_path)) != PB_OK) return pb_cli_exit(cmd, r);
   pb_gpu *g = NULL;
-  pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
+  pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation,
+                    .traversal = lo.traversal};
   if (c.quiet) pb_log_set_level(PB_LOG_QUIET); /* before the device's warning (the scene loads later) */
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {
     pb_cli_warn_cpu_device("serve", g);

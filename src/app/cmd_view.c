@@ -97,7 +97,8 @@ int pb_cmd_view(int argc, char **argv) {
   uint32_t w, h;
   if ((r = pb_cli_pick_camera(&s, &c, &camera, &w, &h)) != PB_OK) goto done;
   if (r == PB_OK) pb_cli_warn_clip("view", &s, camera);
-  pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation};
+  pb_gpu_desc gd = {.device_set = lo.device != UINT32_MAX, .device = lo.device, .validation = lo.validation,
+                    .traversal = lo.traversal};
   pb_view_gpu_desc(&gd); /* the window presents through the render device (view/present.h) */
   if ((r = pb_gpu_create(&gd, &g)) != PB_OK) goto done;
   pb_cli_warn_cpu_device("view", g);

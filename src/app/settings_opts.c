@@ -26,6 +26,8 @@ void pb_opts_append(pb_opt *out, size_t *n, size_t cap, const pb_opt *rows, size
   for (size_t i = 0; i < count && *n < cap; ++i) out[(*n)++] = rows[i];
 }
 
+const char *const pb_traversal_names[] = {"auto", "bvh", "ray-query", NULL};
+
 void pb_live_opts_init(pb_live_opts *o) {
   memset(o, 0, sizeof *o);
   pb_settings_init(&o->set);

@@ -28,16 +28,23 @@ typedef struct pb_live_opts {
   pb_settings set;
   uint32_t device; /* UINT32_MAX: the default choice */
   int validation;
+  int traversal;   /* PB_GPU_TRAVERSAL_* */
 } pb_live_opts;
 
 void pb_live_opts_init(pb_live_opts *o);
 
-/* The rows of --device and --validation. */
+/* --traversal's names, indexed by PB_GPU_TRAVERSAL_* (gpu/gpu.h). */
+extern const char *const pb_traversal_names[];
+
+/* The rows of --device, --validation and --traversal. */
 #define PB_DEVICE_OPTS(o)                                                                                          \
   {"device", 0, PB_OPT_U32, &(o)->device, "N", "Vulkan device for rendering (see 'photonbridge info --devices'; "  \
    "default: a discrete GPU first, lavapipe last)", NULL, 0, 0, "Device", 0},                                        \
   {"validation", 0, PB_OPT_FLAG, &(o)->validation, NULL, "Vulkan validation layers; any message is an error "      \
-   "(also PB_VK_VALIDATION=1)", NULL, 0, 0, "Device", PB_OPT_ADVANCED}
+   "(also PB_VK_VALIDATION=1)", NULL, 0, 0, "Device", PB_OPT_ADVANCED},                                              \
+  {"traversal", 0, PB_OPT_CHOICE, &(o)->traversal, "MODE", "how rays find surfaces: auto (ray queries on ray-"     \
+   "tracing hardware where the device has VK_KHR_ray_query, else the BVH), bvh (the shaders' own BVH), ray-query "  \
+   "(fails without)", pb_traversal_names, 0, 0, "Device", PB_OPT_ADVANCED}
 
 /* Every frame's settings of a live session from its options and --seed:
  * the settings checked (PB_ERR_USAGE naming `command`) and turned into a

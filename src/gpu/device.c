@@ -616,7 +616,14 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   VkPhysicalDeviceBufferDeviceAddressFeatures bda = {
       .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES, .pNext = &as,
       .bufferDeviceAddress = VK_TRUE};
-  g->limits.ray_query = info[idx].ray_query;
+  g->limits.ray_query = info[idx].ray_query && desc.traversal != PB_GPU_TRAVERSAL_BVH;
+  if (desc.traversal == PB_GPU_TRAVERSAL_RAY_QUERY && !g->limits.ray_query) {
+    r = pb_fail(PB_ERR_NO_DEVICE,
+                "--traversal ray-query: %s has no ray queries (VK_KHR_acceleration_structure, VK_KHR_ray_query); "
+                "see 'photonbridge info --devices'",
+                p.deviceName);
+    goto fail;
+  }
   if (g->limits.ray_query)
     for (uint32_t i = 0; i < RAY_QUERY_EXT_COUNT; ++i) dext[dext_count++] = ray_query_exts[i];
   VkDeviceCreateInfo dci = {
@@ -711,6 +718,7 @@ fail:
 const pb_gpu_limits *pb_gpu_get_limits(const pb_gpu *g) { return &g->limits; }
 const char *pb_gpu_device_name(const pb_gpu *g) { return g->name; }
 const char *pb_gpu_device_type(const pb_gpu *g) { return g->type ? g->type : "other"; }
+const char *pb_gpu_traversal(const pb_gpu *g) { return g->limits.ray_query ? "ray-query" : "bvh"; }
 VkDevice pb_gpu_vk_device(const pb_gpu *g) { return g->device; }
 uint32_t pb_gpu_validation_errors(const pb_gpu *g) { return g->validation_errors; }
 uint64_t pb_gpu_memory_in_use(const pb_gpu *g) { return g->memory_live; }

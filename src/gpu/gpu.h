@@ -102,11 +102,18 @@ typedef struct pb_gpu_desc {
    * the compute family as without (pb_gpu_vk.present_reason says why). */
   const char *const *instance_extensions;
   uint32_t instance_extension_count;
+  /* How rays find surfaces (PB_GPU_TRAVERSAL_*): auto takes ray queries
+   * where the device has them (pb_gpu_limits.ray_query), bvh never creates
+   * the device with them, ray_query fails with PB_ERR_NO_DEVICE on a
+   * device without. */
+  int traversal;
   int (*can_present)(void *user, VkInstance instance, VkPhysicalDevice phys, uint32_t family);
   void *present_user;
 } pb_gpu_desc;
 
 typedef struct pb_gpu pb_gpu;
+
+enum { PB_GPU_TRAVERSAL_AUTO = 0, PB_GPU_TRAVERSAL_BVH = 1, PB_GPU_TRAVERSAL_RAY_QUERY = 2 };
 
 /* Device selection: `device` when set; otherwise the first usable discrete
  * GPU, then integrated, virtual, and last a CPU implementation (lavapipe). */
@@ -151,6 +158,9 @@ const char *pb_gpu_device_name(const pb_gpu *g);
 /* The device's VkPhysicalDeviceType as a word: "discrete", "integrated",
  * "virtual", "cpu" (lavapipe, SwiftShader) or "other". */
 const char *pb_gpu_device_type(const pb_gpu *g);
+/* How the device's passes find surfaces: "ray-query" (pb_gpu_limits
+ * .ray_query) or "bvh" (the shaders' own BVH). */
+const char *pb_gpu_traversal(const pb_gpu *g);
 VkDevice pb_gpu_vk_device(const pb_gpu *g);
 /* Validation messages seen so far (0 without validation). */
 uint32_t pb_gpu_validation_errors(const pb_gpu *g);
@@ -270,7 +280,9 @@ typedef struct pb_gpu_accel_desc {
   const float *positions;
   uint32_t vertex_count;
   const uint32_t *indices;
-  uint32_t triangle_count;
+  uint32_t triangle_count;     /* 0: an empty structure (every query misses) */
+  int updatable;               /* 1: built to be refitted (VK's update mode;
+                                  ALLOW_UPDATE may cost some trace speed) */
 } pb_gpu_accel_desc;
 
 /* One bottom-level structure over the triangles (one opaque geometry, so a
@@ -281,13 +293,22 @@ typedef struct pb_gpu_accel {
   VkAccelerationStructureKHR blas, tlas;
   pb_gpu_buffer blas_buffer, tlas_buffer;
   uint64_t bytes;             /* both structures' storage */
-  double build_ms;            /* wall time of the build's submission */
+  double build_ms;            /* wall time of the last build's submission */
+  uint32_t vertex_count, triangle_count;
+  int updatable;
+  /* Kept for pb_gpu_accel_update. */
+  pb_gpu_buffer vertices, indices, instances, scratch;
+  uint64_t scratch_address;   /* aligned for the builds */
 } pb_gpu_accel;
 
 /* Builds both on the GPU and waits. PB_ERR_NOT_AVAILABLE without
- * pb_gpu_limits.ray_query, PB_ERR_USAGE for no triangles or an index out
+ * pb_gpu_limits.ray_query, PB_ERR_USAGE for an index out
  * of range. */
 pb_result pb_gpu_accel_create(pb_gpu *g, const pb_gpu_accel_desc *desc, pb_gpu_accel *out);
+/* New positions (vertex_count of them, the same triangles): built again in
+ * place, or with refit on a structure made updatable, refitted (the
+ * driver's update: faster, traversal degrades as triangles move far); waits. The handles stay, so pipelines bound to it need no new binding. */
+pb_result pb_gpu_accel_update(pb_gpu *g, pb_gpu_accel *a, const float *positions, int refit);
 void pb_gpu_accel_destroy(pb_gpu *g, pb_gpu_accel *a);
 /* Points acceleration-structure binding `binding` of p at a's top level. */
 pb_result pb_gpu_pipeline_bind_accel(pb_gpu *g, pb_gpu_pipeline *p, uint32_t binding, const pb_gpu_accel *a);

@@ -3,9 +3,10 @@
 #include "render/passes.h"
 #include "shaders/direct.spv.h"
 #include "shaders/direct_blender.spv.h"
+#include "shaders/direct_rq.spv.h"
+#include "shaders/direct_rq_blender.spv.h"
 
 pb_result pb_pass_direct_create(pb_gpu *g, const pb_pass_setup *s, pb_gpu_pipeline *out) {
-  static const pb_pass_module m = {"pass.direct", pb_spv_direct, sizeof pb_spv_direct, pb_spv_direct_blender,
-                                   sizeof pb_spv_direct_blender};
+  static const pb_pass_module m = {"pass.direct", PB_KERNEL_BUILDS(direct)};
   return pb_pass_create(g, s, &m, out);
 }

@@ -21,13 +21,13 @@ struct pb_photon_estimator {
   pb_gpu_pipeline pass[PB_LBVH_PASS_N];
   pb_gpu_pipeline gather;
   uint32_t gather_spec[PB_SPEC_COUNT]; /* scene.glsl's, then SC_NORMAL_MAPS */
-  uint32_t gather_blender;                     /* the module: 1 the PB_BLENDER build */
+  uint32_t gather_build;                       /* the module: pb_kernel_select's build */
   int gather_ready;
   /* gather_upsample (gather.comp -DPB_UPSAMPLE=1; upsample.h): its pipeline,
    * constants and module, bound by pb_photon_estimator_bind_upsample. */
   pb_gpu_pipeline gather_ups;
   uint32_t gather_ups_spec[PB_SPEC_COUNT];
-  uint32_t gather_ups_blender;
+  uint32_t gather_ups_build;
   int gather_ups_ready;
   uint32_t capacity;             /* photons the buffers hold */
   pb_radix_sort *sort;           /* Morton codes -> photon indices */

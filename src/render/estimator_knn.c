@@ -24,6 +24,8 @@
 #include "shared/pb_knn.h"
 #include "shaders/knn.spv.h"
 #include "shaders/knn_blender.spv.h"
+#include "shaders/knn_rq.spv.h"
+#include "shaders/knn_rq_blender.spv.h"
 
 /* llvmpipe's loop limiter (Mesa gallivm, lp_bld_ir_common.c): 65535 back
  * edges per SIMD vector over ALL the shader's loops together, never reset;
@@ -42,7 +44,7 @@ typedef struct knn {
   int no_edge_correction;
   pb_gpu_pipeline pipe;
   uint32_t spec[PB_SPEC_KNN_COUNT];
-  uint32_t blender;
+  uint32_t build; /* pb_kernel_select's */
   int ready;
 } knn;
 
@@ -123,21 +125,21 @@ static pb_result knn_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
       pb_gpu_get_limits(g)->driver_id == VK_DRIVER_ID_MESA_LLVMPIPE
           ? (uint32_t)(PB_KNN_LLVMPIPE_LIMIT - PB_KNN_LLVMPIPE_RESERVE - PB_KNN_SIFT_PAST_BOUND) - e->k
           : 0u;
-  if (e->pipe.pipeline && (memcmp(e->spec, spec, sizeof spec) != 0 || e->blender != ps->blender))
+  static const pb_kernel_builds kb = PB_KERNEL_BUILDS(knn);
+  pb_gpu_pipeline_desc d = {
+      .name = "pass.knn",
+      .binding_count = PB_KNN_BIND_COUNT,
+      .push_bytes = sizeof(pb_gpu_knn_push),
+      .spec = spec,
+      .spec_count = PB_SPEC_KNN_COUNT,
+  };
+  uint32_t build = pb_kernel_select(&d, &kb, ps->blender, ps->accel, PB_BIND_NODES);
+  if (e->pipe.pipeline && (memcmp(e->spec, spec, sizeof spec) != 0 || e->build != build))
     pb_gpu_pipeline_destroy(g, &e->pipe);
   if (!e->pipe.pipeline) {
-    pb_gpu_pipeline_desc d = {
-        .name = "pass.knn",
-        .spirv = ps->blender ? pb_spv_knn_blender : pb_spv_knn,
-        .spirv_bytes = ps->blender ? sizeof pb_spv_knn_blender : sizeof pb_spv_knn,
-        .binding_count = PB_KNN_BIND_COUNT,
-        .push_bytes = sizeof(pb_gpu_knn_push),
-        .spec = spec,
-        .spec_count = PB_SPEC_KNN_COUNT,
-    };
     if ((r = pb_gpu_pipeline_create(g, &d, &e->pipe)) != PB_OK) return r;
     memcpy(e->spec, spec, sizeof spec);
-    e->blender = ps->blender;
+    e->build = build;
   }
   pb_photon_lbvh_view v;
   pb_photon_estimator_lbvh(e->lbvh, &v);
@@ -149,7 +151,7 @@ static pb_result knn_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
   b[PB_KNN_BIND_INFO] = v.info;
   b[PB_KNN_BIND_ACCUM] = photon_accum;
   b[PB_KNN_BIND_NMAP] = photon_nmap ? photon_nmap : photon_accum; /* never read without normal maps */
-  if ((r = pb_gpu_pipeline_bind(g, &e->pipe, b, PB_KNN_BIND_COUNT)) != PB_OK) return r;
+  if ((r = pb_kernel_bind(g, &e->pipe, b, PB_KNN_BIND_COUNT, ps->accel)) != PB_OK) return r;
   e->ready = 1;
   return PB_OK;
 }

@@ -52,6 +52,9 @@
 #include "shaders/vsch_scan.spv.h"
 #include "shaders/vsch_shade.spv.h"
 #include "shaders/vsch_shade_blender.spv.h"
+#include "shaders/vsch_shade_rq.spv.h"
+#include "shaders/vsch_shade_rq_blender.spv.h"
+#include "shaders/vsch_leaf_rq.spv.h"
 #include "shaders/vsch_up.spv.h"
 
 enum { P_CLEAR = 0, P_RANGE, P_MARK, P_SCAN, P_CONE, P_UP, P_COUNT, P_FILL, P_RANGES, P_N };
@@ -61,7 +64,7 @@ typedef struct vsch {
   pb_gpu_pipeline pass[P_N];
   pb_gpu_pipeline leaf, shade, blur;
   uint32_t shade_spec[PB_SPEC_COUNT];
-  uint32_t shade_blender;
+  uint32_t shade_build; /* pb_kernel_select's */
   int have_shade, bound;
   pb_radix_sort *sort;
   uint32_t sort_bits;
@@ -249,19 +252,23 @@ static pb_result vsch_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps
   uint32_t spec[PB_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's 0-4, as the gather */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
-  if (v->have_shade && (memcmp(v->shade_spec, spec, sizeof spec) != 0 || v->shade_blender != ps->blender)) {
+  /* The leaf and shade kernels trace (their kernel-edge and visibility
+   * rays); the blur does not. */
+  static const pb_kernel_builds kleaf = PB_KERNEL_BUILDS_GLTF(vsch_leaf), kshade = PB_KERNEL_BUILDS(vsch_shade);
+  pb_gpu_pipeline_desc d[3] = {
+      {.name = "vsch.leaf"},
+      {.name = "vsch.shade"},
+      {.name = "vsch.blur", .spirv = pb_spv_vsch_blur, .spirv_bytes = sizeof pb_spv_vsch_blur},
+  };
+  pb_kernel_select(&d[0], &kleaf, ps->blender, ps->accel, PB_BIND_NODES);
+  uint32_t build = pb_kernel_select(&d[1], &kshade, ps->blender, ps->accel, PB_BIND_NODES);
+  if (v->have_shade && (memcmp(v->shade_spec, spec, sizeof spec) != 0 || v->shade_build != build)) {
     pb_gpu_pipeline_destroy(g, &v->leaf);
     pb_gpu_pipeline_destroy(g, &v->shade);
     pb_gpu_pipeline_destroy(g, &v->blur);
     v->have_shade = 0;
   }
   if (!v->have_shade) {
-    pb_gpu_pipeline_desc d[3] = {
-        {.name = "vsch.leaf", .spirv = pb_spv_vsch_leaf, .spirv_bytes = sizeof pb_spv_vsch_leaf},
-        {.name = "vsch.shade", .spirv = ps->blender ? pb_spv_vsch_shade_blender : pb_spv_vsch_shade,
-         .spirv_bytes = ps->blender ? sizeof pb_spv_vsch_shade_blender : sizeof pb_spv_vsch_shade},
-        {.name = "vsch.blur", .spirv = pb_spv_vsch_blur, .spirv_bytes = sizeof pb_spv_vsch_blur},
-    };
     pb_gpu_pipeline *out[3] = {&v->leaf, &v->shade, &v->blur};
     for (int i = 0; i < 3; ++i) {
       d[i].binding_count = PB_VSCH_SHADE_BIND_COUNT;
@@ -271,7 +278,7 @@ static pb_result vsch_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps
       if ((r = pb_gpu_pipeline_create(g, &d[i], out[i])) != PB_OK) return r;
     }
     memcpy(v->shade_spec, spec, sizeof spec);
-    v->shade_blender = ps->blender;
+    v->shade_build = build;
     v->have_shade = 1;
   }
   const pb_gpu_buffer *photons = v->photons.buffer ? &v->photons : &v->dummy;
@@ -289,8 +296,8 @@ static pb_result vsch_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps
   b[PB_VSCH_SHADE_BIND_VALS] = pb_radix_sort_vals(v->sort);
   b[PB_VSCH_SHADE_BIND_ACCUM] = photon_accum;
   b[PB_VSCH_SHADE_BIND_NMAP] = photon_nmap ? photon_nmap : photon_accum; /* never read without normal maps */
-  if ((r = pb_gpu_pipeline_bind(g, &v->leaf, b, PB_VSCH_SHADE_BIND_COUNT)) != PB_OK ||
-      (r = pb_gpu_pipeline_bind(g, &v->shade, b, PB_VSCH_SHADE_BIND_COUNT)) != PB_OK ||
+  if ((r = pb_kernel_bind(g, &v->leaf, b, PB_VSCH_SHADE_BIND_COUNT, ps->accel)) != PB_OK ||
+      (r = pb_kernel_bind(g, &v->shade, b, PB_VSCH_SHADE_BIND_COUNT, ps->accel)) != PB_OK ||
       (r = pb_gpu_pipeline_bind(g, &v->blur, b, PB_VSCH_SHADE_BIND_COUNT)) != PB_OK)
     return r;
   v->bound = 1;

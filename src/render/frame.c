@@ -159,6 +159,7 @@ static void pass_setup(const pb_gpu_scene *gs, const pb_render_plan *plan, pb_fr
                [PB_SPEC_ALPHA] = plan->alpha ? 1u : 0u, [PB_SPEC_PRINCIPLED2] = plan->principled2 ? 1u : 0u},
       .normal_maps = plan->normal_maps ? 1u : 0u,
       .blender = plan->blender_materials ? 1u : 0u,
+      .accel = pb_gpu_scene_accel(gs),
   };
 }
 

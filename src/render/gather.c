@@ -10,6 +10,10 @@
 #include "shaders/gather_blender.spv.h"
 #include "shaders/gather_upsample.spv.h"
 #include "shaders/gather_upsample_blender.spv.h"
+#include "shaders/gather_rq.spv.h"
+#include "shaders/gather_rq_blender.spv.h"
+#include "shaders/gather_upsample_rq.spv.h"
+#include "shaders/gather_upsample_rq_blender.spv.h"
 
 pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const struct pb_pass_setup *ps,
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
@@ -17,21 +21,21 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
   uint32_t spec[PB_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-4; no lights here */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
-  if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_blender != ps->blender))
+  static const pb_kernel_builds k = PB_KERNEL_BUILDS(gather);
+  pb_gpu_pipeline_desc d = {
+      .name = "pass.gather",
+      .binding_count = PB_GATHER_BIND_COUNT,
+      .push_bytes = sizeof(pb_gpu_gather_push),
+      .spec = spec,
+      .spec_count = PB_SPEC_COUNT,
+  };
+  uint32_t build = pb_kernel_select(&d, &k, ps->blender, ps->accel, PB_BIND_NODES);
+  if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_build != build))
     pb_gpu_pipeline_destroy(g, &e->gather);
   if (!e->gather.pipeline) {
-    pb_gpu_pipeline_desc d = {
-        .name = "pass.gather",
-        .spirv = ps->blender ? pb_spv_gather_blender : pb_spv_gather,
-        .spirv_bytes = ps->blender ? sizeof pb_spv_gather_blender : sizeof pb_spv_gather,
-        .binding_count = PB_GATHER_BIND_COUNT,
-        .push_bytes = sizeof(pb_gpu_gather_push),
-        .spec = spec,
-        .spec_count = PB_SPEC_COUNT,
-    };
     if ((r = pb_gpu_pipeline_create(g, &d, &e->gather)) != PB_OK) return r;
     memcpy(e->gather_spec, spec, sizeof e->gather_spec);
-    e->gather_blender = ps->blender;
+    e->gather_build = build;
   }
   if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
   const pb_gpu_buffer *b[PB_GATHER_BIND_COUNT];
@@ -42,7 +46,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
   b[PB_GATHER_BIND_ACCUM] = photon_accum;
   /* Without normal maps the shader never reads it: any buffer will do. */
   b[PB_GATHER_BIND_NMAP] = photon_nmap ? photon_nmap : photon_accum;
-  if ((r = pb_gpu_pipeline_bind(g, &e->gather, b, PB_GATHER_BIND_COUNT)) != PB_OK) return r;
+  if ((r = pb_kernel_bind(g, &e->gather, b, PB_GATHER_BIND_COUNT, ps->accel)) != PB_OK) return r;
   e->gather_ready = 1;
   return PB_OK;
 }
@@ -70,22 +74,22 @@ pb_result pb_photon_estimator_bind_upsample(pb_gpu *g, pb_photon_estimator *e, c
   uint32_t spec[PB_SPEC_COUNT] = {0};
   memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec);
   spec[PB_SPEC_NORMAL_MAPS] = 0u;
+  static const pb_kernel_builds k = PB_KERNEL_BUILDS(gather_upsample);
+  pb_gpu_pipeline_desc d = {
+      .name = "pass.gather_upsample",
+      .binding_count = PB_GATHER_UPS_BIND_COUNT,
+      .push_bytes = sizeof(pb_gpu_gather_push),
+      .spec = spec,
+      .spec_count = PB_SPEC_COUNT,
+  };
+  uint32_t build = pb_kernel_select(&d, &k, ps->blender, ps->accel, PB_BIND_NODES);
   if (e->gather_ups.pipeline &&
-      (memcmp(e->gather_ups_spec, spec, sizeof e->gather_ups_spec) != 0 || e->gather_ups_blender != ps->blender))
+      (memcmp(e->gather_ups_spec, spec, sizeof e->gather_ups_spec) != 0 || e->gather_ups_build != build))
     pb_gpu_pipeline_destroy(g, &e->gather_ups);
   if (!e->gather_ups.pipeline) {
-    pb_gpu_pipeline_desc d = {
-        .name = "pass.gather_upsample",
-        .spirv = ps->blender ? pb_spv_gather_upsample_blender : pb_spv_gather_upsample,
-        .spirv_bytes = ps->blender ? sizeof pb_spv_gather_upsample_blender : sizeof pb_spv_gather_upsample,
-        .binding_count = PB_GATHER_UPS_BIND_COUNT,
-        .push_bytes = sizeof(pb_gpu_gather_push),
-        .spec = spec,
-        .spec_count = PB_SPEC_COUNT,
-    };
     if ((r = pb_gpu_pipeline_create(g, &d, &e->gather_ups)) != PB_OK) return r;
     memcpy(e->gather_ups_spec, spec, sizeof e->gather_ups_spec);
-    e->gather_ups_blender = ps->blender;
+    e->gather_ups_build = build;
   }
   if (!e->sorted.buffer) return pb_fail(PB_ERR_INTERNAL, "gather: bound before any LBVH build");
   const pb_gpu_buffer *b[PB_GATHER_UPS_BIND_COUNT];
@@ -97,7 +101,7 @@ pb_result pb_photon_estimator_bind_upsample(pb_gpu *g, pb_photon_estimator *e, c
   b[PB_GATHER_BIND_NMAP] = photon_accum; /* never read (SC_NORMAL_MAPS 0) */
   b[PB_GATHER_BIND_UPS_IRR] = irradiance;
   b[PB_GATHER_BIND_UPS_LIST] = list;
-  if ((r = pb_gpu_pipeline_bind(g, &e->gather_ups, b, PB_GATHER_UPS_BIND_COUNT)) != PB_OK) return r;
+  if ((r = pb_kernel_bind(g, &e->gather_ups, b, PB_GATHER_UPS_BIND_COUNT, ps->accel)) != PB_OK) return r;
   e->gather_ups_ready = 1;
   return PB_OK;
 }

@@ -3,9 +3,10 @@
 #include "render/passes.h"
 #include "shaders/gbuffer.spv.h"
 #include "shaders/gbuffer_blender.spv.h"
+#include "shaders/gbuffer_rq.spv.h"
+#include "shaders/gbuffer_rq_blender.spv.h"
 
 pb_result pb_pass_gbuffer_create(pb_gpu *g, const pb_pass_setup *s, pb_gpu_pipeline *out) {
-  static const pb_pass_module m = {"pass.gbuffer", pb_spv_gbuffer, sizeof pb_spv_gbuffer, pb_spv_gbuffer_blender,
-                                   sizeof pb_spv_gbuffer_blender};
+  static const pb_pass_module m = {"pass.gbuffer", PB_KERNEL_BUILDS(gbuffer)};
   return pb_pass_create(g, s, &m, out);
 }

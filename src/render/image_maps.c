@@ -7,7 +7,9 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "render/passes.h"
 #include "shaders/image_maps.spv.h"
+#include "shaders/image_maps_rq.spv.h"
 #include "shaders/image_maps_query.spv.h"
 #include "shaders/image_maps_touch.spv.h"
 
@@ -329,7 +331,7 @@ static pb_result bind_render(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_scene *
       [PB_IMAGE_BIND_TRI_MATERIAL] = &gs->tri_material, [PB_IMAGE_BIND_MAPS] = maps,
       [PB_IMAGE_BIND_TEXELS] = texels,          [PB_IMAGE_BIND_RAYS] = maps,
       [PB_IMAGE_BIND_HITS] = maps,              [PB_IMAGE_BIND_COUNTS] = maps};
-  return pb_gpu_pipeline_bind(g, p, b, PB_IMAGE_BIND_COUNT);
+  return pb_kernel_bind(g, p, b, PB_IMAGE_BIND_COUNT, pb_gpu_scene_accel(gs));
 }
 
 pb_result pb_image_maps_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene *gs, const pb_image_maps_desc *desc,
@@ -390,11 +392,11 @@ pb_result pb_image_maps_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
                            .size = (uint64_t)m->ncand * SELECT_PER * sizeof(pb_gpu_image_texel),
                            .readback = 1};
   if ((r = pb_gpu_buffer_create(g, &ct, &m->cand_texels)) != PB_OK) goto fail;
+  static const pb_kernel_builds k = PB_KERNEL_BUILDS_GLTF(image_maps);
   pb_gpu_pipeline_desc pd = {.name = "pass.image_maps",
-                             .spirv = pb_spv_image_maps,
-                             .spirv_bytes = sizeof pb_spv_image_maps,
                              .binding_count = PB_IMAGE_BIND_COUNT,
                              .push_bytes = sizeof(pb_gpu_image_maps_push)};
+  pb_kernel_select(&pd, &k, 0, pb_gpu_scene_accel(gs), PB_IMAGE_BIND_NODES);
   if ((r = pb_gpu_pipeline_create(g, &pd, &m->render_pipe)) != PB_OK) goto fail;
   pd.name = "pass.image_maps.select";
   if ((r = pb_gpu_pipeline_create(g, &pd, &m->select_pipe)) != PB_OK) goto fail;

@@ -6,7 +6,9 @@
 #include <string.h>
 
 #include "scene/camera.h"
+#include "render/passes.h"
 #include "shaders/motion.spv.h"
+#include "shaders/motion_rq.spv.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_filter.h"
 
@@ -55,8 +57,16 @@ pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint
   pb_gpu_buffer_desc vd = {.name = "motion.prev_positions", .size = (uint64_t)(vertex_count ? vertex_count : 1) * 12};
   pb_gpu_buffer_desc md = {.name = "motion.vectors", .size = (uint64_t)width * height * 4 * sizeof(float),
                            .host_visible = 1, .readback = 1};
-  pb_gpu_pipeline_desc pl = {.name = "pass.motion", .spirv = pb_spv_motion, .spirv_bytes = sizeof pb_spv_motion,
-                             .binding_count = PB_MOTION_BIND_COUNT};
+  /* The ray-query build on a device with ray queries, where every GPU
+   * scene has its acceleration structure (render.h pb_gpu_scene_accel). */
+  static const pb_kernel_builds k = PB_KERNEL_BUILDS_GLTF(motion);
+  pb_gpu_pipeline_desc pl = {.name = "pass.motion", .binding_count = PB_MOTION_BIND_COUNT};
+  pb_kernel_select(&pl, &k, 0, NULL, 0);
+  if (pb_gpu_get_limits(g)->ray_query) {
+    pl.spirv = k.build[0][1].code;
+    pl.spirv_bytes = k.build[0][1].bytes;
+    pl.accel_bindings = 1u << PB_MOTION_BIND_NODES;
+  }
   pb_result r;
   if ((r = pb_gpu_buffer_create(g, &pd, &m->params)) != PB_OK || (r = pb_gpu_buffer_create(g, &vd, &m->prev)) != PB_OK ||
       (r = pb_gpu_buffer_create(g, &md, &m->motion)) != PB_OK || (r = pb_gpu_pipeline_create(g, &pl, &m->pipe)) != PB_OK) {
@@ -89,7 +99,7 @@ pb_result pb_motion_pass_prepare(pb_gpu *g, pb_motion_pass *m, const pb_scene *s
       [PB_MOTION_BIND_NODES] = &gs->nodes,   [PB_MOTION_BIND_TRIS] = &gs->tris,
       [PB_MOTION_BIND_INDICES] = &gs->indices, [PB_MOTION_BIND_PREV_POSITIONS] = prev,
       [PB_MOTION_BIND_PARAMS] = &m->params,  [PB_MOTION_BIND_MOTION] = &m->motion};
-  return pb_gpu_pipeline_bind(g, &m->pipe, b, PB_MOTION_BIND_COUNT);
+  return pb_kernel_bind(g, &m->pipe, b, PB_MOTION_BIND_COUNT, pb_gpu_scene_accel(gs));
 }
 
 pb_result pb_motion_pass_record(pb_gpu *g, pb_motion_pass *m) {

@@ -14,15 +14,41 @@ typedef struct pb_pass_setup {
   uint32_t normal_maps; /* the gather's SC_NORMAL_MAPS (constant_id 5): eq. 20's
                            extra sums, compiled out for scenes without */
   uint32_t blender;     /* 1: the passes' PB_BLENDER builds (Blender materials) */
+  const pb_gpu_accel *accel; /* the scene's acceleration structure when its rays
+                                are cast as ray queries (pb_gpu_scene.ray_query),
+                                else NULL: the GLSL BVH at PB_BIND_NODES */
 } pb_pass_setup;
 
-/* A scene pass's SPIR-V: the glTF build and the PB_BLENDER build. */
+/* A kernel's SPIR-V builds (shaders.cmake), [PB_BLENDER][PB_RAY_QUERY]:
+ * NAME, NAME_rq, NAME_blender, NAME_rq_blender. A kernel without Blender
+ * materials lists its two builds twice. */
+typedef struct pb_spirv {
+  const uint32_t *code;
+  size_t bytes;
+} pb_spirv;
+typedef struct pb_kernel_builds {
+  pb_spirv build[2][2];
+} pb_kernel_builds;
+#define PB_SPIRV(n) {pb_spv_##n, sizeof pb_spv_##n}
+#define PB_KERNEL_BUILDS(n) {{{PB_SPIRV(n), PB_SPIRV(n##_rq)}, {PB_SPIRV(n##_blender), PB_SPIRV(n##_rq_blender)}}}
+#define PB_KERNEL_BUILDS_GLTF(n) {{{PB_SPIRV(n), PB_SPIRV(n##_rq)}, {PB_SPIRV(n), PB_SPIRV(n##_rq)}}}
+
+/* pass.c: points d at k's build for `blender` and, with accel (not NULL),
+ * at the ray-query build whose binding `tlas` is the acceleration
+ * structure (d->accel_bindings). Which build: 0..3, for the callers that
+ * keep a pipeline until its build changes. */
+uint32_t pb_kernel_select(pb_gpu_pipeline_desc *d, const pb_kernel_builds *k, uint32_t blender,
+                          const pb_gpu_accel *accel, uint32_t tlas);
+/* Binds the buffers (pb_gpu_pipeline_bind) and, on a pipeline of a
+ * ray-query build, accel at its acceleration-structure binding. */
+pb_result pb_kernel_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffer *const *buffers, uint32_t count,
+                         const pb_gpu_accel *accel);
+
+/* A scene pass's builds (its 16 bindings PB_BIND_*, the TLAS at
+ * PB_BIND_NODES in the ray-query builds). */
 typedef struct pb_pass_module {
   const char *name;
-  const uint32_t *spirv;
-  size_t bytes;
-  const uint32_t *spirv_blender;
-  size_t bytes_blender;
+  pb_kernel_builds k;
 } pb_pass_module;
 
 /* pass.c: a pipeline of module `m` with s's bindings and constants. */

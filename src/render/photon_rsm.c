@@ -14,6 +14,8 @@
 #include "render/plan.h"
 #include "shaders/photon_rsm.spv.h"
 #include "shaders/photon_rsm_blender.spv.h"
+#include "shaders/photon_rsm_rq.spv.h"
+#include "shaders/photon_rsm_rq_blender.spv.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_rsm.h"
 
@@ -92,15 +94,15 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   r->spec[PB_SPEC_EMISSIVE] = 0u;
   r->spec[PB_SPEC_ALPHA] = 0u; /* the maps only trace first hits */
   r->spec[PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u;
+  static const pb_kernel_builds k = PB_KERNEL_BUILDS(photon_rsm);
   pb_gpu_pipeline_desc pd = {
       .name = "pass.photon_rsm",
-      .spirv = plan.blender_materials ? pb_spv_photon_rsm_blender : pb_spv_photon_rsm,
-      .spirv_bytes = plan.blender_materials ? sizeof pb_spv_photon_rsm_blender : sizeof pb_spv_photon_rsm,
       .binding_count = PB_RSM_BIND_COUNT,
       .push_bytes = sizeof(pb_gpu_rsm_push),
       .spec = r->spec,
       .spec_count = PB_SPEC_COUNT,
   };
+  pb_kernel_select(&pd, &k, plan.blender_materials, pb_gpu_scene_accel(r->gs), PB_BIND_NODES);
   if ((rc = pb_gpu_pipeline_create(g, &pd, &r->pipe)) != PB_OK) goto fail;
   free(tab);
   *out = r;
@@ -120,7 +122,7 @@ pb_result pb_photon_rsm_bind(pb_gpu *g, pb_photon_rsm *r, const pb_gpu_buffer *f
       [PB_BIND_TEXTURES] = &gs->textures, [PB_BIND_TEXELS] = &gs->texels, [PB_BIND_LIGHTS] = &gs->lights,
       [PB_RSM_BIND_LIGHTS] = &r->lights, [PB_RSM_BIND_TEXELS] = &r->texels, [PB_BIND_POSITIONS] = &gs->positions,
       [PB_BIND_EMITTERS] = &gs->emitters};
-  return pb_gpu_pipeline_bind(g, &r->pipe, b, PB_RSM_BIND_COUNT);
+  return pb_kernel_bind(g, &r->pipe, b, PB_RSM_BIND_COUNT, pb_gpu_scene_accel(gs));
 }
 
 pb_result pb_photon_rsm_record(pb_gpu *g, pb_photon_rsm *r) {

@@ -23,6 +23,8 @@
 #include "render/plan.h"
 #include "shaders/photon_trace.spv.h"
 #include "shaders/photon_trace_blender.spv.h"
+#include "shaders/photon_trace_rq.spv.h"
+#include "shaders/photon_trace_rq_blender.spv.h"
 #include "shaders/photon_trace_images.spv.h"
 #include "shaders/photon_trace_images_blender.spv.h"
 #include "render/image_maps.h"
@@ -348,15 +350,15 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;
   t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
   t->spec[PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u;
+  static const pb_kernel_builds k = PB_KERNEL_BUILDS(photon_trace);
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
-      .spirv = plan.blender_materials ? pb_spv_photon_trace_blender : pb_spv_photon_trace,
-      .spirv_bytes = plan.blender_materials ? sizeof pb_spv_photon_trace_blender : sizeof pb_spv_photon_trace,
       .binding_count = PB_PHOTON_BIND_COUNT,
       .push_bytes = 0,
       .spec = t->spec,
       .spec_count = PB_SPEC_COUNT,
   };
+  pb_kernel_select(&pdsc, &k, plan.blender_materials, pb_gpu_scene_accel(gs), PB_BIND_NODES);
   t->blender = plan.blender_materials ? 1 : 0;
   if ((r = pb_gpu_pipeline_create(g, &pdsc, &t->pipe)) != PB_OK) goto fail;
   free(counts);
@@ -407,7 +409,7 @@ pb_result pb_photon_tracer_prepare(pb_gpu *g, pb_photon_tracer *t, uint64_t seed
       [PB_PHOTON_BIND_IMAGE_TEXELS] = t->images ? pb_image_maps_texels(t->images) : &t->params,
       [PB_PHOTON_BIND_IMAGE_COUNTS] = t->images ? &t->image_counts : &t->params};
   uint32_t nb = t->images ? PB_PHOTON_IMAGES_BIND_COUNT : PB_PHOTON_BIND_COUNT;
-  if ((r = pb_gpu_pipeline_bind(g, &t->pipe, b, nb)) != PB_OK) return r;
+  if ((r = pb_kernel_bind(g, &t->pipe, b, nb, pb_gpu_scene_accel(gs))) != PB_OK) return r;
   if (t->images && (r = pb_gpu_buffer_fill_zero(g, &t->image_counts)) != PB_OK) return r;
   if (t->rsm && (r = pb_photon_rsm_bind(g, t->rsm, &t->frame)) != PB_OK) return r;
 

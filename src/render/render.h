@@ -58,7 +58,19 @@ typedef struct pb_gpu_scene {
   double sah_built;           /* pb_bvh_sah_cost after the last (re)build */
   double sah;                 /* ... now (after refits) */
   uint32_t refits;            /* refits since the last (re)build */
+  /* Ray queries (a device with pb_gpu_limits.ray_query): the scene's
+   * triangles as acceleration structures (gpu/accel.c), which every pass
+   * that casts rays traces instead of the BVH (pb_kernel_select, the
+   * shaders' _rq builds); brought up to date with the BVH by
+   * pb_gpu_scene_update. The BVH is still built (statistics, tests). */
+  int ray_query;
+  pb_gpu_accel accel;
 } pb_gpu_scene;
+
+/* The acceleration structure the scene's passes trace, or NULL: the BVH. */
+static inline const pb_gpu_accel *pb_gpu_scene_accel(const pb_gpu_scene *gs) {
+  return gs && gs->ray_query ? &gs->accel : NULL;
+}
 
 pb_result pb_gpu_scene_create(pb_gpu *g, const pb_scene *s, pb_gpu_scene *out);
 void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs);

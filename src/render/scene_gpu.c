@@ -16,6 +16,7 @@ void pb_gpu_scene_destroy(pb_gpu *g, pb_gpu_scene *gs) {
                         &gs->tri_material, &gs->materials, &gs->textures, &gs->texels, &gs->lights,
                         &gs->emitters, &gs->world};
   for (size_t i = 0; i < sizeof b / sizeof *b; ++i) pb_gpu_buffer_destroy(g, b[i]);
+  pb_gpu_accel_destroy(g, &gs->accel);
   pb_bvh_destroy(&gs->bvh);
   memset(gs, 0, sizeof *gs);
 }
@@ -207,6 +208,16 @@ static pb_result upload_geometry(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs)
   if (r != PB_OK) return r;
   r = make(g, &gs->positions, "scene.positions", s->positions, (uint64_t)s->vertex_count * 12);
   if (r != PB_OK) return r;
+  if (pb_gpu_get_limits(g)->ray_query) { /* ray queries: the passes trace this instead of the BVH */
+    pb_gpu_accel_desc ad = {.name = "scene.accel",
+                            .positions = s->vertex_count ? &s->positions[0][0] : NULL,
+                            .vertex_count = s->vertex_count,
+                            .indices = s->triangle_count ? &s->triangles[0][0] : NULL,
+                            .triangle_count = s->triangle_count,
+                            .updatable = s->anim != NULL};
+    if ((r = pb_gpu_accel_create(g, &ad, &gs->accel)) != PB_OK) return r;
+    gs->ray_query = 1;
+  }
   gs->has_normals = s->normals != NULL;
   if (s->tangents && s->uvs && (s->features & (PB_FEATURE_NORMAL_MAPS | PB_FEATURE_ANISOTROPY)) && s->vertex_count &&
       (uint64_t)s->vertex_count * 7 < UINT32_MAX) {
@@ -496,6 +507,8 @@ pb_result pb_gpu_scene_update(pb_gpu *g, const pb_scene *s, pb_gpu_scene *gs, in
   if (r == PB_OK) r = pb_gpu_buffer_upload(g, &gs->tris, 0, gs->bvh.tris, (uint64_t)gs->bvh.tri_count * sizeof(pb_gpu_tri));
   if (r == PB_OK && s->vertex_count)
     r = pb_gpu_buffer_upload(g, &gs->positions, 0, s->positions, (uint64_t)s->vertex_count * 12);
+  if (r == PB_OK && gs->ray_query && s->vertex_count) /* refitted or rebuilt as the BVH was */
+    r = pb_gpu_accel_update(g, &gs->accel, &s->positions[0][0], !rebuild);
   if (r == PB_OK && s->vertex_count && s->normals)
     r = pb_gpu_buffer_upload(g, &gs->normals, 0, s->normals, (uint64_t)s->vertex_count * 12);
   if (r == PB_OK && gs->tangent_base && s->tangents) /* normal maps: after the normals */

@@ -506,8 +506,9 @@ pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
     pb_serve_json_string(scene, sizeof scene, v.path);
     pb_serve_json_string(dev, sizeof dev, pb_gpu_device_name(g));
     int n = snprintf(v.reply, REPLY_CAP, "{\"event\":\"ready\",\"ok\":true,\"protocol\":1,\"scene\":%s,\"width\":%u,"
-                     "\"height\":%u,\"cameras\":%u,\"device\":%s,\"device_type\":\"%s\",\"frame_path\":", scene,
-                     v.width, v.height, v.file_cam_count, dev, pb_gpu_device_type(g));
+                     "\"height\":%u,\"cameras\":%u,\"device\":%s,\"device_type\":\"%s\",\"traversal\":\"%s\","
+                     "\"frame_path\":", scene, v.width, v.height, v.file_cam_count, dev, pb_gpu_device_type(g),
+                     pb_gpu_traversal(g));
     size_t m = pb_serve_json_string(v.reply + n, REPLY_CAP - (size_t)n - 4, v.frame_path);
     memcpy(v.reply + n + m, "}\n", 3);
     send_line(&v, v.reply, (size_t)n + m + 2);

@@ -570,6 +570,7 @@ static pb_result write_stats(const viewer *v, const char *path) {
   pb_json_string(&j, "renderer", "gpu view");
   pb_json_string(&j, "scene", v->s->path);
   pb_json_string(&j, "device", pb_gpu_device_name(v->g));
+  pb_json_string(&j, "traversal", pb_gpu_traversal(v->g));
   pb_json_int(&j, "width", v->d->width);
   pb_json_int(&j, "height", v->d->height);
   pb_json_int(&j, "photons_per_frame", v->ses.res.stats.photons_emitted);

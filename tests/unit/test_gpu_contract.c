@@ -13,6 +13,25 @@
 #include "shared/pb_gpu.h"
 
 #include "shaders/atrous.spv.h"
+#include "shaders/gbuffer_rq.spv.h"
+#include "shaders/gbuffer_rq_blender.spv.h"
+#include "shaders/direct_rq.spv.h"
+#include "shaders/direct_rq_blender.spv.h"
+#include "shaders/gather_rq.spv.h"
+#include "shaders/gather_rq_blender.spv.h"
+#include "shaders/gather_upsample_rq.spv.h"
+#include "shaders/gather_upsample_rq_blender.spv.h"
+#include "shaders/knn_rq.spv.h"
+#include "shaders/knn_rq_blender.spv.h"
+#include "shaders/photon_trace_rq.spv.h"
+#include "shaders/photon_trace_rq_blender.spv.h"
+#include "shaders/image_maps_rq.spv.h"
+#include "shaders/photon_rsm_rq.spv.h"
+#include "shaders/photon_rsm_rq_blender.spv.h"
+#include "shaders/motion_rq.spv.h"
+#include "shaders/vsch_leaf_rq.spv.h"
+#include "shaders/vsch_shade_rq.spv.h"
+#include "shaders/vsch_shade_rq_blender.spv.h"
 #include "shaders/direct.spv.h"
 #include "shaders/direct_blender.spv.h"
 #include "shaders/gather.spv.h"
@@ -78,7 +97,7 @@ typedef struct entry {
 
 /* The scene's buffers (common/scene.glsl) every scene-reading kernel shares. */
 #define SCENE_COMMON                                                                                        \
-  {"FrameBuf", PB_BIND_FRAME}, {"Nodes", PB_BIND_NODES}, {"Tris", PB_BIND_TRIS}, {"Indices", PB_BIND_INDICES}, \
+  {"FrameBuf", PB_BIND_FRAME}, {"Nodes", PB_BIND_NODES}, {"pb_tlas", PB_BIND_NODES}, {"Tris", PB_BIND_TRIS}, {"Indices", PB_BIND_INDICES}, \
       {"Normals", PB_BIND_NORMALS}, {"Uvs", PB_BIND_UVS}, {"TriMat", PB_BIND_TRI_MATERIAL},                  \
       {"Materials", PB_BIND_MATERIALS}, {"Textures", PB_BIND_TEXTURES}, {"Texels", PB_BIND_TEXELS},         \
       {"Lights", PB_BIND_LIGHTS}, {"Positions", PB_BIND_POSITIONS}, {"Emitters", PB_BIND_EMITTERS}
@@ -178,7 +197,7 @@ static const entry filter_io_bind[] = {{"Planes", PB_FILTER_IO_BIND_PLANES},
                                        END};
 static const entry shading_bind[] = {{"Planes", PB_SHADING_BIND_PLANES},
                                      {"PhotonPlanes", PB_SHADING_BIND_PHOTON_PLANES}, END};
-static const entry motion_bind[] = {{"Nodes", PB_MOTION_BIND_NODES},
+static const entry motion_bind[] = {{"Nodes", PB_MOTION_BIND_NODES}, {"pb_tlas", PB_MOTION_BIND_NODES},
                                     {"Tris", PB_MOTION_BIND_TRIS},
                                     {"Indices", PB_MOTION_BIND_INDICES},
                                     {"PrevPos", PB_MOTION_BIND_PREV_POSITIONS},
@@ -209,7 +228,7 @@ static const entry trace_images_bind[] = {SCENE_COMMON,
                                           {"ImageTexels", PB_PHOTON_BIND_IMAGE_TEXELS},
                                           {"ImageCounts", PB_PHOTON_BIND_IMAGE_COUNTS},
                                           END};
-static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES},     {"Tris", PB_IMAGE_BIND_TRIS},
+static const entry image_bind[] = {{"Nodes", PB_IMAGE_BIND_NODES}, {"pb_tlas", PB_IMAGE_BIND_NODES},     {"Tris", PB_IMAGE_BIND_TRIS},
                                    {"Indices", PB_IMAGE_BIND_INDICES}, {"Positions", PB_IMAGE_BIND_POSITIONS},
                                    {"TriMat", PB_IMAGE_BIND_TRI_MATERIAL}, {"Maps", PB_IMAGE_BIND_MAPS},
                                    {"Texels", PB_IMAGE_BIND_TEXELS},   {"Rays", PB_IMAGE_BIND_RAYS},
@@ -260,24 +279,39 @@ typedef struct module {
 static const module modules[] = {
     MOD(gbuffer, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(gbuffer_blender, scene_pass, scene_spec, PB_BIND_COUNT),
+    MOD(gbuffer_rq, scene_pass, scene_spec, PB_BIND_COUNT),
+    MOD(gbuffer_rq_blender, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(direct, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(direct_blender, scene_pass, scene_spec, PB_BIND_COUNT),
+    MOD(direct_rq, scene_pass, scene_spec, PB_BIND_COUNT),
+    MOD(direct_rq_blender, scene_pass, scene_spec, PB_BIND_COUNT),
     MOD(gather, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
     MOD(gather_blender, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
+    MOD(gather_rq, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
+    MOD(gather_rq_blender, gather_bind, gather_spec, PB_GATHER_BIND_COUNT),
     MOD(gather_upsample, gather_ups_bind, gather_spec, PB_GATHER_UPS_BIND_COUNT),
     MOD(gather_upsample_blender, gather_ups_bind, gather_spec, PB_GATHER_UPS_BIND_COUNT),
+    MOD(gather_upsample_rq, gather_ups_bind, gather_spec, PB_GATHER_UPS_BIND_COUNT),
+    MOD(gather_upsample_rq_blender, gather_ups_bind, gather_spec, PB_GATHER_UPS_BIND_COUNT),
     MOD(upsample_mark, ups_bind, scene_spec, PB_UPS_BIND_COUNT),
     MOD(upsample_compose, ups_bind, scene_spec, PB_UPS_BIND_COUNT),
     MOD(knn, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
     MOD(knn_blender, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
+    MOD(knn_rq, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
+    MOD(knn_rq_blender, knn_bind, knn_spec, PB_KNN_BIND_COUNT),
     MOD(photon_trace, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_blender, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
+    MOD(photon_trace_rq, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
+    MOD(photon_trace_rq_blender, trace_bind, trace_spec, PB_PHOTON_BIND_COUNT),
     MOD(photon_trace_images, trace_images_bind, trace_spec, PB_PHOTON_IMAGES_BIND_COUNT),
     MOD(photon_trace_images_blender, trace_images_bind, trace_spec, PB_PHOTON_IMAGES_BIND_COUNT),
     MOD(image_maps, image_bind, no_spec, PB_IMAGE_BIND_COUNT),
+    MOD(image_maps_rq, image_bind, no_spec, PB_IMAGE_BIND_COUNT),
     MOD(image_maps_query, image_bind, no_spec, PB_IMAGE_BIND_COUNT),
     MOD(photon_rsm, rsm_bind, scene_spec, PB_RSM_BIND_COUNT),
     MOD(photon_rsm_blender, rsm_bind, scene_spec, PB_RSM_BIND_COUNT),
+    MOD(photon_rsm_rq, rsm_bind, scene_spec, PB_RSM_BIND_COUNT),
+    MOD(photon_rsm_rq_blender, rsm_bind, scene_spec, PB_RSM_BIND_COUNT),
     MOD(lbvh_setup, lbvh_bind, no_spec, PB_LBVH_BIND_COUNT),
     MOD(lbvh_bounds, lbvh_bind, no_spec, PB_LBVH_BIND_COUNT),
     MOD(lbvh_morton, lbvh_bind, no_spec, PB_LBVH_BIND_COUNT),
@@ -292,6 +326,7 @@ static const module modules[] = {
     MOD(atrous, atrous_bind, no_spec, PB_ATROUS_BIND_COUNT),
     MOD(temporal, temporal_bind, no_spec, PB_TEMPORAL_BIND_COUNT),
     MOD(motion, motion_bind, no_spec, PB_MOTION_BIND_COUNT),
+    MOD(motion_rq, motion_bind, no_spec, PB_MOTION_BIND_COUNT),
     MOD(raycast, raycast_bind, no_spec, PB_RAYCAST_BIND_COUNT),
     MOD(raycast_rq, raycast_rq_bind, no_spec, PB_RAYCAST_RQ_BIND_COUNT),
     MOD(resolve, resolve_bind, no_spec, PB_RESOLVE_BIND_COUNT),
@@ -312,8 +347,11 @@ static const module modules[] = {
     MOD(vsch_fill, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
     MOD(vsch_ranges, vsch_bind, no_spec, PB_VSCH_BIND_COUNT),
     MOD(vsch_leaf, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_leaf_rq, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
     MOD(vsch_shade, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
     MOD(vsch_shade_blender, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_shade_rq, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
+    MOD(vsch_shade_rq_blender, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
     MOD(vsch_blur, vsch_shade_bind, gather_spec, PB_VSCH_SHADE_BIND_COUNT),
 };
 
