@@ -72,15 +72,19 @@ void main() {
 
   // Sample position in the pixel: centre for one sample (unless the frame
   // asks for jitter: the still frames of a sequence, which accumulate into
-  // a box-filtered pixel); otherwise the sample's cell of an m x m grid
-  // (m = ceil(sqrt(spp))), jittered. A frame whose sample count is open
-  // (a time limit or a noise threshold ends it; spp is then only a bound)
-  // takes sample s from the (0,2)-sequence in base 2 (van der Corput and
-  // Sobol's second dimension; Kollig & Keller 2002), shifted per pixel
-  // (Cranley-Patterson): every prefix of 2^k samples is stratified, where
-  // the first samples of a large grid would all lie in its first row.
+  // a box-filtered pixel); for a square count of samples spp = m x m, the
+  // sample's cell of the m x m grid, jittered. Any other count (2, 3, 5,
+  // ... 128), and a frame whose sample count is open (a time limit or a
+  // noise threshold ends it; spp is then only a bound), takes sample s from
+  // the (0,2)-sequence in base 2 (van der Corput and Sobol's second
+  // dimension; Kollig & Keller 2002), shifted per pixel (Cranley-Patterson):
+  // every sample is uniform over the pixel and every prefix of 2^k samples
+  // stratified, where a grid of ceil(sqrt(spp))^2 cells would leave its
+  // last cells unsampled (2 samples: both in the pixel's upper half).
   vec2 jitter = vec2(0.5);
-  bool open_samples = (frame.flags & PB_GPU_FRAME_OPEN_SAMPLES) != 0u;
+  uint grid_m = uint(ceil(sqrt(float(frame.spp))));
+  bool grid = frame.spp > 1u && grid_m * grid_m == frame.spp;
+  bool open_samples = (frame.flags & PB_GPU_FRAME_OPEN_SAMPLES) != 0u || (frame.spp > 1u && !grid);
   vec2 s02 = vec2(0.0);
   if (open_samples) {
     uint vdc = bitfieldReverse(s), sob = 0u;
@@ -88,23 +92,24 @@ void main() {
       if ((i & 1u) != 0u) sob ^= v;
     s02 = vec2(float(vdc >> 8), float(sob >> 8)) * (1.0 / 16777216.0);
     jitter = fract(s02 + vec2(pb_rand(key, 0u, 0u), pb_rand(key, 0u, 1u)));
-  } else if (frame.spp > 1u || (frame.flags & PB_GPU_FRAME_JITTER) != 0u) {
-    uint m = uint(ceil(sqrt(float(frame.spp))));
+  } else if (grid || (frame.flags & PB_GPU_FRAME_JITTER) != 0u) {
+    uint m = grid_m;
     uint cell = s % (m * m);
     jitter = (vec2(float(cell % m), float(cell / m)) +
               vec2(pb_rand(key, s, 0u), pb_rand(key, s, 1u))) / float(m);
   }
   float fx = float(px + frame.key_x0) + jitter.x, fy = float(py + frame.key_y0) + jitter.y;
   // The lens sample (depth of field): its own dimensions of the sample's
-  // stream; with several samples the cell of the same m x m grid with the
+  // stream; with a square count the cell of the same m x m grid with the
   // pixel cell's axes swapped and rotated per pixel, so the lens points of
-  // a pixel are stratified too and not tied to the pixel positions (open
-  // sample counts: the same (0,2) point, axes swapped, its own shift).
+  // a pixel are stratified too and not tied to the pixel positions (other
+  // and open sample counts: the same (0,2) point, axes swapped, its own
+  // shift).
   vec2 lens = vec2(pb_rand(key, s, 0x4c454e00u), pb_rand(key, s, 0x4c454e01u));
   if (open_samples) {
     lens = fract(s02.yx + vec2(pb_rand(key, 0u, 0x4c454e00u), pb_rand(key, 0u, 0x4c454e01u)));
-  } else if (frame.spp > 1u) {
-    uint m = uint(ceil(sqrt(float(frame.spp))));
+  } else if (grid) {
+    uint m = grid_m;
     uint cell = s % (m * m), h = pb_hash(key ^ 0x4c454e53u);
     lens = (vec2(float((cell / m + h) % m), float((cell % m + (h >> 16)) % m)) + lens) / float(m);
   }
