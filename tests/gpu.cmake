@@ -236,3 +236,25 @@ add_test(NAME gpu_traversal_same_pictures
 set_tests_properties(gpu_traversal_same_pictures PROPERTIES LABELS "gpu;no-sanitize" TIMEOUT 1500
                      ENVIRONMENT "MESA_SHADER_CACHE_DIR=${PB_MESA25_CACHE}"
                      WORKING_DIRECTORY ${PB_ROOT} PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+# Camera samples cover the whole pixel at every sample count, square or
+# not (tests/sample_positions.py: the coverage of --spp 2, 3, 5, 8 is not
+# shifted against --spp 16's jittered grid).
+add_test(NAME gpu_sample_positions
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/sample_positions.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                 ${CMAKE_CURRENT_BINARY_DIR}/sample_positions
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(gpu_sample_positions PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
+                     LABELS "gpu;no-sanitize" TIMEOUT 600 PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+
+# The numerical hard cases (tests/hard/hard_cases.py: scale 1e-3 .. 1e3, far
+# from the origin, grazing light and view, degenerate and overlapping
+# triangles, a camera inside a closed block, extreme lights) with every ray
+# a ray query (--traversal ray-query: refused, so failing, without them), on
+# Mesa 25's lavapipe.
+add_test(NAME hard_cases_gpu_ray_query
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/hard/hard_cases.py ${PB_EXE} $<TARGET_FILE:exr_probe>
+                 ${CMAKE_CURRENT_BINARY_DIR}/hard_gpu_ray_query --renderer gpu --gpu-args "--traversal ray-query"
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(hard_cases_gpu_ray_query PROPERTIES
+                     ENVIRONMENT "VK_ICD_FILENAMES=${PB_MESA25_ICD};MESA_SHADER_CACHE_DIR=${PB_MESA25_CACHE}"
+                     LABELS "gpu;no-sanitize;hard" TIMEOUT 900)

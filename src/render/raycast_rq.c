@@ -27,6 +27,7 @@ pb_result pb_raycast_rq_create(pb_gpu *g, const pb_scene *s, uint32_t capacity, 
       .vertex_count = s->vertex_count,
       .indices = &s->triangles[0][0],
       .triangle_count = s->triangle_count,
+      .updatable = 1, /* the tests refit it (pb_gpu_accel_update) */
   };
   pb_result r = pb_gpu_accel_create(g, &ad, &p->accel);
   if (r != PB_OK) goto fail;

@@ -307,6 +307,7 @@ MAP = {"photons": "photons", "iterations": "iterations", "spp": "spp", "seed": "
        "tracer": "tracer", "image_maps": "image-maps", "image_map_resolution": "image-map-resolution",
        "filter_passes": "atrous-iterations", "estimator": "estimator", "caustic_filter": "smoothing-caustic",
        "photon_bounces": "photon-bounces", "specular_depth": "max-specular-depth", "device": "device",
+       "traversal": "traversal",
        "time_limit": "time-limit", "progressive": "progressive", "noise_threshold": "noise-threshold"}
 for p in props:
     check(p in MAP or p in settings.ADDON_ONLY or p in settings.TABLE_PROPERTIES,

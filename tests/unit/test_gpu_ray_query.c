@@ -64,6 +64,63 @@ static void print_ray(const pb_gpu_ray *r) {
           r->dir[1], r->dir[2], r->tmax);
 }
 
+/* Casts `rays` through the BVH (rc, bound to the GPU scene of s) and as ray
+ * queries (rq), closest hit, and checks that they agree (see the top). */
+static pb_result closest_check(pb_gpu *g, const char *name, const char *what, const pb_scene *sp,
+                               pb_raycast_pass *rc, pb_raycast_rq_pass *rq, const pb_gpu_ray *rays, uint32_t n,
+                               pb_gpu_hit *bh, pb_gpu_hit *qh, uint32_t *hits_out) {
+  const pb_scene s = *sp;
+  double ms_b = 0, ms_q = 0;
+  pb_result r = pb_raycast_run(g, rc, rays, n, 0, bh, &ms_b);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r == PB_OK) r = pb_raycast_rq_run(g, rq, rays, n, 0, qh, &ms_q);
+  CHECK_EQ_INT(r, PB_OK);
+  if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
+  uint32_t bad = 0, hits = 0, same_prim = 0, listed = 0;
+  for (uint32_t i = 0; i < n && r == PB_OK; ++i) {
+    int bm = bh[i].prim == PB_GPU_MISS, qm = qh[i].prim == PB_GPU_MISS;
+    int ok;
+    if (bm || qm) ok = bm == qm;
+    else if (qh[i].prim >= s.triangle_count) ok = 0;
+    else if (bh[i].prim == qh[i].prim) {
+      ok = near_t(bh[i].t, qh[i].t) && point_dist(&s, bh[i].prim, &bh[i], &qh[i]) <= 1e-4f * fmaxf(1.0f, bh[i].t);
+      same_prim++;
+    } else ok = near_t(bh[i].t, qh[i].t);
+    hits += !bm;
+    if (!ok) {
+      bad++;
+      if (listed++ < 20) {
+        fprintf(stderr, "%s: %s ray %u: ", name, what, i);
+        print_ray(&rays[i]);
+        fprintf(stderr, ": BVH prim %d t %.9g (u %.6f v %.6f), ray query prim %d t %.9g (u %.6f v %.6f); exact t %.9g\n",
+                (int)bh[i].prim, bh[i].t, bh[i].u, bh[i].v, (int)qh[i].prim, qh[i].t, qh[i].u, qh[i].v,
+                bm ? (qm ? NAN : exact_t(&s, qh[i].prim, &rays[i])) : exact_t(&s, bh[i].prim, &rays[i]));
+      }
+    }
+  }
+  printf("%-18s %s: %u rays, %u hits, %u same primitive, %u disagreements; BVH %.1f ms, ray query %.1f ms; "
+         "acceleration structures %.1f KiB built in %.1f ms\n",
+         name, what, n, hits, same_prim, bad, ms_b, ms_q, (double)rq->accel.bytes / 1024.0, rq->accel.build_ms);
+  CHECK(bad <= n / 10000);
+  *hits_out = hits;
+  return r;
+}
+
+/* Moves every vertex by a smooth, non-rigid warp of up to 4 % of the
+ * scene's size (triangles stretch, so a refit is not a translation). */
+static void warp(pb_scene *s) {
+  float c[3], e = 0;
+  for (int k = 0; k < 3; ++k) {
+    c[k] = 0.5f * (s->bounds_min[k] + s->bounds_max[k]);
+    e = fmaxf(e, s->bounds_max[k] - s->bounds_min[k]);
+  }
+  if (!(e > 0)) e = 1;
+  for (uint32_t i = 0; i < s->vertex_count; ++i) {
+    float *p = s->positions[i], q[3] = {p[0], p[1], p[2]};
+    for (int k = 0; k < 3; ++k) p[k] = q[k] + 0.04f * e * sinf(6.0f * (q[(k + 1) % 3] - c[(k + 1) % 3]) / e);
+  }
+}
+
 static void run_scene(pb_gpu *g, const char *name, uint32_t n) {
   char path[256];
   snprintf(path, sizeof path, "samples/%s/%s.gltf", name, name);
@@ -99,41 +156,12 @@ static void run_scene(pb_gpu *g, const char *name, uint32_t n) {
   pbt_random_rays(&s, 0x7a0c0000u + n, rays, n);
 
   /* Closest hit. */
-  double ms_b = 0, ms_q = 0;
-  r = pb_raycast_run(g, &rc, rays, n, 0, bh, &ms_b);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r == PB_OK) r = pb_raycast_rq_run(g, &rq, rays, n, 0, qh, &ms_q);
-  CHECK_EQ_INT(r, PB_OK);
-  if (r != PB_OK) fprintf(stderr, "%s\n", pb_error_message());
-  uint32_t bad = 0, hits = 0, same_prim = 0, listed = 0;
-  for (uint32_t i = 0; i < n && r == PB_OK; ++i) {
-    int bm = bh[i].prim == PB_GPU_MISS, qm = qh[i].prim == PB_GPU_MISS;
-    int ok;
-    if (bm || qm) ok = bm == qm;
-    else if (qh[i].prim >= s.triangle_count) ok = 0;
-    else if (bh[i].prim == qh[i].prim) {
-      ok = near_t(bh[i].t, qh[i].t) && point_dist(&s, bh[i].prim, &bh[i], &qh[i]) <= 1e-4f * fmaxf(1.0f, bh[i].t);
-      same_prim++;
-    } else ok = near_t(bh[i].t, qh[i].t);
-    hits += !bm;
-    if (!ok) {
-      bad++;
-      if (listed++ < 20) {
-        fprintf(stderr, "%s: closest ray %u: ", name, i);
-        print_ray(&rays[i]);
-        fprintf(stderr, ": BVH prim %d t %.9g (u %.6f v %.6f), ray query prim %d t %.9g (u %.6f v %.6f); exact t %.9g\n",
-                (int)bh[i].prim, bh[i].t, bh[i].u, bh[i].v, (int)qh[i].prim, qh[i].t, qh[i].u, qh[i].v,
-                bm ? (qm ? NAN : exact_t(&s, qh[i].prim, &rays[i])) : exact_t(&s, bh[i].prim, &rays[i]));
-      }
-    }
-  }
-  printf("%-18s closest: %u rays, %u hits, %u same primitive, %u disagreements; BVH %.1f ms, ray query %.1f ms; "
-         "acceleration structures %.1f KiB built in %.1f ms\n",
-         name, n, hits, same_prim, bad, ms_b, ms_q, (double)rq.accel.bytes / 1024.0, rq.accel.build_ms);
+  uint32_t hits = 0;
+  r = closest_check(g, name, "closest", &s, &rc, &rq, rays, n, bh, qh, &hits);
   CHECK(hits > n / 4); /* half the rays aim at a triangle */
-  CHECK(bad <= n / 10000);
-
   /* Any hit with tmax around the BVH's closest hit. */
+  double ms_b = 0, ms_q = 0;
+  uint32_t listed = 0;
   uint64_t st = 91;
   for (uint32_t i = 0; i < n; ++i) {
     float t = bh[i].prim == PB_GPU_MISS ? 10.0f : bh[i].t;
@@ -145,7 +173,6 @@ static void run_scene(pb_gpu *g, const char *name, uint32_t n) {
   if (r == PB_OK) r = pb_raycast_rq_run(g, &rq, rays, n, 1, ah, &ms_q);
   CHECK_EQ_INT(r, PB_OK);
   uint32_t bad_any = 0, occluded = 0, judged = 0;
-  listed = 0;
   for (uint32_t i = 0; i < n && r == PB_OK; ++i) {
     if (bh[i].prim != PB_GPU_MISS && near_t(bh[i].t, rays[i].tmax)) continue;
     judged++;
@@ -165,6 +192,29 @@ static void run_scene(pb_gpu *g, const char *name, uint32_t n) {
   CHECK(occluded > 0);
   CHECK(bad_any <= n / 10000);
   free(ah);
+
+  /* The geometry moves (an animated scene's frame): the BVH refitted
+   * (pb_gpu_scene_update; a rebuild needs a GPU scene made from an animated
+   * one), the acceleration structures refitted (Vulkan's update mode) and
+   * then built again in place (pb_gpu_accel_update), the same closest hits
+   * on fresh rays. */
+  warp(&s);
+  pbt_random_rays(&s, 0x7a0d0000u + n, rays, n);
+  for (int rebuild = 0; rebuild < 2 && r == PB_OK; ++rebuild) {
+    r = pb_gpu_scene_update(g, &s, &gs, PB_BVH_UPDATE_REFIT, NULL);
+    CHECK_EQ_INT(r, PB_OK);
+    if (r == PB_OK) r = pb_gpu_accel_update(g, &rq.accel, &s.positions[0][0], !rebuild);
+    CHECK_EQ_INT(r, PB_OK);
+    if (r != PB_OK) {
+      fprintf(stderr, "%s\n", pb_error_message());
+      break;
+    }
+    CHECK(gs.ray_query && gs.accel.tlas); /* the GPU scene's own, brought up to date too */
+    uint32_t moved_hits = 0;
+    r = closest_check(g, name, rebuild ? "moved, rebuilt" : "moved, refitted", &s, &rc, &rq, rays, n, bh, qh,
+                      &moved_hits);
+    CHECK(moved_hits > n / 5);
+  }
 
   pb_raycast_rq_destroy(g, &rq);
 out_rc:

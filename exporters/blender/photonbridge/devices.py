@@ -76,8 +76,9 @@ def enum_items(self, context):
         i = int(d.get("index", len(known)))
         known.add(i)
         name = str(d.get("name", "device %d" % i))
-        desc = "%s, %s (--device %d)%s" % (d.get("type", "?"), d.get("driver", "?"), i,
-                                           "" if d.get("usable", True) else "; unusable: lacks " + str(d.get("missing", "?")))
+        desc = "%s, %s%s (--device %d)%s" % (d.get("type", "?"), d.get("driver", "?"),
+                                             ", ray queries" if d.get("ray_query") else "", i,
+                                             "" if d.get("usable", True) else "; unusable: lacks " + str(d.get("missing", "?")))
         items.append(("DEVICE_%d" % i, "%s%s" % (name, " (default)" if d.get("default") else ""), desc, 'NONE', i + 1))
     if dev >= 0 and dev not in known:
         items.append(("DEVICE_%d" % dev, "Device %d (not listed)" % dev,

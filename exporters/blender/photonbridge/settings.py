@@ -211,6 +211,13 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     device_menu: EnumProperty(
         name="Device", description="The GPU (Vulkan device) that renders (--device)",
         items=devices.enum_items, get=devices.enum_get, set=devices.enum_set)
+    traversal: EnumProperty(
+        name="Ray Tracing", description="How rays find surfaces (--traversal)",
+        items=[("auto", "Auto", "The GPU's ray-tracing hardware (Vulkan ray queries: NVIDIA RTX, AMD RDNA 2 and "
+                "later, Intel Arc) where the device has it, else photonbridge's own BVH"),
+               ("bvh", "BVH", "photonbridge's own BVH on every device (the same pictures)"),
+               ("ray-query", "Ray Queries", "The device's ray queries; the render fails on a device without")],
+        default="auto")
     preview_interval: FloatProperty(
         name="Refresh", description="Seconds between updates of the picture while the render refines",
         default=2.0, min=0.0, max=600.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE')
@@ -261,6 +268,8 @@ def cli_args(s, sequence=False, serve=False):
     args += table_args(s, sequence)
     if s.device >= 0:
         args += ["--device", str(s.device)]
+    if s.traversal != "auto":
+        args += ["--traversal", s.traversal]
     return args
 
 

@@ -223,6 +223,7 @@ class PHOTONBRIDGE_PT_performance(PhotonbridgePanel, bpy.types.Panel):
             col.alert = True
             for i, line in enumerate(textwrap.wrap(error, 60)[:4]):
                 col.label(text=line, icon='ERROR' if i == 0 else 'BLANK1')
+        layout.prop(s, "traversal")
         layout.prop(s, "preview_interval")
         layout.prop(scene.render, "preview_pixel_size", text="Viewport Pixel Size")
         layout.prop(s, "animation_sequence")
