@@ -64,8 +64,12 @@ step cornell_128 60 $b/photonbridge render $s/cornell_box/cornell_box.gltf --wid
 # The filters at 1920x1080, and a 1080p fly-through with both filters.
 step filters 60 $b/pb_bench_filters --repeat 10 1920x1080
 step flythrough 90 $b/photonbridge render $s/sun_atrium_flythrough/sun_atrium_flythrough.gltf --frames 0:11 --width 1920 --height 1080 -o /tmp/f_##.exr --json "$out/flythrough_1080p.json" -q
-# Ray throughput; LBVH build rates.
+# Ray throughput (with ray queries beside the GLSL BVH on a device that has
+# them: the RQ columns); LBVH build rates.
 step rays 90 bash -c "for sc in cornell_box spot_room sun_atrium; do $b/pb_bench_rays $s/\$sc/\$sc.gltf 1920 5; done"
+# Per pass, ray queries against the GLSL BVH at 1080p, the same seed, in one
+# run (bench/traversal.py; docs/traversal.md).
+step traversal 240 python3 bench/traversal.py --exe $b/photonbridge --icd '' --width 1920 --out "$out/traversal"
 # LBVH build (stages) and radix sort against photon count, 10^4 to
 # the device's limit (3.2 x 10^7 records of 96 bytes fit 4 GiB buffers), the
 # default sort path (subgroups); then the portable path against it.

@@ -87,7 +87,14 @@ int main(int argc, char **argv) {
   pb_gpu_ray *rays = malloc((size_t)n * sizeof *rays);
   pb_gpu_hit *gh = malloc((size_t)n * sizeof *gh), *eh = malloc((size_t)n * sizeof *eh),
              *qh = malloc((size_t)n * sizeof *qh);
-  pb_result r = pb_gpu_create(NULL, &g);
+  /* Ray queries wherever the device has them (a CPU device's too), else
+   * the BVH alone. */
+  pb_gpu_desc gd = {.traversal = PB_GPU_TRAVERSAL_RAY_QUERY};
+  pb_result r = pb_gpu_create(&gd, &g);
+  if (r == PB_ERR_NO_DEVICE) {
+    pb_error_clear();
+    r = pb_gpu_create(NULL, &g);
+  }
   if (r == PB_OK) r = pb_gpu_scene_create(g, &s, &gs);
   if (r == PB_OK) r = pb_raycast_create(g, &gs, n, &rc);
   /* Ray queries where the device has them: the same rays through

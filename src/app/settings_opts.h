@@ -42,9 +42,9 @@ extern const char *const pb_traversal_names[];
    "default: a discrete GPU first, lavapipe last)", NULL, 0, 0, "Device", 0},                                        \
   {"validation", 0, PB_OPT_FLAG, &(o)->validation, NULL, "Vulkan validation layers; any message is an error "      \
    "(also PB_VK_VALIDATION=1)", NULL, 0, 0, "Device", PB_OPT_ADVANCED},                                              \
-  {"traversal", 0, PB_OPT_CHOICE, &(o)->traversal, "MODE", "how rays find surfaces: auto (ray queries on ray-"     \
-   "tracing hardware where the device has VK_KHR_ray_query, else the BVH), bvh (the shaders' own BVH) or "          \
-   "ray-query (fails without); default auto", pb_traversal_names, 0, 0, "Device", PB_OPT_ADVANCED}
+  {"traversal", 0, PB_OPT_CHOICE, &(o)->traversal, "MODE", "how rays find surfaces: auto (ray queries on a GPU "   \
+   "with VK_KHR_ray_query, its ray-tracing units; else the BVH), bvh (the shaders' own BVH) or ray-query (also "   \
+   "on a CPU device; fails without); default auto", pb_traversal_names, 0, 0, "Device", PB_OPT_ADVANCED}
 
 /* Every frame's settings of a live session from its options and --seed:
  * the settings checked (PB_ERR_USAGE naming `command`) and turned into a

@@ -616,7 +616,11 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   VkPhysicalDeviceBufferDeviceAddressFeatures bda = {
       .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES, .pNext = &as,
       .bufferDeviceAddress = VK_TRUE};
-  g->limits.ray_query = info[idx].ray_query && desc.traversal != PB_GPU_TRAVERSAL_BVH;
+  /* auto: ray queries on a GPU that has them (its ray-tracing units); not on
+   * a CPU device, where they are software like our BVH and measured no
+   * faster (lavapipe 25: 0.56-1.13x per pass, docs/traversal.md). */
+  g->limits.ray_query = info[idx].ray_query && (desc.traversal == PB_GPU_TRAVERSAL_RAY_QUERY ||
+                                                (desc.traversal == PB_GPU_TRAVERSAL_AUTO && !g->limits.cpu));
   if (desc.traversal == PB_GPU_TRAVERSAL_RAY_QUERY && !g->limits.ray_query) {
     r = pb_fail(PB_ERR_NO_DEVICE,
                 "--traversal ray-query: %s has no ray queries (VK_KHR_acceleration_structure, VK_KHR_ray_query); "

@@ -102,10 +102,11 @@ typedef struct pb_gpu_desc {
    * the compute family as without (pb_gpu_vk.present_reason says why). */
   const char *const *instance_extensions;
   uint32_t instance_extension_count;
-  /* How rays find surfaces (PB_GPU_TRAVERSAL_*): auto takes ray queries
-   * where the device has them (pb_gpu_limits.ray_query), bvh never creates
-   * the device with them, ray_query fails with PB_ERR_NO_DEVICE on a
-   * device without. */
+  /* How rays find surfaces (PB_GPU_TRAVERSAL_*): auto takes ray queries on
+   * a GPU that has them (pb_gpu_limits.ray_query) and the BVH on a CPU
+   * device (software either way, ray queries no faster there), bvh never
+   * creates the device with them, ray_query takes them on any device that
+   * has them and fails with PB_ERR_NO_DEVICE on one without. */
   int traversal;
   int (*can_present)(void *user, VkInstance instance, VkPhysicalDevice phys, uint32_t family);
   void *present_user;

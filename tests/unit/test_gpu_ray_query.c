@@ -240,7 +240,7 @@ int main(void) {
     return 1;
   }
   pb_gpu *g;
-  pb_gpu_desc gd = {.validation = 1};
+  pb_gpu_desc gd = {.validation = 1, .traversal = PB_GPU_TRAVERSAL_RAY_QUERY}; /* a CPU device: asked for */
   pb_result r = pb_gpu_create(&gd, &g);
   CHECK_EQ_INT(r, PB_OK);
   if (r != PB_OK) {
@@ -261,6 +261,10 @@ int main(void) {
   /* The same device with ray queries masked (as a device without them): no
    * acceleration structures, no device-address buffers, a clear error. */
   setenv("PB_GPU_MASK_FEATURES", "ray-query", 1);
+  CHECK_EQ_INT(pb_gpu_create(&gd, &g), PB_ERR_NO_DEVICE); /* --traversal ray-query: refused */
+  printf("ray queries asked of a device without: %s\n", pb_error_message());
+  pb_error_clear();
+  gd.traversal = PB_GPU_TRAVERSAL_AUTO;
   r = pb_gpu_create(&gd, &g);
   CHECK_EQ_INT(r, PB_OK);
   if (r == PB_OK) {

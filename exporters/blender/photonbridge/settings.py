@@ -214,7 +214,7 @@ class PhotonbridgeSettings(bpy.types.PropertyGroup):
     traversal: EnumProperty(
         name="Ray Tracing", description="How rays find surfaces (--traversal)",
         items=[("auto", "Auto", "The GPU's ray-tracing hardware (Vulkan ray queries: NVIDIA RTX, AMD RDNA 2 and "
-                "later, Intel Arc) where the device has it, else photonbridge's own BVH"),
+                "later, Intel Arc) where the device has it, else photonbridge's own BVH (also on a CPU device)"),
                ("bvh", "BVH", "photonbridge's own BVH on every device (the same pictures)"),
                ("ray-query", "Ray Queries", "The device's ray queries; the render fails on a device without")],
         default="auto")
