@@ -619,6 +619,18 @@ pb_result pb_gpu_create(const pb_gpu_desc *desc_in, pb_gpu **out) {
   /* auto: ray queries on a GPU that has them (its ray-tracing units); not on
    * a CPU device, where they are software like our BVH and measured no
    * faster (lavapipe 25: 0.56-1.13x per pass, docs/traversal.md). */
+  /* PB_GPU_TRAVERSAL=ray-query|bvh (a test hook, as PB_GPU_MASK_FEATURES):
+   * what auto means for every device this process makes, so a whole test
+   * suite can run on one traversal. */
+  const char *te = getenv("PB_GPU_TRAVERSAL");
+  if (desc.traversal == PB_GPU_TRAVERSAL_AUTO && te && *te) {
+    if (strcmp(te, "ray-query") == 0) desc.traversal = PB_GPU_TRAVERSAL_RAY_QUERY;
+    else if (strcmp(te, "bvh") == 0) desc.traversal = PB_GPU_TRAVERSAL_BVH;
+    else if (strcmp(te, "auto") != 0) {
+      r = pb_fail(PB_ERR_USAGE, "PB_GPU_TRAVERSAL: '%s' is not auto, bvh or ray-query", te);
+      goto fail;
+    }
+  }
   g->limits.ray_query = info[idx].ray_query && (desc.traversal == PB_GPU_TRAVERSAL_RAY_QUERY ||
                                                 (desc.traversal == PB_GPU_TRAVERSAL_AUTO && !g->limits.cpu));
   if (desc.traversal == PB_GPU_TRAVERSAL_RAY_QUERY && !g->limits.ray_query) {
