@@ -133,7 +133,7 @@ static pb_result knn_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
       .spec = spec,
       .spec_count = PB_SPEC_KNN_COUNT,
   };
-  uint32_t build = pb_kernel_select(&d, &kb, ps->blender, ps->accel, PB_BIND_NODES);
+  uint32_t build = pb_kernel_select(&d, &kb, ps->blender, ps->accel != NULL, PB_BIND_NODES);
   if (e->pipe.pipeline && (memcmp(e->spec, spec, sizeof spec) != 0 || e->build != build))
     pb_gpu_pipeline_destroy(g, &e->pipe);
   if (!e->pipe.pipeline) {

@@ -260,8 +260,8 @@ static pb_result vsch_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps
       {.name = "vsch.shade"},
       {.name = "vsch.blur", .spirv = pb_spv_vsch_blur, .spirv_bytes = sizeof pb_spv_vsch_blur},
   };
-  pb_kernel_select(&d[0], &kleaf, ps->blender, ps->accel, PB_BIND_NODES);
-  uint32_t build = pb_kernel_select(&d[1], &kshade, ps->blender, ps->accel, PB_BIND_NODES);
+  pb_kernel_select(&d[0], &kleaf, ps->blender, ps->accel != NULL, PB_BIND_NODES);
+  uint32_t build = pb_kernel_select(&d[1], &kshade, ps->blender, ps->accel != NULL, PB_BIND_NODES);
   if (v->have_shade && (memcmp(v->shade_spec, spec, sizeof spec) != 0 || v->shade_build != build)) {
     pb_gpu_pipeline_destroy(g, &v->leaf);
     pb_gpu_pipeline_destroy(g, &v->shade);

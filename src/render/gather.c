@@ -29,7 +29,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
       .spec = spec,
       .spec_count = PB_SPEC_COUNT,
   };
-  uint32_t build = pb_kernel_select(&d, &k, ps->blender, ps->accel, PB_BIND_NODES);
+  uint32_t build = pb_kernel_select(&d, &k, ps->blender, ps->accel != NULL, PB_BIND_NODES);
   if (e->gather.pipeline && (memcmp(e->gather_spec, spec, sizeof e->gather_spec) != 0 || e->gather_build != build))
     pb_gpu_pipeline_destroy(g, &e->gather);
   if (!e->gather.pipeline) {
@@ -82,7 +82,7 @@ pb_result pb_photon_estimator_bind_upsample(pb_gpu *g, pb_photon_estimator *e, c
       .spec = spec,
       .spec_count = PB_SPEC_COUNT,
   };
-  uint32_t build = pb_kernel_select(&d, &k, ps->blender, ps->accel, PB_BIND_NODES);
+  uint32_t build = pb_kernel_select(&d, &k, ps->blender, ps->accel != NULL, PB_BIND_NODES);
   if (e->gather_ups.pipeline &&
       (memcmp(e->gather_ups_spec, spec, sizeof e->gather_ups_spec) != 0 || e->gather_ups_build != build))
     pb_gpu_pipeline_destroy(g, &e->gather_ups);

@@ -396,7 +396,7 @@ pb_result pb_image_maps_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   pb_gpu_pipeline_desc pd = {.name = "pass.image_maps",
                              .binding_count = PB_IMAGE_BIND_COUNT,
                              .push_bytes = sizeof(pb_gpu_image_maps_push)};
-  pb_kernel_select(&pd, &k, 0, pb_gpu_scene_accel(gs), PB_IMAGE_BIND_NODES);
+  pb_kernel_select(&pd, &k, 0, gs->ray_query, PB_IMAGE_BIND_NODES);
   if ((r = pb_gpu_pipeline_create(g, &pd, &m->render_pipe)) != PB_OK) goto fail;
   pd.name = "pass.image_maps.select";
   if ((r = pb_gpu_pipeline_create(g, &pd, &m->select_pipe)) != PB_OK) goto fail;

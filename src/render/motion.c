@@ -61,12 +61,7 @@ pb_result pb_motion_pass_create(pb_gpu *g, uint32_t width, uint32_t height, uint
    * scene has its acceleration structure (render.h pb_gpu_scene_accel). */
   static const pb_kernel_builds k = PB_KERNEL_BUILDS_GLTF(motion);
   pb_gpu_pipeline_desc pl = {.name = "pass.motion", .binding_count = PB_MOTION_BIND_COUNT};
-  pb_kernel_select(&pl, &k, 0, NULL, 0);
-  if (pb_gpu_get_limits(g)->ray_query) {
-    pl.spirv = k.build[0][1].code;
-    pl.spirv_bytes = k.build[0][1].bytes;
-    pl.accel_bindings = 1u << PB_MOTION_BIND_NODES;
-  }
+  pb_kernel_select(&pl, &k, 0, pb_gpu_get_limits(g)->ray_query, PB_MOTION_BIND_NODES);
   pb_result r;
   if ((r = pb_gpu_buffer_create(g, &pd, &m->params)) != PB_OK || (r = pb_gpu_buffer_create(g, &vd, &m->prev)) != PB_OK ||
       (r = pb_gpu_buffer_create(g, &md, &m->motion)) != PB_OK || (r = pb_gpu_pipeline_create(g, &pl, &m->pipe)) != PB_OK) {

@@ -6,9 +6,9 @@
  * over a band's pixels for one sample. */
 #include "render/passes.h"
 
-uint32_t pb_kernel_select(pb_gpu_pipeline_desc *d, const pb_kernel_builds *k, uint32_t blender,
-                          const pb_gpu_accel *accel, uint32_t tlas) {
-  uint32_t b = blender ? 1u : 0u, q = accel ? 1u : 0u;
+uint32_t pb_kernel_select(pb_gpu_pipeline_desc *d, const pb_kernel_builds *k, uint32_t blender, int ray_query,
+                          uint32_t tlas) {
+  uint32_t b = blender ? 1u : 0u, q = ray_query ? 1u : 0u;
   d->spirv = k->build[b][q].code;
   d->spirv_bytes = k->build[b][q].bytes;
   d->accel_bindings = q ? 1u << tlas : 0u;
@@ -34,7 +34,7 @@ pb_result pb_pass_create(pb_gpu *g, const pb_pass_setup *s, const pb_pass_module
       .spec = s->spec,
       .spec_count = PB_SPEC_COUNT,
   };
-  pb_kernel_select(&d, &m->k, s->blender, s->accel, PB_BIND_NODES);
+  pb_kernel_select(&d, &m->k, s->blender, s->accel != NULL, PB_BIND_NODES);
   pb_result r = pb_gpu_pipeline_create(g, &d, out);
   if (r != PB_OK) return r;
   r = pb_kernel_bind(g, out, s->bindings, PB_BIND_COUNT, s->accel);

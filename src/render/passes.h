@@ -33,12 +33,12 @@ typedef struct pb_kernel_builds {
 #define PB_KERNEL_BUILDS(n) {{{PB_SPIRV(n), PB_SPIRV(n##_rq)}, {PB_SPIRV(n##_blender), PB_SPIRV(n##_rq_blender)}}}
 #define PB_KERNEL_BUILDS_GLTF(n) {{{PB_SPIRV(n), PB_SPIRV(n##_rq)}, {PB_SPIRV(n), PB_SPIRV(n##_rq)}}}
 
-/* pass.c: points d at k's build for `blender` and, with accel (not NULL),
- * at the ray-query build whose binding `tlas` is the acceleration
- * structure (d->accel_bindings). Which build: 0..3, for the callers that
- * keep a pipeline until its build changes. */
-uint32_t pb_kernel_select(pb_gpu_pipeline_desc *d, const pb_kernel_builds *k, uint32_t blender,
-                          const pb_gpu_accel *accel, uint32_t tlas);
+/* pass.c: points d at k's build for `blender` and, with ray_query, at the
+ * ray-query build whose binding `tlas` is the acceleration structure
+ * (d->accel_bindings). Which build: 0..3, for the callers that keep a
+ * pipeline until its build changes. */
+uint32_t pb_kernel_select(pb_gpu_pipeline_desc *d, const pb_kernel_builds *k, uint32_t blender, int ray_query,
+                          uint32_t tlas);
 /* Binds the buffers (pb_gpu_pipeline_bind) and, on a pipeline of a
  * ray-query build, accel at its acceleration-structure binding. */
 pb_result pb_kernel_bind(pb_gpu *g, pb_gpu_pipeline *p, const pb_gpu_buffer *const *buffers, uint32_t count,

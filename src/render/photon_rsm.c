@@ -102,7 +102,7 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
       .spec = r->spec,
       .spec_count = PB_SPEC_COUNT,
   };
-  pb_kernel_select(&pd, &k, plan.blender_materials, pb_gpu_scene_accel(r->gs), PB_BIND_NODES);
+  pb_kernel_select(&pd, &k, plan.blender_materials, r->gs->ray_query, PB_BIND_NODES);
   if ((rc = pb_gpu_pipeline_create(g, &pd, &r->pipe)) != PB_OK) goto fail;
   free(tab);
   *out = r;

@@ -358,7 +358,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
       .spec = t->spec,
       .spec_count = PB_SPEC_COUNT,
   };
-  pb_kernel_select(&pdsc, &k, plan.blender_materials, pb_gpu_scene_accel(gs), PB_BIND_NODES);
+  pb_kernel_select(&pdsc, &k, plan.blender_materials, gs->ray_query, PB_BIND_NODES);
   t->blender = plan.blender_materials ? 1 : 0;
   if ((r = pb_gpu_pipeline_create(g, &pdsc, &t->pipe)) != PB_OK) goto fail;
   free(counts);

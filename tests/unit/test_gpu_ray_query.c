@@ -239,6 +239,7 @@ int main(void) {
             "scripts/install-deps.sh\n", icd ? icd : "unset");
     return 1;
   }
+  unsetenv("PB_GPU_TRAVERSAL"); /* this test says which traversal each device takes */
   pb_gpu *g;
   pb_gpu_desc gd = {.validation = 1, .traversal = PB_GPU_TRAVERSAL_RAY_QUERY}; /* a CPU device: asked for */
   pb_result r = pb_gpu_create(&gd, &g);
