@@ -28,8 +28,11 @@ install-deps:
 $(BUILD)/Makefile:
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(WERROR) $(CMAKE_FLAGS)
 
-$(ASAN_BUILD)/Makefile:
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON $(WERROR) $(CMAKE_FLAGS)
+# The ASan tree takes the normal tree's compiled shaders (PB_SHADERS_FROM,
+# shaders/shaders.cmake): the same SPIR-V, compiled once.
+$(ASAN_BUILD)/Makefile: | $(BUILD)/Makefile
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPB_SANITIZE=ON -DPB_SHADERS_FROM=$(abspath $(BUILD)) \
+	  $(WERROR) $(CMAKE_FLAGS)
 
 # The fuzz tree: clang, libFuzzer + ASan + UBSan, only the fuzz targets
 # (tests/fuzz/fuzz.cmake).
@@ -39,7 +42,7 @@ $(FUZZ_BUILD)/Makefile:
 build: install-deps $(BUILD)/Makefile
 	cmake --build $(BUILD) -j $(JOBS)
 
-build-asan: install-deps $(ASAN_BUILD)/Makefile
+build-asan: install-deps build $(ASAN_BUILD)/Makefile
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 
 build-fuzz: install-deps $(FUZZ_BUILD)/Makefile

@@ -31,6 +31,10 @@
 layout(local_size_x = PB_GPU_WORKGROUP) in;
 
 #define PB_WORLD_BINDING PB_BIND_WORLD
+// A Blender material's BSDF evaluated at one call site per lobe kind
+// (principled.glsl pb_blender_eval_cos): this kernel evaluates it in four
+// places, none of them a hot loop.
+#define PB_EVAL_COMPACT 1
 #include "common/scene.glsl"
 #include "common/lights.glsl"
 #include "common/camera.glsl"

@@ -5,6 +5,25 @@
 # shaders/common/*.glsl) recompiles exactly the shaders that include it; the
 # explicit DEPENDS on those folders is a second guard for generators without
 # depfile support. Defines the target pb_shaders (pb depends on it).
+#
+# PB_SHADERS_FROM: another build tree of this source whose modules this tree
+# uses (make test's ASan tree takes the normal tree's): the SPIR-V does not
+# depend on the C compiler's flags, so it is compiled once. This tree's
+# pb_shaders builds them there and pb includes them from there.
+set(PB_SHADERS_FROM "" CACHE PATH "a build tree of this source whose compiled shaders this tree uses (empty: its own)")
+if(PB_SHADERS_FROM)
+  if(NOT EXISTS ${PB_SHADERS_FROM}/CMakeCache.txt)
+    message(FATAL_ERROR "PB_SHADERS_FROM: ${PB_SHADERS_FROM} is not a configured build tree of photonbridge")
+  endif()
+  # No modules of this tree's own to shadow the other tree's.
+  file(REMOVE_RECURSE ${CMAKE_BINARY_DIR}/generated/shaders)
+  # MAKEFLAGS cleared: the outer make's jobserver does not reach this child.
+  add_custom_target(pb_shaders COMMAND ${CMAKE_COMMAND} -E env MAKEFLAGS= ${CMAKE_COMMAND} --build ${PB_SHADERS_FROM}
+                                       --target pb_shaders
+                    COMMENT "shaders: compiled in ${PB_SHADERS_FROM}" VERBATIM)
+  target_include_directories(pb PUBLIC ${PB_SHADERS_FROM}/generated)
+  return()
+endif()
 find_program(GLSLC glslc REQUIRED)
 file(GLOB PB_SHADER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/*.comp)
 file(GLOB PB_SHADER_HEADERS CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/shared/*.h

@@ -6,7 +6,7 @@
 # free display number and one of them fails to start its server (seen here
 # under ctest -j2: view_errors exited 1 instead of 2), so the tests that start
 # an X server (these and blender_viewport) take turns.
-foreach(part still input resize nodisplay errors in_flight tracer)
+foreach(part still input resize nodisplay errors in_flight tracer noise)
   add_test(NAME view_${part}
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/view_check.py ${PB_EXE} ${PB_ROOT}
                    ${CMAKE_CURRENT_BINARY_DIR}/view_${part} ${part})

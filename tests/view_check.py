@@ -24,6 +24,12 @@
              window one frame behind the renderer): the same screenshots;
              the ring slot keeps the shown AOV's planes alone (ring_bytes:
              the beauty's 16 bytes a pixel, the normal's 12 after F7)
+  noise      --noise-threshold T: the still run refines until its own
+             noise estimate is at most T, then rests (frames counted, nothing
+             rendered; the screenshot while it rests is display of `render
+             --frames` of the frames it refined, within one 8-bit step); a
+             dolly restarts it and it rests again; --json reports the
+             estimate of each frame, and its fall reached T
   tracer     view --tracer images (seed 003's environment maps): the
              screenshot after 2 still frames is display of `render --frames
              0:1 --tracer images` with the same maps (within one 8-bit step)
@@ -244,6 +250,46 @@ def part_errors():
     print("view_check errors:", p.stderr.strip())
 
 
+def part_noise():
+    T, n, moved = 0.05, 40, 20
+    script = os.path.join(OUT, "noise.txt")
+    rest_shot = os.path.join(OUT, "rested.png")
+    with open(script, "w") as f:
+        f.write("%d screenshot %s\n%d scroll 2\n" % (moved - 1, rest_shot, moved))
+    stats = os.path.join(OUT, "noise.json")
+    run(["view", SCENE] + SETTINGS + ["--noise-threshold", str(T), "--exit-after", str(n), "--script", script,
+                                      "--json", stats, "-q"], env=validation_env())
+    j = json.load(open(stats))
+    frames = j["frames"]
+    rested = [f["rested"] for f in frames]
+    print("view_check noise: rested per frame", "".join("r" if r else "." for r in rested),
+          "estimates", ["%.3f" % f.get("noise", -1) for f in frames if not f["rested"]])
+    if len(frames) != n or j.get("noise_threshold") != T:
+        fail("expected %d frames and noise_threshold %g: %d, %s" % (n, T, len(frames), j.get("noise_threshold")))
+    first = rested.index(True) if True in rested else n
+    if first >= moved - 1:
+        fail("the view did not rest before frame %d (threshold %g)" % (moved - 1, T))
+    if not all(rested[first:moved]) or rested[moved]:
+        fail("expected a rest from frame %d to the dolly at %d, then a new frame: %s" % (first, moved, rested))
+    last = frames[first - 1]
+    if not (0 <= last.get("noise", -1) <= T) or any(0 <= f.get("noise", -1) <= T for f in frames[:first - 1]):
+        fail("the view rested with estimate %s (threshold %g)" % (last.get("noise"), T))
+    if frames[moved]["still"] or frames[moved]["run_frames"] != 1:
+        fail("the dolly did not restart the still run: %s" % frames[moved])
+    if True not in rested[moved + 1:]:
+        fail("the view did not rest again after the dolly")
+    # The picture it rests on: the last frame it refined.
+    run(["render", SCENE] + SETTINGS + ["--frames", "0:%d" % (first - 1), "-o", os.path.join(OUT, "n_#.exr"), "-q"],
+        xvfb=False)
+    ref = os.path.join(OUT, "display_rest.png")
+    run(["display", os.path.join(OUT, "n_%d.exr" % (first - 1)), "-o", ref], xvfb=False)
+    d = np.abs(png(rest_shot) - png(ref))
+    print("view_check noise: rested on frame %d (estimate %.4f <= %g): max difference %d against display of "
+          "render --frames 0:%d" % (first - 1, last["noise"], T, d.max(), first - 1))
+    if d.max() > 1:
+        fail("the rested picture differs from the last refined frame by up to %d steps" % d.max())
+
+
 def part_tracer():
     n = 2
     images = ["--tracer", "images", "--image-maps", "4", "--image-map-resolution", "32"]
@@ -271,5 +317,6 @@ def part_tracer():
 
 check_available()
 {"still": part_still, "input": part_input, "resize": part_resize, "nodisplay": part_nodisplay,
- "errors": part_errors, "in_flight": part_in_flight, "tracer": part_tracer}[PART]()
+ "errors": part_errors, "in_flight": part_in_flight, "tracer": part_tracer,
+ "noise": part_noise}[PART]()
 print("view_check %s: ok" % PART)

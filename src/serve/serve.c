@@ -18,7 +18,6 @@
 #include "render/result_exr.h"
 #include "core/fs.h"
 #include "core/log.h"
-#include "render/noise.h"
 #include "serve/protocol.h"
 #include "view/session.h"
 
@@ -50,8 +49,6 @@ typedef struct server {
   int streaming, pending;      /* pending: something changed since the last frame */
   uint32_t max_passes;
   double noise_threshold;      /* the stream's (0: none) */
-  pb_noise_tracker noise;      /* the still run's noise estimate (render/noise.h) */
-  uint32_t noise_next;         /* the pass of its next check */
   uint64_t served;             /* frames handed over */
   char dir[PATH_MAX];          /* the session's private folder (0700): "" until made */
   char frame_path[PATH_MAX];   /* in it; written only through 0600 exclusive temporaries */
@@ -172,30 +169,6 @@ static pb_result write_rgba32f(const char *path, const pb_render_result *res, ui
   return pb_atomic_commit(path, f, tmp);
 }
 
-/* A stream with a noise threshold: the still run's estimate, checked on
- * noise.h's schedule (the passes as blocks; the served beauty is the run's
- * mean); a new run (anything moved, a new size) starts it afresh. */
-static pb_result noise_update(server *v) {
-  const pb_render_result *res = &v->ses.res;
-  uint32_t k = v->ses.run_frames;
-  if (!(v->noise_threshold > 0) || !res->beauty || k == 0) return PB_OK;
-  if (k == 1 || v->noise.width != res->width || v->noise.height != res->height || k < v->noise.prev_samples) {
-    pb_noise_tracker_free(&v->noise);
-    pb_noise_tracker_init(&v->noise, res->width, res->height);
-    v->noise_next = 1;
-  }
-  if (k < v->noise_next) return PB_OK;
-  pb_result r = pb_noise_tracker_check(&v->noise, res->beauty, k);
-  v->noise_next = pb_noise_tracker_next(&v->noise, v->noise_threshold, k, UINT32_MAX);
-  return r;
-}
-
-/* Whether the stream has reached its noise threshold (rests). */
-static int noise_reached(const server *v) {
-  return v->noise_threshold > 0 && v->noise.samples_a && v->noise.samples_b && v->noise.estimate >= 0 &&
-         v->noise.estimate <= v->noise_threshold && v->ses.run_frames >= v->noise.prev_samples;
-}
-
 /* pb_exr_write writes the temporary pb_tmp_name(path) through OpenEXR,
  * which opens it with O_CREAT|O_TRUNC and mode 0666 less the umask. The
  * temporary is created here first, exclusively with mode 0600
@@ -239,7 +212,7 @@ static void render_frame(server *v, int requested, const char *id) {
     return;
   }
   v->pending = 0;
-  if ((r = noise_update(v)) != PB_OK) {
+  if ((r = pb_view_session_noise_update(&v->ses, v->noise_threshold)) != PB_OK) {
     reply_error(v, "frame", requested ? id : "", "%s", pb_error_message());
     v->streaming = 0;
     return;
@@ -259,7 +232,7 @@ static void render_frame(server *v, int requested, const char *id) {
                             .tracer = st->tracer,
                             .image_miss_rate = miss_rate > 0 ? miss_rate : 0.0,
                             .has_noise = v->noise_threshold > 0,
-                            .noise = v->noise.samples_a && v->noise.samples_b ? v->noise.estimate : -1.0};
+                            .noise = pb_view_session_noise(&v->ses)};
   send_line(v, v->reply, pb_serve_format_frame(v->reply, REPLY_CAP, id, &f));
 }
 
@@ -515,7 +488,7 @@ pb_result pb_serve_run(pb_gpu *g, const pb_serve_desc *d) {
   }
   while (!v.quit) {
     int want = v.streaming && v.ses_ok &&
-               (v.pending || ((!v.max_passes || v.ses.run_frames < v.max_passes) && !noise_reached(&v)));
+               (v.pending || ((!v.max_passes || v.ses.run_frames < v.max_passes) && !pb_view_session_noise_reached(&v.ses, v.noise_threshold)));
     struct pollfd p = {.fd = v.in_fd, .events = POLLIN};
     int n = poll(&p, 1, want ? 0 : -1);
     if (n < 0) {
@@ -539,7 +512,6 @@ done:
     pb_tmp_unregister(d->socket_path);
   }
   if (v.loaded) pb_view_session_destroy(&v.ses);
-  pb_noise_tracker_free(&v.noise);
   drop_scene(&v, &v.s, &v.gs);
   free(v.file_cams);
   free(v.in);

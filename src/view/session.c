@@ -26,6 +26,7 @@ pb_result pb_view_session_reset(pb_view_session *v, pb_scene *s, pb_gpu_scene *g
 }
 
 void pb_view_session_destroy(pb_view_session *v) {
+  pb_noise_tracker_free(&v->noise);
   pb_sequence_destroy(v->g, v->seq);
   v->seq = NULL;
   pb_render_result_destroy(&v->res);
@@ -51,4 +52,28 @@ pb_result pb_view_session_frame(pb_view_session *v, const pb_camera *cam, double
   if (v->info.ready) v->run_frames = v->info.still && v->info.index > 0 ? v->run_frames + 1 : 1;
   v->frame++;
   return PB_OK;
+}
+
+pb_result pb_view_session_noise_update(pb_view_session *v, double threshold) {
+  const pb_render_result *res = &v->res;
+  uint32_t k = v->run_frames;
+  if (!(threshold > 0) || !res->beauty || k == 0) return PB_OK;
+  if (k == 1 || v->noise.width != res->width || v->noise.height != res->height || k < v->noise.prev_samples) {
+    pb_noise_tracker_free(&v->noise);
+    pb_noise_tracker_init(&v->noise, res->width, res->height);
+    v->noise_next = 1;
+  }
+  if (k < v->noise_next) return PB_OK;
+  pb_result r = pb_noise_tracker_check(&v->noise, res->beauty, k);
+  v->noise_next = pb_noise_tracker_next(&v->noise, threshold, k, UINT32_MAX);
+  return r;
+}
+
+int pb_view_session_noise_reached(const pb_view_session *v, double threshold) {
+  return threshold > 0 && v->noise.samples_a && v->noise.samples_b && v->noise.estimate >= 0 &&
+         v->noise.estimate <= threshold && v->run_frames >= v->noise.prev_samples && v->run_frames > 0;
+}
+
+double pb_view_session_noise(const pb_view_session *v) {
+  return v->noise.samples_a && v->noise.samples_b ? v->noise.estimate : -1.0;
 }

@@ -16,6 +16,7 @@
 
 #include "core/result.h"
 #include "gpu/gpu.h"
+#include "render/noise.h"
 #include "render/render.h"
 #include "render/sequence.h"
 #include "scene/scene.h"
@@ -33,6 +34,11 @@ typedef struct pb_view_session {
   double t_posed;               /* the time the scene is posed at */
   pb_render_result res;         /* the last frame */
   pb_sequence_frame_info info;  /* and what happened in it */
+  /* The noise threshold (view --noise-threshold, serve's stream): the still
+   * run's own noise estimate (render/noise.h), the run's frames as its
+   * blocks (the beauty a still run shows is their mean). */
+  pb_noise_tracker noise;
+  uint32_t noise_next;          /* the run frame of its next check */
 } pb_view_session;
 
 /* s and gs stay the caller's; the session poses s and updates gs. */
@@ -54,5 +60,16 @@ void pb_view_session_destroy(pb_view_session *v);
  * holds, the scene is not posed again, so that an animated scene camera
  * does not replace `cam`. */
 pb_result pb_view_session_frame(pb_view_session *v, const pb_camera *cam, double t);
+
+/* After a frame, with a noise threshold T > 0: checks the still run's
+ * estimate on noise.h's schedule (needs v->res.beauty: a readback of at
+ * least the beauty); a new run (anything moved, a new size) starts it
+ * afresh. No-op for T <= 0 or a frame without a beauty. */
+pb_result pb_view_session_noise_update(pb_view_session *v, double threshold);
+/* Whether the still run's estimate has reached T (the view rests, a
+ * stream stops until asked again). */
+int pb_view_session_noise_reached(const pb_view_session *v, double threshold);
+/* The still run's estimate (RMS display noise), or -1 before it has one. */
+double pb_view_session_noise(const pb_view_session *v);
 
 #endif

@@ -49,7 +49,9 @@ typedef struct script_event {
 typedef struct frame_stat {
   double wall_ms, render_ms, present_ms, psnr, t;
   int still;
+  int rested;          /* --noise-threshold reached: nothing rendered, the picture stays */
   uint32_t run_frames; /* frames refined by the current still run */
+  double noise;        /* the still run's noise estimate (-1: none yet) */
   /* Host <-> device bytes: the frame's (pb_render_stats: the readback's,
    * the uploads') and the picture's (the display pass's upload, or 0). */
   uint64_t readback_bytes, upload_bytes, download_bytes, display_up_bytes;
@@ -96,6 +98,13 @@ typedef struct viewer {
   int rgba_stale;        /* the shown bytes are in pass.out, not yet in rgba */
   uint32_t gpu_frames;   /* frames shown through the display pass */
   uint32_t frame;
+  /* --noise-threshold: a still view whose estimate reached it rests (no
+   * frame rendered) until the camera or the time moves, or an input asks
+   * for a new picture (repaint: a key, a resize, an exposed window). */
+  int repaint;
+  int rendered_once;
+  pb_camera last_want;   /* the camera of the last frame rendered */
+  double last_t;         /* and its time */
   int save;              /* P / F12 pressed */
   uint32_t saves;
   const char *note;      /* a one-off remark for the title */
@@ -149,6 +158,7 @@ static void on_key_event(viewer *v, int key, int action, int mods) {
     return;
   }
   if (action != GLFW_PRESS) return;
+  v->repaint = 1;
   int n = (int)v->s->camera_count;
   if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) select_camera(v, key - GLFW_KEY_1);
   else if (key == GLFW_KEY_LEFT_BRACKET) select_camera(v, (v->selected + n - 1) % n);
@@ -193,6 +203,11 @@ static void cb_scroll(GLFWwindow *w, double dx, double dy) {
   (void)dx;
   viewer *v = glfwGetWindowUserPointer(w);
   pb_view_controller_scroll(&v->ctl, dy);
+}
+static void cb_repaint(GLFWwindow *w) { ((viewer *)glfwGetWindowUserPointer(w))->repaint = 1; }
+static void cb_framebuffer(GLFWwindow *w, int width, int height) {
+  (void)width, (void)height;
+  cb_repaint(w);
 }
 
 /* ---- the script ------------------------------------------------------------ */
@@ -551,9 +566,13 @@ static pb_result frame_psnr(viewer *v, double *psnr) {
 
 static void set_title(viewer *v, double fps, const frame_stat *fs) {
   const pb_render_stats *st = &v->ses.res.stats;
-  char title[512], psnr[48] = "", tm[48] = "";
+  char title[512], psnr[96] = "", tm[48] = "";
   if (v->ref_display) snprintf(psnr, sizeof psnr, " | PSNR %.2f dB", fs->psnr);
   if (v->s->anim) snprintf(tm, sizeof tm, " | t %.2f s%s", v->t, v->playing ? " >" : " ||");
+  if (v->d->noise_threshold > 0 && fs->noise >= 0)
+    snprintf(psnr + strlen(psnr), sizeof psnr - strlen(psnr), " | noise %.1f dB%s",
+             fs->noise > 0 ? -20.0 * log10(fs->noise) : INFINITY,
+             pb_view_session_noise_reached(&v->ses, v->d->noise_threshold) ? " (rests)" : "");
   snprintf(title, sizeof title, "photonbridge view: %s | %.1f fps | %.0f ms/pass | %llu photons stored | %u %s%s%s | %s | EV %+.1f%s%s",
            v->s->cameras[v->selected].name[0] ? v->s->cameras[v->selected].name : "camera", fps, fs->render_ms,
            (unsigned long long)st->photons_stored, v->ses.run_frames, v->ses.run_frames == 1 ? "pass" : "passes", psnr, tm,
@@ -578,6 +597,10 @@ static pb_result write_stats(const viewer *v, const char *path) {
   pb_json_int(&j, "swapchain_recreations", pb_present_recreations(v->pres));
   pb_json_bool(&j, "present_shared_device", pb_present_shared(v->pres));
   pb_json_bool(&j, "gpu_display", v->gpu_display);
+  if (v->d->noise_threshold > 0) {
+    pb_json_number(&j, "noise_threshold", v->d->noise_threshold);
+    pb_json_bool(&j, "noise_reached", pb_view_session_noise_reached(&v->ses, v->d->noise_threshold));
+  }
   pb_json_int(&j, "gpu_display_frames", v->gpu_frames);
   if (v->gpu_display) {
     pb_json_int(&j, "display_lut_size", v->lut.size);
@@ -593,6 +616,10 @@ static pb_result write_stats(const viewer *v, const char *path) {
     pb_json_number(&j, "render_ms", f->render_ms);
     pb_json_number(&j, "present_ms", f->present_ms);
     pb_json_bool(&j, "still", f->still);
+    if (v->d->noise_threshold > 0) {
+      pb_json_bool(&j, "rested", f->rested);
+      if (f->noise >= 0) pb_json_number(&j, "noise", f->noise);
+    }
     pb_json_int(&j, "run_frames", f->run_frames);
     pb_json_int(&j, "readback_bytes", (int64_t)f->readback_bytes);
     pb_json_int(&j, "ring_bytes", (int64_t)f->ring_bytes);
@@ -610,7 +637,27 @@ static pb_result write_stats(const viewer *v, const char *path) {
 
 /* ---- the loop --------------------------------------------------------------- */
 
-static pb_result one_frame(viewer *v, double dt) {
+/* A frame where the view rests (--noise-threshold reached, nothing moved):
+ * scripted runs (--script, --exit-after) count it, with the picture kept;
+ * an interactive one does not, and waits for input. */
+static pb_result rest_frame(viewer *v, double dt) {
+  if (!v->d->script && !v->d->exit_after) return PB_OK;
+  pb_result r = PB_OK;
+  if (v->frame == v->stat_cap) {
+    size_t nc = v->stat_cap ? 2 * v->stat_cap : 256;
+    frame_stat *ns = realloc(v->stats, nc * sizeof *ns);
+    if (!ns) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
+    v->stats = ns, v->stat_cap = nc;
+  }
+  frame_stat *fs = &v->stats[v->frame];
+  memset(fs, 0, sizeof *fs);
+  fs->wall_ms = dt * 1e3, fs->still = 1, fs->rested = 1, fs->run_frames = v->ses.run_frames, fs->t = v->t;
+  fs->psnr = v->frame ? v->stats[v->frame - 1].psnr : NAN, fs->noise = pb_view_session_noise(&v->ses);
+  v->frame++;
+  return r;
+}
+
+static pb_result one_frame(viewer *v, double dt, int *rested) {
   pb_scene *s = v->s;
   pb_result r;
   double t0 = pb_time_now();
@@ -626,6 +673,13 @@ static pb_result one_frame(viewer *v, double dt) {
     if (v->t > s->anim_end) v->t = s->anim_start + fmod(v->t - s->anim_start, fmax(s->anim_end - s->anim_start, 1e-6));
   }
   pb_camera want = v->follow ? v->file_cam : v->ctl.cam;
+  double thr = v->d->noise_threshold;
+  if (thr > 0 && v->rendered_once && !v->repaint && !v->save && !v->playing && v->t == v->last_t &&
+      memcmp(&want, &v->last_want, sizeof want) == 0 && pb_view_session_noise_reached(&v->ses, thr)) {
+    *rested = 1;
+    return rest_frame(v, dt);
+  }
+  v->repaint = 0, v->rendered_once = 1, v->last_want = want, v->last_t = v->t;
   set_keep(v);
   if ((r = pb_view_session_frame(&v->ses, &want, v->t)) != PB_OK) return r;
   const pb_sequence_frame_info fi = v->ses.info;
@@ -645,6 +699,7 @@ static pb_result one_frame(viewer *v, double dt) {
    * it rendered, so the window runs one frame behind the input and
    * v->frame counts the frames shown. */
   if (!fi.ready) return PB_OK;
+  if ((r = pb_view_session_noise_update(&v->ses, thr)) != PB_OK) return r;
   double t1 = pb_time_now();
   pb_gpu_transfers tp0 = pb_gpu_transfers_get(v->g);
   int on_gpu = 0;
@@ -671,6 +726,7 @@ static pb_result one_frame(viewer *v, double dt) {
   fs->download_bytes = v->ses.res.stats.download_bytes, fs->display_up_bytes = tp1.upload_bytes - tp0.upload_bytes;
   fs->render_ms = (t1 - t0) * 1e3, fs->present_ms = (t2 - t1) * 1e3, fs->wall_ms = dt * 1e3;
   fs->still = fi.still && v->frame > 0, fs->run_frames = v->ses.run_frames, fs->t = v->t, fs->psnr = NAN;
+  fs->noise = pb_view_session_noise(&v->ses);
   if (v->ref_display && (r = frame_psnr(v, &fs->psnr)) != PB_OK) return r;
   v->frame++;
   set_title(v, dt > 0 ? 1.0 / dt : 0.0, fs);
@@ -760,6 +816,8 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
   glfwSetMouseButtonCallback(v.win, cb_button);
   glfwSetCursorPosCallback(v.win, cb_cursor);
   glfwSetScrollCallback(v.win, cb_scroll);
+  glfwSetFramebufferSizeCallback(v.win, cb_framebuffer);
+  glfwSetWindowRefreshCallback(v.win, cb_repaint);
   pb_gpu_vk vk;
   pb_gpu_vk_handles(g, &vk);
   pb_present_desc pd = {.window = v.win, .device_name = pb_gpu_device_name(g), .validation = d->validation,
@@ -779,7 +837,7 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
        * planes on the GPU, so the frames bring no AOV to the host but the
        * beauty for --reference's PSNR; the depth AOV and P / F12 fetch the
        * rest when asked (pb_render_result_read_gpu). */
-      int mode = d->reference ? PB_RENDER_READBACK_BEAUTY : PB_RENDER_READBACK_STATS;
+      int mode = d->reference || d->noise_threshold > 0 ? PB_RENDER_READBACK_BEAUTY : PB_RENDER_READBACK_STATS;
       const char *full = getenv("PB_VIEW_READBACK_ALL"); /* benchmarks: the former readback of every AOV */
       if (full && full[0] == '1') mode = PB_RENDER_READBACK_ALL;
       v.ses.desc.readback = mode;
@@ -810,7 +868,12 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
     if ((r = run_script(&v)) != PB_OK || (r = v.error) != PB_OK) goto done;
     double now = pb_time_now(), dt = now - last;
     last = now;
-    if ((r = one_frame(&v, v.frame ? dt : 0.0)) != PB_OK) goto done;
+    int rested = 0;
+    if ((r = one_frame(&v, v.frame ? dt : 0.0, &rested)) != PB_OK) goto done;
+    if (rested && !d->script && !d->exit_after) {
+      glfwWaitEventsTimeout(0.1); /* at the threshold: idle until something happens */
+      last = pb_time_now();
+    }
     if (d->exit_after && v.frame >= d->exit_after) break;
   }
   if ((r = run_script(&v)) != PB_OK) goto done; /* events at the last frame (a final screenshot) */
@@ -820,6 +883,7 @@ pb_result pb_view_run(pb_gpu *g, pb_scene *s, pb_gpu_scene *gs, const pb_view_de
     double still = 0, moving = 0;
     uint32_t ns = 0, nm = 0;
     for (uint32_t i = 1; i < v.frame; ++i) {
+      if (v.stats[i].rested) continue;
       if (v.stats[i].still) still += v.stats[i].wall_ms, ns++;
       else moving += v.stats[i].wall_ms, nm++;
     }

@@ -40,6 +40,7 @@ typedef struct pb_view_desc {
   const char *screenshot;    /* PNG of the shown image at exit, or NULL */
   const char *script;        /* timed synthetic input events, or NULL */
   const char *reference;     /* EXR for the heads-up PSNR, or NULL */
+  double noise_threshold;    /* a still view rests once its own noise estimate is at most this; 0: never */
   const char *save_prefix;   /* P / F12 write PREFIX_NNNN.exr and .png */
   const char *json;          /* per-frame statistics at exit, or NULL */
   int validation;            /* validation layer on the presenter too */
