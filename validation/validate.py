@@ -76,10 +76,23 @@ import gltf_json
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-ORDER = ["reference", "cycles", "povray", "photonbridge"]
-RUN_ORDER = ["reference", "photonbridge", "povray", "cycles"]  # --renderers, in the order they run
+ORDER = ["reference", "cycles", "luxcore", "mitsuba", "povray", "photonbridge"]
+RUN_ORDER = ["reference", "photonbridge", "povray", "cycles", "luxcore", "mitsuba"]  # in the order they run
+DEFAULT_RENDERERS = ["reference", "photonbridge", "povray", "cycles"]  # the peers when asked (--renderers)
 LABEL = {"reference": "photonbridge reference (CPU)", "photonbridge": "photonbridge render (GPU)",
-         "povray": "POV-Ray 3.7", "cycles": "Blender Cycles"}
+         "povray": "POV-Ray 3.7", "cycles": "Blender Cycles", "luxcore": "LuxCoreRender (PATHCPU)",
+         "mitsuba": "Mitsuba 3 (path)"}
+# The peers' interpreters (scripts/install-deps.sh: pyluxcore and mitsuba in
+# their own venvs), and the environment variables that name others.
+PEER_PYTHON = {"luxcore": ("PB_LUXCORE_PYTHON", os.path.join(ROOT, "tools", "luxcore", "bin", "python")),
+               "mitsuba": ("PB_MITSUBA_PYTHON", os.path.join(ROOT, "tools", "mitsuba3", "bin", "python"))}
+PEER_PER_SAMPLE = {"luxcore": 1.0, "mitsuba": 2.0}  # reference pixel-samples per peer sample (modelled)
+PEER_START_S = 3.0
+
+
+def peer_python(name):
+    env, default = PEER_PYTHON[name]
+    return os.environ.get(env) or default
 
 
 def photonbridge_label(st):
@@ -249,6 +262,10 @@ def renderer_notes(name, r, info, facts):
         notes.append("photon density estimation for indirect light and caustics: consistent but biased at a "
                      "finite photon count (%s emitted): light blurred over the gather footprint" %
                      st.get("photons_emitted"))
+    elif name in ("luxcore", "mitsuba"):
+        notes += ["export-peer: " + n for n in st.get("notes") or []]
+        notes.append("renders photonbridge's loaded scene (export-peer): the same triangles, camera and lights, "
+                     "each material as close as the peer's own models come")
     elif name == "povray":
         notes += ["export-pov " + n for n in st.get("notes") or []]
         notes.append("diffuse inter-reflection from radiosity (--quality %s), truncated at its recursion limit"
@@ -363,6 +380,7 @@ CYCLES_PER_SAMPLE = 0.75
 CYCLES_START_S = 4.0
 PROBE_MIN_S = 0.3
 SHORT = {"reference": "reference", "photonbridge": "photonbridge", "povray": "POV-Ray", "cycles": "Cycles",
+         "luxcore": "LuxCore", "mitsuba": "Mitsuba",
          "sequence": "sequence", "other": "pictures and comparisons"}
 
 
@@ -446,7 +464,7 @@ def estimate_run(a, exe, scene, out, runs, color):
             spp = min(full_spp, int(math.ceil(st["spp"] * PROBE_MIN_S * 1.5 / max(t, 1e-3))))
         return st, dt
 
-    if any(n in runs for n in ("reference", "povray", "cycles")) or a.frames:
+    if any(n in runs for n in ("reference", "povray", "cycles", "luxcore", "mitsuba")) or a.frames:
         spp = a.ref_spp + a.ref_spp % 2  # --estimate-noise rounds up to even
         st, dt = probe("reference", reference_cmd, spp, lambda st: st.get("time_s") or 0.0, pw, 2)
         if st and isinstance(st.get("time_s"), (int, float)) and st["time_s"] > 0:
@@ -494,6 +512,11 @@ def estimate_run(a, exe, scene, out, runs, color):
             parts["povray"] = {"s": POV_START_S + ref_rate * px * POV_PER_PIXEL.get(a.pov_quality, 660.0),
                                "method": "model: %g reference pixel-samples per pixel at --pov-quality %s"
                                          % (POV_PER_PIXEL.get(a.pov_quality, 660.0), a.pov_quality)}
+        for n in ("luxcore", "mitsuba"):
+            if n in runs:
+                parts[n] = {"s": PEER_START_S + ref_rate * px * a.ref_spp * PEER_PER_SAMPLE[n],
+                            "method": "model: %g s start and %g reference pixel-samples per sample"
+                                      % (PEER_START_S, PEER_PER_SAMPLE[n])}
         if "cycles" in runs:
             parts["cycles"] = {"s": CYCLES_START_S + ref_rate * px * a.cycles_spp * CYCLES_PER_SAMPLE,
                                "method": "model: %g s Blender start and %g reference pixel-samples per sample"
@@ -524,7 +547,8 @@ def estimate_run(a, exe, scene, out, runs, color):
                                   " (modelled)" if parts[k]["method"].startswith("model") else "")
                      for k in shown + (["other"] if "other" in parts else []))
     spp = ", ".join("%s %d spp" % (SHORT[k], v) for k, v in (("reference", a.ref_spp), ("photonbridge", a.spp),
-                                                              ("cycles", a.cycles_spp)) if k in runs)
+                                                              ("cycles", a.cycles_spp), ("luxcore", a.ref_spp),
+                                                              ("mitsuba", a.ref_spp)) if k in runs)
     if "povray" in runs:
         spp += (", " if spp else "") + "POV-Ray %s" % a.pov_quality
     line = "estimate: about %s (%s) at %s, %s; measured on small probe renders in %s" % (
@@ -572,9 +596,9 @@ def main(argv):
     ap.add_argument("--frames", help="A:B: a sequence (photonbridge render --frames with per-frame references) "
                                      "instead of one picture")
     ap.add_argument("--seq-ref-spp", type=int, default=64, help="per-frame reference spp of --frames")
-    ap.add_argument("--renderers", default=",".join(RUN_ORDER),
-                    help="comma list of the renderers to run (default all: %s); the others are listed as "
-                         "skipped" % ",".join(RUN_ORDER))
+    ap.add_argument("--renderers", default=",".join(DEFAULT_RENDERERS),
+                    help="comma list of the renderers to run (default: %s; also luxcore, mitsuba); the others "
+                         "are listed as skipped" % ",".join(DEFAULT_RENDERERS))
     ap.add_argument("--render-only", action="store_true",
                     help="run the renderers and write each one's record as DIR/render_NAME.json, no comparison "
                          "or report (one task per scene and renderer on a farm; then --report-from)")
@@ -682,6 +706,7 @@ def main(argv):
     if not gather:
         runs = [n for n in RUN_ORDER if not skip(n) and not (n == "photonbridge" and a.no_gpu) and
                 not (n == "povray" and (a.no_povray or not shutil.which("povray"))) and
+                not (n in PEER_PYTHON and not os.access(peer_python(n), os.X_OK)) and
                 not (n == "cycles" and (a.no_cycles or not shutil.which(os.environ.get("BLENDER", "blender")) or
                                         cycles_source(a, scene, sample, blend) is None))]
         if runs:
@@ -784,6 +809,41 @@ def main(argv):
             else:
                 record("povray", "failed", "run_povray exit %d: %s" % (rc, o.strip()[-300:]),
                        command=cmd1 + [";"] + cmd2)
+
+    # The peers: LuxCoreRender (PATHCPU) and Mitsuba 3 (path) render what
+    # photonbridge's loader made of the scene (export-peer: world-space
+    # meshes, the camera, lights in each peer's units), at the reference's
+    # size, camera and samples.
+    for n in ("luxcore", "mitsuba"):
+        if skip(n):
+            continue
+        py = peer_python(n)
+        if not os.access(py, os.X_OK):
+            record(n, "unavailable", "%s not found (scripts/install-deps.sh installs it; or set %s)"
+                   % (py, PEER_PYTHON[n][0]))
+            continue
+        progress(LABEL[n])
+        pdir = os.path.join(out, n)
+        exr = os.path.join(out, n + ".exr")
+        cmd1 = [exe, "export-peer", scene, "--format", n, "-o", pdir, "--width", str(size[0]), "--height",
+                str(size[1]), "--spp", str(a.ref_spp), "--threads", str(a.threads or 2)]
+        cmd1 += (["--camera", ref_r["camera"]] if ref_r.get("camera") else []) + loader_args(a.ref_args)
+        rc, o, _ = run(cmd1, os.path.join(out, n + "-export.log"))
+        notes = [l[len("note: "):] if l.startswith("note: ") else l for l in o.splitlines() if l.startswith("note")]
+        if rc != 0:
+            record(n, "failed", "export-peer exit %d: %s" % (rc, o.strip()[-300:]), command=cmd1)
+            continue
+        cmd2 = [py, os.path.join(HERE, "peer_render.py"), n, pdir, exr, "--spp", str(a.ref_spp),
+                "--threads", str(a.threads or 2)]
+        rc, o, dt = run(cmd2, os.path.join(out, n + "-run.log"))
+        st = read_json(exr + ".json") or {}
+        if rc == 0 and os.path.isfile(exr):
+            record(n, "ok", exr=n + ".exr", wall_s=round(dt, 3), render_s=st.get("render_s"),
+                   settings={"version": st.get("version"), "spp": st.get("spp_reached", a.ref_spp),
+                             "threads": a.threads or 2, "engine": st.get("engine"), "variant": st.get("variant"),
+                             "notes": notes}, command=cmd1 + [";"] + cmd2)
+        else:
+            record(n, "failed", "peer_render exit %d: %s" % (rc, o.strip()[-300:]), command=cmd1 + [";"] + cmd2)
 
     # Cycles.
     src = cycles_source(a, scene, sample, blend)
