@@ -818,6 +818,9 @@ def main(argv):
         if skip(n):
             continue
         py = peer_python(n)
+        if a.direct_only:
+            record(n, "skipped", "--direct-only: the peers' dumps render every bounce")
+            continue
         if not os.access(py, os.X_OK):
             record(n, "unavailable", "%s not found (scripts/install-deps.sh installs it; or set %s)"
                    % (py, PEER_PYTHON[n][0]))
