@@ -11,7 +11,7 @@ points (each its own child process, timed from spawn to exit, as
 bench/run_bench.py times its renderers), and each image is compared with
 one converged Embree reference (run_bench.py's, cached under bench/cache/):
 PSNR and SSIM on the display image (`photonbridge compare`, the shared OCIO
-view) and HDR-FLIP on the scene-linear image (bench/flip_mean.py, NVIDIA FLIP
+view) and HDR-FLIP on the scene-linear image (validation/flip_mean.py, NVIDIA FLIP
 1.7 in tools/flip). Renderers:
 
   reference     photonbridge's Embree path tracer (+ SPPM on caustic scenes),
@@ -114,7 +114,7 @@ class PeerBench(rb.Bench):
     def compare(self, test, ref, tag):
         m = super().compare(test, ref, tag)
         if self.flip_ok and "error" not in m:
-            r = rb.run_point([PY["flip"], os.path.join(HERE, "flip_mean.py"), ref, test],
+            r = rb.run_point([PY["flip"], os.path.join(os.path.dirname(HERE), "validation", "flip_mean.py"), ref, test],
                              os.path.join(self.work, tag + ".flip.log"), 120)
             try:
                 line = [l for l in r["out"].splitlines() if l.startswith("{")][-1]

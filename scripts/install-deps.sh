@@ -90,7 +90,7 @@ DRJIT_VERSION=1.5.0
 MITSUBA_NUMPY=1.26.4
 MITSUBA_VENV="$ROOT/tools/mitsuba3"
 # NVIDIA FLIP (pip `flip-evaluator`, the image-difference metric that
-# bench/run_peers.py reports beside PSNR, through bench/flip_mean.py) in its
+# bench/run_peers.py reports beside PSNR, through validation/flip_mean.py) in its
 # own venv tools/flip. Required by the peers' benchmark test
 # (bench_peers_tiny): a version the index no longer serves is an error.
 FLIP_VERSION=1.7

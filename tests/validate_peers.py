@@ -5,7 +5,8 @@ export-peer's dump of the scene; both records ok with the peer's version,
 every pair compared (PSNR, relMSE, heat map), each peer's mean within 1.5 %
 of the reference's in every channel and >= 24 dB against it (at 256 spp the
 three renders' own noise is about 27 dB apart), the peers' by-design note
-in their pairs; a peer whose interpreter is missing is "unavailable" with a
+in their pairs; every pair's HDR-FLIP (NVIDIA FLIP) in (0, 1) with its
+error map written and shown in the page; a peer whose interpreter is missing is "unavailable" with a
 reason naming the variable that sets it, and the run goes on.
 
 usage: validate_peers.py PHOTONBRIDGE EXR_PROBE WORKDIR
@@ -61,9 +62,17 @@ for n in ("luxcore", "mitsuba"):
     check(pair and any(d["renderer"] == n and "export-peer" in d["note"] for d in pair[0]["by_design"]),
           "%s's pair lacks the export-peer note" % n)
 check(len(r["pairs"]) == 3, "3 pairs expected: %s" % [(q["test"], q["reference"]) for q in r["pairs"]])
+for q in r["pairs"]:
+    f = q.get("hdr_flip")
+    print("validate_peers: %s vs %s: HDR-FLIP %s, PSNR %s dB" % (q["test"], q["reference"], f, q.get("psnr_db")))
+    check(isinstance(f, float) and 0 < f < 1 and q.get("flip_map") and os.path.isfile(os.path.join(out, q["flip_map"])),
+          "the pair's FLIP: %s %s %s" % (f, q.get("flip_map"), q.get("flip_error")))
+page = open(os.path.join(out, "index.html")).read()
+check("HDR-FLIP" in page and all(q.get("flip_map", "?") in page for q in r["pairs"]), "the page lacks the FLIP maps")
 
 # A peer without its interpreter: unavailable, named; the others go on.
-env = dict(os.environ, PB_MITSUBA_PYTHON=os.path.join(WORK, "no-such-python"))
+env = dict(os.environ, PB_MITSUBA_PYTHON=os.path.join(WORK, "no-such-python"),
+           PB_FLIP_PYTHON=os.path.join(WORK, "no-such-python"))
 out2 = os.path.join(WORK, "missing")
 p = subprocess.run([EXE, "validate", "samples/cornell_box/cornell_box.gltf", "-o", out2, "--renderers",
                     "reference,mitsuba", "--width", "16", "--ref-spp", "4", "--threads", "1", "-q"],
@@ -76,6 +85,8 @@ print("validate_peers: without its interpreter: exit %d, mitsuba %s: %s" % (p.re
 check(mi.get("status") == "unavailable" and "PB_MITSUBA_PYTHON" in (mi.get("reason") or ""),
       "a missing Mitsuba: %s" % mi)
 check(rend2.get("reference", {}).get("status") == "ok", "the reference did not go on: %s" % rend2.get("reference"))
+fl = r2.get("flip") or {}
+check(fl.get("available") is False and "PB_FLIP_PYTHON" in (fl.get("reason") or ""), "a missing FLIP: %s" % fl)
 
 print("validate_peers: %d checks, %d failed" % (checks, len(problems)))
 print("%d passed, %d failed" % (checks - len(problems), len(problems)))

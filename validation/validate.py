@@ -86,6 +86,9 @@ LABEL = {"reference": "photonbridge reference (CPU)", "photonbridge": "photonbri
 # their own venvs), and the environment variables that name others.
 PEER_PYTHON = {"luxcore": ("PB_LUXCORE_PYTHON", os.path.join(ROOT, "tools", "luxcore", "bin", "python")),
                "mitsuba": ("PB_MITSUBA_PYTHON", os.path.join(ROOT, "tools", "mitsuba3", "bin", "python"))}
+# NVIDIA FLIP (flip-evaluator in tools/flip; PB_FLIP_PYTHON names another
+# interpreter): each pair's HDR-FLIP and its error map (flip_mean.py).
+FLIP_PYTHON = ("PB_FLIP_PYTHON", os.path.join(ROOT, "tools", "flip", "bin", "python"))
 PEER_PER_SAMPLE = {"luxcore": 1.0, "mitsuba": 2.0}  # reference pixel-samples per peer sample (modelled)
 PEER_START_S = 3.0
 
@@ -964,6 +967,32 @@ def main(argv):
             if rc != 0:
                 p["heatmap"] = None
 
+    # HDR-FLIP of every pair on the scene-linear images (the exposures from
+    # the pair's reference), with FLIP's own error map.
+    flip_py = os.environ.get(FLIP_PYTHON[0]) or FLIP_PYTHON[1]
+    flip = {"available": os.access(flip_py, os.X_OK)}
+    if not flip["available"]:
+        flip["reason"] = "%s not found (scripts/install-deps.sh installs it; or set %s)" % (flip_py, FLIP_PYTHON[0])
+    for p in pairs:
+        if not flip["available"] or "error" in p:
+            continue
+        tag = "%s_vs_%s" % (p["test"], p["reference"])
+        fmap = "flip_" + tag + ".png"
+        rc, o, _ = run([flip_py, os.path.join(HERE, "flip_mean.py"), os.path.join(out, renders[p["reference"]]["exr"]),
+                        os.path.join(out, renders[p["test"]]["exr"]), "--map", os.path.join(out, fmap)],
+                       os.path.join(out, "flip_" + tag + ".log"))
+        try:
+            res = json.loads(o.strip().splitlines()[-1])
+            flip["version"] = res.get("version")
+            res = res["results"][0]
+        except (ValueError, IndexError, KeyError):
+            res = {"error": "exit %d: %s" % (rc, o.strip()[-300:])}
+        if rc == 0 and "hdr_flip_mean" in res:
+            p["hdr_flip"] = res["hdr_flip_mean"]
+            p["flip_map"] = fmap if os.path.isfile(os.path.join(out, fmap)) else None
+        else:
+            p["flip_error"] = res.get("error") or "exit %d" % rc
+
     sequence = run_sequence(a, exe, scene, out, color) if a.frames else None
 
     versions = versions or tool_versions(exe)
@@ -975,7 +1004,10 @@ def main(argv):
         "validation_script": os.path.abspath(__file__),
         "scene_notes": scene_notes(facts),
         "metrics_note": "RMSE and relMSE (mean of (t-r)^2/(r^2+0.01)) on scene-linear RGB; PSNR and SSIM "
-                        "on the display image through the OCIO view above (src/metrics, photonbridge compare)",
+                        "on the display image through the OCIO view above (src/metrics, photonbridge compare); "
+                        "HDR-FLIP (NVIDIA FLIP: 0 indistinguishable, 1 maximal) on scene-linear RGB, the exposures "
+                        "from each pair's reference",
+        "flip": flip,
         "renders": [renders[n] for n in ORDER if n in renders], "pairs": pairs, "versions": versions,
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
@@ -1195,6 +1227,19 @@ def render_html(rep):
                                                           e(p["reference"]),
                                          fmt(p.get("psnr_db"), ".2f")))
         h.append("</div>")
+    fl = [p for p in rep["pairs"] if p.get("flip_map")]
+    if fl:
+        h.append("<h2>HDR-FLIP</h2><p class='note'>NVIDIA FLIP %s's error map of test against reference on the "
+                 "scene-linear images, at the exposures FLIP picks from the pair's reference (black: "
+                 "indistinguishable; light yellow: maximal).</p><div class='pics'>"
+                 % e((rep.get("flip") or {}).get("version") or ""))
+        for p in fl:
+            h.append("<div class='fig'><a href='%s'><img src='%s' alt='FLIP' style='width:%dpx'></a>%s vs %s<br>"
+                     "<small>HDR-FLIP %s</small></div>" % (e(p["flip_map"]), e(p["flip_map"]), fig_w, e(p["test"]),
+                                                           e(p["reference"]), fmt(p.get("hdr_flip"), ".4f")))
+        h.append("</div>")
+    elif not (rep.get("flip") or {}).get("available", True):
+        h.append("<p class='note'>HDR-FLIP: %s</p>" % e(rep["flip"].get("reason", "")))
 
     times = {r["name"]: r.get("render_s") for r in rep["renders"]}
     h.append("<h2>Metrics</h2><p class='note'>%s. The last column lists what each renderer of the pair models "
@@ -1203,19 +1248,19 @@ def render_html(rep):
     if rep.get("scene_notes"):
         h.append("<p class='note'>%s</p>" % "<br>".join(e(n) for n in rep["scene_notes"]))
     h.append("<table><tr><th>test</th><th>reference</th><th>PSNR dB</th><th>SSIM</th><th>relMSE</th>"
-             "<th>RMSE</th><th>max abs</th><th>test s</th><th>reference s</th><th>size</th>"
+             "<th>HDR-FLIP</th><th>RMSE</th><th>max abs</th><th>test s</th><th>reference s</th><th>size</th>"
              "<th>can differ by design</th></tr>")
     for p in rep["pairs"]:
         if "error" in p:
-            h.append("<tr><td>%s</td><td>%s</td><td colspan=9 class='bad'>%s</td></tr>"
+            h.append("<tr><td>%s</td><td>%s</td><td colspan=10 class='bad'>%s</td></tr>"
                      % (e(p["test"]), e(p["reference"]), e(p["error"])))
             continue
         design = "".join("<li><b>%s</b>: %s</li>" % (e(d["renderer"]), e(d["note"])) for d in p.get("by_design", []))
         h.append("<tr><td>%s</td><td>%s</td><td class=num>%s</td><td class=num>%s</td><td class=num>%s</td>"
                  "<td class=num>%s</td><td class=num>%s</td><td class=num>%s</td><td class=num>%s</td>"
-                 "<td>%sx%s</td><td class='design'><ul>%s</ul></td></tr>"
+                 "<td class=num>%s</td><td>%sx%s</td><td class='design'><ul>%s</ul></td></tr>"
                  % (e(p["test"]), e(p["reference"]), fmt(p.get("psnr_db"), ".2f"), fmt(p.get("ssim"), ".4f"),
-                    fmt(p.get("relmse"), ".4g"), fmt(p.get("rmse"), ".4g"), fmt(p.get("max_abs_error"), ".4g"),
+                    fmt(p.get("relmse"), ".4g"), fmt(p.get("hdr_flip"), ".4f"), fmt(p.get("rmse"), ".4g"), fmt(p.get("max_abs_error"), ".4g"),
                     fmt(times.get(p["test"]), ".2f"), fmt(times.get(p["reference"]), ".2f"),
                     p.get("width"), p.get("height"), design))
     h.append("</table><h2>Renders: times and settings</h2><table><tr><th>renderer</th><th>status</th>"
