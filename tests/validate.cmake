@@ -160,13 +160,14 @@ if(Python3_Interpreter_FOUND)
                        PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
 endif()
 # validate with the peers (tests/validate_peers.py): LuxCoreRender and
-# Mitsuba 3 render export-peer's dump of cornell_box beside the reference;
-# their means within 1.5 % of its, the pairs compared, a missing peer named.
+# Mitsuba 3 render export-peer's dump of cornell_box beside the reference,
+# and Cycles 4.5 (bpy) the glTF; their means within 1.5 % of its, the pairs
+# compared with HDR-FLIP, a missing peer named.
 if(Python3_Interpreter_FOUND)
   add_test(NAME validate_peers
            COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/validate_peers.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                    ${CMAKE_CURRENT_BINARY_DIR}/validate_peers
            WORKING_DIRECTORY ${PB_ROOT})
-  set_tests_properties(validate_peers PROPERTIES LABELS "peers;no-sanitize" TIMEOUT 900
+  set_tests_properties(validate_peers PROPERTIES LABELS "peers;blender;no-sanitize" TIMEOUT 900
                        PASS_REGULAR_EXPRESSION " 0 failed")
 endif()

@@ -70,6 +70,27 @@ for q in r["pairs"]:
 page = open(os.path.join(out, "index.html")).read()
 check("HDR-FLIP" in page and all(q.get("flip_map", "?") in page for q in r["pairs"]), "the page lacks the FLIP maps")
 
+# Cycles 4.5 (bpy 4.5 through tests/blender/bpy_blender.py) beside Debian's
+# Blender: the sample through Blender 4.5's glTF importer (its Blender script
+# is 3.4's), its mean within 1.5 % of the reference's.
+out45 = os.path.join(WORK, "cy45")
+p = subprocess.run([EXE, "validate", "samples/cornell_box/cornell_box.gltf", "-o", out45, "--renderers",
+                    "reference,cycles45", "--width", "32", "--ref-spp", "256", "--cycles-spp", "256", "--threads", "2",
+                    "-q"], capture_output=True, text=True, timeout=900)
+check(p.returncode == 0, "validate with cycles45: exit %d: %s" % (p.returncode, p.stderr.strip()[-400:]))
+r45 = json.load(open(os.path.join(out45, "report.json")))
+c45 = {x["name"]: x for x in r45["renders"]}.get("cycles45", {})
+st45 = c45.get("settings") or {}
+check(c45.get("status") == "ok" and str(st45.get("blender", "")).startswith("4.5") and st45.get("source") == "gltf",
+      "Cycles 4.5: %s" % c45)
+if c45.get("status") == "ok":
+    m = means(os.path.join(out45, c45["exr"]))
+    ref45 = means(os.path.join(out45, "reference.exr"))
+    dev = max(abs(x / y - 1) for x, y in zip(m, ref45))
+    print("validate_peers: Cycles %s (%s): mean RGB %s against the reference's %s" % (
+        st45.get("blender"), st45.get("source"), ["%.4f" % v for v in m], ["%.4f" % v for v in ref45]))
+    check(dev <= 0.015, "Cycles 4.5's mean is %.2f %% off the reference's" % (100 * dev))
+
 # A peer without its interpreter: unavailable, named; the others go on.
 env = dict(os.environ, PB_MITSUBA_PYTHON=os.path.join(WORK, "no-such-python"),
            PB_FLIP_PYTHON=os.path.join(WORK, "no-such-python"))

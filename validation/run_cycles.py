@@ -200,7 +200,8 @@ def average_exr(a, b, out):
     ib.pixels.foreach_get(pb)
     w, h = ia.size
     m = bpy.data.images.new("average", w, h, alpha=True, float_buffer=True)
-    m.colorspace_settings.name = "Linear"
+    names = m.colorspace_settings.bl_rna.properties["name"].enum_items.keys()
+    m.colorspace_settings.name = "Linear" if "Linear" in names else "Linear Rec.709"  # Blender 3.x / 4.x
     m.pixels.foreach_set(0.5 * (pa + pb))
     m.save_render(out, scene=bpy.context.scene)  # EXR: linear values as they are
 

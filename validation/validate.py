@@ -76,11 +76,12 @@ import gltf_json
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-ORDER = ["reference", "cycles", "luxcore", "mitsuba", "povray", "photonbridge"]
-RUN_ORDER = ["reference", "photonbridge", "povray", "cycles", "luxcore", "mitsuba"]  # in the order they run
-DEFAULT_RENDERERS = ["reference", "photonbridge", "povray", "cycles"]  # the peers when asked (--renderers)
+ORDER = ["reference", "cycles", "cycles45", "luxcore", "mitsuba", "povray", "photonbridge"]
+RUN_ORDER = ["reference", "photonbridge", "povray", "luxcore", "mitsuba", "cycles", "cycles45"]  # as they run
+DEFAULT_RENDERERS = ["reference", "photonbridge", "povray", "cycles"]  # the others when asked (--renderers)
 LABEL = {"reference": "photonbridge reference (CPU)", "photonbridge": "photonbridge render (GPU)",
-         "povray": "POV-Ray 3.7", "cycles": "Blender Cycles", "luxcore": "LuxCoreRender (PATHCPU)",
+         "povray": "POV-Ray 3.7", "cycles": "Blender Cycles", "cycles45": "Blender Cycles 4.5 (bpy)",
+         "luxcore": "LuxCoreRender (PATHCPU)",
          "mitsuba": "Mitsuba 3 (path)"}
 # The peers' interpreters (scripts/install-deps.sh: pyluxcore and mitsuba in
 # their own venvs), and the environment variables that name others.
@@ -110,11 +111,11 @@ def photonbridge_label(st):
     return "photonbridge render: GPU pipeline on %s" % name
 
 
-def run(cmd, log=None, cwd=None, timeout=1800):
+def run(cmd, log=None, cwd=None, timeout=1800, env=None):
     t0 = time.time()
     try:
         p = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                           timeout=timeout, universal_newlines=True)
+                           timeout=timeout, universal_newlines=True, env=env)
         rc, out = p.returncode, p.stdout
     except FileNotFoundError as e:
         rc, out = 127, str(e)
@@ -273,7 +274,7 @@ def renderer_notes(name, r, info, facts):
         notes += ["export-pov " + n for n in st.get("notes") or []]
         notes.append("diffuse inter-reflection from radiosity (--quality %s), truncated at its recursion limit"
                      % st.get("quality"))
-    elif name == "cycles":
+    elif name in ("cycles", "cycles45"):
         notes.insert(0, "material model: %s" % st.get("materials"))
         if "Principled" in (st.get("materials") or "") and not any(m.get("model") == "principled" for m in mats):
             notes.insert(1, "Blender's Principled BSDF is not glTF's model: Disney diffuse with retro-reflection, "
@@ -383,6 +384,7 @@ CYCLES_PER_SAMPLE = 0.75
 CYCLES_START_S = 4.0
 PROBE_MIN_S = 0.3
 SHORT = {"reference": "reference", "photonbridge": "photonbridge", "povray": "POV-Ray", "cycles": "Cycles",
+         "cycles45": "Cycles 4.5",
          "luxcore": "LuxCore", "mitsuba": "Mitsuba",
          "sequence": "sequence", "other": "pictures and comparisons"}
 
@@ -467,7 +469,7 @@ def estimate_run(a, exe, scene, out, runs, color):
             spp = min(full_spp, int(math.ceil(st["spp"] * PROBE_MIN_S * 1.5 / max(t, 1e-3))))
         return st, dt
 
-    if any(n in runs for n in ("reference", "povray", "cycles", "luxcore", "mitsuba")) or a.frames:
+    if any(n in runs for n in ("reference", "povray", "cycles", "cycles45", "luxcore", "mitsuba")) or a.frames:
         spp = a.ref_spp + a.ref_spp % 2  # --estimate-noise rounds up to even
         st, dt = probe("reference", reference_cmd, spp, lambda st: st.get("time_s") or 0.0, pw, 2)
         if st and isinstance(st.get("time_s"), (int, float)) and st["time_s"] > 0:
@@ -520,6 +522,9 @@ def estimate_run(a, exe, scene, out, runs, color):
                 parts[n] = {"s": PEER_START_S + ref_rate * px * a.ref_spp * PEER_PER_SAMPLE[n],
                             "method": "model: %g s start and %g reference pixel-samples per sample"
                                       % (PEER_START_S, PEER_PER_SAMPLE[n])}
+        if "cycles45" in runs:
+            parts["cycles45"] = {"s": CYCLES_START_S + ref_rate * px * a.cycles_spp * CYCLES_PER_SAMPLE,
+                                 "method": "model: as Cycles 3.4"}
         if "cycles" in runs:
             parts["cycles"] = {"s": CYCLES_START_S + ref_rate * px * a.cycles_spp * CYCLES_PER_SAMPLE,
                                "method": "model: %g s Blender start and %g reference pixel-samples per sample"
@@ -550,7 +555,8 @@ def estimate_run(a, exe, scene, out, runs, color):
                                   " (modelled)" if parts[k]["method"].startswith("model") else "")
                      for k in shown + (["other"] if "other" in parts else []))
     spp = ", ".join("%s %d spp" % (SHORT[k], v) for k, v in (("reference", a.ref_spp), ("photonbridge", a.spp),
-                                                              ("cycles", a.cycles_spp), ("luxcore", a.ref_spp),
+                                                              ("cycles", a.cycles_spp), ("cycles45", a.cycles_spp),
+                                                              ("luxcore", a.ref_spp),
                                                               ("mitsuba", a.ref_spp)) if k in runs)
     if "povray" in runs:
         spp += (", " if spp else "") + "POV-Ray %s" % a.pov_quality
@@ -600,7 +606,7 @@ def main(argv):
                                      "instead of one picture")
     ap.add_argument("--seq-ref-spp", type=int, default=64, help="per-frame reference spp of --frames")
     ap.add_argument("--renderers", default=",".join(DEFAULT_RENDERERS),
-                    help="comma list of the renderers to run (default: %s; also luxcore, mitsuba); the others "
+                    help="comma list of the renderers to run (default: %s; also cycles45, luxcore, mitsuba); the others "
                          "are listed as skipped" % ",".join(DEFAULT_RENDERERS))
     ap.add_argument("--render-only", action="store_true",
                     help="run the renderers and write each one's record as DIR/render_NAME.json, no comparison "
@@ -679,7 +685,7 @@ def main(argv):
 
     def record(name, status, reason=None, **kw):
         r = {"name": name, "label": LABEL[name], "status": status}
-        if handoff and name != "cycles":
+        if handoff and name not in ("cycles", "cycles45"):
             r["handoff"] = True  # renders the render engine's hand-off of the .blend
         if reason:
             r["reason"] = reason
@@ -711,7 +717,8 @@ def main(argv):
                 not (n == "povray" and (a.no_povray or not shutil.which("povray"))) and
                 not (n in PEER_PYTHON and not os.access(peer_python(n), os.X_OK)) and
                 not (n == "cycles" and (a.no_cycles or not shutil.which(os.environ.get("BLENDER", "blender")) or
-                                        cycles_source(a, scene, sample, blend) is None))]
+                                        cycles_source(a, scene, sample, blend) is None)) and
+                not (n == "cycles45" and (a.no_cycles or cycles_source(a, scene, sample, blend) is None))]
         if runs:
             estimate, versions = estimate_run(a, exe, scene, out, runs, color)
             if not QUIET:
@@ -851,46 +858,13 @@ def main(argv):
         else:
             record(n, "failed", "peer_render exit %d: %s" % (rc, o.strip()[-300:]), command=cmd1 + [";"] + cmd2)
 
-    # Cycles.
-    src = cycles_source(a, scene, sample, blend)
-    if skip("cycles"):
-        pass
-    elif a.no_cycles:
-        record("cycles", "skipped", "--no-cycles")
-    elif not shutil.which(os.environ.get("BLENDER", "blender")):
-        record("cycles", "unavailable", "blender not installed")
-    elif src is None:
-        record("cycles", "unavailable", "--cycles-source sample: %s is not a sample built by "
-               "exporters/blender/make_samples.py" % os.path.basename(scene))
-    elif not info:
-        record("cycles", "failed", "photonbridge info could not read the scene: %s" % info_error)
-    else:
-        progress("Cycles")
-        exr = os.path.join(out, "cycles.exr")
-        ref_st = ref_r.get("settings") or {}
-        # The reference's path-length limit: max_bounces scattering events
-        # between light and eye (direct light: 1); Cycles counts the first
-        # hit's light as bounce 0, so max_bounces - 1 is the same set of paths.
-        bounces = max(0, (ref_st.get("max_bounces") or (1 if a.direct_only else 8)) - 1)
-        if src["kind"] == "gltf":
-            src["args"] += ["--info", info_path] + (["--camera", ref_r["camera"]] if ref_r.get("camera") else [])
-        cmd = ["sh", os.path.join(HERE, "run_cycles.sh"), src["scene"], exr, "--width", str(size[0]),
-               "--height", str(size[1]), "--samples", str(a.cycles_spp), "--bounces", str(bounces),
-               "--materials", src["materials"], "--halves"] + src["args"]
-        if a.threads:
-            cmd += ["--threads", str(a.threads)]
-        rc, o, dt = run(cmd, os.path.join(out, "cycles-run.log"))
-        st = read_json(exr + ".json") or {}
-        if rc == 0 and os.path.isfile(exr):
-            noise = halves_noise(exe, out, [exr + "." + h for h in ("a.exr", "b.exr")], color)
-            record("cycles", "ok", exr="cycles.exr", wall_s=round(dt, 3), render_s=st.get("render_s"),
-                   settings={"source": src["kind"], "materials": st.get("material_model"),
-                             "samples": st.get("samples"), "bounces": st.get("bounces"), "seed": st.get("seed"),
-                             "pixel_filter": st.get("pixel_filter"), "denoising": False, "clamping": False},
-                   noise=noise, notes=st.get("notes") or [], command=cmd)
-        else:
-            reason = st.get("error") or "exit %d: %s" % (rc, o.strip()[-300:])
-            record("cycles", "failed", reason, command=cmd)
+    # Cycles: Debian's Blender (cycles), and Blender 4.5 LTS as a Python
+    # module (cycles45: tools/bpy45 through tests/blender/bpy_blender.py,
+    # the `blender` command line over bpy), the same sources and settings.
+    for n in ("cycles", "cycles45"):
+        if not skip(n):
+            run_cycles_renderer(a, n, exe, scene, sample, blend, out, info, info_path, info_error, ref_r, size,
+                                color, record)
 
     # --render-only: each renderer's record for a later --report-from run.
     if a.render_only:
@@ -1018,6 +992,85 @@ def main(argv):
     if not QUIET:
         print("validate: wrote %s and %s" % (os.path.join(out, "index.html"), os.path.join(out, "report.json")))
     return 0 if "reference" in ok and len(ok) >= 2 else 1
+
+
+def blender_command(name, out):
+    """The Blender run_cycles.sh starts: $BLENDER (default blender) for
+    cycles; for cycles45 a wrapper in OUT running tests/blender/bpy_blender.py
+    under tools/bpy45's Python (PB_BPY45_PYTHON names another), or
+    {"missing": why}."""
+    if name == "cycles":
+        return os.environ.get("BLENDER", "blender")
+    py = os.environ.get("PB_BPY45_PYTHON") or os.path.join(ROOT, "tools", "bpy45", "bin", "python")
+    shim = os.path.join(ROOT, "tests", "blender", "bpy_blender.py")
+    if not os.access(py, os.X_OK):
+        return {"missing": "%s not found (scripts/install-deps.sh installs bpy 4.5; or set PB_BPY45_PYTHON)" % py}
+    if not os.path.isfile(shim):
+        return {"missing": "%s not found (Cycles 4.5 needs the source tree)" % shim}
+    wrapper = os.path.join(out, "cycles45", "blender")
+    os.makedirs(os.path.dirname(wrapper), exist_ok=True)
+    with open(wrapper, "w") as f:
+        f.write("#!/bin/sh\nexec %s %s \"$@\"\n" % (shlex.quote(py), shlex.quote(shim)))
+    os.chmod(wrapper, 0o755)
+    return {"wrapper": wrapper}
+
+
+def run_cycles_renderer(a, n, exe, scene, sample, blend, out, info, info_path, info_error, ref_r, size, color,
+                        record):
+    """Cycles (n: cycles or cycles45) on the scene's Cycles source
+    (cycles_source) at the reference's size, camera and path length, as two
+    independent halves; its record through record()."""
+    src = cycles_source(a, scene, sample, blend)
+    bl = blender_command(n, out)
+    sample_45 = n == "cycles45" and src is not None and src["kind"] == "sample"
+    if sample_45 and a.cycles_source == "auto":
+        # The samples' Blender script (make_samples.py) sets up Blender 3.4's
+        # Principled sockets: Blender 4.5 reads the glTF through its importer.
+        src = {"kind": "gltf", "scene": scene, "materials": "gltf" if src["materials"] == "bsdf" else "principled",
+               "args": []}
+        sample_45 = False
+    if a.no_cycles:
+        record(n, "skipped", "--no-cycles")
+    elif isinstance(bl, str) and not shutil.which(bl):
+        record(n, "unavailable", "blender not installed")
+    elif not isinstance(bl, str) and bl.get("missing"):
+        record(n, "unavailable", bl["missing"])
+    elif src is None:
+        record(n, "unavailable", "--cycles-source sample: %s is not a sample built by "
+               "exporters/blender/make_samples.py" % os.path.basename(scene))
+    elif sample_45:
+        record(n, "unavailable", "--cycles-source sample: the samples' Blender script is Blender 3.4's (Cycles "
+               "4.5 takes the glTF: --cycles-source gltf)")
+    elif not info:
+        record(n, "failed", "photonbridge info could not read the scene: %s" % info_error)
+    else:
+        progress(LABEL[n])
+        exr = os.path.join(out, n + ".exr")
+        ref_st = ref_r.get("settings") or {}
+        # The reference's path-length limit: max_bounces scattering events
+        # between light and eye (direct light: 1); Cycles counts the first
+        # hit's light as bounce 0, so max_bounces - 1 is the same set of paths.
+        bounces = max(0, (ref_st.get("max_bounces") or (1 if a.direct_only else 8)) - 1)
+        if src["kind"] == "gltf":
+            src["args"] += ["--info", info_path] + (["--camera", ref_r["camera"]] if ref_r.get("camera") else [])
+        cmd = ["sh", os.path.join(HERE, "run_cycles.sh"), src["scene"], exr, "--width", str(size[0]),
+               "--height", str(size[1]), "--samples", str(a.cycles_spp), "--bounces", str(bounces),
+               "--materials", src["materials"], "--halves"] + src["args"]
+        if a.threads:
+            cmd += ["--threads", str(a.threads)]
+        rc, o, dt = run(cmd, os.path.join(out, n + "-run.log"),
+                        env=dict(os.environ, BLENDER=bl if isinstance(bl, str) else bl["wrapper"]))
+        st = read_json(exr + ".json") or {}
+        if rc == 0 and os.path.isfile(exr):
+            noise = halves_noise(exe, out, [exr + "." + h for h in ("a.exr", "b.exr")], color)
+            record(n, "ok", exr=n + ".exr", wall_s=round(dt, 3), render_s=st.get("render_s"),
+                   settings={"source": src["kind"], "materials": st.get("material_model"), "blender": st.get("blender"),
+                             "samples": st.get("samples"), "bounces": st.get("bounces"), "seed": st.get("seed"),
+                             "pixel_filter": st.get("pixel_filter"), "denoising": False, "clamping": False},
+                   noise=noise, notes=st.get("notes") or [], command=cmd)
+        else:
+            reason = st.get("error") or "exit %d: %s" % (rc, o.strip()[-300:])
+            record(n, "failed", reason, command=cmd)
 
 
 def run_sequence(a, exe, scene, out, color):

@@ -116,8 +116,9 @@ int pb_cmd_validate(int argc, char **argv) {
       {"seq-ref-spp", 0, PB_OPT_U32, &u32, "N", "--frames: reference samples per pixel of each frame (default "
        "64)", NULL, 1, 1 << 24, "Animation", 0},
       {"renderers", 0, PB_OPT_STRING, &str, "LIST", "comma-separated renderers to run (default: reference, "
-       "photonbridge, povray, cycles; also luxcore and mitsuba, LuxCoreRender and Mitsuba 3 rendering "
-       "export-peer's dump of the scene); the others are listed as skipped", NULL, 0, 0, "Renderers", 0},
+       "photonbridge, povray, cycles; also cycles45, Blender 4.5 LTS's Cycles through bpy, and luxcore and "
+       "mitsuba, LuxCoreRender and Mitsuba 3 rendering export-peer's dump of the scene); the others are listed "
+       "as skipped", NULL, 0, 0, "Renderers", 0},
       {"no-gpu", 0, PB_OPT_FLAG, &flag, NULL, "skip photonbridge render", NULL, 0, 0, "Renderers", 0},
       {"no-povray", 0, PB_OPT_FLAG, &flag, NULL, "skip POV-Ray", NULL, 0, 0, "Renderers", 0},
       {"no-cycles", 0, PB_OPT_FLAG, &flag, NULL, "skip Cycles", NULL, 0, 0, "Renderers", 0},
