@@ -637,20 +637,27 @@ static pb_result write_stats(const viewer *v, const char *path) {
 
 /* ---- the loop --------------------------------------------------------------- */
 
-/* A frame where the view rests (--noise-threshold reached, nothing moved):
- * scripted runs (--script, --exit-after) count it, with the picture kept;
- * an interactive one does not, and waits for input. */
-static pb_result rest_frame(viewer *v, double dt) {
-  if (!v->d->script && !v->d->exit_after) return PB_OK;
-  pb_result r = PB_OK;
+/* The statistics slot of frame v->frame, zeroed (the array grows). */
+static pb_result next_stat(viewer *v, frame_stat **out) {
   if (v->frame == v->stat_cap) {
     size_t nc = v->stat_cap ? 2 * v->stat_cap : 256;
     frame_stat *ns = realloc(v->stats, nc * sizeof *ns);
     if (!ns) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
     v->stats = ns, v->stat_cap = nc;
   }
-  frame_stat *fs = &v->stats[v->frame];
-  memset(fs, 0, sizeof *fs);
+  *out = &v->stats[v->frame];
+  memset(*out, 0, sizeof **out);
+  return PB_OK;
+}
+
+/* A frame where the view rests (--noise-threshold reached, nothing moved):
+ * scripted runs (--script, --exit-after) count it, with the picture kept;
+ * an interactive one does not, and waits for input. */
+static pb_result rest_frame(viewer *v, double dt) {
+  if (!v->d->script && !v->d->exit_after) return PB_OK;
+  frame_stat *fs;
+  pb_result r = next_stat(v, &fs);
+  if (r != PB_OK) return r;
   fs->wall_ms = dt * 1e3, fs->still = 1, fs->rested = 1, fs->run_frames = v->ses.run_frames, fs->t = v->t;
   fs->psnr = v->frame ? v->stats[v->frame - 1].psnr : NAN, fs->noise = pb_view_session_noise(&v->ses);
   v->frame++;
@@ -712,14 +719,8 @@ static pb_result one_frame(viewer *v, double dt, int *rested) {
   }
   if (r != PB_OK) return r;
   double t2 = pb_time_now();
-  if (v->frame == v->stat_cap) {
-    size_t nc = v->stat_cap ? 2 * v->stat_cap : 256;
-    frame_stat *ns = realloc(v->stats, nc * sizeof *ns);
-    if (!ns) return pb_fail(PB_ERR_NOMEM, "view: out of memory");
-    v->stats = ns, v->stat_cap = nc;
-  }
-  frame_stat *fs = &v->stats[v->frame];
-  memset(fs, 0, sizeof *fs);
+  frame_stat *fs;
+  if ((r = next_stat(v, &fs)) != PB_OK) return r;
   pb_gpu_transfers tp1 = pb_gpu_transfers_get(v->g);
   fs->readback_bytes = v->ses.res.stats.readback_bytes, fs->upload_bytes = v->ses.res.stats.upload_bytes;
   fs->ring_bytes = v->ses.res.stats.ring_bytes;
