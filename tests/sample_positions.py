@@ -18,19 +18,15 @@ argv: photonbridge exr_probe WORKDIR
 """
 import json, os, subprocess, sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pbcheck import check, finish  # noqa: E402
+
 exe, probe, work = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(work, exist_ok=True)
 LIMIT = 0.06
 W, H = 160, 120
-problems, checks = [], 0
 
 
-def check(ok, what):
-    global checks
-    checks += 1
-    if not ok:
-        problems.append(what)
-        print("FAIL:", what)
 
 
 def alpha(spp):
@@ -69,5 +65,4 @@ for spp in (2, 3, 5, 8):
         print(f"--spp {spp}: coverage shifted {d:+.4f} px along {axis} against --spp 16")
         check(abs(d) <= LIMIT, f"--spp {spp}: the picture is shifted {d:+.4f} px along {axis} (limit {LIMIT})")
 
-print(f"{checks - len(problems)} passed, {len(problems)} failed")
-sys.exit(1 if problems else 0)
+finish()

@@ -27,20 +27,15 @@ installed by scripts/install-deps.sh) missing is a failure, not a skip.
 """
 import json, os, re, subprocess, sys, tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pbcheck import check, finish  # noqa: E402
+
 exe, icd = sys.argv[1], sys.argv[2]
 work = sys.argv[3] if len(sys.argv) > 3 else tempfile.mkdtemp(prefix="pb_traversal_")
 os.makedirs(work, exist_ok=True)
 MIN_DB = 50.0
-problems = []
-checks = 0
 
 
-def check(ok, what):
-    global checks
-    checks += 1
-    if not ok:
-        problems.append(what)
-        print("FAIL:", what)
 
 
 if not os.path.isfile(icd):
@@ -163,5 +158,4 @@ check(p.returncode == 12, f"--traversal ray-query without ray queries: exit {p.r
 check(re.search(r"has no ray queries", p.stderr) is not None, f"--traversal ray-query message: {p.stderr.strip()}")
 check(not os.path.exists(os.path.join(work, "never.exr")), "--traversal ray-query refused but wrote its output")
 
-print(f"{checks - len(problems)} passed, {len(problems)} failed")
-sys.exit(1 if problems else 0)
+finish()

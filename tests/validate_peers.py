@@ -17,16 +17,12 @@ import shutil
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pbcheck import check, finish  # noqa: E402
+
 EXE, PROBE, WORK = sys.argv[1:4]
-checks, problems = 0, []
 
 
-def check(ok, what):
-    global checks
-    checks += 1
-    if not ok:
-        problems.append(what)
-        print("FAIL:", what)
 
 
 def means(path):
@@ -109,6 +105,4 @@ check(rend2.get("reference", {}).get("status") == "ok", "the reference did not g
 fl = r2.get("flip") or {}
 check(fl.get("available") is False and "PB_FLIP_PYTHON" in (fl.get("reason") or ""), "a missing FLIP: %s" % fl)
 
-print("validate_peers: %d checks, %d failed" % (checks, len(problems)))
-print("%d passed, %d failed" % (checks - len(problems), len(problems)))
-sys.exit(1 if problems else 0)
+finish("validate_peers")
