@@ -10,7 +10,7 @@
  * gpu_embree.h, closest hit), GPU timestamps, best of R after a warm-up, the
  * two trees alternating (load from other processes hits both alike).
  * "sah" is the refitted tree's SAH cost over the tree's built at T0, what AUTO
- * (PB_BVH_REFIT_MAX_SAH in src/render/scene_gpu.c) looks at; "sah/rb" the
+ * (PB_BVH_REFIT_MAX_SAH in src/render/scene/scene_gpu.c) looks at; "sah/rb" the
  * refitted tree's over the tree rebuilt at Ti (what a rebuild would gain,
  * unknown to AUTO without building). "break-even":
  * rays per frame above which the rebuild's faster rays repay its longer
@@ -23,11 +23,11 @@
 
 #include "core/log.h"
 #include "gpu_embree.h"
-#include "render/motion.h"
+#include "render/scene/motion.h"
 #include "render/render.h"
 
 static void primary_rays(const pb_scene *s, uint32_t w, uint32_t h, pb_gpu_ray *rays) {
-  pb_camera_primary_rays(&s->cameras[0], w, h, 0, w * h, rays); /* render/motion.h */
+  pb_camera_primary_rays(&s->cameras[0], w, h, 0, w * h, rays); /* render/scene/motion.h */
 }
 
 int main(int argc, char **argv) {

@@ -23,8 +23,8 @@
 #include <string.h>
 
 #include "core/log.h"
-#include "render/atrous.h"
-#include "render/temporal.h"
+#include "render/filter/atrous.h"
+#include "render/filter/temporal.h"
 
 static uint64_t rng = 0x9e3779b97f4a7c15ull;
 static float frand(void) {

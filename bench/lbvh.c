@@ -41,8 +41,8 @@
 #include <unistd.h>
 
 #include "core/log.h"
-#include "render/lbvh_sort.h"
-#include "render/photon.h"
+#include "render/photon/lbvh_sort.h"
+#include "render/photon/photon.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"

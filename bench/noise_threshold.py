@@ -9,7 +9,7 @@ true error.
 For each scene (samples/NAME/NAME.gltf, or a path) a converged Embree
 reference at W x W (`photonbridge reference --spp N --estimate-noise`, cached
 in DIR) and, per threshold and seed, `photonbridge render --noise-threshold
-T`. Its --json gives the estimate (render/noise.h: RMS noise of the display
+T`. Its --json gives the estimate (render/frame/noise.h: RMS noise of the display
 image from two groups of independent photon maps) and what stopped it; the
 true error is `compare`'s display PSNR against the reference through the
 built-in config's sRGB Standard view (the display the estimate is measured

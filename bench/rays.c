@@ -23,7 +23,7 @@
 
 #include "core/log.h"
 #include "gpu_embree.h"
-#include "render/motion.h"
+#include "render/scene/motion.h"
 #include "render/render.h"
 
 typedef struct job {
@@ -55,7 +55,7 @@ static double embree_run(const pbt_embree *e, const pb_gpu_ray *rays, pb_gpu_hit
 }
 
 static void primary_rays(const pb_scene *s, uint32_t w, uint32_t h, pb_gpu_ray *rays) {
-  pb_camera_primary_rays(&s->cameras[0], w, h, 0, w * h, rays); /* render/motion.h */
+  pb_camera_primary_rays(&s->cameras[0], w, h, 0, w * h, rays); /* render/scene/motion.h */
 }
 
 int main(int argc, char **argv) {

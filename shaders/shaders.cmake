@@ -1,4 +1,4 @@
-# Compiles shaders/*.comp to SPIR-V with glslc at build time and embeds each
+# Compiles shaders/*/*.comp to SPIR-V with glslc at build time and embeds each
 # as a C array header, ${CMAKE_BINARY_DIR}/generated/shaders/NAME.spv.h,
 # defining `static const uint32_t pb_spv_NAME[]`. glslc writes a depfile
 # (-MD), so editing an included header (shaders/shared/*.h,
@@ -25,7 +25,9 @@ if(PB_SHADERS_FROM)
   return()
 endif()
 find_program(GLSLC glslc REQUIRED)
-file(GLOB PB_SHADER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/*.comp)
+# One folder per concern (frame, scene, photon, estimate, filter); a
+# kernel's name is its file's name, unique across the folders.
+file(GLOB PB_SHADER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/*/*.comp)
 file(GLOB PB_SHADER_HEADERS CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/shaders/shared/*.h
      ${CMAKE_SOURCE_DIR}/shaders/common/*.glsl)
 set(PB_SHADER_OUT ${CMAKE_BINARY_DIR}/generated/shaders)
@@ -59,6 +61,10 @@ endfunction()
 
 foreach(src ${PB_SHADER_SOURCES})
   get_filename_component(name ${src} NAME_WE)
+  if(DEFINED PB_SHADER_SRC_${name})
+    message(FATAL_ERROR "two shaders named ${name}: ${PB_SHADER_SRC_${name}} and ${src}")
+  endif()
+  set(PB_SHADER_SRC_${name} ${src})
   pb_shader(${name} ${src})
 endforeach()
 
@@ -69,26 +75,24 @@ endforeach()
 # materials (plan.h blender_materials).
 set(PB_SHADER_BLENDER_VARIANTS gbuffer direct gather knn photon_trace photon_rsm splat_resolve vsch_shade)
 foreach(name ${PB_SHADER_BLENDER_VARIANTS})
-  pb_shader(${name}_blender ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -DPB_BLENDER=1)
+  pb_shader(${name}_blender ${PB_SHADER_SRC_${name}} -DPB_BLENDER=1)
 endforeach()
-# The image-space photon tracer (seed 003; src/render/tracer_images.c):
+# The image-space photon tracer (seed 003; src/render/photon/tracer_images.c):
 # photon_trace.comp with -DPB_IMAGE_TRACER=1, whose segments are searched in
 # the environment maps (common/image_maps.glsl) instead of the BVH, as
 # photon_trace_images and photon_trace_images_blender.
-pb_shader(photon_trace_images ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp -DPB_IMAGE_TRACER=1)
-pb_shader(photon_trace_images_blender ${CMAKE_SOURCE_DIR}/shaders/photon_trace.comp -DPB_IMAGE_TRACER=1
+pb_shader(photon_trace_images ${PB_SHADER_SRC_photon_trace} -DPB_IMAGE_TRACER=1)
+pb_shader(photon_trace_images_blender ${PB_SHADER_SRC_photon_trace} -DPB_IMAGE_TRACER=1
           -DPB_BLENDER=1)
-# The multi-level up-sampling's gather (seed 003 sec. 6; src/render/upsample.c):
+# The multi-level up-sampling's gather (seed 003 sec. 6; src/render/estimate/upsample.c):
 # gather.comp with -DPB_UPSAMPLE=1, the diffuse irradiance at a list of pixels
 # and the rest at full resolution, as gather_upsample and
 # gather_upsample_blender.
-pb_shader(gather_upsample ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_UPSAMPLE=1)
-pb_shader(gather_upsample_blender ${CMAKE_SOURCE_DIR}/shaders/gather.comp -DPB_UPSAMPLE=1 -DPB_BLENDER=1)
-# Kernels that use VK_KHR_ray_query (GL_EXT_ray_query) live in
-# shaders/ray_query/, outside the glob above: only devices created with the
-# ray-query extensions (pb_gpu_limits.ray_query) load them, so no module that
-# every device loads holds ray-query SPIR-V.
-pb_shader(raycast_rq ${CMAKE_SOURCE_DIR}/shaders/ray_query/raycast_rq.comp)
+pb_shader(gather_upsample ${PB_SHADER_SRC_gather} -DPB_UPSAMPLE=1)
+pb_shader(gather_upsample_blender ${PB_SHADER_SRC_gather} -DPB_UPSAMPLE=1 -DPB_BLENDER=1)
+# raycast_rq.comp (GLSL 460, VK_KHR_ray_query) is compiled by the glob as it
+# is; only devices created with the ray-query extensions
+# (pb_gpu_limits.ray_query) load it.
 # The ray-query builds of every kernel that casts rays (common/bvh.glsl
 # pb_trace through rayQueryEXT, the scene's acceleration structure at the
 # BVH nodes' binding): NAME_rq, and NAME_rq_blender for the passes with a
@@ -98,12 +102,12 @@ pb_shader(raycast_rq ${CMAKE_SOURCE_DIR}/shaders/ray_query/raycast_rq.comp)
 set(PB_SHADER_RAY_QUERY_VARIANTS gbuffer direct gather knn photon_trace photon_rsm vsch_shade vsch_leaf image_maps
     motion)
 foreach(name ${PB_SHADER_RAY_QUERY_VARIANTS})
-  pb_shader(${name}_rq ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -std=460 -w -DPB_RAY_QUERY=1)
+  pb_shader(${name}_rq ${PB_SHADER_SRC_${name}} -std=460 -w -DPB_RAY_QUERY=1)
   if(name IN_LIST PB_SHADER_BLENDER_VARIANTS)
-    pb_shader(${name}_rq_blender ${CMAKE_SOURCE_DIR}/shaders/${name}.comp -std=460 -w -DPB_RAY_QUERY=1 -DPB_BLENDER=1)
+    pb_shader(${name}_rq_blender ${PB_SHADER_SRC_${name}} -std=460 -w -DPB_RAY_QUERY=1 -DPB_BLENDER=1)
   endif()
 endforeach()
-pb_shader(gather_upsample_rq ${CMAKE_SOURCE_DIR}/shaders/gather.comp -std=460 -w -DPB_RAY_QUERY=1 -DPB_UPSAMPLE=1)
-pb_shader(gather_upsample_rq_blender ${CMAKE_SOURCE_DIR}/shaders/gather.comp -std=460 -w -DPB_RAY_QUERY=1
+pb_shader(gather_upsample_rq ${PB_SHADER_SRC_gather} -std=460 -w -DPB_RAY_QUERY=1 -DPB_UPSAMPLE=1)
+pb_shader(gather_upsample_rq_blender ${PB_SHADER_SRC_gather} -std=460 -w -DPB_RAY_QUERY=1
           -DPB_UPSAMPLE=1 -DPB_BLENDER=1)
 add_custom_target(pb_shaders DEPENDS ${PB_SHADER_OUTPUTS})

@@ -1,4 +1,4 @@
-"""Photons from emissive triangles (render/photon_trace.c emitter slot,
+"""Photons from emissive triangles (render/photon/photon_trace.c emitter slot,
 photon_trace.comp PB_GPU_EMITTER_LIGHT): cornell_box with its point light
 replaced by an emissive ceiling quad (0.5 x 0.5 m, strength 40, single-sided,
 facing down; a second run double-sided and textured: the same quad's emission

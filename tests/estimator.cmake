@@ -1,4 +1,4 @@
-# The density estimators behind one interface (render/estimator.h):
+# The density estimators behind one interface (render/estimate/estimator.h):
 # tests/estimator_check.py. Device tests: validation layers fatal, skip
 # without a device.
 add_test(NAME estimator_interface
@@ -15,7 +15,7 @@ add_test(NAME estimator_knn_cli
                  ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check knn)
 set_tests_properties(estimator_knn_cli PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;no-sanitize" TIMEOUT 600)
 # kNN at the default k on spot_room: no pixel lit by the gather black (the llvmpipe
-# loop limiter; shaders/knn.comp SC_BUDGET).
+# loop limiter; shaders/estimate/knn.comp SC_BUDGET).
 add_test(NAME estimator_knn_spot_room
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/estimator_check.py ${PB_EXE} $<TARGET_FILE:exr_probe>
                  ${PB_ROOT} ${CMAKE_CURRENT_BINARY_DIR}/estimator_check knn_spot)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The density-estimator interface (src/render/estimator.h).
+"""The density-estimator interface (src/render/estimate/estimator.h).
 
 interface: `render --estimator lbvh` and `--estimator auto` (auto resolves to
   lbvh) give the default's pixels (to float rounding: the photon store's
@@ -200,7 +200,7 @@ def part_knn_spot():
     """kNN at the default k = 64 on spot_room (crate and ball lit by a spot):
     on llvmpipe the search used to run past the gallivm
     loop limiter (65535 back edges per SIMD vector, all loops together;
-    shaders/knn.comp SC_BUDGET) and left pixels black where the LBVH gather
+    shaders/estimate/knn.comp SC_BUDGET) and left pixels black where the LBVH gather
     is lit. No such pixel may be 0 in kNN, and the mean indirect + caustic
     light must be within 5 % of the gather's (measured: within ~1 %)."""
     d = fresh("knn_spot")

@@ -26,3 +26,8 @@ set_tests_properties(frame_in_flight PROPERTIES SKIP_RETURN_CODE 77 LABELS "gpu;
 # (tests/function_length.py; GPU-free).
 add_test(NAME frame_function_length
          COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/function_length.py ${PB_ROOT}/src/render 150)
+# The house's layout from the includes: nothing below src/app includes it,
+# the rooms' include graph and the headers have no cycle, src/render and
+# shaders/ one level deeper by concern (tests/layout_check.py; GPU-free).
+add_test(NAME layout_rooms COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/layout_check.py ${PB_ROOT})
+set_tests_properties(layout_rooms PROPERTIES PASS_REGULAR_EXPRESSION "[0-9]+ passed, 0 failed")

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Frames in flight (gpu.h PB_GPU_FRAMES, render/frame.c): the next frame is
+"""Frames in flight (gpu.h PB_GPU_FRAMES, render/frame/frame.c): the next frame is
 posed and recorded while the previous frame's last submission still runs.
 
 1. Synchronization validation (PB_SYNC_VALIDATION=1: the Khronos layer with

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Same pixels as before: the GPU-resident frame's resolve pass
-(shaders/resolve.comp) and readback give the AOVs the host resolve gave,
+(shaders/frame/resolve.comp) and readback give the AOVs the host resolve gave,
 channel for channel, for every sample scene (small, same seed), a scene
 with normal maps (eq. 20's AOVs), a direct-only render and a short sequence
 (temporal filter, motion vectors, A-Trous).
 
 Reference: the same binary with PB_RESOLVE_ON_HOST=1 (the former host
-resolve, kept in src/render/readback.c as the test's reference), and, when
+resolve, kept in src/render/frame/readback.c as the test's reference), and, when
 a baseline binary is given (the 5th argument or PB_BASELINE_EXE, e.g. a
 build of the commit before the GPU-resident frame), that binary's output too.
 Two renders agree to float rounding, not bit for bit: the photon store's
@@ -157,7 +157,7 @@ def part_extra():
 
 
 def part_in_flight():
-    """Frames in flight (src/render/sequence.h): a sequence rendered
+    """Frames in flight (src/render/frame/sequence.h): a sequence rendered
     with --frames-in-flight 2 (the frame's last submission and the readback's
     copy into the ring run while the host goes on; frames come out one late)
     against --frames-in-flight 1 (one frame at a time), same seed: the same
@@ -203,7 +203,7 @@ def part_in_flight():
 
 def part_still_gpu():
     """A still run's progressive accumulation on the GPU
-    (shaders/accumulate.comp, the running means in a target of the sequence)
+    (shaders/frame/accumulate.comp, the running means in a target of the sequence)
     against the host arrays it replaced (PB_STILL_ON_HOST=1, sequence.c's
     accumulate()), same seed: every frame of a still camera (5 frames: the
     beauty, direct and caustic means) to float rounding, with 1 and 2 frames

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""No function in a folder's C files over a number of lines (src/render: 150;
+"""No function in a folder's C files (its subfolders included) over a number of lines (src/render: 150;
 the frame reads as its stages, docs/architecture.md). A definition runs from
 the first line of its signature (at column 0) to its closing brace at column
 0. Prints the longest; exit 1 when one is over the limit.
@@ -12,7 +12,7 @@ import sys
 
 folder, limit = sys.argv[1], int(sys.argv[2])
 found = []
-for path in sorted(glob.glob(os.path.join(folder, "*.c"))):
+for path in sorted(glob.glob(os.path.join(folder, "**", "*.c"), recursive=True)):
     lines = open(path, encoding="utf-8").read().split("\n")
     i = 0
     while i < len(lines):
@@ -25,7 +25,7 @@ for path in sorted(glob.glob(os.path.join(folder, "*.c"))):
                 k = j
                 while k < len(lines) and not lines[k].startswith("}"):
                     k += 1
-                found.append((k - i + 1, os.path.basename(path), m.group(1)))
+                found.append((k - i + 1, os.path.relpath(path, folder), m.group(1)))
                 i = k
         i += 1
 found.sort(reverse=True)

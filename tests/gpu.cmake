@@ -153,7 +153,7 @@ set_tests_properties(gpu_ring_caustic_share PROPERTIES ENVIRONMENT "PB_VK_VALIDA
 # SPPM, 59.7 s on 2 cores, own noise 50.1 dB: run_bench's cached converged
 # reference), beauty PSNR at least 35 dB. Measured 2026-12-04 (lavapipe):
 # 35.42 dB; 34.43 dB before the gather stopped counting floor photons from
-# behind the ring's thin wall (shaders/gather.comp), about 31 with the
+# behind the ring's thin wall (shaders/estimate/gather.comp), about 31 with the
 # caustic share off and S_c 0.5 (bench/README.md, "The caustic share").
 add_test(NAME gpu_ring_35db
          COMMAND sh -c "\"$0\" info --devices >/dev/null 2>&1 || { echo 'skip: no Vulkan device'; exit 77; };
@@ -186,7 +186,7 @@ if(TEST test_gpu_present)
                        LABELS "gpu;no-sanitize;view" TIMEOUT 600)
 endif()
 
-# Photons from emissive triangles (render/photon_trace.c's emitter slot): a
+# Photons from emissive triangles (render/photon/photon_trace.c's emitter slot): a
 # Cornell box lit only by an emissive quad (single-sided; double-sided and
 # textured) against the reference path tracer, beauty and indirect means
 # (tests/emitter_photons.py; before, no photon stage: 42 % dark).

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """render --noise-threshold: the render refines photon maps until its own
-noise estimate (render/noise.h: the RMS noise of the display image, from two
+noise estimate (render/frame/noise.h: the RMS noise of the display image, from two
 groups of independent maps) reaches the threshold, and the estimate is
 honest: against a converged reference (Embree, its own noise from its two
 halves taken out) the true display error lies within a factor 1.5 of the

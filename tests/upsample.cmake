@@ -1,5 +1,5 @@
 # Seed 003's multi-level up-sampling of the diffuse photon irradiance (sec. 6,
-# Figure 9; src/render/upsample.c): the lit plane with an analytic answer
+# Figure 9; src/render/estimate/upsample.c): the lit plane with an analytic answer
 # (tests/unit/test_gpu_upsample.c) and cornell_box from the command line
 # against --upsample-levels 0 (tests/upsample_check.py). Validation layers
 # fatal, skip without a device.

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Seed 003's multi-level up-sampling of the diffuse photon irradiance
-(sec. 6, Figure 9; src/render/upsample.c) from the command line, on
+(sec. 6, Figure 9; src/render/estimate/upsample.c) from the command line, on
 cornell_box: `render --upsample-levels 2` against `--upsample-levels 0` at
 the same seed (the same photon maps):
   - the mean beauty and the mean indirect within 2 %;

@@ -5,7 +5,7 @@
 //   im_texels[] (pb_gpu_image_texel)
 // (one buffer for the first two), and defines PB_INF (common/bvh.glsl).
 // A host port of pb_image_classify and of the whole search lives in
-// src/render/image_maps.c (pb_image_classify, pb_image_maps_intersect_host)
+// src/render/photon/image_maps.c (pb_image_classify, pb_image_maps_intersect_host)
 // and is tested on constructed rays (test_image_maps_classify).
 #ifndef PB_IMAGE_MAPS_GLSL
 #define PB_IMAGE_MAPS_GLSL

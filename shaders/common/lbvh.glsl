@@ -1,4 +1,4 @@
-// Bindings shared by every LBVH build pass (src/render/lbvh.c binds them in
+// Bindings shared by every LBVH build pass (src/render/photon/lbvh.c binds them in
 // this order; one layout for all passes keeps the host side to one list).
 #ifndef PB_LBVH_GLSL
 #define PB_LBVH_GLSL

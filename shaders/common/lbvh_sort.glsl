@@ -1,4 +1,4 @@
-// The GPU radix sort's kernels (src/render/lbvh_sort.c; the state and the
+// The GPU radix sort's kernels (src/render/photon/lbvh_sort.c; the state and the
 // constants are in shared/pb_lbvh.h). Each shaders/lbvh_sort_*.comp includes
 // this file and calls one function; lbvh_sort_downsweep_sg defines
 // PB_SORT_SUBGROUPS and ranks with subgroup operations, the others use only

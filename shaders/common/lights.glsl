@@ -4,7 +4,7 @@
 // radiance and its sampling table), so that both renderers draw the same
 // estimators. Included after scene.glsl by the passes that light or emit:
 // they define PB_WORLD_BINDING, the binding of the world's buffer
-// (pb_gpu_world and its data, src/render/scene_gpu.c).
+// (pb_gpu_world and its data, src/render/scene/scene_gpu.c).
 #ifndef PB_LIGHTS_GLSL
 #define PB_LIGHTS_GLSL
 

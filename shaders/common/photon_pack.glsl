@@ -3,7 +3,7 @@
 // into Morton order, unpacked by the gather and kNN. Half the 96 bytes of
 // pb_gpu_photon: the climb writes, and every gather reads, 3 uvec4 instead
 // of 6 per photon (on llvmpipe each is a loop over the 8 lanes; on a GPU
-// the gather's memory traffic). src/render/photon_pack.h is the host's
+// the gather's memory traffic). src/render/photon/photon_pack.h is the host's
 // decoder (tests), the same arithmetic in C.
 #ifndef PB_PHOTON_PACK_GLSL
 #define PB_PHOTON_PACK_GLSL

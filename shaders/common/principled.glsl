@@ -458,7 +458,7 @@ void pb_microfacet(inout pb_closure c, vec3 n, vec3 t, float ax, float ay, float
 
 // The table starting at float t (PB_P2T_*, shared/pb_principled2_tables.h)
 // at i: the tables follow the texels in the same buffer, from texel index
-// frame.principled2_base (src/render/scene_gpu.c), only in scenes that have
+// frame.principled2_base (src/render/scene/scene_gpu.c), only in scenes that have
 // a v2 material; nothing else reads them.
 float pb2_fetch(uint t, int i) { return uintBitsToFloat(texels[frame.principled2_base + t + uint(i)]); }
 // Samples at k / (n - 1) over [0, 1], clamped; linear in between.

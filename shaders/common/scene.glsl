@@ -34,7 +34,7 @@ layout(std430, set = 0, binding = PB_BIND_EMITTERS) readonly buffer Emitters { p
 layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
 #endif
 
-// Specialization constants (src/render/frame.c sets them from the scene's
+// Specialization constants (src/render/frame/frame.c sets them from the scene's
 // features): code for a feature the scene lacks is compiled out.
 layout(constant_id = PB_SPEC_HAS_NORMALS) const bool SC_HAS_NORMALS = true;
 layout(constant_id = PB_SPEC_TEXTURES) const bool SC_TEXTURES = true;

@@ -1,5 +1,5 @@
-/* A still run's progressive accumulation on the GPU (shaders/accumulate.comp,
- * src/render/accumulate.c): the running means the sequence
+/* A still run's progressive accumulation on the GPU (shaders/frame/accumulate.comp,
+ * src/render/frame/accumulate.c): the running means the sequence
  * kept in host arrays (sequence.c accumulate), in a target of the sequence
  * (targets.h pb_still_sum), updated in place on the resolved planes.
  * Shared by C and GLSL. */

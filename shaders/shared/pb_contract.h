@@ -172,7 +172,7 @@
 #define PB_TEMPORAL_BIND_STATS 8    /* pb_gpu_temporal_stats (atomics) */
 #define PB_TEMPORAL_BIND_COUNT 9
 
-/* ---- filter_io.comp (src/render/filters.c): the filters' inputs packed from
+/* ---- filter_io.comp (src/render/filter/filters.c): the filters' inputs packed from
  * the resolved planes, their outputs composed back into them ---------------- */
 #define PB_FILTER_IO_BIND_PLANES 0        /* the resolve's float planes */
 #define PB_FILTER_IO_BIND_PHOTON_PLANES 1 /* the resolve's photon planes */

@@ -1,5 +1,5 @@
 /* The spatial filter (seed 001 24.4.2): the push constants shared by
- * src/render/atrous.c and shaders/atrous.comp. Included after pb_gpu.h.
+ * src/render/filter/atrous.c and shaders/atrous.comp. Included after pb_gpu.h.
  * Buffers, vec4 per pixel, top row first: 0 irradiance (s_i, two halves of
  * width x height for the ping-pong), 1 the clipped detail sum, 2 geometry
  * (shading normal xyz, camera depth; depth 0: no surface), 3 the indirect
@@ -23,8 +23,8 @@ PB_STRUCT(pb_gpu_atrous_push) {
   float gamma;      /* variance clipping: b_i = gamma sigma_i (eq. 18) */
 } PB_END(pb_gpu_atrous_push)
 
-/* The temporal filter (seed 001 24.4.1; src/render/temporal.c,
- * shaders/temporal.comp). Buffers, vec4 per pixel, top row first: 0 the
+/* The temporal filter (seed 001 24.4.1; src/render/filter/temporal.c,
+ * shaders/filter/temporal.comp). Buffers, vec4 per pixel, top row first: 0 the
  * previous frame's temporally filtered irradiance (rgb) and history length
  * (w), 1 the previous frame's geometry (shading normal xyz, camera depth),
  * 2 this frame's geometry, 3 this frame's radiance (rgb; read only), 4 the albedo
@@ -64,7 +64,7 @@ PB_STRUCT(pb_gpu_temporal_stats) {
   uint len_hi;
 } PB_END(pb_gpu_temporal_stats)
 
-/* filter_io.comp (src/render/filters.c): PACK copies the resolved planes
+/* filter_io.comp (src/render/filter/filters.c): PACK copies the resolved planes
  * into the filters' vec4 buffers (geometry, albedo, indirect with L = 1,
  * caustics); COMPOSE writes the filtered indirect and caustics back into
  * their planes, non-finite values as 0 (counted in the resolve's guard),
@@ -81,7 +81,7 @@ PB_STRUCT(pb_gpu_filter_io_push) {
   uint pad0;
 } PB_END(pb_gpu_filter_io_push)
 
-/* shading_correction.comp: eq. 20 (src/render/shading_correction.h). */
+/* shading_correction.comp: eq. 20 (src/render/estimate/shading_correction.h). */
 PB_STRUCT(pb_gpu_shading_push) {
   uint pixels;
   float s_max;
@@ -89,7 +89,7 @@ PB_STRUCT(pb_gpu_shading_push) {
   uint pad1;
 } PB_END(pb_gpu_shading_push)
 
-/* Motion vectors (src/render/motion.c, shaders/motion.comp): this frame's
+/* Motion vectors (src/render/scene/motion.c, shaders/scene/motion.comp): this frame's
  * camera (its pixel-centre rays) and the previous frame's (the
  * reprojection), both for the same image. Binding 4 of the pass. */
 PB_STRUCT(pb_gpu_motion_params) {

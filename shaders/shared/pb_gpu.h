@@ -471,7 +471,7 @@ PB_STRUCT(pb_gpu_raycast_push) {
 } PB_END(pb_gpu_raycast_push)
 
 
-/* Photon tracer (shaders/photon_trace.comp, src/render/photon_trace.c).
+/* Photon tracer (shaders/photon/photon_trace.comp, src/render/photon/photon_trace.c).
  * Header of the tracer's parameter buffer, followed by one
  * pb_gpu_photon_light per light that receives photons. guarded, absorbed
  * and escaped are statistics the kernel adds to (atomics). */

@@ -2,7 +2,7 @@
  * al. 2010, sections 3-5): k cube maps of the scene, each seen from one
  * environment-map centre (EMC), holding per texel the first surface along
  * the texel's direction: position, geometric normal, triangle and material.
- * Written by shaders/image_maps.comp (rays cast from the centre through
+ * Written by shaders/photon/image_maps.comp (rays cast from the centre through
  * the BVH), read by common/image_maps.glsl (the ray-map intersection of
  * section 5). Included after pb_gpu.h. Host side: src/render/image_maps.c.
  *

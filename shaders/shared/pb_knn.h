@@ -1,5 +1,5 @@
-/* kNN photon mapping (seed 000 section 3.1; src/render/estimator_knn.c,
- * shaders/knn.comp): the push constants of the query pass. Included after
+/* kNN photon mapping (seed 000 section 3.1; src/render/estimate/estimator_knn.c,
+ * shaders/estimate/knn.comp): the push constants of the query pass. Included after
  * pb_gpu.h, pb_photon.h and pb_lbvh.h (it reads the photon LBVH). */
 #ifndef PB_KNN_SHARED_H
 #define PB_KNN_SHARED_H

@@ -1,5 +1,5 @@
 /* The photon LBVH and the gather (seed 000 sections 5-6): structs shared by
- * src/render/lbvh.c, lbvh_sort.c, gather.c, shaders/lbvh_*.comp and
+ * src/render/photon/lbvh.c, lbvh_sort.c, gather.c, shaders/lbvh_*.comp and
  * shaders/gather.comp. Included after pb_gpu.h and pb_photon.h.
  *
  * The tree is the binary radix tree (Karras 2012) over the photons sorted by
@@ -88,7 +88,7 @@ PB_STRUCT(pb_gpu_lbvh_push) {
   uint sorted;           /* offset of the sorted keys/values in the sort's buffers */
 } PB_END(pb_gpu_lbvh_push)
 
-/* ---- GPU radix sort (src/render/lbvh_sort.c, shaders/lbvh_sort_*.comp) ----
+/* ---- GPU radix sort (src/render/photon/lbvh_sort.c, shaders/lbvh_sort_*.comp) ----
  * LSD radix sort of 32-bit keys with 32-bit values, one pass per digit,
  * reduce-then-scan (Merrill & Grimshaw 2011, "High performance and scalable
  * radix sorting", section 4): per pass an upsweep counts each tile's
@@ -160,7 +160,7 @@ PB_STRUCT(pb_gpu_photon_accum) {
 /* Only in scenes with normal maps (a buffer of its own, so other scenes
  * move 32 bytes per pixel, not 80), per pixel, sums over samples, for seed
  * 001's shading-normal correction (24.4.3, eq. 20;
- * src/render/shading_correction.c): dir.xyz: sum of w_i wi over the
+ * src/render/estimate/shading_correction.c): dir.xyz: sum of w_i wi over the
  * non-caustic photons gathered, w_i the kernel weight times the luminance
  * of the photon's power ("an additional blending target"), dir.w: sum of
  * w_i; geo.xyz: sum of the gather surface's geometric normal (facing the

@@ -1,4 +1,4 @@
-/* The viewer's display pass (shaders/present.comp, src/view/present_pass.c):
+/* The viewer's display pass (shaders/frame/present.comp, src/view/present_pass.c):
  * scene-linear pixels through the baked OCIO view
  * (color.h pb_color_lut: shaper + tetrahedral 3D LUT) into 8-bit RGBA on
  * the render device. Shared by C and GLSL. */

@@ -6,7 +6,7 @@
 #define PB_PRINCIPLED2_TABLES_H
 
 /* Each table's first float in the concatenation of all of them, in this
- * order: the GPU reads them from one buffer (src/render/scene_gpu.c puts
+ * order: the GPU reads them from one buffer (src/render/scene/scene_gpu.c puts
  * them after the texels, from pb_gpu_frame.principled2_base), the C
  * reference from the arrays below. */
 #define PB_P2T_GGX_E 0u

@@ -1,9 +1,9 @@
-/* The resolve pass (shaders/resolve.comp, src/render/resolve.c): the
+/* The resolve pass (shaders/frame/resolve.comp, src/render/frame/resolve.c): the
  * accumulators of a band (sums over samples) turned into the AOVs that leave
  * the GPU, on the GPU, in one buffer of planes: plane P of a band of
  * `pixels` pixels starts at float PB_RESOLVE_P * pixels and holds its
  * channels pixel after pixel (the layout of pb_render_result's arrays), so
- * that the readback (src/render/readback.c) copies each plane as it is.
+ * that the readback (src/render/frame/readback.c) copies each plane as it is.
  * Planes from PB_RESOLVE_BASE_CHANNELS on (the photon AOVs) lie in a second
  * buffer, at P - PB_RESOLVE_BASE_CHANNELS: neither needs more than 72 bytes
  * per pixel, so the band (frame.c) stays as wide as the accumulators allow.

@@ -1,5 +1,5 @@
 /* Reflective shadow maps for the photon tracer's first bounce (seed 001
- * 24.2.1; shaders/photon_rsm.comp, src/render/photon_rsm.c). Included after
+ * 24.2.1; shaders/photon/photon_rsm.comp, src/render/photon/photon_rsm.c). Included after
  * pb_gpu.h. One map per light entry of the tracer's light table: point
  * lights a cube map (6 faces of res x res), spots a perspective map over the
  * outer cone, directional lights an orthographic map over the scene's

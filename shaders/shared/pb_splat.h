@@ -1,5 +1,5 @@
 /* Screen-space photon splatting (seed 001 section 24.3, eq. 2-9; the
- * estimator "splat", src/render/estimator_splat.c): the push constants of
+ * estimator "splat", src/render/estimate/estimator_splat.c): the push constants of
  * its three passes, the per-pixel splat target and its statistics.
  * Included after pb_gpu.h (PB_STRUCT / PB_VEC3 / PB_CONST).
  *

@@ -1,6 +1,6 @@
 /* Multi-level up-sampling of the diffuse photon irradiance (seed 003 sec. 6
- * "Rendering", Figure 9; src/render/upsample.c, shaders/upsample_mark.comp,
- * shaders/upsample_compose.comp and gather.comp built with -DPB_UPSAMPLE=1).
+ * "Rendering", Figure 9; src/render/estimate/upsample.c, shaders/estimate/upsample_mark.comp,
+ * shaders/estimate/upsample_compose.comp and gather.comp built with -DPB_UPSAMPLE=1).
  * Included after pb_gpu.h.
  *
  * Buffers (bindings: shared/pb_contract.h PB_UPS_BIND_*):

@@ -1,5 +1,5 @@
 /* The view-sample cluster hierarchy estimator (seed 004, Moreau et al. 2016;
- * src/render/estimator_vsch.c, shaders/vsch_*.comp): constants, the push
+ * src/render/estimate/estimator_vsch.c, shaders/vsch_*.comp): constants, the push
  * constants and the layout of its one data buffer. Included after pb_gpu.h.
  *
  * The hierarchy (seed 004 4.1, after Sintorn et al. 2014), rebuilt over the

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "color/color_cli.h"
+#include "app/color_opts.h"
 #include "core/log.h"
 #include "gpu/gpu.h"
 

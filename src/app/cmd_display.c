@@ -8,7 +8,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "color/color_cli.h"
+#include "app/color_opts.h"
 #include "image/image.h"
 
 static const pb_command *self(void) {

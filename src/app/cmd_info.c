@@ -7,11 +7,11 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "color/color.h"
-#include "color/color_cli.h"
+#include "app/color_opts.h"
 #include "core/json.h"
-#include "render/estimator.h"
-#include "render/plan.h"
-#include "render/tracer.h"
+#include "render/estimate/estimator.h"
+#include "render/frame/plan.h"
+#include "render/photon/tracer.h"
 #include "scene/camera.h"
 
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
@@ -168,7 +168,7 @@ static void print_text(const pb_scene *s) {
          pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
                               : "off",
          pl.alpha ? "on" : "off");
-  /* The density estimators (render --estimator; render/estimator.h): what
+  /* The density estimators (render --estimator; render/estimate/estimator.h): what
    * auto picks for this scene and why, and which are in this binary. */
   pb_estimator_desc ad = {.kind = PB_ESTIMATOR_AUTO};
   printf("\nestimator  auto -> %s (%s); built:", pb_estimator_names[pb_estimator_resolve(s, &ad)],
@@ -176,7 +176,7 @@ static void print_text(const pb_scene *s) {
   for (uint32_t k = 0; k < PB_ESTIMATOR_AUTO; ++k)
     printf(" %s%s", pb_estimator_names[k], pb_estimator_built(k) ? "" : " (not built)");
   /* The photon tracers render --tracer (and view, serve) choose from
-   * (render/tracer.h); every one works on every scene. */
+   * (render/photon/tracer.h); every one works on every scene. */
   printf("\ntracers   ");
   for (uint32_t k = 0; pb_tracer_names[k]; ++k)
     printf("%s %s%s", k ? "," : "", pb_tracer_names[k],

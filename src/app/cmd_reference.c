@@ -13,7 +13,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "color/color_cli.h"
+#include "app/color_opts.h"
 #include "core/fs.h"
 #include "core/json.h"
 #include "core/log.h"

@@ -16,15 +16,15 @@
 #include <unistd.h>
 
 #include "app/cli.h"
-#include "color/color_cli.h"
+#include "app/color_opts.h"
 #include "app/commands.h"
 #include "core/fs.h"
 #include "core/json.h"
 #include "core/log.h"
 #include "image/image.h"
-#include "render/estimator.h"
-#include "render/photon.h"
-#include "render/plan.h"
+#include "render/estimate/estimator.h"
+#include "render/photon/photon.h"
+#include "render/frame/plan.h"
 #include "render/render.h"
 #include "app/render_out.h"
 #include "app/settings_opts.h"
@@ -33,7 +33,7 @@
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"
 #include "shared/pb_knn.h"
-#include "render/tracer.h"
+#include "render/photon/tracer.h"
 
 enum { PB_PATH_STAGE = 96 }; /* "writing OUT" (the stage text is cut there) */
 
@@ -205,7 +205,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
     pb_json_number(&j, "caustic_share", o->set.caustic_share);
     /* seed 003's variable bandwidth (--bandwidth-c0), 0: the differential footprints */
     pb_json_number(&j, "bandwidth_c0", o->set.bandwidth_c0);
-    /* The photon tracer (render/tracer.h) and its named statistics; the
+    /* The photon tracer (render/photon/tracer.h) and its named statistics; the
      * images tracer's miss rate: segments no map confirmed, over all. */
     pb_json_string(&j, "tracer", st->tracer ? st->tracer : pb_tracer_names[o->set.tracer]);
     for (uint32_t i = 0; i < st->tracer_stat_count; ++i)
@@ -247,7 +247,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "photon_divisions", (int64_t)st->photon_guarded);
   pb_json_end_object(&j);
   /* What ended the refinement, and the render's own noise estimate
-   * (render/noise.h; null without a noise threshold or before two maps). */
+   * (render/frame/noise.h; null without a noise threshold or before two maps). */
   static const char *const stops[] = {"planned", "time_limit", "noise_threshold"};
   pb_json_string(&j, "stop", stops[st->stop >= 0 && st->stop < 3 ? st->stop : 0]);
   pb_json_begin_object(&j, "noise");

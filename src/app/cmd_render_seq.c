@@ -1,4 +1,4 @@
-/* render --frames A:B (render_seq.h): frames rendered by render/sequence.h,
+/* render --frames A:B (render_seq.h): frames rendered by render/frame/sequence.h,
  * each written as its own EXR (atomically, so a failure leaves only whole
  * frames behind), after --warmup N unwritten frames before A that build the
  * temporal history (a chunk of a shot on a farm), with optional
@@ -240,7 +240,7 @@ static void json_frame(pb_json *j, const frame_record *f, uint64_t pixels) {
     pb_json_begin_object(j, "photons");
     pb_json_int(j, "emitted", (int64_t)st->photons_emitted);
     pb_json_int(j, "stored", (int64_t)st->photons_stored);
-    if (st->tracer) pb_json_string(j, "tracer", st->tracer); /* render/tracer.h and its statistics */
+    if (st->tracer) pb_json_string(j, "tracer", st->tracer); /* render/photon/tracer.h and its statistics */
     for (uint32_t i = 0; i < st->tracer_stat_count; ++i)
       pb_json_number(j, st->tracer_stats[i].name, st->tracer_stats[i].value);
     double miss_rate = pb_render_image_miss_rate(st);

@@ -18,6 +18,15 @@ static const pb_command *self(void) {
   return NULL;
 }
 
+/* Every scene the session loads, as the command line says. */
+static pb_result load_scene(void *user, const char *path, pb_scene *s, int *camera, uint32_t *w,
+                            uint32_t *h) {
+  const pb_core_opts *c = user;
+  pb_result r = pb_cli_load_scene(path, c, s);
+  if (r == PB_OK && (r = pb_cli_pick_camera(s, c, camera, w, h)) != PB_OK) pb_scene_destroy(s);
+  return r;
+}
+
 static const char *const format_names[] = {"rgba32f", "exr", NULL};
 
 int pb_cmd_serve(int argc, char **argv) {
@@ -83,7 +92,7 @@ int pb_cmd_serve(int argc, char **argv) {
   if (c.quiet) pb_log_set_level(PB_LOG_QUIET); /* before the device's warning (the scene loads later) */
   if ((r = pb_gpu_create(&gd, &g)) == PB_OK) {
     pb_cli_warn_cpu_device("serve", g);
-    pb_serve_desc d = {.scene = pos[0], .core = &c, .seq = seq, .settings = lo.set,
+    pb_serve_desc d = {.scene = pos[0], .load = load_scene, .load_user = &c, .seq = seq, .settings = lo.set,
                        .socket_path = socket_path, .frame_dir = frame_dir, .format = format};
     r = pb_serve_run(g, &d);
     if (r == PB_OK && pb_gpu_validation_total())

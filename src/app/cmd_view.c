@@ -8,12 +8,12 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/settings_opts.h"
-#include "color/color_cli.h"
+#include "app/color_opts.h"
 #include "core/log.h"
 #include "gpu/gpu.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 #ifdef PB_HAVE_GLFW
 #include "view/viewer.h"
 #endif

@@ -9,7 +9,7 @@
 
 #include "core/result.h"
 #include "render/render.h"
-#include "render/result_exr.h" /* the frame's EXR: render_out writes it */
+#include "render/frame/result_exr.h" /* the frame's EXR: render_out writes it */
 
 /* The format of render's -o OUT, from its extension (case-insensitive):
  * .exr the multilayer EXR above, .png the display-referred beauty through
@@ -39,7 +39,7 @@ void pb_render_bar_end(void);
  * Strings are JSON-escaped. Nothing is printed unless enabled (render
  * --progress-lines). */
 /* --json "estimator": {"name": ..., its named statistics} of a frame
- * (pb_render_stats.estimator, estimator_stats; render/estimator.h); nothing
+ * (pb_render_stats.estimator, estimator_stats; render/estimate/estimator.h); nothing
  * when the photon stages were off. */
 struct pb_json;
 void pb_render_json_estimator(struct pb_json *j, const pb_render_stats *st);

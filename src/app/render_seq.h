@@ -1,5 +1,5 @@
 /* `photonbridge render --frames A:B`: the frame-sequence half of the render
- * subcommand (cmd_render.c parses the options; render/sequence.h renders). */
+ * subcommand (cmd_render.c parses the options; render/frame/sequence.h renders). */
 #ifndef PB_APP_RENDER_SEQ_H
 #define PB_APP_RENDER_SEQ_H
 
@@ -8,7 +8,7 @@
 #include "app/cli.h"
 #include "color/color.h"
 #include "gpu/gpu.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 
 typedef struct pb_seq_opts {
   int32_t first, last;          /* frame numbers, inclusive; t = frame / fps */

@@ -9,7 +9,7 @@
 #include <stdint.h>
 
 #include "app/cli.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 #include "render/settings.h"
 
 /* The options of the settings offered on `surface` (PB_SURFACE_*),

@@ -102,7 +102,7 @@ const char *pb_color_blender_config(void);
 void pb_color_list(const pb_color *c, FILE *f);
 
 /* The view baked for the GPU: a 3D LUT of size^3 nodes on
- * a shaper, so that shaders/present.comp (src/view/present_pass.c) shows
+ * a shaper, so that shaders/frame/present.comp (src/view/present_pass.c) shows
  * what pb_color_apply_display gives, to one 8-bit step, HDR values included.
  *
  * The shaper (per channel, after the exposure scale): node 0 is x = 0; node
@@ -138,7 +138,7 @@ typedef struct pb_color_lut {
  * not in 2..129), PB_ERR_NOMEM, PB_ERR_NOT_AVAILABLE (OCIO). */
 pb_result pb_color_bake_lut(const pb_color *c, uint32_t size, pb_color_lut *out);
 void pb_color_lut_destroy(pb_color_lut *lut); /* accepts a zeroed one */
-/* The pass's arithmetic on the host (display_lut.c; shaders/present.comp
+/* The pass's arithmetic on the host (display_lut.c; shaders/frame/present.comp
  * does the same): scene-linear RGB scaled by `scale` (2^exposure) to
  * display values in [0, 1] (NaN and negative channels: the node at 0). */
 void pb_color_lut_eval(const pb_color_lut *lut, float scale, const float rgb[3], float out[3]);

@@ -1,6 +1,6 @@
 /* The baked view's evaluation on the host (color.h pb_color_lut): the
  * shaper and the tetrahedral interpolation, operation for operation as
- * shaders/present.comp does them, so that tests can check the bake without
+ * shaders/frame/present.comp does them, so that tests can check the bake without
  * a device and the pass against this. */
 #include <math.h>
 #include <stdlib.h>

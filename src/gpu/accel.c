@@ -11,7 +11,7 @@
  * instance and scratch buffers, and pb_gpu_accel_update builds it again
  * (or, made updatable, refits it) in place over new positions, so that the
  * pipelines bound to it stay valid; an animated scene does this where the GLSL BVH is
- * refitted or rebuilt (render/scene_gpu.c). No triangles: an empty top level
+ * refitted or rebuilt (render/scene/scene_gpu.c). No triangles: an empty top level
  * (every query misses). */
 #include <stdio.h>
 #include <string.h>

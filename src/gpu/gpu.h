@@ -228,7 +228,7 @@ typedef struct pb_gpu_transfers {
   uint32_t uploads, downloads; /* calls */
 } pb_gpu_transfers;
 pb_gpu_transfers pb_gpu_transfers_get(const pb_gpu *g);
-/* pb_gpu_buffer_download for the readback module (render/readback.h), the
+/* pb_gpu_buffer_download for the readback module (render/frame/readback.h), the
  * one place a frame's pixels come to the host: counted apart. */
 pb_result pb_gpu_buffer_read_back(pb_gpu *g, const pb_gpu_buffer *b, uint64_t offset, void *data, uint64_t size);
 /* Counts `size` bytes the readback read through a buffer's cached mapping. */
@@ -324,7 +324,7 @@ pb_result pb_gpu_pipeline_bind_accel(pb_gpu *g, pb_gpu_pipeline *p, uint32_t bin
  * memory dependency on all earlier submissions to the queue (a pipeline
  * barrier's first scope includes them), so a submission never overlaps the
  * one before it on the GPU, only the host's work. Three: a frame in flight,
- * the next frame's, and the one recording (render/frame.c). */
+ * the next frame's, and the one recording (render/frame/frame.c). */
 enum { PB_GPU_FRAMES = 3 };
 
 /* Begin, record dispatches, barriers and timestamps, then submit (and wait,
@@ -367,7 +367,7 @@ pb_result pb_gpu_submit(pb_gpu *g);
  *   - everything else (downloads, larger uploads, uploads while recording,
  *     destruction) waits for every pending submission first.
  * Reads of a buffer's `mapped` pointer do not wait: only for buffers the
- * pending submission does not write (render/readback.h's ring).
+ * pending submission does not write (render/frame/readback.h's ring).
  * The submission's timestamps stay readable (pb_gpu_timestamps_of) until
  * pb_gpu_release: its context is reused only when no other is free. */
 pb_result pb_gpu_submit_async(pb_gpu *g);

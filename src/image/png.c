@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 #include "core/fs.h"
-#include "scene/scene.h"
+#include "core/srgb.h"
 
 /* Third-party code: its own warnings are not ours to fix. */
 #pragma GCC diagnostic push

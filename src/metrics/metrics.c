@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene/scene.h" /* pb_linear_to_srgb */
+#include "core/srgb.h"
 
 pb_result pb_display_srgb(void *user, float *rgb, uint32_t w, uint32_t h) {
   (void)user;

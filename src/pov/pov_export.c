@@ -1,5 +1,6 @@
 /* pb_scene -> POV-Ray 3.7 SDL. The unit mappings and their derivations are in
  * pov.h; the tests render with POV-Ray and compare with the analytic values. */
+#include "core/srgb.h"
 #include "core/half.h"
 #include "pov/pov.h"
 #include "scene/camera.h"

@@ -3,7 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "ref/accel.h"
+#include "ref/bsdf.h"
 
 /* Embree reports errors through a callback; keep the first message of this
  * thread for pb_fail. */

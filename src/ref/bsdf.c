@@ -1,4 +1,4 @@
-/* The reference renderer's material model (see pb_bsdf in ref_internal.h):
+/* The reference renderer's material model (see pb_bsdf in ref/bsdf.h):
  * glTF metallic-roughness with KHR_materials_specular, _transmission and
  * _ior, evaluated and sampled in a shading frame whose z axis is the shading
  * normal facing the outgoing direction wo.
@@ -15,7 +15,7 @@
  * so the sample weight f cos / pdf reduces to F G2 / G1(wo). */
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "ref/bsdf.h"
 
 static inline float clamp01(float x) { return x < 0 ? 0 : (x > 1 ? 1 : x); }
 

@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "ref/lights.h"
 
 void pb_ref_lights_destroy(pb_ref_lights *l) {
   if (!l) return;

@@ -50,7 +50,9 @@
  * 2 + 1 / (1 - rho) for albedo rho). */
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "ref/bsdf.h"
+#include "ref/lights.h"
+#include "ref/pathtrace.h"
 
 /* Fraction of light reaching o + tmax d from o: 0 or 1, or through
  * surfaces with Alpha < 1 (Cycles' transparent shadows) the product of

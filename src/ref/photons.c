@@ -54,7 +54,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "core/parallel.h"
+#include "ref/bsdf.h"
+#include "ref/lights.h"
+#include "ref/photons.h"
 
 enum { CHUNK = 1024 }; /* photon paths per work item */
 
@@ -379,7 +382,7 @@ pb_result pb_photon_pass(pb_ref_ctx *ctx, uint32_t pass, uint32_t paths,
     r = pb_fail(PB_ERR_NOMEM, "reference: out of memory");
     goto done;
   }
-  r = pb_ref_parallel(ctx->threads, pc.chunk_count, chunk_work, &pc, NULL, NULL);
+  r = pb_parallel_for(ctx->threads, pc.chunk_count, chunk_work, &pc, NULL, NULL);
   if (r != PB_OK) goto done;
   if (pc.oom) {
     r = pb_fail(PB_ERR_NOMEM, "reference: out of memory storing photons");

@@ -74,7 +74,7 @@
 #include <float.h>
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "ref/bsdf.h"
 #include "shared/pb_principled2_tables.h"
 #include "shared/pb_thin_film.h"
 

@@ -1,38 +1,23 @@
 /* Driver of the reference renderer: validates the desc, builds the Embree
  * scene and light tables, and renders progressive passes of one sample per
- * pixel over 16x16 tiles on a pthread pool (tiles handed out by an atomic
- * counter). Each pixel's sum is accumulated in double in pass order, so the
+ * pixel over 16x16 tiles on the thread pool of core/parallel.h (tiles
+ * handed out by an atomic counter). Each pixel's sum is accumulated in double in pass order, so the
  * image does not depend on the thread count; in SPPM mode each pass first
  * traces its own caustic photon map (photons.c). */
-#ifndef _GNU_SOURCE
-#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
-#endif
 #include <errno.h>
 #include <float.h>
-#include <pthread.h>
-#include <sched.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "core/log.h"
+#include "core/parallel.h"
 #include "metrics/metrics.h"
-#include "ref/ref_internal.h"
+#include "ref/pathtrace.h"
 
 enum { TILE = 16, RAY_STRIDE = 8, MAX_BOUNCES_CAP = 4096 };
 
-uint32_t pb_ref_default_threads(void) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) == 0) {
-    int n = CPU_COUNT(&set);
-    if (n > 0) return (uint32_t)n;
-  }
-  long n = sysconf(_SC_NPROCESSORS_ONLN);
-  return n > 0 ? (uint32_t)n : 1u;
-}
+uint32_t pb_ref_default_threads(void) { return pb_cpu_count(); }
 
 const char *pb_ref_mode_name(pb_ref_mode m) {
   switch (m) {
@@ -59,102 +44,6 @@ static double cpu_now(void) {
   struct timespec ts;
   if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0.0;
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* ---- the worker pool ---------------------------------------------------- */
-
-typedef struct pool {
-  uint32_t count;
-  atomic_uint next;
-  atomic_uint done;
-  pb_ref_work_fn fn;
-  void *user;
-  pthread_mutex_t mu;
-  pthread_cond_t cv;
-  uint32_t finished;
-} pool;
-
-typedef struct worker_arg {
-  pool *p;
-  uint32_t thread;
-} worker_arg;
-
-static void *worker(void *arg) {
-  worker_arg *w = arg;
-  pool *p = w->p;
-  for (;;) {
-    uint32_t i = atomic_fetch_add(&p->next, 1u);
-    if (i >= p->count) break;
-    p->fn(p->user, i, w->thread);
-    atomic_fetch_add(&p->done, 1u);
-  }
-  pthread_mutex_lock(&p->mu);
-  p->finished++;
-  pthread_cond_signal(&p->cv);
-  pthread_mutex_unlock(&p->mu);
-  return NULL;
-}
-
-pb_result pb_ref_parallel(uint32_t threads, uint32_t count, pb_ref_work_fn fn,
-                          void *user, void (*tick)(void *, uint32_t), void *tick_user) {
-  if (count == 0) return PB_OK;
-  if (threads > count) threads = count;
-  if (threads == 0) threads = 1;
-  pool p;
-  memset(&p, 0, sizeof p);
-  p.count = count;
-  atomic_init(&p.next, 0u);
-  atomic_init(&p.done, 0u);
-  p.fn = fn;
-  p.user = user;
-  pthread_mutex_init(&p.mu, NULL);
-  pthread_cond_init(&p.cv, NULL);
-  pthread_t *tid = malloc(threads * sizeof *tid);
-  worker_arg *args = malloc(threads * sizeof *args);
-  if (!tid || !args) {
-    free(tid);
-    free(args);
-    pthread_mutex_destroy(&p.mu);
-    pthread_cond_destroy(&p.cv);
-    return pb_fail(PB_ERR_NOMEM, "reference: out of memory for %u threads", threads);
-  }
-  uint32_t started = 0;
-  pb_result r = PB_OK;
-  for (; started < threads; ++started) {
-    args[started].p = &p;
-    args[started].thread = started;
-    int e = pthread_create(&tid[started], NULL, worker, &args[started]);
-    if (e) {
-      if (started == 0)
-        r = pb_fail(PB_ERR_INTERNAL, "reference: cannot start a thread: %s", strerror(e));
-      break; /* the threads already running finish the work */
-    }
-  }
-  if (started > 0) {
-    pthread_mutex_lock(&p.mu);
-    while (p.finished < started) {
-      struct timespec ts;
-      clock_gettime(CLOCK_REALTIME, &ts);
-      ts.tv_nsec += 100 * 1000 * 1000;
-      if (ts.tv_nsec >= 1000000000L) {
-        ts.tv_sec++;
-        ts.tv_nsec -= 1000000000L;
-      }
-      pthread_cond_timedwait(&p.cv, &p.mu, &ts);
-      if (tick && p.finished < started) {
-        pthread_mutex_unlock(&p.mu);
-        tick(tick_user, atomic_load(&p.done));
-        pthread_mutex_lock(&p.mu);
-      }
-    }
-    pthread_mutex_unlock(&p.mu);
-    for (uint32_t i = 0; i < started; ++i) pthread_join(tid[i], NULL);
-  }
-  free(tid);
-  free(args);
-  pthread_mutex_destroy(&p.mu);
-  pthread_cond_destroy(&p.cv);
-  return r;
 }
 
 /* ---- rendering ---------------------------------------------------------- */
@@ -432,7 +321,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
     job.map = ctx.mode == PB_REF_MODE_SPPM ? &map : NULL;
     job.pass = pass;
     job.done_before = (uint64_t)pass * n;
-    r = pb_ref_parallel(ctx.threads, tiles_x * tiles_y, tile_work, &job, render_tick,
+    r = pb_parallel_for(ctx.threads, tiles_x * tiles_y, tile_work, &job, render_tick,
                         &job);
     pb_ref_photon_map_destroy(&map);
     if (r != PB_OK) goto fail;

@@ -24,7 +24,7 @@
  * material is double-sided; every surface shades on both sides, a back face
  * with its normals flipped; transmission is a solid refracting dielectric
  * (as in Cycles), not glTF's thin-walled default. The material model is
- * described at pb_bsdf in ref_internal.h.
+ * described at pb_bsdf in ref/bsdf.h.
  * Not modelled (yet): alpha mask/blend (surfaces are opaque), normal maps,
  * rough transmission (rendered smooth), light `range` (no cut-off), the
  * camera's znear/zfar, animation (the scene as loaded). */

@@ -3,7 +3,7 @@
  * strategies (kernel/light/light.h, light_common.h of Blender 3.4; scene.h
  * pb_light gives the emission each models). The GPU mirrors this file in
  * shaders/common/lights.glsl; tests compare the two. */
-#include "ref/ref_internal.h"
+#include "ref/lights.h"
 
 /* Below this solid angle [sr] a rectangle is sampled by area: Urena's
  * internal angles lose float precision there (the difference of four

@@ -6,7 +6,7 @@
  *                        emission seen along them) -> direct (shadow rays to
  *                        point, spot and directional lights, and to one
  *                        emissive triangle picked by power)
- *   photon stages (unless direct_only; render/photon.h): per iteration k < K
+ *   photon stages (unless direct_only; render/photon/photon.h): per iteration k < K
  *     trace (seed, k) -> LBVH build (lbvh.c) -> gather of that iteration's
  *     samples s in [k spp / K, (k+1) spp / K) (gather.c), after `direct`,
  *     into the indirect/caustic accumulators and the beauty
@@ -20,7 +20,7 @@
 #include "core/result.h"
 #include "gpu/bvh.h"
 #include "gpu/gpu.h"
-#include "render/estimator_desc.h"
+#include "render/estimate/estimator_desc.h"
 #include "scene/scene.h"
 
 /* The scene resident on the GPU. */
@@ -244,7 +244,7 @@ typedef struct pb_render_desc {
   double preview_interval_s;   /* < 0: no preview (progress only) */
   double time_limit_s;
   /* The noise threshold: > 0: the frame checks its own estimate of its
-   * noise (render/noise.h: the RMS noise of the display image, from two
+   * noise (render/frame/noise.h: the RMS noise of the display image, from two
    * groups of independent photon maps) as the maps finish, and no map
    * starts once the estimate is at or below this (the iterations are then
    * the most it runs). Checked on band 0 (the whole image in one band).
@@ -377,7 +377,7 @@ typedef struct pb_render_stats {
   uint32_t iterations;
   double k_pd;
   /* What ended the refinement (PB_RENDER_STOP_*) and, with a noise
-   * threshold, the frame's last noise estimate (render/noise.h: RMS on the
+   * threshold, the frame's last noise estimate (render/frame/noise.h: RMS on the
    * display image; < 0: fewer than two maps checked), its PSNR and the
    * number of checks. */
   int stop;

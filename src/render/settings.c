@@ -5,10 +5,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/estimator.h"
-#include "render/photon.h"
+#include "render/estimate/estimator.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
-#include "render/tracer.h"
+#include "render/photon/tracer.h"
 #include "shared/pb_image_maps.h"
 #include "shared/pb_knn.h"
 #include "shared/pb_lbvh.h"

@@ -18,7 +18,7 @@
  * sec. 6's, the A-Trous rows seed 001 24.4.2's, the footprint rows seed
  * 000 4.3's.)
  * What shapes the GPU resources needs no column: the frame's plan derives
- * its context key from the resolved pb_render_desc (render/plan.h
+ * its context key from the resolved pb_render_desc (render/frame/plan.h
  * pb_frame_shape).
  *
  * Columns:
@@ -65,8 +65,8 @@ enum {
 enum { PB_SETTING_ADVANCED = 1 };
 
 extern const char *const pb_settings_first_bounce_names[]; /* traced, rsm, auto */
-/* The other choices are render/estimator.h's pb_estimator_names and
- * render/tracer.h's pb_tracer_names (the table is expanded in settings.c). */
+/* The other choices are render/estimate/estimator.h's pb_estimator_names and
+ * render/photon/tracer.h's pb_tracer_names (the table is expanded in settings.c). */
 
 /* X(id, kind, cli, lo, hi, def, surfaces, flags, group, metavar, choices, needs, help) */
 #define PB_SETTINGS(X)                                                                                                 \

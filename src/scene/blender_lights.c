@@ -27,6 +27,7 @@
  *    pb_world) and the Mapping node's Euler XYZ (world.c) were checked with
  *    a map whose texels hold their own (u, v): every pixel of a Cycles
  *    render within 0.003 of the prediction, with and without rotation. */
+#include "core/srgb.h"
 #include "scene/blender_lights.h"
 
 #include <math.h>

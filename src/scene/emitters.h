@@ -1,6 +1,6 @@
 /* Emissive triangles as lights: the one table of them that both renderers
  * sample from (the reference, src/ref/lights.c, and the GPU's direct pass
- * through src/render/scene_gpu.c), so they pick emitters with the same
+ * through src/render/scene/scene_gpu.c), so they pick emitters with the same
  * probabilities. */
 #ifndef PB_SCENE_EMITTERS_H
 #define PB_SCENE_EMITTERS_H
@@ -27,7 +27,7 @@ void pb_emitter_table_destroy(pb_emitter_table *t);
 
 /* The emitters' flux [W], RGB: sum over the table's triangles of
  * pi A L x sides, L the emissive factor times its texture's mean (the
- * photon budget's share of the emitter slot, render/photon_trace.c). */
+ * photon budget's share of the emitter slot, render/photon/photon_trace.c). */
 void pb_emitter_flux(const pb_scene *s, double out[3]);
 
 /* Area of triangle t [m^2]. */

@@ -44,7 +44,7 @@ enum {
 };
 
 /* The directions a kind's photons leave in and the flux they carry per unit
- * intensity (the GPU photon tracer's emission, src/render/photon_trace.c):
+ * intensity (the GPU photon tracer's emission, src/render/photon/photon_trace.c):
  * solid angle `omega` of the directions (for ray differentials), `scale` the
  * flux per unit of intensity x colour, `cos_max` the cosine bounding the
  * directions about the axis (-1: the sphere, 1: parallel). */

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/srgb.h"
 #include "core/fs.h"
 #include "core/half.h"
 #include "image/decode.h"

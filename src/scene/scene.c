@@ -1,4 +1,5 @@
 /* The scene model's own operations (the glTF loader is load.c). */
+#include "core/srgb.h"
 #include "core/half.h"
 #include "scene/scene.h"
 
@@ -232,14 +233,6 @@ void pb_camera_image_size(const pb_camera *c, uint32_t want_w, uint32_t want_h,
     *w = 640;
     *h = (uint32_t)fmaxf(1.0f, roundf(640.0f / aspect));
   }
-}
-
-float pb_srgb_to_linear(float v) {
-  return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
-}
-float pb_linear_to_srgb(float v) {
-  if (!(v > 0.0f)) return 0.0f; /* also maps NaN to 0 */
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
 }
 
 static int wrap_coord(int i, int n, pb_wrap w) {

@@ -679,8 +679,4 @@ void pb_material_metal_rough(const pb_scene *s, const pb_material *m, const floa
 void pb_material_emission(const pb_scene *s, const pb_material *m, const float uv0[2], const float uv1[2],
                           const float color[4], float out[3]);
 
-/* sRGB transfer, exact IEC 61966-2-1 piecewise form. */
-float pb_srgb_to_linear(float v);
-float pb_linear_to_srgb(float v);
-
 #endif

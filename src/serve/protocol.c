@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/tracer.h"
+#include "render/photon/tracer.h"
 
 /* ---- the JSON reader ------------------------------------------------------ */
 

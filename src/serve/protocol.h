@@ -28,7 +28,7 @@
  *                              after frame (each an "event":"frame" line),
  *                              until N still passes (0: no limit) or, with
  *                              T in (0, 0.5], until the still run's noise
- *                              estimate (render/noise.h: the RMS noise of
+ *                              estimate (render/frame/noise.h: the RMS noise of
  *                              the displayed image, white 1) is at most T
  *   {"cmd":"reload","scene":PATH}  load PATH (default: the same file) again
  *   {"cmd":"quit"}

@@ -15,7 +15,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "render/result_exr.h"
+#include "render/frame/result_exr.h"
 #include "core/fs.h"
 #include "core/log.h"
 #include "serve/protocol.h"
@@ -108,13 +108,12 @@ static pb_result load(server *v, const char *path) {
   pb_gpu_scene gs;
   memset(&s, 0, sizeof s);
   memset(&gs, 0, sizeof gs);
-  pb_result r = pb_cli_load_scene(path, v->d->core, &s);
-  if (r != PB_OK) return r;
   int camera;
   uint32_t w, h;
   pb_camera *cams = NULL;
-  if ((r = pb_cli_pick_camera(&s, v->d->core, &camera, &w, &h)) != PB_OK ||
-      (r = pb_gpu_scene_create(v->g, &s, &gs)) != PB_OK)
+  pb_result r = v->d->load(v->d->load_user, path, &s, &camera, &w, &h);
+  if (r != PB_OK) return r;
+  if ((r = pb_gpu_scene_create(v->g, &s, &gs)) != PB_OK)
     goto fail;
   if (!(cams = malloc(s.camera_count * sizeof *cams))) {
     r = pb_fail(PB_ERR_NOMEM, "serve: out of memory");

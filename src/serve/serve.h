@@ -17,17 +17,24 @@
 
 #include <stdint.h>
 
-#include "app/cli.h"
 #include "core/result.h"
 #include "gpu/gpu.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 #include "render/settings.h"
+#include "scene/scene.h"
 
 enum { PB_SERVE_FORMAT_RGBA32F, PB_SERVE_FORMAT_EXR };
 
+/* Loads the scene at `path` as the command line says (the scene options,
+ * --camera, --width/--height): the scene, the camera to render and the
+ * image size. Called for the first scene and for every "load" request. */
+typedef pb_result (*pb_serve_load_fn)(void *user, const char *path, pb_scene *s, int *camera,
+                                      uint32_t *w, uint32_t *h);
+
 typedef struct pb_serve_desc {
   const char *scene;            /* the file loaded first */
-  const pb_core_opts *core;     /* --width/--height/--camera/scene options, for every (re)load */
+  pb_serve_load_fn load;        /* how every scene is (re)loaded */
+  void *load_user;
   pb_sequence_desc seq;         /* the frame settings; "settings" requests change them */
   pb_settings settings;         /* what seq was made from (render/settings.h) */
   const char *socket_path;      /* NULL: requests on stdin, replies on stdout */

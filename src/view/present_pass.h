@@ -1,5 +1,5 @@
 /* The viewer's picture made on the render device: an AOV
- * through the baked OCIO view (color.h pb_color_lut; shaders/present.comp)
+ * through the baked OCIO view (color.h pb_color_lut; shaders/frame/present.comp)
  * into an RGBA8 buffer on the GPU that the presenter (present.h) copies
  * into the swapchain when it shares the render device. Needs no window:
  * tests run it on any device. */

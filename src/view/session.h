@@ -16,9 +16,9 @@
 
 #include "core/result.h"
 #include "gpu/gpu.h"
-#include "render/noise.h"
+#include "render/frame/noise.h"
 #include "render/render.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 #include "scene/scene.h"
 
 typedef struct pb_view_session {
@@ -35,7 +35,7 @@ typedef struct pb_view_session {
   pb_render_result res;         /* the last frame */
   pb_sequence_frame_info info;  /* and what happened in it */
   /* The noise threshold (view --noise-threshold, serve's stream): the still
-   * run's own noise estimate (render/noise.h), the run's frames as its
+   * run's own noise estimate (render/frame/noise.h), the run's frames as its
    * blocks (the beauty a still run shows is their mean). */
   pb_noise_tracker noise;
   uint32_t noise_next;          /* the run frame of its next check */

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "render/result_exr.h"
+#include "render/frame/result_exr.h"
 #include "core/fs.h"
 #include "core/json.h"
 #include "core/log.h"

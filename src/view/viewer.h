@@ -3,7 +3,7 @@
  *
  *   input (GLFW callbacks, or the --script events due at this frame; both
  *   call the same handlers) -> the camera controller (controller.h) ->
- *   pb_sequence_frame (render/sequence.h, as `render --frames` drives it):
+ *   pb_sequence_frame (render/frame/sequence.h, as `render --frames` drives it):
  *   a frame where nothing moved refines the previous ones (progressive:
  *   the temporal filter's cumulative mean of the indirect light, the
  *   running mean of the rest, jittered samples, and with --progressive the
@@ -28,7 +28,7 @@
 #include "core/result.h"
 #include "gpu/gpu.h"
 #include "render/render.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 #include "scene/scene.h"
 
 typedef struct pb_view_desc {

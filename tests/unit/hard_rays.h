@@ -36,7 +36,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ref/ref_internal.h"
+#include "ref/accel.h"
+#include "ref/bsdf.h"
+#include "ref/lights.h"
 #include "scene/scene.h"
 #include "shared/pb_gpu.h"
 #include "test_ref_scene.h"

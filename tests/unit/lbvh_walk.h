@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "gpu/gpu.h"
-#include "render/photon.h"
-#include "render/photon_pack.h"
+#include "render/photon/photon.h"
+#include "render/photon/photon_pack.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"

@@ -13,7 +13,7 @@
 
 #include "gpu_test.h"
 #include "pbtest.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "shared/pb_photon.h"
 
 typedef struct traced {

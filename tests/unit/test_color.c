@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "core/srgb.h"
 #include "color/color.h"
 #include "core/fs.h"
 #include "image/image.h"

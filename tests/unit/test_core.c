@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/srgb.h"
 #include "app/cli.h"
 #include "core/fs.h"
 #include "core/json.h"

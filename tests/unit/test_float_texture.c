@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "core/srgb.h"
 #include "pbtest.h"
 #include "gltf_test.h"
 

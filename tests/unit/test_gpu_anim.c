@@ -14,7 +14,8 @@
 #include "gltf_test.h"
 #include "gpu_test.h"
 #include "gpu_embree.h"
-#include "ref/ref_internal.h"
+#include "ref/accel.h"
+#include "ref/bsdf.h"
 #include "render/render.h"
 
 static char dir[] = "/tmp/pbtest_gpu_anim_XXXXXX";

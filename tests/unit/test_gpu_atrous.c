@@ -1,4 +1,4 @@
-/* The A-Trous spatial filter (src/render/atrous.c, shaders/atrous.comp;
+/* The A-Trous spatial filter (src/render/filter/atrous.c, shaders/filter/atrous.comp;
  * seed 001 24.4.2) on synthetic G-buffers, and on cornell_box:
  *  - a constant irradiance stays constant (any normals and depths);
  *  - energy: the mean of a noisy plane within 1 %, and its noise reduced
@@ -18,7 +18,7 @@
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "ref/ref.h"
-#include "render/atrous.h"
+#include "render/filter/atrous.h"
 #include "render/render.h"
 
 enum { W = 64, H = 48, N = W * H };

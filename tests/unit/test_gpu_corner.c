@@ -5,7 +5,7 @@
  * the edge itself for a uniform density: the classic boundary bias of
  * kernel density estimation). The gather renormalises each photon's weight
  * by the share of its kernel, centred at the query point, that lies on the
- * query's face (shaders/gather.comp, the edges found by rays in the tangent
+ * query's face (shaders/estimate/gather.comp, the edges found by rays in the tangent
  * plane). Measured here: the mean indirect light (two or more scattering
  * events) over the corner strips of the room (points of a room face within
  * W of another, perpendicular room face), GPU (photon gather, defaults, 8

@@ -24,9 +24,9 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "ref/ref.h"
-#include "render/motion.h"
+#include "render/scene/motion.h"
 #include "render/render.h"
-#include "render/temporal.h"
+#include "render/filter/temporal.h"
 
 enum { W = 64, H = 48, N = W * H };
 

@@ -10,7 +10,7 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 
 static double max_diff(const pb_render_result *a, const pb_render_result *b) {

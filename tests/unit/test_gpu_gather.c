@@ -1,4 +1,4 @@
-/* The photon gather (shaders/gather.comp) against an analytic answer:
+/* The photon gather (shaders/estimate/gather.comp) against an analytic answer:
  * synthetic photons uploaded as a photon map onto a 2 x 2 m Lambert plane
  * (albedo 0.8, no specular layer), seen from above by a camera whose pixel
  * centres hit known points. Every pixel's indirect (and caustic) AOV must be
@@ -18,7 +18,7 @@
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "ref/ref.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"

@@ -34,7 +34,7 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "ref/ref.h"
-#include "render/motion.h"
+#include "render/scene/motion.h"
 #include "render/render.h"
 
 static int load(const char *name, pb_scene *s) {

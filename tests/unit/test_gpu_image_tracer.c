@@ -1,4 +1,4 @@
-/* The image-space photon tracer (seed 003; src/render/tracer.h,
+/* The image-space photon tracer (seed 003; src/render/photon/tracer.h,
  * image_maps.c, shaders/common/image_maps.glsl) against the BVH tracer:
  *  (a) host ports: the cube layout round trip, eq. 2's classification of
  *      constructed points (types B and D), eq. 1's texel areas summing to a
@@ -20,10 +20,10 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/image_maps.h"
-#include "render/photon.h"
+#include "render/photon/image_maps.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
-#include "render/tracer.h"
+#include "render/photon/tracer.h"
 #include "shared/pb_photon.h"
 
 /* ---- code-built scenes --------------------------------------------------- */

@@ -1,5 +1,5 @@
-/* kNN photon mapping (seed 000 3.1; src/render/estimator_knn.c,
- * shaders/knn.comp):
+/* kNN photon mapping (seed 000 3.1; src/render/estimate/estimator_knn.c,
+ * shaders/estimate/knn.comp):
  *  (a) a lit plane: photons of equal power on a jittered grid over a 2 x 2 m
  *      Lambert plane (albedo 0.8), seen from above (pixel centres on known
  *      points): every pixel equals a brute-force k-nearest-neighbour
@@ -29,8 +29,8 @@
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "ref/ref.h"
-#include "render/estimator.h"
-#include "render/photon.h"
+#include "render/estimate/estimator.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"

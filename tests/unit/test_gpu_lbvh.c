@@ -1,4 +1,4 @@
-/* The photon LBVH built on the GPU (src/render/lbvh.c), checked
+/* The photon LBVH built on the GPU (src/render/photon/lbvh.c), checked
  * structurally on the host (lbvh_walk.h): sorted Morton order, the photons
  * a permutation of the input (each the record of the map index the sort
  * returned), every photon reached exactly once by the gather's traversal
@@ -21,7 +21,7 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "lbvh_walk.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"

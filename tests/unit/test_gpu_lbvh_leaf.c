@@ -13,7 +13,7 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "lbvh_walk.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"
 #include "shared/pb_lbvh.h"

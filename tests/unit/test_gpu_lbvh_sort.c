@@ -1,4 +1,4 @@
-/* The GPU radix sort (src/render/lbvh_sort.c) against a stable host sort of
+/* The GPU radix sort (src/render/photon/lbvh_sort.c) against a stable host sort of
  * the same (key, value) pairs, on every path the device can run: serial
  * (the one CPU devices take), subgroup (where the device has ballots and
  * shuffles; lavapipe: subgroups of 8) and portable. Every sorted key and value must equal the host's (so the sort is a
@@ -21,7 +21,7 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "core/log.h"
-#include "render/lbvh_sort.h"
+#include "render/photon/lbvh_sort.h"
 
 static uint64_t rng_state = 0x2545f4914f6cdd1dull;
 static uint32_t urand(void) {

@@ -24,7 +24,7 @@
 #include "gpu_test.h"
 #include "ref/ref.h"
 #include "render/render.h"
-#include "render/shading_correction.h"
+#include "render/estimate/shading_correction.h"
 #include "core/half.h"
 #include "scene/tangents.h"
 

@@ -17,7 +17,7 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "sample_fixture.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "shared/pb_photon.h"
 
 static int cmp_float(const void *a, const void *b) {

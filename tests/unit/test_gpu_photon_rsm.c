@@ -1,4 +1,4 @@
-/* The RSM first bounce (src/render/photon_rsm.c, shaders/photon_rsm.comp,
+/* The RSM first bounce (src/render/photon/photon_rsm.c, shaders/photon/photon_rsm.comp,
  * pb_photon_trace_desc.first_bounce = PB_FIRST_BOUNCE_RSM) against the traced
  * first bounce:
  *  (a) energy: closed Lambert box of albedo rho, point light inside: stored
@@ -24,7 +24,7 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_photon.h"
 

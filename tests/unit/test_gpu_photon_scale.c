@@ -24,7 +24,7 @@
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "ref/ref.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 
 static void scale_scene(pb_scene *s, float c) {

@@ -1,4 +1,4 @@
-/* The photon tracer (src/render/photon_trace.c, shaders/photon_trace.comp)
+/* The photon tracer (src/render/photon/photon_trace.c, shaders/photon/photon_trace.comp)
  * on small code-built scenes and cornell_caustics, photon buffer downloaded:
  *  (a) energy: closed Lambert box of albedo rho, point light inside: stored
  *      flux at bounce k is Phi rho^k (first hit never stored);
@@ -21,7 +21,7 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_photon.h"
 

@@ -1,6 +1,6 @@
 /* The viewer's picture on the GPU: the OCIO view baked to
  * a 66^3 or 129^3 LUT with its shaper (color.h pb_color_bake_lut) and the display
- * pass (shaders/present.comp, view/present_pass.h) against the host path
+ * pass (shaders/frame/present.comp, view/present_pass.h) against the host path
  * (pb_color_apply_display, then pb_png_write_display's rounding: what
  * `photonbridge display` writes), within one 8-bit step, on
  *   - a scene-linear ramp: grey 2^-20 .. 2^12 in 1/32 stops, and coloured

@@ -1,5 +1,5 @@
 /* Ray queries through VK_KHR_ray_query (raycast_rq.c: acceleration
- * structures of gpu/accel.c, shaders/ray_query/raycast_rq.comp) against the
+ * structures of gpu/accel.c, shaders/scene/raycast_rq.comp) against the
  * GLSL BVH (raycast.c, shaders/common/bvh.glsl) on the same random rays, per
  * sample scene, on one device:
  *   closest hit: hit vs. miss the same; the same primitive with t within

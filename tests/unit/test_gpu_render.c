@@ -128,7 +128,7 @@ static void analytic(pb_gpu *g) {
 
 /* Emissive triangles (next-event estimation toward emitters picked by power)
  * against the reference's direct AOV, which combines light and BSDF samples
- * with MIS: the same expectation (see shaders/direct.comp). A room corner
+ * with MIS: the same expectation (see shaders/scene/direct.comp). A room corner
  * (floor and back wall, Lambert 0.8), a glossy square (GGX, roughness 0.5)
  * that casts a soft shadow, a 1 x 1 m single-sided emitter facing down (seen
  * from below by the camera, so its front is in the image) and a small

@@ -1,4 +1,4 @@
-/* The resolve pass (shaders/resolve.comp) and the readback (readback.h) on
+/* The resolve pass (shaders/frame/resolve.comp) and the readback (readback.h) on
  * accumulators written by hand: the means, the normalised normal, depth over
  * coverage, the opaque alpha, eq. 20's unit vectors and clamped fraction, and
  * the guard: every non-finite value of a guarded AOV becomes 0 and is counted
@@ -12,9 +12,9 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/readback.h"
-#include "render/resolve.h"
-#include "render/targets.h"
+#include "render/frame/readback.h"
+#include "render/frame/resolve.h"
+#include "render/frame/targets.h"
 #include "shared/pb_lbvh.h"
 
 enum { N = 6 };

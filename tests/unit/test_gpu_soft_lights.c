@@ -23,7 +23,7 @@
 
 #include "gpu_test.h"
 #include "metrics/metrics.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 
 static pb_gpu *G;

@@ -1,5 +1,5 @@
 /* The screen-space splatting estimator (seed 001 24.3,
- * eq. 2-9; src/render/estimator_splat.c, shaders/splat_*.comp):
+ * eq. 2-9; src/render/estimate/estimator_splat.c, shaders/splat_*.comp):
  *  (a) a lit plane: synthetic photons of known total flux, uniform over a
  *      2 x 2 m Lambert plane (albedo 0.8), arriving 40 degrees from the
  *      normal (the s_u stretch of eq. 7 on), with ray lengths (s_l of eq. 2
@@ -25,8 +25,8 @@
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "ref/ref.h"
-#include "render/estimator.h"
-#include "render/photon.h"
+#include "render/estimate/estimator.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"

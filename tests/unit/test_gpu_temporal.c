@@ -1,5 +1,5 @@
-/* The temporal filter (render/temporal.h, seed 001 24.4.1) and the motion
- * vectors it reprojects with (render/motion.h), on a code-built scene whose
+/* The temporal filter (render/filter/temporal.h, seed 001 24.4.1) and the motion
+ * vectors it reprojects with (render/scene/motion.h), on a code-built scene whose
  * G-buffer is known analytically: a wall facing the camera at depth 5 and a
  * small card in front of it at depth 2.5.
  *  - pan: the camera moves sideways by exactly 3 of the wall's pixel widths;
@@ -18,10 +18,10 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/filters.h"
-#include "render/motion.h"
+#include "render/filter/filters.h"
+#include "render/scene/motion.h"
 #include "render/render.h"
-#include "render/temporal.h"
+#include "render/filter/temporal.h"
 
 enum { W = 64, H = 48, N = W * H };
 static const float WALL_Z = -5.0f, CARD_Z = -2.5f;

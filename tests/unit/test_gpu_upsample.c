@@ -1,5 +1,5 @@
 /* Seed 003's multi-level up-sampling of the diffuse photon irradiance (sec.
- * 6, Figure 9; src/render/upsample.c) on a lit plane with an analytic
+ * 6, Figure 9; src/render/estimate/upsample.c) on a lit plane with an analytic
  * answer: a 2 x 2 m plane seen from above (it fills the view), its two
  * triangles of different albedo (0.8 and 0.2, meeting on the diagonal x = z),
  * lit by synthetic photons uploaded as a photon map: a jittered grid of discs
@@ -23,7 +23,7 @@
 
 #include "pbtest.h"
 #include "gpu_test.h"
-#include "render/photon.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"

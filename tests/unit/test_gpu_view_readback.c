@@ -48,7 +48,7 @@
 #include "gpu_test.h"
 #include "sample_fixture.h"
 #include "color/color.h"
-#include "render/sequence.h"
+#include "render/frame/sequence.h"
 #include "shared/pb_resolve.h"
 #include "view/present_pass.h"
 

@@ -1,5 +1,5 @@
 /* The view-sample cluster hierarchy estimator (seed 004;
- * src/render/estimator_vsch.c, shaders/vsch_*.comp) through the frame
+ * src/render/estimate/estimator_vsch.c, shaders/vsch_*.comp) through the frame
  * (render --estimator vsch):
  *  - a lit plane: synthetic photons uploaded as a photon map onto a 2 x 2 m
  *    Lambert plane (albedo 0.8, no specular layer), seen from above. Every
@@ -28,8 +28,8 @@
 #include "pbtest.h"
 #include "gpu_test.h"
 #include "sample_fixture.h"
-#include "render/estimator.h"
-#include "render/photon.h"
+#include "render/estimate/estimator.h"
+#include "render/photon/photon.h"
 #include "render/render.h"
 #include "shared/pb_gpu.h"
 #include "shared/pb_photon.h"

@@ -1,4 +1,4 @@
-/* Ray-robustness hard cases on the GPU ray kernel (shaders/raycast.comp:
+/* Ray-robustness hard cases on the GPU ray kernel (shaders/scene/raycast.comp:
  * pb_trace of shaders/common/bvh.glsl, the watertight test of Woop et al.
  * that every GPU pass uses), through pb_raycast_run; see hard_rays.h.
  *

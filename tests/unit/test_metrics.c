@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/srgb.h"
 #include "metrics/metrics.h"
 #include "pbtest.h"
 #include "scene/scene.h"

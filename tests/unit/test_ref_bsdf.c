@@ -11,7 +11,8 @@
  *  - Waechter & Binder offsets leave the surface on the requested side for
  *    points near and far from the origin. */
 #include "pbtest.h"
-#include "ref/ref_internal.h"
+#include "ref/bsdf.h"
+#include "ref/lights.h"
 #include "test_ref_scene.h"
 
 static pb_scene scene; /* textures only; materials set per case */

@@ -22,7 +22,8 @@
 #include <string.h>
 
 #include "pbtest.h"
-#include "ref/ref_internal.h"
+#include "ref/bsdf.h"
+#include "ref/lights.h"
 #include "scene/blender_material.h"
 
 static pb_scene scene; /* no textures */

@@ -11,8 +11,8 @@
 #include <string.h>
 
 #include "pbtest.h"
-#include "render/estimator.h"
-#include "render/tracer.h"
+#include "render/estimate/estimator.h"
+#include "render/photon/tracer.h"
 #include "serve/protocol.h"
 
 static pb_serve_request req;

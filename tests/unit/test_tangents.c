@@ -4,16 +4,17 @@
  * orthonormal tangent, no NaN), TANGENT read and moved to world space (a
  * rotation; a mirror flips w), scenes without normal maps get no tangents,
  * and bad TANGENT accessors fail with PB_ERR_SCENE_INVALID and one line.
- * Plus eq. 20's factor (src/render/shading_correction.c). */
+ * Plus eq. 20's factor (src/render/estimate/shading_correction.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "core/srgb.h"
 #include "image/image.h"
 #include "pbtest.h"
 #include "gltf_test.h"
-#include "render/shading_correction.h"
+#include "render/estimate/shading_correction.h"
 #include "scene/scene.h"
 #include "scene/tangents.h"
 
