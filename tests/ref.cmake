@@ -80,3 +80,25 @@ add_test(NAME ref_cli_ring_sppm
            echo '1 passed, 0 failed'"
            ${PB_EXE} ${PB_ROOT} ${PB_REF_OUT}
          WORKING_DIRECTORY ${PB_ROOT})
+
+# compare's HDR-FLIP (src/metrics/flip.c): the --heatmap-metric flip map
+# and the FLIP keys structurally, a black reference and the error paths'
+# codes (tests/flip_heatmap_check.py); and its numbers against NVIDIA FLIP
+# 1.7 itself (tests/flip_agreement.py: nine pairs from committed EXRs and
+# one CPU reference render, within 0.002 and 2 % of FLIP's mean, the same
+# exposures, the same map), which needs tools/flip (scripts/install-deps.sh)
+# and FAILS without it.
+if(Python3_Interpreter_FOUND)
+  add_test(NAME compare_flip_heatmap
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/flip_heatmap_check.py ${PB_EXE}
+                   ${CMAKE_CURRENT_BINARY_DIR}/compare_flip_heatmap
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(compare_flip_heatmap PROPERTIES TIMEOUT 120
+                       PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+  add_test(NAME compare_flip_agreement
+           COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/flip_agreement.py ${PB_EXE}
+                   ${CMAKE_CURRENT_BINARY_DIR}/compare_flip_agreement
+           WORKING_DIRECTORY ${PB_ROOT})
+  set_tests_properties(compare_flip_agreement PROPERTIES LABELS "peers;no-sanitize" TIMEOUT 300
+                       PASS_REGULAR_EXPRESSION "[1-9][0-9]* passed, 0 failed")
+endif()

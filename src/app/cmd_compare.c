@@ -1,7 +1,7 @@
 /* photonbridge compare TEST.exr REFERENCE.exr: the src/metrics numbers
  * (RMSE and relMSE on scene-linear RGB, PSNR and SSIM on the display image
- * through the shared OCIO view), an optional heat map PNG of the per-pixel
- * error and --json. Images of different sizes, or without R, G, B channels
+ * through the shared OCIO view, HDR-FLIP on scene-linear RGB), an optional
+ * heat map PNG of the per-pixel error and --json. Images of different sizes, or without R, G, B channels
  * in the compared layer, are PB_ERR_IMAGE_MISMATCH naming both files. */
 #include <math.h>
 #include <stdint.h>
@@ -15,6 +15,7 @@
 #include "core/json.h"
 #include "core/log.h"
 #include "image/image.h"
+#include "metrics/flip.h"
 #include "metrics/metrics.h"
 
 static const pb_command *self(void) {
@@ -23,7 +24,9 @@ static const pb_command *self(void) {
   return NULL;
 }
 
-static const char *const heat_names[] = {"relative", "absolute", NULL};
+/* relative and absolute are pb_heatmap_metric values; flip is FLIP's own map. */
+enum { HEAT_FLIP = 2 };
+static const char *const heat_names[] = {"relative", "absolute", "flip", NULL};
 
 /* Finds the three colour channels of `layer` ("" = the main image):
  * R,G,B, or X,Y,Z (the normal layer); a single-channel layer (depth.Z,
@@ -76,13 +79,15 @@ int pb_cmd_compare(int argc, char **argv) {
        "compare this layer (direct, indirect, albedo, normal, depth...; default: the "
        "main RGB image); one-channel layers are compared as grey", NULL, 0, 0, "Comparison", 0},
       {"heatmap", 0, PB_OPT_STRING, &heatmap, "FILE.png",
-       "write the per-pixel error as a viridis heat map PNG", NULL, 0, 0, "Output", 0},
+       "write the per-pixel error as a heat map PNG (viridis; FLIP's magma for flip)",
+       NULL, 0, 0, "Output", 0},
       {"heatmap-metric", 0, PB_OPT_CHOICE, &heat_metric, "M",
-       "relative: sqrt(mean over RGB of (t-r)^2/(r^2+0.01)); absolute: per-pixel RMSE",
-       heat_names, 0, 0, "Output", 0},
+       "relative: sqrt(mean over RGB of (t-r)^2/(r^2+0.01)); absolute: per-pixel RMSE; "
+       "flip: HDR-FLIP's error map in FLIP's magma colours, 0 black .. 1 light yellow, "
+       "not rescaled", heat_names, 0, 0, "Output", 0},
       {"heatmap-max", 0, PB_OPT_FLOAT, &heat_max, "V",
-       "error at the bright end of the heat map (default: the 99th percentile)", NULL,
-       0, 1e30, "Output", 0},
+       "error at the bright end of the heat map (default: the 99th percentile; "
+       "not used by flip, whose scale is 0 .. 1)", NULL, 0, 1e30, "Output", 0},
       {"json", 0, PB_OPT_STRING, &json, "FILE",
        "write the numbers as JSON to FILE ('-' for stdout)", NULL, 0, 0, "Reporting", 0},
       {"quiet", 'q', PB_OPT_FLAG, &quiet, NULL, "print nothing but errors", NULL, 0, 0, "Reporting", 0},
@@ -100,7 +105,18 @@ int pb_cmd_compare(int argc, char **argv) {
         "RMSE and relMSE (mean of (t-r)^2/(r^2+0.01), r = REFERENCE) on scene-linear\n"
         "RGB; PSNR (peak 1) and SSIM (Wang et al. 2004, 11x11 Gaussian window,\n"
         "sigma 1.5, K1 0.01, K2 0.03, mean of R, G, B) on the display image through\n"
-        "the OCIO view (default: the built-in config's sRGB Standard view).");
+        "the OCIO view (default: the built-in config's sRGB Standard view); HDR-FLIP\n"
+        "(NVIDIA FLIP 1.7: Andersson et al. 2020, 2021) on scene-linear Rec.709 RGB,\n"
+        "not through the OCIO view: the mean over pixels of the largest LDR-FLIP over\n"
+        "exposures from 2^start to 2^stop, both images through FLIP's ACES tone mapper,\n"
+        "start and stop from REFERENCE (its largest and its median luminance),\n"
+        "ceil(stop - start) exposures (at least 2), 67 pixels per degree; 0 = the same,\n"
+        "1 = maximal. Negative and NaN/Inf values are taken as 0 for FLIP; a reference\n"
+        "that is black everywhere has no FLIP (n/a, JSON null).\n"
+        "JSON keys: rmse, relmse, psnr_db, ssim, ssim_rgb, mse_display, max_abs_error,\n"
+        "nonfinite_values; hdr_flip (the mean), hdr_flip_start_exposure and\n"
+        "hdr_flip_stop_exposure (log2 scales), hdr_flip_exposures (how many),\n"
+        "hdr_flip_zeroed_pixels (pixels with a negative or NaN/Inf value taken as 0).");
     return 0;
   }
   if (npos != 2)
@@ -113,8 +129,11 @@ int pb_cmd_compare(int argc, char **argv) {
   memset(&ri, 0, sizeof ri);
   float *t = NULL, *rf = NULL;
   pb_color *color = NULL;
+  float *flip_map = NULL;
   pb_metrics m;
   memset(&m, 0, sizeof m);
+  pb_flip_result fl;
+  memset(&fl, 0, sizeof fl);
   r = pb_exr_read(tpath, NULL, &ti);
   if (r != PB_OK) goto done;
   r = pb_exr_read(rpath, NULL, &ri);
@@ -148,8 +167,27 @@ int pb_cmd_compare(int argc, char **argv) {
   pb_metrics_desc md = {display_view, color};
   r = pb_metrics_compute(t, rf, ti.width, ti.height, 3, &md, &m);
   if (r != PB_OK) goto done;
+  if (heatmap && heat_metric == HEAT_FLIP) {
+    flip_map = malloc((size_t)ti.width * ti.height * sizeof *flip_map);
+    if (!flip_map) {
+      r = pb_fail(PB_ERR_NOMEM, "compare: out of memory for the FLIP map");
+      goto done;
+    }
+  }
+  r = pb_flip_hdr(t, rf, ti.width, ti.height, 3, flip_map, &fl);
+  if (r != PB_OK) goto done;
   float heat_scale = 0;
-  if (heatmap) {
+  if (heatmap && heat_metric == HEAT_FLIP) {
+    if (!fl.defined) {
+      r = pb_fail(PB_ERR_USAGE, "compare: %s is black everywhere, so HDR-FLIP (which takes "
+                  "its exposures from the reference) is undefined and %s was not written; "
+                  "use --heatmap-metric relative or absolute", rpath, heatmap);
+      goto done;
+    }
+    r = pb_flip_write_heatmap(heatmap, flip_map, ti.width, ti.height);
+    if (r != PB_OK) goto done;
+    heat_scale = 1.0f;
+  } else if (heatmap) {
     r = pb_metrics_write_heatmap(heatmap, t, rf, ti.width, ti.height, 3,
                                  (pb_heatmap_metric)heat_metric, (float)heat_max, &heat_scale);
     if (r != PB_OK) goto done;
@@ -179,6 +217,18 @@ int pb_cmd_compare(int argc, char **argv) {
     pb_json_number(&j, "mse_display", m.mse_display);
     pb_json_number(&j, "max_abs_error", m.max_abs);
     pb_json_int(&j, "nonfinite_values", (int64_t)m.nonfinite);
+    if (fl.defined) {
+      pb_json_number(&j, "hdr_flip", fl.mean);
+      pb_json_number(&j, "hdr_flip_start_exposure", fl.start_exposure);
+      pb_json_number(&j, "hdr_flip_stop_exposure", fl.stop_exposure);
+      pb_json_int(&j, "hdr_flip_exposures", fl.exposures);
+    } else {
+      pb_json_null(&j, "hdr_flip");
+      pb_json_null(&j, "hdr_flip_start_exposure");
+      pb_json_null(&j, "hdr_flip_stop_exposure");
+      pb_json_null(&j, "hdr_flip_exposures");
+    }
+    pb_json_int(&j, "hdr_flip_zeroed_pixels", (int64_t)fl.zeroed_pixels);
     pb_json_string(&j, "display", view);
     if (heatmap) {
       pb_json_begin_object(&j, "heatmap");
@@ -200,14 +250,23 @@ int pb_cmd_compare(int argc, char **argv) {
     else printf("PSNR       inf  (identical display images: %s)\n", view);
     printf("SSIM       %.6f  (R %.4f, G %.4f, B %.4f)\n", m.ssim, m.ssim_rgb[0],
            m.ssim_rgb[1], m.ssim_rgb[2]);
+    if (fl.defined)
+      printf("FLIP       %.6f  (HDR-FLIP, %d exposures %.3f .. %.3f)\n", fl.mean, fl.exposures,
+             (double)fl.start_exposure, (double)fl.stop_exposure);
+    else
+      printf("FLIP       n/a  (the reference is black: HDR-FLIP has no exposure range)\n");
     if (m.nonfinite)
       printf("warning    %llu NaN/Inf values, compared as 0\n", (unsigned long long)m.nonfinite);
+    if (fl.zeroed_pixels)
+      printf("warning    %llu pixels with negative or NaN/Inf values, taken as 0 for FLIP\n",
+             (unsigned long long)fl.zeroed_pixels);
     if (heatmap)
       printf("heat map   %s (%s error, 0 .. %.4g)\n", heatmap, heat_names[heat_metric],
              (double)heat_scale);
   }
 
 done:
+  free(flip_map);
   free(t);
   free(rf);
   pb_color_destroy(color);

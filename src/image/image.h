@@ -114,4 +114,11 @@ pb_result pb_png_write_srgb(const char *path, uint32_t width, uint32_t height,
                             uint32_t channels, const float *pixels,
                             float exposure);
 
+/* Writes 8-bit RGB pixels (3 bytes a pixel, rows top first) as they are, no
+ * transform: for pictures already in display values, such as a colour-mapped
+ * error map. Atomic like pb_png_write_srgb. Errors: PB_ERR_IO, PB_ERR_IMAGE
+ * (zero size), PB_ERR_LIMIT, PB_ERR_NOMEM. */
+pb_result pb_png_write_rgb8(const char *path, uint32_t width, uint32_t height,
+                            const uint8_t *rgb);
+
 #endif

@@ -40,6 +40,50 @@ static void png_write_cb(void *ctx, void *data, int size) {
     s->failed = 1;
 }
 
+/* Encodes 8-bit pixels (`channels` bytes a pixel, rows top first) as a PNG
+ * at path, atomically. */
+static pb_result write_bytes(const char *path, uint32_t width, uint32_t height,
+                             uint32_t channels, const uint8_t *bytes) {
+  FILE *f = NULL;
+  char *tmp = NULL;
+  pb_result r = pb_atomic_open(path, &f, &tmp);
+  if (r != PB_OK) return r;
+  png_sink sink = {f, 0};
+  int ok = stbi_write_png_to_func(png_write_cb, &sink, (int)width, (int)height,
+                                  (int)channels, bytes,
+                                  (int)(width * channels));
+  if (!ok || sink.failed) {
+    pb_atomic_abort(f, tmp);
+    return pb_fail(ok ? PB_ERR_IO : PB_ERR_NOMEM, "%s: %s", path,
+                   ok ? "write failed" : "PNG encoding ran out of memory");
+  }
+  return pb_atomic_commit(path, f, tmp);
+}
+
+/* The size checks both writers share. */
+static pb_result check_size(const char *path, uint32_t width, uint32_t height) {
+  if (width == 0 || height == 0)
+    return pb_fail(PB_ERR_IMAGE, "%s: image size %ux%u is empty", path, width,
+                   height);
+  if (width > PB_IMAGE_MAX_DIM || height > PB_IMAGE_MAX_DIM ||
+      (uint64_t)width * height > PB_IMAGE_MAX_PIXELS)
+    return pb_fail(PB_ERR_LIMIT,
+                   "%s: image size %ux%u exceeds the limit (%u per side, %llu "
+                   "pixels)",
+                   path, width, height, PB_IMAGE_MAX_DIM,
+                   (unsigned long long)PB_IMAGE_MAX_PIXELS);
+  return PB_OK;
+}
+
+pb_result pb_png_write_rgb8(const char *path, uint32_t width, uint32_t height,
+                            const uint8_t *rgb) {
+  assert(path);
+  pb_result r = check_size(path, width, height);
+  if (r != PB_OK) return r;
+  if (!rgb) return pb_fail(PB_ERR_IMAGE, "%s: no pixels", path);
+  return write_bytes(path, width, height, 3, rgb);
+}
+
 pb_result pb_png_write_srgb(const char *path, uint32_t width, uint32_t height,
                             uint32_t channels, const float *pixels,
                             float exposure) {
@@ -72,22 +116,7 @@ pb_result pb_png_write_srgb(const char *path, uint32_t width, uint32_t height,
     if (channels == 4) q[3] = to_byte(p[3]);
   }
 
-  FILE *f = NULL;
-  char *tmp = NULL;
-  pb_result r = pb_atomic_open(path, &f, &tmp);
-  if (r != PB_OK) {
-    free(bytes);
-    return r;
-  }
-  png_sink sink = {f, 0};
-  int ok = stbi_write_png_to_func(png_write_cb, &sink, (int)width, (int)height,
-                                  (int)channels, bytes,
-                                  (int)(width * channels));
+  pb_result r = write_bytes(path, width, height, channels, bytes);
   free(bytes);
-  if (!ok || sink.failed) {
-    pb_atomic_abort(f, tmp);
-    return pb_fail(ok ? PB_ERR_IO : PB_ERR_NOMEM, "%s: %s", path,
-                   ok ? "write failed" : "PNG encoding ran out of memory");
-  }
-  return pb_atomic_commit(path, f, tmp);
+  return r;
 }

@@ -24,6 +24,9 @@
  * renderer's picture goes through the same colour pipeline before the
  * display metrics see it.
  *
+ * HDR-FLIP (NVIDIA FLIP 1.7), which compare reports beside these, is in
+ * flip.h.
+ *
  * Pixel buffers are row-major, top row first, `channels` (3 or 4) floats per
  * pixel; only the first three (R, G, B) are compared. A value that is NaN or
  * Inf is taken as 0 and counted in pb_metrics.nonfinite. */
