@@ -27,10 +27,10 @@
 
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
+
+#include "core/parallel.h"
 
 /* FLIP 1.7's constants (FLIP paper, section 4 and table 1). */
 #define FLIP_QC 0.7f
@@ -377,31 +377,27 @@ static void vertical(flip_worker *wk) {
   }
 }
 
-static void *worker_main(void *arg) {
-  flip_worker *wk = arg;
+static void worker_run(void *user, uint32_t item, uint32_t thread) {
+  (void)thread;
+  flip_worker *wk = (flip_worker *)user + item;
   if (wk->phase == 0) horizontal(wk);
   else vertical(wk);
-  return NULL;
 }
 
-/* Runs one phase over all rows: worker 0 on this thread, the others on
- * their own (or on this one, in turn, where a thread cannot start). */
+/* Runs one phase over all rows, each worker's band once (core/parallel.h);
+ * one worker runs on this thread. */
 static void run_phase(flip_worker *wk, int n, int phase) {
-  pthread_t tid[64];
-  int started[64];
   for (int i = 0; i < n; ++i) wk[i].phase = phase;
-  for (int i = 1; i < n; ++i) started[i] = pthread_create(&tid[i], NULL, worker_main, &wk[i]) == 0;
-  worker_main(&wk[0]);
-  for (int i = 1; i < n; ++i) {
-    if (started[i]) pthread_join(tid[i], NULL);
-    else worker_main(&wk[i]);
+  if (n > 1) {
+    if (pb_parallel_for((uint32_t)n, (uint32_t)n, worker_run, wk, NULL, NULL) == PB_OK) return;
+    pb_error_clear(); /* no thread could start: the bands in turn here */
   }
+  for (int i = 0; i < n; ++i) worker_run(wk, (uint32_t)i, 0);
 }
 
 static int thread_count(uint32_t w, uint32_t h) {
   if ((uint64_t)w * h < 256u * 256u) return 1; /* threads cost more than they save */
-  long n = sysconf(_SC_NPROCESSORS_ONLN);
-  if (n < 1) n = 1;
+  long n = (long)pb_cpu_count();
   if (n > 16) n = 16;
   if ((long)h / 32 < n) n = (long)h / 32 > 0 ? (long)h / 32 : 1;
   return (int)n;
