@@ -95,7 +95,7 @@ typedef struct path_state {
 /* Emission the ray (o, d) meets before t_hit (INFINITY: it left the scene):
  * soft lights on the way, then the world and the soft suns, each through
  * the absorbing medium sigma the ray is in up to its distance. */
-static void ray_emission(const pb_ref_ctx *ctx, const pb_photon_map *map, const path_state *ps, v3 o, v3 d,
+static void ray_emission(const pb_ref_ctx *ctx, const pb_ref_photon_map *map, const path_state *ps, v3 o, v3 d,
                          float t_hit, v3 beta, v3 sigma, pb_sample_out *out) {
   const pb_scene *s = ctx->scene;
   int camera = ps->k == 1;
@@ -163,7 +163,7 @@ static void soft_nee(const pb_ref_ctx *ctx, pb_rng *rng, const pb_bsdf *b, const
   add_contrib(out, v3_mul(v3_mul(beta, vis), v3_scale(v3_mul(f, v3_load(L)), c)), k);
 }
 
-void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
+void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_ref_photon_map *map,
                             uint32_t x, uint32_t y, uint32_t sample,
                             pb_sample_out *out) {
   const pb_scene *s = ctx->scene;

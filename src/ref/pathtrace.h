@@ -17,7 +17,7 @@ typedef struct pb_sample_out {
 
 /* Traces one path from pixel (x, y) for sample index `sample`, with caustic
  * photon lookups when map is not NULL. */
-void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_photon_map *map,
+void pb_trace_camera_sample(const pb_ref_ctx *ctx, const pb_ref_photon_map *map,
                             uint32_t x, uint32_t y, uint32_t sample,
                             pb_sample_out *out);
 

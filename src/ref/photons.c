@@ -62,7 +62,7 @@
 enum { CHUNK = 1024 }; /* photon paths per work item */
 
 typedef struct photon_buf {
-  pb_photon *p;
+  pb_ref_photon *p;
   uint32_t count, cap;
 } photon_buf;
 
@@ -92,10 +92,10 @@ typedef struct pass_ctx {
 
 enum { RAY_STRIDE = 8 }; /* uint64 per thread slot: one cache line */
 
-static int buf_push(photon_buf *b, const pb_photon *ph) {
+static int buf_push(photon_buf *b, const pb_ref_photon *ph) {
   if (b->count == b->cap) {
     uint32_t cap = b->cap ? b->cap * 2 : 256;
-    pb_photon *n = realloc(b->p, cap * sizeof *n);
+    pb_ref_photon *n = realloc(b->p, cap * sizeof *n);
     if (!n) return 0;
     b->p = n;
     b->cap = cap;
@@ -192,7 +192,7 @@ static void trace_photon(pass_ctx *pc, uint32_t path, photon_buf *buf, uint64_t 
     pb_bsdf b;
     pb_bsdf_setup(s, &surf, wo, &rng, &b);
     if (chain >= 1 && pb_bsdf_has_smooth(&b)) {
-      pb_photon ph;
+      pb_ref_photon ph;
       memcpy(ph.p, &surf.p, sizeof ph.p);
       ph.wi[0] = wo.x, ph.wi[1] = wo.y, ph.wi[2] = wo.z;
       ph.n[0] = surf.ng.x, ph.n[1] = surf.ng.y, ph.n[2] = surf.ng.z;
@@ -302,7 +302,7 @@ static uint32_t setup_emission(const pb_ref_ctx *ctx, emit_light *out) {
   return n;
 }
 
-void pb_ref_photon_map_destroy(pb_photon_map *m) {
+void pb_ref_photon_map_destroy(pb_ref_photon_map *m) {
   if (!m) return;
   free(m->photons);
   free(m->cell_start);
@@ -323,7 +323,7 @@ static inline uint32_t cell_hash(int64_t x, int64_t y, int64_t z, uint32_t mask)
   return (uint32_t)(pb_mix64(h) & mask);
 }
 
-static pb_result build_grid(pb_photon_map *m, pb_photon *src, uint32_t count) {
+static pb_result build_grid(pb_ref_photon_map *m, pb_ref_photon *src, uint32_t count) {
   uint32_t buckets = 1;
   while (buckets < 2 * count && buckets < (1u << 30)) buckets <<= 1;
   m->bucket_count = buckets;
@@ -357,7 +357,7 @@ static pb_result build_grid(pb_photon_map *m, pb_photon *src, uint32_t count) {
 }
 
 pb_result pb_photon_pass(pb_ref_ctx *ctx, uint32_t pass, uint32_t paths,
-                         float radius, pb_photon_map *map) {
+                         float radius, pb_ref_photon_map *map) {
   memset(map, 0, sizeof *map);
   map->radius = radius;
   map->cell = 2.0f * radius;
@@ -398,7 +398,7 @@ pb_result pb_photon_pass(pb_ref_ctx *ctx, uint32_t pass, uint32_t paths,
                 (unsigned long long)total);
     goto done;
   }
-  pb_photon *all = malloc((size_t)(total ? total : 1) * sizeof *all);
+  pb_ref_photon *all = malloc((size_t)(total ? total : 1) * sizeof *all);
   if (!all) {
     r = pb_fail(PB_ERR_NOMEM, "reference: out of memory for %llu photons",
                 (unsigned long long)total);
@@ -427,7 +427,7 @@ done:
   return r;
 }
 
-v3 pb_photon_gather(const pb_photon_map *m, const pb_bsdf *b, v3 p, v3 wo,
+v3 pb_photon_gather(const pb_ref_photon_map *m, const pb_bsdf *b, v3 p, v3 wo,
                     uint32_t depth, uint32_t max_bounces) {
   v3 sum = v3_make(0, 0, 0);
   if (!m->count) return sum;
@@ -441,7 +441,7 @@ v3 pb_photon_gather(const pb_photon_map *m, const pb_bsdf *b, v3 p, v3 wo,
       for (int64_t cx = x0; cx <= x1; ++cx) {
         uint32_t bk = cell_hash(cx, cy, cz, mask);
         for (uint32_t i = m->cell_start[bk]; i < m->cell_start[bk + 1]; ++i) {
-          const pb_photon *ph = &m->photons[i];
+          const pb_ref_photon *ph = &m->photons[i];
           /* Two cells may share a bucket: take each photon from its own
            * cell only, or it would be counted twice. */
           if (cell_of(ph->p[0], inv) != cx || cell_of(ph->p[1], inv) != cy ||

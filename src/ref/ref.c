@@ -58,7 +58,7 @@ typedef struct accum {
 
 typedef struct render_job {
   pb_ref_ctx *ctx;
-  const pb_photon_map *map;
+  const pb_ref_photon_map *map;
   accum *acc;
   uint32_t pass;
   uint32_t tiles_x;
@@ -248,7 +248,7 @@ pb_result pb_ref_render(const pb_scene *scene, int camera, uint32_t width,
   accum acc;
   memset(&acc, 0, sizeof acc);
   uint64_t *rays = NULL, *guarded = NULL;
-  pb_photon_map map;
+  pb_ref_photon_map map;
   memset(&map, 0, sizeof map);
 
   double t0 = pb_time_now();

@@ -18,7 +18,7 @@
 #include <stdint.h>
 
 #include "core/result.h"
-#include "gpu/bvh.h"
+#include "render/scene/bvh.h"
 #include "gpu/gpu.h"
 #include "render/estimate/estimator_desc.h"
 #include "scene/scene.h"

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gpu/bvh.h"
+#include "render/scene/bvh.h"
 #include "pbtest.h"
 
 static const char *const samples[] = {"cornell_box", "cornell_caustics", "ring", "spot_room", "sun_atrium"};

@@ -10,7 +10,7 @@
 #include <embree3/rtcore.h>
 
 #include "core/log.h"
-#include "gpu/bvh.h"
+#include "render/scene/bvh.h"
 
 typedef struct tnode {
   int leaf;

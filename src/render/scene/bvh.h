@@ -5,8 +5,8 @@
  * ones empty), leaves own a contiguous
  * range of the BVH-ordered triangle array, every node's box is exactly the
  * union of its children's (leaves: of their triangles' vertices). */
-#ifndef PB_GPU_BVH_H
-#define PB_GPU_BVH_H
+#ifndef PB_RENDER_SCENE_BVH_H
+#define PB_RENDER_SCENE_BVH_H
 
 #include <stddef.h>
 #include <stdint.h>
