@@ -229,6 +229,41 @@ def cycles_source(a, scene, sample, blend=None):
     return {"kind": "gltf", "scene": scene, "materials": "gltf" if model else "principled", "args": []}
 
 
+def not_runnable(a, n, scene, sample, blend):
+    """Why renderer n will not run here, decided once for the time estimate
+    and for the run itself: ("skipped", why) where an option turned it off,
+    ("unavailable", why) where something it needs is missing, None where it
+    runs."""
+    if n == "photonbridge" and a.no_gpu:
+        return "skipped", "--no-gpu"
+    if n == "povray":
+        if a.no_povray:
+            return "skipped", "--no-povray"
+        if not shutil.which("povray"):
+            return "unavailable", "povray not installed"
+    if n in PEER_PYTHON:
+        if a.direct_only:
+            return "skipped", "--direct-only: the peers' dumps render every bounce"
+        if not os.access(peer_python(n), os.X_OK):
+            return "unavailable", "%s not found (scripts/install-deps.sh installs it; or set %s)" % (
+                peer_python(n), PEER_PYTHON[n][0])
+    if n in ("cycles", "cycles45"):
+        if a.no_cycles:
+            return "skipped", "--no-cycles"
+        if n == "cycles" and not shutil.which(os.environ.get("BLENDER", "blender")):
+            return "unavailable", "blender not installed"
+        if n == "cycles45" and bpy45_missing():
+            return "unavailable", bpy45_missing()
+        src = cycles_source(a, scene, sample, blend)
+        if src is None:
+            return "unavailable", ("--cycles-source sample: %s is not a sample built by "
+                                   "exporters/blender/make_samples.py" % os.path.basename(scene))
+        if n == "cycles45" and src["kind"] == "sample" and a.cycles_source != "auto":
+            return "unavailable", ("--cycles-source sample: the samples' Blender script is Blender 3.4's (Cycles "
+                                   "4.5 takes the glTF: --cycles-source gltf)")
+    return None
+
+
 def _paths(xs, n=4):
     return ", ".join(xs[:n]) + (" and %d more" % (len(xs) - n) if len(xs) > n else "")
 
@@ -713,12 +748,7 @@ def main(argv):
     # before the first of them: one stderr line, and report.json's estimate.
     estimate = versions = None
     if not gather:
-        runs = [n for n in RUN_ORDER if not skip(n) and not (n == "photonbridge" and a.no_gpu) and
-                not (n == "povray" and (a.no_povray or not shutil.which("povray"))) and
-                not (n in PEER_PYTHON and not os.access(peer_python(n), os.X_OK)) and
-                not (n == "cycles" and (a.no_cycles or not shutil.which(os.environ.get("BLENDER", "blender")) or
-                                        cycles_source(a, scene, sample, blend) is None)) and
-                not (n == "cycles45" and (a.no_cycles or cycles_source(a, scene, sample, blend) is None))]
+        runs = [n for n in RUN_ORDER if not skip(n) and not not_runnable(a, n, scene, sample, blend)]
         if runs:
             estimate, versions = estimate_run(a, exe, scene, out, runs, color)
             if not QUIET:
@@ -763,8 +793,8 @@ def main(argv):
     # photonbridge render (GPU).
     if skip("photonbridge"):
         pass
-    elif a.no_gpu:
-        record("photonbridge", "skipped", "--no-gpu")
+    elif not_runnable(a, "photonbridge", scene, sample, blend):
+        record("photonbridge", *not_runnable(a, "photonbridge", scene, sample, blend))
     else:
         progress("photonbridge render")
         exr = os.path.join(out, "photonbridge.exr")
@@ -786,10 +816,8 @@ def main(argv):
     # POV-Ray.
     if skip("povray"):
         pass
-    elif a.no_povray:
-        record("povray", "skipped", "--no-povray")
-    elif not shutil.which("povray"):
-        record("povray", "unavailable", "povray not installed")
+    elif not_runnable(a, "povray", scene, sample, blend):
+        record("povray", *not_runnable(a, "povray", scene, sample, blend))
     else:
         progress("POV-Ray")
         pdir = os.path.join(out, "povray")
@@ -828,12 +856,8 @@ def main(argv):
         if skip(n):
             continue
         py = peer_python(n)
-        if a.direct_only:
-            record(n, "skipped", "--direct-only: the peers' dumps render every bounce")
-            continue
-        if not os.access(py, os.X_OK):
-            record(n, "unavailable", "%s not found (scripts/install-deps.sh installs it; or set %s)"
-                   % (py, PEER_PYTHON[n][0]))
+        if not_runnable(a, n, scene, sample, blend):
+            record(n, *not_runnable(a, n, scene, sample, blend))
             continue
         progress(LABEL[n])
         pdir = os.path.join(out, n)
@@ -994,25 +1018,36 @@ def main(argv):
     return 0 if "reference" in ok and len(ok) >= 2 else 1
 
 
+def bpy45_paths():
+    """tools/bpy45's Python (PB_BPY45_PYTHON names another) and the shim
+    that runs it as a `blender` command line."""
+    return (os.environ.get("PB_BPY45_PYTHON") or os.path.join(ROOT, "tools", "bpy45", "bin", "python"),
+            os.path.join(ROOT, "tests", "blender", "bpy_blender.py"))
+
+
+def bpy45_missing():
+    """Why Cycles 4.5 cannot run here, or None."""
+    py, shim = bpy45_paths()
+    if not os.access(py, os.X_OK):
+        return "%s not found (scripts/install-deps.sh installs bpy 4.5; or set PB_BPY45_PYTHON)" % py
+    if not os.path.isfile(shim):
+        return "%s not found (Cycles 4.5 needs the source tree)" % shim
+    return None
+
+
 def blender_command(name, out):
     """The Blender run_cycles.sh starts: $BLENDER (default blender) for
     cycles; for cycles45 a wrapper in OUT running tests/blender/bpy_blender.py
-    under tools/bpy45's Python (PB_BPY45_PYTHON names another), or
-    {"missing": why}."""
+    under bpy 4.5's Python (bpy45_missing() None)."""
     if name == "cycles":
         return os.environ.get("BLENDER", "blender")
-    py = os.environ.get("PB_BPY45_PYTHON") or os.path.join(ROOT, "tools", "bpy45", "bin", "python")
-    shim = os.path.join(ROOT, "tests", "blender", "bpy_blender.py")
-    if not os.access(py, os.X_OK):
-        return {"missing": "%s not found (scripts/install-deps.sh installs bpy 4.5; or set PB_BPY45_PYTHON)" % py}
-    if not os.path.isfile(shim):
-        return {"missing": "%s not found (Cycles 4.5 needs the source tree)" % shim}
+    py, shim = bpy45_paths()
     wrapper = os.path.join(out, "cycles45", "blender")
     os.makedirs(os.path.dirname(wrapper), exist_ok=True)
     with open(wrapper, "w") as f:
         f.write("#!/bin/sh\nexec %s %s \"$@\"\n" % (shlex.quote(py), shlex.quote(shim)))
     os.chmod(wrapper, 0o755)
-    return {"wrapper": wrapper}
+    return wrapper
 
 
 def run_cycles_renderer(a, n, exe, scene, sample, blend, out, info, info_path, info_error, ref_r, size, color,
@@ -1021,26 +1056,14 @@ def run_cycles_renderer(a, n, exe, scene, sample, blend, out, info, info_path, i
     (cycles_source) at the reference's size, camera and path length, as two
     independent halves; its record through record()."""
     src = cycles_source(a, scene, sample, blend)
-    bl = blender_command(n, out)
-    sample_45 = n == "cycles45" and src is not None and src["kind"] == "sample"
-    if sample_45 and a.cycles_source == "auto":
+    if n == "cycles45" and src is not None and src["kind"] == "sample" and a.cycles_source == "auto":
         # The samples' Blender script (make_samples.py) sets up Blender 3.4's
         # Principled sockets: Blender 4.5 reads the glTF through its importer.
         src = {"kind": "gltf", "scene": scene, "materials": "gltf" if src["materials"] == "bsdf" else "principled",
                "args": []}
-        sample_45 = False
-    if a.no_cycles:
-        record(n, "skipped", "--no-cycles")
-    elif isinstance(bl, str) and not shutil.which(bl):
-        record(n, "unavailable", "blender not installed")
-    elif not isinstance(bl, str) and bl.get("missing"):
-        record(n, "unavailable", bl["missing"])
-    elif src is None:
-        record(n, "unavailable", "--cycles-source sample: %s is not a sample built by "
-               "exporters/blender/make_samples.py" % os.path.basename(scene))
-    elif sample_45:
-        record(n, "unavailable", "--cycles-source sample: the samples' Blender script is Blender 3.4's (Cycles "
-               "4.5 takes the glTF: --cycles-source gltf)")
+    why = not_runnable(a, n, scene, sample, blend)
+    if why:
+        record(n, *why)
     elif not info:
         record(n, "failed", "photonbridge info could not read the scene: %s" % info_error)
     else:
@@ -1059,7 +1082,7 @@ def run_cycles_renderer(a, n, exe, scene, sample, blend, out, info, info_path, i
         if a.threads:
             cmd += ["--threads", str(a.threads)]
         rc, o, dt = run(cmd, os.path.join(out, n + "-run.log"),
-                        env=dict(os.environ, BLENDER=bl if isinstance(bl, str) else bl["wrapper"]))
+                        env=dict(os.environ, BLENDER=blender_command(n, out)))
         st = read_json(exr + ".json") or {}
         if rc == 0 and os.path.isfile(exr):
             noise = halves_noise(exe, out, [exr + "." + h for h in ("a.exr", "b.exr")], color)
