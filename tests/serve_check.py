@@ -529,11 +529,12 @@ def part_noise():
     """A stream with a noise threshold rests once the still run's own noise
     estimate reaches it: every frame says "noise" (null before two passes),
     the last one at most the threshold, then nothing until something
-    changes; a camera move starts the estimate afresh."""
-    s = Serve([SCENE] + SETTINGS + ["-q"])
-    expect_error(s, {"cmd": "stream", "on": True, "noise_threshold": 0.9}, '"noise_threshold" must be a number in')
+    changes; a camera move starts the estimate afresh. The threshold is
+    serve's --noise-threshold, which a stream request without one takes."""
     t = 0.06
-    r = s.ask({"cmd": "stream", "on": True, "noise_threshold": t})
+    s = Serve([SCENE] + SETTINGS + ["--noise-threshold", str(t), "-q"])
+    expect_error(s, {"cmd": "stream", "on": True, "noise_threshold": 0.9}, '"noise_threshold" must be a number in')
+    r = s.ask({"cmd": "stream", "on": True})
     if r != {"reply": "stream", "ok": True}:
         fail("stream -> %r" % r)
     frames = []

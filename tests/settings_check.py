@@ -34,12 +34,6 @@ def run(args):
 
 helps = {c: run([c, "--help-all"])[1] for c in ("render", "view", "serve")}
 surface_of = {"render": "render", "view": "live", "serve": "live"}
-# Options a command declares itself under a table setting's name, for what
-# it means there: view's --noise-threshold is where the window rests (its
-# default 0: never), not render's photon-map refinement (default 0.03); serve
-# takes the same per stream ("noise_threshold" of the stream request). Its
-# range must be the table's (checked below).
-OWN = {("view", "noise-threshold")}
 check(len(table.SETTINGS) >= 30, "the table has %d settings" % len(table.SETTINGS))
 for t in table.SETTINGS:
     opt = "--" + t["cli"]
@@ -47,7 +41,7 @@ for t in table.SETTINGS:
         # an option's own line: two spaces, the option (help lines wrap further in)
         listed = any(line.startswith("  " + opt) and line[2 + len(opt):][:1] in (" ", "")
                      for line in text.splitlines())
-        want = surface_of[c] in t["surfaces"] or (c, t["cli"]) in OWN
+        want = surface_of[c] in t["surfaces"]
         check(listed == want, "%s --help-all %s %s" % (c, "lists" if want else "does not list", opt))
     if t["kind"] not in ("u32", "f64") or t["max"] is None:
         continue
@@ -55,7 +49,7 @@ for t in table.SETTINGS:
     value = str(int(over)) if t["kind"] == "u32" else "%g" % over
     bound = ("[%d, %d]" % (t["min"], t["max"])) if t["kind"] == "u32" else None
     for c in ("render", "view", "serve"):
-        if surface_of[c] not in t["surfaces"] and (c, t["cli"]) not in OWN:
+        if surface_of[c] not in t["surfaces"]:
             continue
         args = [c, scene, opt, value] + (["-o", "/tmp/pb_settings_never.exr"] if c == "render" else [])
         rc, out = run(args)

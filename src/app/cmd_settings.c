@@ -55,6 +55,7 @@ int pb_cmd_settings(int argc, char **argv) {
     else {
       printf(", default ");
       print_value(t, t->def);
+      if (t->flags & PB_SETTING_LIVE_OFF) printf("; view/serve: 0");
     }
     printf(")\n    offered in:");
     for (int b = 0, n = 0; b < 4; ++b)

@@ -31,7 +31,6 @@ int pb_cmd_view(int argc, char **argv) {
   pb_live_opts lo;
   pb_live_opts_init(&lo);
   uint32_t exit_after = 0, in_flight = 1;
-  double noise_threshold = 0;
   const char *screenshot = NULL, *script = NULL, *reference = NULL, *save = "photonbridge_view";
   const pb_opt rows[] = {
       {"width", 0, PB_OPT_U32, &c.width, "W", "image width (default 640, or from --height and the camera's aspect)",
@@ -45,10 +44,6 @@ int pb_cmd_view(int argc, char **argv) {
       PB_DEVICE_OPTS(&lo),
       {"reference", 0, PB_OPT_STRING, &reference, "FILE.exr", "show the PSNR of every frame against this image "
        "(compare's metric) in the heads-up line", NULL, 0, 0, "Window", 0},
-      {"noise-threshold", 0, PB_OPT_FLOAT, &noise_threshold, "T", "a still view stops refining (rests) once its own "
-       "estimate of its noise, the RMS error of the displayed image (PSNR = -20 log10 T), is at most T, as render's "
-       "--noise-threshold; anything that moves starts it again (the title shows the estimate; default 0: never rests)",
-       NULL, 0, 0.5, "Sampling", 0},
       {"save", 0, PB_OPT_STRING, &save, "PREFIX", "P / F12 write PREFIX_NNNN.exr (every AOV) and PREFIX_NNNN.png "
        "(what is shown; default photonbridge_view)", NULL, 0, 0, "Window", 0},
       {"frames-in-flight", 0, PB_OPT_U32, &in_flight, "N", "1 (default): each frame is shown once rendered; 2: the "
@@ -115,7 +110,7 @@ int pb_cmd_view(int argc, char **argv) {
       .camera = camera, .width = w, .height = h,
       .color = {co.ocio_config, co.display, co.view, co.look, co.exposure, co.gamma, PB_COLOR_PICTURE},
       .exit_after = exit_after, .screenshot = screenshot, .script = script, .reference = reference,
-      .noise_threshold = noise_threshold, .save_prefix = save, .json = c.json, .validation = lo.validation || pb_gpu_validation_enabled(g), .quiet = c.quiet};
+      .noise_threshold = lo.set.noise_threshold, .save_prefix = save, .json = c.json, .validation = lo.validation || pb_gpu_validation_enabled(g), .quiet = c.quiet};
   r = pb_view_run(g, &s, &gs, &vd);
   if (r == PB_OK && pb_view_validation_total())
     r = pb_fail(PB_ERR_VULKAN, "view: Vulkan validation reported %u message%s on the window's device (printed above)",

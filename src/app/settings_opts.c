@@ -30,7 +30,7 @@ const char *const pb_traversal_names[] = {"auto", "bvh", "ray-query", NULL};
 
 void pb_live_opts_init(pb_live_opts *o) {
   memset(o, 0, sizeof *o);
-  pb_settings_init(&o->set);
+  pb_settings_init_live(&o->set);
   o->device = UINT32_MAX;
 }
 

@@ -63,6 +63,12 @@ void pb_settings_init(pb_settings *s) {
   for (int i = 0; i < PB_SETTING_COUNT; ++i) put(s, i, pb_setting_table[i].def);
 }
 
+void pb_settings_init_live(pb_settings *s) {
+  pb_settings_init(s);
+  for (int i = 0; i < PB_SETTING_COUNT; ++i)
+    if (pb_setting_table[i].flags & PB_SETTING_LIVE_OFF) put(s, i, 0);
+}
+
 void pb_settings_merge(pb_settings *to, const pb_settings *from) {
   for (int i = 0; i < PB_SETTING_COUNT; ++i)
     if (from->given & (1ull << i)) pb_settings_set(to, i, pb_settings_get(from, i));

@@ -34,7 +34,8 @@
  *   surfaces PB_SURFACE_* where the setting is offered
  *   flags    PB_SETTING_ADVANCED: listed by --help-all only, and in the
  *            add-on's advanced panel (algorithm choices, benchmarks,
- *            ablations)
+ *            ablations); PB_SETTING_LIVE_OFF: 0 by default in view and
+ *            serve (pb_settings_init_live)
  *   group    the --help heading and the add-on's panel
  *   metavar  the option's value in --help
  *   choices  CHOICE: the NULL-terminated names (their order is the value)
@@ -62,7 +63,11 @@ enum {
   PB_SURFACE_ALL = 0xf,
   PB_SURFACE_ONE_FRAME = PB_SURFACE_RENDER | PB_SURFACE_BLENDER, /* a frame that ends */
 };
-enum { PB_SETTING_ADVANCED = 1 };
+enum {
+  PB_SETTING_ADVANCED = 1,
+  PB_SETTING_LIVE_OFF = 2, /* view and serve start at 0 (off), not at def:
+                            * a live view refines until told otherwise */
+};
 
 extern const char *const pb_settings_first_bounce_names[]; /* traced, rsm, auto */
 /* The other choices are render/estimate/estimator.h's pb_estimator_names and
@@ -93,10 +98,12 @@ extern const char *const pb_settings_first_bounce_names[]; /* traced, rsm, auto 
     NULL, NULL,                                                                                                        \
     "start no photon map after S seconds; the image averages the maps done (of --iterations; without "                 \
     "--iterations: as many as S seconds allow, at most 65536)")                                                        \
-  X(noise_threshold, F64, "noise-threshold", 0, 0.5, 0.03, PB_SURFACE_ONE_FRAME, 0, "Sampling", "T", NULL, NULL,       \
+  X(noise_threshold, F64, "noise-threshold", 0, 0.5, 0.03, PB_SURFACE_ONE_FRAME | PB_SURFACE_LIVE, PB_SETTING_LIVE_OFF, \
+    "Sampling", "T", NULL, NULL,                                                                                       \
     "refine photon maps until the render's own estimate of its noise, the RMS error of the displayed image (0 to "     \
-    "1, white 1; PSNR = -20 log10 T: 0.01 is 40 dB), is at most T, or --time-limit or --iterations ends it; 0: "       \
-    "off (default 0.03 unless --iterations, --spp or --time-limit set the work)")                                      \
+    "1, white 1; PSNR = -20 log10 T: 0.01 is 40 dB), is at most T: render stops (or --time-limit or --iterations "     \
+    "ends it first), a still view rests, serve's streams stop there unless a stream request says otherwise; 0: off "   \
+    "(render: default 0.03 unless --iterations, --spp or --time-limit set the work; view, serve: default 0)")           \
   /* ---- Photons ---- */                                                                                              \
   X(photons, U32, "photons", 1, 1u << 26, 0, PB_SURFACE_ALL, 0, "Photons", "N", NULL, NULL,                            \
     "photon paths per map (default 2^18)")                                                                             \
@@ -230,6 +237,8 @@ extern const pb_setting_info pb_setting_table[PB_SETTING_COUNT];
 
 /* Every setting at its default, none given. */
 void pb_settings_init(pb_settings *s);
+/* The same for view and serve: PB_SETTING_LIVE_OFF settings at 0. */
+void pb_settings_init_live(pb_settings *s);
 
 /* The value of row i as a double (a CHOICE's index, a BOOL's 0/1). */
 double pb_settings_get(const pb_settings *s, int i);

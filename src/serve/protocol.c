@@ -529,7 +529,7 @@ int pb_serve_parse(const char *line, size_t len, pb_serve_request *req, char *cm
           bad(&c, "\"noise_threshold\" must be a number in [0, 0.5] (RMS noise of the displayed image; 0: none)");
           goto done;
         }
-        req->noise_threshold = nt ? nt->num : 0.0;
+        req->noise_threshold = nt ? nt->num : -1.0; /* -1: the session's --noise-threshold */
       }
       break;
     case PB_SERVE_RELOAD: {

@@ -30,6 +30,8 @@
  *                              T in (0, 0.5], until the still run's noise
  *                              estimate (render/frame/noise.h: the RMS noise of
  *                              the displayed image, white 1) is at most T
+ *                              (T not given: serve's --noise-threshold,
+ *                              default 0)
  *   {"cmd":"reload","scene":PATH}  load PATH (default: the same file) again
  *   {"cmd":"quit"}
  * Replies: {"reply":CMD,"ok":true,...} for each request, in order; frames
@@ -90,7 +92,7 @@ typedef struct pb_serve_request {
   /* stream */
   int stream_on;
   uint32_t max_passes;
-  double noise_threshold;     /* 0: none */
+  double noise_threshold;     /* 0: none; -1: not given (the session's --noise-threshold) */
   /* reload: "" for the same file */
   char scene[PB_SERVE_MAX_PATH];
 } pb_serve_request;

@@ -323,7 +323,7 @@ static void handle_line(server *v, const char *line, size_t len) {
     case PB_SERVE_FRAME: render_frame(v, 1, q->id); break;
     case PB_SERVE_STREAM:
       v->streaming = q->stream_on, v->max_passes = q->max_passes;
-      v->noise_threshold = q->noise_threshold;
+      v->noise_threshold = q->noise_threshold >= 0 ? q->noise_threshold : v->d->settings.noise_threshold;
       reply_ok(v, q->cmd, q->id);
       break;
     case PB_SERVE_RELOAD: {

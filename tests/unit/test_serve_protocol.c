@@ -74,6 +74,9 @@ static void test_requests(void) {
   CHECK(parse("{\"cmd\":\"stream\",\"on\":true,\"max_passes\":8}") == 0);
   CHECK_EQ_INT(req.stream_on, 1);
   CHECK_EQ_INT(req.max_passes, 8);
+  CHECK(req.noise_threshold == -1.0); /* not given: the session's --noise-threshold */
+  CHECK(parse("{\"cmd\":\"stream\",\"on\":true,\"noise_threshold\":0.05}") == 0);
+  CHECK(req.noise_threshold == 0.05);
   CHECK(parse("{\"cmd\":\"reload\",\"scene\":\"/tmp/caf\\u00e9 \\ud83d\\ude00\\n.gltf\"}") == 0);
   CHECK(strcmp(req.scene, "/tmp/caf\xc3\xa9 \xf0\x9f\x98\x80\n.gltf") == 0);
   CHECK(parse("{\"cmd\":\"reload\"}") == 0);
