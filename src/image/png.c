@@ -88,22 +88,15 @@ pb_result pb_png_write_srgb(const char *path, uint32_t width, uint32_t height,
                             uint32_t channels, const float *pixels,
                             float exposure) {
   assert(path);
-  if (width == 0 || height == 0)
-    return pb_fail(PB_ERR_IMAGE, "%s: image size %ux%u is empty", path, width,
-                   height);
+  if (width == 0 || height == 0) return check_size(path, width, height);
   if (channels != 3 && channels != 4)
     return pb_fail(PB_ERR_IMAGE, "%s: %u channels (a PNG preview takes 3 or 4)",
                    path, channels);
   if (!pixels) return pb_fail(PB_ERR_IMAGE, "%s: no pixels", path);
   if (!isfinite(exposure))
     return pb_fail(PB_ERR_USAGE, "%s: exposure must be a finite number", path);
-  if (width > PB_IMAGE_MAX_DIM || height > PB_IMAGE_MAX_DIM ||
-      (uint64_t)width * height > PB_IMAGE_MAX_PIXELS)
-    return pb_fail(PB_ERR_LIMIT,
-                   "%s: image size %ux%u exceeds the limit (%u per side, %llu "
-                   "pixels)",
-                   path, width, height, PB_IMAGE_MAX_DIM,
-                   (unsigned long long)PB_IMAGE_MAX_PIXELS);
+  pb_result r = check_size(path, width, height);
+  if (r != PB_OK) return r;
 
   size_t n = (size_t)width * height;
   uint8_t *bytes = malloc(n * channels);
@@ -116,7 +109,7 @@ pb_result pb_png_write_srgb(const char *path, uint32_t width, uint32_t height,
     if (channels == 4) q[3] = to_byte(p[3]);
   }
 
-  pb_result r = write_bytes(path, width, height, channels, bytes);
+  r = write_bytes(path, width, height, channels, bytes);
   free(bytes);
   return r;
 }
