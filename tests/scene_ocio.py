@@ -10,7 +10,7 @@ its warnings (no rendering):
   missing   a config not on this machine: one warning naming it, the
             built-in config used, which has Blender 4's AgX and Khronos
             PBR Neutral views;
-  look      Blender's AgX looks, which the built-in config has
+  look      Blender's AgX and Filmic looks, which the built-in config has
             too, applied without a warning; a look the config lacks: one
             warning naming it, the scene's view kept without it;
   unknown   a view neither has: one warning naming it and the view used;
@@ -72,9 +72,9 @@ for view in ("AgX", "Khronos PBR Neutral"):
     check(len(w) == 1 and missing in w[0] and "built-in config" in w[0],
           "missing: one warning naming the config: %s" % w)
 
-# Blender's AgX looks are the built-in config's too: applied,
+# Blender's AgX and Filmic looks are the built-in config's too: applied,
 # no warning but the config's.
-for view, look in (("AgX", "AgX - Punchy"), ("AgX", "AgX - Greyscale")):
+for view, look in (("AgX", "AgX - Punchy"), ("AgX", "AgX - Greyscale"), ("Filmic", "Medium High Contrast")):
     rc, line, w = info(scene("look", view=view, look=look, ocioConfig=missing))
     check(rc == 0 and ("sRGB / %s, look %s," % (view, look)) in line and "built-in" in line,
           "look: the built-in config's %s with %s: %s" % (view, look, line))

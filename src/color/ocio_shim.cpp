@@ -300,12 +300,22 @@ OCIO::ConstTransformRcPtr pbr_neutral_transform() {
   return g;
 }
 
-// Blender 3.4's Filmic view for the built-in config, from the closed form in
-// src/color/filmic_builtin.h (config/ocio/bake_filmic.py derives it from
-// Blender's files): the same four steps as Blender's "Filmic sRGB" colour
-// space, with the 65^3 cube evaluated on its grid here and interpolated
-// tetrahedrally, as Blender's config does with the file.
-OCIO::ConstTransformRcPtr filmic_transform() {
+// Blender 3.4's Filmic curve (pb_filmic_curve, or one of a look's) as a 1D
+// LUT, interpolated linearly as Blender's config does with the file.
+OCIO::Lut1DTransformRcPtr filmic_curve(const float *curve, bool inverse = false) {
+  OCIO::Lut1DTransformRcPtr lut = OCIO::Lut1DTransform::Create(PB_FILMIC_CURVE_SIZE, false);
+  lut->setInterpolation(OCIO::INTERP_LINEAR);
+  for (int i = 0; i < PB_FILMIC_CURVE_SIZE; ++i) lut->setValue(i, curve[i], curve[i], curve[i]);
+  if (inverse) lut->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  return lut;
+}
+
+// Blender 3.4's "Filmic Log" from the built-in config's reference, from the
+// closed form in src/color/filmic_builtin.h (config/ocio/bake_filmic.py
+// derives it from Blender's files): scene-linear Rec.709, the lg2 shaper,
+// the 65^3 desaturation cube evaluated on its grid here and interpolated
+// tetrahedrally, as Blender's config does with the file, then x / 0.66.
+OCIO::GroupTransformRcPtr filmic_log_transform() {
   const int n = PB_FILMIC_CUBE_SIZE;
   const double lo = PB_FILMIC_LOG_MIN, span = PB_FILMIC_LOG_MAX - PB_FILMIC_LOG_MIN;
   OCIO::Lut3DTransformRcPtr cube = OCIO::Lut3DTransform::Create(n);
@@ -324,15 +334,6 @@ OCIO::ConstTransformRcPtr filmic_transform() {
         cube->setValue(r, g, b, encode(lin[r] + t * (top - lin[r])),
                        encode(lin[g] + t * (top - lin[g])), encode(lin[b] + t * (top - lin[b])));
       }
-  OCIO::Lut1DTransformRcPtr curve = OCIO::Lut1DTransform::Create(PB_FILMIC_CURVE_SIZE, false);
-  curve->setInterpolation(OCIO::INTERP_LINEAR);
-  for (int i = 0; i < PB_FILMIC_CURVE_SIZE; ++i)
-    curve->setValue(i, pb_filmic_curve[i], pb_filmic_curve[i], pb_filmic_curve[i]);
-
-  OCIO::AllocationTransformRcPtr shaper = OCIO::AllocationTransform::Create();
-  shaper->setAllocation(OCIO::ALLOCATION_LG2);
-  const float shaper_vars[2] = {(float)PB_FILMIC_LOG_MIN, (float)PB_FILMIC_LOG_MAX};
-  shaper->setVars(2, shaper_vars);
   OCIO::AllocationTransformRcPtr rescale = OCIO::AllocationTransform::Create();
   rescale->setAllocation(OCIO::ALLOCATION_UNIFORM);
   const float rescale_vars[2] = {0.0f, (float)PB_FILMIC_CURVE_MAX};
@@ -340,15 +341,61 @@ OCIO::ConstTransformRcPtr filmic_transform() {
 
   OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
   append_to_rec709(g);
-  g->appendTransform(shaper);
+  g->appendTransform(lg2_allocation(PB_FILMIC_LOG_MIN, PB_FILMIC_LOG_MAX));
   g->appendTransform(cube);
   g->appendTransform(rescale);
-  g->appendTransform(curve);
   return g;
 }
 
+// Blender 3.4's Filmic view for the built-in config: Filmic Log, then the
+// base contrast curve (Blender's "Filmic sRGB").
+OCIO::ConstTransformRcPtr filmic_transform() {
+  OCIO::GroupTransformRcPtr g = filmic_log_transform();
+  g->appendTransform(filmic_curve(pb_filmic_curve));
+  return g;
+}
+
+// "Filmic Log" as a colour space (the process space of the Filmic looks):
+// back to the reference as Blender's, an lg2 allocation over 16.5 stops,
+// inverse (not the desaturation undone).
+OCIO::ColorSpaceRcPtr filmic_log_colorspace() {
+  OCIO::GroupTransformRcPtr to = OCIO::GroupTransform::Create();
+  OCIO::AllocationTransformRcPtr unlog = lg2_allocation(PB_FILMIC_LOG_MIN, PB_FILMIC_LOG_LOOK_MAX);
+  unlog->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  to->appendTransform(unlog);
+  OCIO::GroupTransformRcPtr back = OCIO::GroupTransform::Create();
+  append_to_rec709(back);
+  back->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  to->appendTransform(back);
+  OCIO::ColorSpaceRcPtr cs = OCIO::ColorSpace::Create();
+  cs->setName("Filmic Log");
+  cs->setFamily("Log Encodings");
+  cs->setDescription("Blender 3.4's Filmic Log: the process space of the Filmic looks");
+  cs->setTransform(filmic_log_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
+  cs->setTransform(to, OCIO::COLORSPACE_DIR_TO_REFERENCE);
+  return cs;
+}
+
+// Blender's Filmic looks: in Filmic Log, the look's curve then the base
+// curve inverted (nothing for "Medium Contrast").
+void add_filmic_looks(const OCIO::ConfigRcPtr &cfg) {
+  for (const pb_filmic_look &fl : pb_filmic_looks) {
+    OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
+    if (fl.curve >= 0) {
+      g->appendTransform(filmic_curve(pb_filmic_look_curves[fl.curve]));
+      g->appendTransform(filmic_curve(pb_filmic_curve, true));
+    }
+    OCIO::LookRcPtr look = OCIO::Look::Create();
+    look->setName(fl.name);
+    look->setProcessSpace("Filmic Log");
+    look->setTransform(g);
+    cfg->addLook(look);
+  }
+}
+
 // The built-in config with its Filmic, AgX and Khronos PBR Neutral views,
-// the process space "AgX Log" and Blender's AgX looks added (OCIO's YAML cannot hold an in-memory LUT, so they are
+// their process spaces "Filmic Log" and "AgX Log" and Blender's Filmic and
+// AgX looks added (OCIO's YAML cannot hold an in-memory LUT, so they are
 // added here); Filmic is the default, as in Blender 3.4.
 OCIO::ConstConfigRcPtr builtin_config() {
   std::istringstream in(pb_color_builtin_config_text);
@@ -360,6 +407,7 @@ OCIO::ConstConfigRcPtr builtin_config() {
   cs->setTransform(filmic_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
   cfg->addColorSpace(cs);
   cfg->addDisplayView("sRGB", "Filmic", "Filmic sRGB", "");
+  cfg->addColorSpace(filmic_log_colorspace());
   cs = OCIO::ColorSpace::Create();
   cs->setName("AgX Base sRGB");
   cs->setFamily("Display");
@@ -368,6 +416,7 @@ OCIO::ConstConfigRcPtr builtin_config() {
   cfg->addColorSpace(cs);
   cfg->addDisplayView("sRGB", "AgX", "AgX Base sRGB", "");
   cfg->addColorSpace(agx_log_colorspace());
+  add_filmic_looks(cfg);
   add_yaml_looks(cfg, pb_agx_looks_yaml);
   cs = OCIO::ColorSpace::Create();
   cs->setName("Khronos PBR Neutral sRGB");

@@ -304,6 +304,11 @@ static const char *const agx_looks[] = {"AgX - Punchy", "AgX - Greyscale", "AgX 
                                         "AgX - Low Contrast", "AgX - Very Low Contrast"};
 enum { N_AGX_LOOKS = sizeof agx_looks / sizeof agx_looks[0] };
 
+/* Blender's Filmic looks (3.4's and 4.x's), which it reproduces too. */
+static const char *const filmic_looks[] = {"Very High Contrast", "High Contrast", "Medium High Contrast",
+                                           "Medium Contrast", "Medium Low Contrast", "Low Contrast",
+                                           "Very Low Contrast"};
+enum { N_FILMIC_LOOKS = sizeof filmic_looks / sizeof filmic_looks[0] };
 
 /* 200k scene-linear colours over 24 stops (a sixteenth of the channels 0, a
  * third of the colours grey), from seed. */
@@ -398,6 +403,16 @@ static void test_builtin_filmic_vs_blender_config(void) {
   }
   pb_color_destroy(mine);
   pb_color_destroy(theirs);
+  /* Its looks through the Filmic view, against Blender 3.4's. */
+  for (int l = 0; l < N_FILMIC_LOOKS; ++l) {
+    double plain = 0;
+    const double mx = builtin_vs_config(BLENDER_CONFIG, "Filmic", filmic_looks[l], &plain);
+    printf("built-in Filmic + '%s' vs Blender 3.4's: max %.4f 8-bit steps (the look moves values by up to %.1f)\n",
+           filmic_looks[l], mx, plain);
+    CHECK(mx >= 0 && mx < 0.05); /* as the view's own */
+    /* "Medium Contrast" is Filmic Log there and back (desaturated twice). */
+    if (strcmp(filmic_looks[l], "Medium Contrast") != 0) CHECK(plain > 2.0);
+  }
 }
 
 /* Blender's config, when installed: Filmic loads through the shim and maps
