@@ -10,7 +10,8 @@ its warnings (no rendering):
   missing   a config not on this machine: one warning naming it, the
             built-in config used, which has Blender 4's AgX and Khronos
             PBR Neutral views;
-  look      a look the config lacks (the built-in one has none): one
+  look      Blender's AgX and Filmic looks, which the built-in config has
+            too, applied without a warning; a look the config lacks: one
             warning naming it, the scene's view kept without it;
   unknown   a view neither has: one warning naming it and the view used;
   cli       --ocio-config on the command line wins over the scene's (a
@@ -71,9 +72,17 @@ for view in ("AgX", "Khronos PBR Neutral"):
     check(len(w) == 1 and missing in w[0] and "built-in config" in w[0],
           "missing: one warning naming the config: %s" % w)
 
-rc, line, w = info(scene("look", view="AgX", look="AgX - Punchy", ocioConfig=missing))
+# Blender's AgX and Filmic looks are the built-in config's too: applied,
+# no warning but the config's.
+for view, look in (("AgX", "AgX - Punchy"), ("AgX", "AgX - Greyscale"), ("Filmic", "Medium High Contrast")):
+    rc, line, w = info(scene("look", view=view, look=look, ocioConfig=missing))
+    check(rc == 0 and ("sRGB / %s, look %s," % (view, look)) in line and "built-in" in line,
+          "look: the built-in config's %s with %s: %s" % (view, look, line))
+    check(len(w) == 1 and missing in w[0], "look: only the config's warning: %s" % w)
+
+rc, line, w = info(scene("look", view="AgX", look="No Such Look", ocioConfig=missing))
 check(rc == 0 and "sRGB / AgX, look None" in line and "built-in" in line, "look: AgX without it: " + line)
-check(len(w) == 2 and "'AgX - Punchy'" in w[1] and "view 'AgX' is used without it" in w[1],
+check(len(w) == 2 and "'No Such Look'" in w[1] and "view 'AgX' is used without it" in w[1],
       "look: a warning naming the look and the view kept: %s" % w[1:])
 
 rc, line, w = info(scene("unknown", view="No Such View", ocioConfig=missing))

@@ -30,6 +30,26 @@ allocation [-9, 10]) is the Khronos formula evaluated on its grid, which
 src/color/ocio_shim.cpp recomputes; this script checks that the formula gives
 the file's every entry (to the file's 7 decimals).
 
+Blender 4.x's AgX looks ("AgX - Punchy", ..., "AgX - Very Low Contrast")
+work in its "AgX Log" colour space, from scene-linear Rec.709:
+
+    Linear Rec.709 -> Linear FilmLight E-Gamut       (3x3, as above)
+    lg2 allocation [-12.47393, 12.5260688117]
+    luminance_compensation_bt2020.cube, tetrahedral  (37^3: "Luminance
+                                                      Compensation Rec.2020")
+    lg2 allocation, inverse
+    Linear FilmLight E-Gamut -> Linear Rec.2020      (3x3)
+    the inset / rotation 3x3 of "AgX Log"
+    lg2 allocation [-12.47393, 12.5260688117]
+
+and back (its to_scene_reference): lg2 inverse, the inset inverted, Linear
+Rec.2020 -> Linear Rec.709. The 37^3 cube is embedded as the AgX cube is,
+but scaled by 60000 instead of 65535 (its entries reach 1.0054). The looks
+themselves use OpenColorIO 2.x's own transforms (GradingToneTransform,
+CDLTransform, GradingPrimaryTransform, AllocationTransform, MatrixTransform),
+so their YAML is copied verbatim from config.ocio and parsed by OpenColorIO
+at run time (src/color/ocio_shim.cpp).
+
 Needs numpy (Debian's python3-numpy)."""
 import base64
 import os
@@ -40,6 +60,7 @@ import zlib
 import numpy as np
 
 AGX_LO, AGX_HI = -12.47393, 12.5260688117
+LUMCOMP_SCALE = 60000.0
 PBR_LO, PBR_HI = -9.0, 10.0
 
 
@@ -70,6 +91,44 @@ def config_matrix(text, after):
     return np.array(v).reshape(4, 4)[:3, :3]
 
 
+def pack_cube(n, cube, scale):
+    """Cube entries x scale as uint16, differenced along red, zlib, base64."""
+    if cube.max() * scale > 65535:
+        sys.exit("bake_agx: cube entries above %g" % (65535 / scale))
+    q = np.round(np.clip(cube, 0, None) * scale).astype(np.int64)
+    qerr = np.abs(q / scale - cube).max()
+    d = q.reshape(n, n, n, 3)  # [b][g][r]
+    d = np.diff(d, axis=2, prepend=0).astype(np.int64) & 0xFFFF
+    blob = zlib.compress(d.astype("<u2").tobytes(), 9)
+    return blob, base64.b64encode(blob).decode(), qerr
+
+
+def agx_looks(text):
+    """The YAML of config.ocio's "AgX - ..." looks, verbatim."""
+    body = text[text.index("\nlooks:\n") + len("\nlooks:\n"):]
+    looks = re.split(r"\n(?=  - !<Look>)", body)
+    out = [lk.rstrip() + "\n" for lk in looks if re.search(r"^    name: AgX - ", lk, re.M)]
+    for lk in out:
+        if "process_space: AgX Log" not in lk or "FileTransform" in lk:
+            sys.exit("bake_agx: a look not in AgX Log or with a file:\n" + lk)
+    return out
+
+
+def c_string(name, text):
+    lines = ["const char %s[] =" % name]
+    for line in text.splitlines(keepends=True):
+        lines.append('    "%s"' % line.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n"))
+    lines[-1] += ";"
+    return lines
+
+
+def c_matrix(name, m):
+    lines = ["const double %s[9] = {" % name]
+    for row in m:
+        lines.append("    " + " ".join("%.17g," % v for v in row))
+    return lines + ["};", ""]
+
+
 def pbr_neutral(c):
     start, desat = 0.8 - 0.04, 0.15
     x = c.min(-1, keepdims=True)
@@ -88,20 +147,28 @@ def main():
     text = open(os.path.join(cm, "config.ocio")).read()
     for probe in ("AgX_Base_sRGB.cube, interpolation: tetrahedral",
                   "{allocation: lg2, vars: [-12.47393, 12.5260688117]}",
-                  "pbrNeutral.cube, interpolation: tetrahedral", "{allocation: lg2, vars: [-9, 10]}"):
+                  "pbrNeutral.cube, interpolation: tetrahedral", "{allocation: lg2, vars: [-9, 10]}",
+                  "{src: Linear CIE-XYZ E, dst: Luminance Compensation Rec.2020}",
+                  "luminance_compensation_bt2020.cube, interpolation: tetrahedral"):
         if probe not in text:
             sys.exit("bake_agx: %s: no '%s' (not Blender 4.x's config?)" % (cm, probe))
     m709 = config_matrix(text, "name: Linear Rec.709\n")          # XYZ D65 -> Rec.709
     mfl = config_matrix(text, "name: Linear FilmLight E-Gamut\n")  # E-Gamut -> XYZ D65 (used inverted)
+    m2020 = config_matrix(text, "name: Linear Rec.2020\n")        # XYZ D65 -> Rec.2020
+    inset = config_matrix(text, "name: AgX Log\n")                 # Rec.2020 -> AgX Log's primaries
     to_egamut = np.linalg.inv(mfl) @ np.linalg.inv(m709)
+    egamut_to_2020 = m2020 @ mfl
+    r2020_to_709 = m709 @ np.linalg.inv(m2020)
 
     n, cube = read_cube(os.path.join(cm, "luts/AgX_Base_sRGB.cube"))
-    q = np.round(np.clip(cube, 0, 1) * 65535).astype(np.int64)
-    qerr = np.abs(q / 65535.0 - cube).max()
-    d = q.reshape(n, n, n, 3)  # [b][g][r]
-    d = np.diff(d, axis=2, prepend=0).astype(np.int64) & 0xFFFF
-    blob = zlib.compress(d.astype("<u2").tobytes(), 9)
-    b64 = base64.b64encode(blob).decode()
+    if cube.max() > 1:
+        sys.exit("bake_agx: AgX_Base_sRGB.cube has entries above 1")
+    blob, b64, qerr = pack_cube(n, cube, 65535.0)
+    ln, lcube = read_cube(os.path.join(cm, "luts/luminance_compensation_bt2020.cube"))
+    lblob, lb64, lqerr = pack_cube(ln, lcube, LUMCOMP_SCALE)
+    if ln != 37:
+        sys.exit("bake_agx: luminance_compensation_bt2020.cube is %d^3, not 37^3" % ln)
+    looks = agx_looks(text)
 
     pn, pcube = read_cube(os.path.join(cm, "luts/pbrNeutral.cube"))
     t = 2.0 ** (PBR_LO + (PBR_HI - PBR_LO) * np.arange(pn) / (pn - 1))
@@ -113,26 +180,33 @@ def main():
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     lines = [
         "/* Generated by config/ocio/bake_agx.py from Blender 4.x's AgX files",
-        " * (config.ocio, luts/AgX_Base_sRGB.cube); do not edit. Entries rounded to",
-        " * 16 bits move by at most %.2g; the Khronos PBR Neutral formula gives" % qerr,
+        " * (config.ocio, luts/AgX_Base_sRGB.cube, luts/luminance_compensation_bt2020.cube);",
+        " * do not edit. Entries rounded to 16 bits move by at most %.2g (AgX)" % qerr,
+        " * and %.2g (luminance compensation); the Khronos PBR Neutral formula gives" % lqerr,
         " * pbrNeutral.cube within %.2g. See the script for the format. */" % pworst,
         '#include "color/agx_builtin.h"',
         "",
-        "const double pb_agx_rec709_to_egamut[9] = {",
     ]
-    for row in to_egamut:
-        lines.append("    " + " ".join("%.17g," % v for v in row))
-    lines += ["};", "", "const unsigned long pb_agx_cube_deflated_size = %d;" % len(blob), "",
-              "const char pb_agx_cube_base64[] ="]
-    for k in range(0, len(b64), 96):
-        lines.append('    "%s"' % b64[k:k + 96])
-    lines[-1] += ";"
+    lines += c_matrix("pb_agx_rec709_to_egamut", to_egamut)
+    lines += c_matrix("pb_agx_egamut_to_rec2020", egamut_to_2020)
+    lines += c_matrix("pb_agx_log_inset", inset)
+    lines += c_matrix("pb_agx_rec2020_to_rec709", r2020_to_709)
+    for name, bl, b in (("pb_agx_cube", blob, b64), ("pb_agx_lumcomp_cube", lblob, lb64)):
+        lines += ["const unsigned long %s_deflated_size = %d;" % (name, len(bl)), "",
+                  "const char %s_base64[] =" % name]
+        for k in range(0, len(b), 96):
+            lines.append('    "%s"' % b[k:k + 96])
+        lines[-1] += ";"
+        lines.append("")
+    lines += ["/* Blender's \"AgX - ...\" looks (process space AgX Log), as in its config.ocio. */"]
+    lines += c_string("pb_agx_looks_yaml", "looks:\n" + "\n".join(looks))
     lines.append("")
     out = os.path.join(root, "src/color/agx_builtin.c")
     with open(out, "w") as f:
         f.write("\n".join(lines))
-    print("bake_agx: wrote %s (%d^3 cube, %d deflated bytes, rounding %.3g, PBR Neutral formula %.3g)"
-          % (out, n, len(blob), qerr, pworst))
+    print("bake_agx: wrote %s (%d^3 cube, %d deflated bytes, rounding %.3g; luminance compensation "
+          "%d^3, %d bytes, rounding %.3g; %d looks; PBR Neutral formula %.3g)"
+          % (out, n, len(blob), qerr, ln, len(lblob), lqerr, len(looks), pworst))
 
 
 if __name__ == "__main__":

@@ -13,17 +13,30 @@
  * (value x 65535), red fastest, each the difference from the entry before
  * it along red (mod 2^16; the first of a row from 0).
  *
+ * Blender's AgX looks ("AgX - Punchy", ...; pb_agx_looks_yaml, their YAML
+ * from Blender's config.ocio) work in "AgX Log", from scene-linear Rec.709:
+ *
+ *   e   = pb_agx_rec709_to_egamut * rgb
+ *   x   = lg2 [PB_AGX_LOG_MIN, PB_AGX_LOG_MAX] of e
+ *   y   = the 37^3 cube at x, tetrahedral  (luminance_compensation_bt2020.cube)
+ *   c   = pb_agx_log_inset * pb_agx_egamut_to_rec2020 * lg2^-1(y)
+ *   out = lg2 [PB_AGX_LOG_MIN, PB_AGX_LOG_MAX] of c
+ *
+ * and back: lg2^-1, the inset inverted, pb_agx_rec2020_to_rec709. That cube
+ * is stored as the AgX one, entries x PB_AGX_LUMCOMP_SCALE (not 65535).
+ *
  * "Khronos PBR Neutral sRGB" needs no data: lg2 [-9, 10], a 57^3 cube of
  * the Khronos formula (start 0.8 - 0.04, desaturation 0.15) on that grid,
  * tetrahedral, then the sRGB encode (src/color/ocio_shim.cpp). */
 #ifndef PB_AGX_BUILTIN_H
 #define PB_AGX_BUILTIN_H
 
-enum { PB_AGX_CUBE_SIZE = 57, PB_PBR_NEUTRAL_CUBE_SIZE = 57 };
+enum { PB_AGX_CUBE_SIZE = 57, PB_AGX_LUMCOMP_CUBE_SIZE = 37, PB_PBR_NEUTRAL_CUBE_SIZE = 57 };
 
 #define PB_AGX_LOG_MIN (-12.47393)
 #define PB_AGX_LOG_MAX 12.5260688117
 #define PB_AGX_EXPONENT 2.4
+#define PB_AGX_LUMCOMP_SCALE 60000.0
 #define PB_PBR_NEUTRAL_LOG_MIN (-9.0)
 #define PB_PBR_NEUTRAL_LOG_MAX 10.0
 
@@ -34,6 +47,12 @@ extern "C" {
 extern const double pb_agx_rec709_to_egamut[9];
 extern const unsigned long pb_agx_cube_deflated_size;
 extern const char pb_agx_cube_base64[];
+extern const double pb_agx_egamut_to_rec2020[9];
+extern const double pb_agx_log_inset[9];
+extern const double pb_agx_rec2020_to_rec709[9];
+extern const unsigned long pb_agx_lumcomp_cube_deflated_size;
+extern const char pb_agx_lumcomp_cube_base64[];
+extern const char pb_agx_looks_yaml[];
 
 #ifdef __cplusplus
 }

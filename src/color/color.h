@@ -11,9 +11,11 @@
  * from src/color/filmic_builtin.c: the default, as in Blender 3.4), "AgX"
  * (Blender 4.x's default, AgX Base, from src/color/agx_builtin.c), "Khronos
  * PBR Neutral" (Blender 4.2+'s), "Standard" (no tone mapping, clips at 1),
- * "ACES 1.0 - SDR Video" and "Raw". Blender's config adds its contrast
- * looks (Filmic's, and 4.x's "AgX - Punchy" etc.), which the built-in one
- * has not.
+ * "ACES 1.0 - SDR Video" and "Raw", and Blender's looks: Filmic's ("Very
+ * High Contrast" ... "Very Low Contrast", in "Filmic Log") and 4.x's AgX
+ * looks ("AgX - Punchy", "AgX - Greyscale", "AgX - Very High Contrast" ...
+ * "AgX - Very Low Contrast", in "AgX Log"), with Blender's names and
+ * transforms.
  *
  * Pictures people look at (PNG previews, `display`, reports) default to the
  * config's default view: Filmic, as Blender 3.4 shows every render. Metrics

@@ -9,16 +9,21 @@
  *   y   = x' / 0.66, clamped to [0, 1]
  *   out = pb_filmic_curve interpolated linearly, entries at y = k / 819
  *
- * The OCIO shim builds a "Filmic" view of the built-in config from it. */
+ * The OCIO shim builds a "Filmic" view of the built-in config from it, and
+ * Blender's Filmic looks: in "Filmic Log" (x' / 0.66 above; back to
+ * scene-linear as 2^(-12.473931188 + 16.5 v)), each look's curve
+ * (pb_filmic_look_curves, sampled as pb_filmic_curve) then pb_filmic_curve
+ * inverted, as Blender's config. */
 #ifndef PB_FILMIC_BUILTIN_H
 #define PB_FILMIC_BUILTIN_H
 
-enum { PB_FILMIC_CUBE_SIZE = 65, PB_FILMIC_CURVE_SIZE = 820 };
+enum { PB_FILMIC_CUBE_SIZE = 65, PB_FILMIC_CURVE_SIZE = 820, PB_FILMIC_LOOK_COUNT = 7, PB_FILMIC_LOOK_CURVES = 6 };
 
 #define PB_FILMIC_LOG_MIN (-12.473931188)
 #define PB_FILMIC_LOG_MAX 12.526068812
 #define PB_FILMIC_CUBE_FLOOR 0.000175781
 #define PB_FILMIC_CURVE_MAX 0.66
+#define PB_FILMIC_LOG_LOOK_MAX 4.026068812 /* Filmic Log's to_reference: lg2 [LOG_MIN, this] */
 
 #ifdef __cplusplus
 extern "C" {
@@ -26,6 +31,14 @@ extern "C" {
 
 extern const float pb_filmic_desat_t[PB_FILMIC_CUBE_SIZE];
 extern const float pb_filmic_curve[PB_FILMIC_CURVE_SIZE];
+
+typedef struct pb_filmic_look {
+  const char *name;
+  int curve; /* index into pb_filmic_look_curves; -1: an empty look */
+} pb_filmic_look;
+
+extern const pb_filmic_look pb_filmic_looks[PB_FILMIC_LOOK_COUNT];
+extern const float pb_filmic_look_curves[PB_FILMIC_LOOK_CURVES][PB_FILMIC_CURVE_SIZE];
 
 #ifdef __cplusplus
 }

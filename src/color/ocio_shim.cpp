@@ -120,10 +120,11 @@ OCIO::ExponentWithLinearTransformRcPtr srgb_encode() {
   return e;
 }
 
-// AgX's 57^3 cube from src/color/agx_builtin.c (base64, zlib, differences
-// along red, 16 bits; see agx_builtin.h). Throws OCIO::Exception when the
-// embedded data does not decode (a broken build).
-OCIO::Lut3DTransformRcPtr agx_cube() {
+// An n^3 cube from src/color/agx_builtin.c (base64, zlib, differences along
+// red, 16 bits, entries x scale; see agx_builtin.h). Throws OCIO::Exception
+// when the embedded data does not decode (a broken build).
+OCIO::Lut3DTransformRcPtr embedded_cube(const char *base64, unsigned long deflated_size, int n,
+                                        double scale) {
   static const signed char dec[256] = {
 #define X64 -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1
       X64, X64, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, 62, -1, -1, -1, 63,
@@ -135,10 +136,10 @@ OCIO::Lut3DTransformRcPtr agx_cube() {
       X64, X64, X64, X64, X64, X64, X64, X64};
 #undef X64
   std::vector<unsigned char> z;
-  z.reserve(pb_agx_cube_deflated_size + 4);
+  z.reserve(deflated_size + 4);
   unsigned acc = 0;
   int bits = 0;
-  for (const char *p = pb_agx_cube_base64; *p && *p != '='; ++p) {
+  for (const char *p = base64; *p && *p != '='; ++p) {
     const int v = dec[(unsigned char)*p];
     if (v < 0) throw OCIO::Exception("built-in AgX: bad base64 in the embedded cube");
     acc = (acc << 6) | (unsigned)v;
@@ -149,11 +150,10 @@ OCIO::Lut3DTransformRcPtr agx_cube() {
       acc &= (1u << bits) - 1u;
     }
   }
-  const int n = PB_AGX_CUBE_SIZE;
   const size_t count = (size_t)n * n * n * 3;
   std::vector<unsigned char> raw(count * 2);
   uLongf raw_size = (uLongf)raw.size();
-  if (z.size() != pb_agx_cube_deflated_size ||
+  if (z.size() != deflated_size ||
       uncompress(raw.data(), &raw_size, z.data(), (uLong)z.size()) != Z_OK || raw_size != raw.size())
     throw OCIO::Exception("built-in AgX: the embedded cube does not inflate");
   OCIO::Lut3DTransformRcPtr cube = OCIO::Lut3DTransform::Create(n);
@@ -166,7 +166,7 @@ OCIO::Lut3DTransformRcPtr agx_cube() {
         for (int k = 0; k < 3; ++k) {
           const size_t i = ((((size_t)b * n + g) * n + r) * 3 + k) * 2;
           prev[k] = (prev[k] + (unsigned)(raw[i] | raw[i + 1] << 8)) & 0xffffu;
-          v[k] = (float)(prev[k] / 65535.0);
+          v[k] = (float)(prev[k] / scale);
         }
         cube->setValue(r, g, b, v[0], v[1], v[2]);
       }
@@ -174,18 +174,27 @@ OCIO::Lut3DTransformRcPtr agx_cube() {
   return cube;
 }
 
+OCIO::Lut3DTransformRcPtr agx_cube() {
+  return embedded_cube(pb_agx_cube_base64, pb_agx_cube_deflated_size, PB_AGX_CUBE_SIZE, 65535.0);
+}
+
+OCIO::MatrixTransformRcPtr matrix3(const double m3[9], bool inverse = false) {
+  double m[16] = {0};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m[4 * i + j] = m3[3 * i + j];
+  m[15] = 1.0;
+  OCIO::MatrixTransformRcPtr t = OCIO::MatrixTransform::Create();
+  t->setMatrix(m);
+  if (inverse) t->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  return t;
+}
+
 // Blender 4.x's AgX view on an sRGB display ("AgX Base sRGB"), from the data
 // and steps of src/color/agx_builtin.h.
 OCIO::ConstTransformRcPtr agx_transform() {
   OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
   append_to_rec709(g);
-  double m[16] = {0};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m[4 * i + j] = pb_agx_rec709_to_egamut[3 * i + j];
-  m[15] = 1.0;
-  OCIO::MatrixTransformRcPtr to_egamut = OCIO::MatrixTransform::Create();
-  to_egamut->setMatrix(m);
-  g->appendTransform(to_egamut);
+  g->appendTransform(matrix3(pb_agx_rec709_to_egamut));
   g->appendTransform(lg2_allocation(PB_AGX_LOG_MIN, PB_AGX_LOG_MAX));
   g->appendTransform(agx_cube());
   OCIO::ExponentTransformRcPtr power = OCIO::ExponentTransform::Create();
@@ -194,6 +203,60 @@ OCIO::ConstTransformRcPtr agx_transform() {
   g->appendTransform(power);
   g->appendTransform(srgb_encode());
   return g;
+}
+
+// Blender 4.x's "AgX Log" (the process space of its AgX looks), from the
+// data and steps of src/color/agx_builtin.h: from the scene reference,
+// through Blender's "Luminance Compensation Rec.2020" (a 37^3 cube on the
+// lg2-encoded E-Gamut values), to Rec.2020, the inset / rotation, lg2; back,
+// lg2 inverse, the inset inverted, Rec.2020 to Rec.709, as Blender's.
+OCIO::ColorSpaceRcPtr agx_log_colorspace() {
+  OCIO::GroupTransformRcPtr from = OCIO::GroupTransform::Create();
+  append_to_rec709(from);
+  from->appendTransform(matrix3(pb_agx_rec709_to_egamut));
+  from->appendTransform(lg2_allocation(PB_AGX_LOG_MIN, PB_AGX_LOG_MAX));
+  OCIO::Lut3DTransformRcPtr lumcomp = embedded_cube(pb_agx_lumcomp_cube_base64, pb_agx_lumcomp_cube_deflated_size,
+                                                    PB_AGX_LUMCOMP_CUBE_SIZE, PB_AGX_LUMCOMP_SCALE);
+  from->appendTransform(lumcomp);
+  OCIO::AllocationTransformRcPtr unlog = lg2_allocation(PB_AGX_LOG_MIN, PB_AGX_LOG_MAX);
+  unlog->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  from->appendTransform(unlog);
+  from->appendTransform(matrix3(pb_agx_egamut_to_rec2020));
+  from->appendTransform(matrix3(pb_agx_log_inset));
+  from->appendTransform(lg2_allocation(PB_AGX_LOG_MIN, PB_AGX_LOG_MAX));
+
+  OCIO::GroupTransformRcPtr to = OCIO::GroupTransform::Create();
+  to->appendTransform(unlog->createEditableCopy());
+  to->appendTransform(matrix3(pb_agx_log_inset, true));
+  to->appendTransform(matrix3(pb_agx_rec2020_to_rec709));
+  OCIO::GroupTransformRcPtr back = OCIO::GroupTransform::Create();
+  append_to_rec709(back);
+  back->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  to->appendTransform(back);
+
+  OCIO::ColorSpaceRcPtr cs = OCIO::ColorSpace::Create();
+  cs->setName("AgX Log");
+  cs->setFamily("Log Encodings");
+  cs->setDescription("Blender 4.x's AgX Log: luminance compensation, inset and rotation of primaries, "
+                     "25 stops of log (the process space of the AgX looks)");
+  cs->setTransform(from, OCIO::COLORSPACE_DIR_FROM_REFERENCE);
+  cs->setTransform(to, OCIO::COLORSPACE_DIR_TO_REFERENCE);
+  return cs;
+}
+
+// Adds the looks of a `looks:` YAML section (Blender's own text, from
+// src/color/agx_builtin.c) to cfg: OpenColorIO parses them, in a config of
+// their process spaces' names only, so that they are Blender's to the letter.
+void add_yaml_looks(const OCIO::ConfigRcPtr &cfg, const char *looks_yaml) {
+  std::string text = "ocio_profile_version: 2.1\nroles: {default: Raw}\ncolorspaces:\n"
+                     "  - !<ColorSpace> {name: Raw, isdata: true}\n";
+  for (int i = 0; i < cfg->getNumColorSpaces(); ++i)
+    if (std::strcmp(cfg->getColorSpaceNameByIndex(i), "Raw") != 0)
+      text += std::string("  - !<ColorSpace> {name: \"") + cfg->getColorSpaceNameByIndex(i) + "\"}\n";
+  text += looks_yaml;
+  std::istringstream in(text);
+  OCIO::ConstConfigRcPtr parsed = OCIO::Config::CreateFromStream(in);
+  for (int i = 0; i < parsed->getNumLooks(); ++i) cfg->addLook(parsed->getLook(parsed->getLookNameByIndex(i)));
 }
 
 // The Khronos PBR Neutral tone mapper (Khronos PBR Neutral specification,
@@ -237,12 +300,22 @@ OCIO::ConstTransformRcPtr pbr_neutral_transform() {
   return g;
 }
 
-// Blender 3.4's Filmic view for the built-in config, from the closed form in
-// src/color/filmic_builtin.h (config/ocio/bake_filmic.py derives it from
-// Blender's files): the same four steps as Blender's "Filmic sRGB" colour
-// space, with the 65^3 cube evaluated on its grid here and interpolated
-// tetrahedrally, as Blender's config does with the file.
-OCIO::ConstTransformRcPtr filmic_transform() {
+// Blender 3.4's Filmic curve (pb_filmic_curve, or one of a look's) as a 1D
+// LUT, interpolated linearly as Blender's config does with the file.
+OCIO::Lut1DTransformRcPtr filmic_curve(const float *curve, bool inverse = false) {
+  OCIO::Lut1DTransformRcPtr lut = OCIO::Lut1DTransform::Create(PB_FILMIC_CURVE_SIZE, false);
+  lut->setInterpolation(OCIO::INTERP_LINEAR);
+  for (int i = 0; i < PB_FILMIC_CURVE_SIZE; ++i) lut->setValue(i, curve[i], curve[i], curve[i]);
+  if (inverse) lut->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  return lut;
+}
+
+// Blender 3.4's "Filmic Log" from the built-in config's reference, from the
+// closed form in src/color/filmic_builtin.h (config/ocio/bake_filmic.py
+// derives it from Blender's files): scene-linear Rec.709, the lg2 shaper,
+// the 65^3 desaturation cube evaluated on its grid here and interpolated
+// tetrahedrally, as Blender's config does with the file, then x / 0.66.
+OCIO::GroupTransformRcPtr filmic_log_transform() {
   const int n = PB_FILMIC_CUBE_SIZE;
   const double lo = PB_FILMIC_LOG_MIN, span = PB_FILMIC_LOG_MAX - PB_FILMIC_LOG_MIN;
   OCIO::Lut3DTransformRcPtr cube = OCIO::Lut3DTransform::Create(n);
@@ -261,15 +334,6 @@ OCIO::ConstTransformRcPtr filmic_transform() {
         cube->setValue(r, g, b, encode(lin[r] + t * (top - lin[r])),
                        encode(lin[g] + t * (top - lin[g])), encode(lin[b] + t * (top - lin[b])));
       }
-  OCIO::Lut1DTransformRcPtr curve = OCIO::Lut1DTransform::Create(PB_FILMIC_CURVE_SIZE, false);
-  curve->setInterpolation(OCIO::INTERP_LINEAR);
-  for (int i = 0; i < PB_FILMIC_CURVE_SIZE; ++i)
-    curve->setValue(i, pb_filmic_curve[i], pb_filmic_curve[i], pb_filmic_curve[i]);
-
-  OCIO::AllocationTransformRcPtr shaper = OCIO::AllocationTransform::Create();
-  shaper->setAllocation(OCIO::ALLOCATION_LG2);
-  const float shaper_vars[2] = {(float)PB_FILMIC_LOG_MIN, (float)PB_FILMIC_LOG_MAX};
-  shaper->setVars(2, shaper_vars);
   OCIO::AllocationTransformRcPtr rescale = OCIO::AllocationTransform::Create();
   rescale->setAllocation(OCIO::ALLOCATION_UNIFORM);
   const float rescale_vars[2] = {0.0f, (float)PB_FILMIC_CURVE_MAX};
@@ -277,16 +341,62 @@ OCIO::ConstTransformRcPtr filmic_transform() {
 
   OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
   append_to_rec709(g);
-  g->appendTransform(shaper);
+  g->appendTransform(lg2_allocation(PB_FILMIC_LOG_MIN, PB_FILMIC_LOG_MAX));
   g->appendTransform(cube);
   g->appendTransform(rescale);
-  g->appendTransform(curve);
   return g;
 }
 
-// The built-in config with its Filmic, AgX and Khronos PBR Neutral views
-// added (OCIO's YAML cannot hold an in-memory LUT, so they are added here);
-// Filmic is the default, as in Blender 3.4.
+// Blender 3.4's Filmic view for the built-in config: Filmic Log, then the
+// base contrast curve (Blender's "Filmic sRGB").
+OCIO::ConstTransformRcPtr filmic_transform() {
+  OCIO::GroupTransformRcPtr g = filmic_log_transform();
+  g->appendTransform(filmic_curve(pb_filmic_curve));
+  return g;
+}
+
+// "Filmic Log" as a colour space (the process space of the Filmic looks):
+// back to the reference as Blender's, an lg2 allocation over 16.5 stops,
+// inverse (not the desaturation undone).
+OCIO::ColorSpaceRcPtr filmic_log_colorspace() {
+  OCIO::GroupTransformRcPtr to = OCIO::GroupTransform::Create();
+  OCIO::AllocationTransformRcPtr unlog = lg2_allocation(PB_FILMIC_LOG_MIN, PB_FILMIC_LOG_LOOK_MAX);
+  unlog->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  to->appendTransform(unlog);
+  OCIO::GroupTransformRcPtr back = OCIO::GroupTransform::Create();
+  append_to_rec709(back);
+  back->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+  to->appendTransform(back);
+  OCIO::ColorSpaceRcPtr cs = OCIO::ColorSpace::Create();
+  cs->setName("Filmic Log");
+  cs->setFamily("Log Encodings");
+  cs->setDescription("Blender 3.4's Filmic Log: the process space of the Filmic looks");
+  cs->setTransform(filmic_log_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
+  cs->setTransform(to, OCIO::COLORSPACE_DIR_TO_REFERENCE);
+  return cs;
+}
+
+// Blender's Filmic looks: in Filmic Log, the look's curve then the base
+// curve inverted (nothing for "Medium Contrast").
+void add_filmic_looks(const OCIO::ConfigRcPtr &cfg) {
+  for (const pb_filmic_look &fl : pb_filmic_looks) {
+    OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
+    if (fl.curve >= 0) {
+      g->appendTransform(filmic_curve(pb_filmic_look_curves[fl.curve]));
+      g->appendTransform(filmic_curve(pb_filmic_curve, true));
+    }
+    OCIO::LookRcPtr look = OCIO::Look::Create();
+    look->setName(fl.name);
+    look->setProcessSpace("Filmic Log");
+    look->setTransform(g);
+    cfg->addLook(look);
+  }
+}
+
+// The built-in config with its Filmic, AgX and Khronos PBR Neutral views,
+// their process spaces "Filmic Log" and "AgX Log" and Blender's Filmic and
+// AgX looks added (OCIO's YAML cannot hold an in-memory LUT, so they are
+// added here); Filmic is the default, as in Blender 3.4.
 OCIO::ConstConfigRcPtr builtin_config() {
   std::istringstream in(pb_color_builtin_config_text);
   OCIO::ConfigRcPtr cfg = OCIO::Config::CreateFromStream(in)->createEditableCopy();
@@ -297,6 +407,7 @@ OCIO::ConstConfigRcPtr builtin_config() {
   cs->setTransform(filmic_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
   cfg->addColorSpace(cs);
   cfg->addDisplayView("sRGB", "Filmic", "Filmic sRGB", "");
+  cfg->addColorSpace(filmic_log_colorspace());
   cs = OCIO::ColorSpace::Create();
   cs->setName("AgX Base sRGB");
   cs->setFamily("Display");
@@ -304,6 +415,9 @@ OCIO::ConstConfigRcPtr builtin_config() {
   cs->setTransform(agx_transform(), OCIO::COLORSPACE_DIR_FROM_REFERENCE);
   cfg->addColorSpace(cs);
   cfg->addDisplayView("sRGB", "AgX", "AgX Base sRGB", "");
+  cfg->addColorSpace(agx_log_colorspace());
+  add_filmic_looks(cfg);
+  add_yaml_looks(cfg, pb_agx_looks_yaml);
   cs = OCIO::ColorSpace::Create();
   cs->setName("Khronos PBR Neutral sRGB");
   cs->setFamily("Display");

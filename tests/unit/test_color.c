@@ -297,6 +297,71 @@ static void test_exposure_gamma(void) {
   pb_color_destroy(gm);
 }
 
+/* Blender 4.5's AgX looks, which the built-in config reproduces. */
+static const char *const agx_looks[] = {"AgX - Punchy", "AgX - Greyscale", "AgX - Very High Contrast",
+                                        "AgX - High Contrast", "AgX - Medium High Contrast",
+                                        "AgX - Base Contrast", "AgX - Medium Low Contrast",
+                                        "AgX - Low Contrast", "AgX - Very Low Contrast"};
+enum { N_AGX_LOOKS = sizeof agx_looks / sizeof agx_looks[0] };
+
+/* Blender's Filmic looks (3.4's and 4.x's), which it reproduces too. */
+static const char *const filmic_looks[] = {"Very High Contrast", "High Contrast", "Medium High Contrast",
+                                           "Medium Contrast", "Medium Low Contrast", "Low Contrast",
+                                           "Very Low Contrast"};
+enum { N_FILMIC_LOOKS = sizeof filmic_looks / sizeof filmic_looks[0] };
+
+/* 200k scene-linear colours over 24 stops (a sixteenth of the channels 0, a
+ * third of the colours grey), from seed. */
+static void stops_colours(float *p, int n, uint64_t st) {
+  for (int i = 0; i < n * 3; ++i) {
+    st = st * 6364136223846793005ull + 1442695040888963407ull;
+    float u = (float)(st >> 40) / (float)(1 << 24);
+    p[i] = ((st >> 20) & 15) == 0 ? 0.0f : 0.18f * exp2f(-14.0f + 24.0f * u);
+    if ((i / 3) % 3 == 0 && i % 3) p[i] = p[i - i % 3];
+  }
+}
+
+/* max |built-in - config| in 8-bit steps over those colours for one view
+ * and look (NULL: none); -1 when either does not open. When plain is given,
+ * also the max |built-in with the look - built-in without it| there. */
+static double builtin_vs_config(const char *cfg, const char *view, const char *look, double *plain) {
+  pb_color *mine = NULL, *theirs = NULL, *bare = NULL;
+  pb_color_desc a = {.config = "built-in", .view = view, .look = look};
+  pb_color_desc b = {.config = cfg, .view = view, .look = look};
+  pb_color_desc c = {.config = "built-in", .view = view};
+  CHECK_EQ_INT(pb_color_open(&a, &mine), PB_OK);
+  CHECK_EQ_INT(pb_color_open(&b, &theirs), PB_OK);
+  if (plain) CHECK_EQ_INT(pb_color_open(&c, &bare), PB_OK);
+  enum { N = 200000 };
+  float *p = malloc(sizeof(float) * N * 3), *q = malloc(sizeof(float) * N * 3);
+  float *r = malloc(sizeof(float) * N * 3);
+  double mx = -1;
+  if (mine && theirs && p && q && r && (!plain || bare)) {
+    stops_colours(p, N, 777);
+    memcpy(q, p, sizeof(float) * N * 3);
+    memcpy(r, p, sizeof(float) * N * 3);
+    CHECK_EQ_INT(pb_color_apply_display(mine, p, N, 1, 3), PB_OK);
+    CHECK_EQ_INT(pb_color_apply_display(theirs, q, N, 1, 3), PB_OK);
+    mx = 0;
+    for (int i = 0; i < N * 3; ++i) mx = fmax(mx, fabs(p[i] - q[i]) * 255.0);
+    if (plain) {
+      CHECK_EQ_INT(pb_color_apply_display(bare, r, N, 1, 3), PB_OK);
+      *plain = 0;
+      for (int i = 0; i < N * 3; ++i) *plain = fmax(*plain, fabs(p[i] - r[i]) * 255.0);
+    }
+  } else {
+    if (!mine || !theirs) printf("%s\n", pb_error_message()), pb_error_clear();
+    CHECK(0);
+  }
+  free(p);
+  free(q);
+  free(r);
+  pb_color_destroy(mine);
+  pb_color_destroy(theirs);
+  pb_color_destroy(bare);
+  return mx;
+}
+
 /* The built-in Filmic against Blender's config's Filmic on 200k scene-linear
  * colours over 24 stops (grey, saturated, zeros): the same four steps, so
  * they agree far inside one 8-bit step. Needs Blender's config files only. */
@@ -338,6 +403,16 @@ static void test_builtin_filmic_vs_blender_config(void) {
   }
   pb_color_destroy(mine);
   pb_color_destroy(theirs);
+  /* Its looks through the Filmic view, against Blender 3.4's. */
+  for (int l = 0; l < N_FILMIC_LOOKS; ++l) {
+    double plain = 0;
+    const double mx = builtin_vs_config(BLENDER_CONFIG, "Filmic", filmic_looks[l], &plain);
+    printf("built-in Filmic + '%s' vs Blender 3.4's: max %.4f 8-bit steps (the look moves values by up to %.1f)\n",
+           filmic_looks[l], mx, plain);
+    CHECK(mx >= 0 && mx < 0.05); /* as the view's own */
+    /* "Medium Contrast" is Filmic Log there and back (desaturated twice). */
+    if (strcmp(filmic_looks[l], "Medium Contrast") != 0) CHECK(plain > 2.0);
+  }
 }
 
 /* Blender's config, when installed: Filmic loads through the shim and maps
@@ -447,8 +522,9 @@ static void test_builtin_blender4_views(void) {
   printf("grey 0.25: AgX -> %.4f, Khronos PBR Neutral -> %.4f\n", agx[1 + 12 - 2][0], pbr[1 + 12 - 2][0]);
 }
 
-/* With $PB_BLENDER4_OCIO (Blender 4.2+'s config.ocio): the built-in views
- * against it on 200k scene-linear colours over 24 stops. */
+/* With $PB_BLENDER4_OCIO (Blender 4.2+'s config.ocio): the built-in views,
+ * and the AgX looks through the AgX view, against it on 200k scene-linear
+ * colours over 24 stops. */
 static void test_builtin_blender4_vs_config(void) {
   const char *cfg = getenv("PB_BLENDER4_OCIO");
   if (!cfg || !*cfg || access(cfg, R_OK) != 0) {
@@ -457,32 +533,19 @@ static void test_builtin_blender4_vs_config(void) {
   }
   static const char *views[2] = {"AgX", "Khronos PBR Neutral"};
   for (int v = 0; v < 2; ++v) {
-    pb_color *mine = NULL, *theirs = NULL;
-    pb_color_desc a = {.config = "built-in", .view = views[v]}, b = {.config = cfg, .view = views[v]};
-    CHECK_EQ_INT(pb_color_open(&a, &mine), PB_OK);
-    CHECK_EQ_INT(pb_color_open(&b, &theirs), PB_OK);
-    enum { N = 200000 };
-    float *p = malloc(sizeof(float) * N * 3), *q = malloc(sizeof(float) * N * 3);
-    if (mine && theirs && p && q) {
-      uint64_t st = 777;
-      for (int i = 0; i < N * 3; ++i) {
-        st = st * 6364136223846793005ull + 1442695040888963407ull;
-        float u = (float)(st >> 40) / (float)(1 << 24);
-        p[i] = ((st >> 20) & 15) == 0 ? 0.0f : 0.18f * exp2f(-14.0f + 24.0f * u);
-        if ((i / 3) % 3 == 0 && i % 3) p[i] = p[i - i % 3];
-        q[i] = p[i];
-      }
-      CHECK_EQ_INT(pb_color_apply_display(mine, p, N, 1, 3), PB_OK);
-      CHECK_EQ_INT(pb_color_apply_display(theirs, q, N, 1, 3), PB_OK);
-      double mx = 0;
-      for (int i = 0; i < N * 3; ++i) mx = fmax(mx, fabs(p[i] - q[i]) * 255.0);
-      printf("built-in %s vs %s: max %.4f 8-bit steps over %d colours\n", views[v], cfg, mx, N);
-      CHECK(mx < 0.25);
-    }
-    free(p);
-    free(q);
-    pb_color_destroy(mine);
-    pb_color_destroy(theirs);
+    const double mx = builtin_vs_config(cfg, views[v], NULL, NULL);
+    printf("built-in %s vs %s: max %.4f 8-bit steps over 200000 colours\n", views[v], cfg, mx);
+    CHECK(mx >= 0 && mx < 0.25);
+  }
+  for (int l = 0; l < N_AGX_LOOKS; ++l) {
+    double plain = 0;
+    const double mx = builtin_vs_config(cfg, "AgX", agx_looks[l], &plain);
+    printf("built-in AgX + '%s' vs Blender 4.5's: max %.4f 8-bit steps (the look moves values by up to %.1f)\n",
+           agx_looks[l], mx, plain);
+    CHECK(mx >= 0 && mx < 0.25);
+    /* The look is applied, or the comparison proves nothing ("Base Contrast"
+     * is AgX Log there and back, through its luminance compensation). */
+    if (strcmp(agx_looks[l], "AgX - Base Contrast") != 0) CHECK(plain > 2.0);
   }
 }
 
