@@ -472,7 +472,8 @@ pb_result pb_color_opts_open_scene(const pb_color_opts *o, const pb_scene *s, pb
   if (r != PB_ERR_USAGE) return r;
   /* A name the config lacks: the scene's, or one given here? Without the
    * scene's names, a command-line name fails again and says so. A scene's
-   * look the config lacks (the built-in config has none) drops the look
+   * look the config lacks (the built-in config has Blender's Filmic and AgX
+   * looks, not a custom config's) drops the look
    * only; anything else falls back to the config's defaults. */
   char why[512];
   snprintf(why, sizeof why, "%s", pb_error_message());

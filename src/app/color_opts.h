@@ -68,7 +68,7 @@ static inline pb_result pb_color_opts_open(const pb_color_opts *o, pb_color **ou
  * (a one-line warning); else the usual defaults. A scene's look is not
  * applied under a --view or --display of the command line (Blender's looks
  * belong to their view). A name of the scene's that the config lacks
- * (Blender's config has views and looks the built-in one has not) is a
+ * (Blender's config has views the built-in one has not; a custom config, looks) is a
  * one-line warning naming it and what is used instead, not an error: a
  * look the config lacks is left out (the view kept), a display or view
  * gives the config's default display, view and look (the scene's exposure
