@@ -97,7 +97,11 @@ def make_pairs(out):
 
 
 def main(argv):
-    from pbcheck import check, finish
+    from pbcheck import check, debian_python, finish
+    try:
+        from PIL import Image
+    except ImportError:  # pyenv's python without Debian's packages
+        debian_python("flip_agreement")
     exe, out = argv[0], argv[1]
     os.makedirs(out, exist_ok=True)
     fpy = os.environ.get("PB_FLIP_PYTHON") or os.path.join(ROOT, "tools", "flip", "bin", "python")
@@ -152,9 +156,9 @@ def main(argv):
                         "--map", theirs], capture_output=True, text=True)
     check(p.returncode == 0, "flip_mean.py --map: %s" % p.stderr.strip())
     if os.path.isfile(mine) and os.path.isfile(theirs):
-        a, b = imgmini.read_png(mine), imgmini.read_png(theirs)
-        check(a[:3] == b[:3], "map sizes %s and FLIP's %s" % (a[:3], b[:3]))
-        diffs = [abs(x - y) for ra, rb in zip(a[3], b[3]) for x, y in zip(ra, rb)]
+        a, b = Image.open(mine), Image.open(theirs)
+        check((a.size, a.mode) == (b.size, b.mode), "map %s %s and FLIP's %s %s" % (a.size, a.mode, b.size, b.mode))
+        diffs = [abs(x - y) for x, y in zip(a.tobytes(), b.tobytes())]
         same = sum(1 for d in diffs if d == 0) / max(1, len(diffs))
         print("map: %.2f %% of values the same as FLIP's, largest difference %d" % (100 * same, max(diffs)))
         check(same >= 0.98 and max(diffs) <= 8, "the map differs from FLIP's: %.2f %% the same, "

@@ -19,7 +19,12 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import imgmini  # noqa: E402
-from pbcheck import check, finish  # noqa: E402
+from pbcheck import check, debian_python, finish  # noqa: E402
+
+try:
+    from PIL import Image
+except ImportError:  # pyenv's python without Debian's packages
+    debian_python("flip_heatmap_check")
 
 W, H = 96, 64
 BX, BY, BS = 70, 40, 8  # the block that differs
@@ -59,8 +64,11 @@ check(j.get("hdr_flip_zeroed_pixels") == 0, "hdr_flip_zeroed_pixels %r" % j.get(
 check(j.get("heatmap") == {"file": png, "metric": "flip", "scale_max": 1},
       "the JSON's heatmap: %r" % j.get("heatmap"))
 if check(os.path.isfile(png), "no PNG written"):
-    w, h, ch, rows = imgmini.read_png(png)
-    check((w, h, ch) == (W, H, 3), "the map is %dx%d with %d channels" % (w, h, ch))
+    im = Image.open(png)
+    w, h = im.size
+    data = im.tobytes()
+    rows = [data[3 * w * y:3 * w * (y + 1)] for y in range(h)]
+    check((w, h, im.mode) == (W, H, "RGB"), "the map is %dx%d in mode %s" % (w, h, im.mode))
     far = [rows[y][3 * x:3 * x + 3] for y in range(h) for x in range(w)
            if not (BX - REACH <= x < BX + BS + REACH and BY - REACH <= y < BY + BS + REACH)]
     check(far and all(px == b"\x00\x00\x04" for px in far),

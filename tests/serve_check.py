@@ -50,14 +50,13 @@ import subprocess
 import sys
 import time
 
+from pbcheck import debian_python
+
 try:
     import numpy as np
     from PIL import Image
 except ImportError:  # pyenv's python without Debian's packages
-    if sys.executable != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
-        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
-    print("serve_check: needs numpy and Pillow (python3-numpy, python3-pil)")
-    sys.exit(77)
+    debian_python("serve_check")
 
 EXE, ROOT, OUT, PART = sys.argv[1:5]
 SCENE = os.path.join(ROOT, "samples/cornell_box/cornell_box.gltf")

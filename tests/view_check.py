@@ -46,14 +46,13 @@ import shutil
 import subprocess
 import sys
 
+from pbcheck import debian_python
+
 try:
     import numpy as np
     from PIL import Image
 except ImportError:  # pyenv's python without Debian's packages
-    if sys.executable != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
-        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
-    print("view_check: needs numpy and Pillow (python3-numpy, python3-pil)")
-    sys.exit(77)
+    debian_python("view_check")
 
 EXE, ROOT, OUT, PART = sys.argv[1:5]
 SCENE = os.path.join(ROOT, "samples/cornell_box/cornell_box.gltf")
