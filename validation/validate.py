@@ -791,10 +791,11 @@ def main(argv):
             ref_r = dict(ref_r, camera=v)
 
     # photonbridge render (GPU).
+    why = None if skip("photonbridge") else not_runnable(a, "photonbridge", scene, sample, blend)
     if skip("photonbridge"):
         pass
-    elif not_runnable(a, "photonbridge", scene, sample, blend):
-        record("photonbridge", *not_runnable(a, "photonbridge", scene, sample, blend))
+    elif why:
+        record("photonbridge", *why)
     else:
         progress("photonbridge render")
         exr = os.path.join(out, "photonbridge.exr")
@@ -814,10 +815,11 @@ def main(argv):
             record("photonbridge", "failed", "exit %d: %s" % (rc, o.strip()[-300:]), command=cmd)
 
     # POV-Ray.
+    why = None if skip("povray") else not_runnable(a, "povray", scene, sample, blend)
     if skip("povray"):
         pass
-    elif not_runnable(a, "povray", scene, sample, blend):
-        record("povray", *not_runnable(a, "povray", scene, sample, blend))
+    elif why:
+        record("povray", *why)
     else:
         progress("POV-Ray")
         pdir = os.path.join(out, "povray")
@@ -856,8 +858,9 @@ def main(argv):
         if skip(n):
             continue
         py = peer_python(n)
-        if not_runnable(a, n, scene, sample, blend):
-            record(n, *not_runnable(a, n, scene, sample, blend))
+        why = not_runnable(a, n, scene, sample, blend)
+        if why:
+            record(n, *why)
             continue
         progress(LABEL[n])
         pdir = os.path.join(out, n)
