@@ -103,3 +103,15 @@ add_test(NAME principled2_metallic_bad_value
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled2_metallic_bad_value PROPERTIES LABELS principled
                      PASS_REGULAR_EXPRESSION "bad\\.gltf: materials\\[0\\]\\.extensions\\.PHOTONBRIDGE_blender\\.metallic\\.fresnelType: 'SCHLICK' is not F82 or PHYSICAL_CONDUCTOR\n.*exit=[1-9]")
+# The Glossy and Refraction BSDFs' models: an Anisotropy past -1..1 and a
+# Multiscatter Refraction (Blender has none) are one line naming the member.
+add_test(NAME principled2_bsdf_node_bad_value
+         COMMAND sh -c "mkdir -p \"$1\" && cd \"$1\" && d=\"$2\"/tests/data/principled2 &&
+                        cp $d/glossy_ggx_negative/glossy_ggx_negative.bin $d/refraction_bsdf/refraction_bsdf.bin . &&
+                        sed 's/\"anisotropy\": -0.5/\"anisotropy\": -1.5/' $d/glossy_ggx_negative/glossy_ggx_negative.gltf > glossy.gltf &&
+                        sed 's/\"distribution\": \"GGX\"/\"distribution\": \"MULTI_GGX\"/' $d/refraction_bsdf/refraction_bsdf.gltf > refraction.gltf &&
+                        \"$0\" info glossy.gltf; echo \"exit=$?\"; \"$0\" info refraction.gltf; echo \"exit=$?\""
+                 ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled2_bsdf_node_bad ${PB_ROOT}
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled2_bsdf_node_bad_value PROPERTIES LABELS principled
+                     PASS_REGULAR_EXPRESSION "glossy\\.gltf: materials\\[0\\]\\.extensions\\.PHOTONBRIDGE_blender\\.glossy\\.anisotropy: -1\\.5[^\n]*\n.*exit=[1-9].*refraction\\.gltf: materials\\[[0-9]\\]\\.extensions\\.PHOTONBRIDGE_blender\\.refraction\\.distribution: 'MULTI_GGX' is not GGX or BECKMANN\n.*exit=[1-9]")

@@ -62,9 +62,18 @@ SPP = {"ref": 64, "gpu": 64}
 # At half their counts the others lose the margin (seed 0): the furnace at
 # 128 spp 35.4 dB (>= 35), the v2 sheen's mean -1.2 % and sheen_bsdf's
 # -1.6 % (the rim's few pixels), so those stay at 256.
+# The Glass and Refraction BSDFs (lavapipe, 2026-12-07, seed 0): the
+# reference 46.4 / 42.5 / 43.5 dB (glass_bsdf_ggx / _multi, glass_beckmann)
+# at 512 spp (39.7 / 34.5 / 36.1 at 64), refraction_bsdf and
+# refraction_beckmann 40.6 and 39.4 at 64, so 256; the GPU glass_bsdf_multi
+# and glass_beckmann 34.6 and 36.3 dB at 64, so 256 as glass_multi,
+# glass_bsdf_ggx, refraction_bsdf and refraction_beckmann 40.2, 40.6 and
+# 39.7 at 64.
 SPP_SCENE = {"ref": {"glass": 512, "studio": 256, "studio_multi": 256, "glass_ggx": 512, "glass_multi": 512,
-                     "thin_film_glass": 1024, "emission_coat": 1024},
-             "gpu": {"glass": 256, "glass_ggx": 256, "glass_multi": 256, "thin_film_glass": 256, "furnace": 256, "sheen": 256, "sheen_bsdf": 256, "studio": 16, "studio_multi": 16,
+                     "thin_film_glass": 1024, "emission_coat": 1024, "glass_bsdf_ggx": 512,
+                     "glass_bsdf_multi": 512, "glass_beckmann": 512, "refraction_bsdf": 256,
+                     "refraction_beckmann": 256},
+             "gpu": {"glass": 256, "glass_ggx": 256, "glass_multi": 256, "glass_bsdf_multi": 256, "glass_beckmann": 256, "thin_film_glass": 256, "furnace": 256, "sheen": 256, "sheen_bsdf": 256, "studio": 16, "studio_multi": 16,
                      "emission_coat": 512}}
 # The GPU's photon options: 2^14 paths, one map, except on the studio, whose
 # indirect light is the photon map's: 2^18 paths x 16 progressive maps at
@@ -78,7 +87,8 @@ GPU_OPTS = {"studio": ENGINE, "studio_multi": ENGINE}
 # path (--glossy-path-roughness 1; by default layers rougher than 0.15 are
 # shaded where the eye path stops, from direct light and the photon map):
 # both ways must match Cycles.
-FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "thin_film_diffuse", "metal_aniso", "metallic_f82_multi_aniso", "clearcoat", "studio"]
+FOLLOWED = ["specular_ggx_r02", "specular_multi_r05", "thin_film_diffuse", "metal_aniso", "metallic_f82_multi_aniso",
+            "glossy_multi_aniso", "clearcoat", "studio"]
 
 
 def probe(exe, path):

@@ -15,8 +15,12 @@ sheen lit from behind; emission under a coat and sheen; and, in the
 Principled's place, the Metallic BSDF (model metallic: F82 with GGX, and
 anisotropic with Multiscatter GGX; Physical Conductor with Multiscatter
 GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
-Microfiber, lit from behind); Thin Film iridescence on the dielectric
-specular, over a diffuse base and on rough glass. Each NAME gets
+Microfiber, lit from behind), the Glossy BSDF (model glossy: anisotropic
+with Multiscatter GGX, negative Anisotropy with GGX, anisotropic Beckmann),
+the Glass BSDF (model glass: Multiscatter GGX, GGX, Beckmann) and the
+Refraction BSDF (model refraction: GGX, Beckmann), the glass and refraction
+in front of the card; Thin Film iridescence on the dielectric specular,
+over a diffuse base and on rough glass. Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
                               (photonbridge/writer.py: model principled2);
@@ -115,6 +119,35 @@ CASES = {
                                          {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "GGX"})},
     "sheen_bsdf": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.9, 0.6, 0.4, 1.0), "Roughness": 0.35},
                              {"distribution": "MICROFIBER"})},
+    # The Glossy BSDF (no Fresnel; 4.0's Anisotropy, stretched the other way
+    # from the Principled's, both signs), the Glass BSDF (Color on
+    # reflection and transmission) and the Refraction BSDF (no Fresnel), in
+    # front of the card.
+    "glossy_multi_aniso": {"_node": ("ShaderNodeBsdfAnisotropic",
+                                     {"Color": (0.9, 0.6, 0.3, 1.0), "Roughness": 0.45, "Anisotropy": 0.6,
+                                      "Rotation": 0.15},
+                                     {"distribution": "MULTI_GGX"})},
+    "glossy_ggx_negative": {"_node": ("ShaderNodeBsdfAnisotropic",
+                                      {"Color": (0.7, 0.8, 0.9, 1.0), "Roughness": 0.3, "Anisotropy": -0.5},
+                                      {"distribution": "GGX"})},
+    "glass_bsdf_multi": {"_node": ("ShaderNodeBsdfGlass",
+                                   {"Color": (0.9, 0.7, 0.5, 1.0), "Roughness": 0.35, "IOR": 1.5},
+                                   {"distribution": "MULTI_GGX"}), "_card": True},
+    "glass_bsdf_ggx": {"_node": ("ShaderNodeBsdfGlass",
+                                 {"Color": (0.6, 0.8, 1.0, 1.0), "Roughness": 0.15, "IOR": 1.33},
+                                 {"distribution": "GGX"}), "_card": True},
+    "refraction_bsdf": {"_node": ("ShaderNodeBsdfRefraction",
+                                  {"Color": (1.0, 0.85, 0.6, 1.0), "Roughness": 0.25, "IOR": 1.45},
+                                  {"distribution": "GGX"}), "_card": True},
+    # Beckmann: the Refraction BSDF's default, and anisotropic on the Glossy.
+    "refraction_beckmann": {"_node": ("ShaderNodeBsdfRefraction", {"Roughness": 0.3, "IOR": 1.5},
+                                      {"distribution": "BECKMANN"}), "_card": True},
+    "glossy_beckmann_aniso": {"_node": ("ShaderNodeBsdfAnisotropic",
+                                        {"Color": (0.8, 0.8, 0.8, 1.0), "Roughness": 0.4, "Anisotropy": 0.5,
+                                         "Rotation": 0.2},
+                                        {"distribution": "BECKMANN"})},
+    "glass_beckmann": {"_node": ("ShaderNodeBsdfGlass", {"Color": (0.8, 1.0, 0.9, 1.0), "Roughness": 0.3, "IOR": 1.5},
+                                 {"distribution": "BECKMANN"}), "_card": True},
     # Thin Film (4.2+): Belcour-Barla iridescence on the dielectric specular
     # alone (400 nm), over a grey diffuse base it layers (250 nm, Multiscatter
     # GGX), and on the glass's Fresnel (600 nm, in front of the card).

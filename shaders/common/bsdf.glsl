@@ -22,6 +22,7 @@ const uint PB_FR_DIELECTRIC = 0u;
 const uint PB_FR_F82_TINT = 1u;
 const uint PB_FR_GEN_SCHLICK = 2u;
 const uint PB_FR_CONDUCTOR = 3u; // physical conductor: n in cspec0, k in color
+const uint PB_FR_NONE = 4u;      // no Fresnel: all reflected (V2_GGX) or all refracted but TIR (V2_GLASS)
 // Every closure has its own slot (no dynamic indexing: loops over the slots
 // unroll into registers): diffuse or Oren-Nayar, sheen, specular, glass
 // reflection, glass refraction, clearcoat, transparent.
@@ -51,6 +52,7 @@ struct pb_closure {
   bool g2;       // height-correlated Smith G2
   float tf_d;    // v2 generalized Schlick: thin film thickness (nm; off at <= 0.1)
   float tf_ior;  // its IOR, relative to the outside as ior is
+  bool beckmann; // v2: Beckmann's D and Lambda instead of GGX's (the Blender BSDF nodes)
 };
 
 struct pb_bsdf {

@@ -425,6 +425,7 @@ void pb_add_closure(inout pb_bsdf b, uint slot, uint type, vec3 weight) {
   c.g2 = false;
   c.tf_d = 0.0;
   c.tf_ior = 1.0;
+  c.beckmann = false;
   b.cl[slot] = c;
 }
 
@@ -577,6 +578,12 @@ void pb2_fresnel(pb_closure c, float cos_hv, out vec3 r, out vec3 t) {
     r = vec3(f);
   } else if (c.fresnel == PB_FR_CONDUCTOR) {
     r = pb2_fresnel_conductor(cos_hv, c.cspec0, c.color);
+  } else if (c.fresnel == PB_FR_NONE) {
+    // The Glossy BSDF reflects everything; the Refraction BSDF transmits
+    // everything but what total internal reflection keeps (then nothing).
+    bool refraction = c.type == PB_CL_V2_GLASS;
+    r = vec3(refraction ? 0.0 : 1.0);
+    if (refraction && pb_fresnel_diel(cos_hv, c.ior) < 1.0) t = vec3(1.0);
   } else if (c.fresnel == PB_FR_F82_TINT) {
     float mu = clamp(1.0 - cos_hv, 0.0, 1.0);
     float mu5 = mu * mu * mu * mu * mu;
@@ -606,6 +613,29 @@ float pb2_lambda(vec3 w, float ax, float ay) {
   return 0.5 * (sqrt(1.0 + (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / z2) - 1.0);
 }
 
+// Beckmann (closure/bsdf_microfacet.h bsdf_aniso_D, bsdf_lambda_from_sqr_alpha_tan_n:
+// Walter et al. 2007's rational approximation of Smith's Lambda).
+float pb2_beckmann_d(vec3 m, float ax, float ay) {
+  float c2 = m.z * m.z;
+  if (!(c2 > 0.0)) return 0.0;
+  float sx = m.x / ax, sy = m.y / ay;
+  return exp(-(sx * sx + sy * sy) / c2) / (PB_PI * ax * ay * c2 * c2);
+}
+float pb2_beckmann_lambda(vec3 w, float ax, float ay) {
+  float z2 = w.z * w.z;
+  if (!(z2 > 0.0)) return 1e30;
+  float s = (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / z2;
+  if (s < 0.39) return 0.0;
+  float a = inversesqrt(s);
+  return ((0.396 * a - 1.259) * a + 1.0) / ((2.181 * a + 3.535) * a);
+}
+// A Beckmann microfacet normal drawn from D(m) cos(m) (Walter et al. 2007):
+// the slopes are Gaussian, (ax, ay) sqrt(-ln(1 - u1)) (cos, sin)(2 pi u2).
+vec3 pb2_beckmann_sample(float ax, float ay, float u1, float u2) {
+  float r = sqrt(-log(max(1.0 - u1, 1e-30))), phi = 2.0 * PB_PI * u2;
+  return normalize(vec3(-ax * r * cos(phi), -ay * r * sin(phi), 1.0));
+}
+
 vec3 pb_eval_v2(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
   pdf = 0.0;
   vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
@@ -630,12 +660,22 @@ vec3 pb_eval_v2(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
   float ar = pb_avg3(r), at = pb_avg3(t);
   if (!(ar + at > 0.0)) return vec3(0.0);
   float ax = c.ax, ay = is_t ? c.ax : c.ay;
-  float sx = h.x / ax, sy = h.y / ay, k = sx * sx + sy * sy + h.z * h.z;
-  float d = 1.0 / (PB_PI * ax * ay * k * k);
-  float lv = pb2_lambda(lo, ax, ay), ll = pb2_lambda(li, ax, ay);
+  float d, lv, ll;
+  if (c.beckmann) {
+    d = pb2_beckmann_d(h, ax, ay);
+    lv = pb2_beckmann_lambda(lo, ax, ay);
+    ll = pb2_beckmann_lambda(li, ax, ay);
+  } else {
+    float sx = h.x / ax, sy = h.y / ay, k = sx * sx + sy * sy + h.z * h.z;
+    d = 1.0 / (PB_PI * ax * ay * k * k);
+    lv = pb2_lambda(lo, ax, ay);
+    ll = pb2_lambda(li, ax, ay);
+  }
   float cmn = d / lo.z * (is_t ? (c.ior * inv) * (c.ior * inv) * abs(chv * dot(h, li)) : 0.25);
   float pr = ar / (ar + at);
-  pdf = cmn * (is_t ? 1.0 - pr : pr) / (1.0 + lv);
+  // GGX samples visible normals (pdf D G1(wo) |wo.h| / wo.z), Beckmann
+  // normals from D cos (pdf D |h.z|), each through the same Jacobian.
+  pdf = cmn * (is_t ? 1.0 - pr : pr) * (c.beckmann ? lo.z * abs(h.z) / max(abs(chv), 1e-20) : 1.0 / (1.0 + lv));
   float g = c.g2 ? 1.0 / (1.0 + lv + ll) : 1.0 / ((1.0 + lv) * (1.0 + ll));
   return (is_t ? t : r) * (cmn * g * c.energy);
 }
@@ -676,6 +716,8 @@ vec3 pb2_albedo(pb_closure c, float mu, bool trans) {
     r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z));
   } else if (c.fresnel == PB_FR_F82_TINT) {
     r = mix(c.cspec0, vec3(1.0), pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_S, rough, mu, 0.5));
+  } else if (c.fresnel == PB_FR_NONE) {
+    // no Fresnel: the albedo of the smooth surface, 1
   } else if (c.ior > 1.0) {
     r = vec3(mix(pb2_f0(c.ior), 1.0, pb2_lut3(PB_P2T_GGX_GEN_SCHLICK_IOR_S, rough, mu, z)));
   }
@@ -727,6 +769,50 @@ void pb2_metal_conductor(inout pb_closure c, vec3 n, vec3 tangent, float ax, flo
   }
 }
 
+// Blender 4.x's Glossy, Glass and Refraction BSDFs (Cycles 4.5 svm/closure.h
+// CLOSURE_BSDF_MICROFACET_GGX_ID / _MULTI_GGX_ID, _GGX_GLASS_ID /
+// _MULTI_GGX_GLASS_ID, _GGX_REFRACTION_ID; see src/ref/principled.c
+// v2_node for the model): one closure, tinted by Color.
+void pb2_node(pb_gpu_material m, pb_surface surf, vec3 wo, vec3 tangent, vec3 color, float in_v[PB_GPU_IN_SLOTS],
+              bool multi, inout pb_bsdf b) {
+  vec3 n = pb_valid_reflection_normal(surf.ng, wo, surf.ns);
+  float r = clamp(in_v[PB_GPU_IN_ROUGHNESS], 0.0, 1.0);
+  float a = r * r;
+  float mu = dot(wo, n);
+  if (m.node == PB_GPU_NODE_GLOSSY) {
+    pb_add_closure(b, PB_SLOT_GLASS_REFL, PB_CL_V2_GGX, color);
+    if (!b.cl[PB_SLOT_GLASS_REFL].on) return;
+    float aniso = clamp(in_v[PB_GPU_IN_ANISOTROPIC], -0.99, 0.99);
+    float ax = a, ay = a;
+    if (abs(aniso) > 1e-4) {
+      ax = aniso < 0.0 ? a / (1.0 + aniso) : a * (1.0 - aniso);
+      ay = aniso < 0.0 ? a * (1.0 + aniso) : a / (1.0 - aniso);
+      float rot = in_v[PB_GPU_IN_ANISOTROPIC_ROTATION];
+      if (rot != 0.0) {  // about the lobe's normal, as svm/closure.h turns it
+        float th = rot * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
+        tangent = tangent * cs + cross(n, tangent) * sn + n * (dot(n, tangent) * (1.0 - cs));
+      }
+    }
+    pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, 1.0, PB_FR_NONE, vec3(1.0));
+    b.cl[PB_SLOT_GLASS_REFL].beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
+    if (multi) pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFL], mu, color);
+    return;
+  }
+  bool glass = m.node == PB_GPU_NODE_GLASS;
+  pb_add_closure(b, PB_SLOT_GLASS_REFR, PB_CL_V2_GLASS, color);
+  if (!b.cl[PB_SLOT_GLASS_REFR].on) return;
+  float ior = max(in_v[PB_GPU_IN_IOR], 1e-5);
+  pb2_microfacet(b.cl[PB_SLOT_GLASS_REFR], n, n, a, a, surf.front ? ior : 1.0 / ior,
+                 glass ? PB_FR_GEN_SCHLICK : PB_FR_NONE, vec3(pb2_f0(ior)));
+  b.cl[PB_SLOT_GLASS_REFR].ttint = vec3(1.0);
+  b.cl[PB_SLOT_GLASS_REFR].beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
+  if (!glass) return;
+  // The Color tints reflection and transmission alike: the closure's weight
+  // here, the Fresnel's tints in Cycles (the same product).
+  b.cl[PB_SLOT_GLASS_REFR].sample_weight *= pb_avg3(pb2_albedo(b.cl[PB_SLOT_GLASS_REFR], mu, true));
+  if (multi) pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFR], mu, color);
+}
+
 // The v2 closures into b, top to bottom; returns the weight the emission
 // takes (alpha, sheen and coat over it). emission_only: stop there.
 vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_only, inout pb_bsdf b) {
@@ -734,6 +820,11 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
   float in_v[PB_GPU_IN_SLOTS];
   [[dont_unroll]] for (uint i = 0u; i < PB_GPU_IN_SLOTS; ++i) in_v[i] = pb_input_value(m, i, surf);
   bool multi = m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX;
+  if (m.node >= PB_GPU_NODE_GLOSSY) {  // a BSDF node: no layers, no emission
+    if (!emission_only) pb2_node(m, surf, wo, tangent, base, in_v, multi, b);
+    b.albedo = clamp(base, 0.0, 1.0);
+    return vec3(0.0);
+  }
   float metallic = clamp(in_v[PB_GPU_IN_METALLIC], 0.0, 1.0);
   float ss_w = clamp(in_v[PB_GPU_IN_SUBSURFACE], 0.0, 1.0);
   float level = max(in_v[PB_GPU_IN_SPECULAR_IOR_LEVEL], 0.0);
@@ -1208,7 +1299,9 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     float r = sqrt(u1), phi = 2.0 * PB_PI * u2, dz = sqrt(max(0.0, 1.0 - u1));
     li = normalize(vec3(r * cos(phi) - dz * c.on_b, r * sin(phi), dz * c.on_a));
   } else if (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS) {
-    vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
+    vec3 m = c.beckmann ? pb2_beckmann_sample(c.ax, c.ay, u1, u2)
+                        : pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
+    if (!(dot(lo, m) > 0.0)) return false;  // a Beckmann normal facing away
     if (c.type == PB_CL_V2_GLASS) {
       vec3 r, t;
       pb2_fresnel(c, dot(lo, m), r, t);

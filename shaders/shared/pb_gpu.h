@@ -112,6 +112,12 @@ PB_CONST(PB_GPU_MAT_OREN_NAYAR_MS, 16u)   /* Oren-Nayar with Cycles 4.3's multip
 PB_CONST(PB_GPU_BUMP_CHIANG, 0u)
 PB_CONST(PB_GPU_BUMP_NONE, 1u)
 PB_CONST(PB_GPU_BUMP_CONTY, 2u)
+/* node: pb_blender_node's values (the Metallic and Sheen BSDFs render as
+ * Principled v2 inputs; the others have closures of their own). */
+PB_CONST(PB_GPU_NODE_PRINCIPLED, 0u)
+PB_CONST(PB_GPU_NODE_GLOSSY, 3u)
+PB_CONST(PB_GPU_NODE_GLASS, 4u)
+PB_CONST(PB_GPU_NODE_REFRACTION, 5u)
 /* model: pb_material_model's values. */
 PB_CONST(PB_GPU_MODEL_GLTF, 0u)
 PB_CONST(PB_GPU_MODEL_PRINCIPLED, 1u)
@@ -120,6 +126,7 @@ PB_CONST(PB_GPU_MODEL_EMISSION, 3u)
 PB_CONST(PB_GPU_MODEL_HOLDOUT, 4u)
 PB_CONST(PB_GPU_DISTRIBUTION_GGX, 0u)
 PB_CONST(PB_GPU_DISTRIBUTION_MULTI_GGX, 1u)
+PB_CONST(PB_GPU_DISTRIBUTION_BECKMANN, 2u)
 /* in_value / in_tex slots: pb_blender_input's values. */
 PB_CONST(PB_GPU_IN_METALLIC, 0u)
 PB_CONST(PB_GPU_IN_SPECULAR, 1u)
@@ -200,6 +207,9 @@ PB_STRUCT(pb_gpu_material) {
   uint subsurface_method;    /* pb_subsurface_method */
   uint g2_correlated;        /* 1: height-correlated Smith G2 (Blender 3.5+) */
   uint bump_model;           /* PB_GPU_BUMP_* (pb_bump_model) */
+  uint node;                 /* PB_GPU_NODE_* (pb_blender_node): the Blender
+                                BSDF node a principled_v2 material is */
+  uint pad0, pad1, pad2;     /* std430 rounds the struct to 16 bytes */
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low
@@ -558,7 +568,7 @@ PB_LAYOUT(pb_gpu_ray, 32)
 PB_OFFSET(pb_gpu_ray, tmin, 12) PB_OFFSET(pb_gpu_ray, dir, 16) PB_OFFSET(pb_gpu_ray, tmax, 28)
 PB_LAYOUT(pb_gpu_hit, 16)
 PB_OFFSET(pb_gpu_hit, prim, 4) PB_OFFSET(pb_gpu_hit, v, 12)
-PB_LAYOUT(pb_gpu_material, 464)
+PB_LAYOUT(pb_gpu_material, 480)
 PB_OFFSET(pb_gpu_material, emissive, 16) PB_OFFSET(pb_gpu_material, base_color_tex, 28)
 PB_OFFSET(pb_gpu_material, specular_color, 32) PB_OFFSET(pb_gpu_material, metallic_roughness_tex, 44)
 PB_OFFSET(pb_gpu_material, metallic, 48) PB_OFFSET(pb_gpu_material, ior, 60)
@@ -570,7 +580,7 @@ PB_OFFSET(pb_gpu_material, in_tex, 240) PB_OFFSET(pb_gpu_material, attenuation, 
 PB_OFFSET(pb_gpu_material, principled_v2, 380) PB_OFFSET(pb_gpu_material, specular_tint, 384)
 PB_OFFSET(pb_gpu_material, coat_tint, 400) PB_OFFSET(pb_gpu_material, sheen_tint, 416)
 PB_OFFSET(pb_gpu_material, subsurface_radius, 432) PB_OFFSET(pb_gpu_material, coat_normal_tex, 444)
-PB_OFFSET(pb_gpu_material, g2_correlated, 456)
+PB_OFFSET(pb_gpu_material, g2_correlated, 456) PB_OFFSET(pb_gpu_material, node, 464)
 PB_LAYOUT(pb_gpu_texture, 64)
 PB_OFFSET(pb_gpu_texture, flags, 12) PB_OFFSET(pb_gpu_texture, wrap_t, 20)
 PB_OFFSET(pb_gpu_texture, texcoord, 24) PB_OFFSET(pb_gpu_texture, xform_u, 32)

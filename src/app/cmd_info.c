@@ -14,6 +14,15 @@
 #include "render/photon/tracer.h"
 #include "scene/camera.h"
 
+/* A Blender material's microfacet distribution: as info prints it, and as
+ * the extension spells it. */
+static const char *distribution_label(pb_distribution d) {
+  return d == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : d == PB_DISTRIBUTION_BECKMANN ? "Beckmann" : "GGX";
+}
+static const char *distribution_name(pb_distribution d) {
+  return d == PB_DISTRIBUTION_MULTI_GGX ? "MULTI_GGX" : d == PB_DISTRIBUTION_BECKMANN ? "BECKMANN" : "GGX";
+}
+
 static const char *const bsdf_names[] = {"diffuse", "glossy", "mirror", "glass"};
 
 /* The view PNG previews of this scene go through by default (`render --png`
@@ -102,26 +111,35 @@ static void print_text(const pb_scene *s) {
     const pb_blender_material *b = &m->blender;
     if (b->node == PB_NODE_METALLIC && b->conductor)
       printf(" [Blender metallic (Metallic BSDF), physical conductor, %s: n (%.3g %.3g %.3g), k (%.3g %.3g %.3g), "
-             "anisotropy %.3g]", b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX",
+             "anisotropy %.3g]", distribution_label(b->distribution),
              b->input[PB_IN_CONDUCTOR_N_R], b->input[PB_IN_CONDUCTOR_N_G], b->input[PB_IN_CONDUCTOR_N_B],
              b->specular_tint[0], b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);
     else if (b->node == PB_NODE_METALLIC)
       printf(" [Blender metallic (Metallic BSDF), F82, %s: edge tint (%.3g %.3g %.3g), anisotropy %.3g]",
-             b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX", b->specular_tint[0],
+             distribution_label(b->distribution), b->specular_tint[0],
              b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);
     else if (b->node == PB_NODE_SHEEN)
       printf(" [Blender sheen (Sheen BSDF), Microfiber: colour (%.3g %.3g %.3g), roughness %.3g]", b->sheen_tint[0],
              b->sheen_tint[1], b->sheen_tint[2], b->input[PB_IN_SHEEN_ROUGHNESS]);
+    else if (b->node == PB_NODE_GLOSSY)
+      printf(" [Blender glossy (Glossy BSDF), %s: roughness %.3g, anisotropy %.3g, rotation %.3g]",
+             distribution_label(b->distribution), b->input[PB_IN_ROUGHNESS],
+             b->input[PB_IN_ANISOTROPIC], b->input[PB_IN_ANISOTROPIC_ROTATION]);
+    else if (b->node == PB_NODE_GLASS || b->node == PB_NODE_REFRACTION)
+      printf(" [Blender %s (%s BSDF), %s: roughness %.3g, IOR %.3g]", pb_blender_model_name(b),
+             b->node == PB_NODE_GLASS ? "Glass" : "Refraction",
+             distribution_label(b->distribution), b->input[PB_IN_ROUGHNESS],
+             b->input[PB_IN_IOR]);
     else if (b->model == PB_MODEL_PRINCIPLED && b->principled_v2)
       printf(" [Blender principled v2, %s: specular IOR level %.3g, coat %.3g (roughness %.3g, IOR %.3g), sheen %.3g "
              "(roughness %.3g), anisotropic %.3g, alpha %.3g%s]",
-             b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX", b->input[PB_IN_SPECULAR_IOR_LEVEL],
+             distribution_label(b->distribution), b->input[PB_IN_SPECULAR_IOR_LEVEL],
              b->input[PB_IN_COAT_WEIGHT], b->input[PB_IN_COAT_ROUGHNESS], b->input[PB_IN_COAT_IOR],
              b->input[PB_IN_SHEEN_WEIGHT], b->input[PB_IN_SHEEN_ROUGHNESS], b->input[PB_IN_ANISOTROPIC],
              b->input[PB_IN_ALPHA], b->input[PB_IN_SUBSURFACE] > 0 ? ", subsurface as diffuse" : "");
     else if (b->model == PB_MODEL_PRINCIPLED)
       printf(" [Blender principled, %s: specular %.3g tint %.3g, sheen %.3g, clearcoat %.3g (roughness %.3g), "
-             "anisotropic %.3g, alpha %.3g%s]", b->distribution == PB_DISTRIBUTION_MULTI_GGX ? "Multiscatter GGX" : "GGX",
+             "anisotropic %.3g, alpha %.3g%s]", distribution_label(b->distribution),
              b->input[PB_IN_SPECULAR], b->input[PB_IN_SPECULAR_TINT], b->input[PB_IN_SHEEN], b->input[PB_IN_CLEARCOAT],
              b->input[PB_IN_CLEARCOAT_ROUGHNESS], b->input[PB_IN_ANISOTROPIC], b->input[PB_IN_ALPHA],
              b->input[PB_IN_SUBSURFACE] > 0 ? ", subsurface as diffuse" : "");
@@ -284,7 +302,7 @@ static pb_result write_json(const pb_scene *s, const char *path) {
     pb_json_string(&j, "kind", bsdf_names[pb_material_kind(m)]);
     pb_json_string(&j, "model", pb_blender_model_name(&m->blender));
     if (m->blender.model == PB_MODEL_PRINCIPLED)
-      pb_json_string(&j, "distribution", m->blender.distribution == PB_DISTRIBUTION_MULTI_GGX ? "MULTI_GGX" : "GGX");
+      pb_json_string(&j, "distribution", distribution_name(m->blender.distribution));
     pb_json_begin_array(&j, "base_color");
     for (int k = 0; k < 4; ++k) pb_json_number(&j, NULL, m->base_color[k]);
     pb_json_end_array(&j);

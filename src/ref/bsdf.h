@@ -65,7 +65,9 @@ typedef enum pb_closure_type {
 
 enum { PB_CLOSURE_MAX = 8 };
 /* Fresnel of a Principled v2 microfacet closure (Cycles' MicrofacetFresnel). */
-enum { PB_FRESNEL_DIELECTRIC = 0, PB_FRESNEL_F82_TINT, PB_FRESNEL_GEN_SCHLICK, PB_FRESNEL_CONDUCTOR };
+/* PB_FRESNEL_NONE: the Glossy BSDF reflects all (V2_GGX), the Refraction
+ * BSDF refracts all but total internal reflection (V2_GLASS). */
+enum { PB_FRESNEL_DIELECTRIC = 0, PB_FRESNEL_F82_TINT, PB_FRESNEL_GEN_SCHLICK, PB_FRESNEL_CONDUCTOR, PB_FRESNEL_NONE };
 
 typedef struct pb_closure {
   pb_closure_type type;
@@ -88,6 +90,7 @@ typedef struct pb_closure {
   int g2;              /* height-correlated Smith G2 (else separable G1 G1) */
   float tf_thickness;  /* v2 generalized Schlick: thin film (nm; off at <= 0.1) */
   float tf_ior;        /* its IOR, relative to the outside as ior is */
+  int beckmann;        /* v2: Beckmann's D and Lambda instead of GGX's (Blender's BSDF nodes) */
 } pb_closure;
 
 typedef struct pb_bsdf {

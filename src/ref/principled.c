@@ -757,6 +757,13 @@ static void fresnel_v2(const pb_closure *c, float cos_hv, v3 *r, v3 *t) {
     /* n in cspec0, k in color */
     *r = fresnel_cond(cos_hv, c->cspec0, c->color);
     *t = v3_splat(0.0f);
+  } else if (c->fresnel == PB_FRESNEL_NONE) {
+    /* microfacet_fresnel without a Fresnel: a reflection closure reflects
+     * everything; a refraction closure transmits everything, except under
+     * total internal reflection, where it has nothing. */
+    int refraction = c->type == PB_CL_V2_GLASS;
+    *r = v3_splat(refraction ? 0.0f : 1.0f);
+    *t = v3_splat(refraction && fresnel_diel(cos_hv, c->ior) != 1.0f ? 1.0f : 0.0f);
   } else if (c->fresnel == PB_FRESNEL_F82_TINT) {
     float mu = sat(1.0f - cos_hv), mu5 = sqr(sqr(mu)) * mu;
     v3 fs = mix1(c->cspec0, mu5);
@@ -803,6 +810,29 @@ static float ggx_d2(v3 m, float ax, float ay) {
   return 1.0f / (PB_PI_F * ax * ay * k * k);
 }
 
+/* Beckmann (Cycles 4.5 closure/bsdf_microfacet.h): bsdf_aniso_D, and
+ * bsdf_lambda_from_sqr_alpha_tan_n (Walter et al. 2007, below eq. 69). */
+static float beckmann_d(v3 m, float ax, float ay) {
+  float c2 = m.z * m.z;
+  if (!(c2 > 0.0f)) return 0.0f;
+  return expf(-(sqr(m.x / ax) + sqr(m.y / ay)) / c2) / (PB_PI_F * ax * ay * c2 * c2);
+}
+static float beckmann_lambda(v3 w, float ax, float ay) {
+  float z2 = w.z * w.z;
+  if (!(z2 > 0.0f)) return 1e30f;
+  float s = (sqr(ax * w.x) + sqr(ay * w.y)) / z2;
+  if (s < 0.39f) return 0.0f;
+  float a = 1.0f / sqrtf(s);
+  return ((0.396f * a - 1.259f) * a + 1.0f) / ((2.181f * a + 3.535f) * a);
+}
+/* A microfacet normal with density D(m) m.z (Walter et al. 2007, eq. 28-29
+ * for the isotropic case): Beckmann's slopes are Gaussian of variance
+ * alpha^2 / 2 per axis. */
+static v3 beckmann_sample(float ax, float ay, float u1, float u2) {
+  float r = sqrtf(-logf(fmaxf(1.0f - u1, 1e-30f))), phi = 2.0f * PB_PI_F * u2;
+  return v3_norm(v3_make(-ax * r * cosf(phi), -ay * r * sinf(phi), 1.0f));
+}
+
 static v3 v2_eval(const pb_closure *c, v3 lo, v3 li, float cos_gi, float *pdf) {
   v3 zero = v3_splat(0.0f);
   if (c->type == PB_CL_V2_SHEEN) {
@@ -827,11 +857,15 @@ static v3 v2_eval(const pb_closure *c, v3 lo, v3 li, float cos_gi, float *pdf) {
   float ar = avg3(r), at = avg3(t);
   if (!(ar + at > 0.0f)) return zero;
   float ax = c->ax, ay = is_t ? c->ax : c->ay;
-  float d = ggx_d2(h, ax, ay);
-  float lv = ggx_lambda(lo, ax, ay), ll = ggx_lambda(li, ax, ay);
+  float d = c->beckmann ? beckmann_d(h, ax, ay) : ggx_d2(h, ax, ay);
+  float lv = c->beckmann ? beckmann_lambda(lo, ax, ay) : ggx_lambda(lo, ax, ay);
+  float ll = c->beckmann ? beckmann_lambda(li, ax, ay) : ggx_lambda(li, ax, ay);
   float common = d / lo.z * (is_t ? sqr(c->ior * inv) * fabsf(cos_hv * v3_dot(h, li)) : 0.25f);
   float p_r = ar / (ar + at);
-  *pdf = common * (is_t ? 1.0f - p_r : p_r) / (1.0f + lv);
+  /* The sampled normal's density: GGX's visible normals D G1(wo) |wo.h| /
+   * wo.z, Beckmann's D |h.z|, through the same Jacobian. */
+  float p_m = c->beckmann ? lo.z * fabsf(h.z) / fmaxf(fabsf(cos_hv), 1e-20f) : 1.0f / (1.0f + lv);
+  *pdf = common * (is_t ? 1.0f - p_r : p_r) * p_m;
   float g = c->g2 ? 1.0f / (1.0f + lv + ll) : 1.0f / ((1.0f + lv) * (1.0f + ll));
   return v3_scale(is_t ? t : r, common * g * c->energy);
 }
@@ -886,6 +920,8 @@ static v3 v2_albedo(const pb_closure *c, float mu, int trans) {
     r = mix1(c->cspec0, lut3(pb_ggx_gen_schlick_ior_s, rough, mu, z, 16, 16, 16));
   } else if (c->fresnel == PB_FRESNEL_F82_TINT) {
     r = mix1(c->cspec0, lut3(pb_ggx_gen_schlick_s, rough, mu, 0.5f, 16, 16, 16));
+  } else if (c->fresnel == PB_FRESNEL_NONE) {
+    /* the smooth surface's: all */
   } else if (c->ior > 1.0f) {
     float z = sqrtf(fabsf((c->ior - 1.0f) / (c->ior + 1.0f)));
     r = v3_splat(avgmix(v3_splat(f0_of(c->ior)), lut3(pb_ggx_gen_schlick_ior_s, rough, mu, z, 16, 16, 16)));
@@ -931,6 +967,66 @@ static void v2_read(const pb_scene *s, const pb_surface *surf, v3 base, v2_input
   v->sheen_tint = v3_maxv(color_value(s, v3_load(bm->sheen_tint), bm->sheen_tint_tex, surf), z);
 }
 
+/* Blender 4.x's Glossy, Glass and Refraction BSDFs (Cycles 4.5
+ * src/kernel/svm/closure.h, closure/bsdf_microfacet.h): one microfacet
+ * closure each, on the valid reflection normal, with no layers and no
+ * emission.
+ * - Glossy (CLOSURE_BSDF_MICROFACET_GGX_ID, _MULTI_GGX_ID): weight Color,
+ *   no Fresnel (bsdf_microfacet_ggx_setup); alpha = saturate(Roughness)^2,
+ *   and for Anisotropy a = clamp(-0.99, 0.99) beyond 1e-4 alpha_x =
+ *   alpha (1 - a), alpha_y = alpha / (1 - a) (a >= 0) or alpha / (1 + a),
+ *   alpha (1 + a) (a < 0), the default tangent turned about that normal by
+ *   Rotation x 2 pi; Multiscatter GGX compensates its energy with Fss =
+ *   Color (bsdf_microfacet_setup_fresnel_constant).
+ * - Glass (_GGX_GLASS_ID, _MULTI_GGX_GLASS_ID): weight 1 with both Fresnel
+ *   tints Color, generalized Schlick F0 = F0(IOR), F90 = 1, exponent -IOR
+ *   (the real dielectric curve); IOR inverted on the back; the sample weight
+ *   times the albedo estimate; Multiscatter GGX compensates with Fss = the
+ *   transmission tint. Here the tint is the weight and the Fresnel untinted,
+ *   which is the same product.
+ * - Refraction (_GGX_REFRACTION_ID): weight Color, no Fresnel, no
+ *   compensation. */
+static void v2_node(const pb_surface *surf, v3 wo, v3 color, const float *in, int multi, pb_bsdf *b) {
+  const pb_blender_material *bm = &surf->mat->blender;
+  v3 n = valid_reflection_normal(surf->ng, wo, surf->ns);
+  float alpha = sqr(sat(in[PB_IN_ROUGHNESS])), mu = v3_dot(wo, n);
+  if (bm->node == PB_NODE_GLOSSY) {
+    pb_closure *c = add_closure(b, PB_CL_V2_GGX, color);
+    if (!c) return;
+    float a = clampf(in[PB_IN_ANISOTROPIC], -0.99f, 0.99f), ax = alpha, ay = alpha;
+    v3 t = surf->tangent;
+    if (fabsf(a) > 1e-4f) {
+      if (a < 0.0f) {
+        ax = alpha / (1.0f + a);
+        ay = alpha * (1.0f + a);
+      } else {
+        ax = alpha * (1.0f - a);
+        ay = alpha / (1.0f - a);
+      }
+      float rot = in[PB_IN_ANISOTROPIC_ROTATION];
+      if (rot != 0.0f) {
+        float th = rot * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
+        t = v3_add(v3_add(v3_scale(t, cs), v3_scale(v3_cross(n, t), sn)), v3_scale(n, v3_dot(n, t) * (1.0f - cs)));
+      }
+    }
+    v2_microfacet(c, n, t, ax, ay, 1.0f, PB_FRESNEL_NONE, v3_splat(1.0f), 1);
+    c->beckmann = bm->distribution == PB_DISTRIBUTION_BECKMANN;
+    if (multi) preserve_energy(c, mu, color);
+    return;
+  }
+  int glass = bm->node == PB_NODE_GLASS;
+  pb_closure *c = add_closure(b, PB_CL_V2_GLASS, color);
+  if (!c) return;
+  float ior = fmaxf(in[PB_IN_IOR], 1e-5f);
+  v2_microfacet(c, n, n, alpha, alpha, surf->front ? ior : 1.0f / ior,
+                glass ? PB_FRESNEL_GEN_SCHLICK : PB_FRESNEL_NONE, v3_splat(f0_of(ior)), 1);
+  c->ttint = v3_splat(1.0f);
+  c->beckmann = bm->distribution == PB_DISTRIBUTION_BECKMANN;
+  if (!glass) return;
+  c->sample_weight *= avg3(v2_albedo(c, mu, 1));
+  if (multi) preserve_energy(c, mu, color);
+}
+
 /* The v2 layering weight down to (and including) the emission: what the
  * emission is multiplied by, for view direction wo (alpha, sheen and coat
  * layering, coat tint). */
@@ -940,6 +1036,13 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   v2_read(s, surf, base, &V);
   const float *in = V.in;
   int multi = bm->distribution == PB_DISTRIBUTION_MULTI_GGX, g2 = 1;
+  if (bm->node == PB_NODE_GLOSSY || bm->node == PB_NODE_GLASS || bm->node == PB_NODE_REFRACTION) {
+    if (!emission_only) {
+      v2_node(surf, wo, base, V.in, multi, b);
+      b->albedo = v3_sat(base);
+    }
+    return v3_splat(0.0f);
+  }
   float metallic = sat(in[PB_IN_METALLIC]), ss_w = sat(in[PB_IN_SUBSURFACE]);
   float level = fmaxf(in[PB_IN_SPECULAR_IOR_LEVEL], 0.0f), roughness = sat(in[PB_IN_ROUGHNESS]);
   float aniso = sat(in[PB_IN_ANISOTROPIC]), sheen_w = fmaxf(in[PB_IN_SHEEN_WEIGHT], 0.0f);
@@ -1410,7 +1513,8 @@ int pb_blender_bsdf_sample(const pb_bsdf *b, v3 wo, float u0, float u1, float u2
   }
   case PB_CL_V2_GGX:
   case PB_CL_V2_GLASS: {
-    v3 m = ggx_vndf(lo, c->ax, c->ay, u1, u2);
+    v3 m = c->beckmann ? beckmann_sample(c->ax, c->ay, u1, u2) : ggx_vndf(lo, c->ax, c->ay, u1, u2);
+    if (!(v3_dot(lo, m) > 0.0f)) return 0; /* a Beckmann normal facing away */
     if (c->type == PB_CL_V2_GLASS) {
       v3 r, t;
       fresnel_v2(c, v3_dot(lo, m), &r, &t);

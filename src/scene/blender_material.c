@@ -189,6 +189,19 @@ static const target principled2_targets[] = {
  * `emission` in `textures` (the contract; what the writer writes). */
 static const target diffuse_targets[] = {
     {"baseColor", T_COLOR, COLOR_BASE}, {"roughness", T_INPUT, PB_IN_ROUGHNESS}, {"normal", T_NORMAL, 0}, {NULL, T_NONE, 0}};
+/* The Glossy, Glass and Refraction BSDFs: Color is `baseColor`, as the
+ * Diffuse BSDF's. */
+static const target glossy_targets[] = {{"baseColor", T_COLOR, COLOR_BASE},
+                                        {"roughness", T_INPUT, PB_IN_ROUGHNESS},
+                                        {"anisotropy", T_INPUT, PB_IN_ANISOTROPIC},
+                                        {"rotation", T_INPUT, PB_IN_ANISOTROPIC_ROTATION},
+                                        {"normal", T_NORMAL, 0},
+                                        {NULL, T_NONE, 0}};
+static const target glass_targets[] = {{"baseColor", T_COLOR, COLOR_BASE},
+                                       {"roughness", T_INPUT, PB_IN_ROUGHNESS},
+                                       {"ior", T_INPUT, PB_IN_IOR},
+                                       {"normal", T_NORMAL, 0},
+                                       {NULL, T_NONE, 0}};
 static const target emission_targets[] = {{"emission", T_COLOR, COLOR_EMISSION}, {NULL, T_NONE, 0}};
 
 /* An optional integer member in [0, 2^31 - 1]; *out keeps its default when
@@ -641,6 +654,75 @@ static pb_result read_sheen(const reader *R, const pb_gltf_value *ext, pb_materi
   return PB_OK;
 }
 
+/* The Glossy BSDF (model "glossy"), and the Glass and Refraction BSDFs
+ * (models "glass", "refraction"), as Blender 4.x computes them (Cycles 4.5
+ * src/kernel/svm/closure.h, CLOSURE_BSDF_MICROFACET_GGX_ID and _MULTI_GGX_ID,
+ * _GGX_GLASS_ID and _MULTI_GGX_GLASS_ID, _GGX_REFRACTION_ID):
+ * - Glossy: a GGX reflection of weight Color with no Fresnel, alpha = r^2
+ *   (r = saturate(Roughness)) stretched by Anisotropy a in -0.99..0.99
+ *   (a >= 0: alpha_x = alpha (1 - a), alpha_y = alpha / (1 - a); a < 0:
+ *   alpha_x = alpha / (1 + a), alpha_y = alpha (1 + a)), the tangent turned
+ *   by Rotation x 2 pi; Multiscatter GGX: Turquin energy compensation with
+ *   the Fresnel average Color (bsdf_microfacet_setup_fresnel_constant);
+ * - Glass: a GGX glass whose reflection and transmission are both tinted
+ *   by Color, on the real dielectric Fresnel curve of IOR (generalized
+ *   Schlick with F0 = F0(IOR), F90 = 1 and a negative exponent); Multiscatter
+ *   GGX: the glass tables' compensation with the transmission tint;
+ * - Refraction: a GGX refraction of weight Color with no Fresnel (all but
+ *   total internal reflection is transmitted), never compensated.
+ * Beckmann (each node's third distribution; never compensated): the same
+ * closures with Beckmann's D and Walter et al.'s rational Smith Lambda
+ * (bsdf_aniso_D, bsdf_lambda_from_sqr_alpha_tan_n).
+ * The writer writes these models from Blender 4.0 on; an Ashikhmin-Shirley
+ * Glossy comes as GGX with the writer's warning. */
+static pb_result read_bsdf_node(const reader *R, const pb_gltf_value *ext, pb_material *m, pb_blender_node node) {
+  pb_blender_material *b = &m->blender;
+  const char *name = node == PB_NODE_GLOSSY ? "glossy" : node == PB_NODE_GLASS ? "glass" : "refraction";
+  const pb_gltf_value *p;
+  pb_result r = opt_object(R, ext, name, &p);
+  if (r != PB_OK) return r;
+  float color[3] = {0.8f, 0.8f, 0.8f};
+  float rough = node == PB_NODE_GLOSSY ? 0.5f : 0.0f, ior = 1.5f, aniso = 0.0f, rot = 0.0f;
+  /* Blender's own node defaults: Multiscatter GGX for Glossy and Glass,
+   * GGX for Refraction (which has no Multiscatter form). */
+  int dist = node == PB_NODE_REFRACTION ? 0 : 1;
+  static const char *const dists[] = {"GGX", "MULTI_GGX", "BECKMANN"};
+  static const char *const refraction_dists[] = {"GGX", "BECKMANN"};
+  if (p) {
+    if ((r = opt_color(R, p, name, "color", color)) != PB_OK ||
+        (r = opt_number(R, p, name, "roughness", 0.0, 1.0, &rough)) != PB_OK)
+      return r;
+    if (node == PB_NODE_REFRACTION) {
+      if ((r = opt_enum(R, p, name, "distribution", refraction_dists, 2, &dist)) != PB_OK) return r;
+      if (dist == 1) dist = 2;
+    } else if ((r = opt_enum(R, p, name, "distribution", dists, 3, &dist)) != PB_OK) {
+      return r;
+    }
+    if (node == PB_NODE_GLOSSY &&
+        ((r = opt_number(R, p, name, "anisotropy", -1.0, 1.0, &aniso)) != PB_OK ||
+         (r = opt_number(R, p, name, "rotation", 0.0, 1.0, &rot)) != PB_OK))
+      return r;
+    if (node != PB_NODE_GLOSSY && (r = opt_number(R, p, name, "ior", 0.0, 1000.0, &ior)) != PB_OK) return r;
+  }
+  b->distribution = dist == 2 ? PB_DISTRIBUTION_BECKMANN : dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
+  b->input[PB_IN_SPECULAR_IOR_LEVEL] = 0.0f;
+  b->input[PB_IN_ROUGHNESS] = rough;
+  if (node == PB_NODE_GLOSSY) {
+    b->input[PB_IN_METALLIC] = 1.0f;
+    b->input[PB_IN_ANISOTROPIC] = aniso;
+    b->input[PB_IN_ANISOTROPIC_ROTATION] = rot;
+  } else {
+    b->input[PB_IN_TRANSMISSION] = 1.0f;
+    b->input[PB_IN_IOR] = ior;
+  }
+  for (int k = 0; k < 3; ++k) m->base_color[k] = b->subsurface_color[k] = color[k];
+  b->node = node;
+  if ((r = read_textures(R, ext, node == PB_NODE_GLOSSY ? glossy_targets : glass_targets, m)) != PB_OK) return r;
+  b->subsurface_color_tex = m->base_color_tex;
+  principled2_v1_slots(m);
+  return PB_OK;
+}
+
 static pb_result read_diffuse(const reader *R, const pb_gltf_value *ext, pb_material *m) {
   const pb_gltf_value *d;
   pb_result r = opt_object(R, ext, "diffuse", &d);
@@ -736,14 +818,16 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ": %s, expected an object", io->path, index,
                    pb_gltf_value_type_name(ext));
   /* Index 0..3: pb_material_model from PB_MODEL_PRINCIPLED; 4: Principled
-   * v2; 5, 6: the Metallic and Sheen BSDFs (rendered as Principled v2). */
+   * v2; 5..9: the Metallic, Sheen, Glossy, Glass and Refraction BSDFs
+   * (rendered by the v2 code). */
   static const char *const models[] = {"principled", "diffuse", "emission", "holdout", "principled2",
-                                        "metallic", "sheen"};
+                                        "metallic", "sheen", "glossy", "glass", "refraction"};
   int model = -1;
-  pb_result r = opt_enum(&R, ext, "", "model", models, 7, &model);
+  pb_result r = opt_enum(&R, ext, "", "model", models, 10, &model);
   if (r != PB_OK) return r;
   if (model < 0)
-    return bad(&R, "model", "missing (required: principled, principled2, metallic, sheen, diffuse, emission or holdout)");
+    return bad(&R, "model", "missing (required: principled, principled2, metallic, sheen, glossy, glass, refraction, "
+                            "diffuse, emission or holdout)");
 
   pb_blender_material *b = &m->blender;
   int v2 = model >= 4;
@@ -756,6 +840,9 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
   case PB_MODEL_PRINCIPLED:
     r = model == 5   ? read_metallic(&R, ext, m)
         : model == 6 ? read_sheen(&R, ext, m)
+        : model == 7 ? read_bsdf_node(&R, ext, m, PB_NODE_GLOSSY)
+        : model == 8 ? read_bsdf_node(&R, ext, m, PB_NODE_GLASS)
+        : model == 9 ? read_bsdf_node(&R, ext, m, PB_NODE_REFRACTION)
         : v2         ? read_principled2(&R, ext, m)
                      : read_principled(&R, ext, m);
     break;
@@ -796,7 +883,8 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
    * primitive's COLOR_0 (the writer puts the attribute there). */
   const pb_gltf_value *vc = pb_gltf_value_get(ext, "vertexColor");
   if (vc) {
-    const char *want = b->node != PB_NODE_PRINCIPLED ? NULL
+    const char *want = b->node == PB_NODE_GLOSSY || b->node == PB_NODE_GLASS || b->node == PB_NODE_REFRACTION ? "color"
+                       : b->node != PB_NODE_PRINCIPLED ? NULL
                        : b->model == PB_MODEL_PRINCIPLED ? "baseColor" : b->model == PB_MODEL_DIFFUSE ? "color" : NULL;
     if (vc->type != PB_GLTF_STRING)
       return bad(&R, "vertexColor", "%s, expected the name of the input a Color Attribute drives",
@@ -837,7 +925,7 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
 int pb_blender_needs_tangent(const pb_material *m) {
   const pb_blender_material *b = &m->blender;
   return b->model == PB_MODEL_PRINCIPLED && m->normal_tex < 0 &&
-         (b->input[PB_IN_ANISOTROPIC] > 0.0f || b->input_tex[PB_IN_ANISOTROPIC].tex >= 0);
+         (b->input[PB_IN_ANISOTROPIC] != 0.0f || b->input_tex[PB_IN_ANISOTROPIC].tex >= 0);
 }
 
 int pb_blender_radial_tangent(const double pl[3], const double bmin[3], const double bmax[3], const double N[9],

@@ -83,6 +83,9 @@ const char *pb_material_model_name(pb_material_model m) {
 const char *pb_blender_model_name(const pb_blender_material *b) {
   if (b->node == PB_NODE_METALLIC) return "metallic";
   if (b->node == PB_NODE_SHEEN) return "sheen";
+  if (b->node == PB_NODE_GLOSSY) return "glossy";
+  if (b->node == PB_NODE_GLASS) return "glass";
+  if (b->node == PB_NODE_REFRACTION) return "refraction";
   if (b->model == PB_MODEL_PRINCIPLED && b->principled_v2) return "principled2";
   return pb_material_model_name(b->model);
 }
@@ -154,7 +157,9 @@ void pb_scene_finalize(pb_scene *s) {
           blender_max(b, PB_IN_CLEARCOAT) > 0.0f)
         f |= PB_FEATURE_GLOSSY;
       if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) f |= PB_FEATURE_MULTI_GGX;
-      if (blender_max(b, PB_IN_ANISOTROPIC) > 0.0f) f |= PB_FEATURE_ANISOTROPY;
+      /* (the Glossy BSDF's Anisotropy is -1..1) */
+      if (blender_max(b, PB_IN_ANISOTROPIC) > 0.0f || blender_min(b, PB_IN_ANISOTROPIC) < 0.0f)
+        f |= PB_FEATURE_ANISOTROPY;
       if (blender_min(b, PB_IN_ALPHA) < 1.0f) f |= PB_FEATURE_ALPHA;
       for (int in = 0; in < PB_IN_COUNT; ++in)
         if (b->input_tex[in].tex >= 0) f |= PB_FEATURE_TEXTURES;

@@ -97,6 +97,7 @@ typedef enum pb_subsurface_method {
 typedef enum pb_distribution {
   PB_DISTRIBUTION_GGX = 0,       /* single-scatter GGX (Blender 3.4's default) */
   PB_DISTRIBUTION_MULTI_GGX = 1, /* Multiscatter GGX (Heitz et al. 2016) */
+  PB_DISTRIBUTION_BECKMANN = 2,  /* Beckmann (the Glossy, Glass and Refraction BSDFs only) */
 } pb_distribution;
 
 /* A texture feeding one scalar input: texels of pb_scene.textures[tex],
@@ -127,6 +128,14 @@ typedef enum pb_blender_node {
   PB_NODE_PRINCIPLED = 0, /* the model's own node (or glTF) */
   PB_NODE_METALLIC,       /* Metallic BSDF (F82 or Physical Conductor) */
   PB_NODE_SHEEN,          /* Sheen BSDF, Microfiber */
+  /* Blender 4.x's Glossy, Glass and Refraction BSDFs (models "glossy",
+   * "glass", "refraction"): a closure of their own in the v2 renderers,
+   * base_color its Color; input[] holds ROUGHNESS, IOR and (Glossy)
+   * ANISOTROPIC in -1..1 and ANISOTROPIC_ROTATION, with METALLIC 1
+   * (Glossy) or TRANSMISSION 1 for the code that classifies materials. */
+  PB_NODE_GLOSSY,
+  PB_NODE_GLASS,
+  PB_NODE_REFRACTION,
 } pb_blender_node;
 
 typedef struct pb_blender_material {

@@ -6,7 +6,8 @@
 Builds, in the running Blender (4.0 or later), one plane per material with
 Principled v2 inputs away from their defaults (every socket the node has),
 textures on colour, scalar and normal sockets, an Add-Shader emission, a
-Mix-Shader transparency, each subsurface method, and Glossy/Glass nodes;
+Mix-Shader transparency, each subsurface method, the Metallic, Sheen,
+Glossy, Glass and Refraction BSDFs;
 writes the scene with the add-on's writer (photonbridge/writer.py) and
 checks:
 - the extension: model "principled2", every member equal to the socket
@@ -160,19 +161,6 @@ def build():
                        "no_exporter": True}  # Blender's exporter reads no Add/Mix Shader emission
     plane("add_mix", mat, 6.0)
 
-    # 6. Glossy (anisotropic) and Glass nodes: no exception, a model photonbridge reads.
-    for kind in ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfGlass"):
-        mat = bpy.data.materials.new(kind)
-        mat.use_nodes = True
-        nt = mat.node_tree
-        nt.nodes.remove(nt.nodes["Principled BSDF"])
-        g = nt.nodes.new(kind)
-        if "Anisotropy" in g.inputs:
-            g.inputs["Anisotropy"].default_value = 0.5
-        nt.links.new(g.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
-        cases[mat.name] = {"other": True}
-        plane(kind, mat, 7.5 + len(cases))
-
     # 7. Metallic BSDF (F82) and Sheen BSDF (Microfiber): models metallic and
     # sheen with the node's values (clamped as Cycles clamps them), F82 and
     # Physical Conductor; the Beckmann and Ashikhmin forms: a grey
@@ -194,7 +182,25 @@ def build():
                            "anisotropy": 0.0, "rotation": 0.0, "distribution": "MULTI_GGX",
                            "fresnelType": "PHYSICAL_CONDUCTOR"})),
             ("metallic_beckmann", "ShaderNodeBsdfMetallic", {}, {"distribution": "BECKMANN"}, ("principled2", None)),
-            ("sheen_ashikhmin", "ShaderNodeBsdfSheen", {}, {"distribution": "ASHIKHMIN"}, ("principled2", None))):
+            ("sheen_ashikhmin", "ShaderNodeBsdfSheen", {}, {"distribution": "ASHIKHMIN"}, ("principled2", None)),
+            # 6. The Glossy (4.x: anisotropic, idname ShaderNodeBsdfAnisotropic),
+            # Glass and Refraction BSDFs: models glossy, glass and refraction
+            # with the node's values, Rotation turned into 0..1, Beckmann (the
+            # Refraction BSDF's default) kept; Ashikhmin-Shirley written as
+            # GGX with a warning.
+            ("glossy_aniso", "ShaderNodeBsdfAnisotropic",
+             {"Color": (0.5, 0.6, 0.7, 1.0), "Roughness": 0.3, "Anisotropy": -0.4, "Rotation": 1.3},
+             {"distribution": "MULTI_GGX"},
+             ("glossy", {"color": [0.5, 0.6, 0.7, 1.0], "roughness": 0.3, "anisotropy": -0.4, "rotation": 0.3,
+                         "distribution": "MULTI_GGX"})),
+            ("glass_ggx", "ShaderNodeBsdfGlass", {"Color": (0.9, 0.8, 0.7, 1.0), "Roughness": 0.2, "IOR": 1.33},
+             {"distribution": "GGX"},
+             ("glass", {"color": [0.9, 0.8, 0.7, 1.0], "roughness": 0.2, "ior": 1.33, "distribution": "GGX"})),
+            ("refraction_beckmann", "ShaderNodeBsdfRefraction", {"IOR": 1.6}, {},
+             ("refraction", {"color": [1.0, 1.0, 1.0, 1.0], "roughness": 0.0, "ior": 1.6,
+                             "distribution": "BECKMANN"})),
+            ("glossy_ashikhmin", "ShaderNodeBsdfAnisotropic", {}, {"distribution": "ASHIKHMIN_SHIRLEY"},
+             ("glossy", None))):
         mat = bpy.data.materials.new(name)
         mat.use_nodes = True
         nt = mat.node_tree

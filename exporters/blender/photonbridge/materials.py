@@ -466,6 +466,8 @@ class MaterialWriter:
             gm, ext = self._emission(node)
         elif node.type == 'HOLDOUT':
             gm, ext = self._plain_black(), {"model": "holdout"}
+        elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION') and _blender_version() >= (4, 0, 0):
+            gm, ext = self._bsdf_node(node)
         elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
             gm, ext = self._like_principled(node)
         elif node.type == 'BSDF_METALLIC' and node.distribution != 'BECKMANN':
@@ -986,6 +988,78 @@ class MaterialWriter:
         p = dict(PRINCIPLED2_DEFAULTS, baseColor=[0.0, 0.0, 0.0, 1.0], specularIorLevel=0.0, sheenWeight=1.0,
                  sheenTint=m["color"], sheenRoughness=m["roughness"])
         return self._principled2_plain(p, {}), {"model": "sheen", "sheen": m}
+
+    def _bsdf_node(self, node):
+        """A Glossy, Glass or Refraction BSDF of Blender 4.0+: the
+        extension's model "glossy", "glass" or "refraction" with the node's
+        Color (an image texture or a colour attribute, as the Diffuse
+        BSDF's), Roughness, IOR, Anisotropy and Rotation (image textures on
+        the scalars too), clamped as Cycles clamps them; photonbridge
+        renders them as Cycles 4.x does, with the node's distribution (GGX,
+        Multiscatter GGX or Beckmann); Ashikhmin-Shirley is written as GGX,
+        with a warning. The plain glTF is the nearest
+        Principled BSDF (Metallic 1, or Transmission 1 with the IOR)."""
+        kind = {'BSDF_GLOSSY': "glossy", 'BSDF_GLASS': "glass", 'BSDF_REFRACTION': "refraction"}[node.type]
+        scalars = [("Roughness", "roughness")]
+        scalars += [("Anisotropy", "anisotropy"), ("Rotation", "rotation")] if kind == "glossy" else [("IOR", "ior")]
+        color_sock = node.inputs["Color"]
+        m = {"color": [float(c) for c in _value(color_sock)[:3]] + [1.0]}
+        links = {}
+        vcol = self._vertex_color_link(color_sock)
+        if vcol is not None:
+            self._vcol = vcol
+            m["color"] = [1.0, 1.0, 1.0, 1.0]
+        else:
+            link = self._texture_link(color_sock, "Color")
+            if link is not None:
+                links["baseColor"] = link
+        ranges = {"roughness": (0.0, 1.0), "anisotropy": (-1.0, 1.0), "ior": (0.0, 1000.0)}
+        for sock_name, member in scalars:
+            sock = node.inputs.get(sock_name)
+            if sock is None:  # Blender 4.0's Glossy has every input; be safe
+                continue
+            v = float(_value(sock))
+            if member == "rotation":
+                v %= 1.0
+            else:
+                lo, hi = ranges[member]
+                v = min(max(v, lo), hi)
+            m[member] = v
+            link = self._texture_link(sock, sock_name)
+            if link is not None:
+                links[member] = link
+        dist = node.distribution
+        if dist not in ('GGX', 'MULTI_GGX', 'BECKMANN') or (kind == "refraction" and dist == 'MULTI_GGX'):
+            self._warn_node(node, "the %s distribution is rendered as GGX" % dist.replace("_", " ").title())
+            dist = 'GGX'
+        m["distribution"] = dist
+        s = node.inputs.get("Tangent")
+        if s is not None and _source(s) is not None:
+            self._warn_node(_source(s).node, "drives Tangent and is not translated")
+        textures, tex_index = {}, {}
+        for member, link in links.items():
+            entry, index = self._texture_entry(link, member == "baseColor")
+            if entry is not None:
+                textures[member] = entry
+                if member in ("baseColor", "roughness"):
+                    tex_index[member] = (index, link)
+        nl = self._normal_link(node.inputs["Normal"])
+        if nl is not None:
+            entry, index = self._texture_entry((nl[0], "RGB"), False)
+            if entry is not None:
+                entry.pop("channel", None)
+                entry["strength"] = nl[1]
+                textures["normal"] = entry
+                tex_index["normal"] = (index, nl)
+        ext = {"model": kind, kind: m}
+        if textures:
+            ext["textures"] = textures
+        p = dict(PRINCIPLED2_DEFAULTS, baseColor=m["color"], roughness=m["roughness"])
+        if kind == "glossy":
+            p["metallic"] = 1.0
+        else:
+            p.update(transmissionWeight=1.0, ior=m["ior"])
+        return self._principled2_plain(p, tex_index), ext
 
     def _like_principled(self, node):
         """Glass, Glossy and Refraction BSDFs as the Principled inputs that

@@ -147,6 +147,9 @@ static pb_result build_emitters(const pb_scene *s, pb_gpu_emitter **out, uint32_
 _Static_assert(PB_SAME(PB_GPU_MODEL_PRINCIPLED, PB_MODEL_PRINCIPLED) && PB_SAME(PB_GPU_MODEL_DIFFUSE, PB_MODEL_DIFFUSE) &&
                    PB_SAME(PB_GPU_MODEL_EMISSION, PB_MODEL_EMISSION) && PB_SAME(PB_GPU_MODEL_HOLDOUT, PB_MODEL_HOLDOUT),
                "pb_gpu_material.model");
+_Static_assert(PB_SAME(PB_GPU_NODE_PRINCIPLED, PB_NODE_PRINCIPLED) && PB_SAME(PB_GPU_NODE_GLOSSY, PB_NODE_GLOSSY) &&
+                   PB_SAME(PB_GPU_NODE_GLASS, PB_NODE_GLASS) && PB_SAME(PB_GPU_NODE_REFRACTION, PB_NODE_REFRACTION),
+               "pb_gpu_material.node");
 _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_ROUGHNESS, PB_IN_ROUGHNESS) &&
                    PB_SAME(PB_GPU_IN_IOR, PB_IN_IOR) && PB_SAME(PB_GPU_IN_ALPHA, PB_IN_ALPHA) &&
                    PB_SAME(PB_GPU_IN_SUBSURFACE, PB_IN_SUBSURFACE) && (int)PB_IN_COUNT <= (int)PB_GPU_IN_SLOTS &&
@@ -283,8 +286,9 @@ static void convert_material(const pb_scene *s, const pb_material *m, pb_gpu_mat
   o->normal_scale = m->normal_scale;
   const pb_blender_material *b = &m->blender;
   o->model = (uint32_t)b->model;
-  o->distribution = b->distribution == PB_DISTRIBUTION_MULTI_GGX ? PB_GPU_DISTRIBUTION_MULTI_GGX
-                                                                 : PB_GPU_DISTRIBUTION_GGX;
+  o->distribution = b->distribution == PB_DISTRIBUTION_MULTI_GGX  ? PB_GPU_DISTRIBUTION_MULTI_GGX
+                    : b->distribution == PB_DISTRIBUTION_BECKMANN ? PB_GPU_DISTRIBUTION_BECKMANN
+                                                                   : PB_GPU_DISTRIBUTION_GGX;
   o->subsurface_color_tex = tex_index(b->subsurface_color_tex, s->texture_count);
   memcpy(o->subsurface_color, b->subsurface_color, sizeof o->subsurface_color);
   o->normal_strength = b->normal_strength;
@@ -301,6 +305,7 @@ static void convert_material(const pb_scene *s, const pb_material *m, pb_gpu_mat
   o->subsurface_method = (uint32_t)b->subsurface_method;
   o->g2_correlated = (uint32_t)b->g2_correlated;
   o->bump_model = (uint32_t)b->bump_model;
+  o->node = (uint32_t)b->node;
   for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
     o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
     uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;
