@@ -13,8 +13,8 @@ Multiscatter); an anisotropic metal; rough glass in front of an emissive
 card (GGX and Multiscatter); a tinted coat over a black base; microfiber
 sheen lit from behind; emission under a coat and sheen; and, in the
 Principled's place, the Metallic BSDF (model metallic: F82 with GGX, and
-anisotropic with Multiscatter GGX; Physical Conductor with Multiscatter
-GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
+anisotropic with Multiscatter GGX, F82 with Beckmann; Physical Conductor
+with Multiscatter GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
 Microfiber, lit from behind), the Glossy BSDF (model glossy: anisotropic
 with Multiscatter GGX, negative Anisotropy with GGX, anisotropic Beckmann),
 the Glass BSDF (model glass: Multiscatter GGX, GGX, Beckmann) and the
@@ -113,6 +113,10 @@ CASES = {
                                            {"IOR": (0.27, 0.68, 1.32), "Extinction": (3.61, 2.62, 2.29),
                                             "Roughness": 0.45},
                                            {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "MULTI_GGX"})},
+    "metallic_f82_beckmann": {"_node": ("ShaderNodeBsdfMetallic",
+                                        {"Base Color": (0.95, 0.64, 0.54, 1.0), "Edge Tint": (1.0, 0.8, 0.7, 1.0),
+                                         "Roughness": 0.35},
+                                        {"fresnel_type": "F82", "distribution": "BECKMANN"})},
     "metallic_conductor_ggx": {"_node": ("ShaderNodeBsdfMetallic",
                                          {"IOR": (1.8, 1.2, 0.6), "Extinction": (2.5, 3.0, 3.5), "Roughness": 0.25,
                                           "Anisotropy": 0.5, "Rotation": 0.3},

@@ -900,6 +900,8 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
   vec3 w_emission = w;
   if (metallic > PB_CUTOFF) {
     pb_add_closure(b, PB_SLOT_GLASS_REFL, PB_CL_V2_GGX, w * metallic);
+    // the Metallic BSDF's Beckmann: its D and Lambda, never compensated
+    b.cl[PB_SLOT_GLASS_REFL].beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
     if (b.cl[PB_SLOT_GLASS_REFL].on && (m.flags & PB_GPU_MAT_CONDUCTOR) != 0u) {
       vec3 eta = vec3(in_v[PB_GPU_IN_CONDUCTOR_N], in_v[PB_GPU_IN_CONDUCTOR_N + 1u], in_v[PB_GPU_IN_CONDUCTOR_N + 2u]);
       pb2_metal_conductor(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, eta, spec_tint, wo, multi);

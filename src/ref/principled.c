@@ -1119,6 +1119,9 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   v3 w_emission = w;
   if (metallic > CUTOFF) {
     pb_closure *c = add_closure(b, PB_CL_V2_GGX, v3_scale(w, metallic));
+    /* The Metallic BSDF's Beckmann distribution: Beckmann's D and Lambda,
+     * never compensated (multi is 0). */
+    if (c) c->beckmann = bm->distribution == PB_DISTRIBUTION_BECKMANN;
     if (c && bm->conductor) {
       /* The Metallic BSDF's Physical Conductor (Cycles 4.5 svm/closure.h
        * CLOSURE_BSDF_PHYSICAL_CONDUCTOR, closure/bsdf_microfacet.h

@@ -579,7 +579,9 @@ static float fresnel_conductor1(float cosi, float eta, float k) {
  * Tint = Edge Tint), which is how both renderers render it. PHYSICAL_CONDUCTOR
  * (CLOSURE_BSDF_PHYSICAL_CONDUCTOR) is the same closure with
  * bsdf_microfacet_setup_fresnel_conductor's Fresnel of n = max(IOR, 0), k =
- * max(Extinction, 0): the metal lobe with pb_blender_material.conductor. */
+ * max(Extinction, 0): the metal lobe with pb_blender_material.conductor.
+ * Distribution GGX, Multiscatter GGX (compensated) or Beckmann
+ * (bsdf_microfacet_beckmann_setup: Beckmann's D and Lambda, uncompensated). */
 static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_material *m) {
   pb_blender_material *b = &m->blender;
   const pb_gltf_value *p;
@@ -589,7 +591,7 @@ static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_mat
   float n[3] = {2.757f, 2.513f, 2.231f}, k[3] = {3.867f, 3.404f, 3.009f};
   float rough = 0.5f, aniso = 0.0f, rot = 0.0f;
   int dist = 1, fresnel = 0;
-  static const char *const dists[] = {"GGX", "MULTI_GGX"};
+  static const char *const dists[] = {"GGX", "MULTI_GGX", "BECKMANN"};
   static const char *const fresnels[] = {"F82", "PHYSICAL_CONDUCTOR"};
   if (p) {
     if ((r = opt_color(R, p, "metallic", "baseColor", base)) != PB_OK ||
@@ -597,13 +599,13 @@ static pb_result read_metallic(const reader *R, const pb_gltf_value *ext, pb_mat
         (r = opt_number(R, p, "metallic", "roughness", 0.0, 1.0, &rough)) != PB_OK ||
         (r = opt_number(R, p, "metallic", "anisotropy", 0.0, 1.0, &aniso)) != PB_OK ||
         (r = opt_number(R, p, "metallic", "rotation", 0.0, 1.0, &rot)) != PB_OK ||
-        (r = opt_enum(R, p, "metallic", "distribution", dists, 2, &dist)) != PB_OK ||
+        (r = opt_enum(R, p, "metallic", "distribution", dists, 3, &dist)) != PB_OK ||
         (r = opt_enum(R, p, "metallic", "fresnelType", fresnels, 2, &fresnel)) != PB_OK ||
         (r = opt_color(R, p, "metallic", "ior", n)) != PB_OK ||
         (r = opt_color(R, p, "metallic", "extinction", k)) != PB_OK)
       return r;
   }
-  b->distribution = dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
+  b->distribution = dist == 2 ? PB_DISTRIBUTION_BECKMANN : dist ? PB_DISTRIBUTION_MULTI_GGX : PB_DISTRIBUTION_GGX;
   b->input[PB_IN_METALLIC] = 1.0f;
   b->input[PB_IN_ROUGHNESS] = rough;
   b->input[PB_IN_ANISOTROPIC] = aniso;

@@ -470,11 +470,11 @@ class MaterialWriter:
             gm, ext = self._bsdf_node(node)
         elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
             gm, ext = self._like_principled(node)
-        elif node.type == 'BSDF_METALLIC' and node.distribution != 'BECKMANN':
+        elif node.type == 'BSDF_METALLIC':
             gm, ext = self._metallic(node)
         elif node.type == 'BSDF_SHEEN' and node.distribution == 'MICROFIBER':
             gm, ext = self._sheen(node)
-        elif node.type in ('BSDF_METALLIC', 'BSDF_SHEEN'):
+        elif node.type == 'BSDF_SHEEN':
             what = "the %s distribution" % node.distribution.title()
             self._warn_node(node, "%s is not rendered; written as a grey Principled BSDF" % what)
             gm, ext = self._principled_defaults()
@@ -951,7 +951,7 @@ class MaterialWriter:
         return out
 
     def _metallic(self, node):
-        """A Metallic BSDF (Blender 4.3+), GGX or Multiscatter GGX: the
+        """A Metallic BSDF (Blender 4.3+), GGX, Multiscatter GGX or Beckmann: the
         extension's "metallic" model, with the F82 Fresnel (Base Color, Edge
         Tint) or the Physical Conductor's (IOR n, Extinction k, per RGB
         channel). Cycles renders it as the Principled v2 metal lobe alone;
