@@ -15,7 +15,7 @@ sheen lit from behind; emission under a coat and sheen; and, in the
 Principled's place, the Metallic BSDF (model metallic: F82 with GGX, and
 anisotropic with Multiscatter GGX, F82 with Beckmann; Physical Conductor
 with Multiscatter GGX, and anisotropic with GGX) and the Sheen BSDF (model sheen:
-Microfiber, lit from behind), the Glossy BSDF (model glossy: anisotropic
+Microfiber, lit from behind; Ashikhmin, lit from the front), the Glossy BSDF (model glossy: anisotropic
 with Multiscatter GGX, negative Anisotropy with GGX, anisotropic Beckmann),
 the Glass BSDF (model glass: Multiscatter GGX, GGX, Beckmann) and the
 Refraction BSDF (model refraction: GGX, Beckmann), the glass and refraction
@@ -123,6 +123,9 @@ CASES = {
                                          {"fresnel_type": "PHYSICAL_CONDUCTOR", "distribution": "GGX"})},
     "sheen_bsdf": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.9, 0.6, 0.4, 1.0), "Roughness": 0.35},
                              {"distribution": "MICROFIBER"})},
+    # The Sheen BSDF's Ashikhmin (3.x's Velvet BSDF), lit from the front.
+    "sheen_ashikhmin": {"_node": ("ShaderNodeBsdfSheen", {"Color": (0.7, 0.3, 0.35, 1.0), "Roughness": 0.5},
+                                  {"distribution": "ASHIKHMIN"})},
     # The Glossy BSDF (no Fresnel; 4.0's Anisotropy, stretched the other way
     # from the Principled's, both signs), the Glass BSDF (Color on
     # reflection and transmission) and the Refraction BSDF (no Fresnel), in

@@ -18,6 +18,7 @@ const uint PB_CL_TRANSPARENT = 7u;
 const uint PB_CL_V2_SHEEN = 8u;  // microfiber sheen (LTC)
 const uint PB_CL_V2_GGX = 9u;    // GGX reflection: F82-tint metal, generalized-Schlick specular, dielectric coat
 const uint PB_CL_V2_GLASS = 10u; // GGX glass, reflection and refraction in one closure
+const uint PB_CL_VELVET = 11u;   // Ashikhmin velvet (the Sheen BSDF's Ashikhmin, 3.x's Velvet BSDF); on_a = 1 / sigma^2
 const uint PB_FR_DIELECTRIC = 0u;
 const uint PB_FR_F82_TINT = 1u;
 const uint PB_FR_GEN_SCHLICK = 2u;

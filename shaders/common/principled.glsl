@@ -639,6 +639,20 @@ vec3 pb2_beckmann_sample(float ax, float ay, float u1, float u2) {
 vec3 pb_eval_v2(pb_closure c, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
   pdf = 0.0;
   vec3 lo = pb_to_lobe(c, wo), li = pb_to_lobe(c, wi);
+  if (c.type == PB_CL_VELVET) {
+    // closure/bsdf_ashikhmin_velvet.h: f cos = D G / (4 cos_view), sampled
+    // uniformly over the hemisphere.
+    if (!(lo.z > 0.0 && li.z > 0.0)) return vec3(0.0);
+    vec3 h = normalize(lo + li);
+    float cnh = h.z, chi = abs(dot(lo, h));
+    if (!(abs(cnh) < 1.0 - 1e-5 && chi > 1e-5)) return vec3(0.0);
+    float q = max(cnh / chi, 1e-5);
+    float sin2 = 1.0 - cnh * cnh, cot2 = cnh * cnh / sin2;
+    float d = exp(-cot2 * c.on_a) * c.on_a * PB_INV_PI / (sin2 * sin2);
+    float g = min(1.0, min(2.0 * abs(q * lo.z), 2.0 * abs(q * li.z)));
+    pdf = 0.5 * PB_INV_PI;
+    return vec3(0.25 * d * g / lo.z);
+  }
   if (c.type == PB_CL_V2_SHEEN) {
     if (li.z <= 0.0) return vec3(0.0);
     float a = c.on_a, b = c.on_b;
@@ -796,6 +810,13 @@ void pb2_node(pb_gpu_material m, pb_surface surf, vec3 wo, vec3 tangent, vec3 co
     pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, 1.0, PB_FR_NONE, vec3(1.0));
     b.cl[PB_SLOT_GLASS_REFL].beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
     if (multi) pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFL], mu, color);
+    return;
+  }
+  if (m.node == PB_GPU_NODE_VELVET) {  // svm/closure.h CLOSURE_BSDF_ASHIKHMIN_VELVET_ID
+    pb_add_closure(b, PB_SLOT_SHEEN, PB_CL_VELVET, color);
+    pb_lobe_frame(b.cl[PB_SLOT_SHEEN], surf.ns, tangent);
+    float sigma = max(r, 0.01);
+    b.cl[PB_SLOT_SHEEN].on_a = 1.0 / (sigma * sigma);
     return;
   }
   bool glass = m.node == PB_GPU_NODE_GLASS;
@@ -1119,7 +1140,7 @@ void pb_blender_split(inout pb_bsdf b, float alpha2) {
 // and the layers pb_blender_split let stop, which the photon map shades; the
 // other glossy and the delta ones, which eye paths follow.
 bool pb_lobe_in(pb_closure c, uint mask) {
-  bool diffuse = c.type <= PB_CL_SHEEN || c.type == PB_CL_V2_SHEEN || c.stops;
+  bool diffuse = c.type <= PB_CL_SHEEN || c.type == PB_CL_V2_SHEEN || c.type == PB_CL_VELVET || c.stops;
   return c.on && c.type != PB_CL_TRANSPARENT &&
          ((diffuse && (mask & PB_GPU_LOBES_DIFFUSE) != 0u) || (!diffuse && (mask & PB_GPU_LOBES_GLOSSY) != 0u));
 }
@@ -1145,7 +1166,8 @@ void pb_eval_slot(pb_bsdf b, pb_closure c, uint k, vec3 wo, vec3 wi, inout uint 
   if (!pb_lobe_in(c, b.mask) || c.singular) return;
   float pc;
   vec3 e;
-  if (k != PB_SLOT_DIFFUSE && (c.type == PB_CL_V2_SHEEN || c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS))
+  if (k != PB_SLOT_DIFFUSE &&
+      (c.type == PB_CL_V2_SHEEN || c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS || c.type == PB_CL_VELVET))
     e = pb_eval_v2(c, b.ng, wo, wi, pc);
   else if (k <= PB_SLOT_SHEEN)
     e = pb_eval_diffuse_like(c, b.ni, b.bump, wo, wi, pc);
@@ -1297,6 +1319,9 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
   bool v2_refract = false;
   if (c.type <= PB_CL_SHEEN) {
     li = pb_cosine_dir(u1, u2);
+  } else if (c.type == PB_CL_VELVET) {  // uniform over the hemisphere
+    float st = sqrt(max(0.0, 1.0 - u1 * u1)), phi = 2.0 * PB_PI * u2;
+    li = vec3(st * cos(phi), st * sin(phi), u1);
   } else if (c.type == PB_CL_V2_SHEEN) {
     float r = sqrt(u1), phi = 2.0 * PB_PI * u2, dz = sqrt(max(0.0, 1.0 - u1));
     li = normalize(vec3(r * cos(phi) - dz * c.on_b, r * sin(phi), dz * c.on_a));

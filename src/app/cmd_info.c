@@ -118,6 +118,9 @@ static void print_text(const pb_scene *s) {
       printf(" [Blender metallic (Metallic BSDF), F82, %s: edge tint (%.3g %.3g %.3g), anisotropy %.3g]",
              distribution_label(b->distribution), b->specular_tint[0],
              b->specular_tint[1], b->specular_tint[2], b->input[PB_IN_ANISOTROPIC]);
+    else if (b->node == PB_NODE_VELVET)
+      printf(" [Blender sheen (Sheen BSDF), Ashikhmin: colour (%.3g %.3g %.3g), roughness %.3g]", m->base_color[0],
+             m->base_color[1], m->base_color[2], b->input[PB_IN_ROUGHNESS]);
     else if (b->node == PB_NODE_SHEEN)
       printf(" [Blender sheen (Sheen BSDF), Microfiber: colour (%.3g %.3g %.3g), roughness %.3g]", b->sheen_tint[0],
              b->sheen_tint[1], b->sheen_tint[2], b->input[PB_IN_SHEEN_ROUGHNESS]);

@@ -61,6 +61,7 @@ typedef enum pb_closure_type {
   PB_CL_V2_SHEEN,      /* microfiber sheen, LTC (Zeltner et al. 2022) */
   PB_CL_V2_GGX,        /* GGX reflection: F82-tint metal, generalized-Schlick specular or dielectric coat */
   PB_CL_V2_GLASS,      /* GGX glass: reflection and refraction in one closure, generalized Schlick */
+  PB_CL_VELVET,        /* Ashikhmin velvet (Sheen BSDF Ashikhmin, 3.x Velvet BSDF); on_a = 1 / sigma^2 */
 } pb_closure_type;
 
 enum { PB_CLOSURE_MAX = 8 };

@@ -525,6 +525,22 @@ static v3 closure_eval(const pb_closure *c, v3 ng, v3 ns, pb_bump_model bump, v3
   case PB_CL_V2_GGX:
   case PB_CL_V2_GLASS:
     return v2_eval(c, lo, li, cos_gi, pdf);
+  case PB_CL_VELVET: {
+    /* Cycles 4.5 closure/bsdf_ashikhmin_velvet.h (OSL's): f cos = D G /
+     * (4 cos_view), D = exp(-cot^2 / sigma^2) / (pi sigma^2 sin^4), G =
+     * min(1, 2 |cos_nh / cos_hv| cos_view, ... cos_light); sampled uniformly
+     * over the hemisphere. */
+    if (!(lo.z > 0.0f && li.z > 0.0f)) return zero;
+    v3 h = v3_norm(v3_add(lo, li));
+    float cos_nh = h.z, cos_hv = fabsf(v3_dot(lo, h));
+    if (!(fabsf(cos_nh) < 1.0f - 1e-5f && cos_hv > 1e-5f)) return zero;
+    float q = fmaxf(cos_nh / cos_hv, 1e-5f);
+    float sin2 = 1.0f - cos_nh * cos_nh, cot2 = cos_nh * cos_nh / sin2;
+    float d = expf(-cot2 * c->on_a) * c->on_a * PB_INV_PI_F / (sin2 * sin2);
+    float g = fminf(1.0f, fminf(2.0f * fabsf(q * lo.z), 2.0f * fabsf(q * li.z)));
+    *pdf = 0.5f * PB_INV_PI_F;
+    return v3_splat(0.25f * d * g / lo.z);
+  }
   default:
     return zero;
   }
@@ -1014,6 +1030,16 @@ static void v2_node(const pb_surface *surf, v3 wo, v3 color, const float *in, in
     if (multi) preserve_energy(c, mu, color);
     return;
   }
+  if (bm->node == PB_NODE_VELVET) {
+    /* CLOSURE_BSDF_ASHIKHMIN_VELVET_ID: weight Color on the shading normal,
+     * sigma = max(saturate(Roughness), 0.01). */
+    pb_closure *c = add_closure(b, PB_CL_VELVET, color);
+    if (!c) return;
+    lobe_frame(c, surf->ns, surf->tangent);
+    float sigma = fmaxf(sat(in[PB_IN_ROUGHNESS]), 0.01f);
+    c->on_a = 1.0f / (sigma * sigma);
+    return;
+  }
   int glass = bm->node == PB_NODE_GLASS;
   pb_closure *c = add_closure(b, PB_CL_V2_GLASS, color);
   if (!c) return;
@@ -1036,7 +1062,8 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
   v2_read(s, surf, base, &V);
   const float *in = V.in;
   int multi = bm->distribution == PB_DISTRIBUTION_MULTI_GGX, g2 = 1;
-  if (bm->node == PB_NODE_GLOSSY || bm->node == PB_NODE_GLASS || bm->node == PB_NODE_REFRACTION) {
+  if (bm->node == PB_NODE_GLOSSY || bm->node == PB_NODE_GLASS || bm->node == PB_NODE_REFRACTION ||
+      bm->node == PB_NODE_VELVET) {
     if (!emission_only) {
       v2_node(surf, wo, base, V.in, multi, b);
       b->albedo = v3_sat(base);
@@ -1506,6 +1533,11 @@ int pb_blender_bsdf_sample(const pb_bsdf *b, v3 wo, float u0, float u1, float u2
   case PB_CL_GGX_REFRACT: {
     v3 m = ggx_vndf(lo, c->ax, c->ay, u1, u2);
     if (!refract_dir(lo, m, c->ior, &li)) return 0;
+    break;
+  }
+  case PB_CL_VELVET: { /* uniform over the hemisphere */
+    float st = sqrtf(fmaxf(0.0f, 1.0f - u1 * u1)), phi = 2.0f * PB_PI_F * u2;
+    li = v3_make(st * cosf(phi), st * sinf(phi), u1);
     break;
   }
   case PB_CL_V2_SHEEN: {

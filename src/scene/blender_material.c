@@ -639,11 +639,21 @@ static pb_result read_sheen(const reader *R, const pb_gltf_value *ext, pb_materi
   if (r != PB_OK) return r;
   float color[3] = {0.8f, 0.8f, 0.8f}, rough = 0.5f;
   int dist = 0;
-  static const char *const dists[] = {"MICROFIBER"};
+  static const char *const dists[] = {"MICROFIBER", "ASHIKHMIN"};
   if (p && ((r = opt_color(R, p, "sheen", "color", color)) != PB_OK ||
             (r = opt_number(R, p, "sheen", "roughness", 0.0, 1.0, &rough)) != PB_OK ||
-            (r = opt_enum(R, p, "sheen", "distribution", dists, 1, &dist)) != PB_OK))
+            (r = opt_enum(R, p, "sheen", "distribution", dists, 2, &dist)) != PB_OK))
     return r;
+  if (dist == 1) {
+    /* Ashikhmin (CLOSURE_BSDF_ASHIKHMIN_VELVET_ID, the Velvet BSDF of 3.x,
+     * whose Sigma is the Roughness): a closure of its own, weight Color. */
+    b->input[PB_IN_SPECULAR_IOR_LEVEL] = 0.0f;
+    b->input[PB_IN_ROUGHNESS] = rough;
+    for (int k = 0; k < 3; ++k) m->base_color[k] = b->subsurface_color[k] = color[k];
+    b->node = PB_NODE_VELVET;
+    principled2_v1_slots(m);
+    return PB_OK;
+  }
   b->input[PB_IN_SPECULAR_IOR_LEVEL] = 0.0f;
   b->input[PB_IN_SHEEN_WEIGHT] = 1.0f;
   b->input[PB_IN_SHEEN_ROUGHNESS] = rough;

@@ -82,7 +82,7 @@ const char *pb_material_model_name(pb_material_model m) {
 
 const char *pb_blender_model_name(const pb_blender_material *b) {
   if (b->node == PB_NODE_METALLIC) return "metallic";
-  if (b->node == PB_NODE_SHEEN) return "sheen";
+  if (b->node == PB_NODE_SHEEN || b->node == PB_NODE_VELVET) return "sheen";
   if (b->node == PB_NODE_GLOSSY) return "glossy";
   if (b->node == PB_NODE_GLASS) return "glass";
   if (b->node == PB_NODE_REFRACTION) return "refraction";

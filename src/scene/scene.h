@@ -136,6 +136,9 @@ typedef enum pb_blender_node {
   PB_NODE_GLOSSY,
   PB_NODE_GLASS,
   PB_NODE_REFRACTION,
+  /* The Sheen BSDF's Ashikhmin distribution (Blender 3.x's Velvet BSDF):
+   * base_color its Color, input[ROUGHNESS] its Roughness (3.x: Sigma). */
+  PB_NODE_VELVET,
 } pb_blender_node;
 
 typedef struct pb_blender_material {

@@ -163,8 +163,8 @@ def build():
 
     # 7. Metallic BSDF (F82) and Sheen BSDF (Microfiber): models metallic and
     # sheen with the node's values (clamped as Cycles clamps them), F82 and
-    # Physical Conductor, the Metallic's Beckmann too; the Sheen's Ashikhmin
-    # form: a grey principled2 and a warning.
+    # Physical Conductor, the Metallic's Beckmann and the Sheen's Ashikhmin
+    # too.
     for name, kind, socks, props, want in (
             ("metallic_f82", "ShaderNodeBsdfMetallic",
              {"Base Color": (1.2, 0.5, 0.25, 1.0), "Edge Tint": (0.9, 0.8, 0.7, 1.0), "Roughness": 0.25,
@@ -185,7 +185,9 @@ def build():
              ("metallic", {"baseColor": [0.617, 0.577, 0.540, 1.0], "edgeTint": [0.695, 0.726, 0.770, 1.0],
                            "roughness": 0.4, "anisotropy": 0.0, "rotation": 0.0, "distribution": "BECKMANN",
                            "fresnelType": "F82"})),
-            ("sheen_ashikhmin", "ShaderNodeBsdfSheen", {}, {"distribution": "ASHIKHMIN"}, ("principled2", None)),
+            ("sheen_ashikhmin", "ShaderNodeBsdfSheen", {"Color": (0.5, 0.2, 0.2, 1.0), "Roughness": 0.6},
+             {"distribution": "ASHIKHMIN"},
+             ("sheen", {"color": [0.5, 0.2, 0.2, 1.0], "roughness": 0.6, "distribution": "ASHIKHMIN"})),
             # 6. The Glossy (4.x: anisotropic, idname ShaderNodeBsdfAnisotropic),
             # Glass and Refraction BSDFs: models glossy, glass and refraction
             # with the node's values, Rotation turned into 0..1, Beckmann (the

@@ -472,12 +472,8 @@ class MaterialWriter:
             gm, ext = self._like_principled(node)
         elif node.type == 'BSDF_METALLIC':
             gm, ext = self._metallic(node)
-        elif node.type == 'BSDF_SHEEN' and node.distribution == 'MICROFIBER':
+        elif node.type in ('BSDF_SHEEN', 'BSDF_VELVET'):
             gm, ext = self._sheen(node)
-        elif node.type == 'BSDF_SHEEN':
-            what = "the %s distribution" % node.distribution.title()
-            self._warn_node(node, "%s is not rendered; written as a grey Principled BSDF" % what)
-            gm, ext = self._principled_defaults()
         else:
             self._warn_node(node, "shader not translated; written as a grey Principled BSDF")
             gm, ext = self._principled_defaults()
@@ -979,12 +975,15 @@ class MaterialWriter:
         return self._principled2_plain(p, {}), {"model": "metallic", "metallic": m}
 
     def _sheen(self, node):
-        """A Sheen BSDF (Blender 4.0+), Microfiber: the extension's "sheen"
-        model (Cycles' microfiber sheen, the Principled v2 sheen lobe over
-        nothing). Its plain glTF is a black KHR_materials_sheen material."""
-        v = self._node_values(node, (("Color", "color"), ("Roughness", "roughness")))
+        """A Sheen BSDF (Blender 4.0+), Microfiber or Ashikhmin, or Blender
+        3.x's Velvet BSDF (Ashikhmin, its Sigma the Roughness): the
+        extension's "sheen" model (Cycles' microfiber sheen, the Principled
+        v2 sheen lobe over nothing; or the Ashikhmin velvet closure). Its
+        plain glTF is a black KHR_materials_sheen material."""
+        velvet = node.type == 'BSDF_VELVET'
+        v = self._node_values(node, (("Color", "color"), ("Sigma" if velvet else "Roughness", "roughness")))
         m = {"color": list(v["color"][:3]) + [1.0], "roughness": min(max(float(v["roughness"]), 0.0), 1.0),
-             "distribution": "MICROFIBER"}
+             "distribution": "ASHIKHMIN" if velvet else node.distribution}
         p = dict(PRINCIPLED2_DEFAULTS, baseColor=[0.0, 0.0, 0.0, 1.0], specularIorLevel=0.0, sheenWeight=1.0,
                  sheenTint=m["color"], sheenRoughness=m["roughness"])
         return self._principled2_plain(p, {}), {"model": "sheen", "sheen": m}
