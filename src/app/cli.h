@@ -120,13 +120,13 @@ typedef struct pb_core_opts {
   {"verbose", 'v', PB_OPT_FLAG, &(c)->verbose, NULL, "more detail", NULL, 0, 0, "Reporting", 0}
 
 /* The image options every rendering subcommand takes; out_help: what -o
- * writes. */
+ * writes; width_help: --width's help (its default). */
 #define PB_RENDER_OPTS(c) PB_RENDER_OPTS_OUT(c, "output file (EXR)")
-#define PB_RENDER_OPTS_OUT(c, out_help)                                        \
+#define PB_WIDTH_HELP_640 "image width (default 640, or from --height and the camera's aspect)"
+#define PB_RENDER_OPTS_OUT(c, out_help) PB_RENDER_OPTS_OUT_W(c, out_help, PB_WIDTH_HELP_640)
+#define PB_RENDER_OPTS_OUT_W(c, out_help, width_help)                          \
   {"output", 'o', PB_OPT_STRING, &(c)->out, "OUT", out_help, NULL, 0, 0, "Output", 0},      \
-  {"width", 0, PB_OPT_U32, &(c)->width, "W",                                   \
-   "image width (default 640, or from --height and the camera's aspect)",     \
-   NULL, 1, 16384, "Output", 0},                                                            \
+  {"width", 0, PB_OPT_U32, &(c)->width, "W", width_help, NULL, 1, 16384, "Output", 0},      \
   {"height", 0, PB_OPT_U32, &(c)->height, "H",                                 \
    "image height (default from the camera's aspect ratio)", NULL, 1, 16384, "Output", 0},  \
   {"camera", 0, PB_OPT_STRING, &(c)->camera, "NAME|N",                         \

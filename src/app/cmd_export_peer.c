@@ -24,7 +24,8 @@ int pb_cmd_export_peer(int argc, char **argv) {
   uint64_t spp = 64, threads = 2;
   pb_pose_opts pose = {NAN, 0};
   const pb_opt opts[] = {
-      PB_RENDER_OPTS_OUT(&c, "output folder (created if missing)"),
+      PB_RENDER_OPTS_OUT_W(&c, "output folder (created if missing)",
+                           "image width (default 128, or from --height and the camera's aspect)"),
       PB_POSE_OPTS(&pose),
       {"format", 0, PB_OPT_CHOICE, &format, "PEER", "luxcore (scene.scn + render.cfg) or mitsuba (scene.xml)",
        pb_peer_format_names, 0, 0, "Output", 0},
@@ -42,8 +43,7 @@ int pb_cmd_export_peer(int argc, char **argv) {
     pb_cli_print_help(stdout, help, cmd, opts, n,
                       "Writes DIR/mN.ply (one per material), DIR/mN_base.exr (linear base colour textures) and "
                       "DIR/scene.scn + DIR/render.cfg (LuxCore) or DIR/scene.xml (Mitsuba 3); file names inside "
-                      "are relative to DIR. Notes about approximated features go to stdout. The image size is "
-                      "128 wide unless --width/--height say otherwise.");
+                      "are relative to DIR. Notes about approximated features go to stdout.");
     return 0;
   }
   if (npos != 1 || !c.out || format < 0)
