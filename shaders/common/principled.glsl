@@ -786,10 +786,15 @@ void pb2_metal_conductor(inout pb_closure c, vec3 n, vec3 tangent, float ax, flo
 // Blender 4.x's Glossy, Glass and Refraction BSDFs (Cycles 4.5 svm/closure.h
 // CLOSURE_BSDF_MICROFACET_GGX_ID / _MULTI_GGX_ID, _GGX_GLASS_ID /
 // _MULTI_GGX_GLASS_ID, _GGX_REFRACTION_ID; see src/ref/principled.c
-// v2_node for the model): one closure, tinted by Color.
+// v2_node for the model): one closure, tinted by Color. Files of Blender
+// 3.4 (g2_correlated 0; Multiscatter GGX never comes so) get Cycles 3.4's:
+// the shading normal, separable masking, and the Glass as two closures
+// split by the Fresnel at that normal.
 void pb2_node(pb_gpu_material m, pb_surface surf, vec3 wo, vec3 tangent, vec3 color, float in_v[PB_GPU_IN_SLOTS],
               bool multi, inout pb_bsdf b) {
-  vec3 n = pb_valid_reflection_normal(surf.ng, wo, surf.ns);
+  bool v34 = m.g2_correlated == 0u;
+  bool beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
+  vec3 n = v34 ? surf.ns : pb_valid_reflection_normal(surf.ng, wo, surf.ns);
   float r = clamp(in_v[PB_GPU_IN_ROUGHNESS], 0.0, 1.0);
   float a = r * r;
   float mu = dot(wo, n);
@@ -808,7 +813,8 @@ void pb2_node(pb_gpu_material m, pb_surface surf, vec3 wo, vec3 tangent, vec3 co
       }
     }
     pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, 1.0, PB_FR_NONE, vec3(1.0));
-    b.cl[PB_SLOT_GLASS_REFL].beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
+    b.cl[PB_SLOT_GLASS_REFL].beckmann = beckmann;
+    b.cl[PB_SLOT_GLASS_REFL].g2 = !v34;
     if (multi) pb2_preserve_energy(b.cl[PB_SLOT_GLASS_REFL], mu, color);
     return;
   }
@@ -820,13 +826,28 @@ void pb2_node(pb_gpu_material m, pb_surface surf, vec3 wo, vec3 tangent, vec3 co
     return;
   }
   bool glass = m.node == PB_GPU_NODE_GLASS;
+  float ior = max(in_v[PB_GPU_IN_IOR], 1e-5);
+  if (v34) {  // 3.4 svm/closure.h: reflection F, refraction max(1e-4, 1 - F), neither with a Fresnel
+    float eta = surf.front ? ior : 1.0 / ior;
+    float f = glass ? pb_fresnel_diel(dot(n, wo), eta) : 0.0;
+    if (glass) {
+      pb_add_closure(b, PB_SLOT_GLASS_REFL, PB_CL_V2_GGX, color * f);
+      pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, n, a, a, eta, PB_FR_NONE, vec3(1.0));
+      b.cl[PB_SLOT_GLASS_REFL].beckmann = beckmann;
+      b.cl[PB_SLOT_GLASS_REFL].g2 = false;
+    }
+    pb_add_closure(b, PB_SLOT_GLASS_REFR, PB_CL_V2_GLASS, color * (glass ? max(1e-4, 1.0 - f) : 1.0));
+    pb2_microfacet(b.cl[PB_SLOT_GLASS_REFR], n, n, a, a, eta, PB_FR_NONE, vec3(1.0));
+    b.cl[PB_SLOT_GLASS_REFR].beckmann = beckmann;
+    b.cl[PB_SLOT_GLASS_REFR].g2 = false;
+    return;
+  }
   pb_add_closure(b, PB_SLOT_GLASS_REFR, PB_CL_V2_GLASS, color);
   if (!b.cl[PB_SLOT_GLASS_REFR].on) return;
-  float ior = max(in_v[PB_GPU_IN_IOR], 1e-5);
   pb2_microfacet(b.cl[PB_SLOT_GLASS_REFR], n, n, a, a, surf.front ? ior : 1.0 / ior,
                  glass ? PB_FR_GEN_SCHLICK : PB_FR_NONE, vec3(pb2_f0(ior)));
   b.cl[PB_SLOT_GLASS_REFR].ttint = vec3(1.0);
-  b.cl[PB_SLOT_GLASS_REFR].beckmann = m.distribution == PB_GPU_DISTRIBUTION_BECKMANN;
+  b.cl[PB_SLOT_GLASS_REFR].beckmann = beckmann;
   if (!glass) return;
   // The Color tints reflection and transmission alike: the closure's weight
   // here, the Fresnel's tints in Cycles (the same product).
@@ -1131,9 +1152,12 @@ bool pb_layer_stops(pb_closure c, float alpha2) { return c.on && !c.singular && 
 void pb_blender_split(inout pb_bsdf b, float alpha2) {
   b.cl[PB_SLOT_SPECULAR].stops = pb_layer_stops(b.cl[PB_SLOT_SPECULAR], alpha2);
   b.cl[PB_SLOT_CLEARCOAT].stops = pb_layer_stops(b.cl[PB_SLOT_CLEARCOAT], alpha2);
-  // Principled v2's metal (a reflection-only GGX in the glass reflection slot)
+  // Principled v2's metal and the Glossy BSDF (a reflection-only GGX in the
+  // glass reflection slot), not the reflection half of a 3.4 Glass BSDF
+  // (a refraction without Fresnel beside it), which stays with its pair.
+  bool pair = b.cl[PB_SLOT_GLASS_REFR].on && b.cl[PB_SLOT_GLASS_REFR].fresnel == PB_FR_NONE;
   b.cl[PB_SLOT_GLASS_REFL].stops =
-      b.cl[PB_SLOT_GLASS_REFL].type == PB_CL_V2_GGX && pb_layer_stops(b.cl[PB_SLOT_GLASS_REFL], alpha2);
+      b.cl[PB_SLOT_GLASS_REFL].type == PB_CL_V2_GGX && !pair && pb_layer_stops(b.cl[PB_SLOT_GLASS_REFL], alpha2);
 }
 
 // Which closures a lobe mask keeps (PB_GPU_LOBES_*): the diffuse-like ones

@@ -1001,10 +1001,16 @@ static void v2_read(const pb_scene *s, const pb_surface *surf, v3 base, v2_input
  *   transmission tint. Here the tint is the weight and the Fresnel untinted,
  *   which is the same product.
  * - Refraction (_GGX_REFRACTION_ID): weight Color, no Fresnel, no
- *   compensation. */
+ *   compensation.
+ * Files of Blender 3.4 (before 3.5: g2_correlated 0; the writer sends no
+ * Multiscatter GGX then) get Cycles 3.4's svm/closure.h: the shading normal
+ * itself, separable G1 G1, and the Glass as a reflection of weight Color x
+ * F and a refraction of Color x max(1e-4, 1 - F), F the dielectric Fresnel
+ * at that normal, neither closure with a Fresnel of its own. */
 static void v2_node(const pb_surface *surf, v3 wo, v3 color, const float *in, int multi, pb_bsdf *b) {
   const pb_blender_material *bm = &surf->mat->blender;
-  v3 n = valid_reflection_normal(surf->ng, wo, surf->ns);
+  int v34 = !bm->g2_correlated, beckmann = bm->distribution == PB_DISTRIBUTION_BECKMANN;
+  v3 n = v34 ? surf->ns : valid_reflection_normal(surf->ng, wo, surf->ns);
   float alpha = sqr(sat(in[PB_IN_ROUGHNESS])), mu = v3_dot(wo, n);
   if (bm->node == PB_NODE_GLOSSY) {
     pb_closure *c = add_closure(b, PB_CL_V2_GGX, color);
@@ -1025,8 +1031,8 @@ static void v2_node(const pb_surface *surf, v3 wo, v3 color, const float *in, in
         t = v3_add(v3_add(v3_scale(t, cs), v3_scale(v3_cross(n, t), sn)), v3_scale(n, v3_dot(n, t) * (1.0f - cs)));
       }
     }
-    v2_microfacet(c, n, t, ax, ay, 1.0f, PB_FRESNEL_NONE, v3_splat(1.0f), 1);
-    c->beckmann = bm->distribution == PB_DISTRIBUTION_BECKMANN;
+    v2_microfacet(c, n, t, ax, ay, 1.0f, PB_FRESNEL_NONE, v3_splat(1.0f), !v34);
+    c->beckmann = beckmann;
     if (multi) preserve_energy(c, mu, color);
     return;
   }
@@ -1041,13 +1047,27 @@ static void v2_node(const pb_surface *surf, v3 wo, v3 color, const float *in, in
     return;
   }
   int glass = bm->node == PB_NODE_GLASS;
+  float ior = fmaxf(in[PB_IN_IOR], 1e-5f);
+  if (v34) {
+    float eta = surf->front ? ior : 1.0f / ior, f = glass ? fresnel_diel(v3_dot(n, wo), eta) : 0.0f;
+    pb_closure *c = glass ? add_closure(b, PB_CL_V2_GGX, v3_scale(color, f)) : NULL;
+    if (c) {
+      v2_microfacet(c, n, n, alpha, alpha, eta, PB_FRESNEL_NONE, v3_splat(1.0f), 0);
+      c->beckmann = beckmann;
+    }
+    c = add_closure(b, PB_CL_V2_GLASS, v3_scale(color, glass ? fmaxf(1e-4f, 1.0f - f) : 1.0f));
+    if (c) {
+      v2_microfacet(c, n, n, alpha, alpha, eta, PB_FRESNEL_NONE, v3_splat(1.0f), 0);
+      c->beckmann = beckmann;
+    }
+    return;
+  }
   pb_closure *c = add_closure(b, PB_CL_V2_GLASS, color);
   if (!c) return;
-  float ior = fmaxf(in[PB_IN_IOR], 1e-5f);
   v2_microfacet(c, n, n, alpha, alpha, surf->front ? ior : 1.0f / ior,
                 glass ? PB_FRESNEL_GEN_SCHLICK : PB_FRESNEL_NONE, v3_splat(f0_of(ior)), 1);
   c->ttint = v3_splat(1.0f);
-  c->beckmann = bm->distribution == PB_DISTRIBUTION_BECKMANN;
+  c->beckmann = beckmann;
   if (!glass) return;
   c->sample_weight *= avg3(v2_albedo(c, mu, 1));
   if (multi) preserve_energy(c, mu, color);

@@ -466,9 +466,10 @@ class MaterialWriter:
             gm, ext = self._emission(node)
         elif node.type == 'HOLDOUT':
             gm, ext = self._plain_black(), {"model": "holdout"}
-        elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION') and _blender_version() >= (4, 0, 0):
+        elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION', 'BSDF_ANISOTROPIC') and \
+                (_blender_version() >= (4, 0, 0) or node.distribution != 'MULTI_GGX'):
             gm, ext = self._bsdf_node(node)
-        elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION'):
+        elif node.type in ('BSDF_GLASS', 'BSDF_GLOSSY', 'BSDF_REFRACTION', 'BSDF_ANISOTROPIC'):
             gm, ext = self._like_principled(node)
         elif node.type == 'BSDF_METALLIC':
             gm, ext = self._metallic(node)
@@ -996,9 +997,13 @@ class MaterialWriter:
         the scalars too), clamped as Cycles clamps them; photonbridge
         renders them as Cycles 4.x does, with the node's distribution (GGX,
         Multiscatter GGX or Beckmann); Ashikhmin-Shirley is written as GGX,
-        with a warning. The plain glTF is the nearest
+        with a warning. Blender 3.x's Glossy, Anisotropic, Glass and
+        Refraction BSDFs (Sharp as GGX at roughness 0) the same way but for
+        Multiscatter GGX (its random walk, _like_principled); photonbridge
+        renders a 3.x file's as Cycles 3.4 does. The plain glTF is the nearest
         Principled BSDF (Metallic 1, or Transmission 1 with the IOR)."""
-        kind = {'BSDF_GLOSSY': "glossy", 'BSDF_GLASS': "glass", 'BSDF_REFRACTION': "refraction"}[node.type]
+        kind = {'BSDF_GLOSSY': "glossy", 'BSDF_ANISOTROPIC': "glossy", 'BSDF_GLASS': "glass",
+                'BSDF_REFRACTION': "refraction"}[node.type]
         scalars = [("Roughness", "roughness")]
         scalars += [("Anisotropy", "anisotropy"), ("Rotation", "rotation")] if kind == "glossy" else [("IOR", "ior")]
         color_sock = node.inputs["Color"]
@@ -1028,6 +1033,10 @@ class MaterialWriter:
             if link is not None:
                 links[member] = link
         dist = node.distribution
+        if dist == 'SHARP':  # Blender 3.x: the delta form, roughness ignored
+            dist = 'GGX'
+            m["roughness"] = 0.0
+            links.pop("roughness", None)
         if dist not in ('GGX', 'MULTI_GGX', 'BECKMANN') or (kind == "refraction" and dist == 'MULTI_GGX'):
             self._warn_node(node, "the %s distribution is rendered as GGX" % dist.replace("_", " ").title())
             dist = 'GGX'
@@ -1061,14 +1070,15 @@ class MaterialWriter:
         return self._principled2_plain(p, tex_index), ext
 
     def _like_principled(self, node):
-        """Glass, Glossy and Refraction BSDFs as the Principled inputs that
-        mean the same in Cycles 3.4 (a warning says so)."""
+        """Blender 3.x's Glass, Glossy, Anisotropic and Refraction BSDFs with
+        Multiscatter GGX as the Principled inputs that mean the same in
+        Cycles 3.4 (a warning says so)."""
         color = _value(node.inputs["Color"])
         rough = _value(node.inputs["Roughness"])
         p = {"baseColor": color, "metallic": 0.0, "specular": BLENDER_SPECULAR, "specularTint": 0.0,
              "roughness": rough, "ior": 1.45, "transmission": 0.0, "emission": [0, 0, 0, 1],
              "emissionStrength": 1.0, "alpha": 1.0}
-        if node.type == 'BSDF_GLOSSY':
+        if node.type in ('BSDF_GLOSSY', 'BSDF_ANISOTROPIC'):
             p["metallic"] = 1.0
             what = "written as a Principled BSDF with Metallic 1"
             # Blender 4.0 merged the Anisotropic BSDF into Glossy; its
