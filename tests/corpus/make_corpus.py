@@ -607,7 +607,7 @@ def broken_cases(C, png):
     case("blender_not_object", EXIT_INVALID, X + ": a string, expected an object", blender("principled"))
     case("blender_model_missing", EXIT_INVALID, X + ".model: missing", blender({"principled": {}}))
     case("blender_model_bogus", EXIT_INVALID,
-         X + ".model: 'toon' is not principled, diffuse, emission, holdout, principled2, metallic or sheen",
+         X + ".model: 'toon' is not principled, diffuse, emission, holdout, principled2, metallic, sheen, glossy, glass or refraction",
          blender({"model": "toon"}))
     case("blender_roughness_range", EXIT_INVALID, X + ".principled.roughness: 1.5 is outside [0, 1]",
          principled(roughness=1.5))
