@@ -682,30 +682,39 @@ class MaterialWriter:
             self._warn_node(node, "subsurface method %s is written as RANDOM_WALK_SKIN" % node.subsurface_method)
             method = "RANDOM_WALK_SKIN"
         p["subsurfaceMethod"] = method
+        textures, tex_index = self._node_textures(node, links, COLOR2_INPUTS,
+                                                  (("Normal", "normal"), ("Coat Normal", "coatNormal")))
+        ext = {"model": "principled2", "principled2": p}
+        if textures:
+            ext["textures"] = textures
+        return self._principled2_plain(dict(PRINCIPLED2_DEFAULTS, **p), tex_index), ext
+
+    def _node_textures(self, node, links, colors, normals):
+        """The extension's "textures" of a BSDF node and the plain glTF's
+        texture index ({member: (index, link)}): an entry for each linked
+        input (links: member -> (image node, channel); colors: the members
+        read as colour) and for a Normal Map on each of the node's normal
+        sockets (normals: (socket, member)). A linked Tangent is said."""
         s = node.inputs.get("Tangent")
         if s is not None and _source(s) is not None:
             self._warn_node(_source(s).node, "drives Tangent and is not translated")
         textures, tex_index = {}, {}
         for member, link in links.items():
-            entry, index = self._texture_entry(link, member in COLOR2_INPUTS)
+            entry, index = self._texture_entry(link, member in colors)
             if entry is not None:
                 textures[member] = entry
                 tex_index[member] = (index, link)
-        for sock_name, member in (("Normal", "normal"), ("Coat Normal", "coatNormal")):
+        for sock_name, member in normals:
             s = node.inputs.get(sock_name)
             nl = self._normal_link(s) if s is not None else None
             if nl is not None:
-                img_node, strength = nl
-                entry, index = self._texture_entry((img_node, "RGB"), False)
+                entry, index = self._texture_entry((nl[0], "RGB"), False)
                 if entry is not None:
                     entry.pop("channel", None)
-                    entry["strength"] = strength
+                    entry["strength"] = nl[1]
                     textures[member] = entry
                     tex_index[member] = (index, nl)
-        ext = {"model": "principled2", "principled2": p}
-        if textures:
-            ext["textures"] = textures
-        return self._principled2_plain(dict(PRINCIPLED2_DEFAULTS, **p), tex_index), ext
+        return textures, tex_index
 
     def _principled2_plain(self, p, tex):
         """The glTF of Principled v2 values p (every member, defaults filled
@@ -1041,24 +1050,9 @@ class MaterialWriter:
             self._warn_node(node, "the %s distribution is rendered as GGX" % dist.replace("_", " ").title())
             dist = 'GGX'
         m["distribution"] = dist
-        s = node.inputs.get("Tangent")
-        if s is not None and _source(s) is not None:
-            self._warn_node(_source(s).node, "drives Tangent and is not translated")
-        textures, tex_index = {}, {}
-        for member, link in links.items():
-            entry, index = self._texture_entry(link, member == "baseColor")
-            if entry is not None:
-                textures[member] = entry
-                if member in ("baseColor", "roughness"):
-                    tex_index[member] = (index, link)
-        nl = self._normal_link(node.inputs["Normal"])
-        if nl is not None:
-            entry, index = self._texture_entry((nl[0], "RGB"), False)
-            if entry is not None:
-                entry.pop("channel", None)
-                entry["strength"] = nl[1]
-                textures["normal"] = entry
-                tex_index["normal"] = (index, nl)
+        textures, tex_index = self._node_textures(node, links, ("baseColor",), (("Normal", "normal"),))
+        # the plain glTF's Principled has the colour, roughness and normal
+        tex_index = {k: v for k, v in tex_index.items() if k in ("baseColor", "roughness", "normal")}
         ext = {"model": kind, kind: m}
         if textures:
             ext["textures"] = textures
