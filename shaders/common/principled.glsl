@@ -112,6 +112,13 @@ void pb_lobe_frame(inout pb_closure c, vec3 n, vec3 t) {
     pb_basis(n, c.x, c.y);
   }
 }
+// Cycles' rotate_around_axis: tangent t turned about axis n by `turns`
+// full turns (Rodrigues), as the Anisotropic Rotation inputs turn it.
+vec3 pb_turn_tangent(vec3 t, vec3 n, float turns) {
+  if (turns == 0.0) return t;
+  float th = turns * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
+  return t * cs + cross(n, t) * sn + n * (dot(n, t) * (1.0 - cs));
+}
 vec3 pb_to_lobe(pb_closure c, vec3 w) { return vec3(dot(w, c.x), dot(w, c.y), dot(w, c.n)); }
 vec3 pb_from_lobe(pb_closure c, vec3 l) { return c.x * l.x + c.y * l.y + c.n * l.z; }
 
@@ -806,11 +813,8 @@ void pb2_node(pb_gpu_material m, pb_surface surf, vec3 wo, vec3 tangent, vec3 co
     if (abs(aniso) > 1e-4) {
       ax = aniso < 0.0 ? a / (1.0 + aniso) : a * (1.0 - aniso);
       ay = aniso < 0.0 ? a * (1.0 + aniso) : a / (1.0 - aniso);
-      float rot = in_v[PB_GPU_IN_ANISOTROPIC_ROTATION];
-      if (rot != 0.0) {  // about the lobe's normal, as svm/closure.h turns it
-        float th = rot * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
-        tangent = tangent * cs + cross(n, tangent) * sn + n * (dot(n, tangent) * (1.0 - cs));
-      }
+      // about the lobe's normal, as svm/closure.h turns it
+      tangent = pb_turn_tangent(tangent, n, in_v[PB_GPU_IN_ANISOTROPIC_ROTATION]);
     }
     pb2_microfacet(b.cl[PB_SLOT_GLASS_REFL], n, tangent, ax, ay, 1.0, PB_FR_NONE, vec3(1.0));
     b.cl[PB_SLOT_GLASS_REFL].beckmann = beckmann;
@@ -894,11 +898,7 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
     float aspect = sqrt(1.0 - aniso * 0.9);
     ax /= aspect;
     ay *= aspect;
-    float rot = in_v[PB_GPU_IN_ANISOTROPIC_ROTATION];
-    if (rot != 0.0) {
-      float th = rot * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
-      tangent = tangent * cs + cross(ns, tangent) * sn + ns * (dot(ns, tangent) * (1.0 - cs));
-    }
+    tangent = pb_turn_tangent(tangent, ns, in_v[PB_GPU_IN_ANISOTROPIC_ROTATION]);
   }
   vec3 w = vec3(1.0);
   pb_add_closure(b, PB_SLOT_TRANSPARENT, PB_CL_TRANSPARENT, vec3(1.0 - alpha));
@@ -1068,11 +1068,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     float spec_w = 1.0 - glass_w;
     float w = alpha;
     pb_add_closure(b, PB_SLOT_TRANSPARENT, PB_CL_TRANSPARENT, vec3(1.0 - alpha));
-    float rot = in_v[PB_GPU_IN_ANISOTROPIC_ROTATION];
-    if (rot != 0.0) {
-      float th = rot * 2.0 * PB_PI, cs = cos(th), sn = sin(th);
-      tangent = tangent * cs + cross(n, tangent) * sn + n * (dot(n, tangent) * (1.0 - cs));
-    }
+    tangent = pb_turn_tangent(tangent, n, in_v[PB_GPU_IN_ANISOTROPIC_ROTATION]);
     float ss = clamp(in_v[PB_GPU_IN_SUBSURFACE], 0.0, 1.0);
     vec3 ssc = m.subsurface_color;
     if (SC_TEXTURES && m.subsurface_color_tex != PB_GPU_NO_TEXTURE)

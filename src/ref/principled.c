@@ -221,6 +221,13 @@ static void lobe_frame(pb_closure *c, v3 n, v3 t) {
     v3_basis(n, &c->x, &c->y);
   }
 }
+/* Cycles' rotate_around_axis: tangent t turned about axis n by `turns` full
+ * turns (Rodrigues), as the Anisotropic Rotation inputs turn it. */
+static v3 turn_tangent(v3 t, v3 n, float turns) {
+  if (turns == 0.0f) return t;
+  float th = turns * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
+  return v3_add(v3_add(v3_scale(t, cs), v3_scale(v3_cross(n, t), sn)), v3_scale(n, v3_dot(n, t) * (1.0f - cs)));
+}
 static inline v3 to_lobe(const pb_closure *c, v3 w) { return v3_make(v3_dot(w, c->x), v3_dot(w, c->y), v3_dot(w, c->n)); }
 static inline v3 from_lobe(const pb_closure *c, v3 l) {
   return v3_add(v3_add(v3_scale(c->x, l.x), v3_scale(c->y, l.y)), v3_scale(c->n, l.z));
@@ -1025,11 +1032,7 @@ static void v2_node(const pb_surface *surf, v3 wo, v3 color, const float *in, in
         ax = alpha * (1.0f - a);
         ay = alpha / (1.0f - a);
       }
-      float rot = in[PB_IN_ANISOTROPIC_ROTATION];
-      if (rot != 0.0f) {
-        float th = rot * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
-        t = v3_add(v3_add(v3_scale(t, cs), v3_scale(v3_cross(n, t), sn)), v3_scale(n, v3_dot(n, t) * (1.0f - cs)));
-      }
+      t = turn_tangent(t, n, in[PB_IN_ANISOTROPIC_ROTATION]);
     }
     v2_microfacet(c, n, t, ax, ay, 1.0f, PB_FRESNEL_NONE, v3_splat(1.0f), !v34);
     c->beckmann = beckmann;
@@ -1108,11 +1111,7 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
     float aspect = sqrtf(1.0f - aniso * 0.9f);
     ax /= aspect;
     ay *= aspect;
-    if (in[PB_IN_ANISOTROPIC_ROTATION] != 0.0f) {
-      float th = in[PB_IN_ANISOTROPIC_ROTATION] * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
-      tangent = v3_add(v3_add(v3_scale(tangent, cs), v3_scale(v3_cross(n_shade, tangent), sn)),
-                       v3_scale(n_shade, v3_dot(n_shade, tangent) * (1.0f - cs)));
-    }
+    tangent = turn_tangent(tangent, n_shade, in[PB_IN_ANISOTROPIC_ROTATION]);
   }
   pb_bsdf dummy;
   if (emission_only) {
@@ -1316,12 +1315,7 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
      * adds). */
     float w = alpha;
     if (alpha < 1.0f) add_closure(b, PB_CL_TRANSPARENT, v3_splat(1.0f - alpha));
-    if (bm->input_tex[PB_IN_ANISOTROPIC_ROTATION].tex >= 0 || in[PB_IN_ANISOTROPIC_ROTATION] != 0.0f) {
-      /* Rodrigues' rotation of the tangent about n by 2 pi rotation. */
-      float th = in[PB_IN_ANISOTROPIC_ROTATION] * 2.0f * PB_PI_F, cs = cosf(th), sn = sinf(th);
-      tangent = v3_add(v3_add(v3_scale(tangent, cs), v3_scale(v3_cross(n, tangent), sn)),
-                       v3_scale(n, v3_dot(n, tangent) * (1.0f - cs)));
-    }
+    tangent = turn_tangent(tangent, n, in[PB_IN_ANISOTROPIC_ROTATION]);
     /* Diffuse: subsurface rendered as diffuse with the mixed colour. */
     float ss = sat(in[PB_IN_SUBSURFACE]);
     v3 ssc = color_value(s, v3_load(bm->subsurface_color), bm->subsurface_color_tex, surf);

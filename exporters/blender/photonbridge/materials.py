@@ -1075,8 +1075,8 @@ class MaterialWriter:
         if node.type in ('BSDF_GLOSSY', 'BSDF_ANISOTROPIC'):
             p["metallic"] = 1.0
             what = "written as a Principled BSDF with Metallic 1"
-            # Blender 4.0 merged the Anisotropic BSDF into Glossy; its
-            # mapping (alpha_x = r^2 (1 - a), alpha_y = r^2 / (1 - a), a in
+            # 3.x's Anisotropic BSDF with Multiscatter GGX: its stretch
+            # (alpha_x = r^2 (1 - a), alpha_y = r^2 / (1 - a), a in
             # -0.99..0.99) is not the Principled one, so it is not carried.
             aniso = node.inputs.get("Anisotropy")
             if aniso is not None and (_source(aniso) is not None or abs(_value(aniso)) > 1e-4):
