@@ -407,13 +407,19 @@ float pb_blender_alpha(pb_surface s) {
   return clamp(pb_input_value(materials[s.mat], PB_GPU_IN_ALPHA, s), 0.0, 1.0);
 }
 
+// Whether slot k's closures are compiled in (SC_CLOSURES, set from what the
+// scene's materials can make; the transparent slot always is). A slot left
+// out is never switched on, so no pass evaluates or samples it.
+bool pb_slot_compiled(uint k) { return k >= PB_SLOT_TRANSPARENT || (SC_CLOSURES & (1u << k)) != 0u; }
+bool pb_v1_compiled() { return (SC_CLOSURES & PB_CLOSURES_V1) != 0u; }
+
 // Fills slot `slot` with a closure of `type` and colour weight `weight`,
 // switched on when the weight averages at least the cutoff (bsdf_alloc).
 void pb_add_closure(inout pb_bsdf b, uint slot, uint type, vec3 weight) {
   weight = max(weight, vec3(0.0));
   float sw = abs(pb_avg3(weight));
   pb_closure c;
-  c.on = sw >= PB_CUTOFF;
+  c.on = sw >= PB_CUTOFF && pb_slot_compiled(slot);
   c.type = type;
   c.weight = weight;
   c.sample_weight = c.on ? sw : 0.0;
@@ -1051,7 +1057,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     pb_lobe_frame(b.cl[PB_SLOT_DIFFUSE], n, tangent);
     pb_oren_nayar(b.cl[PB_SLOT_DIFFUSE], clamp(pb_input_value(m, PB_GPU_IN_ROUGHNESS, surf), 0.0, 1.0), base,
                   (m.flags & PB_GPU_MAT_OREN_NAYAR_MS) != 0u, wo);
-  } else {
+  } else if (pb_v1_compiled()) {
     float in_v[PB_GPU_IN_SLOTS];
     pb_inputs(m, surf, in_v);
     float metallic = in_v[PB_GPU_IN_METALLIC];
@@ -1091,7 +1097,8 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
       b.cl[PB_SLOT_SHEEN].sample_weight *= cn < 0.0 ? 0.0 : pb_schlick_w(cn) * cn;
     }
     if (spec_w > PB_CUTOFF && (specular > PB_CUTOFF || metallic > PB_CUTOFF)) {
-      bool multi = m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX && roughness > 0.075;
+      bool multi = (SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u && m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX &&
+                   roughness > 0.075;
       pb_add_closure(b, PB_SLOT_SPECULAR, multi ? PB_CL_MULTI_GGX : PB_CL_GGX, vec3(w * spec_w));
       float spec_ior = 2.0 / (1.0 - sqrt(max(0.0, 0.08 * specular))) - 1.0;
       float aspect = sqrt(max(0.0, 1.0 - in_v[PB_GPU_IN_ANISOTROPIC] * 0.9));
@@ -1182,16 +1189,20 @@ void pb_accumulate(pb_closure c, uint mask, vec3 e, float pc, inout vec3 f, inou
 
 // Adds slot k's closure c (b.cl[k]) to f cos and the pdf's sum when it is
 // in b.mask and not a delta lobe: the lobe evaluation its type asks for.
+// Slots and closure kinds the scene cannot make (SC_CLOSURES, SC_PRINCIPLED2)
+// are compiled out.
 void pb_eval_slot(pb_bsdf b, pb_closure c, uint k, vec3 wo, vec3 wi, inout uint rng, inout vec3 f, inout float p) {
-  if (!pb_lobe_in(c, b.mask) || c.singular) return;
+  if (!pb_slot_compiled(k) || !pb_lobe_in(c, b.mask) || c.singular) return;
   float pc;
   vec3 e;
-  if (k != PB_SLOT_DIFFUSE &&
+  if (SC_PRINCIPLED2 && k != PB_SLOT_DIFFUSE &&
       (c.type == PB_CL_V2_SHEEN || c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS || c.type == PB_CL_VELVET))
     e = pb_eval_v2(c, b.ng, wo, wi, pc);
   else if (k <= PB_SLOT_SHEEN)
     e = pb_eval_diffuse_like(c, b.ni, b.bump, wo, wi, pc);
-  else if (k == PB_SLOT_SPECULAR && c.type == PB_CL_MULTI_GGX)
+  else if (!pb_v1_compiled())  // the v1 Principled's lobes below
+    return;
+  else if ((SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u && k == PB_SLOT_SPECULAR && c.type == PB_CL_MULTI_GGX)
     e = pb_eval_multi(c, b.ng, wo, wi, rng, pc);
   else if (k == PB_SLOT_GLASS_REFR)
     e = pb_eval_refract(c, b.ng, wo, wi, pc);
@@ -1297,7 +1308,7 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
   }
   if (lo.z <= 0.0) return false;
   vec3 li;
-  if (c.singular && (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS)) {
+  if (SC_PRINCIPLED2 && c.singular && (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS)) {
     delta = true;
     vec3 r, t;
     pb2_fresnel(c, lo.z, r, t);
@@ -1318,7 +1329,8 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     }
     return true;
   }
-  if (c.singular) {
+  if (c.singular) {  // the v1 Principled's delta lobes
+    if (!pb_v1_compiled()) return false;
     delta = true;
     if (c.type == PB_CL_GGX_REFRACT) {
       if (!pb_refract_dir(lo, vec3(0.0, 0.0, 1.0), c.ior, li)) return false;
@@ -1339,13 +1351,13 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
   bool v2_refract = false;
   if (c.type <= PB_CL_SHEEN) {
     li = pb_cosine_dir(u1, u2);
-  } else if (c.type == PB_CL_VELVET) {  // uniform over the hemisphere
+  } else if (SC_PRINCIPLED2 && c.type == PB_CL_VELVET) {  // uniform over the hemisphere
     float st = sqrt(max(0.0, 1.0 - u1 * u1)), phi = 2.0 * PB_PI * u2;
     li = vec3(st * cos(phi), st * sin(phi), u1);
-  } else if (c.type == PB_CL_V2_SHEEN) {
+  } else if (SC_PRINCIPLED2 && c.type == PB_CL_V2_SHEEN) {
     float r = sqrt(u1), phi = 2.0 * PB_PI * u2, dz = sqrt(max(0.0, 1.0 - u1));
     li = normalize(vec3(r * cos(phi) - dz * c.on_b, r * sin(phi), dz * c.on_a));
-  } else if (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS) {
+  } else if (SC_PRINCIPLED2 && (c.type == PB_CL_V2_GGX || c.type == PB_CL_V2_GLASS)) {
     vec3 m = c.beckmann ? pb2_beckmann_sample(c.ax, c.ay, u1, u2)
                         : pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
     if (!(dot(lo, m) > 0.0)) return false;  // a Beckmann normal facing away
@@ -1361,6 +1373,8 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     } else {
       li = m * (2.0 * dot(lo, m)) - lo;
     }
+  } else if (!pb_v1_compiled()) {  // the v1 Principled's lobes below
+    return false;
   } else if (c.type == PB_CL_GGX) {
     vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);
     li = m * (2.0 * dot(lo, m)) - lo;
@@ -1370,7 +1384,7 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     float ct = sqrt(clamp(ct2, 0.0, 1.0)), st = sqrt(clamp(1.0 - ct2, 0.0, 1.0)), phi = 2.0 * PB_PI * u2;
     vec3 m = vec3(st * cos(phi), st * sin(phi), ct);
     li = m * (2.0 * dot(lo, m)) - lo;
-  } else if (c.type == PB_CL_MULTI_GGX) {
+  } else if ((SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u && c.type == PB_CL_MULTI_GGX) {
     float a = pb_multi_ggx_albedo(c.ax == c.ay ? c.ax : sqrt(c.ax * c.ay));
     if (ur < a) {
       vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);

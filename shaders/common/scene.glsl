@@ -40,9 +40,9 @@ layout(constant_id = PB_SPEC_HAS_NORMALS) const bool SC_HAS_NORMALS = true;
 layout(constant_id = PB_SPEC_TEXTURES) const bool SC_TEXTURES = true;
 layout(constant_id = PB_SPEC_SPECULAR) const bool SC_SPECULAR = true;   // delta lobes: eye chains
 layout(constant_id = PB_SPEC_EMISSIVE) const bool SC_EMISSIVE = true;  // emissive triangles or unlit surfaces
-// Ids 4 and 5 belong to the photon tracer (SC_TRANSMISSION) and the gather
-// (SC_NORMAL_MAPS). Soft lights (sphere, area, soft sun) and the world
-// light, for the passes that include common/lights.glsl.
+// SC_TRANSMISSION and SC_NORMAL_MAPS belong to the photon tracer and the
+// gather. Soft lights (sphere, area, soft sun) and the world light, for the
+// passes that include common/lights.glsl.
 layout(constant_id = PB_SPEC_SOFT_LIGHTS) const bool SC_SOFT_LIGHTS = true;
 layout(constant_id = PB_SPEC_WORLD) const bool SC_WORLD = true;
 // Blender materials (principled.glsl) exist only in the PB_BLENDER build of
@@ -51,10 +51,12 @@ layout(constant_id = PB_SPEC_WORLD) const bool SC_WORLD = true;
 const bool SC_BLENDER = true;
 layout(constant_id = PB_SPEC_ALPHA) const bool SC_ALPHA = true;      // Alpha < 1: transparent shadows
 layout(constant_id = PB_SPEC_PRINCIPLED2) const bool SC_PRINCIPLED2 = true; // a Principled v2 material
+layout(constant_id = PB_SPEC_CLOSURES) const uint SC_CLOSURES = PB_CLOSURES_ALL; // the closures it may make
 #else
 const bool SC_BLENDER = false;
 const bool SC_ALPHA = false;
 const bool SC_PRINCIPLED2 = false;
+const uint SC_CLOSURES = 0u;
 #endif
 
 // [[dont_unroll]] on the loops that must stay loops (texture lookups).

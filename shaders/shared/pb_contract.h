@@ -236,7 +236,8 @@
 
 /* ---- specialization constants (constant_id) ------------------------------- */
 /* The scene's (common/scene.glsl), set by the passes from the render plan
- * (plan.h); 4 and 5 belong to one kernel each. */
+ * (plan.h). Ids 0-5 are every shading pass's (PB_SPEC_SHADING_COUNT); the
+ * others belong to the kernels that name them. */
 #define PB_SPEC_HAS_NORMALS 0
 #define PB_SPEC_TEXTURES 1
 #define PB_SPEC_SPECULAR 2        /* delta lobes: eye chains */
@@ -244,20 +245,41 @@
 #define PB_SPEC_PRINCIPLED2 4     /* Principled v2 materials (PB_BLENDER builds
                                      only): the v2 stack compiled out of the
                                      scenes without one */
-#define PB_SPEC_TRANSMISSION 5    /* photon_trace.comp only */
-#define PB_SPEC_NORMAL_MAPS 6     /* gather.comp only (eq. 20's sums) */
-#define PB_SPEC_SOFT_LIGHTS 7
-#define PB_SPEC_WORLD 8
-#define PB_SPEC_ALPHA 9           /* PB_BLENDER builds only */
-#define PB_SPEC_COUNT 10
+#define PB_SPEC_CLOSURES 5        /* PB_CLOSURES_* (PB_BLENDER builds only):
+                                     the closures the scene's Blender
+                                     materials can make; the others' code is
+                                     compiled out */
+#define PB_SPEC_TRANSMISSION 6    /* photon_trace.comp only */
+#define PB_SPEC_NORMAL_MAPS 7     /* gather.comp only (eq. 20's sums) */
+#define PB_SPEC_SOFT_LIGHTS 8
+#define PB_SPEC_WORLD 9
+#define PB_SPEC_ALPHA 10          /* PB_BLENDER builds only */
+#define PB_SPEC_COUNT 11
 /* Every pass that shades a surface takes the scene's ids up to this one
- * (0-4) from the frame's set. */
-#define PB_SPEC_SHADING_COUNT (PB_SPEC_PRINCIPLED2 + 1)
-/* knn.comp's own, after the scene's and PB_SPEC_NORMAL_MAPS: k, the size of
- * each query's max-heap. */
-#define PB_SPEC_KNN_K 10
-#define PB_SPEC_KNN_BUDGET 11 /* loop iterations per query; 0: no bound */
-#define PB_SPEC_KNN_COUNT 12
+ * (0-5) from the frame's set. */
+#define PB_SPEC_SHADING_COUNT (PB_SPEC_CLOSURES + 1)
+/* knn.comp's own, after the scene's: k, the size of each query's max-heap. */
+#define PB_SPEC_KNN_K 11
+#define PB_SPEC_KNN_BUDGET 12 /* loop iterations per query; 0: no bound */
+#define PB_SPEC_KNN_COUNT 13
+
+/* PB_SPEC_CLOSURES: bit k is closure slot k of common/bsdf.glsl
+ * (PB_SLOT_*; the transparent slot is always compiled), then the code paths
+ * a slot's closure may take. A bit the scene's materials cannot need
+ * leaves that code out of the module (lavapipe: the direct pass of a
+ * Principled BSDF without sheen, glass or coat compiles in a third of the
+ * time); the host sets a bit wherever a material might need it
+ * (plan.c pb_render_closures_of), textures counted as reaching any value. */
+#define PB_CLOSURES_DIFFUSE 0x01u
+#define PB_CLOSURES_SHEEN 0x02u
+#define PB_CLOSURES_SPECULAR 0x04u
+#define PB_CLOSURES_GLASS_REFL 0x08u /* "reflection": glass, the v2 metal, the Glossy BSDF */
+#define PB_CLOSURES_GLASS_REFR 0x10u /* "refraction" */
+#define PB_CLOSURES_CLEARCOAT 0x20u
+#define PB_CLOSURES_MULTI_WALK 0x40u /* v1 Multiscatter GGX's random walk */
+#define PB_CLOSURES_V1 0x80u         /* the v1 Principled BSDF's set-up */
+#define PB_CLOSURES_ALL 0xffu
+
 /* lbvh_climb.comp's own. */
 #define PB_SPEC_FENCES 0
 #define PB_SPEC_FENCES_COUNT 1

@@ -186,9 +186,13 @@ static void print_text(const pb_scene *s) {
          pl.normal_maps ? (pl.photons ? "on (+ its correction of the indirect light)" : "on") : "off", pl.unlit ? "on" : "off",
          pl.vertex_colors ? "on" : "off", pl.media ? "on" : "off", pl.soft_lights ? "on" : "off",
          pl.world ? (pl.world_map ? "on (map, importance-sampled)" : "on (constant)") : "off",
-         pl.blender_materials ? (pl.multi_ggx ? "on (glossy eye paths, Multiscatter GGX walk)" : "on (glossy eye paths)")
-                              : "off",
-         pl.alpha ? "on" : "off");
+         pl.blender_materials ? "on (glossy eye paths)" : "off", pl.alpha ? "on" : "off");
+  if (pl.blender_materials) {
+    printf("\nclosures  ");
+    for (unsigned k = 0; k < PB_RENDER_CLOSURE_BITS; ++k)
+      if (pl.closures >> k & 1u) printf(" %s", pb_render_closure_names[k]);
+    printf(" (the Blender materials' closures the GPU passes compile)");
+  }
   /* The density estimators (render --estimator; render/estimate/estimator.h): what
    * auto picks for this scene and why, and which are in this binary. */
   pb_estimator_desc ad = {.kind = PB_ESTIMATOR_AUTO};

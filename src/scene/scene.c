@@ -11,12 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Blender models: could an input take value v somewhere (its constant, or
- * anything in [0, 1] where a texture feeds it)? */
-static float blender_max(const pb_blender_material *b, pb_blender_input i) {
+float pb_blender_input_max(const pb_blender_material *b, pb_blender_input i) {
   return b->input_tex[i].tex >= 0 ? fmaxf(b->input[i], 1.0f) : b->input[i];
 }
-static float blender_min(const pb_blender_material *b, pb_blender_input i) {
+float pb_blender_input_min(const pb_blender_material *b, pb_blender_input i) {
   return b->input_tex[i].tex >= 0 ? fminf(b->input[i], 0.0f) : b->input[i];
 }
 
@@ -32,10 +30,10 @@ int pb_material_may_be_singular(const pb_material *m) {
   /* Cycles' singular test alpha_x alpha_y <= 1e-7 with alpha = r^2 (the
    * anisotropic stretch keeps the product): r <= 1e-7^(1/4). */
   const float r_singular = 0.0178f;
-  int rough_low = blender_min(b, PB_IN_ROUGHNESS) <= r_singular;
-  int layer = blender_max(b, PB_IN_SPECULAR) > 0.0f || blender_max(b, PB_IN_METALLIC) > 0.0f ||
-              blender_max(b, PB_IN_TRANSMISSION) > 0.0f;
-  int coat = blender_max(b, PB_IN_CLEARCOAT) > 0.0f && blender_min(b, PB_IN_CLEARCOAT_ROUGHNESS) <= r_singular;
+  int rough_low = pb_blender_input_min(b, PB_IN_ROUGHNESS) <= r_singular;
+  int layer = pb_blender_input_max(b, PB_IN_SPECULAR) > 0.0f || pb_blender_input_max(b, PB_IN_METALLIC) > 0.0f ||
+              pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0.0f;
+  int coat = pb_blender_input_max(b, PB_IN_CLEARCOAT) > 0.0f && pb_blender_input_min(b, PB_IN_CLEARCOAT_ROUGHNESS) <= r_singular;
   return (rough_low && layer) || coat;
 }
 
@@ -151,16 +149,16 @@ void pb_scene_finalize(pb_scene *s) {
     }
     if (b->model == PB_MODEL_PRINCIPLED) {
       if (pb_material_may_be_singular(m)) f |= PB_FEATURE_SPECULAR;
-      if (blender_max(b, PB_IN_TRANSMISSION) > 0.0f && blender_min(b, PB_IN_METALLIC) < 1.0f)
+      if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0.0f && pb_blender_input_min(b, PB_IN_METALLIC) < 1.0f)
         f |= PB_FEATURE_TRANSMISSION;
-      if (k == PB_BSDF_GLOSSY || blender_max(b, PB_IN_SPECULAR) > 0.0f || blender_max(b, PB_IN_METALLIC) > 0.0f ||
-          blender_max(b, PB_IN_CLEARCOAT) > 0.0f)
+      if (k == PB_BSDF_GLOSSY || pb_blender_input_max(b, PB_IN_SPECULAR) > 0.0f || pb_blender_input_max(b, PB_IN_METALLIC) > 0.0f ||
+          pb_blender_input_max(b, PB_IN_CLEARCOAT) > 0.0f)
         f |= PB_FEATURE_GLOSSY;
       if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) f |= PB_FEATURE_MULTI_GGX;
       /* (the Glossy BSDF's Anisotropy is -1..1) */
-      if (blender_max(b, PB_IN_ANISOTROPIC) > 0.0f || blender_min(b, PB_IN_ANISOTROPIC) < 0.0f)
+      if (pb_blender_input_max(b, PB_IN_ANISOTROPIC) > 0.0f || pb_blender_input_min(b, PB_IN_ANISOTROPIC) < 0.0f)
         f |= PB_FEATURE_ANISOTROPY;
-      if (blender_min(b, PB_IN_ALPHA) < 1.0f) f |= PB_FEATURE_ALPHA;
+      if (pb_blender_input_min(b, PB_IN_ALPHA) < 1.0f) f |= PB_FEATURE_ALPHA;
       for (int in = 0; in < PB_IN_COUNT; ++in)
         if (b->input_tex[in].tex >= 0) f |= PB_FEATURE_TEXTURES;
       if (b->subsurface_color_tex >= 0) f |= PB_FEATURE_TEXTURES;

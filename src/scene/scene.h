@@ -252,6 +252,11 @@ int pb_material_is_emissive(const pb_material *m);
  * a renderer's BSDF can make one (textures counted as reaching any value):
  * it aims photons and switches on specular paths. */
 int pb_material_may_be_singular(const pb_material *m);
+/* The Blender models' input i at most and at least: its constant, or, where
+ * a texture feeds it, anything from the smaller of 0 and the constant to
+ * the larger of 1 and the constant (a texel in [0, 1]). */
+float pb_blender_input_max(const pb_blender_material *b, pb_blender_input i);
+float pb_blender_input_min(const pb_blender_material *b, pb_blender_input i);
 const char *pb_material_model_name(pb_material_model m);
 /* The extension's model of a Blender material: principled2, metallic, sheen
  * or pb_material_model_name's. */

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gpu_scene_helpers.h"
 #include "gpu_test.h"
 #include "pbtest.h"
 #include "render/photon/photon.h"
@@ -89,6 +90,45 @@ static void check_records(const pb_scene *s, const traced *t, const char *what) 
          t->st.guarded);
   CHECK_EQ_INT(bad, 0);
   CHECK_EQ_INT(outside, 0);
+}
+
+/* (a) energy: a closed Lambert box of albedo rho = 0.6 with a point light
+ * of 2 cd inside, 60,000 paths of 4 bounces from `first_bounce`
+ * (pb_photon_first_bounce): the stored flux at bounce k is Phi rho^k
+ * (within 4 %), nothing at bounce 0 (direct light), nothing escapes, no
+ * caustic record, every record valid. `what` prefixes the lines printed. */
+static void check_box_energy(pb_gpu *g, uint32_t first_bounce, const char *what) {
+  static tscene t;
+  const float rho = 0.6f, I = 2.0f;
+  box(&t, rho);
+  float w[3] = {1, 1, 1};
+  add_point(&t, 0.13f, -0.21f, 0.07f, I, w);
+  finish(&t);
+  pb_photon_trace_desc d = {.photons = 60000, .max_bounces = 4, .first_bounce = first_bounce};
+  traced tr;
+  if (!trace(g, &t.s, &d, 7, 0, 0, 0, 0, &tr)) return;
+  double sum[8] = {0};
+  uint32_t cnt[8] = {0};
+  for (uint32_t i = 0; i < tr.n; ++i) {
+    uint32_t b = bounce_of(&tr.ph[i]);
+    if (b < 8) sum[b] += tr.ph[i].power[0], cnt[b]++;
+  }
+  double phi = 4 * M_PI * I;
+  CHECK_EQ_INT(cnt[0], 0); /* the first hit is direct light */
+  CHECK_EQ_INT(tr.map.emitted, 60000);
+  CHECK_EQ_INT(tr.map.overflow, 0);
+  CHECK_EQ_INT(tr.st.escaped, 0); /* closed box */
+  CHECK_EQ_INT(tr.map.caustic, 0);
+  for (int k = 1; k <= 4; ++k) {
+    double want = phi * pow(rho, k);
+    printf("%s: bounce %d: %u photons, flux %.5f W, expected Phi rho^k = %.5f W (%+.2f %%)\n", what, k, cnt[k],
+           sum[k], want, 100 * (sum[k] / want - 1));
+    CHECK_NEAR(sum[k], want, 0.04 * want);
+  }
+  char label[64];
+  snprintf(label, sizeof label, "%s box", what);
+  check_records(&t.s, &tr, label);
+  release(g, &tr);
 }
 
 #endif

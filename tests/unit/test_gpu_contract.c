@@ -104,7 +104,7 @@ typedef struct entry {
 #define SCENE_SPEC                                                                                         \
   {"SC_HAS_NORMALS", PB_SPEC_HAS_NORMALS}, {"SC_TEXTURES", PB_SPEC_TEXTURES}, {"SC_SPECULAR", PB_SPEC_SPECULAR}, \
       {"SC_EMISSIVE", PB_SPEC_EMISSIVE}, {"SC_SOFT_LIGHTS", PB_SPEC_SOFT_LIGHTS}, {"SC_WORLD", PB_SPEC_WORLD},   \
-      {"SC_ALPHA", PB_SPEC_ALPHA}, {"SC_PRINCIPLED2", PB_SPEC_PRINCIPLED2}
+      {"SC_ALPHA", PB_SPEC_ALPHA}, {"SC_PRINCIPLED2", PB_SPEC_PRINCIPLED2}, {"SC_CLOSURES", PB_SPEC_CLOSURES}
 
 static const entry scene_pass[] = {SCENE_COMMON, {"GBuf", PB_BIND_GBUFFER}, {"Accum", PB_BIND_ACCUM},
                                    {"WorldBuf", PB_BIND_WORLD}, END};

@@ -116,34 +116,8 @@ static void both(pb_gpu *g, const pb_scene *s, const char *what, uint32_t photon
 /* ---- (a) energy ------------------------------------------------------------ */
 
 static void energy(pb_gpu *g) {
-  static tscene t;
-  const float rho = 0.6f, I = 2.0f;
-  box(&t, rho);
-  float w[3] = {1, 1, 1};
-  add_point(&t, 0.13f, -0.21f, 0.07f, I, w);
-  finish(&t);
-  pb_photon_trace_desc d = {.photons = 60000, .max_bounces = 4, .first_bounce = PB_FIRST_BOUNCE_RSM};
-  traced tr;
-  if (!trace(g, &t.s, &d, 7, 0, 0, 0, 0, &tr)) return;
-  double sum[8] = {0};
-  uint32_t cnt[8] = {0};
-  for (uint32_t i = 0; i < tr.n; ++i) {
-    uint32_t b = bounce_of(&tr.ph[i]);
-    if (b < 8) sum[b] += tr.ph[i].power[0], cnt[b]++;
-  }
-  double phi = 4 * M_PI * I;
-  CHECK_EQ_INT(cnt[0], 0); /* the first hit is direct light */
-  CHECK_EQ_INT(tr.map.emitted, 60000);
-  CHECK_EQ_INT(tr.map.overflow, 0);
-  CHECK_EQ_INT(tr.st.escaped, 0);
-  for (int k = 1; k <= 4; ++k) {
-    double want = phi * pow(rho, k);
-    printf("rsm energy: bounce %d: %u photons, flux %.5f W, expected Phi rho^k = %.5f W (%+.2f %%)\n", k, cnt[k],
-           sum[k], want, 100 * (sum[k] / want - 1));
-    CHECK_NEAR(sum[k], want, 0.04 * want);
-  }
-  check_records(&t.s, &tr, "rsm energy box");
-  release(g, &tr);
+  check_box_energy(g, PB_FIRST_BOUNCE_RSM, "rsm energy");
+  const float rho = 0.6f;
 
   /* A spot in the box: falloff and cone against the traced spot. */
   static tscene u;

@@ -117,7 +117,7 @@ static pb_result knn_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps,
   knn *e = impl;
   pb_result r;
   uint32_t spec[PB_SPEC_KNN_COUNT] = {0};
-  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-4, as the gather's */
+  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-5, as the gather's */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   spec[PB_SPEC_KNN_K] = e->k;
   /* llvmpipe's loop limiter (above; knn.comp SC_BUDGET). */

@@ -208,7 +208,7 @@ static pb_result splat_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *p
   if ((r = pb_gpu_buffer_fill_zero(g, &e->stats)) != PB_OK) return r;
 
   uint32_t spec[PB_SPEC_COUNT] = {0};
-  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-4, as the gather */
+  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-5, as the gather */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   if (e->pass[PASS_RESOLVE].pipeline &&
       (memcmp(e->resolve_spec, spec, sizeof e->resolve_spec) != 0 || e->resolve_blender != ps->blender))

@@ -250,7 +250,7 @@ static pb_result vsch_bind(pb_gpu *g, void *impl, const struct pb_pass_setup *ps
   }
   if ((r = reserve(g, v, pixels, v->capacity)) != PB_OK) return r;
   uint32_t spec[PB_SPEC_COUNT] = {0};
-  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's 0-4, as the gather */
+  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's 0-5, as the gather */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   /* The leaf and shade kernels trace (their kernel-edge and visibility
    * rays); the blur does not. */

@@ -19,7 +19,7 @@ pb_result pb_photon_estimator_bind(pb_gpu *g, pb_photon_estimator *e, const stru
                                    const pb_gpu_buffer *photon_accum, const pb_gpu_buffer *photon_nmap) {
   pb_result r;
   uint32_t spec[PB_SPEC_COUNT] = {0};
-  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-4; no lights here */
+  memcpy(spec, ps->spec, PB_SPEC_SHADING_COUNT * sizeof *spec); /* scene.glsl's ids 0-5; no lights here */
   spec[PB_SPEC_NORMAL_MAPS] = ps->normal_maps ? 1u : 0u;
   static const pb_kernel_builds k = PB_KERNEL_BUILDS(gather);
   pb_gpu_pipeline_desc d = {

@@ -37,6 +37,9 @@ typedef struct pb_render_plan {
   int alpha;             /* transparent shadows through Alpha < 1 (SC_ALPHA) */
   int principled2;       /* a Principled v2 material (SC_PRINCIPLED2): the
                             v2 stack compiled in */
+  uint32_t closures;     /* PB_CLOSURES_*: the closures the Blender
+                            materials may make (SC_CLOSURES); 0 without
+                            them */
   int normal_maps;       /* normal-mapped shading normals in the eye passes
                             (tangents uploaded, pb_gpu_frame.tangent_base)
                             and, with photons, seed 001's eq. 20 correction
@@ -50,6 +53,10 @@ typedef struct pb_render_plan {
   int world_map;         /* its radiance is an environment map (importance
                             sampled) rather than a constant */
 } pb_render_plan;
+
+/* The names of PB_CLOSURES_*'s bits, lowest first (info, --json). */
+#define PB_RENDER_CLOSURE_BITS 8
+extern const char *const pb_render_closure_names[PB_RENDER_CLOSURE_BITS];
 
 /* direct_only: render --direct-only (no photon stages). */
 void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out);

@@ -94,6 +94,7 @@ pb_result pb_photon_rsm_create(pb_gpu *g, const pb_scene *s, const pb_gpu_scene 
   r->spec[PB_SPEC_EMISSIVE] = 0u;
   r->spec[PB_SPEC_ALPHA] = 0u; /* the maps only trace first hits */
   r->spec[PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u;
+  r->spec[PB_SPEC_CLOSURES] = plan.closures;
   static const pb_kernel_builds k = PB_KERNEL_BUILDS(photon_rsm);
   pb_gpu_pipeline_desc pd = {
       .name = "pass.photon_rsm",

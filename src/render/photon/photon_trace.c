@@ -350,6 +350,7 @@ pb_result pb_photon_tracer_create(pb_gpu *g, const pb_scene *s, const pb_gpu_sce
   t->spec[PB_SPEC_WORLD] = plan.world ? 1u : 0u;
   t->spec[PB_SPEC_ALPHA] = plan.alpha ? 1u : 0u;
   t->spec[PB_SPEC_PRINCIPLED2] = plan.principled2 ? 1u : 0u;
+  t->spec[PB_SPEC_CLOSURES] = plan.closures;
   static const pb_kernel_builds k = PB_KERNEL_BUILDS(photon_trace);
   pb_gpu_pipeline_desc pdsc = {
       .name = "pass.photon_trace",
