@@ -20,7 +20,9 @@ with Multiscatter GGX, negative Anisotropy with GGX, anisotropic Beckmann),
 the Glass BSDF (model glass: Multiscatter GGX, GGX, Beckmann) and the
 Refraction BSDF (model refraction: GGX, Beckmann), the glass and refraction
 in front of the card; Thin Film iridescence on the dielectric specular,
-over a diffuse base and on rough glass. Each NAME gets
+over a diffuse base and on rough glass; a stripe normal map on the Normal
+(at strengths 0.5 and 2, and under a coat, which keeps the interpolated
+normal) and on the Coat Normal. Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
                               (photonbridge/writer.py: model principled2);
@@ -95,6 +97,12 @@ CASES = {
     # tangent frame (xy s, z mix(1, z, saturate(s))), 3.x blended normals.
     "normal_half": {"Base Color": (0.8, 0.8, 0.8, 1.0), "Specular IOR Level": 0.0, "_normal": 0.5},
     "normal_double": {"Base Color": (0.8, 0.8, 0.8, 1.0), "Specular IOR Level": 0.0, "_normal": 2.0},
+    # A glossy coat over the stripes: mapped on Normal only (the coat keeps
+    # the interpolated normal, Cycles' sd->N), and on Coat Normal only.
+    "coat_over_normal_map": {"Base Color": (0.5, 0.5, 0.5, 1.0), "Specular IOR Level": 0.0, "Coat Weight": 1.0,
+                             "Coat Roughness": 0.1, "_normal": 1.0},
+    "coat_normal_map": {"Base Color": (0.5, 0.5, 0.5, 1.0), "Specular IOR Level": 0.0, "Coat Weight": 1.0,
+                        "Coat Roughness": 0.3, "_coat_normal": 1.0},
     # Diffuse Roughness (4.3+) and the Diffuse BSDF's Roughness: Oren-Nayar
     # with Cycles 4.3's energy-preserving multiple scattering.
     "diffuse_rough": {"Base Color": (0.8, 0.45, 0.2, 1.0), "Specular IOR Level": 0.0, "Diffuse Roughness": 0.8},
@@ -170,10 +178,10 @@ CASES = {
 BACK_LIGHT = ("sheen", "sheen_bsdf")
 
 
-def normal_map(mat, p, strength, out_dir):
+def normal_map(mat, p, strength, out_dir, socket="Normal"):
     """A Non-Color stripe normal map (64 x 64 PNG beside the glTF: 8 stripes
     along U whose normals tilt by +-0.6 along the tangent) through a
-    tangent-space Normal Map node of the given Strength into p's Normal."""
+    tangent-space Normal Map node of the given Strength into p's `socket`."""
     import math
     import struct
     import zlib
@@ -202,7 +210,7 @@ def normal_map(mat, p, strength, out_dir):
     nm.space = "TANGENT"
     nm.inputs["Strength"].default_value = strength
     links.new(tex.outputs["Color"], nm.inputs["Color"])
-    links.new(nm.outputs["Normal"], p.inputs["Normal"])
+    links.new(nm.outputs["Normal"], p.inputs[socket])
 
 
 def build(name, inputs, out_dir):
@@ -233,6 +241,8 @@ def build(name, inputs, out_dir):
         mat.node_tree.links.new(n.outputs["BSDF"], out.inputs["Surface"])
     if "_normal" in inputs:
         normal_map(mat, p, inputs["_normal"], out_dir)
+    if "_coat_normal" in inputs:
+        normal_map(mat, p, inputs["_coat_normal"], out_dir, "Coat Normal")
     b = samples.MeshBuilder()
     samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
     samples.mesh_object("Sphere", b, [mat])

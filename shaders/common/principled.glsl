@@ -912,8 +912,10 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
   if (sheen_w > PB_CUTOFF) {
     pb_add_closure(b, PB_SLOT_SHEEN, PB_CL_V2_SHEEN, sheen_tint * sheen_w * w);
     if (b.cl[PB_SLOT_SHEEN].on) {
-      float r = clamp(sheen_r, 1e-3, 1.0), cni = dot(ns, wo);
-      pb_lobe_frame(b.cl[PB_SLOT_SHEEN], ns, wo);
+      // Cycles: the sheen's normal leans toward the coat's by Coat Weight
+      vec3 sn = normalize(mix(ns, surf.nc, clamp(coat_w, 0.0, 1.0)));
+      float r = clamp(sheen_r, 1e-3, 1.0), cni = dot(sn, wo);
+      pb_lobe_frame(b.cl[PB_SLOT_SHEEN], sn, wo);
       b.cl[PB_SLOT_SHEEN].on_a = pb2_lut2(PB_P2T_SHEEN_LTC, 0, cni, r, 32, 32);
       b.cl[PB_SLOT_SHEEN].on_b = pb2_lut2(PB_P2T_SHEEN_LTC, 1024, cni, r, 32, 32);
       float alb = pb2_lut2(PB_P2T_SHEEN_LTC, 2048, cni, r, 32, 32);
@@ -928,7 +930,7 @@ vec3 pb2_setup(pb_surface surf, vec3 wo, vec3 tangent, vec3 base, bool emission_
     }
   }
   if (coat_w > PB_CUTOFF) {
-    vec3 cn = pb_valid_reflection_normal(surf.ng, wo, ns);
+    vec3 cn = pb_valid_reflection_normal(surf.ng, wo, surf.nc);  // Coat Normal: sd->N unless linked
     pb_add_closure(b, PB_SLOT_CLEARCOAT, PB_CL_V2_GGX, w * coat_w);
     if (b.cl[PB_SLOT_CLEARCOAT].on) {
       float a = coat_r * coat_r;
@@ -1130,7 +1132,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     float coat = in_v[PB_GPU_IN_CLEARCOAT];
     if (coat > PB_CUTOFF) {
       pb_add_closure(b, PB_SLOT_CLEARCOAT, PB_CL_CLEARCOAT, vec3(w));
-      vec3 cn = pb_valid_reflection_normal(surf.ng, wo, surf.ns);
+      vec3 cn = pb_valid_reflection_normal(surf.ng, wo, surf.nc);  // Clearcoat Normal: sd->N unless linked
       b.cl[PB_SLOT_CLEARCOAT].clearcoat = coat;
       float ccr = in_v[PB_GPU_IN_CLEARCOAT_ROUGHNESS];
       float a = clamp(ccr * ccr, 0.0, 1.0);

@@ -172,6 +172,7 @@ struct pb_surface {
   vec3 ng;     // unit, facing the incoming ray
   vec3 ns;     // unit, same hemisphere as ng
   vec3 ni;     // the interpolated normal: ns before a normal map (the reference's pb_surface.ni)
+  vec3 nc;     // the Principled BSDF's coat normal: its Coat Normal's map, else ni (Cycles' sd->N)
   bool front;
   vec2 uv;     // TEXCOORD_0
   vec2 uv1;    // TEXCOORD_1 (0 when the scene has none)
@@ -203,7 +204,7 @@ pb_surface pb_surface_from_hit(uint prim, float u, float v, vec3 ray_dir) {
       s.ns = dot(n, ng) < 0.0 ? -n : n;
     }
   }
-  s.ni = s.ns;
+  s.ni = s.nc = s.ns;
   s.uv = vec2(0.0);
   s.uv1 = vec2(0.0);
   if (SC_TEXTURES || frame.tangent_base != 0u) { // textures, or a normal map alone
@@ -320,6 +321,29 @@ vec3 pb_emission_toward(pb_surface s, vec3 wo) {
   }
   return pb_emission(s);
 }
+// The normal of texture `tex` (tangent space, glTF scale `scale`, Blender's
+// Normal Map strength `st`: Cycles 4.0+ on the tangent-space vector, 3.x on
+// the mapped normal) in the frame t, bb, n; false where it degenerates.
+bool pb_map_normal(pb_surface s, uint tex, float scale, float st, bool cycles4, vec3 t, vec3 bb, vec3 n,
+                   out vec3 nm) {
+  vec3 c = pb_texture_lookup(tex, s).rgb * 2.0 - 1.0;
+  c.xy *= scale;
+  if (cycles4 && st != 1.0) {
+    c.xy *= st;
+    c.z = mix(1.0, c.z, clamp(st, 0.0, 1.0));
+  }
+  nm = t * c.x + bb * c.y + n * c.z;
+  float ml = length(nm);
+  if (!(ml > 1e-12) || isinf(ml)) return false;
+  nm /= ml;
+  if (!cycles4 && st != 1.0) {
+    vec3 bl = n + (nm - n) * max(st, 0.0);
+    float bll = length(bl);
+    if (!(bll > 1e-12) || isinf(bll)) return false;
+    nm = bl / bll;
+  }
+  return true;
+}
 // Normal mapping (glTF 2.0, material.normalTexture): in the tangent frame of
 // the interpolated vertex normal N, tangent T (Gram-Schmidt against N at the
 // hit) and bitangent B = cross(N, T) w (glTF TANGENT's handedness),
@@ -332,10 +356,14 @@ vec3 pb_emission_toward(pb_surface s, vec3 wo) {
 // reference's pb_apply_normal_map (src/ref/accel.c). The eye passes (gbuffer,
 // direct) and the gather's n_s accumulator call it; the photon tracer does
 // not (photon_trace.comp).
+// The Principled BSDF's Coat Normal map goes into s.nc the same way (the
+// reference's; Cycles 4.5 svm/closure.h: an unlinked Coat Normal is sd->N).
 void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   if (frame.tangent_base == 0u) return;
   pb_gpu_material m = materials[s.mat];
-  if (m.normal_tex == PB_GPU_NO_TEXTURE) return;
+  bool blender = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF;
+  bool coat_map = blender && m.coat_normal_tex != PB_GPU_NO_TEXTURE;
+  if (m.normal_tex == PB_GPU_NO_TEXTURE && !coat_map) return;
   float w = 1.0 - u - v;
   uint i0 = indices[3u * prim], i1 = indices[3u * prim + 1u], i2 = indices[3u * prim + 2u];
   vec3 p0 = pb_position(i0), p1 = pb_position(i1), p2 = pb_position(i2);
@@ -363,27 +391,14 @@ void pb_apply_normal_map(inout pb_surface s, uint prim, float u, float v) {
   } else {
     pb_basis(n, t, bb);
   }
-  vec3 c = pb_texture_lookup(m.normal_tex, s).rgb * 2.0 - 1.0;
-  c.xy *= m.normal_scale;
-  // Blender's Normal Map strength (the reference's pb_apply_normal_map):
-  // Cycles 4.0+ on the tangent-space vector, 3.x on the mapped normal below.
-  float st = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF ? m.normal_strength : 1.0;
-  bool cycles4 = SC_BLENDER && m.model != PB_GPU_MODEL_GLTF && (m.flags & PB_GPU_MAT_NORMAL_MAP_CYCLES4) != 0u;
-  if (cycles4 && st != 1.0) {
-    c.xy *= st;
-    c.z = mix(1.0, c.z, clamp(st, 0.0, 1.0));
-  }
-  vec3 nm = t * c.x + bb * c.y + n * c.z;
-  float ml = length(nm);
-  if (!(ml > 1e-12) || isinf(ml)) return;
-  nm /= ml;
-  if (!cycles4 && st != 1.0) {
-    vec3 bl = n + (nm - n) * max(st, 0.0);
-    float bll = length(bl);
-    if (!(bll > 1e-12) || isinf(bll)) return;
-    nm = bl / bll;
-  }
-  s.ns = dot(n, s.ng) < 0.0 ? -nm : nm;
+  bool cycles4 = blender && (m.flags & PB_GPU_MAT_NORMAL_MAP_CYCLES4) != 0u;
+  float flip = dot(n, s.ng) < 0.0 ? -1.0 : 1.0;
+  vec3 nm;
+  if (m.normal_tex != PB_GPU_NO_TEXTURE &&
+      pb_map_normal(s, m.normal_tex, m.normal_scale, blender ? m.normal_strength : 1.0, cycles4, t, bb, n, nm))
+    s.ns = flip * nm;
+  if (coat_map && pb_map_normal(s, m.coat_normal_tex, 1.0, m.coat_normal_strength, cycles4, t, bb, n, nm))
+    s.nc = flip * nm;
 }
 
 #endif

@@ -212,7 +212,7 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
       ns = v3_dot(n, ng) < 0.0f ? v3_neg(n) : n;
     }
   }
-  o->ns = o->ni = ns;
+  o->ns = o->ni = o->nc = ns;
   if (s->uvs) {
     o->uv[0] = s->uvs[tri[0]][0] * w + s->uvs[tri[1]][0] * h->u + s->uvs[tri[2]][0] * h->v;
     o->uv[1] = s->uvs[tri[0]][1] * w + s->uvs[tri[1]][1] * h->u + s->uvs[tri[2]][1] * h->v;
@@ -234,6 +234,37 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
   pb_apply_normal_map(s, h, o);
 }
 
+/* The normal of texture `tex` (tangent space, glTF scale `scale`, Blender's
+ * Normal Map strength `st`) in the frame t, b, n; 0 where it degenerates. */
+static int map_normal(const pb_scene *s, const pb_surface *o, int32_t tex, float scale, float st, int cycles4, v3 t,
+                      v3 b, v3 n, v3 *out) {
+  float c[4];
+  pb_texture_lookup(&s->textures[tex], o->uv, o->uv1, c);
+  float cx = (c[0] * 2.0f - 1.0f) * scale, cy = (c[1] * 2.0f - 1.0f) * scale;
+  float cz = c[2] * 2.0f - 1.0f;
+  /* Blender's Normal Map node, strength s (svm_node_normal_map): Cycles 4.0
+   * and later scale the tangent-space vector, xy s and z mix(1, z,
+   * saturate(s)), before the frame; 3.x blend the mapped normal from the
+   * interpolated one after it, normalize(n + (nm - n) s). */
+  if (cycles4 && st != 1.0f) {
+    cx *= st, cy *= st;
+    float sat = fminf(fmaxf(st, 0.0f), 1.0f);
+    cz = 1.0f + (cz - 1.0f) * sat;
+  }
+  v3 nm = v3_add(v3_add(v3_scale(t, cx), v3_scale(b, cy)), v3_scale(n, cz));
+  float ml = v3_len(nm);
+  if (!(ml > 1e-12f) || !isfinite(ml)) return 0;
+  nm = v3_scale(nm, 1.0f / ml);
+  if (!cycles4 && st != 1.0f) {
+    v3 bl = v3_add(n, v3_scale(v3_sub(nm, n), fmaxf(st, 0.0f)));
+    float bl_len = v3_len(bl);
+    if (!(bl_len > 1e-12f) || !isfinite(bl_len)) return 0;
+    nm = v3_scale(bl, 1.0f / bl_len);
+  }
+  *out = nm;
+  return 1;
+}
+
 /* Normal mapping, the same computation as shaders/common/scene.glsl's
  * pb_apply_normal_map (glTF 2.0 normalTexture): in the frame of the
  * interpolated vertex normal N, the interpolated tangent T (Gram-Schmidt
@@ -244,10 +275,16 @@ void pb_surface_from_hit(const pb_scene *s, const pb_ref_hit *h, v3 ray_dir,
  * geometric normal for offsets and side tests. The guards are pbrt's
  * (pbrt-v3 BSDF::f): pb_bsdf_setup falls back to ng when wo is below n_s,
  * and pb_bsdf_eval / _sample_dir give no reflection unless wi is above both
- * ng and n_s (bsdf.c), so light never leaks through the geometric surface. */
+ * ng and n_s (bsdf.c), so light never leaks through the geometric surface.
+ * The Principled BSDF's Coat Normal map goes into o->nc the same way
+ * (Cycles 4.5 svm/closure.h: the coat, its tint and the sheen's blend toward
+ * it use coat_normal, which is sd->N when the socket is unlinked). */
 void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) {
   const pb_material *m = o->mat;
-  if (!s->tangents || !s->uvs || m->normal_tex < 0 || (uint32_t)m->normal_tex >= s->texture_count) return;
+  int blender = m->blender.model != PB_MODEL_GLTF;
+  int main_map = m->normal_tex >= 0 && (uint32_t)m->normal_tex < s->texture_count;
+  int coat_map = blender && m->blender.coat_normal_tex >= 0 && (uint32_t)m->blender.coat_normal_tex < s->texture_count;
+  if (!s->tangents || !s->uvs || (!main_map && !coat_map)) return;
   const uint32_t *tri = s->triangles[h->prim];
   float w = 1.0f - h->u - h->v;
   v3 p0 = v3_load(s->positions[tri[0]]), p1 = v3_load(s->positions[tri[1]]),
@@ -272,30 +309,13 @@ void pb_apply_normal_map(const pb_scene *s, const pb_ref_hit *h, pb_surface *o) 
   } else {
     v3_basis(n, &t, &b);
   }
-  float c[4];
-  pb_texture_lookup(&s->textures[m->normal_tex], o->uv, o->uv1, c);
-  float cx = (c[0] * 2.0f - 1.0f) * m->normal_scale, cy = (c[1] * 2.0f - 1.0f) * m->normal_scale;
-  float cz = c[2] * 2.0f - 1.0f;
-  /* Blender's Normal Map node, strength s (svm_node_normal_map): Cycles 4.0
-   * and later scale the tangent-space vector, xy s and z mix(1, z,
-   * saturate(s)), before the frame; 3.x blend the mapped normal from the
-   * interpolated one after it, normalize(n + (nm - n) s). */
-  float st = m->blender.model != PB_MODEL_GLTF ? m->blender.normal_strength : 1.0f;
-  int cycles4 = m->blender.model != PB_MODEL_GLTF && m->blender.normal_map_cycles4;
-  if (cycles4 && st != 1.0f) {
-    cx *= st, cy *= st;
-    float sat = fminf(fmaxf(st, 0.0f), 1.0f);
-    cz = 1.0f + (cz - 1.0f) * sat;
-  }
-  v3 nm = v3_add(v3_add(v3_scale(t, cx), v3_scale(b, cy)), v3_scale(n, cz));
-  float ml = v3_len(nm);
-  if (!(ml > 1e-12f) || !isfinite(ml)) return;
-  nm = v3_scale(nm, 1.0f / ml);
-  if (!cycles4 && st != 1.0f) {
-    v3 bl = v3_add(n, v3_scale(v3_sub(nm, n), fmaxf(st, 0.0f)));
-    float bl_len = v3_len(bl);
-    if (!(bl_len > 1e-12f) || !isfinite(bl_len)) return;
-    nm = v3_scale(bl, 1.0f / bl_len);
-  }
-  o->ns = v3_dot(n, o->ng) < 0.0f ? v3_neg(nm) : nm;
+  int cycles4 = blender && m->blender.normal_map_cycles4;
+  int flip = v3_dot(n, o->ng) < 0.0f;
+  v3 nm;
+  if (main_map && map_normal(s, o, m->normal_tex, m->normal_scale, blender ? m->blender.normal_strength : 1.0f,
+                             cycles4, t, b, n, &nm))
+    o->ns = flip ? v3_neg(nm) : nm;
+  if (coat_map && map_normal(s, o, m->blender.coat_normal_tex, 1.0f, m->blender.coat_normal_strength, cycles4, t, b,
+                             n, &nm))
+    o->nc = flip ? v3_neg(nm) : nm;
 }

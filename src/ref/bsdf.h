@@ -15,6 +15,9 @@ typedef struct pb_surface {
   v3 ns;      /* shading normal, unit, same hemisphere as ng */
   v3 ni;      /* the interpolated normal: ns before a normal map moved it
                  (Cycles' sd->N, which bump shadowing compares with) */
+  v3 nc;      /* the Principled BSDF's coat normal: its Coat Normal's map
+                 (pb_blender_material.coat_normal_tex), else ni (Cycles:
+                 an unlinked Coat Normal is sd->N, not the Normal input) */
   int front;  /* 1: the ray hit the counter-clockwise (front) side */
   uint32_t prim;
   float uv[2], uv1[2]; /* TEXCOORD_0 and _1 (0 when the scene has none) */

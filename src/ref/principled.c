@@ -1123,7 +1123,7 @@ static v3 v2_build(const pb_scene *s, const pb_surface *surf, v3 wo, v3 base, pb
     add_closure(b, PB_CL_TRANSPARENT, v3_splat(1.0f - alpha));
     w = v3_scale(w, alpha);
   }
-  v3 coat_n = n_shade;
+  v3 coat_n = surf->nc; /* the Coat Normal (Cycles: sd->N unless linked) */
   if (sheen_w > CUTOFF) {
     pb_closure *c = add_closure(b, PB_CL_V2_SHEEN, v3_mul(v3_scale(V.sheen_tint, sheen_w), w));
     if (c) {
@@ -1384,7 +1384,7 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
     if (in[PB_IN_CLEARCOAT] > CUTOFF) {
       pb_closure *c = add_closure(b, PB_CL_CLEARCOAT, v3_splat(w));
       if (c) {
-        v3 cn = valid_reflection_normal(surf->ng, wo, surf->ns);
+        v3 cn = valid_reflection_normal(surf->ng, wo, surf->nc); /* Clearcoat Normal: sd->N unless linked */
         c->clearcoat = in[PB_IN_CLEARCOAT];
         float a = sat(sqr(in[PB_IN_CLEARCOAT_ROUGHNESS]));
         microfacet(c, cn, cn, a, a, 1.5f, v3_splat(0.04f), wo);

@@ -138,6 +138,7 @@ static const target principled_targets[] = {
     {"subsurfaceColor", T_COLOR, COLOR_SUBSURFACE},
     {"emission", T_COLOR, COLOR_EMISSION},
     {"normal", T_NORMAL, 0},
+    {"clearcoatNormal", T_COAT_NORMAL, 0},
     {"metallic", T_INPUT, PB_IN_METALLIC},
     {"specular", T_INPUT, PB_IN_SPECULAR},
     {"specularTint", T_INPUT, PB_IN_SPECULAR_TINT},
@@ -551,11 +552,6 @@ static pb_result read_principled2(const reader *R, const pb_gltf_value *ext, pb_
   if ((b->input[PB_IN_SUBSURFACE] > 0.0f || b->input_tex[PB_IN_SUBSURFACE].tex >= 0) &&
       (r = warn(R, "materials[%d]." EXT ".principled2.subsurfaceWeight: %g: approximated as diffuse (no subsurface "
                    "scattering)", R->index, b->input[PB_IN_SUBSURFACE])) != PB_OK)
-    return r;
-  /* What the renderers do not do yet, said once per material. */
-  if (b->coat_normal_tex >= 0 &&
-      (r = warn(R, "materials[%d]." EXT ".textures.coatNormal: the coat uses the surface's normal (no coat normal map)",
-                R->index)) != PB_OK)
     return r;
   return PB_OK;
 }

@@ -207,10 +207,11 @@ int32_t load_default_material(loader *L) {
 /* Whether any texture of m (a Blender material's input textures included)
  * reads uv set 1. */
 int load_reads_uv1(const pb_scene *s, const pb_material *m) {
-  int32_t t[4 + 1 + PB_IN_COUNT] = {m->base_color_tex, m->metallic_roughness_tex, m->emissive_tex, m->normal_tex};
+  int32_t t[4 + 2 + PB_IN_COUNT] = {m->base_color_tex, m->metallic_roughness_tex, m->emissive_tex, m->normal_tex};
   int n = 4;
   if (m->blender.model != PB_MODEL_GLTF) { /* the zeroed struct holds no texture */
     t[n++] = m->blender.subsurface_color_tex;
+    t[n++] = m->blender.coat_normal_tex;
     for (int in = 0; in < PB_IN_COUNT; ++in) t[n++] = m->blender.input_tex[in].tex;
   }
   for (int k = 0; k < n; ++k)

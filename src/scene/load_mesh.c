@@ -303,7 +303,7 @@ static pb_result prim_check_material(loader *L, prim_job *J, prim_src *P) {
   }
   J->mat = mat;
   P->use_t = J->has_t && pb_span_has_data(&P->tng) && mat >= 0 && (uint32_t)mat < s->material_count &&
-             s->materials[mat].normal_tex >= 0;
+             pb_material_has_normal_map(&s->materials[mat]);
   P->radial = mat >= 0 && (uint32_t)mat < s->material_count && pb_blender_needs_tangent(&s->materials[mat]);
   if (P->radial) mesh_bounds(L, mesh, P->bmin, P->bmax);
   if (p->texcoord1 == -1 && load_reads_uv1(s, &s->materials[mat]) &&

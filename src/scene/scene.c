@@ -18,6 +18,10 @@ float pb_blender_input_min(const pb_blender_material *b, pb_blender_input i) {
   return b->input_tex[i].tex >= 0 ? fminf(b->input[i], 0.0f) : b->input[i];
 }
 
+int pb_material_has_normal_map(const pb_material *m) {
+  return m->normal_tex >= 0 || (m->blender.model != PB_MODEL_GLTF && m->blender.coat_normal_tex >= 0);
+}
+
 int pb_material_may_be_singular(const pb_material *m) {
   const pb_blender_material *b = &m->blender;
   if (b->model == PB_MODEL_GLTF) {
@@ -167,7 +171,7 @@ void pb_scene_finalize(pb_scene *s) {
     if (m->base_color_tex >= 0 || m->emissive_tex >= 0 ||
         m->metallic_roughness_tex >= 0)
       f |= PB_FEATURE_TEXTURES;
-    if (m->normal_tex >= 0) f |= PB_FEATURE_NORMAL_MAPS;
+    if (pb_material_has_normal_map(m)) f |= PB_FEATURE_NORMAL_MAPS;
     if (pb_material_is_emissive(m)) f |= PB_FEATURE_EMISSIVE;
     if (m->unlit) f |= PB_FEATURE_UNLIT;
     if (m->attenuation[0] > 0 || m->attenuation[1] > 0 || m->attenuation[2] > 0) f |= PB_FEATURE_VOLUME;

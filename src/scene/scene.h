@@ -256,6 +256,9 @@ int pb_material_may_be_singular(const pb_material *m);
  * a texture feeds it, anything from the smaller of 0 and the constant to
  * the larger of 1 and the constant (a texel in [0, 1]). */
 float pb_blender_input_max(const pb_blender_material *b, pb_blender_input i);
+/* A tangent-space normal map on the material's Normal or, for the Blender
+ * models, on the Principled BSDF's Coat Normal (tangents are then loaded). */
+int pb_material_has_normal_map(const pb_material *m);
 float pb_blender_input_min(const pb_blender_material *b, pb_blender_input i);
 const char *pb_material_model_name(pb_material_model m);
 /* The extension's model of a Blender material: principled2, metallic, sheen

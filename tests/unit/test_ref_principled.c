@@ -40,7 +40,7 @@ static void setup_n(pb_material *m, v3 ns, v3 wo, pb_rng *rng, pb_bsdf *b) {
   pb_surface surf;
   memset(&surf, 0, sizeof surf);
   surf.ng = v3_make(0, 0, 1);
-  surf.ns = surf.ni = ns; /* no normal map: the interpolated normal */
+  surf.ns = surf.ni = surf.nc = ns; /* no normal map: the interpolated normal */
   surf.tangent = v3_make(1, 0, 0);
   surf.front = 1;
   surf.mat = m;

@@ -606,26 +606,29 @@ class MaterialWriter:
                 p["emission"], p["emissionStrength"] = list(color), strength
         p["distribution"] = node.distribution
         p["subsurfaceMethod"] = node.subsurface_method
-        normal = node.inputs.get("Normal")
-        normal_link = self._normal_link(normal) if normal is not None else None
-        for other in ("Clearcoat Normal", "Tangent"):
-            s = node.inputs.get(other)
-            if s is not None and _source(s) is not None:
-                self._warn_node(_source(s).node, "drives %s and is not translated" % other)
+        normal_links = []
+        for sock_name, member in (("Normal", "normal"), ("Clearcoat Normal", "clearcoatNormal")):
+            s = node.inputs.get(sock_name)
+            nl = self._normal_link(s) if s is not None else None
+            if nl is not None:
+                normal_links.append((member, nl))
+        s = node.inputs.get("Tangent")
+        if s is not None and _source(s) is not None:
+            self._warn_node(_source(s).node, "drives Tangent and is not translated")
         textures, tex_index = {}, {}
         for member, link in links.items():
             entry, index = self._texture_entry(link, member in COLOR_INPUTS)
             if entry is not None:
                 textures[member] = entry
                 tex_index[member] = (index, link)
-        if normal_link is not None:
-            img_node, strength = normal_link
+        for member, (img_node, strength) in normal_links:
             entry, index = self._texture_entry((img_node, "RGB"), False)
             if entry is not None:
                 entry.pop("channel", None)
                 entry["strength"] = strength
-                textures["normal"] = entry
-                tex_index["normal"] = (index, normal_link)
+                textures[member] = entry
+                if member == "normal":  # the plain glTF's normalTexture
+                    tex_index[member] = (index, (img_node, strength))
         ext = {"model": "principled", "principled": p}
         if textures:
             ext["textures"] = textures
