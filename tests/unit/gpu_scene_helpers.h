@@ -1,10 +1,12 @@
 /* Code-built scenes for the GPU unit tests: a fixed-capacity scene of quads,
- * Lambert/metal materials and point lights, finalised into a pb_scene (no
- * camera; a test that needs one sets t->s.cameras after finish()). Shared by
- * test_gpu_photon_trace, test_gpu_photon_rsm and test_gpu_image_tracer. */
+ * Lambert/metal materials and point lights, finalised into a pb_scene
+ * (finish: no camera; finish_with_camera: one). Shared by
+ * test_gpu_photon_trace, test_gpu_photon_rsm, test_gpu_image_tracer and
+ * test_gpu_knn. */
 #ifndef PB_TEST_GPU_SCENE_HELPERS_H
 #define PB_TEST_GPU_SCENE_HELPERS_H
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -19,6 +21,7 @@ typedef struct tscene {
   uint32_t nm;
   pb_light light[MAXL];
   uint32_t nl;
+  pb_camera cam; /* finish_with_camera's */
   pb_scene s;
 } tscene;
 
@@ -81,6 +84,22 @@ static inline void finish(tscene *t) {
   s->lights = t->light;
   s->light_count = t->nl;
   pb_scene_finalize(s);
+}
+
+/* finish() with one camera at `at` looking along -y, tilted by `pitch`
+ * towards -z (vertical field of view 1.2 rad, square). */
+static inline void finish_with_camera(tscene *t, const float at[3], float pitch) {
+  pb_camera *c = &t->cam;
+  memset(c, 0, sizeof *c);
+  memcpy(c->position, at, sizeof c->position);
+  c->forward[1] = -cosf(pitch), c->forward[2] = -sinf(pitch);
+  c->up[1] = -sinf(pitch), c->up[2] = cosf(pitch);
+  c->right[0] = 1;
+  c->yfov = 1.2f;
+  c->aspect = 1;
+  finish(t);
+  t->s.cameras = c;
+  t->s.camera_count = 1;
 }
 
 /* Closed cube [-1, 1]^3 of albedo rho (faces towards the inside). */

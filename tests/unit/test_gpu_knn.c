@@ -391,85 +391,11 @@ done:
   pb_error_clear();
 }
 
-/* ---- (e) hard cases: code-built scenes (the helpers of
- * test_gpu_photon_trace.c, repeated: a known debt there too) ---------------- */
+/* ---- (e) hard cases: code-built scenes (gpu_scene_helpers.h) ------------- */
 
-enum { MAXV = 64, MAXT = 32, MAXM = 4, MAXL = 4 };
-typedef struct tscene {
-  float pos[MAXV][3], nrm[MAXV][3], uv[MAXV][2];
-  uint32_t tri[MAXT][3], tm[MAXT];
-  uint32_t nv, nt;
-  pb_material mat[MAXM];
-  uint32_t nm;
-  pb_light light[MAXL];
-  uint32_t nl;
-  pb_camera cam;
-  pb_scene s;
-} tscene;
+#include "gpu_scene_helpers.h"
 
-static uint32_t add_mat(tscene *t, float rho, float metallic) {
-  pb_material *m = &t->mat[t->nm];
-  memset(m, 0, sizeof *m);
-  m->base_color[0] = m->base_color[1] = m->base_color[2] = rho;
-  m->base_color[3] = 1;
-  m->base_color_tex = m->metallic_roughness_tex = m->emissive_tex = m->normal_tex = PB_NO_TEXTURE;
-  m->metallic = metallic;
-  m->roughness = metallic > 0 ? 0.0f : 1.0f;
-  m->specular = 0;
-  m->ior = 1.5f;
-  return t->nm++;
-}
-
-static void add_quad(tscene *t, const float q[4][3], const float n[3], uint32_t mat) {
-  uint32_t b = t->nv;
-  for (int i = 0; i < 4; ++i) {
-    memcpy(t->pos[b + i], q[i], sizeof t->pos[0]);
-    memcpy(t->nrm[b + i], n, sizeof t->nrm[0]);
-  }
-  t->nv += 4;
-  uint32_t a[2][3] = {{b, b + 1, b + 2}, {b, b + 2, b + 3}};
-  for (int i = 0; i < 2; ++i) {
-    memcpy(t->tri[t->nt], a[i], sizeof a[i]);
-    t->tm[t->nt++] = mat;
-  }
-}
-
-static void add_point(tscene *t, float x, float y, float z, float intensity) {
-  pb_light *l = &t->light[t->nl++];
-  memset(l, 0, sizeof *l);
-  l->type = PB_LIGHT_POINT;
-  l->position[0] = x, l->position[1] = y, l->position[2] = z;
-  l->color[0] = l->color[1] = l->color[2] = 1;
-  l->intensity = intensity;
-}
-
-/* A camera at `at` looking along -y tilted by `pitch` towards -z. */
-static void finish(tscene *t, const float at[3], float pitch) {
-  pb_camera *c = &t->cam;
-  memset(c, 0, sizeof *c);
-  memcpy(c->position, at, sizeof c->position);
-  c->forward[1] = -cosf(pitch), c->forward[2] = -sinf(pitch);
-  c->up[1] = -sinf(pitch), c->up[2] = cosf(pitch);
-  c->right[0] = 1;
-  c->yfov = 1.2f;
-  c->aspect = 1;
-  pb_scene *s = &t->s;
-  memset(s, 0, sizeof *s);
-  s->positions = t->pos;
-  s->normals = t->nrm;
-  s->uvs = t->uv;
-  s->vertex_count = t->nv;
-  s->triangles = t->tri;
-  s->triangle_material = t->tm;
-  s->triangle_count = t->nt;
-  s->materials = t->mat;
-  s->material_count = t->nm;
-  s->lights = t->light;
-  s->light_count = t->nl;
-  s->cameras = c;
-  s->camera_count = 1;
-  pb_scene_finalize(s);
-}
+static const float white[3] = {1, 1, 1};
 
 /* Renders t with kNN (traced photons); its values must all be finite, and
  * some indirect light there. */
@@ -516,13 +442,13 @@ static void hard_cases(pb_gpu *g) {
       n[axis] = (float)-side;
       add_quad(&t, q, n, m);
     }
-  add_point(&t, 0, 0.99f, 0, 50.0f);
+  add_point(&t, 0, 0.99f, 0, 50.0f, white);
   t.light[0].type = PB_LIGHT_SPOT;
   t.light[0].direction[1] = -1;
   t.light[0].outer_cone = 0.5f * (float)M_PI / 180.0f;
   t.light[0].inner_cone = 0.25f * (float)M_PI / 180.0f;
   const float in_box[3] = {0, 0.9f, 0.5f};
-  finish(&t, in_box, 0.3f);
+  finish_with_camera(&t, in_box, 0.3f);
   hard_render(g, &t, "spot of 0.5 deg at the emission pole");
   /* Two parallel mirrors 1 m apart, 40 m long, over a diffuse floor. */
   memset(&t, 0, sizeof t);
@@ -535,9 +461,9 @@ static void hard_cases(pb_gpu *g) {
   add_quad(&t, right, nr, mirror);
   float fl[4][3] = {{-0.5f, 0, -L}, {0.5f, 0, -L}, {0.5f, 0, L}, {-0.5f, 0, L}};
   add_quad(&t, fl, nf, floor_m);
-  add_point(&t, 0.1f, 1.0f, 0, 10.0f);
+  add_point(&t, 0.1f, 1.0f, 0, 10.0f, white);
   const float above[3] = {0, 1.5f, 1.0f};
-  finish(&t, above, 0.6f);
+  finish_with_camera(&t, above, 0.6f);
   hard_render(g, &t, "parallel mirrors");
 }
 
