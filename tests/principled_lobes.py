@@ -37,6 +37,10 @@ MEAN_TOL = 0.01
 PSNR_MIN = 35.0
 STUDIO = ("studio", "studio_multi")
 PSNR_MIN_STUDIO = {"ref": 38.0, "gpu": 30.0}
+# Scenes whose fault shows in fewer dB than the default threshold gives:
+# 3.4's clearcoat over a normal map on Normal only, with the mapped normal
+# for the coat (not Cycles' sd->N), gives 40.1 dB on the reference.
+PSNR_MIN_SCENE = {"ref": {"clearcoat_over_normal_map": 45.0}, "gpu": {}}
 
 # Samples per pixel for each renderer. Few photons: a convex sphere in a
 # black world gets no indirect light (the furnace's and the glass's
@@ -182,7 +186,8 @@ def main(argv):
         psnr = 200.0 if psnr is None else psnr
         ma, mb = mean(probe(probe_exe, out)), mean(probe(probe_exe, ref))
         dm = ma / mb - 1.0 if mb > 0 else 0.0
-        ok = abs(dm) <= MEAN_TOL and psnr >= (PSNR_MIN_STUDIO[renderer] if name in STUDIO else PSNR_MIN)
+        psnr_min = PSNR_MIN_STUDIO[renderer] if name in STUDIO else PSNR_MIN_SCENE[renderer].get(name, PSNR_MIN)
+        ok = abs(dm) <= MEAN_TOL and psnr >= psnr_min
         failed += not ok
         rows.append((label, psnr, dm, cyc[name]["noise_psnr_db"]))
         print("%s %-22s %s %3d spp%s: PSNR %6.2f dB, mean %+.3f %% (photonbridge %.5f, Cycles %.5f; Cycles' noise %.1f dB)" % (

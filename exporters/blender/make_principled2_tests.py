@@ -178,41 +178,6 @@ CASES = {
 BACK_LIGHT = ("sheen", "sheen_bsdf")
 
 
-def normal_map(mat, p, strength, out_dir, socket="Normal"):
-    """A Non-Color stripe normal map (64 x 64 PNG beside the glTF: 8 stripes
-    along U whose normals tilt by +-0.6 along the tangent) through a
-    tangent-space Normal Map node of the given Strength into p's `socket`."""
-    import math
-    import struct
-    import zlib
-    n = 64
-    rows = b""
-    for y in range(n):
-        row = b"\x00"  # PNG filter: none
-        for x in range(n):
-            tx = 0.6 * math.sin(2.0 * math.pi * 8.0 * (x + 0.5) / n)
-            ln = math.sqrt(tx * tx + 1.0)
-            row += bytes(round(255.0 * (0.5 + 0.5 * c)) for c in (tx / ln, 0.0, 1.0 / ln))
-        rows += row
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
-    path = os.path.join(out_dir, "stripes.png")
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 2, 0, 0, 0)) +
-                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
-    img = bpy.data.images.load(path)
-    img.colorspace_settings.name = "Non-Color"
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    tex = nodes.new("ShaderNodeTexImage")
-    tex.image = img
-    nm = nodes.new("ShaderNodeNormalMap")
-    nm.space = "TANGENT"
-    nm.inputs["Strength"].default_value = strength
-    links.new(tex.outputs["Color"], nm.inputs["Color"])
-    links.new(nm.outputs["Normal"], p.inputs[socket])
-
-
 def build(name, inputs, out_dir):
     sc = samples.reset_scene(WIDTH, WIDTH)
     v1.world_black(sc)
@@ -240,9 +205,9 @@ def build(name, inputs, out_dir):
         out = mat.node_tree.nodes["Material Output"]
         mat.node_tree.links.new(n.outputs["BSDF"], out.inputs["Surface"])
     if "_normal" in inputs:
-        normal_map(mat, p, inputs["_normal"], out_dir)
+        v1.normal_map(mat, p, inputs["_normal"], out_dir)
     if "_coat_normal" in inputs:
-        normal_map(mat, p, inputs["_coat_normal"], out_dir, "Coat Normal")
+        v1.normal_map(mat, p, inputs["_coat_normal"], out_dir, "Coat Normal")
     b = samples.MeshBuilder()
     samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
     samples.mesh_object("Sphere", b, [mat])

@@ -85,6 +85,10 @@ CASES = {
                     "Anisotropic Rotation": 0.1},
     "sheen": dict(ISOLATED, **{"Sheen": 1.0, "Sheen Tint": 0.0}),
     "clearcoat": dict(ISOLATED, **{"Clearcoat": 1.0, "Clearcoat Roughness": 0.2}),
+    # A glossy clearcoat over a stripe normal map on Normal only: the coat
+    # keeps the interpolated normal (Cycles' sd->N).
+    "clearcoat_over_normal_map": {"Base Color": (0.5, 0.5, 0.5, 1.0), "Specular": 0.0, "Clearcoat": 1.0,
+                                  "Clearcoat Roughness": 0.1, "_normal": 1.0},
     "glass": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission": 1.0, "Roughness": 0.3, "IOR": 1.45},
     "furnace": {"Base Color": (1.0, 1.0, 1.0, 1.0), "_furnace": True},
     # Blender's Diffuse BSDF (Oren-Nayar at roughness 0.6), not a Principled.
@@ -166,7 +170,42 @@ def build_studio(inputs):
     samples.add_camera((0.0, -5.0, 1.6), (0.0, 0.5, 0.6), 40.0)
 
 
-def build(name, inputs):
+def normal_map(mat, p, strength, out_dir, socket="Normal"):
+    """A Non-Color stripe normal map (64 x 64 PNG beside the glTF: 8 stripes
+    along U whose normals tilt by +-0.6 along the tangent) through a
+    tangent-space Normal Map node of the given Strength into p's `socket`."""
+    import math
+    import struct
+    import zlib
+    n = 64
+    rows = b""
+    for y in range(n):
+        row = b"\x00"  # PNG filter: none
+        for x in range(n):
+            tx = 0.6 * math.sin(2.0 * math.pi * 8.0 * (x + 0.5) / n)
+            ln = math.sqrt(tx * tx + 1.0)
+            row += bytes(round(255.0 * (0.5 + 0.5 * c)) for c in (tx / ln, 0.0, 1.0 / ln))
+        rows += row
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    path = os.path.join(out_dir, "stripes.png")
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 2, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    img = bpy.data.images.load(path)
+    img.colorspace_settings.name = "Non-Color"
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    nm = nodes.new("ShaderNodeNormalMap")
+    nm.space = "TANGENT"
+    nm.inputs["Strength"].default_value = strength
+    links.new(tex.outputs["Color"], nm.inputs["Color"])
+    links.new(nm.outputs["Normal"], p.inputs[socket])
+
+
+def build(name, inputs, out_dir=None):
     if inputs.get("_studio"):
         return build_studio(inputs)
     sc = samples.reset_scene(WIDTH, WIDTH)
@@ -196,6 +235,8 @@ def build(name, inputs):
         for k, v in socks.items():
             n.inputs[k].default_value = v
         nt.links.new(n.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    if "_normal" in inputs:
+        normal_map(mat, p, inputs["_normal"], out_dir)
     b = samples.MeshBuilder()
     samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
     samples.mesh_object("Sphere", b, [mat])
@@ -301,9 +342,9 @@ def main(argv):
             continue
         d = os.path.join(out, name)
         os.makedirs(d, exist_ok=True)
-        build(name, CASES[name])
+        build(name, CASES[name], d)
         path = os.path.join(d, name + ".gltf")
-        if "_node" in CASES[name]:
+        if "_node" in CASES[name] or "_normal" in CASES[name]:
             # the render engine's writer (the file records its Blender version)
             sys.path.insert(0, HERE)
             from photonbridge import writer
