@@ -39,8 +39,9 @@ STUDIO = ("studio", "studio_multi")
 PSNR_MIN_STUDIO = {"ref": 38.0, "gpu": 30.0}
 # Scenes whose fault shows in fewer dB than the default threshold gives:
 # 3.4's clearcoat over a normal map on Normal only, with the mapped normal
-# for the coat (not Cycles' sd->N), gives 40.1 dB on the reference.
-PSNR_MIN_SCENE = {"ref": {"clearcoat_over_normal_map": 45.0}, "gpu": {}}
+# for the coat (not Cycles' sd->N), gives 40.1 dB on the reference, and with
+# the map on Clearcoat Normal ignored 39.8 dB (51.3 dB both when right).
+PSNR_MIN_SCENE = {"ref": {"clearcoat_over_normal_map": 45.0, "clearcoat_normal_map": 45.0}, "gpu": {}}
 
 # Samples per pixel for each renderer. Few photons: a convex sphere in a
 # black world gets no indirect light (the furnace's and the glass's

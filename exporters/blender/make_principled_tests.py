@@ -89,6 +89,9 @@ CASES = {
     # keeps the interpolated normal (Cycles' sd->N).
     "clearcoat_over_normal_map": {"Base Color": (0.5, 0.5, 0.5, 1.0), "Specular": 0.0, "Clearcoat": 1.0,
                                   "Clearcoat Roughness": 0.1, "_normal": 1.0},
+    # ... and the stripes on Clearcoat Normal only.
+    "clearcoat_normal_map": {"Base Color": (0.5, 0.5, 0.5, 1.0), "Specular": 0.0, "Clearcoat": 1.0,
+                             "Clearcoat Roughness": 0.1, "_coat_normal": 1.0},
     "glass": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission": 1.0, "Roughness": 0.3, "IOR": 1.45},
     "furnace": {"Base Color": (1.0, 1.0, 1.0, 1.0), "_furnace": True},
     # Blender's Diffuse BSDF (Oren-Nayar at roughness 0.6), not a Principled.
@@ -237,6 +240,8 @@ def build(name, inputs, out_dir=None):
         nt.links.new(n.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     if "_normal" in inputs:
         normal_map(mat, p, inputs["_normal"], out_dir)
+    if "_coat_normal" in inputs:
+        normal_map(mat, p, inputs["_coat_normal"], out_dir, "Clearcoat Normal")
     b = samples.MeshBuilder()
     samples.uv_sphere(b, (0.0, 0.0, 0.0), 1.0, 64, 32)
     samples.mesh_object("Sphere", b, [mat])
@@ -344,7 +349,7 @@ def main(argv):
         os.makedirs(d, exist_ok=True)
         build(name, CASES[name], d)
         path = os.path.join(d, name + ".gltf")
-        if "_node" in CASES[name] or "_normal" in CASES[name]:
+        if any(k in CASES[name] for k in ("_node", "_normal", "_coat_normal")):
             # the render engine's writer (the file records its Blender version)
             sys.path.insert(0, HERE)
             from photonbridge import writer
