@@ -35,7 +35,7 @@ layout(push_constant) uniform PassPush { pb_gpu_pass_push pass; };
 #endif
 
 // Specialization constants (src/render/frame/frame.c sets them from the scene's
-// features): code for a feature the scene lacks is compiled out.
+// plan, src/render/scene/scene_plan.c): code for a feature the scene lacks is compiled out.
 layout(constant_id = PB_SPEC_HAS_NORMALS) const bool SC_HAS_NORMALS = true;
 layout(constant_id = PB_SPEC_TEXTURES) const bool SC_TEXTURES = true;
 layout(constant_id = PB_SPEC_SPECULAR) const bool SC_SPECULAR = true;   // delta lobes: eye chains

@@ -236,7 +236,7 @@
 
 /* ---- specialization constants (constant_id) ------------------------------- */
 /* The scene's (common/scene.glsl), set by the passes from the render plan
- * (plan.h). Ids 0-5 are every shading pass's (PB_SPEC_SHADING_COUNT); the
+ * (render/scene/scene_plan.h). Ids 0-5 are every shading pass's (PB_SPEC_SHADING_COUNT); the
  * others belong to the kernels that name them. */
 #define PB_SPEC_HAS_NORMALS 0
 #define PB_SPEC_TEXTURES 1
@@ -269,7 +269,7 @@
  * leaves that code out of the module (lavapipe: the direct pass of a
  * Principled BSDF without sheen, glass or coat compiles in a third of the
  * time); the host sets a bit wherever a material might need it
- * (plan.c pb_render_closures_of), textures counted as reaching any value. */
+ * (scene_plan.c closures_of), textures counted as reaching any value. */
 #define PB_CLOSURES_DIFFUSE 0x01u
 #define PB_CLOSURES_SHEEN 0x02u
 #define PB_CLOSURES_SPECULAR 0x04u

@@ -10,7 +10,7 @@
 #include "app/color_opts.h"
 #include "core/json.h"
 #include "render/estimate/estimator.h"
-#include "render/frame/plan.h"
+#include "render/scene/scene_plan.h"
 #include "render/photon/tracer.h"
 #include "scene/camera.h"
 

@@ -24,7 +24,7 @@
 #include "image/image.h"
 #include "render/estimate/estimator.h"
 #include "render/photon/photon.h"
-#include "render/frame/plan.h"
+#include "render/scene/scene_plan.h"
 #include "render/render.h"
 #include "app/render_out.h"
 #include "app/settings_opts.h"

@@ -11,7 +11,7 @@
 
 #include "render/scene/passes.h"
 #include "render/photon/photon_rsm.h"
-#include "render/frame/plan.h"
+#include "render/scene/scene_plan.h"
 #include "shaders/photon_rsm.spv.h"
 #include "shaders/photon_rsm_blender.spv.h"
 #include "shaders/photon_rsm_rq.spv.h"

@@ -20,7 +20,7 @@
 #include "core/log.h"
 #include "render/photon/photon.h"
 #include "render/photon/photon_rsm.h"
-#include "render/frame/plan.h"
+#include "render/scene/scene_plan.h"
 #include "shaders/photon_trace.spv.h"
 #include "shaders/photon_trace_blender.spv.h"
 #include "shaders/photon_trace_rq.spv.h"

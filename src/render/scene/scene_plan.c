@@ -1,0 +1,100 @@
+/* The pipeline's switches for a scene; see scene_plan.h. */
+#include "render/scene/scene_plan.h"
+
+#include <string.h>
+
+#include "core/json.h"
+#include "shared/pb_gpu.h"
+
+const char *const pb_render_closure_names[PB_RENDER_CLOSURE_BITS] = {
+    "diffuse", "sheen", "specular", "reflection", "refraction", "coat", "multiscatter_walk", "principled_v1"};
+
+/* PB_CLOSURES_* of the closures material m may make in the GPU's set-up
+ * (common/principled.glsl pb_blender_setup, pb2_setup, pb2_node): a slot
+ * wherever its weight could pass the cutoff somewhere (textures counted as
+ * reaching any value in [0, 1]), so that no closure the shader would make is
+ * compiled out. */
+static uint32_t closures_of(const pb_material *m) {
+  const pb_blender_material *b = &m->blender;
+  switch (b->model) {
+  case PB_MODEL_DIFFUSE: return PB_CLOSURES_DIFFUSE;
+  case PB_MODEL_PRINCIPLED: break;
+  default: return 0; /* glTF's model (its own code), Emission, Holdout */
+  }
+  uint32_t c = 0;
+  if (!b->principled_v2) {
+    c = PB_CLOSURES_V1 | PB_CLOSURES_DIFFUSE | PB_CLOSURES_SPECULAR;
+    if (pb_blender_input_max(b, PB_IN_SHEEN) > 0) c |= PB_CLOSURES_SHEEN;
+    if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0) c |= PB_CLOSURES_GLASS_REFL | PB_CLOSURES_GLASS_REFR;
+    if (pb_blender_input_max(b, PB_IN_CLEARCOAT) > 0) c |= PB_CLOSURES_CLEARCOAT;
+    if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) c |= PB_CLOSURES_MULTI_WALK;
+    return c;
+  }
+  switch (b->node) {
+  case PB_NODE_GLOSSY: return PB_CLOSURES_GLASS_REFL;
+  case PB_NODE_GLASS:
+  case PB_NODE_REFRACTION: return PB_CLOSURES_GLASS_REFL | PB_CLOSURES_GLASS_REFR;
+  case PB_NODE_VELVET: return PB_CLOSURES_SHEEN;
+  default: break; /* the Principled BSDF, the Metallic and Sheen BSDFs */
+  }
+  c = PB_CLOSURES_DIFFUSE | PB_CLOSURES_SPECULAR;
+  if (pb_blender_input_max(b, PB_IN_SHEEN_WEIGHT) > 0) c |= PB_CLOSURES_SHEEN;
+  if (pb_blender_input_max(b, PB_IN_COAT_WEIGHT) > 0) c |= PB_CLOSURES_CLEARCOAT;
+  if (pb_blender_input_max(b, PB_IN_METALLIC) > 0) c |= PB_CLOSURES_GLASS_REFL;
+  if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0) c |= PB_CLOSURES_GLASS_REFR;
+  return c;
+}
+
+void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) {
+  memset(out, 0, sizeof *out);
+  uint32_t f = s->features;
+  out->eye_chains = (f & PB_FEATURE_SPECULAR) != 0;
+  out->emitter_sampling = (f & PB_FEATURE_EMISSIVE) != 0;
+  out->unlit = (f & PB_FEATURE_UNLIT) != 0;
+  out->vertex_colors = s->colors != NULL;
+  out->media = (f & PB_FEATURE_VOLUME) != 0 && (f & PB_FEATURE_TRANSMISSION) != 0;
+  out->textures = (f & PB_FEATURE_TEXTURES) != 0;
+  out->vertex_normals = s->normals != NULL;
+  out->photons = !direct_only && (s->light_count > 0 || s->world.present || (f & PB_FEATURE_EMISSIVE) != 0);
+  out->caustic_photons = out->photons && (f & PB_FEATURE_SPECULAR) != 0;
+  out->refraction = out->caustic_photons && (f & PB_FEATURE_TRANSMISSION) != 0;
+  out->normal_maps = (f & PB_FEATURE_NORMAL_MAPS) != 0 && s->tangents != NULL && s->uvs != NULL;
+  out->blender_materials = (f & PB_FEATURE_BLENDER) != 0;
+  out->multi_ggx = (f & PB_FEATURE_MULTI_GGX) != 0;
+  /* Only the Blender models render Alpha (Cycles' transparency); glTF's
+   * alpha modes are not rendered by either renderer. */
+  out->alpha = (f & PB_FEATURE_ALPHA) != 0 && out->blender_materials;
+  for (uint32_t i = 0; i < s->material_count && out->blender_materials; ++i) {
+    out->principled2 |= s->materials[i].blender.model == PB_MODEL_PRINCIPLED && s->materials[i].blender.principled_v2;
+    out->closures |= closures_of(&s->materials[i]);
+  }
+  out->soft_lights = (f & PB_FEATURE_SOFT_LIGHTS) != 0;
+  out->world = s->world.present;
+  out->world_map = s->world.present && s->world.env != NULL;
+}
+
+void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_plan *p) {
+  pb_json_begin_object(j, key);
+  pb_json_bool(j, "photons", p->photons);
+  pb_json_bool(j, "caustic_photons", p->caustic_photons);
+  pb_json_bool(j, "photon_refraction", p->refraction);
+  pb_json_bool(j, "specular_eye_paths", p->eye_chains);
+  pb_json_bool(j, "emitter_sampling", p->emitter_sampling);
+  pb_json_bool(j, "unlit", p->unlit);
+  pb_json_bool(j, "vertex_colors", p->vertex_colors);
+  pb_json_bool(j, "absorbing_media", p->media);
+  pb_json_bool(j, "textures", p->textures);
+  pb_json_bool(j, "normal_maps", p->normal_maps);
+  pb_json_bool(j, "blender_materials", p->blender_materials);
+  pb_json_bool(j, "multiscatter_ggx", p->multi_ggx);
+  pb_json_begin_array(j, "blender_closures");
+  for (unsigned k = 0; k < PB_RENDER_CLOSURE_BITS; ++k)
+    if (p->closures >> k & 1u) pb_json_string(j, NULL, pb_render_closure_names[k]);
+  pb_json_end_array(j);
+  pb_json_bool(j, "transparent_shadows", p->alpha);
+  pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);
+  pb_json_bool(j, "soft_lights", p->soft_lights);
+  pb_json_bool(j, "world_light", p->world);
+  pb_json_bool(j, "world_map", p->world_map);
+  pb_json_end_object(j);
+}
