@@ -51,7 +51,7 @@ add_test(NAME principled_writer
                  ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
-                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "24 passed, 0 failed")
+                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "25 passed, 0 failed")
 # Principled v2 (Blender 4.x): the render engine's writer on v2 materials in
 # Blender 4.x run as a Python module (PB_BPY4_PYTHON, a venv with bpy 4.x;
 # tests/blender/principled2_writer.py): the extension's principled2 model

@@ -112,6 +112,9 @@ CASES = {
     "refraction34_beckmann": {"_node": ("ShaderNodeBsdfRefraction", {"Color": (1.0, 0.9, 0.8, 1.0),
                                                                      "Roughness": 0.25, "IOR": 1.45},
                                         {"distribution": "BECKMANN"}), "_card": True},
+    # Blender 3.4's Velvet BSDF (the writer's sheen model, Ashikhmin), lit
+    # from the front as 4.5's sheen_ashikhmin is.
+    "velvet34": {"_node": ("ShaderNodeBsdfVelvet", {"Color": (0.6, 0.2, 0.3, 1.0), "Sigma": 0.5}, {})},
 }
 # Image size and Cycles samples where a scene needs its own.
 SIZE = {"studio": (128, 96), "studio_multi": (128, 96)}
