@@ -318,6 +318,13 @@ pb_cli_test(cli_validate_typo validate cornell_box -o x --ref-sp 4 EXIT 2
 # candela for a plain KHR_lights_punctual light, the whole line exact.
 pb_cli_test(cli_info_blender_watts info samples/blender/metal_plastic/handoff/metal_plastic.gltf EXIT 0
             REGEX "\n  Key +directional strength 2.5 W/m\\^2 in Blender \\(E = 2.5 W/m\\^2\\) [^\n]*\n  Fill +point +120 W in Blender \\(I = 9.549 W/sr\\) x colour \\(1 0.85 0.7\\), [^\n]*emits 102 W.*exit=0")
+# The writer's KHR_materials_clearcoat / _sheen (the plain glTF of a Principled
+# v2 coat and sheen, as Blender's exporter writes them) are read through the
+# material's PHOTONBRIDGE_blender model: no "is ignored" warning.
+pb_cli_test(cli_info_blender_coat_no_warning info tests/data/principled2/coat/coat.gltf EXIT 0
+            REGEX "\nwarnings +0\n.*exit=0")
+pb_cli_test(cli_info_blender_sheen_no_warning info tests/data/principled2/sheen/sheen.gltf EXIT 0
+            REGEX "\nwarnings +0\n.*exit=0")
 pb_cli_test(cli_info_gltf_candela info samples/cornell_box/cornell_box.gltf EXIT 0
             REGEX "\n  CeilingLight         point       8153 cd in glTF \\(I = 11.94 W/sr\\) x colour \\(1 1 1\\), at \\(0 1.75 0\\), emits 150 W\n.*exit=0")
 # Blender 4.x's light Exposure is in the file's power already (2^exposure);

@@ -207,6 +207,8 @@ typedef struct pb_gltf_material {
    * (1.3) and thickness range in nm (100, 400); NaN for a member present
    * that is not a number. iridescence_textures: it names a texture. */
   int has_iridescence;
+  int has_clearcoat, has_sheen; /* KHR_materials_clearcoat / _sheen present (read only through
+                                   PHOTONBRIDGE_blender, which renders those layers) */
   double iridescence, iridescence_ior, iridescence_thickness_min, iridescence_thickness_max;
   int iridescence_textures;
   const char *alpha_mode;

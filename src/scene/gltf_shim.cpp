@@ -1181,6 +1181,8 @@ void convert_materials(Impl &m) {
     x.iridescence_ior = 1.3;
     x.iridescence_thickness_min = 100;
     x.iridescence_thickness_max = 400;
+    x.has_clearcoat = ext("KHR_materials_clearcoat") != nullptr;
+    x.has_sheen = ext("KHR_materials_sheen") != nullptr;
     if (auto *e = ext("KHR_materials_iridescence")) {
       // A member that is there but not a number reads as NaN, which the
       // loader refuses (load_material.c), rather than as its default.

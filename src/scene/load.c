@@ -79,6 +79,22 @@ static pb_result alloc_tables(loader *L) {
   return PB_OK;
 }
 
+/* KHR_materials_clearcoat, _sheen and _iridescence are the plain-glTF form of
+ * layers that a material's PHOTONBRIDGE_blender model renders itself (the
+ * writer writes both, as Blender's exporter does): nothing is lost while
+ * every material using one has the Blender model. (A plain material's
+ * thin film is warned about where it is read, load_material.c.) */
+static int read_through_blender(const pb_gltf_doc *d, const char *e) {
+  int coat = strcmp(e, "KHR_materials_clearcoat") == 0, sheen = strcmp(e, "KHR_materials_sheen") == 0;
+  if (strcmp(e, "KHR_materials_iridescence") == 0) return 1;
+  if (!coat && !sheen) return 0;
+  for (size_t i = 0; i < d->material_count; ++i) {
+    const pb_gltf_material *m = &d->materials[i];
+    if ((coat ? m->has_clearcoat : m->has_sheen) && !m->blender) return 0;
+  }
+  return 1;
+}
+
 /* extensionsUsed that nothing here reads: warned. */
 static pb_result warn_extensions(loader *L) {
   pb_gltf_doc *d = L->doc;
@@ -91,6 +107,7 @@ static pb_result warn_extensions(loader *L) {
                                         "PHOTONBRIDGE_blender"};
     int ok = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k) ok |= strcmp(e, known[k]) == 0;
+    ok |= read_through_blender(d, e);
     if (!ok && (r = load_warn(L, "extensionsUsed[%zu]: '%s' is ignored", i, e)) != PB_OK) return r;
   }
   return PB_OK;
