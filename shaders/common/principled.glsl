@@ -412,6 +412,7 @@ float pb_blender_alpha(pb_surface s) {
 // out is never switched on, so no pass evaluates or samples it.
 bool pb_slot_compiled(uint k) { return k >= PB_SLOT_TRANSPARENT || (SC_CLOSURES & (1u << k)) != 0u; }
 bool pb_v1_compiled() { return (SC_CLOSURES & PB_CLOSURES_V1) != 0u; }
+bool pb_multi_walk_compiled() { return (SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u; }
 
 // Fills slot `slot` with a closure of `type` and colour weight `weight`,
 // switched on when the weight averages at least the cutoff (bsdf_alloc).
@@ -1099,8 +1100,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
       b.cl[PB_SLOT_SHEEN].sample_weight *= cn < 0.0 ? 0.0 : pb_schlick_w(cn) * cn;
     }
     if (spec_w > PB_CUTOFF && (specular > PB_CUTOFF || metallic > PB_CUTOFF)) {
-      bool multi = (SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u && m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX &&
-                   roughness > 0.075;
+      bool multi = pb_multi_walk_compiled() && m.distribution == PB_GPU_DISTRIBUTION_MULTI_GGX && roughness > 0.075;
       pb_add_closure(b, PB_SLOT_SPECULAR, multi ? PB_CL_MULTI_GGX : PB_CL_GGX, vec3(w * spec_w));
       float spec_ior = 2.0 / (1.0 - sqrt(max(0.0, 0.08 * specular))) - 1.0;
       float aspect = sqrt(max(0.0, 1.0 - in_v[PB_GPU_IN_ANISOTROPIC] * 0.9));
@@ -1204,7 +1204,7 @@ void pb_eval_slot(pb_bsdf b, pb_closure c, uint k, vec3 wo, vec3 wi, inout uint 
     e = pb_eval_diffuse_like(c, b.ni, b.bump, wo, wi, pc);
   else if (!pb_v1_compiled())  // the v1 Principled's lobes below
     return;
-  else if ((SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u && k == PB_SLOT_SPECULAR && c.type == PB_CL_MULTI_GGX)
+  else if (pb_multi_walk_compiled() && k == PB_SLOT_SPECULAR && c.type == PB_CL_MULTI_GGX)
     e = pb_eval_multi(c, b.ng, wo, wi, rng, pc);
   else if (k == PB_SLOT_GLASS_REFR)
     e = pb_eval_refract(c, b.ng, wo, wi, pc);
@@ -1386,7 +1386,7 @@ bool pb_blender_sample(pb_bsdf b, vec3 wo, float u0, float u1, float u2, bool im
     float ct = sqrt(clamp(ct2, 0.0, 1.0)), st = sqrt(clamp(1.0 - ct2, 0.0, 1.0)), phi = 2.0 * PB_PI * u2;
     vec3 m = vec3(st * cos(phi), st * sin(phi), ct);
     li = m * (2.0 * dot(lo, m)) - lo;
-  } else if ((SC_CLOSURES & PB_CLOSURES_MULTI_WALK) != 0u && c.type == PB_CL_MULTI_GGX) {
+  } else if (pb_multi_walk_compiled() && c.type == PB_CL_MULTI_GGX) {
     float a = pb_multi_ggx_albedo(c.ax == c.ay ? c.ax : sqrt(c.ax * c.ay));
     if (ur < a) {
       vec3 m = pb_ggx_vndf(lo, c.ax, c.ay, u1, u2);

@@ -28,8 +28,8 @@ typedef struct pb_render_plan {
   int blender_materials; /* Blender materials (PHOTONBRIDGE_blender: Principled
                             BSDF, ...; SC_BLENDER): their closures, glossy eye
                             paths through them */
-  int multi_ggx;         /* of them, Multiscatter GGX's random walk (info only:
-                            compiled with SC_BLENDER) */
+  int multi_ggx;         /* of them, a Multiscatter GGX distribution (--json;
+                            the code compiled follows `closures`) */
   int alpha;             /* transparent shadows through Alpha < 1 (SC_ALPHA) */
   int principled2;       /* a Principled v2 material (SC_PRINCIPLED2): the
                             v2 stack compiled in */
