@@ -51,7 +51,7 @@ add_test(NAME principled_writer
                  ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/principled_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled_writer PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600
-                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "25 passed, 0 failed")
+                     LABELS "blender;no-sanitize;principled" PASS_REGULAR_EXPRESSION "26 passed, 0 failed")
 # Principled v2 (Blender 4.x): the render engine's writer on v2 materials in
 # Blender 4.x run as a Python module (PB_BPY4_PYTHON, a venv with bpy 4.x;
 # tests/blender/principled2_writer.py): the extension's principled2 model
@@ -88,6 +88,7 @@ if(Python3_Interpreter_FOUND)
                    ${CMAKE_CURRENT_BINARY_DIR}/principled2_gpu --renderer gpu --data tests/data/principled2
                    --psnr 36 --mean-tol 0.01 --validate normal_half --validate glass_ggx
                    --validate emission_coat --validate metallic_f82_multi_aniso@R1
+                   --validate mix_principled_metallic_mask
            WORKING_DIRECTORY ${PB_ROOT})
   set_tests_properties(principled2_lobes_gpu PROPERTIES ENVIRONMENT "PB_VK_VALIDATION=1" SKIP_RETURN_CODE 77
                        TIMEOUT 1800 LABELS "gpu;no-sanitize;principled" PASS_REGULAR_EXPRESSION " 0 failed")
@@ -115,3 +116,18 @@ add_test(NAME principled2_bsdf_node_bad_value
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled2_bsdf_node_bad_value PROPERTIES LABELS principled
                      PASS_REGULAR_EXPRESSION "glossy\\.gltf: materials\\[0\\]\\.extensions\\.PHOTONBRIDGE_blender\\.glossy\\.anisotropy: -1\\.5[^\n]*\n.*exit=[1-9].*refraction\\.gltf: materials\\[[0-9]\\]\\.extensions\\.PHOTONBRIDGE_blender\\.refraction\\.distribution: 'MULTI_GGX' is not GGX or BECKMANN\n.*exit=[1-9]")
+# A Mix Shader of two BSDFs (the extension's "mix"): the written scene loads
+# without a warning and compiles the mix; broken variants are one line
+# naming the member, exit 5; two shaders of one closure kind warn.
+add_test(NAME principled2_mix_shader_cli
+         COMMAND ${Python3_EXECUTABLE} ${PB_ROOT}/tests/mix_shader_cli.py ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/mix_shader_cli
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled2_mix_shader_cli PROPERTIES LABELS principled PASS_REGULAR_EXPRESSION "\n0 failed\n")
+# The writer on Mix Shaders in Blender 4.5 (tests/blender/mix_writer.py):
+# which mixes become the extension's "mix", which fall back with a warning.
+add_test(NAME principled2_mix_writer
+         COMMAND sh -c "[ -x \"$0\" ] || { echo 'FAIL Blender 4.5 (bpy) missing: run scripts/install-deps.sh'; exit 1; }; \"$0\" tests/blender/mix_writer.py \"$1\" \"$2\""
+                 ${PB_BPY4_PYTHON} ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/mix_writer
+         WORKING_DIRECTORY ${PB_ROOT})
+set_tests_properties(principled2_mix_writer PROPERTIES TIMEOUT 600 LABELS "blender;no-sanitize;principled"
+                     PASS_REGULAR_EXPRESSION "12 passed, 0 failed")

@@ -22,7 +22,10 @@ Refraction BSDF (model refraction: GGX, Beckmann), the glass and refraction
 in front of the card; Thin Film iridescence on the dielectric specular,
 over a diffuse base and on rough glass; a stripe normal map on the Normal
 (at strengths 0.5 and 2, and under a coat, which keeps the interpolated
-normal) and on the Coat Normal. Each NAME gets
+normal) and on the Coat Normal; Mix Shaders of two BSDFs (Diffuse and
+Glossy by a Layer Weight's Fresnel and by a Fresnel node, Principled and
+Metallic by an image mask, Diffuse and Sheen by a Layer Weight's Facing).
+Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
                               (photonbridge/writer.py: model principled2);
@@ -174,8 +177,82 @@ CASES = {
     "thin_film_glass": {"Base Color": (1.0, 1.0, 1.0, 1.0), "Transmission Weight": 1.0, "Roughness": 0.3,
                         "IOR": 1.45, "Thin Film Thickness": 600.0, "Thin Film IOR": 2.0, "_distribution": "GGX",
                         "_card": True},
+    # Mix Shaders of two BSDFs whose closures differ in kind: a Diffuse and a
+    # Glossy BSDF by a Layer Weight's Fresnel and by a Fresnel node, a
+    # Principled BSDF and a Metallic BSDF by a stripe mask (an image on Fac),
+    # a Diffuse and a Sheen BSDF by a Layer Weight's Facing.
+    "mix_diffuse_glossy_layer": {"_mix": (("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.3, 0.1, 1.0)}, {}),
+                                          ("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.2},
+                                           {"distribution": "GGX"}),
+                                          ("layer", "Fresnel", 0.3))},
+    "mix_diffuse_glossy_fresnel": {"_mix": (("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.5, 0.3, 1.0),
+                                                                       "Roughness": 0.5}, {}),
+                                            ("ShaderNodeBsdfGlossy", {"Color": (0.9, 0.9, 1.0, 1.0), "Roughness": 0.35},
+                                             {"distribution": "MULTI_GGX"}),
+                                            ("fresnel", 1.6))},
+    "mix_principled_metallic_mask": {"_mix": ((None, {"Base Color": (0.55, 0.25, 0.1, 1.0), "Roughness": 0.7}, {}),
+                                              ("ShaderNodeBsdfMetallic", {"Base Color": (0.9, 0.9, 0.92, 1.0),
+                                                                          "Roughness": 0.25}, {}),
+                                              ("mask",))},
+    "mix_diffuse_sheen_facing": {"_mix": (("ShaderNodeBsdfDiffuse", {"Color": (0.25, 0.3, 0.6, 1.0)}, {}),
+                                          ("ShaderNodeBsdfSheen", {"Color": (1.0, 0.85, 0.7, 1.0), "Roughness": 0.4},
+                                           {}),
+                                          ("layer", "Facing", 0.65))},
 }
 BACK_LIGHT = ("sheen", "sheen_bsdf")
+
+
+def stripe_mask(out_dir):
+    """A Non-Color 64 x 64 grey PNG beside the glTF: 8 stripes along U of 0.15
+    and 0.85."""
+    import struct
+    import zlib
+    n = 64
+    rows = b""
+    for y in range(n):
+        rows += b"\x00" + bytes(round(255.0 * (0.85 if (x * 8 // n) % 2 else 0.15)) for x in range(n))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    path = os.path.join(out_dir, "mask.png")
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 0, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    img = bpy.data.images.load(path)
+    img.colorspace_settings.name = "Non-Color"
+    return img
+
+
+def mix_shader(mat, p, spec, out_dir):
+    """A Mix Shader of two BSDF nodes (None: the Principled BSDF p) into the
+    Material Output, its Fac a Layer Weight output, a Fresnel node or a
+    stripe mask."""
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    made = []
+    for kind, socks, props in spec[:2]:
+        n = p if kind is None else nodes.new(kind)
+        for k, v in props.items():
+            setattr(n, k, v)
+        for k, v in socks.items():
+            n.inputs[k].default_value = v
+        made.append(n)
+    mix = nodes.new("ShaderNodeMixShader")
+    links.new(made[0].outputs["BSDF"], mix.inputs[1])
+    links.new(made[1].outputs["BSDF"], mix.inputs[2])
+    fac = spec[2]
+    if fac[0] == "layer":
+        lw = nodes.new("ShaderNodeLayerWeight")
+        lw.inputs["Blend"].default_value = fac[2]
+        links.new(lw.outputs[fac[1]], mix.inputs["Fac"])
+    elif fac[0] == "fresnel":
+        fr = nodes.new("ShaderNodeFresnel")
+        fr.inputs["IOR"].default_value = fac[1]
+        links.new(fr.outputs["Fac"], mix.inputs["Fac"])
+    else:
+        tex = nodes.new("ShaderNodeTexImage")
+        tex.image = stripe_mask(out_dir)
+        links.new(tex.outputs["Color"], mix.inputs["Fac"])
+    links.new(mix.outputs["Shader"], nodes["Material Output"].inputs["Surface"])
 
 
 def build(name, inputs, out_dir):
@@ -204,6 +281,8 @@ def build(name, inputs, out_dir):
             n.inputs[k].default_value = v
         out = mat.node_tree.nodes["Material Output"]
         mat.node_tree.links.new(n.outputs["BSDF"], out.inputs["Surface"])
+    if "_mix" in inputs:
+        mix_shader(mat, p, inputs["_mix"], out_dir)
     if "_normal" in inputs:
         v1.normal_map(mat, p, inputs["_normal"], out_dir)
     if "_coat_normal" in inputs:

@@ -115,6 +115,13 @@ CASES = {
     # Blender 3.4's Velvet BSDF (the writer's sheen model, Ashikhmin), lit
     # from the front as 4.5's sheen_ashikhmin is.
     "velvet34": {"_node": ("ShaderNodeBsdfVelvet", {"Color": (0.6, 0.2, 0.3, 1.0), "Sigma": 0.5}, {})},
+    # A Mix Shader of Blender 3.4's Diffuse (Oren-Nayar) and Glossy (GGX)
+    # BSDFs by a Fresnel node, the layered material of Blender 2.7x.
+    "mix34_diffuse_glossy": {"_mix": (("ShaderNodeBsdfDiffuse", {"Color": (0.7, 0.35, 0.15, 1.0), "Roughness": 0.4},
+                                       {}),
+                                      ("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.15},
+                                       {"distribution": "GGX"}),
+                                      ("fresnel", 1.45))},
 }
 # Image size and Cycles samples where a scene needs its own.
 SIZE = {"studio": (128, 96), "studio_multi": (128, 96)}
@@ -241,6 +248,24 @@ def build(name, inputs, out_dir=None):
         for k, v in socks.items():
             n.inputs[k].default_value = v
         nt.links.new(n.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    if "_mix" in inputs:
+        nt = mat.node_tree
+        made = []
+        for kind, socks, props in inputs["_mix"][:2]:
+            n = nt.nodes.new(kind)
+            for k, v in props.items():
+                setattr(n, k, v)
+            for k, v in socks.items():
+                n.inputs[k].default_value = v
+            made.append(n)
+        nt.nodes.remove(p)
+        mix = nt.nodes.new("ShaderNodeMixShader")
+        nt.links.new(made[0].outputs[0], mix.inputs[1])
+        nt.links.new(made[1].outputs[0], mix.inputs[2])
+        fr = nt.nodes.new("ShaderNodeFresnel")
+        fr.inputs["IOR"].default_value = inputs["_mix"][2][1]
+        nt.links.new(fr.outputs["Fac"], mix.inputs["Fac"])
+        nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     if "_normal" in inputs:
         normal_map(mat, p, inputs["_normal"], out_dir)
     if "_coat_normal" in inputs:
@@ -352,7 +377,7 @@ def main(argv):
         os.makedirs(d, exist_ok=True)
         build(name, CASES[name], d)
         path = os.path.join(d, name + ".gltf")
-        if any(k in CASES[name] for k in ("_node", "_normal", "_coat_normal")):
+        if any(k in CASES[name] for k in ("_node", "_normal", "_coat_normal", "_mix")):
             # the render engine's writer (the file records its Blender version)
             sys.path.insert(0, HERE)
             from photonbridge import writer

@@ -1033,7 +1033,7 @@ vec3 pb2_emission_weight(pb_surface surf, vec3 wo) {
   return pb2_setup(surf, wo, surf.ns, max(base, vec3(0.0)), true, b);
 }
 
-void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
+void pb_blender_setup_one(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
   pb_gpu_material m = materials[surf.mat];
   b.model = m.model;
   b.bump = m.bump_model;
@@ -1140,6 +1140,72 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     }
     b.albedo = clamp(base, 0.0, 1.0) * alpha;
   }
+  for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
+}
+
+// A Mix Shader's factor (pb_gpu_material.mix_fac): its Fac, or Cycles
+// 4.5's svm_node_fresnel / svm_node_layer_weight at the interpolated normal
+// sd->N (the nodes' Normal unlinked) and sd->wi = wo. The reference's is
+// src/ref/principled.c mix_fac.
+float pb_mix_fac(pb_surface s, vec3 wo) {
+  pb_gpu_material m = materials[s.mat];
+  float v = pb_input_value(m, PB_GPU_IN_MIX_FAC, s);
+  float c = dot(wo, s.ni);
+  if (m.mix_fac == PB_GPU_MIX_FAC_FRESNEL) {
+    float eta = max(v, 1e-5);
+    return pb_fresnel_diel(c, s.front ? eta : 1.0 / eta);
+  }
+  if (m.mix_fac == PB_GPU_MIX_FAC_LAYER_FRESNEL) {
+    float eta = max(1.0 - v, 1e-5);
+    return pb_fresnel_diel(c, s.front ? 1.0 / eta : eta);
+  }
+  if (m.mix_fac == PB_GPU_MIX_FAC_LAYER_FACING) {
+    float f = abs(c);
+    if (v != 0.5) {
+      float blend = clamp(v, 0.0, 1.0 - 1e-5);
+      f = pow(f, blend < 0.5 ? 2.0 * blend : 0.5 / (1.0 - blend));
+    }
+    return 1.0 - f;
+  }
+  return v;
+}
+
+// The closures of a material and, for a Mix Shader (SC_CLOSURES has
+// PB_CLOSURES_MIX), of its second shader: the first's weigh 1 - fac, the
+// second's fac (Cycles' svm_node_mix_closure; a closure then under the
+// cutoff is dropped). The two make closures of different kinds (the loader
+// keeps only such mixes, scene.c pb_blender_closures), so each keeps its
+// slot; the second takes the first's normals. One set-up in a loop: the
+// shader holds one copy of it.
+void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
+  if ((SC_CLOSURES & PB_CLOSURES_MIX) == 0u || materials[surf.mat].mix_with == 0u) {
+    pb_blender_setup_one(surf, wo, tangent, b);
+    return;
+  }
+  float f = clamp(pb_mix_fac(surf, wo), 0.0, 1.0);
+  pb_surface sk = surf;
+  vec3 albedo = vec3(0.0);
+  pb_bsdf first = b;  // the frame bsdf.glsl set
+  [[dont_unroll]] for (uint k = 0u; k < 2u; ++k) {
+    pb_bsdf t = first;
+    pb_blender_setup_one(sk, wo, tangent, t);
+    float w = k == 0u ? 1.0 - f : f;
+    if (k == 0u) b = t;
+    for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
+      pb_closure c = t.cl[i];
+      c.weight *= w;
+      c.sample_weight *= w;
+      if (c.on && !(abs(pb_avg3(c.weight)) >= PB_CUTOFF)) {
+        c.on = false;
+        c.sample_weight = 0.0;
+      }
+      if (k == 0u || c.on) b.cl[i] = c;
+    }
+    albedo += t.albedo * w;
+    sk.mat = materials[surf.mat].mix_with - 1u;
+  }
+  b.albedo = albedo;
+  b.sw_sum = 0.0;
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
 }
 

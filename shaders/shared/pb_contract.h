@@ -269,7 +269,7 @@
  * leaves that code out of the module (lavapipe: the direct pass of a
  * Principled BSDF without sheen, glass or coat compiles in a third of the
  * time); the host sets a bit wherever a material might need it
- * (scene_plan.c closures_of), textures counted as reaching any value. */
+ * (scene.c pb_blender_closures), textures counted as reaching any value. */
 #define PB_CLOSURES_DIFFUSE 0x01u
 #define PB_CLOSURES_SHEEN 0x02u
 #define PB_CLOSURES_SPECULAR 0x04u
@@ -278,7 +278,8 @@
 #define PB_CLOSURES_CLEARCOAT 0x20u
 #define PB_CLOSURES_MULTI_WALK 0x40u /* v1 Multiscatter GGX's random walk */
 #define PB_CLOSURES_V1 0x80u         /* the v1 Principled BSDF's set-up */
-#define PB_CLOSURES_ALL 0xffu
+#define PB_CLOSURES_MIX 0x100u       /* a Mix Shader of two shaders (pb_gpu_material.mix_with) */
+#define PB_CLOSURES_ALL 0x1ffu
 
 /* lbvh_climb.comp's own. */
 #define PB_SPEC_FENCES 0

@@ -160,6 +160,12 @@ PB_CONST(PB_GPU_IN_THIN_FILM_IOR, 25u)
 PB_CONST(PB_GPU_IN_DIFFUSE_ROUGHNESS, 26u)
 PB_CONST(PB_GPU_IN_EMISSION_STRENGTH, 27u)
 PB_CONST(PB_GPU_IN_CONDUCTOR_N, 28u)       /* 28..30: a conductor's n (PB_GPU_MAT_CONDUCTOR) */
+PB_CONST(PB_GPU_IN_MIX_FAC, 31u)           /* a Mix Shader's Fac, or its Fresnel's IOR or Layer Weight's Blend */
+/* mix_fac: pb_mix_fac's values. */
+PB_CONST(PB_GPU_MIX_FAC_VALUE, 0u)
+PB_CONST(PB_GPU_MIX_FAC_FRESNEL, 1u)
+PB_CONST(PB_GPU_MIX_FAC_LAYER_FRESNEL, 2u)
+PB_CONST(PB_GPU_MIX_FAC_LAYER_FACING, 3u)
 PB_CONST(PB_GPU_IN_V1_SLOTS, 16u)           /* the slots the v1 model reads */
 PB_CONST(PB_GPU_IN_SLOTS, 32u)
 /* in_tex: texture index in the low 28 bits, the channel above (0..3 R, G,
@@ -210,7 +216,12 @@ PB_STRUCT(pb_gpu_material) {
   uint bump_model;           /* PB_GPU_BUMP_* (pb_bump_model) */
   uint node;                 /* PB_GPU_NODE_* (pb_blender_node): the Blender
                                 BSDF node a principled_v2 material is */
-  uint pad0, pad1, pad2;     /* std430 rounds the struct to 16 bytes */
+  /* A Mix Shader (pb_blender_material.mix_with): index + 1 of the
+   * material holding its second shader, 0 none; where its factor comes
+   * from (PB_GPU_MIX_FAC_*; the value in_value[PB_GPU_IN_MIX_FAC]). */
+  uint mix_with;
+  uint mix_fac;
+  uint pad0;                 /* std430 rounds the struct to 16 bytes */
 } PB_END(pb_gpu_material)
 
 /* Texture table entry: texels are RGBA8 packed one per uint (R in the low

@@ -67,7 +67,7 @@ typedef enum pb_closure_type {
   PB_CL_VELVET,        /* Ashikhmin velvet (Sheen BSDF Ashikhmin, 3.x Velvet BSDF); on_a = 1 / sigma^2 */
 } pb_closure_type;
 
-enum { PB_CLOSURE_MAX = 8 };
+enum { PB_CLOSURE_MAX = 12 }; /* a Mix Shader's two shaders' */
 /* Fresnel of a Principled v2 microfacet closure (Cycles' MicrofacetFresnel). */
 /* PB_FRESNEL_NONE: the Glossy BSDF reflects all (V2_GGX), the Refraction
  * BSDF refracts all but total internal reflection (V2_GLASS). */

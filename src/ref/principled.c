@@ -1265,7 +1265,7 @@ v3 pb_principled2_emission_weight(const pb_scene *s, const pb_surface *surf, v3 
   return v2_build(s, surf, wo, base, NULL, 1);
 }
 
-void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
+static void setup_one(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
   const pb_material *m = surf->mat;
   const pb_blender_material *bm = &m->blender;
   b->model = bm->model;
@@ -1394,6 +1394,69 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
     for (int i = 0; i < b->ncl; ++i)
       if (b->cl[i].type == PB_CL_GGX || b->cl[i].type == PB_CL_GGX_REFRACT) b->cl[i].g2 = bm->g2_correlated;
   }
+  b->sw_sum = 0.0f;
+  for (int i = 0; i < b->ncl; ++i) b->sw_sum += b->cl[i].sample_weight;
+}
+
+/* A Mix Shader's factor (scene.h pb_mix_fac): its Fac, or Cycles 4.5's
+ * svm_node_fresnel / svm_node_layer_weight at the interpolated normal sd->N
+ * (the nodes' Normal unlinked) and sd->wi = wo. */
+static float mix_fac(const pb_scene *s, const pb_surface *surf, v3 wo) {
+  const pb_material *m = surf->mat;
+  float v = input_value(s, m, surf, PB_IN_MIX_FAC);
+  float c = v3_dot(wo, surf->ni);
+  switch (m->blender.mix_fac) {
+  case PB_MIX_FAC_FRESNEL: {
+    float eta = fmaxf(v, 1e-5f);
+    return fresnel_diel(c, surf->front ? eta : 1.0f / eta);
+  }
+  case PB_MIX_FAC_LAYER_FRESNEL: {
+    float eta = fmaxf(1.0f - v, 1e-5f);
+    return fresnel_diel(c, surf->front ? 1.0f / eta : eta);
+  }
+  case PB_MIX_FAC_LAYER_FACING: {
+    float f = fabsf(c);
+    if (v != 0.5f) {
+      float blend = clampf(v, 0.0f, 1.0f - 1e-5f);
+      f = powf(f, blend < 0.5f ? 2.0f * blend : 0.5f / (1.0f - blend));
+    }
+    return 1.0f - f;
+  }
+  default: return v;
+  }
+}
+
+/* Closures [from, b->ncl) of b weighed by w, those then under the cutoff
+ * dropped (Cycles allocates a closure of weight mix weight x its own). */
+static void weigh_closures(pb_bsdf *b, int from, float w) {
+  int n = from;
+  for (int i = from; i < b->ncl; ++i) {
+    pb_closure c = b->cl[i];
+    c.weight = v3_scale(c.weight, w);
+    c.sample_weight *= w;
+    if (!(fabsf(avg3(c.weight)) >= CUTOFF)) continue;
+    b->cl[n++] = c;
+  }
+  b->ncl = n;
+}
+
+void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_bsdf *b) {
+  setup_one(s, surf, wo, b);
+  const pb_blender_material *bm = &surf->mat->blender;
+  if (!bm->mix_with || bm->mix_with > s->material_count) return;
+  /* A Mix Shader (svm_node_mix_closure): the first shader's closures weigh
+   * 1 - fac, the second's fac; the second takes the first's normals. */
+  float f = sat(mix_fac(s, surf, wo));
+  weigh_closures(b, 0, 1.0f - f);
+  pb_surface s2 = *surf;
+  s2.mat = &s->materials[bm->mix_with - 1];
+  pb_bsdf b2;
+  memset(&b2, 0, sizeof b2);
+  setup_one(s, &s2, wo, &b2);
+  int n0 = b->ncl;
+  for (int i = 0; i < b2.ncl && b->ncl < PB_CLOSURE_MAX; ++i) b->cl[b->ncl++] = b2.cl[i];
+  weigh_closures(b, n0, f);
+  b->albedo = v3_add(v3_scale(b->albedo, 1.0f - f), v3_scale(b2.albedo, f));
   b->sw_sum = 0.0f;
   for (int i = 0; i < b->ncl; ++i) b->sw_sum += b->cl[i].sample_weight;
 }

@@ -26,6 +26,7 @@
 typedef struct reader {
   const pb_blender_material_io *io;
   int index;
+  const char *at; /* "" or "mix.shader." (the second shader of a Mix Shader) */
 } reader;
 
 static pb_result bad(const reader *R, const char *member, const char *fmt, ...)
@@ -36,7 +37,7 @@ static pb_result bad(const reader *R, const char *member, const char *fmt, ...) 
   va_start(ap, fmt);
   vsnprintf(why, sizeof why, fmt, ap);
   va_end(ap);
-  return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ".%s: %s", R->io->path, R->index, member, why);
+  return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ".%s%s: %s", R->io->path, R->index, R->at, member, why);
 }
 
 static pb_result warn(const reader *R, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -296,7 +297,7 @@ static pb_result read_texture(const reader *R, const char *name, const pb_gltf_v
   if ((r = opt_number(R, e, path, "strength", 0.0, FLT_MAX, &strength)) != PB_OK) return r;
   int srgb = t->kind == T_COLOR && space == 0;
   int32_t tex = PB_NO_TEXTURE;
-  snprintf(sub, sizeof sub, "materials[%d]." EXT ".%s", R->index, path);
+  snprintf(sub, sizeof sub, "materials[%d]." EXT ".%s%s", R->index, R->at, path);
   if ((r = R->io->texture(R->io->user, &ref, srgb, sub, &tex)) != PB_OK) return r;
   pb_blender_material *b = &m->blender;
   switch (t->kind) {
@@ -338,8 +339,8 @@ static pb_result read_textures(const reader *R, const pb_gltf_value *ext, const 
     const target *t = targets;
     while (t->name && strcmp(t->name, tx->keys[i]) != 0) t++;
     if (!t->name) {
-      r = warn(R, "materials[%d]." EXT ".textures.%s: not an input this model reads a texture for; its constant is used",
-               R->index, tx->keys[i]);
+      r = warn(R, "materials[%d]." EXT ".%stextures.%s: not an input this model reads a texture for; its constant is used",
+               R->index, R->at, tx->keys[i]);
     } else {
       r = read_texture(R, tx->keys[i], &tx->items[i], t, m);
     }
@@ -819,9 +820,10 @@ void pb_blender_material_defaults(pb_material *m, pb_material_model model) {
   }
 }
 
-pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, const pb_gltf_value *ext,
-                                   pb_material *m) {
-  reader R = {io, index};
+/* The model and its inputs (a material's, or a Mix Shader's second shader's). */
+static pb_result read_model(reader R, const pb_gltf_value *ext, pb_material *m) {
+  const pb_blender_material_io *io = R.io;
+  int index = R.index;
   if (ext->type != PB_GLTF_OBJECT)
     return pb_fail(PB_ERR_SCENE_INVALID, "%s: materials[%d]." EXT ": %s, expected an object", io->path, index,
                    pb_gltf_value_type_name(ext));
@@ -928,6 +930,92 @@ pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, 
     }
   }
   return PB_OK;
+}
+
+/* "mix": a Mix Shader of m's shader (weight 1 - fac) and "shader" (weight
+ * fac), Cycles' svm_node_mix_closure; its factor as svm/fresnel.h computes
+ * the Fresnel and Layer Weight nodes. */
+static const target mix_targets[] = {{"fac", T_INPUT, PB_IN_MIX_FAC}, {NULL, T_NONE, 0}};
+
+static int emits(const pb_material *m) {
+  return m->emissive_tex >= 0 || m->emissive[0] > 0.0f || m->emissive[1] > 0.0f || m->emissive[2] > 0.0f;
+}
+static int clear(const pb_material *m) {
+  return m->blender.model == PB_MODEL_PRINCIPLED && pb_blender_input_min(&m->blender, PB_IN_ALPHA) < 1.0f;
+}
+
+static pb_result read_mix(const reader *R, const pb_gltf_value *ext, pb_material *m) {
+  const pb_gltf_value *mx, *sh;
+  pb_result r = opt_object(R, ext, "mix", &mx);
+  if (r != PB_OK || !mx) return r;
+  pb_blender_material *b = &m->blender;
+  if (!R->io->add_material)
+    return warn(R, "materials[%d]." EXT ".mix: a Mix Shader is not read here; its first shader is rendered", R->index);
+  if (b->model != PB_MODEL_PRINCIPLED && b->model != PB_MODEL_DIFFUSE)
+    return bad(R, "mix", "the %s model cannot be mixed (only BSDFs)", pb_blender_model_name(b));
+  static const char *const kinds[] = {"value", "fresnel", "layerFresnel", "layerFacing"};
+  int kind = 0;
+  if ((r = opt_enum(R, mx, "mix", "facFrom", kinds, 4, &kind)) != PB_OK) return r;
+  /* Fac 0..1; the Fresnel's IOR 0..1000; the Layer Weight's Blend 0..1
+   * (the sockets' ranges). */
+  const char *key = kind == 0 ? "fac" : kind == 1 ? "ior" : "blend";
+  float v = kind == 1 ? 1.5f : 0.5f;
+  if (!pb_gltf_value_get(mx, key)) {
+    char path[32];
+    snprintf(path, sizeof path, "mix.%s", key);
+    return bad(R, path, "missing (required with facFrom '%s')", kinds[kind]);
+  }
+  if ((r = opt_number(R, mx, "mix", key, 0.0, kind == 1 ? 1000.0 : 1.0, &v)) != PB_OK) return r;
+  b->mix_fac = (pb_mix_fac)kind;
+  b->input[PB_IN_MIX_FAC] = v;
+  b->input_tex[PB_IN_MIX_FAC].tex = PB_NO_TEXTURE;
+  reader RM = *R;
+  RM.at = "mix.";
+  if ((r = read_textures(&RM, mx, kind == 0 ? mix_targets : mix_targets + 1, m)) != PB_OK) return r;
+  if ((r = opt_object(R, mx, "shader", &sh)) != PB_OK) return r;
+  if (!sh) return bad(R, "mix.shader", "missing (required: the Mix Shader's second shader)");
+  if (pb_gltf_value_get(sh, "mix")) return bad(R, "mix.shader.mix", "a Mix Shader inside a Mix Shader is not read");
+  if (emits(m) || clear(m))
+    return bad(R, "mix", "the first shader %s; a mixed shader is opaque and emits nothing here",
+               emits(m) ? "emits" : "is transparent");
+  pb_material second;
+  memset(&second, 0, sizeof second);
+  snprintf(second.name, sizeof second.name, "%.*s (mix)", (int)sizeof second.name - 7, m->name);
+  reader RS = *R;
+  RS.at = "mix.shader.";
+  if ((r = read_model(RS, sh, &second)) != PB_OK) return r;
+  const pb_blender_material *sb = &second.blender;
+  if (sb->model != PB_MODEL_PRINCIPLED && sb->model != PB_MODEL_DIFFUSE)
+    return bad(R, "mix.shader.model", "'%s' cannot be mixed (only BSDFs)", pb_blender_model_name(sb));
+  if (emits(&second) || clear(&second))
+    return bad(R, "mix.shader", "the second shader %s; a mixed shader is opaque and emits nothing here",
+               emits(&second) ? "emits" : "is transparent");
+  if (second.normal_tex >= 0 || sb->coat_normal_tex >= 0) {
+    if ((r = warn(R, "materials[%d]." EXT ".mix.shader.textures: the second shader's normal map is not rendered; "
+                     "it takes the first shader's normal", R->index)) != PB_OK)
+      return r;
+    second.normal_tex = second.blender.coat_normal_tex = PB_NO_TEXTURE;
+  }
+  uint32_t shared = pb_blender_closures(m) & pb_blender_closures(&second) & PB_BLENDER_CL_SLOTS;
+  if (shared) {
+    static const char *const kind_names[] = {"diffuse", "sheen", "specular", "reflection", "refraction", "coat"};
+    int k = 0;
+    while (!(shared >> k & 1u)) ++k;
+    return warn(R, "materials[%d]." EXT ".mix: both shaders can make a %s closure, which is not rendered mixed; "
+                   "only the first shader is rendered", R->index, kind_names[k]);
+  }
+  uint32_t at = 0;
+  if ((r = R->io->add_material(R->io->user, &second, &at)) != PB_OK) return r;
+  b->mix_with = at + 1;
+  b->mix_singular = pb_material_may_be_singular(&second);
+  return PB_OK;
+}
+
+pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, const pb_gltf_value *ext,
+                                   pb_material *m) {
+  reader R = {io, index, ""};
+  pb_result r = read_model(R, ext, m);
+  return r != PB_OK ? r : read_mix(&R, ext, m);
 }
 
 int pb_blender_needs_tangent(const pb_material *m) {

@@ -26,6 +26,9 @@ typedef struct pb_blender_material_io {
   /* The root's extensions.PHOTONBRIDGE_blender (NULL: none): its "blender"
    * version decides the Smith G2 of the GGX lobes (3.5+: height-correlated). */
   const pb_gltf_value *root;
+  /* Stores a Mix Shader's second shader as a material of the scene and
+   * gives its index (NULL: a "mix" is warned about and left out). */
+  pb_result (*add_material)(void *user, const pb_material *m, uint32_t *index);
 } pb_blender_material_io;
 
 /* Sets m to a Blender shader of `model` with Blender 3.4's defaults (the
@@ -40,7 +43,9 @@ void pb_blender_material_defaults_v2(pb_material *m);
  * materials[index]). Errors are one line "FILE: materials[i].extensions.
  * PHOTONBRIDGE_blender.MEMBER: why" with PB_ERR_SCENE_INVALID (wrong JSON
  * type, a non-finite number, a value outside its range, an unknown model,
- * a texture that does not exist). Unknown members are ignored. */
+ * a texture that does not exist). Unknown members are ignored. A "mix"
+ * (a Mix Shader of the model and a second shader, "mix.shader") stores the
+ * second shader through io->add_material and sets m->blender.mix_with. */
 pb_result pb_blender_material_read(const pb_blender_material_io *io, int index, const pb_gltf_value *ext,
                                    pb_material *m);
 

@@ -66,7 +66,12 @@ mat4 load_node_local(const pb_gltf_node *n) {
 static pb_result alloc_tables(loader *L) {
   pb_gltf_doc *d = L->doc;
   pb_scene *s = L->s;
-  s->materials = calloc(d->material_count + 1, sizeof *s->materials);
+  /* A Mix Shader's second shader is a material of its own (blender_material.c). */
+  for (size_t i = 0; i < d->material_count; ++i)
+    if (d->materials[i].blender && d->materials[i].blender->type == PB_GLTF_OBJECT &&
+        pb_gltf_value_get(d->materials[i].blender, "mix"))
+      L->mix_capacity++;
+  s->materials = calloc(d->material_count + L->mix_capacity + 1, sizeof *s->materials);
   L->image_cache = calloc(d->image_count + 1, sizeof *L->image_cache);
   L->image_cache_f = calloc(d->image_count + 1, sizeof *L->image_cache_f);
   L->image_linear = calloc(d->image_count + 1, sizeof *L->image_linear);
@@ -123,6 +128,7 @@ static pb_result load(loader *L) {
     if ((r = load_material(L, (int)i, &s->materials[i])) != PB_OK) return r;
     s->material_count++;
   }
+  s->material_count += L->mix_count;
   if ((r = load_check_nodes(L)) != PB_OK) return r;
   if ((r = pb_skins_load(L->path, d, &L->deform)) != PB_OK) return r;
   if ((r = pb_morph_weights_load(L->path, d, &L->deform)) != PB_OK) return r;

@@ -28,6 +28,8 @@ typedef struct loader {
   pb_scene *s;
   uint32_t vertex_cap, triangle_cap, light_cap, camera_cap, texture_cap;
   int32_t default_material;   /* index in s->materials, -1 until needed */
+  /* Mix Shaders' second shaders: stored after the glTF materials. */
+  uint32_t mix_capacity, mix_count;
   int32_t *texture_src;       /* per s->textures: its glTF texture */
   uint8_t **image_cache;      /* decoded RGBA8 per gltf image */
   float **image_cache_f;      /* or RGBA floats (16-bit PNG, HDR, EXR: image/decode.h) */

@@ -26,6 +26,15 @@ static pb_result blender_texture(void *user, const pb_gltf_texture_ref *ref, int
   return load_texture_ref(user, ref, srgb, where, out);
 }
 static pb_result blender_warn(void *user, const char *line) { return load_warn(user, "%s", line); }
+/* A Mix Shader's second shader: after the glTF materials (load.c counted them). */
+static pb_result blender_add_material(void *user, const pb_material *m, uint32_t *index) {
+  loader *L = user;
+  if (L->mix_count >= L->mix_capacity)
+    return pb_fail(PB_ERR_SCENE_INVALID, "%s: more Mix Shaders than materials with a mix", L->path);
+  *index = (uint32_t)L->doc->material_count + L->mix_count++;
+  L->s->materials[*index] = *m;
+  return PB_OK;
+}
 
 /* KHR_materials_unlit and KHR_materials_volume (scene.h, pb_material). */
 static pb_result material_extensions(loader *L, int i, const pb_gltf_material *g, pb_material *m) {
@@ -162,7 +171,7 @@ pb_result load_material(loader *L, int i, pb_material *m) {
     if (r != PB_OK) return r;
   }
   if (g->blender) {
-    pb_blender_material_io io = {L->path, L, blender_texture, blender_warn, L->doc->blender};
+    pb_blender_material_io io = {L->path, L, blender_texture, blender_warn, L->doc->blender, blender_add_material};
     return pb_blender_material_read(&io, i, g->blender, m);
   }
   return PB_OK;

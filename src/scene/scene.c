@@ -30,6 +30,7 @@ int pb_material_may_be_singular(const pb_material *m) {
     float spec = m->specular * fmaxf(m->specular_color[0], fmaxf(m->specular_color[1], m->specular_color[2]));
     return smooth && (m->metallic > 0.0f || spec > 0.0f);
   }
+  if (b->mix_with && b->mix_singular) return 1; /* a Mix Shader's second shader */
   if (b->model != PB_MODEL_PRINCIPLED) return 0;
   /* Cycles' singular test alpha_x alpha_y <= 1e-7 with alpha = r^2 (the
    * anisotropic stretch keeps the product): r <= 1e-7^(1/4). */
@@ -92,6 +93,48 @@ const char *pb_blender_model_name(const pb_blender_material *b) {
   return pb_material_model_name(b->model);
 }
 
+/* What the GPU's set-up makes (common/principled.glsl pb_blender_setup,
+ * pb2_setup, pb2_node) and the reference's (ref/principled.c): a kind
+ * wherever its weight could pass the cutoff somewhere, so that no closure
+ * the shader would make is compiled out and two mixed shaders that could
+ * both make one kind are told apart. */
+uint32_t pb_blender_closures(const pb_material *m) {
+  const pb_blender_material *b = &m->blender;
+  uint32_t mix = b->mix_with ? PB_BLENDER_CL_MIX : 0;
+  switch (b->model) {
+  case PB_MODEL_DIFFUSE: return PB_BLENDER_CL_DIFFUSE | mix;
+  case PB_MODEL_PRINCIPLED: break;
+  default: return 0; /* glTF's model (its own code), Emission, Holdout */
+  }
+  uint32_t c = 0;
+  if (!b->principled_v2) {
+    c = PB_BLENDER_CL_V1 | PB_BLENDER_CL_DIFFUSE | PB_BLENDER_CL_SPECULAR;
+    if (pb_blender_input_max(b, PB_IN_SHEEN) > 0) c |= PB_BLENDER_CL_SHEEN;
+    if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0) c |= PB_BLENDER_CL_REFLECTION | PB_BLENDER_CL_REFRACTION;
+    if (pb_blender_input_max(b, PB_IN_CLEARCOAT) > 0) c |= PB_BLENDER_CL_COAT;
+    if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) c |= PB_BLENDER_CL_MULTI_WALK;
+    return c | mix;
+  }
+  switch (b->node) {
+  case PB_NODE_GLOSSY: return PB_BLENDER_CL_REFLECTION | mix;
+  /* Blender 3.x's Glass (separable G: Cycles 3.4's two closures) */
+  case PB_NODE_GLASS: return (b->g2_correlated ? 0 : PB_BLENDER_CL_REFLECTION) | PB_BLENDER_CL_REFRACTION | mix;
+  case PB_NODE_REFRACTION: return PB_BLENDER_CL_REFRACTION | mix;
+  case PB_NODE_VELVET: return PB_BLENDER_CL_SHEEN | mix;
+  /* the v2 metal alone (Metallic 1: no layer under it) */
+  case PB_NODE_METALLIC: return PB_BLENDER_CL_REFLECTION | mix;
+  /* the v2 sheen alone (black base, Specular IOR Level 0) */
+  case PB_NODE_SHEEN: return PB_BLENDER_CL_SHEEN | mix;
+  default: break; /* the Principled BSDF */
+  }
+  c = PB_BLENDER_CL_DIFFUSE | PB_BLENDER_CL_SPECULAR;
+  if (pb_blender_input_max(b, PB_IN_SHEEN_WEIGHT) > 0) c |= PB_BLENDER_CL_SHEEN;
+  if (pb_blender_input_max(b, PB_IN_COAT_WEIGHT) > 0) c |= PB_BLENDER_CL_COAT;
+  if (pb_blender_input_max(b, PB_IN_METALLIC) > 0) c |= PB_BLENDER_CL_REFLECTION;
+  if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0) c |= PB_BLENDER_CL_REFRACTION;
+  return c | mix;
+}
+
 const char *pb_feature_name(uint32_t bit) {
   for (unsigned i = 0; i < sizeof feature_names / sizeof *feature_names; ++i)
     if (bit == (1u << i)) return feature_names[i];
@@ -137,6 +180,11 @@ void pb_scene_finalize(pb_scene *s) {
   uint8_t *used = calloc(s->material_count ? s->material_count : 1, 1);
   for (uint32_t t = 0; t < s->triangle_count && used; ++t)
     used[s->triangle_material[t]] = 1;
+  /* a Mix Shader's second shader is used where its first is */
+  for (uint32_t i = 0; i < s->material_count && used; ++i) {
+    uint32_t w = s->materials[i].blender.mix_with;
+    if (used[i] && s->materials[i].blender.model != PB_MODEL_GLTF && w > 0 && w <= s->material_count) used[w - 1] = 1;
+  }
   for (uint32_t i = 0; i < s->material_count; ++i) {
     if (used && !used[i]) continue;
     const pb_material *m = &s->materials[i];

@@ -83,8 +83,22 @@ typedef enum pb_blender_input {
   PB_IN_EMISSION_STRENGTH,
   /* The Metallic BSDF's Physical Conductor (pb_blender_material.conductor):
    * its IOR n per channel (its Extinction k is specular_tint). */
-  PB_IN_CONDUCTOR_N_R, PB_IN_CONDUCTOR_N_G, PB_IN_CONDUCTOR_N_B, PB_IN_COUNT
+  PB_IN_CONDUCTOR_N_R, PB_IN_CONDUCTOR_N_G, PB_IN_CONDUCTOR_N_B,
+  /* A Mix Shader's factor (pb_blender_material.mix_with): its Fac, or the
+   * Fresnel node's IOR, or the Layer Weight node's Blend (mix_fac). */
+  PB_IN_MIX_FAC, PB_IN_COUNT
 } pb_blender_input;
+
+/* Where a Mix Shader's factor comes from (Cycles svm/fresnel.h, the same in
+ * 3.4 and 4.5): its Fac (a constant or a texture), a Fresnel node (IOR), a
+ * Layer Weight node's Fresnel or Facing output (Blend), each with its Normal
+ * left unlinked (the interpolated normal). */
+typedef enum pb_mix_fac {
+  PB_MIX_FAC_VALUE = 0,
+  PB_MIX_FAC_FRESNEL = 1,
+  PB_MIX_FAC_LAYER_FRESNEL = 2,
+  PB_MIX_FAC_LAYER_FACING = 3,
+} pb_mix_fac;
 
 /* Subsurface method by what it does (Blender 3.4's RANDOM_WALK is 4.x's
  * RANDOM_WALK_SKIN, 3.4's RANDOM_WALK_FIXED_RADIUS 4.x's RANDOM_WALK). */
@@ -189,6 +203,16 @@ typedef struct pb_blender_material {
    * and any texture, as a linked socket does in Cycles (extension member
    * "vertexColor"; white where the primitive has no COLOR_0). */
   int base_from_vertex_color;
+  /* A Mix Shader of this material's shader and a second one: index + 1 of
+   * the material that holds the second shader (0: no mix); the closures of
+   * this one weigh 1 - fac, the second's fac (fac from mix_fac and
+   * input[PB_IN_MIX_FAC], clamped to [0, 1]). The second material is
+   * opaque, emits nothing, has no mix of its own and takes this material's
+   * normals; the two make closures of different kinds
+   * (pb_blender_closures), so the GPU keeps each in its own slot. */
+  uint32_t mix_with;
+  pb_mix_fac mix_fac;
+  int mix_singular; /* the second material may have a delta lobe */
 } pb_blender_material;
 
 /* glTF metallic-roughness with the extensions Blender writes. Each texture is
@@ -261,6 +285,23 @@ float pb_blender_input_max(const pb_blender_material *b, pb_blender_input i);
 int pb_material_has_normal_map(const pb_material *m);
 float pb_blender_input_min(const pb_blender_material *b, pb_blender_input i);
 const char *pb_material_model_name(pb_material_model m);
+
+/* The kinds of closure a Blender material may make (the renderers' closure
+ * slots; textures counted as reaching any value), and what its set-up needs:
+ * the v1 Principled code, v1 Multiscatter GGX's walk, a Mix Shader. */
+enum {
+  PB_BLENDER_CL_DIFFUSE = 1u << 0,
+  PB_BLENDER_CL_SHEEN = 1u << 1,
+  PB_BLENDER_CL_SPECULAR = 1u << 2,
+  PB_BLENDER_CL_REFLECTION = 1u << 3, /* glass's reflection, the v2 metal, the Glossy BSDF */
+  PB_BLENDER_CL_REFRACTION = 1u << 4,
+  PB_BLENDER_CL_COAT = 1u << 5,
+  PB_BLENDER_CL_SLOTS = 0x3fu,        /* the closure kinds above */
+  PB_BLENDER_CL_MULTI_WALK = 1u << 6,
+  PB_BLENDER_CL_V1 = 1u << 7,
+  PB_BLENDER_CL_MIX = 1u << 8,
+};
+uint32_t pb_blender_closures(const pb_material *m);
 /* The extension's model of a Blender material: principled2, metallic, sheen
  * or pb_material_model_name's. */
 const char *pb_blender_model_name(const pb_blender_material *b);

@@ -72,6 +72,9 @@ def main(argv):
             if g.get("model") != model or not same(g.get(model), w.get(model)):
                 why.append("%s: %s %s, committed %s %s" % (mat, g.get("model"), json.dumps(g.get(g.get("model"))),
                                                           model, json.dumps(w.get(model))))
+            if not same(g.get("mix"), w.get("mix")):
+                why.append("%s: the writer wrote mix %s, committed %s" % (mat, json.dumps(g.get("mix")),
+                                                                        json.dumps(w.get("mix"))))
             if g.get("textures") != w.get("textures"):
                 why.append("%s: the writer wrote textures %s, committed %s" % (
                     mat, json.dumps(g.get("textures")), json.dumps(w.get("textures"))))

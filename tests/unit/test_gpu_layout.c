@@ -75,7 +75,7 @@ static const member members[] = {
     M(pb_gpu_material, sheen_tint), M(pb_gpu_material, sheen_tint_tex), M(pb_gpu_material, subsurface_radius),
     M(pb_gpu_material, coat_normal_tex), M(pb_gpu_material, coat_normal_strength),
     M(pb_gpu_material, subsurface_method), M(pb_gpu_material, g2_correlated), M(pb_gpu_material, bump_model),
-    M(pb_gpu_material, node), M(pb_gpu_material, pad0), M(pb_gpu_material, pad1), M(pb_gpu_material, pad2),
+    M(pb_gpu_material, node), M(pb_gpu_material, mix_with), M(pb_gpu_material, mix_fac), M(pb_gpu_material, pad0),
     M(pb_gpu_texture, offset), M(pb_gpu_texture, width), M(pb_gpu_texture, height), M(pb_gpu_texture, flags),
     M(pb_gpu_texture, wrap_s), M(pb_gpu_texture, wrap_t), M(pb_gpu_texture, texcoord), M(pb_gpu_texture, pad1),
     M(pb_gpu_texture, xform_u), M(pb_gpu_texture, xform_v),

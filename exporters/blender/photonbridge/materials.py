@@ -378,7 +378,8 @@ class MaterialWriter:
         reset_groups()
         self._vcol = None
         gm, ext = self._translate(mat, holdout)
-        if self._vcol is not None:
+        first_vcol = ext.pop("_vcolFirst", True)
+        if self._vcol is not None and first_vcol:
             ext["vertexColor"] = "baseColor" if ext.get("model") in ("principled", "principled2") else "color"
         if self._mat_warnings:
             ext["warnings"] = self._mat_warnings
@@ -457,8 +458,33 @@ class MaterialWriter:
                             "Principled BSDF; left out")
         if node is None:
             self.warn_material("nothing is connected to the Material Output's Surface; written as black")
-            gm, ext = self._black_diffuse()
-        elif node.type == 'BSDF_PRINCIPLED':
+            return self._black_diffuse()
+        mix = extra.get("mix")
+        if mix is None:
+            return self._one_shader(node)
+        # A Mix Shader of two BSDFs (_mix): the first's model with the
+        # second's under "mix"; the plain glTF is the larger shader's.
+        gm, ext = self._one_shader(node)
+        first_vcol, self._vcol = self._vcol, None
+        gm2, ext2 = self._one_shader(mix["shader"])
+        if self._vcol is not None:
+            ext2["vertexColor"] = "baseColor" if ext2.get("model") in ("principled", "principled2") else "color"
+            if first_vcol is not None and first_vcol != self._vcol:
+                self._warn_node(mix["node"], "its shaders read different colour attributes; the first's is written")
+        ext["_vcolFirst"] = first_vcol is not None
+        self._vcol = first_vcol if first_vcol is not None else self._vcol
+        for t in ("normal", "coatNormal", "clearcoatNormal"):
+            ext2.get("textures", {}).pop(t, None)
+        if "textures" in ext2 and not ext2["textures"]:
+            del ext2["textures"]
+        ext["mix"] = dict(mix["fac"], shader=ext2)
+        if mix["fac"].get("facFrom", "value") == "value" and "textures" not in mix["fac"] and mix["fac"]["fac"] > 0.5:
+            gm = gm2
+        return gm, ext
+
+    def _one_shader(self, node):
+        """One BSDF, Emission or Holdout node's (plain glTF, extension)."""
+        if node.type == 'BSDF_PRINCIPLED':
             gm, ext = self._principled2(node) if is_principled_v2(node) else self._principled(node)
         elif node.type == 'BSDF_DIFFUSE':
             gm, ext = self._diffuse(node)
@@ -479,6 +505,104 @@ class MaterialWriter:
             self._warn_node(node, "shader not translated; written as a grey Principled BSDF")
             gm, ext = self._principled_defaults()
         return gm, ext
+
+    # ---- Mix Shader ------------------------------------------------------------------
+
+    MIXABLE = ('BSDF_PRINCIPLED', 'BSDF_DIFFUSE', 'BSDF_GLOSSY', 'BSDF_ANISOTROPIC', 'BSDF_GLASS', 'BSDF_REFRACTION',
+               'BSDF_METALLIC', 'BSDF_SHEEN', 'BSDF_VELVET')
+
+    def _closure_kinds(self, node):
+        """The kinds of closure a BSDF node can make, as the loader counts them
+        (scene.c pb_blender_closures): a Mix Shader renders only shaders of
+        different kinds."""
+        def on(sock_name):
+            s = node.inputs.get(sock_name)
+            return s is not None and (_source(s) is not None or float(_value(s)) > 0.0)
+        t = node.type
+        multi3 = _blender_version() < (4, 0, 0) and getattr(node, "distribution", "") == 'MULTI_GGX'
+        if t == 'BSDF_DIFFUSE':
+            return {"diffuse"}
+        if t in ('BSDF_SHEEN', 'BSDF_VELVET'):
+            return {"sheen"}
+        if t == 'BSDF_METALLIC':
+            return {"reflection"}
+        if t in ('BSDF_GLOSSY', 'BSDF_ANISOTROPIC') and not multi3:
+            return {"reflection"}
+        if t == 'BSDF_REFRACTION' and not multi3:
+            return {"refraction"}
+        if t == 'BSDF_GLASS' and not multi3:
+            return {"refraction"} if _blender_version() >= (4, 0, 0) else {"reflection", "refraction"}
+        if t != 'BSDF_PRINCIPLED':  # 3.x Multiscatter GGX: written as a v1 Principled BSDF
+            return {"diffuse", "specular", "reflection", "refraction"}
+        kinds = {"diffuse", "specular"}
+        if is_principled_v2(node):
+            pairs = (("Sheen Weight", "sheen"), ("Coat Weight", "coat"), ("Metallic", "reflection"),
+                     ("Transmission Weight", "refraction"))
+        else:
+            pairs = (("Sheen", "sheen"), ("Clearcoat", "coat"), ("Transmission", "reflection"),
+                     ("Transmission", "refraction"))
+        for sock_name, kind in pairs:
+            if on(sock_name):
+                kinds.add(kind)
+        return kinds
+
+    def _emits_or_clear(self, node):
+        """Does a Principled BSDF emit or let light through (Alpha)?"""
+        if node.type != 'BSDF_PRINCIPLED':
+            return False
+        a = node.inputs.get("Alpha")
+        if a is not None and (_source(a) is not None or float(_value(a)) < 1.0):
+            return True
+        color = node.inputs.get("Emission Color") or node.inputs.get("Emission")
+        strength = node.inputs.get("Emission Strength")
+        lit = _source(color) is not None or max(_value(color)[:3]) > 0.0
+        return lit and (strength is None or _source(strength) is not None or float(_value(strength)) > 0.0)
+
+    def _mix_fac(self, node):
+        """The extension's factor of a Mix Shader ({"facFrom", value, textures}),
+        or None where it is not translated: its Fac unlinked, an image
+        texture, a Fresnel node or a Layer Weight node (their IOR or Blend
+        and Normal unlinked)."""
+        sock = node.inputs[0]
+        src = _source(sock)
+        if src is None:
+            return {"fac": min(max(float(_value(sock)), 0.0), 1.0)}
+        n = src.node
+        if n.type in ('FRESNEL', 'LAYER_WEIGHT'):
+            param = n.inputs["IOR" if n.type == 'FRESNEL' else "Blend"]
+            normal = n.inputs.get("Normal")
+            if _source(param) is not None or (normal is not None and _source(normal) is not None):
+                return None
+            if n.type == 'FRESNEL':
+                return {"facFrom": "fresnel", "ior": min(max(float(_value(param)), 0.0), 1000.0)}
+            return {"facFrom": "layerFresnel" if src.name == "Fresnel" else "layerFacing",
+                    "blend": min(max(float(_value(param)), 0.0), 1.0)}
+        if n.type in ('TEX_IMAGE', 'SEPRGB', 'SEPARATE_COLOR'):
+            link = self._texture_link(sock, "Fac")
+            entry = self._texture_entry(link, False)[0] if link is not None else None
+            if entry is not None:
+                return {"fac": min(max(float(_value(sock)), 0.0), 1.0), "textures": {"fac": entry}}
+        return None
+
+    def _mix(self, node, a, b):
+        """A Mix Shader of two BSDFs that photonbridge renders as Cycles does:
+        {"node", "shader" (the second), "fac"}; None (with the reason) where
+        it does not."""
+        if a is None or b is None or a.type not in self.MIXABLE or b.type not in self.MIXABLE:
+            return None, "it mixes a shader other than a BSDF"
+        if self._emits_or_clear(a) or self._emits_or_clear(b):
+            return None, "a mixed Principled BSDF emits or has an Alpha below 1"
+        shared = self._closure_kinds(a) & self._closure_kinds(b)
+        if shared:
+            return None, "both its shaders make %s closures" % sorted(shared)[0]
+        fac = self._mix_fac(node)
+        if fac is None:
+            return None, "its Fac is driven by a node that is not translated"
+        na, nb = _source(a.inputs["Normal"]) if "Normal" in a.inputs else None, \
+            _source(b.inputs["Normal"]) if "Normal" in b.inputs else None
+        if nb is not None and (na is None or na.node != nb.node):
+            self._warn_node(b, "its Normal is not translated in a Mix Shader; it takes the first shader's")
+        return {"node": node, "shader": b, "fac": fac}, None
 
     def _shader_node(self, socket):
         src = _source(socket)
@@ -531,8 +655,18 @@ class MaterialWriter:
                         extra["alpha"] *= 1.0 - fac
                     node = a
                     continue
+                if fac_link is None and (fac <= 0.0 or fac >= 1.0):
+                    node = b if fac >= 1.0 else a  # the other shader weighs nothing
+                    continue
+                why = "a Transparent or Emission shader is mixed in too"
+                if extra["alpha"] == 1.0 and extra["alpha_link"] is None and extra["emission"] is None:
+                    mix, why = self._mix(node, a, b)
+                    if mix is not None:
+                        extra["mix"] = mix
+                        return a, extra
                 pick = b if fac_link is None and fac > 0.5 else a
-                self._warn_node(node, "only its %s shader input is written" % ("second" if pick is b else "first"))
+                self._warn_node(node, "only its %s shader input is written (%s)"
+                                % ("second" if pick is b else "first", why))
                 node = pick
                 continue
             if node.type == 'ADD_SHADER':

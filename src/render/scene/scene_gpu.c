@@ -158,7 +158,10 @@ _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_
                    PB_SAME(PB_GPU_IN_EMISSION_STRENGTH, PB_IN_EMISSION_STRENGTH) &&
                    PB_SAME(PB_GPU_IN_THIN_FILM_THICKNESS, PB_IN_THIN_FILM_THICKNESS) &&
                    PB_SAME(PB_GPU_IN_THIN_FILM_IOR, PB_IN_THIN_FILM_IOR) &&
-                   PB_SAME(PB_GPU_IN_CONDUCTOR_N, PB_IN_CONDUCTOR_N_R) &&
+                   PB_SAME(PB_GPU_IN_CONDUCTOR_N, PB_IN_CONDUCTOR_N_R) && PB_SAME(PB_GPU_IN_MIX_FAC, PB_IN_MIX_FAC) &&
+                   PB_SAME(PB_GPU_MIX_FAC_FRESNEL, PB_MIX_FAC_FRESNEL) &&
+                   PB_SAME(PB_GPU_MIX_FAC_LAYER_FRESNEL, PB_MIX_FAC_LAYER_FRESNEL) &&
+                   PB_SAME(PB_GPU_MIX_FAC_LAYER_FACING, PB_MIX_FAC_LAYER_FACING) &&
                    (int)PB_GPU_IN_V1_SLOTS > (int)PB_IN_SUBSURFACE &&
                    PB_SAME(PB_GPU_IN_SLOTS, sizeof ((pb_gpu_material *)0)->in_value / sizeof(float)),
                "pb_gpu_material.in_value");
@@ -307,6 +310,8 @@ static void convert_material(const pb_scene *s, const pb_material *m, pb_gpu_mat
   o->g2_correlated = (uint32_t)b->g2_correlated;
   o->bump_model = (uint32_t)b->bump_model;
   o->node = (uint32_t)b->node;
+  o->mix_with = b->mix_with <= s->material_count ? b->mix_with : 0;
+  o->mix_fac = (uint32_t)b->mix_fac;
   for (int k = 0; k < (int)PB_GPU_IN_SLOTS; ++k) {
     o->in_value[k] = k < PB_IN_COUNT ? b->input[k] : 0.0f;
     uint32_t t = k < PB_IN_COUNT ? tex_index(b->input_tex[k].tex, s->texture_count) : PB_GPU_NO_TEXTURE;

@@ -7,43 +7,17 @@
 #include "shared/pb_gpu.h"
 
 const char *const pb_render_closure_names[PB_RENDER_CLOSURE_BITS] = {
-    "diffuse", "sheen", "specular", "reflection", "refraction", "coat", "multiscatter_walk", "principled_v1"};
+    "diffuse", "sheen", "specular", "reflection", "refraction", "coat", "multiscatter_walk", "principled_v1", "mix"};
 
-/* PB_CLOSURES_* of the closures material m may make in the GPU's set-up
- * (common/principled.glsl pb_blender_setup, pb2_setup, pb2_node): a slot
- * wherever its weight could pass the cutoff somewhere (textures counted as
- * reaching any value in [0, 1]), so that no closure the shader would make is
- * compiled out. */
-static uint32_t closures_of(const pb_material *m) {
-  const pb_blender_material *b = &m->blender;
-  switch (b->model) {
-  case PB_MODEL_DIFFUSE: return PB_CLOSURES_DIFFUSE;
-  case PB_MODEL_PRINCIPLED: break;
-  default: return 0; /* glTF's model (its own code), Emission, Holdout */
-  }
-  uint32_t c = 0;
-  if (!b->principled_v2) {
-    c = PB_CLOSURES_V1 | PB_CLOSURES_DIFFUSE | PB_CLOSURES_SPECULAR;
-    if (pb_blender_input_max(b, PB_IN_SHEEN) > 0) c |= PB_CLOSURES_SHEEN;
-    if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0) c |= PB_CLOSURES_GLASS_REFL | PB_CLOSURES_GLASS_REFR;
-    if (pb_blender_input_max(b, PB_IN_CLEARCOAT) > 0) c |= PB_CLOSURES_CLEARCOAT;
-    if (b->distribution == PB_DISTRIBUTION_MULTI_GGX) c |= PB_CLOSURES_MULTI_WALK;
-    return c;
-  }
-  switch (b->node) {
-  case PB_NODE_GLOSSY: return PB_CLOSURES_GLASS_REFL;
-  case PB_NODE_GLASS:
-  case PB_NODE_REFRACTION: return PB_CLOSURES_GLASS_REFL | PB_CLOSURES_GLASS_REFR;
-  case PB_NODE_VELVET: return PB_CLOSURES_SHEEN;
-  default: break; /* the Principled BSDF, the Metallic and Sheen BSDFs */
-  }
-  c = PB_CLOSURES_DIFFUSE | PB_CLOSURES_SPECULAR;
-  if (pb_blender_input_max(b, PB_IN_SHEEN_WEIGHT) > 0) c |= PB_CLOSURES_SHEEN;
-  if (pb_blender_input_max(b, PB_IN_COAT_WEIGHT) > 0) c |= PB_CLOSURES_CLEARCOAT;
-  if (pb_blender_input_max(b, PB_IN_METALLIC) > 0) c |= PB_CLOSURES_GLASS_REFL;
-  if (pb_blender_input_max(b, PB_IN_TRANSMISSION) > 0) c |= PB_CLOSURES_GLASS_REFR;
-  return c;
-}
+/* The GPU's closure bits are the scene's closure kinds (scene.h
+ * pb_blender_closures). */
+_Static_assert(PB_CLOSURES_DIFFUSE == PB_BLENDER_CL_DIFFUSE && PB_CLOSURES_SHEEN == PB_BLENDER_CL_SHEEN &&
+                   PB_CLOSURES_SPECULAR == PB_BLENDER_CL_SPECULAR &&
+                   PB_CLOSURES_GLASS_REFL == PB_BLENDER_CL_REFLECTION &&
+                   PB_CLOSURES_GLASS_REFR == PB_BLENDER_CL_REFRACTION && PB_CLOSURES_CLEARCOAT == PB_BLENDER_CL_COAT &&
+                   PB_CLOSURES_MULTI_WALK == PB_BLENDER_CL_MULTI_WALK && PB_CLOSURES_V1 == PB_BLENDER_CL_V1 &&
+                   PB_CLOSURES_MIX == PB_BLENDER_CL_MIX,
+               "PB_CLOSURES_* and PB_BLENDER_CL_*");
 
 void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) {
   memset(out, 0, sizeof *out);
@@ -66,7 +40,7 @@ void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out) 
   out->alpha = (f & PB_FEATURE_ALPHA) != 0 && out->blender_materials;
   for (uint32_t i = 0; i < s->material_count && out->blender_materials; ++i) {
     out->principled2 |= s->materials[i].blender.model == PB_MODEL_PRINCIPLED && s->materials[i].blender.principled_v2;
-    out->closures |= closures_of(&s->materials[i]);
+    out->closures |= pb_blender_closures(&s->materials[i]);
   }
   out->soft_lights = (f & PB_FEATURE_SOFT_LIGHTS) != 0;
   out->world = s->world.present;

@@ -51,7 +51,7 @@ typedef struct pb_render_plan {
 } pb_render_plan;
 
 /* The names of PB_CLOSURES_*'s bits, lowest first (info, --json). */
-#define PB_RENDER_CLOSURE_BITS 8
+#define PB_RENDER_CLOSURE_BITS 9
 extern const char *const pb_render_closure_names[PB_RENDER_CLOSURE_BITS];
 
 /* direct_only: render --direct-only (no photon stages). */
