@@ -130,4 +130,4 @@ add_test(NAME principled2_mix_writer
                  ${PB_BPY4_PYTHON} ${PB_EXE} ${CMAKE_CURRENT_BINARY_DIR}/mix_writer
          WORKING_DIRECTORY ${PB_ROOT})
 set_tests_properties(principled2_mix_writer PROPERTIES TIMEOUT 600 LABELS "blender;no-sanitize;principled"
-                     PASS_REGULAR_EXPRESSION "12 passed, 0 failed")
+                     PASS_REGULAR_EXPRESSION "13 passed, 0 failed")

@@ -24,7 +24,8 @@ over a diffuse base and on rough glass; a stripe normal map on the Normal
 (at strengths 0.5 and 2, and under a coat, which keeps the interpolated
 normal) and on the Coat Normal; Mix Shaders of two BSDFs (Diffuse and
 Glossy by a Layer Weight's Fresnel and by a Fresnel node, Principled and
-Metallic by an image mask, Diffuse and Sheen by a Layer Weight's Facing).
+Metallic by an image mask, Diffuse and Sheen by a Layer Weight's Facing)
+and an Add Shader of a Diffuse and a Glossy BSDF.
 Each NAME gets
 
   OUT/NAME/NAME.gltf + .bin   written by the render engine's writer
@@ -198,6 +199,11 @@ CASES = {
                                           ("ShaderNodeBsdfSheen", {"Color": (1.0, 0.85, 0.7, 1.0), "Roughness": 0.4},
                                            {}),
                                           ("layer", "Facing", 0.65))},
+    # An Add Shader of a Diffuse and a Glossy BSDF (each at full weight).
+    "add_diffuse_glossy": {"_mix": (("ShaderNodeBsdfDiffuse", {"Color": (0.5, 0.45, 0.4, 1.0), "Roughness": 0.3}, {}),
+                                    ("ShaderNodeBsdfGlossy", {"Color": (0.3, 0.35, 0.5, 1.0), "Roughness": 0.3},
+                                     {"distribution": "GGX"}),
+                                    ("add",))},
 }
 BACK_LIGHT = ("sheen", "sheen_bsdf")
 
@@ -236,11 +242,14 @@ def mix_shader(mat, p, spec, out_dir):
         for k, v in socks.items():
             n.inputs[k].default_value = v
         made.append(n)
-    mix = nodes.new("ShaderNodeMixShader")
-    links.new(made[0].outputs["BSDF"], mix.inputs[1])
-    links.new(made[1].outputs["BSDF"], mix.inputs[2])
     fac = spec[2]
-    if fac[0] == "layer":
+    add = fac[0] == "add"
+    mix = nodes.new("ShaderNodeAddShader" if add else "ShaderNodeMixShader")
+    links.new(made[0].outputs["BSDF"], mix.inputs[0 if add else 1])
+    links.new(made[1].outputs["BSDF"], mix.inputs[1 if add else 2])
+    if add:
+        pass
+    elif fac[0] == "layer":
         lw = nodes.new("ShaderNodeLayerWeight")
         lw.inputs["Blend"].default_value = fac[2]
         links.new(lw.outputs[fac[1]], mix.inputs["Fac"])

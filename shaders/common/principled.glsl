@@ -1172,7 +1172,7 @@ float pb_mix_fac(pb_surface s, vec3 wo) {
 
 // The closures of a material and, for a Mix Shader (SC_CLOSURES has
 // PB_CLOSURES_MIX), of its second shader: the first's weigh 1 - fac, the
-// second's fac (Cycles' svm_node_mix_closure; a closure then under the
+// second's fac (an Add Shader: both 1; Cycles' svm_node_mix_closure; a closure then under the
 // cutoff is dropped). The two make closures of different kinds (the loader
 // keeps only such mixes, scene.c pb_blender_closures), so each keeps its
 // slot; the second takes the first's normals. One set-up in a loop: the
@@ -1182,14 +1182,16 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     pb_blender_setup_one(surf, wo, tangent, b);
     return;
   }
-  float f = clamp(pb_mix_fac(surf, wo), 0.0, 1.0);
+  // an Add Shader (svm_node_add_closure): both at the incoming weight
+  bool add = materials[surf.mat].mix_fac == PB_GPU_MIX_FAC_ADD;
+  float f = add ? 1.0 : clamp(pb_mix_fac(surf, wo), 0.0, 1.0);
   pb_surface sk = surf;
   vec3 albedo = vec3(0.0);
   pb_bsdf first = b;  // the frame bsdf.glsl set
   [[dont_unroll]] for (uint k = 0u; k < 2u; ++k) {
     pb_bsdf t = first;
     pb_blender_setup_one(sk, wo, tangent, t);
-    float w = k == 0u ? 1.0 - f : f;
+    float w = k == 0u && !add ? 1.0 - f : f;
     if (k == 0u) b = t;
     for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) {
       pb_closure c = t.cl[i];
@@ -1204,7 +1206,7 @@ void pb_blender_setup(pb_surface surf, vec3 wo, vec3 tangent, inout pb_bsdf b) {
     albedo += t.albedo * w;
     sk.mat = materials[surf.mat].mix_with - 1u;
   }
-  b.albedo = albedo;
+  b.albedo = clamp(albedo, 0.0, 1.0);
   b.sw_sum = 0.0;
   for (uint i = 0u; i < PB_CLOSURE_MAX; ++i) b.sw_sum += b.cl[i].sample_weight;
 }

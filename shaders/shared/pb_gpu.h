@@ -166,6 +166,7 @@ PB_CONST(PB_GPU_MIX_FAC_VALUE, 0u)
 PB_CONST(PB_GPU_MIX_FAC_FRESNEL, 1u)
 PB_CONST(PB_GPU_MIX_FAC_LAYER_FRESNEL, 2u)
 PB_CONST(PB_GPU_MIX_FAC_LAYER_FACING, 3u)
+PB_CONST(PB_GPU_MIX_FAC_ADD, 4u)           /* an Add Shader: both at weight 1 */
 PB_CONST(PB_GPU_IN_V1_SLOTS, 16u)           /* the slots the v1 model reads */
 PB_CONST(PB_GPU_IN_SLOTS, 32u)
 /* in_tex: texture index in the low 28 bits, the channel above (0..3 R, G,

@@ -150,10 +150,11 @@ static void print_text(const pb_scene *s) {
       printf(" [Blender %s]", pb_material_model_name(b->model));
     if (b->model != PB_MODEL_GLTF && b->mix_with && b->mix_with <= s->material_count) {
       static const char *const facs[] = {"Fac %.3g", "Fresnel (IOR %.3g)", "Layer Weight Fresnel (Blend %.3g)",
-                                         "Layer Weight Facing (Blend %.3g)"};
-      printf(" [Mix Shader with '%s', its weight ", s->materials[b->mix_with - 1].name);
+                                         "Layer Weight Facing (Blend %.3g)", "1 (Add Shader)"};
+      printf(" [%s with '%s', its weight ", b->mix_fac == PB_MIX_FAC_ADD ? "Add Shader" : "Mix Shader",
+             s->materials[b->mix_with - 1].name);
       if (b->input_tex[PB_IN_MIX_FAC].tex >= 0) printf("a texture's");
-      else printf(facs[b->mix_fac <= PB_MIX_FAC_LAYER_FACING ? b->mix_fac : 0], b->input[PB_IN_MIX_FAC]);
+      else printf(facs[b->mix_fac <= PB_MIX_FAC_ADD ? b->mix_fac : 0], b->input[PB_IN_MIX_FAC]);
       printf("]");
     }
     printf("\n");

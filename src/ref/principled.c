@@ -1446,8 +1446,10 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
   if (!bm->mix_with || bm->mix_with > s->material_count) return;
   /* A Mix Shader (svm_node_mix_closure): the first shader's closures weigh
    * 1 - fac, the second's fac; the second takes the first's normals. */
-  float f = sat(mix_fac(s, surf, wo));
-  weigh_closures(b, 0, 1.0f - f);
+  /* An Add Shader (svm_node_add_closure): both at the incoming weight. */
+  int add = bm->mix_fac == PB_MIX_FAC_ADD;
+  float f = add ? 1.0f : sat(mix_fac(s, surf, wo));
+  weigh_closures(b, 0, add ? 1.0f : 1.0f - f);
   pb_surface s2 = *surf;
   s2.mat = &s->materials[bm->mix_with - 1];
   pb_bsdf b2;
@@ -1456,7 +1458,7 @@ void pb_blender_bsdf_setup(const pb_scene *s, const pb_surface *surf, v3 wo, pb_
   int n0 = b->ncl;
   for (int i = 0; i < b2.ncl && b->ncl < PB_CLOSURE_MAX; ++i) b->cl[b->ncl++] = b2.cl[i];
   weigh_closures(b, n0, f);
-  b->albedo = v3_add(v3_scale(b->albedo, 1.0f - f), v3_scale(b2.albedo, f));
+  b->albedo = v3_sat(v3_add(v3_scale(b->albedo, add ? 1.0f : 1.0f - f), v3_scale(b2.albedo, f)));
   b->sw_sum = 0.0f;
   for (int i = 0; i < b->ncl; ++i) b->sw_sum += b->cl[i].sample_weight;
 }

@@ -953,14 +953,16 @@ static pb_result read_mix(const reader *R, const pb_gltf_value *ext, pb_material
     return warn(R, "materials[%d]." EXT ".mix: a Mix Shader is not read here; its first shader is rendered", R->index);
   if (b->model != PB_MODEL_PRINCIPLED && b->model != PB_MODEL_DIFFUSE)
     return bad(R, "mix", "the %s model cannot be mixed (only BSDFs)", pb_blender_model_name(b));
-  static const char *const kinds[] = {"value", "fresnel", "layerFresnel", "layerFacing"};
+  static const char *const kinds[] = {"value", "fresnel", "layerFresnel", "layerFacing", "add"};
   int kind = 0;
-  if ((r = opt_enum(R, mx, "mix", "facFrom", kinds, 4, &kind)) != PB_OK) return r;
+  if ((r = opt_enum(R, mx, "mix", "facFrom", kinds, 5, &kind)) != PB_OK) return r;
   /* Fac 0..1; the Fresnel's IOR 0..1000; the Layer Weight's Blend 0..1
    * (the sockets' ranges). */
   const char *key = kind == 0 ? "fac" : kind == 1 ? "ior" : "blend";
   float v = kind == 1 ? 1.5f : 0.5f;
-  if (!pb_gltf_value_get(mx, key)) {
+  if (kind == PB_MIX_FAC_ADD) {
+    key = "fac"; /* unused: both weigh 1 */
+  } else if (!pb_gltf_value_get(mx, key)) {
     char path[32];
     snprintf(path, sizeof path, "mix.%s", key);
     return bad(R, path, "missing (required with facFrom '%s')", kinds[kind]);

@@ -92,12 +92,13 @@ typedef enum pb_blender_input {
 /* Where a Mix Shader's factor comes from (Cycles svm/fresnel.h, the same in
  * 3.4 and 4.5): its Fac (a constant or a texture), a Fresnel node (IOR), a
  * Layer Weight node's Fresnel or Facing output (Blend), each with its Normal
- * left unlinked (the interpolated normal). */
+ * left unlinked (the interpolated normal); or no factor: an Add Shader. */
 typedef enum pb_mix_fac {
   PB_MIX_FAC_VALUE = 0,
   PB_MIX_FAC_FRESNEL = 1,
   PB_MIX_FAC_LAYER_FRESNEL = 2,
   PB_MIX_FAC_LAYER_FACING = 3,
+  PB_MIX_FAC_ADD = 4, /* an Add Shader: both shaders at weight 1 */
 } pb_mix_fac;
 
 /* Subsurface method by what it does (Blender 3.4's RANDOM_WALK is 4.x's

@@ -7,6 +7,7 @@ the add-on's writer (photonbridge/writer.py) makes of it: two BSDFs of
 different closure kinds are written as the extension's "mix" (the factor
 from a constant, an image, a Fresnel node, a Layer Weight's Fresnel or
 Facing; the second shader's own colour attribute), without a warning; a
+Add Shader of two such BSDFs is "mix" with facFrom "add"; a
 constant Fac of 0 or 1 is the shader that weighs everything, without a
 warning; everything photonbridge does not render mixed (two shaders of one
 kind, a Fac from a Math node, an emitting Principled BSDF, a Transparent
@@ -116,6 +117,13 @@ def build():
     mat.node_tree.links.new(attr.outputs["Color"], made[1].inputs["Color"])
     cases["vcol_second"] = {"model": "diffuse", "mix": {"facFrom": "layerFresnel", "blend": 0.5},
                             "second": "glossy", "second_vcol": "color"}
+    mat, made, mix = mixed("add", 16.5, DIFFUSE, GLOSSY, None, 0.5)
+    nt = mat.node_tree
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(made[0].outputs[0], add.inputs[0])
+    nt.links.new(made[1].outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    cases["add"] = {"model": "diffuse", "mix": {"facFrom": "add"}, "second": "glossy"}
     mixed("same_kind", 10.5, DIFFUSE, ("ShaderNodeBsdfDiffuse", {"Roughness": 0.5}), None, 0.3)
     cases["same_kind"] = {"model": "diffuse", "warn": "both its shaders make diffuse closures"}
     mixed("math_fac", 12.0, DIFFUSE, GLOSSY, math_fac)

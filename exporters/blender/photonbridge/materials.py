@@ -584,10 +584,10 @@ class MaterialWriter:
                 return {"fac": min(max(float(_value(sock)), 0.0), 1.0), "textures": {"fac": entry}}
         return None
 
-    def _mix(self, node, a, b):
-        """A Mix Shader of two BSDFs that photonbridge renders as Cycles does:
-        {"node", "shader" (the second), "fac"}; None (with the reason) where
-        it does not."""
+    def _mix(self, node, a, b, fac=None):
+        """A Mix Shader (or, fac {"facFrom": "add"}, an Add Shader) of two BSDFs
+        that photonbridge renders as Cycles does: {"node", "shader" (the
+        second), "fac"}; None (with the reason) where it does not."""
         if a is None or b is None or a.type not in self.MIXABLE or b.type not in self.MIXABLE:
             return None, "it mixes a shader other than a BSDF"
         if self._emits_or_clear(a) or self._emits_or_clear(b):
@@ -595,7 +595,7 @@ class MaterialWriter:
         shared = self._closure_kinds(a) & self._closure_kinds(b)
         if shared:
             return None, "both its shaders make %s closures" % sorted(shared)[0]
-        fac = self._mix_fac(node)
+        fac = fac if fac is not None else self._mix_fac(node)
         if fac is None:
             return None, "its Fac is driven by a node that is not translated"
         na, nb = _source(a.inputs["Normal"]) if "Normal" in a.inputs else None, \
@@ -679,7 +679,13 @@ class MaterialWriter:
                         node = other
                         break
                 else:
-                    self._warn_node(node, "only its first shader input is written")
+                    why = "a Transparent or Emission shader is mixed in too"
+                    if extra["alpha"] == 1.0 and extra["alpha_link"] is None and extra["emission"] is None:
+                        mix, why = self._mix(node, a, b, {"facFrom": "add"})
+                        if mix is not None:
+                            extra["mix"] = mix
+                            return a, extra
+                    self._warn_node(node, "only its first shader input is written (%s)" % why)
                     node = a
                 continue
             return node, extra

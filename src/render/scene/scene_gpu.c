@@ -162,6 +162,7 @@ _Static_assert(PB_SAME(PB_GPU_IN_METALLIC, PB_IN_METALLIC) && PB_SAME(PB_GPU_IN_
                    PB_SAME(PB_GPU_MIX_FAC_FRESNEL, PB_MIX_FAC_FRESNEL) &&
                    PB_SAME(PB_GPU_MIX_FAC_LAYER_FRESNEL, PB_MIX_FAC_LAYER_FRESNEL) &&
                    PB_SAME(PB_GPU_MIX_FAC_LAYER_FACING, PB_MIX_FAC_LAYER_FACING) &&
+                   PB_SAME(PB_GPU_MIX_FAC_ADD, PB_MIX_FAC_ADD) &&
                    (int)PB_GPU_IN_V1_SLOTS > (int)PB_IN_SUBSURFACE &&
                    PB_SAME(PB_GPU_IN_SLOTS, sizeof ((pb_gpu_material *)0)->in_value / sizeof(float)),
                "pb_gpu_material.in_value");
