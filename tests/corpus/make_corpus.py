@@ -606,6 +606,15 @@ def broken_cases(C, png):
 
     case("blender_not_object", EXIT_INVALID, X + ": a string, expected an object", blender("principled"))
     case("blender_model_missing", EXIT_INVALID, X + ".model: missing", blender({"principled": {}}))
+    # A Mix Shader ("mix"): its second shader missing, a mix inside it, a
+    # factor past its range.
+    glossy = {"model": "glossy", "glossy": {"roughness": 0.2}}
+    case("blender_mix_no_shader", EXIT_INVALID, X + ".mix.shader: missing",
+         blender({"model": "diffuse", "mix": {"fac": 0.5}}))
+    case("blender_mix_nested", EXIT_INVALID, X + ".mix.shader.mix: a Mix Shader inside a Mix Shader is not read",
+         blender({"model": "diffuse", "mix": {"fac": 0.5, "shader": dict(glossy, mix={"fac": 0.5, "shader": glossy})}}))
+    case("blender_mix_blend_range", EXIT_INVALID, X + ".mix.blend: 1.5 is outside [0, 1]",
+         blender({"model": "diffuse", "mix": {"facFrom": "layerFacing", "blend": 1.5, "shader": glossy}}))
     case("blender_model_bogus", EXIT_INVALID,
          X + ".model: 'toon' is not principled, diffuse, emission, holdout, principled2, metallic, sheen, glossy, glass or refraction",
          blender({"model": "toon"}))
@@ -1330,6 +1339,21 @@ def valid_cases(C, png):
         "model": "principled", "principled": {"subsurfaceMethod": "RANDOM_WALK_SKIN"}}}
     C.gltf(V, "blender_principled2", d, bin0, png, code=EXIT_OK,
            expect=["triangles=%d" % BASE_TRIANGLES, 'has="model": "principled2"'])
+    # Mix and Add Shaders of two BSDFs: a Diffuse and a Glossy by a Layer
+    # Weight, a Principled v2 and a Metallic BSDF by a texture, an Add Shader.
+    d = copy.deepcopy(doc0)
+    d["extensionsUsed"].append("PHOTONBRIDGE_blender")
+    d["extensions"] = dict(d.get("extensions", {}), PHOTONBRIDGE_blender={"version": 1, "blender": "4.5.1 LTS"})
+    d["materials"][0]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "diffuse", "diffuse": {"color": [0.8, 0.3, 0.1, 1.0]},
+        "mix": {"facFrom": "layerFresnel", "blend": 0.3,
+                "shader": {"model": "glossy", "glossy": {"roughness": 0.2, "distribution": "GGX"}}}}}
+    d["materials"][1]["extensions"] = {"PHOTONBRIDGE_blender": {
+        "model": "principled2", "principled2": {"roughness": 0.7},
+        "mix": {"fac": 0.5, "textures": {"fac": {"index": 0, "channel": "G"}},
+                "shader": {"model": "metallic", "metallic": {"roughness": 0.25}}}}}
+    C.gltf(V, "blender_mix", d, bin0, png, code=EXIT_OK,
+           expect=["triangles=%d" % BASE_TRIANGLES, 'has="model": "metallic"'])
     # A Blender texture link is a glTF textureInfo: its uv set and
     # KHR_texture_transform go the glTF textures' way (a second pb_texture
     # for the transformed read of the same image).
