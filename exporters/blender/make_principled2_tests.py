@@ -211,22 +211,11 @@ BACK_LIGHT = ("sheen", "sheen_bsdf")
 def stripe_mask(out_dir):
     """A Non-Color 64 x 64 grey PNG beside the glTF: 8 stripes along U of 0.15
     and 0.85."""
-    import struct
-    import zlib
     n = 64
     rows = b""
     for y in range(n):
         rows += b"\x00" + bytes(round(255.0 * (0.85 if (x * 8 // n) % 2 else 0.15)) for x in range(n))
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
-    path = os.path.join(out_dir, "mask.png")
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 0, 0, 0, 0)) +
-                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
-    img = bpy.data.images.load(path)
-    img.colorspace_settings.name = "Non-Color"
-    return img
+    return v1.non_color_png(os.path.join(out_dir, "mask.png"), n, 0, rows)
 
 
 def mix_shader(mat, p, spec, out_dir):

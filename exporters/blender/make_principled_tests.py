@@ -183,13 +183,27 @@ def build_studio(inputs):
     samples.add_camera((0.0, -5.0, 1.6), (0.0, 0.5, 0.6), 40.0)
 
 
+def non_color_png(path, n, color_type, rows):
+    """Writes an n x n 8-bit PNG (color_type 0 grey, 2 RGB; rows with their
+    filter bytes) and loads it into Blender as a Non-Color image."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, color_type, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    img = bpy.data.images.load(path)
+    img.colorspace_settings.name = "Non-Color"
+    return img
+
+
 def normal_map(mat, p, strength, out_dir, socket="Normal"):
     """A Non-Color stripe normal map (64 x 64 PNG beside the glTF: 8 stripes
     along U whose normals tilt by +-0.6 along the tangent) through a
     tangent-space Normal Map node of the given Strength into p's `socket`."""
     import math
-    import struct
-    import zlib
     n = 64
     rows = b""
     for y in range(n):
@@ -199,15 +213,7 @@ def normal_map(mat, p, strength, out_dir, socket="Normal"):
             ln = math.sqrt(tx * tx + 1.0)
             row += bytes(round(255.0 * (0.5 + 0.5 * c)) for c in (tx / ln, 0.0, 1.0 / ln))
         rows += row
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
-    path = os.path.join(out_dir, "stripes.png")
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 2, 0, 0, 0)) +
-                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
-    img = bpy.data.images.load(path)
-    img.colorspace_settings.name = "Non-Color"
+    img = non_color_png(os.path.join(out_dir, "stripes.png"), n, 2, rows)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = img
