@@ -198,8 +198,8 @@ static void print_text(const pb_scene *s) {
          pl.blender_materials ? "on (glossy eye paths)" : "off", pl.alpha ? "on" : "off");
   if (pl.blender_materials) {
     printf("\nclosures  ");
-    for (unsigned k = 0; k < PB_RENDER_CLOSURE_BITS; ++k)
-      if (pl.closures >> k & 1u) printf(" %s", pb_render_closure_names[k]);
+    for (unsigned k = 0; k < PB_BLENDER_CL_BITS; ++k)
+      if (pl.closures >> k & 1u) printf(" %s", pb_blender_closure_names[k]);
     printf(" (the Blender materials' closures the GPU passes compile)");
   }
   /* The density estimators (render --estimator; render/estimate/estimator.h): what

@@ -958,16 +958,17 @@ static pb_result read_mix(const reader *R, const pb_gltf_value *ext, pb_material
   if ((r = opt_enum(R, mx, "mix", "facFrom", kinds, 5, &kind)) != PB_OK) return r;
   /* Fac 0..1; the Fresnel's IOR 0..1000; the Layer Weight's Blend 0..1
    * (the sockets' ranges). */
+  /* An Add Shader has no factor (both weigh 1). */
   const char *key = kind == 0 ? "fac" : kind == 1 ? "ior" : "blend";
   float v = kind == 1 ? 1.5f : 0.5f;
-  if (kind == PB_MIX_FAC_ADD) {
-    key = "fac"; /* unused: both weigh 1 */
-  } else if (!pb_gltf_value_get(mx, key)) {
-    char path[32];
-    snprintf(path, sizeof path, "mix.%s", key);
-    return bad(R, path, "missing (required with facFrom '%s')", kinds[kind]);
+  if (kind != PB_MIX_FAC_ADD) {
+    if (!pb_gltf_value_get(mx, key)) {
+      char path[32];
+      snprintf(path, sizeof path, "mix.%s", key);
+      return bad(R, path, "missing (required with facFrom '%s')", kinds[kind]);
+    }
+    if ((r = opt_number(R, mx, "mix", key, 0.0, kind == 1 ? 1000.0 : 1.0, &v)) != PB_OK) return r;
   }
-  if ((r = opt_number(R, mx, "mix", key, 0.0, kind == 1 ? 1000.0 : 1.0, &v)) != PB_OK) return r;
   b->mix_fac = (pb_mix_fac)kind;
   b->input[PB_IN_MIX_FAC] = v;
   b->input_tex[PB_IN_MIX_FAC].tex = PB_NO_TEXTURE;
@@ -1000,11 +1001,10 @@ static pb_result read_mix(const reader *R, const pb_gltf_value *ext, pb_material
   }
   uint32_t shared = pb_blender_closures(m) & pb_blender_closures(&second) & PB_BLENDER_CL_SLOTS;
   if (shared) {
-    static const char *const kind_names[] = {"diffuse", "sheen", "specular", "reflection", "refraction", "coat"};
     int k = 0;
     while (!(shared >> k & 1u)) ++k;
     return warn(R, "materials[%d]." EXT ".mix: both shaders can make a %s closure, which is not rendered mixed; "
-                   "only the first shader is rendered", R->index, kind_names[k]);
+                   "only the first shader is rendered", R->index, pb_blender_closure_names[k]);
   }
   uint32_t at = 0;
   if ((r = R->io->add_material(R->io->user, &second, &at)) != PB_OK) return r;

@@ -98,6 +98,9 @@ const char *pb_blender_model_name(const pb_blender_material *b) {
  * wherever its weight could pass the cutoff somewhere, so that no closure
  * the shader would make is compiled out and two mixed shaders that could
  * both make one kind are told apart. */
+const char *const pb_blender_closure_names[PB_BLENDER_CL_BITS] = {
+    "diffuse", "sheen", "specular", "reflection", "refraction", "coat", "multiscatter_walk", "principled_v1", "mix"};
+
 uint32_t pb_blender_closures(const pb_material *m) {
   const pb_blender_material *b = &m->blender;
   uint32_t mix = b->mix_with ? PB_BLENDER_CL_MIX : 0;

@@ -301,8 +301,12 @@ enum {
   PB_BLENDER_CL_MULTI_WALK = 1u << 6,
   PB_BLENDER_CL_V1 = 1u << 7,
   PB_BLENDER_CL_MIX = 1u << 8,
+  PB_BLENDER_CL_BITS = 9,
 };
 uint32_t pb_blender_closures(const pb_material *m);
+/* Bit k's name: diffuse, sheen, specular, reflection, refraction, coat,
+ * multiscatter_walk, principled_v1, mix (info, --json, the loader's warnings). */
+extern const char *const pb_blender_closure_names[PB_BLENDER_CL_BITS];
 /* The extension's model of a Blender material: principled2, metallic, sheen
  * or pb_material_model_name's. */
 const char *pb_blender_model_name(const pb_blender_material *b);

@@ -6,8 +6,6 @@
 #include "core/json.h"
 #include "shared/pb_gpu.h"
 
-const char *const pb_render_closure_names[PB_RENDER_CLOSURE_BITS] = {
-    "diffuse", "sheen", "specular", "reflection", "refraction", "coat", "multiscatter_walk", "principled_v1", "mix"};
 
 /* The GPU's closure bits are the scene's closure kinds (scene.h
  * pb_blender_closures). */
@@ -62,8 +60,8 @@ void pb_render_plan_json(struct pb_json *j, const char *key, const pb_render_pla
   pb_json_bool(j, "blender_materials", p->blender_materials);
   pb_json_bool(j, "multiscatter_ggx", p->multi_ggx);
   pb_json_begin_array(j, "blender_closures");
-  for (unsigned k = 0; k < PB_RENDER_CLOSURE_BITS; ++k)
-    if (p->closures >> k & 1u) pb_json_string(j, NULL, pb_render_closure_names[k]);
+  for (unsigned k = 0; k < PB_BLENDER_CL_BITS; ++k)
+    if (p->closures >> k & 1u) pb_json_string(j, NULL, pb_blender_closure_names[k]);
   pb_json_end_array(j);
   pb_json_bool(j, "transparent_shadows", p->alpha);
   pb_json_bool(j, "shading_normal_correction", p->normal_maps && p->photons);

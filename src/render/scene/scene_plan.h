@@ -51,8 +51,6 @@ typedef struct pb_render_plan {
 } pb_render_plan;
 
 /* The names of PB_CLOSURES_*'s bits, lowest first (info, --json). */
-#define PB_RENDER_CLOSURE_BITS 9
-extern const char *const pb_render_closure_names[PB_RENDER_CLOSURE_BITS];
 
 /* direct_only: render --direct-only (no photon stages). */
 void pb_render_plan_of(const pb_scene *s, int direct_only, pb_render_plan *out);
