@@ -16,9 +16,9 @@ usage: principled_lobes.py PHOTONBRIDGE EXR_PROBE WORKDIR --renderer ref|gpu
 exporters/blender/make_principled2_tests.py) against their Cycles 4.x
 renders, with the given thresholds.
 --validate LABEL (repeatable, --renderer gpu): that case (a scene's name, or
-NAME@R1 for its followed-glossy render) runs with PB_VK_VALIDATION=1, every
-other case with PB_VK_VALIDATION=0. Without --validate each render inherits
-the environment. On lavapipe the layers cost about 2 s of CPU a process on
+NAME@R1 for its followed-glossy render) runs with --validation, every other
+case with PB_VK_VALIDATION=0. Without --validate each render inherits the
+environment. The GPU's cases run as one `photonbridge batch`. On lavapipe the layers cost about 2 s of CPU a process on
 these materials (checking the large shader modules; more under load) and a
 little more each sample (each submission checked), whatever the picture, so
 a few scenes with every pass and specialization the lobes use carry the API
@@ -28,6 +28,7 @@ noise per scene is in tests/data/principled/cycles.json (every scene is far
 below these thresholds: 46-139 dB, the studio 62-63 dB)."""
 import json
 import os
+import shlex
 import subprocess
 import sys
 
@@ -156,6 +157,36 @@ def main(argv):
         cases += [(n + "@R1", n, ["--glossy-path-roughness", "1"]) for n in names if n in FOLLOWED]
     failed = 0
     rows = []
+    # The GPU renders every case as one `photonbridge batch` (the device and
+    # its compiled pipelines shared: scenes of one closure set create their
+    # pipelines once); a validated case's job adds --validation (a device of
+    # its own).
+    jobs = {}
+    if renderer == "gpu":
+        lines = []
+        for label, name, extra in cases:
+            scene = os.path.join(DATA, name, name + ".gltf")
+            out = os.path.join(work, "%s_%s.exr" % (label, renderer))
+            spp = spp_all or SPP_SCENE[renderer].get(name, SPP[renderer])
+            cmd = ["render", scene, "-o", out, "--width", str(cyc[name]["width"]), "--spp", str(spp), "-q"]
+            cmd += GPU_OPTS.get(name, ["--photons", "16384"]) + extra
+            if label in validate:
+                cmd.append("--validation")
+            lines.append(" ".join(shlex.quote(c) for c in cmd))
+        jobs_path = os.path.join(work, "jobs.txt")
+        with open(jobs_path, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        env = dict(os.environ, PB_VK_VALIDATION="0") if validate else None
+        p = subprocess.run([exe, "batch", jobs_path], capture_output=True, text=True, env=env)
+        done = [json.loads(l) for l in p.stdout.splitlines() if l.startswith("{")]
+        for (label, _, _), d in zip(cases, done):
+            jobs[label] = d
+        made = sum(d["pipelines_created"] for d in done)
+        taken = sum(d["pipelines_reused"] for d in done)
+        print("batch: %d of %d jobs reported, %d pipelines created, %d from the cache, %.0f s" % (
+            len(done), len(cases), made, taken, sum(d["wall_ms"] for d in done) / 1e3))
+        if p.returncode:
+            print("batch exited %d: %s" % (p.returncode, p.stderr.strip()[-4000:]))
     for label, name, extra in cases:
         scene = os.path.join(DATA, name, name + ".gltf")
         ref = os.path.join(DATA, name, "cycles.exr")
@@ -166,15 +197,13 @@ def main(argv):
             cmd = [exe, "reference", scene, "-o", out, "--width", w, "--spp", str(spp), "-q"]
             if name in STUDIO:
                 cmd += ["--max-bounces", "64"]  # as Cycles' render (the lobes' paths end sooner)
-        else:
-            cmd = [exe, "render", scene, "-o", out, "--width", w, "--spp", str(spp), "-q"]
-            cmd += GPU_OPTS.get(name, ["--photons", "16384"]) + extra
-        env = None
-        if validate:
-            env = dict(os.environ, PB_VK_VALIDATION="1" if label in validate else "0")
-        p = subprocess.run(cmd, capture_output=True, text=True, env=env)
-        if p.returncode:
-            print("FAIL %s: %s exited %d: %s" % (label, renderer, p.returncode, p.stderr.strip()))
+            p = subprocess.run(cmd, capture_output=True, text=True)
+            if p.returncode:
+                print("FAIL %s: %s exited %d: %s" % (label, renderer, p.returncode, p.stderr.strip()))
+                failed += 1
+                continue
+        elif label not in jobs or jobs[label]["exit"]:
+            print("FAIL %s: gpu job %s" % (label, "exited %d" % jobs[label]["exit"] if label in jobs else "not run"))
             failed += 1
             continue
         js = os.path.join(work, "%s_%s.json" % (label, renderer))
@@ -192,7 +221,7 @@ def main(argv):
         failed += not ok
         rows.append((label, psnr, dm, cyc[name]["noise_psnr_db"]))
         print("%s %-22s %s %3d spp%s: PSNR %6.2f dB, mean %+.3f %% (photonbridge %.5f, Cycles %.5f; Cycles' noise %.1f dB)" % (
-            "ok  " if ok else "FAIL", label, renderer, spp, ", validated" if env and label in validate else "", psnr, 100 * dm, ma, mb, cyc[name]["noise_psnr_db"]))
+            "ok  " if ok else "FAIL", label, renderer, spp, ", validated" if label in validate else "", psnr, 100 * dm, ma, mb, cyc[name]["noise_psnr_db"]))
     if table:
         with open(table, "w") as f:
             f.write("| scene | PSNR | mean | Cycles' noise |\n|---|---:|---:|---:|\n")

@@ -359,6 +359,76 @@ void pb_cli_warn_cpu_device(const char *cmd, pb_gpu *g) {
                 "slower than on a GPU (see 'photonbridge info --devices')", cmd, pb_gpu_device_name(g));
 }
 
+/* Devices `batch` keeps between its jobs, each with the description it was
+ * made from (presentation hooks are never kept: `view` makes its own). */
+enum { KEPT_MAX = 4 };
+static struct kept_gpu {
+  pb_gpu *g;
+  pb_gpu_desc d;
+  int busy;
+  pb_gpu_pipeline_stats at_open;
+} kept[KEPT_MAX];
+static int keeping;
+static uint64_t job_created, job_reused; /* pipelines of kept devices since the last reading */
+
+static int same_desc(const pb_gpu_desc *a, const pb_gpu_desc *b) {
+  return a->device_set == b->device_set && (!a->device_set || a->device == b->device) &&
+         a->validation == b->validation && a->max_timestamps == b->max_timestamps &&
+         a->memory_limit == b->memory_limit && a->traversal == b->traversal && !a->instance_extension_count &&
+         !b->instance_extension_count && !a->can_present && !b->can_present;
+}
+
+pb_result pb_cli_gpu_open(const pb_gpu_desc *d, pb_gpu **out) {
+  for (int i = 0; keeping && i < KEPT_MAX; ++i)
+    if (kept[i].g && !kept[i].busy && same_desc(&kept[i].d, d)) {
+      kept[i].busy = 1;
+      kept[i].at_open = pb_gpu_pipeline_stats_get(kept[i].g);
+      pb_gpu_restart(kept[i].g);
+      *out = kept[i].g;
+      return PB_OK;
+    }
+  pb_result r = pb_gpu_create(d, out);
+  if (r != PB_OK || !keeping || d->instance_extension_count || d->can_present) return r;
+  int slot = -1;
+  for (int i = 0; i < KEPT_MAX && slot < 0; ++i)
+    if (!kept[i].g) slot = i;
+  for (int i = 0; i < KEPT_MAX && slot < 0; ++i) /* all taken: the first idle one goes */
+    if (!kept[i].busy) {
+      pb_gpu_destroy(kept[i].g);
+      kept[i].g = NULL;
+      slot = i;
+    }
+  if (slot >= 0) kept[slot] = (struct kept_gpu){.g = *out, .d = *d, .busy = 1, .at_open = pb_gpu_pipeline_stats_get(*out)};
+  return PB_OK;
+}
+
+void pb_cli_gpu_close(pb_gpu *g) {
+  if (!g) return;
+  for (int i = 0; i < KEPT_MAX; ++i)
+    if (kept[i].g == g) {
+      pb_gpu_pipeline_stats now = pb_gpu_pipeline_stats_get(g);
+      job_created += now.created - kept[i].at_open.created;
+      job_reused += now.reused - kept[i].at_open.reused;
+      kept[i].busy = 0;
+      return;
+    }
+  pb_gpu_destroy(g);
+}
+
+void pb_cli_gpu_job_pipelines(uint64_t *created, uint64_t *reused) {
+  *created = job_created, *reused = job_reused;
+  job_created = job_reused = 0;
+}
+
+void pb_cli_gpu_keep(int on) {
+  keeping = on;
+  if (on) return;
+  for (int i = 0; i < KEPT_MAX; ++i) {
+    pb_gpu_destroy(kept[i].g);
+    kept[i] = (struct kept_gpu){0};
+  }
+}
+
 void pb_cli_warn_clip(const char *cmd, const pb_scene *s, int camera) {
   if (!s || camera < 0 || (uint32_t)camera >= s->camera_count) return;
   const pb_camera *c = &s->cameras[camera];

@@ -90,6 +90,20 @@ int pb_cli_exit(const pb_command *cmd, pb_result r);
 typedef struct pb_gpu pb_gpu;
 void pb_cli_warn_cpu_device(const char *cmd, pb_gpu *g);
 
+/* The Vulkan device of a rendering command. pb_cli_gpu_open makes it, and
+ * pb_cli_gpu_close destroys it, except while `batch` keeps devices
+ * (pb_cli_gpu_keep(1)): then close keeps it, with its compiled pipelines,
+ * for the next job, and open hands a kept device made from an equal
+ * description back (its per-render statistics restarted: pb_gpu_restart).
+ * pb_cli_gpu_keep(0) destroys the kept devices. */
+typedef struct pb_gpu_desc pb_gpu_desc;
+pb_result pb_cli_gpu_open(const pb_gpu_desc *d, pb_gpu **out);
+void pb_cli_gpu_close(pb_gpu *g);
+void pb_cli_gpu_keep(int on);
+/* Pipelines created and taken from the cache by kept devices between their
+ * open and close since the last call (`batch`'s line for each job). */
+void pb_cli_gpu_job_pipelines(uint64_t *created, uint64_t *reused);
+
 /* One warning line when camera `camera` of s can see no surface because its
  * clip range excludes every vertex (pb_camera_clip_sees): the image would
  * be the world alone, without a word. */

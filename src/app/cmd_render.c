@@ -473,7 +473,7 @@ int pb_cmd_render(int argc, char **argv) {
   pb_gpu_desc gd = {.device_set = o.device != UINT32_MAX, .device = o.device, .validation = o.validation,
                     .traversal = o.traversal,
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
-  r = pb_gpu_create(&gd, &g);
+  r = pb_cli_gpu_open(&gd, &g); /* `batch` keeps it for its next job */
   if (r != PB_OK) goto done;
   pb_cli_warn_cpu_device("render", g);
   if (o.set.estimator == PB_ESTIMATOR_SPLAT && !o.direct_only) {
@@ -574,7 +574,7 @@ done:
   pb_color_destroy(color);
   pb_render_result_destroy(&res);
   pb_gpu_scene_destroy(g, &gs);
-  pb_gpu_destroy(g);
+  pb_cli_gpu_close(g);
   pb_scene_destroy(&s);
   return pb_cli_exit(cmd, r);
 }

@@ -19,5 +19,6 @@ int pb_cmd_validate(int argc, char **argv);
 int pb_cmd_view(int argc, char **argv);
 int pb_cmd_serve(int argc, char **argv);
 int pb_cmd_settings(int argc, char **argv);
+int pb_cmd_batch(int argc, char **argv);
 
 #endif

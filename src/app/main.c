@@ -33,6 +33,8 @@ const pb_command pb_commands[] = {
      pb_cmd_compare},
     {"validate", "SCENE -o DIR [options]", "Render with every renderer and compare them: an HTML report.",
      pb_cmd_validate},
+    {"batch", "JOBS|- [options]", "Render many jobs in one process, compiling pipelines once.",
+     pb_cmd_batch},
     {"view", "SCENE [options]", "Interactive window: progressive refinement, fly, cameras, AOVs.", pb_cmd_view},
     {"serve", "SCENE [options]", "Persistent session of JSON-line requests (Blender's viewport).", pb_cmd_serve},
     {"settings", "[--python]", "The render settings: options, serve keys, ranges, defaults.", pb_cmd_settings},

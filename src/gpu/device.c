@@ -460,6 +460,7 @@ void pb_gpu_destroy(pb_gpu *g) {
       if (g->subs[i].fence) vkDestroyFence(g->device, g->subs[i].fence, NULL);
     }
     if (g->pool) vkDestroyCommandPool(g->device, g->pool, NULL);
+    pb_gpu_pipe_cache_destroy(g);
     vkDestroyDevice(g->device, NULL);
   }
   if (g->messenger) {
@@ -739,6 +740,13 @@ VkDevice pb_gpu_vk_device(const pb_gpu *g) { return g->device; }
 uint32_t pb_gpu_validation_errors(const pb_gpu *g) { return g->validation_errors; }
 uint64_t pb_gpu_memory_in_use(const pb_gpu *g) { return g->memory_live; }
 uint64_t pb_gpu_memory_peak(const pb_gpu *g) { return g->memory_peak; }
+
+void pb_gpu_restart(pb_gpu *g) {
+  (void)pb_gpu_settle(g);
+  g->memory_peak = g->memory_live;
+  g->validation_errors = 0;
+  g->validation_first[0] = 0;
+}
 uint64_t pb_gpu_memory_limit(const pb_gpu *g) { return g->memory_limit; }
 int pb_gpu_validation_enabled(const pb_gpu *g) { return g->validation; }
 

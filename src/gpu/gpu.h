@@ -120,6 +120,11 @@ enum { PB_GPU_TRAVERSAL_AUTO = 0, PB_GPU_TRAVERSAL_BVH = 1, PB_GPU_TRAVERSAL_RAY
  * GPU, then integrated, virtual, and last a CPU implementation (lavapipe). */
 pb_result pb_gpu_create(const pb_gpu_desc *desc, pb_gpu **out);
 void pb_gpu_destroy(pb_gpu *g);
+/* A device kept for another render (`photonbridge batch`): its per-render
+ * readings start again (the buffer-memory peak from what is live now, the
+ * validation messages counted for pb_gpu_submit's check); its pipeline
+ * cache and totals stay. */
+void pb_gpu_restart(pb_gpu *g);
 
 /* The Vulkan objects behind g, for a presenter sharing the render device
  * (view/present.h): one VkDevice, one queue, used from one thread. */
@@ -251,7 +256,13 @@ typedef struct pb_gpu_pipeline_desc {
   uint32_t spec_count;
 } pb_gpu_pipeline_desc;
 
+/* A pipeline: the compiled module and layouts come from the device's own
+ * cache (pipeline.c, shared with every pipeline made from the same SPIR-V,
+ * bindings, push block and specialization); the descriptor pool and set are
+ * its own. */
+struct pb_gpu_pipe_entry;
 typedef struct pb_gpu_pipeline {
+  struct pb_gpu_pipe_entry *entry; /* the device's cached objects below */
   VkShaderModule module;
   VkDescriptorSetLayout set_layout;
   VkPipelineLayout layout;
@@ -266,6 +277,16 @@ typedef struct pb_gpu_pipeline {
 pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *desc,
                                  pb_gpu_pipeline *out);
 void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p);
+/* The device's pipeline cache since it was made: pipelines created (a
+ * driver compile: seconds for a large kernel on lavapipe) and taken from
+ * the cache (the next frame context of a session after a reload or resize,
+ * the next job of `photonbridge batch`), the creations' wall time. */
+typedef struct pb_gpu_pipeline_stats {
+  uint64_t created, reused, evicted;
+  double create_ms;
+  uint32_t cached; /* entries held now */
+} pb_gpu_pipeline_stats;
+pb_gpu_pipeline_stats pb_gpu_pipeline_stats_get(const pb_gpu *g);
 /* Points bindings 0 .. count-1 at whole buffers; count == binding_count.
  * The acceleration-structure bindings (accel_bindings) take NULL here and
  * are set by pb_gpu_pipeline_bind_accel. */

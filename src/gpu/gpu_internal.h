@@ -57,9 +57,15 @@ struct pb_gpu {
   uint64_t next_buffer_id;
   uint64_t memory_limit, memory_live, memory_peak; /* bytes; limit 0: none */
   pb_gpu_transfers transfers; /* pb_gpu_buffer_upload / _download totals */
+  /* The pipeline cache (pipeline.c): every entry, most recently used first. */
+  struct pb_gpu_pipe_entry *pipes;
+  pb_gpu_pipeline_stats pipe_stats;
   int can_present;            /* pb_gpu_vk */
   const char *present_reason;
 };
+
+/* Destroys every cached pipeline (pb_gpu_destroy, the device idle). */
+void pb_gpu_pipe_cache_destroy(pb_gpu *g);
 
 /* Waits for every pending submission (pb_gpu_wait) and makes the deferred
  * host writes; every host access to GPU objects through this API that

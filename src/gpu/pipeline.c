@@ -3,23 +3,11 @@
  * queries), an optional push-constant block, and specialization
  * constants so that a scene's pipeline holds only the features it uses. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/log.h"
 #include "gpu/gpu_internal.h"
-
-void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p) {
-  if (!p) return;
-  if (p->pipeline) (void)pb_gpu_settle(g); /* a pending submission may use it */
-  if (g && g->device) {
-    if (p->pipeline) vkDestroyPipeline(g->device, p->pipeline, NULL);
-    if (p->layout) vkDestroyPipelineLayout(g->device, p->layout, NULL);
-    if (p->pool) vkDestroyDescriptorPool(g->device, p->pool, NULL);
-    if (p->set_layout) vkDestroyDescriptorSetLayout(g->device, p->set_layout, NULL);
-    if (p->module) vkDestroyShaderModule(g->device, p->module, NULL);
-  }
-  memset(p, 0, sizeof *p);
-}
 
 static pb_result validate(const pb_gpu_pipeline_desc *d) {
   const char *n = d->name ? d->name : "pipeline";
@@ -37,26 +25,115 @@ static pb_result validate(const pb_gpu_pipeline_desc *d) {
   return PB_OK;
 }
 
-pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gpu_pipeline *p) {
+/* The device's pipeline cache. Creating a compute pipeline compiles its
+ * kernel: seconds for the large shading kernels on lavapipe (SPIR-V to NIR
+ * and its optimisation are paid at every creation: Mesa 22.3 keeps only the
+ * LLVM code on disk), a noticeable pause on GPU drivers. A pass made again
+ * for the same SPIR-V, bindings, push block and specialization (the next
+ * frame context of `view` or `serve` after a reload or a new size, the next
+ * job of `photonbridge batch`) takes the compiled pipeline from here; each
+ * pb_gpu_pipeline keeps its own descriptor pool and set. Entries no
+ * pipeline uses stay, up to PIPE_KEEP, the least recently used dropped
+ * first. */
+enum { PIPE_KEEP = 160 };
+
+struct pb_gpu_pipe_entry {
+  struct pb_gpu_pipe_entry *next;
+  const uint32_t *spirv;
+  size_t spirv_bytes;
+  uint32_t binding_count, accel_bindings, push_bytes, spec_count;
+  uint32_t spec[PB_GPU_MAX_SPEC];
+  VkShaderModule module;
+  VkDescriptorSetLayout set_layout;
+  VkPipelineLayout layout;
+  VkPipeline pipeline;
+  uint32_t users; /* pb_gpu_pipelines holding it */
+};
+
+static void entry_free(pb_gpu *g, struct pb_gpu_pipe_entry *e) {
+  if (g && g->device) {
+    if (e->pipeline) vkDestroyPipeline(g->device, e->pipeline, NULL);
+    if (e->layout) vkDestroyPipelineLayout(g->device, e->layout, NULL);
+    if (e->set_layout) vkDestroyDescriptorSetLayout(g->device, e->set_layout, NULL);
+    if (e->module) vkDestroyShaderModule(g->device, e->module, NULL);
+  }
+  free(e);
+}
+
+void pb_gpu_pipe_cache_destroy(pb_gpu *g) {
+  while (g->pipes) {
+    struct pb_gpu_pipe_entry *e = g->pipes;
+    g->pipes = e->next;
+    entry_free(g, e);
+  }
+  g->pipe_stats.cached = 0;
+}
+
+pb_gpu_pipeline_stats pb_gpu_pipeline_stats_get(const pb_gpu *g) { return g->pipe_stats; }
+
+/* Drops the least recently used entries nothing holds beyond PIPE_KEEP
+ * (the list is in order of use, most recent first). */
+static void cache_trim(pb_gpu *g) {
+  uint32_t idle = 0;
+  for (struct pb_gpu_pipe_entry *e = g->pipes; e; e = e->next) idle += e->users == 0;
+  if (idle <= PIPE_KEEP) return;
+  (void)pb_gpu_settle(g); /* a pending submission may still use an idle pipeline */
+  struct pb_gpu_pipe_entry **link = &g->pipes;
+  uint32_t seen = 0;
+  while (*link) {
+    struct pb_gpu_pipe_entry *e = *link;
+    if (e->users == 0 && ++seen > PIPE_KEEP) {
+      *link = e->next;
+      entry_free(g, e);
+      g->pipe_stats.evicted++, g->pipe_stats.cached--;
+      continue;
+    }
+    link = &e->next;
+  }
+}
+
+void pb_gpu_pipeline_destroy(pb_gpu *g, pb_gpu_pipeline *p) {
+  if (!p) return;
+  if (p->pool) (void)pb_gpu_settle(g); /* a pending submission may use its set */
+  if (g && g->device && p->pool) vkDestroyDescriptorPool(g->device, p->pool, NULL);
+  if (p->entry && p->entry->users) p->entry->users--;
   memset(p, 0, sizeof *p);
-  pb_result r = validate(d);
-  if (r != PB_OK) return r;
-  const char *name = d->name ? d->name : "pipeline";
-  if (d->accel_bindings && !g->limits.ray_query)
-    return pb_fail(PB_ERR_NOT_AVAILABLE, "%s: binds an acceleration structure; %s has no ray queries", name, g->name);
-  uint32_t accel_count = 0;
-  for (uint32_t i = 0; i < d->binding_count; ++i) accel_count += d->accel_bindings >> i & 1u;
+  if (g) cache_trim(g);
+}
+
+/* The cached entry for d, found (moved to the front) or made. */
+static pb_result entry_get(pb_gpu *g, const pb_gpu_pipeline_desc *d, const char *name,
+                           struct pb_gpu_pipe_entry **out) {
+  struct pb_gpu_pipe_entry **link = &g->pipes;
+  for (; *link; link = &(*link)->next) {
+    struct pb_gpu_pipe_entry *e = *link;
+    if (e->spirv == d->spirv && e->spirv_bytes == d->spirv_bytes && e->binding_count == d->binding_count &&
+        e->accel_bindings == d->accel_bindings && e->push_bytes == d->push_bytes &&
+        e->spec_count == d->spec_count && (!d->spec_count || memcmp(e->spec, d->spec, 4u * d->spec_count) == 0)) {
+      *link = e->next;
+      e->next = g->pipes, g->pipes = e;
+      g->pipe_stats.reused++;
+      pb_log_verbose("gpu: pipeline %s: from the cache", name);
+      *out = e;
+      return PB_OK;
+    }
+  }
+  struct pb_gpu_pipe_entry *e = calloc(1, sizeof *e);
+  if (!e) return pb_fail(PB_ERR_NOMEM, "gpu: %s: out of memory", name);
+  e->spirv = d->spirv, e->spirv_bytes = d->spirv_bytes, e->binding_count = d->binding_count;
+  e->accel_bindings = d->accel_bindings, e->push_bytes = d->push_bytes, e->spec_count = d->spec_count;
+  if (d->spec_count) memcpy(e->spec, d->spec, 4u * d->spec_count);
   char label[128];
   VkResult vr;
-
+  pb_result r = PB_OK;
   VkShaderModuleCreateInfo smi = {
       .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
       .codeSize = d->spirv_bytes,
       .pCode = d->spirv,
   };
-  vr = vkCreateShaderModule(g->device, &smi, NULL, &p->module);
+  vr = vkCreateShaderModule(g->device, &smi, NULL, &e->module);
   if (vr != VK_SUCCESS) {
-    p->module = VK_NULL_HANDLE;
+    e->module = VK_NULL_HANDLE;
     snprintf(label, sizeof label, "%s: vkCreateShaderModule", name);
     r = pb_vk_fail(vr, label);
     goto fail;
@@ -75,9 +152,9 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
       .bindingCount = d->binding_count,
       .pBindings = b,
   };
-  vr = vkCreateDescriptorSetLayout(g->device, &dli, NULL, &p->set_layout);
+  vr = vkCreateDescriptorSetLayout(g->device, &dli, NULL, &e->set_layout);
   if (vr != VK_SUCCESS) {
-    p->set_layout = VK_NULL_HANDLE;
+    e->set_layout = VK_NULL_HANDLE;
     snprintf(label, sizeof label, "%s: vkCreateDescriptorSetLayout", name);
     r = pb_vk_fail(vr, label);
     goto fail;
@@ -86,13 +163,13 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
   VkPipelineLayoutCreateInfo pli = {
       .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
       .setLayoutCount = 1,
-      .pSetLayouts = &p->set_layout,
+      .pSetLayouts = &e->set_layout,
       .pushConstantRangeCount = d->push_bytes ? 1u : 0u,
       .pPushConstantRanges = &pcr,
   };
-  vr = vkCreatePipelineLayout(g->device, &pli, NULL, &p->layout);
+  vr = vkCreatePipelineLayout(g->device, &pli, NULL, &e->layout);
   if (vr != VK_SUCCESS) {
-    p->layout = VK_NULL_HANDLE;
+    e->layout = VK_NULL_HANDLE;
     snprintf(label, sizeof label, "%s: vkCreatePipelineLayout", name);
     r = pb_vk_fail(vr, label);
     goto fail;
@@ -112,24 +189,58 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
           {
               .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
               .stage = VK_SHADER_STAGE_COMPUTE_BIT,
-              .module = p->module,
+              .module = e->module,
               .pName = "main",
               .pSpecializationInfo = d->spec_count ? &spec : NULL,
           },
-      .layout = p->layout,
+      .layout = e->layout,
   };
   double t0 = pb_time_now();
-  vr = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &cpi, NULL, &p->pipeline);
-  /* -v: what each scene pays for creating its pipelines. lavapipe compiles a
-   * kernel at its first dispatch instead (seconds per large kernel with a
-   * cold Mesa shader cache: the first pass timings of a run show it). */
-  pb_log_verbose("gpu: pipeline %s: %.1f ms", name, (pb_time_now() - t0) * 1e3);
+  vr = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &cpi, NULL, &e->pipeline);
+  /* -v: what each pipeline costs to make (lavapipe 22.3 compiles here;
+   * Mesa 25's lavapipe at the first dispatch, where the first pass timings
+   * of a run show it). */
+  double ms = (pb_time_now() - t0) * 1e3;
+  pb_log_verbose("gpu: pipeline %s: %.1f ms", name, ms);
   if (vr != VK_SUCCESS) {
-    p->pipeline = VK_NULL_HANDLE;
+    e->pipeline = VK_NULL_HANDLE;
     snprintf(label, sizeof label, "%s: vkCreateComputePipelines", name);
     r = pb_vk_fail(vr, label);
     goto fail;
   }
+  g->pipe_stats.created++, g->pipe_stats.cached++;
+  g->pipe_stats.create_ms += ms;
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_SHADER_MODULE, (uint64_t)e->module, name);
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_PIPELINE, (uint64_t)e->pipeline, name);
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, (uint64_t)e->layout, name);
+  pb_gpu_set_name(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, (uint64_t)e->set_layout, name);
+  e->next = g->pipes, g->pipes = e;
+  *out = e;
+  return PB_OK;
+fail:
+  entry_free(g, e);
+  return r;
+}
+
+pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gpu_pipeline *p) {
+  memset(p, 0, sizeof *p);
+  pb_result r = validate(d);
+  if (r != PB_OK) return r;
+  const char *name = d->name ? d->name : "pipeline";
+  if (d->accel_bindings && !g->limits.ray_query)
+    return pb_fail(PB_ERR_NOT_AVAILABLE, "%s: binds an acceleration structure; %s has no ray queries", name, g->name);
+  uint32_t accel_count = 0;
+  for (uint32_t i = 0; i < d->binding_count; ++i) accel_count += d->accel_bindings >> i & 1u;
+  char label[128];
+  VkResult vr;
+  struct pb_gpu_pipe_entry *e = NULL;
+  if ((r = entry_get(g, d, name, &e)) != PB_OK) return r;
+  e->users++;
+  p->entry = e;
+  p->module = e->module, p->set_layout = e->set_layout, p->layout = e->layout, p->pipeline = e->pipeline;
+  p->binding_count = d->binding_count;
+  p->accel_bindings = d->accel_bindings;
+  p->push_bytes = d->push_bytes;
   VkDescriptorPoolSize ps[2] = {
       {.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .descriptorCount = d->binding_count - accel_count},
       {.type = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, .descriptorCount = accel_count},
@@ -159,13 +270,6 @@ pb_result pb_gpu_pipeline_create(pb_gpu *g, const pb_gpu_pipeline_desc *d, pb_gp
     r = pb_vk_fail(vr, label);
     goto fail;
   }
-  p->binding_count = d->binding_count;
-  p->accel_bindings = d->accel_bindings;
-  p->push_bytes = d->push_bytes;
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_SHADER_MODULE, (uint64_t)p->module, name);
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_PIPELINE, (uint64_t)p->pipeline, name);
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, (uint64_t)p->layout, name);
-  pb_gpu_set_name(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, (uint64_t)p->set_layout, name);
   pb_gpu_set_name(g, VK_OBJECT_TYPE_DESCRIPTOR_SET, (uint64_t)p->set, name);
   return PB_OK;
 fail:
