@@ -9,6 +9,8 @@
 - A job that fails (a missing scene, a bad option) reports its exit code in
   its line, the jobs after it run, and batch exits with the first failure's
   code; quoted paths with spaces are read as one word.
+- From standard input each job runs as its line arrives; a bad line is that
+  job's error (exit 2) and the next jobs run.
 - A broken jobs file (unterminated quote, a command other than render, a
   missing file) is a one-line error naming the file and line, with exit code
   2 (3 for a missing file), before any job runs (no output written).
@@ -117,6 +119,24 @@ def main(argv):
         check(rc == code and len(msg) == 1 and all(w in msg[0] for w in words) and not lines and
               not os.path.exists(out(tag[0] + ".exr")),
               "%s: exit %d, one line naming %s, no job run (%d, %s)" % (tag, code, words[0], rc, msg))
+    # Standard input: each job runs as its line arrives, a bad line is that
+    # job's error and the session goes on.
+    p = subprocess.Popen([exe, "batch", "-"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=env)
+    got = []
+    for line in (jobs[2].replace("box1", "stream1"), "render 'open quote", jobs[2].replace("box1", "stream2")):
+        p.stdin.write(line + "\n")
+        p.stdin.flush()
+        got.append(json.loads(p.stdout.readline()))  # the job's line before the next is sent
+    p.stdin.close()
+    err = p.stderr.read()
+    rc = p.wait(timeout=300)
+    check([g["exit"] for g in got] == [0, 2, 0] and [g["line"] for g in got] == [1, 2, 3],
+          "stdin: each job's line comes before the next is sent, exits [0, 2, 0] (%s)" % got)
+    check(got[2]["pipelines_created"] == 0 and got[2]["pipelines_reused"] > 0,
+          "stdin: the third line's job takes its pipelines from the cache")
+    check(rc == 2 and "standard input:2: unterminated quote" in err, "stdin: exit 2, the bad line named (%d)" % rc)
+    check(same(exe, out("stream2.exr"), out("box1.exr")), "stdin: the same picture as the file's job")
     rc, lines, err = batch(exe, out("no_such_jobs.txt"), env)
     check(rc == 3 and "no_such_jobs.txt" in err and len(err.strip().splitlines()) == 1,
           "a missing jobs file: exit 3, one line naming it (%d)" % rc)

@@ -52,7 +52,9 @@ import json
 import math
 import os
 import struct
+import shlex
 import subprocess
+import types
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -232,6 +234,7 @@ class Runner:
         self.gpu_ok = None
         self.validate = None  # None: the environment's; else the cases validated
         self.case = None      # the case being run
+        self.batch = None     # the GPU renders' `photonbridge batch -` session (run_gpu)
 
     def render(self, kind, scene, name, seed=1, extra=(), expect_rc=0, quiet=True):
         """Renders `scene`; returns (channels dict, stats dict, stderr)."""
@@ -244,13 +247,10 @@ class Runner:
             cmd = [self.exe, "render", scene, "-o", out, "--width", str(W), "--seed", str(seed),
                    "--json", js] + GPU_ARGS
         cmd += list(extra) + (["-q"] if quiet else [])
-        env = None
-        if kind == "gpu" and self.validate is not None:
-            on = self.case in self.validate
-            env = dict(os.environ, PB_VK_VALIDATION="1" if on else "0")
-            if on:
-                r_validated.append(name)
-        p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        if kind == "gpu" and self.validate is not None and self.case in self.validate:
+            cmd.append("--validation")
+            r_validated.append(name)
+        p = self.run_gpu(cmd[1:]) if kind == "gpu" else subprocess.run(cmd, capture_output=True, text=True)
         if p.returncode != expect_rc:
             check(False, "%s %s: exit %d (expected %d): %s" % (kind, name, p.returncode, expect_rc,
                                                               p.stderr.strip()[-300:]))
@@ -264,6 +264,38 @@ class Runner:
         img = json.loads(q.stdout)
         stats = json.load(open(js))
         return img, stats, p.stderr
+
+    def run_gpu(self, args):
+        """One render through the runner's `photonbridge batch -` session
+        (the device and its pipelines shared by every GPU render); returns
+        an object with returncode and stderr as subprocess.run's. A case
+        named in --validate adds --validation (a device of its own); without
+        --validate the session inherits PB_VK_VALIDATION."""
+        if self.batch is None:
+            env = dict(os.environ, PB_VK_VALIDATION="0") if self.validate is not None else None
+            self.batch_err = os.path.join(self.work, "batch_stderr.txt")
+            self.batch = subprocess.Popen([self.exe, "batch", "-"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                          stderr=open(self.batch_err, "w"), text=True, env=env)
+        at = os.path.getsize(self.batch_err)
+        self.batch.stdin.write(" ".join(shlex.quote(a) for a in args) + "\n")
+        self.batch.stdin.flush()
+        line = self.batch.stdout.readline()
+        with open(self.batch_err) as f:
+            f.seek(at)
+            err = f.read()
+        if not line:  # the session died: this render fails, the next starts another
+            rc = self.batch.wait()
+            self.batch = None
+            return types.SimpleNamespace(returncode=rc if rc else 70, stderr=err + "(batch session ended)")
+        return types.SimpleNamespace(returncode=json.loads(line)["exit"], stderr=err)
+
+    def close(self):
+        if self.batch is not None:
+            self.batch.stdin.close()
+            rc = self.batch.wait()
+            self.batch = None
+            if rc and not failures:  # batch exits with its first failed render's code
+                check(False, "the GPU batch session exited %d with every render passing" % rc)
 
     def finite_check(self, kind, name, img, stats):
         bad = sum(1 for ch in img["channels"].values() for v in ch if isinstance(v, str))
@@ -581,6 +613,7 @@ def main():
                 continue
             r.case = name
             fn(r, kind)
+    r.close()
     if validate is not None and "gpu" in kinds:
         print("      validation layers on %d GPU renders: %s" % (len(r_validated), ", ".join(r_validated)))
         check(len(r_validated) > 0, "the GPU renders of %s ran under the validation layers" % ",".join(validate))
