@@ -64,7 +64,7 @@ def main(argv):
         "",
         "render %s -o %s %s" % (box, out("box1.exr"), small),
         "render '%s' -o %s %s" % (mat, out("mat1.exr"), small),
-        "render %s -o %s %s --seed 3" % (box, out("box2.exr"), small),
+        "render %s -o %s %s --seed 3 --json %s" % (box, out("box2.exr"), small, out("box2.json")),
         "render \"%s\" -o %s %s" % (mat, out("mat2.exr"), small),
         "render %s -o %s %s" % (os.path.join(work, "missing.gltf"), out("missing.exr"), small),
         "render %s -o %s %s --no-such-option" % (box, out("bad.exr"), small),
@@ -88,12 +88,15 @@ def main(argv):
         check(lines[3]["pipelines_created"] == 0 and lines[3]["pipelines_reused"] > 0,
               "the second Blender-material job takes every pipeline from the cache (created %d, reused %d)" % (
                   lines[3]["pipelines_created"], lines[3]["pipelines_reused"]))
+        pj = json.load(open(out("box2.json"))).get("pipelines", {}) if os.path.exists(out("box2.json")) else {}
+        check(pj.get("created") == 0 and pj.get("from_cache") == lines[2]["pipelines_reused"],
+              "the job's render --json counts the same pipelines (%s)" % pj)
         check(lines[6]["pipelines_reused"] == 0, "a job with --validation gets a device of its own (reused %d)" %
               lines[6]["pipelines_reused"])
     check("missing.gltf" in err and "--no-such-option" in err, "the failed jobs' errors are on stderr")
     check(not os.path.exists(out("bad.exr")) and not os.path.exists(out("missing.exr")), "failed jobs write nothing")
     # The same lines as separate processes: the same pictures.
-    for name, line in (("box1", jobs[2]), ("mat1", jobs[3]), ("box2", jobs[4]), ("mat2", jobs[5])):
+    for name, line in (("box1", jobs[2]), ("mat1", jobs[3]), ("box2", jobs[4].split(" --json")[0]), ("mat2", jobs[5])):
         words = line.replace("'", "").replace('"', "").split(" -o ")
         scene = words[0][len("render "):]
         rest = words[1].split()

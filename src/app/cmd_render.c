@@ -58,6 +58,7 @@ typedef struct render_opts {
   /* Driving photonbridge from another program (the Blender add-on). */
   const char *crop, *preview, *blender_layer, *blender_passes;
   double preview_interval;
+  pb_gpu_pipeline_stats pipes_at_open; /* the device's pipeline cache before this render */
   double noise_threshold; /* resolved (pb_settings_render_desc): 0 off */
   double time_limit;
   int direct_only;        /* resolved: --direct-only or --max-bounces 1 */
@@ -283,6 +284,14 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
   pb_json_int(&j, "download_bytes", (int64_t)st->download_bytes);
   pb_json_int(&j, "readback_bytes", (int64_t)st->readback_bytes);
   pb_json_end_object(&j);
+  /* This render's compute pipelines: created (a driver compile) or taken
+   * from the device's cache (`batch`'s later jobs). */
+  pb_gpu_pipeline_stats ps = pb_gpu_pipeline_stats_get(g);
+  pb_json_begin_object(&j, "pipelines");
+  pb_json_int(&j, "created", (int64_t)(ps.created - o->pipes_at_open.created));
+  pb_json_int(&j, "from_cache", (int64_t)(ps.reused - o->pipes_at_open.reused));
+  pb_json_number(&j, "create_ms", ps.create_ms - o->pipes_at_open.create_ms);
+  pb_json_end_object(&j);
   pb_json_int(&j, "primary_rays", (int64_t)st->primary_rays);
   pb_json_int(&j, "bvh_nodes", st->bvh_nodes);
   pb_json_int(&j, "bvh_depth", st->bvh_depth);
@@ -475,6 +484,7 @@ int pb_cmd_render(int argc, char **argv) {
                     .memory_limit = (uint64_t)(gpu_memory_mb * 1048576.0)};
   r = pb_cli_gpu_open(&gd, &g); /* `batch` keeps it for its next job */
   if (r != PB_OK) goto done;
+  o.pipes_at_open = pb_gpu_pipeline_stats_get(g);
   pb_cli_warn_cpu_device("render", g);
   if (o.set.estimator == PB_ESTIMATOR_SPLAT && !o.direct_only) {
     /* Splatting's own limit (estimator.c's auto rule, never chosen by auto):
