@@ -18,7 +18,9 @@ PHOTONBRIDGE_BIN):
   cancel       Ctrl-C (SIGINT) to Blender mid-render stops the CLI: no
                process left, no output, no temporary file;
   animation    `-a` of a 3-frame animation gives 3 different frames that
-               follow the motion, frame by frame and as one sequence;
+               follow the motion, frame by frame (the three still renders
+               jobs of one kept `photonbridge batch -` session) and as one
+               sequence;
   vcolor       colour attributes on the base colour (a Color Attribute node
                into a Principled BSDF, an Attribute node into a Diffuse BSDF)
                are written as COLOR_0 of those primitives only, and render as
@@ -509,11 +511,24 @@ def centroid_x(img):
 def part_animation():
     scenes = fresh("anim_scenes")
     blender(["-P", os.path.join(HERE, "bl_scenes.py"), "--", scenes])
+    # The frames of -a (one still render each) run as jobs of one kept
+    # `photonbridge batch -` session (cli.Job): the binary is started once.
+    calls = os.path.join(WORK, "anim_calls.txt")
+    wrapper = os.path.join(WORK, "anim_photonbridge")
+    with open(wrapper, "w") as f:
+        f.write("#!/bin/sh\necho \"$@\" >> '%s'\nexec '%s' \"$@\"\n" % (calls, EXE))
+    os.chmod(wrapper, 0o755)
     for mode in ("frames", "sequence"):
         d = fresh("anim_" + mode)
         settings = dict(QUICK, animation_sequence="1" if mode == "sequence" else "0")
+        if os.path.exists(calls):
+            os.remove(calls)
         p = render_f12(d, os.path.join(scenes, "moving.blend"), settings, fmt="OPEN_EXR", frames=("-s", "1", "-e", "3",
-                                                                                               "-a"))
+                                                                                               "-a"),
+                       env=blender_env({"PHOTONBRIDGE_BIN": wrapper}))
+        started = open(calls).read().splitlines() if os.path.exists(calls) else []
+        if mode == "frames":
+            check(started == ["batch -"], "frames: the 3 still renders ran in one photonbridge session (%s)" % started)
         files = sorted(f for f in os.listdir(d) if f.endswith(".exr"))
         check(files == ["f_0001.exr", "f_0002.exr", "f_0003.exr"], "%s: -a wrote 3 frames (%s)" % (mode, files))
         if len(files) != 3:

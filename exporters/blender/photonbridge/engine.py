@@ -3,8 +3,11 @@
 update(data, depsgraph) runs while Blender's UI is locked: the only safe
 place to read the scene, so the whole hand-off (writer.py: the evaluated
 depsgraph to glTF) happens there, into a temporary folder. render(depsgraph)
-then runs `photonbridge render` on that file without touching the scene:
-its progress lines come in on reader threads (cli.Run), the refining picture
+then runs `photonbridge render` on that file without touching the scene,
+as a job of the `photonbridge batch -` session kept between still renders
+(cli.Job: the device and its compiled pipelines stay, so the next F12
+starts at once; a cancel ends the session, the next render starts another):
+its progress lines come in on a reader thread, the refining picture
 is loaded into the render result every few seconds from the CLI's --preview
 EXR, test_break() cancels it with SIGINT, and the finished multilayer EXR
 (Blender's channel names, --blender-layer) is loaded into the result with
@@ -208,7 +211,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         EXR into it and ends it (cancelled on a failure or test_break)."""
         t0 = time.perf_counter()
         try:
-            run = cli.Run(argv)
+            run = cli.Job(argv)  # in the session kept between renders
         except OSError as e:
             self.end_result(result, cancel=True)
             self._fail("photonbridge: could not start %s: %s" % (argv[0], e))
@@ -372,6 +375,7 @@ def register():
     for c in classes:
         bpy.utils.register_class(c)
     atexit.register(stop_sequences)
+    atexit.register(cli.stop_session)
     viewport.register()
 
 
@@ -379,5 +383,7 @@ def unregister():
     viewport.unregister()
     atexit.unregister(stop_sequences)
     stop_sequences()
+    atexit.unregister(cli.stop_session)
+    cli.stop_session()
     for c in reversed(classes):
         bpy.utils.unregister_class(c)
