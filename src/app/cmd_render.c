@@ -301,6 +301,7 @@ static pb_result write_json(const char *path, const pb_scene *s, const pb_gpu *g
 
 int pb_cmd_render(int argc, char **argv) {
   const pb_command *cmd = self();
+  pb_render_warn_reset(); /* once per command, also per job of `batch` */
   pb_core_opts c = {0};
   render_opts o = {.device = UINT32_MAX};
   int radius_histogram = 0;

@@ -117,11 +117,15 @@ void pb_render_json_estimator(pb_json *j, const pb_render_stats *st) {
   pb_json_end_object(j);
 }
 
+static int reliability_warned;
+
+void pb_render_warn_reset(void) { reliability_warned = 0; }
+
 void pb_render_warn_reliability(const char *cmd, const pb_render_stats *st) {
-  static int warned;
+  int *warned = &reliability_warned;
   double miss_rate = pb_render_image_miss_rate(st);
-  if (warned || !(miss_rate > PB_RENDER_IMAGE_MISS_WARN)) return;
-  warned = 1;
+  if (*warned || !(miss_rate > PB_RENDER_IMAGE_MISS_WARN)) return;
+  *warned = 1;
   pb_log_warn("%s: the environment-map photon tracer (--tracer images) found no surface for %.0f %% of its photon "
               "segments (--json photons.image_miss_rate): the indirect light may leak past geometry no map sees "
               "(thin or hidden surfaces); --tracer bvh traces them exactly", cmd, 100.0 * miss_rate);

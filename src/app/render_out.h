@@ -49,9 +49,11 @@ void pb_render_json_estimator(struct pb_json *j, const pb_render_stats *st);
  * missing more than PB_RENDER_IMAGE_MISS_WARN of its photon segments (light
  * then leaks past geometry no map sees; bench/README.md: 0.01 on spot_room,
  * 0.21 on sun_atrium, whose indirect light is 0.26 relMSE off). Once per
- * process. */
+ * render command (a sequence's frames warn once); pb_render_warn_reset
+ * starts a command (each job of `batch`). */
 #define PB_RENDER_IMAGE_MISS_WARN 0.15
 void pb_render_warn_reliability(const char *cmd, const pb_render_stats *st);
+void pb_render_warn_reset(void);
 
 void pb_progress_lines_enable(int on);
 int pb_progress_lines_enabled(void);

@@ -44,6 +44,23 @@ def find_binary(pref_path):
                          "or set " + ENV_BIN)
 
 
+def end_process(proc, signals, grace):
+    """Sends each of `signals` in turn (None: only wait) until proc exits,
+    waiting `grace` seconds after each."""
+    for sig in signals:
+        if proc.poll() is not None:
+            break
+        if sig is not None:
+            try:
+                proc.send_signal(sig)
+            except ProcessLookupError:
+                break
+        try:
+            proc.wait(grace)
+        except subprocess.TimeoutExpired:
+            continue
+
+
 class Run:
     """A running CLI. lines(): the stderr and stdout lines so far (non-
     blocking); progress events come back parsed as dicts."""
@@ -66,6 +83,20 @@ class Run:
             self.q.put(line.rstrip("\n"))
         stream.close()
 
+    def _take(self, line, new):
+        """One line of the CLI's: a progress event (parsed, added to
+        self.events and `new`) or a message (self.messages)."""
+        if line.startswith(PROGRESS_PREFIX):
+            try:
+                ev = json.loads(line[len(PROGRESS_PREFIX):])
+            except ValueError:
+                self.messages.append(line)
+                return
+            self.events.append(ev)
+            new.append(ev)
+        elif line:
+            self.messages.append(line)
+
     def poll(self):
         """New progress events (dicts) since the last call; other lines are
         kept in self.messages."""
@@ -75,16 +106,7 @@ class Run:
                 line = self.q.get_nowait()
             except queue.Empty:
                 break
-            if line.startswith(PROGRESS_PREFIX):
-                try:
-                    ev = json.loads(line[len(PROGRESS_PREFIX):])
-                except ValueError:
-                    self.messages.append(line)
-                    continue
-                self.events.append(ev)
-                new.append(ev)
-            elif line:
-                self.messages.append(line)
+            self._take(line, new)
         return new
 
     def running(self):
@@ -102,17 +124,7 @@ class Run:
         """SIGINT (the CLI removes its temporaries and exits 130), then
         SIGTERM and SIGKILL if it does not exit within `grace` seconds each;
         never leaves the process behind. Returns the exit code."""
-        for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
-            if self.proc.poll() is not None:
-                break
-            try:
-                self.proc.send_signal(sig)
-            except ProcessLookupError:
-                break
-            try:
-                self.proc.wait(grace)
-            except subprocess.TimeoutExpired:
-                continue
+        end_process(self.proc, (signal.SIGINT, signal.SIGTERM, signal.SIGKILL), grace)
         return self.finish()
 
     def error_line(self):
@@ -166,18 +178,7 @@ class _Session:
             self.proc.stdin.close()
         except OSError:
             pass
-        for sig in (None, signal.SIGTERM, signal.SIGKILL):
-            if self.proc.poll() is not None:
-                break
-            if sig is not None:
-                try:
-                    self.proc.send_signal(sig)
-                except ProcessLookupError:
-                    break
-            try:
-                self.proc.wait(grace)
-            except subprocess.TimeoutExpired:
-                continue
+        end_process(self.proc, (None, signal.SIGTERM, signal.SIGKILL), grace)
 
 
 _session = None
@@ -214,10 +215,10 @@ class Job(Run):
     starts another."""
 
     def __init__(self, argv):
-        global _session
         self.argv = argv
         self.messages = []
         self.events = []
+        self._new = []  # events drained by running() for the next poll()
         self.rc = None
         line = " ".join(shlex.quote(a) for a in argv[1:]) + "\n"
         for attempt in (0, 1):  # a kept session that ended between jobs: one more, new
@@ -275,21 +276,12 @@ class Job(Run):
                     self.rc = 70
                 self.session.busy = False
                 break
-            if line.startswith(PROGRESS_PREFIX):
-                try:
-                    ev = json.loads(line[len(PROGRESS_PREFIX):])
-                except ValueError:
-                    self.messages.append(line)
-                    continue
-                self.events.append(ev)
-                new.append(ev)
-            elif line:
-                self.messages.append(line)
-        self._new = getattr(self, "_new", []) + new
+            self._take(line, new)
+        self._new += new
 
     def poll(self):
         self._drain()
-        new, self._new = getattr(self, "_new", []), []
+        new, self._new = self._new, []
         return new
 
     def running(self):
@@ -308,20 +300,18 @@ class Job(Run):
         """SIGINT to the session (the CLI removes its temporaries and exits
         130), then SIGTERM and SIGKILL; the session is not kept."""
         if self.rc is None:
-            for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
-                if self.session.proc.poll() is not None:
-                    break
-                try:
-                    self.session.proc.send_signal(sig)
-                except ProcessLookupError:
-                    break
-                try:
-                    self.session.proc.wait(grace)
-                except subprocess.TimeoutExpired:
-                    continue
+            end_process(self.session.proc, (signal.SIGINT, signal.SIGTERM, signal.SIGKILL), grace)
             self._drain(block=0.2)
             if self.rc is None:
                 self.rc = self.session.proc.wait()
         self._drop()
         self.session.stop()
         return self.rc
+
+
+def start(argv):
+    """A still render: a job of the kept session, or a process of its own
+    when an argument holds a line break (a job is one line)."""
+    if any("\n" in a for a in argv):
+        return Run(argv)
+    return Job(argv)

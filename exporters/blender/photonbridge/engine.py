@@ -211,7 +211,7 @@ class PhotonbridgeRenderEngine(bpy.types.RenderEngine):
         EXR into it and ends it (cancelled on a failure or test_break)."""
         t0 = time.perf_counter()
         try:
-            run = cli.Job(argv)  # in the session kept between renders
+            run = cli.start(argv)  # a job of the session kept between renders
         except OSError as e:
             self.end_result(result, cancel=True)
             self._fail("photonbridge: could not start %s: %s" % (argv[0], e))
